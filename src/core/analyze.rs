@@ -1,0 +1,217 @@
+//! The one entry point of chapter 3: a design in, every number and picture of it out.
+//! The studio, the CLI, the tests and the benches all call [`analyze`] / [`analyze_with`].
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use ndarray::Array2;
+use rayon::prelude::*;
+
+use super::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
+use super::design::Design;
+use super::expected::expected_channel_psf;
+use super::metrics::{invertibility_loss, ltr, mean_lowest_h, open_fraction};
+use super::mtf::{Mtf, mtf_of};
+use super::progress::Progress;
+use super::psf::channel_psf;
+use super::sampling::plan;
+use super::SimError;
+
+/// Full quality follows the design's sampling; preview doubles the fine spacing (halving every
+/// FFT) when the sensor pixel still holds a whole number of fine samples. Same physics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Quality {
+    #[default]
+    Full,
+    Preview,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AnalyzeOptions {
+    pub quality: Quality,
+    /// Also compute the closed-form expected PSF of a random tiling (ignored for `repeat`).
+    pub expected_psf: bool,
+}
+
+impl Default for AnalyzeOptions {
+    fn default() -> Self {
+        AnalyzeOptions {
+            quality: Quality::Full,
+            expected_psf: true,
+        }
+    }
+}
+
+/// Everything computed for one colour channel.
+#[derive(Debug, Clone)]
+pub struct ChannelAnalysis {
+    pub name: String,
+    /// Weighted mean wavelength (the peak wavelength for a single-wavelength channel).
+    pub wavelength_nm: f64,
+    pub wavelengths_nm: Vec<f64>,
+    /// FFT size per sampled wavelength.
+    pub fft_sizes: Vec<usize>,
+    /// Real fine spacing at the channel's first wavelength, µm.
+    pub fine_um: f64,
+    /// Sensor PSF, `[row, col]`, sums to 1, axis at `[W/2, W/2]`.
+    pub psf: Array2<f64>,
+    /// Expected PSF of the random tiling, when requested and the tiling is random.
+    pub expected_psf: Option<Array2<f64>>,
+    pub mtf: Mtf,
+    pub energy_in_window: f64,
+    /// Mean of the lowest 30 % of `H` for this channel alone.
+    pub invertibility: f64,
+}
+
+/// The result of [`analyze`].
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    pub channels: Vec<ChannelAnalysis>,
+    /// Intensity transmittance of one tile (= open area fraction for binary cells).
+    pub open_fraction: f64,
+    /// Light transmittance ratio over the pupil.
+    pub ltr: f64,
+    /// `L_inv`, pooled over the channels (eq. 3.9).
+    pub invertibility_loss: f64,
+    pub warnings: Vec<String>,
+    pub elapsed_ms: f64,
+    pub quality: Quality,
+    pub window_px: usize,
+    pub sensor_pixel_um: f64,
+    /// Pupil diameter in µm and in δ1 samples.
+    pub pupil_diameter_um: f64,
+    /// Display tiles (of the full period) inside the pupil.
+    pub tiles_in_pupil: f64,
+}
+
+/// [`analyze_with`] at full quality, with the expected PSF.
+///
+/// # Errors
+/// See [`analyze_with`].
+pub fn analyze(design: &Design, progress: &Progress) -> Result<Analysis, SimError> {
+    analyze_with(design, &AnalyzeOptions::default(), progress)
+}
+
+/// Analyses a design: PSF per channel, MTF, AUC, LTR, invertibility and sampling warnings.
+///
+/// # Errors
+/// [`SimError::InvalidField`] for a bad design, [`SimError::Sampling`] / [`SimError::TooLarge`]
+/// when the sampling cannot represent it, [`SimError::Cancelled`] when `progress` was cancelled.
+pub fn analyze_with(design: &Design, options: &AnalyzeOptions, progress: &Progress) -> Result<Analysis, SimError> {
+    let start = Instant::now();
+    design.validate()?;
+    progress.set(0.0);
+    let op = &design.optics;
+    let mut warnings = Vec::new();
+
+    let fine_um = match options.quality {
+        Quality::Full => op.fine_sample_um,
+        Quality::Preview => {
+            let spp = (op.sensor_pixel_um / op.fine_sample_um).round() as usize;
+            if spp >= 2 && spp % 2 == 0 { 2.0 * op.fine_sample_um } else { op.fine_sample_um }
+        }
+    };
+    let samplings = plan(design, fine_um, &mut warnings)?;
+
+    let cells = effective_cells(&design.opening);
+    let display = Display::from_design(design, &cells);
+    let d_um = op.pupil_diameter_um();
+    let cell_um = design.opening.cell_um();
+    if cell_um < op.pupil_sample_um * 0.999 {
+        warnings.push(format!(
+            "display cells ({cell_um:.2} µm) are finer than the pupil sampling ({} µm): their \
+             diffraction is averaged and aliased; set optics.pupil_sample_um ≤ {cell_um:.2}",
+            op.pupil_sample_um
+        ));
+    }
+    let field = rasterise(&display, Extent::Pupil { diameter_um: d_um }, op.pupil_sample_um);
+    let pupil = pupil_sample_count(d_um, op.pupil_sample_um);
+    let energy = field.energy();
+    if !(energy > 0.0) {
+        return Err(SimError::field("opening.cells", "no light passes: every cell is closed"));
+    }
+    progress.check()?;
+
+    let want_expected = options.expected_psf && design.tiling.mode.is_random();
+    let total_steps: usize = samplings.iter().map(Vec::len).sum::<usize>() * if want_expected { 2 } else { 1 };
+    let done = AtomicUsize::new(0);
+    let step = |k: usize| {
+        let d = done.fetch_add(k, Ordering::Relaxed) + k;
+        progress.set(d as f32 / total_steps.max(1) as f32);
+    };
+    // Channels run side by side: each is a few FFTs too small to keep both cores busy alone.
+    let results: Vec<Result<(ChannelAnalysis, Vec<String>), SimError>> = design
+        .channels
+        .par_iter()
+        .zip(samplings.par_iter())
+        .map(|(ch, samp)| {
+            let mut notes = Vec::new();
+            let psf = channel_psf(&field, samp, progress, || step(1))?;
+            if psf.energy_in_window < 0.98 {
+                notes.push(format!(
+                    "{:.1} % of channel {}'s light falls outside the {}-pixel window: the window is \
+                     smaller than the diffraction orders that carry energy; enlarge optics.window_px",
+                    100.0 * (1.0 - psf.energy_in_window),
+                    ch.name,
+                    op.window_px
+                ));
+            }
+            if psf.edge_energy > 0.02 {
+                notes.push(format!(
+                    "PSF aliasing in channel {}: {:.1} % of the light reaches the edge of the fine grid \
+                     ({:.0} µm wide) and wraps around; decrease optics.pupil_sample_um",
+                    ch.name,
+                    100.0 * psf.edge_energy,
+                    samp[0].fft_size as f64 * samp[0].fine_um
+                ));
+            }
+            let expected_psf = if want_expected {
+                let e = expected_channel_psf(&display, d_um, op.pupil_sample_um, samp, progress)?;
+                step(samp.len());
+                Some(e)
+            } else {
+                None
+            };
+            let mtf = mtf_of(&psf.sensor);
+            let invertibility = mean_lowest_h([&mtf.power]);
+            Ok((
+                ChannelAnalysis {
+                    name: ch.name.clone(),
+                    wavelength_nm: ch.mean_wavelength_nm(),
+                    wavelengths_nm: ch.wavelengths_nm.clone(),
+                    fft_sizes: samp.iter().map(|s| s.fft_size).collect(),
+                    fine_um: samp[0].fine_um,
+                    psf: psf.sensor,
+                    expected_psf,
+                    mtf,
+                    energy_in_window: psf.energy_in_window,
+                    invertibility,
+                },
+                notes,
+            ))
+        })
+        .collect();
+    let mut channels = Vec::with_capacity(results.len());
+    for r in results {
+        let (c, notes) = r?;
+        channels.push(c);
+        warnings.extend(notes);
+    }
+    progress.check()?;
+    let loss = invertibility_loss(channels.iter().map(|c| &c.mtf.power));
+    let period = design.opening.pitch_um + design.tiling.wiring_gap_um;
+    progress.set(1.0);
+    Ok(Analysis {
+        open_fraction: open_fraction(&cells),
+        ltr: ltr(energy, pupil),
+        invertibility_loss: loss,
+        warnings,
+        elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
+        quality: options.quality,
+        window_px: op.window_px,
+        sensor_pixel_um: op.sensor_pixel_um,
+        pupil_diameter_um: d_um,
+        tiles_in_pupil: pupil * op.pupil_sample_um.powi(2) / (period * period),
+        channels,
+    })
+}

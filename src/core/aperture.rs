@@ -1,0 +1,411 @@
+//! Rasterising the effective aperture `a = p · o` (PHYSICS.md §1) onto the pupil grid.
+//!
+//! Samples sit at `x = ix·δ1`, `y = iy·δ1` (signed offsets from the optical axis) and represent
+//! the `δ1×δ1` square around them. The display is box-filtered (area-weighted amplitude) onto that
+//! square, which is exact when cells are whole multiples of δ1 and aligned, as in the thesis
+//! recipe. The lens pupil is binary: a sample is inside when its centre is within `D/2`.
+
+use super::design::{Design, Opening, Polygon, TilingMode};
+use super::tiling::{D4, tile_orientation};
+
+/// One row of a field on the pupil grid, stored densely between its first and last nonzero
+/// samples.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SparseRow {
+    /// Signed row offset from the axis, in samples (`y = iy·δ1`).
+    pub iy: i64,
+    /// Signed column offset of `values[0]`.
+    pub ix0: i64,
+    pub values: Vec<f64>,
+}
+
+/// A real field on the pupil grid (amplitude transmittance).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Field {
+    pub rows: Vec<SparseRow>,
+}
+
+impl Field {
+    /// `Σ |a|²`.
+    pub fn energy(&self) -> f64 {
+        self.rows
+            .iter()
+            .flat_map(|r| r.values.iter())
+            .map(|v| v * v)
+            .sum()
+    }
+
+    /// Largest `|offset|` of any sample, in samples (the field fits a grid of `M` when
+    /// `-M/2 <= offset < M/2`).
+    pub fn extent(&self) -> (i64, i64) {
+        let mut lo = 0i64;
+        let mut hi = 0i64;
+        for r in &self.rows {
+            lo = lo.min(r.iy).min(r.ix0);
+            hi = hi.max(r.iy).max(r.ix0 + r.values.len() as i64 - 1);
+        }
+        (lo, hi)
+    }
+
+    /// Dense `[row, col]` copy on an `m×m` grid (axis at `m/2`), for tests and views.
+    pub fn to_dense(&self, m: usize) -> Vec<Vec<f64>> {
+        let mut out = vec![vec![0.0; m]; m];
+        let h = (m / 2) as i64;
+        for r in &self.rows {
+            let y = r.iy + h;
+            if !(0..m as i64).contains(&y) {
+                continue;
+            }
+            for (k, v) in r.values.iter().enumerate() {
+                let x = r.ix0 + k as i64 + h;
+                if (0..m as i64).contains(&x) {
+                    out[y as usize][x as usize] = *v;
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The display layout in physical terms, independent of any grid.
+#[derive(Debug, Clone)]
+pub struct Display<'a> {
+    /// `N×N` effective cell transmittance (see [`effective_cells`]).
+    pub cells: &'a [Vec<f64>],
+    pub pitch_um: f64,
+    pub gap_um: f64,
+    pub origin_offset_cells: [f64; 2],
+    pub mode: TilingMode,
+    pub seed: u64,
+}
+
+impl<'a> Display<'a> {
+    pub fn from_design(design: &'a Design, cells: &'a [Vec<f64>]) -> Self {
+        Display {
+            cells,
+            pitch_um: design.opening.pitch_um,
+            gap_um: design.tiling.wiring_gap_um,
+            origin_offset_cells: design.tiling.origin_offset_cells,
+            mode: design.tiling.mode,
+            seed: design.tiling.seed,
+        }
+    }
+
+    fn n(&self) -> usize {
+        self.cells.len()
+    }
+
+    fn cell_um(&self) -> f64 {
+        self.pitch_um / self.n() as f64
+    }
+
+    fn period_um(&self) -> f64 {
+        self.pitch_um + self.gap_um
+    }
+}
+
+/// Which part of the display to rasterise.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Extent {
+    /// Everything inside a circular pupil of this diameter (µm).
+    Pupil { diameter_um: f64 },
+    /// Only the tile holding the optical axis, unclipped (for the expected-PSF terms).
+    SingleTile,
+}
+
+/// A run of one axis of a sample square that falls in one tile and one cell (`None` = gap).
+#[derive(Debug, Clone, Copy)]
+struct Segment {
+    tile: i64,
+    cell: Option<usize>,
+    weight: f64,
+}
+
+/// Splits `[x - δ/2, x + δ/2]` (µm from the axis) at cell and period boundaries.
+fn segments(display: &Display, x_um: f64, delta_um: f64, axis: usize) -> Vec<Segment> {
+    let n = display.n();
+    let cell = display.cell_um();
+    let period = display.period_um();
+    let shift = (display.origin_offset_cells[axis] + 0.5) * cell;
+    let a = x_um - 0.5 * delta_um + shift;
+    let b = x_um + 0.5 * delta_um + shift;
+    let eps = 1e-9 * delta_um.max(period);
+    let mut out = Vec::with_capacity(2);
+    let mut pos = a;
+    while pos < b - eps {
+        let tile = (pos / period).floor();
+        let local = pos - tile * period;
+        let (cell_idx, end) = if local >= display.pitch_um - eps {
+            (None, (tile + 1.0) * period)
+        } else {
+            let c = ((local / cell).floor().max(0.0) as usize).min(n - 1);
+            let end = if c == n - 1 {
+                tile * period + display.pitch_um
+            } else {
+                tile * period + (c + 1) as f64 * cell
+            };
+            (Some(c), end)
+        };
+        let end = end.min(b).max(pos + eps);
+        out.push(Segment {
+            tile: tile as i64,
+            cell: cell_idx,
+            weight: (end - pos) / delta_um,
+        });
+        pos = end;
+    }
+    out
+}
+
+/// Rasterises the display (clipped by `extent`) on a grid of spacing `delta_um`.
+pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
+    let n = display.n();
+    if n == 0 {
+        return Field::default();
+    }
+    let (lo, hi) = match extent {
+        Extent::Pupil { diameter_um } => {
+            let r = (0.5 * diameter_um / delta_um).floor() as i64;
+            (-r, r)
+        }
+        Extent::SingleTile => {
+            let shift_x = (display.origin_offset_cells[0] + 0.5) * display.cell_um();
+            let shift_y = (display.origin_offset_cells[1] + 0.5) * display.cell_um();
+            let lo = ((-shift_x.max(shift_y)) / delta_um).floor() as i64 - 1;
+            let hi = ((display.pitch_um - shift_x.min(shift_y)) / delta_um).ceil() as i64 + 1;
+            (lo, hi)
+        }
+    };
+    let axis_segments = |axis: usize| -> Vec<Vec<Segment>> {
+        (lo..=hi)
+            .map(|i| segments(display, i as f64 * delta_um, delta_um, axis))
+            .collect()
+    };
+    let segs_x = axis_segments(0);
+    let segs_y = axis_segments(1);
+
+    // Orientation per tile, computed once into a dense table (a ChaCha stream per tile is not
+    // free, and a hash lookup per sample would dominate the rasterisation).
+    let tile_range = |segs: &[Vec<Segment>]| {
+        let mut it = segs.iter().flatten().map(|s| s.tile);
+        let first = it.next().unwrap_or(0);
+        it.fold((first, first), |(a, b), t| (a.min(t), b.max(t)))
+    };
+    let (tx0, tx1) = tile_range(&segs_x);
+    let (ty0, ty1) = tile_range(&segs_y);
+    let tiles_x = (tx1 - tx0 + 1) as usize;
+    let orientations: Vec<D4> = (ty0..=ty1)
+        .flat_map(|ty| (tx0..=tx1).map(move |tx| (tx, ty)))
+        .map(|(tx, ty)| tile_orientation(display.mode, display.seed, tx, ty))
+        .collect();
+    let orientation = |tx: i64, ty: i64| orientations[(ty - ty0) as usize * tiles_x + (tx - tx0) as usize];
+
+    let r2 = match extent {
+        Extent::Pupil { diameter_um } => (0.5 * diameter_um).powi(2),
+        Extent::SingleTile => f64::INFINITY,
+    };
+    let mut rows = Vec::new();
+    for (ky, iy) in (lo..=hi).enumerate() {
+        let y = iy as f64 * delta_um;
+        let mut values = Vec::with_capacity((hi - lo + 1) as usize);
+        let mut first: Option<i64> = None;
+        let mut last_nonzero = 0usize;
+        for (kx, ix) in (lo..=hi).enumerate() {
+            let x = ix as f64 * delta_um;
+            if x * x + y * y > r2 {
+                if first.is_some() {
+                    values.push(0.0);
+                }
+                continue;
+            }
+            let mut v = 0.0;
+            for sy in &segs_y[ky] {
+                let Some(cy) = sy.cell else { continue };
+                for sx in &segs_x[kx] {
+                    let Some(cx) = sx.cell else { continue };
+                    if extent == Extent::SingleTile && (sx.tile != 0 || sy.tile != 0) {
+                        continue;
+                    }
+                    let g = orientation(sx.tile, sy.tile);
+                    let (sr, sc) = g.source(cy, cx, n);
+                    v += sy.weight * sx.weight * display.cells[sr][sc];
+                }
+            }
+            if v != 0.0 || first.is_some() {
+                if first.is_none() {
+                    first = Some(ix);
+                }
+                values.push(v);
+                if v != 0.0 {
+                    last_nonzero = values.len();
+                }
+            }
+        }
+        if let Some(ix0) = first {
+            values.truncate(last_nonzero);
+            if !values.is_empty() {
+                rows.push(SparseRow { iy, ix0, values });
+            }
+        }
+    }
+    Field { rows }
+}
+
+/// Number of pupil samples (`Σ p²`) for a binary disc of diameter `d_um` on a `δ1` grid.
+pub fn pupil_sample_count(diameter_um: f64, delta_um: f64) -> f64 {
+    let r = (0.5 * diameter_um / delta_um).floor() as i64;
+    let r2 = (0.5 * diameter_um).powi(2);
+    let mut count = 0u64;
+    for iy in -r..=r {
+        for ix in -r..=r {
+            let (x, y) = (ix as f64 * delta_um, iy as f64 * delta_um);
+            if x * x + y * y <= r2 {
+                count += 1;
+            }
+        }
+    }
+    count as f64
+}
+
+/// The cells the simulation uses: the drawn cells united with the rasterised polygons.
+pub fn effective_cells(opening: &Opening) -> Vec<Vec<f64>> {
+    let mut cells = opening.cells.clone();
+    if opening.polygons.is_empty() {
+        return cells;
+    }
+    let n = opening.n();
+    let cell = opening.cell_um();
+    for (r, row) in cells.iter_mut().enumerate() {
+        for (c, v) in row.iter_mut().enumerate() {
+            let rect = [c as f64 * cell, r as f64 * cell, (c + 1) as f64 * cell, (r + 1) as f64 * cell];
+            let covered: f64 = opening
+                .polygons
+                .iter()
+                .map(|p| clipped_area(p, rect))
+                .sum::<f64>()
+                / (cell * cell);
+            *v = v.max(covered.clamp(0.0, 1.0));
+        }
+    }
+    debug_assert_eq!(cells.len(), n);
+    cells
+}
+
+/// Area of `polygon ∩ rect` (`rect = [x0, y0, x1, y1]`), by Sutherland–Hodgman clipping against
+/// the convex rectangle and the shoelace formula.
+pub fn clipped_area(polygon: &Polygon, rect: [f64; 4]) -> f64 {
+    let mut pts: Vec<[f64; 2]> = polygon.vertices_um.clone();
+    // Each clip edge: keep points with sign * (coord - bound) >= 0.
+    for (axis, bound, keep_greater) in [
+        (0usize, rect[0], true),
+        (0, rect[2], false),
+        (1, rect[1], true),
+        (1, rect[3], false),
+    ] {
+        if pts.is_empty() {
+            return 0.0;
+        }
+        let inside = |p: &[f64; 2]| if keep_greater { p[axis] >= bound } else { p[axis] <= bound };
+        let mut out = Vec::with_capacity(pts.len() + 4);
+        for i in 0..pts.len() {
+            let cur = pts[i];
+            let prev = pts[(i + pts.len() - 1) % pts.len()];
+            let (ci, pi) = (inside(&cur), inside(&prev));
+            if ci != pi {
+                let t = (bound - prev[axis]) / (cur[axis] - prev[axis]);
+                out.push([prev[0] + t * (cur[0] - prev[0]), prev[1] + t * (cur[1] - prev[1])]);
+            }
+            if ci {
+                out.push(cur);
+            }
+        }
+        pts = out;
+    }
+    let mut twice = 0.0;
+    for i in 0..pts.len() {
+        let a = pts[i];
+        let b = pts[(i + 1) % pts.len()];
+        twice += a[0] * b[1] - b[0] * a[1];
+    }
+    0.5 * twice.abs()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn display(cells: &[Vec<f64>], pitch: f64, offset: [f64; 2]) -> Display<'_> {
+        Display {
+            cells,
+            pitch_um: pitch,
+            gap_um: 0.0,
+            origin_offset_cells: offset,
+            mode: TilingMode::Repeat,
+            seed: 0,
+        }
+    }
+
+    #[test]
+    fn thesis_registration_puts_the_axis_on_cell_6() {
+        // Mark only cell (6, 6): with cells = δ1 it must land exactly on the axis sample.
+        let mut cells = vec![vec![0.0; 21]; 21];
+        cells[6][6] = 1.0;
+        let d = display(&cells, 168.0, [6.0, 6.0]);
+        let f = rasterise(&d, Extent::Pupil { diameter_um: 400.0 }, 8.0);
+        let dense = f.to_dense(64);
+        assert_eq!(dense[32][32], 1.0);
+        assert_eq!(dense[32][31], 0.0);
+        assert_eq!(dense[32][32 + 21], 1.0, "period of 21 samples");
+        assert_eq!(dense[32 - 21][32], 1.0);
+    }
+
+    #[test]
+    fn area_coverage_is_exact_for_half_cells() {
+        // Cells of 16 µm on an 8 µm grid, offset by a quarter cell: every sample straddles
+        // at most two cells; the mean transmittance is preserved.
+        let cells = vec![vec![1.0, 0.0], vec![0.0, 0.0]];
+        let d = display(&cells, 32.0, [0.25, 0.25]);
+        let f = rasterise(&d, Extent::Pupil { diameter_um: 4000.0 }, 8.0);
+        let dense = f.to_dense(512);
+        // mean over a whole number of periods (16 samples = 4 periods) near the centre
+        let mut s = 0.0;
+        for row in dense.iter().skip(256 - 8).take(16) {
+            s += row[256 - 8..256 + 8].iter().sum::<f64>();
+        }
+        assert!((s / 256.0 - 0.25).abs() < 1e-12, "mean {}", s / 256.0);
+        assert!(dense.iter().flatten().any(|&v| v > 0.0 && v < 1.0), "partial coverage expected");
+    }
+
+    #[test]
+    fn pupil_count_matches_disc_area() {
+        let n = pupil_sample_count(4000.0, 8.0);
+        let area = std::f64::consts::PI * 250.0 * 250.0;
+        assert!((n - area).abs() / area < 0.005, "{n} vs {area}");
+    }
+
+    #[test]
+    fn polygon_coverage_of_a_triangle() {
+        let tri = Polygon {
+            vertices_um: vec![[0.0, 0.0], [10.0, 0.0], [0.0, 10.0]],
+        };
+        assert!((clipped_area(&tri, [0.0, 0.0, 10.0, 10.0]) - 50.0).abs() < 1e-12);
+        assert!((clipped_area(&tri, [0.0, 0.0, 5.0, 5.0]) - 25.0).abs() < 1e-12);
+        assert!((clipped_area(&tri, [5.0, 5.0, 10.0, 10.0])).abs() < 1e-12);
+        assert!((clipped_area(&tri, [0.0, 5.0, 5.0, 10.0]) - 12.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn wiring_gap_is_opaque_and_lengthens_the_period() {
+        let cells = vec![vec![1.0; 21]; 21];
+        let mut d = display(&cells, 168.0, [0.0, 0.0]);
+        d.gap_um = 8.0;
+        let f = rasterise(&d, Extent::Pupil { diameter_um: 2000.0 }, 8.0);
+        let dense = f.to_dense(256);
+        let row = &dense[128];
+        // tile starts half a cell before the axis: samples 0..=20 open, 21 gap, period 22.
+        assert_eq!(row[128 + 20], 1.0);
+        assert_eq!(row[128 + 21], 0.0);
+        assert_eq!(row[128 + 22], 1.0);
+        assert_eq!(row[128 + 43], 0.0);
+    }
+}

@@ -1,0 +1,433 @@
+//! The design document: one pixel's opening, how it is tiled, the camera optics and the colour
+//! channels. It is small, serialisable (see `io::design_file` for the versioned file format) and
+//! validated here, so every front end rejects the same bad values with the same message.
+
+use serde::{Deserialize, Serialize};
+
+use super::SimError;
+
+/// Largest opening grid the studio accepts (cells per side).
+pub const MAX_CELLS: usize = 512;
+/// Largest FFT size per side the studio accepts (a 16k² f64 grid is already ~2 GB).
+pub const MAX_FFT_SIZE: usize = 8192;
+/// Largest sensor window per side, in sensor pixels.
+pub const MAX_WINDOW_PX: usize = 4096;
+
+/// A complete design.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Design {
+    /// Short human name shown in the title bar.
+    #[serde(default)]
+    pub name: String,
+    /// Free text: what the design is and where it comes from (e.g. a thesis figure).
+    #[serde(default)]
+    pub description: String,
+    pub opening: Opening,
+    pub tiling: Tiling,
+    pub optics: Optics,
+    pub channels: Vec<Channel>,
+}
+
+/// One display pixel's opening: an `N×N` grid of amplitude transmittance in `[0, 1]`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Opening {
+    /// Display pixel pitch `T` in µm; the cell size is `pitch_um / N`. DPI = 25400 / pitch_um.
+    pub pitch_um: f64,
+    /// Rows of amplitude transmittance, row 0 at the top; every row has `N` entries.
+    pub cells: Vec<Vec<f64>>,
+    /// Optional openings described as polygons (µm, tile frame: origin at the tile's top-left
+    /// corner, x to the right, y down). They are rasterised onto the cell grid with area coverage
+    /// and united with `cells` (the larger transmittance wins).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub polygons: Vec<Polygon>,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Polygon {
+    /// Vertices in µm in the tile frame; the polygon closes itself.
+    pub vertices_um: Vec<[f64; 2]>,
+}
+
+/// How the pixel pattern is laid out over the display.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "kebab-case")]
+pub enum TilingMode {
+    /// Periodic: every pixel identical.
+    #[default]
+    Repeat,
+    /// Each pixel takes one of the 8 rotations/reflections of the dihedral group D4
+    /// (three fair coins: rotate 90° counter-clockwise, flip left-right, flip up-down).
+    RandomD4,
+    /// Each pixel takes one of {P, Pᵀ, fliplr P, flipud Pᵀ} (the thesis's optimisation set).
+    #[serde(rename = "random-4")]
+    Random4,
+}
+
+impl TilingMode {
+    pub const ALL: [TilingMode; 3] = [TilingMode::Repeat, TilingMode::RandomD4, TilingMode::Random4];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            TilingMode::Repeat => "repeat",
+            TilingMode::RandomD4 => "random-d4",
+            TilingMode::Random4 => "random-4",
+        }
+    }
+
+    pub fn is_random(self) -> bool {
+        self != TilingMode::Repeat
+    }
+}
+
+impl std::str::FromStr for TilingMode {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        TilingMode::ALL
+            .into_iter()
+            .find(|m| m.as_str() == s)
+            .ok_or_else(|| format!("unknown tiling `{s}` (expected repeat, random-d4 or random-4)"))
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tiling {
+    pub mode: TilingMode,
+    /// Seed of the random orientations (ignored by `repeat`).
+    #[serde(default)]
+    pub seed: u64,
+    /// Registration of the tile grid: the optical axis sits on the centre of cell `[x, y]` of its
+    /// tile (cells counted from the tile's top-left corner; fractions shift the grid
+    /// continuously). The thesis recipe puts the axis 6 cells into a tile: `[6, 6]`.
+    #[serde(default)]
+    pub origin_offset_cells: [f64; 2],
+    /// Opaque wiring gap added around every pixel, in µm; the display period becomes
+    /// `pitch_um + wiring_gap_um` (thesis §3.7).
+    #[serde(default)]
+    pub wiring_gap_um: f64,
+}
+
+/// Camera optics and sampling.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Optics {
+    /// Which named recipe these values came from (`iccp21`, `phone`, or `custom` once edited).
+    #[serde(default = "custom")]
+    pub recipe: String,
+    pub focal_length_mm: f64,
+    /// Pupil diameter D = f / F#.
+    pub f_number: f64,
+    /// Pupil (and display) sample spacing δ1.
+    pub pupil_sample_um: f64,
+    /// Target fine output spacing δ2 at the sensor; the FFT size per wavelength is
+    /// `M = 2·floor(λ f / (2 δ1 δ2))`, so the real spacing `λ f / (M δ1)` is a hair above δ2.
+    pub fine_sample_um: f64,
+    pub sensor_pixel_um: f64,
+    /// Side of the square sensor window, in sensor pixels.
+    pub window_px: usize,
+    /// Sampling phase: where the optical axis lies inside its sensor pixel, from the pixel's
+    /// lower edge, in µm (`[x, y]`); snapped to a fine sample. iccp21: `[0.25, 0.25]`.
+    pub axis_in_pixel_um: [f64; 2],
+}
+
+fn custom() -> String {
+    "custom".into()
+}
+
+impl Optics {
+    pub fn pupil_diameter_um(&self) -> f64 {
+        self.focal_length_mm * 1000.0 / self.f_number
+    }
+
+    /// The thesis display recipe (PHYSICS.md §4).
+    pub fn iccp21() -> Self {
+        Optics {
+            recipe: "iccp21".into(),
+            focal_length_mm: 10.0,
+            f_number: 2.5,
+            pupil_sample_um: 8.0,
+            fine_sample_um: 0.5,
+            sensor_pixel_um: 2.0,
+            window_px: 294,
+            axis_in_pixel_um: [0.25, 0.25],
+        }
+    }
+
+    /// A realistic phone main camera: f = 5.56 mm, f/1.6, 1.0 µm pixels.
+    /// The window (400 px = 400 µm) holds the first diffraction orders of a 150-DPI display.
+    pub fn phone() -> Self {
+        Optics {
+            recipe: "phone".into(),
+            focal_length_mm: 5.56,
+            f_number: 1.6,
+            pupil_sample_um: 8.0,
+            fine_sample_um: 0.25,
+            sensor_pixel_um: 1.0,
+            window_px: 400,
+            axis_in_pixel_um: [0.125, 0.125],
+        }
+    }
+
+    /// The named optics recipes a design can switch between.
+    pub fn recipe_named(name: &str) -> Option<Self> {
+        match name {
+            "iccp21" => Some(Self::iccp21()),
+            "phone" => Some(Self::phone()),
+            _ => None,
+        }
+    }
+
+    pub const RECIPES: [&'static str; 2] = ["iccp21", "phone"];
+}
+
+/// One colour channel: the wavelengths sampled and their weights (normalised when used).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Channel {
+    pub name: String,
+    pub wavelengths_nm: Vec<f64>,
+    pub weights: Vec<f64>,
+}
+
+impl Channel {
+    pub fn peak(name: &str, wavelength_nm: f64) -> Self {
+        Channel {
+            name: name.into(),
+            wavelengths_nm: vec![wavelength_nm],
+            weights: vec![1.0],
+        }
+    }
+
+    /// The thesis's peak wavelengths: R 610, G 530, B 470 nm.
+    pub fn rgb_peaks() -> Vec<Channel> {
+        vec![
+            Channel::peak("R", 610.0),
+            Channel::peak("G", 530.0),
+            Channel::peak("B", 470.0),
+        ]
+    }
+
+    /// The weight-averaged wavelength, for labels.
+    pub fn mean_wavelength_nm(&self) -> f64 {
+        let wsum: f64 = self.weights.iter().sum();
+        if wsum <= 0.0 {
+            return self.wavelengths_nm.first().copied().unwrap_or(0.0);
+        }
+        self.wavelengths_nm
+            .iter()
+            .zip(&self.weights)
+            .map(|(l, w)| l * w)
+            .sum::<f64>()
+            / wsum
+    }
+}
+
+impl Opening {
+    /// Cells per side `N`.
+    pub fn n(&self) -> usize {
+        self.cells.len()
+    }
+
+    pub fn cell_um(&self) -> f64 {
+        self.pitch_um / self.n().max(1) as f64
+    }
+
+    pub fn dpi(&self) -> f64 {
+        25400.0 / self.pitch_um
+    }
+
+    /// An all-open `n×n` opening.
+    pub fn open(n: usize, pitch_um: f64) -> Self {
+        Opening {
+            pitch_um,
+            cells: vec![vec![1.0; n]; n],
+            polygons: Vec::new(),
+        }
+    }
+
+    /// A full-height vertical slit `width_cells` wide, centred (the T-OLED pixel).
+    pub fn slit(n: usize, width_cells: usize, pitch_um: f64) -> Self {
+        let start = (n - width_cells.min(n)) / 2;
+        let row: Vec<f64> = (0..n)
+            .map(|c| f64::from(u8::from(c >= start && c < start + width_cells)))
+            .collect();
+        Opening {
+            pitch_um,
+            cells: vec![row; n],
+            polygons: Vec::new(),
+        }
+    }
+}
+
+fn finite_positive(field: &str, v: f64) -> Result<(), SimError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(SimError::field(field, format!("must be a positive finite number (got {v})")))
+    }
+}
+
+fn finite(field: &str, v: f64) -> Result<(), SimError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(SimError::field(field, format!("must be a finite number (got {v})")))
+    }
+}
+
+impl Design {
+    /// Checks every value; the error names the first bad field by its path in the design file.
+    ///
+    /// # Errors
+    /// [`SimError::InvalidField`] for the first value out of range.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let o = &self.opening;
+        finite_positive("opening.pitch_um", o.pitch_um)?;
+        let n = o.cells.len();
+        if n == 0 {
+            return Err(SimError::field("opening.cells", "must have at least one row"));
+        }
+        if n > MAX_CELLS {
+            return Err(SimError::field(
+                "opening.cells",
+                format!("{n} rows is more than the {MAX_CELLS} the studio supports"),
+            ));
+        }
+        for (r, row) in o.cells.iter().enumerate() {
+            if row.len() != n {
+                return Err(SimError::field(
+                    format!("opening.cells[{r}]"),
+                    format!("has {} entries; the grid must be square ({n}×{n})", row.len()),
+                ));
+            }
+            for (c, &v) in row.iter().enumerate() {
+                if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
+                    return Err(SimError::field(
+                        format!("opening.cells[{r}][{c}]"),
+                        format!("transmittance must be in [0, 1] (got {v})"),
+                    ));
+                }
+            }
+        }
+        for (i, p) in o.polygons.iter().enumerate() {
+            if p.vertices_um.len() < 3 {
+                return Err(SimError::field(
+                    format!("opening.polygons[{i}].vertices_um"),
+                    "a polygon needs at least 3 vertices",
+                ));
+            }
+            for (j, v) in p.vertices_um.iter().enumerate() {
+                if !(v[0].is_finite() && v[1].is_finite()) {
+                    return Err(SimError::field(
+                        format!("opening.polygons[{i}].vertices_um[{j}]"),
+                        "coordinates must be finite",
+                    ));
+                }
+            }
+        }
+        let t = &self.tiling;
+        finite("tiling.origin_offset_cells[0]", t.origin_offset_cells[0])?;
+        finite("tiling.origin_offset_cells[1]", t.origin_offset_cells[1])?;
+        if !(t.wiring_gap_um.is_finite() && t.wiring_gap_um >= 0.0) {
+            return Err(SimError::field(
+                "tiling.wiring_gap_um",
+                format!("must be zero or a positive finite number of µm (got {})", t.wiring_gap_um),
+            ));
+        }
+        let op = &self.optics;
+        finite_positive("optics.focal_length_mm", op.focal_length_mm)?;
+        finite_positive("optics.f_number", op.f_number)?;
+        finite_positive("optics.pupil_sample_um", op.pupil_sample_um)?;
+        finite_positive("optics.fine_sample_um", op.fine_sample_um)?;
+        finite_positive("optics.sensor_pixel_um", op.sensor_pixel_um)?;
+        if op.window_px < 2 || op.window_px > MAX_WINDOW_PX {
+            return Err(SimError::field(
+                "optics.window_px",
+                format!("must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {})", op.window_px),
+            ));
+        }
+        for (k, v) in op.axis_in_pixel_um.iter().enumerate() {
+            if !(v.is_finite() && *v >= 0.0 && *v < op.sensor_pixel_um) {
+                return Err(SimError::field(
+                    format!("optics.axis_in_pixel_um[{k}]"),
+                    format!(
+                        "must lie inside the pixel, in [0, {}) µm (got {v})",
+                        op.sensor_pixel_um
+                    ),
+                ));
+            }
+        }
+        if self.channels.is_empty() {
+            return Err(SimError::field("channels", "at least one colour channel is needed"));
+        }
+        for (i, ch) in self.channels.iter().enumerate() {
+            if ch.wavelengths_nm.is_empty() {
+                return Err(SimError::field(
+                    format!("channels[{i}].wavelengths_nm"),
+                    "needs at least one wavelength",
+                ));
+            }
+            if ch.wavelengths_nm.len() != ch.weights.len() {
+                return Err(SimError::field(
+                    format!("channels[{i}].weights"),
+                    format!(
+                        "has {} entries but wavelengths_nm has {}",
+                        ch.weights.len(),
+                        ch.wavelengths_nm.len()
+                    ),
+                ));
+            }
+            for (j, &l) in ch.wavelengths_nm.iter().enumerate() {
+                if !(l.is_finite() && (100.0..=20_000.0).contains(&l)) {
+                    return Err(SimError::field(
+                        format!("channels[{i}].wavelengths_nm[{j}]"),
+                        format!("must be a wavelength between 100 and 20000 nm (got {l})"),
+                    ));
+                }
+            }
+            for (j, &w) in ch.weights.iter().enumerate() {
+                if !(w.is_finite() && w >= 0.0) {
+                    return Err(SimError::field(
+                        format!("channels[{i}].weights[{j}]"),
+                        format!("must be zero or positive (got {w})"),
+                    ));
+                }
+            }
+            if ch.weights.iter().sum::<f64>() <= 0.0 {
+                return Err(SimError::field(
+                    format!("channels[{i}].weights"),
+                    "at least one weight must be positive",
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The default design: the T-OLED pixel at 150 DPI, periodic, with the thesis recipe.
+    pub fn default_toled() -> Self {
+        Design {
+            name: "T-OLED 150 DPI".into(),
+            description: "T-OLED pixel: a full-height slit 5 of 21 cells wide (40 µm of 168 µm); \
+                          thesis §3.3.2, Fig. 3.4a"
+                .into(),
+            opening: Opening::slit(21, 5, 168.0),
+            tiling: Tiling {
+                mode: TilingMode::Repeat,
+                seed: 0,
+                origin_offset_cells: [6.0, 6.0],
+                wiring_gap_um: 0.0,
+            },
+            optics: Optics::iccp21(),
+            channels: Channel::rgb_peaks(),
+        }
+    }
+}
+
+impl Default for Design {
+    fn default() -> Self {
+        Self::default_toled()
+    }
+}

@@ -1,0 +1,29 @@
+//! Errors of the simulation core.
+
+use thiserror::Error;
+
+/// Everything that can go wrong in a simulation. Messages name what was wrong and where.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum SimError {
+    /// A design parameter is out of range; `field` is its path in the design file.
+    #[error("design field `{field}`: {message}")]
+    InvalidField { field: String, message: String },
+    /// The sampling cannot represent the design (e.g. the pupil does not fit the FFT grid).
+    #[error("sampling: {0}")]
+    Sampling(String),
+    /// The job would need more memory than the studio allows.
+    #[error("too large: {0}")]
+    TooLarge(String),
+    /// The caller cancelled the job through its [`crate::core::Progress`].
+    #[error("cancelled")]
+    Cancelled,
+}
+
+impl SimError {
+    pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
+        SimError::InvalidField {
+            field: field.into(),
+            message: message.into(),
+        }
+    }
+}

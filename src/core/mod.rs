@@ -1,0 +1,20 @@
+//! The pure simulation core. Nothing here knows about egui, files or threads of its own
+//! (rayon's pool is used for data parallelism inside a call).
+
+pub mod analyze;
+pub mod aperture;
+pub mod design;
+pub mod error;
+pub mod expected;
+pub mod fft;
+pub mod metrics;
+pub mod mtf;
+pub mod progress;
+pub mod psf;
+pub mod sampling;
+pub mod tiling;
+
+pub use analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};
+pub use design::Design;
+pub use error::SimError;
+pub use progress::Progress;

@@ -1,0 +1,159 @@
+//! The sampling plan: FFT size per wavelength, fine spacing, sensor binning and the warnings
+//! PHYSICS.md §2 asks for when the sampling is unsafe.
+
+use super::SimError;
+use super::design::{Design, MAX_FFT_SIZE};
+
+/// How fine samples are integrated into sensor pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Binning {
+    /// Side of the square sensor window, in pixels; the axis pixel is `window_px / 2`.
+    pub window_px: usize,
+    /// Fine samples per sensor pixel along each axis.
+    pub samples_per_px: usize,
+    /// Index (`0..samples_per_px`) of the on-axis fine sample inside its pixel, `[x, y]`.
+    pub phase: [usize; 2],
+}
+
+impl Binning {
+    /// Sensor pixel index holding fine sample at signed offset `s` from the axis along one
+    /// axis, or `None` outside the window.
+    #[inline]
+    pub fn pixel_of(&self, s: i64, axis: usize) -> Option<usize> {
+        let sp = self.samples_per_px as i64;
+        let j = (self.window_px / 2) as i64 + (s + self.phase[axis] as i64).div_euclid(sp);
+        (0..self.window_px as i64).contains(&j).then_some(j as usize)
+    }
+}
+
+/// Sampling of one wavelength.
+#[derive(Debug, Clone, PartialEq)]
+pub struct WavelengthSampling {
+    pub wavelength_nm: f64,
+    pub weight: f64,
+    /// FFT size `M` (even).
+    pub fft_size: usize,
+    /// The real fine spacing `λ f / (M δ1)` in µm.
+    pub fine_um: f64,
+    pub binning: Binning,
+}
+
+/// `M = 2·floor(λ f / (2 δ1 δ2))`, PHYSICS.md §4.
+pub fn fft_size(wavelength_nm: f64, focal_length_mm: f64, pupil_sample_um: f64, fine_sample_um: f64) -> usize {
+    // λ[µm]·f[µm] = λ[nm]·f[mm]
+    let lf_um2 = wavelength_nm * focal_length_mm;
+    let half = lf_um2 / (2.0 * pupil_sample_um * fine_sample_um);
+    // The tiny epsilon keeps exact integers (e.g. 762.0) from flooring to 761 through rounding.
+    2 * ((half + 1e-9).floor().max(0.0) as usize)
+}
+
+/// The per-channel, per-wavelength sampling of a design at the given target fine spacing.
+///
+/// # Errors
+/// [`SimError::Sampling`] when the grid cannot hold the pupil or the window, and
+/// [`SimError::TooLarge`] when an FFT would exceed [`MAX_FFT_SIZE`].
+pub fn plan(design: &Design, fine_sample_um: f64, warnings: &mut Vec<String>) -> Result<Vec<Vec<WavelengthSampling>>, SimError> {
+    let op = &design.optics;
+    let d_um = op.pupil_diameter_um();
+    let pupil_samples = d_um / op.pupil_sample_um;
+    let mut out = Vec::with_capacity(design.channels.len());
+    let mut warned_padding = false;
+    let mut warned_pixel = false;
+    for ch in &design.channels {
+        let mut per = Vec::with_capacity(ch.wavelengths_nm.len());
+        let wsum: f64 = ch.weights.iter().sum();
+        for (&l, &w) in ch.wavelengths_nm.iter().zip(&ch.weights) {
+            let m = fft_size(l, op.focal_length_mm, op.pupil_sample_um, fine_sample_um);
+            if m > MAX_FFT_SIZE {
+                return Err(SimError::TooLarge(format!(
+                    "channel {} at {l} nm needs an FFT of {m}² samples (limit {MAX_FFT_SIZE}²); \
+                     increase optics.pupil_sample_um or optics.fine_sample_um",
+                    ch.name
+                )));
+            }
+            if (m as f64) < pupil_samples + 2.0 {
+                return Err(SimError::Sampling(format!(
+                    "channel {} at {l} nm: the FFT grid ({m} samples of {} µm) is smaller than the \
+                     pupil ({pupil_samples:.0} samples); decrease optics.fine_sample_um",
+                    ch.name, op.pupil_sample_um
+                )));
+            }
+            if !warned_padding && (m as f64) < 2.0 * pupil_samples {
+                warned_padding = true;
+                warnings.push(format!(
+                    "pupil zero-padding is only {:.2}× (< 2×) at {l} nm: the PSF is under-sampled; \
+                     decrease optics.fine_sample_um",
+                    m as f64 / pupil_samples
+                ));
+            }
+            let lf_um2 = l * op.focal_length_mm;
+            let fine_um = lf_um2 / (m as f64 * op.pupil_sample_um);
+            let spp_f = op.sensor_pixel_um / fine_um;
+            let spp = spp_f.round().max(1.0) as usize;
+            if !warned_pixel && ((spp as f64 * fine_um - op.sensor_pixel_um).abs() > 0.02 * op.sensor_pixel_um) {
+                warned_pixel = true;
+                warnings.push(format!(
+                    "the sensor pixel ({} µm) is not a whole number of fine samples ({fine_um:.4} µm): \
+                     pixels are integrated over {spp} samples = {:.3} µm",
+                    op.sensor_pixel_um,
+                    spp as f64 * fine_um
+                ));
+            }
+            let phase = [
+                ((op.axis_in_pixel_um[0] / fine_um).floor().max(0.0) as usize).min(spp - 1),
+                ((op.axis_in_pixel_um[1] / fine_um).floor().max(0.0) as usize).min(spp - 1),
+            ];
+            let window_fine = op.window_px * spp;
+            // A couple of missing fine samples at the rim (the thesis recipe's blue channel) are noise.
+            if window_fine > m + 2 * spp {
+                warnings.push(format!(
+                    "the sensor window ({} px = {} fine samples) is larger than the FFT grid at {l} nm \
+                     ({m} samples): its edges are empty",
+                    op.window_px, window_fine
+                ));
+            }
+            per.push(WavelengthSampling {
+                wavelength_nm: l,
+                weight: w / wsum,
+                fft_size: m,
+                fine_um,
+                binning: Binning {
+                    window_px: op.window_px,
+                    samples_per_px: spp,
+                    phase,
+                },
+            });
+        }
+        out.push(per);
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn iccp21_fft_sizes_match_physics_md() {
+        assert_eq!(fft_size(610.0, 10.0, 8.0, 0.5), 1524);
+        assert_eq!(fft_size(530.0, 10.0, 8.0, 0.5), 1324);
+        assert_eq!(fft_size(470.0, 10.0, 8.0, 0.5), 1174);
+    }
+
+    #[test]
+    fn binning_puts_the_axis_on_the_first_sample_of_the_centre_pixel() {
+        let b = Binning {
+            window_px: 294,
+            samples_per_px: 4,
+            phase: [0, 0],
+        };
+        assert_eq!(b.pixel_of(0, 0), Some(147));
+        assert_eq!(b.pixel_of(3, 0), Some(147));
+        assert_eq!(b.pixel_of(4, 0), Some(148));
+        assert_eq!(b.pixel_of(-1, 0), Some(146));
+        assert_eq!(b.pixel_of(-588, 0), Some(0));
+        assert_eq!(b.pixel_of(-589, 0), None);
+        assert_eq!(b.pixel_of(587, 0), Some(293));
+        assert_eq!(b.pixel_of(588, 0), None);
+    }
+}
