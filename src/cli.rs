@@ -1,0 +1,171 @@
+//! Headless commands, built only on `core` and `io`.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+
+use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::design::{Design, Optics, TilingMode};
+use crate::core::{Analysis, Progress};
+use crate::io::{design_file, export, pattern, presets, report};
+
+#[derive(Debug, Parser)]
+#[command(name = "udc-studio", version, about = "Design studio for under-display cameras")]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Open the studio (the default when no command is given).
+    Studio {
+        /// A design file to open instead of the last session's design.
+        design: Option<PathBuf>,
+    },
+    /// Analyse a design: PSF, MTF, AUC, LTR and invertibility per channel.
+    Analyze(AnalyzeArgs),
+    /// List the built-in presets with one-line descriptions.
+    Presets,
+}
+
+/// How a command picks its design: a file, or a preset, then overrides.
+#[derive(Debug, Args)]
+pub struct DesignSelection {
+    /// Design file (JSON). Without it, `--preset` or the default T-OLED preset is used.
+    pub design: Option<PathBuf>,
+    /// Built-in preset name (see `udc-studio presets`).
+    #[arg(long, conflicts_with = "design")]
+    pub preset: Option<String>,
+    /// PNG opening that replaces the design's (grey > 127 = open; one pixel = one cell).
+    #[arg(long)]
+    pub pattern: Option<PathBuf>,
+    /// Display pixel pitch in µm.
+    #[arg(long)]
+    pub pitch_um: Option<f64>,
+    /// Tiling: repeat, random-d4 or random-4.
+    #[arg(long)]
+    pub tiling: Option<TilingMode>,
+    /// Seed of the random tiling.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Optics recipe: iccp21 (the thesis) or phone.
+    #[arg(long)]
+    pub optics: Option<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct AnalyzeArgs {
+    #[command(flatten)]
+    pub selection: DesignSelection,
+    /// Print one JSON object to stdout instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Also write the PSFs (EXR, 16-bit PNG), log-PSFs (PNG) and mtf.csv into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Interactive preview quality (coarser sampling, same physics).
+    #[arg(long)]
+    pub preview: bool,
+}
+
+impl DesignSelection {
+    /// Resolves the selection into a validated design.
+    ///
+    /// # Errors
+    /// Unreadable or invalid files, unknown presets or recipes, bad override values.
+    pub fn resolve(&self) -> Result<Design> {
+        let mut design = match (&self.design, &self.preset) {
+            (Some(path), _) => design_file::load_design(path)?,
+            (None, Some(name)) => presets::load_preset(name)?,
+            (None, None) => presets::load_preset(presets::DEFAULT_PRESET)?,
+        };
+        if let Some(path) = &self.pattern {
+            design.opening.cells = pattern::load_pattern_png(path)?;
+            design.opening.polygons.clear();
+        }
+        if let Some(p) = self.pitch_um {
+            design.opening.pitch_um = p;
+        }
+        if let Some(t) = self.tiling {
+            design.tiling.mode = t;
+        }
+        if let Some(s) = self.seed {
+            design.tiling.seed = s;
+        }
+        if let Some(name) = &self.optics {
+            design.optics = Optics::recipe_named(name)
+                .with_context(|| format!("unknown optics recipe `{name}` (expected iccp21 or phone)"))?;
+        }
+        design.validate()?;
+        Ok(design)
+    }
+}
+
+/// Runs a headless command.
+///
+/// # Errors
+/// Any failure, as one message for stderr.
+pub fn run(command: Command) -> Result<()> {
+    match command {
+        Command::Presets => {
+            for (name, desc) in presets::list() {
+                println!("{name:<16} {desc}");
+            }
+            Ok(())
+        }
+        Command::Analyze(args) => analyze_cmd(&args),
+        Command::Studio { .. } => bail!("the studio is not a headless command"),
+    }
+}
+
+fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
+    let design = args.selection.resolve()?;
+    let options = AnalyzeOptions {
+        quality: if args.preview { Quality::Preview } else { Quality::Full },
+        expected_psf: args.out.is_some(),
+    };
+    let analysis = analyze_with(&design, &options, &Progress::new())?;
+    if let Some(dir) = &args.out {
+        export::write_analysis_outputs(dir, &analysis)?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string(&report::analysis_json(&analysis))?);
+    } else {
+        print_table(&design, &analysis);
+    }
+    Ok(())
+}
+
+fn print_table(design: &Design, a: &Analysis) {
+    println!(
+        "{}: {} cells of {:.2} µm, pitch {:.1} µm ({:.0} DPI), tiling {}",
+        if design.name.is_empty() { "design" } else { &design.name },
+        design.opening.n(),
+        design.opening.cell_um(),
+        design.opening.pitch_um,
+        design.opening.dpi(),
+        design.tiling.mode.as_str()
+    );
+    println!(
+        "open fraction {:.4}   LTR {:.4}   L_inv {:.4}   {:.1} ms",
+        a.open_fraction, a.ltr, a.invertibility_loss, a.elapsed_ms
+    );
+    println!("channel  λ (nm)   FFT    AUC(min)  AUC/0.5   AUC(mean)  in window");
+    for c in &a.channels {
+        println!(
+            "{:<8} {:>6.1}  {:>5}   {:.5}   {:.5}   {:.5}    {:.4}",
+            c.name,
+            c.wavelength_nm,
+            c.fft_sizes.first().copied().unwrap_or(0),
+            c.mtf.auc_radial_min,
+            c.mtf.auc_normalised(),
+            c.mtf.auc_radial_mean,
+            c.energy_in_window
+        );
+    }
+    for w in &a.warnings {
+        println!("warning: {w}");
+    }
+}

@@ -36,6 +36,8 @@ pub struct Opening {
     /// Display pixel pitch `T` in µm; the cell size is `pitch_um / N`. DPI = 25400 / pitch_um.
     pub pitch_um: f64,
     /// Rows of amplitude transmittance, row 0 at the top; every row has `N` entries.
+    /// In files a binary row may be written as text, `#` open and `.` closed.
+    #[serde(with = "cell_rows")]
     pub cells: Vec<Vec<f64>>,
     /// Optional openings described as polygons (µm, tile frame: origin at the tile's top-left
     /// corner, x to the right, y down). They are rasterised onto the cell grid with area coverage
@@ -429,5 +431,54 @@ impl Design {
 impl Default for Design {
     fn default() -> Self {
         Self::default_toled()
+    }
+}
+
+/// Cell rows in design files: binary rows as `"..##.."` text (readable, diffable), others as
+/// arrays of numbers. Both forms are accepted on input.
+mod cell_rows {
+    use serde::de::Error as _;
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    #[derive(Serialize, Deserialize)]
+    #[serde(untagged)]
+    enum Row {
+        Text(String),
+        Numbers(Vec<f64>),
+    }
+
+    pub fn serialize<S: Serializer>(cells: &[Vec<f64>], s: S) -> Result<S::Ok, S::Error> {
+        let binary = cells.iter().flatten().all(|v| *v == 0.0 || *v == 1.0);
+        let rows: Vec<Row> = cells
+            .iter()
+            .map(|r| {
+                if binary {
+                    Row::Text(r.iter().map(|v| if *v == 1.0 { '#' } else { '.' }).collect())
+                } else {
+                    Row::Numbers(r.clone())
+                }
+            })
+            .collect();
+        rows.serialize(s)
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<Vec<f64>>, D::Error> {
+        let rows = Vec::<Row>::deserialize(d)?;
+        rows.into_iter()
+            .enumerate()
+            .map(|(i, r)| match r {
+                Row::Numbers(v) => Ok(v),
+                Row::Text(t) => t
+                    .chars()
+                    .map(|c| match c {
+                        '#' | '1' => Ok(1.0),
+                        '.' | '0' => Ok(0.0),
+                        other => Err(D::Error::custom(format!(
+                            "row {i}: unexpected character {other:?} (use '#' for open and '.' for closed)"
+                        ))),
+                    })
+                    .collect(),
+            })
+            .collect()
     }
 }

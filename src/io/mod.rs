@@ -1,0 +1,12 @@
+//! Every file format the studio reads or writes. Core types go in, files come out; nothing here
+//! simulates.
+
+pub mod design_file;
+pub mod error;
+pub mod export;
+pub mod pattern;
+pub mod presets;
+pub mod report;
+pub mod spectral;
+
+pub use error::IoError;

@@ -1,0 +1,166 @@
+#!/usr/bin/env bash
+# Runs the benches and the numpy reference, then writes benches/REPORT.md: median times, peak
+# memory and the goals they are held to. Usage: bash benches/report.sh
+#
+# Numbers come from files, not from scraping console text:
+#   <target>/criterion/**/new/{benchmark,estimates}.json  criterion's median (ns) per bench id
+#   <target>/udc-bench/analyze-figures.json               AUCs printed by benches/analyze.rs
+#   <target>/udc-bench/memory.json                        VmHWM from benches/memory.rs
+#   the last line of benches/numpy_reference.py           its AUCs and median time (JSON)
+set -euo pipefail
+
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$root"
+target="${CARGO_TARGET_DIR:-$root/target}"
+python="${PYTHON:-python3}"
+logs="$target/udc-bench"
+mkdir -p "$logs"
+
+# (i) numpy, the only thing the reference needs.
+if ! "$python" -c 'import numpy' 2>/dev/null; then
+    "$python" -m pip install --quiet numpy
+fi
+
+# (ii) the Rust benches. Stale criterion results of a renamed bench are ignored below: only the
+# ids this script knows are read.
+cargo bench --bench analyze -- --noplot 2>&1 | tee "$logs/analyze.log"
+cargo bench --bench memory 2>&1 | tee "$logs/memory.log"
+
+# (iii) the numpy reference of case (a), and the open aperture for the thesis check.
+"$python" benches/numpy_reference.py | tee "$logs/numpy.log"
+tail -n 1 "$logs/numpy.log" >"$logs/numpy.json"
+"$python" benches/numpy_reference.py --open --runs 1 | tee "$logs/numpy-open.log"
+tail -n 1 "$logs/numpy-open.log" >"$logs/numpy-open.json"
+
+# (iv) the report.
+NPROC="$(nproc 2>/dev/null || echo unknown)" \
+RUSTC="$(rustc --version 2>/dev/null || echo unknown)" \
+CPU="$(grep -m1 'model name' /proc/cpuinfo 2>/dev/null | cut -d: -f2- | sed 's/^ *//' || true)" \
+    "$python" - "$target" "$root/benches/REPORT.md" <<'EOF'
+import datetime
+import glob
+import json
+import os
+import sys
+
+target, out_path = sys.argv[1], sys.argv[2]
+bench = os.path.join(target, "udc-bench")
+
+
+def load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+# criterion: full_id -> median in ms.
+median_ms = {}
+for est in glob.glob(os.path.join(target, "criterion", "**", "new", "estimates.json"), recursive=True):
+    meta = load(os.path.join(os.path.dirname(est), "benchmark.json"))
+    data = load(est)
+    if meta and data:
+        median_ms[meta["full_id"]] = data["median"]["point_estimate"] / 1e6
+
+figures = load(os.path.join(bench, "analyze-figures.json")) or {}
+memory = load(os.path.join(bench, "memory.json")) or {}
+numpy_ref = load(os.path.join(bench, "numpy.json")) or {}
+numpy_open = load(os.path.join(bench, "numpy-open.json")) or {}
+
+rows = []
+
+
+def verdict(ok):
+    return "—" if ok is None else ("pass" if ok else "**FAIL**")
+
+
+def row(name, value, unit, goal_text, ok):
+    shown = "n/a" if value is None else f"{value:.1f}{unit}"
+    rows.append(f"| {name} | {shown} | {goal_text} | {verdict(ok)} |")
+
+
+def time_row(bench_id, limit_ms=None):
+    t = median_ms.get(bench_id)
+    ok = None if limit_ms is None else (t is not None and t <= limit_ms)
+    row(f"`{bench_id}`", t, "", "—" if limit_ms is None else f"≤ {limit_ms} ms", ok)
+
+
+time_row("analyze/iccp21/toled-repeat", 150)
+time_row("analyze/iccp21/toled-random-d4")
+time_row("analyze/preview/toled-repeat", 20)
+time_row("analyze/iccp21/open-aperture")
+np_ms = numpy_ref.get("median_ms")
+row("numpy reference of (a), median of 5", np_ms, "", "—", None)
+rust_a = median_ms.get("analyze/iccp21/toled-repeat")
+ratio = np_ms / rust_a if np_ms and rust_a else None
+rows.append(
+    f"| speed ratio numpy / Rust for (a) | {'n/a' if ratio is None else f'{ratio:.1f}×'} | ≥ 4× | "
+    f"{verdict(None if ratio is None else ratio >= 4)} |"
+)
+for case, entry in sorted(memory.items()):
+    peak = entry.get("peak_mb")
+    base = entry.get("baseline_mb")
+    note = "" if base is None else f" (baseline {base:.1f} MB)"
+    rows.append(
+        f"| peak memory `{case}`, VmHWM{note} | {'unavailable' if peak is None else f'{peak:.1f} MB'} "
+        f"| ≤ 300 MB | {verdict(None if peak is None else peak <= 300)} |"
+    )
+if not memory:
+    rows.append("| peak memory | unavailable | ≤ 300 MB | — |")
+
+
+# AUC agreement: Rust analyze vs numpy, and the open aperture vs the thesis.
+def max_rel(a, b):
+    keys = sorted(set(a) & set(b))
+    if not keys:
+        return None
+    return max(abs(a[k] / b[k] - 1.0) for k in keys)
+
+
+checks = []
+for label, bench_id, ref in (
+    ("T-OLED (a)", "analyze/iccp21/toled-repeat", numpy_ref),
+    ("open aperture (d)", "analyze/iccp21/open-aperture", numpy_open),
+):
+    rust = figures.get(bench_id, {}).get("auc_radial_min", {})
+    rel = max_rel(rust, ref.get("auc_radial_min", {}))
+    shown = "n/a" if rel is None else f"{rel:.1e}"
+    ok = None if rel is None else rel <= 1e-6
+    aucs = ", ".join(f"{k} {v:.6f}" for k, v in rust.items())
+    checks.append(f"| {label}: Rust vs numpy AUC ({aucs}) | {shown} | ≤ 1e-6 | {verdict(ok)} |")
+thesis = {"R": 0.3068, "G": 0.3170, "B": 0.3274}
+rust_open = figures.get("analyze/iccp21/open-aperture", {}).get("auc_radial_min", {})
+rel = max_rel(rust_open, thesis)
+checks.append(
+    f"| open aperture: Rust AUC vs thesis (R 0.3068, G 0.3170, B 0.3274) | "
+    f"{'n/a' if rel is None else f'{100 * rel:.3f} %'} | ≤ 0.3 % | "
+    f"{verdict(None if rel is None else rel <= 0.003)} |"
+)
+
+now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+lines = [
+    "# Benchmark report",
+    "",
+    f"Generated by `benches/report.sh` on {now}; `nproc` = {os.environ.get('NPROC', '?')}"
+    + (f" ({os.environ['CPU']})" if os.environ.get("CPU") else "")
+    + f"; {os.environ.get('RUSTC', '')}; numpy {numpy_ref.get('numpy', '?')}.",
+    "",
+    "Times are criterion medians (10 samples) of one `analyze` call after a warm-up call; memory is",
+    "the peak resident set (VmHWM, MB = 10⁶ bytes) of a fresh process running one full analyze.",
+    "",
+    "| bench | median time (ms, or as marked) | goal | pass/fail |",
+    "| --- | --- | --- | --- |",
+    *rows,
+    "",
+    "## Numbers agree",
+    "",
+    "| check | max relative difference | goal | pass/fail |",
+    "| --- | --- | --- | --- |",
+    *checks,
+    "",
+]
+with open(out_path, "w") as f:
+    f.write("\n".join(lines))
+print("\n".join(lines))
+EOF

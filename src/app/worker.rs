@@ -1,0 +1,153 @@
+//! The simulation worker: a named thread that takes the newest job, computes a fast preview and
+//! then full quality, and wakes the UI. A newer job cancels the running one (generation numbers
+//! tell stale results apart). The UI thread never calls the simulation.
+
+use std::sync::mpsc::{Receiver, Sender, channel};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+
+use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::{Analysis, Design, Progress, SimError};
+
+/// A finished (or failed) computation of one generation.
+pub struct JobResult {
+    pub generation: u64,
+    pub quality: Quality,
+    pub result: Result<Analysis, SimError>,
+}
+
+struct Shared {
+    pending: Option<(u64, Design)>,
+    running: Option<(u64, Arc<Progress>)>,
+    shutdown: bool,
+}
+
+/// Handle owned by the UI.
+pub struct Worker {
+    shared: Arc<(Mutex<Shared>, std::sync::Condvar)>,
+    results: Receiver<JobResult>,
+    generation: u64,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Worker {
+    /// Starts the worker; `wake` is called whenever a result is ready (e.g. `request_repaint`).
+    pub fn spawn(wake: impl Fn() + Send + 'static) -> Self {
+        let shared = Arc::new((
+            Mutex::new(Shared {
+                pending: None,
+                running: None,
+                shutdown: false,
+            }),
+            std::sync::Condvar::new(),
+        ));
+        let (tx, rx) = channel();
+        let thread_shared = shared.clone();
+        let thread = std::thread::Builder::new()
+            .name("udc-simulation".into())
+            .spawn(move || worker_loop(&thread_shared, &tx, &wake))
+            .ok();
+        Worker {
+            shared,
+            results: rx,
+            generation: 0,
+            thread,
+        }
+    }
+
+    /// Queues a design; any older pending or running job is superseded. Returns its generation.
+    pub fn submit(&mut self, design: Design) -> u64 {
+        self.generation += 1;
+        let (lock, cvar) = &*self.shared;
+        let mut s = lock.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((_, p)) = &s.running {
+            p.cancel();
+        }
+        s.pending = Some((self.generation, design));
+        cvar.notify_one();
+        self.generation
+    }
+
+    /// The newest generation submitted.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// Progress of the running job, if any.
+    pub fn progress(&self) -> Option<f32> {
+        let s = self.shared.0.lock().unwrap_or_else(|e| e.into_inner());
+        s.running.as_ref().map(|(_, p)| p.fraction())
+    }
+
+    /// Drains finished results without blocking.
+    pub fn poll(&self) -> Vec<JobResult> {
+        self.results.try_iter().collect()
+    }
+
+    /// Blocks until a result arrives or the timeout passes (for tests and headless use).
+    pub fn wait(&self, timeout: std::time::Duration) -> Option<JobResult> {
+        self.results.recv_timeout(timeout).ok()
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        {
+            let (lock, cvar) = &*self.shared;
+            let mut s = lock.lock().unwrap_or_else(|e| e.into_inner());
+            s.shutdown = true;
+            if let Some((_, p)) = &s.running {
+                p.cancel();
+            }
+            cvar.notify_one();
+        }
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+fn worker_loop(shared: &Arc<(Mutex<Shared>, std::sync::Condvar)>, tx: &Sender<JobResult>, wake: &dyn Fn()) {
+    let (lock, cvar) = &**shared;
+    loop {
+        let (generation, design, progress) = {
+            let mut s = lock.lock().unwrap_or_else(|e| e.into_inner());
+            while s.pending.is_none() && !s.shutdown {
+                s = cvar.wait(s).unwrap_or_else(|e| e.into_inner());
+            }
+            if s.shutdown {
+                return;
+            }
+            let Some((generation, design)) = s.pending.take() else {
+                continue;
+            };
+            let progress = Arc::new(Progress::new());
+            s.running = Some((generation, progress.clone()));
+            (generation, design, progress)
+        };
+        for quality in [Quality::Preview, Quality::Full] {
+            let options = AnalyzeOptions {
+                quality,
+                expected_psf: true,
+            };
+            let result = analyze_with(&design, &options, &progress);
+            let cancelled = matches!(result, Err(SimError::Cancelled));
+            if !cancelled {
+                let failed = result.is_err();
+                if tx.send(JobResult { generation, quality, result }).is_err() {
+                    return;
+                }
+                wake();
+                if failed {
+                    break;
+                }
+            } else {
+                break;
+            }
+        }
+        let mut s = lock.lock().unwrap_or_else(|e| e.into_inner());
+        if s.running.as_ref().is_some_and(|(g, _)| *g == generation) {
+            s.running = None;
+        }
+    }
+}
