@@ -74,7 +74,11 @@ fn child(case: &str) -> i32 {
 
 /// Parent: one fresh process per case; returns the case's JSON object (numbers or `null`).
 fn measure(case: &str) -> String {
-    let exe = match std::env::current_exe() {
+    // current_exe reads /proc/self/exe on Linux; argv[0] (a full path under cargo) is the
+    // fallback so that a system without /proc still runs the cases and prints "unavailable".
+    let exe = match std::env::current_exe()
+        .or_else(|e| std::env::args_os().next().map(PathBuf::from).ok_or(e))
+    {
         Ok(p) => p,
         Err(e) => {
             println!("memory/{case}: unavailable (cannot find own executable: {e})");

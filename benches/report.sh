@@ -98,7 +98,7 @@ rows.append(
     f"| speed ratio numpy / Rust for (a) | {'n/a' if ratio is None else f'{ratio:.1f}×'} | ≥ 4× | "
     f"{verdict(None if ratio is None else ratio >= 4)} |"
 )
-for case, entry in sorted(memory.items()):
+for case, entry in memory.items():  # the bench writes them in its own order
     peak = entry.get("peak_mb")
     base = entry.get("baseline_mb")
     note = "" if base is None else f" (baseline {base:.1f} MB)"

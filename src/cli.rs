@@ -11,7 +11,11 @@ use crate::core::{Analysis, Progress};
 use crate::io::{design_file, export, pattern, presets, report};
 
 #[derive(Debug, Parser)]
-#[command(name = "udc-studio", version, about = "Design studio for under-display cameras")]
+#[command(
+    name = "udc-studio",
+    version,
+    about = "Design studio for under-display cameras"
+)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -95,8 +99,9 @@ impl DesignSelection {
             design.tiling.seed = s;
         }
         if let Some(name) = &self.optics {
-            design.optics = Optics::recipe_named(name)
-                .with_context(|| format!("unknown optics recipe `{name}` (expected iccp21 or phone)"))?;
+            design.optics = Optics::recipe_named(name).with_context(|| {
+                format!("unknown optics recipe `{name}` (expected iccp21 or phone)")
+            })?;
         }
         design.validate()?;
         Ok(design)
@@ -123,7 +128,11 @@ pub fn run(command: Command) -> Result<()> {
 fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
     let design = args.selection.resolve()?;
     let options = AnalyzeOptions {
-        quality: if args.preview { Quality::Preview } else { Quality::Full },
+        quality: if args.preview {
+            Quality::Preview
+        } else {
+            Quality::Full
+        },
         expected_psf: args.out.is_some(),
     };
     let analysis = analyze_with(&design, &options, &Progress::new())?;
@@ -131,7 +140,10 @@ fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
         export::write_analysis_outputs(dir, &analysis)?;
     }
     if args.json {
-        println!("{}", serde_json::to_string(&report::analysis_json(&analysis))?);
+        println!(
+            "{}",
+            serde_json::to_string(&report::analysis_json(&analysis))?
+        );
     } else {
         print_table(&design, &analysis);
     }
@@ -141,7 +153,11 @@ fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
 fn print_table(design: &Design, a: &Analysis) {
     println!(
         "{}: {} cells of {:.2} µm, pitch {:.1} µm ({:.0} DPI), tiling {}",
-        if design.name.is_empty() { "design" } else { &design.name },
+        if design.name.is_empty() {
+            "design"
+        } else {
+            &design.name
+        },
         design.opening.n(),
         design.opening.cell_um(),
         design.opening.pitch_um,

@@ -1,4 +1,5 @@
 //! The closed-form expected PSF of a random tiling against the mean over many realisations.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
 
@@ -22,7 +23,10 @@ fn design(mode: TilingMode, seed: u64) -> Design {
 }
 
 fn psf(d: &Design, expected: bool) -> (Array2<f64>, Option<Array2<f64>>) {
-    let opts = AnalyzeOptions { expected_psf: expected, ..Default::default() };
+    let opts = AnalyzeOptions {
+        expected_psf: expected,
+        ..Default::default()
+    };
     let mut a = analyze_with(d, &opts, &Progress::new()).expect("analysis");
     let ch = a.channels.remove(0);
     (ch.psf, ch.expected_psf)
@@ -48,10 +52,19 @@ fn mean_over_seeds_approaches_the_closed_form() {
         let single = l1(&psf(&design(mode, 7), false).0, &expected);
         let periodic = l1(&psf(&design(TilingMode::Repeat, 0), false).0, &expected);
         // Averaging realisations converges on the closed form, and it is not the periodic PSF.
-        assert!(err < 0.5 * err_at_4, "{mode:?}: 48 seeds {err}, 4 seeds {err_at_4}");
-        assert!(err < 0.4 * single, "{mode:?}: mean {err} vs one realisation {single}");
+        assert!(
+            err < 0.5 * err_at_4,
+            "{mode:?}: 48 seeds {err}, 4 seeds {err_at_4}"
+        );
+        assert!(
+            err < 0.4 * single,
+            "{mode:?}: mean {err} vs one realisation {single}"
+        );
         assert!(err < 0.15, "{mode:?}: relative L1 {err}");
-        assert!(periodic > 3.0 * err, "{mode:?}: periodic {periodic} vs mean {err}");
+        assert!(
+            periodic > 3.0 * err,
+            "{mode:?}: periodic {periodic} vs mean {err}"
+        );
     }
 }
 
@@ -63,5 +76,8 @@ fn repeat_tiling_has_no_expected_psf_and_seeds_are_reproducible() {
     let (b, _) = psf(&design(TilingMode::RandomD4, 5), false);
     assert_eq!(a, b, "same seed, same PSF, bit for bit");
     let (c, _) = psf(&design(TilingMode::RandomD4, 6), false);
-    assert!(l1(&a, &c) > 1e-3, "another seed must give another realisation");
+    assert!(
+        l1(&a, &c) > 1e-3,
+        "another seed must give another realisation"
+    );
 }

@@ -1,4 +1,5 @@
 //! Analytic references: Airy pattern, diffraction-limited MTF, Parseval, grating orders, symmetry.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
 
@@ -27,7 +28,12 @@ fn optics(f_number: f64, fine_um: f64) -> Optics {
 /// Fine PSF of a design at one wavelength, centred, with its fine spacing in µm.
 fn fine_psf(design: &udc_studio::core::Design, wavelength_nm: f64) -> (Array2<f64>, f64) {
     let o = &design.optics;
-    let m = fft_size(wavelength_nm, o.focal_length_mm, o.pupil_sample_um, o.fine_sample_um);
+    let m = fft_size(
+        wavelength_nm,
+        o.focal_length_mm,
+        o.pupil_sample_um,
+        o.fine_sample_um,
+    );
     let field = aperture_of(design);
     let psf = full_intensity(&field, m, &Progress::new()).expect("field fits");
     let spacing = wavelength_nm * o.focal_length_mm / (m as f64 * o.pupil_sample_um);
@@ -127,7 +133,10 @@ fn slit_grating_puts_its_orders_at_lambda_f_over_t() {
         );
         // A real order: far brighter than the midpoint between orders.
         let between = psf[[c, c + ((n as f64 - 0.5) * order_um / dx).round() as usize]];
-        assert!(psf[[c, c + best]] > 100.0 * between, "order {n} is not a peak");
+        assert!(
+            psf[[c, c + best]] > 100.0 * between,
+            "order {n} is not a peak"
+        );
     }
     // Along y the slit is fully open: no orders, the Airy core dominates.
     let y_order = (order_um / dx).round() as usize;
@@ -148,7 +157,11 @@ fn symmetric_openings_give_symmetric_psfs() {
         }
     }
     let mut design = open_design(optics(5.0, 0.5), vec![Channel::peak("G", 530.0)]);
-    design.opening = Opening { pitch_um: 168.0, cells, polygons: vec![] };
+    design.opening = Opening {
+        pitch_um: 168.0,
+        cells,
+        polygons: vec![],
+    };
     design.tiling.origin_offset_cells = [10.0, 10.0];
     design.optics.sensor_pixel_um = 1.5;
     design.optics.axis_in_pixel_um = [0.75, 0.75];
@@ -170,6 +183,8 @@ fn symmetric_openings_give_symmetric_psfs() {
     design.opening.cells[0][1] = 1.0;
     let b = analyze(&design, &Progress::new()).expect("analysis");
     let q = &b.channels[0].psf;
-    let asym: f64 = (0..w).map(|x| (q[[w / 2 + 3, x]] - q[[w / 2 + 3, w - 1 - x]]).abs()).sum();
+    let asym: f64 = (0..w)
+        .map(|x| (q[[w / 2 + 3, x]] - q[[w / 2 + 3, w - 1 - x]]).abs())
+        .sum();
     assert!(asym > 1e-9, "an asymmetric opening must break the symmetry");
 }

@@ -1,4 +1,5 @@
 //! The thesis's published numbers and trends (PHYSICS.md §4, thesis §3.4.1 and Fig. 3.7).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod common;
 
@@ -19,9 +20,20 @@ fn open_aperture_auc_reproduces_the_thesis() {
     for (ch, (name, auc)) in a.channels.iter().zip(want) {
         assert_eq!(ch.name, name);
         let rel = (ch.mtf.auc_radial_min - auc).abs() / auc;
-        assert!(rel < 0.003, "{name}: AUC {} vs thesis {auc} ({:.2} %)", ch.mtf.auc_radial_min, 100.0 * rel);
+        assert!(
+            rel < 0.003,
+            "{name}: AUC {} vs thesis {auc} ({:.2} %)",
+            ch.mtf.auc_radial_min,
+            100.0 * rel
+        );
     }
-    assert_eq!(a.channels.iter().map(|c| c.fft_sizes[0]).collect::<Vec<_>>(), vec![1524, 1324, 1174]);
+    assert_eq!(
+        a.channels
+            .iter()
+            .map(|c| c.fft_sizes[0])
+            .collect::<Vec<_>>(),
+        vec![1524, 1324, 1174]
+    );
     assert!((a.ltr - 1.0).abs() < 1e-12);
 }
 
@@ -33,8 +45,17 @@ fn toled_repeat_collapses_and_random_tiling_lifts_the_auc() {
     let random = analyze(&d, &Progress::new()).expect("analysis");
     for (rep, rnd) in repeat.channels.iter().zip(&random.channels) {
         // The periodic slit's radial minimum falls to ≈0 within a few rings (Fig. 3.7).
-        let first_null = rep.mtf.radial_min.iter().position(|v| *v < 0.01).expect("a null");
-        assert!(first_null <= 8, "{}: first near-null at ring {first_null}", rep.name);
+        let first_null = rep
+            .mtf
+            .radial_min
+            .iter()
+            .position(|v| *v < 0.01)
+            .expect("a null");
+        assert!(
+            first_null <= 8,
+            "{}: first near-null at ring {first_null}",
+            rep.name
+        );
         assert!(
             rnd.mtf.auc_radial_min > 3.0 * rep.mtf.auc_radial_min,
             "{}: random {} vs repeat {}",
@@ -45,7 +66,11 @@ fn toled_repeat_collapses_and_random_tiling_lifts_the_auc() {
         // Random tiling lifts the nulls: far fewer rings whose minimum is ≈0.
         let nulls = |v: &[f64]| v.iter().filter(|x| **x < 1e-3).count();
         let (n_rep, n_rnd) = (nulls(&rep.mtf.radial_min), nulls(&rnd.mtf.radial_min));
-        assert!(n_rnd * 4 < n_rep, "{}: {n_rnd} null rings random vs {n_rep} repeat", rep.name);
+        assert!(
+            n_rnd * 4 < n_rep,
+            "{}: {n_rnd} null rings random vs {n_rep} repeat",
+            rep.name
+        );
     }
     // Random tiling does not change how much light passes.
     assert!((repeat.ltr - random.ltr).abs() < 0.005);

@@ -91,7 +91,12 @@ fn psf_texture(ctx: &egui::Context, a: &Analysis) -> TextureHandle {
     let n = a.window_px;
     let mut rgb = vec![0u8; n * n * 3];
     for (k, ch) in a.channels.iter().take(3).enumerate() {
-        let peak = ch.psf.iter().copied().fold(0.0f64, f64::max).max(f64::MIN_POSITIVE);
+        let peak = ch
+            .psf
+            .iter()
+            .copied()
+            .fold(0.0f64, f64::max)
+            .max(f64::MIN_POSITIVE);
         for (i, v) in ch.psf.iter().enumerate() {
             let l = ((v / peak).max(1e-6).log10() + 6.0) / 6.0;
             rgb[i * 3 + k] = (l.clamp(0.0, 1.0) * 255.0).round() as u8;
@@ -117,7 +122,10 @@ impl eframe::App for StudioApp {
             }
             if let Some((q, a)) = &self.shown {
                 ui.label(format!("quality: {q:?}, {:.0} ms", a.elapsed_ms));
-                ui.label(format!("LTR {:.4}   open fraction {:.4}", a.ltr, a.open_fraction));
+                ui.label(format!(
+                    "LTR {:.4}   open fraction {:.4}",
+                    a.ltr, a.open_fraction
+                ));
                 ui.label(format!("invertibility loss {:.4}", a.invertibility_loss));
                 for c in &a.channels {
                     ui.label(format!(

@@ -107,7 +107,11 @@ impl Drop for Worker {
     }
 }
 
-fn worker_loop(shared: &Arc<(Mutex<Shared>, std::sync::Condvar)>, tx: &Sender<JobResult>, wake: &dyn Fn()) {
+fn worker_loop(
+    shared: &Arc<(Mutex<Shared>, std::sync::Condvar)>,
+    tx: &Sender<JobResult>,
+    wake: &dyn Fn(),
+) {
     let (lock, cvar) = &**shared;
     loop {
         let (generation, design, progress) = {
@@ -134,7 +138,14 @@ fn worker_loop(shared: &Arc<(Mutex<Shared>, std::sync::Condvar)>, tx: &Sender<Jo
             let cancelled = matches!(result, Err(SimError::Cancelled));
             if !cancelled {
                 let failed = result.is_err();
-                if tx.send(JobResult { generation, quality, result }).is_err() {
+                if tx
+                    .send(JobResult {
+                        generation,
+                        quality,
+                        result,
+                    })
+                    .is_err()
+                {
                     return;
                 }
                 wake();

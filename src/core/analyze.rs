@@ -7,6 +7,7 @@ use std::time::Instant;
 use ndarray::Array2;
 use rayon::prelude::*;
 
+use super::SimError;
 use super::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
 use super::design::Design;
 use super::expected::expected_channel_psf;
@@ -15,7 +16,6 @@ use super::mtf::{Mtf, mtf_of};
 use super::progress::Progress;
 use super::psf::channel_psf;
 use super::sampling::plan;
-use super::SimError;
 
 /// Full quality follows the design's sampling; preview doubles the fine spacing (halving every
 /// FFT) when the sensor pixel still holds a whole number of fine samples. Same physics.
@@ -97,7 +97,11 @@ pub fn analyze(design: &Design, progress: &Progress) -> Result<Analysis, SimErro
 /// # Errors
 /// [`SimError::InvalidField`] for a bad design, [`SimError::Sampling`] / [`SimError::TooLarge`]
 /// when the sampling cannot represent it, [`SimError::Cancelled`] when `progress` was cancelled.
-pub fn analyze_with(design: &Design, options: &AnalyzeOptions, progress: &Progress) -> Result<Analysis, SimError> {
+pub fn analyze_with(
+    design: &Design,
+    options: &AnalyzeOptions,
+    progress: &Progress,
+) -> Result<Analysis, SimError> {
     let start = Instant::now();
     design.validate()?;
     progress.set(0.0);
@@ -108,7 +112,11 @@ pub fn analyze_with(design: &Design, options: &AnalyzeOptions, progress: &Progre
         Quality::Full => op.fine_sample_um,
         Quality::Preview => {
             let spp = (op.sensor_pixel_um / op.fine_sample_um).round() as usize;
-            if spp >= 2 && spp % 2 == 0 { 2.0 * op.fine_sample_um } else { op.fine_sample_um }
+            if spp >= 2 && spp.is_multiple_of(2) {
+                2.0 * op.fine_sample_um
+            } else {
+                op.fine_sample_um
+            }
         }
     };
     let samplings = plan(design, fine_um, &mut warnings)?;
@@ -124,16 +132,24 @@ pub fn analyze_with(design: &Design, options: &AnalyzeOptions, progress: &Progre
             op.pupil_sample_um
         ));
     }
-    let field = rasterise(&display, Extent::Pupil { diameter_um: d_um }, op.pupil_sample_um);
+    let field = rasterise(
+        &display,
+        Extent::Pupil { diameter_um: d_um },
+        op.pupil_sample_um,
+    );
     let pupil = pupil_sample_count(d_um, op.pupil_sample_um);
     let energy = field.energy();
     if !(energy > 0.0) {
-        return Err(SimError::field("opening.cells", "no light passes: every cell is closed"));
+        return Err(SimError::field(
+            "opening.cells",
+            "no light passes: every cell is closed",
+        ));
     }
     progress.check()?;
 
     let want_expected = options.expected_psf && design.tiling.mode.is_random();
-    let total_steps: usize = samplings.iter().map(Vec::len).sum::<usize>() * if want_expected { 2 } else { 1 };
+    let total_steps: usize =
+        samplings.iter().map(Vec::len).sum::<usize>() * if want_expected { 2 } else { 1 };
     let done = AtomicUsize::new(0);
     let step = |k: usize| {
         let d = done.fetch_add(k, Ordering::Relaxed) + k;

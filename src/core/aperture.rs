@@ -198,7 +198,8 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
         .flat_map(|ty| (tx0..=tx1).map(move |tx| (tx, ty)))
         .map(|(tx, ty)| tile_orientation(display.mode, display.seed, tx, ty))
         .collect();
-    let orientation = |tx: i64, ty: i64| orientations[(ty - ty0) as usize * tiles_x + (tx - tx0) as usize];
+    let orientation =
+        |tx: i64, ty: i64| orientations[(ty - ty0) as usize * tiles_x + (tx - tx0) as usize];
 
     let r2 = match extent {
         Extent::Pupil { diameter_um } => (0.5 * diameter_um).powi(2),
@@ -277,7 +278,12 @@ pub fn effective_cells(opening: &Opening) -> Vec<Vec<f64>> {
     let cell = opening.cell_um();
     for (r, row) in cells.iter_mut().enumerate() {
         for (c, v) in row.iter_mut().enumerate() {
-            let rect = [c as f64 * cell, r as f64 * cell, (c + 1) as f64 * cell, (r + 1) as f64 * cell];
+            let rect = [
+                c as f64 * cell,
+                r as f64 * cell,
+                (c + 1) as f64 * cell,
+                (r + 1) as f64 * cell,
+            ];
             let covered: f64 = opening
                 .polygons
                 .iter()
@@ -305,7 +311,13 @@ pub fn clipped_area(polygon: &Polygon, rect: [f64; 4]) -> f64 {
         if pts.is_empty() {
             return 0.0;
         }
-        let inside = |p: &[f64; 2]| if keep_greater { p[axis] >= bound } else { p[axis] <= bound };
+        let inside = |p: &[f64; 2]| {
+            if keep_greater {
+                p[axis] >= bound
+            } else {
+                p[axis] <= bound
+            }
+        };
         let mut out = Vec::with_capacity(pts.len() + 4);
         for i in 0..pts.len() {
             let cur = pts[i];
@@ -313,7 +325,10 @@ pub fn clipped_area(polygon: &Polygon, rect: [f64; 4]) -> f64 {
             let (ci, pi) = (inside(&cur), inside(&prev));
             if ci != pi {
                 let t = (bound - prev[axis]) / (cur[axis] - prev[axis]);
-                out.push([prev[0] + t * (cur[0] - prev[0]), prev[1] + t * (cur[1] - prev[1])]);
+                out.push([
+                    prev[0] + t * (cur[0] - prev[0]),
+                    prev[1] + t * (cur[1] - prev[1]),
+                ]);
             }
             if ci {
                 out.push(cur);
@@ -365,7 +380,13 @@ mod tests {
         // at most two cells; the mean transmittance is preserved.
         let cells = vec![vec![1.0, 0.0], vec![0.0, 0.0]];
         let d = display(&cells, 32.0, [0.25, 0.25]);
-        let f = rasterise(&d, Extent::Pupil { diameter_um: 4000.0 }, 8.0);
+        let f = rasterise(
+            &d,
+            Extent::Pupil {
+                diameter_um: 4000.0,
+            },
+            8.0,
+        );
         let dense = f.to_dense(512);
         // mean over a whole number of periods (16 samples = 4 periods) near the centre
         let mut s = 0.0;
@@ -373,7 +394,10 @@ mod tests {
             s += row[256 - 8..256 + 8].iter().sum::<f64>();
         }
         assert!((s / 256.0 - 0.25).abs() < 1e-12, "mean {}", s / 256.0);
-        assert!(dense.iter().flatten().any(|&v| v > 0.0 && v < 1.0), "partial coverage expected");
+        assert!(
+            dense.iter().flatten().any(|&v| v > 0.0 && v < 1.0),
+            "partial coverage expected"
+        );
     }
 
     #[test]
@@ -399,7 +423,13 @@ mod tests {
         let cells = vec![vec![1.0; 21]; 21];
         let mut d = display(&cells, 168.0, [0.0, 0.0]);
         d.gap_um = 8.0;
-        let f = rasterise(&d, Extent::Pupil { diameter_um: 2000.0 }, 8.0);
+        let f = rasterise(
+            &d,
+            Extent::Pupil {
+                diameter_um: 2000.0,
+            },
+            8.0,
+        );
         let dense = f.to_dense(256);
         let row = &dense[128];
         // tile starts half a cell before the axis: samples 0..=20 open, 21 gap, period 22.

@@ -69,7 +69,11 @@ pub enum TilingMode {
 }
 
 impl TilingMode {
-    pub const ALL: [TilingMode; 3] = [TilingMode::Repeat, TilingMode::RandomD4, TilingMode::Random4];
+    pub const ALL: [TilingMode; 3] = [
+        TilingMode::Repeat,
+        TilingMode::RandomD4,
+        TilingMode::Random4,
+    ];
 
     pub fn as_str(self) -> &'static str {
         match self {
@@ -268,7 +272,10 @@ fn finite_positive(field: &str, v: f64) -> Result<(), SimError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(SimError::field(field, format!("must be a positive finite number (got {v})")))
+        Err(SimError::field(
+            field,
+            format!("must be a positive finite number (got {v})"),
+        ))
     }
 }
 
@@ -276,7 +283,10 @@ fn finite(field: &str, v: f64) -> Result<(), SimError> {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(SimError::field(field, format!("must be a finite number (got {v})")))
+        Err(SimError::field(
+            field,
+            format!("must be a finite number (got {v})"),
+        ))
     }
 }
 
@@ -290,7 +300,10 @@ impl Design {
         finite_positive("opening.pitch_um", o.pitch_um)?;
         let n = o.cells.len();
         if n == 0 {
-            return Err(SimError::field("opening.cells", "must have at least one row"));
+            return Err(SimError::field(
+                "opening.cells",
+                "must have at least one row",
+            ));
         }
         if n > MAX_CELLS {
             return Err(SimError::field(
@@ -302,7 +315,10 @@ impl Design {
             if row.len() != n {
                 return Err(SimError::field(
                     format!("opening.cells[{r}]"),
-                    format!("has {} entries; the grid must be square ({n}×{n})", row.len()),
+                    format!(
+                        "has {} entries; the grid must be square ({n}×{n})",
+                        row.len()
+                    ),
                 ));
             }
             for (c, &v) in row.iter().enumerate() {
@@ -336,7 +352,10 @@ impl Design {
         if !(t.wiring_gap_um.is_finite() && t.wiring_gap_um >= 0.0) {
             return Err(SimError::field(
                 "tiling.wiring_gap_um",
-                format!("must be zero or a positive finite number of µm (got {})", t.wiring_gap_um),
+                format!(
+                    "must be zero or a positive finite number of µm (got {})",
+                    t.wiring_gap_um
+                ),
             ));
         }
         let op = &self.optics;
@@ -348,7 +367,10 @@ impl Design {
         if op.window_px < 2 || op.window_px > MAX_WINDOW_PX {
             return Err(SimError::field(
                 "optics.window_px",
-                format!("must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {})", op.window_px),
+                format!(
+                    "must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {})",
+                    op.window_px
+                ),
             ));
         }
         for (k, v) in op.axis_in_pixel_um.iter().enumerate() {
@@ -363,7 +385,10 @@ impl Design {
             }
         }
         if self.channels.is_empty() {
-            return Err(SimError::field("channels", "at least one colour channel is needed"));
+            return Err(SimError::field(
+                "channels",
+                "at least one colour channel is needed",
+            ));
         }
         for (i, ch) in self.channels.iter().enumerate() {
             if ch.wavelengths_nm.is_empty() {
@@ -453,7 +478,11 @@ mod cell_rows {
             .iter()
             .map(|r| {
                 if binary {
-                    Row::Text(r.iter().map(|v| if *v == 1.0 { '#' } else { '.' }).collect())
+                    Row::Text(
+                        r.iter()
+                            .map(|v| if *v == 1.0 { '#' } else { '.' })
+                            .collect(),
+                    )
                 } else {
                     Row::Numbers(r.clone())
                 }

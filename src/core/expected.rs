@@ -56,11 +56,19 @@ pub fn expected_channel_psf(
         mode: super::design::TilingMode::Repeat,
         ..display.clone()
     };
-    let periodic = rasterise(&periodic_display, Extent::Pupil { diameter_um: pupil_diameter_um }, pupil_sample_um);
+    let periodic = rasterise(
+        &periodic_display,
+        Extent::Pupil {
+            diameter_um: pupil_diameter_um,
+        },
+        pupil_sample_um,
+    );
     let tile = rasterise(&tile_display, Extent::SingleTile, pupil_sample_um);
     let tile_mean = rasterise(&periodic_display, Extent::SingleTile, pupil_sample_um);
     let period = display.pitch_um + display.gap_um;
-    let tiles_in_pupil = pupil_sample_count(pupil_diameter_um, pupil_sample_um) * pupil_sample_um.powi(2) / (period * period);
+    let tiles_in_pupil = pupil_sample_count(pupil_diameter_um, pupil_sample_um)
+        * pupil_sample_um.powi(2)
+        / (period * period);
 
     let w = samplings.first().map_or(0, |s| s.binning.window_px);
     let mut acc = Array2::<f64>::zeros((w, w));

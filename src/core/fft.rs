@@ -116,15 +116,24 @@ fn column_spectra(field: &Field, m: usize) -> (Vec<usize>, Vec<Complex64>) {
 /// `s_x ∈ [−M/2, M/2)` and the intensities of that column indexed by DFT row index `k_y`
 /// (signed offset `k_y` if `k_y < M/2`, else `k_y − M`). Every one of the `M` columns is visited
 /// exactly once. Per-thread accumulators are merged with `merge`.
-fn fold_columns<A, I, V, R>(field: &Field, m: usize, progress: &Progress, init: I, visit: V, merge: R) -> Result<A, SimError>
+fn fold_columns<A, I, V, R>(
+    field: &Field,
+    m: usize,
+    progress: &Progress,
+    init: I,
+    visit: V,
+    merge: R,
+) -> Result<A, SimError>
 where
     A: Send,
     I: Fn() -> A + Sync + Send,
     V: Fn(&mut A, i64, &[f64]) + Sync + Send,
     R: Fn(A, A) -> A + Sync + Send,
 {
-    if m < 2 || m % 2 != 0 {
-        return Err(SimError::Sampling(format!("FFT size {m} must be even and at least 2")));
+    if m < 2 || !m.is_multiple_of(2) {
+        return Err(SimError::Sampling(format!(
+            "FFT size {m} must be even and at least 2"
+        )));
     }
     check_fits(field, m)?;
     progress.check()?;
@@ -159,7 +168,11 @@ where
                 for (i, c) in col.iter().enumerate() {
                     inten[i] = c.norm_sqr();
                 }
-                let s = if kx == half { -(half as i64) } else { kx as i64 };
+                let s = if kx == half {
+                    -(half as i64)
+                } else {
+                    kx as i64
+                };
                 visit(&mut acc, s, &inten);
                 if kx != 0 && kx != half {
                     // Column −kx of a real field: A(−ky, −kx) = conj A(ky, kx).
@@ -181,7 +194,11 @@ where
 /// Signed offset of DFT index `k` on an `m` grid.
 #[inline]
 pub fn signed(k: usize, m: usize) -> i64 {
-    if k < m / 2 { k as i64 } else { k as i64 - m as i64 }
+    if k < m / 2 {
+        k as i64
+    } else {
+        k as i64 - m as i64
+    }
 }
 
 /// Sensor-binned intensity of one field.
@@ -200,11 +217,20 @@ pub struct Binned {
 ///
 /// # Errors
 /// [`SimError::Sampling`] if the field does not fit the grid; [`SimError::Cancelled`].
-pub fn binned_intensity(field: &Field, m: usize, binning: &Binning, progress: &Progress) -> Result<Binned, SimError> {
+pub fn binned_intensity(
+    field: &Field,
+    m: usize,
+    binning: &Binning,
+    progress: &Progress,
+) -> Result<Binned, SimError> {
     let w = binning.window_px;
-    let row_pixel: Vec<Option<usize>> = (0..m).map(|ky| binning.pixel_of(signed(ky, m), 1)).collect();
+    let row_pixel: Vec<Option<usize>> = (0..m)
+        .map(|ky| binning.pixel_of(signed(ky, m), 1))
+        .collect();
     let edge_from = (0.45 * m as f64).ceil() as i64;
-    let edge_rows: Vec<usize> = (0..m).filter(|&ky| signed(ky, m).abs() >= edge_from).collect();
+    let edge_rows: Vec<usize> = (0..m)
+        .filter(|&ky| signed(ky, m).abs() >= edge_from)
+        .collect();
     // Accumulated column-major (`[jx][jy]`) so each fine column adds into contiguous memory.
     let (sensor_t, total, edge) = fold_columns(
         field,
@@ -234,7 +260,11 @@ pub fn binned_intensity(field: &Field, m: usize, binning: &Binning, progress: &P
         },
     )?;
     let sensor = Array2::from_shape_fn((w, w), |(jy, jx)| sensor_t[jx * w + jy]);
-    Ok(Binned { sensor, total, edge })
+    Ok(Binned {
+        sensor,
+        total,
+        edge,
+    })
 }
 
 /// `Σ_g bin(|FT(g·a)|²) / |G|` for an orbit of D4 elements, where `|FT(g·a)|²` is `|FT(a)|²`
@@ -244,7 +274,13 @@ pub fn binned_intensity(field: &Field, m: usize, binning: &Binning, progress: &P
 ///
 /// # Errors
 /// As [`binned_intensity`].
-pub fn binned_orbit_intensity(field: &Field, m: usize, binning: &Binning, group: &[D4], progress: &Progress) -> Result<Binned, SimError> {
+pub fn binned_orbit_intensity(
+    field: &Field,
+    m: usize,
+    binning: &Binning,
+    group: &[D4],
+    progress: &Progress,
+) -> Result<Binned, SimError> {
     let w = binning.window_px;
     let mi = m as i64;
     let wrap = |v: i64| -> i64 { (v + mi / 2).rem_euclid(mi) - mi / 2 };
@@ -296,14 +332,22 @@ pub fn binned_orbit_intensity(field: &Field, m: usize, binning: &Binning, group:
         |(a, ta), (b, tb)| (a + b, ta + tb),
     )?;
     let edge = 0.0;
-    Ok(Binned { sensor, total, edge })
+    Ok(Binned {
+        sensor,
+        total,
+        edge,
+    })
 }
 
 /// The full centred `M×M` intensity `|DFT_M(a)|²` (axis at `[M/2, M/2]`).
 ///
 /// # Errors
 /// As [`binned_intensity`].
-pub fn full_intensity(field: &Field, m: usize, progress: &Progress) -> Result<Array2<f64>, SimError> {
+pub fn full_intensity(
+    field: &Field,
+    m: usize,
+    progress: &Progress,
+) -> Result<Array2<f64>, SimError> {
     let cols = fold_columns(
         field,
         m,
@@ -368,9 +412,21 @@ mod tests {
     fn pruned_transform_matches_brute_force_dft() {
         let field = Field {
             rows: vec![
-                SparseRow { iy: -3, ix0: -2, values: vec![0.5, 1.0, 0.0, 0.25] },
-                SparseRow { iy: 0, ix0: 1, values: vec![1.0, 0.7] },
-                SparseRow { iy: 2, ix0: -4, values: vec![0.3] },
+                SparseRow {
+                    iy: -3,
+                    ix0: -2,
+                    values: vec![0.5, 1.0, 0.0, 0.25],
+                },
+                SparseRow {
+                    iy: 0,
+                    ix0: 1,
+                    values: vec![1.0, 0.7],
+                },
+                SparseRow {
+                    iy: 2,
+                    ix0: -4,
+                    values: vec![0.3],
+                },
             ],
         };
         let m = 10;
@@ -382,14 +438,21 @@ mod tests {
             for kx in 0..m {
                 let want = brute_dft_intensity(&dense, ky, kx);
                 let got = full[[(signed(ky, m) + 5) as usize, (signed(kx, m) + 5) as usize]];
-                assert!((want - got).abs() < 1e-9 * (1.0 + want), "({ky},{kx}) {want} vs {got}");
+                assert!(
+                    (want - got).abs() < 1e-9 * (1.0 + want),
+                    "({ky},{kx}) {want} vs {got}"
+                );
             }
         }
         // Parseval: Σ|A|² = M² Σ|a|²
         let total: f64 = full.sum();
         assert!((total - (m * m) as f64 * field.energy()).abs() < 1e-9 * total);
         // Binning sums the same energy when the window covers the grid.
-        let b = Binning { window_px: 5, samples_per_px: 2, phase: [0, 0] };
+        let b = Binning {
+            window_px: 5,
+            samples_per_px: 2,
+            phase: [0, 0],
+        };
         let binned = binned_intensity(&field, m, &b, &Progress::new()).expect("fits");
         assert!((binned.sensor.sum() - total).abs() < 1e-9 * total);
         assert!((binned.total - total).abs() < 1e-9 * total);
@@ -402,18 +465,32 @@ mod tests {
     #[test]
     fn a_field_larger_than_the_grid_is_an_error() {
         let field = Field {
-            rows: vec![SparseRow { iy: 0, ix0: -6, values: vec![1.0; 3] }],
+            rows: vec![SparseRow {
+                iy: 0,
+                ix0: -6,
+                values: vec![1.0; 3],
+            }],
         };
-        assert!(matches!(full_intensity(&field, 10, &Progress::new()), Err(SimError::Sampling(_))));
+        assert!(matches!(
+            full_intensity(&field, 10, &Progress::new()),
+            Err(SimError::Sampling(_))
+        ));
     }
 
     #[test]
     fn cancellation_stops_the_job() {
         let field = Field {
-            rows: vec![SparseRow { iy: 0, ix0: 0, values: vec![1.0; 3] }],
+            rows: vec![SparseRow {
+                iy: 0,
+                ix0: 0,
+                values: vec![1.0; 3],
+            }],
         };
         let p = Progress::new();
         p.cancel();
-        assert_eq!(full_intensity(&field, 10, &p).err(), Some(SimError::Cancelled));
+        assert_eq!(
+            full_intensity(&field, 10, &p).err(),
+            Some(SimError::Cancelled)
+        );
     }
 }

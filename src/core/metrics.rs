@@ -30,7 +30,11 @@ pub fn invertibility_loss<'a>(powers: impl IntoIterator<Item = &'a Array2<f64>>)
 
 /// LTR: `Σ|a|² / Σ|p|²` over the pupil.
 pub fn ltr(field_energy: f64, pupil_samples: f64) -> f64 {
-    if pupil_samples > 0.0 { field_energy / pupil_samples } else { 0.0 }
+    if pupil_samples > 0.0 {
+        field_energy / pupil_samples
+    } else {
+        0.0
+    }
 }
 
 /// Intensity transmittance of one tile (the open fraction for binary cells).
@@ -58,7 +62,9 @@ mod tests {
         // 10 values per channel, 2 channels: the lowest 6 of 20.
         let a = Array2::from_shape_fn((2, 5), |(y, x)| (y * 5 + x) as f64);
         let b = Array2::from_elem((2, 5), 100.0);
-        let mut h: Vec<f64> = (0..10).map(|v| v as f64 / (v as f64 + INVERTIBILITY_EPSILON)).collect();
+        let mut h: Vec<f64> = (0..10)
+            .map(|v| v as f64 / (v as f64 + INVERTIBILITY_EPSILON))
+            .collect();
         h.sort_by(f64::total_cmp);
         let want = -h[..6].iter().sum::<f64>() / 6.0;
         assert!((invertibility_loss([&a, &b]) - want).abs() < 1e-12);

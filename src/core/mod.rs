@@ -1,4 +1,4 @@
-//! The pure simulation core. Nothing here knows about egui, files or threads of its own
+//! The pure simulation core. Nothing here knows about the GUI, files or threads of its own
 //! (rayon's pool is used for data parallelism inside a call).
 
 pub mod analyze;

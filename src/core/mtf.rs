@@ -121,7 +121,11 @@ pub fn mtf_of(psf: &Array2<f64>) -> Mtf {
             }
         }
     }
-    let radial_mean: Vec<f64> = rsum.iter().zip(&rcount).map(|(s, c)| s / (*c).max(1) as f64).collect();
+    let radial_mean: Vec<f64> = rsum
+        .iter()
+        .zip(&rcount)
+        .map(|(s, c)| s / (*c).max(1) as f64)
+        .collect();
     let dnu = 1.0 / n as f64;
     Mtf {
         auc_radial_min: trapezoid(&rmin, dnu),

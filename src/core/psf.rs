@@ -27,7 +27,12 @@ pub struct ChannelPsf {
 /// # Errors
 /// [`SimError::Sampling`] when the field does not fit a grid, or no light reaches the grid;
 /// [`SimError::Cancelled`].
-pub fn channel_psf(field: &Field, samplings: &[WavelengthSampling], progress: &Progress, mut step: impl FnMut()) -> Result<ChannelPsf, SimError> {
+pub fn channel_psf(
+    field: &Field,
+    samplings: &[WavelengthSampling],
+    progress: &Progress,
+    mut step: impl FnMut(),
+) -> Result<ChannelPsf, SimError> {
     let Some(first) = samplings.first() else {
         return Err(SimError::Sampling("a channel without wavelengths".into()));
     };
@@ -47,7 +52,9 @@ pub fn channel_psf(field: &Field, samplings: &[WavelengthSampling], progress: &P
     }
     let sum = acc.sum();
     if !(sum > 0.0) {
-        return Err(SimError::Sampling("no light reaches the sensor window".into()));
+        return Err(SimError::Sampling(
+            "no light reaches the sensor window".into(),
+        ));
     }
     acc /= sum;
     Ok(ChannelPsf {

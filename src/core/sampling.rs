@@ -22,7 +22,9 @@ impl Binning {
     pub fn pixel_of(&self, s: i64, axis: usize) -> Option<usize> {
         let sp = self.samples_per_px as i64;
         let j = (self.window_px / 2) as i64 + (s + self.phase[axis] as i64).div_euclid(sp);
-        (0..self.window_px as i64).contains(&j).then_some(j as usize)
+        (0..self.window_px as i64)
+            .contains(&j)
+            .then_some(j as usize)
     }
 }
 
@@ -39,7 +41,12 @@ pub struct WavelengthSampling {
 }
 
 /// `M = 2·floor(λ f / (2 δ1 δ2))`, PHYSICS.md §4.
-pub fn fft_size(wavelength_nm: f64, focal_length_mm: f64, pupil_sample_um: f64, fine_sample_um: f64) -> usize {
+pub fn fft_size(
+    wavelength_nm: f64,
+    focal_length_mm: f64,
+    pupil_sample_um: f64,
+    fine_sample_um: f64,
+) -> usize {
     // λ[µm]·f[µm] = λ[nm]·f[mm]
     let lf_um2 = wavelength_nm * focal_length_mm;
     let half = lf_um2 / (2.0 * pupil_sample_um * fine_sample_um);
@@ -52,7 +59,11 @@ pub fn fft_size(wavelength_nm: f64, focal_length_mm: f64, pupil_sample_um: f64, 
 /// # Errors
 /// [`SimError::Sampling`] when the grid cannot hold the pupil or the window, and
 /// [`SimError::TooLarge`] when an FFT would exceed [`MAX_FFT_SIZE`].
-pub fn plan(design: &Design, fine_sample_um: f64, warnings: &mut Vec<String>) -> Result<Vec<Vec<WavelengthSampling>>, SimError> {
+pub fn plan(
+    design: &Design,
+    fine_sample_um: f64,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<Vec<WavelengthSampling>>, SimError> {
     let op = &design.optics;
     let d_um = op.pupil_diameter_um();
     let pupil_samples = d_um / op.pupil_sample_um;
@@ -90,7 +101,9 @@ pub fn plan(design: &Design, fine_sample_um: f64, warnings: &mut Vec<String>) ->
             let fine_um = lf_um2 / (m as f64 * op.pupil_sample_um);
             let spp_f = op.sensor_pixel_um / fine_um;
             let spp = spp_f.round().max(1.0) as usize;
-            if !warned_pixel && ((spp as f64 * fine_um - op.sensor_pixel_um).abs() > 0.02 * op.sensor_pixel_um) {
+            if !warned_pixel
+                && ((spp as f64 * fine_um - op.sensor_pixel_um).abs() > 0.02 * op.sensor_pixel_um)
+            {
                 warned_pixel = true;
                 warnings.push(format!(
                     "the sensor pixel ({} µm) is not a whole number of fine samples ({fine_um:.4} µm): \

@@ -184,9 +184,15 @@ mod tests {
         }
         assert_eq!(counts.len(), 8);
         // 1600 draws over 8 bins: each near 200 (binomial sd ≈ 13).
-        assert!(counts.values().all(|&c| (140..260).contains(&c)), "{counts:?}");
+        assert!(
+            counts.values().all(|&c| (140..260).contains(&c)),
+            "{counts:?}"
+        );
         let other: usize = (-20..20)
-            .filter(|&t| tile_orientation(TilingMode::RandomD4, 8, t, 0) != tile_orientation(TilingMode::RandomD4, 7, t, 0))
+            .filter(|&t| {
+                tile_orientation(TilingMode::RandomD4, 8, t, 0)
+                    != tile_orientation(TilingMode::RandomD4, 7, t, 0)
+            })
             .count();
         assert!(other > 20, "a different seed must give a different layout");
     }
@@ -194,13 +200,19 @@ mod tests {
     #[test]
     fn frequency_map_matches_pattern_map() {
         // |FT(g P)|²(f) = |FT(P)|²(source_frequency(f)) — checked on a 3×3 DFT.
-        let p: Vec<Vec<f64>> = vec![vec![1.0, 0.0, 0.3], vec![0.2, 0.7, 0.0], vec![0.0, 0.9, 0.4]];
+        let p: Vec<Vec<f64>> = vec![
+            vec![1.0, 0.0, 0.3],
+            vec![0.2, 0.7, 0.0],
+            vec![0.0, 0.9, 0.4],
+        ];
         let dft2 = |q: &Vec<Vec<f64>>, fy: i64, fx: i64| {
             let n = q.len() as f64;
             let (mut re, mut im) = (0.0, 0.0);
             for (r, row) in q.iter().enumerate() {
                 for (c, v) in row.iter().enumerate() {
-                    let ph = -2.0 * std::f64::consts::PI * (fy as f64 * r as f64 + fx as f64 * c as f64) / n;
+                    let ph =
+                        -2.0 * std::f64::consts::PI * (fy as f64 * r as f64 + fx as f64 * c as f64)
+                            / n;
                     re += v * ph.cos();
                     im += v * ph.sin();
                 }

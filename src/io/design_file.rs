@@ -49,10 +49,15 @@ struct FileV1 {
 /// A message naming the field (its path) and the line for syntax, type, unknown-field and range
 /// errors. The caller adds the file path.
 pub fn parse_design(text: &str) -> Result<Design, String> {
-    let header: Header = serde_json::from_str(text).map_err(|e| format!("not a design file: {e}"))?;
+    let header: Header =
+        serde_json::from_str(text).map_err(|e| format!("not a design file: {e}"))?;
     match header.format.as_deref() {
         Some(FORMAT) => {}
-        Some(other) => return Err(format!("field `format`: expected \"{FORMAT}\", found \"{other}\"")),
+        Some(other) => {
+            return Err(format!(
+                "field `format`: expected \"{FORMAT}\", found \"{other}\""
+            ));
+        }
         None => return Err(format!("field `format` is missing (expected \"{FORMAT}\")")),
     }
     match header.version {
@@ -95,10 +100,14 @@ pub fn load_design(path: &Path) -> Result<Design, IoError> {
     if meta.len() > MAX_FILE_BYTES {
         return Err(IoError::Design {
             path: path.to_path_buf(),
-            message: format!("file is {} bytes; design files are at most {MAX_FILE_BYTES}", meta.len()),
+            message: format!(
+                "file is {} bytes; design files are at most {MAX_FILE_BYTES}",
+                meta.len()
+            ),
         });
     }
-    let text = std::fs::read_to_string(path).map_err(|e| IoError::file("read the design", path, e))?;
+    let text =
+        std::fs::read_to_string(path).map_err(|e| IoError::file("read the design", path, e))?;
     parse_design(&text).map_err(|message| IoError::Design {
         path: path.to_path_buf(),
         message,
@@ -134,8 +143,14 @@ pub fn save_design(path: &Path, design: &Design) -> Result<(), IoError> {
 /// # Errors
 /// [`IoError::File`].
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
-    let dir = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.tmp"));
     std::fs::write(&tmp, bytes).map_err(|e| IoError::file("write", &tmp, e))?;
     std::fs::rename(&tmp, path).map_err(|e| IoError::file("replace", path, e))

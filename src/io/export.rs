@@ -43,7 +43,10 @@ pub fn log_psf_level(value: f64, peak_value: f64) -> f64 {
 
 /// Largest finite value of the PSF, or 0 when it has none above 0.
 fn peak_of(psf: &Array2<f64>) -> f64 {
-    psf.iter().copied().filter(|v| v.is_finite()).fold(0.0, f64::max)
+    psf.iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max)
 }
 
 /// Image width and height of a PSF (`[row, col]` → `(cols, rows)`).
@@ -64,10 +67,11 @@ fn image_size(path: &Path, psf: &Array2<f64>) -> Result<(u32, u32), IoError> {
 /// Encodes an image in memory and writes it atomically.
 fn write_image(path: &Path, img: DynamicImage, format: ImageFormat) -> Result<(), IoError> {
     let mut bytes = Vec::new();
-    img.write_to(Cursor::new(&mut bytes), format).map_err(|e| IoError::Image {
-        path: path.to_path_buf(),
-        message: format!("cannot encode the {format:?} image: {e}"),
-    })?;
+    img.write_to(Cursor::new(&mut bytes), format)
+        .map_err(|e| IoError::Image {
+            path: path.to_path_buf(),
+            message: format!("cannot encode the {format:?} image: {e}"),
+        })?;
     write_atomic(path, &bytes)
 }
 
@@ -112,7 +116,8 @@ pub fn write_rgb_psf_exr(path: &Path, psfs: [&Array2<f64>; 3]) -> Result<(), IoE
         .zip(psfs[2].iter())
         .flat_map(|((r, g), b)| [*r as f32, *g as f32, *b as f32])
         .collect();
-    let img: Rgb32FImage = ImageBuffer::<Rgb<f32>, _>::from_raw(w, h, data).ok_or_else(|| size_mismatch(path))?;
+    let img: Rgb32FImage =
+        ImageBuffer::<Rgb<f32>, _>::from_raw(w, h, data).ok_or_else(|| size_mismatch(path))?;
     write_image(path, DynamicImage::ImageRgb32F(img), ImageFormat::OpenExr)
 }
 
@@ -124,12 +129,23 @@ pub fn write_rgb_psf_exr(path: &Path, psfs: [&Array2<f64>; 3]) -> Result<(), IoE
 pub fn write_psf_png16(path: &Path, psf: &Array2<f64>) -> Result<(), IoError> {
     let (w, h) = image_size(path, psf)?;
     let peak = peak_of(psf);
-    let scale = if peak > 0.0 { f64::from(u16::MAX) / peak } else { 0.0 };
+    let scale = if peak > 0.0 {
+        f64::from(u16::MAX) / peak
+    } else {
+        0.0
+    };
     let data: Vec<u16> = psf
         .iter()
-        .map(|v| if v.is_finite() { (v * scale).round().clamp(0.0, f64::from(u16::MAX)) as u16 } else { 0 })
+        .map(|v| {
+            if v.is_finite() {
+                (v * scale).round().clamp(0.0, f64::from(u16::MAX)) as u16
+            } else {
+                0
+            }
+        })
         .collect();
-    let img = ImageBuffer::<Luma<u16>, _>::from_raw(w, h, data).ok_or_else(|| size_mismatch(path))?;
+    let img =
+        ImageBuffer::<Luma<u16>, _>::from_raw(w, h, data).ok_or_else(|| size_mismatch(path))?;
     write_image(path, DynamicImage::ImageLuma16(img), ImageFormat::Png)
 }
 
@@ -163,12 +179,21 @@ fn csv_field(s: &str) -> String {
 /// # Errors
 /// When the analysis has no channel or its channels' MTFs have different numbers of rings.
 pub fn mtf_csv(analysis: &Analysis) -> Result<String, String> {
-    let first = analysis.channels.first().ok_or("the analysis has no channel")?;
+    let first = analysis
+        .channels
+        .first()
+        .ok_or("the analysis has no channel")?;
     let freqs = first.mtf.freqs_cyc_per_px();
     for ch in &analysis.channels {
         let m = &ch.mtf;
         let n = freqs.len();
-        if [m.horizontal.len(), m.vertical.len(), m.radial_min.len(), m.radial_mean.len()] != [n; 4] {
+        if [
+            m.horizontal.len(),
+            m.vertical.len(),
+            m.radial_min.len(),
+            m.radial_mean.len(),
+        ] != [n; 4]
+        {
             return Err(format!(
                 "channel {}'s MTF does not have {n} rings like channel {}'s",
                 ch.name, first.name
@@ -187,7 +212,12 @@ pub fn mtf_csv(analysis: &Analysis) -> Result<String, String> {
         out.push_str(&f.to_string());
         for ch in &analysis.channels {
             let m = &ch.mtf;
-            for v in [m.horizontal[d], m.vertical[d], m.radial_min[d], m.radial_mean[d]] {
+            for v in [
+                m.horizontal[d],
+                m.vertical[d],
+                m.radial_min[d],
+                m.radial_mean[d],
+            ] {
                 out.push(',');
                 out.push_str(&v.to_string());
             }
@@ -220,7 +250,13 @@ fn file_stems(channels: &[ChannelAnalysis]) -> Vec<String> {
         let mut stem: String = ch
             .name
             .chars()
-            .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+            .map(|c| {
+                if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                    c
+                } else {
+                    '_'
+                }
+            })
             .collect();
         if stem.is_empty() || stems.contains(&stem) || stem.eq_ignore_ascii_case("rgb") {
             stem = format!("{stem}{i}");

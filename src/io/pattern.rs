@@ -96,7 +96,11 @@ pub fn save_pattern_png(path: &Path, cells: &[Vec<f64>]) -> Result<(), IoError> 
     if rows == 0 || cols == 0 {
         return Err(image_err("cannot save an empty opening".into()));
     }
-    let too_big = || image_err(format!("the opening ({rows}×{cols} cells) is too large for an image"));
+    let too_big = || {
+        image_err(format!(
+            "the opening ({rows}×{cols} cells) is too large for an image"
+        ))
+    };
     let width = u32::try_from(cols).map_err(|_| too_big())?;
     let height = u32::try_from(rows).map_err(|_| too_big())?;
     let mut bytes = Vec::with_capacity(rows * cols);
@@ -109,7 +113,9 @@ pub fn save_pattern_png(path: &Path, cells: &[Vec<f64>]) -> Result<(), IoError> 
         }
         for (c, &v) in row.iter().enumerate() {
             if !v.is_finite() {
-                return Err(image_err(format!("cell [{r}][{c}] is {v}, not a transmittance")));
+                return Err(image_err(format!(
+                    "cell [{r}][{c}] is {v}, not a transmittance"
+                )));
             }
             bytes.push((v.clamp(0.0, 1.0) * 255.0).round() as u8);
         }
@@ -156,7 +162,11 @@ mod tests {
     fn save_then_load_round_trips_a_binary_pattern() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("p.png");
-        let cells = vec![vec![1.0, 0.0, 0.0], vec![0.0, 1.0, 1.0], vec![1.0, 1.0, 0.0]];
+        let cells = vec![
+            vec![1.0, 0.0, 0.0],
+            vec![0.0, 1.0, 1.0],
+            vec![1.0, 1.0, 0.0],
+        ];
         save_pattern_png(&path, &cells).unwrap();
         assert_eq!(load_pattern_png(&path).unwrap(), cells);
     }

@@ -51,7 +51,9 @@ pub fn list() -> Vec<(&'static str, String)> {
     PRESETS
         .iter()
         .map(|(name, _)| {
-            let d = load_preset(name).map(|d| d.description).unwrap_or_else(|e| e.to_string());
+            let d = load_preset(name)
+                .map(|d| d.description)
+                .unwrap_or_else(|e| e.to_string());
             let first = d.split(['\n', ';']).next().unwrap_or("").trim().to_string();
             (*name, first)
         })

@@ -34,14 +34,19 @@ pub struct SpectralResponse {
 /// for a cell that is not a number, a NaN/infinite/negative value, a wavelength that does not
 /// increase, a wrong number of columns, or a table of fewer than 2 rows.
 pub fn load_response_csv(path: &Path) -> Result<SpectralResponse, IoError> {
-    let meta = std::fs::metadata(path).map_err(|e| IoError::file("read the spectral table", path, e))?;
+    let meta =
+        std::fs::metadata(path).map_err(|e| IoError::file("read the spectral table", path, e))?;
     if meta.len() > MAX_TABLE_BYTES {
         return Err(IoError::Table {
             path: path.to_path_buf(),
-            message: format!("file is {} bytes; spectral tables are at most {MAX_TABLE_BYTES}", meta.len()),
+            message: format!(
+                "file is {} bytes; spectral tables are at most {MAX_TABLE_BYTES}",
+                meta.len()
+            ),
         });
     }
-    let text = std::fs::read_to_string(path).map_err(|e| IoError::file("read the spectral table", path, e))?;
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| IoError::file("read the spectral table", path, e))?;
     parse_response_csv(&text).map_err(|message| IoError::Table {
         path: path.to_path_buf(),
         message,
@@ -68,7 +73,10 @@ pub fn parse_response_csv(text: &str) -> Result<SpectralResponse, String> {
         if line.is_empty() || line.starts_with('#') {
             continue;
         }
-        let fields: Vec<&str> = line.split(',').map(|f| f.trim().trim_matches('"').trim()).collect();
+        let fields: Vec<&str> = line
+            .split(',')
+            .map(|f| f.trim().trim_matches('"').trim())
+            .collect();
         if fields.len() != 4 {
             return Err(format!(
                 "line {line_no}: expected 4 columns (wavelength_nm, r, g, b), found {}",
@@ -83,7 +91,8 @@ pub fn parse_response_csv(text: &str) -> Result<SpectralResponse, String> {
         }
         let mut values = [0.0; 4];
         for (col, (field, value)) in fields.iter().zip(values.iter_mut()).enumerate() {
-            *value = number(field).map_err(|e| format!("line {line_no}, column {}: {e}", col + 1))?;
+            *value =
+                number(field).map_err(|e| format!("line {line_no}, column {}: {e}", col + 1))?;
         }
         let wavelength_nm = values[0];
         if wavelength_nm <= 0.0 {
@@ -115,12 +124,16 @@ pub fn parse_response_csv(text: &str) -> Result<SpectralResponse, String> {
 
 /// A finite, non-negative number.
 fn number(field: &str) -> Result<f64, String> {
-    let v: f64 = field.parse().map_err(|_| format!("`{field}` is not a number"))?;
+    let v: f64 = field
+        .parse()
+        .map_err(|_| format!("`{field}` is not a number"))?;
     if !v.is_finite() {
         return Err(format!("`{field}` is not a finite number"));
     }
     if v < 0.0 {
-        return Err(format!("`{field}` is negative; responses and wavelengths are ≥ 0"));
+        return Err(format!(
+            "`{field}` is negative; responses and wavelengths are ≥ 0"
+        ));
     }
     Ok(v)
 }
@@ -136,10 +149,16 @@ fn header_order(fields: &[&str]) -> Result<[usize; 3], String> {
     }
     let mut order = [0usize; 3];
     for (slot, want) in order.iter_mut().zip(["r", "g", "b"]) {
-        let found: Vec<usize> = (1..4).filter(|&c| fields[c].eq_ignore_ascii_case(want)).collect();
+        let found: Vec<usize> = (1..4)
+            .filter(|&c| fields[c].eq_ignore_ascii_case(want))
+            .collect();
         match found.as_slice() {
             [c] => *slot = *c,
-            [] => return Err(format!("header has no `{want}` column (expected wavelength_nm,r,g,b)")),
+            [] => {
+                return Err(format!(
+                    "header has no `{want}` column (expected wavelength_nm,r,g,b)"
+                ));
+            }
             _ => return Err(format!("header names the `{want}` column twice")),
         }
     }
@@ -195,7 +214,9 @@ pub fn channels_from_response(
                 .iter()
                 .map(|&l| {
                     if !l.is_finite() {
-                        return Err(format!("sample wavelength {l} is not a finite number of nm"));
+                        return Err(format!(
+                            "sample wavelength {l} is not a finite number of nm"
+                        ));
                     }
                     resp.interpolate(values, l).ok_or_else(|| {
                         format!("sample wavelength {l} nm is outside the table ({lo}–{hi} nm)")
@@ -269,8 +290,16 @@ mod tests {
     #[test]
     fn out_of_table_and_all_zero_channels_are_refused() {
         let r = parse_response_csv(TABLE).unwrap();
-        assert!(channels_from_response(&r, &[499.9]).unwrap_err().contains("499.9"));
-        assert!(channels_from_response(&r, &[520.1]).unwrap_err().contains("outside"));
+        assert!(
+            channels_from_response(&r, &[499.9])
+                .unwrap_err()
+                .contains("499.9")
+        );
+        assert!(
+            channels_from_response(&r, &[520.1])
+                .unwrap_err()
+                .contains("outside")
+        );
         assert!(channels_from_response(&r, &[f64::NAN]).is_err());
         assert!(channels_from_response(&r, &[]).is_err());
         // R is zero at 500 nm only.

@@ -1,0 +1,127 @@
+//! The CLI contract: names other tools depend on, one-line errors, non-zero exits.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::process::Command;
+
+fn run(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_udc-studio"))
+        .args(args)
+        .output()
+        .expect("run the binary");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn analyze_json_has_the_contract_fields() {
+    let (ok, stdout, stderr) = run(&["analyze", "--preset", "open-aperture", "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+    for key in [
+        "open_fraction",
+        "ltr",
+        "invertibility_loss",
+        "warnings",
+        "elapsed_ms",
+        "channels",
+    ] {
+        assert!(v.get(key).is_some(), "missing {key}");
+    }
+    let names: Vec<&str> = v["channels"]
+        .as_array()
+        .expect("array")
+        .iter()
+        .map(|c| c["name"].as_str().expect("name"))
+        .collect();
+    assert_eq!(names, ["R", "G", "B"]);
+    let r = &v["channels"][0];
+    assert_eq!(r["wavelength_nm"], 610.0);
+    assert_eq!(r["fft_size"], 1524);
+    for key in [
+        "auc_radial_min",
+        "auc_radial_mean",
+        "radial_min",
+        "radial_mean",
+        "mtf_horizontal",
+        "mtf_vertical",
+        "energy_in_window",
+    ] {
+        assert!(r.get(key).is_some(), "channel missing {key}");
+    }
+    assert_eq!(r["radial_min"].as_array().expect("array").len(), 147);
+    let auc = r["auc_radial_min"].as_f64().expect("number");
+    assert!((auc - 0.3068).abs() / 0.3068 < 0.003, "{auc}");
+}
+
+#[test]
+fn overrides_change_the_design() {
+    let (ok, a, e) = run(&["analyze", "--preset", "toled-150dpi", "--json", "--preview"]);
+    assert!(ok, "{e}");
+    let (ok, b, e) = run(&[
+        "analyze",
+        "--preset",
+        "toled-150dpi",
+        "--json",
+        "--preview",
+        "--tiling",
+        "random-d4",
+        "--seed",
+        "3",
+    ]);
+    assert!(ok, "{e}");
+    let auc = |s: &str| {
+        serde_json::from_str::<serde_json::Value>(s.trim()).expect("json")["channels"][0]["auc_radial_min"].as_f64().expect("number")
+    };
+    assert!(
+        auc(&b) > 3.0 * auc(&a),
+        "random tiling must lift the AUC: {} vs {}",
+        auc(&b),
+        auc(&a)
+    );
+}
+
+#[test]
+fn bad_input_gives_one_line_and_a_failure_code() {
+    for args in [
+        vec!["analyze", "--preset", "no-such-preset"],
+        vec!["analyze", "/definitely/missing.json"],
+        vec!["analyze", "--pitch-um", "-5"],
+        vec!["analyze", "--pitch-um", "NaN"],
+        vec!["analyze", "--optics", "telescope"],
+        vec!["analyze", "--pattern", "/definitely/missing.png"],
+    ] {
+        let (ok, stdout, stderr) = run(&args);
+        assert!(!ok, "{args:?} must fail");
+        assert!(stdout.is_empty(), "{args:?} printed {stdout}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error: "), "{stderr}");
+    }
+    let (ok, _, stderr) = run(&["analyze", "--tiling", "hexagonal"]);
+    assert!(!ok && stderr.contains("hexagonal"));
+}
+
+#[test]
+fn presets_lists_every_named_preset() {
+    let (ok, stdout, _) = run(&["presets"]);
+    assert!(ok);
+    for name in [
+        "open-aperture",
+        "toled-150dpi",
+        "toled-300dpi",
+        "toled-600dpi",
+        "poled-336um",
+        "disc-lattice",
+        "l2-repeat",
+        "l2inv-repeat",
+        "l2-random",
+        "l2inv-random",
+    ] {
+        assert!(
+            stdout.lines().any(|l| l.starts_with(name)),
+            "missing {name}"
+        );
+    }
+}

@@ -1,0 +1,189 @@
+//! Design files: round trips and clear errors for every kind of bad input.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use proptest::prelude::*;
+use udc_studio::core::analyze::analyze;
+use udc_studio::core::design::{Design, Optics, Polygon, TilingMode};
+use udc_studio::core::{Progress, SimError};
+use udc_studio::io::design_file::{load_design, parse_design, save_design, to_json};
+
+fn arb_design() -> impl Strategy<Value = Design> {
+    (
+        1usize..12,
+        prop::collection::vec(prop::sample::select(vec![0.0, 1.0, 0.25, 0.5]), 144),
+        1.0f64..500.0,
+        prop::sample::select(TilingMode::ALL.to_vec()),
+        any::<u64>(),
+        (0.0f64..20.0, 0.0f64..20.0, 0.0f64..10.0),
+        prop::bool::ANY,
+    )
+        .prop_map(|(n, pool, pitch, mode, seed, (ox, oy, gap), phone)| {
+            let mut d = Design::default_toled();
+            d.opening.pitch_um = pitch;
+            d.opening.cells = (0..n).map(|r| pool[r * 12..r * 12 + n].to_vec()).collect();
+            if seed % 3 == 0 {
+                d.opening.polygons.push(Polygon {
+                    vertices_um: vec![[0.0, 0.0], [pitch / 2.0, 0.0], [0.0, pitch / 3.0]],
+                });
+            }
+            d.tiling.mode = mode;
+            d.tiling.seed = seed;
+            d.tiling.origin_offset_cells = [ox, oy];
+            d.tiling.wiring_gap_um = gap;
+            if phone {
+                d.optics = Optics::phone();
+            }
+            d
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    #[test]
+    fn any_valid_design_round_trips_exactly(d in arb_design()) {
+        prop_assert!(d.validate().is_ok());
+        let back = parse_design(&to_json(&d)).map_err(TestCaseError::fail)?;
+        prop_assert_eq!(back, d);
+    }
+}
+
+#[test]
+fn save_then_load_is_identity_and_leaves_no_temp_file() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let path = dir.path().join("my design.json");
+    let mut d = Design::default_toled();
+    d.tiling.mode = TilingMode::RandomD4;
+    d.tiling.seed = 42;
+    save_design(&path, &d).expect("save");
+    assert_eq!(load_design(&path).expect("load"), d);
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .expect("list")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert_eq!(names.len(), 1, "{names:?}");
+}
+
+fn err_of(text: &str) -> String {
+    parse_design(text).expect_err("must be rejected")
+}
+
+fn good() -> serde_json::Value {
+    serde_json::from_str(&to_json(&Design::default_toled())).expect("json")
+}
+
+#[test]
+fn bad_files_are_rejected_with_the_field_named() {
+    let mut v = good();
+    v["optics"]["bogus"] = serde_json::json!(1);
+    assert!(
+        err_of(&v.to_string()).contains("bogus"),
+        "{}",
+        err_of(&v.to_string())
+    );
+
+    let mut v = good();
+    v["opening"]["pitch_um"] = serde_json::json!(-3.0);
+    assert!(err_of(&v.to_string()).contains("opening.pitch_um"));
+
+    let mut v = good();
+    v["optics"]["f_number"] = serde_json::json!("fast");
+    assert!(
+        err_of(&v.to_string()).contains("optics.f_number"),
+        "{}",
+        err_of(&v.to_string())
+    );
+
+    let mut v = good();
+    v["opening"]["cells"][3] = serde_json::json!([1.0, 0.5]);
+    assert!(err_of(&v.to_string()).contains("opening.cells[3]"));
+
+    let mut v = good();
+    v["opening"]["cells"][0] = serde_json::json!("..x..");
+    assert!(err_of(&v.to_string()).contains("unexpected character"));
+
+    let mut v = good();
+    v["tiling"]["mode"] = serde_json::json!("hexagonal");
+    assert!(err_of(&v.to_string()).contains("tiling.mode"));
+
+    let mut v = good();
+    v["version"] = serde_json::json!(7);
+    assert!(err_of(&v.to_string()).contains("version 7"));
+
+    let mut v = good();
+    v["channels"][1]["weights"] = serde_json::json!([1.0, 2.0]);
+    assert!(err_of(&v.to_string()).contains("channels[1].weights"));
+
+    let text = to_json(&Design::default_toled());
+    assert!(
+        err_of(&text[..text.len() / 2]).contains("line"),
+        "truncated JSON names the line"
+    );
+    assert!(err_of("[]").contains("not a design file"));
+    assert!(err_of("{\"format\": \"something-else\", \"version\": 1}").contains("format"));
+}
+
+#[test]
+fn missing_and_oversized_files_name_the_path() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let missing = dir.path().join("nope.json");
+    let e = load_design(&missing).expect_err("missing").to_string();
+    assert!(e.contains("nope.json"), "{e}");
+    let corrupt = dir.path().join("corrupt.json");
+    std::fs::write(&corrupt, b"\xff\xfe garbage").expect("write");
+    let e = load_design(&corrupt).expect_err("corrupt").to_string();
+    assert!(e.contains("corrupt.json"), "{e}");
+}
+
+#[test]
+fn nonsense_values_never_reach_the_simulation() {
+    let cases: Vec<(&str, Box<dyn Fn(&mut Design)>)> = vec![
+        (
+            "optics.f_number",
+            Box::new(|d| d.optics.f_number = f64::NAN),
+        ),
+        (
+            "optics.focal_length_mm",
+            Box::new(|d| d.optics.focal_length_mm = -1.0),
+        ),
+        ("optics.window_px", Box::new(|d| d.optics.window_px = 0)),
+        (
+            "optics.axis_in_pixel_um[0]",
+            Box::new(|d| d.optics.axis_in_pixel_um[0] = 2.5),
+        ),
+        (
+            "tiling.wiring_gap_um",
+            Box::new(|d| d.tiling.wiring_gap_um = f64::INFINITY),
+        ),
+        (
+            "channels[0].wavelengths_nm[0]",
+            Box::new(|d| d.channels[0].wavelengths_nm[0] = -610.0),
+        ),
+        ("channels", Box::new(|d| d.channels.clear())),
+        ("opening.cells", Box::new(|d| d.opening.cells.clear())),
+    ];
+    for (field, mutate) in cases {
+        let mut d = Design::default_toled();
+        mutate(&mut d);
+        match analyze(&d, &Progress::new()) {
+            Err(SimError::InvalidField { field: f, .. }) => assert_eq!(f, field),
+            other => panic!(
+                "{field}: expected an error naming it, got {:?}",
+                other.map(|a| a.ltr)
+            ),
+        }
+    }
+    // Sizes the machine cannot hold are refused before any allocation.
+    let mut d = Design::default_toled();
+    d.optics.fine_sample_um = 0.01;
+    assert!(matches!(
+        analyze(&d, &Progress::new()),
+        Err(SimError::TooLarge(_))
+    ));
+    // A fully closed opening lets no light through.
+    let mut d = Design::default_toled();
+    d.opening.cells = vec![vec![0.0; 21]; 21];
+    let e = analyze(&d, &Progress::new())
+        .expect_err("closed")
+        .to_string();
+    assert!(e.contains("opening.cells") && e.contains("no light"), "{e}");
+}
