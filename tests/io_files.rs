@@ -8,7 +8,8 @@
 use std::path::{Path, PathBuf};
 
 use ndarray::{Array2, array};
-use udc_studio::core::design::{Channel, Design, Opening, Optics, TilingMode};
+use udc_studio::core::design::TilingMode::{self, Random4, Repeat};
+use udc_studio::core::design::{Channel, Design, Opening, Optics};
 use udc_studio::core::sampling::fft_size;
 use udc_studio::core::{Analysis, Progress, analyze};
 use udc_studio::io::IoError;
@@ -25,6 +26,12 @@ fn asset(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets")
         .join(rel)
+}
+
+/// The error's message names `path` (where it went wrong).
+fn assert_names(err: &IoError, path: &Path) {
+    let msg = err.to_string();
+    assert!(msg.contains(&path.display().to_string()), "{msg}");
 }
 
 fn open_cells(cells: &[Vec<f64>]) -> usize {
@@ -110,17 +117,11 @@ fn a_corrupt_image_is_refused_with_its_path() {
     std::fs::write(&path, bytes).unwrap();
     let err = load_pattern_png(&path).unwrap_err();
     assert!(matches!(err, IoError::Image { .. }), "{err:?}");
-    assert!(
-        err.to_string().contains(&path.display().to_string()),
-        "{err}"
-    );
+    assert_names(&err, &path);
     let text = dir.path().join("notes.png");
     std::fs::write(&text, "just some text").unwrap();
     let err = load_pattern_png(&text).unwrap_err();
-    assert!(
-        err.to_string().contains(&text.display().to_string()),
-        "{err}"
-    );
+    assert_names(&err, &text);
 }
 
 #[test]
@@ -128,10 +129,7 @@ fn a_missing_image_is_a_file_error_with_its_path() {
     let path = Path::new("/nonexistent/udc/pattern.png");
     let err = load_pattern_png(path).unwrap_err();
     assert!(matches!(err, IoError::File { .. }), "{err:?}");
-    assert!(
-        err.to_string().contains("/nonexistent/udc/pattern.png"),
-        "{err}"
-    );
+    assert_names(&err, Path::new("/nonexistent/udc/pattern.png"));
 }
 
 #[test]
@@ -262,10 +260,7 @@ fn bad_spectral_tables_name_the_line() {
     let msg = bad_table("wavelength_nm,r,g,b\n500,0.1,0.2,0.3\n");
     assert!(msg.contains("at least 2"), "{msg}");
     let err = load_response_csv(Path::new("/nonexistent/response.csv")).unwrap_err();
-    assert!(
-        err.to_string().contains("/nonexistent/response.csv"),
-        "{err}"
-    );
+    assert_names(&err, Path::new("/nonexistent/response.csv"));
 }
 
 // ---------------------------------------------------------------- exports
@@ -419,10 +414,7 @@ fn writing_into_a_path_that_is_a_file_names_the_folder() {
     std::fs::write(&file, "x").unwrap();
     let err = write_analysis_outputs(&file, &a).unwrap_err();
     assert!(matches!(err, IoError::File { .. }), "{err:?}");
-    assert!(
-        err.to_string().contains(&file.display().to_string()),
-        "{err}"
-    );
+    assert_names(&err, &file);
     let empty = Array2::<f64>::zeros((0, 0));
     let err = write_psf_exr(&base.path().join("e.exr"), &empty).unwrap_err();
     assert!(err.to_string().contains("e.exr"), "{err}");
@@ -432,64 +424,16 @@ fn writing_into_a_path_that_is_a_file_names_the_folder() {
 
 /// `(preset, pattern, pitch µm, tiling, origin offset in cells)`.
 const PRESET_SOURCES: &[(&str, &str, f64, TilingMode, f64)] = &[
-    (
-        "toled-150dpi",
-        "TOLED_Rect.png",
-        168.0,
-        TilingMode::Repeat,
-        6.0,
-    ),
-    (
-        "toled-300dpi",
-        "TOLED_Rect.png",
-        84.0,
-        TilingMode::Repeat,
-        6.0,
-    ),
-    (
-        "toled-600dpi",
-        "TOLED_Rect.png",
-        42.0,
-        TilingMode::Repeat,
-        6.0,
-    ),
-    ("poled-336um", "POLED.png", 336.0, TilingMode::Repeat, 6.0),
-    (
-        "disc-lattice",
-        "POLED_Circ.png",
-        232.0,
-        TilingMode::Repeat,
-        8.0,
-    ),
-    (
-        "open-aperture",
-        "OpenAperture.png",
-        168.0,
-        TilingMode::Repeat,
-        6.0,
-    ),
-    ("l2-repeat", "L2_Repeat.png", 168.0, TilingMode::Repeat, 6.0),
-    (
-        "l2inv-repeat",
-        "L2Inv_Repeat.png",
-        168.0,
-        TilingMode::Repeat,
-        6.0,
-    ),
-    (
-        "l2-random",
-        "L2_Random.png",
-        168.0,
-        TilingMode::Random4,
-        6.0,
-    ),
-    (
-        "l2inv-random",
-        "L2Inv_Random.png",
-        168.0,
-        TilingMode::Random4,
-        6.0,
-    ),
+    ("toled-150dpi", "TOLED_Rect.png", 168.0, Repeat, 6.0),
+    ("toled-300dpi", "TOLED_Rect.png", 84.0, Repeat, 6.0),
+    ("toled-600dpi", "TOLED_Rect.png", 42.0, Repeat, 6.0),
+    ("poled-336um", "POLED.png", 336.0, Repeat, 6.0),
+    ("disc-lattice", "POLED_Circ.png", 232.0, Repeat, 8.0),
+    ("open-aperture", "OpenAperture.png", 168.0, Repeat, 6.0),
+    ("l2-repeat", "L2_Repeat.png", 168.0, Repeat, 6.0),
+    ("l2inv-repeat", "L2Inv_Repeat.png", 168.0, Repeat, 6.0),
+    ("l2-random", "L2_Random.png", 168.0, Random4, 6.0),
+    ("l2inv-random", "L2Inv_Random.png", 168.0, Random4, 6.0),
 ];
 
 #[test]

@@ -1,153 +1,496 @@
 //! The studio (egui/eframe). The only module that touches egui.
+//!
+//! `StudioApp` owns the document (undoable), the simulation worker, the shown results, the
+//! panels and the session (files, dialogs, autosave). Every frame it (1) takes finished results,
+//! (2) draws the panels, which push [`Command`]s, and (3) applies those commands once.
 
+mod actions;
+pub mod colormap;
+pub mod commands;
+pub mod dialogs;
+pub mod document;
+pub mod panels;
+pub mod settings;
+pub mod tasks;
 mod worker;
 
 use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use anyhow::Result;
-use egui::{ColorImage, TextureHandle, TextureOptions};
 
-pub use worker::{JobResult, Worker};
+pub use commands::{Command, ExportKind, Tool};
+pub use document::Document;
+pub use settings::{AppDirs, Settings};
+pub use worker::{JobResult, Payload, Worker};
 
 use crate::core::analyze::Quality;
-use crate::core::{Analysis, Design};
+use crate::core::Design;
 use crate::io::{design_file, presets};
+use panels::{DisplayPreview, PanelCtx, Pinned, Shown};
 
-/// Opens the studio window with `design` (or the default preset).
+/// How often the design is autosaved while it changes.
+pub const AUTOSAVE_EVERY: Duration = Duration::from_secs(3);
+
+/// How the studio starts.
+pub struct StudioOptions {
+    pub dirs: AppDirs,
+    /// Open this file instead of restoring the autosave.
+    pub design_path: Option<PathBuf>,
+    /// Native file dialogs (off in tests, where nothing may block).
+    pub native_dialogs: bool,
+    /// How often the design is autosaved while it changes.
+    pub autosave_every: Duration,
+}
+
+/// Opens the studio window with `design_path` (or the last session's design, or the default).
 ///
 /// # Errors
-/// When no window can be created (no display) or the design file cannot be read.
-pub fn run_studio(design: Option<PathBuf>) -> Result<()> {
-    let design = match design {
-        Some(path) => design_file::load_design(&path)?,
-        None => presets::load_preset(presets::DEFAULT_PRESET)?,
-    };
+/// When no window can be created (no display).
+pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("UDC Studio")
-            .with_inner_size([1280.0, 800.0]),
+            .with_inner_size([1440.0, 900.0])
+            .with_min_inner_size([900.0, 600.0]),
         ..Default::default()
+    };
+    let studio = StudioOptions {
+        dirs: AppDirs::platform(),
+        design_path,
+        native_dialogs: true,
+        autosave_every: AUTOSAVE_EVERY,
     };
     eframe::run_native(
         "UDC Studio",
         options,
-        Box::new(move |cc| Ok(Box::new(StudioApp::new(&cc.egui_ctx, design)))),
+        Box::new(move |cc| Ok(Box::new(StudioApp::new(&cc.egui_ctx, studio)))),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the studio window: {e}"))
 }
 
+/// Results on screen (the last good ones stay when a newer job fails).
+#[derive(Default)]
+pub struct Results {
+    pub shown: Option<Shown>,
+    pub display: Option<DisplayPreview>,
+    pub pinned: Option<Pinned>,
+    /// Pin the next full-quality result of the current generation.
+    pin_requested: bool,
+}
+
+/// View state: persisted, never undone.
+pub struct View {
+    pub tool: Tool,
+    pub settings: Settings,
+    pub left_tab: LeftTab,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LeftTab {
+    Opening,
+    Tiling,
+    Optics,
+}
+
+/// Files, dialogs, autosave and messages.
+pub struct Session {
+    dirs: AppDirs,
+    native_dialogs: bool,
+    dialog: Option<dialogs::PendingDialog>,
+    load: Option<(tasks::Task<Result<(Design, Option<PathBuf>), String>>, bool)>,
+    writes: Vec<tasks::Task<Result<String, String>>>,
+    confirm: Option<Command>,
+    last_autosave: Instant,
+    autosaved: Option<Design>,
+    spectral_step_nm: f64,
+    quit_confirmed: bool,
+    autosave_every: Duration,
+    /// The latest message for the status bar, and whether it is an error.
+    pub status: Option<(String, bool)>,
+}
+
+struct Panels {
+    editor: panels::editor::EditorPanel,
+    tiling: panels::tiling::TilingPanel,
+    optics: panels::optics::OpticsPanel,
+    numbers: panels::numbers::NumbersPanel,
+    views: panels::views::ViewsPanel,
+}
+
 /// The studio.
 pub struct StudioApp {
-    design: Design,
+    doc: Document,
     worker: Worker,
-    shown: Option<(Quality, Analysis)>,
-    error: Option<String>,
-    psf_texture: Option<TextureHandle>,
+    results: Results,
+    view: View,
+    session: Session,
+    panels: Panels,
+    title: String,
+    egui_ctx: egui::Context,
 }
 
 impl StudioApp {
-    pub fn new(ctx: &egui::Context, design: Design) -> Self {
+    /// Starts the studio: opens `design_path`, or restores the autosave, or the default preset.
+    pub fn new(ctx: &egui::Context, options: StudioOptions) -> Self {
+        let settings = Settings::load(&options.dirs);
+        ctx.set_visuals(if settings.dark { egui::Visuals::dark() } else { egui::Visuals::light() });
+        let mut status = None;
+        let (design, path) = match options.design_path.as_deref().map(design_file::load_design) {
+            Some(Ok(d)) => (d, options.design_path.clone()),
+            Some(Err(e)) => {
+                status = Some((e.to_string(), true));
+                (restore_or_default(&options.dirs, &mut status), None)
+            }
+            None => (restore_or_default(&options.dirs, &mut status), None),
+        };
         let wake_ctx = ctx.clone();
-        let mut worker = Worker::spawn(move || wake_ctx.request_repaint());
-        worker.submit(design.clone());
-        StudioApp {
-            design,
+        let worker = Worker::spawn(move || wake_ctx.request_repaint());
+        let mut app = StudioApp {
+            doc: Document::new(design.clone(), path),
             worker,
-            shown: None,
-            error: None,
-            psf_texture: None,
-        }
+            results: Results::default(),
+            view: View {
+                tool: Tool::Paint,
+                settings,
+                left_tab: LeftTab::Opening,
+            },
+            session: Session {
+                dirs: options.dirs,
+                native_dialogs: options.native_dialogs,
+                dialog: None,
+                load: None,
+                writes: Vec::new(),
+                confirm: None,
+                last_autosave: Instant::now(),
+                autosaved: Some(design),
+                spectral_step_nm: 30.0,
+                quit_confirmed: false,
+                autosave_every: options.autosave_every,
+                status,
+            },
+            panels: Panels {
+                editor: Default::default(),
+                tiling: Default::default(),
+                optics: Default::default(),
+                numbers: Default::default(),
+                views: Default::default(),
+            },
+            title: String::new(),
+            egui_ctx: ctx.clone(),
+        };
+        app.submit();
+        app
     }
 
     /// The design being edited.
     pub fn design(&self) -> &Design {
-        &self.design
+        self.doc.design()
+    }
+
+    pub fn document(&self) -> &Document {
+        &self.doc
     }
 
     /// The result on screen, if any.
-    pub fn analysis(&self) -> Option<&Analysis> {
-        self.shown.as_ref().map(|(_, a)| a)
+    pub fn shown(&self) -> Option<&Shown> {
+        self.results.shown.as_ref()
     }
 
-    fn take_results(&mut self, ctx: &egui::Context) {
+    /// The pinned comparison design, if any.
+    pub fn pinned(&self) -> Option<&Pinned> {
+        self.results.pinned.as_ref()
+    }
+
+    /// Whether the shown result is the full-quality result of the current design.
+    pub fn is_up_to_date(&self) -> bool {
+        self.results
+            .shown
+            .as_ref()
+            .is_some_and(|s| s.generation == self.worker.generation() && s.quality == Quality::Full)
+            && self.session.load.is_none()
+    }
+
+    /// The status-bar message and whether it is an error.
+    pub fn status(&self) -> Option<&(String, bool)> {
+        self.session.status.as_ref()
+    }
+
+    /// The editor panel (tests use its grid rectangle to draw with the pointer).
+    pub fn editor(&self) -> &panels::editor::EditorPanel {
+        &self.panels.editor
+    }
+
+    /// Queues a command as if a menu item or shortcut had been used.
+    pub fn command(&mut self, command: Command) {
+        self.apply(vec![command]);
+    }
+
+    pub fn tool(&self) -> Tool {
+        self.view.tool
+    }
+
+    fn submit(&mut self) {
+        self.worker.submit(self.doc.design().clone());
+    }
+
+    /// Takes finished results; keeps the last good result when a job fails.
+    fn take_results(&mut self) {
         for r in self.worker.poll() {
             if r.generation != self.worker.generation() {
                 continue;
             }
-            match r.result {
-                Ok(a) => {
-                    self.psf_texture = Some(psf_texture(ctx, &a));
-                    self.shown = Some((r.quality, a));
-                    self.error = None;
+            match r.payload {
+                Payload::Display {
+                    side,
+                    values,
+                    sample_um,
+                    pupil_diameter_um,
+                } => {
+                    self.results.display = Some(DisplayPreview {
+                        generation: r.generation,
+                        side,
+                        values: Arc::new(values),
+                        sample_um,
+                        pupil_diameter_um,
+                    });
                 }
-                Err(e) => self.error = Some(e.to_string()),
+                Payload::Analysis { quality, result } => match result {
+                    Ok(a) => {
+                        let shown = Shown {
+                            generation: r.generation,
+                            quality,
+                            analysis: Arc::new(a),
+                            design: Arc::new(self.doc.design().clone()),
+                        };
+                        if quality == Quality::Full && self.results.pin_requested {
+                            self.results.pin_requested = false;
+                            self.results.pinned = Some(Pinned {
+                                design: shown.design.clone(),
+                                analysis: shown.analysis.clone(),
+                            });
+                        }
+                        self.results.shown = Some(shown);
+                        if self.session.status.as_ref().is_some_and(|(_, err)| *err) {
+                            self.session.status = None;
+                        }
+                    }
+                    Err(e) => self.session.status = Some((format!("cannot simulate this design: {e}"), true)),
+                },
             }
+        }
+    }
+
+    fn menu_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+        egui::MenuBar::new().ui(ui, |ui| {
+            ui.menu_button("File", |ui| {
+                let item = |ui: &mut egui::Ui, label: &str, shortcut: Option<&egui::KeyboardShortcut>| {
+                    let mut b = egui::Button::new(label);
+                    if let Some(s) = shortcut {
+                        b = b.shortcut_text(ui.ctx().format_shortcut(s));
+                    }
+                    ui.add(b).clicked()
+                };
+                if item(ui, "New", Some(&commands::NEW)) {
+                    cmds.push(Command::New);
+                }
+                if item(ui, "Open…", Some(&commands::OPEN)) {
+                    cmds.push(Command::Open);
+                }
+                ui.menu_button("Open recent", |ui| {
+                    if self.view.settings.recent.is_empty() {
+                        ui.label("(none yet)");
+                    }
+                    for p in &self.view.settings.recent {
+                        if ui.button(p.display().to_string()).clicked() {
+                            cmds.push(Command::OpenPath(p.clone()));
+                        }
+                    }
+                });
+                if item(ui, "Save", Some(&commands::SAVE)) {
+                    cmds.push(Command::Save);
+                }
+                if item(ui, "Save as…", Some(&commands::SAVE_AS)) {
+                    cmds.push(Command::SaveAs);
+                }
+                ui.separator();
+                if item(ui, "Import opening PNG…", None) {
+                    cmds.push(Command::ImportPattern);
+                }
+                ui.menu_button("Export", |ui| {
+                    let full = self.results.shown.as_ref().is_some_and(|s| s.quality == Quality::Full);
+                    for kind in ExportKind::ALL {
+                        if ui.add_enabled(full, egui::Button::new(kind.label())).clicked() {
+                            cmds.push(Command::Export(kind));
+                        }
+                    }
+                });
+                ui.separator();
+                if item(ui, "Quit", Some(&commands::QUIT)) {
+                    cmds.push(Command::Quit);
+                }
+            });
+            ui.menu_button("Edit", |ui| {
+                let undo = egui::Button::new("Undo").shortcut_text(ui.ctx().format_shortcut(&commands::UNDO));
+                if ui.add_enabled(self.doc.can_undo(), undo).clicked() {
+                    cmds.push(Command::Undo);
+                }
+                let redo = egui::Button::new("Redo").shortcut_text(ui.ctx().format_shortcut(&commands::REDO));
+                if ui.add_enabled(self.doc.can_redo(), redo).clicked() {
+                    cmds.push(Command::Redo);
+                }
+                ui.separator();
+                if ui.button("Copy opening").clicked() {
+                    cmds.push(Command::Copy);
+                }
+                if ui.button("Invert opening (I)").clicked() {
+                    cmds.push(Command::Invert);
+                }
+                if ui.button("Clear opening (Del)").clicked() {
+                    cmds.push(Command::Clear);
+                }
+            });
+            ui.menu_button("Presets", |ui| {
+                for (name, desc) in presets::list() {
+                    if ui.button(name).on_hover_text(desc).clicked() {
+                        cmds.push(Command::LoadPreset(name.to_string()));
+                    }
+                }
+            });
+            ui.menu_button("View", |ui| {
+                let theme = if self.view.settings.dark { "Light theme" } else { "Dark theme" };
+                if ui.button(theme).clicked() {
+                    cmds.push(Command::ToggleTheme);
+                }
+                let mut overlays = self.view.settings.overlays;
+                if ui.checkbox(&mut overlays, "Teaching overlays and hints").clicked() {
+                    cmds.push(Command::ToggleOverlays);
+                }
+            });
+            ui.menu_button("Compare", |ui| {
+                let pin = egui::Button::new("Pin current design as A").shortcut_text(ui.ctx().format_shortcut(&commands::PIN));
+                if ui.add(pin).clicked() {
+                    cmds.push(Command::PinCompare);
+                }
+                if ui.add_enabled(self.results.pinned.is_some(), egui::Button::new("Clear A")).clicked() {
+                    cmds.push(Command::ClearCompare);
+                }
+            });
+        });
+    }
+
+    fn left_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+        ui.horizontal(|ui| {
+            for (tab, label) in [(LeftTab::Opening, "Opening"), (LeftTab::Tiling, "Tiling"), (LeftTab::Optics, "Optics")] {
+                if ui.selectable_label(self.view.left_tab == tab, label).clicked() {
+                    self.view.left_tab = tab;
+                }
+            }
+        });
+        ui.separator();
+        let mut pctx = PanelCtx {
+            design: self.doc.design(),
+            shown: self.results.shown.as_ref(),
+            display: self.results.display.as_ref(),
+            pinned: self.results.pinned.as_ref(),
+            overlays: self.view.settings.overlays,
+            tool: self.view.tool,
+            commands: cmds,
+        };
+        egui::ScrollArea::vertical().show(ui, |ui| match self.view.left_tab {
+            LeftTab::Opening => self.panels.editor.ui(ui, &mut pctx),
+            LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
+            LeftTab::Optics => self.panels.optics.ui(ui, &mut pctx),
+        });
+    }
+
+    fn status_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            if let Some((msg, is_error)) = &self.session.status {
+                let color = if *is_error { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
+                ui.colored_label(color, msg);
+                if ui.small_button("Dismiss").on_hover_text("Dismiss").clicked() {
+                    self.session.status = None;
+                }
+            } else {
+                ui.weak("Ready. Draw on the opening (B paint, E erase, R rectangle, O ellipse, L line, F fill).");
+            }
+        });
+    }
+
+    /// Draws one frame (shared by the native window and the test harness).
+    pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
+        let ctx = ui.ctx().clone();
+        self.take_results();
+        let mut cmds = Vec::new();
+        commands::shortcuts(&ctx, &mut cmds);
+        egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut cmds));
+        egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
+        egui::Panel::left("design")
+            .resizable(true)
+            .default_size(420.0)
+            .show(ui, |ui| self.left_ui(ui, &mut cmds));
+        let progress = self.worker.progress();
+        egui::Panel::right("numbers").resizable(true).default_size(300.0).show(ui, |ui| {
+            let mut pctx = PanelCtx {
+                design: self.doc.design(),
+                shown: self.results.shown.as_ref(),
+                display: self.results.display.as_ref(),
+                pinned: self.results.pinned.as_ref(),
+                overlays: self.view.settings.overlays,
+                tool: self.view.tool,
+                commands: &mut cmds,
+            };
+            ui.heading("Numbers");
+            self.panels.numbers.ui(ui, &mut pctx, progress);
+        });
+        egui::CentralPanel::default().show(ui, |ui| {
+            let mut pctx = PanelCtx {
+                design: self.doc.design(),
+                shown: self.results.shown.as_ref(),
+                display: self.results.display.as_ref(),
+                pinned: self.results.pinned.as_ref(),
+                overlays: self.view.settings.overlays,
+                tool: self.view.tool,
+                commands: &mut cmds,
+            };
+            self.panels.views.ui(ui, &mut pctx);
+        });
+        self.close_request(&ctx, &mut cmds);
+        self.confirm_ui(&ctx, &mut cmds);
+        self.apply(cmds);
+        self.poll_session();
+        if self.title != self.doc.title() {
+            self.title = self.doc.title();
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.title.clone()));
         }
     }
 }
 
-/// An RGB composite of the channels' PSFs on a log scale (6 decades), for display.
-fn psf_texture(ctx: &egui::Context, a: &Analysis) -> TextureHandle {
-    let n = a.window_px;
-    let mut rgb = vec![0u8; n * n * 3];
-    for (k, ch) in a.channels.iter().take(3).enumerate() {
-        let peak = ch
-            .psf
-            .iter()
-            .copied()
-            .fold(0.0f64, f64::max)
-            .max(f64::MIN_POSITIVE);
-        for (i, v) in ch.psf.iter().enumerate() {
-            let l = ((v / peak).max(1e-6).log10() + 6.0) / 6.0;
-            rgb[i * 3 + k] = (l.clamp(0.0, 1.0) * 255.0).round() as u8;
+/// The autosaved design of the last session, or the default preset.
+fn restore_or_default(dirs: &AppDirs, status: &mut Option<(String, bool)>) -> Design {
+    if let Some(path) = dirs.autosave_path().filter(|p| p.exists()) {
+        match design_file::load_design(&path) {
+            Ok(d) => return d,
+            Err(e) => {
+                // Keep the unreadable autosave aside instead of overwriting it.
+                let aside = path.with_extension("unreadable.json");
+                let _ = std::fs::rename(&path, &aside);
+                *status = Some((format!("could not restore the last design ({e}); kept it as {}", aside.display()), true));
+            }
         }
     }
-    let image = ColorImage::from_rgb([n, n], &rgb);
-    ctx.load_texture("psf", image, TextureOptions::NEAREST)
+    presets::load_preset(presets::DEFAULT_PRESET).unwrap_or_default()
 }
 
 impl eframe::App for StudioApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
-        let ctx = ui.ctx().clone();
-        self.take_results(&ctx);
-        egui::Panel::left("numbers").resizable(true).show(ui, |ui| {
-            ui.heading(&self.design.name);
-            ui.label(&self.design.description);
-            ui.separator();
-            if let Some(p) = self.worker.progress() {
-                ui.add(egui::ProgressBar::new(p).text("computing…"));
-            }
-            if let Some(err) = &self.error {
-                ui.colored_label(ui.visuals().error_fg_color, err);
-            }
-            if let Some((q, a)) = &self.shown {
-                ui.label(format!("quality: {q:?}, {:.0} ms", a.elapsed_ms));
-                ui.label(format!(
-                    "LTR {:.4}   open fraction {:.4}",
-                    a.ltr, a.open_fraction
-                ));
-                ui.label(format!("invertibility loss {:.4}", a.invertibility_loss));
-                for c in &a.channels {
-                    ui.label(format!(
-                        "{} ({:.0} nm): AUC {:.4} (normalised {:.3})",
-                        c.name,
-                        c.wavelength_nm,
-                        c.mtf.auc_radial_min,
-                        c.mtf.auc_normalised()
-                    ));
-                }
-                for w in &a.warnings {
-                    ui.small(format!("⚠ {w}"));
-                }
-            }
-        });
-        egui::CentralPanel::default().show(ui, |ui| {
-            if let Some(tex) = &self.psf_texture {
-                let side = ui.available_width().min(ui.available_height());
-                ui.add(egui::Image::new(tex).fit_to_exact_size(egui::vec2(side, side)));
-            } else {
-                ui.spinner();
-            }
-        });
+        self.frame_ui(ui);
+    }
+
+    fn on_exit(&mut self) {
+        self.autosave_now_blocking();
+        let _ = self.view.settings.save(&self.session.dirs);
     }
 }

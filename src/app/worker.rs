@@ -9,12 +9,28 @@ use std::thread::JoinHandle;
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::{Analysis, Design, Progress, SimError};
 
-/// A finished (or failed) computation of one generation.
+/// What a job produces, in order: the display preview, then the preview and full analyses.
+pub enum Payload {
+    Display {
+        side: usize,
+        values: Vec<f32>,
+        sample_um: f64,
+        pupil_diameter_um: f64,
+    },
+    Analysis {
+        quality: Quality,
+        result: Result<Analysis, SimError>,
+    },
+}
+
+/// A finished (or failed) piece of the job of one generation.
 pub struct JobResult {
     pub generation: u64,
-    pub quality: Quality,
-    pub result: Result<Analysis, SimError>,
+    pub payload: Payload,
 }
+
+/// Largest side of the display preview image, in samples.
+const DISPLAY_PREVIEW_SIDE: usize = 640;
 
 struct Shared {
     pending: Option<(u64, Design)>,
@@ -129,6 +145,19 @@ fn worker_loop(
             s.running = Some((generation, progress.clone()));
             (generation, design, progress)
         };
+        if design.validate().is_ok() {
+            let (side, values, sample_um) = crate::core::aperture::display_preview(&design, DISPLAY_PREVIEW_SIDE);
+            let payload = Payload::Display {
+                side,
+                values,
+                sample_um,
+                pupil_diameter_um: design.optics.pupil_diameter_um(),
+            };
+            if tx.send(JobResult { generation, payload }).is_err() {
+                return;
+            }
+            wake();
+        }
         for quality in [Quality::Preview, Quality::Full] {
             let options = AnalyzeOptions {
                 quality,
@@ -138,14 +167,8 @@ fn worker_loop(
             let cancelled = matches!(result, Err(SimError::Cancelled));
             if !cancelled {
                 let failed = result.is_err();
-                if tx
-                    .send(JobResult {
-                        generation,
-                        quality,
-                        result,
-                    })
-                    .is_err()
-                {
+                let payload = Payload::Analysis { quality, result };
+                if tx.send(JobResult { generation, payload }).is_err() {
                     return;
                 }
                 wake();

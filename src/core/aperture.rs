@@ -111,6 +111,8 @@ pub enum Extent {
     Pupil { diameter_um: f64 },
     /// Only the tile holding the optical axis, unclipped (for the expected-PSF terms).
     SingleTile,
+    /// Everything within a square of half-side `half_um` around the axis (previews).
+    Square { half_um: f64 },
 }
 
 /// A run of one axis of a sample square that falls in one tile and one cell (`None` = gap).
@@ -168,6 +170,10 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
             let r = (0.5 * diameter_um / delta_um).floor() as i64;
             (-r, r)
         }
+        Extent::Square { half_um } => {
+            let r = (half_um / delta_um).floor() as i64;
+            (-r, r)
+        }
         Extent::SingleTile => {
             let shift_x = (display.origin_offset_cells[0] + 0.5) * display.cell_um();
             let shift_y = (display.origin_offset_cells[1] + 0.5) * display.cell_um();
@@ -203,7 +209,7 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
 
     let r2 = match extent {
         Extent::Pupil { diameter_um } => (0.5 * diameter_um).powi(2),
-        Extent::SingleTile => f64::INFINITY,
+        Extent::SingleTile | Extent::Square { .. } => f64::INFINITY,
     };
     let mut rows = Vec::new();
     for (ky, iy) in (lo..=hi).enumerate() {
@@ -438,4 +444,22 @@ mod tests {
         assert_eq!(row[128 + 22], 1.0);
         assert_eq!(row[128 + 43], 0.0);
     }
+}
+
+/// The display around the pupil as a dense square image for previews: `(side, values)` with the
+/// axis at `side / 2`, covering 1.15 pupil diameters, sampled at δ1 or coarser so that the side
+/// stays within `max_side`. Returns the sample spacing used.
+pub fn display_preview(design: &Design, max_side: usize) -> (usize, Vec<f32>, f64) {
+    let cells = effective_cells(&design.opening);
+    let display = Display::from_design(design, &cells);
+    let half_um = 0.575 * design.optics.pupil_diameter_um();
+    let mut delta = design.optics.pupil_sample_um;
+    while (2.0 * half_um / delta) as usize + 1 > max_side.max(16) {
+        delta *= 2.0;
+    }
+    let field = rasterise(&display, Extent::Square { half_um }, delta);
+    let r = (half_um / delta).floor() as usize;
+    let side = 2 * r + 2;
+    let dense = field.to_dense(side);
+    (side, dense.into_iter().flatten().map(|v| v as f32).collect(), delta)
 }

@@ -9,6 +9,7 @@ pub mod expected;
 pub mod fft;
 pub mod metrics;
 pub mod mtf;
+pub mod opening_ops;
 pub mod progress;
 pub mod psf;
 pub mod sampling;

@@ -1,0 +1,10 @@
+#!/usr/bin/env bash
+# Regenerates the README's screenshots: renders the real studio headless with egui_kittest on
+# wgpu (lavapipe, from Debian's mesa-vulkan-drivers) and saves them here.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if ! dpkg -s mesa-vulkan-drivers >/dev/null 2>&1; then
+  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq mesa-vulkan-drivers libvulkan1
+fi
+UDC_SCREENSHOTS_DIR="$PWD/screenshots" cargo test --release --test screenshots -- --test-threads=1
+ls -l screenshots/*.png

@@ -1,0 +1,386 @@
+//! Applying commands, the unsaved-changes prompt, file tasks and autosave.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use super::commands::{Command, ExportKind};
+use super::dialogs::{PendingDialog, Purpose};
+use super::panels::Pinned;
+use super::tasks::Task;
+use super::StudioApp;
+use crate::core::Design;
+use crate::core::analyze::Quality;
+use crate::core::opening_ops;
+use crate::io::{design_file, export, pattern, presets, report, spectral};
+
+impl StudioApp {
+    /// Applies the frame's commands, in order.
+    pub(super) fn apply(&mut self, cmds: Vec<Command>) {
+        for c in cmds {
+            self.apply_one(c, false);
+        }
+    }
+
+    fn needs_confirm(&mut self, c: &Command, confirmed: bool) -> bool {
+        if !confirmed && self.doc.is_dirty() {
+            self.session.confirm = Some(c.clone());
+            return true;
+        }
+        false
+    }
+
+    fn edit_design(&mut self, d: Design) {
+        if self.doc.edit(d) {
+            self.submit();
+        }
+    }
+
+    fn edit_cells(&mut self, f: impl FnOnce(&mut Vec<Vec<f64>>)) {
+        let mut d = self.doc.design().clone();
+        f(&mut d.opening.cells);
+        self.edit_design(d);
+    }
+
+    fn set_status(&mut self, msg: impl Into<String>, is_error: bool) {
+        self.session.status = Some((msg.into(), is_error));
+    }
+
+    fn ask(&mut self, purpose: Purpose, file_name: Option<String>) {
+        if !self.session.native_dialogs {
+            self.set_status("file dialogs are disabled in this session", true);
+            return;
+        }
+        if self.session.dialog.is_none() {
+            let dir = self.doc.path.as_ref().and_then(|p| p.parent()).map(PathBuf::from);
+            self.session.dialog = Some(PendingDialog::spawn(purpose, dir, file_name));
+        }
+    }
+
+    fn wake(&self) -> impl Fn() + Send + 'static {
+        let ctx = self.egui_ctx.clone();
+        move || ctx.request_repaint()
+    }
+
+    pub(super) fn apply_one(&mut self, c: Command, confirmed: bool) {
+        match c {
+            Command::Edit(d) => self.edit_design(*d),
+            Command::Undo => {
+                if self.doc.undo() {
+                    self.submit();
+                }
+            }
+            Command::Redo => {
+                if self.doc.redo() {
+                    self.submit();
+                }
+            }
+            Command::New | Command::LoadPreset(_) if self.needs_confirm(&c, confirmed) => {}
+            Command::New => self.load_preset(presets::DEFAULT_PRESET),
+            Command::LoadPreset(name) => self.load_preset(&name),
+            Command::Open if self.needs_confirm(&c, confirmed) => {}
+            Command::Open => self.ask(Purpose::Open, None),
+            Command::OpenPath(_) if self.needs_confirm(&c, confirmed) => {}
+            Command::OpenPath(p) => self.open_path(p),
+            Command::Save => match self.doc.path.clone() {
+                Some(p) => self.save_to(p),
+                None => self.apply_one(Command::SaveAs, confirmed),
+            },
+            Command::SaveAs => {
+                let name = self.doc.path.as_ref().and_then(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned());
+                self.ask(Purpose::SaveAs, name);
+            }
+            Command::ImportPattern => self.ask(Purpose::ImportPattern, None),
+            Command::LoadSpectral(step) => {
+                self.session.spectral_step_nm = step;
+                self.ask(Purpose::Spectral, None);
+            }
+            Command::Export(kind) => self.ask(Purpose::Export(kind), None),
+            Command::SetTool(t) => self.view.tool = t,
+            Command::Invert => self.edit_cells(|c| opening_ops::invert(c)),
+            Command::Clear => self.edit_cells(|c| opening_ops::clear(c)),
+            Command::Copy => {
+                self.egui_ctx.copy_text(opening_ops::to_text(&self.doc.design().opening.cells));
+                self.set_status("opening copied as text (# open, . closed)", false);
+            }
+            Command::Paste(text) => match opening_ops::from_text(&text) {
+                Ok(cells) => self.edit_cells(|c| *c = cells),
+                Err(e) => self.set_status(format!("cannot paste an opening: {e}"), true),
+            },
+            Command::Reroll => {
+                let mut d = self.doc.design().clone();
+                d.tiling.seed = rand::random::<u32>() as u64;
+                if !d.tiling.mode.is_random() {
+                    self.set_status("reroll changes the random tiling's seed; pick Random D4 or Random 4 to see it", false);
+                }
+                self.edit_design(d);
+            }
+            Command::PinCompare => self.pin(),
+            Command::ClearCompare => {
+                self.results.pinned = None;
+                self.results.pin_requested = false;
+            }
+            Command::ToggleTheme => {
+                self.view.settings.dark = !self.view.settings.dark;
+                let v = if self.view.settings.dark { egui::Visuals::dark() } else { egui::Visuals::light() };
+                self.egui_ctx.set_visuals(v);
+                self.save_settings();
+            }
+            Command::ToggleOverlays => {
+                self.view.settings.overlays = !self.view.settings.overlays;
+                self.save_settings();
+            }
+            Command::Quit if self.needs_confirm(&c, confirmed) => {}
+            Command::Quit => {
+                self.session.quit_confirmed = true;
+                self.egui_ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+        }
+    }
+
+    fn save_settings(&mut self) {
+        if let Err(e) = self.view.settings.save(&self.session.dirs) {
+            self.set_status(format!("cannot save settings: {e}"), true);
+        }
+    }
+
+    fn load_preset(&mut self, name: &str) {
+        match presets::load_preset(name) {
+            Ok(d) => {
+                self.doc.replace(d, None);
+                self.submit();
+                self.set_status(format!("preset {name} loaded"), false);
+            }
+            Err(e) => self.set_status(e.to_string(), true),
+        }
+    }
+
+    fn pin(&mut self) {
+        match &self.results.shown {
+            Some(s) if s.quality == Quality::Full && s.generation == self.worker.generation() => {
+                self.results.pinned = Some(Pinned {
+                    design: s.design.clone(),
+                    analysis: s.analysis.clone(),
+                });
+                self.set_status("pinned as A: keep editing, then look at Compare", false);
+            }
+            _ => {
+                self.results.pin_requested = true;
+                self.set_status("will pin as A when the full-quality result is ready", false);
+            }
+        }
+    }
+
+    /// Reads a design file on a background thread; the current design stays until it is valid.
+    pub fn open_path(&mut self, path: PathBuf) {
+        let p = path.clone();
+        let task = Task::spawn("open-design", self.wake(), move || {
+            design_file::load_design(&p).map(|d| (d, Some(p))).map_err(|e| e.to_string())
+        });
+        self.session.load = Some((task, true));
+    }
+
+    fn save_to(&mut self, path: PathBuf) {
+        let design = self.doc.design().clone();
+        match design_file::save_design(&path, &design) {
+            // A design file is a few kB: writing it is quicker than a frame.
+            Ok(()) => {
+                self.doc.mark_saved(path.clone());
+                self.view.settings.add_recent(&path);
+                self.save_settings();
+                self.set_status(format!("saved {}", path.display()), false);
+            }
+            Err(e) => self.set_status(e.to_string(), true),
+        }
+    }
+
+    fn export_to(&mut self, kind: ExportKind, path: PathBuf) {
+        let Some(shown) = self.results.shown.clone() else {
+            self.set_status("nothing to export yet", true);
+            return;
+        };
+        let task = Task::spawn("export", self.wake(), move || {
+            let a = &shown.analysis;
+            let first = a.channels.first().map(|c| &c.psf);
+            let done = match (kind, first) {
+                (ExportKind::PsfExr, Some(p)) => export::write_psf_exr(&path, p),
+                (ExportKind::PsfPng16, Some(p)) => export::write_psf_png16(&path, p),
+                (ExportKind::LogPsfPng, Some(p)) => export::write_log_psf_png(&path, p),
+                (ExportKind::MtfCsv, _) => export::write_mtf_csv(&path, a),
+                (ExportKind::NumbersJson, _) => {
+                    let text = serde_json::to_string_pretty(&report::analysis_json(a)).unwrap_or_default();
+                    design_file::write_atomic(&path, text.as_bytes())
+                }
+                (_, None) => return Err("the result has no channels".to_string()),
+            };
+            done.map(|()| format!("exported {}", path.display())).map_err(|e| e.to_string())
+        });
+        self.session.writes.push(task);
+    }
+
+    /// Handles finished dialogs and tasks, and autosaves.
+    pub(super) fn poll_session(&mut self) {
+        if let Some(answer) = self.session.dialog.as_ref().and_then(PendingDialog::poll) {
+            let purpose = self.session.dialog.take().map(|d| d.purpose);
+            if let (Some(purpose), Some(path)) = (purpose, answer) {
+                self.dialog_done(purpose, path);
+            }
+        }
+        if let Some(done) = self.session.load.as_ref().and_then(|(t, _)| t.poll()) {
+            self.session.load = None;
+            match done {
+                Ok(Ok((design, path))) => {
+                    if let Some(p) = &path {
+                        self.view.settings.add_recent(p);
+                        self.save_settings();
+                        self.set_status(format!("opened {}", p.display()), false);
+                    }
+                    self.doc.replace(design, path);
+                    self.submit();
+                }
+                Ok(Err(e)) => self.set_status(format!("cannot open: {e}"), true),
+                Err(()) => self.set_status("the file task stopped unexpectedly", true),
+            }
+        }
+        let mut still = Vec::new();
+        for t in std::mem::take(&mut self.session.writes) {
+            match t.poll() {
+                None => still.push(t),
+                Some(Ok(Ok(msg))) => self.set_status(msg, false),
+                Some(Ok(Err(e))) => self.set_status(e, true),
+                Some(Err(())) => self.set_status("a file task stopped unexpectedly", true),
+            }
+        }
+        self.session.writes = still;
+        self.autosave_tick();
+    }
+
+    fn dialog_done(&mut self, purpose: Purpose, path: PathBuf) {
+        match purpose {
+            Purpose::Open => self.open_path(path),
+            Purpose::SaveAs => self.save_to(path),
+            Purpose::Export(kind) => self.export_to(kind, path),
+            Purpose::ImportPattern => match pattern::load_pattern_png(&path) {
+                Ok(cells) => self.edit_cells(|c| *c = cells),
+                Err(e) => self.set_status(e.to_string(), true),
+            },
+            Purpose::Spectral => {
+                let step = self.session.spectral_step_nm.max(1.0);
+                match spectral::load_response_csv(&path) {
+                    Ok(resp) => {
+                        let lo = resp.wavelengths_nm.first().copied().unwrap_or(400.0);
+                        let hi = resp.wavelengths_nm.last().copied().unwrap_or(700.0);
+                        let samples: Vec<f64> = (0..)
+                            .map(|k| (lo / step).ceil() * step + k as f64 * step)
+                            .take_while(|w| *w <= hi)
+                            .collect();
+                        match spectral::channels_from_response(&resp, &samples) {
+                            Ok(ch) => {
+                                let mut d = self.doc.design().clone();
+                                d.channels = ch;
+                                self.edit_design(d);
+                            }
+                            Err(e) => self.set_status(format!("{e} (in {})", path.display()), true),
+                        }
+                    }
+                    Err(e) => self.set_status(e.to_string(), true),
+                }
+            }
+        }
+    }
+
+    fn autosave_tick(&mut self) {
+        let changed = self.session.autosaved.as_ref() != Some(self.doc.design());
+        if !changed {
+            return;
+        }
+        let due = self.session.last_autosave + self.session.autosave_every;
+        let now = Instant::now();
+        if now < due {
+            self.egui_ctx.request_repaint_after(due - now);
+            return;
+        }
+        let Some(path) = self.session.dirs.autosave_path() else {
+            return;
+        };
+        let design = self.doc.design().clone();
+        self.session.autosaved = Some(design.clone());
+        self.session.last_autosave = now;
+        let task = Task::spawn("autosave", self.wake(), move || {
+            if let Some(dir) = path.parent() {
+                std::fs::create_dir_all(dir).map_err(|e| format!("autosave failed: {e}"))?;
+            }
+            design_file::save_design(&path, &design)
+                .map(|()| String::new())
+                .map_err(|e| format!("autosave failed: {e}"))
+        });
+        self.session.writes.push(task);
+    }
+
+    /// Writes the autosave now (on exit).
+    pub fn autosave_now_blocking(&mut self) {
+        if let Some(path) = self.session.dirs.autosave_path() {
+            if let Some(dir) = path.parent() {
+                let _ = std::fs::create_dir_all(dir);
+            }
+            if design_file::save_design(&path, self.doc.design()).is_ok() {
+                self.session.autosaved = Some(self.doc.design().clone());
+            }
+        }
+    }
+
+    /// The window's close button asks first when there are unsaved changes.
+    pub(super) fn close_request(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
+        if ctx.input(|i| i.viewport().close_requested()) && !self.session.quit_confirmed && self.doc.is_dirty() {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            cmds.push(Command::Quit);
+        }
+    }
+
+    /// The unsaved-changes prompt.
+    pub(super) fn confirm_ui(&mut self, ctx: &egui::Context, _cmds: &mut [Command]) {
+        let Some(pending) = self.session.confirm.clone() else {
+            return;
+        };
+        let what = match &pending {
+            Command::Quit => "quitting",
+            Command::New => "starting a new design",
+            Command::LoadPreset(_) => "loading the preset",
+            _ => "opening another design",
+        };
+        let mut choice = None;
+        egui::Modal::new(egui::Id::unique("unsaved-changes")).show(ctx, |ui| {
+            ui.heading("Unsaved changes");
+            ui.label(format!(
+                "\"{}\" has changes that are not saved to a file. They stay in the autosave and in undo, \
+                 but save them before {what}?",
+                self.doc.design().name
+            ));
+            ui.horizontal(|ui| {
+                if self.doc.path.is_some() && ui.button("Save").clicked() {
+                    choice = Some(0);
+                }
+                if ui.button("Discard changes").clicked() {
+                    choice = Some(1);
+                }
+                if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(egui::Key::Escape)) {
+                    choice = Some(2);
+                }
+            });
+        });
+        match choice {
+            Some(0) => {
+                self.session.confirm = None;
+                self.apply_one(Command::Save, true);
+                if !self.doc.is_dirty() {
+                    self.apply_one(pending, true);
+                }
+            }
+            Some(1) => {
+                self.session.confirm = None;
+                self.apply_one(pending, true);
+            }
+            Some(_) => self.session.confirm = None,
+            None => {}
+        }
+    }
+}

@@ -1,0 +1,142 @@
+//! The document: the design being edited, where it lives on disk, and its undo history.
+//! Undo points are recorded per committed edit (a whole drag is one edit), never per frame.
+
+use std::path::PathBuf;
+
+use crate::core::Design;
+
+/// Most undo steps kept (a 21×21 design is ~10 kB, so this is a few MB at most).
+const MAX_UNDO: usize = 200;
+
+#[derive(Debug, Clone)]
+pub struct Document {
+    design: Design,
+    /// The file it was opened from or saved to.
+    pub path: Option<PathBuf>,
+    /// The design as last saved (or opened), to tell whether there are unsaved changes.
+    saved: Option<Design>,
+    undo: Vec<Design>,
+    redo: Vec<Design>,
+}
+
+impl Document {
+    pub fn new(design: Design, path: Option<PathBuf>) -> Self {
+        let saved = path.as_ref().map(|_| design.clone());
+        Document {
+            design,
+            path,
+            saved,
+            undo: Vec::new(),
+            redo: Vec::new(),
+        }
+    }
+
+    pub fn design(&self) -> &Design {
+        &self.design
+    }
+
+    /// Applies a committed edit as one undo step. Returns whether anything changed.
+    pub fn edit(&mut self, design: Design) -> bool {
+        if design == self.design {
+            return false;
+        }
+        let before = std::mem::replace(&mut self.design, design);
+        self.undo.push(before);
+        if self.undo.len() > MAX_UNDO {
+            self.undo.remove(0);
+        }
+        self.redo.clear();
+        true
+    }
+
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty()
+    }
+
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty()
+    }
+
+    pub fn undo(&mut self) -> bool {
+        match self.undo.pop() {
+            Some(prev) => {
+                let now = std::mem::replace(&mut self.design, prev);
+                self.redo.push(now);
+                true
+            }
+            None => false,
+        }
+    }
+
+    pub fn redo(&mut self) -> bool {
+        match self.redo.pop() {
+            Some(next) => {
+                let now = std::mem::replace(&mut self.design, next);
+                self.undo.push(now);
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Replaces the whole document (open, new, preset), keeping the old design undoable so a
+    /// mistaken open loses nothing.
+    pub fn replace(&mut self, design: Design, path: Option<PathBuf>) {
+        self.edit(design);
+        self.saved = path.as_ref().map(|_| self.design.clone());
+        self.path = path;
+    }
+
+    /// Records that the current design is now on disk at `path`.
+    pub fn mark_saved(&mut self, path: PathBuf) {
+        self.saved = Some(self.design.clone());
+        self.path = Some(path);
+    }
+
+    /// Whether the design differs from what is on disk (a never-saved design counts as unsaved
+    /// once edited).
+    pub fn is_dirty(&self) -> bool {
+        match &self.saved {
+            Some(s) => *s != self.design,
+            None => self.can_undo(),
+        }
+    }
+
+    /// Title for the window: name, file and a star when unsaved.
+    pub fn title(&self) -> String {
+        let file = self
+            .path
+            .as_ref()
+            .and_then(|p| p.file_name())
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "unsaved".into());
+        let star = if self.is_dirty() { " *" } else { "" };
+        format!("{} ({file}){star} — UDC Studio", self.design.name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::core::design::TilingMode;
+
+    #[test]
+    fn undo_and_redo_walk_the_history() {
+        let mut doc = Document::new(Design::default_toled(), None);
+        let a = doc.design().clone();
+        let mut b = a.clone();
+        b.tiling.mode = TilingMode::RandomD4;
+        assert!(doc.edit(b.clone()));
+        assert!(!doc.edit(b.clone()), "an edit that changes nothing is not an undo step");
+        assert!(doc.is_dirty());
+        assert!(doc.undo());
+        assert_eq!(doc.design(), &a);
+        assert!(doc.redo());
+        assert_eq!(doc.design(), &b);
+        assert!(!doc.redo());
+        doc.mark_saved("x.json".into());
+        assert!(!doc.is_dirty());
+        assert!(doc.undo());
+        assert!(doc.is_dirty());
+    }
+}

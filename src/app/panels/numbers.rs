@@ -1,0 +1,76 @@
+//! The numbers of the shown result, with units, and the sampling warnings.
+
+use super::PanelCtx;
+use crate::app::commands::Command;
+use crate::core::analyze::Quality;
+
+#[derive(Default)]
+pub struct NumbersPanel;
+
+impl NumbersPanel {
+    pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelCtx, progress: Option<f32>) {
+        ui.horizontal(|ui| {
+            match progress {
+                Some(p) => {
+                    ui.add(egui::ProgressBar::new(p).desired_width(140.0).show_percentage().text("computing"));
+                }
+                None => {
+                    ui.label("Up to date");
+                }
+            }
+            if ui
+                .button("Pin as A")
+                .on_hover_text("Keep this design and its result as A to compare with your edits (Ctrl+P)")
+                .clicked()
+            {
+                ctx.commands.push(Command::PinCompare);
+            }
+        });
+        let Some(shown) = ctx.shown else {
+            ui.spinner();
+            return;
+        };
+        let a = &shown.analysis;
+        let d = &shown.design;
+        ui.small(format!(
+            "{} · computed in {:.0} ms",
+            match shown.quality {
+                Quality::Preview => "preview quality",
+                Quality::Full => "full quality",
+            },
+            a.elapsed_ms
+        ));
+        egui::Grid::new("numbers-grid").num_columns(2).striped(true).show(ui, |ui| {
+            let row = |ui: &mut egui::Ui, k: &str, v: String, tip: &str| {
+                ui.label(k).on_hover_text(tip);
+                ui.monospace(v);
+                ui.end_row();
+            };
+            row(ui, "Open fraction", format!("{:.2} %", 100.0 * a.open_fraction), "Open area of one pixel (intensity transmittance of the tile)");
+            row(ui, "LTR", format!("{:.2} %", 100.0 * a.ltr), "Light transmittance ratio: fraction of the pupil's light that passes the display");
+            row(ui, "Invertibility loss", format!("{:.4}", a.invertibility_loss), "L_inv = −mean of the lowest 30 % of H = |K|²/(|K|²+0.015), pooled over channels (thesis eq. 3.9); lower is better");
+            row(ui, "Pixel pitch", format!("{:.1} µm ({:.0} DPI)", d.opening.pitch_um, d.opening.dpi()), "Display pixel pitch");
+            row(ui, "Tiles in pupil", format!("{:.0}", a.tiles_in_pupil), "Display pixels inside the lens pupil");
+        });
+        ui.separator();
+        egui::Grid::new("channel-grid").num_columns(5).striped(true).show(ui, |ui| {
+            ui.strong("ch");
+            ui.strong("λ (nm)").on_hover_text("Peak or mean wavelength");
+            ui.strong("AUC").on_hover_text("Area under the radially-minimum MTF over 0…0.5 cycles/pixel; bigger is more invertible");
+            ui.strong("AUC/0.5").on_hover_text("AUC normalised by the ideal 0.5");
+            ui.strong("in window").on_hover_text("Fraction of the light inside the PSF window");
+            ui.end_row();
+            for c in &a.channels {
+                ui.label(&c.name);
+                ui.monospace(format!("{:.0}", c.wavelength_nm));
+                ui.monospace(format!("{:.4}", c.mtf.auc_radial_min)).on_hover_text(format!("AUC {} = {:.5}", c.name, c.mtf.auc_radial_min));
+                ui.monospace(format!("{:.3}", c.mtf.auc_normalised()));
+                ui.monospace(format!("{:.2} %", 100.0 * c.energy_in_window));
+                ui.end_row();
+            }
+        });
+        for w in &a.warnings {
+            ui.colored_label(ui.visuals().warn_fg_color, format!("Warning: {w}"));
+        }
+    }
+}

@@ -1,0 +1,116 @@
+//! Camera optics, sampling and colour channels.
+
+use super::PanelCtx;
+use crate::app::commands::Command;
+use crate::core::design::{Channel, Design, Optics};
+
+#[derive(Default)]
+pub struct OpticsPanel {
+    draft: Option<Design>,
+    /// Wavelength step for the spectral channels, nm.
+    pub spectral_step_nm: f64,
+}
+
+fn num(ui: &mut egui::Ui, label: &str, v: &mut f64, range: std::ops::RangeInclusive<f64>, speed: f64, suffix: &str, tip: &str) -> bool {
+    ui.label(label);
+    let r = ui
+        .add(egui::DragValue::new(v).range(range).speed(speed).suffix(suffix).max_decimals(4))
+        .on_hover_text(tip);
+    ui.end_row();
+    r.dragged()
+}
+
+impl OpticsPanel {
+    pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelCtx) {
+        let mut d = self.draft.clone().unwrap_or_else(|| ctx.design.clone());
+        let mut dragging = false;
+        ui.horizontal(|ui| {
+            ui.label("Recipe:");
+            for name in Optics::RECIPES {
+                let tip = match name {
+                    "iccp21" => "The thesis recipe: f = 10 mm, f/2.5, δ1 = 8 µm, δ2 = 0.5 µm, 2-µm pixels, 294-px window",
+                    _ => "A phone main camera: f = 5.56 mm, f/1.6, 1.0-µm pixels",
+                };
+                if ui.selectable_label(d.optics.recipe == name, name).on_hover_text(tip).clicked() {
+                    if let Some(o) = Optics::recipe_named(name) {
+                        d.optics = o;
+                    }
+                }
+            }
+        });
+        let before = d.optics.clone();
+        egui::Grid::new("optics-grid").num_columns(2).show(ui, |ui| {
+            let o = &mut d.optics;
+            dragging |= num(ui, "Focal length", &mut o.focal_length_mm, 0.5..=100.0, 0.05, " mm", "Lens focal length f (mm)");
+            dragging |= num(ui, "f-number", &mut o.f_number, 0.5..=32.0, 0.01, "", "F# = f / D");
+            ui.label("Pupil diameter");
+            ui.label(format!("{:.3} mm", o.pupil_diameter_um() / 1000.0));
+            ui.end_row();
+            dragging |= num(ui, "Pupil sampling δ1", &mut o.pupil_sample_um, 0.25..=64.0, 0.05, " µm", "Pupil/display sample spacing (µm); must resolve the display cells");
+            dragging |= num(ui, "Fine PSF spacing δ2", &mut o.fine_sample_um, 0.05..=8.0, 0.01, " µm", "Target fine PSF spacing on the sensor (µm); FFT size M = 2·floor(λf/(2 δ1 δ2))");
+            dragging |= num(ui, "Sensor pixel", &mut o.sensor_pixel_um, 0.2..=20.0, 0.01, " µm", "Sensor pixel pitch (µm)");
+            ui.label("Window");
+            let r = ui
+                .add(egui::DragValue::new(&mut o.window_px).range(8..=2048).suffix(" px"))
+                .on_hover_text("Side of the square PSF window, in sensor pixels");
+            dragging |= r.dragged();
+            ui.end_row();
+            let px = o.sensor_pixel_um;
+            dragging |= num(ui, "Axis in pixel x", &mut o.axis_in_pixel_um[0], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase: where the optical axis lies inside its pixel, from the pixel's left edge (µm)");
+            dragging |= num(ui, "Axis in pixel y", &mut o.axis_in_pixel_um[1], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase along y, from the pixel's lower edge (µm)");
+        });
+        if d.optics != before && d.optics.recipe != "custom" {
+            d.optics.recipe = "custom".into();
+        }
+        ui.separator();
+        ui.label("Channels");
+        egui::Grid::new("channels-grid").num_columns(3).show(ui, |ui| {
+            for ch in &mut d.channels {
+                ui.label(&ch.name);
+                if ch.wavelengths_nm.len() == 1 {
+                    let r = ui
+                        .add(egui::DragValue::new(&mut ch.wavelengths_nm[0]).range(350.0..=1100.0).speed(1.0).suffix(" nm"))
+                        .on_hover_text("Peak wavelength of the channel (nm)");
+                    dragging |= r.dragged();
+                    ui.label("peak");
+                } else {
+                    ui.label(format!(
+                        "{} wavelengths, {:.0}–{:.0} nm",
+                        ch.wavelengths_nm.len(),
+                        ch.wavelengths_nm.first().copied().unwrap_or(0.0),
+                        ch.wavelengths_nm.last().copied().unwrap_or(0.0)
+                    ));
+                    ui.label(format!("mean {:.0} nm", ch.mean_wavelength_nm()));
+                }
+                ui.end_row();
+            }
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .button("Peak RGB")
+                .on_hover_text("One wavelength per channel: R 610, G 530, B 470 nm (the thesis)")
+                .clicked()
+            {
+                d.channels = Channel::rgb_peaks();
+            }
+            if self.spectral_step_nm <= 0.0 {
+                self.spectral_step_nm = 30.0;
+            }
+            ui.add(egui::DragValue::new(&mut self.spectral_step_nm).range(5.0..=100.0).suffix(" nm step"))
+                .on_hover_text("Wavelength step when sampling a spectral response (smaller = slower)");
+            if ui
+                .button("Spectral CSV…")
+                .on_hover_text("Weight each channel by a sensor spectral response (CSV: wavelength_nm, r, g, b)")
+                .clicked()
+            {
+                ctx.commands.push(Command::LoadSpectral(self.spectral_step_nm));
+            }
+        });
+        if dragging {
+            self.draft = Some(d);
+        } else {
+            self.draft = None;
+            ctx.edit(d);
+        }
+    }
+}

@@ -1,0 +1,146 @@
+//! Tiling controls and a zoomable preview of the tiled display over the lens pupil.
+
+use egui::{Color32, ColorImage, TextureHandle, TextureOptions};
+use egui_plot::{Line, Plot, PlotImage, PlotPoint, PlotPoints};
+
+use super::{DisplayPreview, PanelCtx};
+use crate::app::commands::Command;
+use crate::core::design::{Design, TilingMode};
+
+#[derive(Default)]
+pub struct TilingPanel {
+    /// Edits in progress while a value is being dragged (committed on release).
+    draft: Option<Design>,
+    texture: Option<(u64, TextureHandle)>,
+}
+
+fn mode_label(m: TilingMode) -> &'static str {
+    match m {
+        TilingMode::Repeat => "Repeat",
+        TilingMode::RandomD4 => "Random D4",
+        TilingMode::Random4 => "Random 4",
+    }
+}
+
+fn mode_hint(m: TilingMode) -> &'static str {
+    match m {
+        TilingMode::Repeat => "Every pixel identical: a periodic display (sharp diffraction orders).",
+        TilingMode::RandomD4 => {
+            "Each pixel takes one of the 8 rotations/flips (three coins: rotate 90° CCW, flip left-right, flip up-down)."
+        }
+        TilingMode::Random4 => "Each pixel takes one of P, Pᵀ, fliplr P, flipud Pᵀ (the thesis's optimisation set).",
+    }
+}
+
+impl TilingPanel {
+    pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelCtx) {
+        let mut d = self.draft.clone().unwrap_or_else(|| ctx.design.clone());
+        let mut dragging = false;
+        ui.horizontal(|ui| {
+            for m in TilingMode::ALL {
+                if ui
+                    .selectable_label(d.tiling.mode == m, mode_label(m))
+                    .on_hover_text(mode_hint(m))
+                    .clicked()
+                {
+                    d.tiling.mode = m;
+                }
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Seed");
+            let r = ui
+                .add(egui::DragValue::new(&mut d.tiling.seed).speed(1.0))
+                .on_hover_text("Seed of the random orientations (the same seed gives the same display everywhere)");
+            dragging |= r.dragged();
+            if ui
+                .add_enabled(d.tiling.mode.is_random(), egui::Button::new("Reroll"))
+                .on_hover_text("A new random realisation (F5)")
+                .clicked()
+            {
+                ctx.commands.push(Command::Reroll);
+            }
+        });
+        ui.horizontal(|ui| {
+            ui.label("Wiring gap");
+            let r = ui
+                .add(egui::DragValue::new(&mut d.tiling.wiring_gap_um).range(0.0..=100.0).speed(0.5).suffix(" µm"))
+                .on_hover_text("Opaque gap added around every pixel (µm); the display period becomes pitch + gap");
+            dragging |= r.dragged();
+        });
+        ui.horizontal(|ui| {
+            ui.label("Axis on cell");
+            for k in 0..2 {
+                let r = ui
+                    .add(
+                        egui::DragValue::new(&mut d.tiling.origin_offset_cells[k])
+                            .range(0.0..=d.opening.n() as f64)
+                            .speed(0.05)
+                            .prefix(if k == 0 { "x " } else { "y " })
+                            .suffix(" cells"),
+                    )
+                    .on_hover_text("Tile-origin offset: the optical axis sits on the centre of this cell of its tile (thesis: 6, 6)");
+                dragging |= r.dragged();
+            }
+        });
+        let period = d.opening.pitch_um + d.tiling.wiring_gap_um;
+        ui.small(format!(
+            "period {period:.1} µm · {:.0} DPI · {:.0} tiles in the pupil",
+            25400.0 / period,
+            std::f64::consts::PI * (0.5 * d.optics.pupil_diameter_um() / period).powi(2)
+        ));
+        if dragging {
+            self.draft = Some(d);
+        } else {
+            self.draft = None;
+            ctx.edit(d);
+        }
+        ui.separator();
+        self.preview_ui(ui, ctx.display);
+    }
+
+    fn preview_ui(&mut self, ui: &mut egui::Ui, display: Option<&DisplayPreview>) {
+        let Some(p) = display else {
+            ui.spinner();
+            return;
+        };
+        if self.texture.as_ref().is_none_or(|(g, _)| *g != p.generation) {
+            let pixels: Vec<Color32> = p
+                .values
+                .iter()
+                .map(|v| {
+                    let g = (v.clamp(0.0, 1.0) * 230.0) as u8 + 20;
+                    Color32::from_rgb(g, g, (g as f32 * 0.9) as u8 + 20)
+                })
+                .collect();
+            let image = ColorImage::new([p.side, p.side], pixels);
+            let tex = ui.ctx().load_texture("display-preview", image, TextureOptions::NEAREST);
+            self.texture = Some((p.generation, tex));
+        }
+        let Some((_, tex)) = &self.texture else { return };
+        let half = p.side as f64 * p.sample_um / 2.0;
+        let r = p.pupil_diameter_um / 2.0;
+        let circle: PlotPoints = (0..=128)
+            .map(|k| {
+                let t = k as f64 / 128.0 * std::f64::consts::TAU;
+                [r * t.cos(), r * t.sin()]
+            })
+            .collect();
+        Plot::new("display-preview")
+            .data_aspect(1.0)
+            .height(ui.available_height().clamp(160.0, 420.0))
+            .x_axis_label("x (µm)")
+            .y_axis_label("y (µm)")
+            .show(ui, |plot| {
+                plot.image(PlotImage::new(
+                    "display",
+                    tex.id(),
+                    PlotPoint::new(0.0, 0.0),
+                    [(2.0 * half) as f32, (2.0 * half) as f32],
+                ));
+                plot.line(Line::new("lens pupil", circle).color(Color32::from_rgb(255, 140, 0)).width(2.0));
+            })
+            .response
+            .on_hover_text("The tiled display over the lens pupil (orange); scroll to zoom, drag to pan");
+    }
+}

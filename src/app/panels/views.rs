@@ -1,0 +1,564 @@
+//! The result views: PSF (linear and log), RGB composite, 2-D MTF, MTF plots, expected PSF of a
+//! random tiling, and the A/B comparison, with optional teaching overlays.
+//!
+//! Images are built by the pure functions of [`images`] and uploaded once per result and
+//! setting (the [`Textures`] cache, keyed by generation, quality, channel and floor); the frame
+//! loop only places them in plots.
+
+mod compare;
+mod hints;
+pub mod images;
+mod plots;
+mod textures;
+
+use egui::{RichText, TextureId, Ui};
+
+use self::images::{
+    DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, Grid, airy_radius_um, channel_color, linear_image,
+    log_image, mtf_repeat_cyc_per_px, multiples_up_to, order_lattice, order_spacing_um, peak,
+    rgb_composite, rgb_slots,
+};
+use self::plots::{
+    COLORBAR_WIDTH, ImagePlot, Markers, MtfFamilies, PsfOverlay, Scale, colorbar_ui, image_plot_ui,
+    mtf_plot_ui,
+};
+use self::textures::{Slot, TexKey, Textures};
+use super::{PanelCtx, Shown};
+use crate::app::colormap::Colormap;
+use crate::app::commands::Command;
+use crate::core::analyze::{ChannelAnalysis, Quality};
+
+/// The tabs of the result views.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ViewTab {
+    #[default]
+    Psf,
+    LogPsf,
+    Rgb,
+    Mtf2d,
+    MtfPlots,
+    Expected,
+    Compare,
+}
+
+impl ViewTab {
+    pub const ALL: [ViewTab; 7] = [
+        ViewTab::Psf,
+        ViewTab::LogPsf,
+        ViewTab::Rgb,
+        ViewTab::Mtf2d,
+        ViewTab::MtfPlots,
+        ViewTab::Expected,
+        ViewTab::Compare,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            ViewTab::Psf => "PSF",
+            ViewTab::LogPsf => "log-PSF",
+            ViewTab::Rgb => "RGB",
+            ViewTab::Mtf2d => "MTF 2-D",
+            ViewTab::MtfPlots => "MTF plots",
+            ViewTab::Expected => "Expected PSF",
+            ViewTab::Compare => "Compare",
+        }
+    }
+
+    fn hint(self) -> &'static str {
+        match self {
+            ViewTab::Psf => hints::PSF,
+            ViewTab::LogPsf => hints::LOG_PSF,
+            ViewTab::Rgb => hints::RGB,
+            ViewTab::Mtf2d => hints::MTF_2D,
+            ViewTab::MtfPlots => hints::MTF_PLOTS,
+            ViewTab::Expected => hints::EXPECTED,
+            ViewTab::Compare => hints::COMPARE,
+        }
+    }
+}
+
+/// The result views panel. All of its state is view state (never undone).
+pub struct ViewsPanel {
+    tab: ViewTab,
+    channel: usize,
+    /// Depth of the log views, in decades below the peak.
+    floor_decades: f64,
+    /// Depth of the 2-D MTF view, in decades below MTF(0) = 1.
+    mtf_floor_decades: f64,
+    families: MtfFamilies,
+    textures: Textures,
+}
+
+impl Default for ViewsPanel {
+    fn default() -> Self {
+        ViewsPanel {
+            tab: ViewTab::default(),
+            channel: 0,
+            floor_decades: DEFAULT_FLOOR_DECADES,
+            mtf_floor_decades: 3.0,
+            families: MtfFamilies::default(),
+            textures: Textures::default(),
+        }
+    }
+}
+
+impl ViewsPanel {
+    /// The selected tab.
+    pub fn tab(&self) -> ViewTab {
+        self.tab
+    }
+
+    /// Selects a tab (menus and shortcuts of the shell may call this).
+    pub fn set_tab(&mut self, tab: ViewTab) {
+        self.tab = tab;
+    }
+
+    /// Images built and uploaded so far: a diagnostic that must not grow while neither the
+    /// result nor a view setting changes.
+    pub fn texture_builds(&self) -> u64 {
+        self.textures.builds()
+    }
+
+    pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
+        ui.horizontal_wrapped(|ui| {
+            for tab in ViewTab::ALL {
+                ui.selectable_value(&mut self.tab, tab, tab.label());
+            }
+        });
+        ui.separator();
+        let Some(shown) = ctx.shown else {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label("computing…");
+            });
+            return;
+        };
+        let n_channels = shown.analysis.channels.len();
+        self.channel = self.channel.min(n_channels.saturating_sub(1));
+        self.controls_ui(ui, shown);
+        if ctx.overlays {
+            egui::CollapsingHeader::new("What am I seeing?")
+                .id_salt(("views_hint", self.tab))
+                .show(ui, |ui| ui.label(self.tab.hint()));
+        }
+        let Some(ch) = shown.analysis.channels.get(self.channel) else {
+            ui.label("This result has no colour channels.");
+            return;
+        };
+        match self.tab {
+            ViewTab::Psf | ViewTab::LogPsf => self.psf_ui(ui, shown, ch, ctx.overlays),
+            ViewTab::Rgb => self.rgb_ui(ui, shown),
+            ViewTab::Mtf2d => self.mtf2d_ui(ui, shown, ch),
+            ViewTab::MtfPlots => self.mtf_plots_ui(ui, shown, ctx),
+            ViewTab::Expected => self.expected_ui(ui, shown, ch),
+            ViewTab::Compare => self.compare_ui(ui, shown, ctx),
+        }
+    }
+
+    /// The settings row of the current tab: channel, floor, curve families.
+    fn controls_ui(&mut self, ui: &mut Ui, shown: &Shown) {
+        let tab = self.tab;
+        ui.horizontal_wrapped(|ui| {
+            if matches!(
+                tab,
+                ViewTab::Psf | ViewTab::LogPsf | ViewTab::Mtf2d | ViewTab::Expected
+            ) {
+                ui.label("Channel:");
+                for (i, c) in shown.analysis.channels.iter().enumerate() {
+                    let text = RichText::new(&c.name).color(channel_color(&c.name));
+                    ui.selectable_value(&mut self.channel, i, text)
+                        .on_hover_text(format!("{:.0} nm", c.wavelength_nm));
+                }
+                ui.separator();
+            }
+            if matches!(tab, ViewTab::LogPsf | ViewTab::Rgb | ViewTab::Expected) {
+                ui.add(
+                    egui::Slider::new(&mut self.floor_decades, FLOOR_DECADES_RANGE)
+                        .step_by(0.5)
+                        .text("floor (decades below peak)"),
+                )
+                .on_hover_text(
+                    "The log scale stops this many decades below the peak: values under \
+                     peak × 10^−floor (including exact zeros, whose log is −∞) take the floor \
+                     colour. Deeper floors reveal fainter orders and, eventually, round-off noise.",
+                );
+            }
+            if tab == ViewTab::Mtf2d {
+                ui.add(
+                    egui::Slider::new(&mut self.mtf_floor_decades, 1.0..=9.0)
+                        .step_by(0.5)
+                        .text("floor (decades below 1)"),
+                )
+                .on_hover_text(
+                    "log10 of the MTF is shown down to 10^−floor; lower values, and the exact \
+                     zeros whose log is −∞, take the floor colour.",
+                );
+            }
+            if tab == ViewTab::MtfPlots {
+                let f = &mut self.families;
+                ui.checkbox(&mut f.horizontal, "horizontal");
+                ui.checkbox(&mut f.vertical, "vertical");
+                ui.checkbox(&mut f.radial_min, "radial min");
+                ui.checkbox(&mut f.radial_mean, "radial mean");
+            }
+        });
+    }
+
+    fn key(&self, shown: &Shown, channel: usize, floor_decades: f64) -> TexKey {
+        TexKey {
+            generation: shown.generation,
+            quality: shown.quality,
+            channel,
+            floor_decades,
+        }
+    }
+
+    fn psf_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis, overlays: bool) {
+        let log = self.tab == ViewTab::LogPsf;
+        let p = peak(&ch.psf);
+        let floor = self.floor_decades;
+        let (texture, scale) = if log {
+            let key = self.key(shown, self.channel, floor);
+            let tex = self.textures.get(ui.ctx(), Slot::LogPsf, key, || {
+                log_image(&ch.psf, p, floor, Colormap::Inferno)
+            });
+            let scale = Scale::Log {
+                reference: p,
+                floor_decades: floor,
+            };
+            (tex, scale)
+        } else {
+            let key = self.key(shown, self.channel, 0.0);
+            let tex = self.textures.get(ui.ctx(), Slot::Psf, key, || {
+                linear_image(&ch.psf, p, Colormap::Inferno)
+            });
+            (tex, Scale::Linear { max: p })
+        };
+        let grid = psf_grid(shown, ch);
+        let overlay = overlays.then(|| psf_overlay(shown, ch, grid));
+        let id = if log { "views_log_psf" } else { "views_psf" };
+        image_with_colorbar_ui(ui, id, texture, grid, &ch.psf, scale, overlay.as_ref());
+    }
+
+    fn rgb_ui(&mut self, ui: &mut Ui, shown: &Shown) {
+        let channels = &shown.analysis.channels;
+        let names: Vec<&str> = channels.iter().map(|c| c.name.as_str()).collect();
+        let slots = rgb_slots(&names);
+        let floor = self.floor_decades;
+        let key = self.key(shown, 0, floor);
+        let texture = self.textures.get(ui.ctx(), Slot::Rgb, key, || {
+            rgb_composite(
+                slots.map(|s| s.and_then(|i| channels.get(i)).map(|c| &c.psf)),
+                floor,
+            )
+        });
+        let used: Vec<String> = ["red", "green", "blue"]
+            .iter()
+            .zip(slots)
+            .map(|(plane, s)| match s.and_then(|i| channels.get(i)) {
+                Some(c) => format!("{plane} = {}", c.name),
+                None => format!("{plane} empty"),
+            })
+            .collect();
+        ui.label(format!(
+            "Each channel normalised to its own peak, log scale from the peak down to 1e-{floor} \
+             (the floor) → {}.",
+            used.join(", ")
+        ));
+        let Some(first) = slots.iter().flatten().find_map(|i| channels.get(*i)) else {
+            return;
+        };
+        let grid = psf_grid(shown, first);
+        let scale = Scale::Log {
+            reference: peak(&first.psf),
+            floor_decades: floor,
+        };
+        let size = plot_size(ui, 1);
+        ui.horizontal(|ui| {
+            image_plot_ui(
+                ui,
+                &ImagePlot {
+                    id: "views_rgb",
+                    texture,
+                    grid,
+                    values: &first.psf,
+                    scale,
+                    unit: "µm",
+                    value_name: &format!("{} PSF", first.name),
+                    overlay: None,
+                    link: None,
+                    size,
+                },
+            );
+            colorbar_ui(ui, size.y, scale, Colormap::Inferno);
+        });
+    }
+
+    fn mtf2d_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis) {
+        let mtf = &ch.mtf.centred;
+        let floor = self.mtf_floor_decades;
+        // MTF(0) = 1 by construction; the peak guards against a degenerate PSF.
+        let reference = peak(mtf).max(f64::MIN_POSITIVE);
+        let key = self.key(shown, self.channel, floor);
+        let texture = self.textures.get(ui.ctx(), Slot::Mtf2d, key, || {
+            log_image(mtf, reference, floor, Colormap::Viridis)
+        });
+        let n = mtf.nrows().max(1);
+        let grid = Grid {
+            n,
+            step: 1.0 / n as f64,
+        };
+        let scale = Scale::Log {
+            reference,
+            floor_decades: floor,
+        };
+        let size = plot_size(ui, 1);
+        ui.horizontal(|ui| {
+            image_plot_ui(
+                ui,
+                &ImagePlot {
+                    id: "views_mtf2d",
+                    texture,
+                    grid,
+                    values: mtf,
+                    scale,
+                    unit: "cyc/px",
+                    value_name: "MTF",
+                    overlay: None,
+                    link: None,
+                    size,
+                },
+            );
+            colorbar_ui(ui, size.y, scale, Colormap::Viridis);
+        });
+    }
+
+    fn mtf_plots_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &PanelCtx) {
+        let markers: Vec<Markers> = if ctx.overlays {
+            let d = &shown.design;
+            let period_um = d.opening.pitch_um + d.tiling.wiring_gap_um;
+            shown
+                .analysis
+                .channels
+                .iter()
+                .map(|c| {
+                    let nu = mtf_repeat_cyc_per_px(
+                        period_um,
+                        shown.analysis.sensor_pixel_um,
+                        c.wavelength_nm,
+                        d.optics.focal_length_mm,
+                    );
+                    Markers {
+                        label: format!("{}: repeats every T·p/(λf) = {nu:.3} cyc/px", c.name),
+                        freqs_cyc_per_px: multiples_up_to(nu, 0.5, 200),
+                        color: channel_color(&c.name),
+                    }
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let pinned = ctx.pinned.map(|p| p.analysis.as_ref());
+        mtf_plot_ui(
+            ui,
+            "views_mtf_plots",
+            &shown.analysis,
+            pinned,
+            self.families,
+            &markers,
+            channel_color,
+        );
+    }
+
+    fn expected_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis) {
+        let mode = shown.design.tiling.mode;
+        if !mode.is_random() {
+            ui.label(
+                "This design uses a periodic tiling (repeat): every pixel is identical, so there \
+                 is no randomness to average and the expected PSF is the PSF itself. Choose a \
+                 random tiling to compare one realisation with the expectation.",
+            );
+            return;
+        }
+        let Some(expected) = &ch.expected_psf else {
+            ui.label(
+                "The expected PSF was not computed for this result (previews skip it); it \
+                 appears with the full-quality result.",
+            );
+            return;
+        };
+        // One colour scale for both: the larger of the two peaks.
+        let reference = peak(&ch.psf).max(peak(expected));
+        let floor = self.floor_decades;
+        let key = self.key(shown, self.channel, floor);
+        let ctx = ui.ctx().clone();
+        let real = self.textures.get(&ctx, Slot::ExpectedRealisation, key, || {
+            log_image(&ch.psf, reference, floor, Colormap::Inferno)
+        });
+        let mean = self.textures.get(&ctx, Slot::ExpectedMean, key, || {
+            log_image(expected, reference, floor, Colormap::Inferno)
+        });
+        let grid = psf_grid(shown, ch);
+        let scale = Scale::Log {
+            reference,
+            floor_decades: floor,
+        };
+        let size = plot_size(ui, 2);
+        let link = Some(ui.make_persistent_id("views_expected_link"));
+        let seed = shown.design.tiling.seed;
+        ui.horizontal(|ui| {
+            ui.vertical(|ui| {
+                ui.label(format!("this realisation ({}, seed {seed})", mode.as_str()));
+                image_plot_ui(
+                    ui,
+                    &ImagePlot {
+                        id: "views_expected_realisation",
+                        texture: real,
+                        grid,
+                        values: &ch.psf,
+                        scale,
+                        unit: "µm",
+                        value_name: "PSF",
+                        overlay: None,
+                        link,
+                        size,
+                    },
+                );
+            });
+            ui.vertical(|ui| {
+                ui.label("expected over all random tilings");
+                image_plot_ui(
+                    ui,
+                    &ImagePlot {
+                        id: "views_expected_mean",
+                        texture: mean,
+                        grid,
+                        values: expected,
+                        scale,
+                        unit: "µm",
+                        value_name: "expected PSF",
+                        overlay: None,
+                        link,
+                        size,
+                    },
+                );
+            });
+            colorbar_ui(ui, size.y, scale, Colormap::Inferno);
+        });
+    }
+
+    fn compare_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &mut PanelCtx) {
+        ui.horizontal(|ui| {
+            if ui
+                .button("Pin as A")
+                .on_hover_text("Ctrl+P: keep the current design's full-quality result as A")
+                .clicked()
+            {
+                ctx.commands.push(Command::PinCompare);
+            }
+            if ctx.pinned.is_some() && ui.button("Clear A").clicked() {
+                ctx.commands.push(Command::ClearCompare);
+            }
+        });
+        let Some(pinned) = ctx.pinned else {
+            ui.label(
+                "Nothing is pinned yet. Press Ctrl+P or \"Pin as A\" to keep the current design \
+                 as A; then edit the design (B) and compare the numbers and MTFs here.",
+            );
+            return;
+        };
+        ui.label(format!(
+            "A: {}    B: {} (current)",
+            display_name(&pinned.design.name),
+            display_name(&shown.design.name)
+        ));
+        if shown.quality == Quality::Preview {
+            ui.weak(
+                "B is a preview result; its numbers settle when the full-quality result arrives.",
+            );
+        }
+        compare::compare_table_ui(
+            ui,
+            &compare::compare_rows(&pinned.analysis, &shown.analysis),
+        );
+        ui.separator();
+        mtf_plot_ui(
+            ui,
+            "views_compare_mtf",
+            &shown.analysis,
+            Some(&pinned.analysis),
+            MtfFamilies::RADIAL_MIN,
+            &[],
+            channel_color,
+        );
+    }
+}
+
+fn display_name(name: &str) -> &str {
+    if name.trim().is_empty() {
+        "(untitled)"
+    } else {
+        name
+    }
+}
+
+/// The sensor grid of a channel's PSF: one sample per sensor pixel, axis at `W/2`.
+fn psf_grid(shown: &Shown, ch: &ChannelAnalysis) -> Grid {
+    Grid {
+        n: ch.psf.nrows(),
+        step: shown.analysis.sensor_pixel_um,
+    }
+}
+
+/// The diffraction-order lattice and Airy ring of a channel, over the extent of `grid`.
+fn psf_overlay(shown: &Shown, ch: &ChannelAnalysis, grid: Grid) -> PsfOverlay {
+    let d = &shown.design;
+    let period_um = d.opening.pitch_um + d.tiling.wiring_gap_um;
+    let spacing = order_spacing_um(ch.wavelength_nm, d.optics.focal_length_mm, period_um);
+    let half_extent = grid.image_size()[0] / 2.0;
+    PsfOverlay {
+        order_spacing_um: spacing,
+        lattice_um: order_lattice(spacing, half_extent, 64),
+        airy_radius_um: airy_radius_um(ch.wavelength_nm, d.optics.f_number),
+    }
+}
+
+/// Size of each of `count` image plots side by side, leaving room for one colour bar.
+fn plot_size(ui: &Ui, count: usize) -> egui::Vec2 {
+    let avail = ui.available_size();
+    let gaps = ui.spacing().item_spacing.x * count as f32;
+    let w = ((avail.x - COLORBAR_WIDTH - gaps) / count.max(1) as f32).max(120.0);
+    // Leave a line for the captions above side-by-side plots.
+    let h = (avail.y - if count > 1 { 24.0 } else { 0.0 }).max(160.0);
+    egui::vec2(w, h)
+}
+
+fn image_with_colorbar_ui(
+    ui: &mut Ui,
+    id: &str,
+    texture: TextureId,
+    grid: Grid,
+    values: &ndarray::Array2<f64>,
+    scale: Scale,
+    overlay: Option<&PsfOverlay>,
+) {
+    let size = plot_size(ui, 1);
+    ui.horizontal(|ui| {
+        image_plot_ui(
+            ui,
+            &ImagePlot {
+                id,
+                texture,
+                grid,
+                values,
+                scale,
+                unit: "µm",
+                value_name: "PSF",
+                overlay,
+                link: None,
+                size,
+            },
+        );
+        colorbar_ui(ui, size.y, scale, Colormap::Inferno);
+    });
+}

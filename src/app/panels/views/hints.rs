@@ -1,0 +1,48 @@
+//! The "What am I seeing?" paragraphs of the result views, in plain words (teaching overlays).
+
+pub const PSF: &str = "The point-spread function (PSF) is the picture a single distant point of \
+light makes on the sensor. Behind a display it is |Fourier transform of the aperture|²: the lens \
+pupil multiplied by the display's transparent openings. The openings repeat every T (pitch + \
+wiring gap), and a repeating grating throws light into diffraction orders: the bright spots spaced \
+λf/T apart on the sensor (the cyan circles). The central spot is the light that goes straight \
+through; its core is about the size of the Airy disc, radius 1.22 λ F# (the white ring). Light \
+sent into the other orders shows up as ghosts and haze around bright objects. Axes are µm on the \
+sensor, one square per sensor pixel, and the values of a channel sum to 1.";
+
+pub const LOG_PSF: &str = "The same PSF on a logarithmic scale, so the faint orders and the halo \
+become visible: every step on the colour bar is a factor of ten. Values below the floor (peak × \
+10^−floor) take the floor colour, because the logarithm of zero is −∞. A random tiling (each \
+pixel rotated or flipped at random) breaks the strict repetition: the sharp spots at λf/T spread \
+into a smoother, dimmer halo. Same total light, but less structured ghosting.";
+
+pub const RGB: &str = "The three colour channels together, each scaled to its own peak on the \
+same log scale. Diffraction grows with wavelength (the order spacing λf/T is proportional to λ), \
+so red's orders sit farther out than blue's: the rainbow fringes you would see around a street \
+lamp photographed through this display.";
+
+pub const MTF_2D: &str = "The modulation transfer function (MTF) says how much contrast a sine \
+pattern keeps after the blur, for every frequency and direction. The centre is a uniform field \
+(always 1); the edges are the sensor's limit, 0.5 cycles per pixel. It is |Fourier transform of \
+the PSF|, the autocorrelation of the aperture, so the display's period shows up as a repeating \
+structure. Dark spots are frequencies whose contrast nearly vanishes: detail there cannot be \
+recovered by any deblurring, because noise swamps it.";
+
+pub const MTF_PLOTS: &str = "Cuts through the MTF. Horizontal and vertical slices follow the two \
+frequency axes; the radial mean averages every direction at each frequency, and the radial \
+minimum keeps the worst direction. A radial minimum near 0 means some pattern of that fineness is \
+lost and cannot be restored. The area under the radial minimum (AUC; 0.5 is perfect, and \
+'normalised' divides by 0.5) sums up how invertible the blur is: bigger is better. The dotted \
+lines mark multiples of ν = T·p/(λf) cycles/pixel, where the display's structure repeats in the \
+MTF.";
+
+pub const EXPECTED: &str = "Left: the PSF of this one random tiling, one roll of the dice fixed by \
+the seed. Right: the expected PSF, the average over all random tilings, computed in closed form. \
+Both use the same colour scale. The realisation shows speckle (fine random fluctuations) on top of \
+the expected halo; re-rolling the seed changes the speckle but not the expectation.";
+
+pub const COMPARE: &str = "A is the pinned design, B the current one, each with its own optics. \
+The difference B − A is green where B is better (a larger AUC, light transmittance or energy in \
+the window; a lower, more negative invertibility loss) and red where it is worse. Light \
+transmittance (LTR) is the share of the lens's light that passes the display; AUC measures how \
+well the blur can be undone. More open area lets more light through, but it is the shape of the \
+openings that decides where the MTF dips.";

@@ -1,0 +1,92 @@
+//! View settings and recent files (persisted, never undone) and where the studio keeps them.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::io::design_file::write_atomic;
+
+const MAX_RECENT: usize = 8;
+
+/// Where the studio keeps its own files (autosave, settings). Tests point it at a temp dir.
+#[derive(Debug, Clone)]
+pub struct AppDirs {
+    pub data_dir: Option<PathBuf>,
+}
+
+impl AppDirs {
+    /// The platform data directory (e.g. `~/.local/share/udc-studio`).
+    pub fn platform() -> Self {
+        AppDirs {
+            data_dir: directories::ProjectDirs::from("org", "udc-studio", "udc-studio").map(|d| d.data_dir().to_path_buf()),
+        }
+    }
+
+    /// No persistence at all.
+    pub fn none() -> Self {
+        AppDirs { data_dir: None }
+    }
+
+    pub fn at(dir: &Path) -> Self {
+        AppDirs {
+            data_dir: Some(dir.to_path_buf()),
+        }
+    }
+
+    pub fn autosave_path(&self) -> Option<PathBuf> {
+        self.data_dir.as_ref().map(|d| d.join("autosave.json"))
+    }
+
+    fn settings_path(&self) -> Option<PathBuf> {
+        self.data_dir.as_ref().map(|d| d.join("settings.json"))
+    }
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    pub recent: Vec<PathBuf>,
+    pub dark: bool,
+    pub overlays: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            recent: Vec::new(),
+            dark: true,
+            overlays: true,
+        }
+    }
+}
+
+impl Settings {
+    /// Loads settings; anything unreadable falls back to defaults (settings are not precious).
+    pub fn load(dirs: &AppDirs) -> Self {
+        dirs.settings_path()
+            .and_then(|p| std::fs::read_to_string(p).ok())
+            .and_then(|t| serde_json::from_str(&t).ok())
+            .unwrap_or_default()
+    }
+
+    /// Saves settings; failures are returned so the UI can mention them.
+    ///
+    /// # Errors
+    /// When the data directory cannot be written.
+    pub fn save(&self, dirs: &AppDirs) -> Result<(), String> {
+        let Some(path) = dirs.settings_path() else {
+            return Ok(());
+        };
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        }
+        let text = serde_json::to_string_pretty(self).unwrap_or_default();
+        write_atomic(&path, text.as_bytes()).map_err(|e| e.to_string())
+    }
+
+    pub fn add_recent(&mut self, path: &Path) {
+        self.recent.retain(|p| p != path);
+        self.recent.insert(0, path.to_path_buf());
+        self.recent.truncate(MAX_RECENT);
+    }
+}

@@ -1,0 +1,143 @@
+//! The studio, driven like a user would: egui_kittest runs the real app headless.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::time::{Duration, Instant};
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use udc_studio::app::{AppDirs, Command, StudioApp, StudioOptions};
+use udc_studio::core::design::TilingMode;
+
+fn harness(dir: &std::path::Path) -> Harness<'static, StudioApp> {
+    let dirs = AppDirs::at(dir);
+    Harness::builder()
+        .with_size(egui::vec2(1440.0, 900.0))
+        .with_max_steps(10_000)
+        .build_eframe(move |cc| {
+            StudioApp::new(
+                &cc.egui_ctx,
+                StudioOptions {
+                    dirs,
+                    design_path: None,
+                    native_dialogs: false,
+                    autosave_every: Duration::from_millis(200),
+                },
+            )
+        })
+}
+
+/// Steps the UI until `done` holds (the worker runs on its own thread) or fails after 60 s.
+fn step_until(h: &mut Harness<'_, StudioApp>, what: &str, done: impl Fn(&StudioApp) -> bool) {
+    let start = Instant::now();
+    loop {
+        h.step();
+        if done(h.state()) {
+            h.step();
+            return;
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+fn auc_r(app: &StudioApp) -> f64 {
+    app.shown().expect("a result").analysis.channels[0].mtf.auc_radial_min
+}
+
+#[test]
+fn random_tiling_raises_the_auc_shown() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
+    let before = auc_r(h.state());
+    h.get_by_label("Tiling").click();
+    h.step();
+    h.get_by_label("Random D4").click();
+    h.step();
+    assert_eq!(h.state().design().tiling.mode, TilingMode::RandomD4);
+    step_until(&mut h, "the random-tiling result", StudioApp::is_up_to_date);
+    let after = auc_r(h.state());
+    assert!(after > 3.0 * before, "AUC {before} → {after}");
+    // The numbers panel shows it (4 decimals).
+    let shown = format!("{after:.4}");
+    assert!(h.query_all_by_label(&shown).next().is_some(), "the AUC {shown} is on screen");
+}
+
+fn cell_centre(h: &Harness<'_, StudioApp>, row: usize, col: usize) -> egui::Pos2 {
+    let rect = h.state().editor().grid_rect().expect("the editor was drawn");
+    let n = h.state().design().opening.n() as f32;
+    egui::pos2(
+        rect.left() + (col as f32 + 0.5) * rect.width() / n,
+        rect.top() + (row as f32 + 0.5) * rect.height() / n,
+    )
+}
+
+#[test]
+fn drawing_changes_the_design_and_undo_restores_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    let before = h.state().design().clone();
+    assert_eq!(before.opening.cells[2][1], 0.0);
+    // One drag with the paint tool across row 2, columns 1…4.
+    let (a, b) = (cell_centre(&h, 2, 1), cell_centre(&h, 2, 4));
+    h.hover_at(a);
+    h.step();
+    h.event(egui::Event::PointerButton { pos: a, button: egui::PointerButton::Primary, pressed: true, modifiers: Default::default() });
+    h.step();
+    for k in 1..=6 {
+        h.event(egui::Event::PointerMoved(a + (b - a) * (k as f32 / 6.0)));
+        h.step();
+    }
+    h.event(egui::Event::PointerButton { pos: b, button: egui::PointerButton::Primary, pressed: false, modifiers: Default::default() });
+    h.step();
+    h.step();
+    let after = h.state().design().clone();
+    for c in 1..=4 {
+        assert_eq!(after.opening.cells[2][c], 1.0, "cell (2, {c}) painted");
+    }
+    assert!(h.state().document().can_undo());
+    // The drag was one undo step.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.step();
+    assert_eq!(h.state().design(), &before);
+    h.key_press_modifiers(egui::Modifiers::COMMAND | egui::Modifiers::SHIFT, egui::Key::Z);
+    h.step();
+    assert_eq!(h.state().design(), &after);
+}
+
+#[test]
+fn a_corrupt_design_file_shows_an_error_and_keeps_the_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.json");
+    std::fs::write(&bad, "{ \"format\": \"udc-studio-design\", \"version\": 1, \"opening\": ").unwrap();
+    let mut h = harness(dir.path());
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    let before = h.state().design().clone();
+    h.state_mut().command(Command::OpenPath(bad.clone()));
+    step_until(&mut h, "the error", |a| a.status().is_some_and(|(_, err)| *err));
+    let (msg, _) = h.state().status().unwrap().clone();
+    assert!(msg.contains("broken.json"), "{msg}");
+    assert_eq!(h.state().design(), &before, "the design is unchanged");
+    assert!(h.query_by_label_contains("broken.json").is_some(), "the error is on screen");
+}
+
+#[test]
+fn the_design_is_autosaved_and_restored() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    let mut d = h.state().design().clone();
+    d.tiling.mode = TilingMode::Random4;
+    d.tiling.seed = 99;
+    h.state_mut().command(Command::Edit(Box::new(d.clone())));
+    step_until(&mut h, "the autosave", |_| {
+        udc_studio::io::design_file::load_design(&dir.path().join("autosave.json")).is_ok_and(|s| s.tiling.seed == 99)
+    });
+    drop(h);
+    let mut h2 = harness(dir.path());
+    h2.step();
+    assert_eq!(h2.state().design(), &d, "the next session opens the last design");
+}

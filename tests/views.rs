@@ -1,0 +1,156 @@
+//! The result views panel, driven headless with egui_kittest: every tab draws, the tabs and the
+//! pin button work, and nothing is re-uploaded while nothing changes.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use std::sync::Arc;
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use udc_studio::app::commands::{Command, Tool};
+use udc_studio::app::panels::views::{ViewTab, ViewsPanel};
+use udc_studio::app::panels::{PanelCtx, Pinned, Shown};
+use udc_studio::core::analyze::{Quality, analyze};
+use udc_studio::core::design::{Design, TilingMode};
+use udc_studio::core::{Analysis, Progress};
+use udc_studio::io::presets::load_preset;
+
+/// What the harness draws from: the panel plus the context the shell would hand it.
+struct State {
+    panel: ViewsPanel,
+    design: Design,
+    shown: Option<Shown>,
+    pinned: Option<Pinned>,
+    overlays: bool,
+    commands: Vec<Command>,
+}
+
+/// The 150-DPI T-OLED opening on small, fast optics, randomly tiled (so the expected PSF exists).
+fn small_result() -> (Design, Analysis) {
+    let mut design = load_preset("toled-150dpi").expect("preset");
+    design.optics = common::small_optics();
+    design.optics.window_px = 64;
+    design.tiling.mode = TilingMode::RandomD4;
+    let analysis = analyze(&design, &Progress::new()).expect("analysis");
+    (design, analysis)
+}
+
+fn shown(design: &Design, analysis: Analysis, generation: u64) -> Shown {
+    Shown {
+        generation,
+        quality: Quality::Full,
+        analysis: Arc::new(analysis),
+        design: Arc::new(design.clone()),
+    }
+}
+
+fn harness(state: State) -> Harness<'static, State> {
+    Harness::builder()
+        .with_size(egui::vec2(1200.0, 800.0))
+        .build_ui_state(
+            |ui, s: &mut State| {
+                let mut ctx = PanelCtx {
+                    design: &s.design,
+                    shown: s.shown.as_ref(),
+                    display: None,
+                    pinned: s.pinned.as_ref(),
+                    overlays: s.overlays,
+                    tool: Tool::default(),
+                    commands: &mut s.commands,
+                };
+                s.panel.ui(ui, &mut ctx);
+            },
+            state,
+        )
+}
+
+#[test]
+fn without_a_result_the_panel_says_it_is_computing() {
+    let (design, _) = small_result();
+    let mut h = harness(State {
+        panel: ViewsPanel::default(),
+        design,
+        shown: None,
+        pinned: None,
+        overlays: false,
+        commands: Vec::new(),
+    });
+    h.step();
+    assert!(h.query_by_label("computing…").is_some());
+}
+
+#[test]
+fn every_tab_draws_and_textures_are_built_once() {
+    let (design, analysis) = small_result();
+    let mut h = harness(State {
+        panel: ViewsPanel::default(),
+        shown: Some(shown(&design, analysis, 1)),
+        design,
+        pinned: None,
+        overlays: true,
+        commands: Vec::new(),
+    });
+    h.step();
+    for tab in ViewTab::ALL {
+        h.get_by_label(tab.label()).click();
+        h.step();
+        h.step();
+        assert_eq!(h.state().panel.tab(), tab);
+        assert!(h.query_by_label("What am I seeing?").is_some(), "{tab:?} hint");
+    }
+    // Expected PSF of a random tiling: both images side by side.
+    h.get_by_label("Expected PSF").click();
+    h.step();
+    assert!(h.query_by_label("expected over all random tilings").is_some());
+    // Frames without changes upload nothing.
+    let builds = h.state().panel.texture_builds();
+    assert!(builds >= 5, "PSF, log-PSF, RGB, MTF 2-D and the two expected images: {builds}");
+    for _ in 0..5 {
+        h.step();
+    }
+    for tab in [ViewTab::Psf, ViewTab::LogPsf, ViewTab::Expected] {
+        h.get_by_label(tab.label()).click();
+        h.step();
+    }
+    assert_eq!(h.state().panel.texture_builds(), builds);
+    // A new result rebuilds the image on screen, once.
+    let (design, analysis) = small_result();
+    h.state_mut().shown = Some(shown(&design, analysis, 2));
+    for _ in 0..3 {
+        h.step();
+    }
+    assert_eq!(h.state().panel.texture_builds(), builds + 2);
+}
+
+#[test]
+fn compare_tab_pins_and_shows_a_and_b() {
+    let (design, analysis) = small_result();
+    let mut h = harness(State {
+        panel: ViewsPanel::default(),
+        shown: Some(shown(&design, analysis, 1)),
+        design,
+        pinned: None,
+        overlays: false,
+        commands: Vec::new(),
+    });
+    h.state_mut().panel.set_tab(ViewTab::Compare);
+    h.step();
+    assert!(h.query_by_label_contains("Nothing is pinned yet").is_some());
+    h.get_by_label("Pin as A").click();
+    h.step();
+    assert!(matches!(h.state().commands.as_slice(), [Command::PinCompare]));
+    // The shell answers the command by pinning the result.
+    let s = h.state_mut();
+    let current = s.shown.clone().expect("shown");
+    s.pinned = Some(Pinned {
+        design: current.design.clone(),
+        analysis: current.analysis.clone(),
+    });
+    h.step();
+    h.step();
+    assert!(h.query_by_label("A (pinned)").is_some());
+    assert!(h.query_by_label("B − A").is_some());
+    assert!(h.query_by_label("R AUC").is_some());
+    assert!(h.query_by_label("invertibility loss").is_some());
+}
