@@ -8,7 +8,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::design::{Design, Optics, TilingMode};
 use crate::core::{Analysis, Progress};
-use crate::io::{design_file, export, pattern, presets, report};
+use crate::io::{design_file, export, pattern, presets, report, spectral};
 
 #[derive(Debug, Parser)]
 #[command(
@@ -57,6 +57,13 @@ pub struct DesignSelection {
     /// Optics recipe: iccp21 (the thesis) or phone.
     #[arg(long)]
     pub optics: Option<String>,
+    /// Spectral response CSV (wavelength_nm, r, g, b): channels become weighted sums of
+    /// wavelengths sampled every `--spectral-step-nm`.
+    #[arg(long)]
+    pub spectral: Option<PathBuf>,
+    /// Wavelength step for `--spectral`, in nm.
+    #[arg(long, default_value_t = 30.0, requires = "spectral")]
+    pub spectral_step_nm: f64,
 }
 
 #[derive(Debug, Args)]
@@ -102,6 +109,21 @@ impl DesignSelection {
             design.optics = Optics::recipe_named(name).with_context(|| {
                 format!("unknown optics recipe `{name}` (expected iccp21 or phone)")
             })?;
+        }
+        if let Some(path) = &self.spectral {
+            let step = self.spectral_step_nm;
+            if !(step.is_finite() && step > 0.0) {
+                bail!("--spectral-step-nm must be a positive number of nm (got {step})");
+            }
+            let resp = spectral::load_response_csv(path)?;
+            let lo = resp.wavelengths_nm.first().copied().unwrap_or(0.0);
+            let hi = resp.wavelengths_nm.last().copied().unwrap_or(0.0);
+            let samples: Vec<f64> = (0..)
+                .map(|k| (lo / step).ceil() * step + f64::from(k) * step)
+                .take_while(|w| *w <= hi)
+                .collect();
+            design.channels = spectral::channels_from_response(&resp, &samples)
+                .map_err(|e| anyhow::anyhow!("{e} (in {})", path.display()))?;
         }
         design.validate()?;
         Ok(design)

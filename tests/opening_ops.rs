@@ -1,9 +1,16 @@
-//! The opening editor's drawing operations: shapes, symmetry, fills, resampling and text.
+//! The opening editor: its drawing operations (shapes, symmetry, fills, resampling, text) and the
+//! editor panel driven by simulated pointer events (one committed edit per stroke).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use egui::{PointerButton, Pos2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
-use udc_studio::core::design::MAX_CELLS;
+use udc_studio::app::commands::{Command, Tool};
+use udc_studio::app::panels::PanelCtx;
+use udc_studio::app::panels::editor::EditorPanel;
+use udc_studio::core::design::{Design, MAX_CELLS};
 use udc_studio::core::opening_ops::{
     Symmetry, clear, ellipse, flood_fill, from_text, invert, line, open_extent, open_fraction,
     paint, rect, resample, symmetric_cells, to_text,
@@ -281,4 +288,158 @@ proptest! {
         let n = g.len();
         prop_assert_eq!(resample(&resample(&g, n * k), n), g);
     }
+}
+
+// ---- The editor panel ----
+
+struct State {
+    panel: EditorPanel,
+    design: Design,
+    tool: Tool,
+    commands: Vec<Command>,
+}
+
+fn harness(tool: Tool, value: f64) -> Harness<'static, State> {
+    let mut design = Design::default_toled();
+    design.opening.cells = vec![vec![value; 21]; 21];
+    let state = State {
+        panel: EditorPanel::default(),
+        design,
+        tool,
+        commands: Vec::new(),
+    };
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(480.0, 720.0))
+        .build_ui_state(
+            |ui, s: &mut State| {
+                let mut ctx = PanelCtx {
+                    design: &s.design,
+                    shown: None,
+                    display: None,
+                    pinned: None,
+                    overlays: false,
+                    tool: s.tool,
+                    commands: &mut s.commands,
+                };
+                s.panel.ui(ui, &mut ctx);
+            },
+            state,
+        );
+    h.run();
+    h
+}
+
+fn at(h: &Harness<State>, r: usize, c: usize) -> Pos2 {
+    h.state().panel.cell_center(r, c).expect("grid drawn")
+}
+
+/// The cells of the single edit pushed so far.
+fn single_edit(h: &Harness<State>) -> Vec<Vec<f64>> {
+    match h.state().commands.as_slice() {
+        [Command::Edit(d)] => d.opening.cells.clone(),
+        other => panic!("expected one edit, got {other:?}"),
+    }
+}
+
+fn pointer(h: &Harness<State>, pos: Pos2, button: PointerButton, pressed: bool) {
+    h.event(egui::Event::PointerButton {
+        pos,
+        button,
+        pressed,
+        modifiers: egui::Modifiers::NONE,
+    });
+}
+
+#[test]
+fn a_fast_drag_is_one_edit_without_gaps() {
+    let mut h = harness(Tool::Paint, 0.0);
+    let rect = h.state().panel.grid_rect().expect("grid drawn");
+    assert!((rect.width() - rect.height()).abs() < 1e-3);
+    h.drag_at(at(&h, 2, 2));
+    h.run();
+    h.hover_at(at(&h, 2, 15));
+    h.run();
+    assert!(h.state().panel.is_drawing());
+    assert!(h.state().commands.is_empty(), "nothing is pushed mid-drag");
+    h.drop_at(at(&h, 2, 15));
+    h.run();
+    let cells = single_edit(&h);
+    assert_eq!(open_extent(&cells), Some((2, 2, 2, 15)));
+    assert_eq!(open_fraction(&cells), 14.0 / 441.0);
+}
+
+#[test]
+fn secondary_drag_with_paint_erases() {
+    let mut h = harness(Tool::Paint, 1.0);
+    pointer(&h, at(&h, 5, 5), PointerButton::Secondary, true);
+    h.run();
+    h.hover_at(at(&h, 9, 5));
+    h.run();
+    pointer(&h, at(&h, 9, 5), PointerButton::Secondary, false);
+    h.run();
+    let cells = single_edit(&h);
+    assert!((5..=9).all(|r| cells[r][5] == 0.0));
+    assert_eq!(open_fraction(&cells), 436.0 / 441.0);
+}
+
+#[test]
+fn rectangle_with_symmetry_and_a_click_fill() {
+    let mut h = harness(Tool::Rect, 0.0);
+    h.state_mut().panel.set_symmetry(Symmetry::MirrorX);
+    h.drag_at(at(&h, 1, 1));
+    h.run();
+    h.hover_at(at(&h, 3, 4));
+    h.run();
+    h.drop_at(at(&h, 3, 4));
+    h.run();
+    let cells = single_edit(&h);
+    assert_eq!(open_fraction(&cells), 24.0 / 441.0);
+    assert_eq!(cells[2][18], 1.0);
+
+    let mut h = harness(Tool::Fill, 0.0);
+    h.get_by_label("Opening editor").click();
+    h.run();
+    assert_eq!(open_fraction(&single_edit(&h)), 1.0);
+}
+
+#[test]
+fn tooltips_name_shortcuts_and_units() {
+    let mut h = harness(Tool::Paint, 0.0);
+    let checks = [
+        ("Paint", "Paint (B)"),
+        ("Invert", "transmittance"),
+        ("Clear", "close every cell"),
+        ("Import PNG…", "PNG image"),
+        ("Opening editor", "cell (10, 10) · x = 84 µm, y = 84 µm"),
+    ];
+    for (label, tip) in checks {
+        h.get_by_label(label).hover();
+        h.run();
+        assert!(h.query_by_label_contains(tip).is_some(), "{label}: {tip}");
+    }
+}
+
+#[test]
+fn buttons_push_commands() {
+    let mut h = harness(Tool::Paint, 0.0);
+    for label in ["Ellipse", "Invert", "Clear", "Import PNG…"] {
+        h.get_by_label(label).click();
+        h.run();
+    }
+    assert!(matches!(
+        h.state().commands.as_slice(),
+        [
+            Command::SetTool(Tool::Ellipse),
+            Command::Invert,
+            Command::Clear,
+            Command::ImportPattern
+        ]
+    ));
+    h.state_mut().commands.clear();
+    h.get_by_role_and_label(egui::Role::SpinButton, "grid")
+        .set_value_accesskit(42.0);
+    h.run();
+    h.get_by_label("Apply").click();
+    h.run();
+    assert_eq!(single_edit(&h).len(), 42);
 }

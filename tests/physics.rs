@@ -188,3 +188,29 @@ fn symmetric_openings_give_symmetric_psfs() {
         .sum();
     assert!(asym > 1e-9, "an asymmetric opening must break the symmetry");
 }
+
+#[test]
+fn polychromatic_psf_is_the_energy_weighted_mix_of_its_wavelengths() {
+    let one = |l: f64| {
+        let d = open_design(optics(5.0, 1.0), vec![Channel::peak("G", l)]);
+        let a = analyze(&d, &Progress::new()).unwrap();
+        let c = &a.channels[0];
+        (c.psf.clone(), c.energy_in_window)
+    };
+    let (p1, e1) = one(500.0);
+    let (p2, e2) = one(600.0);
+    let mixed = open_design(
+        optics(5.0, 1.0),
+        vec![Channel { name: "G".into(), wavelengths_nm: vec![500.0, 600.0], weights: vec![1.0, 3.0] }],
+    );
+    let a = analyze(&mixed, &Progress::new()).unwrap();
+    let c = &a.channels[0];
+    // Each wavelength weighs by its spectral weight times the light it put in the window.
+    let (w1, w2) = (0.25 * e1, 0.75 * e2);
+    let want = (&p1 * w1 + &p2 * w2) / (w1 + w2);
+    let err = (&c.psf - &want).iter().map(|v| v.abs()).fold(0.0, f64::max);
+    assert!(err < 1e-12, "max deviation {err}");
+    assert!((c.energy_in_window - (w1 + w2)).abs() < 1e-12);
+    assert_eq!(c.fft_sizes.len(), 2);
+    assert!((c.wavelength_nm - 575.0).abs() < 1e-9, "weighted mean wavelength");
+}

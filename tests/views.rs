@@ -46,23 +46,42 @@ fn shown(design: &Design, analysis: Analysis, generation: u64) -> Shown {
 }
 
 fn harness(state: State) -> Harness<'static, State> {
-    Harness::builder()
-        .with_size(egui::vec2(1200.0, 800.0))
-        .build_ui_state(
-            |ui, s: &mut State| {
-                let mut ctx = PanelCtx {
-                    design: &s.design,
-                    shown: s.shown.as_ref(),
-                    display: None,
-                    pinned: s.pinned.as_ref(),
-                    overlays: s.overlays,
-                    tool: Tool::default(),
-                    commands: &mut s.commands,
-                };
-                s.panel.ui(ui, &mut ctx);
-            },
-            state,
-        )
+    let mut builder = Harness::builder().with_size(egui::vec2(1200.0, 800.0));
+    if shots_dir().is_some() {
+        builder = builder.wgpu();
+    }
+    builder.build_ui_state(
+        |ui, s: &mut State| {
+            let mut ctx = PanelCtx {
+                design: &s.design,
+                shown: s.shown.as_ref(),
+                display: None,
+                pinned: s.pinned.as_ref(),
+                overlays: s.overlays,
+                tool: Tool::default(),
+                commands: &mut s.commands,
+            };
+            s.panel.ui(ui, &mut ctx);
+        },
+        state,
+    )
+}
+
+/// Where to save pictures of the views (`UDC_SCREENSHOTS_DIR`), if anywhere.
+fn shots_dir() -> Option<std::path::PathBuf> {
+    std::env::var_os("UDC_SCREENSHOTS_DIR").map(Into::into)
+}
+
+/// Saves a picture of the panel when `UDC_SCREENSHOTS_DIR` is set (and a renderer exists).
+fn capture(h: &mut Harness<'_, State>, name: &str) {
+    let Some(dir) = shots_dir() else { return };
+    match h.render() {
+        Ok(img) => {
+            std::fs::create_dir_all(&dir).unwrap();
+            img.save(dir.join(format!("views-{name}.png"))).unwrap();
+        }
+        Err(e) => eprintln!("{name}: no renderer here ({e})"),
+    }
 }
 
 #[test]
@@ -97,15 +116,36 @@ fn every_tab_draws_and_textures_are_built_once() {
         h.step();
         h.step();
         assert_eq!(h.state().panel.tab(), tab);
-        assert!(h.query_by_label("What am I seeing?").is_some(), "{tab:?} hint");
+        assert!(
+            h.query_by_label("What am I seeing?").is_some(),
+            "{tab:?} hint"
+        );
+        capture(&mut h, &tab.label().replace(' ', "-"));
+    }
+    // Hovering an image reads out the value under the pointer with its position.
+    for (tab, unit) in [(ViewTab::LogPsf, "µm"), (ViewTab::Mtf2d, "cyc/px")] {
+        h.get_by_label(tab.label()).click();
+        h.step();
+        h.hover_at(egui::pos2(500.0, 450.0));
+        h.step();
+        h.step();
+        let readout = h.query_by_label_contains("x = ").map(|n| format!("{n:?}"));
+        let readout = readout.expect("a hover readout");
+        assert!(readout.contains(unit), "{readout}");
     }
     // Expected PSF of a random tiling: both images side by side.
     h.get_by_label("Expected PSF").click();
     h.step();
-    assert!(h.query_by_label("expected over all random tilings").is_some());
+    assert!(
+        h.query_by_label("expected over all random tilings")
+            .is_some()
+    );
     // Frames without changes upload nothing.
     let builds = h.state().panel.texture_builds();
-    assert!(builds >= 5, "PSF, log-PSF, RGB, MTF 2-D and the two expected images: {builds}");
+    assert!(
+        builds >= 5,
+        "PSF, log-PSF, RGB, MTF 2-D and the two expected images: {builds}"
+    );
     for _ in 0..5 {
         h.step();
     }
@@ -139,7 +179,10 @@ fn compare_tab_pins_and_shows_a_and_b() {
     assert!(h.query_by_label_contains("Nothing is pinned yet").is_some());
     h.get_by_label("Pin as A").click();
     h.step();
-    assert!(matches!(h.state().commands.as_slice(), [Command::PinCompare]));
+    assert!(matches!(
+        h.state().commands.as_slice(),
+        [Command::PinCompare]
+    ));
     // The shell answers the command by pinning the result.
     let s = h.state_mut();
     let current = s.shown.clone().expect("shown");
@@ -153,4 +196,5 @@ fn compare_tab_pins_and_shows_a_and_b() {
     assert!(h.query_by_label("B − A").is_some());
     assert!(h.query_by_label("R AUC").is_some());
     assert!(h.query_by_label("invertibility loss").is_some());
+    capture(&mut h, "Compare-pinned");
 }

@@ -176,7 +176,7 @@ impl StudioApp {
         let task = Task::spawn("open-design", self.wake(), move || {
             design_file::load_design(&p).map(|d| (d, Some(p))).map_err(|e| e.to_string())
         });
-        self.session.load = Some((task, true));
+        self.session.load = Some(task);
     }
 
     fn save_to(&mut self, path: PathBuf) {
@@ -200,19 +200,39 @@ impl StudioApp {
         };
         let task = Task::spawn("export", self.wake(), move || {
             let a = &shown.analysis;
-            let first = a.channels.first().map(|c| &c.psf);
-            let done = match (kind, first) {
-                (ExportKind::PsfExr, Some(p)) => export::write_psf_exr(&path, p),
-                (ExportKind::PsfPng16, Some(p)) => export::write_psf_png16(&path, p),
-                (ExportKind::LogPsfPng, Some(p)) => export::write_log_psf_png(&path, p),
-                (ExportKind::MtfCsv, _) => export::write_mtf_csv(&path, a),
-                (ExportKind::NumbersJson, _) => {
+            // One dialog, every channel: multi-channel images get the channel name appended.
+            let per_channel = |write: fn(&std::path::Path, &ndarray::Array2<f64>) -> Result<(), crate::io::IoError>| {
+                let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                let ext = path.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                let mut written = Vec::new();
+                for c in &a.channels {
+                    let p = if a.channels.len() == 1 { path.clone() } else { path.with_file_name(format!("{stem}_{}.{ext}", c.name)) };
+                    write(&p, &c.psf).map_err(|e| e.to_string())?;
+                    written.push(p.display().to_string());
+                }
+                Ok(format!("exported {}", written.join(", ")))
+            };
+            match kind {
+                ExportKind::PsfExr => {
+                    let done = match a.channels.as_slice() {
+                        [r, g, b] => export::write_rgb_psf_exr(&path, [&r.psf, &g.psf, &b.psf]),
+                        [one, ..] => export::write_psf_exr(&path, &one.psf),
+                        [] => return Err("the result has no channels".to_string()),
+                    };
+                    done.map(|()| format!("exported {}", path.display())).map_err(|e| e.to_string())
+                }
+                ExportKind::PsfPng16 => per_channel(export::write_psf_png16),
+                ExportKind::LogPsfPng => per_channel(export::write_log_psf_png),
+                ExportKind::MtfCsv => export::write_mtf_csv(&path, a)
+                    .map(|()| format!("exported {}", path.display()))
+                    .map_err(|e| e.to_string()),
+                ExportKind::NumbersJson => {
                     let text = serde_json::to_string_pretty(&report::analysis_json(a)).unwrap_or_default();
                     design_file::write_atomic(&path, text.as_bytes())
+                        .map(|()| format!("exported {}", path.display()))
+                        .map_err(|e| e.to_string())
                 }
-                (_, None) => return Err("the result has no channels".to_string()),
-            };
-            done.map(|()| format!("exported {}", path.display())).map_err(|e| e.to_string())
+            }
         });
         self.session.writes.push(task);
     }
@@ -225,7 +245,7 @@ impl StudioApp {
                 self.dialog_done(purpose, path);
             }
         }
-        if let Some(done) = self.session.load.as_ref().and_then(|(t, _)| t.poll()) {
+        if let Some(done) = self.session.load.as_ref().and_then(|t| t.poll()) {
             self.session.load = None;
             match done {
                 Ok(Ok((design, path))) => {
@@ -324,6 +344,19 @@ impl StudioApp {
             }
             if design_file::save_design(&path, self.doc.design()).is_ok() {
                 self.session.autosaved = Some(self.doc.design().clone());
+            }
+        }
+    }
+
+    /// Files dropped on the window: designs open, images become the opening.
+    pub(super) fn dropped_files(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()).collect());
+        for p in dropped {
+            let ext = p.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+            if ext == "json" {
+                cmds.push(Command::OpenPath(p));
+            } else {
+                self.dialog_done(Purpose::ImportPattern, p);
             }
         }
     }

@@ -15,6 +15,8 @@ pub enum Colormap {
     Inferno,
     /// Dark blue → green → yellow; used where a black background would hide the low end.
     Viridis,
+    /// Black → white: the scale of each plane of an RGB composite.
+    Gray,
 }
 
 /// sRGB stops at `t = k / 9`, from matplotlib's `inferno`.
@@ -29,6 +31,20 @@ const INFERNO: [[u8; 3]; 10] = [
     [0xfb, 0x9b, 0x06],
     [0xf7, 0xd1, 0x3d],
     [0xfc, 0xff, 0xa4],
+];
+
+/// Black to white in ten equal sRGB steps (interpolation makes it exact in between).
+const GRAY: [[u8; 3]; 10] = [
+    [0, 0, 0],
+    [28, 28, 28],
+    [57, 57, 57],
+    [85, 85, 85],
+    [113, 113, 113],
+    [142, 142, 142],
+    [170, 170, 170],
+    [198, 198, 198],
+    [227, 227, 227],
+    [255, 255, 255],
 ];
 
 /// sRGB stops at `t = k / 9`, from matplotlib's `viridis`.
@@ -50,6 +66,7 @@ impl Colormap {
         match self {
             Colormap::Inferno => &INFERNO,
             Colormap::Viridis => &VIRIDIS,
+            Colormap::Gray => &GRAY,
         }
     }
 
@@ -107,7 +124,7 @@ mod tests {
 
     #[test]
     fn out_of_range_and_nan_are_clamped() {
-        for map in [Colormap::Inferno, Colormap::Viridis] {
+        for map in [Colormap::Inferno, Colormap::Viridis, Colormap::Gray] {
             assert_eq!(map.color(-3.0), map.color(0.0));
             assert_eq!(map.color(7.0), map.color(1.0));
             assert_eq!(map.color(f32::NAN), map.color(0.0));
@@ -116,7 +133,7 @@ mod tests {
 
     #[test]
     fn luminance_increases_monotonically() {
-        for map in [Colormap::Inferno, Colormap::Viridis] {
+        for map in [Colormap::Inferno, Colormap::Viridis, Colormap::Gray] {
             let mut prev = -1.0f32;
             for k in 0..=1000 {
                 let y = relative_luminance(map.rgb(k as f32 / 1000.0));

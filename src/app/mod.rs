@@ -94,12 +94,15 @@ pub enum LeftTab {
     Optics,
 }
 
+/// A design being read from disk: the design and the path it came from, or a message.
+type LoadTask = tasks::Task<Result<(Design, Option<PathBuf>), String>>;
+
 /// Files, dialogs, autosave and messages.
 pub struct Session {
     dirs: AppDirs,
     native_dialogs: bool,
     dialog: Option<dialogs::PendingDialog>,
-    load: Option<(tasks::Task<Result<(Design, Option<PathBuf>), String>>, bool)>,
+    load: Option<LoadTask>,
     writes: Vec<tasks::Task<Result<String, String>>>,
     confirm: Option<Command>,
     last_autosave: Instant,
@@ -457,6 +460,7 @@ impl StudioApp {
             };
             self.panels.views.ui(ui, &mut pctx);
         });
+        self.dropped_files(&ctx, &mut cmds);
         self.close_request(&ctx, &mut cmds);
         self.confirm_ui(&ctx, &mut cmds);
         self.apply(cmds);

@@ -351,6 +351,24 @@ pub fn clipped_area(polygon: &Polygon, rect: [f64; 4]) -> f64 {
     0.5 * twice.abs()
 }
 
+/// The display around the pupil as a dense square image for previews: `(side, values)` with the
+/// axis at `side / 2`, covering 1.15 pupil diameters, sampled at δ1 or coarser so that the side
+/// stays within `max_side`. Returns the sample spacing used.
+pub fn display_preview(design: &Design, max_side: usize) -> (usize, Vec<f32>, f64) {
+    let cells = effective_cells(&design.opening);
+    let display = Display::from_design(design, &cells);
+    let half_um = 0.575 * design.optics.pupil_diameter_um();
+    let mut delta = design.optics.pupil_sample_um;
+    while (2.0 * half_um / delta) as usize + 1 > max_side.max(16) {
+        delta *= 2.0;
+    }
+    let field = rasterise(&display, Extent::Square { half_um }, delta);
+    let r = (half_um / delta).floor() as usize;
+    let side = 2 * r + 2;
+    let dense = field.to_dense(side);
+    (side, dense.into_iter().flatten().map(|v| v as f32).collect(), delta)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -444,22 +462,4 @@ mod tests {
         assert_eq!(row[128 + 22], 1.0);
         assert_eq!(row[128 + 43], 0.0);
     }
-}
-
-/// The display around the pupil as a dense square image for previews: `(side, values)` with the
-/// axis at `side / 2`, covering 1.15 pupil diameters, sampled at δ1 or coarser so that the side
-/// stays within `max_side`. Returns the sample spacing used.
-pub fn display_preview(design: &Design, max_side: usize) -> (usize, Vec<f32>, f64) {
-    let cells = effective_cells(&design.opening);
-    let display = Display::from_design(design, &cells);
-    let half_um = 0.575 * design.optics.pupil_diameter_um();
-    let mut delta = design.optics.pupil_sample_um;
-    while (2.0 * half_um / delta) as usize + 1 > max_side.max(16) {
-        delta *= 2.0;
-    }
-    let field = rasterise(&display, Extent::Square { half_um }, delta);
-    let r = (half_um / delta).floor() as usize;
-    let side = 2 * r + 2;
-    let dense = field.to_dense(side);
-    (side, dense.into_iter().flatten().map(|v| v as f32).collect(), delta)
 }

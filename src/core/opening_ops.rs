@@ -33,8 +33,8 @@ impl Symmetry {
     pub fn label(self) -> &'static str {
         match self {
             Symmetry::None => "none",
-            Symmetry::MirrorX => "mirror x (left ↔ right)",
-            Symmetry::MirrorY => "mirror y (top ↔ bottom)",
+            Symmetry::MirrorX => "mirror x (left-right)",
+            Symmetry::MirrorY => "mirror y (top-bottom)",
             Symmetry::FourFold => "4-fold (both mirrors)",
         }
     }
@@ -439,10 +439,19 @@ mod tests {
 
     #[test]
     fn line_is_bresenham_with_both_ends() {
+        // One cell per column, ties (r = ½, 3⁄2) rounded up; no gaps between steps.
         assert_eq!(
             line_cells((0, 0), (2, 4)),
-            vec![(0, 0), (0, 1), (1, 2), (1, 3), (2, 4)]
+            vec![(0, 0), (1, 1), (1, 2), (2, 3), (2, 4)]
         );
+        assert_eq!(
+            line_cells((5, 1), (0, 3)),
+            vec![(5, 1), (4, 1), (3, 2), (2, 2), (1, 3), (0, 3)]
+        );
+        for w in line_cells((7, 0), (1, 11)).windows(2) {
+            let (a, b) = (w[0], w[1]);
+            assert!(a.0.abs_diff(b.0) <= 1 && a.1.abs_diff(b.1) <= 1 && a != b);
+        }
         assert_eq!(line_cells((3, 3), (3, 3)), vec![(3, 3)]);
         assert_eq!(line_cells((4, 0), (0, 0)).len(), 5);
         let mut g = grid(9);

@@ -192,12 +192,14 @@ impl EditorPanel {
     fn options_ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
         let cell_um = ctx.design.opening.cell_um();
         ui.horizontal_wrapped(|ui| {
-            ui.add(Slider::new(&mut self.brush_cells, 1..=MAX_BRUSH_CELLS).text("brush").suffix(" cells"))
-                .on_hover_text(format!(
-                    "Side of the square brush of Paint, Erase and Line, in cells \
+            let brush = Slider::new(&mut self.brush_cells, 1..=MAX_BRUSH_CELLS)
+                .text("brush")
+                .suffix(" cells");
+            ui.add(brush).on_hover_text(format!(
+                "Side of the square brush of Paint, Erase and Line, in cells \
                      (1 cell = {} µm)",
-                    fmt_um(cell_um)
-                ));
+                fmt_um(cell_um)
+            ));
             ComboBox::from_label("symmetry")
                 .selected_text(self.symmetry.label())
                 .show_ui(ui, |ui| {
@@ -206,19 +208,27 @@ impl EditorPanel {
                     }
                 })
                 .response
-                .on_hover_text("Mirror every stroke across the opening's vertical centre line (x), horizontal centre line (y) or both");
+                .on_hover_text(
+                    "Mirror every stroke across the opening's vertical centre line (x), its \
+                     horizontal centre line (y) or both",
+                );
         });
         ui.horizontal_wrapped(|ui| {
             let n = ctx.design.opening.n();
             let pitch_um = ctx.design.opening.pitch_um;
-            ui.label("grid");
-            ui.add(DragValue::new(&mut self.new_n).range(1..=MAX_CELLS).suffix(" cells"))
-                .on_hover_text(format!(
-                    "Cells per side N (1 to {MAX_CELLS}); the pitch stays {} µm, so a cell \
+            let label = ui.label("grid");
+            ui.add(
+                DragValue::new(&mut self.new_n)
+                    .range(1..=MAX_CELLS)
+                    .suffix(" cells"),
+            )
+            .labelled_by(label.id)
+            .on_hover_text(format!(
+                "Cells per side N (1 to {MAX_CELLS}); the pitch stays {} µm, so a cell \
                      becomes {} µm / N",
-                    fmt_um(pitch_um),
-                    fmt_um(pitch_um)
-                ));
+                fmt_um(pitch_um),
+                fmt_um(pitch_um)
+            ));
             let tip = format!(
                 "Resample the opening to {0}×{0} cells (nearest neighbour; cell {1} µm). \
                  The shape in µm is kept.",
@@ -231,14 +241,15 @@ impl EditorPanel {
                 .on_disabled_hover_text("Change the number of cells per side first");
             if apply.clicked() {
                 let mut design = ctx.design.clone();
-                design.opening.cells = ops::resample(&design.opening.cells, self.new_n.min(MAX_CELLS));
+                let new_n = self.new_n.min(MAX_CELLS);
+                design.opening.cells = ops::resample(&design.opening.cells, new_n);
                 ctx.edit(design);
             }
-            if ui
-                .button("Import PNG…")
-                .on_hover_text("Load the opening from a PNG image: bright pixels open, dark closed; one pixel per cell")
-                .clicked()
-            {
+            let import = ui.button("Import PNG…").on_hover_text(
+                "Load the opening from a PNG image: bright pixels open, dark closed; \
+                 one image pixel per cell (the pitch in µm is kept)",
+            );
+            if import.clicked() {
                 ctx.commands.push(Command::ImportPattern);
             }
         });
@@ -264,7 +275,7 @@ impl EditorPanel {
         self.grid_rect = Some(grid);
         self.grid_n = n;
         if n == 0 {
-            self.stroke = None;
+            (self.stroke, self.view) = (None, None);
             return None;
         }
         self.pointer(ui, &response, ctx, grid, n);
@@ -311,12 +322,13 @@ impl EditorPanel {
         painter.rect_stroke(grid, 0.0, frame, StrokeKind::Outside);
         if let Some(((r, c), brush)) = brush {
             // The same footprint as `opening_ops::paint`: centred, even brushes reach down-right.
+            let brush = brush.max(1);
             let before = (brush - 1) / 2;
             let span = |x: usize| (x.saturating_sub(before), (x + brush - before).min(n));
             let ((r0, r1), (c0, c1)) = (span(r), span(c));
             let corner = |r: usize, c: usize| grid.min + vec2(c as f32, r as f32) * cell_px;
             let footprint = Rect::from_min_max(corner(r0, c0), corner(r1, c1));
-            let outline = LineStroke::new(1.5, ui.visuals().selection.stroke.color);
+            let outline = LineStroke::new(2.0, ui.visuals().selection.bg_fill);
             painter.rect_stroke(footprint, 0.0, outline, StrokeKind::Inside);
         }
     }
@@ -329,39 +341,28 @@ impl EditorPanel {
         let down = response.is_pointer_button_down_on();
         // A press and release within one frame is a click: begin here and commit below.
         let quick_click = !down && (response.clicked() || response.secondary_clicked());
-        if self.stroke.is_none() && (down || quick_click) {
-            if let Some(p) = pos {
-                let secondary = if quick_click {
-                    response.secondary_clicked()
-                } else {
-                    ui.input(|i| i.pointer.button_down(PointerButton::Secondary))
-                };
-                let start = clamped_cell(grid, n, p);
-                self.stroke = Some(Stroke::begin(
-                    self,
-                    ctx.tool,
-                    secondary,
-                    &ctx.design.opening.cells,
-                    start,
-                ));
-            }
+        if self.stroke.is_none()
+            && (down || quick_click)
+            && let Some(p) = pos
+        {
+            let secondary = if quick_click {
+                response.secondary_clicked()
+            } else {
+                ui.input(|i| i.pointer.button_down(PointerButton::Secondary))
+            };
+            let cells = &ctx.design.opening.cells;
+            let start = clamped_cell(grid, n, p);
+            self.stroke = Some(Stroke::begin(self, ctx.tool, secondary, cells, start));
         }
         if let (Some(stroke), Some(p)) = (self.stroke.as_mut(), pos) {
             stroke.extend(cell_at(grid, n, p), clamped_cell(grid, n, p));
         }
-        if !down {
-            if let Some(stroke) = self.stroke.take() {
-                // If the design changed under the stroke (e.g. an undo mid-drag), drop the stroke.
-                if ctx.design.opening.cells == stroke.base {
-                    let design = Design {
-                        opening: crate::core::design::Opening {
-                            cells: stroke.draft,
-                            ..ctx.design.opening.clone()
-                        },
-                        ..ctx.design.clone()
-                    };
-                    ctx.edit(design);
-                }
+        if !down && let Some(stroke) = self.stroke.take() {
+            // If the design changed under the stroke (e.g. an undo mid-drag), drop the stroke.
+            if ctx.design.opening.cells == stroke.base {
+                let mut design = ctx.design.clone();
+                design.opening.cells = stroke.draft;
+                ctx.edit(design);
             }
         }
     }
@@ -396,9 +397,12 @@ impl EditorPanel {
                 fmt_um((c as f64 + 0.5) * cell_um),
                 fmt_um((r as f64 + 0.5) * cell_um)
             )),
-            None => ui.weak("hover the grid for a cell readout (row, col · µm from the top-left)"),
+            None => ui.weak("hover the grid for a cell readout (row, col · µm)"),
         }
-        .on_hover_text("Cell under the pointer and its centre in the tile frame (origin at the top-left corner, x right, y down, µm)");
+        .on_hover_text(
+            "Cell under the pointer and its centre in the tile frame \
+             (origin at the tile's top-left corner, x right, y down, in µm)",
+        );
     }
 }
 
@@ -422,7 +426,7 @@ fn tools_ui(ui: &mut Ui, ctx: &mut PanelCtx) {
         }
         ui.separator();
         let invert = format!(
-            "Invert ({}): swap open and closed cells (transmittance t → 1 − t)",
+            "Invert ({}): swap open and closed cells (transmittance t becomes 1 − t)",
             ui.ctx().format_shortcut(&commands::INVERT)
         );
         if ui.button("Invert").on_hover_text(invert).clicked() {

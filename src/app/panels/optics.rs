@@ -31,10 +31,10 @@ impl OpticsPanel {
                     "iccp21" => "The thesis recipe: f = 10 mm, f/2.5, δ1 = 8 µm, δ2 = 0.5 µm, 2-µm pixels, 294-px window",
                     _ => "A phone main camera: f = 5.56 mm, f/1.6, 1.0-µm pixels",
                 };
-                if ui.selectable_label(d.optics.recipe == name, name).on_hover_text(tip).clicked() {
-                    if let Some(o) = Optics::recipe_named(name) {
-                        d.optics = o;
-                    }
+                if ui.selectable_label(d.optics.recipe == name, name).on_hover_text(tip).clicked()
+                    && let Some(o) = Optics::recipe_named(name)
+                {
+                    d.optics = o;
                 }
             }
         });

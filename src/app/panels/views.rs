@@ -2,8 +2,8 @@
 //! random tiling, and the A/B comparison, with optional teaching overlays.
 //!
 //! Images are built by the pure functions of [`images`] and uploaded once per result and
-//! setting (the [`Textures`] cache, keyed by generation, quality, channel and floor); the frame
-//! loop only places them in plots.
+//! setting (a texture cache keyed by generation, quality, channel and floor); the frame loop
+//! only places them in plots.
 
 mod compare;
 mod hints;
@@ -119,6 +119,7 @@ impl ViewsPanel {
         self.textures.builds()
     }
 
+    /// Draws the tabs and the selected view of `ctx.shown`; pushes `PinCompare`/`ClearCompare`.
     pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
         ui.horizontal_wrapped(|ui| {
             for tab in ViewTab::ALL {
@@ -150,7 +151,7 @@ impl ViewsPanel {
             ViewTab::Rgb => self.rgb_ui(ui, shown),
             ViewTab::Mtf2d => self.mtf2d_ui(ui, shown, ch),
             ViewTab::MtfPlots => self.mtf_plots_ui(ui, shown, ctx),
-            ViewTab::Expected => self.expected_ui(ui, shown, ch),
+            ViewTab::Expected => self.expected_ui(ui, shown, ch, ctx.overlays),
             ViewTab::Compare => self.compare_ui(ui, shown, ctx),
         }
     }
@@ -169,7 +170,9 @@ impl ViewsPanel {
                     ui.selectable_value(&mut self.channel, i, text)
                         .on_hover_text(format!("{:.0} nm", c.wavelength_nm));
                 }
-                ui.separator();
+                if tab != ViewTab::Psf {
+                    ui.separator();
+                }
             }
             if matches!(tab, ViewTab::LogPsf | ViewTab::Rgb | ViewTab::Expected) {
                 ui.add(
@@ -261,8 +264,8 @@ impl ViewsPanel {
             })
             .collect();
         ui.label(format!(
-            "Each channel normalised to its own peak, log scale from the peak down to 1e-{floor} \
-             (the floor) → {}.",
+            "Each channel normalised to its own peak, on a log scale from the peak down to \
+             1e-{floor} (the floor); {}.",
             used.join(", ")
         ));
         let Some(first) = slots.iter().flatten().find_map(|i| channels.get(*i)) else {
@@ -290,7 +293,8 @@ impl ViewsPanel {
                     size,
                 },
             );
-            colorbar_ui(ui, size.y, scale, Colormap::Inferno);
+            // Each plane runs from black (floor) to full (its own peak).
+            colorbar_ui(ui, size.y, scale, Colormap::Gray);
         });
     }
 
@@ -370,7 +374,7 @@ impl ViewsPanel {
         );
     }
 
-    fn expected_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis) {
+    fn expected_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis, overlays: bool) {
         let mode = shown.design.tiling.mode;
         if !mode.is_random() {
             ui.label(
@@ -399,6 +403,7 @@ impl ViewsPanel {
             log_image(expected, reference, floor, Colormap::Inferno)
         });
         let grid = psf_grid(shown, ch);
+        let overlay = overlays.then(|| psf_overlay(shown, ch, grid));
         let scale = Scale::Log {
             reference,
             floor_decades: floor,
@@ -419,7 +424,7 @@ impl ViewsPanel {
                         scale,
                         unit: "µm",
                         value_name: "PSF",
-                        overlay: None,
+                        overlay: overlay.as_ref(),
                         link,
                         size,
                     },
@@ -437,7 +442,7 @@ impl ViewsPanel {
                         scale,
                         unit: "µm",
                         value_name: "expected PSF",
-                        overlay: None,
+                        overlay: overlay.as_ref(),
                         link,
                         size,
                     },

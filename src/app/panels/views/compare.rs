@@ -167,7 +167,11 @@ mod tests {
         let ltr = get("LTR").expect("LTR row");
         assert!((ltr.difference().unwrap_or(0.0) - 0.05).abs() < 1e-12);
         // A lower (more negative) invertibility loss is the better design.
-        assert!(!get("invertibility loss").expect("loss row").higher_is_better);
+        assert!(
+            !get("invertibility loss")
+                .expect("loss row")
+                .higher_is_better
+        );
         // B's channels come first, then those only A has.
         assert_eq!(rows[0].label, "G AUC");
     }

@@ -8,7 +8,7 @@ use egui_plot::{
 };
 use ndarray::Array2;
 
-use super::images::{Grid, circle_points, format_value, log_decades};
+use super::images::{Grid, circle_points, format_value};
 use crate::app::colormap::Colormap;
 use crate::core::Analysis;
 
@@ -68,21 +68,17 @@ pub fn image_plot_ui(ui: &mut Ui, p: &ImagePlot<'_>) {
         let [row, col] = grid.index_at(at.x, at.y)?;
         let v = *values.get([row, col])?;
         let [x, y] = grid.position(row, col);
+        // The readout shows the true value, not the floored one the colour stands for.
         let log = match scale {
-            Scale::Log {
-                reference,
-                floor_decades,
-            } => format!(
-                "\nlog10(v / peak) = {:.2}",
-                log_decades(v, reference, floor_decades.max(30.0))
-            ),
-            Scale::Linear { .. } => {
-                if v > 0.0 {
-                    format!("\nlog10 = {:.2}", v.log10())
-                } else {
-                    String::new()
-                }
+            Scale::Log { reference, .. } if v > 0.0 && reference > 0.0 => {
+                format!(
+                    "\nlog10({value_name} / peak) = {:.2}",
+                    (v / reference).log10()
+                )
             }
+            Scale::Log { .. } => "\n(no light: drawn at the floor)".to_owned(),
+            Scale::Linear { .. } if v > 0.0 => format!("\nlog10 = {:.2}", v.log10()),
+            Scale::Linear { .. } => String::new(),
         };
         Some(format!(
             "x = {x:.3} {unit}, y = {y:.3} {unit}\n{value_name} = {}{log}",
@@ -106,8 +102,9 @@ pub fn image_plot_ui(ui: &mut Ui, p: &ImagePlot<'_>) {
     let [cx, cy] = grid.image_centre();
     let [w, h] = grid.image_size();
     plot.show(ui, |plot_ui| {
+        // No name: the image needs no legend entry.
         plot_ui.image(PlotImage::new(
-            "image",
+            "",
             p.texture,
             PlotPoint::new(cx, cy),
             vec2(w as f32, h as f32),
@@ -264,6 +261,17 @@ pub fn mtf_plot_ui(
         .default_y_bounds(0.0, 1.0)
         .x_axis_label("spatial frequency (cycles/pixel)")
         .y_axis_label("MTF")
+        .label_formatter(|pos| match pos {
+            HoverPosition::NearDataPoint {
+                plot_name,
+                position,
+                ..
+            } => Some(format!(
+                "{plot_name}\nν = {:.3} cyc/px, MTF = {:.3}",
+                position.x, position.y
+            )),
+            HoverPosition::Elsewhere { position } => Some(format!("ν = {:.3} cyc/px", position.x)),
+        })
         .show(ui, |plot_ui| {
             // Lines of one family share a name, so the legend groups (and toggles) them together.
             for m in markers {

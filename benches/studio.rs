@@ -1,0 +1,102 @@
+//! Studio latency: frame time while dragging on the editor, and the time from a committed edit
+//! to the preview and to the full-quality result (through the real worker thread).
+
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use egui_kittest::Harness;
+use udc_studio::app::{AppDirs, Command, Payload, StudioApp, StudioOptions, Worker};
+use udc_studio::core::Design;
+use udc_studio::core::analyze::Quality;
+
+fn harness() -> Harness<'static, StudioApp> {
+    Harness::builder()
+        .with_size(egui::vec2(1440.0, 900.0))
+        .build_eframe(|cc| {
+            StudioApp::new(
+                &cc.egui_ctx,
+                StudioOptions {
+                    dirs: AppDirs::none(),
+                    design_path: None,
+                    native_dialogs: false,
+                    autosave_every: Duration::from_secs(3600),
+                },
+            )
+        })
+}
+
+fn frame_while_dragging(c: &mut Criterion) {
+    let mut h = harness();
+    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    let start = Instant::now();
+    while !h.state().is_up_to_date() && start.elapsed() < Duration::from_secs(30) {
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    h.step();
+    let Some(rect) = h.state().editor().grid_rect() else {
+        eprintln!("editor not drawn; skipping");
+        return;
+    };
+    let a = rect.left_top() + rect.size() * 0.1;
+    h.hover_at(a);
+    h.step();
+    h.event(egui::Event::PointerButton { pos: a, button: egui::PointerButton::Primary, pressed: true, modifiers: Default::default() });
+    h.step();
+    let mut k = 0u32;
+    c.bench_function("studio/frame-while-dragging", |b| {
+        b.iter(|| {
+            k = (k + 1) % 200;
+            let t = k as f32 / 200.0;
+            h.event(egui::Event::PointerMoved(rect.left_top() + rect.size() * (0.1 + 0.8 * t)));
+            h.step();
+        })
+    });
+}
+
+/// Submits a new design and waits for the first result of the wanted quality.
+fn edit_to(worker: &mut Worker, design: &Design, quality: Quality) -> Duration {
+    let t = Instant::now();
+    let generation = worker.submit(design.clone());
+    loop {
+        let Some(r) = worker.wait(Duration::from_secs(30)) else {
+            return t.elapsed();
+        };
+        if r.generation == generation
+            && let Payload::Analysis { quality: q, .. } = r.payload
+            && q == quality
+        {
+            return t.elapsed();
+        }
+    }
+}
+
+fn edit_latency(c: &mut Criterion) {
+    let mut worker = Worker::spawn(|| {});
+    let base = Design::default_toled();
+    let mut seed = 0u64;
+    let mut variant = move || {
+        let mut d = base.clone();
+        seed += 1;
+        // Alternate a cell so every job is a genuinely new design.
+        d.opening.cells[0][(seed % 21) as usize] = 1.0;
+        d
+    };
+    edit_to(&mut worker, &variant(), Quality::Full);
+    let mut g = c.benchmark_group("studio/edit-to");
+    g.sample_size(20);
+    g.bench_function("preview", |b| {
+        b.iter_custom(|iters| (0..iters).map(|_| edit_to(&mut worker, &variant(), Quality::Preview)).sum())
+    });
+    g.bench_function("full", |b| {
+        b.iter_custom(|iters| (0..iters).map(|_| edit_to(&mut worker, &variant(), Quality::Full)).sum())
+    });
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(30).warm_up_time(Duration::from_secs(1)).measurement_time(Duration::from_secs(4));
+    targets = frame_while_dragging, edit_latency
+}
+criterion_main!(benches);
