@@ -27,7 +27,8 @@ fn harness() -> Harness<'static, StudioApp> {
 
 fn frame_while_dragging(c: &mut Criterion) {
     let mut h = harness();
-    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
     let start = Instant::now();
     while !h.state().is_up_to_date() && start.elapsed() < Duration::from_secs(30) {
         h.step();
@@ -41,14 +42,21 @@ fn frame_while_dragging(c: &mut Criterion) {
     let a = rect.left_top() + rect.size() * 0.1;
     h.hover_at(a);
     h.step();
-    h.event(egui::Event::PointerButton { pos: a, button: egui::PointerButton::Primary, pressed: true, modifiers: Default::default() });
+    h.event(egui::Event::PointerButton {
+        pos: a,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: Default::default(),
+    });
     h.step();
     let mut k = 0u32;
     c.bench_function("studio/frame-while-dragging", |b| {
         b.iter(|| {
             k = (k + 1) % 200;
             let t = k as f32 / 200.0;
-            h.event(egui::Event::PointerMoved(rect.left_top() + rect.size() * (0.1 + 0.8 * t)));
+            h.event(egui::Event::PointerMoved(
+                rect.left_top() + rect.size() * (0.1 + 0.8 * t),
+            ));
             h.step();
         })
     });
@@ -86,10 +94,18 @@ fn edit_latency(c: &mut Criterion) {
     let mut g = c.benchmark_group("studio/edit-to");
     g.sample_size(20);
     g.bench_function("preview", |b| {
-        b.iter_custom(|iters| (0..iters).map(|_| edit_to(&mut worker, &variant(), Quality::Preview)).sum())
+        b.iter_custom(|iters| {
+            (0..iters)
+                .map(|_| edit_to(&mut worker, &variant(), Quality::Preview))
+                .sum()
+        })
     });
     g.bench_function("full", |b| {
-        b.iter_custom(|iters| (0..iters).map(|_| edit_to(&mut worker, &variant(), Quality::Full)).sum())
+        b.iter_custom(|iters| {
+            (0..iters)
+                .map(|_| edit_to(&mut worker, &variant(), Quality::Full))
+                .sum()
+        })
     });
     g.finish();
 }

@@ -128,15 +128,31 @@ fn presets_lists_every_named_preset() {
 
 #[test]
 fn spectral_channels_from_a_csv() {
-    let csv = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/spectral/thesis_sensor_response.csv");
-    let (ok, stdout, stderr) = run(&["analyze", "--preset", "open-aperture", "--json", "--preview", "--spectral", csv, "--spectral-step-nm", "50"]);
+    let csv = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/spectral/thesis_sensor_response.csv"
+    );
+    let (ok, stdout, stderr) = run(&[
+        "analyze",
+        "--preset",
+        "open-aperture",
+        "--json",
+        "--preview",
+        "--spectral",
+        csv,
+        "--spectral-step-nm",
+        "50",
+    ]);
     assert!(ok, "{stderr}");
     let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("json");
     let g = &v["channels"][1];
     let n = g["wavelengths_nm"].as_array().expect("array").len();
     assert!(n >= 5, "sampled every 50 nm over the table: {n}");
     let mean = g["wavelength_nm"].as_f64().expect("number");
-    assert!((500.0..570.0).contains(&mean), "green's weighted mean wavelength {mean}");
+    assert!(
+        (500.0..570.0).contains(&mean),
+        "green's weighted mean wavelength {mean}"
+    );
     let (ok, _, stderr) = run(&["analyze", "--spectral", "/missing.csv"]);
     assert!(!ok && stderr.contains("missing.csv"), "{stderr}");
 }

@@ -136,7 +136,8 @@ fn missing_and_oversized_files_name_the_path() {
 
 #[test]
 fn nonsense_values_never_reach_the_simulation() {
-    let cases: Vec<(&str, Box<dyn Fn(&mut Design)>)> = vec![
+    type Mutation = Box<dyn Fn(&mut Design)>;
+    let cases: Vec<(&str, Mutation)> = vec![
         (
             "optics.f_number",
             Box::new(|d| d.optics.f_number = f64::NAN),

@@ -201,7 +201,11 @@ fn polychromatic_psf_is_the_energy_weighted_mix_of_its_wavelengths() {
     let (p2, e2) = one(600.0);
     let mixed = open_design(
         optics(5.0, 1.0),
-        vec![Channel { name: "G".into(), wavelengths_nm: vec![500.0, 600.0], weights: vec![1.0, 3.0] }],
+        vec![Channel {
+            name: "G".into(),
+            wavelengths_nm: vec![500.0, 600.0],
+            weights: vec![1.0, 3.0],
+        }],
     );
     let a = analyze(&mixed, &Progress::new()).unwrap();
     let c = &a.channels[0];
@@ -212,5 +216,8 @@ fn polychromatic_psf_is_the_energy_weighted_mix_of_its_wavelengths() {
     assert!(err < 1e-12, "max deviation {err}");
     assert!((c.energy_in_window - (w1 + w2)).abs() < 1e-12);
     assert_eq!(c.fft_sizes.len(), 2);
-    assert!((c.wavelength_nm - 575.0).abs() < 1e-9, "weighted mean wavelength");
+    assert!(
+        (c.wavelength_nm - 575.0).abs() < 1e-9,
+        "weighted mean wavelength"
+    );
 }

@@ -19,7 +19,12 @@ fn harness(dir: &std::path::Path) -> Harness<'static, StudioApp> {
         .build_eframe(move |cc| {
             StudioApp::new(
                 &cc.egui_ctx,
-                StudioOptions { dirs, design_path: None, native_dialogs: false, autosave_every: Duration::from_secs(3600) },
+                StudioOptions {
+                    dirs,
+                    design_path: None,
+                    native_dialogs: false,
+                    autosave_every: Duration::from_secs(3600),
+                },
             )
         })
 }
@@ -28,7 +33,10 @@ fn settle(h: &mut Harness<'_, StudioApp>) {
     let start = Instant::now();
     while !h.state().is_up_to_date() {
         h.step();
-        assert!(start.elapsed() < Duration::from_secs(90), "the worker did not finish");
+        assert!(
+            start.elapsed() < Duration::from_secs(90),
+            "the worker did not finish"
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
     for _ in 0..4 {
@@ -41,10 +49,14 @@ fn capture(h: &mut Harness<'_, StudioApp>, name: &str) {
     match h.render() {
         Ok(img) => {
             let first = *img.get_pixel(0, 0);
-            assert!(img.pixels().any(|p| *p != first), "{name}: rendered a blank image");
+            assert!(
+                img.pixels().any(|p| *p != first),
+                "{name}: rendered a blank image"
+            );
             if let Ok(dir) = std::env::var("UDC_SCREENSHOTS_DIR") {
                 std::fs::create_dir_all(&dir).unwrap();
-                img.save(std::path::Path::new(&dir).join(format!("{name}.png"))).unwrap();
+                img.save(std::path::Path::new(&dir).join(format!("{name}.png")))
+                    .unwrap();
             }
         }
         Err(e) => eprintln!("{name}: no renderer here ({e}); state checked, picture skipped"),
@@ -55,7 +67,8 @@ fn capture(h: &mut Harness<'_, StudioApp>, name: &str) {
 fn main_window_on_toled_then_random_tiling() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
     settle(&mut h);
     h.get_by_label("log-PSF").click();
     settle(&mut h);
@@ -75,7 +88,8 @@ fn main_window_on_toled_then_random_tiling() {
 fn compare_view() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
     settle(&mut h);
     h.state_mut().command(Command::PinCompare);
     h.step();
@@ -84,7 +98,11 @@ fn compare_view() {
     d.tiling.mode = TilingMode::RandomD4;
     h.state_mut().command(Command::Edit(Box::new(d)));
     settle(&mut h);
-    h.get_by_label("Compare").click();
+    // The menu bar also has a "Compare" menu: the tab is the last one.
+    h.get_all_by_label("Compare")
+        .last()
+        .expect("the Compare tab")
+        .click();
     settle(&mut h);
     capture(&mut h, "compare");
 }
@@ -93,17 +111,24 @@ fn compare_view() {
 fn editor_mid_drawing() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().command(Command::LoadPreset("l2inv-random".into()));
+    h.state_mut()
+        .command(Command::LoadPreset("l2inv-random".into()));
     settle(&mut h);
     let before = h.state().design().clone();
-    h.state_mut().command(Command::SetTool(udc_studio::app::Tool::Ellipse));
+    h.state_mut()
+        .command(Command::SetTool(udc_studio::app::Tool::Ellipse));
     h.step();
     let rect = h.state().editor().grid_rect().expect("editor drawn");
     let a = rect.left_top() + rect.size() * 0.2;
     let b = rect.left_top() + rect.size() * 0.7;
     h.hover_at(a);
     h.step();
-    h.event(egui::Event::PointerButton { pos: a, button: egui::PointerButton::Primary, pressed: true, modifiers: Default::default() });
+    h.event(egui::Event::PointerButton {
+        pos: a,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: Default::default(),
+    });
     h.step();
     for k in 1..=5 {
         h.event(egui::Event::PointerMoved(a + (b - a) * (k as f32 / 5.0)));

@@ -35,20 +35,26 @@ fn step_until(h: &mut Harness<'_, StudioApp>, what: &str, done: impl Fn(&StudioA
             h.step();
             return;
         }
-        assert!(start.elapsed() < Duration::from_secs(60), "timed out waiting for {what}");
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "timed out waiting for {what}"
+        );
         std::thread::sleep(Duration::from_millis(10));
     }
 }
 
 fn auc_r(app: &StudioApp) -> f64 {
-    app.shown().expect("a result").analysis.channels[0].mtf.auc_radial_min
+    app.shown().expect("a result").analysis.channels[0]
+        .mtf
+        .auc_radial_min
 }
 
 #[test]
 fn random_tiling_raises_the_auc_shown() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
     let before = auc_r(h.state());
     h.get_by_label("Tiling").click();
@@ -61,11 +67,18 @@ fn random_tiling_raises_the_auc_shown() {
     assert!(after > 3.0 * before, "AUC {before} → {after}");
     // The numbers panel shows it (4 decimals).
     let shown = format!("{after:.4}");
-    assert!(h.query_all_by_label(&shown).next().is_some(), "the AUC {shown} is on screen");
+    assert!(
+        h.query_all_by_label(&shown).next().is_some(),
+        "the AUC {shown} is on screen"
+    );
 }
 
 fn cell_centre(h: &Harness<'_, StudioApp>, row: usize, col: usize) -> egui::Pos2 {
-    let rect = h.state().editor().grid_rect().expect("the editor was drawn");
+    let rect = h
+        .state()
+        .editor()
+        .grid_rect()
+        .expect("the editor was drawn");
     let n = h.state().design().opening.n() as f32;
     egui::pos2(
         rect.left() + (col as f32 + 0.5) * rect.width() / n,
@@ -77,7 +90,8 @@ fn cell_centre(h: &Harness<'_, StudioApp>, row: usize, col: usize) -> egui::Pos2
 fn drawing_changes_the_design_and_undo_restores_it() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().command(Command::LoadPreset("toled-150dpi".into()));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
     let before = h.state().design().clone();
     assert_eq!(before.opening.cells[2][1], 0.0);
@@ -85,13 +99,23 @@ fn drawing_changes_the_design_and_undo_restores_it() {
     let (a, b) = (cell_centre(&h, 2, 1), cell_centre(&h, 2, 4));
     h.hover_at(a);
     h.step();
-    h.event(egui::Event::PointerButton { pos: a, button: egui::PointerButton::Primary, pressed: true, modifiers: Default::default() });
+    h.event(egui::Event::PointerButton {
+        pos: a,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: Default::default(),
+    });
     h.step();
     for k in 1..=6 {
         h.event(egui::Event::PointerMoved(a + (b - a) * (k as f32 / 6.0)));
         h.step();
     }
-    h.event(egui::Event::PointerButton { pos: b, button: egui::PointerButton::Primary, pressed: false, modifiers: Default::default() });
+    h.event(egui::Event::PointerButton {
+        pos: b,
+        button: egui::PointerButton::Primary,
+        pressed: false,
+        modifiers: Default::default(),
+    });
     h.step();
     h.step();
     let after = h.state().design().clone();
@@ -103,7 +127,10 @@ fn drawing_changes_the_design_and_undo_restores_it() {
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     h.step();
     assert_eq!(h.state().design(), &before);
-    h.key_press_modifiers(egui::Modifiers::COMMAND | egui::Modifiers::SHIFT, egui::Key::Z);
+    h.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
     h.step();
     assert_eq!(h.state().design(), &after);
 }
@@ -112,16 +139,25 @@ fn drawing_changes_the_design_and_undo_restores_it() {
 fn a_corrupt_design_file_shows_an_error_and_keeps_the_design() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("broken.json");
-    std::fs::write(&bad, "{ \"format\": \"udc-studio-design\", \"version\": 1, \"opening\": ").unwrap();
+    std::fs::write(
+        &bad,
+        "{ \"format\": \"udc-studio-design\", \"version\": 1, \"opening\": ",
+    )
+    .unwrap();
     let mut h = harness(dir.path());
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
     let before = h.state().design().clone();
     h.state_mut().command(Command::OpenPath(bad.clone()));
-    step_until(&mut h, "the error", |a| a.status().is_some_and(|(_, err)| *err));
+    step_until(&mut h, "the error", |a| {
+        a.status().is_some_and(|(_, err)| *err)
+    });
     let (msg, _) = h.state().status().unwrap().clone();
     assert!(msg.contains("broken.json"), "{msg}");
     assert_eq!(h.state().design(), &before, "the design is unchanged");
-    assert!(h.query_by_label_contains("broken.json").is_some(), "the error is on screen");
+    assert!(
+        h.query_by_label_contains("broken.json").is_some(),
+        "the error is on screen"
+    );
 }
 
 #[test]
@@ -134,10 +170,15 @@ fn the_design_is_autosaved_and_restored() {
     d.tiling.seed = 99;
     h.state_mut().command(Command::Edit(Box::new(d.clone())));
     step_until(&mut h, "the autosave", |_| {
-        udc_studio::io::design_file::load_design(&dir.path().join("autosave.json")).is_ok_and(|s| s.tiling.seed == 99)
+        udc_studio::io::design_file::load_design(&dir.path().join("autosave.json"))
+            .is_ok_and(|s| s.tiling.seed == 99)
     });
     drop(h);
     let mut h2 = harness(dir.path());
     h2.step();
-    assert_eq!(h2.state().design(), &d, "the next session opens the last design");
+    assert_eq!(
+        h2.state().design(),
+        &d,
+        "the next session opens the last design"
+    );
 }

@@ -3,11 +3,11 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use super::StudioApp;
 use super::commands::{Command, ExportKind};
 use super::dialogs::{PendingDialog, Purpose};
 use super::panels::Pinned;
 use super::tasks::Task;
-use super::StudioApp;
 use crate::core::Design;
 use crate::core::analyze::Quality;
 use crate::core::opening_ops;
@@ -51,7 +51,12 @@ impl StudioApp {
             return;
         }
         if self.session.dialog.is_none() {
-            let dir = self.doc.path.as_ref().and_then(|p| p.parent()).map(PathBuf::from);
+            let dir = self
+                .doc
+                .path
+                .as_ref()
+                .and_then(|p| p.parent())
+                .map(PathBuf::from);
             self.session.dialog = Some(PendingDialog::spawn(purpose, dir, file_name));
         }
     }
@@ -86,7 +91,12 @@ impl StudioApp {
                 None => self.apply_one(Command::SaveAs, confirmed),
             },
             Command::SaveAs => {
-                let name = self.doc.path.as_ref().and_then(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned());
+                let name = self
+                    .doc
+                    .path
+                    .as_ref()
+                    .and_then(|p| p.file_name())
+                    .map(|n| n.to_string_lossy().into_owned());
                 self.ask(Purpose::SaveAs, name);
             }
             Command::ImportPattern => self.ask(Purpose::ImportPattern, None),
@@ -99,7 +109,8 @@ impl StudioApp {
             Command::Invert => self.edit_cells(|c| opening_ops::invert(c)),
             Command::Clear => self.edit_cells(|c| opening_ops::clear(c)),
             Command::Copy => {
-                self.egui_ctx.copy_text(opening_ops::to_text(&self.doc.design().opening.cells));
+                self.egui_ctx
+                    .copy_text(opening_ops::to_text(&self.doc.design().opening.cells));
                 self.set_status("opening copied as text (# open, . closed)", false);
             }
             Command::Paste(text) => match opening_ops::from_text(&text) {
@@ -121,7 +132,11 @@ impl StudioApp {
             }
             Command::ToggleTheme => {
                 self.view.settings.dark = !self.view.settings.dark;
-                let v = if self.view.settings.dark { egui::Visuals::dark() } else { egui::Visuals::light() };
+                let v = if self.view.settings.dark {
+                    egui::Visuals::dark()
+                } else {
+                    egui::Visuals::light()
+                };
                 self.egui_ctx.set_visuals(v);
                 self.save_settings();
             }
@@ -132,7 +147,8 @@ impl StudioApp {
             Command::Quit if self.needs_confirm(&c, confirmed) => {}
             Command::Quit => {
                 self.session.quit_confirmed = true;
-                self.egui_ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                self.egui_ctx
+                    .send_viewport_cmd(egui::ViewportCommand::Close);
             }
         }
     }
@@ -174,7 +190,9 @@ impl StudioApp {
     pub fn open_path(&mut self, path: PathBuf) {
         let p = path.clone();
         let task = Task::spawn("open-design", self.wake(), move || {
-            design_file::load_design(&p).map(|d| (d, Some(p))).map_err(|e| e.to_string())
+            design_file::load_design(&p)
+                .map(|d| (d, Some(p)))
+                .map_err(|e| e.to_string())
         });
         self.session.load = Some(task);
     }
@@ -201,12 +219,25 @@ impl StudioApp {
         let task = Task::spawn("export", self.wake(), move || {
             let a = &shown.analysis;
             // One dialog, every channel: multi-channel images get the channel name appended.
-            let per_channel = |write: fn(&std::path::Path, &ndarray::Array2<f64>) -> Result<(), crate::io::IoError>| {
-                let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-                let ext = path.extension().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+            let per_channel = |write: fn(
+                &std::path::Path,
+                &ndarray::Array2<f64>,
+            ) -> Result<(), crate::io::IoError>| {
+                let stem = path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                let ext = path
+                    .extension()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
                 let mut written = Vec::new();
                 for c in &a.channels {
-                    let p = if a.channels.len() == 1 { path.clone() } else { path.with_file_name(format!("{stem}_{}.{ext}", c.name)) };
+                    let p = if a.channels.len() == 1 {
+                        path.clone()
+                    } else {
+                        path.with_file_name(format!("{stem}_{}.{ext}", c.name))
+                    };
                     write(&p, &c.psf).map_err(|e| e.to_string())?;
                     written.push(p.display().to_string());
                 }
@@ -219,7 +250,8 @@ impl StudioApp {
                         [one, ..] => export::write_psf_exr(&path, &one.psf),
                         [] => return Err("the result has no channels".to_string()),
                     };
-                    done.map(|()| format!("exported {}", path.display())).map_err(|e| e.to_string())
+                    done.map(|()| format!("exported {}", path.display()))
+                        .map_err(|e| e.to_string())
                 }
                 ExportKind::PsfPng16 => per_channel(export::write_psf_png16),
                 ExportKind::LogPsfPng => per_channel(export::write_log_psf_png),
@@ -227,7 +259,8 @@ impl StudioApp {
                     .map(|()| format!("exported {}", path.display()))
                     .map_err(|e| e.to_string()),
                 ExportKind::NumbersJson => {
-                    let text = serde_json::to_string_pretty(&report::analysis_json(a)).unwrap_or_default();
+                    let text =
+                        serde_json::to_string_pretty(&report::analysis_json(a)).unwrap_or_default();
                     design_file::write_atomic(&path, text.as_bytes())
                         .map(|()| format!("exported {}", path.display()))
                         .map_err(|e| e.to_string())
@@ -350,9 +383,19 @@ impl StudioApp {
 
     /// Files dropped on the window: designs open, images become the opening.
     pub(super) fn dropped_files(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
-        let dropped: Vec<PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()).collect());
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
         for p in dropped {
-            let ext = p.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+            let ext = p
+                .extension()
+                .map(|e| e.to_string_lossy().to_lowercase())
+                .unwrap_or_default();
             if ext == "json" {
                 cmds.push(Command::OpenPath(p));
             } else {
@@ -363,7 +406,10 @@ impl StudioApp {
 
     /// The window's close button asks first when there are unsaved changes.
     pub(super) fn close_request(&mut self, ctx: &egui::Context, cmds: &mut Vec<Command>) {
-        if ctx.input(|i| i.viewport().close_requested()) && !self.session.quit_confirmed && self.doc.is_dirty() {
+        if ctx.input(|i| i.viewport().close_requested())
+            && !self.session.quit_confirmed
+            && self.doc.is_dirty()
+        {
             ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
             cmds.push(Command::Quit);
         }

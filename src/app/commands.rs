@@ -18,7 +18,14 @@ pub enum Tool {
 }
 
 impl Tool {
-    pub const ALL: [Tool; 6] = [Tool::Paint, Tool::Erase, Tool::Rect, Tool::Ellipse, Tool::Line, Tool::Fill];
+    pub const ALL: [Tool; 6] = [
+        Tool::Paint,
+        Tool::Erase,
+        Tool::Rect,
+        Tool::Ellipse,
+        Tool::Line,
+        Tool::Fill,
+    ];
 
     pub fn label(self) -> &'static str {
         match self {
@@ -115,12 +122,14 @@ pub enum Command {
 }
 
 pub const UNDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Z);
-pub const REDO: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
+pub const REDO: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::Z);
 pub const REDO_Y: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
 pub const NEW: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::N);
 pub const OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
 pub const SAVE: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-pub const SAVE_AS: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
+pub const SAVE_AS: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::S);
 pub const INVERT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::I);
 pub const CLEAR: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::Delete);
 pub const REROLL: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);

@@ -24,34 +24,41 @@ impl PendingDialog {
     /// Opens a native dialog on a helper thread.
     pub fn spawn(purpose: Purpose, start_dir: Option<PathBuf>, file_name: Option<String>) -> Self {
         let (tx, rx) = channel();
-        let spawned = std::thread::Builder::new().name("file-dialog".into()).spawn(move || {
-            let mut d = rfd::FileDialog::new();
-            if let Some(dir) = start_dir {
-                d = d.set_directory(dir);
-            }
-            let path = match purpose {
-                Purpose::Open => d.add_filter("UDC design", &["json"]).set_title("Open design").pick_file(),
-                Purpose::ImportPattern => d
-                    .add_filter("Images", &["png", "bmp", "tif", "tiff", "jpg", "jpeg"])
-                    .set_title("Import opening pattern")
-                    .pick_file(),
-                Purpose::Spectral => d
-                    .add_filter("Spectral response CSV", &["csv"])
-                    .set_title("Load spectral response (wavelength_nm, r, g, b)")
-                    .pick_file(),
-                Purpose::SaveAs => d
-                    .add_filter("UDC design", &["json"])
-                    .set_file_name(file_name.unwrap_or_else(|| "design.json".into()))
-                    .set_title("Save design as")
-                    .save_file(),
-                Purpose::Export(kind) => d
-                    .add_filter(kind.label().trim_end_matches('…'), &[kind.extension()])
-                    .set_file_name(file_name.unwrap_or_else(|| format!("export.{}", kind.extension())))
-                    .set_title("Export")
-                    .save_file(),
-            };
-            let _ = tx.send(path);
-        });
+        let spawned = std::thread::Builder::new()
+            .name("file-dialog".into())
+            .spawn(move || {
+                let mut d = rfd::FileDialog::new();
+                if let Some(dir) = start_dir {
+                    d = d.set_directory(dir);
+                }
+                let path = match purpose {
+                    Purpose::Open => d
+                        .add_filter("UDC design", &["json"])
+                        .set_title("Open design")
+                        .pick_file(),
+                    Purpose::ImportPattern => d
+                        .add_filter("Images", &["png", "bmp", "tif", "tiff", "jpg", "jpeg"])
+                        .set_title("Import opening pattern")
+                        .pick_file(),
+                    Purpose::Spectral => d
+                        .add_filter("Spectral response CSV", &["csv"])
+                        .set_title("Load spectral response (wavelength_nm, r, g, b)")
+                        .pick_file(),
+                    Purpose::SaveAs => d
+                        .add_filter("UDC design", &["json"])
+                        .set_file_name(file_name.unwrap_or_else(|| "design.json".into()))
+                        .set_title("Save design as")
+                        .save_file(),
+                    Purpose::Export(kind) => d
+                        .add_filter(kind.label().trim_end_matches('…'), &[kind.extension()])
+                        .set_file_name(
+                            file_name.unwrap_or_else(|| format!("export.{}", kind.extension())),
+                        )
+                        .set_title("Export")
+                        .save_file(),
+                };
+                let _ = tx.send(path);
+            });
         if spawned.is_err() {
             // No thread, no dialog: the receiver reports a cancelled dialog.
             let (tx2, rx2) = channel();

@@ -127,7 +127,10 @@ mod tests {
         let mut b = a.clone();
         b.tiling.mode = TilingMode::RandomD4;
         assert!(doc.edit(b.clone()));
-        assert!(!doc.edit(b.clone()), "an edit that changes nothing is not an undo step");
+        assert!(
+            !doc.edit(b.clone()),
+            "an edit that changes nothing is not an undo step"
+        );
         assert!(doc.is_dirty());
         assert!(doc.undo());
         assert_eq!(doc.design(), &a);

@@ -25,8 +25,8 @@ pub use document::Document;
 pub use settings::{AppDirs, Settings};
 pub use worker::{JobResult, Payload, Worker};
 
-use crate::core::analyze::Quality;
 use crate::core::Design;
+use crate::core::analyze::Quality;
 use crate::io::{design_file, presets};
 use panels::{DisplayPreview, PanelCtx, Pinned, Shown};
 
@@ -138,7 +138,11 @@ impl StudioApp {
     /// Starts the studio: opens `design_path`, or restores the autosave, or the default preset.
     pub fn new(ctx: &egui::Context, options: StudioOptions) -> Self {
         let settings = Settings::load(&options.dirs);
-        ctx.set_visuals(if settings.dark { egui::Visuals::dark() } else { egui::Visuals::light() });
+        ctx.set_visuals(if settings.dark {
+            egui::Visuals::dark()
+        } else {
+            egui::Visuals::light()
+        });
         let mut status = None;
         let (design, path) = match options.design_path.as_deref().map(design_file::load_design) {
             Some(Ok(d)) => (d, options.design_path.clone()),
@@ -279,7 +283,10 @@ impl StudioApp {
                             self.session.status = None;
                         }
                     }
-                    Err(e) => self.session.status = Some((format!("cannot simulate this design: {e}"), true)),
+                    Err(e) => {
+                        self.session.status =
+                            Some((format!("cannot simulate this design: {e}"), true))
+                    }
                 },
             }
         }
@@ -288,13 +295,14 @@ impl StudioApp {
     fn menu_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
-                let item = |ui: &mut egui::Ui, label: &str, shortcut: Option<&egui::KeyboardShortcut>| {
-                    let mut b = egui::Button::new(label);
-                    if let Some(s) = shortcut {
-                        b = b.shortcut_text(ui.ctx().format_shortcut(s));
-                    }
-                    ui.add(b).clicked()
-                };
+                let item =
+                    |ui: &mut egui::Ui, label: &str, shortcut: Option<&egui::KeyboardShortcut>| {
+                        let mut b = egui::Button::new(label);
+                        if let Some(s) = shortcut {
+                            b = b.shortcut_text(ui.ctx().format_shortcut(s));
+                        }
+                        ui.add(b).clicked()
+                    };
                 if item(ui, "New", Some(&commands::NEW)) {
                     cmds.push(Command::New);
                 }
@@ -322,9 +330,16 @@ impl StudioApp {
                     cmds.push(Command::ImportPattern);
                 }
                 ui.menu_button("Export", |ui| {
-                    let full = self.results.shown.as_ref().is_some_and(|s| s.quality == Quality::Full);
+                    let full = self
+                        .results
+                        .shown
+                        .as_ref()
+                        .is_some_and(|s| s.quality == Quality::Full);
                     for kind in ExportKind::ALL {
-                        if ui.add_enabled(full, egui::Button::new(kind.label())).clicked() {
+                        if ui
+                            .add_enabled(full, egui::Button::new(kind.label()))
+                            .clicked()
+                        {
                             cmds.push(Command::Export(kind));
                         }
                     }
@@ -335,11 +350,13 @@ impl StudioApp {
                 }
             });
             ui.menu_button("Edit", |ui| {
-                let undo = egui::Button::new("Undo").shortcut_text(ui.ctx().format_shortcut(&commands::UNDO));
+                let undo = egui::Button::new("Undo")
+                    .shortcut_text(ui.ctx().format_shortcut(&commands::UNDO));
                 if ui.add_enabled(self.doc.can_undo(), undo).clicked() {
                     cmds.push(Command::Undo);
                 }
-                let redo = egui::Button::new("Redo").shortcut_text(ui.ctx().format_shortcut(&commands::REDO));
+                let redo = egui::Button::new("Redo")
+                    .shortcut_text(ui.ctx().format_shortcut(&commands::REDO));
                 if ui.add_enabled(self.doc.can_redo(), redo).clicked() {
                     cmds.push(Command::Redo);
                 }
@@ -362,21 +379,32 @@ impl StudioApp {
                 }
             });
             ui.menu_button("View", |ui| {
-                let theme = if self.view.settings.dark { "Light theme" } else { "Dark theme" };
+                let theme = if self.view.settings.dark {
+                    "Light theme"
+                } else {
+                    "Dark theme"
+                };
                 if ui.button(theme).clicked() {
                     cmds.push(Command::ToggleTheme);
                 }
                 let mut overlays = self.view.settings.overlays;
-                if ui.checkbox(&mut overlays, "Teaching overlays and hints").clicked() {
+                if ui
+                    .checkbox(&mut overlays, "Teaching overlays and hints")
+                    .clicked()
+                {
                     cmds.push(Command::ToggleOverlays);
                 }
             });
             ui.menu_button("Compare", |ui| {
-                let pin = egui::Button::new("Pin current design as A").shortcut_text(ui.ctx().format_shortcut(&commands::PIN));
+                let pin = egui::Button::new("Pin current design as A")
+                    .shortcut_text(ui.ctx().format_shortcut(&commands::PIN));
                 if ui.add(pin).clicked() {
                     cmds.push(Command::PinCompare);
                 }
-                if ui.add_enabled(self.results.pinned.is_some(), egui::Button::new("Clear A")).clicked() {
+                if ui
+                    .add_enabled(self.results.pinned.is_some(), egui::Button::new("Clear A"))
+                    .clicked()
+                {
                     cmds.push(Command::ClearCompare);
                 }
             });
@@ -385,8 +413,15 @@ impl StudioApp {
 
     fn left_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         ui.horizontal(|ui| {
-            for (tab, label) in [(LeftTab::Opening, "Opening"), (LeftTab::Tiling, "Tiling"), (LeftTab::Optics, "Optics")] {
-                if ui.selectable_label(self.view.left_tab == tab, label).clicked() {
+            for (tab, label) in [
+                (LeftTab::Opening, "Opening"),
+                (LeftTab::Tiling, "Tiling"),
+                (LeftTab::Optics, "Optics"),
+            ] {
+                if ui
+                    .selectable_label(self.view.left_tab == tab, label)
+                    .clicked()
+                {
                     self.view.left_tab = tab;
                 }
             }
@@ -435,19 +470,22 @@ impl StudioApp {
             .default_size(420.0)
             .show(ui, |ui| self.left_ui(ui, &mut cmds));
         let progress = self.worker.progress();
-        egui::Panel::right("numbers").resizable(true).default_size(300.0).show(ui, |ui| {
-            let mut pctx = PanelCtx {
-                design: self.doc.design(),
-                shown: self.results.shown.as_ref(),
-                display: self.results.display.as_ref(),
-                pinned: self.results.pinned.as_ref(),
-                overlays: self.view.settings.overlays,
-                tool: self.view.tool,
-                commands: &mut cmds,
-            };
-            ui.heading("Numbers");
-            self.panels.numbers.ui(ui, &mut pctx, progress);
-        });
+        egui::Panel::right("numbers")
+            .resizable(true)
+            .default_size(300.0)
+            .show(ui, |ui| {
+                let mut pctx = PanelCtx {
+                    design: self.doc.design(),
+                    shown: self.results.shown.as_ref(),
+                    display: self.results.display.as_ref(),
+                    pinned: self.results.pinned.as_ref(),
+                    overlays: self.view.settings.overlays,
+                    tool: self.view.tool,
+                    commands: &mut cmds,
+                };
+                ui.heading("Numbers");
+                self.panels.numbers.ui(ui, &mut pctx, progress);
+            });
         egui::CentralPanel::default().show(ui, |ui| {
             let mut pctx = PanelCtx {
                 design: self.doc.design(),
@@ -481,7 +519,13 @@ fn restore_or_default(dirs: &AppDirs, status: &mut Option<(String, bool)>) -> De
                 // Keep the unreadable autosave aside instead of overwriting it.
                 let aside = path.with_extension("unreadable.json");
                 let _ = std::fs::rename(&path, &aside);
-                *status = Some((format!("could not restore the last design ({e}); kept it as {}", aside.display()), true));
+                *status = Some((
+                    format!(
+                        "could not restore the last design ({e}); kept it as {}",
+                        aside.display()
+                    ),
+                    true,
+                ));
             }
         }
     }

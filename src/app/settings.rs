@@ -18,7 +18,8 @@ impl AppDirs {
     /// The platform data directory (e.g. `~/.local/share/udc-studio`).
     pub fn platform() -> Self {
         AppDirs {
-            data_dir: directories::ProjectDirs::from("org", "udc-studio", "udc-studio").map(|d| d.data_dir().to_path_buf()),
+            data_dir: directories::ProjectDirs::from("org", "udc-studio", "udc-studio")
+                .map(|d| d.data_dir().to_path_buf()),
         }
     }
 
@@ -78,7 +79,8 @@ impl Settings {
             return Ok(());
         };
         if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
         }
         let text = serde_json::to_string_pretty(self).unwrap_or_default();
         write_atomic(&path, text.as_bytes()).map_err(|e| e.to_string())

@@ -10,12 +10,18 @@ pub struct Task<T> {
 
 impl<T: Send + 'static> Task<T> {
     /// Runs `job` on a new thread; `wake` is called when it is done.
-    pub fn spawn(name: &str, wake: impl Fn() + Send + 'static, job: impl FnOnce() -> T + Send + 'static) -> Self {
+    pub fn spawn(
+        name: &str,
+        wake: impl Fn() + Send + 'static,
+        job: impl FnOnce() -> T + Send + 'static,
+    ) -> Self {
         let (tx, rx) = channel();
-        let spawned = std::thread::Builder::new().name(name.into()).spawn(move || {
-            let _ = tx.send(job());
-            wake();
-        });
+        let spawned = std::thread::Builder::new()
+            .name(name.into())
+            .spawn(move || {
+                let _ = tx.send(job());
+                wake();
+            });
         if spawned.is_err() {
             // Could not start a thread: the task never completes and `poll` reports it gone.
             let (_, rx) = channel();

@@ -146,14 +146,21 @@ fn worker_loop(
             (generation, design, progress)
         };
         if design.validate().is_ok() {
-            let (side, values, sample_um) = crate::core::aperture::display_preview(&design, DISPLAY_PREVIEW_SIDE);
+            let (side, values, sample_um) =
+                crate::core::aperture::display_preview(&design, DISPLAY_PREVIEW_SIDE);
             let payload = Payload::Display {
                 side,
                 values,
                 sample_um,
                 pupil_diameter_um: design.optics.pupil_diameter_um(),
             };
-            if tx.send(JobResult { generation, payload }).is_err() {
+            if tx
+                .send(JobResult {
+                    generation,
+                    payload,
+                })
+                .is_err()
+            {
                 return;
             }
             wake();
@@ -168,7 +175,13 @@ fn worker_loop(
             if !cancelled {
                 let failed = result.is_err();
                 let payload = Payload::Analysis { quality, result };
-                if tx.send(JobResult { generation, payload }).is_err() {
+                if tx
+                    .send(JobResult {
+                        generation,
+                        payload,
+                    })
+                    .is_err()
+                {
                     return;
                 }
                 wake();

@@ -366,7 +366,11 @@ pub fn display_preview(design: &Design, max_side: usize) -> (usize, Vec<f32>, f6
     let r = (half_um / delta).floor() as usize;
     let side = 2 * r + 2;
     let dense = field.to_dense(side);
-    (side, dense.into_iter().flatten().map(|v| v as f32).collect(), delta)
+    (
+        side,
+        dense.into_iter().flatten().map(|v| v as f32).collect(),
+        delta,
+    )
 }
 
 #[cfg(test)]
@@ -400,10 +404,10 @@ mod tests {
 
     #[test]
     fn area_coverage_is_exact_for_half_cells() {
-        // Cells of 16 µm on an 8 µm grid, offset by a quarter cell: every sample straddles
-        // at most two cells; the mean transmittance is preserved.
+        // Cells of 16 µm on an 8 µm grid, shifted by a tenth of a cell: samples straddle cell
+        // boundaries; the mean transmittance is preserved.
         let cells = vec![vec![1.0, 0.0], vec![0.0, 0.0]];
-        let d = display(&cells, 32.0, [0.25, 0.25]);
+        let d = display(&cells, 32.0, [0.1, 0.1]);
         let f = rasterise(
             &d,
             Extent::Pupil {

@@ -12,7 +12,12 @@ impl NumbersPanel {
         ui.horizontal(|ui| {
             match progress {
                 Some(p) => {
-                    ui.add(egui::ProgressBar::new(p).desired_width(140.0).show_percentage().text("computing"));
+                    ui.add(
+                        egui::ProgressBar::new(p)
+                            .desired_width(140.0)
+                            .show_percentage()
+                            .text("computing"),
+                    );
                 }
                 None => {
                     ui.label("Up to date");
@@ -20,7 +25,9 @@ impl NumbersPanel {
             }
             if ui
                 .button("Pin as A")
-                .on_hover_text("Keep this design and its result as A to compare with your edits (Ctrl+P)")
+                .on_hover_text(
+                    "Keep this design and its result as A to compare with your edits (Ctrl+P)",
+                )
                 .clicked()
             {
                 ctx.commands.push(Command::PinCompare);

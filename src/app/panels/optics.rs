@@ -11,10 +11,24 @@ pub struct OpticsPanel {
     pub spectral_step_nm: f64,
 }
 
-fn num(ui: &mut egui::Ui, label: &str, v: &mut f64, range: std::ops::RangeInclusive<f64>, speed: f64, suffix: &str, tip: &str) -> bool {
+fn num(
+    ui: &mut egui::Ui,
+    label: &str,
+    v: &mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    speed: f64,
+    suffix: &str,
+    tip: &str,
+) -> bool {
     ui.label(label);
     let r = ui
-        .add(egui::DragValue::new(v).range(range).speed(speed).suffix(suffix).max_decimals(4))
+        .add(
+            egui::DragValue::new(v)
+                .range(range)
+                .speed(speed)
+                .suffix(suffix)
+                .max_decimals(4),
+        )
         .on_hover_text(tip);
     ui.end_row();
     r.dragged()
@@ -64,27 +78,34 @@ impl OpticsPanel {
         }
         ui.separator();
         ui.label("Channels");
-        egui::Grid::new("channels-grid").num_columns(3).show(ui, |ui| {
-            for ch in &mut d.channels {
-                ui.label(&ch.name);
-                if ch.wavelengths_nm.len() == 1 {
-                    let r = ui
-                        .add(egui::DragValue::new(&mut ch.wavelengths_nm[0]).range(350.0..=1100.0).speed(1.0).suffix(" nm"))
-                        .on_hover_text("Peak wavelength of the channel (nm)");
-                    dragging |= r.dragged();
-                    ui.label("peak");
-                } else {
-                    ui.label(format!(
-                        "{} wavelengths, {:.0}–{:.0} nm",
-                        ch.wavelengths_nm.len(),
-                        ch.wavelengths_nm.first().copied().unwrap_or(0.0),
-                        ch.wavelengths_nm.last().copied().unwrap_or(0.0)
-                    ));
-                    ui.label(format!("mean {:.0} nm", ch.mean_wavelength_nm()));
+        egui::Grid::new("channels-grid")
+            .num_columns(3)
+            .show(ui, |ui| {
+                for ch in &mut d.channels {
+                    ui.label(&ch.name);
+                    if ch.wavelengths_nm.len() == 1 {
+                        let r = ui
+                            .add(
+                                egui::DragValue::new(&mut ch.wavelengths_nm[0])
+                                    .range(350.0..=1100.0)
+                                    .speed(1.0)
+                                    .suffix(" nm"),
+                            )
+                            .on_hover_text("Peak wavelength of the channel (nm)");
+                        dragging |= r.dragged();
+                        ui.label("peak");
+                    } else {
+                        ui.label(format!(
+                            "{} wavelengths, {:.0}–{:.0} nm",
+                            ch.wavelengths_nm.len(),
+                            ch.wavelengths_nm.first().copied().unwrap_or(0.0),
+                            ch.wavelengths_nm.last().copied().unwrap_or(0.0)
+                        ));
+                        ui.label(format!("mean {:.0} nm", ch.mean_wavelength_nm()));
+                    }
+                    ui.end_row();
                 }
-                ui.end_row();
-            }
-        });
+            });
         ui.horizontal(|ui| {
             if ui
                 .button("Peak RGB")

@@ -24,11 +24,15 @@ fn mode_label(m: TilingMode) -> &'static str {
 
 fn mode_hint(m: TilingMode) -> &'static str {
     match m {
-        TilingMode::Repeat => "Every pixel identical: a periodic display (sharp diffraction orders).",
+        TilingMode::Repeat => {
+            "Every pixel identical: a periodic display (sharp diffraction orders)."
+        }
         TilingMode::RandomD4 => {
             "Each pixel takes one of the 8 rotations/flips (three coins: rotate 90° CCW, flip left-right, flip up-down)."
         }
-        TilingMode::Random4 => "Each pixel takes one of P, Pᵀ, fliplr P, flipud Pᵀ (the thesis's optimisation set).",
+        TilingMode::Random4 => {
+            "Each pixel takes one of P, Pᵀ, fliplr P, flipud Pᵀ (the thesis's optimisation set)."
+        }
     }
 }
 
@@ -104,7 +108,11 @@ impl TilingPanel {
             ui.spinner();
             return;
         };
-        if self.texture.as_ref().is_none_or(|(g, _)| *g != p.generation) {
+        if self
+            .texture
+            .as_ref()
+            .is_none_or(|(g, _)| *g != p.generation)
+        {
             let pixels: Vec<Color32> = p
                 .values
                 .iter()
@@ -114,10 +122,14 @@ impl TilingPanel {
                 })
                 .collect();
             let image = ColorImage::new([p.side, p.side], pixels);
-            let tex = ui.ctx().load_texture("display-preview", image, TextureOptions::NEAREST);
+            let tex = ui
+                .ctx()
+                .load_texture("display-preview", image, TextureOptions::NEAREST);
             self.texture = Some((p.generation, tex));
         }
-        let Some((_, tex)) = &self.texture else { return };
+        let Some((_, tex)) = &self.texture else {
+            return;
+        };
         let half = p.side as f64 * p.sample_um / 2.0;
         let r = p.pupil_diameter_um / 2.0;
         let circle: PlotPoints = (0..=128)
@@ -138,9 +150,15 @@ impl TilingPanel {
                     PlotPoint::new(0.0, 0.0),
                     [(2.0 * half) as f32, (2.0 * half) as f32],
                 ));
-                plot.line(Line::new("lens pupil", circle).color(Color32::from_rgb(255, 140, 0)).width(2.0));
+                plot.line(
+                    Line::new("lens pupil", circle)
+                        .color(Color32::from_rgb(255, 140, 0))
+                        .width(2.0),
+                );
             })
             .response
-            .on_hover_text("The tiled display over the lens pupil (orange); scroll to zoom, drag to pan");
+            .on_hover_text(
+                "The tiled display over the lens pupil (orange); scroll to zoom, drag to pan",
+            );
     }
 }
