@@ -443,3 +443,43 @@ fn buttons_push_commands() {
     h.run();
     assert_eq!(single_edit(&h).len(), 42);
 }
+
+/// A pixel snapshot of the editor showing the thesis's optimised opening, compared with
+/// `tests/snapshots/editor-l2inv-random.png` (regenerate with `UPDATE_SNAPSHOTS=1`). Skipped
+/// only where no renderer exists (CI installs lavapipe, so it runs there).
+#[test]
+fn editor_snapshot_matches() {
+    let design = udc_studio::io::presets::load_preset("l2inv-random").unwrap();
+    let state = State {
+        panel: EditorPanel::default(),
+        design,
+        tool: Tool::Paint,
+        commands: Vec::new(),
+    };
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(420.0, 560.0))
+        .wgpu()
+        .build_ui_state(
+            |ui, s: &mut State| {
+                let mut ctx = PanelCtx {
+                    design: &s.design,
+                    shown: None,
+                    display: None,
+                    pinned: None,
+                    overlays: false,
+                    tool: s.tool,
+                    commands: &mut s.commands,
+                };
+                s.panel.ui(ui, &mut ctx);
+            },
+            state,
+        );
+    h.run();
+    match h.try_snapshot("editor-l2inv-random") {
+        Ok(()) => {}
+        Err(egui_kittest::SnapshotError::RenderError { err }) => {
+            eprintln!("no renderer here ({err}); snapshot skipped")
+        }
+        Err(e) => panic!("{e}"),
+    }
+}
