@@ -3,42 +3,21 @@
 //! `UDC_SCREENSHOTS_DIR` set (see `screenshots/make.sh`) the images are saved there.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::time::{Duration, Instant};
+mod common;
+
+use std::time::Duration;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::{AppDirs, Command, StudioApp, StudioOptions};
+use udc_studio::app::{Command, StudioApp};
 use udc_studio::core::design::TilingMode;
 
 fn harness(dir: &std::path::Path) -> Harness<'static, StudioApp> {
-    let dirs = AppDirs::at(dir);
-    Harness::builder()
-        .with_size(egui::vec2(1440.0, 900.0))
-        .with_max_steps(10_000)
-        .wgpu()
-        .build_eframe(move |cc| {
-            StudioApp::new(
-                &cc.egui_ctx,
-                StudioOptions {
-                    dirs,
-                    design_path: None,
-                    native_dialogs: false,
-                    autosave_every: Duration::from_secs(3600),
-                },
-            )
-        })
+    common::studio(dir, true, Duration::from_secs(3600))
 }
 
 fn settle(h: &mut Harness<'_, StudioApp>) {
-    let start = Instant::now();
-    while !h.state().is_up_to_date() {
-        h.step();
-        assert!(
-            start.elapsed() < Duration::from_secs(90),
-            "the worker did not finish"
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    common::step_until(h, "the worker", StudioApp::is_up_to_date);
     for _ in 0..4 {
         h.step();
     }

@@ -1,46 +1,19 @@
 //! The studio, driven like a user would: egui_kittest runs the real app headless.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::time::{Duration, Instant};
+mod common;
+
+use std::time::Duration;
+
+use common::step_until;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::{AppDirs, Command, StudioApp, StudioOptions};
+use udc_studio::app::{Command, StudioApp};
 use udc_studio::core::design::TilingMode;
 
 fn harness(dir: &std::path::Path) -> Harness<'static, StudioApp> {
-    let dirs = AppDirs::at(dir);
-    Harness::builder()
-        .with_size(egui::vec2(1440.0, 900.0))
-        .with_max_steps(10_000)
-        .build_eframe(move |cc| {
-            StudioApp::new(
-                &cc.egui_ctx,
-                StudioOptions {
-                    dirs,
-                    design_path: None,
-                    native_dialogs: false,
-                    autosave_every: Duration::from_millis(200),
-                },
-            )
-        })
-}
-
-/// Steps the UI until `done` holds (the worker runs on its own thread) or fails after 60 s.
-fn step_until(h: &mut Harness<'_, StudioApp>, what: &str, done: impl Fn(&StudioApp) -> bool) {
-    let start = Instant::now();
-    loop {
-        h.step();
-        if done(h.state()) {
-            h.step();
-            return;
-        }
-        assert!(
-            start.elapsed() < Duration::from_secs(60),
-            "timed out waiting for {what}"
-        );
-        std::thread::sleep(Duration::from_millis(10));
-    }
+    common::studio(dir, false, Duration::from_millis(200))
 }
 
 fn auc_r(app: &StudioApp) -> f64 {

@@ -427,15 +427,7 @@ impl StudioApp {
             }
         });
         ui.separator();
-        let mut pctx = PanelCtx {
-            design: self.doc.design(),
-            shown: self.results.shown.as_ref(),
-            display: self.results.display.as_ref(),
-            pinned: self.results.pinned.as_ref(),
-            overlays: self.view.settings.overlays,
-            tool: self.view.tool,
-            commands: cmds,
-        };
+        let mut pctx = panel_ctx(&self.doc, &self.results, &self.view, cmds);
         egui::ScrollArea::vertical().show(ui, |ui| match self.view.left_tab {
             LeftTab::Opening => self.panels.editor.ui(ui, &mut pctx),
             LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
@@ -474,28 +466,12 @@ impl StudioApp {
             .resizable(true)
             .default_size(300.0)
             .show(ui, |ui| {
-                let mut pctx = PanelCtx {
-                    design: self.doc.design(),
-                    shown: self.results.shown.as_ref(),
-                    display: self.results.display.as_ref(),
-                    pinned: self.results.pinned.as_ref(),
-                    overlays: self.view.settings.overlays,
-                    tool: self.view.tool,
-                    commands: &mut cmds,
-                };
+                let mut pctx = panel_ctx(&self.doc, &self.results, &self.view, &mut cmds);
                 ui.heading("Numbers");
                 self.panels.numbers.ui(ui, &mut pctx, progress);
             });
         egui::CentralPanel::default().show(ui, |ui| {
-            let mut pctx = PanelCtx {
-                design: self.doc.design(),
-                shown: self.results.shown.as_ref(),
-                display: self.results.display.as_ref(),
-                pinned: self.results.pinned.as_ref(),
-                overlays: self.view.settings.overlays,
-                tool: self.view.tool,
-                commands: &mut cmds,
-            };
+            let mut pctx = panel_ctx(&self.doc, &self.results, &self.view, &mut cmds);
             self.panels.views.ui(ui, &mut pctx);
         });
         self.dropped_files(&ctx, &mut cmds);
@@ -507,6 +483,24 @@ impl StudioApp {
             self.title = self.doc.title();
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.title.clone()));
         }
+    }
+}
+
+/// What the panels see this frame (disjoint borrows of the app's fields).
+fn panel_ctx<'a>(
+    doc: &'a Document,
+    results: &'a Results,
+    view: &'a View,
+    commands: &'a mut Vec<Command>,
+) -> PanelCtx<'a> {
+    PanelCtx {
+        design: doc.design(),
+        shown: results.shown.as_ref(),
+        display: results.display.as_ref(),
+        pinned: results.pinned.as_ref(),
+        overlays: view.settings.overlays,
+        tool: view.tool,
+        commands,
     }
 }
 

@@ -145,6 +145,17 @@ fn worker_loop(
             s.running = Some((generation, progress.clone()));
             (generation, design, progress)
         };
+        // Delivers one piece of the job and wakes the UI; false once the UI has gone.
+        let send = |payload: Payload| {
+            let ok = tx
+                .send(JobResult {
+                    generation,
+                    payload,
+                })
+                .is_ok();
+            wake();
+            ok
+        };
         if design.validate().is_ok() {
             let (side, values, sample_um) =
                 crate::core::aperture::display_preview(&design, DISPLAY_PREVIEW_SIDE);
@@ -154,16 +165,9 @@ fn worker_loop(
                 sample_um,
                 pupil_diameter_um: design.optics.pupil_diameter_um(),
             };
-            if tx
-                .send(JobResult {
-                    generation,
-                    payload,
-                })
-                .is_err()
-            {
+            if !send(payload) {
                 return;
             }
-            wake();
         }
         for quality in [Quality::Preview, Quality::Full] {
             let options = AnalyzeOptions {
@@ -174,17 +178,9 @@ fn worker_loop(
             let cancelled = matches!(result, Err(SimError::Cancelled));
             if !cancelled {
                 let failed = result.is_err();
-                let payload = Payload::Analysis { quality, result };
-                if tx
-                    .send(JobResult {
-                        generation,
-                        payload,
-                    })
-                    .is_err()
-                {
+                if !send(Payload::Analysis { quality, result }) {
                     return;
                 }
-                wake();
                 if failed {
                     break;
                 }

@@ -7,6 +7,7 @@ pub mod design;
 pub mod error;
 pub mod expected;
 pub mod fft;
+pub mod mask;
 pub mod metrics;
 pub mod mtf;
 pub mod opening_ops;

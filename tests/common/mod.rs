@@ -47,3 +47,50 @@ pub fn aperture_of(design: &Design) -> Field {
         design.optics.pupil_sample_um,
     )
 }
+
+/// The real studio in a headless harness, persisting into `dir`, with native dialogs off.
+pub fn studio(
+    dir: &std::path::Path,
+    wgpu: bool,
+    autosave_every: std::time::Duration,
+) -> egui_kittest::Harness<'static, udc_studio::app::StudioApp> {
+    let dirs = udc_studio::app::AppDirs::at(dir);
+    let mut b = egui_kittest::Harness::builder()
+        .with_size(egui::vec2(1440.0, 900.0))
+        .with_max_steps(10_000);
+    if wgpu {
+        b = b.wgpu();
+    }
+    b.build_eframe(move |cc| {
+        udc_studio::app::StudioApp::new(
+            &cc.egui_ctx,
+            udc_studio::app::StudioOptions {
+                dirs,
+                design_path: None,
+                native_dialogs: false,
+                autosave_every,
+            },
+        )
+    })
+}
+
+/// Steps the UI until `done` holds (the worker runs on its own thread); fails after 90 s.
+pub fn step_until(
+    h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>,
+    what: &str,
+    done: impl Fn(&udc_studio::app::StudioApp) -> bool,
+) {
+    let start = std::time::Instant::now();
+    loop {
+        h.step();
+        if done(h.state()) {
+            h.step();
+            return;
+        }
+        assert!(
+            start.elapsed() < std::time::Duration::from_secs(90),
+            "timed out waiting for {what}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+}
