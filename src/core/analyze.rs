@@ -94,6 +94,19 @@ pub fn analyze(design: &Design, progress: &Progress) -> Result<Analysis, SimErro
 
 /// Analyses a design: PSF per channel, MTF, AUC, LTR, invertibility and sampling warnings.
 ///
+/// ```
+/// use udc_studio::core::{Design, Progress};
+/// use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+///
+/// let design = Design::default_toled(); // the T-OLED pixel, 150 DPI, thesis optics
+/// let options = AnalyzeOptions { quality: Quality::Preview, expected_psf: false };
+/// let a = analyze_with(&design, &options, &Progress::new())?;
+/// assert_eq!(a.channels.len(), 3);
+/// assert!((a.open_fraction - 5.0 / 21.0).abs() < 1e-12); // a 5-of-21-cell slit
+/// assert!((a.channels[0].psf.sum() - 1.0).abs() < 1e-9); // each PSF sums to 1
+/// # Ok::<(), udc_studio::core::SimError>(())
+/// ```
+///
 /// # Errors
 /// [`SimError::InvalidField`] for a bad design, [`SimError::Sampling`] / [`SimError::TooLarge`]
 /// when the sampling cannot represent it, [`SimError::Cancelled`] when `progress` was cancelled.
