@@ -28,6 +28,7 @@ fi
 # ids this script knows are read.
 cargo bench --bench analyze -- --noplot 2>&1 | tee "$logs/analyze.log"
 cargo bench --bench memory 2>&1 | tee "$logs/memory.log"
+cargo bench --bench studio -- --noplot 2>&1 | tee "$logs/studio.log"
 
 # (iii) the numpy reference of case (a), and the open aperture for the thesis check.
 "$python" benches/numpy_reference.py | tee "$logs/numpy.log"
@@ -102,6 +103,11 @@ rows.append(
     f"| speed ratio numpy / Rust for (a) | {'n/a' if ratio is None else f'{ratio:.1f}×'} | ≥ 4× | "
     f"{verdict(None if ratio is None else ratio >= 4)} |"
 )
+# The studio (issue 3): a frame while dragging, and committed edit -> preview / full result
+# through the real worker thread.
+time_row("studio/frame-while-dragging", 16)
+time_row("studio/edit-to/preview", 50)
+time_row("studio/edit-to/full", 250)
 for case, entry in memory.items():  # the bench writes them in its own order
     peak = entry.get("peak_mb")
     base = entry.get("baseline_mb")

@@ -132,7 +132,12 @@ pub fn analyze_with(
             }
         }
     };
-    let samplings = plan(design, fine_um, &mut warnings)?;
+    let samplings = plan(
+        design,
+        fine_um,
+        options.quality == Quality::Preview,
+        &mut warnings,
+    )?;
 
     let cells = effective_cells(&design.opening);
     let display = Display::from_design(design, &cells);
