@@ -142,22 +142,22 @@ where
     progress.check()?;
     let plan = complex_plan(m);
     let half = m / 2;
-    let result = (0..half + 1)
-        .into_par_iter()
-        .with_min_len(8)
-        .fold(
-            || {
-                (
-                    init(),
-                    vec![Complex64::new(0.0, 0.0); m],
-                    vec![Complex64::new(0.0, 0.0); plan.get_inplace_scratch_len()],
-                    vec![0.0f64; m],
-                    vec![0.0f64; m],
-                )
-            },
-            |(mut acc, mut col, mut scratch, mut inten, mut mirrored), kx| {
+    // Fixed chunks merged in index order: the floating-point sums come out the same bit for bit
+    // whatever the thread scheduling (rayon's fold/reduce would merge in a racy order).
+    let n_cols = half + 1;
+    let chunk = n_cols.div_ceil(64).max(8);
+    let starts: Vec<usize> = (0..n_cols).step_by(chunk).collect();
+    let partials: Vec<A> = starts
+        .par_iter()
+        .map(|&first| {
+            let mut acc = init();
+            let mut col = vec![Complex64::new(0.0, 0.0); m];
+            let mut scratch = vec![Complex64::new(0.0, 0.0); plan.get_inplace_scratch_len()];
+            let mut inten = vec![0.0f64; m];
+            let mut mirrored = vec![0.0f64; m];
+            for kx in first..(first + chunk).min(n_cols) {
                 if progress.is_cancelled() {
-                    return (acc, col, scratch, inten, mirrored);
+                    break;
                 }
                 col.iter_mut().for_each(|c| *c = Complex64::new(0.0, 0.0));
                 let src = &spectra[kx * n_rows..(kx + 1) * n_rows];
@@ -182,11 +182,11 @@ where
                     }
                     visit(&mut acc, -(kx as i64), &mirrored);
                 }
-                (acc, col, scratch, inten, mirrored)
-            },
-        )
-        .map(|(acc, ..)| acc)
-        .reduce_with(&merge);
+            }
+            acc
+        })
+        .collect();
+    let result = partials.into_iter().reduce(&merge);
     progress.check()?;
     result.ok_or_else(|| SimError::Sampling("empty FFT".into()))
 }
