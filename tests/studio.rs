@@ -155,3 +155,43 @@ fn the_design_is_autosaved_and_restored() {
         "the next session opens the last design"
     );
 }
+
+#[test]
+fn unsaved_changes_are_confirmed_before_loading_another_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    // A preset replaces an unedited design without asking.
+    h.state_mut()
+        .command(Command::LoadPreset("poled-336um".into()));
+    h.step();
+    assert!(h.query_by_label("Unsaved changes").is_none());
+    assert_eq!(h.state().design().opening.n(), 42);
+    // After an edit, it asks first; Cancel keeps the edit, Discard loads.
+    let mut d = h.state().design().clone();
+    d.tiling.seed = 1234;
+    h.state_mut().command(Command::Edit(Box::new(d.clone())));
+    h.state_mut()
+        .command(Command::LoadPreset("open-aperture".into()));
+    h.step();
+    h.step();
+    assert!(
+        h.query_by_label("Unsaved changes").is_some(),
+        "the prompt is shown"
+    );
+    h.get_by_label("Cancel").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().design(), &d);
+    h.state_mut()
+        .command(Command::LoadPreset("open-aperture".into()));
+    h.step();
+    h.step();
+    h.get_by_label("Discard changes").click();
+    h.step();
+    h.step();
+    assert_eq!(h.state().design().opening.cells, vec![vec![1.0; 21]; 21]);
+    // …and the discarded edit is still one undo away.
+    h.state_mut().command(Command::Undo);
+    assert_eq!(h.state().design(), &d);
+}

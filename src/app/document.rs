@@ -13,15 +13,15 @@ pub struct Document {
     design: Design,
     /// The file it was opened from or saved to.
     pub path: Option<PathBuf>,
-    /// The design as last saved (or opened), to tell whether there are unsaved changes.
-    saved: Option<Design>,
+    /// The design as last opened, loaded or saved: the document is dirty when it differs.
+    saved: Design,
     undo: Vec<Design>,
     redo: Vec<Design>,
 }
 
 impl Document {
     pub fn new(design: Design, path: Option<PathBuf>) -> Self {
-        let saved = path.as_ref().map(|_| design.clone());
+        let saved = design.clone();
         Document {
             design,
             path,
@@ -83,23 +83,19 @@ impl Document {
     /// mistaken open loses nothing.
     pub fn replace(&mut self, design: Design, path: Option<PathBuf>) {
         self.edit(design);
-        self.saved = path.as_ref().map(|_| self.design.clone());
+        self.saved = self.design.clone();
         self.path = path;
     }
 
     /// Records that the current design is now on disk at `path`.
     pub fn mark_saved(&mut self, path: PathBuf) {
-        self.saved = Some(self.design.clone());
+        self.saved = self.design.clone();
         self.path = Some(path);
     }
 
-    /// Whether the design differs from what is on disk (a never-saved design counts as unsaved
-    /// once edited).
+    /// Whether the design differs from what was last opened, loaded (a preset) or saved.
     pub fn is_dirty(&self) -> bool {
-        match &self.saved {
-            Some(s) => *s != self.design,
-            None => self.can_undo(),
-        }
+        self.saved != self.design
     }
 
     /// Title for the window: name, file and a star when unsaved.
@@ -137,6 +133,14 @@ mod tests {
         assert!(doc.redo());
         assert_eq!(doc.design(), &b);
         assert!(!doc.redo());
+        // Loading another design is undoable but not an unsaved change.
+        let mut c = b.clone();
+        c.tiling.seed = 9;
+        doc.replace(c.clone(), None);
+        assert!(!doc.is_dirty());
+        assert!(doc.undo());
+        assert_eq!(doc.design(), &b);
+        assert!(doc.redo());
         doc.mark_saved("x.json".into());
         assert!(!doc.is_dirty());
         assert!(doc.undo());
