@@ -105,6 +105,16 @@ impl StudioApp {
                 self.ask(Purpose::Spectral, None);
             }
             Command::Export(kind) => self.ask(Purpose::Export(kind), None),
+            Command::ExportMask => self.panels.mask_export.open(),
+            Command::WriteMask(None) => {
+                let format = self.panels.mask_export.options().format;
+                self.ask(Purpose::Mask(format), None);
+            }
+            Command::WriteMask(Some(path)) => {
+                let wake = self.wake();
+                let design = self.doc.design().clone();
+                self.panels.mask_export.start(&design, path, wake);
+            }
             Command::SetTool(t) => self.view.tool = t,
             Command::Invert => self.edit_cells(|c| opening_ops::invert(c)),
             Command::Clear => self.edit_cells(|c| opening_ops::clear(c)),
@@ -184,6 +194,11 @@ impl StudioApp {
                 self.set_status("will pin as A when the full-quality result is ready", false);
             }
         }
+    }
+
+    /// The Export-mask dialog (its options and whether an export runs).
+    pub fn mask_export(&self) -> &super::panels::mask_export::MaskExportDialog {
+        &self.panels.mask_export
     }
 
     /// Reads a design file on a background thread; the current design stays until it is valid.
@@ -304,6 +319,11 @@ impl StudioApp {
             }
         }
         self.session.writes = still;
+        match self.panels.mask_export.poll() {
+            Some(Ok(lines)) => self.set_status(lines.join("; "), false),
+            Some(Err(e)) => self.set_status(e, true),
+            None => {}
+        }
         self.autosave_tick();
     }
 
@@ -312,6 +332,7 @@ impl StudioApp {
             Purpose::Open => self.open_path(path),
             Purpose::SaveAs => self.save_to(path),
             Purpose::Export(kind) => self.export_to(kind, path),
+            Purpose::Mask(_) => self.apply_one(Command::WriteMask(Some(path)), true),
             Purpose::ImportPattern => match pattern::load_pattern_png(&path) {
                 Ok(cells) => self.edit_cells(|c| *c = cells),
                 Err(e) => self.set_status(e.to_string(), true),

@@ -106,6 +106,10 @@ pub enum Command {
     /// Load a spectral response CSV and sample it every given step (nm).
     LoadSpectral(f64),
     Export(ExportKind),
+    /// Open the Export-mask dialog.
+    ExportMask,
+    /// Write the mask with the dialog's options: to this file, or ask for one first.
+    WriteMask(Option<std::path::PathBuf>),
     SetTool(Tool),
     Invert,
     Clear,

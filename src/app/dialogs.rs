@@ -12,6 +12,7 @@ pub enum Purpose {
     ImportPattern,
     Spectral,
     Export(super::commands::ExportKind),
+    Mask(crate::io::mask::MaskFormat),
 }
 
 /// A dialog in flight.
@@ -55,6 +56,13 @@ impl PendingDialog {
                             file_name.unwrap_or_else(|| format!("export.{}", kind.extension())),
                         )
                         .set_title("Export")
+                        .save_file(),
+                    Purpose::Mask(format) => d
+                        .add_filter(format.label(), &[format.extension()])
+                        .set_file_name(
+                            file_name.unwrap_or_else(|| format!("mask.{}", format.extension())),
+                        )
+                        .set_title("Export mask")
                         .save_file(),
                 };
                 let _ = tx.send(path);

@@ -120,6 +120,7 @@ struct Panels {
     optics: panels::optics::OpticsPanel,
     numbers: panels::numbers::NumbersPanel,
     views: panels::views::ViewsPanel,
+    mask_export: panels::mask_export::MaskExportDialog,
 }
 
 /// The studio.
@@ -183,6 +184,7 @@ impl StudioApp {
                 optics: Default::default(),
                 numbers: Default::default(),
                 views: Default::default(),
+                mask_export: Default::default(),
             },
             title: String::new(),
             egui_ctx: ctx.clone(),
@@ -328,6 +330,9 @@ impl StudioApp {
                 ui.separator();
                 if item(ui, "Import opening PNG…", None) {
                     cmds.push(Command::ImportPattern);
+                }
+                if item(ui, "Export mask…", None) {
+                    cmds.push(Command::ExportMask);
                 }
                 ui.menu_button("Export", |ui| {
                     let full = self
@@ -477,6 +482,9 @@ impl StudioApp {
         self.dropped_files(&ctx, &mut cmds);
         self.close_request(&ctx, &mut cmds);
         self.confirm_ui(&ctx, &mut cmds);
+        self.panels
+            .mask_export
+            .ui(&ctx, self.doc.design(), &mut cmds);
         self.apply(cmds);
         self.poll_session();
         if self.title != self.doc.title() {

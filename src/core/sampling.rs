@@ -58,7 +58,7 @@ pub fn fft_size(
 pub fn next_fast_size(m: usize) -> usize {
     let smooth = |mut v: usize| {
         for p in [2, 3, 5, 7] {
-            while v % p == 0 {
+            while v.is_multiple_of(p) {
                 v /= p;
             }
         }
@@ -66,7 +66,7 @@ pub fn next_fast_size(m: usize) -> usize {
     };
     (m.max(2)..)
         .step_by(1)
-        .find(|v| v % 2 == 0 && smooth(*v))
+        .find(|v| v.is_multiple_of(2) && smooth(*v))
         .unwrap_or(m)
 }
 
@@ -181,7 +181,7 @@ mod tests {
         assert_eq!(next_fast_size(1024), 1024);
         for m in (2..3000).step_by(2) {
             let f = next_fast_size(m);
-            assert!(f >= m && f % 2 == 0 && f - m < m / 10 + 8);
+            assert!(f >= m && f.is_multiple_of(2) && f - m < m / 10 + 8);
         }
     }
 

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use crate::core::SimError;
+use crate::core::mask::MaskError;
 
 #[derive(Debug, Error)]
 pub enum IoError {
@@ -23,6 +24,12 @@ pub enum IoError {
     },
     #[error("{0}")]
     Invalid(#[from] SimError),
+    /// A mask file that cannot be read as a mask.
+    #[error("{message} (in {})", path.display())]
+    Mask { path: PathBuf, message: String },
+    /// A design or options that cannot be laid out as a mask (or a cancelled export).
+    #[error("{0}")]
+    MaskLayout(#[from] MaskError),
     #[error("unknown preset `{0}` (run `udc-studio presets` for the list)")]
     UnknownPreset(String),
 }

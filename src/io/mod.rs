@@ -4,6 +4,7 @@
 pub mod design_file;
 pub mod error;
 pub mod export;
+pub mod mask;
 pub mod pattern;
 pub mod presets;
 pub mod report;

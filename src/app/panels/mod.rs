@@ -2,6 +2,7 @@
 //! result through [`PanelCtx`] and changes things only by pushing [`Command`]s.
 
 pub mod editor;
+pub mod mask_export;
 pub mod numbers;
 pub mod optics;
 pub mod tiling;

@@ -1,0 +1,404 @@
+//! The Export-mask dialog: format, region, tone, layers and grid; a preview of one pixel's
+//! drawing and the statistics of the file to be written; then a file dialog and the export on a
+//! background task with progress and cancel.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+
+use egui::{Color32, ColorImage, DragValue, Stroke, TextureHandle, TextureOptions};
+
+use crate::app::commands::Command;
+use crate::app::tasks::Task;
+use crate::core::Progress;
+use crate::core::design::Design;
+use crate::core::mask::{BinaryGrid, MaskRegion, MaskStats, Tone};
+use crate::io::mask::{
+    ExportOptions, FileCounts, GdsCells, MaskFormat, PngBits, estimate, export_mask, human_bytes,
+    plan,
+};
+
+/// What the region picker shows (the block size is kept while another choice is active).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RegionChoice {
+    Pixel,
+    Pupil,
+    Block,
+}
+
+/// The preview of the current design and options.
+struct Preview {
+    design: Design,
+    options: ExportOptions,
+    result: Result<PreviewData, String>,
+}
+
+struct PreviewData {
+    stats: MaskStats,
+    counts: FileCounts,
+    /// One pixel's drawn cells (identity orientation) and its polygons in tile units
+    /// (x right, y down, `[0, 1]²`).
+    drawn: BinaryGrid,
+    outlines: Vec<Vec<[f32; 2]>>,
+}
+
+/// An export running on its own thread.
+struct Job {
+    task: Task<Result<Vec<String>, String>>,
+    progress: Arc<Progress>,
+}
+
+/// The dialog's state, kept while it is closed.
+pub struct MaskExportDialog {
+    open: bool,
+    options: ExportOptions,
+    region: RegionChoice,
+    block: [u32; 2],
+    preview: Option<Preview>,
+    texture: Option<TextureHandle>,
+    job: Option<Job>,
+    /// The last export's report (or error), shown in the dialog.
+    last: Option<Result<Vec<String>, String>>,
+}
+
+impl Default for MaskExportDialog {
+    fn default() -> Self {
+        MaskExportDialog {
+            open: false,
+            options: ExportOptions::default(),
+            region: RegionChoice::Pixel,
+            block: [1080, 2400],
+            preview: None,
+            texture: None,
+            job: None,
+            last: None,
+        }
+    }
+}
+
+impl MaskExportDialog {
+    pub fn open(&mut self) {
+        self.open = true;
+    }
+
+    pub fn is_open(&self) -> bool {
+        self.open
+    }
+
+    /// The options the next export uses.
+    pub fn options(&self) -> &ExportOptions {
+        &self.options
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// Starts writing `design` to `path` on a background task (one at a time).
+    pub fn start(&mut self, design: &Design, path: PathBuf, wake: impl Fn() + Send + 'static) {
+        if self.job.is_some() {
+            return;
+        }
+        let progress = Arc::new(Progress::new());
+        let p = progress.clone();
+        let (d, o) = (design.clone(), self.options.clone());
+        let task = Task::spawn("mask-export", wake, move || {
+            export_mask(&d, &o, &path, &p)
+                .map(|r| r.lines())
+                .map_err(|e| format!("cannot export the mask: {e}"))
+        });
+        self.last = None;
+        self.job = Some(Job { task, progress });
+    }
+
+    /// The finished export's report (or error), once.
+    pub fn poll(&mut self) -> Option<Result<Vec<String>, String>> {
+        let done = self.job.as_ref()?.task.poll()?;
+        self.job = None;
+        let result = done.unwrap_or_else(|()| Err("the export task stopped unexpectedly".into()));
+        self.last = Some(result.clone());
+        Some(result)
+    }
+
+    fn region(&self) -> MaskRegion {
+        match self.region {
+            RegionChoice::Pixel => MaskRegion::PIXEL,
+            RegionChoice::Pupil => MaskRegion::Pupil,
+            RegionChoice::Block => MaskRegion::Block {
+                cols: self.block[0].max(1),
+                rows: self.block[1].max(1),
+            },
+        }
+    }
+
+    /// Recomputes the preview when the design or an option changed (not every frame).
+    fn refresh(&mut self, ctx: &egui::Context, design: &Design) {
+        self.options.spec.region = self.region();
+        let fresh = self
+            .preview
+            .as_ref()
+            .is_some_and(|p| &p.design == design && p.options == self.options);
+        if fresh {
+            return;
+        }
+        let result = plan(design, &self.options)
+            .map_err(|e| e.to_string())
+            .map(|layout| {
+                let unit = layout.pitch_nm as f32;
+                let outlines = layout
+                    .base_polygons
+                    .iter()
+                    .map(|p| {
+                        p.points_nm
+                            .iter()
+                            .map(|q| [q[0] as f32 / unit, -q[1] as f32 / unit])
+                            .collect()
+                    })
+                    .collect();
+                PreviewData {
+                    stats: layout.stats(),
+                    counts: estimate(&layout, &self.options),
+                    drawn: layout.drawn.clone(),
+                    outlines,
+                }
+            });
+        if let Ok(data) = &result {
+            let image = drawn_image(&data.drawn);
+            match &mut self.texture {
+                Some(t) => t.set(image, TextureOptions::NEAREST),
+                None => {
+                    self.texture =
+                        Some(ctx.load_texture("mask-preview", image, TextureOptions::NEAREST));
+                }
+            }
+        }
+        self.preview = Some(Preview {
+            design: design.clone(),
+            options: self.options.clone(),
+            result,
+        });
+    }
+
+    /// Draws the dialog when open; pushes [`Command::WriteMask`] when the user exports.
+    pub fn ui(&mut self, ctx: &egui::Context, design: &Design, commands: &mut Vec<Command>) {
+        if !self.open {
+            return;
+        }
+        self.refresh(ctx, design);
+        let mut open = self.open;
+        egui::Window::new("Export mask")
+            .open(&mut open)
+            .collapsible(false)
+            .resizable(false)
+            .default_width(560.0)
+            .show(ctx, |ui| {
+                ui.horizontal_top(|ui| {
+                    ui.vertical(|ui| self.options_ui(ui));
+                    // Space, not a separator: a vertical separator grows to the window's height.
+                    ui.add_space(16.0);
+                    ui.vertical(|ui| self.preview_ui(ui));
+                });
+                ui.separator();
+                self.actions_ui(ui, commands);
+            });
+        self.open = open;
+        if self.job.is_some() {
+            // The progress bar moves while the export runs; nothing else needs repainting.
+            ctx.request_repaint_after(Duration::from_millis(100));
+        }
+    }
+
+    fn options_ui(&mut self, ui: &mut egui::Ui) {
+        let o = &mut self.options;
+        egui::Grid::new("mask-options")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("Format");
+                ui.horizontal(|ui| {
+                    for f in MaskFormat::ALL {
+                        ui.selectable_value(&mut o.format, f, f.label());
+                    }
+                });
+                ui.end_row();
+                ui.label("Region");
+                ui.vertical(|ui| {
+                    ui.radio_value(&mut self.region, RegionChoice::Pixel, "One pixel");
+                    ui.radio_value(&mut self.region, RegionChoice::Pupil, "Lens pupil")
+                        .on_hover_text("Every pixel over the lens pupil, with the pupil outline");
+                    ui.horizontal(|ui| {
+                        ui.radio_value(&mut self.region, RegionChoice::Block, "Pixels");
+                        ui.add(DragValue::new(&mut self.block[0]).range(1..=100_000));
+                        ui.label("×");
+                        ui.add(DragValue::new(&mut self.block[1]).range(1..=100_000));
+                    });
+                });
+                ui.end_row();
+                ui.label("Tone");
+                ui.vertical(|ui| {
+                    for t in Tone::ALL {
+                        ui.radio_value(&mut o.spec.tone, t, t.meaning());
+                    }
+                });
+                ui.end_row();
+                ui.label("Layer / datatype");
+                ui.horizontal(|ui| {
+                    ui.add(DragValue::new(&mut o.layer).range(0..=255));
+                    ui.label("/");
+                    ui.add(DragValue::new(&mut o.datatype).range(0..=255));
+                });
+                ui.end_row();
+                ui.label("Notes layer");
+                ui.add(DragValue::new(&mut o.note_layer).range(0..=255))
+                    .on_hover_text("Pupil outline and the text notes (tone, units, design)");
+                ui.end_row();
+                ui.label("Grid");
+                ui.add(
+                    DragValue::new(&mut o.spec.grid_nm)
+                        .range(1..=1000)
+                        .suffix(" nm"),
+                );
+                ui.end_row();
+                format_options_ui(ui, o);
+            });
+    }
+
+    fn preview_ui(&self, ui: &mut egui::Ui) {
+        let Some(preview) = &self.preview else {
+            return;
+        };
+        let data = match &preview.result {
+            Ok(d) => d,
+            Err(e) => {
+                ui.colored_label(ui.visuals().error_fg_color, e);
+                return;
+            }
+        };
+        let side = 200.0;
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
+        if let Some(t) = &self.texture {
+            let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+            ui.painter().image(t.id(), rect, uv, Color32::WHITE);
+        }
+        let stroke = Stroke::new(1.5, Color32::from_rgb(255, 150, 40));
+        for outline in &data.outlines {
+            let pts: Vec<egui::Pos2> = outline
+                .iter()
+                .map(|[x, y]| rect.min + egui::vec2(x * side, y * side))
+                .collect();
+            ui.painter().add(egui::Shape::closed_line(pts, stroke));
+        }
+        ui.small("One pixel: drawn cells, polygon outlines");
+        let s = &data.stats;
+        let c = &data.counts;
+        egui::Grid::new("mask-stats")
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                let mut row = |k: &str, v: String| {
+                    ui.label(k);
+                    ui.monospace(v);
+                    ui.end_row();
+                };
+                row(
+                    "Pixels",
+                    format!("{} in {} orientations", s.tiles, s.orientations),
+                );
+                row("Polygons", format!("{}", c.polygons));
+                row("Vertices", format!("{}", c.vertices));
+                row(
+                    "References",
+                    format!("{} single, {} arrays", c.references, c.arrays),
+                );
+                row("Flattened", format!("{} polygons", s.flat_polygons));
+                row("File size", format!("about {}", human_bytes(c.bytes)));
+                row("Open area", format!("{:.4e} µm²", s.open_area_um2));
+                row("Open fraction", format!("{:.4}", s.open_fraction()));
+            });
+    }
+
+    fn actions_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+        let ok = self.preview.as_ref().is_some_and(|p| p.result.is_ok());
+        ui.horizontal(|ui| {
+            if let Some(job) = &self.job {
+                ui.add(
+                    egui::ProgressBar::new(job.progress.fraction())
+                        .desired_width(240.0)
+                        .show_percentage()
+                        .text("exporting"),
+                );
+                if ui.button("Cancel").clicked() {
+                    job.progress.cancel();
+                }
+            } else if ui
+                .add_enabled(ok, egui::Button::new("Export…"))
+                .on_hover_text("Choose a file; the design is saved beside it as .design.json")
+                .clicked()
+            {
+                commands.push(Command::WriteMask(None));
+            }
+            if ui.button("Close").clicked() {
+                self.open = false;
+            }
+        });
+        match &self.last {
+            Some(Ok(lines)) => {
+                for l in lines {
+                    ui.small(l);
+                }
+            }
+            Some(Err(e)) => {
+                ui.colored_label(ui.visuals().error_fg_color, e);
+            }
+            None => {}
+        }
+    }
+}
+
+/// The rows of the options grid that only one format has.
+fn format_options_ui(ui: &mut egui::Ui, o: &mut ExportOptions) {
+    match o.format {
+        MaskFormat::Gds => {
+            ui.label("Orientations");
+            ui.vertical(|ui| {
+                ui.radio_value(&mut o.gds_cells, GdsCells::Strans, "Rotated references")
+                    .on_hover_text("One cell; each pixel a reference with reflection and angle");
+                ui.radio_value(&mut o.gds_cells, GdsCells::PerOrientation, "One cell each")
+                    .on_hover_text("One cell per orientation used; plain references");
+            });
+            ui.end_row();
+        }
+        MaskFormat::Png => {
+            ui.label("Pixel size");
+            ui.add(
+                DragValue::new(&mut o.um_per_px)
+                    .range(0.05..=100.0)
+                    .speed(0.05)
+                    .suffix(" µm"),
+            );
+            ui.end_row();
+            ui.label("Bits");
+            ui.horizontal(|ui| {
+                ui.radio_value(&mut o.png_bits, PngBits::One, "1-bit");
+                ui.radio_value(&mut o.png_bits, PngBits::Eight, "8-bit");
+            });
+            ui.end_row();
+        }
+        MaskFormat::Dxf | MaskFormat::Svg => {}
+    }
+}
+
+/// Drawn cells in blue on a dark background, one texel per cell.
+fn drawn_image(drawn: &BinaryGrid) -> ColorImage {
+    let (w, h) = (drawn.width(), drawn.height());
+    let pixels = (0..h)
+        .flat_map(|r| (0..w).map(move |c| (c, r)))
+        .map(|(c, r)| {
+            if drawn.get(c, r) {
+                Color32::from_rgb(70, 130, 230)
+            } else {
+                Color32::from_gray(40)
+            }
+        })
+        .collect();
+    ColorImage::new([w, h], pixels)
+}

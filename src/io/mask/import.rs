@@ -1,0 +1,200 @@
+//! Reading a GDSII or DXF mask back into a cell grid, so an exported (or foreign) mask can be
+//! simulated again.
+//!
+//! The drawn polygons (references expanded) are sampled at the centre of every cell of a window:
+//! a cell is drawn when its centre lies inside a polygon (even-odd rule per polygon, so keyhole
+//! bridges cancel out). With the chrome tone the grid is inverted, so the result is always
+//! transmittance: 1 = open (clear), 0 = chrome.
+
+use std::path::Path;
+
+use super::{MaskFormat, dxf, gds, tone_of_notes};
+use crate::core::mask::Tone;
+use crate::io::IoError;
+
+/// The cells to sample: `cols × rows` cells of `cell_um`, the top-left corner at
+/// (`left_um`, `top_um`) in the mask frame (y up).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImportWindow {
+    pub left_um: f64,
+    pub top_um: f64,
+    pub cols: usize,
+    pub rows: usize,
+}
+
+/// How to read a mask back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImportOptions {
+    pub cell_um: f64,
+    /// GDSII layer and datatype of the drawn polygons (DXF: the layer `L<layer>_…`).
+    pub layer: i16,
+    pub datatype: i16,
+    /// Cells to sample; by default the drawn polygons' bounding box, rounded out to whole cells.
+    pub window: Option<ImportWindow>,
+    /// The tone; by default the one the file's notes state, else open.
+    pub tone: Option<Tone>,
+}
+
+impl Default for ImportOptions {
+    fn default() -> Self {
+        ImportOptions {
+            cell_um: 1.0,
+            layer: 1,
+            datatype: 0,
+            window: None,
+            tone: None,
+        }
+    }
+}
+
+/// A mask read back: transmittance per cell (1 open, 0 chrome), row 0 at the top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImportedMask {
+    pub cells: Vec<Vec<f64>>,
+    pub window: ImportWindow,
+    pub tone: Tone,
+    pub polygons: usize,
+}
+
+/// Polygons (µm, y up) and text notes read from a file.
+pub(super) type Drawn = (Vec<Vec<[f64; 2]>>, Vec<String>);
+
+/// Largest grid an import produces (cells).
+pub const MAX_IMPORT_CELLS: usize = 64 << 20;
+
+/// Reads the mask at `path` (GDSII or DXF, by extension) into cells.
+///
+/// # Errors
+/// [`IoError::File`] when unreadable, [`IoError::Mask`] when it is not a mask this reader
+/// understands, has nothing on the layer, or the window is empty or too large.
+pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask, IoError> {
+    let err = |message: String| IoError::Mask {
+        path: path.to_path_buf(),
+        message,
+    };
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let format = match ext.as_str() {
+        "gds" | "gdsii" | "gds2" => MaskFormat::Gds,
+        "dxf" => MaskFormat::Dxf,
+        other => {
+            return Err(err(format!(
+                "cannot read `.{other}` masks (expected .gds or .dxf)"
+            )));
+        }
+    };
+    let s = options.cell_um;
+    if !(s.is_finite() && s > 0.0) {
+        return Err(err(format!("the cell size must be positive (got {s} µm)")));
+    }
+    let (polygons, texts) = match format {
+        MaskFormat::Dxf => dxf::read(path, options.layer, options.datatype)?,
+        _ => {
+            let flat = gds::read(path, options.layer, options.datatype)?;
+            (flat.polygons_um, flat.texts)
+        }
+    };
+    if polygons.is_empty() {
+        return Err(err(format!(
+            "no polygon on layer {}/{}",
+            options.layer, options.datatype
+        )));
+    }
+    let tone = options
+        .tone
+        .or_else(|| tone_of_notes(texts.iter().map(String::as_str)))
+        .unwrap_or(Tone::Open);
+    let window = match options.window {
+        Some(w) => w,
+        None => bounding_window(&polygons, s),
+    };
+    if window.cols == 0 || window.rows == 0 || window.cols * window.rows > MAX_IMPORT_CELLS {
+        return Err(err(format!(
+            "the window of {}×{} cells is empty or larger than {MAX_IMPORT_CELLS} cells",
+            window.cols, window.rows
+        )));
+    }
+    let mut drawn = vec![vec![false; window.cols]; window.rows];
+    for poly in &polygons {
+        sample_polygon(poly, &window, s, &mut drawn);
+    }
+    let cells = drawn
+        .into_iter()
+        .map(|row| {
+            row.into_iter()
+                .map(|d| f64::from(u8::from(d != (tone == Tone::Chrome))))
+                .collect()
+        })
+        .collect();
+    Ok(ImportedMask {
+        cells,
+        window,
+        tone,
+        polygons: polygons.len(),
+    })
+}
+
+/// The polygons' bounding box rounded out to whole cells from its top-left corner.
+fn bounding_window(polygons: &[Vec<[f64; 2]>], cell_um: f64) -> ImportWindow {
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in polygons.iter().flatten() {
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
+    }
+    // A hair of slack so that a box of exactly k cells does not round up to k + 1.
+    let count = |span: f64| ((span / cell_um) - 1e-6).ceil().max(1.0) as usize;
+    ImportWindow {
+        left_um: b[0],
+        top_um: b[3],
+        cols: count(b[2] - b[0]),
+        rows: count(b[3] - b[1]),
+    }
+}
+
+/// Marks the cells whose centres lie inside `poly` (even-odd rule).
+fn sample_polygon(poly: &[[f64; 2]], w: &ImportWindow, s: f64, drawn: &mut [Vec<bool>]) {
+    let n = poly.len();
+    if n < 3 {
+        return;
+    }
+    let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in poly {
+        y_lo = y_lo.min(p[1]);
+        y_hi = y_hi.max(p[1]);
+    }
+    // Rows whose centre y = top − (r + ½)s lies within the polygon's span.
+    let r0 = ((w.top_um - y_hi) / s - 0.5).floor().max(0.0) as usize;
+    let r1 = (((w.top_um - y_lo) / s - 0.5).ceil().max(0.0) as usize).min(w.rows);
+    let mut xs = Vec::new();
+    for (r, row) in drawn.iter_mut().enumerate().take(r1).skip(r0) {
+        let y = w.top_um - (r as f64 + 0.5) * s;
+        xs.clear();
+        for i in 0..n {
+            let [x0, y0] = poly[i];
+            let [x1, y1] = poly[(i + 1) % n];
+            if (y0 <= y) != (y1 <= y) {
+                xs.push(x0 + (y - y0) * (x1 - x0) / (y1 - y0));
+            }
+        }
+        xs.sort_by(f64::total_cmp);
+        for pair in xs.chunks_exact(2) {
+            // Cells whose centre x = left + (c + ½)s lies in [pair[0], pair[1]).
+            let c0 = ((pair[0] - w.left_um) / s - 0.5).ceil().max(0.0) as usize;
+            let c1 = (((pair[1] - w.left_um) / s - 0.5).ceil().max(0.0) as usize).min(w.cols);
+            for cell in row.iter_mut().take(c1).skip(c0) {
+                *cell = true;
+            }
+        }
+    }
+}

@@ -1,0 +1,488 @@
+//! Mask files for photolithography: GDSII, DXF, SVG and PNG of one region of a design, and
+//! reading GDSII/DXF masks back into a cell grid.
+//!
+//! The geometry comes from [`crate::core::mask::MaskLayout`] (nanometres, y up, optical axis at
+//! the origin). Every file states its tone (`TONE=OPEN: DRAWN = OPEN (CLEAR)` or the chrome
+//! equivalent) in a note, and the design is written beside it as `<file>.design.json`.
+
+mod dxf;
+mod gds;
+mod import;
+mod png;
+mod svg;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::core::Progress;
+use crate::core::design::Design;
+use crate::core::mask::{MaskError, MaskLayout, MaskSpec, MaskStats, Polygon, Tone, mask_ltr};
+use crate::core::tiling::D4;
+
+use super::IoError;
+use super::design_file::{to_json, write_atomic};
+
+pub use import::{ImportOptions, ImportWindow, ImportedMask, import_mask};
+
+/// A mask file format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MaskFormat {
+    #[default]
+    Gds,
+    Dxf,
+    Svg,
+    Png,
+}
+
+impl MaskFormat {
+    pub const ALL: [MaskFormat; 4] = [
+        MaskFormat::Gds,
+        MaskFormat::Dxf,
+        MaskFormat::Svg,
+        MaskFormat::Png,
+    ];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            MaskFormat::Gds => "gds",
+            MaskFormat::Dxf => "dxf",
+            MaskFormat::Svg => "svg",
+            MaskFormat::Png => "png",
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            MaskFormat::Gds => "GDSII",
+            MaskFormat::Dxf => "DXF",
+            MaskFormat::Svg => "SVG",
+            MaskFormat::Png => "PNG",
+        }
+    }
+
+    pub fn extension(self) -> &'static str {
+        self.as_str()
+    }
+}
+
+impl std::str::FromStr for MaskFormat {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        MaskFormat::ALL
+            .into_iter()
+            .find(|f| f.as_str() == s || (s == "gdsii" && *f == MaskFormat::Gds))
+            .ok_or_else(|| format!("unknown mask format `{s}` (expected gds, dxf, svg or png)"))
+    }
+}
+
+/// How a GDSII file realises the tile orientations.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum GdsCells {
+    /// One cell holds the opening; each pixel is a reference with the STRANS reflection bit and
+    /// angle of its D4 element.
+    #[default]
+    Strans,
+    /// One cell per orientation used, each holding its own transformed polygons; references
+    /// carry no STRANS (for tools that mishandle reflected references).
+    PerOrientation,
+}
+
+impl std::str::FromStr for GdsCells {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "strans" => Ok(GdsCells::Strans),
+            "per-orientation" => Ok(GdsCells::PerOrientation),
+            other => Err(format!(
+                "unknown GDSII cell layout `{other}` (expected strans or per-orientation)"
+            )),
+        }
+    }
+}
+
+/// Bits per PNG pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PngBits {
+    /// Black/white: a pixel is drawn when at least half of it is covered.
+    One,
+    /// Grey levels: the covered fraction of each pixel.
+    #[default]
+    Eight,
+}
+
+impl std::str::FromStr for PngBits {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "1" => Ok(PngBits::One),
+            "8" => Ok(PngBits::Eight),
+            other => Err(format!("PNG bits must be 1 or 8 (got `{other}`)")),
+        }
+    }
+}
+
+/// Everything an export needs besides the design.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ExportOptions {
+    pub format: MaskFormat,
+    pub spec: MaskSpec,
+    /// GDSII layer and datatype of the drawn polygons.
+    pub layer: i16,
+    pub datatype: i16,
+    /// Layer of the pupil outline and the text notes.
+    pub note_layer: i16,
+    pub top_cell: String,
+    pub gds_cells: GdsCells,
+    /// PNG resolution.
+    pub um_per_px: f64,
+    pub png_bits: PngBits,
+}
+
+impl Default for ExportOptions {
+    fn default() -> Self {
+        ExportOptions {
+            format: MaskFormat::Gds,
+            spec: MaskSpec::default(),
+            layer: 1,
+            datatype: 0,
+            note_layer: 2,
+            top_cell: "UDC_MASK".into(),
+            gds_cells: GdsCells::Strans,
+            um_per_px: 1.0,
+            png_bits: PngBits::Eight,
+        }
+    }
+}
+
+impl ExportOptions {
+    /// Checks the options that do not depend on the design.
+    ///
+    /// # Errors
+    /// A message naming the bad option.
+    pub fn validate(&self) -> Result<(), String> {
+        let name = &self.top_cell;
+        if name.is_empty()
+            || name.len() > 32
+            || !name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '$'))
+        {
+            return Err(format!(
+                "top cell name `{name}`: use 1 to 32 letters, digits, `_`, `-` or `$`"
+            ));
+        }
+        for (what, v) in [
+            ("layer", self.layer),
+            ("datatype", self.datatype),
+            ("note layer", self.note_layer),
+        ] {
+            if !(0..=255).contains(&v) {
+                return Err(format!("{what} must be between 0 and 255 (got {v})"));
+            }
+        }
+        if self.note_layer == self.layer {
+            return Err(format!(
+                "the note layer ({}) must differ from the drawing layer",
+                self.note_layer
+            ));
+        }
+        if !(self.um_per_px.is_finite() && self.um_per_px > 0.0) {
+            return Err(format!(
+                "µm per pixel must be a positive number (got {})",
+                self.um_per_px
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// What a file holds (or would hold), as the writers count it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FileCounts {
+    /// Polygons written to the file (GDSII: in its cells, references not expanded).
+    pub polygons: u64,
+    pub vertices: u64,
+    /// Single references (one per pixel of a random tiling).
+    pub references: u64,
+    /// Array references (periodic tilings).
+    pub arrays: u64,
+    pub bytes: u64,
+}
+
+/// The export report: what was written, and the numbers a mask house asks about.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaskReport {
+    pub path: PathBuf,
+    pub sidecar: PathBuf,
+    pub options: ExportOptions,
+    pub stats: MaskStats,
+    pub counts: FileCounts,
+    pub ltr: f64,
+    pub pitch_nm: i64,
+    pub period_nm: i64,
+    pub seconds: f64,
+}
+
+impl MaskReport {
+    /// The report as lines of text (CLI output, studio status).
+    pub fn lines(&self) -> Vec<String> {
+        let o = &self.options;
+        let s = &self.stats;
+        let c = &self.counts;
+        vec![
+            format!(
+                "wrote {} ({}, {}) in {:.2} s; design in {}",
+                self.path.display(),
+                o.format.label(),
+                human_bytes(c.bytes),
+                self.seconds,
+                self.sidecar.display()
+            ),
+            format!(
+                "tone: {} ({}); layer {}/{}; notes and pupil outline on layer {}; top cell {}",
+                o.spec.tone.as_str(),
+                o.spec.tone.meaning(),
+                o.layer,
+                o.datatype,
+                o.note_layer,
+                o.top_cell
+            ),
+            format!(
+                "region: {}, {} pixels in {} orientations; pitch {:.3} µm, period {:.3} µm, grid {} nm",
+                o.spec.region.label(),
+                s.tiles,
+                s.orientations,
+                self.pitch_nm as f64 * 1e-3,
+                self.period_nm as f64 * 1e-3,
+                o.spec.grid_nm
+            ),
+            format!(
+                "polygons: {} written ({} vertices), {} per pixel, {} when flattened",
+                c.polygons, c.vertices, s.polygons_per_tile, s.flat_polygons
+            ),
+            format!("references: {} single, {} arrays", c.references, c.arrays),
+            format!(
+                "open area: {:.6e} µm² of {:.6e} µm² (open fraction {:.6}); LTR {:.4}",
+                s.open_area_um2,
+                s.region_area_um2,
+                s.open_fraction(),
+                self.ltr
+            ),
+        ]
+    }
+}
+
+/// `12.3 MB`-style sizes.
+pub fn human_bytes(bytes: u64) -> String {
+    let b = bytes as f64;
+    if b >= 1e9 {
+        format!("{:.2} GB", b / 1e9)
+    } else if b >= 1e6 {
+        format!("{:.1} MB", b / 1e6)
+    } else if b >= 1e3 {
+        format!("{:.1} kB", b / 1e3)
+    } else {
+        format!("{bytes} B")
+    }
+}
+
+/// The sidecar design file of a mask: `<file>.design.json`.
+pub fn sidecar_path(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".design.json");
+    path.with_file_name(name)
+}
+
+/// Lays out `design` for `options` (no file is touched).
+///
+/// # Errors
+/// A message for bad options or a design that cannot be laid out.
+pub fn plan(design: &Design, options: &ExportOptions) -> Result<MaskLayout, MaskError> {
+    options.validate().map_err(MaskError::Invalid)?;
+    MaskLayout::new(design, &options.spec)
+}
+
+/// What the file would hold, without writing it (the dialog's preview).
+pub fn estimate(layout: &MaskLayout, options: &ExportOptions) -> FileCounts {
+    match options.format {
+        MaskFormat::Gds => gds::estimate(layout, options),
+        MaskFormat::Dxf => dxf::estimate(layout),
+        MaskFormat::Svg => svg::estimate(layout),
+        MaskFormat::Png => png::estimate(layout, options),
+    }
+}
+
+/// Writes the mask of `design` to `path` (through a temporary file, so a failed or cancelled
+/// export leaves nothing behind) and the design to `<path>.design.json`.
+///
+/// # Errors
+/// [`IoError::MaskLayout`] for a design or options that cannot be laid out (or a cancelled
+/// export), [`IoError::File`] when a file cannot be written.
+pub fn export_mask(
+    design: &Design,
+    options: &ExportOptions,
+    path: &Path,
+    progress: &Progress,
+) -> Result<MaskReport, IoError> {
+    let start = Instant::now();
+    let layout = plan(design, options)?;
+    let notes = notes(design, &layout, options, path);
+    let tmp = temp_path(path);
+    let written = match options.format {
+        MaskFormat::Gds => gds::write(&layout, options, &notes, &tmp, progress),
+        MaskFormat::Dxf => dxf::write(&layout, options, &notes, &tmp, progress),
+        MaskFormat::Svg => svg::write(&layout, &notes, &tmp, progress),
+        MaskFormat::Png => png::write(&layout, options, &notes, &tmp, progress),
+    };
+    let counts = match written {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(e);
+        }
+    };
+    std::fs::rename(&tmp, path).map_err(|e| IoError::file("replace", path, e))?;
+    let sidecar = sidecar_path(path);
+    write_atomic(&sidecar, to_json(design).as_bytes())?;
+    progress.set(1.0);
+    Ok(MaskReport {
+        path: path.to_path_buf(),
+        sidecar,
+        options: options.clone(),
+        stats: layout.stats(),
+        counts,
+        ltr: mask_ltr(design),
+        pitch_nm: layout.pitch_nm,
+        period_nm: layout.period_nm,
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+fn temp_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    path.with_file_name(format!(".{name}.part"))
+}
+
+/// The text notes every file carries (ASCII: GDSII strings are ASCII).
+fn notes(design: &Design, layout: &MaskLayout, o: &ExportOptions, path: &Path) -> Vec<String> {
+    let ascii = |s: &str| -> String {
+        s.chars()
+            .map(|c| {
+                if c.is_ascii_graphic() || c == ' ' {
+                    c
+                } else {
+                    '?'
+                }
+            })
+            .take(200)
+            .collect()
+    };
+    let tone = o.spec.tone;
+    vec![
+        format!("UDC STUDIO MASK: {}", ascii(&design.name)),
+        format!(
+            "TONE={}: {}",
+            tone.as_str().to_uppercase(),
+            tone.meaning().to_uppercase()
+        ),
+        format!(
+            "LAYER={} DATATYPE={} NOTES_LAYER={} UNITS: USER 1 UM, DATABASE 1 NM, GRID_NM={}",
+            o.layer, o.datatype, o.note_layer, o.spec.grid_nm
+        ),
+        format!(
+            "PITCH_NM={} PERIOD_NM={} CELLS={} REGION={} PIXELS={} TILING={} SEED={}",
+            layout.pitch_nm,
+            layout.period_nm,
+            layout.n,
+            o.spec.region.label(),
+            layout.tiles,
+            design.tiling.mode.as_str(),
+            design.tiling.seed
+        ),
+        format!(
+            "DESIGN FILE: {}",
+            ascii(
+                &sidecar_path(path)
+                    .file_name()
+                    .unwrap_or_default()
+                    .to_string_lossy()
+            )
+        ),
+    ]
+}
+
+/// The tone a file states in its notes (`None` when it states none).
+pub fn tone_of_notes<'a>(notes: impl IntoIterator<Item = &'a str>) -> Option<Tone> {
+    notes.into_iter().find_map(|n| {
+        if n.starts_with("TONE=CHROME") {
+            Some(Tone::Chrome)
+        } else if n.starts_with("TONE=OPEN") {
+            Some(Tone::Open)
+        } else {
+            None
+        }
+    })
+}
+
+/// The bounding box of the region's tiles, mask frame: `[min_x, min_y, max_x, max_y]` (nm).
+pub fn region_bbox_nm(layout: &MaskLayout) -> [i64; 4] {
+    let mut b = [i64::MAX, i64::MAX, i64::MIN, i64::MIN];
+    for r in &layout.rows {
+        let a = layout.tile_corner_nm(r.tx0, r.ty);
+        let z = layout.tile_corner_nm(r.tx0 + i64::from(r.count), r.ty + 1);
+        b = [
+            b[0].min(a[0]),
+            b[1].min(z[1]),
+            b[2].max(z[0]),
+            b[3].max(a[1]),
+        ];
+    }
+    if let Some(o) = &layout.pupil_outline {
+        for p in &o.points_nm {
+            b = [
+                b[0].min(p[0]),
+                b[1].min(p[1]),
+                b[2].max(p[0]),
+                b[3].max(p[1]),
+            ];
+        }
+    }
+    b
+}
+
+/// Calls `f` with every drawn polygon of the region, references expanded (mask frame), tile
+/// row by tile row; reports progress and stops when cancelled.
+fn for_each_flat_polygon(
+    layout: &MaskLayout,
+    progress: &Progress,
+    mut f: impl FnMut(&[[i64; 2]]) -> Result<(), IoError>,
+) -> Result<(), IoError> {
+    let mut cache: Vec<(D4, Vec<Polygon>)> = Vec::new();
+    let mut buf: Vec<[i64; 2]> = Vec::new();
+    let rows = layout.rows.len().max(1);
+    for (k, r) in layout.rows.iter().enumerate() {
+        progress.check().map_err(|_| MaskError::Cancelled)?;
+        progress.set(k as f32 / rows as f32);
+        for tx in r.tx0..r.tx0 + i64::from(r.count) {
+            let g = layout.orientation(tx, r.ty);
+            let idx = match cache.iter().position(|(h, _)| *h == g) {
+                Some(i) => i,
+                None => {
+                    cache.push((g, layout.polygons(g)));
+                    cache.len() - 1
+                }
+            };
+            let [cx, cy] = layout.tile_corner_nm(tx, r.ty);
+            let gap = layout.gap_polygon.iter();
+            for poly in cache[idx].1.iter().chain(gap) {
+                buf.clear();
+                buf.extend(poly.points_nm.iter().map(|p| [p[0] + cx, p[1] + cy]));
+                f(&buf)?;
+            }
+        }
+    }
+    Ok(())
+}
