@@ -145,7 +145,8 @@ where
     // Fixed chunks merged in index order: the floating-point sums come out the same bit for bit
     // whatever the thread scheduling (rayon's fold/reduce would merge in a racy order).
     let n_cols = half + 1;
-    let chunk = n_cols.div_ceil(64).max(8);
+    // Eight chunks keep both cores busy while holding only eight window-sized accumulators.
+    let chunk = n_cols.div_ceil(8).max(8);
     let starts: Vec<usize> = (0..n_cols).step_by(chunk).collect();
     let partials: Vec<A> = starts
         .par_iter()
