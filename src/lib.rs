@@ -5,7 +5,7 @@
 //!
 //! - [`core`]: the pure simulation (no egui, no files, no threads of its own). One entry point per
 //!   job, e.g. [`core::analyze::analyze`], shared by the studio, the CLI, the tests and the benches.
-//! - [`io`]: every file format (design files, images, reports).
+//! - [`io`]: every file format (design files, images, reports, photolithography masks).
 //! - [`cli`]: the headless commands, built only on `core` and `io`.
 //! - [`app`]: the egui studio; the only module that touches egui.
 //!
