@@ -100,19 +100,7 @@ fn editor_mid_drawing() {
     let rect = h.state().editor().grid_rect().expect("editor drawn");
     let a = rect.left_top() + rect.size() * 0.2;
     let b = rect.left_top() + rect.size() * 0.7;
-    h.hover_at(a);
-    h.step();
-    h.event(egui::Event::PointerButton {
-        pos: a,
-        button: egui::PointerButton::Primary,
-        pressed: true,
-        modifiers: Default::default(),
-    });
-    h.step();
-    for k in 1..=5 {
-        h.event(egui::Event::PointerMoved(a + (b - a) * (k as f32 / 5.0)));
-        h.step();
-    }
+    common::press_and_move(&mut h, a, b, 5);
     // Mid-drag: nothing is committed yet.
     assert_eq!(h.state().design(), &before);
     capture(&mut h, "editor-mid-drawing");

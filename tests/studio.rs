@@ -70,19 +70,7 @@ fn drawing_changes_the_design_and_undo_restores_it() {
     assert_eq!(before.opening.cells[2][1], 0.0);
     // One drag with the paint tool across row 2, columns 1…4.
     let (a, b) = (cell_centre(&h, 2, 1), cell_centre(&h, 2, 4));
-    h.hover_at(a);
-    h.step();
-    h.event(egui::Event::PointerButton {
-        pos: a,
-        button: egui::PointerButton::Primary,
-        pressed: true,
-        modifiers: Default::default(),
-    });
-    h.step();
-    for k in 1..=6 {
-        h.event(egui::Event::PointerMoved(a + (b - a) * (k as f32 / 6.0)));
-        h.step();
-    }
+    common::press_and_move(&mut h, a, b, 6);
     h.event(egui::Event::PointerButton {
         pos: b,
         button: egui::PointerButton::Primary,

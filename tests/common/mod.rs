@@ -94,3 +94,27 @@ pub fn step_until(
         std::thread::sleep(std::time::Duration::from_millis(10));
     }
 }
+
+/// Presses the primary button at `a` and moves to `b` in `steps` frames, without releasing.
+pub fn press_and_move<S>(
+    h: &mut egui_kittest::Harness<'_, S>,
+    a: egui::Pos2,
+    b: egui::Pos2,
+    steps: usize,
+) {
+    h.hover_at(a);
+    h.step();
+    h.event(egui::Event::PointerButton {
+        pos: a,
+        button: egui::PointerButton::Primary,
+        pressed: true,
+        modifiers: Default::default(),
+    });
+    h.step();
+    for k in 1..=steps {
+        h.event(egui::Event::PointerMoved(
+            a + (b - a) * (k as f32 / steps as f32),
+        ));
+        h.step();
+    }
+}
