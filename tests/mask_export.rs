@@ -590,3 +590,35 @@ fn d4_orientations_have_distinct_gds_cells() {
     let v = python_check(&["gds", s(&path), "1", "0"]);
     assert_eq!(num(&v, "cells"), 9.0);
 }
+
+/// What the studio's File → Import opening does with a mask: the axis pixel comes back as the
+/// design's own opening, whatever orientation that pixel has in the tiling.
+#[test]
+fn an_exported_pixel_imports_back_as_the_opening() {
+    let dir = tempfile::tempdir().unwrap();
+    for (mode, seeds) in [
+        (TilingMode::Repeat, 0..1u64),
+        (TilingMode::RandomD4, 0..12),
+        (TilingMode::Random4, 0..6),
+    ] {
+        for seed in seeds {
+            let d = design(mode, seed, 0.0);
+            for format in [MaskFormat::Gds, MaskFormat::Dxf] {
+                let path = dir
+                    .path()
+                    .join(format!("pixel-{seed}.{}", format.extension()));
+                export(
+                    &d,
+                    &options(
+                        format,
+                        udc_studio::core::mask::MaskRegion::PIXEL,
+                        Tone::Open,
+                    ),
+                    &path,
+                );
+                let cells = udc_studio::io::mask::import_opening(&path, &d).unwrap();
+                assert_eq!(cells, d.opening.cells, "{mode:?} seed {seed} {format:?}");
+            }
+        }
+    }
+}

@@ -183,3 +183,58 @@ fn unsaved_changes_are_confirmed_before_loading_another_design() {
     h.state_mut().command(Command::Undo);
     assert_eq!(h.state().design(), &d);
 }
+
+#[test]
+fn a_mask_imports_back_as_the_opening() {
+    use udc_studio::core::mask::{MaskRegion, MaskSpec};
+    use udc_studio::io::mask::{ExportOptions, MaskFormat, export_mask};
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut()
+        .command(Command::LoadPreset("l2inv-random".into()));
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    let exported = h.state().design().clone();
+    let gds = dir.path().join("pixel.gds");
+    let options = ExportOptions {
+        format: MaskFormat::Gds,
+        spec: MaskSpec {
+            region: MaskRegion::PIXEL,
+            ..MaskSpec::default()
+        },
+        ..ExportOptions::default()
+    };
+    export_mask(
+        &exported,
+        &options,
+        &gds,
+        &udc_studio::core::Progress::new(),
+    )
+    .unwrap();
+    // Clear the opening, then bring it back from the mask file.
+    h.state_mut().command(Command::Clear);
+    assert!(
+        h.state()
+            .design()
+            .opening
+            .cells
+            .iter()
+            .flatten()
+            .all(|v| *v == 0.0)
+    );
+    h.state_mut().command(Command::ImportOpening(gds));
+    step_until(&mut h, "the import", |a| {
+        a.status().is_some_and(|(m, _)| m == "opening imported")
+    });
+    assert_eq!(h.state().design().opening.cells, exported.opening.cells);
+    // One undo step back to the cleared opening.
+    h.state_mut().command(Command::Undo);
+    assert!(
+        h.state()
+            .design()
+            .opening
+            .cells
+            .iter()
+            .flatten()
+            .all(|v| *v == 0.0)
+    );
+}

@@ -100,6 +100,7 @@ impl StudioApp {
                 self.ask(Purpose::SaveAs, name);
             }
             Command::ImportPattern => self.ask(Purpose::ImportPattern, None),
+            Command::ImportOpening(p) => self.import_opening(p),
             Command::LoadSpectral(step) => {
                 self.session.spectral_step_nm = step;
                 self.ask(Purpose::Spectral, None);
@@ -212,6 +213,28 @@ impl StudioApp {
         self.session.load = Some(task);
     }
 
+    /// Reads an opening (an image, or the axis pixel of a GDSII/DXF mask) on a background
+    /// thread; it arrives as one undoable edit of the current design.
+    fn import_opening(&mut self, path: PathBuf) {
+        let mut design = self.doc.design().clone();
+        let task = Task::spawn("import-opening", self.wake(), move || {
+            let ext = path
+                .extension()
+                .map(|e| e.to_string_lossy().to_lowercase())
+                .unwrap_or_default();
+            let cells = if matches!(ext.as_str(), "gds" | "gds2" | "gdsii" | "dxf") {
+                crate::io::mask::import_opening(&path, &design)
+            } else {
+                pattern::load_pattern_png(&path)
+            }
+            .map_err(|e| e.to_string())?;
+            design.opening.cells = cells;
+            design.opening.polygons.clear();
+            Ok((design, None))
+        });
+        self.session.load = Some(task);
+    }
+
     fn save_to(&mut self, path: PathBuf) {
         let design = self.doc.design().clone();
         match design_file::save_design(&path, &design) {
@@ -296,16 +319,19 @@ impl StudioApp {
         if let Some(done) = self.session.load.as_ref().and_then(|t| t.poll()) {
             self.session.load = None;
             match done {
-                Ok(Ok((design, path))) => {
-                    if let Some(p) = &path {
-                        self.view.settings.add_recent(p);
-                        self.save_settings();
-                        self.set_status(format!("opened {}", p.display()), false);
-                    }
-                    self.doc.replace(design, path);
+                Ok(Ok((design, Some(p)))) => {
+                    self.view.settings.add_recent(&p);
+                    self.save_settings();
+                    self.set_status(format!("opened {}", p.display()), false);
+                    self.doc.replace(design, Some(p));
                     self.submit();
                 }
-                Ok(Err(e)) => self.set_status(format!("cannot open: {e}"), true),
+                // An imported opening: an edit of the current design, not a new document.
+                Ok(Ok((design, None))) => {
+                    self.edit_design(design);
+                    self.set_status("opening imported", false);
+                }
+                Ok(Err(e)) => self.set_status(format!("cannot read: {e}"), true),
                 Err(()) => self.set_status("the file task stopped unexpectedly", true),
             }
         }
@@ -313,6 +339,8 @@ impl StudioApp {
         for t in std::mem::take(&mut self.session.writes) {
             match t.poll() {
                 None => still.push(t),
+                // Autosaves succeed silently (empty message) and must not wipe other messages.
+                Some(Ok(Ok(msg))) if msg.is_empty() => {}
                 Some(Ok(Ok(msg))) => self.set_status(msg, false),
                 Some(Ok(Err(e))) => self.set_status(e, true),
                 Some(Err(())) => self.set_status("a file task stopped unexpectedly", true),
@@ -333,10 +361,7 @@ impl StudioApp {
             Purpose::SaveAs => self.save_to(path),
             Purpose::Export(kind) => self.export_to(kind, path),
             Purpose::Mask(_) => self.apply_one(Command::WriteMask(Some(path)), true),
-            Purpose::ImportPattern => match pattern::load_pattern_png(&path) {
-                Ok(cells) => self.edit_cells(|c| *c = cells),
-                Err(e) => self.set_status(e.to_string(), true),
-            },
+            Purpose::ImportPattern => self.import_opening(path),
             Purpose::Spectral => {
                 let step = self.session.spectral_step_nm.max(1.0);
                 match spectral::load_response_csv(&path) {
@@ -420,7 +445,7 @@ impl StudioApp {
             if ext == "json" {
                 cmds.push(Command::OpenPath(p));
             } else {
-                self.dialog_done(Purpose::ImportPattern, p);
+                cmds.push(Command::ImportOpening(p));
             }
         }
     }

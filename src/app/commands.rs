@@ -103,6 +103,8 @@ pub enum Command {
     SaveAs,
     LoadPreset(String),
     ImportPattern,
+    /// Import an opening from this file (an image, or the axis pixel of a GDSII/DXF mask).
+    ImportOpening(std::path::PathBuf),
     /// Load a spectral response CSV and sample it every given step (nm).
     LoadSpectral(f64),
     Export(ExportKind),

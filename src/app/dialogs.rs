@@ -38,8 +38,13 @@ impl PendingDialog {
                         .set_title("Open design")
                         .pick_file(),
                     Purpose::ImportPattern => d
-                        .add_filter("Images", &["png", "bmp", "tif", "tiff", "jpg", "jpeg"])
-                        .set_title("Import opening pattern")
+                        .add_filter(
+                            "Openings (images, GDSII, DXF)",
+                            &[
+                                "png", "bmp", "tif", "tiff", "jpg", "jpeg", "gds", "gds2", "dxf",
+                            ],
+                        )
+                        .set_title("Import opening: an image, or the axis pixel of a mask")
                         .pick_file(),
                     Purpose::Spectral => d
                         .add_filter("Spectral response CSV", &["csv"])

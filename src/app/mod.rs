@@ -328,7 +328,7 @@ impl StudioApp {
                     cmds.push(Command::SaveAs);
                 }
                 ui.separator();
-                if item(ui, "Import opening PNG…", None) {
+                if item(ui, "Import opening (image, GDSII, DXF)…", None) {
                     cmds.push(Command::ImportPattern);
                 }
                 if item(ui, "Export mask…", None) {

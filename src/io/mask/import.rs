@@ -198,3 +198,49 @@ fn sample_polygon(poly: &[[f64; 2]], w: &ImportWindow, s: f64, drawn: &mut [Vec<
         }
     }
 }
+
+/// Reads the pixel that holds the optical axis of a GDSII or DXF mask back into `design`'s cell
+/// grid (its cell size and tile registration), undoing that pixel's orientation when the design
+/// tiles randomly, so an exported mask can be simulated again as the design's opening. The
+/// mask's tone is read from its notes; layer 1, datatype 0 (the export defaults).
+///
+/// # Errors
+/// As [`import_mask`], and [`IoError::MaskLayout`] when the design cannot be laid out.
+pub fn import_opening(path: &Path, design: &crate::core::Design) -> Result<Vec<Vec<f64>>, IoError> {
+    use crate::core::mask::{MaskLayout, MaskRegion, MaskSpec};
+    use crate::core::tiling::{D4, tile_orientation};
+    let spec = MaskSpec {
+        region: MaskRegion::PIXEL,
+        ..MaskSpec::default()
+    };
+    // Only the registration matters here, not the cells (which may all be closed right now).
+    let n = design.opening.n();
+    let mut frame = design.clone();
+    frame.opening.cells = vec![vec![1.0; n]; n];
+    frame.opening.polygons.clear();
+    let layout = MaskLayout::new(&frame, &spec)?;
+    let [x_nm, y_nm] = layout.tile_corner_nm(0, 0);
+    let imported = import_mask(
+        path,
+        &ImportOptions {
+            cell_um: design.opening.cell_um(),
+            window: Some(ImportWindow {
+                left_um: x_nm as f64 * 1e-3,
+                top_um: y_nm as f64 * 1e-3,
+                cols: n,
+                rows: n,
+            }),
+            ..ImportOptions::default()
+        },
+    )?;
+    // The axis pixel shows g·P; find h with h·(g·P) = P for every pattern (h = g⁻¹).
+    let g = tile_orientation(design.tiling.mode, design.tiling.seed, 0, 0);
+    let probe: Vec<Vec<usize>> = (0..3)
+        .map(|r| (0..3).map(|c| 3 * r + c).collect())
+        .collect();
+    let inverse = D4::all()
+        .into_iter()
+        .find(|h| h.apply(&g.apply(&probe)) == probe)
+        .unwrap_or(D4::IDENTITY);
+    Ok(inverse.apply(&imported.cells))
+}

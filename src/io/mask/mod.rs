@@ -22,7 +22,7 @@ use crate::core::tiling::D4;
 use super::IoError;
 use super::design_file::{to_json, write_atomic};
 
-pub use import::{ImportOptions, ImportWindow, ImportedMask, import_mask};
+pub use import::{ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening};
 
 /// A mask file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
