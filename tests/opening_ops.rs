@@ -302,31 +302,42 @@ struct State {
 fn harness(tool: Tool, value: f64) -> Harness<'static, State> {
     let mut design = Design::default_toled();
     design.opening.cells = vec![vec![value; 21]; 21];
+    let mut h = editor_harness(
+        Harness::builder().with_size(egui::vec2(480.0, 720.0)),
+        design,
+        tool,
+    );
+    h.run();
+    h
+}
+
+/// The editor panel alone, drawing `design`, in a harness from `builder`.
+fn editor_harness(
+    builder: egui_kittest::HarnessBuilder<State>,
+    design: Design,
+    tool: Tool,
+) -> Harness<'static, State> {
     let state = State {
         panel: EditorPanel::default(),
         design,
         tool,
         commands: Vec::new(),
     };
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(480.0, 720.0))
-        .build_ui_state(
-            |ui, s: &mut State| {
-                let mut ctx = PanelCtx {
-                    design: &s.design,
-                    shown: None,
-                    display: None,
-                    pinned: None,
-                    overlays: false,
-                    tool: s.tool,
-                    commands: &mut s.commands,
-                };
-                s.panel.ui(ui, &mut ctx);
-            },
-            state,
-        );
-    h.run();
-    h
+    builder.build_ui_state(
+        |ui, s: &mut State| {
+            let mut ctx = PanelCtx {
+                design: &s.design,
+                shown: None,
+                display: None,
+                pinned: None,
+                overlays: false,
+                tool: s.tool,
+                commands: &mut s.commands,
+            };
+            s.panel.ui(ui, &mut ctx);
+        },
+        state,
+    )
 }
 
 fn at(h: &Harness<State>, r: usize, c: usize) -> Pos2 {
@@ -450,30 +461,13 @@ fn buttons_push_commands() {
 #[test]
 fn editor_snapshot_matches() {
     let design = udc_studio::io::presets::load_preset("l2inv-random").unwrap();
-    let state = State {
-        panel: EditorPanel::default(),
+    let mut h = editor_harness(
+        Harness::builder()
+            .with_size(egui::vec2(420.0, 560.0))
+            .wgpu(),
         design,
-        tool: Tool::Paint,
-        commands: Vec::new(),
-    };
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(420.0, 560.0))
-        .wgpu()
-        .build_ui_state(
-            |ui, s: &mut State| {
-                let mut ctx = PanelCtx {
-                    design: &s.design,
-                    shown: None,
-                    display: None,
-                    pinned: None,
-                    overlays: false,
-                    tool: s.tool,
-                    commands: &mut s.commands,
-                };
-                s.panel.ui(ui, &mut ctx);
-            },
-            state,
-        );
+        Tool::Paint,
+    );
     h.run();
     match h.try_snapshot("editor-l2inv-random") {
         Ok(()) => {}
