@@ -162,8 +162,111 @@ fn segments(display: &Display, x_um: f64, delta_um: f64, axis: usize) -> Vec<Seg
 /// Rasterises the display (clipped by `extent`) on a grid of spacing `delta_um`.
 pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
     let n = display.n();
+    let mut rows: Vec<SparseRow> = Vec::new();
+    let mut current: Option<SparseRow> = None;
+    let mut last_nonzero = 0usize;
+    let finish = |row: Option<SparseRow>, keep: usize, rows: &mut Vec<SparseRow>| {
+        if let Some(mut r) = row {
+            r.values.truncate(keep);
+            if !r.values.is_empty() {
+                rows.push(r);
+            }
+        }
+    };
+    walk(display, extent, delta_um, |iy, ix, terms| {
+        let v: f64 = terms
+            .iter()
+            .map(|&(c, w)| w * display.cells[c / n][c % n])
+            .sum();
+        if current.as_ref().is_some_and(|r| r.iy != iy) {
+            finish(current.take(), last_nonzero, &mut rows);
+        }
+        match current.as_mut() {
+            Some(r) => r.values.push(v),
+            None if v != 0.0 => {
+                current = Some(SparseRow {
+                    iy,
+                    ix0: ix,
+                    values: vec![v],
+                });
+            }
+            None => return,
+        }
+        if v != 0.0 {
+            last_nonzero = current.as_ref().map_or(0, |r| r.values.len());
+        }
+    });
+    finish(current, last_nonzero, &mut rows);
+    Field { rows }
+}
+
+/// The display as a linear map from the `N×N` cell transmittances (flattened row-major) to the
+/// samples of the pupil grid: sample `k` at `(iy[k], ix[k])` holds `Σ weight · cell` over its
+/// terms. The optimiser needs this to send gradients from samples back to cells.
+#[derive(Debug, Clone, Default)]
+pub struct CellMap {
+    pub n: usize,
+    /// Signed sample offsets from the axis of every sample inside the extent, row by row.
+    pub iy: Vec<i64>,
+    pub ix: Vec<i64>,
+    /// Terms of sample `k` are `terms[starts[k]..starts[k + 1]]` as `(cell, weight)`.
+    pub starts: Vec<usize>,
+    pub terms: Vec<(usize, f64)>,
+}
+
+impl CellMap {
+    /// Builds the map of `display` (its cell values are ignored, only its geometry counts).
+    pub fn new(display: &Display, extent: Extent, delta_um: f64) -> Self {
+        let mut map = CellMap {
+            n: display.n(),
+            starts: vec![0],
+            ..CellMap::default()
+        };
+        walk(display, extent, delta_um, |iy, ix, terms| {
+            map.iy.push(iy);
+            map.ix.push(ix);
+            map.terms.extend_from_slice(terms);
+            map.starts.push(map.terms.len());
+        });
+        map
+    }
+
+    /// Sample values for the flattened cells.
+    pub fn apply(&self, cells: &[f64]) -> Vec<f64> {
+        self.starts
+            .windows(2)
+            .map(|w| {
+                self.terms[w[0]..w[1]]
+                    .iter()
+                    .map(|&(c, wt)| wt * cells[c])
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// The adjoint: `∂L/∂cell = Σ_samples weight · ∂L/∂sample`.
+    pub fn adjoint(&self, sample_grad: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.n * self.n];
+        for (w, g) in self.starts.windows(2).zip(sample_grad) {
+            for &(c, wt) in &self.terms[w[0]..w[1]] {
+                out[c] += wt * g;
+            }
+        }
+        out
+    }
+}
+
+/// Visits every sample inside `extent`, row by row and left to right, with the `(cell, weight)`
+/// terms of its box-filtered display value (cells flattened row-major; empty in a wiring gap).
+fn walk(
+    display: &Display,
+    extent: Extent,
+    delta_um: f64,
+    mut visit: impl FnMut(i64, i64, &[(usize, f64)]),
+) {
+    let n = display.n();
     if n == 0 {
-        return Field::default();
+        return;
     }
     let (lo, hi) = match extent {
         Extent::Pupil { diameter_um } => {
@@ -211,21 +314,15 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
         Extent::Pupil { diameter_um } => (0.5 * diameter_um).powi(2),
         Extent::SingleTile | Extent::Square { .. } => f64::INFINITY,
     };
-    let mut rows = Vec::new();
+    let mut terms = Vec::with_capacity(4);
     for (ky, iy) in (lo..=hi).enumerate() {
         let y = iy as f64 * delta_um;
-        let mut values = Vec::with_capacity((hi - lo + 1) as usize);
-        let mut first: Option<i64> = None;
-        let mut last_nonzero = 0usize;
         for (kx, ix) in (lo..=hi).enumerate() {
             let x = ix as f64 * delta_um;
             if x * x + y * y > r2 {
-                if first.is_some() {
-                    values.push(0.0);
-                }
                 continue;
             }
-            let mut v = 0.0;
+            terms.clear();
             for sy in &segs_y[ky] {
                 let Some(cy) = sy.cell else { continue };
                 for sx in &segs_x[kx] {
@@ -235,27 +332,12 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
                     }
                     let g = orientation(sx.tile, sy.tile);
                     let (sr, sc) = g.source(cy, cx, n);
-                    v += sy.weight * sx.weight * display.cells[sr][sc];
+                    terms.push((sr * n + sc, sy.weight * sx.weight));
                 }
             }
-            if v != 0.0 || first.is_some() {
-                if first.is_none() {
-                    first = Some(ix);
-                }
-                values.push(v);
-                if v != 0.0 {
-                    last_nonzero = values.len();
-                }
-            }
-        }
-        if let Some(ix0) = first {
-            values.truncate(last_nonzero);
-            if !values.is_empty() {
-                rows.push(SparseRow { iy, ix0, values });
-            }
+            visit(iy, ix, &terms);
         }
     }
-    Field { rows }
 }
 
 /// Number of pupil samples (`Σ p²`) for a binary disc of diameter `d_um` on a `δ1` grid.

@@ -24,6 +24,7 @@ struct Plans {
     complex: FftPlanner<f64>,
     real_cache: HashMap<usize, Arc<dyn RealToComplex<f64>>>,
     complex_cache: HashMap<usize, Arc<dyn Fft<f64>>>,
+    inverse_cache: HashMap<usize, Arc<dyn Fft<f64>>>,
 }
 
 fn plans() -> &'static Mutex<Plans> {
@@ -34,6 +35,7 @@ fn plans() -> &'static Mutex<Plans> {
             complex: FftPlanner::new(),
             real_cache: HashMap::new(),
             complex_cache: HashMap::new(),
+            inverse_cache: HashMap::new(),
         })
     })
 }
@@ -57,6 +59,17 @@ pub fn complex_plan(n: usize) -> Arc<dyn Fft<f64>> {
     }
     let plan = p.complex.plan_fft_forward(n);
     p.complex_cache.insert(n, plan.clone());
+    plan
+}
+
+/// A cached inverse complex plan of length `n` (unnormalised, as rustfft's).
+pub fn complex_inverse_plan(n: usize) -> Arc<dyn Fft<f64>> {
+    let mut p = plans().lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(plan) = p.inverse_cache.get(&n) {
+        return plan.clone();
+    }
+    let plan = p.complex.plan_fft_inverse(n);
+    p.inverse_cache.insert(n, plan.clone());
     plan
 }
 

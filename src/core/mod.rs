@@ -11,6 +11,7 @@ pub mod mask;
 pub mod metrics;
 pub mod mtf;
 pub mod opening_ops;
+pub mod optimize;
 pub mod progress;
 pub mod psf;
 pub mod sampling;

@@ -1,0 +1,366 @@
+//! The opening optimiser of thesis §3.4.2 (PHYSICS.md §6): sigmoid-relaxed cells under a fixed,
+//! seeded tiling; loss `α_area (mean g − c)² + α_inv L_inv + α_data L_top10`; analytic gradients
+//! through the FFTs ([`model`], [`data`]); Adam; an area target that falls from 1 by 0.05 every
+//! five epochs; and a final binarisation that keeps the target open fraction.
+//!
+//! [`optimize`] is the one entry point (studio, CLI, tests and benches).
+
+pub mod adam;
+pub mod data;
+pub mod model;
+pub mod spectra;
+
+use std::ops::ControlFlow;
+use std::time::Instant;
+
+use super::SimError;
+use super::analyze::Quality;
+use super::design::Design;
+use super::metrics::open_fraction;
+use super::progress::Progress;
+use super::sampling::plan;
+use adam::Adam;
+pub use data::DataSet;
+pub use model::Model;
+
+/// Weights of the three loss terms (PHYSICS.md §6: 10 / 0.01 / 10).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LossWeights {
+    pub area: f64,
+    pub inv: f64,
+    pub data: f64,
+}
+
+impl Default for LossWeights {
+    fn default() -> Self {
+        LossWeights {
+            area: 10.0,
+            inv: 0.01,
+            data: 10.0,
+        }
+    }
+}
+
+/// Where the logits start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Start {
+    /// Every logit +1: all open (the thesis, and its ablation's best).
+    #[default]
+    AllOpen,
+    /// The design's current opening: logit +2 where open, −2 where closed.
+    Current,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct OptimizeSettings {
+    pub epochs: usize,
+    /// Final open fraction `c` of the pixel (the thesis: 0.2).
+    pub target_open_fraction: f64,
+    pub weights: LossWeights,
+    pub learning_rate: f64,
+    pub beta1: f64,
+    pub beta2: f64,
+    /// The area target falls by `area_step` every `area_every_epochs` epochs, from 1 to `c`.
+    pub area_step: f64,
+    pub area_every_epochs: usize,
+    pub start: Start,
+    /// Preview doubles the fine spacing (a quarter of the FFT work), as in
+    /// [`crate::core::analyze::Quality`].
+    pub quality: Quality,
+}
+
+impl Default for OptimizeSettings {
+    fn default() -> Self {
+        OptimizeSettings {
+            epochs: 150,
+            target_open_fraction: 0.2,
+            weights: LossWeights::default(),
+            learning_rate: 1.0,
+            beta1: 0.5,
+            beta2: 0.999,
+            area_step: 0.05,
+            area_every_epochs: 5,
+            start: Start::AllOpen,
+            quality: Quality::Full,
+        }
+    }
+}
+
+impl OptimizeSettings {
+    /// # Errors
+    /// [`SimError::InvalidField`] naming the first bad setting.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let positive = |name: &str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(())
+            } else {
+                Err(SimError::field(
+                    name,
+                    format!("must be a positive number, got {v}"),
+                ))
+            }
+        };
+        let non_negative = |name: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(())
+            } else {
+                Err(SimError::field(name, format!("must be ≥ 0, got {v}")))
+            }
+        };
+        if !(1..=100_000).contains(&self.epochs) {
+            return Err(SimError::field(
+                "epochs",
+                format!("must be 1 … 100000, got {}", self.epochs),
+            ));
+        }
+        let c = self.target_open_fraction;
+        if !(c > 0.0 && c <= 1.0) {
+            return Err(SimError::field(
+                "target_open_fraction",
+                format!("must be in (0, 1], got {c}"),
+            ));
+        }
+        non_negative("weights.area", self.weights.area)?;
+        non_negative("weights.inv", self.weights.inv)?;
+        non_negative("weights.data", self.weights.data)?;
+        positive("learning_rate", self.learning_rate)?;
+        non_negative("area_step", self.area_step)?;
+        for (name, b) in [("beta1", self.beta1), ("beta2", self.beta2)] {
+            if !(0.0..1.0).contains(&b) {
+                return Err(SimError::field(name, format!("must be in [0, 1), got {b}")));
+            }
+        }
+        if self.area_every_epochs == 0 {
+            return Err(SimError::field("area_every_epochs", "must be ≥ 1"));
+        }
+        Ok(())
+    }
+
+    /// The area target at `epoch` (0-based): `max(c, 1 − step·floor(epoch / every))`.
+    pub fn area_target(&self, epoch: usize) -> f64 {
+        let steps = (epoch / self.area_every_epochs) as f64;
+        (1.0 - self.area_step * steps).max(self.target_open_fraction)
+    }
+}
+
+/// One epoch of the run, as the studio plots it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EpochReport {
+    pub epoch: usize,
+    pub epochs: usize,
+    pub area_target: f64,
+    pub loss_total: f64,
+    pub loss_inv: f64,
+    pub loss_area: f64,
+    pub loss_data: Option<f64>,
+    /// Mean of the relaxed mask `g` (its open fraction).
+    pub open_fraction: f64,
+    /// The relaxed mask `g`, `N×N` row-major, before this epoch's step.
+    pub mask: Vec<f64>,
+}
+
+/// The outcome of [`optimize`].
+#[derive(Debug, Clone)]
+pub struct Optimized {
+    /// The input design with the binarised opening (polygons dropped).
+    pub design: Design,
+    /// The relaxed mask at the end, `N×N` row-major.
+    pub relaxed: Vec<f64>,
+    pub history: Vec<EpochReport>,
+    /// True when the caller stopped the run before the last epoch.
+    pub stopped_early: bool,
+    pub elapsed_ms: f64,
+}
+
+fn sigmoid(x: f64) -> f64 {
+    1.0 / (1.0 + (-x).exp())
+}
+
+/// Opens the `round(c·N²)` cells with the largest relaxed values (ties by position).
+pub fn binarise(relaxed: &[f64], n: usize, open_fraction: f64) -> Vec<Vec<f64>> {
+    let k = ((open_fraction * (n * n) as f64).round() as usize).min(n * n);
+    let mut order: Vec<usize> = (0..relaxed.len()).collect();
+    order.sort_by(|&a, &b| relaxed[b].total_cmp(&relaxed[a]).then(a.cmp(&b)));
+    let mut cells = vec![vec![0.0; n]; n];
+    for &i in order.iter().take(k) {
+        cells[i / n][i % n] = 1.0;
+    }
+    cells
+}
+
+/// The differentiable model and the optional data set of one run, ready to evaluate.
+pub struct Objective<'a> {
+    pub model: Model,
+    pub data: Option<&'a DataSet>,
+    pub weights: LossWeights,
+}
+
+/// Loss terms and the gradient with respect to the logits.
+#[derive(Debug, Clone)]
+pub struct Step {
+    pub loss_total: f64,
+    pub loss_inv: f64,
+    pub loss_area: f64,
+    pub loss_data: Option<f64>,
+    pub grad_logits: Vec<f64>,
+}
+
+impl<'a> Objective<'a> {
+    /// # Errors
+    /// As [`Model::new`]; [`SimError::InvalidField`] for a bad design.
+    pub fn new(
+        design: &Design,
+        quality: Quality,
+        weights: LossWeights,
+        data: Option<&'a DataSet>,
+    ) -> Result<Self, SimError> {
+        design.validate()?;
+        let op = &design.optics;
+        let fine_um = match quality {
+            Quality::Full => op.fine_sample_um,
+            Quality::Preview => {
+                let spp = (op.sensor_pixel_um / op.fine_sample_um).round() as usize;
+                if spp >= 2 && spp.is_multiple_of(2) {
+                    2.0 * op.fine_sample_um
+                } else {
+                    op.fine_sample_um
+                }
+            }
+        };
+        let mut warnings = Vec::new();
+        let samplings = plan(design, fine_um, quality == Quality::Preview, &mut warnings)?;
+        Ok(Objective {
+            model: Model::new(design, &samplings)?,
+            data,
+            weights,
+        })
+    }
+
+    /// The loss at `logits` for area target `c`, and its gradient.
+    ///
+    /// # Errors
+    /// As [`Model::evaluate`].
+    pub fn step(&self, logits: &[f64], c: f64) -> Result<Step, SimError> {
+        let g: Vec<f64> = logits.iter().map(|&x| sigmoid(x)).collect();
+        let count = g.len().max(1) as f64;
+        let mean = g.iter().sum::<f64>() / count;
+        let loss_area = (mean - c) * (mean - c);
+        let w = self.weights;
+        let fwd = self.model.forward(&g)?;
+        // The data loss's gradient joins L_inv's at the PSFs.
+        let (loss_data, extra) = match self.data {
+            Some(d) if w.data > 0.0 => {
+                let (loss, grads) = d.loss(&fwd.psfs(), true);
+                let scaled = grads.map(|gs| gs.into_iter().map(|g| g * w.data).collect::<Vec<_>>());
+                (Some(loss), scaled)
+            }
+            Some(d) => (Some(d.loss(&fwd.psfs(), false).0), None),
+            None => (None, None),
+        };
+        let grad_model = self.model.backward(&fwd, w.inv, extra.as_deref());
+        let loss_inv = fwd.loss_inv;
+        let area_grad = w.area * 2.0 * (mean - c) / count;
+        let grad_logits = g
+            .iter()
+            .zip(&grad_model)
+            .map(|(gi, gm)| (gm + area_grad) * gi * (1.0 - gi))
+            .collect();
+        Ok(Step {
+            loss_total: w.area * loss_area
+                + w.inv * loss_inv
+                + loss_data.map_or(0.0, |d| w.data * d),
+            loss_inv,
+            loss_area,
+            loss_data,
+            grad_logits,
+        })
+    }
+}
+
+/// Optimises `design`'s opening under its own pitch, tiling (seed fixed) and optics.
+/// `on_epoch` sees every epoch and may stop the run early (the result so far is returned);
+/// cancelling `progress` aborts with [`SimError::Cancelled`].
+///
+/// # Errors
+/// [`SimError::InvalidField`] for bad settings or design, sampling errors, cancellation.
+pub fn optimize(
+    design: &Design,
+    settings: &OptimizeSettings,
+    data: Option<&DataSet>,
+    progress: &Progress,
+    mut on_epoch: impl FnMut(&EpochReport) -> ControlFlow<()>,
+) -> Result<Optimized, SimError> {
+    let start = Instant::now();
+    settings.validate()?;
+    progress.set(0.0);
+    let objective = Objective::new(design, settings.quality, settings.weights, data)?;
+    let n = objective.model.n;
+    let mut logits: Vec<f64> = match settings.start {
+        Start::AllOpen => vec![1.0; n * n],
+        Start::Current => design
+            .opening
+            .cells
+            .iter()
+            .flatten()
+            .map(|&v| if v >= 0.5 { 2.0 } else { -2.0 })
+            .collect(),
+    };
+    let mut adam = Adam::new(
+        logits.len(),
+        settings.learning_rate,
+        settings.beta1,
+        settings.beta2,
+    );
+    let mut history = Vec::with_capacity(settings.epochs);
+    let mut stopped_early = false;
+    for epoch in 0..settings.epochs {
+        progress.check()?;
+        let c = settings.area_target(epoch);
+        let step = objective.step(&logits, c)?;
+        let mask: Vec<f64> = logits.iter().map(|&x| sigmoid(x)).collect();
+        let report = EpochReport {
+            epoch,
+            epochs: settings.epochs,
+            area_target: c,
+            loss_total: step.loss_total,
+            loss_inv: step.loss_inv,
+            loss_area: step.loss_area,
+            loss_data: step.loss_data,
+            open_fraction: mask.iter().sum::<f64>() / mask.len().max(1) as f64,
+            mask,
+        };
+        adam.step(&mut logits, &step.grad_logits);
+        progress.set((epoch + 1) as f32 / settings.epochs as f32);
+        let flow = on_epoch(&report);
+        history.push(report);
+        if flow.is_break() && epoch + 1 < settings.epochs {
+            stopped_early = true;
+            break;
+        }
+    }
+    let relaxed: Vec<f64> = logits.iter().map(|&x| sigmoid(x)).collect();
+    let mut out = design.clone();
+    out.opening.cells = binarise(&relaxed, n, settings.target_open_fraction);
+    out.opening.polygons.clear();
+    out.name = format!("{} (optimised)", design.name);
+    out.description = format!(
+        "Optimised from \"{}\" for {} epochs (L_inv weight {}, data weight {}), open fraction {:.3}. {}",
+        design.name,
+        history.len(),
+        settings.weights.inv,
+        if data.is_some() {
+            settings.weights.data
+        } else {
+            0.0
+        },
+        open_fraction(&out.opening.cells),
+        design.description
+    );
+    Ok(Optimized {
+        design: out,
+        relaxed,
+        history,
+        stopped_early,
+        elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
+    })
+}
