@@ -92,6 +92,7 @@ pub enum LeftTab {
     Opening,
     Tiling,
     Optics,
+    Optimise,
 }
 
 /// A design being read from disk: the design and the path it came from, or a message.
@@ -118,6 +119,7 @@ struct Panels {
     editor: panels::editor::EditorPanel,
     tiling: panels::tiling::TilingPanel,
     optics: panels::optics::OpticsPanel,
+    optimise: panels::optimise::OptimisePanel,
     numbers: panels::numbers::NumbersPanel,
     views: panels::views::ViewsPanel,
     mask_export: panels::mask_export::MaskExportDialog,
@@ -182,6 +184,7 @@ impl StudioApp {
                 editor: Default::default(),
                 tiling: Default::default(),
                 optics: Default::default(),
+                optimise: Default::default(),
                 numbers: Default::default(),
                 views: Default::default(),
                 mask_export: Default::default(),
@@ -234,6 +237,21 @@ impl StudioApp {
     /// Queues a command as if a menu item or shortcut had been used.
     pub fn command(&mut self, command: Command) {
         self.apply(vec![command]);
+    }
+
+    /// The optimise panel (tests read its runs).
+    pub fn optimiser(&self) -> &panels::optimise::OptimisePanel {
+        &self.panels.optimise
+    }
+
+    /// The optimise panel's settings (tests set up runs through it).
+    pub fn optimiser_settings(&mut self) -> &mut crate::core::optimize::OptimizeSettings {
+        &mut self.panels.optimise.settings
+    }
+
+    /// Shows a tab of the left panel.
+    pub fn show_left_tab(&mut self, tab: LeftTab) {
+        self.view.left_tab = tab;
     }
 
     pub fn tool(&self) -> Tool {
@@ -422,6 +440,7 @@ impl StudioApp {
                 (LeftTab::Opening, "Opening"),
                 (LeftTab::Tiling, "Tiling"),
                 (LeftTab::Optics, "Optics"),
+                (LeftTab::Optimise, "Optimise"),
             ] {
                 if ui
                     .selectable_label(self.view.left_tab == tab, label)
@@ -437,6 +456,7 @@ impl StudioApp {
             LeftTab::Opening => self.panels.editor.ui(ui, &mut pctx),
             LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
             LeftTab::Optics => self.panels.optics.ui(ui, &mut pctx),
+            LeftTab::Optimise => self.panels.optimise.ui(ui, &mut pctx),
         });
     }
 

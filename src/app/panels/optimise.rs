@@ -1,0 +1,445 @@
+//! The Optimise panel (thesis §3.4.2): runs [`crate::core::optimize::optimize`] on a background
+//! thread from the current design, plots the losses live, shows the opening as it evolves, and
+//! applies the result as one undoable edit. Stop keeps the run so far; Cancel discards it.
+
+use std::ops::ControlFlow;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+
+use egui::{Color32, Ui};
+use egui_plot::{Legend, Line, Plot, PlotPoints};
+
+use super::PanelCtx;
+use crate::core::analyze::Quality;
+use crate::core::optimize::{
+    EpochReport, OptimizeSettings, Optimized, Relaxation, Start, binarise, optimize,
+};
+use crate::core::{Design, Progress, SimError};
+
+/// Messages from the optimiser thread.
+enum Msg {
+    Epoch(EpochReport),
+    Done(Result<Optimized, SimError>),
+}
+
+struct Run {
+    rx: Receiver<Msg>,
+    progress: Arc<Progress>,
+    stop: Arc<AtomicBool>,
+    /// The design the run started from (the result replaces its opening only).
+    start_name: String,
+}
+
+/// Finished run waiting to be applied.
+pub struct Finished {
+    pub result: Optimized,
+    /// `L_inv` of the design the run started from, when known.
+    pub start_loss_inv: Option<f64>,
+}
+
+/// Panel state: the settings, the running job, the live history and the last result.
+pub struct OptimisePanel {
+    pub settings: OptimizeSettings,
+    run: Option<Run>,
+    history: Vec<EpochReport>,
+    finished: Option<Finished>,
+    message: Option<(String, bool)>,
+    show_relaxed: bool,
+}
+
+impl Default for OptimisePanel {
+    fn default() -> Self {
+        OptimisePanel {
+            settings: OptimizeSettings {
+                // Live feedback first: the preview sampling is about 4× faster per epoch.
+                quality: Quality::Preview,
+                ..OptimizeSettings::default()
+            },
+            run: None,
+            history: Vec::new(),
+            finished: None,
+            message: None,
+            show_relaxed: false,
+        }
+    }
+}
+
+impl OptimisePanel {
+    pub fn is_running(&self) -> bool {
+        self.run.is_some()
+    }
+
+    /// Epochs received so far from the current or last run.
+    pub fn history(&self) -> &[EpochReport] {
+        &self.history
+    }
+
+    /// The finished run, if one waits to be applied.
+    pub fn finished(&self) -> Option<&Finished> {
+        self.finished.as_ref()
+    }
+
+    /// Starts a run from `design` (settings are checked first; an error is shown, not run).
+    pub fn start(&mut self, design: &Design, ctx: &egui::Context) {
+        if let Err(e) = self.settings.validate() {
+            self.message = Some((e.to_string(), true));
+            return;
+        }
+        if let Some(r) = &self.run {
+            r.progress.cancel();
+        }
+        let (tx, rx) = channel();
+        let progress = Arc::new(Progress::new());
+        let stop = Arc::new(AtomicBool::new(false));
+        let (p, s) = (progress.clone(), stop.clone());
+        let settings = self.settings.clone();
+        let start_name = design.name.clone();
+        let design = design.clone();
+        let wake = ctx.clone();
+        let spawned = std::thread::Builder::new()
+            .name("udc-optimiser".into())
+            .spawn(move || {
+                let result = optimize(&design, &settings, None, &p, |r| {
+                    let _ = tx.send(Msg::Epoch(r.clone()));
+                    wake.request_repaint();
+                    if s.load(Ordering::Relaxed) {
+                        ControlFlow::Break(())
+                    } else {
+                        ControlFlow::Continue(())
+                    }
+                });
+                let _ = tx.send(Msg::Done(result));
+                wake.request_repaint();
+            });
+        match spawned {
+            Ok(_) => {
+                self.history.clear();
+                self.finished = None;
+                self.message = None;
+                self.run = Some(Run {
+                    rx,
+                    progress,
+                    stop,
+                    start_name,
+                });
+            }
+            Err(e) => self.message = Some((format!("cannot start the optimiser: {e}"), true)),
+        }
+    }
+
+    /// Asks the run to stop after the current epoch and keep what it has.
+    pub fn stop(&self) {
+        if let Some(r) = &self.run {
+            r.stop.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// Aborts the run and discards it.
+    pub fn cancel(&mut self) {
+        if let Some(r) = self.run.take() {
+            r.progress.cancel();
+            self.message = Some(("optimisation cancelled".into(), false));
+        }
+    }
+
+    /// Takes the thread's messages; returns true when something changed.
+    pub fn poll(&mut self, start_loss_inv: Option<f64>) -> bool {
+        let Some(run) = &self.run else {
+            return false;
+        };
+        let mut changed = false;
+        loop {
+            match run.rx.try_recv() {
+                Ok(Msg::Epoch(r)) => {
+                    self.history.push(r);
+                    changed = true;
+                }
+                Ok(Msg::Done(result)) => {
+                    let name = run.start_name.clone();
+                    self.run = None;
+                    match result {
+                        Ok(result) => {
+                            self.message = Some((
+                                format!(
+                                    "{} epochs{} in {:.1} s; apply to use the new opening",
+                                    result.history.len(),
+                                    if result.stopped_early {
+                                        " (stopped)"
+                                    } else {
+                                        ""
+                                    },
+                                    result.elapsed_ms / 1e3
+                                ),
+                                false,
+                            ));
+                            self.finished = Some(Finished {
+                                result,
+                                start_loss_inv,
+                            });
+                        }
+                        Err(SimError::Cancelled) => {}
+                        Err(e) => {
+                            self.message = Some((format!("optimising {name} failed: {e}"), true));
+                        }
+                    }
+                    return true;
+                }
+                Err(TryRecvError::Empty) => return changed,
+                Err(TryRecvError::Disconnected) => {
+                    self.run = None;
+                    self.message = Some(("the optimiser stopped unexpectedly".into(), true));
+                    return true;
+                }
+            }
+        }
+    }
+
+    pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
+        let start_loss = ctx
+            .shown
+            .filter(|s| *s.design == *ctx.design)
+            .map(|s| s.analysis.invertibility_loss);
+        self.poll(start_loss);
+        ui.label(
+            "Finds a pixel opening whose blur is easy to invert (thesis §3.4.2), under this \
+             design's pitch, tiling (its seed stays fixed) and optics.",
+        );
+        ui.add_space(4.0);
+        let running = self.is_running();
+        ui.add_enabled_ui(!running, |ui| self.settings_ui(ui));
+        ui.add_space(4.0);
+        ui.horizontal(|ui| {
+            if let Some(run) = &self.run {
+                let done = self.history.len();
+                ui.add(
+                    egui::ProgressBar::new(run.progress.fraction())
+                        .desired_width(160.0)
+                        .text(format!("epoch {done} / {}", self.settings.epochs)),
+                );
+                if ui
+                    .button("Stop")
+                    .on_hover_text("Finish after this epoch and keep the result so far")
+                    .clicked()
+                {
+                    self.stop();
+                }
+                if ui
+                    .button("Cancel")
+                    .on_hover_text("Abort and discard this run")
+                    .clicked()
+                {
+                    self.cancel();
+                }
+            } else if ui
+                .button("Run optimiser")
+                .on_hover_text(
+                    "Start from the current design's geometry; the opening starts as chosen above",
+                )
+                .clicked()
+            {
+                self.start(ctx.design, ui.ctx());
+            }
+        });
+        if let Some((msg, is_error)) = &self.message {
+            let color = if *is_error {
+                ui.visuals().error_fg_color
+            } else {
+                ui.visuals().weak_text_color()
+            };
+            ui.colored_label(color, msg);
+        }
+        if let Some(last) = self.history.last().cloned() {
+            ui.separator();
+            self.opening_ui(ui, &last);
+            self.loss_plot_ui(ui);
+        }
+        if let Some(f) = &self.finished {
+            ui.separator();
+            let last = f.result.history.last();
+            egui::Grid::new("optimise_result")
+                .num_columns(3)
+                .show(ui, |ui| {
+                    ui.label("");
+                    ui.label("start");
+                    ui.label("optimised");
+                    ui.end_row();
+                    ui.label("L_inv (lower is better)");
+                    ui.label(f.start_loss_inv.map_or("?".into(), |v| format!("{v:.4}")));
+                    ui.label(last.map_or("?".into(), |l| format!("{:.4}", l.loss_inv)));
+                    ui.end_row();
+                    ui.label("open fraction");
+                    ui.label(format!(
+                        "{:.3}",
+                        crate::core::metrics::open_fraction(&ctx.design.opening.cells)
+                    ));
+                    ui.label(format!(
+                        "{:.3}",
+                        crate::core::metrics::open_fraction(&f.result.design.opening.cells)
+                    ));
+                    ui.end_row();
+                });
+            let mut apply = false;
+            let mut discard = false;
+            ui.horizontal(|ui| {
+                apply = ui
+                    .button("Apply as new design")
+                    .on_hover_text("Replace the opening (undo with Ctrl+Z); AUC and views update")
+                    .clicked();
+                discard = ui.button("Discard").clicked();
+            });
+            if apply {
+                ctx.edit(f.result.design.clone());
+                self.message = Some(("applied the optimised opening".into(), false));
+                self.finished = None;
+            } else if discard {
+                self.finished = None;
+                self.message = None;
+            }
+        }
+    }
+
+    fn settings_ui(&mut self, ui: &mut Ui) {
+        let s = &mut self.settings;
+        egui::Grid::new("optimise_settings")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("Epochs");
+                ui.add(egui::DragValue::new(&mut s.epochs).range(1..=2000));
+                ui.end_row();
+                ui.label("Target open fraction");
+                ui.add(
+                    egui::DragValue::new(&mut s.target_open_fraction)
+                        .range(0.02..=1.0)
+                        .speed(0.005)
+                        .fixed_decimals(3),
+                )
+                .on_hover_text("Fraction of the pixel left open at the end (the thesis: 0.2)");
+                ui.end_row();
+                ui.label("L_inv weight");
+                ui.add(
+                    egui::DragValue::new(&mut s.weights.inv)
+                        .range(0.0..=100.0)
+                        .speed(0.001),
+                );
+                ui.end_row();
+                ui.label("Area weight");
+                ui.add(
+                    egui::DragValue::new(&mut s.weights.area)
+                        .range(0.0..=1000.0)
+                        .speed(0.1),
+                );
+                ui.end_row();
+                ui.label("Area step / every");
+                ui.horizontal(|ui| {
+                    ui.add(
+                        egui::DragValue::new(&mut s.area_step)
+                            .range(0.0..=1.0)
+                            .speed(0.005),
+                    );
+                    ui.add(
+                        egui::DragValue::new(&mut s.area_every_epochs)
+                            .range(1..=100)
+                            .suffix(" epochs"),
+                    );
+                });
+                ui.end_row();
+                ui.label("Start from");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut s.start, Start::AllOpen, "all open")
+                        .on_hover_text("The thesis's choice (its ablation's best)");
+                    ui.selectable_value(&mut s.start, Start::Current, "current opening");
+                });
+                ui.end_row();
+                ui.label("Sampling");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut s.quality, Quality::Preview, "preview")
+                        .on_hover_text("Twice the fine spacing: about 4× faster, approximate");
+                    ui.selectable_value(&mut s.quality, Quality::Full, "full")
+                        .on_hover_text("The design's own sampling (iccp21: ~0.2 s per epoch)");
+                });
+                ui.end_row();
+                ui.label("Loss sees");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(
+                        &mut s.relaxation,
+                        Relaxation::StraightThrough,
+                        "binary mask",
+                    )
+                    .on_hover_text(
+                        "Straight-through: the loss of the thresholded opening, gradients \
+                         through the sigmoid",
+                    );
+                    ui.selectable_value(&mut s.relaxation, Relaxation::Sigmoid, "grey mask")
+                        .on_hover_text(
+                            "The sigmoid relaxation itself; it drifts to a uniform grey pixel \
+                             that thresholding turns into noise",
+                        );
+                });
+                ui.end_row();
+            });
+    }
+
+    fn opening_ui(&mut self, ui: &mut Ui, last: &EpochReport) {
+        let n = (last.mask.len() as f64).sqrt() as usize;
+        ui.horizontal(|ui| {
+            ui.label(format!(
+                "Epoch {} of {}: open {:.3} (target {:.3})",
+                last.epoch + 1,
+                last.epochs,
+                last.open_fraction,
+                last.area_target
+            ));
+            ui.checkbox(&mut self.show_relaxed, "grey mask")
+                .on_hover_text("Show the sigmoid mask g instead of the thresholded opening");
+        });
+        let cells: Vec<f64> = if self.show_relaxed {
+            last.mask.clone()
+        } else {
+            binarise(&last.mask, n, last.area_target)
+                .into_iter()
+                .flatten()
+                .collect()
+        };
+        let side = 168.0f32;
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, Color32::BLACK);
+        let cell = side / n.max(1) as f32;
+        for (i, v) in cells.iter().enumerate() {
+            let (r, c) = (i / n.max(1), i % n.max(1));
+            let g = (v.clamp(0.0, 1.0) * 255.0) as u8;
+            if g == 0 {
+                continue;
+            }
+            let min = rect.min + egui::vec2(c as f32 * cell, r as f32 * cell);
+            painter.rect_filled(
+                egui::Rect::from_min_size(min, egui::vec2(cell, cell)),
+                0.0,
+                Color32::from_gray(g),
+            );
+        }
+    }
+
+    fn loss_plot_ui(&self, ui: &mut Ui) {
+        let pts = |f: &dyn Fn(&EpochReport) -> f64| -> PlotPoints {
+            self.history
+                .iter()
+                .map(|r| [(r.epoch + 1) as f64, f(r)])
+                .collect()
+        };
+        Plot::new("optimise_losses")
+            .legend(Legend::default())
+            .height(180.0)
+            .x_axis_label("epoch")
+            .y_axis_label("value")
+            .show(ui, |p| {
+                p.line(Line::new("L_inv", pts(&|r| r.loss_inv)).width(2.0));
+                p.line(Line::new("open fraction", pts(&|r| r.open_fraction)));
+                p.line(Line::new("area target", pts(&|r| r.area_target)));
+                if self.history.iter().any(|r| r.loss_data.is_some()) {
+                    p.line(Line::new("L_data", pts(&|r| r.loss_data.unwrap_or(0.0))));
+                }
+            });
+    }
+}

@@ -1,0 +1,90 @@
+//! The Optimise panel, driven like a user: run from the current design, watch the epochs arrive,
+//! apply the result as one undoable edit.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use std::time::Duration;
+
+use common::step_until;
+use egui_kittest::kittest::Queryable;
+use udc_studio::app::{Command, LeftTab, StudioApp};
+use udc_studio::core::analyze::Quality;
+
+#[test]
+fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
+    let before = h.state().design().clone();
+    h.state_mut().show_left_tab(LeftTab::Optimise);
+    {
+        let s = h.state_mut().optimiser_settings();
+        s.epochs = 12;
+        s.target_open_fraction = 0.3;
+        s.area_every_epochs = 1;
+        s.area_step = 0.1;
+        s.quality = Quality::Preview;
+    }
+    h.step();
+    h.get_by_label("Run optimiser").click();
+    h.step();
+    step_until(&mut h, "the run to finish", |app| {
+        app.optimiser().finished().is_some()
+    });
+    // Every epoch reached the panel, in order, and the plot and opening are on screen.
+    let epochs: Vec<usize> = h
+        .state()
+        .optimiser()
+        .history()
+        .iter()
+        .map(|r| r.epoch)
+        .collect();
+    assert_eq!(epochs, (0..12).collect::<Vec<_>>());
+    assert!(h.query_by_label("Apply as new design").is_some());
+    assert_eq!(h.state().design(), &before, "nothing changes before Apply");
+    h.get_by_label("Apply as new design").click();
+    h.step();
+    h.step();
+    let after = h.state().design().clone();
+    let open = after
+        .opening
+        .cells
+        .iter()
+        .flatten()
+        .filter(|v| **v == 1.0)
+        .count();
+    assert_eq!(open, (0.3f64 * 441.0).round() as usize);
+    assert_eq!(after.tiling, before.tiling, "geometry kept");
+    assert_eq!(after.optics, before.optics);
+    h.state_mut().command(Command::Undo);
+    h.step();
+    assert_eq!(h.state().design(), &before, "one undo restores the start");
+    h.state_mut().command(Command::Redo);
+    h.step();
+    assert_eq!(h.state().design(), &after);
+}
+
+#[test]
+fn stop_keeps_the_run_so_far() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    h.state_mut().show_left_tab(LeftTab::Optimise);
+    h.state_mut().optimiser_settings().epochs = 2000;
+    h.step();
+    h.get_by_label("Run optimiser").click();
+    step_until(&mut h, "a few epochs", |app| {
+        app.optimiser().history().len() >= 2
+    });
+    h.get_by_label("Stop").click();
+    step_until(&mut h, "the stopped run", |app| {
+        app.optimiser().finished().is_some()
+    });
+    let f = h.state().optimiser().finished().unwrap();
+    assert!(f.result.stopped_early);
+    assert!(f.result.history.len() < 2000);
+    assert!(h.query_by_label_contains("(stopped)").is_some());
+}
