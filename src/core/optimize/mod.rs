@@ -289,6 +289,7 @@ impl<'a> Objective<'a> {
         };
         let grad_model = self.model.backward(&fwd, w.inv, extra.as_deref());
         let loss_inv = fwd.loss_inv;
+        self.model.recycle(fwd);
         let area_grad = w.area * 2.0 * (mean - c) / count;
         let grad_logits = g
             .iter()

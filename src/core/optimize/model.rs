@@ -8,7 +8,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::spectra::{Span, WindowDft, dft2_complex};
+use super::spectra::{Pool, Span, WindowDft, dft2_complex};
 use crate::core::SimError;
 use crate::core::aperture::{CellMap, Display, Extent};
 use crate::core::design::Design;
@@ -37,6 +37,7 @@ pub struct Model {
     channels: Vec<Vec<Wave>>,
     pub window_px: usize,
     pub n: usize,
+    pool: Pool,
 }
 
 /// The forward pass of one evaluation, kept for [`Model::backward`].
@@ -161,6 +162,7 @@ impl Model {
             channels,
             window_px,
             n,
+            pool: Pool::default(),
         })
     }
 
@@ -193,7 +195,7 @@ impl Model {
                 let mut binned = Vec::with_capacity(waves.len());
                 let mut totals = Vec::with_capacity(waves.len());
                 for wave in waves {
-                    let a = wave.dft.forward(&field);
+                    let a = wave.dft.forward(&field, &self.pool);
                     let nfy = wave.dft.freq_rows.len;
                     let mut b = Array2::<f64>::zeros((w, w));
                     for (j, col) in a.chunks(nfy).enumerate() {
@@ -251,6 +253,15 @@ impl Model {
         })
     }
 
+    /// Hands a finished forward pass's buffers back for the next one.
+    pub fn recycle(&self, fwd: Forward) {
+        for c in fwd.channels {
+            for s in c.spectra {
+                self.pool.give(s);
+            }
+        }
+    }
+
     /// The gradient with respect to the cells of `inv_weight · L_inv + Σ_c ⟨extra_c, psf_c⟩`
     /// (`extra` is another loss's `∂/∂psf`, e.g. the data loss's).
     pub fn backward(
@@ -300,18 +311,19 @@ impl Model {
                     let g_total = -wave.weight / (t * t) * (&g_acc * b).sum();
                     let scale = wave.weight / t;
                     let nfy = wave.dft.freq_rows.len;
-                    let g_spec: Vec<Complex64> = f.spectra[k]
-                        .chunks(nfy)
+                    let mut g_spec = self.pool.take(f.spectra[k].len());
+                    for (j, (gcol, col)) in g_spec
+                        .chunks_mut(nfy)
+                        .zip(f.spectra[k].chunks(nfy))
                         .enumerate()
-                        .flat_map(|(j, col)| {
-                            let jx = wave.col_px[j];
-                            let g_acc = &g_acc;
-                            col.iter()
-                                .enumerate()
-                                .map(move |(i, z)| 2.0 * scale * g_acc[[wave.row_px[i], jx]] * z)
-                        })
-                        .collect();
-                    let back = wave.dft.adjoint(&g_spec);
+                    {
+                        let jx = wave.col_px[j];
+                        for (i, (g, z)) in gcol.iter_mut().zip(col).enumerate() {
+                            *g = 2.0 * scale * g_acc[[wave.row_px[i], jx]] * z;
+                        }
+                    }
+                    let back = wave.dft.adjoint(&g_spec, &self.pool);
+                    self.pool.give(g_spec);
                     // T = M² Σ a²: ∂T/∂a = 2 M² a.
                     let parseval = 2.0 * g_total * (wave.m * wave.m) as f64;
                     for ((g, b), a) in g_field.iter_mut().zip(&back).zip(field) {

@@ -9,6 +9,8 @@
 //! `∂L/∂z := ∂L/∂Re z + i ∂L/∂Im z`. With it, the gradient of a real input `x` of `z = F x` is
 //! `Re(Fᴴ ∂L/∂z)`.
 
+use std::sync::Mutex;
+
 use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
@@ -16,6 +18,53 @@ use rustfft::num_complex::Complex64;
 use crate::core::fft::{complex_inverse_plan, complex_plan};
 
 const ZERO: Complex64 = Complex64::new(0.0, 0.0);
+
+/// Large complex buffers handed back after use. An epoch needs some 100 MB of temporaries; fresh
+/// allocations of that size are mapped and unmapped every time, and the page faults cost about
+/// as much as the FFTs themselves.
+#[derive(Debug, Default)]
+pub struct Pool {
+    free: Mutex<Vec<Vec<Complex64>>>,
+}
+
+impl Clone for Pool {
+    fn clone(&self) -> Self {
+        Pool::default()
+    }
+}
+
+impl Pool {
+    /// A zeroed buffer of `len`.
+    pub fn take(&self, len: usize) -> Vec<Complex64> {
+        let reused = self
+            .free
+            .lock()
+            .map(|mut f| {
+                let best = f
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, v)| v.capacity() >= len)
+                    .min_by_key(|(_, v)| v.capacity())
+                    .map(|(i, _)| i);
+                best.map(|i| f.swap_remove(i))
+            })
+            .ok()
+            .flatten();
+        let mut v = reused.unwrap_or_default();
+        v.clear();
+        v.resize(len, ZERO);
+        v
+    }
+
+    /// Returns a buffer for reuse (a bounded number are kept).
+    pub fn give(&self, v: Vec<Complex64>) {
+        if let Ok(mut f) = self.free.lock()
+            && f.len() < 16
+        {
+            f.push(v);
+        }
+    }
+}
 
 /// A contiguous run of signed offsets `start, start + 1, …, start + len − 1`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,14 +91,14 @@ pub struct WindowDft {
 }
 
 impl WindowDft {
-    /// `a` is row-major `rows.len × cols.len`.
-    pub fn forward(&self, a: &[f64]) -> Vec<Complex64> {
+    /// `a` is row-major `rows.len × cols.len`; temporaries come from (and go back to) `pool`.
+    pub fn forward(&self, a: &[f64], pool: &Pool) -> Vec<Complex64> {
         let (m, ny, nx) = (self.m, self.rows.len, self.cols.len);
         let (nfy, nfx) = (self.freq_rows.len, self.freq_cols.len);
         let plan = complex_plan(m);
         // Stage 1: a DFT per field row, keeping the window's columns; stored `[kx][row]`.
-        let mut row_spectra = vec![ZERO; nfx * ny];
-        let mut by_row = vec![ZERO; ny * nfx];
+        let mut row_spectra = pool.take(nfx * ny);
+        let mut by_row = pool.take(ny * nfx);
         by_row.par_chunks_mut(nfx).enumerate().for_each_init(
             || (vec![ZERO; m], vec![ZERO; plan.get_inplace_scratch_len()]),
             |(buf, scratch), (r, out)| {
@@ -64,8 +113,9 @@ impl WindowDft {
             },
         );
         transpose(&by_row, ny, nfx, &mut row_spectra);
+        pool.give(by_row);
         // Stage 2: a DFT per kept column, keeping the window's rows.
-        let mut out = vec![ZERO; nfx * nfy];
+        let mut out = pool.take(nfx * nfy);
         out.par_chunks_mut(nfy)
             .zip(row_spectra.par_chunks(ny))
             .for_each_init(
@@ -81,16 +131,17 @@ impl WindowDft {
                     }
                 },
             );
+        pool.give(row_spectra);
         out
     }
 
     /// `Re(Fᴴ g)` on the sample box, for `g` laid out as [`WindowDft::forward`]'s output.
-    pub fn adjoint(&self, g: &[Complex64]) -> Vec<f64> {
+    pub fn adjoint(&self, g: &[Complex64], pool: &Pool) -> Vec<f64> {
         let (m, ny, nx) = (self.m, self.rows.len, self.cols.len);
         let (nfy, nfx) = (self.freq_rows.len, self.freq_cols.len);
         let plan = complex_inverse_plan(m);
         // Stage 2ᴴ: per kept column, scatter the window rows, inverse DFT, gather the box rows.
-        let mut cols = vec![ZERO; nfx * ny];
+        let mut cols = pool.take(nfx * ny);
         cols.par_chunks_mut(ny)
             .zip(g.par_chunks(nfy))
             .for_each_init(
@@ -106,8 +157,9 @@ impl WindowDft {
                     }
                 },
             );
-        let mut by_row = vec![ZERO; ny * nfx];
+        let mut by_row = pool.take(ny * nfx);
         transpose(&cols, nfx, ny, &mut by_row);
+        pool.give(cols);
         // Stage 1ᴴ: per box row, scatter the kept columns, inverse DFT, gather the box columns.
         let mut out = vec![0.0; ny * nx];
         out.par_chunks_mut(nx)
@@ -125,6 +177,7 @@ impl WindowDft {
                     }
                 },
             );
+        pool.give(by_row);
         out
     }
 }
@@ -189,7 +242,8 @@ mod tests {
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
         };
         let a: Vec<f64> = (0..20).map(|_| rnd()).collect();
-        let got = w.forward(&a);
+        let pool = Pool::default();
+        let got = w.forward(&a, &pool);
         for j in 0..12 {
             for i in 0..7 {
                 let (ky, kx) = (-4 + i as i64, -6 + j as i64);
@@ -210,7 +264,7 @@ mod tests {
             .zip(&g)
             .map(|(z, h)| z.re * h.re + z.im * h.im)
             .sum();
-        let back = w.adjoint(&g);
+        let back = w.adjoint(&g, &pool);
         let rhs: f64 = a.iter().zip(&back).map(|(x, y)| x * y).sum();
         assert!((lhs - rhs).abs() < 1e-10, "{lhs} vs {rhs}");
     }
