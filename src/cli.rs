@@ -1,5 +1,7 @@
 //! Headless commands, built only on `core` and `io`.
 
+pub mod optimize;
+
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
@@ -36,6 +38,11 @@ pub enum Command {
     Presets,
     /// Write a photolithography mask of the design: GDSII, DXF, SVG or PNG.
     Export(ExportArgs),
+    /// Capture a photo through the display (blur, photon and read noise) and restore it; prints
+    /// PSNR and SSIM per run (thesis §3.5).
+    Restore(RestoreArgs),
+    /// Optimise the opening of one display pixel (thesis §3.4.2) and save the new design.
+    Optimize(optimize::OptimizeArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -192,6 +199,8 @@ pub fn run(command: Command) -> Result<()> {
         }
         Command::Analyze(args) => analyze_cmd(&args),
         Command::Export(args) => export_cmd(&args),
+        Command::Restore(args) => restore_cmd(&args),
+        Command::Optimize(args) => optimize::optimize_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }
@@ -280,4 +289,207 @@ fn print_table(design: &Design, a: &Analysis) {
     for w in &a.warnings {
         println!("warning: {w}");
     }
+}
+
+/// The restoration algorithm of `restore`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RestoreMethod {
+    /// Wiener deconvolution with `--nsr` (the thesis).
+    Wiener,
+    /// Gradient-regularised least squares by conjugate gradients (`--lambda`, `--iterations`).
+    Cg,
+}
+
+#[derive(Debug, Args)]
+#[command(group(
+    clap::ArgGroup::new("light_level").required(true).args(["light", "snr_db"])
+))]
+pub struct RestoreArgs {
+    #[command(flatten)]
+    pub selection: DesignSelection,
+    /// The photo (PNG, JPEG, TIFF, HDR or EXR), read as linear intensities in [0, 1].
+    #[arg(long)]
+    pub image: PathBuf,
+    /// Electrons at a pixel of value 1 behind the reference display (T-OLED 150 DPI); give it
+    /// several times for several runs.
+    #[arg(long, value_name = "E")]
+    pub light: Vec<f64>,
+    /// The same light level as an SNR in dB (24/28/32/36/40 ↔ 273/654/1608/4005/10024 e⁻); give
+    /// it several times for several runs.
+    #[arg(long, value_name = "S")]
+    pub snr_db: Vec<f64>,
+    /// Restoration method.
+    #[arg(long, value_enum, default_value = "wiener")]
+    pub method: RestoreMethod,
+    /// Noise-to-signal ratio of the Wiener filter.
+    #[arg(long, default_value_t = crate::core::restore::THESIS_NSR)]
+    pub nsr: f64,
+    /// Weight of the gradient penalty of `--method cg`.
+    #[arg(long, default_value_t = crate::core::restore::CgSettings::default().lambda)]
+    pub lambda: f64,
+    /// Iterations of `--method cg`.
+    #[arg(long, default_value_t = crate::core::restore::CgSettings::default().iterations)]
+    pub iterations: usize,
+    /// Seed of the photon and read noise (`--seed` is the tiling's, as in `analyze`).
+    #[arg(long, default_value_t = 0)]
+    pub noise_seed: u64,
+    /// ADC bits over the full well (default: whole electrons, no ADC).
+    #[arg(long)]
+    pub adc_bits: Option<u32>,
+    /// Scale the photo down so its longer side has at most this many pixels.
+    #[arg(long)]
+    pub max_side_px: Option<u32>,
+    /// Wiener on the smallest linear FFT grid instead of PHYSICS.md §5's 2× zero padding
+    /// (faster; changes only the borders). Conjugate gradients always use it: their result does
+    /// not depend on the padding.
+    #[arg(long)]
+    pub pad_linear: bool,
+    /// Print one JSON object to stdout instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write captured, restored and difference PNGs (and float EXRs) per run into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+fn restore_cmd(args: &RestoreArgs) -> Result<()> {
+    use crate::core::restore::capture::REFERENCE_LTR;
+    use crate::core::restore::{
+        CaptureSettings, CgSettings, Light, Method, Padding, RestoreSettings, simulate,
+    };
+    use crate::io::{photo, restore_report};
+
+    let design = args.selection.resolve()?;
+    let photo = photo::load_photo(&args.image, args.max_side_px)?;
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis = analyze_with(&design, &options, &Progress::new())?;
+    let psfs: Vec<&ndarray::Array2<f64>> = analysis.channels.iter().map(|c| &c.psf).collect();
+    let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
+    if photo.len() != psfs.len() {
+        bail!(
+            "the design has {} channels but a photo has 3 (R, G, B); restore needs an RGB design",
+            psfs.len()
+        );
+    }
+    let ltr_relative = analysis.ltr / REFERENCE_LTR;
+    let method = match args.method {
+        RestoreMethod::Wiener => Method::Wiener { nsr: args.nsr },
+        RestoreMethod::Cg => Method::Cg(CgSettings {
+            lambda: args.lambda,
+            iterations: args.iterations,
+            ..CgSettings::default()
+        }),
+    };
+    let lights = args
+        .light
+        .iter()
+        .map(|e| (Light::ElectronsAtPeak(*e), format!("light-{e}e")))
+        .chain(
+            args.snr_db
+                .iter()
+                .map(|s| (Light::SnrDb(*s), format!("snr-{s}db"))),
+        );
+    let (rows, cols) = photo.first().map_or((0, 0), ndarray::Array2::dim);
+    if !args.json {
+        println!(
+            "{}: LTR {:.4} ({:.3}× the reference T-OLED's {REFERENCE_LTR:.4}); photo {} ({cols}×{rows})",
+            if design.name.is_empty() {
+                "design"
+            } else {
+                &design.name
+            },
+            analysis.ltr,
+            ltr_relative,
+            args.image.display(),
+        );
+        for w in &analysis.warnings {
+            println!("warning: {w}");
+        }
+        println!("light (e⁻)  SNR (dB)  PSNR (dB)  SSIM     capture PSNR  per channel PSNR / SSIM");
+    }
+    let mut runs = Vec::new();
+    for (light, stem) in lights {
+        let settings = RestoreSettings {
+            capture: CaptureSettings {
+                light,
+                adc_bits: args.adc_bits,
+                ltr_relative,
+                seed: args.noise_seed,
+                ..CaptureSettings::default()
+            },
+            method,
+            padding: if args.pad_linear || args.method == RestoreMethod::Cg {
+                Padding::Linear
+            } else {
+                Padding::Double
+            },
+        };
+        let result = simulate(&photo, &psfs, &settings, &Progress::new())?;
+        let outputs = match &args.out {
+            Some(dir) => restore_report::write_run_images(dir, &stem, &photo, &result)?,
+            None => Vec::new(),
+        };
+        if args.json {
+            runs.push(restore_report::run_json(&result, &names, &outputs));
+        } else {
+            let per: Vec<String> = names
+                .iter()
+                .zip(&result.channels)
+                .map(|(n, c)| format!("{n} {:.2}/{:.4}", c.psnr_db, c.ssim))
+                .collect();
+            println!(
+                "{:>10.0}  {:>8.2}  {:>9.2}  {:.4}   {:>10.2}    {}",
+                result.light_e,
+                result.snr_db,
+                result.psnr_db,
+                result.ssim,
+                result.captured_psnr_db,
+                per.join("  ")
+            );
+            let saturated = result
+                .channels
+                .iter()
+                .map(|c| c.saturated_fraction)
+                .fold(0.0, f64::max);
+            if saturated > 0.0 {
+                println!(
+                    "warning: {:.2} % of the pixels reached the full well",
+                    100.0 * saturated
+                );
+            }
+            for p in &outputs {
+                println!("wrote {}", p.display());
+            }
+        }
+    }
+    if args.json {
+        let method_json = match method {
+            Method::Wiener { nsr } => serde_json::json!({ "name": "wiener", "nsr": nsr }),
+            Method::Cg(cg) => serde_json::json!({
+                "name": "cg", "lambda": cg.lambda, "iterations": cg.iterations,
+                "tolerance": cg.tolerance
+            }),
+        };
+        let out = serde_json::json!({
+            "design": design.name,
+            "image": args.image.display().to_string(),
+            "image_size_px": [cols, rows],
+            "ltr": analysis.ltr,
+            "ltr_relative": ltr_relative,
+            "method": method_json,
+            "noise_seed": args.noise_seed,
+            "warnings": analysis.warnings,
+            "runs": runs,
+        });
+        println!("{}", serde_json::to_string(&out)?);
+    } else if args.out.is_some() {
+        println!(
+            "difference images show |restored − truth| × {}",
+            photo::DIFFERENCE_GAIN
+        );
+    }
+    Ok(())
 }

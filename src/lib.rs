@@ -39,6 +39,8 @@
 //!
 //! **Randomness.** Every random choice takes an explicit `u64` seed and uses ChaCha8 streams keyed
 //! by the tile index, so a design reproduces bit-for-bit on every machine, whatever the FFT size.
+//! Sensor noise ([`core::restore`]) likewise uses one stream per channel and image row, so a
+//! capture does not depend on the number of threads.
 
 pub mod app;
 pub mod cli;

@@ -105,3 +105,61 @@ fn editor_mid_drawing() {
     assert_eq!(h.state().design(), &before);
     capture(&mut h, "editor-mid-drawing");
 }
+
+#[test]
+fn optimiser_after_a_run() {
+    use udc_studio::app::LeftTab;
+    use udc_studio::core::analyze::Quality;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    let mut d = h.state().design().clone();
+    d.tiling.mode = TilingMode::Random4;
+    h.state_mut().command(Command::Edit(Box::new(d)));
+    settle(&mut h);
+    h.state_mut().show_left_tab(LeftTab::Optimise);
+    {
+        let s = h.state_mut().optimiser_settings();
+        s.epochs = 100;
+        s.quality = Quality::Preview;
+    }
+    h.step();
+    h.get_by_label("Run optimiser").click();
+    common::step_until(&mut h, "the optimiser", |app| {
+        app.optimiser().finished().is_some()
+    });
+    h.get_by_label("MTF plots").click();
+    settle(&mut h);
+    capture(&mut h, "optimiser-run");
+    h.get_by_label("Apply as new design").click();
+    settle(&mut h);
+    assert!(h.state().design().name.contains("optimised"));
+    capture(&mut h, "optimiser-applied");
+}
+
+#[test]
+fn restore_view_with_a_pinned_design() {
+    use udc_studio::app::panels::views::ViewTab;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    settle(&mut h);
+    h.state_mut().command(Command::PinCompare);
+    common::step_until(&mut h, "the pin", |app| app.pinned().is_some());
+    h.state_mut()
+        .command(Command::LoadPreset("l2inv-random".into()));
+    settle(&mut h);
+    h.state_mut().views().set_tab(ViewTab::Restore);
+    common::step_until(&mut h, "both restorations", |app| {
+        let v = app.restore_view();
+        !v.is_running() && v.current().is_some() && v.pinned().is_some()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    let v = h.state().restore_view();
+    assert!(v.current().unwrap().psnr_db > v.pinned().unwrap().psnr_db);
+    capture(&mut h, "restore");
+}

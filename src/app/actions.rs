@@ -7,6 +7,7 @@ use super::StudioApp;
 use super::commands::{Command, ExportKind};
 use super::dialogs::{PendingDialog, Purpose};
 use super::panels::Pinned;
+use super::panels::views::ViewTab;
 use super::tasks::Task;
 use crate::core::Design;
 use crate::core::analyze::Quality;
@@ -362,6 +363,11 @@ impl StudioApp {
             Purpose::Export(kind) => self.export_to(kind, path),
             Purpose::Mask(_) => self.apply_one(Command::WriteMask(Some(path)), true),
             Purpose::ImportPattern => self.import_opening(path),
+            Purpose::Photo => self
+                .panels
+                .views
+                .restore
+                .load_photo(path, &self.egui_ctx.clone()),
             Purpose::Spectral => {
                 let step = self.session.spectral_step_nm.max(1.0);
                 match spectral::load_response_csv(&path) {
@@ -442,8 +448,12 @@ impl StudioApp {
                 .extension()
                 .map(|e| e.to_string_lossy().to_lowercase())
                 .unwrap_or_default();
+            let photo_ext = matches!(ext.as_str(), "png" | "jpg" | "jpeg");
             if ext == "json" {
                 cmds.push(Command::OpenPath(p));
+            } else if photo_ext && self.panels.views.tab() == ViewTab::Restore {
+                // On the Restore view a dropped picture is a photo, elsewhere an opening.
+                self.panels.views.restore.load_photo(p, ctx);
             } else {
                 cmds.push(Command::ImportOpening(p));
             }

@@ -11,6 +11,8 @@ pub enum Purpose {
     SaveAs,
     ImportPattern,
     Spectral,
+    /// A photo for the Restore view (the view polls its own dialog).
+    Photo,
     Export(super::commands::ExportKind),
     Mask(crate::io::mask::MaskFormat),
 }
@@ -49,6 +51,10 @@ impl PendingDialog {
                     Purpose::Spectral => d
                         .add_filter("Spectral response CSV", &["csv"])
                         .set_title("Load spectral response (wavelength_nm, r, g, b)")
+                        .pick_file(),
+                    Purpose::Photo => d
+                        .add_filter("Photos", &["png", "jpg", "jpeg"])
+                        .set_title("Open a photo to capture through the display")
                         .pick_file(),
                     Purpose::SaveAs => d
                         .add_filter("UDC design", &["json"])

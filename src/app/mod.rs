@@ -249,6 +249,16 @@ impl StudioApp {
         &mut self.panels.optimise.settings
     }
 
+    /// The result views (tests pick tabs and read the Restore view).
+    pub fn views(&mut self) -> &mut panels::views::ViewsPanel {
+        &mut self.panels.views
+    }
+
+    /// The Restore view's results.
+    pub fn restore_view(&self) -> &panels::views::restore::RestoreView {
+        &self.panels.views.restore
+    }
+
     /// Shows a tab of the left panel.
     pub fn show_left_tab(&mut self, tab: LeftTab) {
         self.view.left_tab = tab;

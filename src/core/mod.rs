@@ -14,6 +14,7 @@ pub mod opening_ops;
 pub mod optimize;
 pub mod progress;
 pub mod psf;
+pub mod restore;
 pub mod sampling;
 pub mod tiling;
 

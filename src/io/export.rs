@@ -65,7 +65,11 @@ fn image_size(path: &Path, psf: &Array2<f64>) -> Result<(u32, u32), IoError> {
 }
 
 /// Encodes an image in memory and writes it atomically.
-fn write_image(path: &Path, img: DynamicImage, format: ImageFormat) -> Result<(), IoError> {
+pub(super) fn write_image(
+    path: &Path,
+    img: DynamicImage,
+    format: ImageFormat,
+) -> Result<(), IoError> {
     let mut bytes = Vec::new();
     img.write_to(Cursor::new(&mut bytes), format)
         .map_err(|e| IoError::Image {
@@ -75,7 +79,7 @@ fn write_image(path: &Path, img: DynamicImage, format: ImageFormat) -> Result<()
     write_atomic(path, &bytes)
 }
 
-fn size_mismatch(path: &Path) -> IoError {
+pub(super) fn size_mismatch(path: &Path) -> IoError {
     IoError::Image {
         path: path.to_path_buf(),
         message: "the pixel buffer does not match the image size".into(),

@@ -6,8 +6,10 @@ pub mod error;
 pub mod export;
 pub mod mask;
 pub mod pattern;
+pub mod photo;
 pub mod presets;
 pub mod report;
+pub mod restore_report;
 pub mod spectral;
 
 pub use error::IoError;

@@ -20,7 +20,7 @@ use crate::core::{Design, Progress, SimError};
 /// Messages from the optimiser thread.
 enum Msg {
     Epoch(EpochReport),
-    Done(Result<Optimized, SimError>),
+    Done(Box<Result<Optimized, SimError>>),
 }
 
 struct Run {
@@ -109,7 +109,7 @@ impl OptimisePanel {
                         ControlFlow::Continue(())
                     }
                 });
-                let _ = tx.send(Msg::Done(result));
+                let _ = tx.send(Msg::Done(Box::new(result)));
                 wake.request_repaint();
             });
         match spawned {
@@ -158,7 +158,7 @@ impl OptimisePanel {
                 Ok(Msg::Done(result)) => {
                     let name = run.start_name.clone();
                     self.run = None;
-                    match result {
+                    match *result {
                         Ok(result) => {
                             self.message = Some((
                                 format!(
@@ -257,28 +257,28 @@ impl OptimisePanel {
         if let Some(f) = &self.finished {
             ui.separator();
             let last = f.result.history.last();
+            let run_sampling = match self.settings.quality {
+                Quality::Preview => "preview",
+                Quality::Full => "full",
+            };
             egui::Grid::new("optimise_result")
-                .num_columns(3)
+                .num_columns(2)
                 .show(ui, |ui| {
-                    ui.label("");
-                    ui.label("start");
-                    ui.label("optimised");
-                    ui.end_row();
-                    ui.label("L_inv (lower is better)");
+                    ui.label("L_inv of the start (full sampling)");
                     ui.label(f.start_loss_inv.map_or("?".into(), |v| format!("{v:.4}")));
+                    ui.end_row();
+                    ui.label(format!("L_inv optimised ({run_sampling} sampling)"));
                     ui.label(last.map_or("?".into(), |l| format!("{:.4}", l.loss_inv)));
                     ui.end_row();
-                    ui.label("open fraction");
+                    ui.label("open fraction, start -> optimised");
                     ui.label(format!(
-                        "{:.3}",
-                        crate::core::metrics::open_fraction(&ctx.design.opening.cells)
-                    ));
-                    ui.label(format!(
-                        "{:.3}",
+                        "{:.3} -> {:.3}",
+                        crate::core::metrics::open_fraction(&ctx.design.opening.cells),
                         crate::core::metrics::open_fraction(&f.result.design.opening.cells)
                     ));
                     ui.end_row();
                 });
+            ui.weak("Apply, and the views and numbers show the new opening at full quality.");
             let mut apply = false;
             let mut discard = false;
             ui.horizontal(|ui| {

@@ -9,6 +9,7 @@ mod compare;
 mod hints;
 pub mod images;
 mod plots;
+pub mod restore;
 mod textures;
 
 use egui::{RichText, TextureId, Ui};
@@ -39,10 +40,11 @@ pub enum ViewTab {
     MtfPlots,
     Expected,
     Compare,
+    Restore,
 }
 
 impl ViewTab {
-    pub const ALL: [ViewTab; 7] = [
+    pub const ALL: [ViewTab; 8] = [
         ViewTab::Psf,
         ViewTab::LogPsf,
         ViewTab::Rgb,
@@ -50,6 +52,7 @@ impl ViewTab {
         ViewTab::MtfPlots,
         ViewTab::Expected,
         ViewTab::Compare,
+        ViewTab::Restore,
     ];
 
     pub fn label(self) -> &'static str {
@@ -61,6 +64,7 @@ impl ViewTab {
             ViewTab::MtfPlots => "MTF plots",
             ViewTab::Expected => "Expected PSF",
             ViewTab::Compare => "Compare",
+            ViewTab::Restore => "Restore",
         }
     }
 
@@ -73,6 +77,7 @@ impl ViewTab {
             ViewTab::MtfPlots => hints::MTF_PLOTS,
             ViewTab::Expected => hints::EXPECTED,
             ViewTab::Compare => hints::COMPARE,
+            ViewTab::Restore => hints::RESTORE,
         }
     }
 }
@@ -87,6 +92,8 @@ pub struct ViewsPanel {
     mtf_floor_decades: f64,
     families: MtfFamilies,
     textures: Textures,
+    /// The Restore view (its own photo, settings and background job).
+    pub restore: restore::RestoreView,
 }
 
 impl Default for ViewsPanel {
@@ -98,6 +105,7 @@ impl Default for ViewsPanel {
             mtf_floor_decades: 3.0,
             families: MtfFamilies::default(),
             textures: Textures::default(),
+            restore: restore::RestoreView::default(),
         }
     }
 }
@@ -153,6 +161,7 @@ impl ViewsPanel {
             ViewTab::MtfPlots => self.mtf_plots_ui(ui, shown, ctx),
             ViewTab::Expected => self.expected_ui(ui, shown, ch, ctx.overlays),
             ViewTab::Compare => self.compare_ui(ui, shown, ctx),
+            ViewTab::Restore => self.restore.ui(ui, shown, ctx),
         }
     }
 

@@ -46,3 +46,9 @@ the window; a lower, more negative invertibility loss) and red where it is worse
 transmittance (LTR) is the share of the lens's light that passes the display; AUC measures how \
 well the blur can be undone. More open area lets more light through, but it is the shape of the \
 openings that decides where the MTF dips.";
+
+pub const RESTORE: &str = "A photo seen through the display: blurred by each channel's PSF, \
+exposed with photon and read noise at the chosen light level (the brighter the display's LTR, the \
+more electrons it collects), then restored by Wiener deconvolution or least squares. PSNR and SSIM \
+compare the restoration with the original. A blur whose MTF has deep dips (a periodic T-OLED) \
+loses those frequencies to the noise for good; random tiling and optimised openings keep them.";

@@ -1,0 +1,474 @@
+//! The Restore view (thesis §3.5): a photo captured through the current design (and the pinned
+//! design A, on the same photo and light) and restored, with PSNR and SSIM. The simulation runs
+//! on a background thread whenever the design, the photo or a setting changes; the previous
+//! pictures stay until the new ones arrive.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use egui::{Color32, ColorImage, TextureHandle, TextureOptions, Ui};
+use ndarray::Array2;
+
+use crate::app::dialogs::{PendingDialog, Purpose};
+use crate::app::panels::{PanelCtx, Pinned, Shown};
+use crate::app::tasks::Task;
+use crate::core::restore::capture::REFERENCE_LTR;
+use crate::core::restore::{
+    CaptureSettings, CgSettings, Light, Method, RestoreResult, RestoreSettings, THESIS_NSR,
+    simulate,
+};
+use crate::core::{Analysis, Progress};
+use crate::io::photo;
+
+/// The photo shown when nothing else was chosen: a public-domain test image in the repository.
+const BUILT_IN_PHOTO: &[u8] = include_bytes!("../../../../assets/photos/astronaut_256.png");
+/// Photos are scaled down to this side so a run stays interactive.
+const MAX_SIDE_PX: u32 = 1024;
+/// Gain of the difference image (as the CLI's).
+const DIFFERENCE_GAIN: f64 = photo::DIFFERENCE_GAIN;
+
+/// A loaded photo: a name for the screen and one plane per channel in `[0, 1]`.
+pub struct Photo {
+    pub name: String,
+    pub planes: Vec<Array2<f64>>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum MethodChoice {
+    Wiener,
+    Cg,
+}
+
+/// The settings a run depends on, compared to decide when to rerun.
+#[derive(Debug, Clone, PartialEq)]
+struct Key {
+    photo: u64,
+    shown: u64,
+    pinned: Option<usize>,
+    snr_db: f64,
+    method: MethodChoice,
+    nsr: f64,
+    lambda: f64,
+    seed: u64,
+}
+
+/// Captured, restored and difference images of one design, uploaded.
+struct Row {
+    label: String,
+    result: RestoreResult,
+    textures: [TextureHandle; 3],
+}
+
+type RunOutput = Result<Vec<(String, RestoreResult)>, String>;
+
+struct Job {
+    key: Key,
+    task: Task<RunOutput>,
+    progress: Arc<Progress>,
+}
+
+pub struct RestoreView {
+    photo: Option<Arc<Photo>>,
+    photo_id: u64,
+    photo_texture: Option<TextureHandle>,
+    photo_load: Option<Task<Result<Photo, String>>>,
+    dialog: Option<PendingDialog>,
+    snr_db: f64,
+    method: MethodChoice,
+    nsr: f64,
+    lambda: f64,
+    seed: u64,
+    job: Option<Job>,
+    done_key: Option<Key>,
+    rows: Vec<Row>,
+    message: Option<(String, bool)>,
+}
+
+impl Default for RestoreView {
+    fn default() -> Self {
+        RestoreView {
+            photo: None,
+            photo_id: 0,
+            photo_texture: None,
+            photo_load: None,
+            dialog: None,
+            snr_db: 28.0,
+            method: MethodChoice::Wiener,
+            nsr: THESIS_NSR,
+            lambda: CgSettings::default().lambda,
+            seed: 0,
+            job: None,
+            done_key: None,
+            rows: Vec::new(),
+            message: None,
+        }
+    }
+}
+
+fn built_in() -> Result<Photo, String> {
+    let img = image::load_from_memory(BUILT_IN_PHOTO).map_err(|e| e.to_string())?;
+    Ok(Photo {
+        name: "astronaut (built in, 256 px)".into(),
+        planes: photo::planes_of(&img.to_rgb32f()),
+    })
+}
+
+fn color_image(planes: &[&Array2<f64>], scale: f64) -> ColorImage {
+    let Some(first) = planes.first() else {
+        return ColorImage::new([1, 1], vec![Color32::BLACK]);
+    };
+    let (h, w) = first.dim();
+    let byte = |v: f64| ((v * scale).clamp(0.0, 1.0) * 255.0).round() as u8;
+    let pixels = (0..h * w)
+        .map(|i| {
+            let (y, x) = (i / w, i % w);
+            let c = |k: usize| {
+                planes
+                    .get(k)
+                    .or(planes.first())
+                    .map_or(0, |p| byte(p[[y, x]]))
+            };
+            Color32::from_rgb(c(0), c(1), c(2))
+        })
+        .collect();
+    ColorImage::new([w, h], pixels)
+}
+
+impl RestoreView {
+    /// The numbers of the current design's run (tests read them).
+    pub fn current(&self) -> Option<&RestoreResult> {
+        self.rows.first().map(|r| &r.result)
+    }
+
+    /// The numbers of the pinned design's run, when a design is pinned.
+    pub fn pinned(&self) -> Option<&RestoreResult> {
+        self.rows.get(1).map(|r| &r.result)
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.job.is_some() || self.photo_load.is_some()
+    }
+
+    pub fn set_snr_db(&mut self, snr_db: f64) {
+        self.snr_db = snr_db;
+    }
+
+    /// Loads a photo file on a background thread (the open dialog and dropped files call this).
+    pub fn load_photo(&mut self, path: PathBuf, ctx: &egui::Context) {
+        let wake = ctx.clone();
+        self.photo_load = Some(Task::spawn(
+            "photo-load",
+            move || wake.request_repaint(),
+            move || {
+                let planes =
+                    photo::load_photo(&path, Some(MAX_SIDE_PX)).map_err(|e| e.to_string())?;
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                Ok(Photo { name, planes })
+            },
+        ));
+    }
+
+    fn set_photo(&mut self, p: Photo, ctx: &egui::Context) {
+        let planes: Vec<&Array2<f64>> = p.planes.iter().collect();
+        self.photo_texture = Some(ctx.load_texture(
+            "restore-truth",
+            color_image(&planes, 1.0),
+            TextureOptions::LINEAR,
+        ));
+        self.photo = Some(Arc::new(p));
+        self.photo_id += 1;
+    }
+
+    fn poll(&mut self, ctx: &egui::Context) {
+        if self.photo.is_none() && self.photo_load.is_none() {
+            match built_in() {
+                Ok(p) => self.set_photo(p, ctx),
+                Err(e) => self.message = Some((format!("the built-in photo: {e}"), true)),
+            }
+        }
+        if let Some(answer) = self.dialog.as_ref().and_then(PendingDialog::poll) {
+            self.dialog = None;
+            if let Some(path) = answer {
+                self.load_photo(path, ctx);
+            }
+        }
+        if let Some(done) = self.photo_load.as_ref().and_then(Task::poll) {
+            self.photo_load = None;
+            match done {
+                Ok(Ok(p)) => {
+                    self.message = None;
+                    self.set_photo(p, ctx);
+                }
+                // The previous photo stays.
+                Ok(Err(e)) => self.message = Some((format!("cannot open the photo: {e}"), true)),
+                Err(()) => self.message = Some(("the photo reader stopped".into(), true)),
+            }
+        }
+        if let Some(done) = self.job.as_ref().and_then(|j| j.task.poll()) {
+            let key = self.job.take().map(|j| j.key);
+            match done {
+                Ok(Ok(runs)) => {
+                    self.rows = runs
+                        .into_iter()
+                        .enumerate()
+                        .map(|(i, (label, result))| {
+                            let c: Vec<&Array2<f64>> = result.captured.iter().collect();
+                            let r: Vec<&Array2<f64>> = result.restored.iter().collect();
+                            let truth = self.photo.as_ref().map(|p| &p.planes);
+                            let diff: Vec<Array2<f64>> = result
+                                .restored
+                                .iter()
+                                .zip(truth.into_iter().flatten())
+                                .map(|(r, t)| (r - t).mapv(f64::abs))
+                                .collect();
+                            let d: Vec<&Array2<f64>> = diff.iter().collect();
+                            let tex = |name: &str, img| {
+                                ctx.load_texture(
+                                    format!("restore-{i}-{name}"),
+                                    img,
+                                    TextureOptions::LINEAR,
+                                )
+                            };
+                            let textures = [
+                                tex("captured", color_image(&c, 1.0)),
+                                tex("restored", color_image(&r, 1.0)),
+                                tex("difference", color_image(&d, DIFFERENCE_GAIN)),
+                            ];
+                            Row {
+                                label,
+                                result,
+                                textures,
+                            }
+                        })
+                        .collect();
+                    self.message = None;
+                    self.done_key = key;
+                }
+                Ok(Err(e)) => {
+                    self.message = Some((e, true));
+                    self.done_key = key;
+                }
+                Err(()) => self.message = Some(("the restore job stopped".into(), true)),
+            }
+        }
+    }
+
+    fn key(&self, shown: &Shown, pinned: Option<&Pinned>) -> Key {
+        Key {
+            photo: self.photo_id,
+            shown: shown.generation * 2 + u64::from(shown.quality == crate::core::Quality::Full),
+            pinned: pinned.map(|p| Arc::as_ptr(&p.analysis) as usize),
+            snr_db: self.snr_db,
+            method: self.method,
+            nsr: self.nsr,
+            lambda: self.lambda,
+            seed: self.seed,
+        }
+    }
+
+    fn start(&mut self, key: Key, shown: &Shown, pinned: Option<&Pinned>, ctx: &egui::Context) {
+        let Some(photo) = self.photo.clone() else {
+            return;
+        };
+        if let Some(j) = self.job.take() {
+            j.progress.cancel();
+        }
+        let method = match self.method {
+            MethodChoice::Wiener => Method::Wiener { nsr: self.nsr },
+            MethodChoice::Cg => Method::Cg(CgSettings {
+                lambda: self.lambda,
+                ..CgSettings::default()
+            }),
+        };
+        let settings = RestoreSettings {
+            capture: CaptureSettings {
+                light: Light::SnrDb(self.snr_db),
+                seed: self.seed,
+                ..CaptureSettings::default()
+            },
+            method,
+            ..RestoreSettings::default()
+        };
+        let mut designs: Vec<(String, Arc<Analysis>)> = vec![(
+            format!("current: {}", shown.design.name),
+            shown.analysis.clone(),
+        )];
+        if let Some(p) = pinned {
+            designs.push((format!("A: {}", p.design.name), p.analysis.clone()));
+        }
+        let progress = Arc::new(Progress::new());
+        let p = progress.clone();
+        let wake = ctx.clone();
+        let task = Task::spawn(
+            "restore",
+            move || wake.request_repaint(),
+            move || {
+                let mut out = Vec::new();
+                for (label, analysis) in designs {
+                    let psfs: Vec<&Array2<f64>> =
+                        analysis.channels.iter().map(|c| &c.psf).collect();
+                    if psfs.len() != photo.planes.len() {
+                        return Err(format!(
+                            "{label} has {} colour channels; the photo has {}",
+                            psfs.len(),
+                            photo.planes.len()
+                        ));
+                    }
+                    let mut s = settings.clone();
+                    s.capture.ltr_relative = analysis.ltr / REFERENCE_LTR;
+                    let r = simulate(&photo.planes, &psfs, &s, &p)
+                        .map_err(|e| format!("{label}: {e}"))?;
+                    out.push((label, r));
+                }
+                Ok(out)
+            },
+        );
+        self.job = Some(Job {
+            key,
+            task,
+            progress,
+        });
+    }
+
+    pub fn ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &mut PanelCtx) {
+        let egui_ctx = ui.ctx().clone();
+        self.poll(&egui_ctx);
+        self.controls_ui(ui);
+        let key = self.key(shown, ctx.pinned);
+        let stale = self.done_key.as_ref() != Some(&key);
+        let running_this = self.job.as_ref().is_some_and(|j| j.key == key);
+        if stale && !running_this && self.photo.is_some() {
+            self.start(key, shown, ctx.pinned, &egui_ctx);
+        }
+        if let Some((msg, is_error)) = &self.message {
+            let color = if *is_error {
+                ui.visuals().error_fg_color
+            } else {
+                ui.visuals().weak_text_color()
+            };
+            ui.colored_label(color, msg);
+        }
+        if ctx.pinned.is_none() {
+            ui.weak("Pin a design as A (Compare menu) to see both on the same photo and light.");
+        }
+        egui::ScrollArea::both().show(ui, |ui| self.images_ui(ui));
+    }
+
+    fn controls_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Photo:");
+            ui.strong(self.photo.as_ref().map_or("(loading)", |p| p.name.as_str()));
+            if ui
+                .add_enabled(self.dialog.is_none(), egui::Button::new("Open photo…"))
+                .on_hover_text(
+                    "A PNG or JPEG (scaled to at most 1024 px); or drop one on the window",
+                )
+                .clicked()
+            {
+                self.dialog = Some(PendingDialog::spawn(Purpose::Photo, None, None));
+            }
+            if ui.button("Built-in photo").clicked() {
+                self.photo = None;
+                self.photo_load = None;
+            }
+            if self.is_running() {
+                ui.spinner();
+                if let Some(j) = &self.job {
+                    ui.weak(format!("{:.0} %", 100.0 * j.progress.fraction()));
+                }
+            }
+        });
+        ui.horizontal_wrapped(|ui| {
+            ui.add(
+                egui::Slider::new(&mut self.snr_db, 16.0..=48.0)
+                    .step_by(1.0)
+                    .suffix(" dB")
+                    .text("SNR"),
+            )
+            .on_hover_text(format!(
+                "Light level as the SNR of a white pixel behind the reference T-OLED display \
+                 (24/28/32/36/40 dB = 273/654/1608/4005/10024 e-); now {:.0} e-",
+                Light::SnrDb(self.snr_db).electrons(crate::core::restore::capture::READ_NOISE_E)
+            ));
+            ui.separator();
+            ui.selectable_value(&mut self.method, MethodChoice::Wiener, "Wiener");
+            ui.selectable_value(&mut self.method, MethodChoice::Cg, "CG least squares");
+            match self.method {
+                MethodChoice::Wiener => {
+                    ui.add(
+                        egui::DragValue::new(&mut self.nsr)
+                            .range(0.0..=1.0)
+                            .speed(0.0001)
+                            .prefix("nsr ")
+                            .max_decimals(5),
+                    )
+                    .on_hover_text(
+                        "Noise-to-signal ratio of the Wiener filter (the thesis: 0.00371)",
+                    );
+                }
+                MethodChoice::Cg => {
+                    ui.add(
+                        egui::DragValue::new(&mut self.lambda)
+                            .range(0.0..=1.0)
+                            .speed(0.0001)
+                            .prefix("λ ")
+                            .max_decimals(5),
+                    )
+                    .on_hover_text("Weight of the gradient penalty");
+                }
+            }
+            ui.separator();
+            ui.add(egui::DragValue::new(&mut self.seed).prefix("noise seed "));
+        });
+    }
+
+    fn images_ui(&self, ui: &mut Ui) {
+        let side = 240.0f32;
+        let size_of = |t: &TextureHandle| {
+            let [w, h] = t.size();
+            let s = side / w.max(h).max(1) as f32;
+            egui::vec2(w as f32 * s, h as f32 * s)
+        };
+        if let Some(t) = &self.photo_texture {
+            ui.label("Ground truth");
+            ui.image((t.id(), size_of(t)));
+        }
+        for row in &self.rows {
+            ui.separator();
+            let r = &row.result;
+            ui.horizontal_wrapped(|ui| {
+                ui.strong(&row.label);
+                ui.label(format!(
+                    "restored PSNR {:.2} dB, SSIM {:.3}  (captured {:.2} dB);  {:.0} e- at white, {:.0} ms",
+                    r.psnr_db, r.ssim, r.captured_psnr_db, r.electrons_per_unit, r.elapsed_ms
+                ));
+            });
+            let sat: f64 = r
+                .channels
+                .iter()
+                .map(|c| c.saturated_fraction)
+                .fold(0.0, f64::max);
+            if sat > 0.0 {
+                ui.colored_label(
+                    ui.visuals().warn_fg_color,
+                    format!("{:.2} % of pixels reached the full well", 100.0 * sat),
+                );
+            }
+            ui.horizontal(|ui| {
+                for (t, caption) in row.textures.iter().zip([
+                    "captured".to_string(),
+                    "restored".to_string(),
+                    format!("|restored - truth| x {DIFFERENCE_GAIN:.0}"),
+                ]) {
+                    ui.vertical(|ui| {
+                        ui.label(caption);
+                        ui.image((t.id(), size_of(t)));
+                    });
+                }
+            });
+        }
+    }
+}

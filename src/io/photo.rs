@@ -1,0 +1,222 @@
+//! Photos for capture-and-restore: read any PNG/JPEG/TIFF/HDR/EXR into three `[row, col]` planes
+//! (R, G, B) in `[0, 1]`, and write captures, restorations and difference images back out.
+//!
+//! Pixel values are taken as linear intensities, with no sRGB decoding (the thesis treats its
+//! 8-bit dataset the same way; see `core::restore`): 8-bit values are divided by 255, 16-bit by
+//! 65535, and float images (HDR, EXR) are clamped to `[0, 1]`. Grey images give three equal
+//! planes; alpha is dropped.
+//!
+//! Written files: 8-bit PNG (values clipped to `[0, 1]`, grey = round(255·v)), difference PNG
+//! (`|a − b|` times a stated gain, clipped), and 32-bit float EXR (values unscaled, unclipped).
+//! Every file is encoded in memory and written atomically, like the PSF exports.
+
+use std::path::Path;
+
+use image::imageops::FilterType;
+use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Rgb, Rgb32FImage, RgbImage};
+use ndarray::Array2;
+
+use super::IoError;
+use super::export::{size_mismatch, write_image};
+
+/// The largest photo simulated, in pixels (after any downscale): 4096 × 4096. Each plane is
+/// held several times over as `f64` during a simulation.
+pub const MAX_PHOTO_PIXELS: u64 = 4096 * 4096;
+
+/// Gain of difference images: `|restored − truth|` is multiplied by this before it is written,
+/// so an error of 0.05 (5 % of full scale) shows as 25 % grey.
+pub const DIFFERENCE_GAIN: f64 = 5.0;
+
+/// Loads a photo as three planes R, G, B in `[0, 1]` (see the module docs). With `max_side_px`,
+/// a photo whose longer side exceeds it is scaled down (triangle filter, aspect ratio kept) so
+/// that its longer side is `max_side_px`.
+///
+/// # Errors
+/// [`IoError::File`] when the file cannot be opened; [`IoError::Image`] when its format is not
+/// recognised or supported, it cannot be decoded, it is empty, or it is larger than
+/// [`MAX_PHOTO_PIXELS`] (after the downscale); `max_side_px = Some(0)` is an
+/// [`IoError::Image`] too.
+pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f64>>, IoError> {
+    let image_err = |message: String| IoError::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    if max_side_px == Some(0) {
+        return Err(image_err(
+            "the maximum side must be at least 1 pixel".into(),
+        ));
+    }
+    let open = || {
+        ImageReader::open(path)
+            .map_err(|e| IoError::file("read the photo", path, e))?
+            // Trust the bytes, not the extension.
+            .with_guessed_format()
+            .map_err(|e| IoError::file("read the photo", path, e))
+    };
+    let reader = open()?;
+    if reader.format().is_none() {
+        return Err(image_err(
+            "not an image in a supported format (PNG, JPEG, TIFF, HDR or EXR)".into(),
+        ));
+    }
+    // The size from the header first, so an oversized photo is refused before it is decoded.
+    let (w, h) = reader
+        .into_dimensions()
+        .map_err(|e| image_err(format!("not a readable image: {e}")))?;
+    if w == 0 || h == 0 {
+        return Err(image_err(format!("the image is empty ({w}×{h} pixels)")));
+    }
+    let scale = max_side_px.map_or(1.0, |m| (f64::from(m) / f64::from(w.max(h))).min(1.0));
+    let pixels = (f64::from(w) * scale).round() * (f64::from(h) * scale).round();
+    if pixels > MAX_PHOTO_PIXELS as f64 {
+        return Err(image_err(format!(
+            "the image is {w}×{h} pixels; photos of at most {MAX_PHOTO_PIXELS} pixels are \
+             simulated (scale it down, e.g. with a maximum side)"
+        )));
+    }
+    let img = open()?
+        .decode()
+        .map_err(|e| image_err(format!("not a readable image: {e}")))?;
+    let mut rgb = DynamicImage::ImageRgb32F(img.to_rgb32f());
+    if let Some(m) = max_side_px
+        && w.max(h) > m
+    {
+        rgb = rgb.resize(m, m, FilterType::Triangle);
+    }
+    Ok(planes_of(&rgb.to_rgb32f()))
+}
+
+/// The R, G, B planes of a float image, clamped to `[0, 1]` (NaN → 0).
+pub fn planes_of(img: &Rgb32FImage) -> Vec<Array2<f64>> {
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    (0..3)
+        .map(|c| {
+            Array2::from_shape_fn((h, w), |(y, x)| {
+                let v = f64::from(img.get_pixel(x as u32, y as u32).0[c]);
+                if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) }
+            })
+        })
+        .collect()
+}
+
+/// Width and height of 1 or 3 equal-sized, non-empty planes.
+fn planes_size(path: &Path, planes: &[&Array2<f64>]) -> Result<(u32, u32), IoError> {
+    let bad = |message: String| IoError::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    let Some(first) = planes.first() else {
+        return Err(bad("no planes to write".into()));
+    };
+    if planes.len() != 1 && planes.len() != 3 {
+        return Err(bad(format!(
+            "{} planes; an image needs 1 (grey) or 3 (R, G, B)",
+            planes.len()
+        )));
+    }
+    if planes.iter().any(|p| p.dim() != first.dim()) {
+        return Err(bad("the planes differ in size".into()));
+    }
+    let (rows, cols) = first.dim();
+    if rows == 0 || cols == 0 {
+        return Err(bad(format!("cannot write an empty {rows}×{cols} image")));
+    }
+    let w = u32::try_from(cols).map_err(|_| bad("too wide for an image".into()))?;
+    let h = u32::try_from(rows).map_err(|_| bad("too tall for an image".into()))?;
+    Ok((w, h))
+}
+
+/// Interleaved RGB values of 1 (grey, repeated) or 3 planes, mapped through `f`.
+fn interleave<T>(planes: &[&Array2<f64>], f: impl Fn(f64) -> T) -> Vec<T> {
+    let [r, g, b] = match planes {
+        [grey] => [*grey, *grey, *grey],
+        [r, g, b] => [*r, *g, *b],
+        _ => return Vec::new(),
+    };
+    r.iter()
+        .zip(g.iter())
+        .zip(b.iter())
+        .flat_map(|((r, g), b)| [f(*r), f(*g), f(*b)])
+        .collect()
+}
+
+/// `round(255·v)` for `v` clipped to `[0, 1]`; NaN → 0.
+fn to_u8(v: f64) -> u8 {
+    if v.is_nan() {
+        0
+    } else {
+        (255.0 * v.clamp(0.0, 1.0)).round() as u8
+    }
+}
+
+/// Writes 1 (grey) or 3 (R, G, B) planes as an 8-bit RGB PNG, values clipped to `[0, 1]`.
+///
+/// # Errors
+/// [`IoError::Image`] for a wrong number of planes, planes of different sizes or empty ones, or
+/// an encoder failure; [`IoError::File`] when the file cannot be written.
+pub fn write_photo_png(path: &Path, planes: &[&Array2<f64>]) -> Result<(), IoError> {
+    let (w, h) = planes_size(path, planes)?;
+    let img: RgbImage = ImageBuffer::<Rgb<u8>, _>::from_raw(w, h, interleave(planes, to_u8))
+        .ok_or_else(|| size_mismatch(path))?;
+    write_image(path, DynamicImage::ImageRgb8(img), ImageFormat::Png)
+}
+
+/// Writes `|a − b| · gain` per plane as an 8-bit RGB PNG (clipped at full scale); use
+/// [`DIFFERENCE_GAIN`] unless there is a reason to state another gain.
+///
+/// # Errors
+/// As [`write_photo_png`], and when `a` and `b` differ in size or count, or `gain` is not a
+/// positive number.
+pub fn write_difference_png(
+    path: &Path,
+    a: &[&Array2<f64>],
+    b: &[&Array2<f64>],
+    gain: f64,
+) -> Result<(), IoError> {
+    let bad = |message: String| IoError::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    if !(gain.is_finite() && gain > 0.0) {
+        return Err(bad(format!(
+            "the difference gain must be a positive number (got {gain})"
+        )));
+    }
+    if a.len() != b.len() || a.iter().zip(b).any(|(x, y)| x.dim() != y.dim()) {
+        return Err(bad("the two images differ in size or channels".into()));
+    }
+    let diff: Vec<Array2<f64>> = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (*x - *y).mapv(|v| v.abs() * gain))
+        .collect();
+    let refs: Vec<&Array2<f64>> = diff.iter().collect();
+    write_photo_png(path, &refs)
+}
+
+/// Writes 1 (grey, as three equal channels) or 3 planes as a 32-bit float RGB EXR, unscaled.
+///
+/// # Errors
+/// As [`write_photo_png`].
+pub fn write_photo_exr(path: &Path, planes: &[&Array2<f64>]) -> Result<(), IoError> {
+    let (w, h) = planes_size(path, planes)?;
+    let img: Rgb32FImage =
+        ImageBuffer::<Rgb<f32>, _>::from_raw(w, h, interleave(planes, |v| v as f32))
+            .ok_or_else(|| size_mismatch(path))?;
+    write_image(path, DynamicImage::ImageRgb32F(img), ImageFormat::OpenExr)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn u8_levels_round_and_clip() {
+        assert_eq!(to_u8(0.0), 0);
+        assert_eq!(to_u8(1.0), 255);
+        assert_eq!(to_u8(2.0), 255);
+        assert_eq!(to_u8(-1.0), 0);
+        assert_eq!(to_u8(f64::NAN), 0);
+        assert_eq!(to_u8(0.5), 128);
+    }
+}

@@ -1,0 +1,113 @@
+//! What `udc-studio restore` produces: the JSON of its runs (a contract other tools depend on:
+//! field names are fixed, new fields may be added, none renamed) and the images of one run.
+
+use std::path::{Path, PathBuf};
+
+use ndarray::Array2;
+use serde_json::{Value, json};
+
+use super::IoError;
+use super::photo::{DIFFERENCE_GAIN, write_difference_png, write_photo_exr, write_photo_png};
+use crate::core::restore::RestoreResult;
+
+/// Rounds to 6 significant digits; non-finite values (an infinite PSNR) become JSON `null`.
+fn r(v: f64) -> Value {
+    if !v.is_finite() {
+        return Value::Null;
+    }
+    if v == 0.0 {
+        return json!(0.0);
+    }
+    let digits = 6 - v.abs().log10().ceil() as i32;
+    let scale = 10f64.powi(digits.clamp(-300, 300));
+    json!((v * scale).round() / scale)
+}
+
+/// One element of `runs`: the light level and the scores, pooled and per channel (named
+/// `channel_names[c]`, or by index when a name is missing). `outputs` are the files written.
+pub fn run_json(result: &RestoreResult, channel_names: &[String], outputs: &[PathBuf]) -> Value {
+    let channels: Vec<Value> = result
+        .channels
+        .iter()
+        .enumerate()
+        .map(|(c, ch)| {
+            let mut v = json!({
+                "name": channel_names.get(c).cloned().unwrap_or_else(|| c.to_string()),
+                "psnr_db": r(ch.psnr_db),
+                "ssim": r(ch.ssim),
+                "captured_psnr_db": r(ch.captured_psnr_db),
+                "saturated_fraction": r(ch.saturated_fraction),
+            });
+            if let (Some(cg), Some(obj)) = (&ch.cg, v.as_object_mut()) {
+                obj.insert("cg_iterations".into(), json!(cg.iterations));
+                obj.insert(
+                    "cg_relative_residual".into(),
+                    r(cg.relative_residual.last().copied().unwrap_or(f64::NAN)),
+                );
+            }
+            v
+        })
+        .collect();
+    json!({
+        "light_e": r(result.light_e),
+        "snr_db": r(result.snr_db),
+        "electrons_per_unit": r(result.electrons_per_unit),
+        "psnr_db": r(result.psnr_db),
+        "ssim": r(result.ssim),
+        "captured_psnr_db": r(result.captured_psnr_db),
+        "elapsed_ms": (result.elapsed_ms * 1000.0).round() / 1000.0,
+        "channels": channels,
+        "outputs": outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+    })
+}
+
+/// Writes one run's images into `dir` (created if needed), each name starting with `stem`:
+/// `{stem}_captured.png`, `{stem}_restored.png` (8-bit, clipped to `[0, 1]`),
+/// `{stem}_difference.png` (`|restored − truth|` × [`DIFFERENCE_GAIN`]) and
+/// `{stem}_captured.exr`, `{stem}_restored.exr` (float, unclipped). Returns the paths in that
+/// order.
+///
+/// # Errors
+/// [`IoError::File`] when the folder or a file cannot be written; [`IoError::Image`] when the
+/// planes cannot be encoded. Files written before the error stay.
+pub fn write_run_images(
+    dir: &Path,
+    stem: &str,
+    truth: &[Array2<f64>],
+    result: &RestoreResult,
+) -> Result<Vec<PathBuf>, IoError> {
+    std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
+    let captured: Vec<&Array2<f64>> = result.captured.iter().collect();
+    let restored: Vec<&Array2<f64>> = result.restored.iter().collect();
+    let truth: Vec<&Array2<f64>> = truth.iter().collect();
+    let mut written = Vec::new();
+    let path = dir.join(format!("{stem}_captured.png"));
+    write_photo_png(&path, &captured)?;
+    written.push(path);
+    let path = dir.join(format!("{stem}_restored.png"));
+    write_photo_png(&path, &restored)?;
+    written.push(path);
+    let path = dir.join(format!("{stem}_difference.png"));
+    write_difference_png(&path, &restored, &truth, DIFFERENCE_GAIN)?;
+    written.push(path);
+    let path = dir.join(format!("{stem}_captured.exr"));
+    write_photo_exr(&path, &captured)?;
+    written.push(path);
+    let path = dir.join(format!("{stem}_restored.exr"));
+    write_photo_exr(&path, &restored)?;
+    written.push(path);
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn infinite_psnr_is_null_and_numbers_are_rounded() {
+        assert_eq!(r(f64::INFINITY), Value::Null);
+        assert_eq!(r(f64::NAN), Value::Null);
+        assert_eq!(r(27.123456789), json!(27.1235));
+        assert_eq!(r(0.0), json!(0.0));
+    }
+}

@@ -1,0 +1,76 @@
+//! The Restore view, driven like a user: the same photo and light through two designs, the
+//! thesis's order (random tiling restores the T-OLED better), and a bad photo that changes nothing.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use std::time::Duration;
+
+use common::step_until;
+use egui_kittest::kittest::Queryable;
+use udc_studio::app::panels::views::ViewTab;
+use udc_studio::app::{Command, StudioApp};
+use udc_studio::core::design::TilingMode;
+
+#[test]
+fn random_tiling_restores_better_than_the_pinned_periodic_toled() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
+    h.state_mut().command(Command::PinCompare);
+    step_until(&mut h, "the pinned design", |app| app.pinned().is_some());
+    let mut d = h.state().design().clone();
+    d.tiling.mode = TilingMode::RandomD4;
+    h.state_mut().command(Command::Edit(Box::new(d)));
+    step_until(&mut h, "the random-tiling result", StudioApp::is_up_to_date);
+    h.state_mut().views().set_tab(ViewTab::Restore);
+    step_until(&mut h, "both restorations", |app| {
+        let v = app.restore_view();
+        !v.is_running() && v.current().is_some() && v.pinned().is_some()
+    });
+    let v = h.state().restore_view();
+    let (random, periodic) = (v.current().unwrap(), v.pinned().unwrap());
+    assert!(
+        random.psnr_db > periodic.psnr_db + 1.0,
+        "random {} dB vs periodic {} dB",
+        random.psnr_db,
+        periodic.psnr_db
+    );
+    assert!(random.ssim > periodic.ssim);
+    // Both at the same light behind the reference display (28 dB = 654 e-), the same LTR here.
+    assert!((random.light_e - periodic.light_e).abs() < 1e-9);
+    assert!((random.light_e - 654.0).abs() < 1.0);
+    assert_eq!(
+        h.query_all_by_label_contains("restored PSNR").count(),
+        2,
+        "a row per design"
+    );
+}
+
+#[test]
+fn a_bad_photo_shows_an_error_and_keeps_the_last_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.png");
+    std::fs::write(&bad, b"not a png at all").unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    h.state_mut().views().set_tab(ViewTab::Restore);
+    step_until(&mut h, "the built-in photo restored", |app| {
+        let v = app.restore_view();
+        !v.is_running() && v.current().is_some()
+    });
+    let psnr = h.state().restore_view().current().unwrap().psnr_db;
+    let ctx = h.ctx.clone();
+    h.state_mut().views().restore.load_photo(bad.clone(), &ctx);
+    step_until(&mut h, "the photo error", |app| {
+        !app.restore_view().is_running()
+    });
+    assert!(h.query_by_label_contains("cannot open the photo").is_some());
+    assert!(
+        h.query_by_label_contains("astronaut").is_some(),
+        "the old photo stays"
+    );
+    assert_eq!(h.state().restore_view().current().unwrap().psnr_db, psnr);
+}
