@@ -511,3 +511,66 @@ fn random_tiling_restores_the_toled_better_than_repeat() {
         "SSIM repeat {repeat_ssim:.4} vs random D4 {random_ssim:.4}"
     );
 }
+
+/// PSNR and SSIM of the committed photo through `design` at `snr_db`, Wiener with the thesis nsr.
+fn restore_scores(design: &udc_studio::core::Design, snr_db: f64) -> (f64, f64) {
+    let photo = astronaut(None);
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let a = analyze_with(design, &options, &Progress::new()).expect("analyse");
+    let psfs: Vec<&Array2<f64>> = a.channels.iter().map(|c| &c.psf).collect();
+    let mut s = settings(Light::SnrDb(snr_db), true, Method::default());
+    s.capture.ltr_relative = a.ltr / udc_studio::core::restore::capture::REFERENCE_LTR;
+    let r = run(&photo, &psfs, &s);
+    (r.psnr_db, r.ssim)
+}
+
+/// The whole of Fig. 3.8's trend on a real photo: T-OLED repeat < T-OLED random < optimised,
+/// for the thesis's optimised opening and for one this studio's optimiser finds from all open
+/// with the thesis's "top-10 L2 + inv" loss, trained on another photo (`coffee_256.png`) at the
+/// T-OLED's open fraction.
+#[test]
+fn psnr_orders_toled_repeat_below_random_below_optimised() {
+    use std::ops::ControlFlow;
+    use udc_studio::core::optimize::{DataSet, OptimizeSettings, optimize};
+    let snr_db = 36.0;
+    let mut toled = load_preset("toled-150dpi").expect("preset");
+    toled.tiling.mode = TilingMode::Repeat;
+    let repeat = restore_scores(&toled, snr_db);
+    toled.tiling.mode = TilingMode::Random4;
+    let random = restore_scores(&toled, snr_db);
+    let thesis = restore_scores(&load_preset("l2inv-random").expect("preset"), snr_db);
+    let coffee = load_photo(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/photos/coffee_256.png"),
+        None,
+    )
+    .expect("training photo");
+    let data = DataSet::new(&[coffee], 3, 256).expect("data set");
+    let settings = OptimizeSettings {
+        epochs: 70,
+        area_every_epochs: 3,
+        target_open_fraction: 5.0 / 21.0,
+        quality: Quality::Preview,
+        ..OptimizeSettings::default()
+    };
+    let found = optimize(&toled, &settings, Some(&data), &Progress::new(), |_| {
+        ControlFlow::Continue(())
+    })
+    .expect("optimise");
+    let ours = restore_scores(&found.design, snr_db);
+    eprintln!(
+        "PSNR/SSIM repeat {repeat:?} random {random:?} thesis-optimised {thesis:?} ours {ours:?}"
+    );
+    assert!(
+        repeat.0 < random.0,
+        "repeat {repeat:?} vs random {random:?}"
+    );
+    assert!(
+        random.0 < thesis.0,
+        "random {random:?} vs thesis optimised {thesis:?}"
+    );
+    assert!(random.0 < ours.0, "random {random:?} vs ours {ours:?}");
+    assert!(repeat.1 < random.1 && random.1 < thesis.1 && random.1 < ours.1);
+}
