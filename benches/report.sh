@@ -31,6 +31,7 @@ cargo bench --bench memory 2>&1 | tee "$logs/memory.log"
 cargo bench --bench studio -- --noplot 2>&1 | tee "$logs/studio.log"
 cargo bench --bench restore -- --noplot 2>&1 | tee "$logs/restore.log"
 cargo bench --bench optimize -- --noplot 2>&1 | tee "$logs/optimize.log"
+cargo bench --bench sensor -- --noplot 2>&1 | tee "$logs/sensor.log"
 
 # (iii) the numpy reference of case (a), and the open aperture for the thesis check.
 "$python" benches/numpy_reference.py | tee "$logs/numpy.log"
@@ -114,6 +115,10 @@ time_row("studio/edit-to/full", 250)
 time_row("restore/wiener/toled-1024x768", 300)
 time_row("restore/wiener-linear/toled-1024x768")
 time_row("restore/cg/toled-256x256")
+# The sensor previewer (issue 6): Table 5.4's four strategies on a 1240×846 HDR scene, maps and
+# metrics included; and the studio panel's preview (the scene downscaled to 640 px).
+time_row("sensor/table54/stilllife-1240x846", 400)
+time_row("sensor/preview", 100)
 # The optimiser (issue 7): one epoch, and one whole 150-epoch L_inv run timed once.
 time_row("optimize/iccp21/epoch")
 opt = load(os.path.join(bench, "optimize.json")) or {}

@@ -1,6 +1,7 @@
 //! Headless commands, built only on `core` and `io`.
 
 pub mod optimize;
+pub mod sensor;
 
 use std::path::PathBuf;
 
@@ -43,6 +44,9 @@ pub enum Command {
     Restore(RestoreArgs),
     /// Optimise the opening of one display pixel (thesis §3.4.2) and save the new design.
     Optimize(optimize::OptimizeArgs),
+    /// Simulate spatially-varying gain and binning on an HDR scene (thesis chapter 5): the four
+    /// strategies of Table 5.4 with worst-ROI SSIM, PSNR and saturation.
+    Sensor(sensor::SensorArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -201,6 +205,7 @@ pub fn run(command: Command) -> Result<()> {
         Command::Export(args) => export_cmd(&args),
         Command::Restore(args) => restore_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
+        Command::Sensor(args) => sensor::sensor_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }

@@ -163,3 +163,40 @@ fn restore_view_with_a_pinned_design() {
     assert!(v.current().unwrap().psnr_db > v.pinned().unwrap().psnr_db);
     capture(&mut h, "restore");
 }
+
+#[test]
+fn sensor_previewer_maps_and_split_compare() {
+    use udc_studio::app::Workspace;
+    use udc_studio::app::sensor::{CompareMode, SensorView};
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut().set_workspace(Workspace::Sensor);
+    let ctx = h.ctx.clone();
+    let scene =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdr/StillLife_620x423.exr");
+    h.state_mut().sensor().load_scene(scene, &ctx);
+    common::step_until(&mut h, "the sensor run", |app| {
+        app.sensor_ref().is_up_to_date()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    assert_eq!(
+        h.state().sensor_ref().shown().unwrap().run.strategies.len(),
+        4
+    );
+    capture(&mut h, "sensor-maps");
+    h.state_mut().sensor().view = SensorView::Compare;
+    h.state_mut()
+        .sensor()
+        .set_compare(0, 3, CompareMode::Split, 0.5);
+    for _ in 0..4 {
+        h.step();
+    }
+    capture(&mut h, "sensor-compare");
+    h.state_mut().sensor().view = SensorView::Curves;
+    for _ in 0..4 {
+        h.step();
+    }
+    capture(&mut h, "sensor-curves");
+}

@@ -368,6 +368,7 @@ impl StudioApp {
                 .views
                 .restore
                 .load_photo(path, &self.egui_ctx.clone()),
+            Purpose::Hdr => self.sensor.load_scene(path, &self.egui_ctx.clone()),
             Purpose::Spectral => {
                 let step = self.session.spectral_step_nm.max(1.0);
                 match spectral::load_response_csv(&path) {
@@ -451,6 +452,10 @@ impl StudioApp {
             let photo_ext = matches!(ext.as_str(), "png" | "jpg" | "jpeg");
             if ext == "json" {
                 cmds.push(Command::OpenPath(p));
+            } else if ext == "hdr" || ext == "exr" {
+                // An HDR scene only makes sense to the sensor previewer.
+                self.sensor.load_scene(p, ctx);
+                self.view.workspace = super::Workspace::Sensor;
             } else if photo_ext && self.panels.views.tab() == ViewTab::Restore {
                 // On the Restore view a dropped picture is a photo, elsewhere an opening.
                 self.panels.views.restore.load_photo(p, ctx);

@@ -13,6 +13,8 @@ pub enum Purpose {
     Spectral,
     /// A photo for the Restore view (the view polls its own dialog).
     Photo,
+    /// An HDR scene for the sensor previewer (it polls its own dialog).
+    Hdr,
     Export(super::commands::ExportKind),
     Mask(crate::io::mask::MaskFormat),
 }
@@ -55,6 +57,10 @@ impl PendingDialog {
                     Purpose::Photo => d
                         .add_filter("Photos", &["png", "jpg", "jpeg"])
                         .set_title("Open a photo to capture through the display")
+                        .pick_file(),
+                    Purpose::Hdr => d
+                        .add_filter("HDR scenes", &["hdr", "exr"])
+                        .set_title("Open an HDR scene (Radiance .hdr or OpenEXR .exr)")
                         .pick_file(),
                     Purpose::SaveAs => d
                         .add_filter("UDC design", &["json"])

@@ -10,6 +10,7 @@ pub mod commands;
 pub mod dialogs;
 pub mod document;
 pub mod panels;
+pub mod sensor;
 pub mod settings;
 pub mod tasks;
 mod worker;
@@ -82,9 +83,17 @@ pub struct Results {
 
 /// View state: persisted, never undone.
 pub struct View {
+    pub workspace: Workspace,
     pub tool: Tool,
     pub settings: Settings,
     pub left_tab: LeftTab,
+}
+
+/// The studio's two workspaces: display layouts (chapter 3) and the sensor previewer (chapter 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Workspace {
+    Display,
+    Sensor,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -128,6 +137,7 @@ struct Panels {
 /// The studio.
 pub struct StudioApp {
     doc: Document,
+    sensor: sensor::SensorWorkspace,
     worker: Worker,
     results: Results,
     view: View,
@@ -159,9 +169,11 @@ impl StudioApp {
         let worker = Worker::spawn(move || wake_ctx.request_repaint());
         let mut app = StudioApp {
             doc: Document::new(design.clone(), path),
+            sensor: sensor::SensorWorkspace::default(),
             worker,
             results: Results::default(),
             view: View {
+                workspace: Workspace::Display,
                 tool: Tool::Paint,
                 settings,
                 left_tab: LeftTab::Opening,
@@ -247,6 +259,21 @@ impl StudioApp {
     /// The optimise panel's settings (tests set up runs through it).
     pub fn optimiser_settings(&mut self) -> &mut crate::core::optimize::OptimizeSettings {
         &mut self.panels.optimise.settings
+    }
+
+    /// The sensor previewer workspace.
+    pub fn sensor(&mut self) -> &mut sensor::SensorWorkspace {
+        &mut self.sensor
+    }
+
+    /// The sensor previewer, read-only (for `step_until` conditions).
+    pub fn sensor_ref(&self) -> &sensor::SensorWorkspace {
+        &self.sensor
+    }
+
+    /// Switches between the display-layout and sensor workspaces.
+    pub fn set_workspace(&mut self, workspace: Workspace) {
+        self.view.workspace = workspace;
     }
 
     /// The result views (tests pick tabs and read the Restore view).
@@ -428,6 +455,20 @@ impl StudioApp {
                     cmds.push(Command::ToggleOverlays);
                 }
             });
+            ui.separator();
+            ui.selectable_value(
+                &mut self.view.workspace,
+                Workspace::Display,
+                "Display layouts",
+            )
+            .on_hover_text("Chapter 3: draw, tile, analyse, restore, optimise");
+            ui.selectable_value(
+                &mut self.view.workspace,
+                Workspace::Sensor,
+                "Sensor previewer",
+            )
+            .on_hover_text("Chapter 5: spatially-varying gain and binning on HDR scenes");
+            ui.separator();
             ui.menu_button("Compare", |ui| {
                 let pin = egui::Button::new("Pin current design as A")
                     .shortcut_text(ui.ctx().format_shortcut(&commands::PIN));
@@ -492,6 +533,25 @@ impl StudioApp {
         commands::shortcuts(&ctx, &mut cmds);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut cmds));
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
+        if self.view.workspace == Workspace::Sensor {
+            egui::Panel::left("sensor_controls")
+                .resizable(true)
+                .default_size(360.0)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| self.sensor.controls_ui(ui));
+                });
+            egui::Panel::right("sensor_numbers")
+                .resizable(true)
+                .default_size(420.0)
+                .show(ui, |ui| self.sensor.numbers_ui(ui));
+            egui::CentralPanel::default().show(ui, |ui| self.sensor.views_ui(ui));
+            self.dropped_files(&ctx, &mut cmds);
+            self.close_request(&ctx, &mut cmds);
+            self.confirm_ui(&ctx, &mut cmds);
+            self.apply(cmds);
+            self.poll_session();
+            return;
+        }
         egui::Panel::left("design")
             .resizable(true)
             .default_size(420.0)

@@ -16,6 +16,7 @@ pub mod progress;
 pub mod psf;
 pub mod restore;
 pub mod sampling;
+pub mod sensor;
 pub mod tiling;
 
 pub use analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};

@@ -4,12 +4,14 @@
 pub mod design_file;
 pub mod error;
 pub mod export;
+pub mod hdr;
 pub mod mask;
 pub mod pattern;
 pub mod photo;
 pub mod presets;
 pub mod report;
 pub mod restore_report;
+pub mod sensor_report;
 pub mod spectral;
 
 pub use error::IoError;

@@ -1,0 +1,116 @@
+//! Pictures of a sensor run: grey captures, the gain map (log colour scale), the bin map (one
+//! colour per bin size) and the saturation map, uploaded once per run.
+
+use egui::{Color32, ColorImage, TextureHandle, TextureOptions};
+use ndarray::Array2;
+
+use crate::app::colormap::Colormap;
+use crate::core::sensor::{BIN_SIZES, SensorRun};
+
+/// Colours of the bin sizes 1, 2, 4, 8 (legend and map).
+pub const BIN_COLORS: [Color32; 4] = [
+    Color32::from_rgb(40, 40, 48),
+    Color32::from_rgb(60, 140, 220),
+    Color32::from_rgb(240, 180, 40),
+    Color32::from_rgb(230, 70, 60),
+];
+
+pub fn bin_color(bin: f64) -> Color32 {
+    let i = BIN_SIZES
+        .iter()
+        .position(|b| (*b as f64 - bin).abs() < 0.5)
+        .unwrap_or(0);
+    BIN_COLORS[i]
+}
+
+/// Colour of gain `g` on a log scale from 1 to `max_gain`.
+pub fn gain_color(g: f64, max_gain: f64) -> Color32 {
+    let t = if max_gain > 1.0 {
+        (g.max(1.0).ln() / max_gain.ln()).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    Colormap::Viridis.color(t as f32)
+}
+
+pub fn image_of(a: &Array2<f64>, color: impl Fn(f64) -> Color32) -> ColorImage {
+    let (h, w) = a.dim();
+    ColorImage::new([w, h], a.iter().map(|v| color(*v)).collect())
+}
+
+pub fn grey(v: f64) -> Color32 {
+    let g = (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    Color32::from_gray(g)
+}
+
+/// `a` left of column `split`, `b` from it on (the split-slider comparison).
+pub fn split_image(a: &Array2<f64>, b: &Array2<f64>, split_col: usize) -> ColorImage {
+    let (h, w) = a.dim();
+    let mut pixels = Vec::with_capacity(h * w);
+    for y in 0..h {
+        for x in 0..w {
+            let v = if x < split_col { a[[y, x]] } else { b[[y, x]] };
+            pixels.push(if x == split_col {
+                Color32::YELLOW
+            } else {
+                grey(v)
+            });
+        }
+    }
+    ColorImage::new([w, h], pixels)
+}
+
+/// The uploaded pictures of one run.
+pub struct RunTextures {
+    pub truth: TextureHandle,
+    /// Per strategy: capture, gain map, bin map, saturation map.
+    pub strategies: Vec<[TextureHandle; 4]>,
+}
+
+impl RunTextures {
+    pub fn new(ctx: &egui::Context, run: &SensorRun, generation: u64) -> Self {
+        let max_gain = run
+            .strategies
+            .iter()
+            .flat_map(|s| s.gain_map.iter())
+            .fold(1.0f64, |m, g| m.max(*g));
+        let up =
+            |name: String, img: ColorImage| ctx.load_texture(name, img, TextureOptions::NEAREST);
+        let truth = up(
+            format!("sensor-{generation}-truth"),
+            image_of(&run.truth_display, grey),
+        );
+        let strategies = run
+            .strategies
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                [
+                    up(
+                        format!("sensor-{generation}-{i}-capture"),
+                        image_of(&s.display, grey),
+                    ),
+                    up(
+                        format!("sensor-{generation}-{i}-gain"),
+                        image_of(&s.gain_map, |g| gain_color(g, max_gain)),
+                    ),
+                    up(
+                        format!("sensor-{generation}-{i}-bin"),
+                        image_of(&s.bin_map, bin_color),
+                    ),
+                    up(
+                        format!("sensor-{generation}-{i}-saturated"),
+                        image_of(&s.saturated, |v| {
+                            if v > 0.5 {
+                                Color32::from_rgb(255, 40, 40)
+                            } else {
+                                Color32::from_gray(20)
+                            }
+                        }),
+                    ),
+                ]
+            })
+            .collect();
+        RunTextures { truth, strategies }
+    }
+}

@@ -1,0 +1,308 @@
+//! The sensor previewer workspace (thesis chapter 5): load an HDR scene, pick a sensor and the
+//! exposure, and compare the four strategies of Table 5.4 — gain maps, bin maps, saturation
+//! maps, captures and per-ROI SSIM. Every parameter is live: a change runs a preview on a
+//! downscaled scene at once, then the full scene, on a background thread (a newer change
+//! cancels the running job). The UI thread only draws.
+
+mod images;
+mod panels;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use egui::TextureHandle;
+
+use crate::app::dialogs::PendingDialog;
+use crate::app::tasks::Task;
+use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
+use crate::core::{Progress, SimError};
+use crate::io::hdr;
+
+/// The preview runs on the scene scaled to at most this side (the core's preview size, benched).
+pub const PREVIEW_SIDE_PX: usize = crate::core::sensor::PREVIEW_MAX_SIDE_PX;
+
+/// A scene and its preview-sized copy.
+pub struct LoadedScene {
+    pub name: String,
+    pub scene: Scene,
+    pub preview: Scene,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RunQuality {
+    Preview,
+    Full,
+}
+
+/// A finished run on screen, with its uploaded images.
+pub struct ShownRun {
+    pub generation: u64,
+    pub quality: RunQuality,
+    pub run: Arc<SensorRun>,
+    textures: images::RunTextures,
+}
+
+struct Job {
+    generation: u64,
+    quality: RunQuality,
+    task: Task<Result<SensorRun, SimError>>,
+    progress: Arc<Progress>,
+}
+
+/// Which picture the centre shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SensorView {
+    Maps,
+    Compare,
+    Curves,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CompareMode {
+    SideBySide,
+    Split,
+}
+
+/// How the exposure is chosen in the controls (each keeps its own number).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExposureKind {
+    Mean,
+    Percentile,
+    Absolute,
+}
+
+/// The workspace's state.
+pub struct SensorWorkspace {
+    scene: Option<Arc<LoadedScene>>,
+    load: Option<Task<Result<LoadedScene, String>>>,
+    dialog: Option<PendingDialog>,
+    pub settings: SensorSettings,
+    exposure_kind: ExposureKind,
+    mean_fraction: f64,
+    percentile: f64,
+    percentile_fill: f64,
+    absolute_e_per_um2: f64,
+    /// The settings and scene of the newest generation.
+    submitted: Option<(SensorSettings, usize)>,
+    generation: u64,
+    job: Option<Job>,
+    shown: Option<ShownRun>,
+    pub view: SensorView,
+    map_strategy: usize,
+    compare: [usize; 2],
+    compare_mode: CompareMode,
+    split: f32,
+    roi_grid: bool,
+    split_texture: Option<(TextureKey, TextureHandle)>,
+    curve_light_e_per_um2: f64,
+    curve_pitch_um: f64,
+    message: Option<(String, bool)>,
+}
+
+type TextureKey = (u64, RunQuality, usize, usize, u32);
+
+impl Default for SensorWorkspace {
+    fn default() -> Self {
+        SensorWorkspace {
+            scene: None,
+            load: None,
+            dialog: None,
+            settings: SensorSettings::default(),
+            exposure_kind: ExposureKind::Mean,
+            mean_fraction: 0.05,
+            percentile: 99.9,
+            percentile_fill: 0.8,
+            absolute_e_per_um2: 100.0,
+            submitted: None,
+            generation: 0,
+            job: None,
+            shown: None,
+            view: SensorView::Maps,
+            map_strategy: 3,
+            compare: [0, 3],
+            compare_mode: CompareMode::SideBySide,
+            split: 0.5,
+            roi_grid: true,
+            split_texture: None,
+            curve_light_e_per_um2: 20.0,
+            curve_pitch_um: 1.0,
+            message: None,
+        }
+    }
+}
+
+impl SensorWorkspace {
+    /// The run on screen, if any.
+    pub fn shown(&self) -> Option<&ShownRun> {
+        self.shown.as_ref()
+    }
+
+    /// True once the full-scene result of the newest settings is on screen.
+    pub fn is_up_to_date(&self) -> bool {
+        self.load.is_none()
+            && self
+                .shown
+                .as_ref()
+                .is_some_and(|s| s.generation == self.generation && s.quality == RunQuality::Full)
+    }
+
+    /// Chooses the two captures of the Compare view and how they are shown.
+    pub fn set_compare(&mut self, a: usize, b: usize, mode: CompareMode, split: f32) {
+        self.compare = [a, b];
+        self.compare_mode = mode;
+        self.split = split.clamp(0.0, 1.0);
+    }
+
+    /// The loaded scene's name.
+    pub fn scene_name(&self) -> Option<&str> {
+        self.scene.as_ref().map(|s| s.name.as_str())
+    }
+
+    /// The latest message and whether it is an error.
+    pub fn message(&self) -> Option<&(String, bool)> {
+        self.message.as_ref()
+    }
+
+    /// Reads an HDR file on a background thread; the current scene stays until it succeeds.
+    pub fn load_scene(&mut self, path: PathBuf, ctx: &egui::Context) {
+        let wake = ctx.clone();
+        self.load = Some(Task::spawn(
+            "hdr-load",
+            move || wake.request_repaint(),
+            move || {
+                let scene = hdr::load_hdr(&path).map_err(|e| e.to_string())?;
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                let preview = scene.downscaled(PREVIEW_SIDE_PX);
+                Ok(LoadedScene {
+                    name,
+                    scene,
+                    preview,
+                })
+            },
+        ));
+    }
+
+    /// Uses an in-memory scene (tests, and scenes made by other panels).
+    pub fn set_scene(&mut self, name: &str, scene: Scene) {
+        let preview = scene.downscaled(PREVIEW_SIDE_PX);
+        self.scene = Some(Arc::new(LoadedScene {
+            name: name.into(),
+            scene,
+            preview,
+        }));
+        self.submitted = None;
+    }
+
+    fn exposure(&self) -> Exposure {
+        match self.exposure_kind {
+            ExposureKind::Mean => Exposure::MeanFraction(self.mean_fraction),
+            ExposureKind::Percentile => Exposure::PercentileFill {
+                percentile: self.percentile,
+                fill: self.percentile_fill,
+            },
+            ExposureKind::Absolute => Exposure::ElectronsPerUm2(self.absolute_e_per_um2),
+        }
+    }
+
+    /// Takes finished loads, dialogs and runs; starts the runs the settings call for.
+    pub fn poll(&mut self, ctx: &egui::Context) {
+        if let Some(answer) = self.dialog.as_ref().and_then(PendingDialog::poll) {
+            self.dialog = None;
+            if let Some(path) = answer {
+                self.load_scene(path, ctx);
+            }
+        }
+        if let Some(done) = self.load.as_ref().and_then(Task::poll) {
+            self.load = None;
+            match done {
+                Ok(Ok(s)) => {
+                    self.message = Some((format!("loaded {}", s.name), false));
+                    self.scene = Some(Arc::new(s));
+                    self.submitted = None;
+                }
+                Ok(Err(e)) => {
+                    self.message = Some((format!("cannot open the HDR scene: {e}"), true))
+                }
+                Err(()) => self.message = Some(("the HDR reader stopped".into(), true)),
+            }
+        }
+        if let Some(done) = self.job.as_ref().and_then(|j| j.task.poll())
+            && let Some(job) = self.job.take()
+        {
+            match done {
+                Ok(Ok(run)) if job.generation == self.generation => {
+                    let textures = images::RunTextures::new(ctx, &run, job.generation);
+                    self.shown = Some(ShownRun {
+                        generation: job.generation,
+                        quality: job.quality,
+                        run: Arc::new(run),
+                        textures,
+                    });
+                    self.split_texture = None;
+                    if self.message.as_ref().is_some_and(|m| m.1) {
+                        self.message = None;
+                    }
+                    if job.quality == RunQuality::Preview {
+                        self.start(RunQuality::Full, ctx);
+                    }
+                }
+                Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}
+                Ok(Err(e)) => self.message = Some((e.to_string(), true)),
+                Err(()) => self.message = Some(("the sensor job stopped".into(), true)),
+            }
+        }
+        // A change of scene or settings: a new generation, preview first.
+        self.settings.exposure = self.exposure();
+        let Some(scene) = &self.scene else {
+            return;
+        };
+        let key = (self.settings.clone(), Arc::as_ptr(scene) as usize);
+        if self.submitted.as_ref() != Some(&key) {
+            self.submitted = Some(key);
+            if let Err(e) = self.settings.validate() {
+                self.message = Some((e.to_string(), true));
+                return;
+            }
+            self.generation += 1;
+            self.start(RunQuality::Preview, ctx);
+        }
+    }
+
+    fn start(&mut self, quality: RunQuality, ctx: &egui::Context) {
+        let Some(scene) = self.scene.clone() else {
+            return;
+        };
+        if let Some(j) = self.job.take() {
+            j.progress.cancel();
+        }
+        let settings = match quality {
+            RunQuality::Preview => self
+                .settings
+                .for_preview(scene.scene.dim(), scene.preview.dim()),
+            RunQuality::Full => self.settings.clone(),
+        };
+        let progress = Arc::new(Progress::new());
+        let p = progress.clone();
+        let wake = ctx.clone();
+        let task = Task::spawn(
+            "sensor",
+            move || wake.request_repaint(),
+            move || {
+                let s = match quality {
+                    RunQuality::Preview => &scene.preview,
+                    RunQuality::Full => &scene.scene,
+                };
+                run(s, &settings, &p)
+            },
+        );
+        self.job = Some(Job {
+            generation: self.generation,
+            quality,
+            task,
+            progress,
+        });
+    }
+}

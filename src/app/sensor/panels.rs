@@ -1,0 +1,621 @@
+//! The sensor workspace's three panels: controls (left), pictures and plots (centre), numbers
+//! (right).
+
+use egui::{Color32, Id, RichText, TextureHandle, Ui, vec2};
+use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotImage, PlotPoint, PlotPoints, VLine};
+use ndarray::Array2;
+
+use super::images::{BIN_COLORS, gain_color, split_image};
+use super::{CompareMode, ExposureKind, RunQuality, SensorView, SensorWorkspace};
+use crate::app::dialogs::{PendingDialog, Purpose};
+use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, pitch};
+
+/// A zoomable picture in pixel coordinates (x right, y up with row 0 at the top), a hover
+/// readout of `values`, and the ROI grid.
+#[allow(clippy::too_many_arguments)]
+fn picture(
+    ui: &mut Ui,
+    id: &str,
+    texture: &TextureHandle,
+    values: &Array2<f64>,
+    value_name: &str,
+    roi_px: Option<usize>,
+    link: Id,
+    size: egui::Vec2,
+) {
+    let (h, w) = values.dim();
+    let readout = move |pos: &egui_plot::HoverPosition<'_>| {
+        let at = match pos {
+            egui_plot::HoverPosition::NearDataPoint { position, .. }
+            | egui_plot::HoverPosition::Elsewhere { position } => *position,
+        };
+        let (col, row) = (at.x.floor(), (h as f64 - at.y).floor());
+        if col < 0.0 || row < 0.0 || col >= w as f64 || row >= h as f64 {
+            return None;
+        }
+        let v = values[[row as usize, col as usize]];
+        Some(format!("row {row}, col {col}\n{value_name} = {v:.4}"))
+    };
+    Plot::new(id)
+        .data_aspect(1.0)
+        .width(size.x)
+        .height(size.y)
+        .show_axes([false, false])
+        .show_grid(false)
+        .show_crosshair(false)
+        .link_axis(link, true)
+        .link_cursor(link, true)
+        .label_formatter(readout)
+        .show(ui, |p| {
+            p.image(PlotImage::new(
+                "",
+                texture.id(),
+                PlotPoint::new(w as f64 / 2.0, h as f64 / 2.0),
+                vec2(w as f32, h as f32),
+            ));
+            if let Some(roi) = roi_px.filter(|r| *r > 0) {
+                let stroke = Color32::from_rgba_unmultiplied(0, 255, 255, 90);
+                for x in (roi..w).step_by(roi) {
+                    p.vline(VLine::new("", x as f64).color(stroke).allow_hover(false));
+                }
+                for y in (roi..h).step_by(roi) {
+                    p.hline(
+                        HLine::new("", (h - y) as f64)
+                            .color(stroke)
+                            .allow_hover(false),
+                    );
+                }
+            }
+        });
+}
+
+/// A small filled square of `color` (a legend key; the bundled fonts have no block glyph).
+fn swatch(ui: &mut Ui, color: Color32) {
+    let (rect, _) = ui.allocate_exact_size(vec2(12.0, 12.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 2.0, color);
+}
+
+impl SensorWorkspace {
+    /// Left: scene, sensor, exposure and strategy parameters.
+    pub fn controls_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        self.poll(&ctx);
+        ui.heading("Sensor previewer");
+        ui.label(
+            "Spatially-varying gain and binning (thesis chapter 5): choose them per region from \
+             the local brightness, and compare with one gain and one bin size for the frame.",
+        );
+        ui.separator();
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Scene:");
+            ui.strong(self.scene_name().unwrap_or("(none: open an HDR file)"));
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(self.dialog.is_none(), egui::Button::new("Open HDR…"))
+                .on_hover_text(
+                    "Radiance .hdr or OpenEXR .exr (half or float); or drop one on the window",
+                )
+                .clicked()
+            {
+                self.dialog = Some(PendingDialog::spawn(Purpose::Hdr, None, None));
+            }
+            if self.load.is_some() {
+                ui.spinner();
+                ui.label("reading…");
+            }
+        });
+        ui.separator();
+        let s = &mut self.settings;
+        egui::Grid::new("sensor_settings")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("Sensor");
+                let current = s.sensor.name.clone();
+                egui::ComboBox::from_id_salt("sensor_preset")
+                    .selected_text(&current)
+                    .show_ui(ui, |ui| {
+                        for p in SensorSpec::presets() {
+                            let label = p.name.clone();
+                            let hint = p.description.clone();
+                            if ui
+                                .selectable_label(current == p.name, label)
+                                .on_hover_text(hint)
+                                .clicked()
+                            {
+                                s.sensor = p;
+                            }
+                        }
+                    });
+                ui.end_row();
+                ui.label("Unit pixel");
+                ui.label(format!("{} µm", s.sensor.unit_pixel_um));
+                ui.end_row();
+                ui.label("Full well");
+                ui.label(format!("{:.0} e-", s.sensor.full_well_e));
+                ui.end_row();
+                ui.label("Read noise pre / post");
+                ui.label(format!(
+                    "{:.2} / {:.2} e-",
+                    s.sensor.sigma_pre_e, s.sensor.sigma_post_e
+                ));
+                ui.end_row();
+                ui.label("Max gain, ADC");
+                ui.label(format!(
+                    "{}x, {} bits",
+                    s.sensor.max_gain, s.sensor.adc_bits
+                ));
+                ui.end_row();
+            });
+        ui.separator();
+        ui.label("Exposure");
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.exposure_kind, ExposureKind::Mean, "mean")
+                .on_hover_text(
+                    "The scene's mean fills this fraction of the full well (Table 5.4: 5 %)",
+                );
+            ui.selectable_value(
+                &mut self.exposure_kind,
+                ExposureKind::Percentile,
+                "percentile",
+            )
+            .on_hover_text("A percentile of the scene fills this fraction of the full well");
+            ui.selectable_value(&mut self.exposure_kind, ExposureKind::Absolute, "absolute")
+                .on_hover_text("Electrons per µm² at radiance 1");
+        });
+        match self.exposure_kind {
+            ExposureKind::Mean => {
+                ui.add(
+                    egui::Slider::new(&mut self.mean_fraction, 0.001..=0.5)
+                        .logarithmic(true)
+                        .text("mean / full well"),
+                );
+            }
+            ExposureKind::Percentile => {
+                ui.add(egui::Slider::new(&mut self.percentile, 50.0..=100.0).text("percentile"));
+                ui.add(
+                    egui::Slider::new(&mut self.percentile_fill, 0.01..=1.0)
+                        .text("fills / full well"),
+                );
+            }
+            ExposureKind::Absolute => {
+                ui.add(
+                    egui::Slider::new(&mut self.absolute_e_per_um2, 0.01..=10000.0)
+                        .logarithmic(true)
+                        .suffix(" e-/µm²"),
+                );
+            }
+        }
+        ui.separator();
+        let s = &mut self.settings;
+        egui::Grid::new("sensor_strategy")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("ROI side");
+                ui.add(
+                    egui::DragValue::new(&mut s.roi_px)
+                        .range(16..=1024)
+                        .suffix(" px"),
+                );
+                ui.end_row();
+                ui.label("eta (ROI gain)");
+                ui.add(
+                    egui::DragValue::new(&mut s.eta)
+                        .range(0.0..=10.0)
+                        .speed(0.05),
+                )
+                .on_hover_text("Eq. 5.3 headroom: 2 saturates about 2.2 % of a flat region");
+                ui.end_row();
+                ui.label("eta (per-pixel gain)");
+                ui.add(
+                    egui::DragValue::new(&mut s.eta_per_pixel)
+                        .range(0.0..=10.0)
+                        .speed(0.05),
+                );
+                ui.end_row();
+                ui.label("SNR threshold");
+                ui.add(
+                    egui::DragValue::new(&mut s.snr_t)
+                        .range(0.5..=50.0)
+                        .speed(0.1),
+                )
+                .on_hover_text("The optimal-pitch cutoff: where contrast / noise falls to this");
+                ui.end_row();
+                ui.label("Binning");
+                egui::ComboBox::from_id_salt("bin_mode")
+                    .selected_text(s.bin_mode.label())
+                    .show_ui(ui, |ui| {
+                        for m in [
+                            BinMode::AnalogAdditive,
+                            BinMode::AnalogAverage,
+                            BinMode::Digital,
+                        ] {
+                            ui.selectable_value(&mut s.bin_mode, m, m.label());
+                        }
+                    });
+                ui.end_row();
+                ui.label("Display gamma");
+                ui.add(
+                    egui::DragValue::new(&mut s.gamma)
+                        .range(0.1..=1.0)
+                        .speed(0.005),
+                )
+                .on_hover_text("Tone curve for display and the metrics (Table 5.4: 1/3.2)");
+                ui.end_row();
+                ui.label("Noise seed");
+                ui.add(egui::DragValue::new(&mut s.seed));
+                ui.end_row();
+            });
+        if let Some((msg, is_error)) = &self.message {
+            let color = if *is_error {
+                ui.visuals().error_fg_color
+            } else {
+                ui.visuals().weak_text_color()
+            };
+            ui.colored_label(color, msg);
+        }
+    }
+
+    /// Right: the Table 5.4-style numbers.
+    pub fn numbers_ui(&mut self, ui: &mut Ui) {
+        ui.heading("Numbers");
+        match (&self.job, &self.shown) {
+            (Some(j), _) => {
+                ui.horizontal(|ui| {
+                    ui.spinner();
+                    ui.label(match j.quality {
+                        RunQuality::Preview => "preview…",
+                        RunQuality::Full => "full scene…",
+                    });
+                });
+                ui.add(egui::ProgressBar::new(j.progress.fraction()));
+            }
+            (None, Some(s)) => {
+                ui.weak(format!(
+                    "{} · {}×{} px · {:.0} ms",
+                    match s.quality {
+                        RunQuality::Preview => "preview",
+                        RunQuality::Full => "full scene",
+                    },
+                    s.run.electrons.ncols(),
+                    s.run.electrons.nrows(),
+                    s.run.elapsed_ms
+                ));
+            }
+            (None, None) => {}
+        }
+        let Some(shown) = &self.shown else {
+            ui.label("Open an HDR scene to start.");
+            return;
+        };
+        let run = &shown.run;
+        ui.label(format!(
+            "ROI {} px; metrics after the tone curve",
+            run.roi_px
+        ));
+        egui::Grid::new("sensor_numbers")
+            .striped(true)
+            .num_columns(5)
+            .show(ui, |ui| {
+                for h in [
+                    "strategy",
+                    "worst ROI SSIM",
+                    "mean SSIM",
+                    "PSNR (dB)",
+                    "saturated",
+                ] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                let best = run
+                    .strategies
+                    .iter()
+                    .map(|s| s.worst_roi_ssim)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                for s in &run.strategies {
+                    let name = RichText::new(&s.name);
+                    ui.label(if s.worst_roi_ssim == best {
+                        name.strong()
+                    } else {
+                        name
+                    });
+                    ui.monospace(format!("{:.4}", s.worst_roi_ssim));
+                    ui.monospace(format!("{:.4}", s.mean_ssim));
+                    ui.monospace(format!("{:.2}", s.psnr_db));
+                    ui.monospace(format!("{:.2} %", 100.0 * s.saturated_fraction));
+                    ui.end_row();
+                }
+            });
+        ui.add_space(6.0);
+        egui::Grid::new("sensor_dr").num_columns(2).show(ui, |ui| {
+            ui.strong("strategy");
+            ui.strong("dynamic range");
+            ui.end_row();
+            for s in &run.strategies {
+                ui.label(&s.name);
+                ui.monospace(format!("{:.1} dB", s.dynamic_range_db));
+                ui.end_row();
+            }
+        });
+    }
+
+    /// Centre: maps, comparison or curves.
+    pub fn views_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.view, SensorView::Maps, "Scene and maps");
+            ui.selectable_value(&mut self.view, SensorView::Compare, "Compare captures");
+            ui.selectable_value(
+                &mut self.view,
+                SensorView::Curves,
+                "Optimal pitch (Fig. 5.3)",
+            );
+            ui.separator();
+            ui.checkbox(&mut self.roi_grid, "ROI grid");
+        });
+        ui.separator();
+        match self.view {
+            SensorView::Curves => self.curves_ui(ui),
+            SensorView::Maps => self.maps_ui(ui),
+            SensorView::Compare => self.compare_ui(ui),
+        }
+    }
+
+    fn strategy_picker(ui: &mut Ui, id: &str, names: &[String], index: &mut usize) {
+        egui::ComboBox::from_id_salt(id)
+            .selected_text(names.get(*index).map_or("", String::as_str))
+            .show_ui(ui, |ui| {
+                for (i, n) in names.iter().enumerate() {
+                    ui.selectable_value(index, i, n);
+                }
+            });
+    }
+
+    fn maps_ui(&mut self, ui: &mut Ui) {
+        let Some(shown) = &self.shown else {
+            ui.label("No result yet.");
+            return;
+        };
+        let run = shown.run.clone();
+        let names: Vec<String> = run.strategies.iter().map(|s| s.name.clone()).collect();
+        self.map_strategy = self.map_strategy.min(names.len().saturating_sub(1));
+        ui.horizontal(|ui| {
+            ui.label("Maps of");
+            Self::strategy_picker(ui, "map_strategy", &names, &mut self.map_strategy);
+        });
+        let Some(s) = run.strategies.get(self.map_strategy) else {
+            return;
+        };
+        let Some(tex) = shown.textures.strategies.get(self.map_strategy) else {
+            return;
+        };
+        let roi = self.roi_grid.then_some(run.roi_px);
+        let link = ui.make_persistent_id("sensor-maps");
+        let avail = ui.available_width();
+        let side = ((avail - 24.0) / 2.0).max(120.0);
+        let (h, w) = run.truth_display.dim();
+        let size = vec2(side, side * h as f32 / w.max(1) as f32);
+        let max_gain = s.gain_map.iter().fold(1.0f64, |m, g| m.max(*g));
+        let cell = |ui: &mut Ui, label: &str, f: &mut dyn FnMut(&mut Ui)| {
+            ui.vertical(|ui| {
+                ui.label(label);
+                f(ui);
+            });
+        };
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            ui.horizontal(|ui| {
+                cell(ui, "Scene (ground truth, tone-mapped)", &mut |ui| {
+                    picture(
+                        ui,
+                        "truth",
+                        &shown.textures.truth,
+                        &run.truth_display,
+                        "display",
+                        roi,
+                        link,
+                        size,
+                    );
+                });
+                cell(ui, &format!("Capture: {}", s.name), &mut |ui| {
+                    picture(
+                        ui, "capture", &tex[0], &s.display, "display", roi, link, size,
+                    );
+                });
+            });
+            ui.horizontal(|ui| {
+                ui.vertical(|ui| {
+                    ui.horizontal(|ui| {
+                        ui.label("Gain map, log scale:");
+                        for g in [1.0, max_gain.sqrt(), max_gain] {
+                            swatch(ui, gain_color(g, max_gain));
+                            ui.label(format!("{g:.1}x"));
+                        }
+                    });
+                    picture(ui, "gain", &tex[1], &s.gain_map, "gain", roi, link, size);
+                });
+                ui.vertical(|ui| {
+                    ui.horizontal(|ui| {
+                        ui.label("Bin map:");
+                        for (b, c) in BIN_SIZES.iter().zip(BIN_COLORS) {
+                            swatch(ui, c);
+                            ui.label(format!("{b}x{b}"));
+                        }
+                    });
+                    picture(ui, "bins", &tex[2], &s.bin_map, "bin side", roi, link, size);
+                });
+            });
+            cell(
+                ui,
+                &format!(
+                    "Saturated (red): {:.2} % of pixels",
+                    100.0 * s.saturated_fraction
+                ),
+                &mut |ui| {
+                    picture(
+                        ui,
+                        "saturated",
+                        &tex[3],
+                        &s.saturated,
+                        "saturated",
+                        roi,
+                        link,
+                        size,
+                    );
+                },
+            );
+        });
+    }
+
+    fn compare_ui(&mut self, ui: &mut Ui) {
+        let Some(shown) = &self.shown else {
+            ui.label("No result yet.");
+            return;
+        };
+        let run = shown.run.clone();
+        let names: Vec<String> = run.strategies.iter().map(|s| s.name.clone()).collect();
+        for c in &mut self.compare {
+            *c = (*c).min(names.len().saturating_sub(1));
+        }
+        ui.horizontal_wrapped(|ui| {
+            ui.label("A");
+            Self::strategy_picker(ui, "compare_a", &names, &mut self.compare[0]);
+            ui.label("B");
+            Self::strategy_picker(ui, "compare_b", &names, &mut self.compare[1]);
+            ui.separator();
+            ui.selectable_value(
+                &mut self.compare_mode,
+                CompareMode::SideBySide,
+                "side by side",
+            );
+            ui.selectable_value(&mut self.compare_mode, CompareMode::Split, "split");
+            if self.compare_mode == CompareMode::Split {
+                ui.add(egui::Slider::new(&mut self.split, 0.0..=1.0).text("A | B"));
+            }
+        });
+        let [ia, ib] = self.compare;
+        let (Some(a), Some(b)) = (run.strategies.get(ia), run.strategies.get(ib)) else {
+            return;
+        };
+        ui.label(format!(
+            "A: worst ROI SSIM {:.4}, PSNR {:.2} dB    B: worst ROI SSIM {:.4}, PSNR {:.2} dB",
+            a.worst_roi_ssim, a.psnr_db, b.worst_roi_ssim, b.psnr_db
+        ));
+        let roi = self.roi_grid.then_some(run.roi_px);
+        let link = ui.make_persistent_id("sensor-compare");
+        let (h, w) = a.display.dim();
+        match self.compare_mode {
+            CompareMode::SideBySide => {
+                let side = ((ui.available_width() - 24.0) / 2.0).max(120.0);
+                let size = vec2(side, side * h as f32 / w.max(1) as f32);
+                let (Some(ta), Some(tb)) = (
+                    shown.textures.strategies.get(ia),
+                    shown.textures.strategies.get(ib),
+                ) else {
+                    return;
+                };
+                ui.horizontal(|ui| {
+                    picture(ui, "cmp-a", &ta[0], &a.display, "A", roi, link, size);
+                    picture(ui, "cmp-b", &tb[0], &b.display, "B", roi, link, size);
+                });
+            }
+            CompareMode::Split => {
+                let split_col = ((self.split * w as f32) as usize).min(w);
+                let key = (shown.generation, shown.quality, ia, ib, split_col as u32);
+                if self.split_texture.as_ref().is_none_or(|(k, _)| *k != key) {
+                    let img = split_image(&a.display, &b.display, split_col);
+                    let tex =
+                        ui.ctx()
+                            .load_texture("sensor-split", img, egui::TextureOptions::NEAREST);
+                    self.split_texture = Some((key, tex));
+                }
+                let side = (ui.available_width() - 12.0).max(160.0);
+                let size = vec2(
+                    side,
+                    (side * h as f32 / w.max(1) as f32).min(ui.available_height()),
+                );
+                if let Some((_, tex)) = &self.split_texture {
+                    picture(ui, "cmp-split", tex, &a.display, "A", roi, link, size);
+                }
+            }
+        }
+    }
+
+    fn curves_ui(&mut self, ui: &mut Ui) {
+        let sensor = self.settings.sensor.clone();
+        let snr_t = self.settings.snr_t;
+        ui.horizontal_wrapped(|ui| {
+            ui.add(
+                egui::Slider::new(&mut self.curve_light_e_per_um2, 0.1..=1000.0)
+                    .logarithmic(true)
+                    .suffix(" e-/µm²")
+                    .text("light"),
+            );
+            ui.add(
+                egui::Slider::new(&mut self.curve_pitch_um, 0.25..=8.0)
+                    .logarithmic(true)
+                    .suffix(" µm")
+                    .text("pitch"),
+            );
+        });
+        let light = self.curve_light_e_per_um2;
+        let p = self.curve_pitch_um;
+        let nyq = pitch::nyquist_cyc_per_um(p);
+        let fmax = (2.0 / p).max(1.0);
+        let freqs: Vec<f64> = (0..=400).map(|k| fmax * k as f64 / 400.0).collect();
+        let (contrast, noise) = pitch::contrast_noise(light, p, &sensor, 1.0, &freqs);
+        let cutoff = pitch::cutoff_cyc_per_um(light, p, &sensor, 1.0, snr_t);
+        let h = (ui.available_height() / 2.0 - 30.0).max(160.0);
+        ui.label(format!(
+            "(a) contrast and noise at {light:.1} e-/µm², pitch {p:.2} µm (gain 1): cutoff {cutoff:.3} cycles/µm, Nyquist {nyq:.3}"
+        ));
+        Plot::new("sensor-contrast")
+            .legend(Legend::default())
+            .height(h)
+            .x_axis_label("frequency (cycles/µm)")
+            .y_axis_label("electrons")
+            .show(ui, |pl| {
+                let pts = |v: &[f64]| -> PlotPoints {
+                    freqs.iter().zip(v).map(|(f, y)| [*f, y.abs()]).collect()
+                };
+                pl.line(Line::new("contrast |c|", pts(&contrast)).width(2.0));
+                let thr: Vec<f64> = noise.iter().map(|s| s * snr_t).collect();
+                pl.line(Line::new(format!("SNR_t x noise ({snr_t})"), pts(&thr)));
+                pl.vline(
+                    VLine::new("Nyquist 1/(2p)", nyq)
+                        .style(LineStyle::dashed_dense())
+                        .color(Color32::GRAY),
+                );
+                pl.vline(VLine::new("cutoff", cutoff).color(Color32::from_rgb(255, 170, 0)));
+            });
+        let lights: Vec<f64> = (0..=80)
+            .map(|k| 10f64.powf(-1.0 + 4.0 * k as f64 / 80.0))
+            .collect();
+        let candidates: Vec<f64> = (0..=48)
+            .map(|k| 0.25 * 2f64.powf(5.0 * k as f64 / 48.0))
+            .collect();
+        let bins: Vec<f64> = BIN_SIZES
+            .iter()
+            .map(|b| *b as f64 * sensor.unit_pixel_um)
+            .collect();
+        let best = pitch::optimal_pitch_curve(&lights, &candidates, &sensor, 1.0, snr_t);
+        let best_bins = pitch::optimal_pitch_curve(&lights, &bins, &sensor, 1.0, snr_t);
+        ui.label(format!(
+            "(b) optimal pitch vs light for {} (gain 1, SNR_t {snr_t}); x is log10(e-/µm²)",
+            sensor.name
+        ));
+        Plot::new("sensor-pitch")
+            .legend(Legend::default())
+            .height(h)
+            .x_axis_label("log10 light (e-/µm²)")
+            .y_axis_label("pitch (µm)")
+            .show(ui, |pl| {
+                let pts = |v: &[f64]| -> PlotPoints {
+                    lights.iter().zip(v).map(|(l, y)| [l.log10(), *y]).collect()
+                };
+                pl.line(Line::new("optimal pitch (continuous)", pts(&best)).width(2.0));
+                pl.line(Line::new(
+                    "optimal bin (1, 2, 4, 8 unit pixels)",
+                    pts(&best_bins),
+                ));
+            });
+    }
+}

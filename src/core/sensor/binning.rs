@@ -1,0 +1,195 @@
+//! Binning (§5.5.2, Table 5.1) and the ROI readout that applies a gain map and a bin map.
+//!
+//! Bins are `n×n` squares aligned to their ROI's top-left corner and cut at the ROI's (and the
+//! image's) edge, so an ROI of a side that is not a multiple of `n` ends in narrower bins. Every
+//! pixel of a bin carries the bin's estimate.
+
+use ndarray::{Array2, Axis};
+use rayon::prelude::*;
+
+use super::noise::{Adc, BinRead, Frame, read_analog, read_pixel};
+use super::roi::RoiGrid;
+use super::{BinMode, SensorSpec};
+
+/// Table 5.1: the variance of the per-pixel estimate `l̂` of a bin of `pixels` pixels at light
+/// `light_e` (electrons per pixel), read at amplifier gain `amp_gain` (`ĝ` for additive
+/// binning, `g` otherwise):
+///
+/// | mode | variance |
+/// |---|---|
+/// | no binning (`pixels` = 1) | `l* + σ_pre² + σ_post²/g²` |
+/// | additive | `l*/N + σ_pre²/N + σ_post²/(N² ĝ²)` |
+/// | average | `l*/N + σ_pre²/N + σ_post²/g²` |
+/// | digital | `l*/N + σ_pre²/N + σ_post²/(N g²)` |
+///
+/// ADC quantisation is left out, as in the thesis.
+pub fn variance(
+    mode: BinMode,
+    light_e: f64,
+    sensor: &SensorSpec,
+    amp_gain: f64,
+    pixels: usize,
+) -> f64 {
+    let n = pixels.max(1) as f64;
+    let (pre2, post2) = (
+        sensor.sigma_pre_e * sensor.sigma_pre_e,
+        sensor.sigma_post_e * sensor.sigma_post_e,
+    );
+    let g2 = amp_gain * amp_gain;
+    let shared = (light_e + pre2) / n;
+    shared
+        + match mode {
+            _ if pixels <= 1 => post2 / g2,
+            BinMode::AnalogAdditive => post2 / (n * n * g2),
+            BinMode::AnalogAverage => post2 / g2,
+            BinMode::Digital => post2 / (n * g2),
+        }
+}
+
+/// Read-noise RMS of the per-pixel estimate of a bin of `pixels` pixels whose pixel gain is
+/// `gain` (for additive binning read at `ĝ = g/N`): Table 5.1 at `l* = 0`.
+pub fn read_sigma_e(mode: BinMode, sensor: &SensorSpec, gain: f64, pixels: usize) -> f64 {
+    variance(mode, 0.0, sensor, mode.amplifier_gain(gain, pixels), pixels).sqrt()
+}
+
+/// A readout of the whole image: the estimate, the saturation map and the maps of what was done.
+#[derive(Debug, Clone)]
+pub struct Readout {
+    /// `l̂` per unit pixel, electrons.
+    pub estimate_e: Array2<f64>,
+    /// 1 where the pixel's (or its bin's) code hit the top, else 0.
+    pub saturated: Array2<f64>,
+    /// The pixel gain `g` (additive bins are read at `g/N`).
+    pub gain: Array2<f64>,
+    /// Side of the bin that holds the pixel.
+    pub bin: Array2<f64>,
+}
+
+/// Reads `frame` ROI by ROI: ROI `(r, c)` at pixel gain `roi_gain[[r, c]]` in bins of
+/// `roi_bin[[r, c]]` (see the module docs), combined in `mode`.
+///
+/// # Panics
+/// If `roi_gain` or `roi_bin` are not `grid.rows × grid.cols`, or the frame is not
+/// `grid.dim`.
+pub fn read_regions(
+    frame: &Frame,
+    grid: &RoiGrid,
+    roi_gain: &Array2<f64>,
+    roi_bin: &Array2<usize>,
+    mode: BinMode,
+    adc: &Adc,
+) -> Readout {
+    assert_eq!(roi_gain.dim(), (grid.rows, grid.cols), "one gain per ROI");
+    assert_eq!(roi_bin.dim(), (grid.rows, grid.cols), "one bin per ROI");
+    assert_eq!(frame.charge_e.dim(), grid.dim, "a frame of the grid's size");
+    let charge = frame.charge_e.as_standard_layout();
+    let post = frame.post_noise_e.as_standard_layout();
+    let (charge, post) = (
+        charge.as_slice().unwrap_or_default(),
+        post.as_slice().unwrap_or_default(),
+    );
+    let mut out: [Array2<f64>; 4] = std::array::from_fn(|_| Array2::zeros(grid.dim));
+    let [est, sat, gain, bin] = &mut out;
+    let band = grid.roi_px;
+    est.axis_chunks_iter_mut(Axis(0), band)
+        .into_par_iter()
+        .zip(sat.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
+        .zip(gain.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
+        .zip(bin.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
+        .enumerate()
+        .for_each(|(r, (((mut e, mut s), mut g), mut b))| {
+            let band = Band {
+                est: e.as_slice_mut().unwrap_or_default(),
+                sat: s.as_slice_mut().unwrap_or_default(),
+                gain: g.as_slice_mut().unwrap_or_default(),
+                bin: b.as_slice_mut().unwrap_or_default(),
+            };
+            read_band(r, grid, (charge, post), roi_gain, roi_bin, mode, adc, band);
+        });
+    let [estimate_e, saturated, gain, bin] = out;
+    Readout {
+        estimate_e,
+        saturated,
+        gain,
+        bin,
+    }
+}
+
+/// One band of ROI rows of the four output maps, row-major, `grid.dim.1` wide.
+struct Band<'a> {
+    est: &'a mut [f64],
+    sat: &'a mut [f64],
+    gain: &'a mut [f64],
+    bin: &'a mut [f64],
+}
+
+/// Reads ROI row `r` into `out` (see [`read_regions`]).
+#[allow(clippy::too_many_arguments)]
+fn read_band(
+    r: usize,
+    grid: &RoiGrid,
+    (charge, post): (&[f64], &[f64]),
+    roi_gain: &Array2<f64>,
+    roi_bin: &Array2<usize>,
+    mode: BinMode,
+    adc: &Adc,
+    out: Band<'_>,
+) {
+    let w = grid.dim.1;
+    let rows = grid.row_range(r);
+    let y0 = rows.start;
+    for c in 0..grid.cols {
+        let cols = grid.col_range(c);
+        let g = roi_gain[[r, c]];
+        let n = roi_bin[[r, c]].max(1);
+        for y in rows.clone() {
+            let o = (y - y0) * w;
+            out.gain[o + cols.start..o + cols.end].fill(g);
+            out.bin[o + cols.start..o + cols.end].fill(n as f64);
+        }
+        if n == 1 {
+            for y in rows.clone() {
+                let (i, o) = (y * w, (y - y0) * w);
+                for x in cols.clone() {
+                    let read = read_pixel(charge[i + x], post[i + x], g, adc);
+                    out.est[o + x] = read.estimate_e;
+                    out.sat[o + x] = f64::from(u8::from(read.saturated));
+                }
+            }
+            continue;
+        }
+        for by in rows.clone().step_by(n) {
+            let ys = by..(by + n).min(rows.end);
+            for bx in cols.clone().step_by(n) {
+                let xs = bx..(bx + n).min(cols.end);
+                let pixels = ys.len() * xs.len();
+                let amp = mode.amplifier_gain(g, pixels);
+                let read = if mode == BinMode::Digital {
+                    let (mut sum, mut saturated) = (0.0, false);
+                    for y in ys.clone() {
+                        for x in xs.clone() {
+                            let rd = read_pixel(charge[y * w + x], post[y * w + x], amp, adc);
+                            sum += rd.estimate_e;
+                            saturated |= rd.saturated;
+                        }
+                    }
+                    BinRead {
+                        estimate_e: sum / pixels as f64,
+                        saturated,
+                    }
+                } else {
+                    let sum: f64 = ys
+                        .clone()
+                        .map(|y| charge[y * w + xs.start..y * w + xs.end].iter().sum::<f64>())
+                        .sum();
+                    read_analog(mode, amp, sum, pixels, post[by * w + bx], adc)
+                };
+                for y in ys.clone() {
+                    let o = (y - y0) * w;
+                    out.est[o + xs.start..o + xs.end].fill(read.estimate_e);
+                    out.sat[o + xs.start..o + xs.end].fill(f64::from(u8::from(read.saturated)));
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,220 @@
+//! Spatially-varying gain (§5.4): the gain rule of eq. 5.3, the two-shot snapshot, the
+//! single-shot per-pixel readout, alternating rows, and dynamic range.
+
+use ndarray::{Array2, ArrayView2, Axis};
+use rayon::prelude::*;
+
+use super::binning::Readout;
+use rand_distr::{Distribution, StandardNormal};
+
+use super::noise::{Adc, Frame, photons, read_analog, read_pixel, row_rng, stream};
+use super::roi::RoiGrid;
+use super::{BinMode, SensorSpec};
+
+/// Eq. 5.3: the largest gain `g` with `g·l̂ + η·g·√l̂ ≤ l_wc`, i.e. `l_wc / (l̂ + η√l̂)`, clamped
+/// to `[1, max_gain]`. A light level ≤ 0 (or NaN) gets the maximum gain. Never above
+/// `max_gain` (nor below 1), and non-increasing in `light_e`.
+pub fn gain_for_light(light_e: f64, eta: f64, full_well_e: f64, max_gain: f64) -> f64 {
+    let top = max_gain.max(1.0);
+    if !(light_e > 0.0) {
+        return top;
+    }
+    let g = full_well_e / (light_e + eta.max(0.0) * light_e.sqrt());
+    if g.is_nan() { 1.0 } else { g.clamp(1.0, top) }
+}
+
+/// §5.4.2: `l_wc / √(σ_pre² + σ_post²/g²)` at gain `g`, as a ratio (see [`ratio_db`]).
+pub fn dynamic_range(sensor: &SensorSpec, gain: f64) -> f64 {
+    let floor = (sensor.sigma_pre_e.powi(2) + (sensor.sigma_post_e / gain).powi(2)).sqrt();
+    sensor.full_well_e / floor
+}
+
+/// `20 log10(ratio)`.
+pub fn ratio_db(ratio: f64) -> f64 {
+    20.0 * ratio.log10()
+}
+
+/// Side of the low-resolution snapshot's blocks: the snapshot is read in 2×2 bins (the thesis's
+/// "low-resolution snapshot"), which halves its read noise and quarters its cost.
+pub const SNAPSHOT_BLOCK_PX: usize = 2;
+
+/// The two-shot strategies' first shot, summarised per ROI.
+#[derive(Debug, Clone)]
+pub struct Snapshot {
+    /// Per ROI, the brightest 2×2 block of the base-gain snapshot, electrons per pixel (≥ 0):
+    /// the `l̂` of eq. 5.3.
+    pub roi_peak_e: Array2<f64>,
+    /// Per ROI, the mean of the snapshot, electrons per pixel (≥ 0): sets the ROI's bin.
+    pub roi_mean_e: Array2<f64>,
+}
+
+/// Takes the snapshot: an exposure of its own (noise stream [`stream::SNAPSHOT`], one ChaCha8
+/// stream per row of blocks) read at base gain in 2×2 analog-average bins aligned to the image
+/// corner: per block one Poisson draw of the block's photons (clipped at its pixels' full
+/// wells), its pixels' pre-amplifier noise and one post-amplifier draw, digitised like any
+/// pixel. Each ROI is summarised from the blocks whose top-left pixel it holds.
+pub fn take_snapshot(
+    electrons: ArrayView2<'_, f64>,
+    sensor: &SensorSpec,
+    grid: &RoiGrid,
+    seed: u64,
+) -> Snapshot {
+    let adc = Adc::of(sensor);
+    let b = SNAPSHOT_BLOCK_PX;
+    let (h, w) = electrons.dim();
+    let (bh, bw) = (h.div_ceil(b), w.div_ceil(b));
+    let mut blocks = Array2::<f64>::zeros((bh, bw));
+    blocks
+        .axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(by, mut row)| {
+            let mut rng = row_rng(seed, stream::SNAPSHOT, by);
+            let ys = by * b..(by * b + b).min(h);
+            for (bx, out) in row.iter_mut().enumerate() {
+                let xs = bx * b..(bx * b + b).min(w);
+                let pixels = ys.len() * xs.len();
+                let mean: f64 = ys
+                    .clone()
+                    .map(|y| xs.clone().map(|x| electrons[[y, x]].max(0.0)).sum::<f64>())
+                    .sum();
+                let n = pixels as f64;
+                let l = photons(mean, n * sensor.full_well_e, &mut rng);
+                let z_pre: f64 = StandardNormal.sample(&mut rng);
+                let z_post: f64 = StandardNormal.sample(&mut rng);
+                let charge_sum = l + sensor.sigma_pre_e * n.sqrt() * z_pre;
+                let read = read_analog(
+                    BinMode::AnalogAverage,
+                    1.0,
+                    charge_sum,
+                    pixels,
+                    sensor.sigma_post_e * z_post,
+                    &adc,
+                );
+                *out = read.estimate_e;
+            }
+        });
+    let per_roi: Vec<(f64, f64)> = (0..grid.rows * grid.cols)
+        .into_par_iter()
+        .map(|k| {
+            let (r, c) = (k / grid.cols, k % grid.cols);
+            let (rows, cols) = (grid.row_range(r), grid.col_range(c));
+            let (mut peak, mut total, mut count) = (0.0f64, 0.0, 0usize);
+            for by in rows.start.div_ceil(b)..rows.end.div_ceil(b) {
+                for bx in cols.start.div_ceil(b)..cols.end.div_ceil(b) {
+                    let v = blocks[[by, bx]];
+                    peak = peak.max(v);
+                    total += v;
+                    count += 1;
+                }
+            }
+            (peak, (total / count.max(1) as f64).max(0.0))
+        })
+        .collect();
+    let dim = (grid.rows, grid.cols);
+    Snapshot {
+        roi_peak_e: Array2::from_shape_fn(dim, |(r, c)| per_roi[r * grid.cols + c].0),
+        roi_mean_e: Array2::from_shape_fn(dim, |(r, c)| per_roi[r * grid.cols + c].1),
+    }
+}
+
+/// The single-shot per-pixel strategy (§5.4.1): along each row, left to right, pixel k+1 is
+/// read at the gain eq. 5.3 (with `eta`) gives for pixel k's estimate; each row starts at base
+/// gain, and a saturated pixel resets the next to base gain.
+pub fn read_per_pixel(frame: &Frame, sensor: &SensorSpec, eta: f64) -> Readout {
+    let adc = Adc::of(sensor);
+    let dim = frame.charge_e.dim();
+    let mut out: [Array2<f64>; 3] = std::array::from_fn(|_| Array2::zeros(dim));
+    let [est, sat, gain] = &mut out;
+    est.axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
+        .zip(gain.axis_iter_mut(Axis(0)).into_par_iter())
+        .enumerate()
+        .for_each(|(y, ((mut e_row, mut s_row), mut g_row))| {
+            let mut g = 1.0;
+            let (c_row, p_row) = (frame.charge_e.row(y), frame.post_noise_e.row(y));
+            for x in 0..c_row.len() {
+                let r = read_pixel(c_row[x], p_row[x], g, &adc);
+                e_row[x] = r.estimate_e;
+                s_row[x] = if r.saturated { 1.0 } else { 0.0 };
+                g_row[x] = g;
+                g = if r.saturated {
+                    1.0
+                } else {
+                    gain_for_light(r.estimate_e, eta, sensor.full_well_e, sensor.max_gain)
+                };
+            }
+        });
+    let [estimate_e, saturated, gain] = out;
+    Readout {
+        estimate_e,
+        saturated,
+        bin: Array2::ones(dim),
+        gain,
+    }
+}
+
+/// Alternating rows (Hajisharif et al. 2014): even rows at gain `low`, odd rows at `high`. A
+/// high-gain pixel that saturated takes the mean of the low-gain pixels above and below; a
+/// low-gain pixel whose high-gain neighbours above and below are unsaturated takes their mean
+/// (in the dark only the high-gain rows are valid). Either way the vertical resolution halves
+/// where the other rows are used. The saturation map marks pixels whose value still comes from
+/// a saturated readout.
+pub fn read_alternating_rows(frame: &Frame, sensor: &SensorSpec, low: f64, high: f64) -> Readout {
+    let adc = Adc::of(sensor);
+    let dim = frame.charge_e.dim();
+    let (h, w) = dim;
+    let row_gain = |y: usize| if y.is_multiple_of(2) { low } else { high };
+    let raw: Vec<(Vec<f64>, Vec<bool>)> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let g = row_gain(y);
+            let (c_row, p_row) = (frame.charge_e.row(y), frame.post_noise_e.row(y));
+            c_row
+                .iter()
+                .zip(p_row.iter())
+                .map(|(c, p)| {
+                    let r = read_pixel(*c, *p, g, &adc);
+                    (r.estimate_e, r.saturated)
+                })
+                .unzip()
+        })
+        .collect();
+    let mut est = Array2::<f64>::zeros(dim);
+    let mut sat = Array2::<f64>::zeros(dim);
+    est.axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
+        .enumerate()
+        .for_each(|(y, (mut e_row, mut s_row))| {
+            let neighbours: Vec<usize> = [y.checked_sub(1), (y + 1 < h).then_some(y + 1)]
+                .into_iter()
+                .flatten()
+                .collect();
+            let (own_e, own_s) = &raw[y];
+            for x in 0..w {
+                let mean_of = |pick: &dyn Fn(usize) -> f64| {
+                    neighbours.iter().map(|&n| pick(n)).sum::<f64>() / neighbours.len() as f64
+                };
+                let others_sat = neighbours.iter().any(|&n| raw[n].1[x]);
+                let (value, saturated) = if neighbours.is_empty() {
+                    (own_e[x], own_s[x])
+                } else if !y.is_multiple_of(2) && own_s[x] {
+                    (mean_of(&|n| raw[n].0[x]), others_sat)
+                } else if y.is_multiple_of(2) && !others_sat {
+                    (mean_of(&|n| raw[n].0[x]), false)
+                } else {
+                    (own_e[x], own_s[x])
+                };
+                e_row[x] = value;
+                s_row[x] = if saturated { 1.0 } else { 0.0 };
+            }
+        });
+    Readout {
+        estimate_e: est,
+        saturated: sat,
+        gain: Array2::from_shape_fn(dim, |(y, _)| row_gain(y)),
+        bin: Array2::ones(dim),
+    }
+}

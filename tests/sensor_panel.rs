@@ -1,0 +1,105 @@
+//! The sensor previewer workspace, driven like a user: open an HDR scene, see the preview then
+//! the full run with Table 5.4's four strategies, change a parameter and see it rerun, and a
+//! broken file that changes nothing.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+mod common;
+
+use std::time::Duration;
+
+use common::step_until;
+use egui_kittest::kittest::Queryable;
+use udc_studio::app::Workspace;
+use udc_studio::app::sensor::SensorView;
+
+fn still_life() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdr/StillLife_620x423.exr")
+}
+
+#[test]
+fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut().set_workspace(Workspace::Sensor);
+    h.step();
+    assert!(h.query_by_label("Open HDR…").is_some());
+    let ctx = h.ctx.clone();
+    h.state_mut().sensor().load_scene(still_life(), &ctx);
+    step_until(&mut h, "the full run", |app| {
+        app.sensor_ref().is_up_to_date()
+    });
+    let run = h.state().sensor_ref().shown().unwrap().run.clone();
+    let names: Vec<&str> = run.strategies.iter().map(|s| s.name.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "const-gain/no-bin",
+            "vary-gain/no-bin",
+            "const-gain/vary-bin",
+            "vary-gain/vary-bin"
+        ]
+    );
+    assert_eq!(
+        run.electrons.dim(),
+        (423, 620),
+        "the full scene, not the preview"
+    );
+    // The table shows every strategy's worst-ROI SSIM (4 decimals).
+    for s in &run.strategies {
+        let shown = format!("{:.4}", s.worst_roi_ssim);
+        assert!(
+            h.query_all_by_label(&shown).next().is_some(),
+            "{shown} on screen"
+        );
+    }
+    // A live parameter: a smaller ROI reruns and the ROI grid follows.
+    h.state_mut().sensor().settings.roi_px = 64;
+    step_until(&mut h, "the rerun", |app| {
+        app.sensor_ref().is_up_to_date()
+            && app.sensor_ref().shown().is_some_and(|s| s.run.roi_px == 64)
+    });
+    let rerun = h.state().sensor_ref().shown().unwrap().run.clone();
+    assert_eq!(
+        rerun.strategies[0].roi_ssim.dim(),
+        (423usize.div_ceil(64), 620usize.div_ceil(64))
+    );
+    // Every view draws.
+    for (view, label) in [
+        (SensorView::Compare, "A: worst ROI SSIM"),
+        (SensorView::Curves, "(b) optimal pitch"),
+        (SensorView::Maps, "Bin map:"),
+    ] {
+        h.state_mut().sensor().view = view;
+        h.step();
+        h.step();
+        assert!(h.query_by_label_contains(label).is_some(), "{label}");
+    }
+}
+
+#[test]
+fn a_broken_hdr_file_shows_an_error_and_keeps_the_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("broken.exr");
+    std::fs::write(&bad, b"v/1\x01 definitely not an OpenEXR file").unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut().set_workspace(Workspace::Sensor);
+    let ctx = h.ctx.clone();
+    h.state_mut().sensor().load_scene(still_life(), &ctx);
+    step_until(&mut h, "the full run", |app| {
+        app.sensor_ref().is_up_to_date()
+    });
+    h.state_mut().sensor().load_scene(bad.clone(), &ctx);
+    step_until(&mut h, "the error", |app| {
+        app.sensor_ref().message().is_some_and(|m| m.1)
+    });
+    let (msg, _) = h.state().sensor_ref().message().unwrap().clone();
+    assert!(msg.contains("broken.exr"), "{msg}");
+    assert_eq!(
+        h.state().sensor_ref().scene_name(),
+        Some("StillLife_620x423.exr")
+    );
+    assert!(
+        h.state().sensor_ref().is_up_to_date(),
+        "the last result stays"
+    );
+}
