@@ -43,6 +43,14 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
         .map(|r| r.epoch)
         .collect();
     assert_eq!(epochs, (0..12).collect::<Vec<_>>());
+    // The data loss on the built-in training photo is on by default, as in the thesis.
+    assert!(
+        h.state()
+            .optimiser()
+            .history()
+            .iter()
+            .all(|r| r.loss_data.is_some_and(|d| d > 0.0))
+    );
     assert!(h.query_by_label("Apply as new design").is_some());
     assert_eq!(h.state().design(), &before, "nothing changes before Apply");
     h.get_by_label("Apply as new design").click();
