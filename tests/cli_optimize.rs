@@ -1,21 +1,11 @@
 //! `udc-studio optimize`: the contract (loss history, AUC before and after, a loadable design).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::process::Command;
+mod common;
 
 use udc_studio::io::design_file::load_design;
 
-fn run(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_udc-studio"))
-        .args(args)
-        .output()
-        .expect("run the binary");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::run_cli as run;
 
 #[test]
 fn optimize_json_reports_history_and_auc_and_writes_the_design() {

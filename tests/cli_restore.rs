@@ -2,25 +2,16 @@
 //! non-zero exits.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+
 use std::path::Path;
-use std::process::Command;
 
 const ASTRONAUT: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/assets/photos/astronaut_256.png"
 );
 
-fn run(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_udc-studio"))
-        .args(args)
-        .output()
-        .expect("run the binary");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::run_cli as run;
 
 #[test]
 fn restore_json_has_one_run_per_light_level() {

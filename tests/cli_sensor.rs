@@ -2,24 +2,14 @@
 //! errors and non-zero exits.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::process::Command;
+mod common;
 
 const STILL_LIFE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/assets/hdr/StillLife_620x423.exr"
 );
 
-fn run(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_udc-studio"))
-        .args(args)
-        .output()
-        .expect("run the binary");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::run_cli as run;
 
 #[test]
 fn sensor_json_has_the_four_strategies_and_writes_the_maps() {

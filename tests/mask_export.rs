@@ -3,6 +3,8 @@
 //! gdstk and ezdxf (`pip install gdstk ezdxf`; CI installs them); without them these tests fail.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -482,17 +484,7 @@ fn a_cancelled_export_leaves_no_file() {
     assert!(left.is_empty(), "{left:?}");
 }
 
-fn run(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_udc-studio"))
-        .args(args)
-        .output()
-        .expect("run the binary");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::run_cli as run;
 
 #[test]
 fn cli_export_prints_the_summary_and_writes_the_sidecar() {

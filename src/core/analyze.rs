@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use super::SimError;
 use super::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
-use super::design::Design;
+use super::design::{Design, Optics};
 use super::expected::expected_channel_psf;
 use super::metrics::{invertibility_loss, ltr, mean_lowest_h, open_fraction};
 use super::mtf::{Mtf, mtf_of};
@@ -24,6 +24,23 @@ pub enum Quality {
     #[default]
     Full,
     Preview,
+}
+
+impl Quality {
+    /// The target fine spacing at this quality, µm.
+    pub fn fine_sample_um(self, op: &Optics) -> f64 {
+        match self {
+            Quality::Full => op.fine_sample_um,
+            Quality::Preview => {
+                let spp = (op.sensor_pixel_um / op.fine_sample_um).round() as usize;
+                if spp >= 2 && spp.is_multiple_of(2) {
+                    2.0 * op.fine_sample_um
+                } else {
+                    op.fine_sample_um
+                }
+            }
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -121,17 +138,7 @@ pub fn analyze_with(
     let op = &design.optics;
     let mut warnings = Vec::new();
 
-    let fine_um = match options.quality {
-        Quality::Full => op.fine_sample_um,
-        Quality::Preview => {
-            let spp = (op.sensor_pixel_um / op.fine_sample_um).round() as usize;
-            if spp >= 2 && spp.is_multiple_of(2) {
-                2.0 * op.fine_sample_um
-            } else {
-                op.fine_sample_um
-            }
-        }
-    };
+    let fine_um = options.quality.fine_sample_um(op);
     let samplings = plan(
         design,
         fine_um,

@@ -64,3 +64,15 @@ impl PanelCtx<'_> {
         }
     }
 }
+
+/// A panel's latest message: red when it is an error, dimmed otherwise.
+pub fn message_ui(ui: &mut egui::Ui, message: Option<&(String, bool)>) {
+    if let Some((msg, is_error)) = message {
+        let color = if *is_error {
+            ui.visuals().error_fg_color
+        } else {
+            ui.visuals().weak_text_color()
+        };
+        ui.colored_label(color, msg);
+    }
+}

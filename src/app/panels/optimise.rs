@@ -272,14 +272,7 @@ impl OptimisePanel {
                 self.start(ctx.design, ui.ctx());
             }
         });
-        if let Some((msg, is_error)) = &self.message {
-            let color = if *is_error {
-                ui.visuals().error_fg_color
-            } else {
-                ui.visuals().weak_text_color()
-            };
-            ui.colored_label(color, msg);
-        }
+        crate::app::panels::message_ui(ui, self.message.as_ref());
         if let Some(last) = self.history.last().cloned() {
             ui.separator();
             self.opening_ui(ui, &last);

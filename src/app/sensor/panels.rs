@@ -246,14 +246,7 @@ impl SensorWorkspace {
                 ui.add(egui::DragValue::new(&mut s.seed));
                 ui.end_row();
             });
-        if let Some((msg, is_error)) = &self.message {
-            let color = if *is_error {
-                ui.visuals().error_fg_color
-            } else {
-                ui.visuals().weak_text_color()
-            };
-            ui.colored_label(color, msg);
-        }
+        crate::app::panels::message_ui(ui, self.message.as_ref());
     }
 
     /// Right: the Table 5.4-style numbers.

@@ -235,18 +235,7 @@ impl<'a> Objective<'a> {
         data: Option<&'a DataSet>,
     ) -> Result<Self, SimError> {
         design.validate()?;
-        let op = &design.optics;
-        let fine_um = match quality {
-            Quality::Full => op.fine_sample_um,
-            Quality::Preview => {
-                let spp = (op.sensor_pixel_um / op.fine_sample_um).round() as usize;
-                if spp >= 2 && spp.is_multiple_of(2) {
-                    2.0 * op.fine_sample_um
-                } else {
-                    op.fine_sample_um
-                }
-            }
-        };
+        let fine_um = quality.fine_sample_um(&design.optics);
         let mut warnings = Vec::new();
         let samplings = plan(design, fine_um, quality == Quality::Preview, &mut warnings)?;
         Ok(Objective {

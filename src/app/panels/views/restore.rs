@@ -343,14 +343,7 @@ impl RestoreView {
         if stale && !running_this && self.photo.is_some() {
             self.start(key, shown, ctx.pinned, &egui_ctx);
         }
-        if let Some((msg, is_error)) = &self.message {
-            let color = if *is_error {
-                ui.visuals().error_fg_color
-            } else {
-                ui.visuals().weak_text_color()
-            };
-            ui.colored_label(color, msg);
-        }
+        crate::app::panels::message_ui(ui, self.message.as_ref());
         if ctx.pinned.is_none() {
             ui.weak("Pin a design as A (Compare menu) to see both on the same photo and light.");
         }
