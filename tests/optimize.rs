@@ -11,7 +11,7 @@ use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::aperture::{CellMap, Display, Extent, effective_cells};
 use udc_studio::core::design::{Design, TilingMode};
 use udc_studio::core::optimize::{
-    DataSet, LossWeights, Objective, OptimizeSettings, Relaxation, Start, binarise, optimize,
+    DataSet, LossWeights, Objective, OptimizeSettings, Relaxation, binarise, optimize,
 };
 use udc_studio::core::{Progress, SimError};
 use udc_studio::io::presets;
@@ -331,5 +331,4 @@ fn stopping_early_returns_the_run_so_far_and_cancel_aborts() {
     )
     .unwrap_err();
     assert_eq!(err, SimError::Cancelled);
-    let _ = Start::Current;
 }

@@ -63,6 +63,8 @@ pub fn split_image(a: &Array2<f64>, b: &Array2<f64>, split_col: usize) -> ColorI
 /// The uploaded pictures of one run.
 pub struct RunTextures {
     pub truth: TextureHandle,
+    /// The largest gain of any strategy: the top of the gain maps' shared colour scale.
+    pub max_gain: f64,
     /// Per strategy: capture, gain map, bin map, saturation map.
     pub strategies: Vec<[TextureHandle; 4]>,
 }
@@ -111,6 +113,10 @@ impl RunTextures {
                 ]
             })
             .collect();
-        RunTextures { truth, strategies }
+        RunTextures {
+            truth,
+            max_gain,
+            strategies,
+        }
     }
 }

@@ -259,9 +259,14 @@ impl SensorWorkspace {
         let Some(scene) = &self.scene else {
             return;
         };
-        let key = (self.settings.clone(), Arc::as_ptr(scene) as usize);
-        if self.submitted.as_ref() != Some(&key) {
-            self.submitted = Some(key);
+        let scene_id = Arc::as_ptr(scene) as usize;
+        // Compared in place: cloning the settings every frame would be work the UI does not need.
+        let unchanged = self
+            .submitted
+            .as_ref()
+            .is_some_and(|(s, id)| *s == self.settings && *id == scene_id);
+        if !unchanged {
+            self.submitted = Some((self.settings.clone(), scene_id));
             if let Err(e) = self.settings.validate() {
                 self.message = Some((e.to_string(), true));
                 return;

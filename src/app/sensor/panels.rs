@@ -387,7 +387,8 @@ impl SensorWorkspace {
         let side = ((avail - 24.0) / 2.0).max(120.0);
         let (h, w) = run.truth_display.dim();
         let size = vec2(side, side * h as f32 / w.max(1) as f32);
-        let max_gain = s.gain_map.iter().fold(1.0f64, |m, g| m.max(*g));
+        // The scale the textures were drawn with (shared by all strategies), not recomputed per frame.
+        let max_gain = shown.textures.max_gain;
         let cell = |ui: &mut Ui, label: &str, f: &mut dyn FnMut(&mut Ui)| {
             ui.vertical(|ui| {
                 ui.label(label);
