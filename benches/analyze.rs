@@ -12,9 +12,10 @@
 //! reference and the thesis, and writes them to `<target>/udc-bench/analyze-figures.json` for
 //! benches/report.sh. Run with `cargo bench --bench analyze -- --noplot`.
 
+mod common;
+
 use std::collections::BTreeMap;
 use std::hint::black_box;
-use std::path::PathBuf;
 use std::time::Duration;
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
@@ -107,28 +108,13 @@ fn print_figures(id: &str, a: &Analysis) {
     }
 }
 
-/// Criterion's convention for where results go, so the figures sit next to them.
-fn figures_path() -> PathBuf {
-    let target =
-        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| PathBuf::from("target"), PathBuf::from);
-    target.join("udc-bench").join("analyze-figures.json")
-}
-
 fn write_figures(figures: &BTreeMap<&str, String>) {
     let body: Vec<String> = figures
         .iter()
         .map(|(id, f)| format!("  \"analyze/{id}\": {f}"))
         .collect();
     let text = format!("{{\n{}\n}}\n", body.join(",\n"));
-    let path = figures_path();
-    // The figures are a convenience for report.sh; a read-only target dir must not fail the bench.
-    let written = path
-        .parent()
-        .map_or(Ok(()), std::fs::create_dir_all)
-        .and_then(|()| std::fs::write(&path, text));
-    if let Err(e) = written {
-        eprintln!("could not write {}: {e}", path.display());
-    }
+    common::write_figures("analyze-figures.json", &text);
 }
 
 fn bench_analyze(c: &mut Criterion) {

@@ -9,6 +9,8 @@
 //! The parent writes `<target>/udc-bench/memory.json` for benches/report.sh. On a system without
 //! /proc the numbers print as "unavailable" (JSON `null`). Run with `cargo bench --bench memory`.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -118,12 +120,6 @@ fn measure(case: &str) -> String {
     line
 }
 
-fn figures_path() -> PathBuf {
-    let target =
-        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| PathBuf::from("target"), PathBuf::from);
-    target.join("udc-bench").join("memory.json")
-}
-
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     if let Some(i) = args.iter().position(|a| a == "--case") {
@@ -144,12 +140,5 @@ fn main() {
         }
     }
     let text = format!("{{\n{}\n}}\n", body.join(",\n"));
-    let path = figures_path();
-    let written = path
-        .parent()
-        .map_or(Ok(()), std::fs::create_dir_all)
-        .and_then(|()| std::fs::write(&path, text));
-    if let Err(e) = written {
-        eprintln!("could not write {}: {e}", path.display());
-    }
+    common::write_figures("memory.json", &text);
 }

@@ -5,9 +5,10 @@
 //! `<target>/udc-bench/optimize.json` for benches/report.sh (goal: ≤ 60 s on 2 cores).
 //! Run with `cargo bench --bench optimize -- --noplot`.
 
+mod common;
+
 use std::hint::black_box;
 use std::ops::ControlFlow;
-use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
@@ -20,12 +21,6 @@ fn design() -> Design {
     let mut d = Design::default_toled();
     d.tiling.mode = TilingMode::Random4;
     d
-}
-
-fn out_path() -> PathBuf {
-    let target =
-        std::env::var_os("CARGO_TARGET_DIR").map_or_else(|| PathBuf::from("target"), PathBuf::from);
-    target.join("udc-bench").join("optimize.json")
 }
 
 /// One full run, timed once, with the AUC before and after.
@@ -56,14 +51,7 @@ fn full_run() {
         "{{\"epochs\": {}, \"seconds\": {seconds:.3}, \"auc_before\": {before:?}, \"auc_after\": {after:?}}}\n",
         result.history.len()
     );
-    let path = out_path();
-    let written = path
-        .parent()
-        .map_or(Ok(()), std::fs::create_dir_all)
-        .and_then(|()| std::fs::write(&path, text));
-    if let Err(e) = written {
-        eprintln!("could not write {}: {e}", path.display());
-    }
+    common::write_figures("optimize.json", &text);
 }
 
 fn bench_optimize(c: &mut Criterion) {
