@@ -1,9 +1,7 @@
 //! The CLI contract: names other tools depend on, one-line errors, non-zero exits.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
-use common::run_cli as run;
+use crate::common::run_cli as run;
 
 #[test]
 fn analyze_json_has_the_contract_fields() {

@@ -1,11 +1,11 @@
 //! The studio, driven like a user would: egui_kittest runs the real app headless.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 
-use common::step_until;
+use crate::common::step_until;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;

@@ -3,11 +3,11 @@
 //! broken file that changes nothing.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 
-use common::step_until;
+use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::Workspace;
 use udc_studio::app::sensor::SensorView;

@@ -2,7 +2,7 @@
 //! pin button work, and nothing is re-uploaded while nothing changes.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

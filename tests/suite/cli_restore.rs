@@ -2,8 +2,6 @@
 //! non-zero exits.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
 use std::path::Path;
 
 const ASTRONAUT: &str = concat!(
@@ -11,7 +9,7 @@ const ASTRONAUT: &str = concat!(
     "/assets/photos/astronaut_256.png"
 );
 
-use common::run_cli as run;
+use crate::common::run_cli as run;
 
 #[test]
 fn restore_json_has_one_run_per_light_level() {

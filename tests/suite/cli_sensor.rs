@@ -2,14 +2,12 @@
 //! errors and non-zero exits.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
 const STILL_LIFE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/assets/hdr/StillLife_620x423.exr"
 );
 
-use common::run_cli as run;
+use crate::common::run_cli as run;
 
 #[test]
 fn sensor_json_has_the_four_strategies_and_writes_the_maps() {

@@ -1,9 +1,7 @@
 //! Analytic references: Airy pattern, diffraction-limited MTF, Parseval, grating orders, symmetry.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
-use common::{aperture_of, open_design};
+use crate::common::{aperture_of, open_design};
 use ndarray::Array2;
 use udc_studio::core::Progress;
 use udc_studio::core::analyze::analyze;

@@ -1,11 +1,9 @@
 //! `udc-studio optimize`: the contract (loss history, AUC before and after, a loadable design).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
 use udc_studio::io::design_file::load_design;
 
-use common::run_cli as run;
+use crate::common::run_cli as run;
 
 #[test]
 fn optimize_json_reports_history_and_auc_and_writes_the_design() {

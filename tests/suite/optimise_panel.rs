@@ -2,11 +2,11 @@
 //! apply the result as one undoable edit.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 
-use common::step_until;
+use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::{Command, LeftTab, StudioApp};
 use udc_studio::core::analyze::Quality;

@@ -2,7 +2,7 @@
 //! gradients agree with finite differences, and a run does what the thesis says it does.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::ops::ControlFlow;
 

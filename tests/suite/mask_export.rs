@@ -3,8 +3,6 @@
 //! gdstk and ezdxf (`pip install gdstk ezdxf`; CI installs them); without them these tests fail.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -484,7 +482,7 @@ fn a_cancelled_export_leaves_no_file() {
     assert!(left.is_empty(), "{left:?}");
 }
 
-use common::run_cli as run;
+use crate::common::run_cli as run;
 
 #[test]
 fn cli_export_prints_the_summary_and_writes_the_sidecar() {

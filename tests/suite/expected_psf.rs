@@ -1,9 +1,7 @@
 //! The closed-form expected PSF of a random tiling against the mean over many realisations.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
-use common::small_optics;
+use crate::common::small_optics;
 use ndarray::Array2;
 use udc_studio::core::Progress;
 use udc_studio::core::analyze::{AnalyzeOptions, analyze_with};

@@ -2,11 +2,11 @@
 //! thesis's order (random tiling restores the T-OLED better), and a bad photo that changes nothing.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 
-use common::step_until;
+use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::panels::views::ViewTab;
 use udc_studio::app::{Command, StudioApp};

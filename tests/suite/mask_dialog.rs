@@ -2,7 +2,7 @@
 //! statistics, change the region and tone, and export on the background task.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

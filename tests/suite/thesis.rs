@@ -1,8 +1,6 @@
 //! The thesis's published numbers and trends (PHYSICS.md §4, thesis §3.4.1 and Fig. 3.7).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
-
 use udc_studio::core::Progress;
 use udc_studio::core::analyze::analyze;
 use udc_studio::core::design::{Design, Opening, TilingMode};

@@ -3,7 +3,7 @@
 //! `UDC_SCREENSHOTS_DIR` set (see `screenshots/make.sh`) the images are saved there.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-mod common;
+use crate::common;
 
 use std::time::Duration;
 

@@ -1,0 +1,31 @@
+//! The integration tests, linked into one binary: each file here is a module, so CI links the
+//! heavy GUI stack once instead of once per file.
+
+mod common;
+
+mod architecture;
+mod cli;
+mod cli_optimize;
+mod cli_restore;
+mod cli_sensor;
+mod design_file;
+mod expected_psf;
+mod io_files;
+mod mask_dialog;
+mod mask_export;
+mod mask_geometry;
+mod opening_ops;
+mod optimise_panel;
+mod optimize;
+mod physics;
+mod restore;
+mod restore_view;
+mod screenshots;
+mod sensor;
+mod sensor_hdr;
+mod sensor_noise;
+mod sensor_panel;
+mod sensor_pitch;
+mod studio;
+mod thesis;
+mod views;
