@@ -12,6 +12,7 @@ pub mod metrics;
 pub mod mtf;
 pub mod opening_ops;
 pub mod optimize;
+pub mod phase;
 pub mod progress;
 pub mod psf;
 pub mod restore;

@@ -17,6 +17,7 @@ mod mask_geometry;
 mod opening_ops;
 mod optimise_panel;
 mod optimize;
+mod phase;
 mod physics;
 mod restore;
 mod restore_view;

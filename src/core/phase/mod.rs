@@ -1,0 +1,293 @@
+//! Phase masks (thesis chapter 4, PHYSICS.md §7): two microlens arrays (MLAs) around a T-OLED,
+//! folded into thin plates, with a folding wavelength λ0 per lenslet.
+//!
+//! Everything is 1-D along x (a T-OLED pixel is a slit, fully open along y). Conventions, stated
+//! once here:
+//! - x = 0 is the optical axis. Lenslet `l` of `L` is centred at `(l − (L−1)/2)·pitch`, and so is
+//!   its display slit; the display's slits repeat with the pitch beyond the lenslets too.
+//! - Display-plane samples sit at `(i − N/2)·δ1` for `i = 0 … N−1` (N even), δ1 = 15 nm.
+//! - The sensor's optical axis is the centre of pixel `pixels/2`. A PSF window is `pixels` wide and
+//!   centred on the pixel nearest the geometric image `f·sinθ`; each pixel integrates
+//!   `fine_per_pixel` midpoint samples (midpoint-rule box binning).
+//! - Energies are fractions of the light that falls on the main-lens opening (unit irradiance over
+//!   its width D = f/F#); the polarisation-dependent plate's ×½ is applied only where a name says
+//!   so (`*_with_polariser`).
+//!
+//! The chain ([`chain`]) is: plane wave `exp(i k sinθ x)` · display-aperture rect → MLA 1 → Fresnel
+//! transfer-function propagation over z = f_MLA → display slits → Fresnel over z → MLA 2 →
+//! main-lens rect → Fraunhofer to the sensor (a chirp-z transform evaluates exactly the window's
+//! samples, so every wavelength lands on the same sensor grid) → box binning.
+
+pub mod allocate;
+pub mod chain;
+pub mod czt;
+pub mod geometry;
+pub mod invertibility;
+pub mod psf;
+
+use serde::{Deserialize, Serialize};
+
+use super::SimError;
+
+pub use allocate::{Allocation, AllocationSettings, allocate};
+pub use chain::{Chain, Incidence, MonoPsf, Optics};
+pub use geometry::{Lenslets, Surface};
+pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
+pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, phase_psfs, phase_psfs_on};
+
+/// Refractive index of the lenslets (no dispersion, as in the thesis).
+pub const THESIS_REFRACTIVE_INDEX: f64 = 1.515;
+/// The T-OLED's open ratio: a slit of pitch/4.2 per pixel (κ = 4.2 when f_MLA = pitch).
+pub const THESIS_OPEN_RATIO: f64 = 1.0 / 4.2;
+/// Half-angle that widens the display aperture beyond the main lens: `D + 2 z tan 50°`.
+pub const DISPLAY_APERTURE_HALF_ANGLE_DEG: f64 = 50.0;
+/// The polarisation-dependent implementation passes half of the unpolarised light (§4.3.4).
+pub const POLARISER_TRANSMISSION: f64 = 0.5;
+/// The wavelength grid of V and of the λ0 allocation: 401, 411, … 691 nm (30 values).
+pub const GRID_FIRST_NM: f64 = 401.0;
+pub const GRID_STEP_NM: f64 = 10.0;
+pub const GRID_LEN: usize = 30;
+
+/// The 30 wavelengths of V and of the allocation, in nm.
+pub fn wavelength_grid_nm() -> Vec<f64> {
+    (0..GRID_LEN)
+        .map(|j| GRID_FIRST_NM + GRID_STEP_NM * j as f64)
+        .collect()
+}
+
+/// The camera behind the display. The thesis's: f = 4.67 mm, F/2, 1024 pixels of 2 µm.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhaseCamera {
+    pub focal_length_mm: f64,
+    pub f_number: f64,
+    pub pixel_um: f64,
+    /// Sensor pixels along x (even): also the number of incidence directions of the kernel matrix.
+    pub pixels: usize,
+}
+
+impl PhaseCamera {
+    pub fn thesis() -> Self {
+        PhaseCamera {
+            focal_length_mm: 4.67,
+            f_number: 2.0,
+            pixel_um: 2.0,
+            pixels: 1024,
+        }
+    }
+
+    pub fn focal_length_um(&self) -> f64 {
+        self.focal_length_mm * 1000.0
+    }
+
+    /// Main-lens opening D = f / F#, in µm.
+    pub fn aperture_um(&self) -> f64 {
+        self.focal_length_um() / self.f_number
+    }
+
+    /// sinθ of the direction imaged on pixel `j` (relative to the axis pixel): `j·pixel / f`.
+    pub fn sin_theta_of_pixel(&self, j: f64) -> f64 {
+        j * self.pixel_um / self.focal_length_um()
+    }
+}
+
+/// How finely the chain is sampled.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhaseSampling {
+    /// δ1, the display-plane sample (PHYSICS.md §7: 15 nm).
+    pub display_sample_um: f64,
+    /// Fine sensor samples per sensor pixel (PHYSICS.md §7: 14).
+    pub fine_per_pixel: usize,
+}
+
+impl PhaseSampling {
+    /// The thesis sampling: 15 nm at the display, 14 fine samples per pixel.
+    pub fn thesis() -> Self {
+        PhaseSampling {
+            display_sample_um: 0.015,
+            fine_per_pixel: 14,
+        }
+    }
+
+    /// A coarse preview for live dragging: 4× coarser display sampling and 7 samples per pixel.
+    /// The lens phase still changes by < 0.4 rad per sample and the slits keep > 150 samples.
+    pub fn preview() -> Self {
+        PhaseSampling {
+            display_sample_um: 0.06,
+            fine_per_pixel: 7,
+        }
+    }
+}
+
+/// Where each lenslet's folding wavelength λ0 comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Lambda0 {
+    /// Every lenslet folded at one wavelength (the thesis's fixed 530 nm).
+    Fixed { nm: f64 },
+    /// Wavelengths spread evenly over 400–700 nm: the 30-value grid in equal counts, ascending.
+    Uniform,
+    /// Counts per grid wavelength (30 values summing to the lenslet count), assigned in
+    /// ascending order: what the optimiser returns.
+    Counts { counts: Vec<usize> },
+    /// One λ0 per lenslet, left to right, as the user edited them.
+    PerLenslet { nm: Vec<f64> },
+}
+
+/// One double-MLA phase-mask design.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhaseDesign {
+    /// Display pixel pitch in µm (also the lenslet pitch). 42 µm = 600 DPI.
+    pub pitch_um: f64,
+    /// Lenslet focal length f_MLA in µm (= the MLA–display gap z); PHYSICS.md: f_MLA = pitch.
+    pub f_mla_um: f64,
+    pub refractive_index: f64,
+    /// Fold thickness T: the plate's maximum height is `T λ0 / (n − 1)` (1 = phase SLM, 5 thicker).
+    pub fold: f64,
+    /// Open fraction of each display pixel (a slit of `open_ratio · pitch`).
+    pub open_ratio: f64,
+    pub lambda0: Lambda0,
+    /// Optional fabrication step in µm (e.g. 0.2): fold heights and the profile are rounded to it.
+    #[serde(default)]
+    pub height_step_um: Option<f64>,
+    /// Folded plate, or the unfolded thick lens it comes from (the reference).
+    #[serde(default)]
+    pub surface: Surface,
+    pub camera: PhaseCamera,
+}
+
+impl PhaseDesign {
+    /// The thesis's 600-DPI design: pitch 42 µm, f_MLA = pitch, n = 1.515, T = 1, fixed 530 nm.
+    pub fn thesis(pitch_um: f64, fold: f64) -> Self {
+        PhaseDesign {
+            pitch_um,
+            f_mla_um: pitch_um,
+            refractive_index: THESIS_REFRACTIVE_INDEX,
+            fold,
+            open_ratio: THESIS_OPEN_RATIO,
+            lambda0: Lambda0::Fixed { nm: 530.0 },
+            height_step_um: None,
+            surface: Surface::Folded,
+            camera: PhaseCamera::thesis(),
+        }
+    }
+
+    /// κ = f_MLA / opening (eq. 4.13's design choice; 4.2 in the thesis).
+    pub fn kappa(&self) -> f64 {
+        self.f_mla_um / (self.pitch_um * self.open_ratio)
+    }
+
+    /// Full field of view, eq. 4.13: `2 atan(1 / (2κ))`, in degrees.
+    pub fn fov_deg(&self) -> f64 {
+        (2.0 * (0.5 / self.kappa()).atan()).to_degrees()
+    }
+
+    /// LTR at the edge of the FoV, eq. 4.14 `1 − 1/κ`, before the polariser's ½.
+    pub fn ltr_min(&self) -> f64 {
+        1.0 - 1.0 / self.kappa()
+    }
+
+    /// Checks every parameter; the message names the field.
+    ///
+    /// # Errors
+    /// [`SimError::InvalidField`] for a NaN, negative or out-of-range value.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let in_range = |field: &str, v: f64, lo: f64, hi: f64, unit: &str| {
+            if v.is_finite() && v >= lo && v <= hi {
+                Ok(())
+            } else {
+                Err(SimError::field(
+                    field,
+                    format!("{v} is outside {lo}–{hi} {unit}"),
+                ))
+            }
+        };
+        in_range("pitch_um", self.pitch_um, 1.0, 2000.0, "µm")?;
+        in_range("f_mla_um", self.f_mla_um, 1.0, 10_000.0, "µm")?;
+        in_range("refractive_index", self.refractive_index, 1.01, 4.0, "")?;
+        in_range("fold", self.fold, 0.05, 100.0, "(T)")?;
+        in_range("open_ratio", self.open_ratio, 0.01, 1.0, "")?;
+        if let Some(step) = self.height_step_um {
+            in_range("height_step_um", step, 0.001, 10.0, "µm")?;
+        }
+        match &self.lambda0 {
+            Lambda0::Fixed { nm } => in_range("lambda0.nm", *nm, 300.0, 1100.0, "nm")?,
+            Lambda0::Uniform => {}
+            Lambda0::Counts { counts } => {
+                if counts.len() != GRID_LEN {
+                    return Err(SimError::field(
+                        "lambda0.counts",
+                        format!(
+                            "has {} entries; one per grid wavelength ({GRID_LEN})",
+                            counts.len()
+                        ),
+                    ));
+                }
+            }
+            Lambda0::PerLenslet { nm } => {
+                for (i, v) in nm.iter().enumerate() {
+                    in_range(&format!("lambda0.nm[{i}]"), *v, 300.0, 1100.0, "nm")?;
+                }
+            }
+        }
+        let c = &self.camera;
+        in_range(
+            "camera.focal_length_mm",
+            c.focal_length_mm,
+            0.1,
+            1000.0,
+            "mm",
+        )?;
+        in_range("camera.f_number", c.f_number, 0.5, 64.0, "")?;
+        in_range("camera.pixel_um", c.pixel_um, 0.1, 100.0, "µm")?;
+        if c.pixels < 8 || c.pixels > 8192 || !c.pixels.is_multiple_of(2) {
+            return Err(SimError::field(
+                "camera.pixels",
+                format!("{} must be even and within 8–8192", c.pixels),
+            ));
+        }
+        // The lenslet count must be known before counts and per-lenslet lists can be checked.
+        let lenslets = geometry::lenslet_count(self);
+        match &self.lambda0 {
+            Lambda0::Counts { counts } if counts.iter().sum::<usize>() != lenslets => {
+                Err(SimError::field(
+                    "lambda0.counts",
+                    format!(
+                        "sum to {}, but this design has {lenslets} lenslets",
+                        counts.iter().sum::<usize>()
+                    ),
+                ))
+            }
+            Lambda0::PerLenslet { nm } if nm.len() != lenslets => Err(SimError::field(
+                "lambda0.nm",
+                format!(
+                    "has {} entries, but this design has {lenslets} lenslets",
+                    nm.len()
+                ),
+            )),
+            _ => Ok(()),
+        }
+    }
+}
+
+impl PhaseSampling {
+    /// # Errors
+    /// [`SimError::InvalidField`] for a sample outside 5 nm – 1 µm or 1–64 fine samples.
+    pub fn validate(&self) -> Result<(), SimError> {
+        if !(self.display_sample_um >= 0.005 && self.display_sample_um <= 1.0) {
+            return Err(SimError::field(
+                "sampling.display_sample_um",
+                format!("{} is outside 0.005–1 µm", self.display_sample_um),
+            ));
+        }
+        if self.fine_per_pixel == 0 || self.fine_per_pixel > 64 {
+            return Err(SimError::field(
+                "sampling.fine_per_pixel",
+                format!("{} is outside 1–64", self.fine_per_pixel),
+            ));
+        }
+        Ok(())
+    }
+}
