@@ -190,6 +190,25 @@ pub fn allocate(
     })
 }
 
+/// The whole job behind "run optimiser": V for the design's geometry and fold, the channel
+/// matrix for `channels` (R, G, B, e.g. a response on the grid), Algorithm 1 and the rounding to
+/// the design's lenslet count. Progress covers V, which is nearly all of the time.
+///
+/// # Errors
+/// An invalid design or channels, or [`SimError::Cancelled`].
+pub fn optimize_lambda0(
+    design: &super::PhaseDesign,
+    sampling: &super::PhaseSampling,
+    channels: &[Channel],
+    settings: &AllocationSettings,
+    progress: &crate::core::Progress,
+) -> Result<(VMatrix, Allocation), SimError> {
+    let v = super::invertibility::v_matrix(design, sampling, progress)?;
+    let a = channel_matrix(&v, channels)?;
+    let allocation = allocate(&a, super::geometry::lenslet_count(design), settings)?;
+    Ok((v, allocation))
+}
+
 /// `A · counts / Σcounts` per channel: the normalised invertibility of a count allocation.
 pub fn channel_invertibility(a: &[Vec<f64>], counts: &[usize]) -> [f64; 3] {
     let total: usize = counts.iter().sum();

@@ -29,7 +29,7 @@ use serde::{Deserialize, Serialize};
 
 use super::SimError;
 
-pub use allocate::{Allocation, AllocationSettings, allocate};
+pub use allocate::{Allocation, AllocationSettings, allocate, optimize_lambda0};
 pub use chain::{Chain, Incidence, MonoPsf, Optics};
 pub use geometry::{Lenslets, Surface};
 pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
