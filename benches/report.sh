@@ -26,18 +26,31 @@ fi
 
 # (ii) the Rust benches. Stale criterion results of a renamed bench are ignored below: only the
 # ids this script knows are read.
-cargo bench --bench analyze -- --noplot 2>&1 | tee "$logs/analyze.log"
-cargo bench --bench memory 2>&1 | tee "$logs/memory.log"
-cargo bench --bench studio -- --noplot 2>&1 | tee "$logs/studio.log"
-cargo bench --bench restore -- --noplot 2>&1 | tee "$logs/restore.log"
-cargo bench --bench optimize -- --noplot 2>&1 | tee "$logs/optimize.log"
-cargo bench --bench sensor -- --noplot 2>&1 | tee "$logs/sensor.log"
+# ONLY="phase sensor" reruns just those benches (and their numpy references) and reuses the
+# other results already under <target>; without it everything runs.
+only="${ONLY:-analyze memory studio restore optimize sensor phase}"
+runs() { [[ " $only " == *" $1 "* ]]; }
+for b in analyze studio restore optimize sensor phase; do
+    if runs "$b"; then
+        cargo bench --bench "$b" -- --noplot 2>&1 | tee "$logs/$b.log"
+    fi
+done
+if runs memory; then
+    cargo bench --bench memory 2>&1 | tee "$logs/memory.log"
+fi
 
-# (iii) the numpy reference of case (a), and the open aperture for the thesis check.
-"$python" benches/numpy_reference.py | tee "$logs/numpy.log"
-tail -n 1 "$logs/numpy.log" >"$logs/numpy.json"
-"$python" benches/numpy_reference.py --open --runs 1 | tee "$logs/numpy-open.log"
-tail -n 1 "$logs/numpy-open.log" >"$logs/numpy-open.json"
+# (iii) the numpy references: case (a) and the open aperture for the thesis check; the
+# phase-mask V matrix, the same 900 propagations as benches/phase.rs.
+if runs analyze; then
+    "$python" benches/numpy_reference.py | tee "$logs/numpy.log"
+    tail -n 1 "$logs/numpy.log" >"$logs/numpy.json"
+    "$python" benches/numpy_reference.py --open --runs 1 | tee "$logs/numpy-open.log"
+    tail -n 1 "$logs/numpy-open.log" >"$logs/numpy-open.json"
+fi
+if runs phase; then
+    "$python" benches/phase_numpy.py | tee "$logs/phase-numpy.log"
+    tail -n 1 "$logs/phase-numpy.log" >"$logs/phase-numpy.json"
+fi
 
 # (iv) the report.
 LOAD="$load_before" \
@@ -130,6 +143,24 @@ rows.append(
     f"| 150 epochs of `L_inv` optimisation, iccp21, one run{aucs} | "
     f"{'n/a' if secs is None else f'{secs:.1f} s'} | ≤ 60 s | {verdict(None if secs is None else secs <= 60)} |"
 )
+# Phase masks (issue 5): one PSF, the studio's three-channel update, and the whole V matrix
+# against numpy doing the same propagations in one run of this script.
+time_row("phase/psf-530nm/thesis", 100)
+time_row("phase/rgb-vs-toled/thesis")
+time_row("phase/rgb-vs-toled/preview")
+phase = load(os.path.join(bench, "phase.json")) or {}
+phase_np = load(os.path.join(bench, "phase-numpy.json")) or {}
+v_s, np_s = phase.get("seconds"), phase_np.get("seconds")
+rows.append(
+    f"| V matrix, 900 propagations, 600 DPI, T = 1, one run on {phase.get('threads', '?')} threads | "
+    f"{'n/a' if v_s is None else f'{v_s:.1f} s'} | ≤ 30 s | {verdict(None if v_s is None else v_s <= 30)} |"
+)
+row("V matrix in numpy (benches/phase_numpy.py), one run", None if np_s is None else np_s * 1000, " ms", "—", None)
+v_ratio = np_s / v_s if np_s and v_s else None
+rows.append(
+    f"| speed ratio numpy / Rust for V | {'n/a' if v_ratio is None else f'{v_ratio:.1f}×'} | ≥ 3× | "
+    f"{verdict(None if v_ratio is None else v_ratio >= 3)} |"
+)
 for case, entry in memory.items():  # the bench writes them in its own order
     peak = entry.get("peak_mb")
     base = entry.get("baseline_mb")
@@ -161,6 +192,14 @@ for label, bench_id, ref in (
     ok = None if rel is None else rel <= 1e-6
     aucs = ", ".join(f"{k} {v:.6f}" for k, v in rust.items())
     checks.append(f"| {label}: Rust vs numpy AUC ({aucs}) | {shown} | ≤ 1e-6 | {verdict(ok)} |")
+rv, nv = phase.get("v"), phase_np.get("v")
+if rv and nv:
+    rel = max(abs(a / b - 1.0) for ra, rb in zip(rv, nv) for a, b in zip(ra, rb) if b)
+    checks.append(
+        f"| phase V matrix: Rust vs numpy (900 entries) | {rel:.1e} | ≤ 1e-6 | {verdict(rel <= 1e-6)} |"
+    )
+else:
+    checks.append("| phase V matrix: Rust vs numpy | n/a | ≤ 1e-6 | — |")
 thesis = {"R": 0.3068, "G": 0.3170, "B": 0.3274}
 rust_open = figures.get("analyze/iccp21/open-aperture", {}).get("auc_radial_min", {})
 rel = max_rel(rust_open, thesis)

@@ -1,6 +1,7 @@
 //! Headless commands, built only on `core` and `io`.
 
 pub mod optimize;
+pub mod phase;
 pub mod sensor;
 
 use std::path::PathBuf;
@@ -47,6 +48,10 @@ pub enum Command {
     /// Simulate spatially-varying gain and binning on an HDR scene (thesis chapter 5): the four
     /// strategies of Table 5.4 with worst-ROI SSIM, PSNR and saturation.
     Sensor(sensor::SensorArgs),
+    /// Phase masks (thesis chapter 4): double microlens arrays around a T-OLED, folded plates
+    /// and the allocation of folding wavelengths.
+    #[command(subcommand)]
+    Phase(phase::PhaseCommand),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -206,6 +211,7 @@ pub fn run(command: Command) -> Result<()> {
         Command::Restore(args) => restore_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
         Command::Sensor(args) => sensor::sensor_cmd(&args),
+        Command::Phase(cmd) => phase::phase_cmd(&cmd),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }

@@ -30,3 +30,4 @@ mod sensor_pitch;
 mod studio;
 mod thesis;
 mod views;
+mod cli_phase;

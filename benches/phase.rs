@@ -1,0 +1,87 @@
+//! Phase-mask speed (issue 5): one on-axis PSF at one wavelength with the thesis sampling
+//! (15 nm over the 58-lenslet, 2.6 mm display aperture: 175 k display samples and a 14 336-sample
+//! chirp-z window), the studio's three-channel update at thesis and preview sampling, and the
+//! whole 30 × 30 V matrix (900 propagations) timed once — too long for criterion's ten samples.
+//! V's wall time and values go to `<target>/udc-bench/phase.json` for benches/report.sh, which
+//! compares them with benches/phase_numpy.py (goals: ≤ 100 ms per PSF, V ≤ 30 s on 2 cores and
+//! ≥ 3× faster than numpy). Run with `cargo bench --bench phase -- --noplot`.
+
+mod common;
+
+use std::hint::black_box;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
+use udc_studio::core::Progress;
+use udc_studio::core::design::Channel;
+use udc_studio::core::phase::{
+    Chain, Incidence, Optics, PhaseDesign, PhaseSampling, phase_psfs, v_matrix,
+};
+
+fn full_v() {
+    let design = PhaseDesign::thesis(42.0, 1.0);
+    let start = Instant::now();
+    let v = v_matrix(&design, &PhaseSampling::thesis(), &Progress::new());
+    let seconds = start.elapsed().as_secs_f64();
+    let Ok(v) = v else {
+        eprintln!("V failed: {v:?}");
+        return;
+    };
+    println!(
+        "V, 900 propagations, pitch 42 µm, T = 1: {seconds:.1} s on {} threads",
+        rayon::current_num_threads()
+    );
+    let text = format!(
+        "{{\"seconds\": {seconds:.3}, \"threads\": {}, \"v\": {:?}}}\n",
+        rayon::current_num_threads(),
+        v.v
+    );
+    common::write_figures("phase.json", &text);
+}
+
+fn bench_phase(c: &mut Criterion) {
+    let design = PhaseDesign::thesis(42.0, 1.0);
+    let Ok(chain) = Chain::new(&design, &PhaseSampling::thesis()) else {
+        eprintln!("cannot sample the thesis design");
+        return;
+    };
+    let mut group = c.benchmark_group("phase");
+    group
+        .sampling_mode(SamplingMode::Flat)
+        .sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(5));
+    group.bench_function("psf-530nm/thesis", |b| {
+        b.iter(|| {
+            black_box(chain.mono(
+                Optics::DoubleMla,
+                chain.heights_um(),
+                black_box(530.0),
+                Incidence::Pixel(0),
+            ))
+        })
+    });
+    let channels = Channel::rgb_peaks();
+    for (name, sampling) in [
+        ("rgb-vs-toled/thesis", PhaseSampling::thesis()),
+        ("rgb-vs-toled/preview", PhaseSampling::preview()),
+    ] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                black_box(phase_psfs(
+                    &design,
+                    &sampling,
+                    &channels,
+                    Optics::DoubleMla,
+                    Incidence::Pixel(0),
+                    &Progress::new(),
+                ))
+            })
+        });
+    }
+    group.finish();
+    full_v();
+}
+
+criterion_group!(benches, bench_phase);
+criterion_main!(benches);

@@ -1,0 +1,469 @@
+//! `udc-studio phase`: the phase-mask designer of thesis chapter 4 from the command line.
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Duration;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use serde_json::{Value, json};
+
+use crate::core::Progress;
+use crate::core::design::Channel;
+use crate::core::phase::allocate::{channel_invertibility, channel_matrix};
+use crate::core::phase::geometry::{lambda0_per_lenslet, lenslet_count, uniform_counts};
+use crate::core::phase::{
+    AllocationSettings, GRID_LEN, Incidence, Lambda0, Optics, PhaseDesign, PhaseSampling, Surface,
+    kernel_matrix, optimize_lambda0, phase_psfs, v_matrix, wavelength_grid_nm,
+};
+use crate::io::sensor_report::r;
+use crate::io::spectral::{channels_from_response, load_response_csv, thesis_response};
+
+#[derive(Debug, Subcommand)]
+pub enum PhaseCommand {
+    /// PSF per colour channel through the double MLA beside the bare T-OLED's: energy, peak,
+    /// invertibility, LTR and FoV.
+    Psf(PsfArgs),
+    /// The 30 × 30 invertibility matrix V over λ0, λ = 401:10:691 nm (900 propagations).
+    Invertibility(MaskArgs),
+    /// Allocate folding wavelengths to lenslets (eqs. 4.9–4.11, Algorithm 1).
+    Optimize(OptimizeArgs),
+}
+
+/// The mask and camera: the thesis's 600-DPI design unless overridden.
+#[derive(Debug, Args, Clone)]
+pub struct MaskArgs {
+    /// Display (and lenslet) pitch in µm: 42 = 600 DPI, 168 = 150 DPI.
+    #[arg(long, default_value_t = 42.0, allow_negative_numbers = true)]
+    pub pitch_um: f64,
+    /// Fold thickness T: plate height T·λ0/(n − 1) (1 = phase SLM, 5 = thicker retarder).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub fold: f64,
+    /// Lenslet focal length in µm (default: the pitch, κ = 4.2).
+    #[arg(long, allow_negative_numbers = true)]
+    pub f_mla_um: Option<f64>,
+    /// Refractive index of the lenslets.
+    #[arg(long, default_value_t = 1.515, allow_negative_numbers = true)]
+    pub n: f64,
+    /// Open fraction of a display pixel (T-OLED: 1/4.2 = 0.238).
+    #[arg(long, allow_negative_numbers = true)]
+    pub open_ratio: Option<f64>,
+    /// Round fold heights and the profile to this fabrication step in µm (e.g. 0.2).
+    #[arg(long, allow_negative_numbers = true)]
+    pub height_step_um: Option<f64>,
+    /// Coarse sampling (60 nm at the display, 7 samples per pixel) for quick looks.
+    #[arg(long)]
+    pub preview: bool,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write CSV files into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+#[derive(Debug, Args)]
+pub struct PsfArgs {
+    #[command(flatten)]
+    pub mask: MaskArgs,
+    /// Folding wavelengths: `fixed:NM` (all lenslets), `uniform` (400–700 nm evenly) or
+    /// `optimized` (runs the allocation first).
+    #[arg(long, default_value = "fixed:530")]
+    pub lambda0: String,
+    /// Incidence angle in degrees (off-axis PSF; the window follows the image point).
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    pub angle_deg: f64,
+    /// Spectral channels from a response CSV (wavelength_nm,r,g,b) sampled at 401:10:691 nm,
+    /// instead of the peak wavelengths R 610, G 530, B 470 nm.
+    #[arg(long)]
+    pub spectral: Option<PathBuf>,
+    /// The unfolded thick lens instead of the folded plate (the reference).
+    #[arg(long)]
+    pub unfolded: bool,
+    /// Lemma 1's comparison: one plate pressed against the display, no second array.
+    #[arg(long)]
+    pub single_mask: bool,
+    /// Also write the blur matrix of all sensor directions per channel (eq. 4.12) into --out.
+    #[arg(long, requires = "out")]
+    pub all_angles: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct OptimizeArgs {
+    #[command(flatten)]
+    pub mask: MaskArgs,
+    /// Sensor response CSV (wavelength_nm,r,g,b); default: the thesis's built-in response.
+    #[arg(long)]
+    pub spectral: Option<PathBuf>,
+}
+
+fn design_of(m: &MaskArgs) -> Result<PhaseDesign> {
+    let mut d = PhaseDesign::thesis(m.pitch_um, m.fold);
+    d.f_mla_um = m.f_mla_um.unwrap_or(m.pitch_um);
+    d.refractive_index = m.n;
+    if let Some(o) = m.open_ratio {
+        d.open_ratio = o;
+    }
+    d.height_step_um = m.height_step_um;
+    // Flag names, not field names, in the messages a CLI user sees.
+    d.validate().map_err(|e| {
+        anyhow::anyhow!(
+            "{}",
+            e.to_string()
+                .replace("`pitch_um`", "--pitch-um")
+                .replace("`fold`", "--fold")
+                .replace("`f_mla_um`", "--f-mla-um")
+                .replace("`refractive_index`", "--n")
+                .replace("`open_ratio`", "--open-ratio")
+                .replace("`height_step_um`", "--height-step-um")
+        )
+    })?;
+    Ok(d)
+}
+
+fn sampling_of(m: &MaskArgs) -> PhaseSampling {
+    if m.preview {
+        PhaseSampling::preview()
+    } else {
+        PhaseSampling::thesis()
+    }
+}
+
+fn grid_channels(spectral: Option<&Path>) -> Result<Vec<Channel>> {
+    let response = match spectral {
+        Some(p) => load_response_csv(p)?,
+        None => thesis_response(),
+    };
+    channels_from_response(&response, &wavelength_grid_nm())
+        .map_err(|e| anyhow::anyhow!("--spectral: {e}"))
+}
+
+/// Runs `job` while a thread reports its progress on stderr (only on a terminal).
+fn with_progress<T>(label: &str, job: impl FnOnce(&Progress) -> T) -> T {
+    let progress = Arc::new(Progress::new());
+    let show = std::io::stderr().is_terminal();
+    let (done_tx, done_rx) = std::sync::mpsc::channel::<()>();
+    let reporter = show.then(|| {
+        let progress = progress.clone();
+        let label = label.to_string();
+        std::thread::spawn(move || {
+            while done_rx.recv_timeout(Duration::from_secs(1)).is_err() {
+                eprint!("\r{label}: {:3.0} %", 100.0 * progress.fraction());
+            }
+            eprintln!("\r{label}: done   ");
+        })
+    });
+    let out = job(&progress);
+    drop(done_tx);
+    if let Some(h) = reporter {
+        let _ = h.join();
+    }
+    out
+}
+
+/// Runs `udc-studio phase …`.
+///
+/// # Errors
+/// Invalid parameters, unreadable spectral tables, unwritable outputs.
+pub fn phase_cmd(cmd: &PhaseCommand) -> Result<()> {
+    match cmd {
+        PhaseCommand::Psf(a) => psf_cmd(a),
+        PhaseCommand::Invertibility(m) => invertibility_cmd(m),
+        PhaseCommand::Optimize(a) => optimize_cmd(a),
+    }
+}
+
+fn parse_lambda0(s: &str) -> Result<Option<Lambda0>> {
+    let t = s.trim().to_ascii_lowercase();
+    if t == "uniform" {
+        return Ok(Some(Lambda0::Uniform));
+    }
+    if t == "optimized" || t == "optimised" {
+        return Ok(None);
+    }
+    if let Some(v) = t.strip_prefix("fixed:") {
+        let nm: f64 = v
+            .trim()
+            .parse()
+            .map_err(|_| anyhow::anyhow!("--lambda0 `{s}`: `{v}` is not a wavelength in nm"))?;
+        return Ok(Some(Lambda0::Fixed { nm }));
+    }
+    bail!("--lambda0 `{s}`: expected fixed:NM (e.g. fixed:530), uniform or optimized")
+}
+
+fn psf_cmd(a: &PsfArgs) -> Result<()> {
+    let mut design = design_of(&a.mask)?;
+    let sampling = sampling_of(&a.mask);
+    if !a.angle_deg.is_finite() || a.angle_deg.abs() >= 89.0 {
+        bail!(
+            "--angle-deg {}: must be a finite angle within ±89°",
+            a.angle_deg
+        );
+    }
+    design.lambda0 = match parse_lambda0(&a.lambda0)? {
+        Some(l) => l,
+        None => {
+            let channels = grid_channels(a.spectral.as_deref())?;
+            let (_, alloc) = with_progress("optimising λ0", |p| {
+                optimize_lambda0(
+                    &design,
+                    &sampling,
+                    &channels,
+                    &AllocationSettings::default(),
+                    p,
+                )
+            })?;
+            Lambda0::Counts {
+                counts: alloc.counts,
+            }
+        }
+    };
+    if a.unfolded {
+        design.surface = Surface::Unfolded;
+    }
+    design
+        .validate()
+        .map_err(|e| anyhow::anyhow!("{}", e.to_string().replace("`lambda0.nm`", "--lambda0")))?;
+    let channels = match &a.spectral {
+        Some(p) => grid_channels(Some(p))?,
+        None => Channel::rgb_peaks(),
+    };
+    let optics = if a.single_mask {
+        Optics::SingleMask
+    } else {
+        Optics::DoubleMla
+    };
+    let incidence = Incidence::AngleDeg(a.angle_deg);
+    let psfs = with_progress("PSFs", |p| {
+        phase_psfs(&design, &sampling, &channels, optics, incidence, p)
+    })?;
+    let mut outputs = Vec::new();
+    if let Some(dir) = &a.mask.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
+        let path = dir.join("psf.csv");
+        let mut text = String::from("pixel_offset");
+        for c in &psfs.channels {
+            text.push_str(&format!(",{0},toled_{0}", c.name));
+        }
+        text.push('\n');
+        let p = design.camera.pixels as i64;
+        for k in 0..design.camera.pixels {
+            text.push_str(&(k as i64 - p / 2).to_string());
+            for c in &psfs.channels {
+                text.push_str(&format!(",{:e},{:e}", c.psf[k], c.toled_psf[k]));
+            }
+            text.push('\n');
+        }
+        std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+        outputs.push(path);
+        if a.all_angles {
+            for c in &channels {
+                let k = with_progress(&format!("kernels {}", c.name), |p| {
+                    kernel_matrix(&design, &sampling, c, optics, p)
+                })?;
+                let path = dir.join(format!("kernels_{}.csv", c.name));
+                let mut text = String::with_capacity(k.len() * 12);
+                for row in k.rows() {
+                    let line: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
+                    text.push_str(&line.join(","));
+                    text.push('\n');
+                }
+                std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+                outputs.push(path);
+            }
+        }
+    }
+    let lambda0 = lambda0_per_lenslet(&design)?;
+    if a.mask.json {
+        let channels_json: Vec<Value> = psfs
+            .channels
+            .iter()
+            .map(|c| {
+                json!({
+                    "name": c.name,
+                    "wavelength_nm": r(c.wavelength_nm),
+                    "energy_vs_toled": r(c.energy_vs_toled),
+                    "energy_vs_toled_before_polariser": r(c.energy_vs_toled_before_polariser),
+                    "peak": r(c.peak),
+                    "invertibility": r(c.invertibility),
+                    "transmission": r(c.transmission),
+                    "toled_peak": r(c.toled_peak),
+                    "toled_invertibility": r(c.toled_invertibility),
+                    "toled_transmission": r(c.toled_transmission),
+                    "psf": c.psf.iter().map(|&v| r(v)).collect::<Vec<_>>(),
+                    "toled_psf": c.toled_psf.iter().map(|&v| r(v)).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let v = json!({
+            "pitch_um": design.pitch_um,
+            "fold": design.fold,
+            "f_mla_um": design.f_mla_um,
+            "surface": if a.unfolded { "unfolded" } else { "folded" },
+            "optics": if a.single_mask { "single-mask" } else { "double-mla" },
+            "lenslets": psfs.lenslets,
+            "lambda0_nm": lambda0,
+            "angle_deg": r(psfs.angle_deg),
+            "image_pixel": psfs.image_pixel,
+            "kappa": r(design.kappa()),
+            "fov_deg": r(design.fov_deg()),
+            "ltr_with_polariser": r(psfs.ltr_with_polariser),
+            "ltr_min_with_polariser": r(0.5 * design.ltr_min()),
+            "toled_ltr": r(psfs.toled_ltr),
+            "channels": channels_json,
+            "outputs": outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        });
+        println!("{v}");
+    } else {
+        println!(
+            "double MLA, pitch {} µm, T = {}, {} lenslets, λ0 {}–{} nm, angle {:.2}°",
+            design.pitch_um,
+            design.fold,
+            psfs.lenslets,
+            lambda0.iter().copied().fold(f64::INFINITY, f64::min),
+            lambda0.iter().copied().fold(0.0, f64::max),
+            psfs.angle_deg
+        );
+        println!(
+            "κ {:.2}  FoV {:.1}°  LTR {:.1} % (T-OLED {:.1} %, at the FoV edge {:.1} %)",
+            design.kappa(),
+            design.fov_deg(),
+            100.0 * psfs.ltr_with_polariser,
+            100.0 * psfs.toled_ltr,
+            50.0 * design.ltr_min()
+        );
+        println!("channel  λ nm   energy vs T-OLED   peak (T-OLED)      invertibility (T-OLED)");
+        for c in &psfs.channels {
+            println!(
+                "{:<7} {:5.0}   {:5.2}× ({:4.2}× before ½)   {:.4} ({:.4})   {:7.2} ({:7.2})",
+                c.name,
+                c.wavelength_nm,
+                c.energy_vs_toled,
+                c.energy_vs_toled_before_polariser,
+                c.peak,
+                c.toled_peak,
+                c.invertibility,
+                c.toled_invertibility
+            );
+        }
+        for p in &outputs {
+            println!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}
+
+fn invertibility_cmd(m: &MaskArgs) -> Result<()> {
+    let design = design_of(m)?;
+    let sampling = sampling_of(m);
+    let v = with_progress("V (900 propagations)", |p| v_matrix(&design, &sampling, p))?;
+    if let Some(dir) = &m.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
+        let path = dir.join("v.csv");
+        let mut text = String::from("lambda0_nm\\lambda_nm");
+        for l in &v.lambda_nm {
+            text.push_str(&format!(",{l}"));
+        }
+        text.push('\n');
+        for (l0, row) in v.lambda0_nm.iter().zip(&v.v) {
+            text.push_str(&l0.to_string());
+            for x in row {
+                text.push_str(&format!(",{x}"));
+            }
+            text.push('\n');
+        }
+        std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+        if !m.json {
+            println!("wrote {}", path.display());
+        }
+    }
+    if m.json {
+        let rows: Vec<Vec<Value>> =
+            v.v.iter()
+                .map(|row| row.iter().map(|&x| r(x)).collect())
+                .collect();
+        println!(
+            "{}",
+            json!({ "lambda_nm": v.lambda_nm, "lambda0_nm": v.lambda0_nm, "v": rows })
+        );
+    } else {
+        println!("V: invertibility (sum of the one-sided MTF) per λ0 (rows) and λ (columns), nm");
+        print!("λ0\\λ ");
+        for l in v.lambda_nm.iter().step_by(3) {
+            print!("{l:>6.0}");
+        }
+        println!("   (every third column)");
+        for (l0, row) in v.lambda0_nm.iter().zip(&v.v) {
+            print!("{l0:>5.0}");
+            for x in row.iter().step_by(3) {
+                print!("{x:>6.1}");
+            }
+            println!();
+        }
+    }
+    Ok(())
+}
+
+fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
+    let design = design_of(&a.mask)?;
+    let sampling = sampling_of(&a.mask);
+    let channels = grid_channels(a.spectral.as_deref())?;
+    let settings = AllocationSettings::default();
+    let (v, alloc) = with_progress("optimising λ0", |p| {
+        optimize_lambda0(&design, &sampling, &channels, &settings, p)
+    })?;
+    let lenslets = lenslet_count(&design);
+    let matrix = channel_matrix(&v, &channels)?;
+    let mut fixed = vec![0; GRID_LEN];
+    // 530 nm is not on the 401:10:691 grid; its nearest grid wavelength is 531 nm.
+    fixed[13] = lenslets;
+    let fixed_inv = channel_invertibility(&matrix, &fixed);
+    let uniform_inv = channel_invertibility(&matrix, &uniform_counts(lenslets));
+    let mut optimised = design.clone();
+    optimised.lambda0 = Lambda0::Counts {
+        counts: alloc.counts.clone(),
+    };
+    if let Some(dir) = &a.mask.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
+        let path = dir.join("phase_design.json");
+        let text = serde_json::to_string_pretty(&optimised)?;
+        std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+        if !a.mask.json {
+            println!("wrote {}", path.display());
+        }
+    }
+    let three = |v: [f64; 3]| v.iter().map(|&x| r(x)).collect::<Vec<_>>();
+    if a.mask.json {
+        println!(
+            "{}",
+            json!({
+                "lenslets": lenslets,
+                "counts": alloc.counts,
+                "lambda0_nm": alloc.lambda0_nm,
+                "channel_invertibility": three(alloc.channel_invertibility),
+                "fixed_530_invertibility": three(fixed_inv),
+                "uniform_invertibility": three(uniform_inv),
+                "x": alloc.x.iter().map(|&x| r(x)).collect::<Vec<_>>(),
+                "final_t": alloc.final_t,
+                "steps_per_stage": alloc.steps_per_stage,
+            })
+        );
+    } else {
+        println!(
+            "{lenslets} lenslets, pitch {} µm, T = {}; counts per λ0 (nm):",
+            design.pitch_um, design.fold
+        );
+        for (l, c) in wavelength_grid_nm().iter().zip(&alloc.counts) {
+            if *c > 0 {
+                println!("  {l:>4.0}  {c:>3}  {}", "#".repeat(*c));
+            }
+        }
+        let show = |v: [f64; 3]| format!("R {:.3}  G {:.3}  B {:.3}", v[0], v[1], v[2]);
+        println!("invertibility (A·x, 1 = best single fold)");
+        println!("  optimised   {}", show(alloc.channel_invertibility));
+        println!("  fixed 531   {}", show(fixed_inv));
+        println!("  uniform     {}", show(uniform_inv));
+    }
+    Ok(())
+}
