@@ -155,7 +155,7 @@ rows.append(
     f"| V matrix, 900 propagations, 600 DPI, T = 1, one run on {phase.get('threads', '?')} threads | "
     f"{'n/a' if v_s is None else f'{v_s:.1f} s'} | ≤ 30 s | {verdict(None if v_s is None else v_s <= 30)} |"
 )
-row("V matrix in numpy (benches/phase_numpy.py), one run", None if np_s is None else np_s * 1000, " ms", "—", None)
+row("V matrix in numpy (benches/phase_numpy.py), one run", np_s, " s", "—", None)
 v_ratio = np_s / v_s if np_s and v_s else None
 rows.append(
     f"| speed ratio numpy / Rust for V | {'n/a' if v_ratio is None else f'{v_ratio:.1f}×'} | ≥ 3× | "

@@ -10,6 +10,7 @@ pub mod commands;
 pub mod dialogs;
 pub mod document;
 pub mod panels;
+pub mod phase;
 pub mod sensor;
 pub mod settings;
 pub mod tasks;
@@ -89,10 +90,12 @@ pub struct View {
     pub left_tab: LeftTab,
 }
 
-/// The studio's two workspaces: display layouts (chapter 3) and the sensor previewer (chapter 5).
+/// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4) and the sensor
+/// previewer (chapter 5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Workspace {
     Display,
+    Phase,
     Sensor,
 }
 
@@ -138,6 +141,7 @@ struct Panels {
 pub struct StudioApp {
     doc: Document,
     sensor: sensor::SensorWorkspace,
+    phase: phase::PhaseWorkspace,
     worker: Worker,
     results: Results,
     view: View,
@@ -167,9 +171,15 @@ impl StudioApp {
         };
         let wake_ctx = ctx.clone();
         let worker = Worker::spawn(move || wake_ctx.request_repaint());
+        let phase = phase::PhaseWorkspace::new(
+            &options.dirs,
+            options.native_dialogs,
+            options.autosave_every,
+        );
         let mut app = StudioApp {
             doc: Document::new(design.clone(), path),
             sensor: sensor::SensorWorkspace::default(),
+            phase,
             worker,
             results: Results::default(),
             view: View {
@@ -271,7 +281,22 @@ impl StudioApp {
         &self.sensor
     }
 
-    /// Switches between the display-layout and sensor workspaces.
+    /// The phase-mask workspace.
+    pub fn phase(&mut self) -> &mut phase::PhaseWorkspace {
+        &mut self.phase
+    }
+
+    /// The phase-mask workspace, read-only (for `step_until` conditions).
+    pub fn phase_ref(&self) -> &phase::PhaseWorkspace {
+        &self.phase
+    }
+
+    /// The workspace on screen.
+    pub fn workspace(&self) -> Workspace {
+        self.view.workspace
+    }
+
+    /// Switches between the display-layout, phase-mask and sensor workspaces.
     pub fn set_workspace(&mut self, workspace: Workspace) {
         self.view.workspace = workspace;
     }
@@ -462,6 +487,8 @@ impl StudioApp {
                 "Display layouts",
             )
             .on_hover_text("Chapter 3: draw, tile, analyse, restore, optimise");
+            ui.selectable_value(&mut self.view.workspace, Workspace::Phase, "Phase masks")
+                .on_hover_text("Chapter 4: folded double microlens arrays around a T-OLED");
             ui.selectable_value(
                 &mut self.view.workspace,
                 Workspace::Sensor,
@@ -533,6 +560,44 @@ impl StudioApp {
         commands::shortcuts(&ctx, &mut cmds);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut cmds));
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
+        if self.view.workspace == Workspace::Phase {
+            // Undo and redo act on the phase parameters here; the opening edits do not apply.
+            cmds.retain(|c| match c {
+                Command::Undo => {
+                    self.phase.undo();
+                    false
+                }
+                Command::Redo => {
+                    self.phase.redo();
+                    false
+                }
+                Command::Invert
+                | Command::Clear
+                | Command::Reroll
+                | Command::Copy
+                | Command::Paste(_) => false,
+                _ => true,
+            });
+            egui::Panel::left("phase_controls")
+                .resizable(true)
+                .default_size(380.0)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| self.phase.controls_ui(ui));
+                });
+            egui::Panel::right("phase_numbers")
+                .resizable(true)
+                .default_size(400.0)
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| self.phase.numbers_ui(ui));
+                });
+            egui::CentralPanel::default().show(ui, |ui| self.phase.views_ui(ui));
+            self.dropped_files(&ctx, &mut cmds);
+            self.close_request(&ctx, &mut cmds);
+            self.confirm_ui(&ctx, &mut cmds);
+            self.apply(cmds);
+            self.poll_session();
+            return;
+        }
         if self.view.workspace == Workspace::Sensor {
             egui::Panel::left("sensor_controls")
                 .resizable(true)
@@ -631,6 +696,7 @@ impl eframe::App for StudioApp {
 
     fn on_exit(&mut self) {
         self.autosave_now_blocking();
+        self.phase.save_now_blocking();
         let _ = self.view.settings.save(&self.session.dirs);
     }
 }

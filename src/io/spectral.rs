@@ -239,6 +239,14 @@ pub fn channels_from_response(
         .collect()
 }
 
+/// The thesis's sensor response (`assets/spectral/thesis_sensor_response.csv`), built in so the
+/// phase-mask optimiser works without a file.
+pub fn thesis_response() -> SpectralResponse {
+    const TEXT: &str = include_str!("../../assets/spectral/thesis_sensor_response.csv");
+    // The table is a committed asset checked by the tests; a parse failure is a build defect.
+    parse_response_csv(TEXT).unwrap_or_else(|e| panic!("built-in thesis response: {e}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -306,12 +314,4 @@ mod tests {
         let e = channels_from_response(&r, &[500.0]).unwrap_err();
         assert!(e.contains("channel R"), "{e}");
     }
-}
-
-/// The thesis's sensor response (`assets/spectral/thesis_sensor_response.csv`), built in so the
-/// phase-mask optimiser works without a file.
-pub fn thesis_response() -> SpectralResponse {
-    const TEXT: &str = include_str!("../../assets/spectral/thesis_sensor_response.csv");
-    // The table is a committed asset checked by the tests; a parse failure is a build defect.
-    parse_response_csv(TEXT).unwrap_or_else(|e| panic!("built-in thesis response: {e}"))
 }

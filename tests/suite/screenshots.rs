@@ -200,3 +200,41 @@ fn sensor_previewer_maps_and_split_compare() {
     }
     capture(&mut h, "sensor-curves");
 }
+
+#[test]
+fn phase_masks_psfs_plate_and_optimiser() {
+    use udc_studio::app::Workspace;
+    use udc_studio::app::phase::{PhaseQuality, PhaseView};
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut().set_workspace(Workspace::Phase);
+    common::step_until(&mut h, "the phase PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    assert_eq!(h.state().phase_ref().shown().unwrap().psfs.lenslets, 58);
+    capture(&mut h, "phase-psf");
+    h.state_mut().phase().view = PhaseView::Geometry;
+    for _ in 0..4 {
+        h.step();
+    }
+    capture(&mut h, "phase-plate");
+    // The optimiser at preview sampling keeps the scenario quick.
+    h.state_mut().phase().quality = PhaseQuality::Preview;
+    h.state_mut().phase().view = PhaseView::Optimiser;
+    common::step_until(&mut h, "the preview PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+    });
+    h.get_by_label("Run optimiser").click();
+    common::step_until(&mut h, "the phase optimiser", |app| {
+        app.phase_ref().optimised().is_some()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    let o = h.state().phase_ref().optimised().unwrap();
+    assert_eq!(o.allocation.counts.iter().sum::<usize>(), 58);
+    capture(&mut h, "phase-optimiser");
+}

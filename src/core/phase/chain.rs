@@ -84,6 +84,24 @@ pub struct Chain {
     czt: Mutex<HashMap<(u64, i64), Arc<Czt>>>,
 }
 
+thread_local! {
+    /// FFT scratch per worker thread: a fresh multi-megabyte buffer per call costs page faults.
+    static SCRATCH: std::cell::RefCell<Vec<Complex64>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// The chirp-z transform's padded working array, per worker thread.
+    static CZT_WORK: std::cell::RefCell<Vec<Complex64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` with this thread's scratch buffer of at least `len` elements.
+pub(crate) fn with_scratch<T>(len: usize, f: impl FnOnce(&mut [Complex64]) -> T) -> T {
+    SCRATCH.with(|cell| {
+        let mut buf = cell.borrow_mut();
+        if buf.len() < len {
+            buf.resize(len, Complex64::new(0.0, 0.0));
+        }
+        f(&mut buf[..len])
+    })
+}
+
 /// Fraction of the sample `[x − dx/2, x + dx/2]` inside `[lo, hi]` (anti-aliased edges).
 fn coverage(x: f64, dx: f64, lo: f64, hi: f64) -> f64 {
     ((x + dx / 2.0).min(hi) - (x - dx / 2.0).max(lo)).clamp(0.0, dx) / dx
@@ -253,12 +271,21 @@ impl Chain {
 
     fn propagate(&self, field: &mut [Complex64], wavelength_um: f64) {
         let h = self.transfer(wavelength_um);
-        complex_plan(self.n).process(field);
-        let norm = 1.0 / self.n as f64;
-        for (f, t) in field.iter_mut().zip(h.iter()) {
-            *f *= t * norm;
-        }
-        complex_inverse_plan(self.n).process(field);
+        let forward = complex_plan(self.n);
+        let inverse = complex_inverse_plan(self.n);
+        with_scratch(
+            forward
+                .get_inplace_scratch_len()
+                .max(inverse.get_inplace_scratch_len()),
+            |scratch| {
+                forward.process_with_scratch(field, scratch);
+                let norm = 1.0 / self.n as f64;
+                for (f, t) in field.iter_mut().zip(h.iter()) {
+                    *f *= t * norm;
+                }
+                inverse.process_with_scratch(field, scratch);
+            },
+        );
     }
 
     /// The sensor PSF of one wavelength and direction through `optics`, with the plate `heights_um`
@@ -274,40 +301,57 @@ impl Chain {
         let k = 2.0 * PI / lambda;
         let sin_t = incidence.sin_theta(&self.design);
         let n_minus_1 = self.design.refractive_index - 1.0;
-        let plate = |i: usize| {
-            let h = heights_um.get(i).copied().unwrap_or(0.0);
-            Complex64::from_polar(1.0, (-k * n_minus_1 * h).rem_euclid(2.0 * PI))
+        // One cis per sample and mask: the plate's transmission is shared by MLA 1 and MLA 2, and
+        // the tilt is skipped on axis (these exponentials cost as much as the FFTs).
+        let plate = |range: std::ops::Range<usize>| -> Vec<Complex64> {
+            range
+                .map(|i| {
+                    let h = heights_um.get(i).copied().unwrap_or(0.0);
+                    Complex64::from_polar(1.0, -k * n_minus_1 * h)
+                })
+                .collect()
         };
-        let tilt =
-            |i: usize| Complex64::from_polar(1.0, (k * sin_t * self.x_um(i)).rem_euclid(2.0 * PI));
+        let tilt = |i: usize| Complex64::from_polar(1.0, k * sin_t * self.x_um(i));
+        let tilted = sin_t != 0.0;
         let (start, end) = self.lens_range;
-        let lens_field: Vec<Complex64> = match optics {
+        let mut lens_field: Vec<Complex64> = match optics {
             Optics::Toled => (start..end)
-                .map(|i| tilt(i) * (self.slits[i] * self.lens_rect[i]))
+                .map(|i| Complex64::new(self.slits[i] * self.lens_rect[i], 0.0))
                 .collect(),
-            Optics::SingleMask => (start..end)
-                .map(|i| tilt(i) * plate(i) * (self.slits[i] * self.lens_rect[i]))
+            Optics::SingleMask => plate(start..end)
+                .into_iter()
+                .zip(start..end)
+                .map(|(p, i)| p * (self.slits[i] * self.lens_rect[i]))
                 .collect(),
             Optics::DoubleMla => {
-                let mut field: Vec<Complex64> = (0..self.n)
-                    .map(|i| {
-                        if self.display_rect[i] == 0.0 {
-                            Complex64::new(0.0, 0.0)
-                        } else {
-                            tilt(i) * plate(i) * self.display_rect[i]
-                        }
-                    })
+                let plate = plate(0..self.n);
+                let mut field: Vec<Complex64> = plate
+                    .iter()
+                    .zip(&self.display_rect)
+                    .map(|(p, r)| p * *r)
                     .collect();
+                if tilted {
+                    for (i, f) in field.iter_mut().enumerate() {
+                        if self.display_rect[i] != 0.0 {
+                            *f *= tilt(i);
+                        }
+                    }
+                }
                 self.propagate(&mut field, lambda);
                 for (f, s) in field.iter_mut().zip(&self.slits) {
                     *f *= *s;
                 }
                 self.propagate(&mut field, lambda);
                 (start..end)
-                    .map(|i| field[i] * plate(i) * self.lens_rect[i])
+                    .map(|i| field[i] * plate[i] * self.lens_rect[i])
                     .collect()
             }
         };
+        if tilted && optics != Optics::DoubleMla {
+            for (f, i) in lens_field.iter_mut().zip(start..end) {
+                *f *= tilt(i);
+            }
+        }
         let dx = self.dx_um;
         let aperture = self.design.camera.aperture_um();
         let total_energy = lens_field.iter().map(|v| v.norm_sqr()).sum::<f64>() * dx / aperture;
@@ -317,7 +361,7 @@ impl Chain {
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
         let mut intensity = vec![0.0; cam.pixels * fine];
-        czt.intensity(&lens_field, &mut Vec::new(), &mut intensity);
+        CZT_WORK.with(|w| czt.intensity(&lens_field, &mut w.borrow_mut(), &mut intensity));
         // |E(u)|² = |Σ U dx e^{…}|² / (λf); energy per fine sample multiplies by du.
         let du = cam.pixel_um / fine as f64;
         let scale = dx * dx / (lambda * cam.focal_length_um()) * du / aperture;

@@ -76,11 +76,18 @@ impl Czt {
         for ((s, a), c) in scratch.iter_mut().zip(input).zip(&self.input_chirp) {
             *s = a * c;
         }
-        complex_plan(self.size).process(scratch);
-        for (s, k) in scratch.iter_mut().zip(&self.kernel_spectrum) {
-            *s *= k;
-        }
-        complex_inverse_plan(self.size).process(scratch);
+        let forward = complex_plan(self.size);
+        let inverse = complex_inverse_plan(self.size);
+        let len = forward
+            .get_inplace_scratch_len()
+            .max(inverse.get_inplace_scratch_len());
+        super::chain::with_scratch(len, |fft_scratch| {
+            forward.process_with_scratch(scratch, fft_scratch);
+            for (s, k) in scratch.iter_mut().zip(&self.kernel_spectrum) {
+                *s *= k;
+            }
+            inverse.process_with_scratch(scratch, fft_scratch);
+        });
         let norm = 1.0 / self.size as f64;
         for (o, s) in out.iter_mut().zip(scratch.iter()).take(self.n_out) {
             *o = (s * norm).norm_sqr();

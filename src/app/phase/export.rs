@@ -1,0 +1,299 @@
+//! Exports of the plate's height profile (CSV, 16-bit PNG, GDSII, STL): a save dialog on a helper
+//! thread, then the write on another, so the UI never waits for either.
+
+use std::path::PathBuf;
+
+use egui::Ui;
+
+use super::PhaseWorkspace;
+use crate::app::tasks::Task;
+use crate::core::phase::PhaseDesign;
+use crate::io::phase_export;
+
+/// The file formats of the height profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HeightFormat {
+    Csv,
+    Png,
+    Gds,
+    Stl,
+}
+
+impl HeightFormat {
+    pub const ALL: [HeightFormat; 4] = [
+        HeightFormat::Csv,
+        HeightFormat::Png,
+        HeightFormat::Gds,
+        HeightFormat::Stl,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            HeightFormat::Csv => "Heights (CSV)…",
+            HeightFormat::Png => "Height map (16-bit PNG)…",
+            HeightFormat::Gds => "Mask layers (GDSII)…",
+            HeightFormat::Stl => "Plate (STL)…",
+        }
+    }
+
+    pub fn extension(self) -> &'static str {
+        match self {
+            HeightFormat::Csv => "csv",
+            HeightFormat::Png => "png",
+            HeightFormat::Gds => "gds",
+            HeightFormat::Stl => "stl",
+        }
+    }
+}
+
+/// The exports' parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ExportParams {
+    /// Sample along x, in µm (CSV, PNG, STL).
+    pub sample_um: f64,
+    /// Rows of the PNG (the plate is uniform along y).
+    pub rows: usize,
+    /// Length of the plate along y, in µm (GDSII, STL).
+    pub length_um: f64,
+    /// Thickness of the STL's base under the profile, in µm.
+    pub base_um: f64,
+}
+
+impl Default for ExportParams {
+    fn default() -> Self {
+        ExportParams {
+            sample_um: 0.1,
+            rows: 16,
+            length_um: 100.0,
+            base_um: 20.0,
+        }
+    }
+}
+
+pub(super) struct ExportState {
+    native_dialogs: bool,
+    pub params: ExportParams,
+    dialog: Option<(HeightFormat, PhaseDesign, Task<Option<PathBuf>>)>,
+    writes: Vec<Task<Result<String, String>>>,
+    message: Option<(String, bool)>,
+}
+
+/// Writes one export; the message names the file and what was written.
+///
+/// # Errors
+/// The writer's message.
+pub fn write_height(
+    format: HeightFormat,
+    design: &PhaseDesign,
+    path: &std::path::Path,
+    p: &ExportParams,
+) -> Result<String, String> {
+    let summary = match format {
+        HeightFormat::Csv => phase_export::write_height_csv(design, path, p.sample_um),
+        HeightFormat::Png => phase_export::write_height_png(design, path, p.sample_um, p.rows),
+        HeightFormat::Gds => phase_export::write_height_gds(design, path, p.length_um),
+        HeightFormat::Stl => {
+            phase_export::write_height_stl(design, path, p.sample_um, p.length_um, p.base_um)
+        }
+    }
+    .map_err(|e| e.to_string())?;
+    Ok(format!(
+        "exported {}: {}",
+        path.display(),
+        describe(&summary)
+    ))
+}
+
+/// The numbers of a finished export, for the message line.
+fn describe(s: &phase_export::ExportSummary) -> String {
+    use phase_export::ExportKind;
+    let what = match s.kind {
+        ExportKind::Csv => format!(
+            "{} samples every {} µm",
+            s.samples.unwrap_or(0),
+            s.sample_um.unwrap_or(0.0)
+        ),
+        ExportKind::Png => format!(
+            "{}×{} px of {} µm, {} levels",
+            s.samples.unwrap_or(0),
+            s.rows.unwrap_or(0),
+            s.pixel_um.unwrap_or(0.0),
+            s.levels.unwrap_or(0)
+        ),
+        ExportKind::Gds => format!(
+            "{} layers, {} rectangles",
+            s.layers.len(),
+            s.rectangles.unwrap_or(0)
+        ),
+        ExportKind::Stl => format!("{} triangles", s.triangles.unwrap_or(0)),
+    };
+    format!(
+        "{what}; {:.1} µm wide, up to {:.3} µm high",
+        s.width_um, s.max_height_um
+    )
+}
+
+impl ExportState {
+    pub fn new(native_dialogs: bool) -> Self {
+        ExportState {
+            native_dialogs,
+            params: ExportParams::default(),
+            dialog: None,
+            writes: Vec::new(),
+            message: None,
+        }
+    }
+
+    pub fn message(&self) -> Option<&(String, bool)> {
+        self.message.as_ref()
+    }
+
+    pub fn is_running(&self) -> bool {
+        self.dialog.is_some() || !self.writes.is_empty()
+    }
+
+    fn start_write(
+        &mut self,
+        format: HeightFormat,
+        design: PhaseDesign,
+        path: PathBuf,
+        ctx: &egui::Context,
+    ) {
+        let params = self.params;
+        let wake = ctx.clone();
+        self.message = Some((format!("writing {}…", path.display()), false));
+        self.writes.push(Task::spawn(
+            "phase-export",
+            move || wake.request_repaint(),
+            move || write_height(format, &design, &path, &params),
+        ));
+    }
+
+    fn ask(&mut self, format: HeightFormat, design: PhaseDesign, ctx: &egui::Context) {
+        if !self.native_dialogs {
+            self.message = Some(("file dialogs are disabled in this session".into(), true));
+            return;
+        }
+        if self.dialog.is_some() {
+            return;
+        }
+        let wake = ctx.clone();
+        let task = Task::spawn(
+            "file-dialog",
+            move || wake.request_repaint(),
+            move || {
+                rfd::FileDialog::new()
+                    .add_filter(format.label().trim_end_matches('…'), &[format.extension()])
+                    .set_file_name(format!("phase-plate.{}", format.extension()))
+                    .set_title("Export the phase plate")
+                    .save_file()
+            },
+        );
+        self.dialog = Some((format, design, task));
+    }
+
+    /// Takes answered dialogs and finished writes.
+    pub fn poll(&mut self, ctx: &egui::Context) {
+        if let Some(answer) = self.dialog.as_ref().and_then(|d| d.2.poll())
+            && let Some((format, design, _)) = self.dialog.take()
+            && let Ok(Some(path)) = answer
+        {
+            self.start_write(format, design, path, ctx);
+        }
+        let mut still = Vec::new();
+        for t in std::mem::take(&mut self.writes) {
+            match t.poll() {
+                None => still.push(t),
+                Some(Ok(Ok(msg))) => self.message = Some((msg, false)),
+                Some(Ok(Err(e))) => self.message = Some((format!("export failed: {e}"), true)),
+                Some(Err(())) => self.message = Some(("the export stopped".into(), true)),
+            }
+        }
+        self.writes = still;
+    }
+}
+
+impl PhaseWorkspace {
+    /// Writes the current design's plate to `path` on a background thread (no dialog).
+    pub fn export_to(&mut self, format: HeightFormat, path: PathBuf, ctx: &egui::Context) {
+        match self.design.validate() {
+            Ok(()) => self
+                .export
+                .start_write(format, self.design.clone(), path, ctx),
+            Err(e) => self.export.message = Some((format!("cannot export: {e}"), true)),
+        }
+    }
+
+    /// The export section of the controls.
+    pub(super) fn export_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        egui::CollapsingHeader::new("Export the plate")
+            .id_salt("phase_export")
+            .default_open(true)
+            .show(ui, |ui| {
+                let p = &mut self.export.params;
+                egui::Grid::new("phase_export_params")
+                    .num_columns(2)
+                    .show(ui, |ui| {
+                        ui.label("Sample along x");
+                        ui.add(
+                            egui::DragValue::new(&mut p.sample_um)
+                                .range(0.005..=10.0)
+                                .speed(0.005)
+                                .suffix(" µm"),
+                        );
+                        ui.end_row();
+                        ui.label("PNG rows");
+                        ui.add(
+                            egui::DragValue::new(&mut p.rows)
+                                .range(1..=4096)
+                                .suffix(" px"),
+                        );
+                        ui.end_row();
+                        ui.label("Length along y");
+                        ui.add(
+                            egui::DragValue::new(&mut p.length_um)
+                                .range(1.0..=100_000.0)
+                                .suffix(" µm"),
+                        );
+                        ui.end_row();
+                        ui.label("STL base");
+                        ui.add(
+                            egui::DragValue::new(&mut p.base_um)
+                                .range(0.0..=10_000.0)
+                                .suffix(" µm"),
+                        );
+                        ui.end_row();
+                    });
+                let valid = self.design.validate().is_ok();
+                ui.horizontal_wrapped(|ui| {
+                    for format in HeightFormat::ALL {
+                        // GDSII writes one layer per height level: it needs a height step.
+                        let stepped =
+                            format != HeightFormat::Gds || self.design.height_step_um.is_some();
+                        if ui
+                            .add_enabled(
+                                valid && stepped && self.export.dialog.is_none(),
+                                egui::Button::new(format.label()),
+                            )
+                            .on_disabled_hover_text(if stepped {
+                                "Fix the design first"
+                            } else {
+                                "Turn on the height step: GDSII has one layer per level"
+                            })
+                            .clicked()
+                        {
+                            self.export.ask(format, self.design.clone(), &ctx);
+                        }
+                    }
+                });
+                if self.export.is_running() {
+                    ui.horizontal(|ui| {
+                        ui.spinner();
+                        ui.label("exporting…");
+                    });
+                }
+                crate::app::panels::message_ui(ui, self.export.message.as_ref());
+            });
+    }
+}

@@ -1,0 +1,486 @@
+//! The phase-mask workspace (thesis chapter 4): two microlens arrays around a T-OLED, folded into
+//! thin plates with a folding wavelength λ0 per lenslet. Every parameter is live: a change runs
+//! the channel PSFs at preview sampling at once, then at the thesis sampling, on a background
+//! thread (a newer change cancels the running job and stale results are dropped). The V matrix
+//! and the λ0 optimiser run on request, with progress and Cancel. The UI thread only draws.
+//!
+//! The parameters have their own undo history (Ctrl+Z / Ctrl+Shift+Z while the workspace is
+//! shown) and are kept between runs in `phase-design.json` beside the studio's autosave.
+
+mod export;
+mod optimiser;
+mod optimiser_view;
+mod panels;
+mod persist;
+mod views;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use egui::Color32;
+
+pub use export::HeightFormat;
+pub use optimiser::{OptimiserResult, ShownV, plan_invertibility};
+
+use crate::app::settings::AppDirs;
+use crate::app::tasks::Task;
+use crate::core::design::Channel;
+use crate::core::phase::geometry::lenslet_count;
+use crate::core::phase::{
+    Allocation, Incidence, Optics, PhaseDesign, PhasePsfs, PhaseSampling, VMatrix, phase_psfs,
+    wavelength_grid_nm,
+};
+use crate::core::{Progress, SimError};
+use crate::io::spectral;
+use optimiser::LongJob;
+
+/// Where the workspace keeps its design, inside the studio's data directory.
+pub const DESIGN_FILE: &str = "phase-design.json";
+/// Undo steps kept.
+const MAX_HISTORY: usize = 200;
+
+/// How finely the chain is sampled: the live preview, or the thesis's sampling.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PhaseQuality {
+    Preview,
+    Full,
+}
+
+impl PhaseQuality {
+    pub fn sampling(self) -> PhaseSampling {
+        match self {
+            PhaseQuality::Preview => PhaseSampling::preview(),
+            PhaseQuality::Full => PhaseSampling::thesis(),
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            PhaseQuality::Preview => "preview",
+            PhaseQuality::Full => "full quality",
+        }
+    }
+}
+
+/// The colour channels the PSFs and the optimiser use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChannelSet {
+    /// R 610, G 530, B 470 nm.
+    Peaks,
+    /// The thesis's sensor response sampled on the 401:10:691 nm grid.
+    Spectral,
+}
+
+impl ChannelSet {
+    pub fn label(self) -> &'static str {
+        match self {
+            ChannelSet::Peaks => "peaks (R 610, G 530, B 470 nm)",
+            ChannelSet::Spectral => "spectral (thesis response, 401-691 nm)",
+        }
+    }
+}
+
+/// Which picture the centre shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PhaseView {
+    Psf,
+    Geometry,
+    Optimiser,
+}
+
+/// PSFs on screen, with what they were computed for.
+pub struct ShownPsfs {
+    pub generation: u64,
+    pub quality: PhaseQuality,
+    pub design: PhaseDesign,
+    pub optics: Optics,
+    pub channels: ChannelSet,
+    pub psfs: Arc<PhasePsfs>,
+    pub elapsed_ms: f64,
+}
+
+struct PsfJob {
+    generation: u64,
+    quality: PhaseQuality,
+    design: PhaseDesign,
+    optics: Optics,
+    channels: ChannelSet,
+    task: Task<Result<(PhasePsfs, f64), SimError>>,
+    progress: Arc<Progress>,
+}
+
+/// What the newest generation was started for (compared in place with the controls each frame).
+struct Submitted {
+    design: PhaseDesign,
+    channels: ChannelSet,
+    single_mask: bool,
+    angle_deg: f64,
+    target: PhaseQuality,
+}
+
+/// The workspace's state.
+pub struct PhaseWorkspace {
+    design: PhaseDesign,
+    committed: PhaseDesign,
+    undo: Vec<PhaseDesign>,
+    redo: Vec<PhaseDesign>,
+    /// Preview only, or preview then the thesis sampling (also the V matrix's and optimiser's).
+    pub quality: PhaseQuality,
+    pub channels: ChannelSet,
+    /// Lemma 1's comparison: one plate at the display, no second MLA.
+    pub single_mask: bool,
+    /// Incidence angle of the PSFs, in degrees.
+    pub angle_deg: f64,
+    pub log_psf: bool,
+    pub psf_half_width_px: usize,
+    pub view: PhaseView,
+    /// Keep f_MLA equal to the pitch when the pitch is edited (the thesis's choice).
+    pub link_focal: bool,
+    selected_lenslet: usize,
+    spectral: Option<Result<Vec<Channel>, String>>,
+    submitted: Option<Submitted>,
+    generation: u64,
+    job: Option<PsfJob>,
+    shown: Option<ShownPsfs>,
+    message: Option<(String, bool)>,
+    v_job: Option<LongJob<VMatrix>>,
+    v: Option<ShownV>,
+    opt_job: Option<LongJob<(VMatrix, Allocation)>>,
+    optimised: Option<OptimiserResult>,
+    opt_message: Option<(String, bool)>,
+    design_path: Option<PathBuf>,
+    saved: PhaseDesign,
+    last_save: Instant,
+    autosave_every: Duration,
+    save_task: Option<Task<Result<(), String>>>,
+    export: export::ExportState,
+}
+
+/// Equal designs, NaN included (a NaN field must not look like a change every frame).
+fn same(a: &PhaseDesign, b: &PhaseDesign) -> bool {
+    a == b || format!("{a:?}") == format!("{b:?}")
+}
+
+/// Colour of a wavelength, blue at 400 nm through green to red at 700 nm (thesis Fig. 4.4).
+pub fn wavelength_color(nm: f64) -> Color32 {
+    let t = ((nm - 400.0) / 300.0).clamp(0.0, 1.0) as f32;
+    egui::ecolor::Hsva::new(2.0 / 3.0 * (1.0 - t), 0.9, 1.0, 1.0).into()
+}
+
+impl PhaseWorkspace {
+    /// The workspace with the design kept in `dirs` (or the thesis's 600-DPI design).
+    pub fn new(dirs: &AppDirs, native_dialogs: bool, autosave_every: Duration) -> Self {
+        let design_path = dirs.data_dir.as_ref().map(|d| d.join(DESIGN_FILE));
+        let (design, message) = persist::load_design(design_path.as_deref());
+        PhaseWorkspace {
+            // The profile starts at the lenslet beside the axis.
+            selected_lenslet: lenslet_count(&design) / 2,
+            committed: design.clone(),
+            saved: design.clone(),
+            design,
+            undo: Vec::new(),
+            redo: Vec::new(),
+            quality: PhaseQuality::Full,
+            channels: ChannelSet::Peaks,
+            single_mask: false,
+            angle_deg: 0.0,
+            log_psf: false,
+            psf_half_width_px: 24,
+            view: PhaseView::Psf,
+            link_focal: true,
+            spectral: None,
+            submitted: None,
+            generation: 0,
+            job: None,
+            shown: None,
+            message,
+            v_job: None,
+            v: None,
+            opt_job: None,
+            optimised: None,
+            opt_message: None,
+            design_path,
+            last_save: Instant::now(),
+            autosave_every,
+            save_task: None,
+            export: export::ExportState::new(native_dialogs),
+        }
+    }
+
+    /// The design being edited.
+    pub fn design(&self) -> &PhaseDesign {
+        &self.design
+    }
+
+    /// Edits the design as the controls do: the change runs at once and becomes one undo step
+    /// when no pointer button is held and no text field has focus.
+    pub fn design_mut(&mut self) -> &mut PhaseDesign {
+        &mut self.design
+    }
+
+    /// Replaces the design as one undo step.
+    pub fn set_design(&mut self, design: PhaseDesign) {
+        self.commit();
+        self.design = design;
+        self.commit();
+    }
+
+    /// The PSFs on screen, if any.
+    pub fn shown(&self) -> Option<&ShownPsfs> {
+        self.shown.as_ref()
+    }
+
+    /// True once the PSFs of the newest parameters are on screen at the chosen quality.
+    pub fn is_up_to_date(&self) -> bool {
+        self.job.is_none()
+            && self
+                .shown
+                .as_ref()
+                .is_some_and(|s| s.generation == self.generation && s.quality == self.quality)
+    }
+
+    /// The latest message about the design or its PSFs, and whether it is an error.
+    pub fn message(&self) -> Option<&(String, bool)> {
+        self.message.as_ref()
+    }
+
+    /// The latest message of the V matrix or the optimiser.
+    pub fn optimiser_message(&self) -> Option<&(String, bool)> {
+        self.opt_message.as_ref()
+    }
+
+    /// The latest message of an export.
+    pub fn export_message(&self) -> Option<&(String, bool)> {
+        self.export.message()
+    }
+
+    pub fn v(&self) -> Option<&ShownV> {
+        self.v.as_ref()
+    }
+
+    pub fn optimised(&self) -> Option<&OptimiserResult> {
+        self.optimised.as_ref()
+    }
+
+    pub fn is_optimising(&self) -> bool {
+        self.opt_job.is_some()
+    }
+
+    pub fn is_computing_v(&self) -> bool {
+        self.v_job.is_some()
+    }
+
+    pub fn is_exporting(&self) -> bool {
+        self.export.is_running()
+    }
+
+    pub fn can_undo(&self) -> bool {
+        !self.undo.is_empty() || !same(&self.design, &self.committed)
+    }
+
+    pub fn can_redo(&self) -> bool {
+        !self.redo.is_empty()
+    }
+
+    /// Records the design as an undo step if it changed.
+    fn commit(&mut self) {
+        if same(&self.design, &self.committed) {
+            return;
+        }
+        let previous = std::mem::replace(&mut self.committed, self.design.clone());
+        self.undo.push(previous);
+        if self.undo.len() > MAX_HISTORY {
+            self.undo.remove(0);
+        }
+        self.redo.clear();
+    }
+
+    /// Steps back one parameter change.
+    pub fn undo(&mut self) -> bool {
+        self.commit();
+        let Some(previous) = self.undo.pop() else {
+            return false;
+        };
+        self.redo
+            .push(std::mem::replace(&mut self.committed, previous));
+        self.design = self.committed.clone();
+        true
+    }
+
+    /// Redoes one undone change.
+    pub fn redo(&mut self) -> bool {
+        self.commit();
+        let Some(next) = self.redo.pop() else {
+            return false;
+        };
+        self.undo.push(std::mem::replace(&mut self.committed, next));
+        self.design = self.committed.clone();
+        true
+    }
+
+    /// The channels of the chosen set (the spectral ones are made once).
+    fn channel_list(&mut self, set: ChannelSet) -> Result<Vec<Channel>, String> {
+        match set {
+            ChannelSet::Peaks => Ok(Channel::rgb_peaks()),
+            ChannelSet::Spectral => self
+                .spectral
+                .get_or_insert_with(|| {
+                    spectral::channels_from_response(
+                        &spectral::thesis_response(),
+                        &wavelength_grid_nm(),
+                    )
+                })
+                .clone(),
+        }
+    }
+
+    fn optics(&self) -> Optics {
+        if self.single_mask {
+            Optics::SingleMask
+        } else {
+            Optics::DoubleMla
+        }
+    }
+
+    /// Takes finished jobs, commits idle edits, saves, and starts the runs the controls call for.
+    pub fn poll(&mut self, ctx: &egui::Context) {
+        self.export.poll(ctx);
+        self.take_psfs(ctx);
+        self.take_long_jobs(ctx);
+        let idle = !ctx.input(|i| i.pointer.any_down()) && !ctx.egui_wants_keyboard_input();
+        if idle {
+            self.commit();
+        }
+        self.autosave_tick(ctx);
+        if self.job.is_some() || self.v_job.is_some() || self.opt_job.is_some() {
+            ctx.request_repaint_after(Duration::from_millis(100));
+        }
+        let unchanged = self.submitted.as_ref().is_some_and(|s| {
+            same(&s.design, &self.design)
+                && s.channels == self.channels
+                && s.single_mask == self.single_mask
+                && s.angle_deg.to_bits() == self.angle_deg.to_bits()
+                && s.target == self.quality
+        });
+        if unchanged {
+            return;
+        }
+        self.submitted = Some(Submitted {
+            design: self.design.clone(),
+            channels: self.channels,
+            single_mask: self.single_mask,
+            angle_deg: self.angle_deg,
+            target: self.quality,
+        });
+        // Whatever happens next, results of older parameters are stale.
+        self.generation += 1;
+        if let Some(j) = self.job.take() {
+            j.progress.cancel();
+        }
+        if let Err(e) = self.design.validate() {
+            self.message = Some((e.to_string(), true));
+            return;
+        }
+        if !(self.angle_deg.is_finite() && self.angle_deg.abs() <= 80.0) {
+            self.message = Some((
+                format!("the angle {} ° is outside -80 to 80 °", self.angle_deg),
+                true,
+            ));
+            return;
+        }
+        if self.message.as_ref().is_some_and(|m| m.1) {
+            self.message = None;
+        }
+        self.start(PhaseQuality::Preview, ctx);
+    }
+
+    fn start(&mut self, quality: PhaseQuality, ctx: &egui::Context) {
+        let Some(sub) = &self.submitted else {
+            return;
+        };
+        let design = sub.design.clone();
+        let set = sub.channels;
+        let angle = sub.angle_deg;
+        let channels = match self.channel_list(set) {
+            Ok(c) => c,
+            Err(e) => {
+                self.message = Some((format!("cannot make the channels: {e}"), true));
+                return;
+            }
+        };
+        if let Some(j) = self.job.take() {
+            j.progress.cancel();
+        }
+        let optics = self.optics();
+        let progress = Arc::new(Progress::new());
+        let p = progress.clone();
+        let wake = ctx.clone();
+        let d = design.clone();
+        let task = Task::spawn(
+            "phase-psf",
+            move || wake.request_repaint(),
+            move || {
+                let t0 = Instant::now();
+                let sampling = quality.sampling();
+                let r = phase_psfs(
+                    &d,
+                    &sampling,
+                    &channels,
+                    optics,
+                    Incidence::AngleDeg(angle),
+                    &p,
+                )?;
+                Ok((r, t0.elapsed().as_secs_f64() * 1e3))
+            },
+        );
+        self.job = Some(PsfJob {
+            generation: self.generation,
+            quality,
+            design,
+            optics,
+            channels: set,
+            task,
+            progress,
+        });
+    }
+
+    /// Cancels the running PSF job; the last result stays.
+    pub fn cancel_psfs(&mut self) {
+        if let Some(j) = self.job.take() {
+            j.progress.cancel();
+            self.message = Some(("PSF run cancelled; the last result stays".into(), false));
+        }
+    }
+
+    fn take_psfs(&mut self, ctx: &egui::Context) {
+        let Some(done) = self.job.as_ref().and_then(|j| j.task.poll()) else {
+            return;
+        };
+        let Some(job) = self.job.take() else {
+            return;
+        };
+        match done {
+            Ok(Ok((psfs, ms))) if job.generation == self.generation => {
+                self.shown = Some(ShownPsfs {
+                    generation: job.generation,
+                    quality: job.quality,
+                    design: job.design,
+                    optics: job.optics,
+                    channels: job.channels,
+                    psfs: Arc::new(psfs),
+                    elapsed_ms: ms,
+                });
+                if self.message.as_ref().is_some_and(|m| m.1) {
+                    self.message = None;
+                }
+                if job.quality == PhaseQuality::Preview && self.quality == PhaseQuality::Full {
+                    self.start(PhaseQuality::Full, ctx);
+                }
+            }
+            Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}
+            Ok(Err(e)) => self.message = Some((e.to_string(), true)),
+            Err(()) => self.message = Some(("the PSF job stopped".into(), true)),
+        }
+    }
+}

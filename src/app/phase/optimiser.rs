@@ -1,0 +1,271 @@
+//! The V matrix and the λ0 optimiser of the phase workspace: background runs with progress and
+//! Cancel, the allocation compared with the fixed and uniform plans, and Apply.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use egui::{ColorImage, TextureHandle, TextureOptions};
+
+use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use crate::app::colormap::Colormap;
+use crate::app::tasks::Task;
+use crate::core::phase::allocate::channel_invertibility;
+use crate::core::phase::geometry::{lenslet_count, uniform_counts};
+use crate::core::phase::{
+    Allocation, AllocationSettings, GRID_FIRST_NM, GRID_LEN, GRID_STEP_NM, Lambda0, PhaseDesign,
+    VMatrix, optimize_lambda0, v_matrix,
+};
+use crate::core::{Progress, SimError};
+
+/// A V matrix or optimiser run in flight.
+pub(super) struct LongJob<T> {
+    pub(super) design: PhaseDesign,
+    pub(super) quality: PhaseQuality,
+    pub(super) channels: ChannelSet,
+    pub(super) task: Task<Result<T, SimError>>,
+    pub(super) progress: Arc<Progress>,
+    pub(super) started: Instant,
+}
+
+/// The V matrix on screen and its picture.
+pub struct ShownV {
+    pub design: PhaseDesign,
+    pub quality: PhaseQuality,
+    pub v: Arc<VMatrix>,
+    pub max: f64,
+    pub(super) texture: TextureHandle,
+}
+
+/// The optimiser's allocation and the plans it is compared with.
+pub struct OptimiserResult {
+    pub design: PhaseDesign,
+    pub quality: PhaseQuality,
+    pub channels: ChannelSet,
+    pub allocation: Allocation,
+    /// Per-channel invertibility (A normalised to max 1) of every lenslet at 530 nm.
+    pub fixed_530: [f64; 3],
+    /// The same for the uniform plan.
+    pub uniform: [f64; 3],
+    pub elapsed_s: f64,
+}
+
+/// Per-channel invertibility of any per-lenslet λ0 list: the mean over lenslets of the channel
+/// matrix `a` (3 × grid) interpolated at each λ0. Equals `channel_invertibility` for counts.
+pub fn plan_invertibility(a: &[Vec<f64>], lambda0_nm: &[f64]) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    if lambda0_nm.is_empty() {
+        return out;
+    }
+    for &l in lambda0_nm {
+        let p = ((l - GRID_FIRST_NM) / GRID_STEP_NM).clamp(0.0, (GRID_LEN - 1) as f64);
+        let lo = (p.floor() as usize).min(GRID_LEN - 1);
+        let hi = (lo + 1).min(GRID_LEN - 1);
+        let f = p - lo as f64;
+        for (c, row) in a.iter().enumerate().take(3) {
+            out[c] += row[lo] * (1.0 - f) + row[hi] * f;
+        }
+    }
+    out.map(|v| v / lambda0_nm.len() as f64)
+}
+
+/// The design with its λ0 plan replaced: V depends on everything else, not on the plan.
+pub(super) fn without_plan(d: &PhaseDesign) -> PhaseDesign {
+    let mut d = d.clone();
+    d.lambda0 = Lambda0::Uniform;
+    d
+}
+
+/// The V matrix as a 30 × 30 picture: rows λ0 (the longest at the top), columns λ.
+fn v_image(v: &VMatrix, max: f64) -> ColorImage {
+    let rows = v.v.len();
+    let cols = v.v.first().map_or(0, Vec::len);
+    let mut pixels = Vec::with_capacity(rows * cols);
+    for r in (0..rows).rev() {
+        for c in 0..cols {
+            pixels.push(Colormap::Viridis.color((v.v[r][c] / max) as f32));
+        }
+    }
+    ColorImage::new([cols, rows], pixels)
+}
+
+impl PhaseWorkspace {
+    /// Computes V for the current design at the chosen quality, on a background thread.
+    pub fn compute_v(&mut self, ctx: &egui::Context) {
+        if self.v_job.is_some() {
+            return;
+        }
+        if let Err(e) = self.design.validate() {
+            self.opt_message = Some((e.to_string(), true));
+            return;
+        }
+        let design = self.design.clone();
+        let quality = self.quality;
+        let progress = Arc::new(Progress::new());
+        let (p, d, wake) = (progress.clone(), design.clone(), ctx.clone());
+        let task = Task::spawn(
+            "phase-v",
+            move || wake.request_repaint(),
+            move || v_matrix(&d, &quality.sampling(), &p),
+        );
+        self.opt_message = None;
+        self.v_job = Some(LongJob {
+            design,
+            quality,
+            channels: self.channels,
+            task,
+            progress,
+            started: Instant::now(),
+        });
+    }
+
+    /// Runs the λ0 optimiser (V, then Algorithm 1) for the current design and channels.
+    pub fn run_optimiser(&mut self, ctx: &egui::Context) {
+        if self.opt_job.is_some() {
+            return;
+        }
+        if let Err(e) = self.design.validate() {
+            self.opt_message = Some((e.to_string(), true));
+            return;
+        }
+        let channels = match self.channel_list(self.channels) {
+            Ok(c) => c,
+            Err(e) => {
+                self.opt_message = Some((format!("cannot make the channels: {e}"), true));
+                return;
+            }
+        };
+        let design = self.design.clone();
+        let quality = self.quality;
+        let progress = Arc::new(Progress::new());
+        let (p, d, wake) = (progress.clone(), design.clone(), ctx.clone());
+        let task = Task::spawn(
+            "phase-optimiser",
+            move || wake.request_repaint(),
+            move || {
+                optimize_lambda0(
+                    &d,
+                    &quality.sampling(),
+                    &channels,
+                    &AllocationSettings::default(),
+                    &p,
+                )
+            },
+        );
+        self.opt_message = None;
+        self.opt_job = Some(LongJob {
+            design,
+            quality,
+            channels: self.channels,
+            task,
+            progress,
+            started: Instant::now(),
+        });
+    }
+
+    /// Stops the V matrix and the optimiser; their last results stay.
+    pub fn cancel_long_jobs(&mut self) {
+        let mut any = false;
+        for p in [
+            self.v_job.take().map(|j| j.progress),
+            self.opt_job.take().map(|j| j.progress),
+        ]
+        .into_iter()
+        .flatten()
+        {
+            p.cancel();
+            any = true;
+        }
+        if any {
+            self.opt_message = Some(("cancelled".into(), false));
+        }
+    }
+
+    fn show_v(
+        &mut self,
+        ctx: &egui::Context,
+        design: PhaseDesign,
+        quality: PhaseQuality,
+        v: VMatrix,
+    ) {
+        let max =
+            v.v.iter()
+                .flatten()
+                .copied()
+                .fold(0.0, f64::max)
+                .max(1e-300);
+        let texture = ctx.load_texture("phase-v", v_image(&v, max), TextureOptions::NEAREST);
+        self.v = Some(ShownV {
+            design,
+            quality,
+            v: Arc::new(v),
+            max,
+            texture,
+        });
+    }
+
+    pub(super) fn take_long_jobs(&mut self, ctx: &egui::Context) {
+        if let Some(done) = self.v_job.as_ref().and_then(|j| j.task.poll())
+            && let Some(job) = self.v_job.take()
+        {
+            match done {
+                Ok(Ok(v)) => {
+                    let s = job.started.elapsed().as_secs_f64();
+                    self.opt_message = Some((format!("V computed in {s:.1} s"), false));
+                    self.show_v(ctx, job.design, job.quality, v);
+                }
+                Ok(Err(SimError::Cancelled)) => {}
+                Ok(Err(e)) => self.opt_message = Some((e.to_string(), true)),
+                Err(()) => self.opt_message = Some(("the V job stopped".into(), true)),
+            }
+        }
+        if let Some(done) = self.opt_job.as_ref().and_then(|j| j.task.poll())
+            && let Some(job) = self.opt_job.take()
+        {
+            match done {
+                Ok(Ok((v, allocation))) => {
+                    let n = lenslet_count(&job.design);
+                    let fixed_530 = plan_invertibility(&allocation.a, &vec![530.0; n]);
+                    let uniform = channel_invertibility(&allocation.a, &uniform_counts(n));
+                    let elapsed_s = job.started.elapsed().as_secs_f64();
+                    self.opt_message = Some((format!("optimised in {elapsed_s:.1} s"), false));
+                    self.show_v(ctx, job.design.clone(), job.quality, v);
+                    self.optimised = Some(OptimiserResult {
+                        design: job.design,
+                        quality: job.quality,
+                        channels: job.channels,
+                        allocation,
+                        fixed_530,
+                        uniform,
+                        elapsed_s,
+                    });
+                }
+                Ok(Err(SimError::Cancelled)) => {}
+                Ok(Err(e)) => self.opt_message = Some((e.to_string(), true)),
+                Err(()) => self.opt_message = Some(("the optimiser stopped".into(), true)),
+            }
+        }
+    }
+
+    /// Whether the optimiser's allocation fits the current design's lenslet count.
+    pub fn can_apply(&self) -> bool {
+        self.optimised.as_ref().is_some_and(|o| {
+            o.allocation.counts.iter().sum::<usize>() == lenslet_count(&self.design)
+        })
+    }
+
+    /// Uses the optimiser's allocation as the λ0 plan (one undo step).
+    pub fn apply_optimised(&mut self) -> bool {
+        if !self.can_apply() {
+            return false;
+        }
+        let Some(o) = &self.optimised else {
+            return false;
+        };
+        let mut d = self.design.clone();
+        d.lambda0 = Lambda0::Counts {
+            counts: o.allocation.counts.clone(),
+        };
+        self.set_design(d);
+        true
+    }
+}

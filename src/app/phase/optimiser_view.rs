@@ -1,0 +1,239 @@
+//! The phase workspace's optimiser view: the V matrix as a heat map with its colour key, the
+//! optimiser's progress and Cancel, and its allocation beside the fixed and uniform plans.
+
+use egui::{Sense, Ui, pos2, vec2};
+use egui_plot::{Bar, BarChart, Plot, PlotImage, PlotPoint};
+
+use super::optimiser::without_plan;
+use super::views::{lambda0_strip, wavelength_legend};
+use super::{ChannelSet, PhaseWorkspace, plan_invertibility, wavelength_color};
+use crate::app::colormap::Colormap;
+use crate::app::panels::message_ui;
+use crate::core::phase::geometry::{lambda0_per_lenslet, lenslet_count};
+use crate::core::phase::{GRID_FIRST_NM, GRID_LEN, GRID_STEP_NM, wavelength_grid_nm};
+
+/// A horizontal gradient key of a colour map from `lo` to `hi`.
+fn colormap_key(ui: &mut Ui, name: &str, lo: f64, hi: f64) {
+    ui.horizontal(|ui| {
+        ui.label(format!("{name}: {lo:.0}"));
+        let (rect, _) = ui.allocate_exact_size(vec2(160.0, 12.0), Sense::hover());
+        let steps = 48;
+        for k in 0..steps {
+            let x0 = rect.left() + rect.width() * k as f32 / steps as f32;
+            let r = egui::Rect::from_min_max(
+                pos2(x0, rect.top()),
+                pos2(x0 + rect.width() / steps as f32 + 0.5, rect.bottom()),
+            );
+            ui.painter().rect_filled(
+                r,
+                0.0,
+                Colormap::Viridis.color(k as f32 / (steps - 1) as f32),
+            );
+        }
+        ui.label(format!("{hi:.0}"));
+    });
+}
+
+impl PhaseWorkspace {
+    pub(super) fn optimiser_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        ui.label(
+            "V[λ0][λ]: the invertibility (sum of the MTF) with every lenslet folded at λ0, seen at \
+             λ. The optimiser (Algorithm 1, eqs. 4.9-4.11) chooses how many lenslets to fold at \
+             each grid wavelength so that every channel stays invertible.",
+        );
+        ui.horizontal_wrapped(|ui| {
+            let idle = self.v_job.is_none() && self.opt_job.is_none();
+            if ui
+                .add_enabled(idle, egui::Button::new("Compute V"))
+                .on_hover_text("900 propagations")
+                .clicked()
+            {
+                self.compute_v(&ctx);
+            }
+            if ui
+                .add_enabled(idle, egui::Button::new("Run optimiser"))
+                .clicked()
+            {
+                self.run_optimiser(&ctx);
+            }
+            ui.weak(format!(
+                "at {} sampling, {} channels",
+                self.quality.label(),
+                match self.channels {
+                    ChannelSet::Peaks => "peak",
+                    ChannelSet::Spectral => "spectral",
+                }
+            ));
+        });
+        let running = self
+            .opt_job
+            .as_ref()
+            .map(|j| {
+                (
+                    j.progress.fraction(),
+                    "optimiser (V, then Algorithm 1)…",
+                    j.started,
+                )
+            })
+            .or_else(|| {
+                self.v_job
+                    .as_ref()
+                    .map(|j| (j.progress.fraction(), "V matrix…", j.started))
+            });
+        if let Some((f, what, started)) = running {
+            let mut cancel = false;
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(format!("{what} {:.0} s", started.elapsed().as_secs_f64()));
+                cancel = ui.button("Cancel").clicked();
+            });
+            ui.add(egui::ProgressBar::new(f).show_percentage());
+            if cancel {
+                self.cancel_long_jobs();
+            }
+        }
+        message_ui(ui, self.opt_message.as_ref());
+        ui.separator();
+        ui.columns(2, |cols| {
+            self.v_ui(&mut cols[0]);
+            self.allocation_ui(&mut cols[1]);
+        });
+    }
+
+    fn v_ui(&mut self, ui: &mut Ui) {
+        let Some(v) = &self.v else {
+            ui.label("V: not computed yet (Compute V, or Run optimiser).");
+            return;
+        };
+        ui.strong(format!("V ({} sampling)", v.quality.label()));
+        if without_plan(&v.design) != without_plan(&self.design) {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                "computed for other parameters: compute again",
+            );
+        }
+        let span = GRID_LEN as f64 * GRID_STEP_NM;
+        let centre = GRID_FIRST_NM - GRID_STEP_NM / 2.0 + span / 2.0;
+        let side = ui.available_width().min(420.0);
+        let vm = v.v.clone();
+        let readout = move |pos: &egui_plot::HoverPosition<'_>| {
+            let at = match pos {
+                egui_plot::HoverPosition::NearDataPoint { position, .. }
+                | egui_plot::HoverPosition::Elsewhere { position } => *position,
+            };
+            let col = ((at.x - GRID_FIRST_NM) / GRID_STEP_NM).round();
+            let row = ((at.y - GRID_FIRST_NM) / GRID_STEP_NM).round();
+            if !(0.0..GRID_LEN as f64).contains(&col) || !(0.0..GRID_LEN as f64).contains(&row) {
+                return None;
+            }
+            let (r, c) = (row as usize, col as usize);
+            let value = vm.v.get(r)?.get(c)?;
+            Some(format!(
+                "λ0 {:.0} nm, λ {:.0} nm\nV = {value:.1}",
+                vm.lambda0_nm[r], vm.lambda_nm[c]
+            ))
+        };
+        Plot::new("phase-v")
+            .data_aspect(1.0)
+            .width(side)
+            .height(side)
+            .show_grid(false)
+            .x_axis_label("λ, columns (nm)")
+            .y_axis_label("λ0, rows (nm)")
+            .label_formatter(readout)
+            .show(ui, |pl| {
+                pl.image(PlotImage::new(
+                    "V",
+                    v.texture.id(),
+                    PlotPoint::new(centre, centre),
+                    vec2(span as f32, span as f32),
+                ));
+            });
+        colormap_key(ui, "V (sum of MTF)", 0.0, v.max);
+    }
+
+    fn allocation_ui(&mut self, ui: &mut Ui) {
+        let Some(o) = &self.optimised else {
+            ui.label("No allocation yet: Run optimiser.");
+            return;
+        };
+        let a = &o.allocation;
+        let total: usize = a.counts.iter().sum();
+        ui.strong(format!(
+            "Allocation: {total} lenslets on {} wavelengths ({} sampling, {:.1} s)",
+            a.counts.iter().filter(|c| **c > 0).count(),
+            o.quality.label(),
+            o.elapsed_s
+        ));
+        let bars: Vec<Bar> = wavelength_grid_nm()
+            .iter()
+            .zip(&a.counts)
+            .map(|(l, c)| {
+                Bar::new(*l, *c as f64)
+                    .width(GRID_STEP_NM * 0.8)
+                    .fill(wavelength_color(*l))
+            })
+            .collect();
+        Plot::new("phase-counts")
+            .height(180.0)
+            .x_axis_label("λ0 (nm)")
+            .y_axis_label("lenslets")
+            .include_y(0.0)
+            .show(ui, |pl| {
+                pl.bar_chart(BarChart::new("lenslets per λ0", bars))
+            });
+        ui.label("Per lenslet, left to right:");
+        lambda0_strip(ui, &a.lambda0_nm, None, 24.0);
+        wavelength_legend(ui);
+        let current = if lenslet_count(&self.design) == total && self.design.validate().is_ok() {
+            lambda0_per_lenslet(&self.design)
+                .ok()
+                .map(|l| plan_invertibility(&a.a, &l))
+        } else {
+            None
+        };
+        ui.label("Invertibility per channel (normalised, 1 = the best single λ0 for any channel):");
+        egui::Grid::new("phase_invertibility")
+            .num_columns(5)
+            .striped(true)
+            .show(ui, |ui| {
+                for h in [
+                    "channel",
+                    "optimised",
+                    "fixed 530 nm",
+                    "uniform",
+                    "current plan",
+                ] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                for (c, name) in ["R", "G", "B"].iter().enumerate() {
+                    ui.label(*name);
+                    ui.monospace(format!("{:.3}", a.channel_invertibility[c]));
+                    ui.monospace(format!("{:.3}", o.fixed_530[c]));
+                    ui.monospace(format!("{:.3}", o.uniform[c]));
+                    ui.monospace(
+                        current.map_or_else(|| "-".to_string(), |v| format!("{:.3}", v[c])),
+                    );
+                    ui.end_row();
+                }
+                let min = |v: [f64; 3]| v.iter().copied().fold(f64::INFINITY, f64::min);
+                ui.label("worst");
+                ui.monospace(format!("{:.3}", min(a.channel_invertibility)));
+                ui.monospace(format!("{:.3}", min(o.fixed_530)));
+                ui.monospace(format!("{:.3}", min(o.uniform)));
+                ui.monospace(current.map_or_else(|| "-".to_string(), |v| format!("{:.3}", min(v))));
+                ui.end_row();
+            });
+        let can = self.can_apply();
+        if ui
+            .add_enabled(can, egui::Button::new("Apply"))
+            .on_hover_text("Use these counts as the λ0 plan (undoable)")
+            .on_disabled_hover_text("The lenslet count changed since the run")
+            .clicked()
+        {
+            self.apply_optimised();
+        }
+    }
+}

@@ -1,0 +1,479 @@
+//! The phase workspace's side panels: parameters (left) and numbers (right).
+
+use egui::{RichText, Ui};
+
+use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use crate::app::panels::message_ui;
+use crate::core::phase::geometry::{Lenslets, lambda0_per_lenslet, lenslet_count};
+use crate::core::phase::{GRID_LEN, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, Surface};
+
+/// Microns per inch: DPI = 25 400 / pitch.
+const UM_PER_INCH: f64 = 25_400.0;
+
+/// A number field that shows (and does not clamp) values outside its range, so that a bad
+/// value reaches `validate()` and its message.
+fn number(
+    ui: &mut Ui,
+    v: &mut f64,
+    range: std::ops::RangeInclusive<f64>,
+    speed: f64,
+    suffix: &str,
+) -> egui::Response {
+    ui.add(
+        egui::DragValue::new(v)
+            .range(range)
+            .clamp_existing_to_range(false)
+            .speed(speed)
+            .max_decimals(4)
+            .suffix(suffix),
+    )
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum PlanKind {
+    Fixed,
+    Uniform,
+    Counts,
+    PerLenslet,
+}
+
+fn plan_kind(l: &Lambda0) -> PlanKind {
+    match l {
+        Lambda0::Fixed { .. } => PlanKind::Fixed,
+        Lambda0::Uniform => PlanKind::Uniform,
+        Lambda0::Counts { .. } => PlanKind::Counts,
+        Lambda0::PerLenslet { .. } => PlanKind::PerLenslet,
+    }
+}
+
+/// The plan resized to `n` lenslets: counts scaled by largest remainder, lists resampled.
+pub fn fit_plan(l: &Lambda0, n: usize) -> Lambda0 {
+    match l {
+        Lambda0::Counts { counts } => {
+            let sum = counts.iter().sum::<usize>().max(1) as f64;
+            let shares: Vec<f64> = (0..GRID_LEN)
+                .map(|j| counts.get(j).copied().unwrap_or(0) as f64 * n as f64 / sum)
+                .collect();
+            Lambda0::Counts {
+                counts: crate::core::phase::allocate::round_to_total(&shares, n),
+            }
+        }
+        Lambda0::PerLenslet { nm } if !nm.is_empty() => Lambda0::PerLenslet {
+            nm: (0..n)
+                .map(|i| nm[(i * nm.len() / n.max(1)).min(nm.len() - 1)])
+                .collect(),
+        },
+        Lambda0::PerLenslet { .. } => Lambda0::PerLenslet { nm: vec![530.0; n] },
+        other => other.clone(),
+    }
+}
+
+impl PhaseWorkspace {
+    /// Left: the design's parameters, the simulation choices and the exports.
+    pub fn controls_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        self.poll(&ctx);
+        ui.heading("Phase masks");
+        ui.label(
+            "Two microlens arrays around a T-OLED (thesis chapter 4): the first focuses each \
+             pixel's light into its slit, the second collimates it again. Each lenslet is folded \
+             into a thin plate at its own wavelength λ0.",
+        );
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(self.can_undo(), egui::Button::new("Undo"))
+                .on_hover_text("Ctrl+Z: the last parameter change")
+                .clicked()
+            {
+                self.undo();
+            }
+            if ui
+                .add_enabled(self.can_redo(), egui::Button::new("Redo"))
+                .on_hover_text("Ctrl+Shift+Z")
+                .clicked()
+            {
+                self.redo();
+            }
+            if ui
+                .button("Thesis design")
+                .on_hover_text("600 DPI: pitch 42 µm, f_MLA = pitch, n 1.515, T 1, fixed 530 nm")
+                .clicked()
+            {
+                self.set_design(PhaseDesign::thesis(42.0, 1.0));
+            }
+        });
+        ui.separator();
+        self.geometry_controls(ui);
+        ui.separator();
+        self.plan_controls(ui);
+        ui.separator();
+        self.simulation_controls(ui);
+        message_ui(ui, self.message.as_ref());
+        ui.separator();
+        self.export_ui(ui);
+    }
+
+    fn geometry_controls(&mut self, ui: &mut Ui) {
+        let link = &mut self.link_focal;
+        let d = &mut self.design;
+        egui::Grid::new("phase_geometry")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("Pixel pitch");
+                ui.horizontal(|ui| {
+                    // Compared by bits: a NaN field reports `changed` every frame.
+                    let before = d.pitch_um.to_bits();
+                    number(ui, &mut d.pitch_um, 1.0..=2000.0, 0.2, " µm")
+                        .on_hover_text("Display pixel pitch, also the lenslet pitch");
+                    let old_dpi = UM_PER_INCH / d.pitch_um;
+                    let mut dpi = old_dpi;
+                    ui.add(
+                        egui::DragValue::new(&mut dpi)
+                            .range(12.7..=25_400.0)
+                            .clamp_existing_to_range(false)
+                            .max_decimals(1)
+                            .suffix(" DPI"),
+                    );
+                    if dpi.to_bits() != old_dpi.to_bits() && dpi.is_finite() && dpi > 0.0 {
+                        d.pitch_um = UM_PER_INCH / dpi;
+                    }
+                    if d.pitch_um.to_bits() != before && *link {
+                        d.f_mla_um = d.pitch_um;
+                    }
+                });
+                ui.end_row();
+                ui.label("Lenslet focal length");
+                ui.horizontal(|ui| {
+                    number(ui, &mut d.f_mla_um, 1.0..=10_000.0, 0.2, " µm")
+                        .on_hover_text("f_MLA, also the gap between each MLA and the display");
+                    ui.checkbox(link, "= pitch");
+                });
+                ui.end_row();
+                ui.label("Refractive index n");
+                number(ui, &mut d.refractive_index, 1.01..=4.0, 0.001, "");
+                ui.end_row();
+                ui.label("Fold thickness T");
+                number(ui, &mut d.fold, 0.05..=100.0, 0.05, "").on_hover_text(
+                    "Fold height T λ0 / (n - 1): 1 suits a phase SLM, 5 a thicker plate",
+                );
+                ui.end_row();
+                ui.label("Open ratio");
+                ui.horizontal(|ui| {
+                    number(ui, &mut d.open_ratio, 0.01..=1.0, 0.001, "")
+                        .on_hover_text("Open fraction of each display pixel (a slit)");
+                    let old_kappa = d.kappa();
+                    let mut kappa = old_kappa;
+                    ui.label("κ");
+                    number(ui, &mut kappa, 1.0..=100.0, 0.01, "")
+                        .on_hover_text("κ = f_MLA / opening (eq. 4.13); 4.2 in the thesis");
+                    if kappa.to_bits() != old_kappa.to_bits() && kappa.is_finite() && kappa > 0.0 {
+                        d.open_ratio = d.f_mla_um / (d.pitch_um * kappa);
+                    }
+                });
+                ui.end_row();
+                ui.label("Height step");
+                ui.horizontal(|ui| {
+                    let mut on = d.height_step_um.is_some();
+                    if ui
+                        .checkbox(&mut on, "")
+                        .on_hover_text("Round the plate to a fabrication step")
+                        .changed()
+                    {
+                        d.height_step_um = on.then_some(0.2);
+                    }
+                    if let Some(step) = &mut d.height_step_um {
+                        number(ui, step, 0.001..=10.0, 0.005, " µm");
+                    } else {
+                        ui.weak("continuous");
+                    }
+                });
+                ui.end_row();
+                ui.label("Surface");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut d.surface, Surface::Folded, "folded plate");
+                    ui.selectable_value(&mut d.surface, Surface::Unfolded, "unfolded lens")
+                        .on_hover_text("The thick lens the plate is folded from (the reference)");
+                });
+                ui.end_row();
+            });
+        egui::CollapsingHeader::new("Camera")
+            .id_salt("phase_camera")
+            .show(ui, |ui| {
+                let c = &mut self.design.camera;
+                egui::Grid::new("phase_camera_grid")
+                    .num_columns(2)
+                    .show(ui, |ui| {
+                        ui.label("Focal length");
+                        number(ui, &mut c.focal_length_mm, 0.1..=1000.0, 0.01, " mm");
+                        ui.end_row();
+                        ui.label("F-number");
+                        number(ui, &mut c.f_number, 0.5..=64.0, 0.05, "");
+                        ui.end_row();
+                        ui.label("Sensor pixel");
+                        number(ui, &mut c.pixel_um, 0.1..=100.0, 0.01, " µm");
+                        ui.end_row();
+                        ui.label("Sensor pixels");
+                        ui.label(format!("{} px", c.pixels));
+                        ui.end_row();
+                    });
+            });
+    }
+
+    fn plan_controls(&mut self, ui: &mut Ui) {
+        ui.label("Folding wavelength λ0 per lenslet");
+        let n = lenslet_count(&self.design);
+        let kind = plan_kind(&self.design.lambda0);
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .selectable_label(kind == PlanKind::Fixed, "fixed")
+                .on_hover_text("Every lenslet at one wavelength (the thesis's 530 nm)")
+                .clicked()
+                && kind != PlanKind::Fixed
+            {
+                self.design.lambda0 = Lambda0::Fixed { nm: 530.0 };
+            }
+            if ui
+                .selectable_label(kind == PlanKind::Uniform, "uniform")
+                .on_hover_text("The 30 grid wavelengths 401-691 nm in equal counts")
+                .clicked()
+            {
+                self.design.lambda0 = Lambda0::Uniform;
+            }
+            let can = self.can_apply() || kind == PlanKind::Counts;
+            if ui
+                .add_enabled(
+                    can,
+                    egui::Button::selectable(kind == PlanKind::Counts, "optimised"),
+                )
+                .on_hover_text("Counts per grid wavelength from the optimiser")
+                .on_disabled_hover_text("Run the optimiser first (Optimiser view)")
+                .clicked()
+                && kind != PlanKind::Counts
+                && let Some(o) = &self.optimised
+            {
+                self.design.lambda0 = Lambda0::Counts {
+                    counts: o.allocation.counts.clone(),
+                };
+            }
+            if ui
+                .selectable_label(kind == PlanKind::PerLenslet, "per lenslet")
+                .on_hover_text("Edit each lenslet's λ0 (click a lenslet on the strip)")
+                .clicked()
+                && kind != PlanKind::PerLenslet
+            {
+                let nm = lambda0_per_lenslet(&self.design).unwrap_or_else(|_| vec![530.0; n]);
+                self.design.lambda0 = Lambda0::PerLenslet { nm };
+            }
+        });
+        let selected = self.selected_lenslet.min(n.saturating_sub(1));
+        match &mut self.design.lambda0 {
+            Lambda0::Fixed { nm } => {
+                ui.horizontal(|ui| {
+                    ui.label("λ0");
+                    number(ui, nm, 300.0..=1100.0, 1.0, " nm");
+                });
+            }
+            Lambda0::Uniform => {
+                ui.weak(format!("{n} lenslets over 401-691 nm in 10-nm steps"));
+            }
+            Lambda0::Counts { counts } => {
+                let used = counts.iter().filter(|c| **c > 0).count();
+                ui.weak(format!(
+                    "{} lenslets on {used} grid wavelengths",
+                    counts.iter().sum::<usize>()
+                ));
+            }
+            Lambda0::PerLenslet { nm } => {
+                ui.horizontal(|ui| {
+                    ui.label("lenslet");
+                    let mut s = selected;
+                    ui.add(egui::DragValue::new(&mut s).range(0..=n.saturating_sub(1)));
+                    self.selected_lenslet = s;
+                    if let Some(v) = nm.get_mut(self.selected_lenslet) {
+                        ui.label("λ0");
+                        number(ui, v, 300.0..=1100.0, 1.0, " nm");
+                    }
+                });
+            }
+        }
+        let fits = match &self.design.lambda0 {
+            Lambda0::Counts { counts } => counts.iter().sum::<usize>() == n,
+            Lambda0::PerLenslet { nm } => nm.len() == n,
+            _ => true,
+        };
+        if !fits
+            && ui
+                .button(format!("Fit the λ0 plan to {n} lenslets"))
+                .on_hover_text("The lenslet count changed with the geometry")
+                .clicked()
+        {
+            self.design.lambda0 = fit_plan(&self.design.lambda0, n);
+        }
+    }
+
+    fn simulation_controls(&mut self, ui: &mut Ui) {
+        egui::Grid::new("phase_simulation")
+            .num_columns(2)
+            .show(ui, |ui| {
+                ui.label("Quality");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut self.quality, PhaseQuality::Preview, "preview only")
+                        .on_hover_text("60-nm display samples, 7 per sensor pixel: for dragging");
+                    ui.selectable_value(
+                        &mut self.quality,
+                        PhaseQuality::Full,
+                        "preview, then full",
+                    )
+                    .on_hover_text("Then the thesis's 15-nm samples, 14 per sensor pixel");
+                });
+                ui.end_row();
+                ui.label("Channels");
+                ui.vertical(|ui| {
+                    for set in [ChannelSet::Peaks, ChannelSet::Spectral] {
+                        ui.selectable_value(&mut self.channels, set, set.label());
+                    }
+                });
+                ui.end_row();
+                ui.label("Optics");
+                ui.checkbox(&mut self.single_mask, "single mask (Lemma 1)")
+                    .on_hover_text(
+                        "One plate at the display and no second MLA: Lemma 1 says a single \
+                         phase mask cannot beat the T-OLED's MTF",
+                    );
+                ui.end_row();
+            });
+    }
+
+    /// Right: geometry, light and sharpness numbers.
+    pub fn numbers_ui(&mut self, ui: &mut Ui) {
+        ui.heading("Numbers");
+        if let Some(j) = &self.job {
+            let p = j.progress.fraction();
+            let label = match j.quality {
+                PhaseQuality::Preview => "preview…",
+                PhaseQuality::Full => "full quality…",
+            };
+            let mut cancel = false;
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(label);
+                cancel = ui.small_button("Cancel PSFs").clicked();
+            });
+            ui.add(egui::ProgressBar::new(p).show_percentage());
+            if cancel {
+                self.cancel_psfs();
+            }
+        } else if let Some(s) = &self.shown {
+            ui.weak(format!(
+                "{} · {} · {:.0} ms",
+                s.quality.label(),
+                match s.optics {
+                    crate::core::phase::Optics::SingleMask => "single mask",
+                    _ => "double MLA",
+                },
+                s.elapsed_ms
+            ));
+        }
+        let d = if self.design.validate().is_ok() {
+            self.design.clone()
+        } else if let Some(s) = &self.shown {
+            s.design.clone()
+        } else {
+            return;
+        };
+        let max_h = Lenslets::new(&d)
+            .map(|l| l.max_height_um(&d))
+            .unwrap_or(0.0);
+        egui::Grid::new("phase_numbers_geometry")
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                let row = |ui: &mut Ui, k: &str, v: String| {
+                    ui.label(k);
+                    ui.monospace(v);
+                    ui.end_row();
+                };
+                row(
+                    ui,
+                    "Pitch",
+                    format!("{:.2} µm ({:.0} DPI)", d.pitch_um, UM_PER_INCH / d.pitch_um),
+                );
+                row(ui, "Lenslets per array", format!("{}", lenslet_count(&d)));
+                row(ui, "κ = f_MLA / opening", format!("{:.2}", d.kappa()));
+                row(
+                    ui,
+                    "FoV (eq. 4.13)",
+                    format!("{:.1}° (±{:.1}°)", d.fov_deg(), d.fov_deg() / 2.0),
+                );
+                row(
+                    ui,
+                    "LTR_min (eq. 4.14)",
+                    format!(
+                        "{:.3} (with polariser {:.3})",
+                        d.ltr_min(),
+                        d.ltr_min() * POLARISER_TRANSMISSION
+                    ),
+                );
+                row(ui, "Tallest plate point", format!("{max_h:.3} µm"));
+            });
+        let Some(s) = &self.shown else {
+            ui.label("Computing the first PSFs…");
+            return;
+        };
+        let p = &s.psfs;
+        ui.add_space(6.0);
+        ui.strong(format!(
+            "Light at {:.1}° (image pixel {})",
+            p.angle_deg, p.image_pixel
+        ));
+        egui::Grid::new("phase_numbers_ltr")
+            .num_columns(2)
+            .striped(true)
+            .show(ui, |ui| {
+                ui.label("LTR, ours with polariser");
+                ui.monospace(format!("{:.3}", p.ltr_with_polariser));
+                ui.end_row();
+                ui.label("LTR, bare T-OLED");
+                ui.monospace(format!("{:.3}", p.toled_ltr));
+                ui.end_row();
+            });
+        ui.add_space(4.0);
+        ui.label("Light on the sensor window vs the T-OLED:");
+        egui::Grid::new("phase_numbers_energy")
+            .num_columns(4)
+            .striped(true)
+            .show(ui, |ui| {
+                for h in ["channel", "λ", "with polariser", "before polariser"] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                for c in &p.channels {
+                    ui.label(&c.name);
+                    ui.monospace(format!("{:.0} nm", c.wavelength_nm));
+                    ui.monospace(RichText::new(format!("{:.3}×", c.energy_vs_toled)).strong());
+                    ui.monospace(format!("{:.3}×", c.energy_vs_toled_before_polariser));
+                    ui.end_row();
+                }
+            });
+        ui.add_space(4.0);
+        ui.label("Sharpness (ours / T-OLED):");
+        egui::Grid::new("phase_numbers_sharpness")
+            .num_columns(3)
+            .striped(true)
+            .show(ui, |ui| {
+                for h in ["channel", "peak share", "invertibility (Σ MTF)"] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                for c in &p.channels {
+                    ui.label(&c.name);
+                    ui.monospace(format!("{:.3} / {:.3}", c.peak, c.toled_peak));
+                    ui.monospace(format!(
+                        "{:.1} / {:.1}",
+                        c.invertibility, c.toled_invertibility
+                    ));
+                    ui.end_row();
+                }
+            });
+    }
+}

@@ -1,0 +1,87 @@
+//! Keeping the phase design between runs: `phase-design.json` in the studio's data directory,
+//! written off the UI thread a few seconds after a change and on exit.
+
+use std::path::Path;
+use std::time::Instant;
+
+use super::{PhaseWorkspace, same};
+use crate::app::tasks::Task;
+use crate::core::phase::PhaseDesign;
+use crate::io::design_file::write_atomic;
+
+/// The design kept at `path`, or the thesis's and a message when it cannot be read.
+pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<(String, bool)>) {
+    let Some(p) = path.filter(|p| p.exists()) else {
+        return (PhaseDesign::thesis(42.0, 1.0), None);
+    };
+    match std::fs::read_to_string(p)
+        .map_err(|e| e.to_string())
+        .and_then(|t| serde_json::from_str::<PhaseDesign>(&t).map_err(|e| e.to_string()))
+        .and_then(|d| d.validate().map(|()| d).map_err(|e| e.to_string()))
+    {
+        Ok(d) => (d, None),
+        Err(e) => (
+            PhaseDesign::thesis(42.0, 1.0),
+            Some((
+                format!("could not restore the phase design ({e}); using the thesis's"),
+                true,
+            )),
+        ),
+    }
+}
+
+impl PhaseWorkspace {
+    /// Saves the committed design now (on exit).
+    pub fn save_now_blocking(&mut self) {
+        if let Some(path) = &self.design_path
+            && self.committed.validate().is_ok()
+            && write_design(path, &self.committed).is_ok()
+        {
+            self.saved = self.committed.clone();
+        }
+    }
+
+    pub(super) fn autosave_tick(&mut self, ctx: &egui::Context) {
+        if let Some(done) = self.save_task.as_ref().and_then(Task::poll) {
+            self.save_task = None;
+            match done {
+                Ok(Ok(())) => {}
+                Ok(Err(e)) => self.message = Some((e, true)),
+                Err(()) => self.message = Some(("the save task stopped".into(), true)),
+            }
+        }
+        let Some(path) = self.design_path.clone() else {
+            return;
+        };
+        if self.save_task.is_some()
+            || same(&self.saved, &self.committed)
+            || self.committed.validate().is_err()
+        {
+            return;
+        }
+        let due = self.last_save + self.autosave_every;
+        let now = Instant::now();
+        if now < due {
+            ctx.request_repaint_after(due - now);
+            return;
+        }
+        self.saved = self.committed.clone();
+        self.last_save = now;
+        let design = self.committed.clone();
+        let wake = ctx.clone();
+        self.save_task = Some(Task::spawn(
+            "phase-autosave",
+            move || wake.request_repaint(),
+            move || write_design(&path, &design),
+        ));
+    }
+}
+
+fn write_design(path: &std::path::Path, design: &PhaseDesign) -> Result<(), String> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    }
+    let text = serde_json::to_string_pretty(design).map_err(|e| e.to_string())?;
+    write_atomic(path, text.as_bytes()).map_err(|e| format!("cannot save the phase design: {e}"))
+}

@@ -1,0 +1,352 @@
+//! The phase workspace's centre: PSFs and MTFs, the plate's geometry, and the V matrix with the
+//! λ0 optimiser.
+
+use egui::{Align2, Color32, FontId, Sense, Stroke, Ui, pos2, vec2};
+use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
+
+use super::{PhaseView, PhaseWorkspace, wavelength_color};
+use crate::core::phase::geometry::{Lenslets, profile_um};
+use crate::core::phase::{PhaseDesign, Surface};
+
+/// Plot colours of the R, G, B channels.
+const CHANNEL_COLORS: [Color32; 3] = [
+    Color32::from_rgb(235, 80, 70),
+    Color32::from_rgb(80, 200, 90),
+    Color32::from_rgb(80, 140, 255),
+];
+
+fn channel_color(i: usize) -> Color32 {
+    CHANNEL_COLORS.get(i).copied().unwrap_or(Color32::GRAY)
+}
+
+/// λ0 of every lenslet as a strip of coloured cells (Fig. 4.4). Returns the clicked lenslet.
+pub fn lambda0_strip(
+    ui: &mut Ui,
+    lambda0_nm: &[f64],
+    selected: Option<usize>,
+    height: f32,
+) -> Option<usize> {
+    let width = ui.available_width().max(60.0);
+    let (rect, resp) = ui.allocate_exact_size(vec2(width, height), Sense::click());
+    let n = lambda0_nm.len().max(1);
+    let cell = rect.width() / n as f32;
+    let painter = ui.painter_at(rect);
+    for (i, &l) in lambda0_nm.iter().enumerate() {
+        let r = egui::Rect::from_min_size(
+            pos2(rect.left() + i as f32 * cell, rect.top()),
+            vec2(cell, height),
+        );
+        painter.rect_filled(
+            r.shrink2(vec2(0.5 * (cell > 4.0) as u8 as f32, 0.0)),
+            0.0,
+            wavelength_color(l),
+        );
+    }
+    if let Some(s) = selected.filter(|s| *s < lambda0_nm.len()) {
+        let r = egui::Rect::from_min_size(
+            pos2(rect.left() + s as f32 * cell, rect.top()),
+            vec2(cell, height),
+        );
+        painter.rect_stroke(
+            r,
+            0.0,
+            Stroke::new(2.0, ui.visuals().strong_text_color()),
+            egui::StrokeKind::Inside,
+        );
+    }
+    let at = |p: egui::Pos2| (((p.x - rect.left()) / cell).floor().max(0.0) as usize).min(n - 1);
+    let hovered = resp.hover_pos().map(at);
+    let clicked = resp
+        .interact_pointer_pos()
+        .filter(|_| resp.clicked())
+        .map(at);
+    if let Some(i) = hovered
+        && let Some(l) = lambda0_nm.get(i)
+    {
+        resp.on_hover_text(format!("lenslet {i}: λ0 = {l:.0} nm"));
+    }
+    clicked
+}
+
+/// The colour key of [`lambda0_strip`]: 400 to 700 nm.
+pub fn wavelength_legend(ui: &mut Ui) {
+    ui.horizontal(|ui| {
+        ui.label("λ0:");
+        let (rect, _) = ui.allocate_exact_size(vec2(180.0, 12.0), Sense::hover());
+        let steps = 60;
+        for k in 0..steps {
+            let x0 = rect.left() + rect.width() * k as f32 / steps as f32;
+            let r = egui::Rect::from_min_max(
+                pos2(x0, rect.top()),
+                pos2(x0 + rect.width() / steps as f32 + 0.5, rect.bottom()),
+            );
+            ui.painter().rect_filled(
+                r,
+                0.0,
+                wavelength_color(400.0 + 300.0 * k as f64 / (steps - 1) as f64),
+            );
+        }
+        ui.label("400 to 700 nm");
+    });
+}
+
+/// The angle range with the field of view shaded and the current angle marked.
+fn fov_ruler(ui: &mut Ui, angle: f64, fov_deg: f64, range: f64) {
+    let (rect, _) =
+        ui.allocate_exact_size(vec2(ui.available_width().min(420.0), 26.0), Sense::hover());
+    let p = ui.painter_at(rect);
+    let bar = egui::Rect::from_min_max(
+        pos2(rect.left() + 20.0, rect.top() + 2.0),
+        pos2(rect.right() - 20.0, rect.top() + 10.0),
+    );
+    let x =
+        |a: f64| bar.left() + bar.width() * ((a + range) / (2.0 * range)).clamp(0.0, 1.0) as f32;
+    p.rect_filled(bar, 2.0, ui.visuals().faint_bg_color);
+    let half = fov_deg / 2.0;
+    let fov = egui::Rect::from_min_max(pos2(x(-half), bar.top()), pos2(x(half), bar.bottom()));
+    p.rect_filled(fov, 2.0, Color32::from_rgba_unmultiplied(80, 200, 120, 120));
+    p.line_segment(
+        [
+            pos2(x(angle), rect.top()),
+            pos2(x(angle), bar.bottom() + 2.0),
+        ],
+        Stroke::new(2.0, Color32::from_rgb(255, 170, 0)),
+    );
+    let font = FontId::proportional(11.0);
+    let c = ui.visuals().weak_text_color();
+    p.text(
+        pos2(bar.left(), rect.bottom()),
+        Align2::CENTER_BOTTOM,
+        format!("{:.0}°", -range),
+        font.clone(),
+        c,
+    );
+    p.text(
+        pos2(bar.right(), rect.bottom()),
+        Align2::CENTER_BOTTOM,
+        format!("{range:.0}°"),
+        font.clone(),
+        c,
+    );
+    p.text(
+        pos2(x(0.0), rect.bottom()),
+        Align2::CENTER_BOTTOM,
+        format!("FoV ±{half:.1}°"),
+        font,
+        c,
+    );
+}
+
+impl PhaseWorkspace {
+    /// Centre: PSFs, geometry or the optimiser.
+    pub fn views_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            ui.selectable_value(&mut self.view, PhaseView::Psf, "PSF and MTF");
+            ui.selectable_value(&mut self.view, PhaseView::Geometry, "Plate and λ0");
+            ui.selectable_value(
+                &mut self.view,
+                PhaseView::Optimiser,
+                "V matrix and optimiser",
+            );
+        });
+        ui.separator();
+        egui::ScrollArea::vertical().show(ui, |ui| match self.view {
+            PhaseView::Psf => self.psf_ui(ui),
+            PhaseView::Geometry => self.geometry_ui(ui),
+            PhaseView::Optimiser => self.optimiser_ui(ui),
+        });
+    }
+
+    /// The design to draw geometry from: the current one if valid, else the shown result's.
+    fn drawable(&self) -> Option<PhaseDesign> {
+        if self.design.validate().is_ok() {
+            Some(self.design.clone())
+        } else {
+            self.shown.as_ref().map(|s| s.design.clone())
+        }
+    }
+
+    fn psf_ui(&mut self, ui: &mut Ui) {
+        let fov = self.drawable().map_or(0.0, |d| d.fov_deg());
+        let range = (fov * 0.75).clamp(20.0, 80.0);
+        ui.horizontal_wrapped(|ui| {
+            ui.add(
+                egui::Slider::new(&mut self.angle_deg, -range..=range)
+                    .suffix("°")
+                    .text("incidence angle"),
+            );
+            if ui.small_button("on axis").clicked() {
+                self.angle_deg = 0.0;
+            }
+            ui.separator();
+            ui.selectable_value(&mut self.log_psf, false, "linear");
+            ui.selectable_value(&mut self.log_psf, true, "log10");
+            ui.separator();
+            ui.label("half width");
+            ui.add(
+                egui::DragValue::new(&mut self.psf_half_width_px)
+                    .range(4..=512)
+                    .suffix(" px"),
+            );
+        });
+        fov_ruler(ui, self.angle_deg, fov, range);
+        if self.angle_deg.abs() > fov / 2.0 {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                "This direction is outside the field of view.",
+            );
+        }
+        let Some(s) = &self.shown else {
+            ui.label("Computing the first PSFs…");
+            return;
+        };
+        let p = s.psfs.clone();
+        let ours = match s.optics {
+            crate::core::phase::Optics::SingleMask => "single mask",
+            _ => "double MLA",
+        };
+        ui.label(format!(
+            "{} PSFs at {:.1}° ({}), centred on the image pixel {}; the bare T-OLED dashed",
+            s.quality.label(),
+            p.angle_deg,
+            ours,
+            p.image_pixel
+        ));
+        let half = self.psf_half_width_px as i64;
+        let log = self.log_psf;
+        let n = p.channels.len().max(1) as f32;
+        let w = ((ui.available_width() - 12.0 * n) / n).max(160.0);
+        let h = 230.0;
+        let link = ui.make_persistent_id("phase-psf-link");
+        ui.horizontal(|ui| {
+            for (i, c) in p.channels.iter().enumerate() {
+                ui.vertical(|ui| {
+                    ui.label(format!("{} ({:.0} nm)", c.name, c.wavelength_nm));
+                    let pts = |v: &[f64]| -> PlotPoints<'static> {
+                        let mid = (v.len() / 2) as i64;
+                        v.iter()
+                            .enumerate()
+                            .map(|(k, y)| (k as i64 - mid, *y))
+                            .filter(|(x, _)| x.abs() <= half)
+                            .map(|(x, y)| [x as f64, if log { y.max(1e-9).log10() } else { y }])
+                            .collect()
+                    };
+                    Plot::new(("phase-psf", i))
+                        .width(w)
+                        .height(h)
+                        .legend(Legend::default())
+                        .link_axis(link, [true, false])
+                        .x_axis_label("pixel offset")
+                        .y_axis_label(if log { "log10 share" } else { "energy share" })
+                        .show(ui, |pl| {
+                            pl.line(
+                                Line::new(ours, pts(&c.psf))
+                                    .color(channel_color(i))
+                                    .width(2.0),
+                            );
+                            pl.line(
+                                Line::new("T-OLED", pts(&c.toled_psf))
+                                    .color(Color32::GRAY)
+                                    .style(LineStyle::dashed_dense()),
+                            );
+                        });
+                });
+            }
+        });
+        ui.add_space(6.0);
+        ui.label("MTF: ours solid, the bare T-OLED dashed (one-sided, window of 1024 pixels)");
+        Plot::new("phase-mtf")
+            .height(260.0)
+            .legend(Legend::default())
+            .x_axis_label("frequency (cycles/pixel)")
+            .y_axis_label("MTF")
+            .show(ui, |pl| {
+                for (i, c) in p.channels.iter().enumerate() {
+                    let pts = |v: &[f64]| -> PlotPoints<'static> {
+                        let len = 2.0 * v.len() as f64;
+                        v.iter()
+                            .enumerate()
+                            .map(|(k, y)| [k as f64 / len, *y])
+                            .collect()
+                    };
+                    pl.line(
+                        Line::new(format!("{} {ours}", c.name), pts(&c.mtf))
+                            .color(channel_color(i))
+                            .width(2.0),
+                    );
+                    pl.line(
+                        Line::new(format!("{} T-OLED", c.name), pts(&c.toled_mtf))
+                            .color(channel_color(i).gamma_multiply(0.6))
+                            .style(LineStyle::dashed_dense()),
+                    );
+                }
+            });
+    }
+
+    fn geometry_ui(&mut self, ui: &mut Ui) {
+        let Some(d) = self.drawable() else {
+            ui.label("No valid design yet.");
+            return;
+        };
+        let Ok(lenslets) = Lenslets::new(&d) else {
+            return;
+        };
+        let n = lenslets.count();
+        self.selected_lenslet = self.selected_lenslet.min(n.saturating_sub(1));
+        ui.horizontal(|ui| {
+            ui.label("Height profile around lenslet");
+            ui.add(egui::DragValue::new(&mut self.selected_lenslet).range(0..=n.saturating_sub(1)));
+            ui.label(format!(
+                "of {n} (λ0 {:.0} nm, fold height {:.3} µm)",
+                lenslets.lambda0_nm[self.selected_lenslet],
+                lenslets.fold_height_um[self.selected_lenslet]
+            ));
+        });
+        let sel = self.selected_lenslet;
+        let lo = sel.saturating_sub(1);
+        let hi = (sel + 1).min(n - 1);
+        let x0 = lenslets.centre_um(lo) - d.pitch_um / 2.0;
+        let x1 = lenslets.centre_um(hi) + d.pitch_um / 2.0;
+        let xs: Vec<f64> = (0..=900)
+            .map(|k| x0 + (x1 - x0) * k as f64 / 900.0)
+            .collect();
+        let profile = |surface: Surface| -> Vec<[f64; 2]> {
+            let mut e = d.clone();
+            e.surface = surface;
+            profile_um(&e, &xs)
+                .map(|h| xs.iter().zip(h).map(|(x, h)| [*x, h]).collect())
+                .unwrap_or_default()
+        };
+        let folded = profile(Surface::Folded);
+        let unfolded = profile(Surface::Unfolded);
+        Plot::new("phase-profile")
+            .height(280.0)
+            .legend(Legend::default())
+            .x_axis_label("x from the axis (µm)")
+            .y_axis_label("height (µm)")
+            .show(ui, |pl| {
+                pl.line(Line::new("folded plate", PlotPoints::from(folded)).width(2.0));
+                pl.line(
+                    Line::new("unfolded lens", PlotPoints::from(unfolded))
+                        .style(LineStyle::dashed_dense()),
+                );
+                for l in lo..=hi + 1 {
+                    let edge =
+                        lenslets.centre_um(lo) - d.pitch_um / 2.0 + (l - lo) as f64 * d.pitch_um;
+                    pl.vline(
+                        VLine::new("", edge)
+                            .color(Color32::from_gray(110))
+                            .allow_hover(false),
+                    );
+                }
+            });
+        ui.add_space(6.0);
+        ui.label(format!(
+            "λ0 of each of the {n} lenslets, left to right (click one to select it):"
+        ));
+        if let Some(i) = lambda0_strip(ui, &lenslets.lambda0_nm, Some(sel), 36.0) {
+            self.selected_lenslet = i;
+        }
+        wavelength_legend(ui);
+    }
+}

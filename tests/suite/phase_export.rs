@@ -1,0 +1,572 @@
+//! Phase-plate height exports (thesis §4.6) read back with independent readers (the `png`,
+//! `image`, `gds21` and `stl_io` crates) and compared with the model's own profile,
+//! `geometry::profile_um`, sampled densely here.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use gds21::{GdsElement, GdsLibrary};
+use udc_studio::core::phase::geometry::{self, Lenslets};
+use udc_studio::core::phase::{Lambda0, PhaseDesign, Surface};
+use udc_studio::io::phase_export::{
+    ExportKind, height_csv_text, write_height_csv, write_height_gds, write_height_png,
+    write_height_stl,
+};
+
+/// 17 lenslets of 168 µm, T = 1, λ0 = 530 nm: small enough to sample at a few nm.
+fn small(step: Option<f64>) -> PhaseDesign {
+    let mut d = PhaseDesign::thesis(168.0, 1.0);
+    d.height_step_um = step;
+    d
+}
+
+/// The x positions the sampled exports promise: `N = ⌊W / s⌋` samples at `(i − (N−1)/2)·s`.
+fn sample_xs(d: &PhaseDesign, sample_um: f64) -> Vec<f64> {
+    let span = Lenslets::new(d).unwrap().span_um();
+    let n = (span / sample_um + 1e-9).floor() as usize;
+    (0..n)
+        .map(|i| (i as f64 - (n as f64 - 1.0) / 2.0) * sample_um)
+        .collect()
+}
+
+/// Midpoints of a dense grid over the array and the heights there.
+fn dense(d: &PhaseDesign, dx: f64) -> (Vec<f64>, Vec<f64>) {
+    let span = Lenslets::new(d).unwrap().span_um();
+    let n = (span / dx).round() as usize;
+    let xs: Vec<f64> = (0..n)
+        .map(|i| -span / 2.0 + (i as f64 + 0.5) * dx)
+        .collect();
+    let hs = geometry::profile_um(d, &xs).unwrap();
+    (xs, hs)
+}
+
+#[test]
+fn phase_export_csv_round_trips_the_profile_and_lenslets() {
+    let mut d = small(None);
+    d.lambda0 = Lambda0::Uniform;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("profile.csv");
+    let s = write_height_csv(&d, &path, 0.5).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert_eq!(text, height_csv_text(&d, 0.5).unwrap());
+    let comments: Vec<&str> = text.lines().filter(|l| l.starts_with('#')).collect();
+    let head = comments.join("\n");
+    for word in ["micrometres", "pitch 168", "fold T 1", "height step: none"] {
+        assert!(head.contains(word), "header lacks `{word}`:\n{head}");
+    }
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    assert_eq!(lines.next(), Some("x_um,height_um,lenslet,lambda0_nm"));
+    let lenslets = Lenslets::new(&d).unwrap();
+    let distinct: std::collections::BTreeSet<u64> =
+        lenslets.lambda0_nm.iter().map(|l| l.to_bits()).collect();
+    assert!(distinct.len() > 5, "the λ0 column should vary");
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let xs = sample_xs(&d, 0.5);
+    assert_eq!(rows.len(), xs.len());
+    assert_eq!(s.samples, Some(xs.len()));
+    assert_eq!(s.kind, ExportKind::Csv);
+    let parsed: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
+    let expected = geometry::profile_um(&d, &parsed).unwrap();
+    let mut seen = vec![false; lenslets.count()];
+    for ((r, &x), (&want_x, &h)) in rows.iter().zip(&parsed).zip(xs.iter().zip(&expected)) {
+        assert_eq!(r.len(), 4);
+        assert!((x - want_x).abs() < 1e-9, "x {x} vs {want_x}");
+        assert_eq!(r[1].parse::<f64>().unwrap(), h, "height at x = {x}");
+        let (l, _) = lenslets.locate(x).unwrap();
+        assert_eq!(r[2].parse::<usize>().unwrap(), l, "lenslet at x = {x}");
+        assert_eq!(r[3].parse::<f64>().unwrap(), lenslets.lambda0_nm[l]);
+        seen[l] = true;
+    }
+    assert!(seen.iter().all(|&s| s), "every lenslet is sampled");
+    assert!(
+        (parsed[0] + parsed[parsed.len() - 1]).abs() < 1e-9,
+        "centred on the axis"
+    );
+    let top = expected.iter().copied().fold(0.0, f64::max);
+    assert_eq!(s.max_height_um, top);
+}
+
+#[test]
+fn phase_export_csv_of_a_stepped_plate_has_only_levels() {
+    let d = small(Some(0.2));
+    let text = height_csv_text(&d, 0.25).unwrap();
+    assert!(text.contains("height step: 0.2 um"));
+    let heights: Vec<f64> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
+        .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+        .collect();
+    let levels: std::collections::BTreeSet<i64> =
+        heights.iter().map(|h| (h / 0.2).round() as i64).collect();
+    assert_eq!(levels.into_iter().collect::<Vec<_>>(), vec![0, 1, 2, 3, 4]);
+    for h in heights {
+        assert!(
+            (h / 0.2 - (h / 0.2).round()).abs() < 1e-9,
+            "{h} is not a level"
+        );
+    }
+}
+
+/// Decodes a 16-bit grayscale PNG: (width, height, values, tEXt chunks).
+fn read_png16(path: &Path) -> (usize, usize, Vec<u16>, HashMap<String, String>) {
+    let file = std::io::BufReader::new(std::fs::File::open(path).unwrap());
+    let mut reader = png::Decoder::new(file).read_info().unwrap();
+    let info = reader.info();
+    assert_eq!(info.bit_depth, png::BitDepth::Sixteen);
+    assert_eq!(info.color_type, png::ColorType::Grayscale);
+    let (w, h) = (info.width as usize, info.height as usize);
+    let texts: HashMap<String, String> = info
+        .uncompressed_latin1_text
+        .iter()
+        .map(|t| (t.keyword.clone(), t.text.clone()))
+        .collect();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut buf).unwrap();
+    let values = buf
+        .chunks(2)
+        .map(|b| u16::from_be_bytes([b[0], b[1]]))
+        .collect();
+    (w, h, values, texts)
+}
+
+#[test]
+fn phase_export_png_levels_are_the_quantised_heights() {
+    let d = small(Some(0.2));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plate.png");
+    let s = write_height_png(&d, &path, 0.5, 3).unwrap();
+    let (w, h, values, texts) = read_png16(&path);
+    let xs = sample_xs(&d, 0.5);
+    assert_eq!((w, h), (xs.len(), 3));
+    assert_eq!(texts["um_per_level"].parse::<f64>().unwrap(), 0.2);
+    assert_eq!(texts["pixel_um"].parse::<f64>().unwrap(), 0.5);
+    assert!(texts["description"].contains("um_per_level"));
+    assert_eq!(s.um_per_level, Some(0.2));
+    assert_eq!(s.pixel_um, Some(0.5));
+    assert_eq!(s.levels, Some(5));
+    let heights = geometry::profile_um(&d, &xs).unwrap();
+    for row in values.chunks(w) {
+        assert_eq!(row, &values[..w], "rows are identical");
+    }
+    for (&v, &hgt) in values.iter().zip(&heights) {
+        assert_eq!(f64::from(v), (hgt / 0.2).round(), "level of {hgt}");
+        assert!((f64::from(v) * 0.2 - hgt).abs() < 1e-9);
+    }
+    assert_eq!(values.iter().copied().max(), Some(4));
+}
+
+#[test]
+fn phase_export_png_without_step_is_within_half_a_level() {
+    let mut d = small(None);
+    d.lambda0 = Lambda0::Uniform;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plate.png");
+    let s = write_height_png(&d, &path, 0.25, 2).unwrap();
+    let (_, _, _, texts) = read_png16(&path);
+    let upl: f64 = texts["um_per_level"].parse().unwrap();
+    let tallest = Lenslets::new(&d).unwrap().max_height_um(&d);
+    assert!((upl - tallest / 65535.0).abs() < 1e-15);
+    assert_eq!(s.um_per_level, Some(upl));
+    // A second, independent decoder for the pixels.
+    let img = image::open(&path).unwrap();
+    assert_eq!(img.color(), image::ColorType::L16);
+    let img = img.into_luma16();
+    let xs = sample_xs(&d, 0.25);
+    assert_eq!(img.width() as usize, xs.len());
+    let heights = geometry::profile_um(&d, &xs).unwrap();
+    for y in 0..img.height() {
+        for (i, &hgt) in heights.iter().enumerate() {
+            let v = f64::from(img.get_pixel(i as u32, y).0[0]);
+            assert!(
+                (v * upl - hgt).abs() <= upl / 2.0 + 1e-12,
+                "pixel {i}: {v} × {upl} vs {hgt}"
+            );
+        }
+    }
+}
+
+#[test]
+fn phase_export_png_refuses_oversized_images() {
+    let d = PhaseDesign::thesis(42.0, 1.0);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.png");
+    // 2436 µm at 10 nm: 243 600 columns.
+    let e = write_height_png(&d, &path, 0.01, 1)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("sample_um") && e.contains("65535"), "{e}");
+    // 48 720 columns × 65 535 rows.
+    let e = write_height_png(&d, &path, 0.05, 65_535)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rows") && e.contains("200000000"), "{e}");
+    assert!(!path.exists());
+}
+
+struct Rect {
+    layer: i16,
+    x0: i32,
+    x1: i32,
+    y0: i32,
+    y1: i32,
+}
+
+fn read_gds_rects(path: &Path) -> (GdsLibrary, Vec<Rect>) {
+    let lib = GdsLibrary::open(path).unwrap();
+    let mut rects = Vec::new();
+    for s in &lib.structs {
+        for e in &s.elems {
+            if let GdsElement::GdsBoundary(b) = e {
+                assert_eq!(b.xy.len(), 5, "a closed rectangle");
+                assert_eq!(b.xy[0], b.xy[4]);
+                let xs: Vec<i32> = b.xy.iter().map(|p| p.x).collect();
+                let ys: Vec<i32> = b.xy.iter().map(|p| p.y).collect();
+                let (x0, x1) = (*xs.iter().min().unwrap(), *xs.iter().max().unwrap());
+                let (y0, y1) = (*ys.iter().min().unwrap(), *ys.iter().max().unwrap());
+                for p in &b.xy[..4] {
+                    assert!((p.x == x0 || p.x == x1) && (p.y == y0 || p.y == y1));
+                }
+                assert!(x1 > x0 && y1 > y0);
+                rects.push(Rect {
+                    layer: b.layer,
+                    x0,
+                    x1,
+                    y0,
+                    y1,
+                });
+            }
+        }
+    }
+    (lib, rects)
+}
+
+#[test]
+fn phase_export_gds_has_one_layer_per_level_with_the_right_widths() {
+    let d = small(Some(0.2));
+    let fold = geometry::fold_height_um(&d, 530.0);
+    let levels = (fold / 0.2).round() as i16;
+    assert_eq!(levels, 5);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plate.gds");
+    let s = write_height_gds(&d, &path, 100.0).unwrap();
+    let (lib, rects) = read_gds_rects(&path);
+    // 1 nm database unit, 1 µm user unit: integer coordinates are the 1 nm grid.
+    // (gds21's `user_unit()` divides the wrong way round; read the record's two numbers.)
+    let (db_in_user, db_m) = (lib.units.0, lib.units.1);
+    assert!((db_m - 1e-9).abs() < 1e-21, "database unit {db_m} m");
+    assert!(
+        (db_m / db_in_user - 1e-6).abs() < 1e-18,
+        "user unit {} m",
+        db_m / db_in_user
+    );
+    let layers: std::collections::BTreeSet<i16> = rects.iter().map(|r| r.layer).collect();
+    assert_eq!(
+        layers.into_iter().collect::<Vec<_>>(),
+        (1..levels).collect::<Vec<_>>()
+    );
+    assert_eq!(s.levels, Some(levels as usize));
+    assert_eq!(s.rectangles, Some(rects.len()));
+    assert_eq!(s.layers.len(), levels as usize - 1);
+    let span_nm = (Lenslets::new(&d).unwrap().span_um() * 1000.0).round() as i32;
+    for r in &rects {
+        assert_eq!((r.y0, r.y1), (-50_000, 50_000), "100 µm along y, centred");
+        assert!(r.x0 >= -span_nm / 2 && r.x1 <= span_nm / 2);
+    }
+    // Independent measure of {x : height = k·step} by dense sampling.
+    let dx = 0.004;
+    let (_, hs) = dense(&d, dx);
+    let level: Vec<i16> = hs.iter().map(|h| (h / 0.2).round() as i16).collect();
+    for k in 1..levels {
+        let measure = level.iter().filter(|&&l| l == k).count() as f64 * dx;
+        let edges = level
+            .windows(2)
+            .filter(|w| (w[0] == k) != (w[1] == k))
+            .count() as f64;
+        let mut mine: Vec<&Rect> = rects.iter().filter(|r| r.layer == k).collect();
+        let width_um: f64 = mine.iter().map(|r| f64::from(r.x1 - r.x0)).sum::<f64>() * 1e-3;
+        let area_um2: f64 = mine
+            .iter()
+            .map(|r| f64::from(r.x1 - r.x0) * f64::from(r.y1 - r.y0))
+            .sum::<f64>()
+            * 1e-6;
+        assert!(
+            (area_um2 - measure * 100.0).abs() <= (edges * (dx + 0.001) + 1e-6) * 100.0,
+            "layer {k}: area {area_um2} µm² vs {} µm² ({edges} edges)",
+            measure * 100.0
+        );
+        let summary = &s.layers[k as usize - 1];
+        assert_eq!(summary.layer, k);
+        assert!((summary.height_um - f64::from(k) * 0.2).abs() < 1e-12);
+        assert_eq!(summary.rectangles, mine.len());
+        assert!((summary.width_um - width_um).abs() < 1e-6);
+        // Merged: rectangles of one layer neither overlap nor touch.
+        mine.sort_by_key(|r| r.x0);
+        for w in mine.windows(2) {
+            assert!(
+                w[1].x0 > w[0].x1,
+                "layer {k}: {}..{} then {}..{}",
+                w[0].x0,
+                w[0].x1,
+                w[1].x0,
+                w[1].x1
+            );
+        }
+    }
+    // Layers never overlap one another either.
+    let mut all: Vec<&Rect> = rects.iter().collect();
+    all.sort_by_key(|r| r.x0);
+    for w in all.windows(2) {
+        assert!(w[1].x0 >= w[0].x1);
+    }
+}
+
+#[test]
+fn phase_export_gds_without_a_step_says_to_set_one() {
+    let d = small(None);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plate.gds");
+    let e = write_height_gds(&d, &path, 100.0).unwrap_err().to_string();
+    assert!(e.contains("height_step_um") && e.contains("0.2"), "{e}");
+    assert!(!path.exists());
+}
+
+/// Signed volume by the divergence theorem, in µm³ (positive for outward normals).
+fn volume(mesh: &stl_io::IndexedMesh) -> f64 {
+    let v = |i: usize| mesh.vertices[i].0.map(f64::from);
+    mesh.faces
+        .iter()
+        .map(|f| {
+            let (a, b, c) = (v(f.vertices[0]), v(f.vertices[1]), v(f.vertices[2]));
+            (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                + a[2] * (b[0] * c[1] - b[1] * c[0]))
+                / 6.0
+        })
+        .sum()
+}
+
+/// Reads an STL and checks it is closed and consistently oriented: every directed edge once,
+/// and its reverse once. Also that every stored normal agrees with the winding.
+fn read_watertight(path: &Path) -> stl_io::IndexedMesh {
+    let bytes = std::fs::read(path).unwrap();
+    assert!(
+        String::from_utf8_lossy(&bytes[..80]).contains("micrometres"),
+        "units in the header"
+    );
+    let mesh = stl_io::read_stl(&mut std::io::Cursor::new(bytes)).unwrap();
+    let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
+    for f in &mesh.faces {
+        let v = f.vertices;
+        assert!(
+            v[0] != v[1] && v[1] != v[2] && v[2] != v[0],
+            "degenerate face"
+        );
+        for k in 0..3 {
+            *directed.entry((v[k], v[(k + 1) % 3])).or_default() += 1;
+        }
+        let p = |i: usize| mesh.vertices[v[i]].0.map(f64::from);
+        let (a, b, c) = (p(0), p(1), p(2));
+        let (d1, d2) = (
+            [b[0] - a[0], b[1] - a[1], b[2] - a[2]],
+            [c[0] - a[0], c[1] - a[1], c[2] - a[2]],
+        );
+        let n = [
+            d1[1] * d2[2] - d1[2] * d2[1],
+            d1[2] * d2[0] - d1[0] * d2[2],
+            d1[0] * d2[1] - d1[1] * d2[0],
+        ];
+        let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        let stored = f.normal.0.map(f64::from);
+        let dot = (n[0] * stored[0] + n[1] * stored[1] + n[2] * stored[2]) / len;
+        assert!(dot > 0.99, "normal {stored:?} against winding {n:?}");
+    }
+    for (&(a, b), &count) in &directed {
+        assert_eq!(count, 1, "edge {a}->{b} used {count} times");
+        assert_eq!(directed.get(&(b, a)), Some(&1), "edge {a}->{b} has no twin");
+    }
+    mesh.validate().unwrap();
+    mesh
+}
+
+fn bbox(mesh: &stl_io::IndexedMesh) -> [[f64; 2]; 3] {
+    let mut b = [[f64::INFINITY, f64::NEG_INFINITY]; 3];
+    for v in &mesh.vertices {
+        for (range, &c) in b.iter_mut().zip(&v.0) {
+            range[0] = range[0].min(f64::from(c));
+            range[1] = range[1].max(f64::from(c));
+        }
+    }
+    b
+}
+
+/// Writes the STL, checks it is closed, its volume and bounding box; returns the mesh.
+fn check_stl(d: &PhaseDesign, sample_um: f64) -> (stl_io::IndexedMesh, f64) {
+    let (length, base) = (50.0, 2.0);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plate.stl");
+    let s = write_height_stl(d, &path, sample_um, length, base).unwrap();
+    let mesh = read_watertight(&path);
+    assert_eq!(s.triangles, Some(mesh.faces.len()));
+    let span = Lenslets::new(d).unwrap().span_um();
+    let dx = 0.005;
+    let (_, hs) = dense(d, dx);
+    let integral: f64 = hs.iter().map(|h| (base + h) * dx).sum();
+    let want = length * integral;
+    let got = volume(&mesh);
+    assert!(
+        ((got - want) / want).abs() < 0.01,
+        "volume {got} µm³ vs {want} µm³"
+    );
+    let top = hs.iter().copied().fold(0.0, f64::max);
+    let b = bbox(&mesh);
+    let close = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol;
+    assert!(
+        close(b[0][0], -span / 2.0, 1e-3) && close(b[0][1], span / 2.0, 1e-3),
+        "{b:?}"
+    );
+    assert!(close(b[1][0], -length / 2.0, 1e-4) && close(b[1][1], length / 2.0, 1e-4));
+    assert_eq!(b[2][0], 0.0);
+    // The dense samples miss the true top by at most the steepest slope × half a sample.
+    let slope = d.pitch_um / 2.0 / ((d.refractive_index - 1.0) * d.f_mla_um);
+    let tol = 1e-3 + slope * dx / 2.0;
+    assert!(
+        close(b[2][1], base + top, tol),
+        "top {} vs {}",
+        b[2][1],
+        base + top
+    );
+    assert!(close(s.max_height_um, top, tol));
+    (mesh, got / want - 1.0)
+}
+
+#[test]
+fn phase_export_stl_of_a_folded_plate_is_closed_with_the_right_volume() {
+    let (mesh, err) = check_stl(&small(None), 0.5);
+    assert!(err.abs() < 1e-3, "volume error {err}");
+    assert!(mesh.faces.len() > 1000);
+}
+
+#[test]
+fn phase_export_stl_of_an_unfolded_lens_is_closed() {
+    let mut d = small(None);
+    d.surface = Surface::Unfolded;
+    check_stl(&d, 1.0);
+}
+
+#[test]
+fn phase_export_stl_of_a_stepped_plate_has_flat_tops_and_vertical_walls() {
+    let d = small(Some(0.2));
+    let (mesh, err) = check_stl(&d, 0.5);
+    assert!(
+        err.abs() < 1e-4,
+        "a stepped plate is exact: volume error {err}"
+    );
+    let mut up = 0;
+    for f in &mesh.faces {
+        let n = f.normal.0;
+        let axes = n.iter().filter(|c| c.abs() > 1e-6).count();
+        assert_eq!(axes, 1, "normal {n:?} is not axis-aligned");
+        if n[2] > 0.5 {
+            up += 1;
+        }
+    }
+    // One strip (two triangles) per flat run of the profile.
+    let (_, hs) = dense(&d, 0.004);
+    let runs = 1 + hs
+        .windows(2)
+        .filter(|w| (w[0] / 0.2).round() != (w[1] / 0.2).round())
+        .count();
+    assert_eq!(up, 2 * runs);
+}
+
+#[test]
+fn phase_export_stl_with_mixed_lambda0_has_walls_at_lenslet_edges() {
+    let mut d = small(Some(0.1));
+    d.lambda0 = Lambda0::Uniform;
+    check_stl(&d, 0.5);
+    d.height_step_um = None;
+    check_stl(&d, 0.5);
+}
+
+#[test]
+fn phase_export_rejects_bad_parameters_without_writing() {
+    let d = small(Some(0.2));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("out");
+    let bad_sample = [f64::NAN, -1.0, 0.0, f64::INFINITY, 1e9];
+    let bad_length = [f64::NAN, -5.0, 0.0, 1e12];
+    let bad_base = [f64::NAN, -1.0, 0.0, 1e9];
+    let expect = |e: udc_studio::io::IoError, name: &str| {
+        let msg = e.to_string();
+        assert!(msg.contains(name), "`{msg}` does not name {name}");
+        assert!(!path.exists(), "{name}: a file was written");
+    };
+    for s in bad_sample {
+        expect(write_height_csv(&d, &path, s).unwrap_err(), "sample_um");
+        expect(height_csv_text(&d, s).unwrap_err(), "sample_um");
+        expect(write_height_png(&d, &path, s, 4).unwrap_err(), "sample_um");
+        expect(
+            write_height_stl(&d, &path, s, 10.0, 1.0).unwrap_err(),
+            "sample_um",
+        );
+    }
+    for rows in [0, 1_000_000] {
+        expect(write_height_png(&d, &path, 0.5, rows).unwrap_err(), "rows");
+    }
+    for l in bad_length {
+        expect(write_height_gds(&d, &path, l).unwrap_err(), "length_um");
+        expect(
+            write_height_stl(&d, &path, 0.5, l, 1.0).unwrap_err(),
+            "length_um",
+        );
+    }
+    for b in bad_base {
+        expect(
+            write_height_stl(&d, &path, 0.5, 10.0, b).unwrap_err(),
+            "base_um",
+        );
+    }
+    // A design that does not validate names its field.
+    let mut broken = d.clone();
+    broken.pitch_um = f64::NAN;
+    expect(
+        write_height_gds(&broken, &path, 10.0).unwrap_err(),
+        "pitch_um",
+    );
+    // A step so fine under a wide lens that the plate would have billions of levels.
+    let mut fine = PhaseDesign::thesis(2000.0, 100.0);
+    fine.f_mla_um = 1.0;
+    fine.refractive_index = 1.01;
+    fine.height_step_um = Some(0.001);
+    expect(
+        write_height_gds(&fine, &path, 10.0).unwrap_err(),
+        "height_step_um",
+    );
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+}
+
+/// The thesis's 600-DPI plate (42 µm pitch, 58 lenslets, T = 1, 530 nm) with a 0.2 µm step: the
+/// file sizes stay small and the numbers are the ones the README quotes.
+#[test]
+fn phase_export_thesis_600dpi_plate_stays_small() {
+    let mut d = PhaseDesign::thesis(42.0, 1.0);
+    d.height_step_um = Some(0.2);
+    let dir = tempfile::tempdir().unwrap();
+    let gds = write_height_gds(&d, &dir.path().join("p.gds"), 1000.0).unwrap();
+    let stl = write_height_stl(&d, &dir.path().join("p.stl"), 0.5, 1000.0, 5.0).unwrap();
+    let png = write_height_png(&d, &dir.path().join("p.png"), 0.5, 16).unwrap();
+    let smooth = PhaseDesign::thesis(42.0, 1.0);
+    let curved = write_height_stl(&smooth, &dir.path().join("c.stl"), 0.5, 1000.0, 5.0).unwrap();
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&[&gds, &stl, &png, &curved]).unwrap()
+    );
+    assert!(curved.triangles.unwrap() < 200_000);
+    read_watertight(&dir.path().join("c.stl"));
+    assert_eq!(gds.levels, Some(5));
+    assert_eq!(gds.layers.len(), 4);
+    assert!((gds.width_um - 58.0 * 42.0).abs() < 1e-9);
+    assert!(gds.rectangles.unwrap() < 10_000);
+    assert!(stl.triangles.unwrap() < 100_000);
+    read_watertight(&dir.path().join("p.stl"));
+}

@@ -1,0 +1,331 @@
+//! The phase-mask workspace, driven like a user: the thesis design on screen, PSFs from the
+//! worker that match the core, live edits, a bad value that keeps the last result, the λ0
+//! optimiser with Apply, undo and Cancel, persistence and the exports.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use crate::common;
+
+use std::time::Duration;
+
+use crate::common::step_until;
+use egui_kittest::Harness;
+use egui_kittest::kittest::{NodeT, Queryable};
+use udc_studio::app::phase::{ChannelSet, HeightFormat, PhaseQuality, PhaseView};
+use udc_studio::app::{StudioApp, Workspace};
+use udc_studio::core::Progress;
+use udc_studio::core::design::Channel;
+use udc_studio::core::phase::geometry::lenslet_count;
+use udc_studio::core::phase::{Incidence, Lambda0, Optics, PhaseDesign, PhaseSampling, phase_psfs};
+
+fn phase_studio(dir: &std::path::Path, quality: PhaseQuality) -> Harness<'static, StudioApp> {
+    let mut h = common::studio(dir, false, Duration::from_secs(600));
+    h.state_mut().set_workspace(Workspace::Phase);
+    h.state_mut().phase().quality = quality;
+    h.step();
+    h
+}
+
+/// Whether a widget with exactly this label is on screen (any number of them).
+fn on_screen(h: &Harness<'_, StudioApp>, label: &str) -> bool {
+    h.query_all_by_label(label).next().is_some()
+}
+
+fn wait_psfs(h: &mut Harness<'_, StudioApp>, what: &str) {
+    step_until(h, what, |app| app.phase_ref().is_up_to_date());
+}
+
+#[test]
+fn the_thesis_design_shows_and_its_psfs_match_the_core() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), PhaseQuality::Full);
+    let d = h.state().phase_ref().design().clone();
+    assert_eq!(d, PhaseDesign::thesis(42.0, 1.0));
+    assert_eq!(lenslet_count(&d), 58);
+    assert!((d.fov_deg() - 13.6).abs() < 0.05, "{}", d.fov_deg());
+    // The numbers panel shows them with units.
+    assert!(on_screen(&h, "58"), "58 lenslets on screen");
+    assert!(on_screen(&h, "13.6° (±6.8°)"), "the FoV on screen");
+    assert!(on_screen(&h, "42.00 µm (605 DPI)"));
+    assert!(on_screen(&h, "4.20"), "κ");
+    wait_psfs(&mut h, "the full-quality PSFs");
+    let shown = h.state().phase_ref().shown().unwrap();
+    assert_eq!(shown.quality, PhaseQuality::Full);
+    let psfs = shown.psfs.clone();
+    let direct = phase_psfs(
+        &d,
+        &PhaseSampling::thesis(),
+        &Channel::rgb_peaks(),
+        Optics::DoubleMla,
+        Incidence::AngleDeg(0.0),
+        &Progress::new(),
+    )
+    .unwrap();
+    assert_eq!(psfs.lenslets, 58);
+    assert_eq!(psfs.channels.len(), 3);
+    for (a, b) in psfs.channels.iter().zip(&direct.channels) {
+        assert_eq!(a.name, b.name);
+        let rel = (a.energy_vs_toled - b.energy_vs_toled).abs() / b.energy_vs_toled;
+        assert!(
+            rel < 1e-12,
+            "{}: {} vs {}",
+            a.name,
+            a.energy_vs_toled,
+            b.energy_vs_toled
+        );
+        // The double MLA gains light over the T-OLED even after the polariser's 1/2.
+        assert!(b.energy_vs_toled > 1.5, "{}: {}", b.name, b.energy_vs_toled);
+        let label = format!("{:.3}×", b.energy_vs_toled);
+        assert!(on_screen(&h, &label), "{label} on screen");
+    }
+    assert!((psfs.ltr_with_polariser - direct.ltr_with_polariser).abs() < 1e-12);
+    let ltr = format!("{:.3}", direct.ltr_with_polariser);
+    assert!(on_screen(&h, &ltr), "LTR {ltr} on screen");
+    // Every view draws.
+    for (view, label) in [
+        (PhaseView::Geometry, "Height profile around lenslet"),
+        (PhaseView::Optimiser, "Run optimiser"),
+        (PhaseView::Psf, "incidence angle"),
+    ] {
+        h.state_mut().phase().view = view;
+        h.step();
+        h.step();
+        assert!(
+            h.query_all_by_label_contains(label).next().is_some(),
+            "{label}"
+        );
+    }
+}
+
+#[test]
+fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    wait_psfs(&mut h, "the preview PSFs");
+    let first = h.state().phase_ref().shown().unwrap().psfs.clone();
+    // A thicker fold: the same geometry, other PSFs.
+    h.state_mut().phase().design_mut().fold = 5.0;
+    step_until(&mut h, "the T = 5 PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+            && app
+                .phase_ref()
+                .shown()
+                .is_some_and(|s| s.design.fold == 5.0)
+    });
+    let thick = h.state().phase_ref().shown().unwrap().psfs.clone();
+    assert_ne!(thick.channels[0].psf, first.channels[0].psf);
+    // A coarser display: fewer lenslets.
+    {
+        let d = h.state_mut().phase().design_mut();
+        d.pitch_um = 84.0;
+        d.f_mla_um = 84.0;
+    }
+    step_until(&mut h, "the 84-µm PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+            && app
+                .phase_ref()
+                .shown()
+                .is_some_and(|s| s.psfs.lenslets == 31)
+    });
+    assert!(on_screen(&h, "31"), "31 lenslets on screen");
+    let double = h.state().phase_ref().shown().unwrap().psfs.clone();
+    // Lemma 1's single mask, off axis, with the spectral channels: each reaches the worker.
+    h.state_mut().phase().single_mask = true;
+    step_until(&mut h, "the single-mask PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+            && app
+                .phase_ref()
+                .shown()
+                .is_some_and(|s| s.optics == Optics::SingleMask)
+    });
+    let single = h.state().phase_ref().shown().unwrap().psfs.clone();
+    assert_ne!(single.channels[1].psf, double.channels[1].psf);
+    h.state_mut().phase().single_mask = false;
+    h.state_mut().phase().angle_deg = 5.0;
+    h.state_mut().phase().channels = ChannelSet::Spectral;
+    step_until(&mut h, "the off-axis spectral PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+            && app
+                .phase_ref()
+                .shown()
+                .is_some_and(|s| s.channels == ChannelSet::Spectral && s.psfs.angle_deg > 4.9)
+    });
+    let off = h.state().phase_ref().shown().unwrap().psfs.clone();
+    // sin 5° · 4.67 mm / 2 µm ≈ 203.5 pixels off the axis.
+    assert!((off.image_pixel - 204).abs() <= 1, "{}", off.image_pixel);
+    assert_eq!(off.channels.len(), 3);
+    assert!(
+        off.channels
+            .iter()
+            .all(|c| (450.0..650.0).contains(&c.wavelength_nm)),
+        "response-weighted mean wavelengths"
+    );
+    let generation = h.state().phase_ref().shown().unwrap().generation;
+    // NaN: the validate() message, and the last result stays.
+    h.state_mut().phase().design_mut().pitch_um = f64::NAN;
+    for _ in 0..5 {
+        h.step();
+    }
+    let (msg, is_error) = h.state().phase_ref().message().unwrap().clone();
+    assert!(is_error && msg.contains("pitch_um"), "{msg}");
+    assert!(
+        h.query_by_label_contains("pitch_um").is_some(),
+        "{msg} on screen"
+    );
+    let kept = h.state().phase_ref().shown().unwrap();
+    assert_eq!(kept.generation, generation);
+    assert_eq!(kept.design.pitch_um, 84.0);
+    assert!(!h.state().phase_ref().is_up_to_date());
+    // Out of range is refused the same way.
+    h.state_mut().phase().design_mut().pitch_um = 84.0;
+    h.state_mut().phase().design_mut().fold = 0.0;
+    for _ in 0..3 {
+        h.step();
+    }
+    let (msg, _) = h.state().phase_ref().message().unwrap().clone();
+    assert!(msg.contains("fold"), "{msg}");
+    assert_eq!(
+        h.state().phase_ref().shown().unwrap().generation,
+        generation
+    );
+    // Ctrl+Z steps back over the bad values (each an undo step) to T = 5 at 84 µm.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.step();
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    step_until(&mut h, "the undone design", |app| {
+        app.phase_ref().is_up_to_date()
+    });
+    let d = h.state().phase_ref().design().clone();
+    assert_eq!((d.pitch_um, d.fold), (84.0, 5.0));
+    assert!(h.state().phase_ref().message().is_none_or(|m| !m.1));
+    // The display document was not touched by the phase workspace's undo.
+    assert!(!h.state().document().can_undo());
+}
+
+#[test]
+fn the_optimiser_allocates_every_lenslet_and_apply_is_undoable() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    h.state_mut().phase().view = PhaseView::Optimiser;
+    wait_psfs(&mut h, "the preview PSFs");
+    h.get_by_label("Run optimiser").click();
+    h.step();
+    assert!(h.state().phase_ref().is_optimising());
+    step_until(&mut h, "the optimiser", |app| {
+        app.phase_ref().optimised().is_some()
+    });
+    let o = h.state().phase_ref().optimised().unwrap();
+    let counts = o.allocation.counts.clone();
+    assert_eq!(counts.len(), 30);
+    assert_eq!(counts.iter().sum::<usize>(), 58);
+    assert_eq!(o.allocation.lambda0_nm.len(), 58);
+    // The optimised plan's worst channel beats the fixed 530 nm.
+    let worst = |v: [f64; 3]| v.iter().copied().fold(f64::INFINITY, f64::min);
+    assert!(worst(o.allocation.channel_invertibility) >= worst(o.fixed_530) - 1e-9);
+    let v = h.state().phase_ref().v().unwrap();
+    assert_eq!((v.v.v.len(), v.v.v[0].len()), (30, 30));
+    assert!(on_screen(&h, "fixed 530 nm"));
+    // Apply: the plan becomes the counts, and the PSFs follow.
+    h.get_by_label("Apply").click();
+    h.step();
+    assert_eq!(
+        h.state().phase_ref().design().lambda0,
+        Lambda0::Counts {
+            counts: counts.clone()
+        }
+    );
+    wait_psfs(&mut h, "the optimised PSFs");
+    assert!(matches!(
+        h.state().phase_ref().shown().unwrap().design.lambda0,
+        Lambda0::Counts { .. }
+    ));
+    // Undo and redo.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.step();
+    assert_eq!(
+        h.state().phase_ref().design().lambda0,
+        Lambda0::Fixed { nm: 530.0 }
+    );
+    h.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    h.step();
+    assert_eq!(
+        h.state().phase_ref().design().lambda0,
+        Lambda0::Counts { counts }
+    );
+}
+
+#[test]
+fn cancel_stops_an_optimiser_run() {
+    let dir = tempfile::tempdir().unwrap();
+    // Thesis sampling: a run takes long enough to cancel.
+    let mut h = phase_studio(dir.path(), PhaseQuality::Full);
+    h.state_mut().phase().view = PhaseView::Optimiser;
+    h.step();
+    h.get_by_label("Run optimiser").click();
+    h.step();
+    h.step();
+    assert!(h.state().phase_ref().is_optimising());
+    assert!(
+        h.query_by_label_contains("optimiser (V, then Algorithm 1)")
+            .is_some()
+    );
+    h.get_by_label("Cancel").click();
+    h.step();
+    assert!(!h.state().phase_ref().is_optimising());
+    assert!(h.state().phase_ref().optimised().is_none());
+    let (msg, is_error) = h.state().phase_ref().optimiser_message().unwrap().clone();
+    assert!(!is_error && msg.contains("cancelled"), "{msg}");
+    // The buttons are back.
+    h.step();
+    assert!(
+        !h.get_by_label("Run optimiser")
+            .accesskit_node()
+            .is_disabled()
+    );
+}
+
+#[test]
+fn the_phase_design_is_kept_between_runs_and_exports() {
+    let dir = tempfile::tempdir().unwrap();
+    {
+        let mut h = common::studio(dir.path(), false, Duration::from_millis(20));
+        h.state_mut().set_workspace(Workspace::Phase);
+        h.state_mut().phase().quality = PhaseQuality::Preview;
+        let mut d = PhaseDesign::thesis(56.0, 5.0);
+        d.height_step_um = Some(0.2);
+        h.state_mut().phase().set_design(d);
+        let file = dir.path().join("phase-design.json");
+        step_until(&mut h, "the phase autosave", |_| {
+            std::fs::read_to_string(&file).is_ok_and(|t| t.contains("56"))
+        });
+        // Exports write off the UI thread.
+        let ctx = h.ctx.clone();
+        for (format, name) in [
+            (HeightFormat::Csv, "plate.csv"),
+            (HeightFormat::Gds, "plate.gds"),
+        ] {
+            let path = dir.path().join(name);
+            h.state_mut().phase().export_to(format, path.clone(), &ctx);
+            step_until(&mut h, "the export", |app| !app.phase_ref().is_exporting());
+            let (msg, is_error) = h.state().phase_ref().export_message().unwrap().clone();
+            assert!(!is_error && msg.contains(name), "{msg}");
+            assert!(std::fs::metadata(&path).unwrap().len() > 100, "{name}");
+        }
+        // Without native dialogs the buttons say so instead of blocking.
+        h.get_by_label("Heights (CSV)…").click_accesskit();
+        h.step();
+        let (msg, _) = h.state().phase_ref().export_message().unwrap().clone();
+        assert!(msg.contains("dialogs are disabled"), "{msg}");
+    }
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut().set_workspace(Workspace::Phase);
+    h.step();
+    let d = h.state().phase_ref().design();
+    assert_eq!(
+        (d.pitch_um, d.fold, d.height_step_um),
+        (56.0, 5.0, Some(0.2))
+    );
+    assert_eq!(lenslet_count(d), 45);
+}
