@@ -29,6 +29,46 @@ pub enum PhaseCommand {
     Invertibility(MaskArgs),
     /// Allocate folding wavelengths to lenslets (eqs. 4.9–4.11, Algorithm 1).
     Optimize(OptimizeArgs),
+    /// Write the plate's height map for fabrication: CSV, 16-bit PNG, multi-level GDSII or STL.
+    Export(ExportArgs),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum HeightFormat {
+    Csv,
+    Png,
+    Gds,
+    Stl,
+}
+
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    #[command(flatten)]
+    pub mask: MaskArgs,
+    /// Folding wavelengths: `fixed:NM`, `uniform` or `optimized` (as for `psf`).
+    #[arg(long, default_value = "fixed:530")]
+    pub lambda0: String,
+    /// A design written by `phase optimize --out` (phase_design.json) instead of the flags.
+    #[arg(long, conflicts_with = "lambda0")]
+    pub design: Option<PathBuf>,
+    /// The unfolded thick lens instead of the folded plate.
+    #[arg(long)]
+    pub unfolded: bool,
+    /// The file format; `--out FILE` names the file.
+    #[arg(long, value_enum)]
+    pub format: HeightFormat,
+    /// Sample spacing along x in µm (CSV, PNG pixel size, STL chord length).
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    pub sample_um: f64,
+    /// PNG rows (the plate is uniform along y).
+    #[arg(long, default_value_t = 16)]
+    pub rows: usize,
+    /// Extent along y in µm (GDSII, STL).
+    #[arg(long, default_value_t = 1000.0, allow_negative_numbers = true)]
+    pub length_um: f64,
+    /// STL base thickness under the plate in µm.
+    #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
+    pub base_um: f64,
 }
 
 /// The mask and camera: the thesis's 600-DPI design unless overridden.
@@ -171,6 +211,7 @@ pub fn phase_cmd(cmd: &PhaseCommand) -> Result<()> {
         PhaseCommand::Psf(a) => psf_cmd(a),
         PhaseCommand::Invertibility(m) => invertibility_cmd(m),
         PhaseCommand::Optimize(a) => optimize_cmd(a),
+        PhaseCommand::Export(a) => export_cmd(a),
     }
 }
 
@@ -464,6 +505,82 @@ fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
         println!("  optimised   {}", show(alloc.channel_invertibility));
         println!("  fixed 531   {}", show(fixed_inv));
         println!("  uniform     {}", show(uniform_inv));
+    }
+    Ok(())
+}
+
+fn export_cmd(a: &ExportArgs) -> Result<()> {
+    let Some(file) = &a.mask.out else {
+        bail!("phase export needs --out FILE (e.g. --out plate.gds)");
+    };
+    let mut design = match &a.design {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .with_context(|| format!("read {}", path.display()))?;
+            let d: PhaseDesign = serde_json::from_str(&text)
+                .with_context(|| format!("{}: not a phase design", path.display()))?;
+            d.validate()
+                .with_context(|| format!("{}: invalid phase design", path.display()))?;
+            d
+        }
+        None => {
+            let mut d = design_of(&a.mask)?;
+            d.lambda0 = match parse_lambda0(&a.lambda0)? {
+                Some(l) => l,
+                None => {
+                    let channels = grid_channels(None)?;
+                    let sampling = sampling_of(&a.mask);
+                    let (_, alloc) = with_progress("optimising λ0", |p| {
+                        optimize_lambda0(
+                            &d,
+                            &sampling,
+                            &channels,
+                            &AllocationSettings::default(),
+                            p,
+                        )
+                    })?;
+                    Lambda0::Counts {
+                        counts: alloc.counts,
+                    }
+                }
+            };
+            d.validate().map_err(|e| {
+                anyhow::anyhow!("{}", e.to_string().replace("`lambda0.nm`", "--lambda0"))
+            })?;
+            d
+        }
+    };
+    if a.unfolded {
+        design.surface = Surface::Unfolded;
+    }
+    use crate::io::phase_export as pe;
+    let written = match a.format {
+        HeightFormat::Csv => pe::write_height_csv(&design, file, a.sample_um),
+        HeightFormat::Png => pe::write_height_png(&design, file, a.sample_um, a.rows),
+        HeightFormat::Gds => pe::write_height_gds(&design, file, a.length_um),
+        HeightFormat::Stl => {
+            pe::write_height_stl(&design, file, a.sample_um, a.length_um, a.base_um)
+        }
+    };
+    // The writer's messages name design fields; a CLI user knows them as flags. Printed without
+    // the error's source chain, which repeats the same message.
+    let summary = written.map_err(|e| {
+        let mut text = e.to_string();
+        for (field, flag) in [
+            ("height_step_um", "--height-step-um"),
+            ("sample_um", "--sample-um"),
+            ("length_um", "--length-um"),
+            ("base_um", "--base-um"),
+            ("rows", "--rows"),
+        ] {
+            text = text.replace(field, flag);
+        }
+        anyhow::anyhow!("{text}")
+    })?;
+    if a.mask.json {
+        println!("{}", serde_json::to_string(&summary)?);
+    } else {
+        println!("{}", serde_json::to_string_pretty(&summary)?);
     }
     Ok(())
 }

@@ -196,3 +196,94 @@ fn bad_phase_arguments_are_one_line_errors() {
         assert!(stdout.is_empty(), "{args:?} printed {stdout}");
     }
 }
+
+#[test]
+fn export_writes_each_format_and_reads_an_optimised_design() {
+    let dir = tempfile::tempdir().unwrap();
+    let gds = dir.path().join("plate.gds");
+    let v = json_of(&[
+        "phase",
+        "export",
+        "--format",
+        "gds",
+        "--height-step-um",
+        "0.2",
+        "--length-um",
+        "100",
+        "--json",
+        "--out",
+        gds.to_str().unwrap(),
+    ]);
+    // T = 1 at 530 nm: a 1.029 µm fold rounds to 1.0 µm = 5 levels, 4 of them above the substrate.
+    assert_eq!(v["levels"], 5);
+    assert_eq!(v["layers"].as_array().unwrap().len(), 4);
+    assert!(std::fs::metadata(&gds).unwrap().len() > 1000);
+    // The allocation saved by `optimize --out` is exported as it is.
+    let opt_dir = dir.path().join("opt");
+    let (ok, _, stderr) = run(&[
+        "phase",
+        "optimize",
+        "--pitch-um",
+        "168",
+        "--preview",
+        "--out",
+        opt_dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let csv = dir.path().join("plate.csv");
+    let design = opt_dir.join("phase_design.json");
+    let v = json_of(&[
+        "phase",
+        "export",
+        "--design",
+        design.to_str().unwrap(),
+        "--format",
+        "csv",
+        "--json",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(v["width_um"], 17.0 * 168.0);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let lambda0: std::collections::BTreeSet<String> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with("x_um"))
+        .map(|l| l.split(',').nth(3).unwrap().to_string())
+        .collect();
+    assert!(
+        lambda0.len() > 1,
+        "the optimised plate has several λ0: {lambda0:?}"
+    );
+    for (args, needle) in [
+        (vec!["phase", "export", "--format", "stl"], "--out"),
+        (
+            vec![
+                "phase",
+                "export",
+                "--format",
+                "gds",
+                "--out",
+                "/tmp/never.gds",
+            ],
+            "--height-step-um",
+        ),
+        (
+            vec![
+                "phase",
+                "export",
+                "--format",
+                "png",
+                "--sample-um",
+                "-2",
+                "--out",
+                "/tmp/never.png",
+            ],
+            "--sample-um",
+        ),
+    ] {
+        let (ok, _, stderr) = run(&args);
+        assert!(!ok && stderr.contains(needle), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    }
+    assert!(!std::path::Path::new("/tmp/never.gds").exists());
+}
