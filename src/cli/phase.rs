@@ -111,7 +111,7 @@ pub struct PsfArgs {
     /// `optimized` (runs the allocation first).
     #[arg(long, default_value = "fixed:530")]
     pub lambda0: String,
-    /// Incidence angle in degrees (off-axis PSF; the window follows the image point).
+    /// Incidence angle in degrees (off-axis PSF over the whole sensor).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub angle_deg: f64,
     /// Spectral channels from a response CSV (wavelength_nm,r,g,b) sampled at 401:10:691 nm,

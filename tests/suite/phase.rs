@@ -282,3 +282,56 @@ fn field_of_view_follows_kappa() {
     assert!(outside < 0.5, "{outside}");
     assert!(edge < inside && edge > outside);
 }
+
+#[test]
+fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
+    let mut design = thesis(42.0, 5.0);
+    design.camera.pixels = 256;
+    let sampling = PhaseSampling::preview();
+    let channel = Channel::peak("G", 530.0);
+    let kernels = |optics| {
+        udc_studio::core::phase::kernel_matrix(
+            &design,
+            &sampling,
+            &channel,
+            optics,
+            &Progress::new(),
+        )
+        .unwrap()
+    };
+    let (ours, toled) = (kernels(Optics::DoubleMla), kernels(Optics::Toled));
+    assert_eq!(ours.dim(), (256, 256));
+    let chain = Chain::new(&design, &sampling).unwrap();
+    let centroid = |col: Vec<f64>| -> f64 {
+        let sum: f64 = col.iter().sum();
+        col.iter()
+            .enumerate()
+            .map(|(i, v)| (i as f64 - 128.0) * v)
+            .sum::<f64>()
+            / sum
+    };
+    for j_rel in [-20i64, 0, 20] {
+        let j = (128 + j_rel) as usize;
+        // Each column is that direction's PSF over the whole sensor.
+        let psf = chain.mono(
+            Optics::DoubleMla,
+            chain.heights_um(),
+            530.0,
+            Incidence::Pixel(j_rel),
+        );
+        for i in 0..256 {
+            assert!((ours[[i, j]] - psf.sensor[i]).abs() <= 1e-12, "K[{i}, {j}]");
+        }
+        // The bare T-OLED images direction j on pixel j; each lenslet pair is a 1:1 Keplerian
+        // telescope that inverts the angle, so the double MLA's light lands near −j.
+        let t = toled.column(j).to_vec();
+        let argmax = (0..256).max_by(|&a, &b| t[a].total_cmp(&t[b])).unwrap();
+        assert_eq!(argmax, j);
+        let c = centroid(ours.column(j).to_vec());
+        eprintln!("j {j_rel}: centroid {c}");
+        assert!(
+            (c + j_rel as f64).abs() < 6.0,
+            "direction {j_rel}: centroid at {c}"
+        );
+    }
+}

@@ -206,13 +206,16 @@ impl PhaseWorkspace {
             _ => "double MLA",
         };
         ui.label(format!(
-            "{} PSFs at {:.1}° ({}), centred on the image pixel {}; the bare T-OLED dashed",
+            "{} PSFs at {:.1}° ({}); the bare T-OLED dashed, imaged at pixel {} from the axis. \
+             The double MLA inverts the angle (a 1:1 telescope per lenslet): its light lands \
+             near pixel {}",
             s.quality.label(),
             p.angle_deg,
             ours,
-            p.image_pixel
+            p.image_pixel,
+            -p.image_pixel
         ));
-        let half = self.psf_half_width_px as i64;
+        let half = self.psf_half_width_px as i64 + p.image_pixel.abs();
         let log = self.log_psf;
         let n = p.channels.len().max(1) as f32;
         let w = ((ui.available_width() - 12.0 * n) / n).max(160.0);
@@ -236,7 +239,7 @@ impl PhaseWorkspace {
                         .height(h)
                         .legend(Legend::default())
                         .link_axis(link, [true, false])
-                        .x_axis_label("pixel offset")
+                        .x_axis_label("sensor pixel from the axis")
                         .y_axis_label(if log { "log10 share" } else { "energy share" })
                         .show(ui, |pl| {
                             pl.line(

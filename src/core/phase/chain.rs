@@ -43,7 +43,9 @@ impl Incidence {
         }
     }
 
-    /// The sensor pixel (relative to the axis pixel) nearest the geometric image `f·sinθ`.
+    /// The sensor pixel (relative to the axis pixel) nearest `f·sinθ`, where a plain lens (and the
+    /// bare T-OLED) images this direction. The double MLA sends it near the opposite pixel: each
+    /// lenslet pair is a 1:1 Keplerian telescope, which inverts the beam's angle.
     pub fn image_pixel(self, d: &PhaseDesign) -> i64 {
         match self {
             Incidence::Pixel(j) => j,
@@ -57,13 +59,14 @@ impl Incidence {
 /// One wavelength's sensor PSF.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MonoPsf {
-    /// Energy per sensor pixel of the window (fractions of the light on the main-lens opening).
-    /// Window pixel `k` is sensor pixel `image_pixel + k − pixels/2` relative to the axis pixel.
+    /// Energy per sensor pixel (fractions of the light on the main-lens opening). The window is
+    /// the whole sensor: entry `k` is sensor pixel `k`, the axis at `pixels/2`, for every direction.
     pub sensor: Vec<f64>,
     /// Σ `sensor`.
     pub window_energy: f64,
     /// All the light that leaves the main-lens opening (Parseval), inside the window or not.
     pub total_energy: f64,
+    /// Where a plain lens would image the direction ([`Incidence::image_pixel`]).
     pub image_pixel: i64,
 }
 
@@ -357,7 +360,9 @@ impl Chain {
         let total_energy = lens_field.iter().map(|v| v.norm_sqr()).sum::<f64>() * dx / aperture;
 
         let image_pixel = incidence.image_pixel(&self.design);
-        let czt = self.czt_for(lambda, image_pixel);
+        // The window is the sensor, not the image point: the double MLA moves light to the
+        // opposite side of the axis, which a window that followed f·sinθ would cut off.
+        let czt = self.czt_for(lambda, 0);
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
         let mut intensity = vec![0.0; cam.pixels * fine];

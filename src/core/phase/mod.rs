@@ -6,9 +6,11 @@
 //! - x = 0 is the optical axis. Lenslet `l` of `L` is centred at `(l − (L−1)/2)·pitch`, and so is
 //!   its display slit; the display's slits repeat with the pitch beyond the lenslets too.
 //! - Display-plane samples sit at `(i − N/2)·δ1` for `i = 0 … N−1` (N even), δ1 = 15 nm.
-//! - The sensor's optical axis is the centre of pixel `pixels/2`. A PSF window is `pixels` wide and
-//!   centred on the pixel nearest the geometric image `f·sinθ`; each pixel integrates
-//!   `fine_per_pixel` midpoint samples (midpoint-rule box binning).
+//! - The sensor's optical axis is the centre of pixel `pixels/2`. A PSF window is the whole sensor
+//!   (`pixels` wide, centred on the axis) for every direction; each pixel integrates
+//!   `fine_per_pixel` midpoint samples (midpoint-rule box binning). A plain lens images the
+//!   direction θ at `f·sinθ`; the double MLA, a 1:1 Keplerian telescope per lenslet pair, inverts
+//!   the angle and sends it near `−f·sinθ`, split into the lenslet grating's orders `λf/pitch` apart.
 //! - Energies are fractions of the light that falls on the main-lens opening (unit irradiance over
 //!   its width D = f/F#); the polarisation-dependent plate's ×½ is applied only where a name says
 //!   so (`*_with_polariser`).

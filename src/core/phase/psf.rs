@@ -19,7 +19,7 @@ pub struct ChannelPsf {
     pub name: String,
     /// The peak wavelength, or the response-weighted mean wavelength of a spectral channel.
     pub wavelength_nm: f64,
-    /// Sensor PSF normalised to sum 1 (window pixel `k` ↔ sensor pixel `image_pixel + k − P/2`).
+    /// Sensor PSF normalised to sum 1 over the whole sensor (entry `k` is pixel `k`, axis at `P/2`).
     pub psf: Vec<f64>,
     pub toled_psf: Vec<f64>,
     /// Light on the sensor window, as a fraction of the light on the main-lens opening, before
@@ -49,7 +49,8 @@ pub struct ChannelPsf {
 pub struct PhasePsfs {
     pub channels: Vec<ChannelPsf>,
     pub angle_deg: f64,
-    /// The window's centre pixel relative to the axis pixel (the geometric image).
+    /// Where a plain lens images the direction, in pixels from the axis (the T-OLED's PSF sits
+    /// there; the double MLA's near the opposite pixel).
     pub image_pixel: i64,
     pub lenslets: usize,
     /// Light transmittance with the polariser: ½ × the mean channel transmission.
@@ -249,11 +250,8 @@ pub fn kernel_matrix(
                     continue;
                 }
                 let psf = chain.mono(optics, chain.heights_um(), l, incidence);
-                for (k, v) in psf.sensor.iter().enumerate() {
-                    // Window pixel k lands on absolute pixel j + k − P/2.
-                    if let Some(i) = (j + k).checked_sub(p / 2).filter(|&i| i < p) {
-                        column[i] += w / sum * v;
-                    }
+                for (c, v) in column.iter_mut().zip(&psf.sensor) {
+                    *c += w / sum * v;
                 }
             }
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
