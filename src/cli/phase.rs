@@ -233,6 +233,31 @@ fn parse_lambda0(s: &str) -> Result<Option<Lambda0>> {
     bail!("--lambda0 `{s}`: expected fixed:NM (e.g. fixed:530), uniform or optimized")
 }
 
+/// The λ0 plan of `--lambda0`; `optimized` runs the allocation for `design` first.
+fn resolve_lambda0(
+    text: &str,
+    design: &PhaseDesign,
+    sampling: &PhaseSampling,
+    spectral: Option<&Path>,
+) -> Result<Lambda0> {
+    if let Some(plan) = parse_lambda0(text)? {
+        return Ok(plan);
+    }
+    let channels = grid_channels(spectral)?;
+    let (_, alloc) = with_progress("optimising λ0", |p| {
+        optimize_lambda0(
+            design,
+            sampling,
+            &channels,
+            &AllocationSettings::default(),
+            p,
+        )
+    })?;
+    Ok(Lambda0::Counts {
+        counts: alloc.counts,
+    })
+}
+
 fn psf_cmd(a: &PsfArgs) -> Result<()> {
     let mut design = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
@@ -242,24 +267,7 @@ fn psf_cmd(a: &PsfArgs) -> Result<()> {
             a.angle_deg
         );
     }
-    design.lambda0 = match parse_lambda0(&a.lambda0)? {
-        Some(l) => l,
-        None => {
-            let channels = grid_channels(a.spectral.as_deref())?;
-            let (_, alloc) = with_progress("optimising λ0", |p| {
-                optimize_lambda0(
-                    &design,
-                    &sampling,
-                    &channels,
-                    &AllocationSettings::default(),
-                    p,
-                )
-            })?;
-            Lambda0::Counts {
-                counts: alloc.counts,
-            }
-        }
-    };
+    design.lambda0 = resolve_lambda0(&a.lambda0, &design, &sampling, a.spectral.as_deref())?;
     if a.unfolded {
         design.surface = Surface::Unfolded;
     }
@@ -525,25 +533,7 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
         }
         None => {
             let mut d = design_of(&a.mask)?;
-            d.lambda0 = match parse_lambda0(&a.lambda0)? {
-                Some(l) => l,
-                None => {
-                    let channels = grid_channels(None)?;
-                    let sampling = sampling_of(&a.mask);
-                    let (_, alloc) = with_progress("optimising λ0", |p| {
-                        optimize_lambda0(
-                            &d,
-                            &sampling,
-                            &channels,
-                            &AllocationSettings::default(),
-                            p,
-                        )
-                    })?;
-                    Lambda0::Counts {
-                        counts: alloc.counts,
-                    }
-                }
-            };
+            d.lambda0 = resolve_lambda0(&a.lambda0, &d, &sampling_of(&a.mask), None)?;
             d.validate().map_err(|e| {
                 anyhow::anyhow!("{}", e.to_string().replace("`lambda0.nm`", "--lambda0"))
             })?;
