@@ -329,3 +329,187 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
     );
     assert_eq!(lenslet_count(d), 45);
 }
+
+#[test]
+fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
+    use udc_studio::core::phase::wavelength_grid_nm;
+    use udc_studio::io::spectral;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    h.state_mut().phase().channels = ChannelSet::Spectral;
+    step_until(&mut h, "the thesis-response PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+            && app
+                .phase_ref()
+                .shown()
+                .is_some_and(|s| s.channels == ChannelSet::Spectral)
+    });
+    let thesis_nm: Vec<f64> = h
+        .state()
+        .phase_ref()
+        .shown()
+        .unwrap()
+        .psfs
+        .channels
+        .iter()
+        .map(|c| c.wavelength_nm)
+        .collect();
+    let generation = h.state().phase_ref().shown().unwrap().generation;
+    // The Canon table: the channels switch and the PSFs run again.
+    let canon = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/spectral/canon_eos_5d_mark_ii_rawtoaces.csv");
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .phase()
+        .load_response_from(canon.clone(), &ctx);
+    step_until(&mut h, "the Canon PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+            && app
+                .phase_ref()
+                .shown()
+                .is_some_and(|s| matches!(s.channels, ChannelSet::Custom(_)))
+    });
+    let phase = h.state().phase_ref();
+    let (msg, is_error) = phase.response_message().unwrap().clone();
+    assert!(
+        !is_error && msg.contains("canon_eos_5d_mark_ii_rawtoaces.csv"),
+        "{msg}"
+    );
+    let custom = phase.channels;
+    assert!(matches!(custom, ChannelSet::Custom(_)));
+    let shown = phase.shown().unwrap();
+    assert!(shown.generation > generation);
+    let expected = spectral::channels_from_response(
+        &spectral::load_response_csv(&canon).unwrap(),
+        &wavelength_grid_nm(),
+    )
+    .unwrap();
+    assert_eq!(shown.psfs.channels.len(), 3);
+    for ((c, e), t) in shown.psfs.channels.iter().zip(&expected).zip(&thesis_nm) {
+        assert!(
+            (c.wavelength_nm - e.mean_wavelength_nm()).abs() < 1e-9,
+            "{}: {} vs {}",
+            c.name,
+            c.wavelength_nm,
+            e.mean_wavelength_nm()
+        );
+        assert!((c.wavelength_nm - t).abs() > 1e-3, "{}: {t}", c.name);
+    }
+    // The file's name is the channel choice's label.
+    assert!(on_screen(
+        &h,
+        "canon_eos_5d_mark_ii_rawtoaces.csv (custom response)"
+    ));
+    // A malformed table: the error names the line and column, and the channels stay.
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(
+        &bad,
+        "wavelength,R,G,B\n400,0.1,0.2,0.3\n410,0.1,oops,0.3\n",
+    )
+    .unwrap();
+    h.state_mut().phase().load_response_from(bad, &ctx);
+    step_until(&mut h, "the bad table", |app| {
+        !app.phase_ref().is_loading_response()
+    });
+    let phase = h.state().phase_ref();
+    let (msg, is_error) = phase.response_message().unwrap().clone();
+    assert!(is_error, "{msg}");
+    assert!(msg.contains("line 3, column 3"), "{msg}");
+    assert_eq!(phase.channels, custom);
+    assert!(phase.is_up_to_date());
+    assert!(on_screen(&h, &msg), "the error on screen");
+    // Without native dialogs the button says so instead of blocking.
+    h.get_by_label("Open response CSV…").click_accesskit();
+    h.step();
+    let (msg, _) = h.state().phase_ref().response_message().unwrap().clone();
+    assert!(msg.contains("dialogs are disabled"), "{msg}");
+}
+
+#[test]
+fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
+    use udc_studio::core::phase::kernel_matrix;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    let mut d = PhaseDesign::thesis(42.0, 1.0);
+    d.camera.pixels = 64;
+    h.state_mut().phase().set_design(d.clone());
+    wait_psfs(&mut h, "the 64-pixel PSFs");
+    h.state_mut().phase().set_kernel_channel(1);
+    h.get_by_label("Blur matrix (all 64 directions)…")
+        .click_accesskit();
+    h.step();
+    step_until(&mut h, "the blur matrix", |app| {
+        app.phase_ref().kernels().is_some()
+    });
+    let k = h.state().phase_ref().kernels().unwrap();
+    assert_eq!(k.k.dim(), (64, 64));
+    assert_eq!(k.channel_name, "G");
+    assert!(!h.state().phase_ref().kernels_are_stale());
+    assert!(
+        h.query_by_label("blur matrix image").is_some(),
+        "the texture is drawn"
+    );
+    let direct = kernel_matrix(
+        &d,
+        &PhaseSampling::preview(),
+        &Channel::rgb_peaks()[1],
+        Optics::DoubleMla,
+        &Progress::new(),
+    )
+    .unwrap();
+    // The CSV: one line per sensor pixel, its column j the core's direction j.
+    let path = dir.path().join("k.csv");
+    let ctx = h.ctx.clone();
+    h.state_mut().phase().save_kernels_to(path.clone(), &ctx);
+    step_until(&mut h, "the CSV", |app| {
+        !app.phase_ref().is_saving_kernels()
+    });
+    let (msg, is_error) = h.state().phase_ref().kernels_message().unwrap().clone();
+    assert!(!is_error && msg.contains("k.csv"), "{msg}");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 64);
+    let max = direct.iter().copied().fold(0.0, f64::max);
+    assert!(max > 0.0);
+    for (i, row) in rows.iter().enumerate() {
+        assert_eq!(row.len(), 64, "row {i}");
+        for (j, v) in row.iter().enumerate() {
+            let e = direct[[i, j]];
+            assert!(
+                (v - e).abs() <= 1e-12 * e.abs().max(max * 1e-300),
+                "K[{i}, {j}] {v} vs {e}"
+            );
+        }
+    }
+    // A change makes it stale.
+    h.state_mut().phase().design_mut().fold = 5.0;
+    h.step();
+    assert!(h.state().phase_ref().kernels_are_stale());
+    assert!(h.query_by_label_contains("Stale:").is_some());
+}
+
+#[test]
+fn cancel_stops_a_blur_matrix_run() {
+    let dir = tempfile::tempdir().unwrap();
+    // Thesis sampling and 1024 directions: long enough to cancel.
+    let mut h = phase_studio(dir.path(), PhaseQuality::Full);
+    h.step();
+    h.get_by_label("Blur matrix (all 1024 directions)…")
+        .click_accesskit();
+    h.step();
+    h.step();
+    assert!(h.state().phase_ref().is_computing_kernels());
+    assert!(
+        h.query_by_label_contains("blur matrix of R over 1024")
+            .is_some()
+    );
+    h.get_by_label("Cancel").click_accesskit();
+    h.step();
+    assert!(!h.state().phase_ref().is_computing_kernels());
+    assert!(h.state().phase_ref().kernels().is_none());
+    let (msg, is_error) = h.state().phase_ref().kernels_message().unwrap().clone();
+    assert!(!is_error && msg.contains("cancelled"), "{msg}");
+}

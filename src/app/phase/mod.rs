@@ -8,10 +8,12 @@
 //! shown) and are kept between runs in `phase-design.json` beside the studio's autosave.
 
 mod export;
+mod kernels;
 mod optimiser;
 mod optimiser_view;
 mod panels;
 mod persist;
+mod response;
 mod views;
 
 use std::path::PathBuf;
@@ -21,7 +23,9 @@ use std::time::{Duration, Instant};
 use egui::Color32;
 
 pub use export::HeightFormat;
+pub use kernels::ShownKernels;
 pub use optimiser::{OptimiserResult, ShownV, plan_invertibility};
+pub use response::CustomResponse;
 
 use crate::app::settings::AppDirs;
 use crate::app::tasks::Task;
@@ -70,6 +74,8 @@ pub enum ChannelSet {
     Peaks,
     /// The thesis's sensor response sampled on the 401:10:691 nm grid.
     Spectral,
+    /// A response CSV the user opened (the number tells one load from the next), on the grid.
+    Custom(u32),
 }
 
 impl ChannelSet {
@@ -77,6 +83,7 @@ impl ChannelSet {
         match self {
             ChannelSet::Peaks => "peaks (R 610, G 530, B 470 nm)",
             ChannelSet::Spectral => "spectral (thesis response, 401-691 nm)",
+            ChannelSet::Custom(_) => "custom response",
         }
     }
 }
@@ -155,6 +162,8 @@ pub struct PhaseWorkspace {
     autosave_every: Duration,
     save_task: Option<Task<Result<(), String>>>,
     export: export::ExportState,
+    response: response::ResponseState,
+    kernels: kernels::KernelState,
 }
 
 /// Equal designs, NaN included (a NaN field must not look like a change every frame).
@@ -205,6 +214,8 @@ impl PhaseWorkspace {
             autosave_every,
             save_task: None,
             export: export::ExportState::new(native_dialogs),
+            response: response::ResponseState::new(native_dialogs),
+            kernels: kernels::KernelState::new(native_dialogs),
         }
     }
 
@@ -332,6 +343,7 @@ impl PhaseWorkspace {
                     )
                 })
                 .clone(),
+            ChannelSet::Custom(serial) => self.response.channels(serial),
         }
     }
 
@@ -348,12 +360,18 @@ impl PhaseWorkspace {
         self.export.poll(ctx);
         self.take_psfs(ctx);
         self.take_long_jobs(ctx);
+        self.poll_response(ctx);
+        self.poll_kernels(ctx);
         let idle = !ctx.input(|i| i.pointer.any_down()) && !ctx.egui_wants_keyboard_input();
         if idle {
             self.commit();
         }
         self.autosave_tick(ctx);
-        if self.job.is_some() || self.v_job.is_some() || self.opt_job.is_some() {
+        if self.job.is_some()
+            || self.v_job.is_some()
+            || self.opt_job.is_some()
+            || self.is_computing_kernels()
+        {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
         let unchanged = self.submitted.as_ref().is_some_and(|s| {

@@ -63,6 +63,7 @@ impl PhaseWorkspace {
                 match self.channels {
                     ChannelSet::Peaks => "peak",
                     ChannelSet::Spectral => "spectral",
+                    ChannelSet::Custom(_) => "custom",
                 }
             ));
         });

@@ -2,7 +2,7 @@
 
 use egui::{RichText, Ui};
 
-use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use super::{PhaseQuality, PhaseWorkspace};
 use crate::app::panels::message_ui;
 use crate::core::phase::geometry::{Lenslets, lambda0_per_lenslet, lenslet_count};
 use crate::core::phase::{GRID_LEN, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, Surface};
@@ -328,11 +328,7 @@ impl PhaseWorkspace {
                 });
                 ui.end_row();
                 ui.label("Channels");
-                ui.vertical(|ui| {
-                    for set in [ChannelSet::Peaks, ChannelSet::Spectral] {
-                        ui.selectable_value(&mut self.channels, set, set.label());
-                    }
-                });
+                self.channel_choice_ui(ui);
                 ui.end_row();
                 ui.label("Optics");
                 ui.checkbox(&mut self.single_mask, "single mask (Lemma 1)")

@@ -151,7 +151,10 @@ impl PhaseWorkspace {
         });
         ui.separator();
         egui::ScrollArea::vertical().show(ui, |ui| match self.view {
-            PhaseView::Psf => self.psf_ui(ui),
+            PhaseView::Psf => {
+                self.psf_ui(ui);
+                self.kernels_ui(ui);
+            }
             PhaseView::Geometry => self.geometry_ui(ui),
             PhaseView::Optimiser => self.optimiser_ui(ui),
         });

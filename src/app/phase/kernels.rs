@@ -1,0 +1,484 @@
+//! The blur matrix of all directions (eq. 4.12) in the PSF view: `kernel_matrix` for one channel
+//! on a background thread with progress and Cancel, drawn as a log-scaled picture (rows = sensor
+//! pixel, columns = direction), and "Save as CSV…" (a save dialog on a helper thread, the write
+//! on another).
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use egui::{Align2, ColorImage, FontId, Sense, TextureHandle, TextureOptions, Ui, pos2, vec2};
+use ndarray::Array2;
+
+use super::{ChannelSet, PhaseQuality, PhaseWorkspace, same};
+use crate::app::colormap::Colormap;
+use crate::app::tasks::Task;
+use crate::core::phase::{Optics, PhaseDesign, kernel_matrix};
+use crate::core::{Progress, SimError};
+
+/// Decades of the picture's log scale below the matrix's maximum.
+const DECADES: f64 = 6.0;
+/// The channel names of the picker (the channel sets all have R, G, B in this order).
+const CHANNEL_NAMES: [&str; 3] = ["R", "G", "B"];
+
+/// A blur matrix on screen, with what it was computed for.
+pub struct ShownKernels {
+    pub design: PhaseDesign,
+    pub quality: PhaseQuality,
+    pub optics: Optics,
+    pub channels: ChannelSet,
+    /// Index of the channel (0 R, 1 G, 2 B).
+    pub channel: usize,
+    pub channel_name: String,
+    /// `k[[i, j]]`: energy on sensor pixel `i` from the direction imaged on pixel `j`.
+    pub k: Arc<Array2<f64>>,
+    pub max: f64,
+    pub elapsed_s: f64,
+    texture: TextureHandle,
+}
+
+struct KernelJob {
+    design: PhaseDesign,
+    quality: PhaseQuality,
+    optics: Optics,
+    channels: ChannelSet,
+    channel: usize,
+    channel_name: String,
+    task: Task<Result<Array2<f64>, SimError>>,
+    progress: Arc<Progress>,
+    started: Instant,
+}
+
+/// A save dialog's answer.
+type FileDialog = Task<Option<PathBuf>>;
+
+pub(super) struct KernelState {
+    native_dialogs: bool,
+    channel: usize,
+    job: Option<KernelJob>,
+    shown: Option<ShownKernels>,
+    /// The matrix being saved and the dialog asking where.
+    dialog: Option<(Arc<Array2<f64>>, FileDialog)>,
+    writes: Vec<Task<Result<String, String>>>,
+    message: Option<(String, bool)>,
+}
+
+impl KernelState {
+    pub fn new(native_dialogs: bool) -> Self {
+        KernelState {
+            native_dialogs,
+            channel: 0,
+            job: None,
+            shown: None,
+            dialog: None,
+            writes: Vec::new(),
+            message: None,
+        }
+    }
+}
+
+/// Writes the matrix as CSV: one line per row (sensor pixel), comma-separated `{:e}` values.
+///
+/// # Errors
+/// The file's error, naming it.
+pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, String> {
+    let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
+    let file = std::fs::File::create(path).map_err(fail)?;
+    let mut w = std::io::BufWriter::new(file);
+    for row in k.rows() {
+        for (j, v) in row.iter().enumerate() {
+            if j > 0 {
+                w.write_all(b",").map_err(fail)?;
+            }
+            write!(w, "{v:e}").map_err(fail)?;
+        }
+        w.write_all(b"\n").map_err(fail)?;
+    }
+    w.flush().map_err(fail)?;
+    let (rows, cols) = k.dim();
+    Ok(format!(
+        "saved {}: {rows} rows (sensor pixels) × {cols} columns (directions)",
+        path.display()
+    ))
+}
+
+/// Position on the log scale, 0 at `max` × 10^-DECADES (or below) to 1 at `max`.
+fn log_level(v: f64, max: f64) -> f32 {
+    if v <= 0.0 || max <= 0.0 {
+        return 0.0;
+    }
+    (((v / max).log10() + DECADES) / DECADES).clamp(0.0, 1.0) as f32
+}
+
+/// The matrix as a picture: row `i` at the top is sensor pixel `i`, column `j` direction `j`.
+fn kernel_image(k: &Array2<f64>, max: f64) -> ColorImage {
+    let (rows, cols) = k.dim();
+    let pixels = k
+        .iter()
+        .map(|&v| Colormap::Viridis.color(log_level(v, max)))
+        .collect();
+    ColorImage::new([cols, rows], pixels)
+}
+
+fn optics_label(o: Optics) -> &'static str {
+    match o {
+        Optics::SingleMask => "single mask",
+        _ => "double MLA",
+    }
+}
+
+impl PhaseWorkspace {
+    /// The blur matrix on screen, if any.
+    pub fn kernels(&self) -> Option<&ShownKernels> {
+        self.kernels.shown.as_ref()
+    }
+
+    pub fn is_computing_kernels(&self) -> bool {
+        self.kernels.job.is_some()
+    }
+
+    /// True while a blur-matrix CSV is being asked for or written.
+    pub fn is_saving_kernels(&self) -> bool {
+        self.kernels.dialog.is_some() || !self.kernels.writes.is_empty()
+    }
+
+    /// The latest message of the blur matrix or its CSV, and whether it is an error.
+    pub fn kernels_message(&self) -> Option<&(String, bool)> {
+        self.kernels.message.as_ref()
+    }
+
+    /// The channel the blur matrix is computed for (0 R, 1 G, 2 B).
+    pub fn kernel_channel(&self) -> usize {
+        self.kernels.channel
+    }
+
+    pub fn set_kernel_channel(&mut self, channel: usize) {
+        self.kernels.channel = channel.min(CHANNEL_NAMES.len() - 1);
+    }
+
+    /// Whether the shown matrix is of another design, optics or channel set than the current.
+    pub fn kernels_are_stale(&self) -> bool {
+        self.kernels.shown.as_ref().is_some_and(|s| {
+            !same(&s.design, &self.design)
+                || s.optics != self.optics()
+                || s.channels != self.channels
+        })
+    }
+
+    /// Computes the blur matrix of the chosen channel for the current design, optics and
+    /// quality, on a background thread.
+    pub fn compute_kernels(&mut self, ctx: &egui::Context) {
+        if self.kernels.job.is_some() {
+            return;
+        }
+        if let Err(e) = self.design.validate() {
+            self.kernels.message = Some((format!("cannot compute the blur matrix: {e}"), true));
+            return;
+        }
+        let channels = match self.channel_list(self.channels) {
+            Ok(c) => c,
+            Err(e) => {
+                self.kernels.message = Some((format!("cannot make the channels: {e}"), true));
+                return;
+            }
+        };
+        let index = self.kernels.channel.min(channels.len().saturating_sub(1));
+        let Some(channel) = channels.into_iter().nth(index) else {
+            self.kernels.message = Some(("the channel set is empty".into(), true));
+            return;
+        };
+        let design = self.design.clone();
+        let quality = self.quality;
+        let optics = self.optics();
+        let progress = Arc::new(Progress::new());
+        let (p, d, wake) = (progress.clone(), design.clone(), ctx.clone());
+        let channel_name = channel.name.clone();
+        let task = Task::spawn(
+            "phase-kernels",
+            move || wake.request_repaint(),
+            move || kernel_matrix(&d, &quality.sampling(), &channel, optics, &p),
+        );
+        self.kernels.message = None;
+        self.kernels.job = Some(KernelJob {
+            design,
+            quality,
+            optics,
+            channels: self.channels,
+            channel: index,
+            channel_name,
+            task,
+            progress,
+            started: Instant::now(),
+        });
+    }
+
+    /// Stops the blur matrix; the last result stays.
+    pub fn cancel_kernels(&mut self) {
+        if let Some(j) = self.kernels.job.take() {
+            j.progress.cancel();
+            self.kernels.message = Some(("blur matrix cancelled".into(), false));
+        }
+    }
+
+    /// Writes the shown blur matrix to `path` as CSV on a background thread (no dialog).
+    pub fn save_kernels_to(&mut self, path: PathBuf, ctx: &egui::Context) {
+        match &self.kernels.shown {
+            Some(s) => {
+                let k = s.k.clone();
+                self.start_kernel_write(k, path, ctx);
+            }
+            None => self.kernels.message = Some(("no blur matrix to save yet".into(), true)),
+        }
+    }
+
+    fn start_kernel_write(&mut self, k: Arc<Array2<f64>>, path: PathBuf, ctx: &egui::Context) {
+        let wake = ctx.clone();
+        self.kernels.message = Some((format!("writing {}…", path.display()), false));
+        self.kernels.writes.push(Task::spawn(
+            "phase-kernels-csv",
+            move || wake.request_repaint(),
+            move || write_kernels_csv(&k, &path),
+        ));
+    }
+
+    fn ask_kernel_file(&mut self, ctx: &egui::Context) {
+        if !self.kernels.native_dialogs {
+            self.kernels.message = Some(("file dialogs are disabled in this session".into(), true));
+            return;
+        }
+        let Some(s) = &self.kernels.shown else {
+            return;
+        };
+        if self.kernels.dialog.is_some() {
+            return;
+        }
+        let name = format!("blur-matrix-{}.csv", s.channel_name);
+        let wake = ctx.clone();
+        let task = Task::spawn(
+            "file-dialog",
+            move || wake.request_repaint(),
+            move || {
+                rfd::FileDialog::new()
+                    .add_filter("Blur matrix (CSV)", &["csv"])
+                    .set_file_name(name)
+                    .set_title("Save the blur matrix")
+                    .save_file()
+            },
+        );
+        self.kernels.dialog = Some((s.k.clone(), task));
+    }
+
+    /// Takes a finished blur matrix, an answered dialog and finished writes.
+    pub(super) fn poll_kernels(&mut self, ctx: &egui::Context) {
+        if let Some(answer) = self.kernels.dialog.as_ref().and_then(|d| d.1.poll())
+            && let Some((k, _)) = self.kernels.dialog.take()
+            && let Ok(Some(path)) = answer
+        {
+            self.start_kernel_write(k, path, ctx);
+        }
+        let mut still = Vec::new();
+        for t in std::mem::take(&mut self.kernels.writes) {
+            match t.poll() {
+                None => still.push(t),
+                Some(Ok(Ok(msg))) => self.kernels.message = Some((msg, false)),
+                Some(Ok(Err(e))) => self.kernels.message = Some((e, true)),
+                Some(Err(())) => {
+                    self.kernels.message = Some(("the CSV write stopped".into(), true));
+                }
+            }
+        }
+        self.kernels.writes = still;
+        let Some(done) = self.kernels.job.as_ref().and_then(|j| j.task.poll()) else {
+            return;
+        };
+        let Some(job) = self.kernels.job.take() else {
+            return;
+        };
+        match done {
+            Ok(Ok(k)) => {
+                let elapsed_s = job.started.elapsed().as_secs_f64();
+                let max = k.iter().copied().fold(0.0, f64::max);
+                let texture = ctx.load_texture(
+                    "phase-kernels",
+                    kernel_image(&k, max),
+                    TextureOptions::NEAREST,
+                );
+                self.kernels.message =
+                    Some((format!("blur matrix computed in {elapsed_s:.1} s"), false));
+                self.kernels.shown = Some(ShownKernels {
+                    design: job.design,
+                    quality: job.quality,
+                    optics: job.optics,
+                    channels: job.channels,
+                    channel: job.channel,
+                    channel_name: job.channel_name,
+                    k: Arc::new(k),
+                    max,
+                    elapsed_s,
+                    texture,
+                });
+            }
+            Ok(Err(SimError::Cancelled)) => {}
+            Ok(Err(e)) => self.kernels.message = Some((e.to_string(), true)),
+            Err(()) => self.kernels.message = Some(("the blur-matrix job stopped".into(), true)),
+        }
+    }
+
+    /// The blur-matrix section of the PSF view.
+    pub(super) fn kernels_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        ui.add_space(8.0);
+        ui.separator();
+        let p = self.design.camera.pixels;
+        let valid = self.design.validate().is_ok();
+        let running = self.kernels.job.is_some();
+        ui.horizontal_wrapped(|ui| {
+            ui.strong("Blur matrix K (eq. 4.12)");
+            ui.label("channel");
+            for (i, name) in CHANNEL_NAMES.iter().enumerate() {
+                ui.add_enabled_ui(!running, |ui| {
+                    ui.selectable_value(&mut self.kernels.channel, i, *name);
+                });
+            }
+            if ui
+                .add_enabled(
+                    valid && !running,
+                    egui::Button::new(format!("Blur matrix (all {p} directions)…")),
+                )
+                .on_hover_text(
+                    "One propagation per direction and wavelength at the chosen quality: \
+                     about 10 s per peak channel at preview sampling, more at full quality",
+                )
+                .on_disabled_hover_text("Fix the design first, or wait for the running matrix")
+                .clicked()
+            {
+                self.compute_kernels(&ctx);
+            }
+            let can_save = self.kernels.shown.is_some() && self.kernels.dialog.is_none();
+            if ui
+                .add_enabled(can_save, egui::Button::new("Save as CSV…"))
+                .on_hover_text("One line per sensor pixel, one column per direction")
+                .clicked()
+            {
+                self.ask_kernel_file(&ctx);
+            }
+        });
+        let mut cancel = false;
+        if let Some(j) = &self.kernels.job {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(format!(
+                    "blur matrix of {} over {} directions…",
+                    j.channel_name, j.design.camera.pixels
+                ));
+                cancel = ui.button("Cancel").clicked();
+            });
+            ui.add(egui::ProgressBar::new(j.progress.fraction()).show_percentage());
+        }
+        if cancel {
+            self.cancel_kernels();
+        }
+        crate::app::panels::message_ui(ui, self.kernels.message.as_ref());
+        let stale = self.kernels_are_stale();
+        let Some(s) = &self.kernels.shown else {
+            return;
+        };
+        if stale {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                "Stale: the design, optics or channels changed since this matrix was computed.",
+            );
+        }
+        let (rows, cols) = s.k.dim();
+        ui.label(format!(
+            "{} channel, {}, {}: {rows} × {cols}, computed in {:.1} s. Log scale over {} \
+             decades below the largest entry.",
+            s.channel_name,
+            s.quality.label(),
+            optics_label(s.optics),
+            s.elapsed_s,
+            DECADES
+        ));
+        let side = (ui.available_width() - 70.0).clamp(120.0, 520.0);
+        let (left, top, bottom) = (48.0, 18.0, 34.0);
+        let (outer, _) = ui.allocate_exact_size(
+            vec2(left + side + 12.0, top + side + bottom),
+            Sense::hover(),
+        );
+        let img = egui::Rect::from_min_size(outer.min + vec2(left, top), vec2(side, side));
+        let resp = ui.put(
+            img,
+            egui::Image::new((s.texture.id(), vec2(side, side)))
+                .alt_text("blur matrix image")
+                .sense(Sense::hover()),
+        );
+        if let Some(pos) = resp.hover_pos() {
+            let j = (((pos.x - img.left()) / side * cols as f32) as usize).min(cols - 1);
+            let i = (((pos.y - img.top()) / side * rows as f32) as usize).min(rows - 1);
+            resp.on_hover_text(format!(
+                "sensor pixel {i}, direction {j}: K = {:e}",
+                s.k[[i, j]]
+            ));
+        }
+        let painter = ui.painter_at(outer);
+        let font = FontId::proportional(11.0);
+        let c = ui.visuals().text_color();
+        painter.text(
+            pos2(img.left(), outer.top()),
+            Align2::LEFT_TOP,
+            "rows: sensor pixel i (px)",
+            font.clone(),
+            c,
+        );
+        painter.text(
+            pos2(img.center().x, outer.bottom()),
+            Align2::CENTER_BOTTOM,
+            "columns: direction j, the pixel a plain lens images it on (px)",
+            font.clone(),
+            c,
+        );
+        for t in [0, rows / 2, rows - 1] {
+            let y = img.top() + (t as f32 + 0.5) / rows as f32 * side;
+            painter.text(
+                pos2(img.left() - 4.0, y),
+                Align2::RIGHT_CENTER,
+                t.to_string(),
+                font.clone(),
+                c,
+            );
+        }
+        for t in [0, cols / 2, cols - 1] {
+            let x = img.left() + (t as f32 + 0.5) / cols as f32 * side;
+            painter.text(
+                pos2(x, img.bottom() + 2.0),
+                Align2::CENTER_TOP,
+                t.to_string(),
+                font.clone(),
+                c,
+            );
+        }
+        // The colour key.
+        ui.horizontal(|ui| {
+            ui.label(format!(
+                "K (log scale): {:.1e} or less",
+                s.max * 10f64.powf(-DECADES)
+            ));
+            let (rect, _) = ui.allocate_exact_size(vec2(180.0, 12.0), Sense::hover());
+            let steps = 60;
+            for k in 0..steps {
+                let x0 = rect.left() + rect.width() * k as f32 / steps as f32;
+                let r = egui::Rect::from_min_max(
+                    pos2(x0, rect.top()),
+                    pos2(x0 + rect.width() / steps as f32 + 0.5, rect.bottom()),
+                );
+                ui.painter().rect_filled(
+                    r,
+                    0.0,
+                    Colormap::Viridis.color(k as f32 / (steps - 1) as f32),
+                );
+            }
+            ui.label(format!("{:.1e} (max)", s.max));
+        });
+    }
+}

@@ -1,0 +1,204 @@
+//! A custom sensor response for the phase workspace: "Open response CSV…" asks for a file on a
+//! helper thread, reads it on another, and makes the R, G, B channels on the 401:10:691 nm grid.
+//! A bad file leaves the channels as they were and says which line and column is wrong.
+
+use std::path::{Path, PathBuf};
+
+use egui::Ui;
+
+use super::{ChannelSet, PhaseWorkspace};
+use crate::app::tasks::Task;
+use crate::core::design::Channel;
+use crate::core::phase::wavelength_grid_nm;
+use crate::io::spectral;
+
+/// A loaded response: its file and the channels it makes.
+pub struct CustomResponse {
+    /// Which load this is: [`ChannelSet::Custom`] carries it, so a new file is a new choice.
+    pub serial: u32,
+    pub path: PathBuf,
+    pub channels: Vec<Channel>,
+}
+
+impl CustomResponse {
+    /// The file's name, for the channel choice.
+    pub fn file_name(&self) -> String {
+        self.path.file_name().map_or_else(
+            || self.path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        )
+    }
+}
+
+/// A read response file: its path and channels, or the problem.
+type Loaded = (PathBuf, Result<Vec<Channel>, String>);
+
+pub(super) struct ResponseState {
+    native_dialogs: bool,
+    dialog: Option<Task<Option<PathBuf>>>,
+    load: Option<Task<Loaded>>,
+    custom: Option<CustomResponse>,
+    serial: u32,
+    message: Option<(String, bool)>,
+}
+
+/// Reads a response CSV and makes its channels on the phase wavelength grid.
+fn read_channels(path: &Path) -> Result<Vec<Channel>, String> {
+    let resp = spectral::load_response_csv(path).map_err(|e| e.to_string())?;
+    spectral::channels_from_response(&resp, &wavelength_grid_nm())
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+impl ResponseState {
+    pub fn new(native_dialogs: bool) -> Self {
+        ResponseState {
+            native_dialogs,
+            dialog: None,
+            load: None,
+            custom: None,
+            serial: 0,
+            message: None,
+        }
+    }
+
+    /// The channels of load `serial`, if it is the loaded one.
+    pub fn channels(&self, serial: u32) -> Result<Vec<Channel>, String> {
+        match &self.custom {
+            Some(c) if c.serial == serial => Ok(c.channels.clone()),
+            _ => Err("the custom response is no longer loaded".into()),
+        }
+    }
+}
+
+impl PhaseWorkspace {
+    /// The loaded custom response, if any.
+    pub fn custom_response(&self) -> Option<&CustomResponse> {
+        self.response.custom.as_ref()
+    }
+
+    /// The latest message about a response CSV, and whether it is an error.
+    pub fn response_message(&self) -> Option<&(String, bool)> {
+        self.response.message.as_ref()
+    }
+
+    /// True while a response file is being asked for or read.
+    pub fn is_loading_response(&self) -> bool {
+        self.response.dialog.is_some() || self.response.load.is_some()
+    }
+
+    /// The label of a channel choice (a custom one names its file).
+    pub fn channel_label(&self, set: ChannelSet) -> String {
+        match (set, &self.response.custom) {
+            (ChannelSet::Custom(s), Some(c)) if c.serial == s => {
+                format!("{} (custom response)", c.file_name())
+            }
+            _ => set.label().into(),
+        }
+    }
+
+    /// Reads the response CSV at `path` on a background thread; on success its channels become
+    /// the chosen ones, on failure the message names the problem and the channels stay.
+    pub fn load_response_from(&mut self, path: PathBuf, ctx: &egui::Context) {
+        let wake = ctx.clone();
+        self.response.message = Some((format!("reading {}…", path.display()), false));
+        self.response.load = Some(Task::spawn(
+            "phase-response",
+            move || wake.request_repaint(),
+            move || {
+                let r = read_channels(&path);
+                (path, r)
+            },
+        ));
+    }
+
+    fn ask_response(&mut self, ctx: &egui::Context) {
+        if !self.response.native_dialogs {
+            self.response.message =
+                Some(("file dialogs are disabled in this session".into(), true));
+            return;
+        }
+        if self.response.dialog.is_some() {
+            return;
+        }
+        let wake = ctx.clone();
+        self.response.dialog = Some(Task::spawn(
+            "file-dialog",
+            move || wake.request_repaint(),
+            move || {
+                rfd::FileDialog::new()
+                    .add_filter("Spectral response (CSV)", &["csv"])
+                    .set_title("Open a sensor response")
+                    .pick_file()
+            },
+        ));
+    }
+
+    /// Takes an answered dialog and a finished read.
+    pub(super) fn poll_response(&mut self, ctx: &egui::Context) {
+        if let Some(answer) = self.response.dialog.as_ref().and_then(Task::poll) {
+            self.response.dialog = None;
+            if let Ok(Some(path)) = answer {
+                self.load_response_from(path, ctx);
+            }
+        }
+        let Some(done) = self.response.load.as_ref().and_then(Task::poll) else {
+            return;
+        };
+        self.response.load = None;
+        match done {
+            Ok((path, Ok(channels))) => {
+                self.response.serial += 1;
+                let c = CustomResponse {
+                    serial: self.response.serial,
+                    path,
+                    channels,
+                };
+                self.response.message = Some((
+                    format!(
+                        "loaded {}: R, G, B on {} wavelengths",
+                        c.file_name(),
+                        wavelength_grid_nm().len()
+                    ),
+                    false,
+                ));
+                self.channels = ChannelSet::Custom(c.serial);
+                self.response.custom = Some(c);
+            }
+            Ok((_, Err(e))) => {
+                self.response.message = Some((
+                    format!("cannot use the response: {e}; the channels stay"),
+                    true,
+                ));
+            }
+            Err(()) => self.response.message = Some(("the response read stopped".into(), true)),
+        }
+    }
+
+    /// The channel choice: peaks, the thesis response, a loaded file, and "Open response CSV…".
+    pub(super) fn channel_choice_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        ui.vertical(|ui| {
+            let mut sets = vec![ChannelSet::Peaks, ChannelSet::Spectral];
+            if let Some(c) = &self.response.custom {
+                sets.push(ChannelSet::Custom(c.serial));
+            }
+            for set in sets {
+                let label = self.channel_label(set);
+                ui.selectable_value(&mut self.channels, set, label);
+            }
+            if ui
+                .add_enabled(
+                    !self.is_loading_response(),
+                    egui::Button::new("Open response CSV…"),
+                )
+                .on_hover_text(
+                    "A sensor response table: wavelength_nm, r, g, b (covering 401-691 nm)",
+                )
+                .clicked()
+            {
+                self.ask_response(&ctx);
+            }
+            crate::app::panels::message_ui(ui, self.response.message.as_ref());
+        });
+    }
+}
