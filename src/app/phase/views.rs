@@ -208,16 +208,21 @@ impl PhaseWorkspace {
             crate::core::phase::Optics::SingleMask => "single mask",
             _ => "double MLA",
         };
-        ui.label(format!(
-            "{} PSFs at {:.1}° ({}); the bare T-OLED dashed, imaged at pixel {} from the axis. \
-             The double MLA inverts the angle (a 1:1 telescope per lenslet): its light lands \
-             near pixel {}",
+        let mut caption = format!(
+            "{} PSFs at {:.1}° ({}); the bare T-OLED dashed, imaged at pixel {} from the axis.",
             s.quality.label(),
             p.angle_deg,
             ours,
-            p.image_pixel,
-            -p.image_pixel
-        ));
+            p.image_pixel
+        );
+        if p.image_pixel != 0 && s.optics == crate::core::phase::Optics::DoubleMla {
+            caption.push_str(&format!(
+                " The double MLA inverts the angle (a 1:1 telescope per lenslet): its light lands \
+                 near pixel {}.",
+                -p.image_pixel
+            ));
+        }
+        ui.label(caption);
         let half = self.psf_half_width_px as i64 + p.image_pixel.abs();
         let log = self.log_psf;
         let n = p.channels.len().max(1) as f32;
