@@ -11,6 +11,7 @@ use std::time::Instant;
 use egui::{Align2, ColorImage, FontId, Sense, TextureHandle, TextureOptions, Ui, pos2, vec2};
 use ndarray::Array2;
 
+use super::views::gradient_bar;
 use super::{ChannelSet, PhaseQuality, PhaseWorkspace, same};
 use crate::app::colormap::Colormap;
 use crate::app::tasks::Task;
@@ -464,20 +465,7 @@ impl PhaseWorkspace {
                 "K (log scale): {:.1e} or less",
                 s.max * 10f64.powf(-DECADES)
             ));
-            let (rect, _) = ui.allocate_exact_size(vec2(180.0, 12.0), Sense::hover());
-            let steps = 60;
-            for k in 0..steps {
-                let x0 = rect.left() + rect.width() * k as f32 / steps as f32;
-                let r = egui::Rect::from_min_max(
-                    pos2(x0, rect.top()),
-                    pos2(x0 + rect.width() / steps as f32 + 0.5, rect.bottom()),
-                );
-                ui.painter().rect_filled(
-                    r,
-                    0.0,
-                    Colormap::Viridis.color(k as f32 / (steps - 1) as f32),
-                );
-            }
+            gradient_bar(ui, 180.0, |t| Colormap::Viridis.color(t));
             ui.label(format!("{:.1e} (max)", s.max));
         });
     }

@@ -24,7 +24,7 @@ use egui::Color32;
 
 pub use export::HeightFormat;
 pub use kernels::ShownKernels;
-pub use optimiser::{OptimiserResult, ShownV, plan_invertibility};
+pub use optimiser::{OptimiserResult, ShownV};
 pub use response::CustomResponse;
 
 use crate::app::settings::AppDirs;

@@ -9,11 +9,11 @@ use egui::{ColorImage, TextureHandle, TextureOptions};
 use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
 use crate::app::colormap::Colormap;
 use crate::app::tasks::Task;
-use crate::core::phase::allocate::channel_invertibility;
+use crate::core::phase::allocate::{channel_invertibility, plan_invertibility};
 use crate::core::phase::geometry::{lenslet_count, uniform_counts};
 use crate::core::phase::{
-    Allocation, AllocationSettings, GRID_FIRST_NM, GRID_LEN, GRID_STEP_NM, Lambda0, PhaseDesign,
-    VMatrix, optimize_lambda0, v_matrix,
+    Allocation, AllocationSettings, Lambda0, PhaseDesign, PhaseSampling, VMatrix, optimize_lambda0,
+    v_matrix,
 };
 use crate::core::{Progress, SimError};
 
@@ -49,25 +49,6 @@ pub struct OptimiserResult {
     pub elapsed_s: f64,
 }
 
-/// Per-channel invertibility of any per-lenslet λ0 list: the mean over lenslets of the channel
-/// matrix `a` (3 × grid) interpolated at each λ0. Equals `channel_invertibility` for counts.
-pub fn plan_invertibility(a: &[Vec<f64>], lambda0_nm: &[f64]) -> [f64; 3] {
-    let mut out = [0.0; 3];
-    if lambda0_nm.is_empty() {
-        return out;
-    }
-    for &l in lambda0_nm {
-        let p = ((l - GRID_FIRST_NM) / GRID_STEP_NM).clamp(0.0, (GRID_LEN - 1) as f64);
-        let lo = (p.floor() as usize).min(GRID_LEN - 1);
-        let hi = (lo + 1).min(GRID_LEN - 1);
-        let f = p - lo as f64;
-        for (c, row) in a.iter().enumerate().take(3) {
-            out[c] += row[lo] * (1.0 - f) + row[hi] * f;
-        }
-    }
-    out.map(|v| v / lambda0_nm.len() as f64)
-}
-
 /// The design with its λ0 plan replaced: V depends on everything else, not on the plan.
 pub(super) fn without_plan(d: &PhaseDesign) -> PhaseDesign {
     let mut d = d.clone();
@@ -98,24 +79,8 @@ impl PhaseWorkspace {
             self.opt_message = Some((e.to_string(), true));
             return;
         }
-        let design = self.design.clone();
-        let quality = self.quality;
-        let progress = Arc::new(Progress::new());
-        let (p, d, wake) = (progress.clone(), design.clone(), ctx.clone());
-        let task = Task::spawn(
-            "phase-v",
-            move || wake.request_repaint(),
-            move || v_matrix(&d, &quality.sampling(), &p),
-        );
         self.opt_message = None;
-        self.v_job = Some(LongJob {
-            design,
-            quality,
-            channels: self.channels,
-            task,
-            progress,
-            started: Instant::now(),
-        });
+        self.v_job = Some(self.spawn_long("phase-v", ctx, v_matrix));
     }
 
     /// Runs the λ0 optimiser (V, then Algorithm 1) for the current design and channels.
@@ -134,32 +99,40 @@ impl PhaseWorkspace {
                 return;
             }
         };
+        self.opt_message = None;
+        self.opt_job = Some(
+            self.spawn_long("phase-optimiser", ctx, move |d, sampling, p| {
+                optimize_lambda0(d, sampling, &channels, &AllocationSettings::default(), p)
+            }),
+        );
+    }
+
+    /// Runs `job` on the current design at the chosen quality on a background thread.
+    fn spawn_long<T: Send + 'static>(
+        &self,
+        name: &str,
+        ctx: &egui::Context,
+        job: impl FnOnce(&PhaseDesign, &PhaseSampling, &Progress) -> Result<T, SimError>
+        + Send
+        + 'static,
+    ) -> LongJob<T> {
         let design = self.design.clone();
         let quality = self.quality;
         let progress = Arc::new(Progress::new());
         let (p, d, wake) = (progress.clone(), design.clone(), ctx.clone());
         let task = Task::spawn(
-            "phase-optimiser",
+            name,
             move || wake.request_repaint(),
-            move || {
-                optimize_lambda0(
-                    &d,
-                    &quality.sampling(),
-                    &channels,
-                    &AllocationSettings::default(),
-                    &p,
-                )
-            },
+            move || job(&d, &quality.sampling(), &p),
         );
-        self.opt_message = None;
-        self.opt_job = Some(LongJob {
+        LongJob {
             design,
             quality,
             channels: self.channels,
             task,
             progress,
             started: Instant::now(),
-        });
+        }
     }
 
     /// Stops the V matrix and the optimiser; their last results stay.

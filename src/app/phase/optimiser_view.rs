@@ -1,14 +1,15 @@
 //! The phase workspace's optimiser view: the V matrix as a heat map with its colour key, the
 //! optimiser's progress and Cancel, and its allocation beside the fixed and uniform plans.
 
-use egui::{Sense, Ui, pos2, vec2};
+use egui::{Ui, vec2};
 use egui_plot::{Bar, BarChart, Plot, PlotImage, PlotPoint};
 
 use super::optimiser::without_plan;
-use super::views::{lambda0_strip, wavelength_legend};
-use super::{ChannelSet, PhaseWorkspace, plan_invertibility, wavelength_color};
+use super::views::{gradient_bar, lambda0_strip, wavelength_legend};
+use super::{ChannelSet, PhaseWorkspace, wavelength_color};
 use crate::app::colormap::Colormap;
 use crate::app::panels::message_ui;
+use crate::core::phase::allocate::plan_invertibility;
 use crate::core::phase::geometry::{lambda0_per_lenslet, lenslet_count};
 use crate::core::phase::{GRID_FIRST_NM, GRID_LEN, GRID_STEP_NM, wavelength_grid_nm};
 
@@ -16,20 +17,7 @@ use crate::core::phase::{GRID_FIRST_NM, GRID_LEN, GRID_STEP_NM, wavelength_grid_
 fn colormap_key(ui: &mut Ui, name: &str, lo: f64, hi: f64) {
     ui.horizontal(|ui| {
         ui.label(format!("{name}: {lo:.0}"));
-        let (rect, _) = ui.allocate_exact_size(vec2(160.0, 12.0), Sense::hover());
-        let steps = 48;
-        for k in 0..steps {
-            let x0 = rect.left() + rect.width() * k as f32 / steps as f32;
-            let r = egui::Rect::from_min_max(
-                pos2(x0, rect.top()),
-                pos2(x0 + rect.width() / steps as f32 + 0.5, rect.bottom()),
-            );
-            ui.painter().rect_filled(
-                r,
-                0.0,
-                Colormap::Viridis.color(k as f32 / (steps - 1) as f32),
-            );
-        }
+        gradient_bar(ui, 160.0, |t| Colormap::Viridis.color(t));
         ui.label(format!("{hi:.0}"));
     });
 }

@@ -68,24 +68,28 @@ pub fn lambda0_strip(
     clicked
 }
 
+/// A colour key: a `width`-point bar painted with `color_at(t)` for t from 0 (left) to 1 (right).
+pub(super) fn gradient_bar(ui: &mut Ui, width: f32, color_at: impl Fn(f32) -> Color32) {
+    let (rect, _) = ui.allocate_exact_size(vec2(width, 12.0), Sense::hover());
+    let steps = 60;
+    for k in 0..steps {
+        let x0 = rect.left() + rect.width() * k as f32 / steps as f32;
+        let r = egui::Rect::from_min_max(
+            pos2(x0, rect.top()),
+            pos2(x0 + rect.width() / steps as f32 + 0.5, rect.bottom()),
+        );
+        ui.painter()
+            .rect_filled(r, 0.0, color_at(k as f32 / (steps - 1) as f32));
+    }
+}
+
 /// The colour key of [`lambda0_strip`]: 400 to 700 nm.
 pub fn wavelength_legend(ui: &mut Ui) {
     ui.horizontal(|ui| {
         ui.label("λ0:");
-        let (rect, _) = ui.allocate_exact_size(vec2(180.0, 12.0), Sense::hover());
-        let steps = 60;
-        for k in 0..steps {
-            let x0 = rect.left() + rect.width() * k as f32 / steps as f32;
-            let r = egui::Rect::from_min_max(
-                pos2(x0, rect.top()),
-                pos2(x0 + rect.width() / steps as f32 + 0.5, rect.bottom()),
-            );
-            ui.painter().rect_filled(
-                r,
-                0.0,
-                wavelength_color(400.0 + 300.0 * k as f64 / (steps - 1) as f64),
-            );
-        }
+        gradient_bar(ui, 180.0, |t| {
+            wavelength_color(400.0 + 300.0 * f64::from(t))
+        });
         ui.label("400 to 700 nm");
     });
 }

@@ -227,6 +227,25 @@ pub fn channel_invertibility(a: &[Vec<f64>], counts: &[usize]) -> [f64; 3] {
     out
 }
 
+/// Per-channel invertibility of any per-lenslet λ0 list: the mean over lenslets of the channel
+/// matrix `a` (3 × grid) interpolated at each λ0. Equals `channel_invertibility` for counts.
+pub fn plan_invertibility(a: &[Vec<f64>], lambda0_nm: &[f64]) -> [f64; 3] {
+    let mut out = [0.0; 3];
+    if lambda0_nm.is_empty() {
+        return out;
+    }
+    for &l in lambda0_nm {
+        let p = ((l - GRID_FIRST_NM) / GRID_STEP_NM).clamp(0.0, (GRID_LEN - 1) as f64);
+        let lo = (p.floor() as usize).min(GRID_LEN - 1);
+        let hi = (lo + 1).min(GRID_LEN - 1);
+        let f = p - lo as f64;
+        for (c, row) in a.iter().enumerate().take(3) {
+            out[c] += row[lo] * (1.0 - f) + row[hi] * f;
+        }
+    }
+    out.map(|v| v / lambda0_nm.len() as f64)
+}
+
 /// Rounds `shares` (summing to about `total`) to integers summing to exactly `total`: round each,
 /// then add to the largest remainders or take from the smallest (largest-remainder method).
 pub fn round_to_total(shares: &[f64], total: usize) -> Vec<usize> {

@@ -84,7 +84,7 @@ pub struct Chain {
     lens_range: (usize, usize),
     heights_um: Vec<f64>,
     transfer: Mutex<HashMap<u64, Arc<Vec<Complex64>>>>,
-    czt: Mutex<HashMap<(u64, i64), Arc<Czt>>>,
+    czt: Mutex<HashMap<u64, Arc<Czt>>>,
 }
 
 thread_local! {
@@ -243,15 +243,17 @@ impl Chain {
         h
     }
 
-    fn czt_for(&self, wavelength_um: f64, image_pixel: i64) -> Arc<Czt> {
-        let key = (wavelength_um.to_bits(), image_pixel);
+    /// The transform onto the sensor window (the whole sensor) for one wavelength, cached: every
+    /// direction and every λ0 at that wavelength shares it.
+    fn czt_for(&self, wavelength_um: f64) -> Arc<Czt> {
+        let key = wavelength_um.to_bits();
         if let Some(c) = self.czt.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
             return c.clone();
         }
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
         let du = cam.pixel_um / fine as f64;
-        let u0 = (image_pixel as f64 - (cam.pixels / 2) as f64 - 0.5) * cam.pixel_um + 0.5 * du;
+        let u0 = (-((cam.pixels / 2) as f64) - 0.5) * cam.pixel_um + 0.5 * du;
         let (start, end) = self.lens_range;
         let czt = Arc::new(Czt::new(
             end - start,
@@ -262,13 +264,10 @@ impl Chain {
             wavelength_um * cam.focal_length_um(),
         ));
         let mut cache = self.czt.lock().unwrap_or_else(|e| e.into_inner());
-        // Off-axis kernels visit each direction once: keep only the on-axis transforms.
-        if image_pixel == 0 {
-            if cache.len() > 64 {
-                cache.clear();
-            }
-            cache.insert(key, czt.clone());
+        if cache.len() > 64 {
+            cache.clear();
         }
+        cache.insert(key, czt.clone());
         czt
     }
 
@@ -362,7 +361,7 @@ impl Chain {
         let image_pixel = incidence.image_pixel(&self.design);
         // The window is the sensor, not the image point: the double MLA moves light to the
         // opposite side of the axis, which a window that followed f·sinθ would cut off.
-        let czt = self.czt_for(lambda, 0);
+        let czt = self.czt_for(lambda);
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
         let mut intensity = vec![0.0; cam.pixels * fine];

@@ -13,7 +13,6 @@ use crate::core::sampling::next_fast_size;
 
 /// A prepared transform for one wavelength, input length and output window.
 pub struct Czt {
-    n_in: usize,
     n_out: usize,
     size: usize,
     /// `exp(−iα n²/2)` folded with the window's start frequency, per input sample.
@@ -56,16 +55,11 @@ impl Czt {
         }
         complex_plan(size).process(&mut kernel);
         Czt {
-            n_in,
             n_out,
             size,
             input_chirp,
             kernel_spectrum: kernel,
         }
-    }
-
-    pub fn input_len(&self) -> usize {
-        self.n_in
     }
 
     /// Intensities `|X_m|²` of `input` (length `n_in`), written into `out` (length `n_out`).

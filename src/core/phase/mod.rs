@@ -35,7 +35,7 @@ pub use allocate::{Allocation, AllocationSettings, allocate, optimize_lambda0};
 pub use chain::{Chain, Incidence, MonoPsf, Optics};
 pub use geometry::{Lenslets, Surface};
 pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
-pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, phase_psfs, phase_psfs_on};
+pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, phase_psfs};
 
 /// Refractive index of the lenslets (no dispersion, as in the thesis).
 pub const THESIS_REFRACTIVE_INDEX: f64 = 1.515;

@@ -128,21 +128,6 @@ pub fn phase_psfs(
 ) -> Result<PhasePsfs, SimError> {
     check_channels(channels)?;
     let chain = Chain::new(design, sampling)?;
-    phase_psfs_on(&chain, channels, optics, incidence, progress)
-}
-
-/// [`phase_psfs`] on an already sampled chain (the studio keeps one while only λ0 changes).
-///
-/// # Errors
-/// An invalid channel, or [`SimError::Cancelled`].
-pub fn phase_psfs_on(
-    chain: &Chain,
-    channels: &[Channel],
-    optics: Optics,
-    incidence: Incidence,
-    progress: &Progress,
-) -> Result<PhasePsfs, SimError> {
-    check_channels(channels)?;
     let jobs: Vec<(usize, f64, f64)> = channels
         .iter()
         .enumerate()
