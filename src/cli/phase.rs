@@ -14,9 +14,11 @@ use crate::core::design::Channel;
 use crate::core::phase::allocate::{channel_invertibility, channel_matrix};
 use crate::core::phase::geometry::{lambda0_per_lenslet, lenslet_count, uniform_counts};
 use crate::core::phase::{
-    AllocationSettings, GRID_LEN, Incidence, Lambda0, Optics, PhaseDesign, PhaseSampling, Surface,
-    kernel_matrix, optimize_lambda0, phase_psfs, v_matrix, wavelength_grid_nm,
+    AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, Optics, PhaseDesign,
+    PhaseSampling, SamplingConvention, Surface, kernel_matrix, optimize_lambda0, phase_psfs,
+    v_matrix, wavelength_grid_nm,
 };
+use crate::io::phase_design::{load_phase_design, save_phase_design};
 use crate::io::sensor_report::r;
 use crate::io::spectral::{channels_from_response, load_response_csv, thesis_response};
 
@@ -31,6 +33,42 @@ pub enum PhaseCommand {
     Optimize(OptimizeArgs),
     /// Write the plate's height map for fabrication: CSV, 16-bit PNG, multi-level GDSII or STL.
     Export(ExportArgs),
+}
+
+/// `--sampling`: where the chain's samples sit (PHYSICS.md §7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SamplingArg {
+    /// The thesis code's convention: its published numbers reproduce.
+    Thesis,
+    /// Axis at a pixel centre, exact pixel pitch, symmetric lenslets.
+    Centred,
+}
+
+impl From<SamplingArg> for SamplingConvention {
+    fn from(a: SamplingArg) -> Self {
+        match a {
+            SamplingArg::Thesis => SamplingConvention::Thesis,
+            SamplingArg::Centred => SamplingConvention::Centred,
+        }
+    }
+}
+
+/// `--height-rounding`: how `--height-step-um` quantises heights.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum RoundingArg {
+    /// `floor(h/step)·step`: every level stays within the fold height (the authors' code).
+    Floor,
+    /// The nearest level.
+    Nearest,
+}
+
+impl From<RoundingArg> for HeightRounding {
+    fn from(a: RoundingArg) -> Self {
+        match a {
+            RoundingArg::Floor => HeightRounding::Floor,
+            RoundingArg::Nearest => HeightRounding::Nearest,
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -92,6 +130,12 @@ pub struct MaskArgs {
     /// Round fold heights and the profile to this fabrication step in µm (e.g. 0.2).
     #[arg(long, allow_negative_numbers = true)]
     pub height_step_um: Option<f64>,
+    /// How `--height-step-um` quantises heights.
+    #[arg(long, value_enum, default_value_t = RoundingArg::Floor)]
+    pub height_rounding: RoundingArg,
+    /// Sampling convention: `thesis` (the thesis code's, its numbers reproduce) or `centred`.
+    #[arg(long, value_enum, default_value_t = SamplingArg::Thesis)]
+    pub sampling: SamplingArg,
     /// Coarse sampling (60 nm at the display, 7 samples per pixel) for quick looks.
     #[arg(long)]
     pub preview: bool,
@@ -146,6 +190,8 @@ fn design_of(m: &MaskArgs) -> Result<PhaseDesign> {
         d.open_ratio = o;
     }
     d.height_step_um = m.height_step_um;
+    d.height_rounding = m.height_rounding.into();
+    d.sampling = m.sampling.into();
     // Flag names, not field names, in the messages a CLI user sees.
     d.validate().map_err(|e| {
         anyhow::anyhow!(
@@ -476,8 +522,7 @@ fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
     if let Some(dir) = &a.mask.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
         let path = dir.join("phase_design.json");
-        let text = serde_json::to_string_pretty(&optimised)?;
-        std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+        save_phase_design(&path, &optimised)?;
         if !a.mask.json {
             println!("wrote {}", path.display());
         }
@@ -523,13 +568,11 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
     };
     let mut design = match &a.design {
         Some(path) => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("read {}", path.display()))?;
-            let d: PhaseDesign = serde_json::from_str(&text)
-                .with_context(|| format!("{}: not a phase design", path.display()))?;
-            d.validate()
-                .with_context(|| format!("{}: invalid phase design", path.display()))?;
-            d
+            let loaded = load_phase_design(path)?;
+            for note in &loaded.notes {
+                eprintln!("note: {}: {note}", path.display());
+            }
+            loaded.design
         }
         None => {
             let mut d = design_of(&a.mask)?;

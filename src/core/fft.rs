@@ -73,6 +73,28 @@ pub fn complex_inverse_plan(n: usize) -> Arc<dyn Fft<f64>> {
     plan
 }
 
+/// A cached single-precision complex plan of length `n`, forward or inverse (unnormalised).
+/// The phase-mask relay runs its Fresnel steps in f32: twice the throughput, and its fields
+/// need ~1e-6 relative accuracy, not 1e-15.
+pub fn complex_plan_f32(n: usize, inverse: bool) -> Arc<dyn Fft<f32>> {
+    type Plans32 = (FftPlanner<f32>, HashMap<(usize, bool), Arc<dyn Fft<f32>>>);
+    static PLANS32: OnceLock<Mutex<Plans32>> = OnceLock::new();
+    let mut p = PLANS32
+        .get_or_init(|| Mutex::new((FftPlanner::new(), HashMap::new())))
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    if let Some(plan) = p.1.get(&(n, inverse)) {
+        return plan.clone();
+    }
+    let plan = if inverse {
+        p.0.plan_fft_inverse(n)
+    } else {
+        p.0.plan_fft_forward(n)
+    };
+    p.1.insert((n, inverse), plan.clone());
+    plan
+}
+
 /// Checks that `field` fits an `m×m` grid centred on the axis.
 fn check_fits(field: &Field, m: usize) -> Result<(), SimError> {
     let (lo, hi) = field.extent();
@@ -203,6 +225,37 @@ where
     let result = partials.into_iter().reduce(&merge);
     progress.check()?;
     result.ok_or_else(|| SimError::Sampling("empty FFT".into()))
+}
+
+/// `r·exp(i(a2 k² + a1 k))` for `k = from, from + 1, …`: chirps and ramps without an
+/// exponential per sample. Every 64th value is exact (its phase reduced mod 2π in double
+/// precision first); in between a second-order recurrence multiplies the last value by a
+/// step that itself advances by `exp(2i a2)`, so the rounding stays ~1e-14.
+pub fn quadratic_phase(a2: f64, a1: f64, from: i64, r: f64) -> impl Iterator<Item = Complex64> {
+    const BLOCK: i64 = 64;
+    let exact = move |k: f64, c2: f64, c1: f64| {
+        Complex64::from_polar(
+            1.0,
+            (c2 * k * k + c1 * k).rem_euclid(2.0 * std::f64::consts::PI),
+        )
+    };
+    let turn = exact(1.0, 2.0 * a2, 0.0);
+    let mut value = Complex64::new(0.0, 0.0);
+    let mut step = Complex64::new(0.0, 0.0);
+    (from..).map(move |k| {
+        if (k - from) % BLOCK == 0 {
+            value = exact(k as f64, a2, a1);
+            // exp(i(a2(2k+1) + a1)): the ratio of the next value to this one.
+            step = Complex64::from_polar(
+                1.0,
+                (a2 * (2.0 * k as f64 + 1.0) + a1).rem_euclid(2.0 * std::f64::consts::PI),
+            );
+        } else {
+            value *= step;
+            step *= turn;
+        }
+        value * r
+    })
 }
 
 /// Signed offset of DFT index `k` on an `m` grid.

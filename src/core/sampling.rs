@@ -56,8 +56,18 @@ pub fn fft_size(
 
 /// The smallest even size `≥ m` whose prime factors are all ≤ 7 (fast for the FFT).
 pub fn next_fast_size(m: usize) -> usize {
+    next_smooth_size(m, &[2, 3, 5, 7])
+}
+
+/// The smallest even size `≥ m` whose prime factors are 2, 3 and 5 only: rustfft's fastest
+/// radices (a 2⁵·5²·7³ transform of 274 400 points takes ~10 % longer than 276 480 = 2¹¹·3³·5).
+pub fn next_fast_size_235(m: usize) -> usize {
+    next_smooth_size(m, &[2, 3, 5])
+}
+
+fn next_smooth_size(m: usize, primes: &[usize]) -> usize {
     let smooth = |mut v: usize| {
-        for p in [2, 3, 5, 7] {
+        for &p in primes {
             while v.is_multiple_of(p) {
                 v /= p;
             }

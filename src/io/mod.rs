@@ -7,6 +7,7 @@ pub mod export;
 pub mod hdr;
 pub mod mask;
 pub mod pattern;
+pub mod phase_design;
 pub mod phase_export;
 pub mod photo;
 pub mod presets;

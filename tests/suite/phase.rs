@@ -9,11 +9,13 @@ use udc_studio::core::phase::allocate::{barrier_gradient, channel_invertibility}
 use udc_studio::core::phase::geometry::lenslet_count;
 use udc_studio::core::phase::{
     AllocationSettings, Chain, GRID_LEN, Incidence, Lambda0, Optics, PhaseDesign, PhaseSampling,
-    Surface, optical_mtf, optimize_lambda0, phase_psfs, v_matrix_on, wavelength_grid_nm,
+    SamplingConvention, Surface, invertibility_score, optical_mtf, optimize_lambda0, phase_psfs,
+    v_matrix_on, wavelength_grid_nm,
 };
 use udc_studio::io::spectral::{channels_from_response, thesis_response};
 
 fn thesis(pitch_um: f64, fold: f64) -> PhaseDesign {
+    // The default sampling convention is the thesis's.
     PhaseDesign::thesis(pitch_um, fold)
 }
 
@@ -184,32 +186,156 @@ proptest! {
     }
 }
 
+/// Lemma 1 speaks of the continuous, unbinned OTF (PHYSICS.md §7): the studio's single-mask
+/// plate, as sampled by the chain, never raises the autocorrelation of the bare T-OLED's
+/// aperture at any shift. (The pixel-binned sensor MTF may: aliasing is not covered.)
 #[test]
-fn lemma1_holds_for_the_studio_single_mask_mode() {
-    let psfs = phase_psfs(
-        &thesis(42.0, 1.0),
-        &PhaseSampling::preview(),
-        &Channel::rgb_peaks(),
-        Optics::SingleMask,
-        Incidence::Pixel(0),
-        &Progress::new(),
-    )
-    .unwrap();
-    for c in &psfs.channels {
-        eprintln!(
-            "{} single {} toled {}",
-            c.name, c.invertibility, c.toled_invertibility
-        );
-        assert!(
-            c.invertibility <= c.toled_invertibility * (1.0 + 1e-6),
-            "{}",
-            c.name
-        );
-        // A phase mask moves light around but passes all of it.
-        assert!((c.transmission - c.toled_transmission).abs() < 1e-9);
+fn lemma1_holds_for_the_studio_single_mask_on_the_unbinned_otf() {
+    for (sampling, fold) in [
+        (SamplingConvention::Thesis, 1.0),
+        (SamplingConvention::Centred, 5.0),
+    ] {
+        let mut design = thesis(84.0, fold);
+        design.sampling = sampling;
+        let chain = Chain::new(&design, &PhaseSampling::preview()).unwrap();
+        for nm in [470.0, 530.0, 610.0] {
+            let bare = optical_mtf(&chain.aperture(Optics::Toled, &[], nm).unwrap());
+            let masked = optical_mtf(
+                &chain
+                    .aperture(Optics::SingleMask, chain.heights_um(), nm)
+                    .unwrap(),
+            );
+            assert_eq!(bare.len(), masked.len());
+            // A phase mask passes all the light: equal at τ = 0 ...
+            assert!((bare[0] - masked[0]).abs() < 1e-12);
+            // ... and never more correlation at any shift; somewhere strictly less.
+            let mut lower = 0;
+            for (tau, (x, y)) in bare.iter().zip(&masked).enumerate() {
+                assert!(*y <= *x + 1e-9, "{nm} nm, τ = {tau}: masked {y} > bare {x}");
+                if *y < *x - 1e-3 {
+                    lower += 1;
+                }
+            }
+            assert!(
+                lower > bare.len() / 10,
+                "{nm} nm: the mask changed too little"
+            );
+        }
+        assert!(chain.aperture(Optics::DoubleMla, &[], 530.0).is_err());
     }
 }
 
+/// Sum, value and 0-based index of the largest entry of a PSF normalised by `norm`.
+fn summary(psf: &[f64], norm: f64) -> (f64, f64, usize) {
+    let (at, peak) = psf
+        .iter()
+        .enumerate()
+        .fold((0, f64::MIN), |a, (i, &v)| if v > a.1 { (i, v) } else { a });
+    (psf.iter().sum::<f64>() / norm, peak / norm, at)
+}
+
+/// The thesis code's own numbers (issue 12): normal incidence at 530 nm, PSFs normalised by the
+/// bare T-OLED's energy at the same λ over the 1024-pixel window, the invertibility score of
+/// PHYSICS.md §7 (DC + 511 positive frequencies). They depend on every detail of the sampling
+/// convention: the axis on the left edge of pixel 512, 2.03 µm pixels, lenslets from the first
+/// display sample, the slit at sample 1066 of 2800, the grating padded with ones.
+#[test]
+fn the_thesis_sampling_reproduces_the_thesis_codes_psfs() {
+    let sampling = PhaseSampling::thesis();
+    let check = |what: &str, got: f64, want: f64, tol: f64| {
+        assert!(
+            (got - want).abs() <= tol,
+            "{what}: {got} vs the thesis's {want}"
+        );
+    };
+    for (pitch, peak, at, score) in [(42.0, 0.1329, 512, 79.74), (168.0, 0.1725, 519, 112.64)] {
+        let design = thesis(pitch, 1.0);
+        assert_eq!(design.sampling, SamplingConvention::Thesis);
+        let chain = Chain::new(&design, &sampling).unwrap();
+        let t = chain.mono(Optics::Toled, &[], 530.0, Incidence::Pixel(0));
+        let (sum, p, i) = summary(&t.sensor, t.window_energy);
+        check("T-OLED Σ", sum, 1.0, 1e-12);
+        check(&format!("T-OLED {pitch} µm peak"), p, peak, 5e-5);
+        assert_eq!(i, at, "T-OLED {pitch} µm peak pixel");
+        check(
+            &format!("T-OLED {pitch} µm score"),
+            invertibility_score(&t.sensor),
+            score,
+            5e-3,
+        );
+    }
+    let mut design = thesis(42.0, 5.0);
+    design.lambda0 = Lambda0::Fixed { nm: 530.0 };
+    let chain = Chain::new(&design, &sampling).unwrap();
+    let t = chain.mono(Optics::Toled, &[], 530.0, Incidence::Pixel(0));
+    let ours = chain.mono(
+        Optics::DoubleMla,
+        chain.heights_um(),
+        530.0,
+        Incidence::Pixel(0),
+    );
+    let (sum, p, i) = summary(&ours.sensor, t.window_energy);
+    check("double MLA Σ", sum, 4.1135, 5e-5);
+    check("double MLA peak", p, 2.1647, 5e-5);
+    assert_eq!(i, 512, "double MLA peak pixel");
+    check(
+        "double MLA score",
+        invertibility_score(&ours.sensor),
+        307.22,
+        5e-3,
+    );
+}
+
+/// The centred convention is a different model, not a rounding of the thesis's: its PSFs and V
+/// differ by far more than the thesis's published precision.
+#[test]
+fn the_centred_sampling_differs_from_the_thesis() {
+    let sampling = PhaseSampling::thesis();
+    let psf = |convention, optics| {
+        let mut d = thesis(168.0, 5.0);
+        d.sampling = convention;
+        let chain = Chain::new(&d, &sampling).unwrap();
+        let p = chain.mono(optics, chain.heights_um(), 530.0, Incidence::Pixel(0));
+        (
+            invertibility_score(&p.sensor),
+            summary(&p.sensor, p.window_energy),
+        )
+    };
+    let (thesis_score, (_, thesis_peak, thesis_at)) =
+        psf(SamplingConvention::Thesis, Optics::Toled);
+    let (centred_score, (_, centred_peak, centred_at)) =
+        psf(SamplingConvention::Centred, Optics::Toled);
+    assert_eq!(thesis_at, 519);
+    assert_ne!(centred_at, thesis_at, "the axis moved half a pixel");
+    assert!(
+        (thesis_peak - centred_peak).abs() > 0.01 && (thesis_score - centred_score).abs() > 1.0,
+        "T-OLED 168 µm: thesis {thesis_peak}/{thesis_score}, centred {centred_peak}/{centred_score}"
+    );
+    let v = |convention| {
+        let mut d = thesis(42.0, 1.0);
+        d.sampling = convention;
+        v_matrix_on(
+            &d,
+            &PhaseSampling::preview(),
+            &[451.0, 651.0],
+            &[451.0, 651.0],
+            &Progress::new(),
+        )
+        .unwrap()
+        .v
+    };
+    let (a, b) = (
+        v(SamplingConvention::Thesis),
+        v(SamplingConvention::Centred),
+    );
+    let off = (a[0][1] - b[0][1]).abs() / a[0][1];
+    assert!(
+        off > 0.02,
+        "V off the diagonal: thesis {} centred {}",
+        a[0][1],
+        b[0][1]
+    );
+}
 #[test]
 fn the_optimised_allocation_is_a_barrier_optimum_and_beats_fixed_530() {
     let design = thesis(42.0, 1.0);
@@ -322,11 +448,14 @@ fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
         for i in 0..256 {
             assert!((ours[[i, j]] - psf.sensor[i]).abs() <= 1e-12, "K[{i}, {j}]");
         }
-        // The bare T-OLED images direction j on pixel j; each lenslet pair is a 1:1 Keplerian
-        // telescope that inverts the angle, so the double MLA's light lands near −j.
+        // The bare T-OLED images direction j where a plain lens does (pixel ⌊j·2/2.03⌋ under
+        // the thesis sampling); each lenslet pair is a 1:1 Keplerian telescope that inverts
+        // the angle, so the double MLA's light lands near −j.
         let t = toled.column(j).to_vec();
         let argmax = (0..256).max_by(|&a, &b| t[a].total_cmp(&t[b])).unwrap();
-        assert_eq!(argmax, j);
+        let image = Incidence::Pixel(j_rel).image_pixel(&design);
+        assert_eq!(image, (j_rel as f64 * 2.0 / 2.03).floor() as i64);
+        assert_eq!(argmax as i64, 128 + image);
         let c = centroid(ours.column(j).to_vec());
         eprintln!("j {j_rel}: centroid {c}");
         assert!(

@@ -7,19 +7,18 @@ use std::time::Instant;
 use super::{PhaseWorkspace, same};
 use crate::app::tasks::Task;
 use crate::core::phase::PhaseDesign;
-use crate::io::design_file::write_atomic;
+use crate::io::phase_design::{load_phase_design, save_phase_design};
 
 /// The design kept at `path`, or the thesis's and a message when it cannot be read.
 pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<(String, bool)>) {
     let Some(p) = path.filter(|p| p.exists()) else {
         return (PhaseDesign::thesis(42.0, 1.0), None);
     };
-    match std::fs::read_to_string(p)
-        .map_err(|e| e.to_string())
-        .and_then(|t| serde_json::from_str::<PhaseDesign>(&t).map_err(|e| e.to_string()))
-        .and_then(|d| d.validate().map(|()| d).map_err(|e| e.to_string()))
-    {
-        Ok(d) => (d, None),
+    match load_phase_design(p) {
+        Ok(loaded) => {
+            let note = (!loaded.notes.is_empty()).then(|| (loaded.notes.join("; "), false));
+            (loaded.design, note)
+        }
         Err(e) => (
             PhaseDesign::thesis(42.0, 1.0),
             Some((
@@ -82,6 +81,5 @@ fn write_design(path: &std::path::Path, design: &PhaseDesign) -> Result<(), Stri
         std::fs::create_dir_all(dir)
             .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     }
-    let text = serde_json::to_string_pretty(design).map_err(|e| e.to_string())?;
-    write_atomic(path, text.as_bytes()).map_err(|e| format!("cannot save the phase design: {e}"))
+    save_phase_design(path, design).map_err(|e| format!("cannot save the phase design: {e}"))
 }

@@ -1,19 +1,32 @@
 //! The 1-D propagation chain of PHYSICS.md §7 for one wavelength and one incidence direction.
+//!
+//! Samples sit on the lattice `x = m·δ` (m an integer, δ the display sample); sample `i` of the
+//! chain's arrays is lattice point `m_first + i`. Under [`SamplingConvention::Thesis`] the
+//! geometry is placed on that lattice exactly as the thesis code places it, and each Fresnel step
+//! runs on a grid wide enough that its periodic wrap-around never reaches the lit region: the
+//! thesis pads the display to `M = 2⌊λf/(2δ δ3)⌋` ≈ 10⁶ samples, which is wrap-free too, so both
+//! give the same fields (to ~1e-6 of the peak; the tails of the band-limited kernel are all that
+//! differ) at a quarter of the cost.
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::sync::{Arc, Mutex};
 
-use rustfft::num_complex::Complex64;
+use rustfft::num_complex::{Complex32, Complex64};
 
-use super::czt::Czt;
-use super::geometry::{Lenslets, display_aperture_um};
-use super::{PhaseDesign, PhaseSampling, SimError};
-use crate::core::fft::{complex_inverse_plan, complex_plan, signed};
-use crate::core::sampling::next_fast_size;
+use super::czt::{Czt, CztWork};
+use super::geometry::{Lenslets, display_aperture_um, height_um};
+use super::{PhaseDesign, PhaseSampling, SamplingConvention, SimError};
+use crate::core::fft::{complex_plan_f32, quadratic_phase};
+use crate::core::sampling::{next_fast_size, next_fast_size_235};
 
 /// Largest display-plane grid the chain accepts (2²⁴ samples ≈ 270 MB per complex field).
 pub const MAX_GRID_SAMPLES: usize = 1 << 24;
+
+/// The thesis's Fraunhofer output spacing δ3 at 14 samples per pixel, in µm (PHYSICS.md §7).
+pub const THESIS_OUTPUT_SAMPLE_UM: f64 = 0.145;
+/// Fine sensor samples per pixel that [`THESIS_OUTPUT_SAMPLE_UM`] belongs to.
+pub const THESIS_FINE_PER_PIXEL: usize = 14;
 
 /// Which optics sit at the display.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -29,7 +42,8 @@ pub enum Optics {
 /// The direction of the incoming plane wave.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Incidence {
-    /// The direction imaged on sensor pixel `j` (relative to the axis pixel): sinθ = j·pixel/f.
+    /// The direction imaged on sensor pixel `j` (relative to the axis pixel): sinθ = j·pixel/f
+    /// with the nominal pixel pitch (2 µm in the thesis, under either convention).
     Pixel(i64),
     /// An angle in degrees from the axis.
     AngleDeg(f64),
@@ -43,16 +57,31 @@ impl Incidence {
         }
     }
 
-    /// The sensor pixel (relative to the axis pixel) nearest `f·sinθ`, where a plain lens (and the
-    /// bare T-OLED) images this direction. The double MLA sends it near the opposite pixel: each
-    /// lenslet pair is a 1:1 Keplerian telescope, which inverts the beam's angle.
+    /// The sensor pixel (relative to the axis pixel) that contains `f·sinθ`, where a plain lens
+    /// (and the bare T-OLED) images this direction. The double MLA sends it near the opposite
+    /// pixel: each lenslet pair is a 1:1 Keplerian telescope, which inverts the beam's angle.
+    /// Under the thesis convention pixels are [`effective_pixel_um`] wide and the axis is the
+    /// left edge of the axis pixel, so direction `Pixel(100)` lands on pixel +98.
     pub fn image_pixel(self, d: &PhaseDesign) -> i64 {
-        match self {
-            Incidence::Pixel(j) => j,
-            Incidence::AngleDeg(_) => {
-                (self.sin_theta(d) * d.camera.focal_length_um() / d.camera.pixel_um).round() as i64
-            }
+        let u = self.sin_theta(d) * d.camera.focal_length_um();
+        match d.sampling {
+            SamplingConvention::Thesis => (u / effective_pixel_um(d)).floor() as i64,
+            SamplingConvention::Centred => match self {
+                Incidence::Pixel(j) => j,
+                Incidence::AngleDeg(_) => (u / d.camera.pixel_um).round() as i64,
+            },
         }
+    }
+}
+
+/// The sensor pixel pitch the chain bins to: the camera's under [`SamplingConvention::Centred`];
+/// under the thesis convention 14 Fraunhofer samples of 0.145 µm (2.03 µm for 2 µm pixels).
+pub fn effective_pixel_um(d: &PhaseDesign) -> f64 {
+    match d.sampling {
+        SamplingConvention::Thesis => {
+            THESIS_OUTPUT_SAMPLE_UM * THESIS_FINE_PER_PIXEL as f64 * d.camera.pixel_um / 2.0
+        }
+        SamplingConvention::Centred => d.camera.pixel_um,
     }
 }
 
@@ -60,7 +89,8 @@ impl Incidence {
 #[derive(Debug, Clone, PartialEq)]
 pub struct MonoPsf {
     /// Energy per sensor pixel (fractions of the light on the main-lens opening). The window is
-    /// the whole sensor: entry `k` is sensor pixel `k`, the axis at `pixels/2`, for every direction.
+    /// the whole sensor: entry `k` is sensor pixel `k`, the axis pixel at `pixels/2`, for every
+    /// direction.
     pub sensor: Vec<f64>,
     /// Σ `sensor`.
     pub window_energy: f64,
@@ -75,39 +105,124 @@ pub struct Chain {
     design: PhaseDesign,
     sampling: PhaseSampling,
     lenslets: Lenslets,
+    /// Lattice index of sample 0.
+    m_first: i64,
     n: usize,
     dx_um: f64,
     display_rect: Vec<f64>,
+    /// The display's transmission; ones where the thesis pads the grating beyond the display.
     slits: Vec<f64>,
     lens_rect: Vec<f64>,
     /// Samples `[start, end)` inside the main-lens opening: the Fraunhofer transform's input.
     lens_range: (usize, usize),
     heights_um: Vec<f64>,
-    transfer: Mutex<HashMap<u64, Arc<Vec<Complex64>>>>,
+    /// Thesis convention: (first sample, samples per lenslet, lenslets) of the lenslet cells.
+    cells: Option<(usize, usize, usize)>,
+    transfer: Mutex<HashMap<u64, Arc<Vec<Complex32>>>>,
     czt: Mutex<HashMap<u64, Arc<Czt>>>,
 }
 
 thread_local! {
-    /// FFT scratch per worker thread: a fresh multi-megabyte buffer per call costs page faults.
-    static SCRATCH: std::cell::RefCell<Vec<Complex64>> = const { std::cell::RefCell::new(Vec::new()) };
-    /// The chirp-z transform's padded working array, per worker thread.
-    static CZT_WORK: std::cell::RefCell<Vec<Complex64>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// The buffers of one propagation, per worker thread.
+    static WORK: std::cell::RefCell<Work> = const { std::cell::RefCell::new(Work::new()) };
 }
 
-/// Runs `f` with this thread's scratch buffer of at least `len` elements.
-pub(crate) fn with_scratch<T>(len: usize, f: impl FnOnce(&mut [Complex64]) -> T) -> T {
-    SCRATCH.with(|cell| {
-        let mut buf = cell.borrow_mut();
-        if buf.len() < len {
-            buf.resize(len, Complex64::new(0.0, 0.0));
+/// The buffers of one propagation, kept per worker thread: fresh multi-megabyte vectors per
+/// call cost more in page faults than the arithmetic on them.
+struct Work {
+    /// The plate's transmission on the chain's samples.
+    plate: Vec<Complex64>,
+    /// The padded Fresnel field (single precision: the relay keeps ~1e-8 relative accuracy in
+    /// V and doubles the FFTs' throughput) and its FFT scratch.
+    field: Vec<Complex32>,
+    scratch: Vec<Complex32>,
+    /// The chirp-z transform's working arrays.
+    czt: CztWork,
+}
+
+impl Work {
+    const fn new() -> Self {
+        Work {
+            plate: Vec::new(),
+            field: Vec::new(),
+            scratch: Vec::new(),
+            czt: CztWork::new(),
         }
-        f(&mut buf[..len])
-    })
+    }
 }
 
 /// Fraction of the sample `[x − dx/2, x + dx/2]` inside `[lo, hi]` (anti-aliased edges).
 fn coverage(x: f64, dx: f64, lo: f64, hi: f64) -> f64 {
     ((x + dx / 2.0).min(hi) - (x - dx / 2.0).max(lo)).clamp(0.0, dx) / dx
+}
+
+/// Rounds half to even, as the thesis code's `round` of `(patternN − slitN)/2` does.
+fn round_half_even(v: f64) -> f64 {
+    let r = v.round();
+    if (v - v.trunc()).abs() == 0.5 && r % 2.0 != 0.0 {
+        r - v.signum()
+    } else {
+        r
+    }
+}
+
+/// The geometry arrays of one convention.
+struct Layout {
+    m_first: i64,
+    display_rect: Vec<f64>,
+    slits: Vec<f64>,
+    lens_rect: Vec<f64>,
+}
+
+/// Per-lenslet sample counts of the thesis convention.
+struct ThesisCells {
+    /// Lattice index of the first display sample inside the display aperture: lenslet 0 starts there.
+    m0: i64,
+    /// Samples per lenslet, `round(pitch/δ)`.
+    pattern: usize,
+    /// The slit's first open sample in its cell and its width, in samples.
+    slit_start: usize,
+    slit_len: usize,
+}
+
+impl ThesisCells {
+    fn new(d: &PhaseDesign, dx: f64) -> Self {
+        let half = display_aperture_um(d) / 2.0;
+        // The first lattice point with m·δ ≥ −W/2 (the comparison as the thesis code makes it).
+        let mut m0 = (-half / dx).ceil() as i64;
+        while (m0 as f64 - 1.0) * dx >= -half {
+            m0 -= 1;
+        }
+        while (m0 as f64) * dx < -half {
+            m0 += 1;
+        }
+        let pattern = (d.pitch_um / dx).round().max(1.0) as usize;
+        let slit_len = ((d.open_ratio * d.pitch_um / dx).round() as usize).clamp(1, pattern);
+        let slit_start = round_half_even((pattern - slit_len) as f64 / 2.0) as usize;
+        ThesisCells {
+            m0,
+            pattern,
+            slit_start,
+            slit_len,
+        }
+    }
+
+    /// The lenslet under lattice point `m` and the sample's index `q` in its cell, or `None`
+    /// outside the array.
+    fn locate(&self, m: i64, count: usize) -> Option<(usize, usize)> {
+        let rel = m - self.m0;
+        if rel < 0 {
+            return None;
+        }
+        let l = rel as usize / self.pattern;
+        (l < count).then_some((l, rel as usize % self.pattern))
+    }
+
+    /// Sample `q`'s distance from its lenslet's centre: the thesis's per-lenslet coordinate
+    /// `(q − patternN/2)·δ` (half-integer offsets when patternN is odd).
+    fn local_um(&self, q: usize, dx: f64) -> f64 {
+        (q as f64 - self.pattern as f64 / 2.0) * dx
+    }
 }
 
 impl Chain {
@@ -121,54 +236,146 @@ impl Chain {
         let lenslets = Lenslets::new(design)?;
         let dx = sampling.display_sample_um;
         let aperture = display_aperture_um(design);
-        // A margin of two pitches keeps the periodic FFT's wrap-around off the lit region.
-        let span = lenslets.span_um().max(aperture) + 4.0 * design.pitch_um.max(25.0);
-        let raw = (span / dx).ceil();
-        if !(raw < MAX_GRID_SAMPLES as f64) {
-            return Err(SimError::TooLarge(format!(
-                "the display plane needs {raw:.0} samples of {dx} µm; the limit is {MAX_GRID_SAMPLES} \
-                 (use a coarser display sample or a smaller camera)"
-            )));
-        }
-        let n = next_fast_size(raw as usize);
-        let x = |i: usize| (i as f64 - (n / 2) as f64) * dx;
         let half_display = aperture / 2.0;
         let half_lens = design.camera.aperture_um() / 2.0;
-        let slit = design.open_ratio * design.pitch_um;
-        let c0 = lenslets.centre_um(0);
-        let display_rect = (0..n)
-            .map(|i| coverage(x(i), dx, -half_display, half_display))
-            .collect();
-        let lens_rect: Vec<f64> = (0..n)
-            .map(|i| coverage(x(i), dx, -half_lens, half_lens))
-            .collect();
-        let slits = (0..n)
-            .map(|i| {
-                let local = (x(i) - c0 + design.pitch_um / 2.0).rem_euclid(design.pitch_um)
-                    - design.pitch_um / 2.0;
-                coverage(local, dx, -slit / 2.0, slit / 2.0)
-            })
-            .collect();
+        let too_large = |raw: f64| {
+            SimError::TooLarge(format!(
+                "the display plane needs {raw:.0} samples of {dx} µm; the limit is \
+                 {MAX_GRID_SAMPLES} (use a coarser display sample or a smaller camera)"
+            ))
+        };
+        let layout = match design.sampling {
+            SamplingConvention::Centred => {
+                // A margin of two pitches keeps the periodic FFT's wrap-around off the lit region.
+                let span = lenslets.span_um().max(aperture) + 4.0 * design.pitch_um.max(25.0);
+                let raw = (span / dx).ceil();
+                if !(raw < MAX_GRID_SAMPLES as f64) {
+                    return Err(too_large(raw));
+                }
+                let n = next_fast_size(raw as usize);
+                let m_first = -((n / 2) as i64);
+                let x = |i: usize| (m_first + i as i64) as f64 * dx;
+                let slit = design.open_ratio * design.pitch_um;
+                let c0 = lenslets.centre_um(0);
+                Layout {
+                    m_first,
+                    display_rect: (0..n)
+                        .map(|i| coverage(x(i), dx, -half_display, half_display))
+                        .collect(),
+                    lens_rect: (0..n)
+                        .map(|i| coverage(x(i), dx, -half_lens, half_lens))
+                        .collect(),
+                    slits: (0..n)
+                        .map(|i| {
+                            let local = (x(i) - c0 + design.pitch_um / 2.0)
+                                .rem_euclid(design.pitch_um)
+                                - design.pitch_um / 2.0;
+                            coverage(local, dx, -slit / 2.0, slit / 2.0)
+                        })
+                        .collect(),
+                }
+            }
+            SamplingConvention::Thesis => {
+                // The widest Fresnel grid this design can need: the chain plus the paraxial
+                // kernel's reach at the longest wavelength accepted (1100 nm).
+                let reach = 1.1 * design.f_mla_um / (dx * dx);
+                let raw = (lenslets.span_um().max(aperture) + 2.0 * half_lens) / dx + reach;
+                if !(raw < MAX_GRID_SAMPLES as f64) {
+                    return Err(too_large(raw));
+                }
+                let cells = ThesisCells::new(design, dx);
+                let count = lenslets.count();
+                let m_lens = (half_lens / dx).ceil() as i64 + 1;
+                let m_display = (half_display / dx).ceil() as i64 + 1;
+                let m_first = (-m_lens).min(-m_display).min(cells.m0) - 1;
+                let m_last = m_lens
+                    .max(m_display)
+                    .max(cells.m0 + (count * cells.pattern) as i64)
+                    + 1;
+                let n = (m_last - m_first) as usize;
+                let x = |i: usize| (m_first + i as i64) as f64 * dx;
+                let inside = |v: f64, half: f64| if v.abs() <= half { 1.0 } else { 0.0 };
+                Layout {
+                    m_first,
+                    display_rect: (0..n).map(|i| inside(x(i), half_display)).collect(),
+                    lens_rect: (0..n).map(|i| inside(x(i), half_lens)).collect(),
+                    slits: (0..n)
+                        .map(|i| match cells.locate(m_first + i as i64, count) {
+                            Some((_, q)) => {
+                                let open =
+                                    q >= cells.slit_start && q < cells.slit_start + cells.slit_len;
+                                if open { 1.0 } else { 0.0 }
+                            }
+                            None => 1.0,
+                        })
+                        .collect(),
+                }
+            }
+        };
+        let Layout {
+            m_first,
+            display_rect,
+            slits,
+            lens_rect,
+        } = layout;
+        let cells = match design.sampling {
+            SamplingConvention::Thesis => {
+                let c = ThesisCells::new(design, dx);
+                Some(((c.m0 - m_first) as usize, c.pattern, lenslets.count()))
+            }
+            SamplingConvention::Centred => None,
+        };
+        let n = slits.len();
         let start = lens_rect.iter().position(|&v| v > 0.0).unwrap_or(0);
         let end = lens_rect
             .iter()
             .rposition(|&v| v > 0.0)
             .map_or(start, |e| e + 1);
-        let heights_um = (0..n).map(|i| lenslets.height_at(design, x(i))).collect();
-        Ok(Chain {
+        let mut chain = Chain {
             design: design.clone(),
             sampling: sampling.clone(),
             lenslets,
+            m_first,
             n,
             dx_um: dx,
             display_rect,
             slits,
             lens_rect,
             lens_range: (start, end),
-            heights_um,
+            heights_um: Vec::new(),
+            cells,
             transfer: Mutex::new(HashMap::new()),
             czt: Mutex::new(HashMap::new()),
-        })
+        };
+        chain.heights_um = chain.plate(design, &chain.lenslets);
+        Ok(chain)
+    }
+
+    /// The plate's heights on this chain's samples for `d`'s lenslets.
+    fn plate(&self, d: &PhaseDesign, lenslets: &Lenslets) -> Vec<f64> {
+        match d.sampling {
+            SamplingConvention::Centred => (0..self.n)
+                .map(|i| lenslets.height_at(d, self.x_um(i)))
+                .collect(),
+            SamplingConvention::Thesis => {
+                let cells = ThesisCells::new(d, self.dx_um);
+                let first = (cells.m0 - self.m_first) as usize;
+                let mut out = vec![0.0; self.n];
+                let folds = &lenslets.fold_height_um;
+                for (l, fold) in folds.iter().enumerate() {
+                    let a = first + l * cells.pattern;
+                    if l > 0 && folds[l - 1] == *fold {
+                        // Equal fold heights give equal cells: copy the left neighbour's.
+                        out.copy_within(a - cells.pattern..a, a);
+                    } else {
+                        for (q, h) in out[a..a + cells.pattern].iter_mut().enumerate() {
+                            *h = height_um(d, cells.local_um(q, self.dx_um), *fold);
+                        }
+                    }
+                }
+                out
+            }
+        }
     }
 
     pub fn design(&self) -> &PhaseDesign {
@@ -188,9 +395,9 @@ impl Chain {
         self.n == 0
     }
 
-    /// Position of display-plane sample `i`, in µm.
+    /// Position of display-plane sample `i` from the optical axis, in µm.
     pub fn x_um(&self, i: usize) -> f64 {
-        (i as f64 - (self.n / 2) as f64) * self.dx_um
+        (self.m_first + i as i64) as f64 * self.dx_um
     }
 
     /// The plate's height on the grid for this design.
@@ -205,35 +412,53 @@ impl Chain {
     pub fn heights_for(&self, other: &PhaseDesign) -> Result<Vec<f64>, SimError> {
         let same_geometry = other.pitch_um == self.design.pitch_um
             && other.f_mla_um == self.design.f_mla_um
+            && other.open_ratio == self.design.open_ratio
+            && other.sampling == self.design.sampling
             && other.camera == self.design.camera;
         if !same_geometry {
             return Err(SimError::Sampling(
-                "heights_for needs the same pitch, focal length and camera".into(),
+                "heights_for needs the same pitch, focal length, opening, convention and camera"
+                    .into(),
             ));
         }
         let lenslets = Lenslets::new(other)?;
-        Ok((0..self.n)
-            .map(|i| lenslets.height_at(other, self.x_um(i)))
-            .collect())
+        Ok(self.plate(other, &lenslets))
     }
 
-    fn transfer(&self, wavelength_um: f64) -> Arc<Vec<Complex64>> {
+    /// Samples of the Fresnel grid at this wavelength. The thesis convention pads the chain by
+    /// the paraxial kernel's full reach `λz/δ` (its largest lateral shift `λ z f_max` on both
+    /// sides, f_max = 1/(2δ)), so the periodic transform is a linear convolution where it
+    /// matters; the centred convention keeps its two-pitch margins.
+    fn fresnel_len(&self, wavelength_um: f64) -> usize {
+        match self.design.sampling {
+            SamplingConvention::Centred => self.n,
+            SamplingConvention::Thesis => {
+                let reach = wavelength_um * self.design.f_mla_um / (self.dx_um * self.dx_um);
+                let raw = (self.n as f64 + reach).ceil().min(MAX_GRID_SAMPLES as f64);
+                next_fast_size_235(raw as usize)
+            }
+        }
+    }
+
+    fn transfer(&self, wavelength_um: f64) -> Arc<Vec<Complex32>> {
         let key = wavelength_um.to_bits();
         let mut cache = self.transfer.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(h) = cache.get(&key) {
             return h.clone();
         }
+        let len = self.fresnel_len(wavelength_um);
         let z = self.design.f_mla_um;
-        let span = self.n as f64 * self.dx_um;
-        // H(fx) = exp(−iπ λ z fx²): the paraxial transfer function (the constant exp(ikz) drops).
-        let h: Vec<Complex64> = (0..self.n)
-            .map(|k| {
-                let fx = signed(k, self.n) as f64 / span;
-                Complex64::from_polar(
-                    1.0,
-                    (-PI * wavelength_um * z * fx * fx).rem_euclid(2.0 * PI),
-                )
-            })
+        let span = len as f64 * self.dx_um;
+        // H(fx) = exp(−iπ λ z fx²): the paraxial transfer function (the constant exp(ikz) drops),
+        // fx = k/span for k < len/2 and (k − len)/span above. The FFT's 1/len is folded in.
+        let a2 = -PI * wavelength_um * z / (span * span);
+        let norm = 1.0 / len as f64;
+        let half = len / 2;
+        let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
+        let h: Vec<Complex32> = quadratic_phase(a2, 0.0, 0, norm)
+            .take(half)
+            .chain(quadratic_phase(a2, 0.0, -(half as i64), norm).take(len - half))
+            .map(to32)
             .collect();
         let h = Arc::new(h);
         if cache.len() > 64 {
@@ -252,8 +477,7 @@ impl Chain {
         }
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
-        let du = cam.pixel_um / fine as f64;
-        let u0 = (-((cam.pixels / 2) as f64) - 0.5) * cam.pixel_um + 0.5 * du;
+        let (u0, du) = self.sensor_samples(wavelength_um);
         let (start, end) = self.lens_range;
         let czt = Arc::new(Czt::new(
             end - start,
@@ -271,23 +495,158 @@ impl Chain {
         czt
     }
 
-    fn propagate(&self, field: &mut [Complex64], wavelength_um: f64) {
-        let h = self.transfer(wavelength_um);
-        let forward = complex_plan(self.n);
-        let inverse = complex_inverse_plan(self.n);
-        with_scratch(
-            forward
-                .get_inplace_scratch_len()
-                .max(inverse.get_inplace_scratch_len()),
-            |scratch| {
-                forward.process_with_scratch(field, scratch);
-                let norm = 1.0 / self.n as f64;
-                for (f, t) in field.iter_mut().zip(h.iter()) {
-                    *f *= t * norm;
+    /// The first fine sensor sample and the spacing, in µm from the axis, at this wavelength.
+    ///
+    /// Thesis: the `M`-point FFT's own bins, `u = k·λf/(Mδ)` with `M = 2⌊λf/(2δ δ3)⌋`, indices
+    /// `k ∈ [−P·fine/2, P·fine/2)`: pixel `P/2` starts on the axis. Centred: midpoints of
+    /// `fine` equal parts of each `pixel_um` pixel, the axis at the centre of pixel `P/2`.
+    fn sensor_samples(&self, wavelength_um: f64) -> (f64, f64) {
+        let cam = &self.design.camera;
+        let fine = self.sampling.fine_per_pixel;
+        let half = (cam.pixels / 2 * fine) as f64;
+        match self.design.sampling {
+            SamplingConvention::Thesis => {
+                let target = effective_pixel_um(&self.design) / fine as f64;
+                let lambda_f = wavelength_um * cam.focal_length_um();
+                let m = 2.0 * (lambda_f / (2.0 * self.dx_um * target)).floor();
+                let du = lambda_f / (m * self.dx_um);
+                (-half * du, du)
+            }
+            SamplingConvention::Centred => {
+                let du = cam.pixel_um / fine as f64;
+                (
+                    (-((cam.pixels / 2) as f64) - 0.5) * cam.pixel_um + 0.5 * du,
+                    du,
+                )
+            }
+        }
+    }
+
+    /// The plate's transmission `exp(−i k (n−1) h)` on the chain's samples. Under the thesis
+    /// convention lenslets are whole runs of samples, and a lenslet whose heights equal its left
+    /// neighbour's (every lenslet of a fixed-λ0 plate; runs of equal λ0 in ascending plans)
+    /// reuses its transmission: the exponentials cost as much as the FFTs otherwise.
+    fn transmission(&self, heights_um: &[f64], k_n1: f64, out: &mut Vec<Complex64>) {
+        let one = Complex64::new(1.0, 0.0);
+        let cis = |h: f64| {
+            if h == 0.0 {
+                one
+            } else {
+                Complex64::from_polar(1.0, -k_n1 * h)
+            }
+        };
+        out.clear();
+        let h = |i: usize| heights_um.get(i).copied().unwrap_or(0.0);
+        match self.cells {
+            Some((first, pattern, count)) if heights_um.len() == self.n => {
+                out.extend((0..first).map(|i| cis(h(i))));
+                for l in 0..count {
+                    let a = first + l * pattern;
+                    if l > 0 && heights_um[a..a + pattern] == heights_um[a - pattern..a] {
+                        out.extend_from_within(a - pattern..a);
+                    } else {
+                        out.extend(heights_um[a..a + pattern].iter().map(|&v| cis(v)));
+                    }
                 }
-                inverse.process_with_scratch(field, scratch);
-            },
-        );
+                let done = out.len();
+                out.extend((done..self.n).map(|i| cis(h(i))));
+            }
+            _ => out.extend((0..self.n).map(|i| cis(h(i)))),
+        }
+    }
+
+    /// The tilt `exp(i k sinθ x)` at samples `from, from + 1, …`. The phase advances by a
+    /// constant per sample, so one exact exponential per block of 256 anchors a running product
+    /// (its rounding stays ~1e-14) instead of an exponential per sample.
+    fn tilt(&self, from: usize, k_sin: f64) -> impl Iterator<Item = Complex64> + '_ {
+        const BLOCK: usize = 256;
+        let step = Complex64::from_polar(1.0, (k_sin * self.dx_um).rem_euclid(2.0 * PI));
+        let mut t = Complex64::new(0.0, 0.0);
+        (from..).map(move |i| {
+            if (i - from).is_multiple_of(BLOCK) {
+                t = Complex64::from_polar(1.0, (k_sin * self.x_um(i)).rem_euclid(2.0 * PI));
+            } else {
+                t *= step;
+            }
+            t
+        })
+    }
+
+    /// MLA 1 → Fresnel → display → Fresnel: the double MLA's field just before MLA 2, in
+    /// `work.field` (samples `0..n` are the chain's). `work.plate` holds the transmission.
+    fn relay(&self, work: &mut Work, wavelength_um: f64, k_sin: f64) {
+        let h = self.transfer(wavelength_um);
+        let len = h.len();
+        let forward = complex_plan_f32(len, false);
+        let inverse = complex_plan_f32(len, true);
+        let scratch_len = forward
+            .get_inplace_scratch_len()
+            .max(inverse.get_inplace_scratch_len());
+        let Work {
+            plate,
+            field,
+            scratch,
+            ..
+        } = work;
+        field.resize(len, Complex32::new(0.0, 0.0));
+        scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
+        let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
+        let lit = field.iter_mut().zip(plate.iter().zip(&self.display_rect));
+        if k_sin == 0.0 {
+            for (f, (p, r)) in lit {
+                *f = to32(p * *r);
+            }
+        } else {
+            for ((f, (p, r)), t) in lit.zip(self.tilt(0, k_sin)) {
+                *f = to32(p * *r * t);
+            }
+        }
+        field[self.n..].fill(Complex32::new(0.0, 0.0));
+        forward.process_with_scratch(field, scratch);
+        for (f, t) in field.iter_mut().zip(h.iter()) {
+            *f *= t;
+        }
+        inverse.process_with_scratch(field, scratch);
+        // Beyond the chain's samples the display is open (ones), so only these change.
+        for (f, s) in field.iter_mut().zip(&self.slits) {
+            *f *= *s as f32;
+        }
+        forward.process_with_scratch(field, scratch);
+        for (f, t) in field.iter_mut().zip(h.iter()) {
+            *f *= t;
+        }
+        inverse.process_with_scratch(field, scratch);
+    }
+
+    /// The complex aperture on the main-lens opening at normal incidence for the bare T-OLED or
+    /// Lemma 1's single mask (`heights_um` ignored for the T-OLED): the field whose
+    /// autocorrelation is the continuous, unbinned OTF that Lemma 1 speaks about.
+    ///
+    /// # Errors
+    /// [`SimError::Sampling`] for the double MLA, whose lens-plane field is not a mask.
+    pub fn aperture(
+        &self,
+        optics: Optics,
+        heights_um: &[f64],
+        wavelength_nm: f64,
+    ) -> Result<Vec<Complex64>, SimError> {
+        let k_n1 = 2.0 * PI / (wavelength_nm * 1e-3) * (self.design.refractive_index - 1.0);
+        let (start, end) = self.lens_range;
+        let amplitude = |i: usize| self.slits[i] * self.lens_rect[i];
+        match optics {
+            Optics::Toled => Ok((start..end)
+                .map(|i| Complex64::new(amplitude(i), 0.0))
+                .collect()),
+            Optics::SingleMask => Ok((start..end)
+                .map(|i| {
+                    let h = heights_um.get(i).copied().unwrap_or(0.0);
+                    Complex64::from_polar(amplitude(i), -k_n1 * h)
+                })
+                .collect()),
+            Optics::DoubleMla => Err(SimError::Sampling(
+                "the double MLA is not a single mask at the display".into(),
+            )),
+        }
     }
 
     /// The sensor PSF of one wavelength and direction through `optics`, with the plate `heights_um`
@@ -301,73 +660,90 @@ impl Chain {
     ) -> MonoPsf {
         let lambda = wavelength_nm * 1e-3;
         let k = 2.0 * PI / lambda;
-        let sin_t = incidence.sin_theta(&self.design);
-        let n_minus_1 = self.design.refractive_index - 1.0;
-        // One cis per sample and mask: the plate's transmission is shared by MLA 1 and MLA 2, and
-        // the tilt is skipped on axis (these exponentials cost as much as the FFTs).
-        let plate = |range: std::ops::Range<usize>| -> Vec<Complex64> {
-            range
-                .map(|i| {
-                    let h = heights_um.get(i).copied().unwrap_or(0.0);
-                    Complex64::from_polar(1.0, -k * n_minus_1 * h)
-                })
-                .collect()
-        };
-        let tilt = |i: usize| Complex64::from_polar(1.0, k * sin_t * self.x_um(i));
-        let tilted = sin_t != 0.0;
+        let k_sin = k * incidence.sin_theta(&self.design);
+        let k_n1 = k * (self.design.refractive_index - 1.0);
         let (start, end) = self.lens_range;
-        let mut lens_field: Vec<Complex64> = match optics {
-            Optics::Toled => (start..end)
-                .map(|i| Complex64::new(self.slits[i] * self.lens_rect[i], 0.0))
-                .collect(),
-            Optics::SingleMask => plate(start..end)
-                .into_iter()
-                .zip(start..end)
-                .map(|(p, i)| p * (self.slits[i] * self.lens_rect[i]))
-                .collect(),
-            Optics::DoubleMla => {
-                let plate = plate(0..self.n);
-                let mut field: Vec<Complex64> = plate
-                    .iter()
-                    .zip(&self.display_rect)
-                    .map(|(p, r)| p * *r)
-                    .collect();
-                if tilted {
-                    for (i, f) in field.iter_mut().enumerate() {
-                        if self.display_rect[i] != 0.0 {
-                            *f *= tilt(i);
-                        }
-                    }
-                }
-                self.propagate(&mut field, lambda);
-                for (f, s) in field.iter_mut().zip(&self.slits) {
-                    *f *= *s;
-                }
-                self.propagate(&mut field, lambda);
-                (start..end)
-                    .map(|i| field[i] * plate[i] * self.lens_rect[i])
-                    .collect()
-            }
-        };
-        if tilted && optics != Optics::DoubleMla {
-            for (f, i) in lens_field.iter_mut().zip(start..end) {
-                *f *= tilt(i);
-            }
-        }
-        let dx = self.dx_um;
-        let aperture = self.design.camera.aperture_um();
-        let total_energy = lens_field.iter().map(|v| v.norm_sqr()).sum::<f64>() * dx / aperture;
-
-        let image_pixel = incidence.image_pixel(&self.design);
-        // The window is the sensor, not the image point: the double MLA moves light to the
-        // opposite side of the axis, which a window that followed f·sinθ would cut off.
-        let czt = self.czt_for(lambda);
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
         let mut intensity = vec![0.0; cam.pixels * fine];
-        CZT_WORK.with(|w| czt.intensity(&lens_field, &mut w.borrow_mut(), &mut intensity));
+        // The window is the sensor, not the image point: the double MLA moves light to the
+        // opposite side of the axis, which a window that followed f·sinθ would cut off.
+        let czt = self.czt_for(lambda);
+        let mut total = 0.0;
+        WORK.with(|cell| {
+            let work = &mut *cell.borrow_mut();
+            let Work {
+                plate,
+                field,
+                czt: czt_work,
+                ..
+            } = match optics {
+                Optics::DoubleMla => {
+                    self.transmission(heights_um, k_n1, &mut work.plate);
+                    self.relay(work, lambda, k_sin);
+                    work
+                }
+                Optics::Toled | Optics::SingleMask => work,
+            };
+            // The field on the main-lens opening, fed to the Fraunhofer transform as it is
+            // formed; one closure per optics keeps the loop free of branches.
+            let one = Complex64::new(1.0, 0.0);
+            let mut tilt = self.tilt(start, k_sin);
+            let mut tilted = |v: Complex64| {
+                if k_sin == 0.0 {
+                    v
+                } else {
+                    v * tilt.next().unwrap_or(one)
+                }
+            };
+            let total = &mut total;
+            match optics {
+                Optics::DoubleMla => czt.intensity_with(
+                    czt_work,
+                    |j| {
+                        let i = start + j;
+                        let f = field[i];
+                        let v = Complex64::new(f64::from(f.re), f64::from(f.im))
+                            * plate[i]
+                            * self.lens_rect[i];
+                        *total += v.norm_sqr();
+                        v
+                    },
+                    &mut intensity,
+                ),
+                Optics::Toled => czt.intensity_with(
+                    czt_work,
+                    |j| {
+                        let i = start + j;
+                        let v = tilted(Complex64::new(self.slits[i] * self.lens_rect[i], 0.0));
+                        *total += v.norm_sqr();
+                        v
+                    },
+                    &mut intensity,
+                ),
+                Optics::SingleMask => czt.intensity_with(
+                    czt_work,
+                    |j| {
+                        let i = start + j;
+                        let h = heights_um.get(i).copied().unwrap_or(0.0);
+                        let v = tilted(Complex64::from_polar(
+                            self.slits[i] * self.lens_rect[i],
+                            -k_n1 * h,
+                        ));
+                        *total += v.norm_sqr();
+                        v
+                    },
+                    &mut intensity,
+                ),
+            }
+        });
+        debug_assert!(end >= start);
+        let dx = self.dx_um;
+        let aperture = cam.aperture_um();
+        let total_energy = total * dx / aperture;
+        let image_pixel = incidence.image_pixel(&self.design);
         // |E(u)|² = |Σ U dx e^{…}|² / (λf); energy per fine sample multiplies by du.
-        let du = cam.pixel_um / fine as f64;
+        let (_, du) = self.sensor_samples(lambda);
         let scale = dx * dx / (lambda * cam.focal_length_um()) * du / aperture;
         let sensor: Vec<f64> = intensity
             .chunks_exact(fine)

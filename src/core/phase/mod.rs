@@ -32,7 +32,7 @@ use serde::{Deserialize, Serialize};
 use super::SimError;
 
 pub use allocate::{Allocation, AllocationSettings, allocate, optimize_lambda0};
-pub use chain::{Chain, Incidence, MonoPsf, Optics};
+pub use chain::{Chain, Incidence, MonoPsf, Optics, effective_pixel_um};
 pub use geometry::{Lenslets, Surface};
 pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
 pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, phase_psfs};
@@ -122,6 +122,48 @@ impl PhaseSampling {
     }
 }
 
+/// Where the chain's samples sit relative to the optics (PHYSICS.md §7). The thesis's numbers
+/// (Tables 4.1–4.2, its V matrices and λ0 allocations) depend on it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SamplingConvention {
+    /// The thesis code's: the sensor is 1024 pixels of 14 Fraunhofer samples of
+    /// `λf/(M δ)` ≈ 0.145 µm (an effective pixel of 2.03 µm) with the optical axis on the LEFT
+    /// edge of pixel 512; lenslets tile from the first display sample inside the display
+    /// aperture, each `round(pitch/δ)` samples with its slit starting at sample
+    /// `round_half_even((patternN − slitN)/2)`; rects are sets of whole samples.
+    #[default]
+    Thesis,
+    /// Axis at the centre of the axis pixel, exact pixel pitch, lenslets and slits placed
+    /// symmetrically about the axis, rect edges anti-aliased.
+    Centred,
+}
+
+impl SamplingConvention {
+    pub const ALL: [SamplingConvention; 2] =
+        [SamplingConvention::Thesis, SamplingConvention::Centred];
+
+    /// The CLI's and the design file's spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            SamplingConvention::Thesis => "thesis",
+            SamplingConvention::Centred => "centred",
+        }
+    }
+}
+
+/// How a fabrication step quantises the folded profile (PHYSICS.md §7, "Phase plate
+/// quantisation").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum HeightRounding {
+    /// `floor(h / step) · step`, as the authors' code: every height stays below the fold height.
+    #[default]
+    Floor,
+    /// The nearest level (zero mean phase error, but a level can exceed the fold height).
+    Nearest,
+}
+
 /// Where each lenslet's folding wavelength λ0 comes from.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "kind")]
@@ -154,9 +196,15 @@ pub struct PhaseDesign {
     /// Optional fabrication step in µm (e.g. 0.2): fold heights and the profile are rounded to it.
     #[serde(default)]
     pub height_step_um: Option<f64>,
+    /// How `height_step_um` quantises heights (floor by default).
+    #[serde(default)]
+    pub height_rounding: HeightRounding,
     /// Folded plate, or the unfolded thick lens it comes from (the reference).
     #[serde(default)]
     pub surface: Surface,
+    /// Where the samples sit (the thesis's convention unless a file says otherwise).
+    #[serde(default)]
+    pub sampling: SamplingConvention,
     pub camera: PhaseCamera,
 }
 
@@ -171,7 +219,9 @@ impl PhaseDesign {
             open_ratio: THESIS_OPEN_RATIO,
             lambda0: Lambda0::Fixed { nm: 530.0 },
             height_step_um: None,
+            height_rounding: HeightRounding::Floor,
             surface: Surface::Folded,
+            sampling: SamplingConvention::Thesis,
             camera: PhaseCamera::thesis(),
         }
     }
