@@ -10,7 +10,7 @@
 //! (`|a − b|` times a stated gain, clipped), and 32-bit float EXR (values unscaled, unclipped).
 //! Every file is encoded in memory and written atomically, like the PSF exports.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use image::imageops::FilterType;
 use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Rgb, Rgb32FImage, RgbImage};
@@ -84,6 +84,24 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
         rgb = rgb.resize(m, m, FilterType::Triangle);
     }
     Ok(planes_of(&rgb.to_rgb32f()))
+}
+
+/// The built-in test photo (public domain, in `assets/photos`): what the restore views and
+/// `phase restore` use when no photo was chosen.
+pub const BUILT_IN_PHOTO_PNG: &[u8] = include_bytes!("../../assets/photos/astronaut_256.png");
+/// Its name for the screen.
+pub const BUILT_IN_PHOTO_NAME: &str = "astronaut (built in, 256 px)";
+
+/// The built-in photo's R, G, B planes.
+///
+/// # Errors
+/// [`IoError::Image`] if the embedded PNG does not decode (a broken build).
+pub fn built_in_photo() -> Result<Vec<Array2<f64>>, IoError> {
+    let img = image::load_from_memory(BUILT_IN_PHOTO_PNG).map_err(|e| IoError::Image {
+        path: PathBuf::from("assets/photos/astronaut_256.png"),
+        message: e.to_string(),
+    })?;
+    Ok(planes_of(&img.to_rgb32f()))
 }
 
 /// The R, G, B planes of a float image, clamped to `[0, 1]` (NaN → 0).

@@ -76,9 +76,23 @@ pub fn write_run_images(
     truth: &[Array2<f64>],
     result: &RestoreResult,
 ) -> Result<Vec<PathBuf>, IoError> {
+    write_capture_images(dir, stem, truth, &result.captured, &result.restored)
+}
+
+/// [`write_run_images`] for any capture and restoration of `truth` (the phase masks' too).
+///
+/// # Errors
+/// As [`write_run_images`].
+pub fn write_capture_images(
+    dir: &Path,
+    stem: &str,
+    truth: &[Array2<f64>],
+    captured: &[Array2<f64>],
+    restored: &[Array2<f64>],
+) -> Result<Vec<PathBuf>, IoError> {
     std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
-    let captured: Vec<&Array2<f64>> = result.captured.iter().collect();
-    let restored: Vec<&Array2<f64>> = result.restored.iter().collect();
+    let captured: Vec<&Array2<f64>> = captured.iter().collect();
+    let restored: Vec<&Array2<f64>> = restored.iter().collect();
     let truth: Vec<&Array2<f64>> = truth.iter().collect();
     let mut written = Vec::new();
     let path = dir.join(format!("{stem}_captured.png"));

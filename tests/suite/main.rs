@@ -20,6 +20,7 @@ mod optimise_panel;
 mod optimize;
 mod phase;
 mod phase_export;
+mod phase_imaging;
 mod phase_panel;
 mod physics;
 mod restore;

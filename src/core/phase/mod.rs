@@ -24,6 +24,7 @@ pub mod allocate;
 pub mod chain;
 pub mod czt;
 pub mod geometry;
+pub mod imaging;
 pub mod invertibility;
 pub mod psf;
 

@@ -121,27 +121,51 @@ fn grad_normal(x: &Array2<f64>) -> Array2<f64> {
     out
 }
 
-struct NormalOperator<'a> {
-    grid: &'a PadGrid,
-    kernel: &'a Spectrum,
-    lambda: f64,
+/// A linear blur `A` from the sharp image to the capture (both the capture's shape), as the
+/// solver needs it: the blur, its adjoint, and optionally a cheaper `AᵀA`.
+pub trait LinearBlur: Sync {
+    /// `A x`.
+    fn blur(&self, x: &Array2<f64>) -> Array2<f64>;
+    /// `Aᵀ z`.
+    fn adjoint(&self, z: &Array2<f64>) -> Array2<f64>;
+    /// `AᵀA x` (override when a precomputed normal operator is cheaper).
+    fn normal(&self, x: &Array2<f64>) -> Array2<f64> {
+        self.adjoint(&self.blur(x))
+    }
 }
 
-impl NormalOperator<'_> {
-    /// `A x`: blur, linear, cropped.
+/// The shift-invariant blur of the display workspace: a kernel spectrum on a padded grid.
+pub struct Convolution<'a> {
+    pub grid: &'a PadGrid,
+    pub kernel: &'a Spectrum,
+}
+
+impl LinearBlur for Convolution<'_> {
+    /// Blur, linear, cropped.
     fn blur(&self, x: &Array2<f64>) -> Array2<f64> {
         self.grid.filter(x.view(), |i, v| v * self.kernel.data[i])
     }
 
-    /// `Aᵀ z`: correlation with the kernel, linear, cropped.
+    /// Correlation with the kernel, linear, cropped.
     fn adjoint(&self, z: &Array2<f64>) -> Array2<f64> {
         self.grid
             .filter(z.view(), |i, v| v * self.kernel.data[i].conj())
     }
+}
+
+struct NormalOperator<'a, B: LinearBlur> {
+    blur: &'a B,
+    lambda: f64,
+}
+
+impl<B: LinearBlur> NormalOperator<'_, B> {
+    fn adjoint(&self, z: &Array2<f64>) -> Array2<f64> {
+        self.blur.adjoint(z)
+    }
 
     /// `(AᵀA + λ DᵀD) x`.
     fn apply(&self, x: &Array2<f64>) -> Array2<f64> {
-        let mut m = self.adjoint(&self.blur(x));
+        let mut m = self.blur.normal(x);
         if self.lambda > 0.0 {
             m.scaled_add(self.lambda, &grad_normal(x));
         }
@@ -162,17 +186,26 @@ pub fn cg(
     settings: &CgSettings,
     progress: &Progress,
 ) -> Result<(Array2<f64>, CgReport), SimError> {
+    cg_with(&Convolution { grid, kernel }, captured, settings, progress)
+}
+
+/// [`cg`] for any linear blur: the same solver, regulariser and stopping rule.
+///
+/// # Errors
+/// As [`cg`].
+pub fn cg_with<B: LinearBlur>(
+    blur: &B,
+    captured: ArrayView2<'_, f64>,
+    settings: &CgSettings,
+    progress: &Progress,
+) -> Result<(Array2<f64>, CgReport), SimError> {
     settings.validate()?;
     let CgSettings {
         lambda,
         iterations,
         tolerance,
     } = *settings;
-    let op = NormalOperator {
-        grid,
-        kernel,
-        lambda,
-    };
+    let op = NormalOperator { blur, lambda };
     let y = captured.to_owned();
     let b = op.adjoint(&y);
     let yy = dot(&y, &y);
@@ -237,9 +270,12 @@ mod tests {
         let kernel = &kernel / kernel.sum();
         let grid = PadGrid::new(dim, kernel.dim(), Padding::Linear);
         let k = grid.forward_kernel(&kernel);
-        let op = NormalOperator {
+        let conv = Convolution {
             grid: &grid,
             kernel: &k,
+        };
+        let op = NormalOperator {
+            blur: &conv,
             lambda: 0.3,
         };
         let u = Array2::from_shape_fn(dim, |(y, x)| ((y * 7 + x * 11) % 5) as f64 - 2.0);

@@ -27,7 +27,7 @@ use ndarray::{Array2, ArrayView2};
 use rayon::prelude::*;
 
 pub use capture::{CaptureSettings, Light};
-pub use cg::{CgReport, CgSettings};
+pub use cg::{CgReport, CgSettings, LinearBlur, cg_with};
 pub use spectrum::{PadGrid, Padding};
 pub use wiener::THESIS_NSR;
 

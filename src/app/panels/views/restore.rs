@@ -20,8 +20,6 @@ use crate::core::restore::{
 use crate::core::{Analysis, Progress};
 use crate::io::photo;
 
-/// The photo shown when nothing else was chosen: a public-domain test image in the repository.
-const BUILT_IN_PHOTO: &[u8] = include_bytes!("../../../../assets/photos/astronaut_256.png");
 /// Photos are scaled down to this side so a run stays interactive.
 const MAX_SIDE_PX: u32 = 1024;
 /// Gain of the difference image (as the CLI's).
@@ -106,10 +104,9 @@ impl Default for RestoreView {
 }
 
 fn built_in() -> Result<Photo, String> {
-    let img = image::load_from_memory(BUILT_IN_PHOTO).map_err(|e| e.to_string())?;
     Ok(Photo {
-        name: "astronaut (built in, 256 px)".into(),
-        planes: photo::planes_of(&img.to_rgb32f()),
+        name: photo::BUILT_IN_PHOTO_NAME.into(),
+        planes: photo::built_in_photo().map_err(|e| e.to_string())?,
     })
 }
 
