@@ -2,23 +2,38 @@
 //! folded into thin plates, with a folding wavelength λ0 per lenslet.
 //!
 //! Everything is 1-D along x (a T-OLED pixel is a slit, fully open along y). Conventions, stated
-//! once here:
-//! - x = 0 is the optical axis. Lenslet `l` of `L` is centred at `(l − (L−1)/2)·pitch`, and so is
-//!   its display slit; the display's slits repeat with the pitch beyond the lenslets too.
-//! - Display-plane samples sit at `(i − N/2)·δ1` for `i = 0 … N−1` (N even), δ1 = 15 nm.
-//! - The sensor's optical axis is the centre of pixel `pixels/2`. A PSF window is the whole sensor
-//!   (`pixels` wide, centred on the axis) for every direction; each pixel integrates
-//!   `fine_per_pixel` midpoint samples (midpoint-rule box binning). A plain lens images the
-//!   direction θ at `f·sinθ`; the double MLA, a 1:1 Keplerian telescope per lenslet pair, inverts
-//!   the angle and sends it near `−f·sinθ`, split into the lenslet grating's orders `λf/pitch` apart.
+//! once here (PHYSICS.md §7 is their source):
+//! - x = 0 is the optical axis; display-plane samples sit on the lattice `x = m·δ` (δ = 15 nm).
+//! - Where the optics and the sensor sit relative to the axis is a [`SamplingConvention`]:
+//!   - [`SamplingConvention::Thesis`] (default, reproduces the thesis code's numbers): lenslets of
+//!     `round(pitch/δ)` samples tile from the first sample inside the display aperture
+//!     `D + 2 f_MLA tan 50°`, in ascending λ0 order; each lenslet's coordinate is
+//!     `(q − patternN/2)·δ`; its slit is `round(open·pitch/δ)` samples starting at sample
+//!     `round_half_even((patternN − slitN)/2)`; the grating is padded with ones outside the
+//!     lenslets; the display-aperture and main-lens rects are the samples with `|x| ≤ W/2`. The
+//!     sensor is `pixels` pixels of `fine` samples of the M-point FFT's bins `λf/(Mδ)`,
+//!     `M = 2⌊λf/(2δ·δ3)⌋`, δ3 = 0.145 µm at 14 samples per pixel (an effective pixel of 2.03 µm
+//!     for 2 µm pixels); sensor pixel `P/2` covers bins 0 … fine − 1, so the axis is its LEFT edge.
+//!   - [`SamplingConvention::Centred`]: lenslet `l` of `L` is centred at `(l − (L−1)/2)·pitch`
+//!     with its slit, the slits repeat beyond the array, rect edges are anti-aliased, and each
+//!     pixel of exactly `pixel_um` integrates `fine` midpoint samples with the axis at the centre
+//!     of pixel `P/2`.
+//! - Direction `Incidence::Pixel(j)` is `sinθ = j · pixel_um / f` under both conventions.
+//! - A PSF window is the whole sensor for every direction. A plain lens images the direction θ at
+//!   `f·sinθ`; the double MLA, a 1:1 Keplerian telescope per lenslet pair, inverts the angle and
+//!   sends it near `−f·sinθ`, split into the lenslet grating's orders `λf/pitch` apart.
 //! - Energies are fractions of the light that falls on the main-lens opening (unit irradiance over
 //!   its width D = f/F#); the polarisation-dependent plate's ×½ is applied only where a name says
 //!   so (`*_with_polariser`).
+//! - The plate's own frame ([`Lenslets`], exports, plots) centres the array on x = 0; the chain
+//!   places it relative to the axis as the convention says.
 //!
 //! The chain ([`chain`]) is: plane wave `exp(i k sinθ x)` · display-aperture rect → MLA 1 → Fresnel
-//! transfer-function propagation over z = f_MLA → display slits → Fresnel over z → MLA 2 →
-//! main-lens rect → Fraunhofer to the sensor (a chirp-z transform evaluates exactly the window's
-//! samples, so every wavelength lands on the same sensor grid) → box binning.
+//! transfer-function propagation over z = f_MLA, `H(fx) = exp(−iπλz fx²)` → display slits →
+//! Fresnel over z → MLA 2 → main-lens rect → Fraunhofer to the sensor (a chirp-z transform
+//! evaluates exactly the sensor's samples, so every wavelength lands on its sensor grid) → box
+//! binning. Lenslet heights are `mod(x²/(2(n−1)f_MLA), T λ0/(n−1))` and their transmission
+//! `exp(−i k (n−1) h)`. Photos through a design: [`imaging`].
 
 pub mod allocate;
 pub mod chain;
