@@ -464,3 +464,46 @@ fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
         );
     }
 }
+
+/// The identities the allocation's comparisons rest on: a plan with every lenslet at grid
+/// wavelength j scores A's column j (so "fixed 530 nm" scores the 531 nm column, index 13);
+/// scores are linear in the counts; rounding keeps the lenslet count.
+#[test]
+fn allocation_identities_hold() {
+    use udc_studio::core::phase::allocate::round_to_total;
+    use udc_studio::core::phase::geometry::uniform_counts;
+    let a: Vec<Vec<f64>> = (0..3)
+        .map(|c| {
+            (0..GRID_LEN)
+                .map(|j| 0.2 + 0.8 * ((j as f64 * 0.37 + c as f64).sin().abs()))
+                .collect()
+        })
+        .collect();
+    let grid = wavelength_grid_nm();
+    let at531 = grid.iter().position(|&l| l == 531.0).unwrap();
+    assert_eq!(at531, 13);
+    let mut fixed = vec![0; GRID_LEN];
+    fixed[at531] = 58;
+    let got = channel_invertibility(&a, &fixed);
+    for c in 0..3 {
+        assert!((got[c] - a[c][at531]).abs() < 1e-15);
+    }
+    // Linear in the counts: half the lenslets at j, half at k is the mean of the two columns.
+    let mut split = vec![0; GRID_LEN];
+    split[3] = 29;
+    split[20] = 29;
+    let got = channel_invertibility(&a, &split);
+    for c in 0..3 {
+        assert!((got[c] - 0.5 * (a[c][3] + a[c][20])).abs() < 1e-15);
+    }
+    for lenslets in [17, 31, 45, 58, 61] {
+        let u = uniform_counts(lenslets);
+        assert_eq!(u.iter().sum::<usize>(), lenslets);
+        assert!(u.iter().max().unwrap() - u.iter().min().unwrap() <= 1);
+        let shares: Vec<f64> = (0..GRID_LEN)
+            .map(|j| (j as f64 * 0.7).cos().abs() * 3.0)
+            .collect();
+        let total = shares.iter().sum::<f64>().round() as usize + 2;
+        assert_eq!(round_to_total(&shares, total).iter().sum::<usize>(), total);
+    }
+}
