@@ -8,9 +8,13 @@
 //!   W = lenslets × pitch. y is the extrusion, `[−length/2, length/2]`. z (height) is up.
 //! - Sampled files (CSV, PNG) put `N = ⌊W / sample⌋` samples at `x_i = (i − (N−1)/2)·sample`:
 //!   centred on the axis, every sample inside the array.
+//! - A height step quantises by `design.height_rounding`: floor (default, the authors' code)
+//!   `h_q = floor(mod(sag, d0) / step)·step` with the unrounded fold height d0 = T λ0/(n−1), so
+//!   levels 0 … floor(d0/step) stay below d0; or nearest (`round`, fold height rounded to the step).
 //! - GDSII and STL do not sample the steps: the height jumps where the parabolic sag
-//!   ([`geometry::sag_um`]) crosses a level boundary `(m + ½)·step` or a fold `k·T λ0/(n−1)`,
-//!   and those crossings are solved for exactly, so every flat level and vertical wall sits where
+//!   ([`geometry::sag_um`]) crosses a level boundary (`w·d0 + (j+1)·step` for floor,
+//!   `(K + ½)·step` for nearest) or a fold `w·d0`, and those crossings are solved for exactly in
+//!   integer level indices ([`geometry::bands`]), so every flat level and vertical wall sits where
 //!   the model puts it. Only the curved parts of an unquantised STL are sampled (chords every
 //!   `sample_um` at most).
 //! - Lengths are micrometres throughout; GDSII coordinates are whole nanometres.
@@ -30,7 +34,7 @@ use super::IoError;
 use super::design_file::write_atomic;
 use crate::core::mask::MaskError;
 use crate::core::phase::geometry::{self, Lenslets};
-use crate::core::phase::{PhaseDesign, Surface};
+use crate::core::phase::{HeightRounding, PhaseDesign, Surface};
 
 /// Finest x sample of the CSV, PNG and STL: the GDSII database unit, 1 nm.
 pub const MIN_SAMPLE_UM: f64 = 0.001;
@@ -257,9 +261,15 @@ fn csv_text(design: &PhaseDesign, sample_um: f64) -> Result<(String, Samples), I
 
 /// The design in plain ASCII, for file headers and notes that outlive the design file.
 fn header_lines(design: &PhaseDesign, lenslets: &Lenslets) -> Vec<String> {
-    let step = match design.height_step_um {
-        Some(s) => format!("{s} um (every height is a multiple of it)"),
-        None => "none (continuous heights)".into(),
+    let step = match (design.height_step_um, design.height_rounding) {
+        (Some(s), HeightRounding::Floor) => format!(
+            "{s} um, floor rounding (every height is floor(h / step) x step, below the fold height)"
+        ),
+        (Some(s), HeightRounding::Nearest) => format!(
+            "{s} um, nearest rounding (every height is round(h / step) x step; fold height rounded \
+             to the step)"
+        ),
+        (None, _) => "none (continuous heights)".into(),
     };
     let surface = match design.surface {
         Surface::Folded => "folded",
@@ -448,8 +458,8 @@ fn encode_png(
 /// How the height varies over one stretch between consecutive jumps.
 #[derive(Debug, Clone, Copy)]
 enum Shape {
-    /// A quantised level.
-    Flat { height_um: f64 },
+    /// A quantised level: height `level × step`.
+    Flat { level: u64, height_um: f64 },
     /// The sag about `centre_um`, less the folds below it (`offset_um`), at most `cap_um`.
     Curved {
         centre_um: f64,
@@ -470,7 +480,7 @@ impl Piece {
     /// The height on this piece, continued to its ends (a jump's two sides are two pieces).
     fn height_um(&self, design: &PhaseDesign, x_um: f64) -> f64 {
         match self.shape {
-            Shape::Flat { height_um } => height_um,
+            Shape::Flat { height_um, .. } => height_um,
             Shape::Curved {
                 centre_um,
                 offset_um,
@@ -482,33 +492,25 @@ impl Piece {
 
 /// The profile cut at every height jump, left to right.
 ///
-/// The sag is the parabola `a u²` ([`geometry::sag_um`]), so the jumps are solved for exactly:
-/// a quantised height changes where the sag crosses `(m + ½)·step` (the model rounds to the
-/// nearest level) and a continuous folded one wraps where it crosses `k·fold height`. Each
-/// piece's height is then taken from the model itself ([`geometry::height_um`]) at its middle.
+/// The jumps are the analytic crossings of [`geometry::bands`]: in integer level indices, a
+/// floored level j of wrap w ends where the sag reaches `w·d0 + (j+1)·step` and a wrap where it
+/// reaches `(w+1)·d0` (d0 the unrounded fold height); rounding to the nearest level jumps at
+/// `(K + ½)·step`. The radius is `sqrt(2(n−1)f·sag)`, so every level's ring has exactly the
+/// model's width, and each piece's level is the integer index of its ring, not a sampled height.
 fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, IoError> {
     let pitch = lenslets.pitch_um;
     let count = lenslets.count();
-    let a = geometry::sag_um(design, 1.0);
-    let edge_sag = geometry::sag_um(design, pitch / 2.0);
-    if !(a > 0.0 && edge_sag.is_finite()) {
+    let half = pitch / 2.0;
+    let edge_sag = geometry::sag_um(design, half);
+    if !(geometry::sag_um(design, 1.0) > 0.0 && edge_sag.is_finite()) {
         return Err(invalid(format!(
             "the lens sag {edge_sag} µm at the lenslet edge cannot be cut into levels"
         )));
     }
-    // (first crossing, spacing) of the sag values at which the height jumps.
-    let crossings = |fold_um: f64| match (design.surface, design.height_step_um) {
-        (_, Some(step)) => Some((step / 2.0, step)),
-        (Surface::Folded, None) => Some((fold_um, fold_um)),
-        (Surface::Unfolded, None) => None,
-    };
     let estimate: f64 = lenslets
         .fold_height_um
         .iter()
-        .map(|&f| match crossings(f) {
-            Some((_, spacing)) => 2.0 * (edge_sag / spacing + 1.0) + 1.0,
-            None => 1.0,
-        })
+        .map(|&f| 2.0 * geometry::band_count_bound(design, f, half) + 1.0)
         .sum();
     if !(estimate <= MAX_PIECES as f64) {
         let cause = match design.height_step_um {
@@ -521,53 +523,57 @@ fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, IoErr
         )));
     }
     let mut out = Vec::with_capacity(estimate as usize);
+    let mut cached: Option<(f64, Vec<geometry::Band>)> = None;
     for (l, &fold_um) in lenslets.fold_height_um.iter().enumerate() {
         let c = lenslets.centre_um(l);
         // Edges from one formula, so neighbouring lenslets share them bit for bit.
         let left = (l as f64 - count as f64 / 2.0) * pitch;
         let right = (l as f64 + 1.0 - count as f64 / 2.0) * pitch;
-        let mut us = Vec::new();
-        if let Some((first, spacing)) = crossings(fold_um) {
-            let mut k = 0.0;
-            loop {
-                let sag = first + k * spacing;
-                if sag >= edge_sag {
-                    break;
-                }
-                us.push((sag / a).sqrt());
-                k += 1.0;
-            }
-        }
-        let mut xs = Vec::with_capacity(2 * us.len() + 2);
-        xs.push(left);
-        xs.extend(us.iter().rev().map(|u| c - u));
-        xs.extend(us.iter().map(|u| c + u));
-        xs.push(right);
-        let mut prev = left;
-        for &x in &xs[1..] {
-            // Rounding could put a crossing on or past an edge; such a piece has no width.
-            if !(x > prev) || x > right {
-                continue;
-            }
-            let mid = 0.5 * (prev + x);
-            let h = geometry::height_um(design, mid - c, fold_um);
-            let shape = match design.height_step_um {
-                Some(_) => Shape::Flat { height_um: h },
-                None => Shape::Curved {
-                    centre_um: c,
-                    offset_um: geometry::sag_um(design, mid - c) - h,
-                    cap_um: match design.surface {
-                        Surface::Folded => fold_um,
-                        Surface::Unfolded => f64::INFINITY,
-                    },
+        let bands = match &cached {
+            Some((f, b)) if *f == fold_um => b,
+            _ => &cached.insert((fold_um, geometry::bands(design, fold_um, half))).1,
+        };
+        let shape = |b: &geometry::Band| match (b.level, design.height_step_um) {
+            (Some(level), Some(step)) => Shape::Flat {
+                level,
+                height_um: level as f64 * step,
+            },
+            _ => Shape::Curved {
+                centre_um: c,
+                offset_um: b.wraps as f64 * fold_um,
+                cap_um: match design.surface {
+                    Surface::Folded => fold_um,
+                    Surface::Unfolded => f64::INFINITY,
                 },
-            };
-            out.push(Piece {
-                x0_um: prev,
-                x1_um: x,
-                shape,
-            });
-            prev = x;
+            },
+        };
+        // Left half outside in, the central ring across the centre, right half inside out.
+        let last = bands.len() - 1;
+        let mut spans: Vec<(f64, f64, &geometry::Band)> = Vec::with_capacity(2 * bands.len());
+        for (k, b) in bands.iter().enumerate().skip(1).rev() {
+            let x0 = if k == last { left } else { c - b.u1_um };
+            spans.push((x0, c - b.u0_um, b));
+        }
+        let (x0, x1) = if last == 0 {
+            (left, right)
+        } else {
+            (c - bands[0].u1_um, c + bands[0].u1_um)
+        };
+        spans.push((x0, x1, &bands[0]));
+        for (k, b) in bands.iter().enumerate().skip(1) {
+            let x1 = if k == last { right } else { c + b.u1_um };
+            spans.push((c + b.u0_um, x1, b));
+        }
+        for (x0, x1, b) in spans {
+            // Rounding could put a crossing on or past an edge; such a piece has no width.
+            let (x0, x1) = (x0.max(left), x1.min(right));
+            if x1 > x0 {
+                out.push(Piece {
+                    x0_um: x0,
+                    x1_um: x1,
+                    shape: shape(b),
+                });
+            }
         }
     }
     Ok(out)
@@ -580,12 +586,13 @@ fn level_height_um(k: u64, step_um: f64) -> f64 {
 }
 
 /// Runs of one quantised level `[x0_nm, x1_nm, level]`, merged across pieces and lenslets and
-/// snapped to the 1 nm grid.
-fn level_runs(design: &PhaseDesign, pieces: &[Piece], step_um: f64) -> Vec<(i64, i64, u64)> {
+/// snapped to the 1 nm grid. The level is each piece's integer index.
+fn level_runs(pieces: &[Piece]) -> Vec<(i64, i64, u64)> {
     let mut runs: Vec<(i64, i64, u64)> = Vec::new();
     for p in pieces {
-        let h = p.height_um(design, 0.5 * (p.x0_um + p.x1_um));
-        let level = (h / step_um).round().max(0.0) as u64;
+        let Shape::Flat { level, .. } = p.shape else {
+            continue;
+        };
         let x0 = (p.x0_um / DB_UNIT_UM).round() as i64;
         let x1 = (p.x1_um / DB_UNIT_UM).round() as i64;
         if x1 <= x0 {
@@ -626,7 +633,7 @@ pub fn write_height_gds(
         ));
     };
     let pieces = pieces(design, &lenslets)?;
-    let runs = level_runs(design, &pieces, step);
+    let runs = level_runs(&pieces);
     let top_level = runs.iter().map(|r| r.2).max().unwrap_or(0);
     if top_level > i16::MAX as u64 {
         return Err(invalid(format!(

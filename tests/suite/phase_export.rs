@@ -8,13 +8,14 @@ use std::path::Path;
 
 use gds21::{GdsElement, GdsLibrary};
 use udc_studio::core::phase::geometry::{self, Lenslets};
-use udc_studio::core::phase::{Lambda0, PhaseDesign, Surface};
+use udc_studio::core::phase::{HeightRounding, Lambda0, PhaseDesign, Surface};
 use udc_studio::io::phase_export::{
     ExportKind, height_csv_text, write_height_csv, write_height_gds, write_height_png,
     write_height_stl,
 };
 
-/// 17 lenslets of 168 µm, T = 1, λ0 = 530 nm: small enough to sample at a few nm.
+/// 17 lenslets of 168 µm, T = 1, λ0 = 530 nm: small enough to sample at a few nm. With a 0.2 µm
+/// step (floored) the 1.029 µm fold holds levels 0, 0.2, … 1.0 µm.
 fn small(step: Option<f64>) -> PhaseDesign {
     let mut d = PhaseDesign::thesis(168.0, 1.0);
     d.height_step_um = step;
@@ -99,7 +100,8 @@ fn phase_export_csv_of_a_stepped_plate_has_only_levels() {
         .collect();
     let levels: std::collections::BTreeSet<i64> =
         heights.iter().map(|h| (h / 0.2).round() as i64).collect();
-    assert_eq!(levels.into_iter().collect::<Vec<_>>(), vec![0, 1, 2, 3, 4]);
+    // Floored within the 1.029 µm fold: 0 … 1.0 µm, never 1.2.
+    assert_eq!(levels.into_iter().collect::<Vec<_>>(), vec![0, 1, 2, 3, 4, 5]);
     for h in heights {
         assert!(
             (h / 0.2 - (h / 0.2).round()).abs() < 1e-9,
@@ -144,7 +146,7 @@ fn phase_export_png_levels_are_the_quantised_heights() {
     assert!(texts["description"].contains("um_per_level"));
     assert_eq!(s.um_per_level, Some(0.2));
     assert_eq!(s.pixel_um, Some(0.5));
-    assert_eq!(s.levels, Some(5));
+    assert_eq!(s.levels, Some(6));
     let heights = geometry::profile_um(&d, &xs).unwrap();
     for row in values.chunks(w) {
         assert_eq!(row, &values[..w], "rows are identical");
@@ -153,7 +155,7 @@ fn phase_export_png_levels_are_the_quantised_heights() {
         assert_eq!(f64::from(v), (hgt / 0.2).round(), "level of {hgt}");
         assert!((f64::from(v) * 0.2 - hgt).abs() < 1e-9);
     }
-    assert_eq!(values.iter().copied().max(), Some(4));
+    assert_eq!(values.iter().copied().max(), Some(5));
 }
 
 #[test]
@@ -245,8 +247,10 @@ fn read_gds_rects(path: &Path) -> (GdsLibrary, Vec<Rect>) {
 fn phase_export_gds_has_one_layer_per_level_with_the_right_widths() {
     let d = small(Some(0.2));
     let fold = geometry::fold_height_um(&d, 530.0);
-    let levels = (fold / 0.2).round() as i16;
-    assert_eq!(levels, 5);
+    // Floor keeps the unrounded fold; levels 0 … floor(1.029 / 0.2) = 5.
+    assert!((fold - 0.53 / 0.515).abs() < 1e-12, "{fold}");
+    let top = geometry::top_level(fold, 0.2) as i16;
+    assert_eq!(top, 5);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.gds");
     let s = write_height_gds(&d, &path, 100.0).unwrap();
@@ -263,11 +267,11 @@ fn phase_export_gds_has_one_layer_per_level_with_the_right_widths() {
     let layers: std::collections::BTreeSet<i16> = rects.iter().map(|r| r.layer).collect();
     assert_eq!(
         layers.into_iter().collect::<Vec<_>>(),
-        (1..levels).collect::<Vec<_>>()
+        (1..=top).collect::<Vec<_>>()
     );
-    assert_eq!(s.levels, Some(levels as usize));
+    assert_eq!(s.levels, Some(top as usize + 1));
     assert_eq!(s.rectangles, Some(rects.len()));
-    assert_eq!(s.layers.len(), levels as usize - 1);
+    assert_eq!(s.layers.len(), top as usize);
     let span_nm = (Lenslets::new(&d).unwrap().span_um() * 1000.0).round() as i32;
     for r in &rects {
         assert_eq!((r.y0, r.y1), (-50_000, 50_000), "100 µm along y, centred");
@@ -277,7 +281,7 @@ fn phase_export_gds_has_one_layer_per_level_with_the_right_widths() {
     let dx = 0.004;
     let (_, hs) = dense(&d, dx);
     let level: Vec<i16> = hs.iter().map(|h| (h / 0.2).round() as i16).collect();
-    for k in 1..levels {
+    for k in 1..=top {
         let measure = level.iter().filter(|&&l| l == k).count() as f64 * dx;
         let edges = level
             .windows(2)
@@ -563,10 +567,414 @@ fn phase_export_thesis_600dpi_plate_stays_small() {
     );
     assert!(curved.triangles.unwrap() < 200_000);
     read_watertight(&dir.path().join("c.stl"));
-    assert_eq!(gds.levels, Some(5));
-    assert_eq!(gds.layers.len(), 4);
+    // Floored within the 1.029 µm fold: 0, 0.2, … 1.0 µm.
+    assert_eq!(gds.levels, Some(6));
+    assert_eq!(gds.layers.len(), 5);
+    assert!((gds.max_height_um - 1.0).abs() < 1e-12);
     assert!((gds.width_um - 58.0 * 42.0).abs() < 1e-9);
     assert!(gds.rectangles.unwrap() < 10_000);
     assert!(stl.triangles.unwrap() < 100_000);
     read_watertight(&dir.path().join("p.stl"));
+}
+
+// ---- Quantisation (issue 12): floor within the unrounded fold, level rings at the analytic
+// crossings of the sag, in every format.
+
+/// The issue's plate: T = 1, λ0 fixed at 600 nm (fold d0 = 0.6 / 0.515 = 1.165 µm), a 0.2 µm step.
+fn issue_design(pitch_um: f64, rounding: HeightRounding) -> PhaseDesign {
+    let mut d = PhaseDesign::thesis(pitch_um, 1.0);
+    d.lambda0 = Lambda0::Fixed { nm: 600.0 };
+    d.height_step_um = Some(0.2);
+    d.height_rounding = rounding;
+    d
+}
+
+const STEP: f64 = 0.2;
+const D0: f64 = 0.6 / 0.515;
+
+/// The plate written out from the formulas alone (not from `geometry`): runs `(x0, x1, level)`
+/// left to right, equal neighbours merged. In each lenslet (centre c, `|u| = |x − c|`) the level
+/// changes where the sag `u² / (2(n−1)f)` reaches
+/// - floor: `w·d0 + j·s` (level j of wrap w, j = 0 … floor(d0/s)), i.e.
+///   `|u| = sqrt(2(n−1)f (w·d0 + j·s))`;
+/// - nearest: `(K − ½)·s` (level K mod m, the fold rounded to m = round(d0/s) steps).
+fn analytic_runs(d: &PhaseDesign) -> Vec<(f64, f64, i64)> {
+    let two_nf = 2.0 * (d.refractive_index - 1.0) * d.f_mla_um;
+    let radius = |sag: f64| (two_nf * sag).sqrt();
+    let p = d.pitch_um;
+    let edge_sag = (p / 2.0).powi(2) / two_nf;
+    // (sag where a level starts, level), from the centre out.
+    let mut starts: Vec<(f64, i64)> = Vec::new();
+    match d.height_rounding {
+        HeightRounding::Floor => {
+            let top = (D0 / STEP).floor() as i64;
+            'out: for w in 0.. {
+                for j in 0..=top {
+                    let sag = w as f64 * D0 + j as f64 * STEP;
+                    if sag >= edge_sag {
+                        break 'out;
+                    }
+                    starts.push((sag, j));
+                }
+            }
+        }
+        HeightRounding::Nearest => {
+            let m = (D0 / STEP).round() as i64;
+            for k in 0.. {
+                let sag = if k == 0 { 0.0 } else { (k as f64 - 0.5) * STEP };
+                if sag >= edge_sag {
+                    break;
+                }
+                starts.push((sag, k % m));
+            }
+        }
+    }
+    let lenslets = geometry::lenslet_count(d);
+    let mut runs: Vec<(f64, f64, i64)> = Vec::new();
+    // A ring of no width (a crossing exactly on a lenslet edge: at 168 µm the edge sag is exactly
+    // 35 folds) is no ring; its neighbours of equal level join.
+    let mut push = |x0: f64, x1: f64, level: i64| {
+        if x1 - x0 < 1e-9 {
+            return;
+        }
+        match runs.last_mut() {
+            Some(last) if last.2 == level => last.1 = x1,
+            _ => runs.push((x0, x1, level)),
+        }
+    };
+    for l in 0..lenslets {
+        let c = (l as f64 - (lenslets as f64 - 1.0) / 2.0) * p;
+        let (left, right) = (c - p / 2.0, c + p / 2.0);
+        let n = starts.len();
+        let outer = |k: usize| if k + 1 < n { radius(starts[k + 1].0) } else { p / 2.0 };
+        for k in (1..n).rev() {
+            let x0 = if k + 1 == n { left } else { c - outer(k) };
+            push(x0, c - radius(starts[k].0), starts[k].1);
+        }
+        push(c - outer(0), c + outer(0), starts[0].1);
+        for k in 1..n {
+            let x1 = if k + 1 == n { right } else { c + outer(k) };
+            push(c + radius(starts[k].0), x1, starts[k].1);
+        }
+    }
+    runs
+}
+
+/// The level the floor rule gives at `x`, straight from `floor(mod(sag, d0) / s)`.
+fn floor_level_at(d: &PhaseDesign, x: f64) -> i64 {
+    let lenslets = geometry::lenslet_count(d) as f64;
+    let l = ((x / d.pitch_um) + lenslets / 2.0).floor();
+    let u = x - (l - (lenslets - 1.0) / 2.0) * d.pitch_um;
+    let sag = u * u / (2.0 * (d.refractive_index - 1.0) * d.f_mla_um);
+    (sag.rem_euclid(D0) / STEP).floor() as i64
+}
+
+/// Runs of equal levels in a sampled export (samples at `xs`, `sample` apart): each run spans
+/// from half a sample before its first sample to half a sample after its last.
+fn sampled_runs(xs: &[f64], levels: &[i64], sample: f64) -> Vec<(f64, f64, i64)> {
+    let mut runs: Vec<(f64, f64, i64)> = Vec::new();
+    for (&x, &level) in xs.iter().zip(levels) {
+        match runs.last_mut() {
+            Some(last) if last.2 == level => last.1 = x + sample / 2.0,
+            _ => runs.push((x - sample / 2.0, x + sample / 2.0, level)),
+        }
+    }
+    runs
+}
+
+/// The same levels in the same order, every edge within `tol` µm of the analytic one (so every
+/// ring's width within `2 tol`). Edges at the array's ends are within `end_tol`.
+fn assert_runs_match(
+    what: &str,
+    got: &[(f64, f64, i64)],
+    want: &[(f64, f64, i64)],
+    tol: f64,
+    end_tol: f64,
+) {
+    assert_eq!(
+        got.len(),
+        want.len(),
+        "{what}: {} runs, the analytic plate has {}",
+        got.len(),
+        want.len()
+    );
+    for (k, (g, w)) in got.iter().zip(want).enumerate() {
+        assert_eq!(g.2, w.2, "{what}: run {k} at x = {} has level {}", w.0, g.2);
+        let t0 = if k == 0 { end_tol } else { tol };
+        let t1 = if k + 1 == want.len() { end_tol } else { tol };
+        assert!(
+            (g.0 - w.0).abs() <= t0 && (g.1 - w.1).abs() <= t1,
+            "{what}: level {} run {k} spans {}..{}, the crossings say {}..{} (tolerance {tol})",
+            g.2,
+            g.0,
+            g.1,
+            w.0,
+            w.1
+        );
+        let (gw, ww) = (g.1 - g.0, w.1 - w.0);
+        assert!(
+            (gw - ww).abs() <= t0 + t1,
+            "{what}: level {} run {k} is {gw} µm wide, the crossings say {ww}",
+            g.2
+        );
+    }
+}
+
+fn levels_of(runs: &[(f64, f64, i64)]) -> std::collections::BTreeSet<i64> {
+    runs.iter().map(|r| r.2).collect()
+}
+
+/// Issue 12: at 600 nm the fold is 1.165 µm; flooring to 0.2 µm gives exactly the levels
+/// 0, 0.2, … 1.0 µm (floor(d0/s) + 1 = 6), none above the fold, and every format's rings sit at
+/// the analytic crossings `|u| = sqrt(2(n−1)f (w·d0 + j·s))` within its resolution: the sample
+/// for CSV and PNG, 1 nm for GDSII, the STL grid (1 nm) plus single precision.
+#[test]
+fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
+    for pitch in [42.0, 168.0] {
+        let d = issue_design(pitch, HeightRounding::Floor);
+        assert_eq!(d.height_rounding, HeightRounding::default());
+        let fold = geometry::fold_height_um(&d, 600.0);
+        assert!((fold - D0).abs() < 1e-12, "the wrap is the unrounded d0: {fold}");
+        let top = (D0 / STEP).floor() as i64;
+        assert_eq!(top, 5);
+        assert_eq!(geometry::top_level(fold, STEP), 5);
+        let want = analytic_runs(&d);
+        assert_eq!(levels_of(&want), (0..=top).collect());
+        // The analytic rings are what the floor formula says inside them (a quarter in from each
+        // end: a ring merged across a lenslet edge has the edge at its middle).
+        for r in &want {
+            for t in [0.25, 0.75] {
+                assert_eq!(floor_level_at(&d, r.0 + t * (r.1 - r.0)), r.2, "{r:?}");
+            }
+        }
+        let narrowest = want.iter().map(|r| r.1 - r.0).fold(f64::INFINITY, f64::min);
+        // The slope is at most 0.97 at a lenslet edge: the top ring, 0.165 µm of sag, is ~0.17 µm.
+        // Whole rings (not cut by a lenslet edge) are at least the top ring's 0.165 µm of sag over
+        // the steepest slope, 0.97 at a lenslet edge: the slope's natural width, no slivers.
+        let w = geometry::lenslet_count(&d) as f64 * pitch;
+        let edges_in = |r: &&(f64, f64, i64)| {
+            let (a, b) = ((r.0 + w / 2.0) / pitch, (r.1 + w / 2.0) / pitch);
+            (a - 1e-9).ceil() <= (b + 1e-9).floor()
+        };
+        let whole = want.iter().filter(|r| !edges_in(r));
+        let narrowest = whole.map(|r| r.1 - r.0).fold(f64::INFINITY, f64::min);
+        let slope = (pitch / 2.0) / ((d.refractive_index - 1.0) * d.f_mla_um);
+        let natural = (D0 - top as f64 * STEP) / slope;
+        assert!(
+            narrowest >= natural * (1.0 - 1e-9) && natural > 0.16,
+            "pitch {pitch}: a whole ring is {narrowest} µm wide, under {natural}"
+        );
+        let dir = tempfile::tempdir().unwrap();
+
+        // CSV and PNG at 40 or 50 nm (within the PNG's 65535 columns): every sample's level, and
+        // the rings within half a sample; every ring, also those cut by the array's ends, holds a
+        // sample.
+        let sample = if pitch == 42.0 { 0.04 } else { 0.05 };
+        let all_narrowest = want.iter().map(|r| r.1 - r.0).fold(f64::INFINITY, f64::min);
+        assert!(all_narrowest > 1.5 * sample, "{all_narrowest}");
+        let xs = sample_xs(&d, sample);
+        let text = height_csv_text(&d, sample).unwrap();
+        assert!(text.contains("floor rounding"), "the header states the rule");
+        let heights: Vec<f64> = text
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
+            .map(|l| l.split(',').nth(1).unwrap().parse().unwrap())
+            .collect();
+        assert_eq!(heights.len(), xs.len());
+        let csv_levels: Vec<i64> = heights.iter().map(|h| (h / STEP).round() as i64).collect();
+        for ((&h, &k), &x) in heights.iter().zip(&csv_levels).zip(&xs) {
+            assert_eq!(h, k as f64 * STEP, "x = {x}: {h} is not exactly a level");
+            assert!(h < D0, "x = {x}: {h} µm is above the fold height {D0}");
+            assert_eq!(k, floor_level_at(&d, x), "x = {x}: level {k}");
+        }
+        let csv_runs = sampled_runs(&xs, &csv_levels, sample);
+        assert_eq!(levels_of(&csv_runs), (0..=top).collect());
+        assert_runs_match(
+            &format!("CSV, pitch {pitch}"),
+            &csv_runs,
+            &want,
+            sample / 2.0 + 1e-9,
+            sample,
+        );
+
+        let png_path = dir.path().join("plate.png");
+        let png = write_height_png(&d, &png_path, sample, 2).unwrap();
+        assert_eq!(png.levels, Some(top as usize + 1));
+        assert!((png.max_height_um - 1.0).abs() < 1e-12);
+        let (w, _, values, texts) = read_png16(&png_path);
+        assert_eq!(texts["um_per_level"].parse::<f64>().unwrap(), STEP);
+        let png_levels: Vec<i64> = values[..w].iter().map(|&v| i64::from(v)).collect();
+        assert_eq!(png_levels, csv_levels, "PNG pixels are the CSV's levels");
+        assert_runs_match(
+            &format!("PNG, pitch {pitch}"),
+            &sampled_runs(&xs, &png_levels, sample),
+            &want,
+            sample / 2.0 + 1e-9,
+            sample,
+        );
+
+        // GDSII: one layer per level 1 … 5, rectangles at the crossings to the 1 nm unit.
+        let gds_path = dir.path().join("plate.gds");
+        let gds = write_height_gds(&d, &gds_path, 10.0).unwrap();
+        assert_eq!(gds.levels, Some(top as usize + 1));
+        assert_eq!(gds.layers.len(), top as usize);
+        assert!((gds.max_height_um - 1.0).abs() < 1e-12);
+        for (k, layer) in gds.layers.iter().enumerate() {
+            assert_eq!(layer.layer, k as i16 + 1);
+            assert!((layer.height_um - (k + 1) as f64 * STEP).abs() < 1e-12);
+            assert!(layer.height_um < D0);
+        }
+        let (_, mut rects) = read_gds_rects(&gds_path);
+        rects.sort_by_key(|r| r.x0);
+        let gds_runs: Vec<(f64, f64, i64)> = rects
+            .iter()
+            .map(|r| (f64::from(r.x0) * 1e-3, f64::from(r.x1) * 1e-3, i64::from(r.layer)))
+            .collect();
+        let drawn: Vec<(f64, f64, i64)> = want.iter().copied().filter(|r| r.2 > 0).collect();
+        assert_eq!(levels_of(&gds_runs), (1..=top).collect());
+        assert_runs_match(
+            &format!("GDSII, pitch {pitch}"),
+            &gds_runs,
+            &drawn,
+            0.5e-3 + 1e-9,
+            0.5e-3 + 1e-9,
+        );
+        for (layer, k) in gds.layers.iter().zip(1..) {
+            let width: f64 = drawn.iter().filter(|r| r.2 == k).map(|r| r.1 - r.0).sum();
+            let rings = drawn.iter().filter(|r| r.2 == k).count() as f64;
+            assert!(
+                (layer.width_um - width).abs() <= rings * 1e-3,
+                "layer {k}: {} µm vs {width} µm",
+                layer.width_um
+            );
+        }
+
+        // STL: the up-facing strips are the flat levels, at base + level·s.
+        let (base, length) = (2.0, 10.0);
+        let stl_path = dir.path().join("plate.stl");
+        let stl = write_height_stl(&d, &stl_path, 0.5, length, base).unwrap();
+        assert!((stl.max_height_um - 1.0).abs() < 1e-5);
+        let grid = stl.grid_um.unwrap();
+        let mesh = read_watertight(&stl_path);
+        let mut strips: Vec<(f64, f64, i64)> = Vec::new();
+        for f in &mesh.faces {
+            if f.normal.0[2] < 0.5 {
+                continue;
+            }
+            let v: Vec<[f64; 3]> = f
+                .vertices
+                .iter()
+                .map(|&i| mesh.vertices[i].0.map(f64::from))
+                .collect();
+            let x0 = v.iter().map(|p| p[0]).fold(f64::INFINITY, f64::min);
+            let x1 = v.iter().map(|p| p[0]).fold(f64::NEG_INFINITY, f64::max);
+            let h = v[0][2] - base;
+            let level = (h / STEP).round() as i64;
+            assert!((h - level as f64 * STEP).abs() < 1e-5, "a top at {h} µm");
+            assert!(h < D0, "a top at {h} µm is above the fold {D0}");
+            strips.push((x0, x1, level));
+        }
+        strips.sort_by(|a, b| a.0.total_cmp(&b.0));
+        strips.dedup_by(|a, b| a.0 == b.0 && a.1 == b.1);
+        // Single precision near x = W/2 (≤ 1.5 mm) adds up to ~1e-4 µm to the grid's half step.
+        let tol = grid / 2.0 + 2e-4;
+        assert_runs_match(&format!("STL, pitch {pitch}"), &strips, &want, tol, tol);
+    }
+}
+
+/// `height_rounding: nearest` keeps the old rule: round(sag / s)·s with the fold rounded to the
+/// step (1.165 → 1.2 µm, six steps), so the rings start at (K − ½)·s and the plate wraps every
+/// 1.2 µm of sag instead of every 1.165 µm. The files differ from the floored plate's.
+#[test]
+fn phase_export_nearest_rounding_is_still_available_and_differs() {
+    for pitch in [42.0, 168.0] {
+        let d = issue_design(pitch, HeightRounding::Nearest);
+        let fold = geometry::fold_height_um(&d, 600.0);
+        assert!((fold - 1.2).abs() < 1e-12, "nearest rounds the fold: {fold}");
+        assert!(fold > D0);
+        let want = analytic_runs(&d);
+        let floor = analytic_runs(&issue_design(pitch, HeightRounding::Floor));
+        assert_ne!(want.len(), floor.len());
+        let sample = 0.05;
+        let xs = sample_xs(&d, sample);
+        let text = height_csv_text(&d, sample).unwrap();
+        assert!(text.contains("nearest rounding"));
+        assert!(text.contains("max fold height 1.2"), "the rounded fold is stated");
+        let levels: Vec<i64> = text
+            .lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
+            .map(|l| {
+                let h: f64 = l.split(',').nth(1).unwrap().parse().unwrap();
+                let k = (h / STEP).round() as i64;
+                assert_eq!(h, k as f64 * STEP, "{h} is not exactly a level");
+                k
+            })
+            .collect();
+        assert_runs_match(
+            &format!("nearest CSV, pitch {pitch}"),
+            &sampled_runs(&xs, &levels, sample),
+            &want,
+            sample / 2.0 + 1e-9,
+            sample,
+        );
+        let differ = xs
+            .iter()
+            .zip(&levels)
+            .filter(|(x, k)| floor_level_at(&d, **x) != **k)
+            .count();
+        assert!(
+            differ > xs.len() / 4,
+            "pitch {pitch}: only {differ} of {} samples differ from the floored plate",
+            xs.len()
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let gds_path = dir.path().join("nearest.gds");
+        write_height_gds(&d, &gds_path, 10.0).unwrap();
+        let (_, mut rects) = read_gds_rects(&gds_path);
+        rects.sort_by_key(|r| r.x0);
+        let gds_runs: Vec<(f64, f64, i64)> = rects
+            .iter()
+            .map(|r| (f64::from(r.x0) * 1e-3, f64::from(r.x1) * 1e-3, i64::from(r.layer)))
+            .collect();
+        let drawn: Vec<(f64, f64, i64)> = want.iter().copied().filter(|r| r.2 > 0).collect();
+        assert_runs_match(
+            &format!("nearest GDSII, pitch {pitch}"),
+            &gds_runs,
+            &drawn,
+            0.5e-3 + 1e-9,
+            0.5e-3 + 1e-9,
+        );
+    }
+}
+
+/// A fold that is a whole number of steps has no sliver level at the fold itself, and a fold
+/// under one step floors the whole plate to 0.
+#[test]
+fn phase_export_floor_edge_cases_of_the_top_level() {
+    assert_eq!(geometry::top_level(1.0, 0.2), 4);
+    assert_eq!(geometry::top_level(1.0 + 1e-13, 0.2), 4);
+    assert_eq!(geometry::top_level(1.01, 0.2), 5);
+    assert_eq!(geometry::top_level(0.15, 0.2), 0);
+    let mut d = small(Some(2.0));
+    d.lambda0 = Lambda0::Fixed { nm: 530.0 };
+    let text = height_csv_text(&d, 0.5).unwrap();
+    assert!(
+        text.lines()
+            .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
+            .all(|l| l.split(',').nth(1) == Some("0")),
+        "a 2 µm step floors a 1.03 µm fold to 0"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let s = write_height_gds(&d, &dir.path().join("flat.gds"), 10.0).unwrap();
+    assert_eq!((s.levels, s.rectangles), (Some(1), Some(0)));
+    // Unfolded, floored: floor(sag / s)·s, never above the sag.
+    let mut u = small(Some(0.2));
+    u.surface = Surface::Unfolded;
+    let (xs, hs) = dense(&u, 0.01);
+    let lenslets = Lenslets::new(&u).unwrap();
+    for (&x, &h) in xs.iter().zip(&hs) {
+        let (_, du) = lenslets.locate(x).unwrap();
+        let sag = geometry::sag_um(&u, du);
+        assert_eq!(h, (sag / 0.2).floor() * 0.2, "x = {x}");
+    }
 }

@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::{
-    DISPLAY_APERTURE_HALF_ANGLE_DEG, GRID_LEN, Lambda0, PhaseDesign, SimError, wavelength_grid_nm,
+    DISPLAY_APERTURE_HALF_ANGLE_DEG, GRID_LEN, HeightRounding, Lambda0, PhaseDesign, SimError,
+    wavelength_grid_nm,
 };
 
 /// The plate as folded (eq. 4.8) or the thick lens it comes from.
@@ -36,26 +37,209 @@ pub fn sag_um(d: &PhaseDesign, u_um: f64) -> f64 {
     u_um * u_um / (2.0 * (d.refractive_index - 1.0) * d.f_mla_um)
 }
 
-/// Fold height `T λ0 / (n − 1)` in µm, rounded to the fabrication step (at least one step).
+/// Fold height in µm: the sag at which a lenslet wraps back to 0.
+///
+/// It is `d0 = T λ0 / (n − 1)` itself, unless the design rounds to the nearest step
+/// ([`HeightRounding::Nearest`] with a `height_step_um`): then `d0` is rounded to the step (at
+/// least one step), as before the floor rule. With [`HeightRounding::Floor`] the wrap stays at the
+/// unrounded `d0` and the tallest level is [`top_level`]`(d0, step) · step`, below `d0`.
 pub fn fold_height_um(d: &PhaseDesign, lambda0_nm: f64) -> f64 {
     let h = d.fold * lambda0_nm * 1e-3 / (d.refractive_index - 1.0);
-    match d.height_step_um {
-        Some(step) => (h / step).round().max(1.0) * step,
-        None => h,
+    match (d.height_step_um, d.height_rounding) {
+        (Some(step), _) => (h / step).round().max(1.0) * step,
+        _ => h,
     }
 }
 
-/// Height of a lenslet's surface at `u_um` from its centre, given its fold height.
-pub fn height_um(d: &PhaseDesign, u_um: f64, fold_height_um: f64) -> f64 {
-    let sag = sag_um(d, u_um);
-    match (d.surface, d.height_step_um) {
-        (Surface::Unfolded, None) => sag,
-        (Surface::Unfolded, Some(step)) => (sag / step).round() * step,
-        (Surface::Folded, None) => sag.rem_euclid(fold_height_um),
-        // Rounding to the nearest level (not flooring) keeps the mean phase error at zero; the
-        // top level wraps to 0 like the continuous profile does.
-        (Surface::Folded, Some(step)) => ((sag / step).round() * step).rem_euclid(fold_height_um),
+/// The highest level index of a floored plate within one fold: the largest `j` with
+/// `j · step < fold_um`, i.e. `floor(fold/step)` unless the fold is a whole number of steps (then
+/// the level at `fold` would have no width: the sag reaches it exactly where the next wrap starts).
+/// A ratio within 1e-9 of a whole number counts as whole, so no sliver level appears from binary
+/// noise.
+pub fn top_level(fold_um: f64, step_um: f64) -> u64 {
+    let ratio = fold_um / step_um;
+    let levels = (ratio * (1.0 - 1e-9)).ceil();
+    if levels.is_finite() && levels >= 1.0 {
+        levels as u64 - 1
+    } else {
+        0
     }
+}
+
+/// Levels per fold of a plate rounded to the nearest step: `round(fold/step)`, at least 1 (the
+/// fold of [`fold_height_um`] is that many steps; level `m` wraps to 0).
+fn nearest_levels_per_fold(fold_um: f64, step_um: f64) -> u64 {
+    let m = (fold_um / step_um).round();
+    if m.is_finite() && m >= 1.0 { m as u64 } else { 1 }
+}
+
+/// The quantised level index of a lenslet's surface at `u_um` from its centre (height =
+/// level × `height_step_um`), or `None` when the design has no step. `fold_um` is the lenslet's
+/// [`fold_height_um`].
+///
+/// - Floor, folded: `j = floor(mod(sag, d0) / step)`, at most [`top_level`]`(d0, step)`.
+/// - Floor, unfolded: `floor(sag / step)`.
+/// - Nearest, folded: `round(sag / step) mod m`, m = `round(fold / step)` (the fold is whole steps).
+/// - Nearest, unfolded: `round(sag / step)`.
+pub fn level_index(d: &PhaseDesign, u_um: f64, fold_um: f64) -> Option<u64> {
+    let step = d.height_step_um?;
+    let sag = sag_um(d, u_um);
+    let k = |v: f64| if v > 0.0 { v as u64 } else { 0 };
+    Some(match (d.surface, d.height_rounding) {
+        (Surface::Unfolded, HeightRounding::Floor) => k((sag / step).floor()),
+        (Surface::Unfolded, HeightRounding::Nearest) => k((sag / step).round()),
+        (Surface::Folded, HeightRounding::Floor) => {
+            k((sag.rem_euclid(fold_um) / step).floor()).min(top_level(fold_um, step))
+        }
+        (Surface::Folded, HeightRounding::Nearest) => {
+            k((sag / step).round()) % nearest_levels_per_fold(fold_um, step)
+        }
+    })
+}
+
+/// Height of a lenslet's surface at `u_um` from its centre, given its fold height
+/// ([`fold_height_um`]). Without a step: the sag, folded by `mod(sag, fold)` unless unfolded. With
+/// a step: [`level_index`] × step, so every height is exactly a whole number of steps.
+/// [`HeightRounding::Floor`] (the authors' rule) keeps every height below the fold;
+/// [`HeightRounding::Nearest`] keeps the mean phase error at zero but raises part of each fold's
+/// slope to the next level.
+pub fn height_um(d: &PhaseDesign, u_um: f64, fold_height_um: f64) -> f64 {
+    match (level_index(d, u_um, fold_height_um), d.height_step_um) {
+        (Some(level), Some(step)) => level as f64 * step,
+        _ => {
+            let sag = sag_um(d, u_um);
+            match d.surface {
+                Surface::Unfolded => sag,
+                Surface::Folded => sag.rem_euclid(fold_height_um),
+            }
+        }
+    }
+}
+
+/// Distance from a lenslet's centre at which the sag reaches `sag_um`:
+/// `sqrt(2 (n−1) f · sag)` (the inverse of [`sag_um`]).
+pub fn radius_at_sag_um(d: &PhaseDesign, sag_um: f64) -> f64 {
+    (2.0 * (d.refractive_index - 1.0) * d.f_mla_um * sag_um).sqrt()
+}
+
+/// One ring of a lenslet between consecutive height jumps, on one side of its centre:
+/// `u0_um ≤ |u| < u1_um`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Band {
+    pub u0_um: f64,
+    pub u1_um: f64,
+    /// Folds below the ring: the continuous height there is `sag − wraps · fold` (0 unfolded).
+    pub wraps: u64,
+    /// The quantised level (height = level × step), `None` without a step.
+    pub level: Option<u64>,
+}
+
+/// Upper bound on the number of [`bands`] out to `u_max_um`, without building them (so a design
+/// with billions of levels can be refused first).
+pub fn band_count_bound(d: &PhaseDesign, fold_um: f64, u_max_um: f64) -> f64 {
+    let edge = sag_um(d, u_max_um);
+    match (d.height_step_um, d.surface, d.height_rounding) {
+        (None, Surface::Unfolded, _) => 1.0,
+        (None, Surface::Folded, _) => edge / fold_um + 1.0,
+        (Some(step), Surface::Folded, HeightRounding::Floor) => match top_level(fold_um, step) {
+            0 => 1.0,
+            top => (edge / fold_um + 1.0) * (top as f64 + 1.0),
+        },
+        (Some(step), Surface::Folded, HeightRounding::Nearest)
+            if nearest_levels_per_fold(fold_um, step) == 1 =>
+        {
+            1.0
+        }
+        (Some(step), _, _) => edge / step + 2.0,
+    }
+}
+
+/// The rings of one lenslet from its centre out to `u_max_um` (half the pitch), each where the
+/// height is one level (or one continuous piece of one fold), from the analytic crossings of the
+/// sag `u² / (2(n−1)f)` in integer level indices:
+///
+/// - Floor, folded (fold d0, step s, top level J = [`top_level`]): ring (w, j) spans
+///   `w·d0 + j·s ≤ sag < w·d0 + (j+1)·s` for j < J and `w·d0 + J·s ≤ sag < (w+1)·d0` for j = J.
+/// - Floor, unfolded: `k·s ≤ sag < (k+1)·s`, level k.
+/// - Nearest: `(K−½)·s ≤ sag < (K+½)·s` (from 0 for K = 0), level K (mod the levels per fold).
+/// - No step: one ring per fold `w·d0 ≤ sag < (w+1)·d0`, or one ring when unfolded.
+///
+/// The radius of a crossing is [`radius_at_sag_um`]. Neighbouring rings of equal level are merged
+/// (a fold under one step is one flat level 0). The last ring ends at `u_max_um`.
+pub fn bands(d: &PhaseDesign, fold_um: f64, u_max_um: f64) -> Vec<Band> {
+    let edge = sag_um(d, u_max_um);
+    // (sag at the ring's inner edge, wraps, level), in order; each ring ends where the next begins.
+    let mut starts: Vec<(f64, u64, Option<u64>)> = Vec::new();
+    let mut push = |sag: f64, wraps: u64, level: Option<u64>| -> bool {
+        if sag >= edge && !starts.is_empty() {
+            return false;
+        }
+        match starts.last() {
+            Some(&(_, _, Some(prev))) if level == Some(prev) => {}
+            _ => starts.push((sag, wraps, level)),
+        }
+        true
+    };
+    match (d.height_step_um, d.surface, d.height_rounding) {
+        (None, Surface::Unfolded, _) => {
+            push(0.0, 0, None);
+        }
+        (None, Surface::Folded, _) => {
+            let mut w = 0u64;
+            while push(w as f64 * fold_um, w, None) {
+                w += 1;
+            }
+        }
+        (Some(step), Surface::Folded, HeightRounding::Floor) => {
+            let top = top_level(fold_um, step);
+            let mut w = 0u64;
+            'wraps: loop {
+                let base = w as f64 * fold_um;
+                for j in 0..=top {
+                    if !push(base + j as f64 * step, w, Some(j)) {
+                        break 'wraps;
+                    }
+                }
+                if top == 0 {
+                    break;
+                }
+                w += 1;
+            }
+        }
+        (Some(step), Surface::Unfolded, HeightRounding::Floor) => {
+            let mut k = 0u64;
+            while push(k as f64 * step, 0, Some(k)) {
+                k += 1;
+            }
+        }
+        (Some(step), surface, HeightRounding::Nearest) => {
+            let m = match surface {
+                Surface::Folded => nearest_levels_per_fold(fold_um, step),
+                Surface::Unfolded => u64::MAX,
+            };
+            let mut k = 0u64;
+            loop {
+                let sag = if k == 0 { 0.0 } else { (k as f64 - 0.5) * step };
+                if !push(sag, k / m, Some(k % m)) || m == 1 {
+                    break;
+                }
+                k += 1;
+            }
+        }
+    }
+    let mut out: Vec<Band> = starts
+        .iter()
+        .map(|&(sag, wraps, level)| Band {
+            u0_um: radius_at_sag_um(d, sag),
+            u1_um: u_max_um,
+            wraps,
+            level,
+        })
+        .collect();
+    for k in 1..out.len() {
+        out[k - 1].u1_um = out[k].u0_um;
+    }
+    out
 }
 
 /// λ0 of every lenslet, left to right.
