@@ -531,7 +531,11 @@ fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, IoErr
         let right = (l as f64 + 1.0 - count as f64 / 2.0) * pitch;
         let bands = match &cached {
             Some((f, b)) if *f == fold_um => b,
-            _ => &cached.insert((fold_um, geometry::bands(design, fold_um, half))).1,
+            _ => {
+                &cached
+                    .insert((fold_um, geometry::bands(design, fold_um, half)))
+                    .1
+            }
         };
         let shape = |b: &geometry::Band| match (b.level, design.height_step_um) {
             (Some(level), Some(step)) => Shape::Flat {

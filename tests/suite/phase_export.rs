@@ -101,7 +101,10 @@ fn phase_export_csv_of_a_stepped_plate_has_only_levels() {
     let levels: std::collections::BTreeSet<i64> =
         heights.iter().map(|h| (h / 0.2).round() as i64).collect();
     // Floored within the 1.029 µm fold: 0 … 1.0 µm, never 1.2.
-    assert_eq!(levels.into_iter().collect::<Vec<_>>(), vec![0, 1, 2, 3, 4, 5]);
+    assert_eq!(
+        levels.into_iter().collect::<Vec<_>>(),
+        vec![0, 1, 2, 3, 4, 5]
+    );
     for h in heights {
         assert!(
             (h / 0.2 - (h / 0.2).round()).abs() < 1e-9,
@@ -646,15 +649,21 @@ fn analytic_runs(d: &PhaseDesign) -> Vec<(f64, f64, i64)> {
         let c = (l as f64 - (lenslets as f64 - 1.0) / 2.0) * p;
         let (left, right) = (c - p / 2.0, c + p / 2.0);
         let n = starts.len();
-        let outer = |k: usize| if k + 1 < n { radius(starts[k + 1].0) } else { p / 2.0 };
-        for k in (1..n).rev() {
+        let outer = |k: usize| {
+            if k + 1 < n {
+                radius(starts[k + 1].0)
+            } else {
+                p / 2.0
+            }
+        };
+        for (k, &(sag, level)) in starts.iter().enumerate().skip(1).rev() {
             let x0 = if k + 1 == n { left } else { c - outer(k) };
-            push(x0, c - radius(starts[k].0), starts[k].1);
+            push(x0, c - radius(sag), level);
         }
         push(c - outer(0), c + outer(0), starts[0].1);
-        for k in 1..n {
+        for (k, &(sag, level)) in starts.iter().enumerate().skip(1) {
             let x1 = if k + 1 == n { right } else { c + outer(k) };
-            push(c + radius(starts[k].0), x1, starts[k].1);
+            push(c + radius(sag), x1, level);
         }
     }
     runs
@@ -734,7 +743,10 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         let d = issue_design(pitch, HeightRounding::Floor);
         assert_eq!(d.height_rounding, HeightRounding::default());
         let fold = geometry::fold_height_um(&d, 600.0);
-        assert!((fold - D0).abs() < 1e-12, "the wrap is the unrounded d0: {fold}");
+        assert!(
+            (fold - D0).abs() < 1e-12,
+            "the wrap is the unrounded d0: {fold}"
+        );
         let top = (D0 / STEP).floor() as i64;
         assert_eq!(top, 5);
         assert_eq!(geometry::top_level(fold, STEP), 5);
@@ -747,8 +759,6 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
                 assert_eq!(floor_level_at(&d, r.0 + t * (r.1 - r.0)), r.2, "{r:?}");
             }
         }
-        let narrowest = want.iter().map(|r| r.1 - r.0).fold(f64::INFINITY, f64::min);
-        // The slope is at most 0.97 at a lenslet edge: the top ring, 0.165 µm of sag, is ~0.17 µm.
         // Whole rings (not cut by a lenslet edge) are at least the top ring's 0.165 µm of sag over
         // the steepest slope, 0.97 at a lenslet edge: the slope's natural width, no slivers.
         let w = geometry::lenslet_count(&d) as f64 * pitch;
@@ -774,7 +784,10 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         assert!(all_narrowest > 1.5 * sample, "{all_narrowest}");
         let xs = sample_xs(&d, sample);
         let text = height_csv_text(&d, sample).unwrap();
-        assert!(text.contains("floor rounding"), "the header states the rule");
+        assert!(
+            text.contains("floor rounding"),
+            "the header states the rule"
+        );
         let heights: Vec<f64> = text
             .lines()
             .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
@@ -828,7 +841,13 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         rects.sort_by_key(|r| r.x0);
         let gds_runs: Vec<(f64, f64, i64)> = rects
             .iter()
-            .map(|r| (f64::from(r.x0) * 1e-3, f64::from(r.x1) * 1e-3, i64::from(r.layer)))
+            .map(|r| {
+                (
+                    f64::from(r.x0) * 1e-3,
+                    f64::from(r.x1) * 1e-3,
+                    i64::from(r.layer),
+                )
+            })
             .collect();
         let drawn: Vec<(f64, f64, i64)> = want.iter().copied().filter(|r| r.2 > 0).collect();
         assert_eq!(levels_of(&gds_runs), (1..=top).collect());
@@ -890,7 +909,10 @@ fn phase_export_nearest_rounding_is_still_available_and_differs() {
     for pitch in [42.0, 168.0] {
         let d = issue_design(pitch, HeightRounding::Nearest);
         let fold = geometry::fold_height_um(&d, 600.0);
-        assert!((fold - 1.2).abs() < 1e-12, "nearest rounds the fold: {fold}");
+        assert!(
+            (fold - 1.2).abs() < 1e-12,
+            "nearest rounds the fold: {fold}"
+        );
         assert!(fold > D0);
         let want = analytic_runs(&d);
         let floor = analytic_runs(&issue_design(pitch, HeightRounding::Floor));
@@ -899,7 +921,10 @@ fn phase_export_nearest_rounding_is_still_available_and_differs() {
         let xs = sample_xs(&d, sample);
         let text = height_csv_text(&d, sample).unwrap();
         assert!(text.contains("nearest rounding"));
-        assert!(text.contains("max fold height 1.2"), "the rounded fold is stated");
+        assert!(
+            text.contains("max fold height 1.2"),
+            "the rounded fold is stated"
+        );
         let levels: Vec<i64> = text
             .lines()
             .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
@@ -934,7 +959,13 @@ fn phase_export_nearest_rounding_is_still_available_and_differs() {
         rects.sort_by_key(|r| r.x0);
         let gds_runs: Vec<(f64, f64, i64)> = rects
             .iter()
-            .map(|r| (f64::from(r.x0) * 1e-3, f64::from(r.x1) * 1e-3, i64::from(r.layer)))
+            .map(|r| {
+                (
+                    f64::from(r.x0) * 1e-3,
+                    f64::from(r.x1) * 1e-3,
+                    i64::from(r.layer),
+                )
+            })
             .collect();
         let drawn: Vec<(f64, f64, i64)> = want.iter().copied().filter(|r| r.2 > 0).collect();
         assert_runs_match(

@@ -46,7 +46,7 @@ pub fn sag_um(d: &PhaseDesign, u_um: f64) -> f64 {
 pub fn fold_height_um(d: &PhaseDesign, lambda0_nm: f64) -> f64 {
     let h = d.fold * lambda0_nm * 1e-3 / (d.refractive_index - 1.0);
     match (d.height_step_um, d.height_rounding) {
-        (Some(step), _) => (h / step).round().max(1.0) * step,
+        (Some(step), HeightRounding::Nearest) => (h / step).round().max(1.0) * step,
         _ => h,
     }
 }
@@ -70,7 +70,11 @@ pub fn top_level(fold_um: f64, step_um: f64) -> u64 {
 /// fold of [`fold_height_um`] is that many steps; level `m` wraps to 0).
 fn nearest_levels_per_fold(fold_um: f64, step_um: f64) -> u64 {
     let m = (fold_um / step_um).round();
-    if m.is_finite() && m >= 1.0 { m as u64 } else { 1 }
+    if m.is_finite() && m >= 1.0 {
+        m as u64
+    } else {
+        1
+    }
 }
 
 /// The quantised level index of a lenslet's surface at `u_um` from its centre (height =
@@ -100,9 +104,10 @@ pub fn level_index(d: &PhaseDesign, u_um: f64, fold_um: f64) -> Option<u64> {
 /// Height of a lenslet's surface at `u_um` from its centre, given its fold height
 /// ([`fold_height_um`]). Without a step: the sag, folded by `mod(sag, fold)` unless unfolded. With
 /// a step: [`level_index`] × step, so every height is exactly a whole number of steps.
-/// [`HeightRounding::Floor`] (the authors' rule) keeps every height below the fold;
-/// [`HeightRounding::Nearest`] keeps the mean phase error at zero but raises part of each fold's
-/// slope to the next level.
+/// [`HeightRounding::Floor`] (the authors' rule) keeps every height below the unrounded fold d0
+/// and wraps exactly at d0; [`HeightRounding::Nearest`] rounds the sag (zero mean error against
+/// it) and wraps at the fold rounded to whole steps, so its period differs from d0 (1.2 µm for
+/// d0 = 1.165 µm at a 0.2 µm step).
 pub fn height_um(d: &PhaseDesign, u_um: f64, fold_height_um: f64) -> f64 {
     match (level_index(d, u_um, fold_height_um), d.height_step_um) {
         (Some(level), Some(step)) => level as f64 * step,

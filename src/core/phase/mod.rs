@@ -176,7 +176,9 @@ pub enum HeightRounding {
     /// `floor(h / step) · step`, as the authors' code: every height stays below the fold height.
     #[default]
     Floor,
-    /// The nearest level (zero mean phase error, but a level can exceed the fold height).
+    /// The nearest level of the unfolded sag, `round(sag/step) mod m` with `m = round(d0/step)`
+    /// levels per fold: zero mean phase error, but the plate wraps every `m·step` of sag
+    /// (1.2 µm for a 1.165 µm fold at 0.2 µm steps), not at the fold height.
     Nearest,
 }
 
