@@ -507,3 +507,15 @@ fn allocation_identities_hold() {
         assert_eq!(round_to_total(&shares, total).iter().sum::<usize>(), total);
     }
 }
+
+/// With floored 0.2 µm steps the plate's tallest point is the top level below the 1.029 µm fold.
+#[test]
+fn a_floored_plate_is_no_taller_than_its_top_level() {
+    let mut d = thesis(42.0, 1.0);
+    d.height_step_um = Some(0.2);
+    let lenslets = udc_studio::core::phase::Lenslets::new(&d).unwrap();
+    assert!((lenslets.max_height_um(&d) - 1.0).abs() < 1e-12);
+    d.height_step_um = None;
+    let fold = 0.53 / 0.515;
+    assert!((lenslets.max_height_um(&d) - fold).abs() < 1e-12);
+}

@@ -351,9 +351,14 @@ impl Lenslets {
 
     /// Tallest point of the plate in µm (fold height, or the thick lens's edge sag).
     pub fn max_height_um(&self, d: &PhaseDesign) -> f64 {
-        match d.surface {
-            Surface::Folded => self.fold_height_um.iter().copied().fold(0.0, f64::max),
-            Surface::Unfolded => height_um(d, self.pitch_um / 2.0, 0.0),
+        let fold = self.fold_height_um.iter().copied().fold(0.0, f64::max);
+        match (d.surface, d.height_step_um, d.height_rounding) {
+            // Floored levels stop at the top level below the fold.
+            (Surface::Folded, Some(step), HeightRounding::Floor) => {
+                top_level(fold, step) as f64 * step
+            }
+            (Surface::Folded, _, _) => fold,
+            (Surface::Unfolded, _, _) => height_um(d, self.pitch_um / 2.0, 0.0),
         }
     }
 }
