@@ -29,6 +29,18 @@ D3_UM = 0.145
 FINE = 14
 
 
+def next_fast_size_235(m):
+    v = max(m, 2)
+    while True:
+        r = v
+        for p in (2, 3, 5):
+            while r % p == 0:
+                r //= p
+        if r == 1 and v % 2 == 0:
+            return v
+        v += 1
+
+
 class Chain:
     def __init__(self, pitch_um, fold, dx_um=0.015, fine=FINE):
         self.pitch, self.fold, self.dx, self.fine = pitch_um, fold, dx_um, fine
@@ -71,7 +83,9 @@ class Chain:
         return np.where(self.inside, np.mod(sag, d0), 0.0)
 
     def fresnel_len(self, lam_um):
-        return self.n + math.ceil(lam_um * self.f_mla / self.dx ** 2) + 2
+        # The same wrap-free length as the Rust chain (the next 2·3·5-smooth even size), so both
+        # solve the same discrete problem; `--literal` measures what the truncation costs.
+        return next_fast_size_235(math.ceil(self.n + lam_um * self.f_mla / self.dx ** 2))
 
     def czt_kernel(self, lam_um):
         if lam_um in self.kernels:
