@@ -513,3 +513,29 @@ fn cancel_stops_a_blur_matrix_run() {
     let (msg, is_error) = h.state().phase_ref().kernels_message().unwrap().clone();
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
 }
+
+/// The Sampling selector switches the convention as one undoable edit, and the PSFs follow.
+#[test]
+fn the_sampling_selector_switches_the_convention_and_undoes() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    wait_psfs(&mut h, "the preview PSFs");
+    assert_eq!(
+        h.state().phase_ref().design().sampling,
+        udc_studio::core::phase::SamplingConvention::Thesis
+    );
+    let thesis = h.state().phase_ref().shown().unwrap().psfs.clone();
+    h.get_by_label("centred").click();
+    step_until(&mut h, "the centred PSFs", |app| {
+        app.phase_ref().is_up_to_date()
+            && app.phase_ref().shown().is_some_and(|s| {
+                s.design.sampling == udc_studio::core::phase::SamplingConvention::Centred
+            })
+    });
+    let centred = h.state().phase_ref().shown().unwrap().psfs.clone();
+    assert_ne!(centred.channels[1].psf, thesis.channels[1].psf);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    step_until(&mut h, "undo back to the thesis sampling", |app| {
+        app.phase_ref().design().sampling == udc_studio::core::phase::SamplingConvention::Thesis
+    });
+}

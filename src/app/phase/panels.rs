@@ -5,7 +5,10 @@ use egui::{RichText, Ui};
 use super::{PhaseQuality, PhaseWorkspace};
 use crate::app::panels::message_ui;
 use crate::core::phase::geometry::{Lenslets, lambda0_per_lenslet, lenslet_count};
-use crate::core::phase::{GRID_LEN, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, Surface};
+use crate::core::phase::{
+    GRID_LEN, HeightRounding, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, SamplingConvention,
+    Surface,
+};
 
 /// Microns per inch: DPI = 25 400 / pitch.
 const UM_PER_INCH: f64 = 25_400.0;
@@ -188,11 +191,43 @@ impl PhaseWorkspace {
                     }
                 });
                 ui.end_row();
+                if d.height_step_um.is_some() {
+                    ui.label("Rounding");
+                    ui.horizontal(|ui| {
+                        ui.selectable_value(&mut d.height_rounding, HeightRounding::Floor, "floor")
+                            .on_hover_text(
+                                "floor(h / step) · step, as the authors' code: every level stays \
+                                 below the fold height",
+                            );
+                        ui.selectable_value(
+                            &mut d.height_rounding,
+                            HeightRounding::Nearest,
+                            "nearest",
+                        )
+                        .on_hover_text("The nearest level of the unfolded sag");
+                    });
+                    ui.end_row();
+                }
                 ui.label("Surface");
                 ui.horizontal(|ui| {
                     ui.selectable_value(&mut d.surface, Surface::Folded, "folded plate");
                     ui.selectable_value(&mut d.surface, Surface::Unfolded, "unfolded lens")
                         .on_hover_text("The thick lens the plate is folded from (the reference)");
+                });
+                ui.end_row();
+                ui.label("Sampling");
+                ui.horizontal(|ui| {
+                    ui.selectable_value(&mut d.sampling, SamplingConvention::Thesis, "thesis")
+                        .on_hover_text(
+                            "The thesis code's sampling: 2.03 µm pixels with the axis on the left \
+                             edge of pixel 512, lenslets from the display aperture's first sample. \
+                             Its published numbers reproduce.",
+                        );
+                    ui.selectable_value(&mut d.sampling, SamplingConvention::Centred, "centred")
+                        .on_hover_text(
+                            "The axis at the centre of a 2 µm pixel, lenslets and slits symmetric \
+                             about it",
+                        );
                 });
                 ui.end_row();
             });
