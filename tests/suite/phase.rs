@@ -485,8 +485,11 @@ fn allocation_identities_hold() {
     let mut fixed = vec![0; GRID_LEN];
     fixed[at531] = 58;
     let got = channel_invertibility(&a, &fixed);
+    let studio = udc_studio::core::phase::allocate::plan_invertibility(&a, &[530.0; 58]);
     for c in 0..3 {
         assert!((got[c] - a[c][at531]).abs() < 1e-15);
+        // The studio's per-lenslet scoring of a fixed 530 nm plate uses the same 531 nm row.
+        assert!((studio[c] - a[c][at531]).abs() < 1e-12);
     }
     // Linear in the counts: half the lenslets at j, half at k is the mean of the two columns.
     let mut split = vec![0; GRID_LEN];

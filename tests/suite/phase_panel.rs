@@ -223,7 +223,7 @@ fn the_optimiser_allocates_every_lenslet_and_apply_is_undoable() {
     assert!(worst(o.allocation.channel_invertibility) >= worst(o.fixed_530) - 1e-9);
     let v = h.state().phase_ref().v().unwrap();
     assert_eq!((v.v.v.len(), v.v.v[0].len()), (30, 30));
-    assert!(on_screen(&h, "fixed 530 nm"));
+    assert!(on_screen(&h, "fixed 530 nm (V row 531 nm)"));
     // Apply: the plan becomes the counts, and the PSFs follow.
     h.get_by_label("Apply").click();
     h.step();

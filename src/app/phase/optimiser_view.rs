@@ -190,7 +190,7 @@ impl PhaseWorkspace {
                 for h in [
                     "channel",
                     "optimised",
-                    "fixed 530 nm",
+                    "fixed 530 nm (V row 531 nm)",
                     "uniform",
                     "current plan",
                 ] {

@@ -228,19 +228,20 @@ pub fn channel_invertibility(a: &[Vec<f64>], counts: &[usize]) -> [f64; 3] {
 }
 
 /// Per-channel invertibility of any per-lenslet λ0 list: the mean over lenslets of the channel
-/// matrix `a` (3 × grid) interpolated at each λ0. Equals `channel_invertibility` for counts.
+/// matrix `a` (3 × grid) at the grid wavelength nearest each λ0 (530 nm → the 531 nm row, as the
+/// CLI's fixed-530 comparison). Equals `channel_invertibility` for counts.
 pub fn plan_invertibility(a: &[Vec<f64>], lambda0_nm: &[f64]) -> [f64; 3] {
     let mut out = [0.0; 3];
     if lambda0_nm.is_empty() {
         return out;
     }
     for &l in lambda0_nm {
-        let p = ((l - GRID_FIRST_NM) / GRID_STEP_NM).clamp(0.0, (GRID_LEN - 1) as f64);
-        let lo = (p.floor() as usize).min(GRID_LEN - 1);
-        let hi = (lo + 1).min(GRID_LEN - 1);
-        let f = p - lo as f64;
+        // The nearest grid row (PHYSICS.md §7: a fixed 530 nm design is scored on the 531 row).
+        let j = ((l - GRID_FIRST_NM) / GRID_STEP_NM)
+            .round()
+            .clamp(0.0, (GRID_LEN - 1) as f64) as usize;
         for (c, row) in a.iter().enumerate().take(3) {
-            out[c] += row[lo] * (1.0 - f) + row[hi] * f;
+            out[c] += row[j];
         }
     }
     out.map(|v| v / lambda0_nm.len() as f64)
