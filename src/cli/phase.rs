@@ -697,13 +697,13 @@ fn restore_cmd(a: &RestoreArgs) -> Result<()> {
     for &n in &a.photons {
         let (lo, hi) = crate::core::phase::imaging::PHOTONS_RANGE;
         if !(n.is_finite() && (lo..=hi).contains(&n)) {
-            bail!("--photons {n}: must be {lo} … {hi} photons per pixel");
+            bail!("--photons {n:?}: must be {lo} … {hi} photons per pixel");
         }
     }
     if let Some(q) = a.quantize_um
         && !(q.is_finite() && (0.001..=10.0).contains(&q))
     {
-        bail!("--quantize-um {q}: must be 0.001 … 10 µm");
+        bail!("--quantize-um {q:?}: must be 0.001 … 10 µm");
     }
     let setup = if a.bare {
         Setup::Bare {

@@ -96,6 +96,18 @@ pub fn parse_design(text: &str) -> Result<Design, String> {
 /// # Errors
 /// [`IoError::File`] when it cannot be read, [`IoError::Design`] when it is not a valid design.
 pub fn load_design(path: &Path) -> Result<Design, IoError> {
+    let text = read_design_text(path)?;
+    parse_design(&text).map_err(|message| IoError::Design {
+        path: path.to_path_buf(),
+        message,
+    })
+}
+
+/// The text of a design file (display or phase) of at most [`MAX_FILE_BYTES`].
+///
+/// # Errors
+/// [`IoError::File`] when it cannot be read, [`IoError::Design`] when it is too large.
+pub fn read_design_text(path: &Path) -> Result<String, IoError> {
     let meta = std::fs::metadata(path).map_err(|e| IoError::file("read the design", path, e))?;
     if meta.len() > MAX_FILE_BYTES {
         return Err(IoError::Design {
@@ -106,12 +118,7 @@ pub fn load_design(path: &Path) -> Result<Design, IoError> {
             ),
         });
     }
-    let text =
-        std::fs::read_to_string(path).map_err(|e| IoError::file("read the design", path, e))?;
-    parse_design(&text).map_err(|message| IoError::Design {
-        path: path.to_path_buf(),
-        message,
-    })
+    std::fs::read_to_string(path).map_err(|e| IoError::file("read the design", path, e))
 }
 
 /// The design as pretty JSON in the file format.

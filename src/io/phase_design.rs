@@ -8,7 +8,7 @@
 use std::path::Path;
 
 use super::IoError;
-use super::design_file::{MAX_FILE_BYTES, write_atomic};
+use super::design_file::{read_design_text, write_atomic};
 use crate::core::phase::PhaseDesign;
 
 /// A design read from a file, with what the reader had to assume.
@@ -47,18 +47,7 @@ pub fn parse_phase_design(text: &str) -> Result<LoadedPhaseDesign, String> {
 /// # Errors
 /// [`IoError::File`] when it cannot be read, [`IoError::Design`] when it is not a valid design.
 pub fn load_phase_design(path: &Path) -> Result<LoadedPhaseDesign, IoError> {
-    let meta = std::fs::metadata(path).map_err(|e| IoError::file("read the design", path, e))?;
-    if !meta.is_file() || meta.len() > MAX_FILE_BYTES {
-        return Err(IoError::Design {
-            path: path.to_path_buf(),
-            message: format!(
-                "not a regular file of at most {MAX_FILE_BYTES} bytes ({} bytes)",
-                meta.len()
-            ),
-        });
-    }
-    let text =
-        std::fs::read_to_string(path).map_err(|e| IoError::file("read the design", path, e))?;
+    let text = read_design_text(path)?;
     parse_phase_design(&text).map_err(|message| IoError::Design {
         path: path.to_path_buf(),
         message,
