@@ -674,7 +674,7 @@ fn restore_photos(paths: &[PathBuf], pixels: usize) -> Result<Vec<(String, Vec<A
     if paths.is_empty() {
         return Ok(vec![(
             crate::io::photo::BUILT_IN_PHOTO_NAME.to_string(),
-            crate::io::photo::built_in_photo()?,
+            crate::io::photo::fit_max_side(crate::io::photo::built_in_photo()?, pixels),
         )]);
     }
     paths
@@ -853,13 +853,8 @@ fn compare_cmd(
     })?;
     if let Some(dir) = &a.mask.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
-        let mut text = String::from("setup,ltr,photo,photons,psnr_db,ssim\n");
-        for r in &rows {
-            text.push_str(&format!(
-                "\"{}\",{},\"{}\",{},{},{}\n",
-                r.label, r.ltr, photos[r.photo].0, r.photons, r.psnr_db, r.ssim
-            ));
-        }
+        let names: Vec<String> = photos.iter().map(|(n, _)| n.clone()).collect();
+        let text = crate::io::restore_report::compare_csv(&rows, &names);
         let path = dir.join("compare.csv");
         crate::io::design_file::write_atomic(&path, text.as_bytes())?;
         if !a.mask.json {

@@ -104,6 +104,31 @@ pub fn built_in_photo() -> Result<Vec<Array2<f64>>, IoError> {
     Ok(planes_of(&img.to_rgb32f()))
 }
 
+/// `planes` (1 grey or 3 R, G, B, all one size) scaled down so the longer side is at most
+/// `max_side_px` (triangle filter, aspect ratio kept, as [`load_photo`]); planes that fit are
+/// returned as they are. Used to fit the built-in photo to a smaller sensor.
+pub fn fit_max_side(planes: Vec<Array2<f64>>, max_side_px: usize) -> Vec<Array2<f64>> {
+    let Some((h, w)) = planes.first().map(Array2::dim) else {
+        return planes;
+    };
+    let (Ok(w32), Ok(h32), Ok(m)) = (
+        u32::try_from(w),
+        u32::try_from(h),
+        u32::try_from(max_side_px.max(1)),
+    ) else {
+        return planes;
+    };
+    if w.max(h) <= max_side_px || planes.iter().any(|p| p.dim() != (h, w)) {
+        return planes;
+    }
+    let refs: Vec<&Array2<f64>> = planes.iter().collect();
+    let Some(img) = Rgb32FImage::from_raw(w32, h32, interleave(&refs, |v| v as f32)) else {
+        return planes;
+    };
+    let small = DynamicImage::ImageRgb32F(img).resize(m, m, FilterType::Triangle);
+    planes_of(&small.to_rgb32f())
+}
+
 /// The R, G, B planes of a float image, clamped to `[0, 1]` (NaN → 0).
 pub fn planes_of(img: &Rgb32FImage) -> Vec<Array2<f64>> {
     let (w, h) = (img.width() as usize, img.height() as usize);

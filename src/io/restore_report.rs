@@ -8,6 +8,7 @@ use serde_json::{Value, json};
 
 use super::IoError;
 use super::photo::{DIFFERENCE_GAIN, write_difference_png, write_photo_exr, write_photo_png};
+use crate::core::phase::imaging::CompareRow;
 use crate::core::restore::RestoreResult;
 
 /// Rounds to 6 significant digits; non-finite values (an infinite PSNR) become JSON `null`.
@@ -111,6 +112,26 @@ pub fn write_capture_images(
     write_photo_exr(&path, &restored)?;
     written.push(path);
     Ok(written)
+}
+
+/// The rows of a phase-mask setup comparison as CSV (`phase restore --compare --out` and the
+/// studio's "Save CSV…"): one line per setup, photo and light level, full precision.
+pub fn compare_csv(rows: &[CompareRow], photo_names: &[String]) -> String {
+    let quote = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
+    let mut text = String::from("setup,ltr,photo,photons,psnr_db,ssim\n");
+    for r in rows {
+        let photo = photo_names.get(r.photo).map_or("", String::as_str);
+        text.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            quote(&r.label),
+            r.ltr,
+            quote(photo),
+            r.photons,
+            r.psnr_db,
+            r.ssim
+        ));
+    }
+    text
 }
 
 #[cfg(test)]

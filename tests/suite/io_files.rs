@@ -582,3 +582,22 @@ fn a_malformed_design_file_names_field_and_path() {
     assert!(msg.contains("optics.f_number"), "{msg}");
     assert!(msg.ends_with(&format!("(in {})", path.display())), "{msg}");
 }
+
+/// The built-in photo fitted to a narrow sensor: the longer side shrinks to the limit, the
+/// aspect ratio and the mean brightness stay; a photo that fits is returned as it is.
+#[test]
+fn fit_max_side_shrinks_to_the_limit_and_keeps_what_fits() {
+    use udc_studio::io::photo::{built_in_photo, fit_max_side};
+    let full = built_in_photo().unwrap();
+    let (h, w) = full[0].dim();
+    let small = fit_max_side(full.clone(), 64);
+    assert_eq!(small.len(), 3);
+    let (sh, sw) = small[0].dim();
+    assert_eq!(sh.max(sw), 64);
+    assert!(((sw as f64 / sh as f64) - (w as f64 / h as f64)).abs() < 0.05);
+    for (a, b) in full.iter().zip(&small) {
+        let (ma, mb) = (a.mean().unwrap(), b.mean().unwrap());
+        assert!((ma - mb).abs() < 0.02, "mean {ma} vs {mb}");
+    }
+    assert_eq!(fit_max_side(full.clone(), w.max(h)), full);
+}

@@ -19,6 +19,7 @@ mod opening_ops;
 mod optimise_panel;
 mod optimize;
 mod phase;
+mod phase_capture;
 mod phase_export;
 mod phase_imaging;
 mod phase_panel;

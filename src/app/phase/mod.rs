@@ -7,6 +7,9 @@
 //! The parameters have their own undo history (Ctrl+Z / Ctrl+Shift+Z while the workspace is
 //! shown) and are kept between runs in `phase-design.json` beside the studio's autosave.
 
+mod capture;
+mod capture_view;
+mod compare;
 mod export;
 mod kernels;
 mod optimiser;
@@ -22,6 +25,8 @@ use std::time::{Duration, Instant};
 
 use egui::Color32;
 
+pub use capture::CaptureRow;
+pub use compare::CompareRun;
 pub use export::HeightFormat;
 pub use kernels::ShownKernels;
 pub use optimiser::{OptimiserResult, ShownV};
@@ -94,6 +99,8 @@ pub enum PhaseView {
     Psf,
     Geometry,
     Optimiser,
+    /// Photos captured through the design and restored (§4.5), and the setup comparison.
+    Capture,
 }
 
 /// PSFs on screen, with what they were computed for.
@@ -164,6 +171,8 @@ pub struct PhaseWorkspace {
     export: export::ExportState,
     response: response::ResponseState,
     kernels: kernels::KernelState,
+    capture: capture::CaptureState,
+    compare: compare::CompareState,
 }
 
 /// Equal designs, NaN included (a NaN field must not look like a change every frame).
@@ -216,6 +225,8 @@ impl PhaseWorkspace {
             export: export::ExportState::new(native_dialogs),
             response: response::ResponseState::new(native_dialogs),
             kernels: kernels::KernelState::new(native_dialogs),
+            capture: capture::CaptureState::new(native_dialogs),
+            compare: compare::CompareState::new(native_dialogs),
         }
     }
 
@@ -362,6 +373,8 @@ impl PhaseWorkspace {
         self.take_long_jobs(ctx);
         self.poll_response(ctx);
         self.poll_kernels(ctx);
+        self.poll_capture(ctx);
+        self.poll_compare(ctx);
         let idle = !ctx.input(|i| i.pointer.any_down()) && !ctx.egui_wants_keyboard_input();
         if idle {
             self.commit();

@@ -152,6 +152,7 @@ impl PhaseWorkspace {
                 PhaseView::Optimiser,
                 "V matrix and optimiser",
             );
+            ui.selectable_value(&mut self.view, PhaseView::Capture, "Capture & restore");
         });
         ui.separator();
         egui::ScrollArea::vertical().show(ui, |ui| match self.view {
@@ -161,6 +162,7 @@ impl PhaseWorkspace {
             }
             PhaseView::Geometry => self.geometry_ui(ui),
             PhaseView::Optimiser => self.optimiser_ui(ui),
+            PhaseView::Capture => self.capture_ui(ui),
         });
     }
 

@@ -528,7 +528,9 @@ impl Setup {
         };
         match self {
             Setup::Bare { pitch_um } => {
-                let d = at_pitch(*pitch_um);
+                let mut d = at_pitch(*pitch_um);
+                // No plate: one canonical fold, so equal T-OLEDs are equal designs.
+                d.fold = 1.0;
                 d.validate()?;
                 Ok((d, Optics::Toled))
             }

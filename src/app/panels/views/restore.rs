@@ -103,14 +103,16 @@ impl Default for RestoreView {
     }
 }
 
-fn built_in() -> Result<Photo, String> {
+/// The built-in photo, named for the screen.
+pub(crate) fn built_in() -> Result<Photo, String> {
     Ok(Photo {
         name: photo::BUILT_IN_PHOTO_NAME.into(),
         planes: photo::built_in_photo().map_err(|e| e.to_string())?,
     })
 }
 
-fn color_image(planes: &[&Array2<f64>], scale: f64) -> ColorImage {
+/// Planes (1 grey or 3 R, G, B) as an 8-bit picture, values × `scale` clipped to [0, 1].
+pub(crate) fn color_image(planes: &[&Array2<f64>], scale: f64) -> ColorImage {
     let Some(first) = planes.first() else {
         return ColorImage::new([1, 1], vec![Color32::BLACK]);
     };

@@ -1,0 +1,541 @@
+//! The phase workspace's Capture & restore view (thesis §4.5): a photo captured through the
+//! current design and through the bare T-OLED of the same pitch, restored and scored (PSNR and
+//! SSIM on the eq. 4.13 field of view), at a light level chosen on a log slider.
+//!
+//! Everything runs in `core::phase::imaging` on a background thread with progress and Cancel;
+//! the worker also makes the pictures, so the UI thread only uploads and draws them. An
+//! operator (the blur matrix of every direction, eq. 4.12) costs seconds, a capture and
+//! restoration a fraction of one: operators are kept per design, optics, sampling, channels and
+//! photo width, so moving the light slider or the noise seed only captures and restores again.
+
+use std::ops::Range;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+use egui::{ColorImage, TextureHandle, TextureOptions};
+use ndarray::Array2;
+
+use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use crate::app::dialogs::{PendingDialog, Purpose};
+use crate::app::panels::views::restore::{Photo, built_in, color_image};
+use crate::app::tasks::Task;
+use crate::core::design::Channel;
+use crate::core::phase::imaging::{PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur};
+use crate::core::phase::{Optics, PhaseDesign};
+use crate::core::{Progress, SimError};
+use crate::io::photo;
+
+/// Operators kept (each is `width² × channels` numbers: 1.5 MB for a 256 px photo).
+const KEPT_OPERATORS: usize = 6;
+
+/// What an operator depends on.
+#[derive(Debug, Clone, PartialEq)]
+struct OperatorKey {
+    design: PhaseDesign,
+    optics: Optics,
+    quality: PhaseQuality,
+    channels: ChannelSet,
+    width: usize,
+}
+
+/// What a run depends on: the operators' keys and the capture's settings.
+#[derive(Debug, Clone, PartialEq)]
+struct RunKey {
+    operators: Vec<OperatorKey>,
+    photo: u64,
+    photons_bits: u64,
+    seed: u64,
+}
+
+/// One setup's result, with its pictures uploaded.
+pub struct CaptureRow {
+    pub label: String,
+    pub optics: Optics,
+    /// Light transmittance ratio of the setup (the polariser's ½ included for the double MLA).
+    pub ltr: f64,
+    pub fov_deg: f64,
+    /// Columns the scores are taken on (the field of view).
+    pub valid: Range<usize>,
+    pub run: RestoreRun,
+    textures: [TextureHandle; 3],
+}
+
+/// One setup's result as the worker returns it, pictures not yet uploaded.
+struct Finished {
+    label: String,
+    key: OperatorKey,
+    blur: Arc<PhaseBlur>,
+    built: bool,
+    fov_deg: f64,
+    run: RestoreRun,
+    images: [ColorImage; 3],
+}
+
+struct CaptureJob {
+    key: RunKey,
+    task: Task<Result<Vec<Finished>, SimError>>,
+    progress: Arc<Progress>,
+    step: Arc<Mutex<String>>,
+    started: Instant,
+}
+
+pub(super) struct CaptureState {
+    native_dialogs: bool,
+    photo: Option<Arc<Photo>>,
+    photo_id: u64,
+    photo_texture: Option<TextureHandle>,
+    photo_load: Option<Task<Result<Photo, String>>>,
+    dialog: Option<PendingDialog>,
+    /// Photons on an open display aperture per pixel of value 1.
+    pub(super) photons: f64,
+    /// The channels of the capture: the thesis's spectral response by default, as the CLI.
+    pub(super) channels: ChannelSet,
+    pub(super) seed: u64,
+    operators: Vec<(OperatorKey, Arc<PhaseBlur>)>,
+    operators_built: usize,
+    job: Option<CaptureJob>,
+    done_key: Option<RunKey>,
+    rows: Vec<CaptureRow>,
+    message: Option<(String, bool)>,
+}
+
+impl CaptureState {
+    pub fn new(native_dialogs: bool) -> Self {
+        CaptureState {
+            native_dialogs,
+            photo: None,
+            photo_id: 0,
+            photo_texture: None,
+            photo_load: None,
+            dialog: None,
+            photons: 1600.0,
+            channels: ChannelSet::Spectral,
+            seed: 0,
+            operators: Vec::new(),
+            operators_built: 0,
+            job: None,
+            done_key: None,
+            rows: Vec::new(),
+            message: None,
+        }
+    }
+}
+
+impl CaptureState {
+    pub(super) fn photo_arc(&self) -> Option<Arc<Photo>> {
+        self.photo.clone()
+    }
+}
+
+/// The captured, restored and |restored − truth| pictures of a run.
+fn run_images(run: &RestoreRun, truth: &[Array2<f64>]) -> [ColorImage; 3] {
+    fn refs(v: &[Array2<f64>]) -> Vec<&Array2<f64>> {
+        v.iter().collect()
+    }
+    let diff: Vec<Array2<f64>> = run
+        .restored
+        .iter()
+        .zip(truth)
+        .map(|(r, t)| (r - t).mapv(f64::abs))
+        .collect();
+    [
+        color_image(&refs(&run.captured), 1.0),
+        color_image(&refs(&run.restored), 1.0),
+        color_image(&refs(&diff), photo::DIFFERENCE_GAIN),
+    ]
+}
+
+/// The name of a setup in the view.
+fn setup_label(optics: Optics, design: &PhaseDesign) -> String {
+    match optics {
+        Optics::DoubleMla => format!("this design: double MLA, T = {}", design.fold),
+        Optics::SingleMask => format!("this design: single mask, T = {}", design.fold),
+        Optics::Toled => format!("bare T-OLED, pitch {} µm", design.pitch_um),
+    }
+}
+
+impl PhaseWorkspace {
+    /// The results on screen: this design first, then the bare T-OLED.
+    pub fn capture_rows(&self) -> &[CaptureRow] {
+        &self.capture.rows
+    }
+
+    /// True while a photo loads or a capture runs.
+    pub fn is_capturing(&self) -> bool {
+        self.capture.job.is_some() || self.capture.photo_load.is_some()
+    }
+
+    /// Whether the rows on screen are of the current design, photo and settings.
+    pub fn capture_is_current(&self) -> bool {
+        self.capture.job.is_none()
+            && self.capture.done_key.is_some()
+            && self.capture.done_key == self.capture_key()
+    }
+
+    /// The latest message of the view, and whether it is an error.
+    pub fn capture_message(&self) -> Option<&(String, bool)> {
+        self.capture.message.as_ref()
+    }
+
+    /// The photo's name, once one is loaded.
+    pub fn capture_photo_name(&self) -> Option<&str> {
+        self.capture.photo.as_ref().map(|p| p.name.as_str())
+    }
+
+    /// How many operators were built since the workspace opened (a cached one is not counted).
+    pub fn capture_operators_built(&self) -> usize {
+        self.capture.operators_built
+    }
+
+    pub fn capture_photons(&self) -> f64 {
+        self.capture.photons
+    }
+
+    pub fn set_capture_photons(&mut self, photons: f64) {
+        self.capture.photons = photons;
+    }
+
+    pub fn set_capture_seed(&mut self, seed: u64) {
+        self.capture.seed = seed;
+    }
+
+    pub fn set_capture_channels(&mut self, channels: ChannelSet) {
+        self.capture.channels = channels;
+    }
+
+    /// Loads a photo on a background thread, scaled to the sensor's width at most; a photo
+    /// that cannot be read leaves the current one in place.
+    pub fn load_capture_photo(&mut self, path: PathBuf, ctx: &egui::Context) {
+        let wake = ctx.clone();
+        let max_side = u32::try_from(self.design.camera.pixels).unwrap_or(u32::MAX);
+        self.capture.photo_load = Some(Task::spawn(
+            "phase-photo-load",
+            move || wake.request_repaint(),
+            move || {
+                let planes = photo::load_photo(&path, Some(max_side)).map_err(|e| e.to_string())?;
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into_owned(),
+                );
+                Ok(Photo { name, planes })
+            },
+        ));
+    }
+
+    /// Goes back to the built-in photo.
+    pub fn use_built_in_capture_photo(&mut self) {
+        self.capture.photo = None;
+        self.capture.photo_load = None;
+    }
+
+    /// Stops the running capture; the last pictures stay.
+    pub fn cancel_capture(&mut self) {
+        if let Some(j) = self.capture.job.take() {
+            j.progress.cancel();
+            self.capture.message = Some(("capture cancelled; the last result stays".into(), false));
+            // The same settings would start it again at once: wait for a change.
+            self.capture.done_key = Some(j.key);
+        }
+    }
+
+    pub(super) fn ask_capture_photo(&mut self) {
+        if !self.capture.native_dialogs {
+            self.capture.message = Some(("file dialogs are disabled in this session".into(), true));
+            return;
+        }
+        if self.capture.dialog.is_none() {
+            self.capture.dialog = Some(PendingDialog::spawn(Purpose::Photo, None, None));
+        }
+    }
+
+    fn set_capture_photo(&mut self, p: Photo, ctx: &egui::Context) {
+        let planes: Vec<&Array2<f64>> = p.planes.iter().collect();
+        self.capture.photo_texture = Some(ctx.load_texture(
+            "phase-capture-truth",
+            color_image(&planes, 1.0),
+            TextureOptions::LINEAR,
+        ));
+        self.capture.photo = Some(Arc::new(p));
+        self.capture.photo_id += 1;
+    }
+
+    /// The two setups of a run: this design through its optics, the bare T-OLED of its pitch.
+    fn capture_setups(&self) -> Result<Vec<(PhaseDesign, Optics)>, SimError> {
+        self.design.validate()?;
+        let bare = Setup::Bare {
+            pitch_um: self.design.pitch_um,
+        }
+        .resolve(
+            &self.design,
+            &self.quality.sampling(),
+            &[],
+            &Progress::new(),
+        )?;
+        Ok(vec![(self.design.clone(), self.optics()), bare])
+    }
+
+    fn capture_key(&self) -> Option<RunKey> {
+        let photo = self.capture.photo.as_ref()?;
+        let width = photo.planes.first().map_or(0, Array2::ncols);
+        let setups = self.capture_setups().ok()?;
+        Some(RunKey {
+            operators: setups
+                .into_iter()
+                .map(|(design, optics)| OperatorKey {
+                    design,
+                    optics,
+                    quality: self.quality,
+                    channels: self.capture.channels,
+                    width,
+                })
+                .collect(),
+            photo: self.capture.photo_id,
+            photons_bits: self.capture.photons.to_bits(),
+            seed: self.capture.seed,
+        })
+    }
+
+    /// Takes a loaded photo, an answered dialog and a finished run (every frame).
+    pub(super) fn poll_capture(&mut self, ctx: &egui::Context) {
+        if let Some(answer) = self.capture.dialog.as_ref().and_then(PendingDialog::poll) {
+            self.capture.dialog = None;
+            if let Some(path) = answer {
+                self.load_capture_photo(path, ctx);
+            }
+        }
+        if let Some(done) = self.capture.photo_load.as_ref().and_then(Task::poll) {
+            self.capture.photo_load = None;
+            match done {
+                Ok(Ok(p)) => {
+                    self.capture.message = None;
+                    self.set_capture_photo(p, ctx);
+                }
+                // The previous photo stays.
+                Ok(Err(e)) => {
+                    self.capture.message = Some((format!("cannot open the photo: {e}"), true));
+                }
+                Err(()) => {
+                    self.capture.message = Some(("the photo reader stopped".into(), true));
+                }
+            }
+        }
+        if self.capture.job.is_some() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(100));
+        }
+        let Some(done) = self.capture.job.as_ref().and_then(|j| j.task.poll()) else {
+            return;
+        };
+        let Some(job) = self.capture.job.take() else {
+            return;
+        };
+        match done {
+            Ok(Ok(finished)) => {
+                let seconds = job.started.elapsed().as_secs_f64();
+                let mut rows = Vec::new();
+                for (i, f) in finished.into_iter().enumerate() {
+                    if f.built {
+                        self.capture.operators_built += 1;
+                        self.capture.operators.retain(|(k, _)| *k != f.key);
+                        self.capture.operators.push((f.key.clone(), f.blur.clone()));
+                    }
+                    let [c, r, d] = f.images;
+                    let tex = |name: &str, img: ColorImage| {
+                        ctx.load_texture(
+                            format!("phase-capture-{i}-{name}"),
+                            img,
+                            TextureOptions::LINEAR,
+                        )
+                    };
+                    rows.push(CaptureRow {
+                        label: f.label,
+                        optics: f.key.optics,
+                        ltr: f.blur.ltr,
+                        fov_deg: f.fov_deg,
+                        valid: f.blur.valid.clone(),
+                        run: f.run,
+                        textures: [tex("captured", c), tex("restored", r), tex("difference", d)],
+                    });
+                }
+                let excess = self.capture.operators.len().saturating_sub(KEPT_OPERATORS);
+                self.capture.operators.drain(..excess);
+                self.capture.rows = rows;
+                self.capture.message =
+                    Some((format!("captured and restored in {seconds:.1} s"), false));
+                self.capture.done_key = Some(job.key);
+            }
+            Ok(Err(SimError::Cancelled)) => {}
+            Ok(Err(e)) => {
+                self.capture.message = Some((e.to_string(), true));
+                self.capture.done_key = Some(job.key);
+            }
+            Err(()) => self.capture.message = Some(("the capture job stopped".into(), true)),
+        }
+    }
+
+    /// Starts a run when the view is shown and its inputs changed (not while a slider is held).
+    pub(super) fn capture_tick(&mut self, ctx: &egui::Context) {
+        if self.capture.photo.is_none() && self.capture.photo_load.is_none() {
+            match built_in() {
+                Ok(mut p) => {
+                    p.planes = photo::fit_max_side(p.planes, self.design.camera.pixels);
+                    self.set_capture_photo(p, ctx);
+                }
+                Err(e) => {
+                    self.capture.message = Some((format!("the built-in photo: {e}"), true));
+                    return;
+                }
+            }
+        }
+        if ctx.input(|i| i.pointer.any_down()) {
+            return;
+        }
+        let key = match self.capture_setups() {
+            Ok(_) => self.capture_key(),
+            Err(e) => {
+                if self.capture.job.is_none() && !self.capture.message.as_ref().is_some_and(|m| m.1)
+                {
+                    self.capture.message = Some((format!("cannot capture: {e}"), true));
+                }
+                return;
+            }
+        };
+        let Some(key) = key else {
+            return;
+        };
+        let running = self.capture.job.as_ref().map(|j| &j.key);
+        if self.capture.done_key.as_ref() == Some(&key) || running == Some(&key) {
+            return;
+        }
+        self.start_capture(key, ctx);
+    }
+
+    fn start_capture(&mut self, key: RunKey, ctx: &egui::Context) {
+        let Some(photo) = self.capture.photo.clone() else {
+            return;
+        };
+        let channels = match self.channel_list(self.capture.channels) {
+            Ok(c) => c,
+            Err(e) => {
+                self.capture.message = Some((format!("cannot make the channels: {e}"), true));
+                self.capture.done_key = Some(key);
+                return;
+            }
+        };
+        if let Some(j) = self.capture.job.take() {
+            j.progress.cancel();
+        }
+        let jobs: Vec<(OperatorKey, Option<Arc<PhaseBlur>>)> = key
+            .operators
+            .iter()
+            .map(|k| {
+                let cached = self
+                    .capture
+                    .operators
+                    .iter()
+                    .find(|(c, _)| c == k)
+                    .map(|(_, b)| b.clone());
+                (k.clone(), cached)
+            })
+            .collect();
+        let (photons, seed) = (self.capture.photons, self.capture.seed);
+        let progress = Arc::new(Progress::new());
+        let step = Arc::new(Mutex::new(String::new()));
+        let (p, s, wake) = (progress.clone(), step.clone(), ctx.clone());
+        let task = Task::spawn(
+            "phase-capture",
+            move || wake.request_repaint(),
+            move || run_setups(&jobs, &channels, &photo.planes, photons, seed, &p, &s),
+        );
+        self.capture.job = Some(CaptureJob {
+            key,
+            task,
+            progress,
+            step,
+            started: Instant::now(),
+        });
+    }
+
+    /// The step under way and its fraction, while a capture runs.
+    pub(super) fn capture_progress(&self) -> Option<(String, f32, f64)> {
+        self.capture.job.as_ref().map(|j| {
+            let step = j.step.lock().map(|s| s.clone()).unwrap_or_default();
+            (
+                step,
+                j.progress.fraction(),
+                j.started.elapsed().as_secs_f64(),
+            )
+        })
+    }
+
+    pub(super) fn capture_photo_texture(&self) -> Option<&TextureHandle> {
+        self.capture.photo_texture.as_ref()
+    }
+}
+
+impl CaptureRow {
+    pub(super) fn textures(&self) -> &[TextureHandle; 3] {
+        &self.textures
+    }
+}
+
+/// The worker: each setup's operator (kept or built), then the capture and restoration.
+fn run_setups(
+    jobs: &[(OperatorKey, Option<Arc<PhaseBlur>>)],
+    channels: &[Channel],
+    truth: &[Array2<f64>],
+    photons: f64,
+    seed: u64,
+    progress: &Progress,
+    step: &Mutex<String>,
+) -> Result<Vec<Finished>, SimError> {
+    let say = |text: String| {
+        if let Ok(mut s) = step.lock() {
+            *s = text;
+        }
+    };
+    let mut out = Vec::new();
+    let n = jobs.len();
+    for (i, (key, cached)) in jobs.iter().enumerate() {
+        let label = setup_label(key.optics, &key.design);
+        let (blur, built) = match cached {
+            Some(b) => (b.clone(), false),
+            None => {
+                say(format!(
+                    "step {} of {}: blur matrix of {label} ({} directions)",
+                    2 * i + 1,
+                    2 * n,
+                    key.width
+                ));
+                progress.set(0.0);
+                let b = phase_blur(
+                    &key.design,
+                    &key.quality.sampling(),
+                    channels,
+                    key.optics,
+                    key.width,
+                    progress,
+                )?;
+                (Arc::new(b), true)
+            }
+        };
+        say(format!(
+            "step {} of {}: capture and restore through {label}",
+            2 * i + 2,
+            2 * n
+        ));
+        progress.set(0.0);
+        let run = capture_and_restore(&blur, truth, photons, seed, progress)?;
+        let images = run_images(&run, truth);
+        out.push(Finished {
+            label,
+            key: key.clone(),
+            blur,
+            built,
+            fov_deg: key.design.fov_deg(),
+            run,
+            images,
+        });
+    }
+    Ok(out)
+}

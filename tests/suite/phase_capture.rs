@@ -1,0 +1,254 @@
+//! The phase workspace's Capture & restore view, driven like a user: the built-in photo through
+//! this design and the bare T-OLED with the core's numbers, a light change that reuses the
+//! operators, a bad photo that keeps the current one, Cancel, and the setup comparison with its
+//! CSV. A 64-pixel sensor at preview sampling keeps each run well under a second.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use crate::common;
+
+use std::time::Duration;
+
+use crate::common::step_until;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ndarray::Array2;
+use udc_studio::app::phase::{ChannelSet, PhaseQuality, PhaseView};
+use udc_studio::app::{StudioApp, Workspace};
+use udc_studio::core::Progress;
+use udc_studio::core::design::Channel;
+use udc_studio::core::phase::imaging::{Setup, capture_and_restore, compare_setups, phase_blur};
+use udc_studio::core::phase::{Optics, PhaseDesign, PhaseSampling};
+use udc_studio::io::photo::{built_in_photo, fit_max_side};
+
+const PIXELS: usize = 64;
+
+/// The studio on the phase workspace's Capture & restore view, a 64-pixel sensor, peaks.
+fn capture_studio(dir: &std::path::Path) -> (Harness<'static, StudioApp>, PhaseDesign) {
+    let mut h = common::studio(dir, false, Duration::from_secs(600));
+    h.state_mut().set_workspace(Workspace::Phase);
+    h.state_mut().phase().quality = PhaseQuality::Preview;
+    let mut d = PhaseDesign::thesis(42.0, 1.0);
+    d.camera.pixels = PIXELS;
+    h.state_mut().phase().set_design(d.clone());
+    h.state_mut()
+        .phase()
+        .set_capture_channels(ChannelSet::Peaks);
+    h.step();
+    h.get_by_label("Capture & restore").click_accesskit();
+    h.step();
+    assert_eq!(h.state().phase_ref().view, PhaseView::Capture);
+    (h, d)
+}
+
+fn wait_capture(h: &mut Harness<'_, StudioApp>, what: &str) {
+    step_until(h, what, |app| app.phase_ref().capture_is_current());
+}
+
+fn photo() -> Vec<Array2<f64>> {
+    fit_max_side(built_in_photo().unwrap(), PIXELS)
+}
+
+#[test]
+fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operators() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut h, d) = capture_studio(dir.path());
+    wait_capture(&mut h, "the first capture");
+    let truth = photo();
+    assert_eq!(
+        truth[0].ncols(),
+        PIXELS,
+        "the built-in photo fits the sensor"
+    );
+    let sampling = PhaseSampling::preview();
+    let peaks = Channel::rgb_peaks();
+    let p = Progress::new();
+    let bare = Setup::Bare { pitch_um: 42.0 }
+        .resolve(&d, &sampling, &[], &p)
+        .unwrap();
+    let expected = |photons: f64| {
+        [(d.clone(), Optics::DoubleMla), bare.clone()].map(|(design, optics)| {
+            let blur = phase_blur(&design, &sampling, &peaks, optics, PIXELS, &p).unwrap();
+            (
+                blur.ltr,
+                capture_and_restore(&blur, &truth, photons, 0, &p).unwrap(),
+            )
+        })
+    };
+    let check = |h: &Harness<'_, StudioApp>, photons: f64| {
+        let rows = h.state().phase_ref().capture_rows();
+        assert_eq!(rows.len(), 2);
+        assert_eq!(rows[0].optics, Optics::DoubleMla);
+        assert_eq!(rows[1].optics, Optics::Toled);
+        for (row, (ltr, run)) in rows.iter().zip(expected(photons)) {
+            assert_eq!(row.run.photons, photons);
+            assert!(
+                (row.ltr - ltr).abs() < 1e-12,
+                "{}: LTR {} vs {ltr}",
+                row.label,
+                row.ltr
+            );
+            assert!(
+                (row.run.psnr_db - run.psnr_db).abs() < 1e-9
+                    && (row.run.ssim - run.ssim).abs() < 1e-9,
+                "{}: {} dB {} vs the core's {} dB {}",
+                row.label,
+                row.run.psnr_db,
+                row.run.ssim,
+                run.psnr_db,
+                run.ssim
+            );
+        }
+        // The double MLA passes about twice the bare T-OLED's light (§4.3).
+        assert!(
+            rows[0].ltr > 1.5 * rows[1].ltr,
+            "{} vs {}",
+            rows[0].ltr,
+            rows[1].ltr
+        );
+        rows.iter().map(|r| r.run.psnr_db).collect::<Vec<f64>>()
+    };
+    let bright = check(&h, 1600.0);
+    assert_eq!(h.query_all_by_label_contains("restored PSNR").count(), 2);
+    assert_eq!(h.state().phase_ref().capture_operators_built(), 2);
+    // A lower light: the same operators, a noisier restoration.
+    h.state_mut().phase().set_capture_photons(250.0);
+    wait_capture(&mut h, "the capture at 250 photons");
+    let dim = check(&h, 250.0);
+    assert_eq!(
+        h.state().phase_ref().capture_operators_built(),
+        2,
+        "the light level reuses the operators"
+    );
+    for (b, d) in bright.iter().zip(&dim) {
+        assert!(
+            d < b,
+            "PSNR at 250 photons {d} dB must be below 1600's {b} dB"
+        );
+    }
+    // A fold change builds this design's operator again; the bare T-OLED (no plate) is kept.
+    h.state_mut().phase().design_mut().fold = 5.0;
+    wait_capture(&mut h, "the capture at T = 5");
+    assert_eq!(h.state().phase_ref().capture_operators_built(), 3);
+}
+
+#[test]
+fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut h, _) = capture_studio(dir.path());
+    wait_capture(&mut h, "the first capture");
+    let name = h
+        .state()
+        .phase_ref()
+        .capture_photo_name()
+        .unwrap()
+        .to_string();
+    assert!(name.contains("astronaut"), "{name}");
+    let bad = dir.path().join("not-a-photo.png");
+    std::fs::write(&bad, b"this is text, not a PNG").unwrap();
+    let ctx = h.ctx.clone();
+    h.state_mut().phase().load_capture_photo(bad, &ctx);
+    step_until(&mut h, "the photo reader", |app| {
+        app.phase_ref()
+            .capture_message()
+            .is_some_and(|m| m.0.contains("cannot open the photo"))
+    });
+    let (msg, is_error) = h.state().phase_ref().capture_message().unwrap().clone();
+    assert!(is_error && msg.contains("not-a-photo.png"), "{msg}");
+    assert_eq!(
+        h.state().phase_ref().capture_photo_name(),
+        Some(name.as_str())
+    );
+    assert_eq!(
+        h.state().phase_ref().capture_rows().len(),
+        2,
+        "the pictures stay"
+    );
+    // A full-quality run over 64 directions × the spectral grid takes long enough to cancel.
+    h.state_mut().phase().quality = PhaseQuality::Full;
+    h.state_mut()
+        .phase()
+        .set_capture_channels(ChannelSet::Spectral);
+    h.step();
+    h.step();
+    assert!(h.state().phase_ref().is_capturing());
+    assert!(h.query_by_label_contains("step 1 of 4").is_some());
+    h.get_by_label("Cancel").click_accesskit();
+    h.step();
+    assert!(!h.state().phase_ref().is_capturing());
+    let (msg, is_error) = h.state().phase_ref().capture_message().unwrap().clone();
+    assert!(!is_error && msg.contains("cancelled"), "{msg}");
+    for _ in 0..5 {
+        h.step();
+    }
+    assert!(
+        !h.state().phase_ref().is_capturing(),
+        "a cancelled run does not start again by itself"
+    );
+    assert_eq!(
+        h.state().phase_ref().capture_rows().len(),
+        2,
+        "the last pictures stay"
+    );
+}
+
+#[test]
+fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut h, d) = capture_studio(dir.path());
+    let setups = h.state().phase_ref().compare_setups().to_vec();
+    assert_eq!(setups[0], Setup::Bare { pitch_um: 42.0 });
+    assert!(setups.len() >= 16, "the thesis's setups are on offer");
+    h.state_mut().phase().select_compare_setups(&[0, 1]);
+    h.state_mut()
+        .phase()
+        .select_compare_levels(&[250.0, 10_000.0]);
+    h.get_by_label("Run comparison").click_accesskit();
+    h.step();
+    step_until(&mut h, "the comparison", |app| {
+        !app.phase_ref().is_comparing()
+    });
+    let rows = h.state().phase_ref().compare_rows().to_vec();
+    assert_eq!(rows.len(), 4, "2 setups × 2 light levels");
+    let mut expected = Vec::new();
+    compare_setups(
+        &d,
+        &PhaseSampling::preview(),
+        &setups[..2],
+        &[],
+        &Channel::rgb_peaks(),
+        &[photo()],
+        &[250.0, 10_000.0],
+        0,
+        &Progress::new(),
+        |r| expected.push(r),
+    )
+    .unwrap();
+    assert_eq!(rows, expected, "the studio's rows are the core's");
+    let (msg, is_error) = h.state().phase_ref().compare_message().unwrap().clone();
+    assert!(!is_error && msg.contains("4 runs"), "{msg}");
+    // The table names the setups; the mean column fills once every level is in.
+    assert!(
+        h.query_all_by_label(&setups[1].label()).count() >= 2,
+        "a table row"
+    );
+    let path = dir.path().join("compare.csv");
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .phase()
+        .save_compare_csv_to(path.clone(), &ctx);
+    step_until(&mut h, "the CSV", |app| {
+        !app.phase_ref().is_saving_compare()
+    });
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines[0], "setup,ltr,photo,photons,psnr_db,ssim");
+    assert_eq!(lines.len(), 5);
+    for (line, row) in lines[1..].iter().zip(&rows) {
+        assert!(line.starts_with(&format!("\"{}\",", row.label)), "{line}");
+        let fields: Vec<&str> = line.rsplitn(4, ',').collect();
+        let psnr: f64 = fields[1].parse().unwrap();
+        let ssim: f64 = fields[0].parse().unwrap();
+        let photons: f64 = fields[2].parse().unwrap();
+        assert_eq!((photons, psnr, ssim), (row.photons, row.psnr_db, row.ssim));
+    }
+}
