@@ -238,3 +238,43 @@ fn phase_masks_psfs_plate_and_optimiser() {
     assert_eq!(o.allocation.counts.iter().sum::<usize>(), 58);
     capture(&mut h, "phase-optimiser");
 }
+
+#[test]
+fn phase_capture_and_compare() {
+    use udc_studio::app::Workspace;
+    use udc_studio::app::phase::{ChannelSet, PhaseQuality, PhaseView};
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut().set_workspace(Workspace::Phase);
+    // Full sampling through the peak wavelengths: the real view, ten times quicker than the
+    // spectral channels.
+    h.state_mut().phase().quality = PhaseQuality::Full;
+    h.state_mut()
+        .phase()
+        .set_capture_channels(ChannelSet::Peaks);
+    h.state_mut().phase().view = PhaseView::Capture;
+    common::step_until(&mut h, "the capture", |app| {
+        app.phase_ref().capture_is_current()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    let rows = h.state().phase_ref().capture_rows();
+    assert_eq!(rows.len(), 2);
+    assert!(rows[0].ltr > 1.5 * rows[1].ltr);
+    capture(&mut h, "phase-capture");
+    // Bare T-OLED, T = 1 fixed and uniform, T = 5 fixed and uniform (no optimizer run).
+    h.state_mut()
+        .phase()
+        .select_compare_setups(&[0, 1, 2, 4, 5]);
+    h.get_by_label("Run comparison").click_accesskit();
+    common::step_until(&mut h, "the comparison", |app| {
+        !app.phase_ref().is_comparing()
+    });
+    assert_eq!(h.state().phase_ref().compare_rows().len(), 5 * 4);
+    h.set_size(egui::vec2(1440.0, 1900.0));
+    for _ in 0..4 {
+        h.step();
+    }
+    capture(&mut h, "phase-compare");
+}

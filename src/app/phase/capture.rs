@@ -10,6 +10,7 @@
 
 use std::ops::Range;
 use std::path::PathBuf;
+use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -72,11 +73,16 @@ struct Finished {
     images: [ColorImage; 3],
 }
 
+/// The step under way: what it is and when it started (for the time left).
+type Step = Arc<Mutex<(String, Instant)>>;
+
 struct CaptureJob {
     key: RunKey,
-    task: Task<Result<Vec<Finished>, SimError>>,
+    task: Task<Result<(), SimError>>,
+    /// Each setup's result as soon as it is ready (its index among the rows, the result).
+    finished: Receiver<(usize, Finished)>,
     progress: Arc<Progress>,
-    step: Arc<Mutex<String>>,
+    step: Step,
     started: Instant,
 }
 
@@ -320,8 +326,14 @@ impl PhaseWorkspace {
                 }
             }
         }
-        if self.capture.job.is_some() {
-            ctx.request_repaint_after(std::time::Duration::from_millis(100));
+        let Some(job) = &self.capture.job else {
+            return;
+        };
+        // Twice a second is enough for a progress bar and leaves the cores to the job.
+        ctx.request_repaint_after(std::time::Duration::from_millis(500));
+        let arrived: Vec<(usize, Finished)> = job.finished.try_iter().collect();
+        for (i, f) in arrived {
+            self.show_finished(i, f, ctx);
         }
         let Some(done) = self.capture.job.as_ref().and_then(|j| j.task.poll()) else {
             return;
@@ -329,37 +341,13 @@ impl PhaseWorkspace {
         let Some(job) = self.capture.job.take() else {
             return;
         };
+        let late: Vec<(usize, Finished)> = job.finished.try_iter().collect();
+        for (i, f) in late {
+            self.show_finished(i, f, ctx);
+        }
         match done {
-            Ok(Ok(finished)) => {
+            Ok(Ok(())) => {
                 let seconds = job.started.elapsed().as_secs_f64();
-                let mut rows = Vec::new();
-                for (i, f) in finished.into_iter().enumerate() {
-                    if f.built {
-                        self.capture.operators_built += 1;
-                        self.capture.operators.retain(|(k, _)| *k != f.key);
-                        self.capture.operators.push((f.key.clone(), f.blur.clone()));
-                    }
-                    let [c, r, d] = f.images;
-                    let tex = |name: &str, img: ColorImage| {
-                        ctx.load_texture(
-                            format!("phase-capture-{i}-{name}"),
-                            img,
-                            TextureOptions::LINEAR,
-                        )
-                    };
-                    rows.push(CaptureRow {
-                        label: f.label,
-                        optics: f.key.optics,
-                        ltr: f.blur.ltr,
-                        fov_deg: f.fov_deg,
-                        valid: f.blur.valid.clone(),
-                        run: f.run,
-                        textures: [tex("captured", c), tex("restored", r), tex("difference", d)],
-                    });
-                }
-                let excess = self.capture.operators.len().saturating_sub(KEPT_OPERATORS);
-                self.capture.operators.drain(..excess);
-                self.capture.rows = rows;
                 self.capture.message =
                     Some((format!("captured and restored in {seconds:.1} s"), false));
                 self.capture.done_key = Some(job.key);
@@ -370,6 +358,40 @@ impl PhaseWorkspace {
                 self.capture.done_key = Some(job.key);
             }
             Err(()) => self.capture.message = Some(("the capture job stopped".into(), true)),
+        }
+    }
+
+    /// Uploads one setup's pictures and puts its row in place `i`; keeps a new operator.
+    fn show_finished(&mut self, i: usize, f: Finished, ctx: &egui::Context) {
+        if f.built {
+            self.capture.operators_built += 1;
+            self.capture.operators.retain(|(k, _)| *k != f.key);
+            self.capture.operators.push((f.key.clone(), f.blur.clone()));
+            let excess = self.capture.operators.len().saturating_sub(KEPT_OPERATORS);
+            self.capture.operators.drain(..excess);
+        }
+        let [c, r, d] = f.images;
+        let tex = |name: &str, img: ColorImage| {
+            ctx.load_texture(
+                format!("phase-capture-{i}-{name}"),
+                img,
+                TextureOptions::LINEAR,
+            )
+        };
+        let row = CaptureRow {
+            label: f.label,
+            optics: f.key.optics,
+            ltr: f.blur.ltr,
+            fov_deg: f.fov_deg,
+            valid: f.blur.valid.clone(),
+            run: f.run,
+            textures: [tex("captured", c), tex("restored", r), tex("difference", d)],
+        };
+        let rows = &mut self.capture.rows;
+        if i < rows.len() {
+            rows[i] = row;
+        } else {
+            rows.push(row);
         }
     }
 
@@ -414,57 +436,74 @@ impl PhaseWorkspace {
         let Some(photo) = self.capture.photo.clone() else {
             return;
         };
-        let channels = match self.channel_list(self.capture.channels) {
-            Ok(c) => c,
-            Err(e) => {
-                self.capture.message = Some((format!("cannot make the channels: {e}"), true));
-                self.capture.done_key = Some(key);
-                return;
-            }
+        let cached = |this: &Self, k: &OperatorKey| {
+            this.capture
+                .operators
+                .iter()
+                .find(|(c, _)| c == k)
+                .map(|(_, b)| b.clone())
         };
+        // Spectral operators take ~10× the peaks' time: when one must be built, a quick look
+        // through the peak wavelengths comes first (as the PSFs' preview, then full).
+        let mut passes = vec![self.capture.channels];
+        let building = key.operators.iter().any(|k| cached(self, k).is_none());
+        if building && self.capture.channels != ChannelSet::Peaks {
+            passes.insert(0, ChannelSet::Peaks);
+        }
+        let mut jobs = Vec::new();
+        for set in passes {
+            let channels = match self.channel_list(set) {
+                Ok(c) => Arc::new(c),
+                Err(e) => {
+                    self.capture.message = Some((format!("cannot make the channels: {e}"), true));
+                    self.capture.done_key = Some(key);
+                    return;
+                }
+            };
+            for (row, k) in key.operators.iter().enumerate() {
+                let mut k = k.clone();
+                k.channels = set;
+                let blur = cached(self, &k);
+                jobs.push(SetupJob {
+                    row,
+                    key: k,
+                    blur,
+                    channels: channels.clone(),
+                });
+            }
+        }
         if let Some(j) = self.capture.job.take() {
             j.progress.cancel();
         }
-        let jobs: Vec<(OperatorKey, Option<Arc<PhaseBlur>>)> = key
-            .operators
-            .iter()
-            .map(|k| {
-                let cached = self
-                    .capture
-                    .operators
-                    .iter()
-                    .find(|(c, _)| c == k)
-                    .map(|(_, b)| b.clone());
-                (k.clone(), cached)
-            })
-            .collect();
         let (photons, seed) = (self.capture.photons, self.capture.seed);
         let progress = Arc::new(Progress::new());
-        let step = Arc::new(Mutex::new(String::new()));
+        let step: Step = Arc::new(Mutex::new((String::new(), Instant::now())));
         let (p, s, wake) = (progress.clone(), step.clone(), ctx.clone());
+        let (tx, rx) = channel();
         let task = Task::spawn(
             "phase-capture",
             move || wake.request_repaint(),
-            move || run_setups(&jobs, &channels, &photo.planes, photons, seed, &p, &s),
+            move || run_setups(&jobs, &photo.planes, photons, seed, &p, &s, &tx),
         );
         self.capture.job = Some(CaptureJob {
             key,
             task,
+            finished: rx,
             progress,
             step,
             started: Instant::now(),
         });
     }
 
-    /// The step under way and its fraction, while a capture runs.
+    /// The step under way, its fraction and the seconds it has run, while a capture runs.
     pub(super) fn capture_progress(&self) -> Option<(String, f32, f64)> {
         self.capture.job.as_ref().map(|j| {
-            let step = j.step.lock().map(|s| s.clone()).unwrap_or_default();
-            (
-                step,
-                j.progress.fraction(),
-                j.started.elapsed().as_secs_f64(),
-            )
+            let (step, since) = j
+                .step
+                .lock()
+                .map(|s| (s.0.clone(), s.1.elapsed().as_secs_f64()))
+                .unwrap_or_default();
+            (step, j.progress.fraction(), since)
         })
     }
 
@@ -479,26 +518,41 @@ impl CaptureRow {
     }
 }
 
-/// The worker: each setup's operator (kept or built), then the capture and restoration.
+/// One setup for the worker: its row, its operator's key, the operator if kept.
+struct SetupJob {
+    row: usize,
+    key: OperatorKey,
+    blur: Option<Arc<PhaseBlur>>,
+    channels: Arc<Vec<Channel>>,
+}
+
+/// The worker: each setup's operator (kept or built), then the capture and restoration, sent
+/// through `out` as each setup finishes.
 fn run_setups(
-    jobs: &[(OperatorKey, Option<Arc<PhaseBlur>>)],
-    channels: &[Channel],
+    jobs: &[SetupJob],
     truth: &[Array2<f64>],
     photons: f64,
     seed: u64,
     progress: &Progress,
-    step: &Mutex<String>,
-) -> Result<Vec<Finished>, SimError> {
+    step: &Mutex<(String, Instant)>,
+    out: &Sender<(usize, Finished)>,
+) -> Result<(), SimError> {
     let say = |text: String| {
         if let Ok(mut s) = step.lock() {
-            *s = text;
+            *s = (text, Instant::now());
         }
     };
-    let mut out = Vec::new();
     let n = jobs.len();
-    for (i, (key, cached)) in jobs.iter().enumerate() {
-        let label = setup_label(key.optics, &key.design);
-        let (blur, built) = match cached {
+    for (i, job) in jobs.iter().enumerate() {
+        let key = &job.key;
+        let label = match key.channels {
+            ChannelSet::Peaks => format!(
+                "{} (peak wavelengths)",
+                setup_label(key.optics, &key.design)
+            ),
+            _ => setup_label(key.optics, &key.design),
+        };
+        let (blur, built) = match &job.blur {
             Some(b) => (b.clone(), false),
             None => {
                 say(format!(
@@ -511,7 +565,7 @@ fn run_setups(
                 let b = phase_blur(
                     &key.design,
                     &key.quality.sampling(),
-                    channels,
+                    &job.channels,
                     key.optics,
                     key.width,
                     progress,
@@ -527,7 +581,7 @@ fn run_setups(
         progress.set(0.0);
         let run = capture_and_restore(&blur, truth, photons, seed, progress)?;
         let images = run_images(&run, truth);
-        out.push(Finished {
+        let finished = Finished {
             label,
             key: key.clone(),
             blur,
@@ -535,7 +589,11 @@ fn run_setups(
             fov_deg: key.design.fov_deg(),
             run,
             images,
-        });
+        };
+        // A closed channel means the view went away: nothing to show it to.
+        if out.send((job.row, finished)).is_err() {
+            return Err(SimError::Cancelled);
+        }
     }
-    Ok(out)
+    Ok(())
 }

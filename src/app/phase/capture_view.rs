@@ -5,7 +5,7 @@ use egui::{Color32, Stroke, StrokeKind, TextureHandle, Ui, vec2};
 use egui_plot::{Corner, GridMark, HoverPosition, Legend, Line, Plot, PlotPoints};
 
 use super::capture::CaptureRow;
-use super::compare::mean_scores;
+use super::compare::{CompareMetric, mean_score};
 use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
 use crate::app::panels::message_ui;
 use crate::core::phase::imaging::THESIS_PHOTONS;
@@ -13,6 +13,18 @@ use crate::io::photo::DIFFERENCE_GAIN;
 
 /// Light levels the slider spans (the thesis's range, photons per pixel).
 const SLIDER_PHOTONS: std::ops::RangeInclusive<f64> = 250.0..=10_000.0;
+
+/// "12 s, about 30 s left" from a step's fraction done and its seconds so far.
+fn time_left(fraction: f32, seconds: f64) -> String {
+    let f = f64::from(fraction);
+    if f < 0.02 || seconds < 1.0 {
+        return format!("{seconds:.0} s");
+    }
+    format!(
+        "{seconds:.0} s, about {:.0} s left",
+        seconds * (1.0 - f) / f
+    )
+}
 
 /// A picture scaled to fit `side` points, with the scored columns outlined.
 fn picture(ui: &mut Ui, t: &TextureHandle, side: f32, valid: Option<(f32, f32)>, alt: &str) {
@@ -47,10 +59,10 @@ impl PhaseWorkspace {
         self.capture_controls(ui);
         if let Some((step, f, seconds)) = self.capture_progress() {
             let mut cancel = false;
-            ui.horizontal(|ui| {
-                ui.spinner();
-                ui.label(format!("{step}… {seconds:.0} s"));
+            ui.horizontal_wrapped(|ui| {
                 cancel = ui.button("Cancel").clicked();
+                ui.spinner();
+                ui.label(format!("{step}… {}", time_left(f, seconds)));
             });
             ui.add(egui::ProgressBar::new(f).show_percentage());
             if cancel {
@@ -65,7 +77,9 @@ impl PhaseWorkspace {
                  double MLA by 3-9 dB. Use full quality for numbers to quote.",
             );
         }
-        let side = ((ui.available_width() - 24.0) / 3.0).clamp(96.0, 300.0);
+        // Three pictures and the spacing between them fit the width, whatever the window.
+        let gap = ui.spacing().item_spacing.x;
+        let side = ((ui.available_width() - 2.0 * gap - 4.0) / 3.0).clamp(48.0, 320.0);
         if let Some(t) = self.capture_photo_texture() {
             ui.horizontal(|ui| {
                 ui.vertical(|ui| {
@@ -202,10 +216,10 @@ impl PhaseWorkspace {
         });
         if let Some((done, total, f, seconds)) = self.compare_progress() {
             let mut cancel = false;
-            ui.horizontal(|ui| {
+            ui.horizontal_wrapped(|ui| {
+                cancel = ui.button("Cancel").clicked();
                 ui.spinner();
                 ui.label(format!("{done} of {total} runs, {seconds:.0} s"));
-                cancel = ui.button("Cancel").clicked();
             });
             let overall = (done as f32 + f.min(0.99)) / total.max(1) as f32;
             ui.add(egui::ProgressBar::new(overall).show_percentage());
@@ -214,6 +228,12 @@ impl PhaseWorkspace {
             }
         }
         message_ui(ui, self.compare_message());
+        ui.horizontal(|ui| {
+            ui.label("Show:");
+            for m in [CompareMetric::PsnrDb, CompareMetric::Ssim] {
+                ui.selectable_value(&mut self.compare.metric, m, m.label());
+            }
+        });
         self.compare_table(ui);
         self.compare_plot(ui);
     }
@@ -224,8 +244,9 @@ impl PhaseWorkspace {
             return;
         };
         let rows = self.compare_rows();
+        let metric = self.compare.metric;
         ui.label(format!(
-            "{} photo, {} sampling, {} channels{}. PSNR (dB) / SSIM on the field of view; the \
+            "{} photo, {} sampling, {} channels{}. Scores on the field of view; the \
              thesis (BM3D-denoised, its photos): T-OLED 22.4 dB, T = 5 optimized 28.0 dB on \
              average over 250-10 000 photons.",
             run.photo_name,
@@ -251,7 +272,10 @@ impl PhaseWorkspace {
                         ui.strong("setup");
                         ui.strong("LTR");
                         for n in &run.photons {
-                            ui.strong(format!("{n:.0} photons"));
+                            ui.strong(format!("{n:.0} ph")).on_hover_text(format!(
+                                "{} at {n:.0} photons per pixel",
+                                metric.label()
+                            ));
                         }
                         ui.strong("mean");
                         ui.end_row();
@@ -263,15 +287,14 @@ impl PhaseWorkspace {
                                 mine.first()
                                     .map_or_else(|| "-".into(), |r| format!("{:.3}", r.ltr)),
                             );
-                            let cell = |s: Option<(f64, f64)>| {
-                                s.map_or_else(|| "-".into(), |(p, q)| format!("{p:.2} / {q:.3}"))
-                            };
+                            let cell =
+                                |v: Option<f64>| v.map_or_else(|| "-".into(), |v| metric.format(v));
                             for n in &run.photons {
-                                ui.monospace(cell(mean_scores(&mine, |r| r.photons == *n)));
+                                ui.monospace(cell(mean_score(&mine, metric, |r| r.photons == *n)));
                             }
                             let complete = mine.len() == run.photons.len();
                             ui.monospace(if complete {
-                                cell(mean_scores(&mine, |_| true))
+                                cell(mean_score(&mine, metric, |_| true))
                             } else {
                                 "-".into()
                             });
@@ -289,6 +312,7 @@ impl PhaseWorkspace {
             return;
         }
         let levels = run.photons.clone();
+        let metric = self.compare.metric;
         let lines: Vec<(String, Vec<[f64; 2]>)> = run
             .setups
             .iter()
@@ -296,7 +320,7 @@ impl PhaseWorkspace {
                 let pts = rows
                     .iter()
                     .filter(|r| &r.setup == s)
-                    .map(|r| [r.photons.log10(), r.psnr_db])
+                    .map(|r| [r.photons.log10(), metric.of(r)])
                     .collect();
                 (s.label(), pts)
             })
@@ -305,9 +329,10 @@ impl PhaseWorkspace {
         let height = (ui.available_width() * 0.45).clamp(200.0, 360.0);
         Plot::new("phase-compare-plot")
             .height(height)
-            .legend(Legend::default().position(Corner::RightBottom))
+            // Scores rise with light: the top left stays clear of the lines.
+            .legend(Legend::default().position(Corner::LeftTop))
             .x_axis_label("light (photons per pixel, log scale)")
-            .y_axis_label("PSNR (dB)")
+            .y_axis_label(metric.label())
             .x_grid_spacer(move |_| {
                 levels
                     .iter()
@@ -324,9 +349,10 @@ impl PhaseWorkspace {
                     position: p,
                     ..
                 } => Some(format!(
-                    "{plot_name}\n{:.0} photons: {:.2} dB",
+                    "{plot_name}\n{:.0} photons: {} {}",
                     10f64.powf(p.x),
-                    p.y
+                    metric.label(),
+                    metric.format(p.y)
                 )),
                 HoverPosition::Elsewhere { .. } => None,
             })

@@ -19,6 +19,37 @@ use crate::core::{Progress, SimError};
 use crate::io::design_file::write_atomic;
 use crate::io::restore_report::compare_csv;
 
+/// The score the table and the plot show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CompareMetric {
+    PsnrDb,
+    Ssim,
+}
+
+impl CompareMetric {
+    pub fn of(self, row: &CompareRow) -> f64 {
+        match self {
+            CompareMetric::PsnrDb => row.psnr_db,
+            CompareMetric::Ssim => row.ssim,
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            CompareMetric::PsnrDb => "PSNR (dB)",
+            CompareMetric::Ssim => "SSIM",
+        }
+    }
+
+    /// The value as the table prints it.
+    pub fn format(self, v: f64) -> String {
+        match self {
+            CompareMetric::PsnrDb => format!("{v:.2}"),
+            CompareMetric::Ssim => format!("{v:.3}"),
+        }
+    }
+}
+
 /// What a comparison was run for.
 #[derive(Debug, Clone)]
 pub struct CompareRun {
@@ -44,6 +75,7 @@ pub(super) struct CompareState {
     selected: Vec<bool>,
     /// The thesis's light levels and which are ticked.
     levels: Vec<(f64, bool)>,
+    pub(super) metric: CompareMetric,
     job: Option<CompareJob>,
     /// What the rows on screen were run for (also while they stream in).
     run: Option<CompareRun>,
@@ -62,6 +94,7 @@ impl CompareState {
             selected: vec![true; setups.len()],
             setups,
             levels: THESIS_PHOTONS.iter().map(|n| (*n, true)).collect(),
+            metric: CompareMetric::PsnrDb,
             job: None,
             run: None,
             rows: Vec::new(),
@@ -81,17 +114,18 @@ impl CompareState {
     }
 }
 
-/// Mean PSNR (dB) and SSIM of `rows` that match `keep`, or `None` when none does.
-pub fn mean_scores(rows: &[CompareRow], keep: impl Fn(&CompareRow) -> bool) -> Option<(f64, f64)> {
-    let at: Vec<&CompareRow> = rows.iter().filter(|r| keep(r)).collect();
-    if at.is_empty() {
-        return None;
-    }
-    let n = at.len() as f64;
-    Some((
-        at.iter().map(|r| r.psnr_db).sum::<f64>() / n,
-        at.iter().map(|r| r.ssim).sum::<f64>() / n,
-    ))
+/// The mean of `metric` over the `rows` that match `keep`, or `None` when none does.
+pub fn mean_score(
+    rows: &[CompareRow],
+    metric: CompareMetric,
+    keep: impl Fn(&CompareRow) -> bool,
+) -> Option<f64> {
+    let at: Vec<f64> = rows
+        .iter()
+        .filter(|r| keep(r))
+        .map(|r| metric.of(r))
+        .collect();
+    (!at.is_empty()).then(|| at.iter().sum::<f64>() / at.len() as f64)
 }
 
 impl PhaseWorkspace {
@@ -324,7 +358,7 @@ impl PhaseWorkspace {
             return;
         };
         self.compare.rows.extend(job.rows.try_iter());
-        ctx.request_repaint_after(std::time::Duration::from_millis(200));
+        ctx.request_repaint_after(std::time::Duration::from_millis(500));
         let Some(done) = job.task.poll() else {
             return;
         };

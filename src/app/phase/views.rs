@@ -144,7 +144,8 @@ fn fov_ruler(ui: &mut Ui, angle: f64, fov_deg: f64, range: f64) {
 impl PhaseWorkspace {
     /// Centre: PSFs, geometry or the optimiser.
     pub fn views_ui(&mut self, ui: &mut Ui) {
-        ui.horizontal(|ui| {
+        // Wrapped: at laptop widths the four tabs do not fit on one line.
+        ui.horizontal_wrapped(|ui| {
             ui.selectable_value(&mut self.view, PhaseView::Psf, "PSF and MTF");
             ui.selectable_value(&mut self.view, PhaseView::Geometry, "Plate and λ0");
             ui.selectable_value(
