@@ -300,7 +300,7 @@ impl StudioApp {
                 ExportKind::NumbersJson => {
                     let text =
                         serde_json::to_string_pretty(&report::analysis_json(a)).unwrap_or_default();
-                    design_file::write_atomic(&path, text.as_bytes())
+                    crate::io::safe_file::write_atomic(&path, text.as_bytes())
                         .map(|()| format!("exported {}", path.display()))
                         .map_err(|e| e.to_string())
                 }

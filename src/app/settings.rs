@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::io::design_file::write_atomic;
+use crate::io::safe_file::write_atomic;
 
 const MAX_RECENT: usize = 8;
 
@@ -65,7 +65,9 @@ impl Settings {
     /// Loads settings; anything unreadable falls back to defaults (settings are not precious).
     pub fn load(dirs: &AppDirs) -> Self {
         dirs.settings_path()
-            .and_then(|p| std::fs::read_to_string(p).ok())
+            .and_then(|p| {
+                crate::io::safe_file::read_text_bounded(&p, 1 << 20, "read the settings").ok()
+            })
             .and_then(|t| serde_json::from_str(&t).ok())
             .unwrap_or_default()
     }

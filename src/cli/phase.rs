@@ -402,7 +402,7 @@ fn psf_cmd(a: &PsfArgs) -> Result<()> {
             }
             text.push('\n');
         }
-        std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+        crate::io::safe_file::write_atomic(&path, text.as_bytes())?;
         outputs.push(path);
         if a.all_angles {
             for c in &channels {
@@ -416,7 +416,7 @@ fn psf_cmd(a: &PsfArgs) -> Result<()> {
                     text.push_str(&line.join(","));
                     text.push('\n');
                 }
-                std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+                crate::io::safe_file::write_atomic(&path, text.as_bytes())?;
                 outputs.push(path);
             }
         }
@@ -520,7 +520,7 @@ fn invertibility_cmd(m: &MaskArgs) -> Result<()> {
             }
             text.push('\n');
         }
-        std::fs::write(&path, text).with_context(|| format!("write {}", path.display()))?;
+        crate::io::safe_file::write_atomic(&path, text.as_bytes())?;
         if !m.json {
             println!("wrote {}", path.display());
         }
@@ -856,7 +856,7 @@ fn compare_cmd(
         let names: Vec<String> = photos.iter().map(|(n, _)| n.clone()).collect();
         let text = crate::io::restore_report::compare_csv(&rows, &names);
         let path = dir.join("compare.csv");
-        crate::io::design_file::write_atomic(&path, text.as_bytes())?;
+        crate::io::safe_file::write_atomic(&path, text.as_bytes())?;
         if !a.mask.json {
             println!("wrote {}", path.display());
         }

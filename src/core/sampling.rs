@@ -51,7 +51,16 @@ pub fn fft_size(
     let lf_um2 = wavelength_nm * focal_length_mm;
     let half = lf_um2 / (2.0 * pupil_sample_um * fine_sample_um);
     // The tiny epsilon keeps exact integers (e.g. 762.0) from flooring to 761 through rounding.
-    2 * ((half + 1e-9).floor().max(0.0) as usize)
+    // Absurd inputs (1e308 mm, 1e-300 µm, NaN) saturate instead of wrapping: the caller
+    // refuses anything above its limit.
+    let half = (half + 1e-9).floor();
+    if half.is_nan() || half <= 0.0 {
+        0
+    } else if half >= (usize::MAX / 4) as f64 {
+        usize::MAX / 2
+    } else {
+        2 * half as usize
+    }
 }
 
 /// The smallest even size `≥ m` whose prime factors are all ≤ 7 (fast for the FFT).
@@ -65,7 +74,13 @@ pub fn next_fast_size_235(m: usize) -> usize {
     next_smooth_size(m, &[2, 3, 5])
 }
 
+/// Sizes above this are returned as they are (no FFT is that large; the caller refuses them).
+const SMOOTH_SEARCH_LIMIT: usize = 1 << 40;
+
 fn next_smooth_size(m: usize, primes: &[usize]) -> usize {
+    if m > SMOOTH_SEARCH_LIMIT {
+        return m;
+    }
     let smooth = |mut v: usize| {
         for &p in primes {
             while v.is_multiple_of(p) {
@@ -181,6 +196,19 @@ mod tests {
         assert_eq!(fft_size(610.0, 10.0, 8.0, 0.5), 1524);
         assert_eq!(fft_size(530.0, 10.0, 8.0, 0.5), 1324);
         assert_eq!(fft_size(470.0, 10.0, 8.0, 0.5), 1174);
+    }
+
+    #[test]
+    fn absurd_inputs_saturate_and_the_smooth_search_ends() {
+        // 1e308 mm or 1e-300 µm used to overflow the size and loop forever.
+        for (f_mm, fine_um) in [(1e308, 1.0), (50.0, 1e-300), (f64::INFINITY, 1.0)] {
+            let m = fft_size(550.0, f_mm, 1.0, fine_um);
+            assert!(m > MAX_FFT_SIZE, "{m}");
+            assert_eq!(next_fast_size(m), m);
+            assert_eq!(next_fast_size_235(m), m);
+        }
+        assert_eq!(fft_size(f64::NAN, 50.0, 1.0, 1.0), 0);
+        assert_eq!(fft_size(550.0, -1.0, 1.0, 1.0), 0);
     }
 
     #[test]

@@ -15,6 +15,8 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::IoError;
+use super::safe_file::read_text_bounded;
+use super::safe_file::write_atomic;
 use crate::core::design::{Channel, Design, Opening, Optics, Tiling};
 
 pub const FORMAT: &str = "udc-studio-design";
@@ -106,19 +108,9 @@ pub fn load_design(path: &Path) -> Result<Design, IoError> {
 /// The text of a design file (display or phase) of at most [`MAX_FILE_BYTES`].
 ///
 /// # Errors
-/// [`IoError::File`] when it cannot be read, [`IoError::Design`] when it is too large.
+/// As [`read_text_bounded`]: not a regular file, too large, or not UTF-8.
 pub fn read_design_text(path: &Path) -> Result<String, IoError> {
-    let meta = std::fs::metadata(path).map_err(|e| IoError::file("read the design", path, e))?;
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(IoError::Design {
-            path: path.to_path_buf(),
-            message: format!(
-                "file is {} bytes; design files are at most {MAX_FILE_BYTES}",
-                meta.len()
-            ),
-        });
-    }
-    std::fs::read_to_string(path).map_err(|e| IoError::file("read the design", path, e))
+    read_text_bounded(path, MAX_FILE_BYTES, "read the design")
 }
 
 /// The design as pretty JSON in the file format.
@@ -143,22 +135,4 @@ pub fn to_json(design: &Design) -> String {
 /// [`IoError::File`] when the file cannot be written.
 pub fn save_design(path: &Path, design: &Design) -> Result<(), IoError> {
     write_atomic(path, to_json(design).as_bytes())
-}
-
-/// Writes bytes to `path` through a sibling temp file and a rename.
-///
-/// # Errors
-/// [`IoError::File`].
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp"));
-    std::fs::write(&tmp, bytes).map_err(|e| IoError::file("write", &tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| IoError::file("replace", path, e))
 }

@@ -32,9 +32,52 @@ pub enum IoError {
     MaskLayout(#[from] MaskError),
     #[error("unknown preset `{0}` (run `udc-studio presets` for the list)")]
     UnknownPreset(String),
+    /// A directory, device, FIFO or socket where a file was expected.
+    #[error("{} is {kind}; give a regular file", path.display())]
+    NotAFile { path: PathBuf, kind: &'static str },
+    /// A file past the byte cap of its kind (read no further than the cap).
+    #[error("{} is larger than {} MB, the limit for this kind of file", path.display(), cap / 1_000_000)]
+    TooLarge { path: PathBuf, cap: u64 },
+    /// Bytes that are not UTF-8 text.
+    #[error("{} is not UTF-8 text (an invalid byte at offset {offset})", path.display())]
+    NotText { path: PathBuf, offset: usize },
 }
 
 impl IoError {
+    /// The same error naming `to` where it named `from`: a temp file's errors name the file
+    /// the user asked for, never the temp file.
+    pub fn naming(self, from: &Path, to: &Path) -> Self {
+        let swap = |p: PathBuf| if p == from { to.to_path_buf() } else { p };
+        match self {
+            IoError::Design { path, message } => IoError::Design {
+                path: swap(path),
+                message,
+            },
+            IoError::Image { path, message } => IoError::Image {
+                path: swap(path),
+                message,
+            },
+            IoError::Table { path, message } => IoError::Table {
+                path: swap(path),
+                message,
+            },
+            IoError::Mask { path, message } => IoError::Mask {
+                path: swap(path),
+                message,
+            },
+            IoError::File {
+                action,
+                path,
+                source,
+            } => IoError::File {
+                action,
+                path: swap(path),
+                source,
+            },
+            other => other,
+        }
+    }
+
     pub fn file(action: &'static str, path: &Path, source: std::io::Error) -> Self {
         IoError::File {
             action,

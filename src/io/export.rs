@@ -20,7 +20,7 @@ use image::{DynamicImage, GrayImage, ImageBuffer, ImageFormat, Luma, Rgb, Rgb32F
 use ndarray::Array2;
 
 use super::IoError;
-use super::design_file::write_atomic;
+use super::safe_file::write_atomic;
 use crate::core::analyze::{Analysis, ChannelAnalysis};
 
 /// Dynamic range of log-PSF images, in decades. A log-PSF image maps `log10(psf / peak)` linearly

@@ -26,8 +26,11 @@ use image::{ImageFormat, ImageReader};
 use ndarray::Array2;
 
 use super::IoError;
-use super::design_file::write_atomic;
 use super::photo::MAX_PHOTO_PIXELS;
+use super::safe_file::write_atomic;
+
+/// Largest HDR file read: a 4096² RGBA float EXR, uncompressed, is 268 MB.
+pub const MAX_HDR_BYTES: u64 = 512 * 1024 * 1024;
 use crate::core::sensor::Scene;
 
 /// What loading found besides the pixels.
@@ -84,6 +87,7 @@ pub fn load_hdr(path: &Path) -> Result<Scene, IoError> {
 /// # Errors
 /// As [`load_hdr`].
 pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> {
+    super::safe_file::check_regular(path, "read the HDR image")?;
     let bad = |message: String| IoError::Image {
         path: path.to_path_buf(),
         message,
@@ -107,7 +111,7 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
             )));
         }
     };
-    let bytes = std::fs::read(path).map_err(|e| IoError::file("read the HDR image", path, e))?;
+    let bytes = super::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
     let (planes, channels) = if exr {
         read_exr(&bytes).map_err(bad)?
     } else {

@@ -13,6 +13,7 @@ pub mod photo;
 pub mod presets;
 pub mod report;
 pub mod restore_report;
+pub mod safe_file;
 pub mod sensor_report;
 pub mod spectral;
 

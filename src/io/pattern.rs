@@ -10,7 +10,7 @@ use std::path::Path;
 use image::{DynamicImage, GrayImage, ImageFormat, ImageReader};
 
 use super::IoError;
-use super::design_file::write_atomic;
+use super::safe_file::write_atomic;
 use crate::core::design::MAX_CELLS;
 
 /// Luma above this (0–255) is an open cell; at or below it a closed one (the thesis threshold).
@@ -27,6 +27,7 @@ pub fn load_pattern_png(path: &Path) -> Result<Vec<Vec<f64>>, IoError> {
         path: path.to_path_buf(),
         message,
     };
+    super::safe_file::check_regular(path, "read the pattern")?;
     let open = || {
         ImageReader::open(path)
             .map_err(|e| IoError::file("read the pattern", path, e))?

@@ -8,7 +8,8 @@
 use std::path::Path;
 
 use super::IoError;
-use super::design_file::{read_design_text, write_atomic};
+use super::design_file::read_design_text;
+use super::safe_file::write_atomic;
 use crate::core::phase::PhaseDesign;
 
 /// A design read from a file, with what the reader had to assume.

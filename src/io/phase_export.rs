@@ -31,7 +31,7 @@ use serde::Serialize;
 use stl_io::{Normal, Triangle, Vertex};
 
 use super::IoError;
-use super::design_file::write_atomic;
+use super::safe_file::{TempFile, write_atomic};
 use crate::core::mask::MaskError;
 use crate::core::phase::geometry::{self, Lenslets};
 use crate::core::phase::{HeightRounding, PhaseDesign, Surface};
@@ -965,31 +965,18 @@ pub fn write_height_stl(
 
 /// Writes beside the target and renames, so a failed export leaves no half file behind.
 fn write_stl_file(path: &Path, tris: &[Triangle]) -> Result<(), IoError> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.tmp"));
-    let result = (|| {
-        let mut file = File::create(&tmp).map_err(|e| IoError::file("create", &tmp, e))?;
-        let io = |e| IoError::file("write", &tmp, e);
-        stl_io::write_stl(&mut file, tris.iter()).map_err(io)?;
-        // stl_io writes a blank header; the units go in it afterwards.
-        let mut header = [0u8; 80];
-        let text = STL_HEADER.as_bytes();
-        let n = text.len().min(header.len());
-        header[..n].copy_from_slice(&text[..n]);
-        file.seek(SeekFrom::Start(0)).map_err(io)?;
-        file.write_all(&header).map_err(io)?;
-        file.flush().map_err(io)?;
-        std::fs::rename(&tmp, path).map_err(|e| IoError::file("replace", path, e))
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    let temp = TempFile::beside(path)?;
+    let io = |e| IoError::file("write", path, e);
+    let mut file = File::create(temp.path()).map_err(io)?;
+    stl_io::write_stl(&mut file, tris.iter()).map_err(io)?;
+    // stl_io writes a blank header; the units go in it afterwards.
+    let mut header = [0u8; 80];
+    let text = STL_HEADER.as_bytes();
+    let n = text.len().min(header.len());
+    header[..n].copy_from_slice(&text[..n]);
+    file.seek(SeekFrom::Start(0)).map_err(io)?;
+    file.write_all(&header).map_err(io)?;
+    file.flush().map_err(io)?;
+    drop(file);
+    temp.persist()
 }

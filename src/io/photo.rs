@@ -46,6 +46,7 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
             "the maximum side must be at least 1 pixel".into(),
         ));
     }
+    super::safe_file::check_regular(path, "read the photo")?;
     let open = || {
         ImageReader::open(path)
             .map_err(|e| IoError::file("read the photo", path, e))?

@@ -34,19 +34,8 @@ pub struct SpectralResponse {
 /// for a cell that is not a number, a NaN/infinite/negative value, a wavelength that does not
 /// increase, a wrong number of columns, or a table of fewer than 2 rows.
 pub fn load_response_csv(path: &Path) -> Result<SpectralResponse, IoError> {
-    let meta =
-        std::fs::metadata(path).map_err(|e| IoError::file("read the spectral table", path, e))?;
-    if meta.len() > MAX_TABLE_BYTES {
-        return Err(IoError::Table {
-            path: path.to_path_buf(),
-            message: format!(
-                "file is {} bytes; spectral tables are at most {MAX_TABLE_BYTES}",
-                meta.len()
-            ),
-        });
-    }
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| IoError::file("read the spectral table", path, e))?;
+    let text =
+        super::safe_file::read_text_bounded(path, MAX_TABLE_BYTES, "read the spectral table")?;
     parse_response_csv(&text).map_err(|message| IoError::Table {
         path: path.to_path_buf(),
         message,

@@ -26,6 +26,7 @@ mod phase_panel;
 mod physics;
 mod restore;
 mod restore_view;
+mod safe_file;
 mod screenshots;
 mod sensor;
 mod sensor_hdr;

@@ -16,8 +16,8 @@ use crate::core::phase::imaging::{
     CompareRow, Setup, THESIS_PHOTONS, compare_setups, thesis_setups,
 };
 use crate::core::{Progress, SimError};
-use crate::io::design_file::write_atomic;
 use crate::io::restore_report::compare_csv;
+use crate::io::safe_file::write_atomic;
 
 /// The score the table and the plot show.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

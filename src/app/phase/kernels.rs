@@ -85,7 +85,8 @@ impl KernelState {
 /// The file's error, naming it.
 pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, String> {
     let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
-    let file = std::fs::File::create(path).map_err(fail)?;
+    let temp = crate::io::safe_file::TempFile::beside(path).map_err(|e| e.to_string())?;
+    let file = std::fs::File::create(temp.path()).map_err(fail)?;
     let mut w = std::io::BufWriter::new(file);
     for row in k.rows() {
         for (j, v) in row.iter().enumerate() {
@@ -97,6 +98,8 @@ pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, String>
         w.write_all(b"\n").map_err(fail)?;
     }
     w.flush().map_err(fail)?;
+    drop(w);
+    temp.persist().map_err(|e| e.to_string())?;
     let (rows, cols) = k.dim();
     Ok(format!(
         "saved {}: {rows} rows (sensor pixels) × {cols} columns (directions)",

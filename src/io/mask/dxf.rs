@@ -138,7 +138,8 @@ pub(super) fn read(
     layer: i16,
     datatype: i16,
 ) -> Result<super::import::Drawn, IoError> {
-    let drawing = Drawing::load_file(path).map_err(|e| IoError::Mask {
+    let bytes = crate::io::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
+    let drawing = Drawing::load(&mut std::io::Cursor::new(bytes)).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),
         message: format!("not a readable DXF file: {e}"),
     })?;

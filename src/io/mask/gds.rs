@@ -420,7 +420,7 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
         path: path.to_path_buf(),
         message,
     };
-    let bytes = std::fs::read(path).map_err(|e| IoError::file("read the mask", path, e))?;
+    let bytes = crate::io::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
     let lib = GdsLibrary::from_bytes(&bytes)
         .map_err(|e| err(format!("not a readable GDSII file: {e}")))?;
     let scale = lib.units.db_unit() * 1e6;

@@ -20,7 +20,11 @@ use crate::core::mask::{MaskError, MaskLayout, MaskSpec, MaskStats, Polygon, Ton
 use crate::core::tiling::D4;
 
 use super::IoError;
-use super::design_file::{to_json, write_atomic};
+
+/// Largest mask file read back (GDSII or DXF): masks of whole displays are tens of MB.
+pub const MAX_MASK_BYTES: u64 = 1024 * 1024 * 1024;
+use super::design_file::to_json;
+use super::safe_file::{TempFile, write_atomic};
 
 pub use import::{ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening};
 
@@ -327,21 +331,17 @@ pub fn export_mask(
     let start = Instant::now();
     let layout = plan(design, options)?;
     let notes = notes(design, &layout, options, path);
-    let tmp = temp_path(path);
-    let written = match options.format {
-        MaskFormat::Gds => gds::write(&layout, options, &notes, &tmp, progress),
-        MaskFormat::Dxf => dxf::write(&layout, options, &notes, &tmp, progress),
-        MaskFormat::Svg => svg::write(&layout, &notes, &tmp, progress),
-        MaskFormat::Png => png::write(&layout, options, &notes, &tmp, progress),
-    };
-    let counts = match written {
-        Ok(c) => c,
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(e);
-        }
-    };
-    std::fs::rename(&tmp, path).map_err(|e| IoError::file("replace", path, e))?;
+    // Dropped on any error (or a cancel), the temp file goes with it.
+    let temp = TempFile::beside(path)?;
+    let tmp = temp.path();
+    let counts = match options.format {
+        MaskFormat::Gds => gds::write(&layout, options, &notes, tmp, progress),
+        MaskFormat::Dxf => dxf::write(&layout, options, &notes, tmp, progress),
+        MaskFormat::Svg => svg::write(&layout, &notes, tmp, progress),
+        MaskFormat::Png => png::write(&layout, options, &notes, tmp, progress),
+    }
+    .map_err(|e| e.naming(tmp, path))?;
+    temp.persist()?;
     let sidecar = sidecar_path(path);
     write_atomic(&sidecar, to_json(design).as_bytes())?;
     progress.set(1.0);
@@ -356,14 +356,6 @@ pub fn export_mask(
         period_nm: layout.period_nm,
         seconds: start.elapsed().as_secs_f64(),
     })
-}
-
-fn temp_path(path: &Path) -> PathBuf {
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    path.with_file_name(format!(".{name}.part"))
 }
 
 /// The text notes every file carries (ASCII: GDSII strings are ASCII).

@@ -1,0 +1,189 @@
+//! Files in and out, safely. Every reader and writer of the studio goes through here.
+//!
+//! - **Inputs** must be regular files and are read under a byte cap that does not trust the
+//!   file's metadata (`/dev/zero` reports 0 bytes and never ends; opening a FIFO blocks until a
+//!   writer comes): the type is checked before opening and the read stops one byte past the cap.
+//! - **Outputs** are written to a uniquely named temp file beside the target (`.NAME.XXXXXX.part`,
+//!   so two exports to one target never share it) and renamed into place. The temp file is
+//!   removed on every error path (on drop) and on Ctrl-C / SIGTERM, through
+//!   [`remove_temp_files_on_signal`], which the binary installs at start.
+
+use std::fs::File;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+use super::IoError;
+
+/// Temp files in flight, removed by the signal handler.
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// `path` names a regular file (symlinks followed); anything else (a directory, a FIFO, a
+/// device) is refused before it is opened.
+///
+/// Returns its length in bytes as the file system states it (a hint, not a bound).
+///
+/// # Errors
+/// [`IoError::File`] when it does not exist or cannot be looked at, [`IoError::NotAFile`] when
+/// it is not a regular file.
+pub fn check_regular(path: &Path, what: &'static str) -> Result<u64, IoError> {
+    let meta = std::fs::metadata(path).map_err(|e| IoError::file(what, path, e))?;
+    if !meta.is_file() {
+        let kind = if meta.is_dir() {
+            "a directory"
+        } else {
+            "not a regular file (a device, FIFO or socket)"
+        };
+        return Err(IoError::NotAFile {
+            path: path.to_path_buf(),
+            kind,
+        });
+    }
+    Ok(meta.len())
+}
+
+/// The bytes of a regular file of at most `cap` bytes.
+///
+/// # Errors
+/// As [`check_regular`]; [`IoError::TooLarge`] past `cap` (whatever the metadata said).
+pub fn read_bounded(path: &Path, cap: u64, what: &'static str) -> Result<Vec<u8>, IoError> {
+    let len = check_regular(path, what)?;
+    let too_large = || IoError::TooLarge {
+        path: path.to_path_buf(),
+        cap,
+    };
+    if len > cap {
+        return Err(too_large());
+    }
+    let file = File::open(path).map_err(|e| IoError::file(what, path, e))?;
+    let mut bytes = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
+    file.take(cap.saturating_add(1))
+        .read_to_end(&mut bytes)
+        .map_err(|e| IoError::file(what, path, e))?;
+    if bytes.len() as u64 > cap {
+        return Err(too_large());
+    }
+    Ok(bytes)
+}
+
+/// The UTF-8 text of a regular file of at most `cap` bytes; a leading byte-order mark is
+/// dropped (every text format of the studio accepts one).
+///
+/// # Errors
+/// As [`read_bounded`]; [`IoError::NotText`] for bytes that are not UTF-8.
+pub fn read_text_bounded(path: &Path, cap: u64, what: &'static str) -> Result<String, IoError> {
+    let bytes = read_bounded(path, cap, what)?;
+    let text = String::from_utf8(bytes).map_err(|e| IoError::NotText {
+        path: path.to_path_buf(),
+        offset: e.utf8_error().valid_up_to(),
+    })?;
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
+    })
+}
+
+/// A temp file beside its target: write to [`TempFile::path`], then [`TempFile::persist`].
+/// Dropped without persisting (an error, a panic, a cancel), it is removed.
+#[derive(Debug)]
+pub struct TempFile {
+    temp: Option<tempfile::TempPath>,
+    target: PathBuf,
+}
+
+impl TempFile {
+    /// Reserves a unique temp file in `target`'s directory.
+    ///
+    /// # Errors
+    /// [`IoError::File`] when the directory cannot take a file.
+    pub fn beside(target: &Path) -> Result<Self, IoError> {
+        let dir = target
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let name = target
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let temp = tempfile::Builder::new()
+            .prefix(&format!(".{name}."))
+            .suffix(".part")
+            .tempfile_in(dir)
+            .map_err(|e| IoError::file("create a file in", dir, e))?
+            .into_temp_path();
+        if let Ok(mut live) = LIVE.lock() {
+            live.push(temp.to_path_buf());
+        }
+        Ok(TempFile {
+            temp: Some(temp),
+            target: target.to_path_buf(),
+        })
+    }
+
+    /// Where to write (the file exists, empty).
+    pub fn path(&self) -> &Path {
+        self.temp.as_deref().unwrap_or(&self.target)
+    }
+
+    /// Renames the temp file to the target, replacing it.
+    ///
+    /// # Errors
+    /// [`IoError::File`] naming the target (the temp file is removed).
+    pub fn persist(mut self) -> Result<(), IoError> {
+        let Some(temp) = self.temp.take() else {
+            return Ok(());
+        };
+        let at = temp.to_path_buf();
+        let result = temp
+            .persist(&self.target)
+            .map_err(|e| IoError::file("replace", &self.target, e.error));
+        forget(&at);
+        result
+    }
+}
+
+impl Drop for TempFile {
+    fn drop(&mut self) {
+        if let Some(temp) = self.temp.take() {
+            let at = temp.to_path_buf();
+            // TempPath's own drop removes the file.
+            drop(temp);
+            forget(&at);
+        }
+    }
+}
+
+fn forget(path: &Path) {
+    if let Ok(mut live) = LIVE.lock() {
+        live.retain(|p| p != path);
+    }
+}
+
+/// Writes bytes to `path` through a unique temp file and a rename, so a crash or a concurrent
+/// writer never leaves half a file.
+///
+/// # Errors
+/// [`IoError::File`] naming `path` (never the temp file).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
+    let temp = TempFile::beside(path)?;
+    std::fs::write(temp.path(), bytes).map_err(|e| IoError::file("write", path, e))?;
+    temp.persist()
+}
+
+/// Removes every temp file in flight and exits with 130 on Ctrl-C or SIGTERM. Call once at
+/// start; a second call is ignored.
+pub fn remove_temp_files_on_signal() {
+    let _ = ctrlc::set_handler(|| {
+        if let Ok(live) = LIVE.lock() {
+            for p in live.iter() {
+                let _ = std::fs::remove_file(p);
+            }
+        }
+        std::process::exit(130);
+    });
+}
+
+/// How many temp files are in flight (tests check that none is left).
+pub fn temp_files_in_flight() -> usize {
+    LIVE.lock().map_or(0, |l| l.len())
+}
