@@ -16,6 +16,64 @@ use crate::core::{Analysis, Progress};
 use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
 use crate::io::{design_file, export, pattern, presets, report, spectral};
 
+/// Every command, and every subcommand below it, takes negative numbers as values.
+fn negative_numbers(cmd: clap::Command) -> clap::Command {
+    cmd.allow_negative_numbers(true)
+        .mut_subcommands(negative_numbers)
+}
+
+/// Parses the command line. Negative numbers are values, so `--snr-db -1000` reaches the check
+/// that says what is wrong with it; a usage error is one line (`--help` prints the rest).
+///
+/// # Errors
+/// Help and version requests as clap's own "errors" (print them and exit 0); anything else as
+/// one line for stderr.
+pub fn parse() -> Result<Cli, CliParseError> {
+    use clap::{CommandFactory, FromArgMatches};
+    let matches = negative_numbers(Cli::command())
+        .try_get_matches()
+        .map_err(CliParseError::from)?;
+    Cli::from_arg_matches(&matches).map_err(CliParseError::from)
+}
+
+/// What [`parse`] refuses.
+pub enum CliParseError {
+    /// `--help` or `--version`: clap prints it.
+    Display(clap::Error),
+    /// A usage error in one line, without "error: ".
+    Usage(String),
+}
+
+impl From<clap::Error> for CliParseError {
+    fn from(e: clap::Error) -> Self {
+        use clap::error::ErrorKind;
+        match e.kind() {
+            ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => CliParseError::Display(e),
+            _ => {
+                // clap's message is a headline, sometimes ending in ':' with the items indented
+                // below it, then a usage block; keep the headline and its items on one line.
+                let text = e.render().to_string();
+                let mut lines = text.lines().filter(|l| !l.trim().is_empty());
+                let mut first = lines
+                    .next()
+                    .unwrap_or("invalid arguments")
+                    .trim_start_matches("error: ")
+                    .to_string();
+                if first.ends_with(':') {
+                    let items: Vec<&str> = lines
+                        .take_while(|l| l.starts_with(' '))
+                        .map(str::trim)
+                        .collect();
+                    first = format!("{first} {}", items.join(", "));
+                }
+                CliParseError::Usage(format!("{first} (see --help)"))
+            }
+        }
+    }
+}
+
 #[derive(Debug, Parser)]
 #[command(
     name = "udc-studio",
@@ -176,16 +234,11 @@ impl DesignSelection {
         }
         if let Some(path) = &self.spectral {
             let step = self.spectral_step_nm;
-            if !(step.is_finite() && step > 0.0) {
-                bail!("--spectral-step-nm must be a positive number of nm (got {step})");
-            }
             let resp = spectral::load_response_csv(path)?;
             let lo = resp.wavelengths_nm.first().copied().unwrap_or(0.0);
             let hi = resp.wavelengths_nm.last().copied().unwrap_or(0.0);
-            let samples: Vec<f64> = (0..)
-                .map(|k| (lo / step).ceil() * step + f64::from(k) * step)
-                .take_while(|w| *w <= hi)
-                .collect();
+            let samples = spectral::sample_grid(lo, hi, step)
+                .map_err(|e| anyhow::anyhow!("--spectral-step-nm: {e}"))?;
             design.channels = spectral::channels_from_response(&resp, &samples)
                 .map_err(|e| anyhow::anyhow!("{e} (in {})", path.display()))?;
         }

@@ -1,10 +1,16 @@
 //! Parse arguments; run a headless command or open the studio. Nothing else.
 
-use clap::Parser;
-use udc_studio::cli::{Cli, Command};
+use udc_studio::cli::{CliParseError, Command, parse};
 
 fn main() -> std::process::ExitCode {
-    let cli = Cli::parse();
+    let cli = match parse() {
+        Ok(c) => c,
+        Err(CliParseError::Display(e)) => e.exit(),
+        Err(CliParseError::Usage(line)) => {
+            eprintln!("error: {line}");
+            return std::process::ExitCode::from(2);
+        }
+    };
     let result = match cli.command {
         None => udc_studio::app::run_studio(None),
         Some(Command::Studio { design }) => udc_studio::app::run_studio(design),

@@ -375,11 +375,9 @@ impl StudioApp {
                     Ok(resp) => {
                         let lo = resp.wavelengths_nm.first().copied().unwrap_or(400.0);
                         let hi = resp.wavelengths_nm.last().copied().unwrap_or(700.0);
-                        let samples: Vec<f64> = (0..)
-                            .map(|k| (lo / step).ceil() * step + k as f64 * step)
-                            .take_while(|w| *w <= hi)
-                            .collect();
-                        match spectral::channels_from_response(&resp, &samples) {
+                        match spectral::sample_grid(lo, hi, step)
+                            .and_then(|samples| spectral::channels_from_response(&resp, &samples))
+                        {
                             Ok(ch) => {
                                 let mut d = self.doc.design().clone();
                                 d.channels = ch;

@@ -10,6 +10,12 @@ use super::SimError;
 pub const MAX_CELLS: usize = 512;
 /// Largest FFT size per side the studio accepts (a 16k² f64 grid is already ~2 GB).
 pub const MAX_FFT_SIZE: usize = 8192;
+/// Display pixels the lens pupil may span: the rasteriser's time and memory grow with them
+/// (2.5 × 10⁵ take a few seconds; a real display at ≥ 20 µm pitch behind a 4 mm pupil has
+/// 3 × 10⁴). Finer pitches are refused before anything is allocated.
+pub const MAX_PUPIL_PIXELS: f64 = 250_000.0;
+/// Wavelengths per channel (the thesis's spectral grid has 30).
+pub const MAX_WAVELENGTHS: usize = 128;
 /// Largest sensor window per side, in sensor pixels.
 pub const MAX_WINDOW_PX: usize = 4096;
 
@@ -274,7 +280,7 @@ fn finite_positive(field: &str, v: f64) -> Result<(), SimError> {
     } else {
         Err(SimError::field(
             field,
-            format!("must be a positive finite number (got {v})"),
+            format!("must be a positive finite number (got {v:?})"),
         ))
     }
 }
@@ -285,7 +291,7 @@ fn finite(field: &str, v: f64) -> Result<(), SimError> {
     } else {
         Err(SimError::field(
             field,
-            format!("must be a finite number (got {v})"),
+            format!("must be a finite number (got {v:?})"),
         ))
     }
 }
@@ -325,7 +331,7 @@ impl Design {
                 if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
                     return Err(SimError::field(
                         format!("opening.cells[{r}][{c}]"),
-                        format!("transmittance must be in [0, 1] (got {v})"),
+                        format!("transmittance must be in [0, 1] (got {v:?})"),
                     ));
                 }
             }
@@ -353,7 +359,7 @@ impl Design {
             return Err(SimError::field(
                 "tiling.wiring_gap_um",
                 format!(
-                    "must be zero or a positive finite number of µm (got {})",
+                    "must be zero or a positive finite number of µm (got {:?})",
                     t.wiring_gap_um
                 ),
             ));
@@ -368,7 +374,7 @@ impl Design {
             return Err(SimError::field(
                 "optics.window_px",
                 format!(
-                    "must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {})",
+                    "must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {:?})",
                     op.window_px
                 ),
             ));
@@ -378,11 +384,28 @@ impl Design {
                 return Err(SimError::field(
                     format!("optics.axis_in_pixel_um[{k}]"),
                     format!(
-                        "must lie inside the pixel, in [0, {}) µm (got {v})",
+                        "must lie inside the pixel, in [0, {}) µm (got {v:?})",
                         op.sensor_pixel_um
                     ),
                 ));
             }
+        }
+        let across = op.pupil_diameter_um() / o.pitch_um;
+        let pixels = std::f64::consts::FRAC_PI_4 * across * across;
+        if pixels > MAX_PUPIL_PIXELS {
+            let min_pitch =
+                op.pupil_diameter_um() * (std::f64::consts::FRAC_PI_4 / MAX_PUPIL_PIXELS).sqrt();
+            return Err(SimError::field(
+                "opening.pitch_um",
+                format!(
+                    "at {:?} µm the lens pupil ({:.2} mm) spans {:.2e} display pixels; at most \
+                     {MAX_PUPIL_PIXELS:.0} are simulated: use a pitch of at least {:.1} µm",
+                    o.pitch_um,
+                    op.pupil_diameter_um() / 1000.0,
+                    pixels,
+                    (min_pitch * 10.0).ceil() / 10.0
+                ),
+            ));
         }
         if self.channels.is_empty() {
             return Err(SimError::field(
@@ -395,6 +418,15 @@ impl Design {
                 return Err(SimError::field(
                     format!("channels[{i}].wavelengths_nm"),
                     "needs at least one wavelength",
+                ));
+            }
+            if ch.wavelengths_nm.len() > MAX_WAVELENGTHS {
+                return Err(SimError::field(
+                    format!("channels[{i}].wavelengths_nm"),
+                    format!(
+                        "has {} wavelengths; at most {MAX_WAVELENGTHS} per channel are simulated",
+                        ch.wavelengths_nm.len()
+                    ),
                 ));
             }
             if ch.wavelengths_nm.len() != ch.weights.len() {
@@ -411,7 +443,7 @@ impl Design {
                 if !(l.is_finite() && (100.0..=20_000.0).contains(&l)) {
                     return Err(SimError::field(
                         format!("channels[{i}].wavelengths_nm[{j}]"),
-                        format!("must be a wavelength between 100 and 20000 nm (got {l})"),
+                        format!("must be a wavelength between 100 and 20000 nm (got {l:?})"),
                     ));
                 }
             }
@@ -419,7 +451,7 @@ impl Design {
                 if !(w.is_finite() && w >= 0.0) {
                     return Err(SimError::field(
                         format!("channels[{i}].weights[{j}]"),
-                        format!("must be zero or positive (got {w})"),
+                        format!("must be zero or positive (got {w:?})"),
                     ));
                 }
             }

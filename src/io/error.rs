@@ -15,12 +15,13 @@ pub enum IoError {
     Image { path: PathBuf, message: String },
     #[error("{message} (in {})", path.display())]
     Table { path: PathBuf, message: String },
-    #[error("cannot {action}: {source} ({})", path.display())]
+    // The cause is in the message and deliberately not a `#[source]`: a chain printer
+    // (anyhow's `{:#}`) would repeat it.
+    #[error("cannot {action}: {cause} ({})", path.display())]
     File {
         action: &'static str,
         path: PathBuf,
-        #[source]
-        source: std::io::Error,
+        cause: std::io::Error,
     },
     #[error("{0}")]
     Invalid(#[from] SimError),
@@ -68,21 +69,21 @@ impl IoError {
             IoError::File {
                 action,
                 path,
-                source,
+                cause,
             } => IoError::File {
                 action,
                 path: swap(path),
-                source,
+                cause,
             },
             other => other,
         }
     }
 
-    pub fn file(action: &'static str, path: &Path, source: std::io::Error) -> Self {
+    pub fn file(action: &'static str, path: &Path, cause: std::io::Error) -> Self {
         IoError::File {
             action,
             path: path.to_path_buf(),
-            source,
+            cause,
         }
     }
 }

@@ -223,7 +223,7 @@ pub fn write_difference_png(
     };
     if !(gain.is_finite() && gain > 0.0) {
         return Err(bad(format!(
-            "the difference gain must be a positive number (got {gain})"
+            "the difference gain must be a positive number (got {gain:?})"
         )));
     }
     if a.len() != b.len() || a.iter().zip(b).any(|(x, y)| x.dim() != y.dim()) {

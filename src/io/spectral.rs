@@ -13,7 +13,7 @@
 use std::path::Path;
 
 use super::IoError;
-use crate::core::design::Channel;
+use crate::core::design::{Channel, MAX_WAVELENGTHS};
 
 /// Spectral tables larger than this are refused before parsing (a 1 nm table is ~12 kB).
 pub const MAX_TABLE_BYTES: u64 = 16 * 1024 * 1024;
@@ -177,6 +177,38 @@ impl SpectralResponse {
         let t = (wavelength_nm - w0) / (w1 - w0);
         Some(v0 + t * (v1 - v0))
     }
+}
+
+/// The multiples of `step_nm` inside the table's range `[lo_nm, hi_nm]`: the sample wavelengths
+/// of `--spectral-step-nm`. Refused before anything is allocated when the step is not a
+/// positive number or the grid would exceed [`MAX_WAVELENGTHS`].
+///
+/// # Errors
+/// A message naming the step and the smallest step that fits.
+pub fn sample_grid(lo_nm: f64, hi_nm: f64, step_nm: f64) -> Result<Vec<f64>, String> {
+    if !(step_nm.is_finite() && step_nm > 0.0) {
+        return Err(format!(
+            "the wavelength step must be a positive number of nm (got {step_nm:?})"
+        ));
+    }
+    let first = (lo_nm / step_nm).ceil() * step_nm;
+    let count = ((hi_nm - first) / step_nm).floor() + 1.0;
+    if !(count >= 1.0) {
+        return Err(format!(
+            "no multiple of {step_nm:?} nm lies in the table's {lo_nm}–{hi_nm} nm"
+        ));
+    }
+    if count > MAX_WAVELENGTHS as f64 {
+        let min_step = (hi_nm - lo_nm) / (MAX_WAVELENGTHS - 1) as f64;
+        return Err(format!(
+            "a step of {step_nm:?} nm gives {count:.0} wavelengths over {lo_nm}–{hi_nm} nm; at most \
+             {MAX_WAVELENGTHS} per channel are simulated: use a step of at least {:.1} nm",
+            (min_step * 10.0).ceil() / 10.0
+        ));
+    }
+    Ok((0..count as usize)
+        .map(|k| first + k as f64 * step_nm)
+        .collect())
 }
 
 /// Channels R, G, B sampled at `sample_wavelengths_nm`: each weight is the linearly interpolated

@@ -144,3 +144,81 @@ fn spectral_channels_from_a_csv() {
     let (ok, _, stderr) = run(&["analyze", "--spectral", "/missing.csv"]);
     assert!(!ok && stderr.contains("missing.csv"), "{stderr}");
 }
+
+/// Runs the binary with its exit code and wall time.
+fn run_timed(args: &[&str]) -> (Option<i32>, String, String, std::time::Duration) {
+    let t0 = std::time::Instant::now();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
+        .args(args)
+        .output()
+        .expect("run the binary");
+    (
+        out.status.code(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+        t0.elapsed(),
+    )
+}
+
+#[test]
+fn sizes_that_would_take_minutes_are_refused_at_once_with_the_limit() {
+    // A 0.1 µm pitch would sample the pupil with ~10⁸ pixels: refused before any FFT, naming the
+    // smallest pitch that fits.
+    let (code, stdout, stderr, took) = run_timed(&["analyze", "--pitch-um", "0.1", "--preview"]);
+    assert_eq!(code, Some(1), "{stdout}{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(stderr.contains("at least"), "{stderr}");
+    assert!(took < std::time::Duration::from_secs(5), "{took:?}");
+    // A spectral step of 1e-9 nm would make 10¹¹ wavelengths.
+    let csv = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/spectral/thesis_sensor_response.csv"
+    );
+    let (code, _, stderr, took) = run_timed(&[
+        "analyze",
+        "--spectral",
+        csv,
+        "--spectral-step-nm",
+        "1e-9",
+        "--preview",
+    ]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert!(stderr.contains("--spectral-step-nm"), "{stderr}");
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    assert!(took < std::time::Duration::from_secs(5), "{took:?}");
+}
+
+#[test]
+fn negative_numbers_reach_validation_and_usage_errors_are_one_line() {
+    let photo = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/photos/astronaut_256.png"
+    );
+    // A negative SNR parses as a value (not as an unknown flag) and is judged by the physics:
+    // −1000 dB is far less than one electron.
+    for light in [
+        ["--snr-db", "-1000"],
+        ["--snr-db", "1000"],
+        ["--light", "1e-300"],
+        ["--light", "1e308"],
+    ] {
+        let mut args = vec!["restore", "--image", photo, "--max-side-px", "32"];
+        args.extend(light);
+        let (code, stdout, stderr, _) = run_timed(&args);
+        assert_eq!(code, Some(1), "{light:?}: {stdout}{stderr}");
+        assert!(stderr.contains("electrons at white"), "{stderr}");
+        assert!(stderr.contains("capture.light"), "{stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    }
+    // Usage errors: one line, exit code 2, pointing at --help.
+    for args in [
+        vec!["analyze", "--bogus"],
+        vec!["restore", "--image", photo],
+        vec!["analyze", "--pitch-um"],
+    ] {
+        let (code, _, stderr, _) = run_timed(&args);
+        assert_eq!(code, Some(2), "{args:?}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+        assert!(stderr.ends_with("(see --help)\n"), "{stderr}");
+    }
+}

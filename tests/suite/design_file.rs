@@ -11,7 +11,7 @@ fn arb_design() -> impl Strategy<Value = Design> {
     (
         1usize..12,
         prop::collection::vec(prop::sample::select(vec![0.0, 1.0, 0.25, 0.5]), 144),
-        1.0f64..500.0,
+        8.0f64..500.0,
         prop::sample::select(TilingMode::ALL.to_vec()),
         any::<u64>(),
         (0.0f64..20.0, 0.0f64..20.0, 0.0f64..10.0),

@@ -98,7 +98,7 @@ fn positive(field: &str, v: f64) -> Result<(), SimError> {
     } else {
         Err(SimError::field(
             field,
-            format!("must be a positive number (got {v})"),
+            format!("must be a positive number (got {v:?})"),
         ))
     }
 }
@@ -115,7 +115,7 @@ impl CaptureSettings {
                 if !db.is_finite() {
                     return Err(SimError::field(
                         "capture.light.snr_db",
-                        format!("must be a finite number of dB (got {db})"),
+                        format!("must be a finite number of dB (got {db:?})"),
                     ));
                 }
             }
@@ -123,7 +123,7 @@ impl CaptureSettings {
         if !(self.read_noise_e.is_finite() && self.read_noise_e >= 0.0) {
             return Err(SimError::field(
                 "capture.read_noise_e",
-                format!("must be ≥ 0 electrons (got {})", self.read_noise_e),
+                format!("must be ≥ 0 electrons (got {:?})", self.read_noise_e),
             ));
         }
         positive("capture.full_well_e", self.full_well_e)?;
@@ -136,8 +136,25 @@ impl CaptureSettings {
                 format!("must be 1 … 24 bits (got {bits})"),
             ));
         }
+        // Fewer than one electron at white is darkness (no PSNR to speak of); more than 100 full
+        // wells is every pixel clipped: both are refused rather than scored.
         let l = self.light.electrons(self.read_noise_e);
-        positive("capture.light", l)?;
+        let (lo, hi) = (1.0, 100.0 * self.full_well_e);
+        if !(l.is_finite() && (lo..=hi).contains(&l)) {
+            let field = match self.light {
+                Light::ElectronsAtPeak(_) => "capture.light.electrons_at_peak",
+                Light::SnrDb(_) => "capture.light.snr_db",
+            };
+            return Err(SimError::field(
+                field,
+                format!(
+                    "gives {l:.3e} electrons at white; the light must give {lo} … {hi:.0} \
+                     electrons (SNR {:.1} … {:.1} dB)",
+                    snr_db_of(lo, self.read_noise_e),
+                    snr_db_of(hi, self.read_noise_e)
+                ),
+            ));
+        }
         Ok(())
     }
 

@@ -49,7 +49,7 @@ impl CgSettings {
         if !(self.lambda.is_finite() && self.lambda >= 0.0) {
             return Err(SimError::field(
                 "method.lambda",
-                format!("must be a finite number ≥ 0 (got {})", self.lambda),
+                format!("must be a finite number ≥ 0 (got {:?})", self.lambda),
             ));
         }
         if self.iterations == 0 {
@@ -58,7 +58,7 @@ impl CgSettings {
         if !(self.tolerance.is_finite() && self.tolerance >= 0.0) {
             return Err(SimError::field(
                 "method.tolerance",
-                format!("must be a finite number ≥ 0 (got {})", self.tolerance),
+                format!("must be a finite number ≥ 0 (got {:?})", self.tolerance),
             ));
         }
         Ok(())

@@ -238,7 +238,7 @@ pub fn simulate(
         Method::Wiener { nsr } if !(nsr.is_finite() && nsr >= 0.0) => {
             return Err(SimError::field(
                 "method.nsr",
-                format!("must be a finite number ≥ 0 (got {nsr})"),
+                format!("must be a finite number ≥ 0 (got {nsr:?})"),
             ));
         }
         Method::Wiener { .. } => {}

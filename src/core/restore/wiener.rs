@@ -24,7 +24,7 @@ pub fn wiener(
     if !(nsr.is_finite() && nsr >= 0.0) {
         return Err(SimError::field(
             "method.nsr",
-            format!("must be a finite number ≥ 0 (got {nsr})"),
+            format!("must be a finite number ≥ 0 (got {nsr:?})"),
         ));
     }
     let mut x = grid.filter(captured, |i, y| {

@@ -207,7 +207,7 @@ impl Exposure {
             } else {
                 Err(SimError::field(
                     format!("exposure.{field}"),
-                    format!("must be a positive number (got {v})"),
+                    format!("must be a positive number (got {v:?})"),
                 ))
             }
         };
@@ -217,7 +217,7 @@ impl Exposure {
                 if !(percentile.is_finite() && percentile > 0.0 && percentile <= 100.0) {
                     return Err(SimError::field(
                         "exposure.percentile",
-                        format!("must be in (0, 100] (got {percentile})"),
+                        format!("must be in (0, 100] (got {percentile:?})"),
                     ));
                 }
                 positive("fill", fill)

@@ -217,33 +217,33 @@ impl SensorSettings {
         if !(lo..=hi).contains(&self.roi_px) {
             return Err(SimError::field(
                 "roi_px",
-                format!("must be {lo} … {hi} pixels (got {})", self.roi_px),
+                format!("must be {lo} … {hi} pixels (got {:?})", self.roi_px),
             ));
         }
         for (field, v) in [("eta", self.eta), ("eta_per_pixel", self.eta_per_pixel)] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(SimError::field(
                     field,
-                    format!("must be a finite number ≥ 0 (got {v})"),
+                    format!("must be a finite number ≥ 0 (got {v:?})"),
                 ));
             }
         }
         if !(self.snr_t.is_finite() && self.snr_t > 0.0) {
             return Err(SimError::field(
                 "snr_t",
-                format!("must be a positive number (got {})", self.snr_t),
+                format!("must be a positive number (got {:?})", self.snr_t),
             ));
         }
         if !(self.gamma.is_finite() && self.gamma > 0.0 && self.gamma <= 1.0) {
             return Err(SimError::field(
                 "gamma",
-                format!("must be in (0, 1] (got {})", self.gamma),
+                format!("must be in (0, 1] (got {:?})", self.gamma),
             ));
         }
         if !(self.display_mean.is_finite() && self.display_mean > 0.0 && self.display_mean <= 1.0) {
             return Err(SimError::field(
                 "display_mean",
-                format!("must be in (0, 1] (got {})", self.display_mean),
+                format!("must be in (0, 1] (got {:?})", self.display_mean),
             ));
         }
         if self.strategies.is_empty() {

@@ -152,7 +152,7 @@ impl SensorSpec {
             } else {
                 Err(SimError::field(
                     format!("sensor.{field}"),
-                    format!("must be a positive number (got {v})"),
+                    format!("must be a positive number (got {v:?})"),
                 ))
             }
         };
@@ -162,7 +162,7 @@ impl SensorSpec {
             } else {
                 Err(SimError::field(
                     format!("sensor.{field}"),
-                    format!("must be a finite number ≥ 0 (got {v})"),
+                    format!("must be a finite number ≥ 0 (got {v:?})"),
                 ))
             }
         };
@@ -173,13 +173,13 @@ impl SensorSpec {
         if !(self.max_gain.is_finite() && self.max_gain >= 1.0) {
             return Err(SimError::field(
                 "sensor.max_gain",
-                format!("must be ≥ 1, the base gain (got {})", self.max_gain),
+                format!("must be ≥ 1, the base gain (got {:?})", self.max_gain),
             ));
         }
         if !(2..=24).contains(&self.adc_bits) {
             return Err(SimError::field(
                 "sensor.adc_bits",
-                format!("must be 2 … 24 bits (got {})", self.adc_bits),
+                format!("must be 2 … 24 bits (got {:?})", self.adc_bits),
             ));
         }
         if !(self.black_level_fraction.is_finite()
@@ -188,7 +188,7 @@ impl SensorSpec {
             return Err(SimError::field(
                 "sensor.black_level_fraction",
                 format!(
-                    "must be in [0, 0.5) of the ADC range (got {})",
+                    "must be in [0, 0.5) of the ADC range (got {:?})",
                     self.black_level_fraction
                 ),
             ));

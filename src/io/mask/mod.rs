@@ -181,7 +181,7 @@ impl ExportOptions {
             ("note layer", self.note_layer),
         ] {
             if !(0..=255).contains(&v) {
-                return Err(format!("{what} must be between 0 and 255 (got {v})"));
+                return Err(format!("{what} must be between 0 and 255 (got {v:?})"));
             }
         }
         if self.note_layer == self.layer {
@@ -192,7 +192,7 @@ impl ExportOptions {
         }
         if !(self.um_per_px.is_finite() && self.um_per_px > 0.0) {
             return Err(format!(
-                "µm per pixel must be a positive number (got {})",
+                "µm per pixel must be a positive number (got {:?})",
                 self.um_per_px
             ));
         }
