@@ -6,11 +6,11 @@ pub mod sensor;
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::{Args, Parser, Subcommand};
 
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
-use crate::core::design::{Design, Optics, TilingMode};
+use crate::core::design::{Design, OpticsRecipe, TilingMode};
 use crate::core::mask::{MaskRegion, MaskSpec, Tone};
 use crate::core::{Analysis, Progress};
 use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
@@ -52,8 +52,9 @@ impl From<clap::Error> for CliParseError {
             | ErrorKind::DisplayVersion
             | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => CliParseError::Display(e),
             _ => {
-                // clap's message is a headline, sometimes ending in ':' with the items indented
-                // below it, then a usage block; keep the headline and its items on one line.
+                // clap's message is a headline, then indented details (the missing arguments,
+                // the possible values, tips), then a usage block: keep the headline and the
+                // details that say what is allowed, on one line.
                 let text = e.render().to_string();
                 let mut lines = text.lines().filter(|l| !l.trim().is_empty());
                 let mut first = lines
@@ -61,12 +62,13 @@ impl From<clap::Error> for CliParseError {
                     .unwrap_or("invalid arguments")
                     .trim_start_matches("error: ")
                     .to_string();
-                if first.ends_with(':') {
-                    let items: Vec<&str> = lines
-                        .take_while(|l| l.starts_with(' '))
-                        .map(str::trim)
-                        .collect();
-                    first = format!("{first} {}", items.join(", "));
+                let details: Vec<&str> = lines
+                    .take_while(|l| l.starts_with(' '))
+                    .map(str::trim)
+                    .filter(|l| !l.starts_with("tip:"))
+                    .collect();
+                if !details.is_empty() {
+                    first = format!("{first} {}", details.join(", "));
                 }
                 CliParseError::Usage(format!("{first} (see --help)"))
             }
@@ -133,8 +135,8 @@ pub struct DesignSelection {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Optics recipe: iccp21 (the thesis) or phone.
-    #[arg(long)]
-    pub optics: Option<String>,
+    #[arg(long, value_enum)]
+    pub optics: Option<OpticsRecipe>,
     /// Spectral response CSV (wavelength_nm, r, g, b): channels become weighted sums of
     /// wavelengths sampled every `--spectral-step-nm`.
     #[arg(long)]
@@ -204,6 +206,15 @@ pub struct ExportArgs {
 }
 
 impl DesignSelection {
+    /// The files this selection reads (design, pattern, spectral response).
+    pub fn input_files(&self) -> Vec<&std::path::Path> {
+        [&self.design, &self.pattern, &self.spectral]
+            .into_iter()
+            .flatten()
+            .map(PathBuf::as_path)
+            .collect()
+    }
+
     /// Resolves the selection into a validated design.
     ///
     /// # Errors
@@ -227,10 +238,8 @@ impl DesignSelection {
         if let Some(s) = self.seed {
             design.tiling.seed = s;
         }
-        if let Some(name) = &self.optics {
-            design.optics = Optics::recipe_named(name).with_context(|| {
-                format!("unknown optics recipe `{name}` (expected iccp21 or phone)")
-            })?;
+        if let Some(o) = self.optics.and_then(OpticsRecipe::optics) {
+            design.optics = o;
         }
         if let Some(path) = &self.spectral {
             let step = self.spectral_step_nm;
@@ -312,6 +321,7 @@ fn export_cmd(args: &ExportArgs) -> Result<()> {
         um_per_px: args.um_per_px,
         png_bits: args.png_bits,
     };
+    crate::io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
     let report = export_mask(&design, &options, &args.out, &Progress::new())?;
     for line in report.lines() {
         println!("{line}");
@@ -425,6 +435,43 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
 
     let design = args.selection.resolve()?;
     let photo = photo::load_photo(&args.image, args.max_side_px)?;
+    let method = match args.method {
+        RestoreMethod::Wiener => Method::Wiener { nsr: args.nsr },
+        RestoreMethod::Cg => Method::Cg(CgSettings {
+            lambda: args.lambda,
+            iterations: args.iterations,
+            ..CgSettings::default()
+        }),
+    };
+    let lights: Vec<(Light, String)> = args
+        .light
+        .iter()
+        .map(|e| (Light::ElectronsAtPeak(*e), format!("light-{e}e")))
+        .chain(
+            args.snr_db
+                .iter()
+                .map(|s| (Light::SnrDb(*s), format!("snr-{s}db"))),
+        )
+        .collect();
+    let settings_for = |light: Light, ltr_relative: f64| RestoreSettings {
+        capture: CaptureSettings {
+            light,
+            adc_bits: args.adc_bits,
+            ltr_relative,
+            seed: args.noise_seed,
+            ..CaptureSettings::default()
+        },
+        method,
+        padding: if args.pad_linear || args.method == RestoreMethod::Cg {
+            Padding::Linear
+        } else {
+            Padding::Double
+        },
+    };
+    // Every light level and the photo are checked before the analysis, which is the slow part.
+    for (light, _) in &lights {
+        crate::core::restore::check(&photo, &settings_for(*light, 1.0))?;
+    }
     let options = AnalyzeOptions {
         quality: Quality::Full,
         expected_psf: false,
@@ -439,23 +486,6 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
         );
     }
     let ltr_relative = analysis.ltr / REFERENCE_LTR;
-    let method = match args.method {
-        RestoreMethod::Wiener => Method::Wiener { nsr: args.nsr },
-        RestoreMethod::Cg => Method::Cg(CgSettings {
-            lambda: args.lambda,
-            iterations: args.iterations,
-            ..CgSettings::default()
-        }),
-    };
-    let lights = args
-        .light
-        .iter()
-        .map(|e| (Light::ElectronsAtPeak(*e), format!("light-{e}e")))
-        .chain(
-            args.snr_db
-                .iter()
-                .map(|s| (Light::SnrDb(*s), format!("snr-{s}db"))),
-        );
     let (rows, cols) = photo.first().map_or((0, 0), ndarray::Array2::dim);
     if !args.json {
         println!(
@@ -476,21 +506,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
     }
     let mut runs = Vec::new();
     for (light, stem) in lights {
-        let settings = RestoreSettings {
-            capture: CaptureSettings {
-                light,
-                adc_bits: args.adc_bits,
-                ltr_relative,
-                seed: args.noise_seed,
-                ..CaptureSettings::default()
-            },
-            method,
-            padding: if args.pad_linear || args.method == RestoreMethod::Cg {
-                Padding::Linear
-            } else {
-                Padding::Double
-            },
-        };
+        let settings = settings_for(light, ltr_relative);
         let result = simulate(&photo, &psfs, &settings, &Progress::new())?;
         let outputs = match &args.out {
             Some(dir) => restore_report::write_run_images(dir, &stem, &photo, &result)?,

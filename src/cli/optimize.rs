@@ -94,6 +94,8 @@ fn aucs(a: &Analysis) -> Vec<f64> {
 /// # Errors
 /// Bad arguments, unreadable inputs, simulation errors, an unwritable output.
 pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
+    // Refused before the (long) run, not after it.
+    crate::io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
     let design = args.selection.resolve()?;
     let settings = OptimizeSettings {
         epochs: args.epochs,

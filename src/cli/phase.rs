@@ -618,6 +618,8 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
     let Some(file) = &a.mask.out else {
         bail!("phase export needs --out FILE (e.g. --out plate.gds)");
     };
+    let inputs: Vec<&std::path::Path> = a.design.iter().map(PathBuf::as_path).collect();
+    crate::io::safe_file::check_not_an_input(file, &inputs)?;
     let mut design = match &a.design {
         Some(path) => {
             let loaded = load_phase_design(path)?;

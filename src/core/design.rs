@@ -126,9 +126,9 @@ pub struct Tiling {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Optics {
-    /// Which named recipe these values came from (`iccp21`, `phone`, or `custom` once edited).
-    #[serde(default = "custom")]
-    pub recipe: String,
+    /// Which named recipe these values came from (`custom` once edited).
+    #[serde(default)]
+    pub recipe: OpticsRecipe,
     pub focal_length_mm: f64,
     /// Pupil diameter D = f / F#.
     pub f_number: f64,
@@ -145,8 +145,51 @@ pub struct Optics {
     pub axis_in_pixel_um: [f64; 2],
 }
 
-fn custom() -> String {
-    "custom".into()
+/// Where a design's optics came from: a named recipe, or edited values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum OpticsRecipe {
+    /// The thesis recipe: f = 10 mm, f/2.5, δ1 = 8 µm, δ2 = 0.5 µm, 2-µm pixels, 294-px window.
+    Iccp21,
+    /// A phone main camera: f = 5.56 mm, f/1.6, 1.0-µm pixels.
+    Phone,
+    /// Values edited away from any recipe.
+    #[default]
+    #[value(skip)]
+    Custom,
+}
+
+impl OpticsRecipe {
+    /// The recipes a design can switch to.
+    pub const NAMED: [OpticsRecipe; 2] = [OpticsRecipe::Iccp21, OpticsRecipe::Phone];
+
+    pub fn as_str(self) -> &'static str {
+        match self {
+            OpticsRecipe::Iccp21 => "iccp21",
+            OpticsRecipe::Phone => "phone",
+            OpticsRecipe::Custom => "custom",
+        }
+    }
+
+    /// One line for a tooltip.
+    pub fn describe(self) -> &'static str {
+        match self {
+            OpticsRecipe::Iccp21 => {
+                "The thesis recipe: f = 10 mm, f/2.5, δ1 = 8 µm, δ2 = 0.5 µm, 2-µm pixels, 294-px window"
+            }
+            OpticsRecipe::Phone => "A phone main camera: f = 5.56 mm, f/1.6, 1.0-µm pixels",
+            OpticsRecipe::Custom => "Values edited away from a named recipe",
+        }
+    }
+
+    /// The recipe's optics; `None` for [`OpticsRecipe::Custom`].
+    pub fn optics(self) -> Option<Optics> {
+        match self {
+            OpticsRecipe::Iccp21 => Some(Optics::iccp21()),
+            OpticsRecipe::Phone => Some(Optics::phone()),
+            OpticsRecipe::Custom => None,
+        }
+    }
 }
 
 impl Optics {
@@ -157,7 +200,7 @@ impl Optics {
     /// The thesis display recipe (PHYSICS.md §4).
     pub fn iccp21() -> Self {
         Optics {
-            recipe: "iccp21".into(),
+            recipe: OpticsRecipe::Iccp21,
             focal_length_mm: 10.0,
             f_number: 2.5,
             pupil_sample_um: 8.0,
@@ -172,7 +215,7 @@ impl Optics {
     /// The window (400 px = 400 µm) holds the first diffraction orders of a 150-DPI display.
     pub fn phone() -> Self {
         Optics {
-            recipe: "phone".into(),
+            recipe: OpticsRecipe::Phone,
             focal_length_mm: 5.56,
             f_number: 1.6,
             pupil_sample_um: 8.0,
@@ -182,17 +225,6 @@ impl Optics {
             axis_in_pixel_um: [0.125, 0.125],
         }
     }
-
-    /// The named optics recipes a design can switch between.
-    pub fn recipe_named(name: &str) -> Option<Self> {
-        match name {
-            "iccp21" => Some(Self::iccp21()),
-            "phone" => Some(Self::phone()),
-            _ => None,
-        }
-    }
-
-    pub const RECIPES: [&'static str; 2] = ["iccp21", "phone"];
 }
 
 /// One colour channel: the wavelengths sampled and their weights (normalised when used).
@@ -296,6 +328,19 @@ fn finite(field: &str, v: f64) -> Result<(), SimError> {
     }
 }
 
+/// `v` in `[lo, hi]` (both positive): the documented range of a length or ratio, so that no
+/// overflow or degenerate sampling reaches the simulation.
+fn within(field: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), SimError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(SimError::field(
+            field,
+            format!("must be between {lo} and {hi}{unit} (got {v:?})"),
+        ))
+    }
+}
+
 impl Design {
     /// Checks every value; the error names the first bad field by its path in the design file.
     ///
@@ -304,6 +349,7 @@ impl Design {
     pub fn validate(&self) -> Result<(), SimError> {
         let o = &self.opening;
         finite_positive("opening.pitch_um", o.pitch_um)?;
+        within("opening.pitch_um", o.pitch_um, 0.0, 20_000.0, " µm")?;
         let n = o.cells.len();
         if n == 0 {
             return Err(SimError::field(
@@ -355,6 +401,13 @@ impl Design {
         let t = &self.tiling;
         finite("tiling.origin_offset_cells[0]", t.origin_offset_cells[0])?;
         finite("tiling.origin_offset_cells[1]", t.origin_offset_cells[1])?;
+        within(
+            "tiling.wiring_gap_um",
+            t.wiring_gap_um,
+            0.0,
+            20_000.0,
+            " µm",
+        )?;
         if !(t.wiring_gap_um.is_finite() && t.wiring_gap_um >= 0.0) {
             return Err(SimError::field(
                 "tiling.wiring_gap_um",
@@ -370,6 +423,35 @@ impl Design {
         finite_positive("optics.pupil_sample_um", op.pupil_sample_um)?;
         finite_positive("optics.fine_sample_um", op.fine_sample_um)?;
         finite_positive("optics.sensor_pixel_um", op.sensor_pixel_um)?;
+        within(
+            "optics.focal_length_mm",
+            op.focal_length_mm,
+            0.1,
+            1000.0,
+            " mm",
+        )?;
+        within("optics.f_number", op.f_number, 0.5, 64.0, "")?;
+        within(
+            "optics.pupil_sample_um",
+            op.pupil_sample_um,
+            0.05,
+            1000.0,
+            " µm",
+        )?;
+        within(
+            "optics.fine_sample_um",
+            op.fine_sample_um,
+            0.01,
+            100.0,
+            " µm",
+        )?;
+        within(
+            "optics.sensor_pixel_um",
+            op.sensor_pixel_um,
+            0.1,
+            100.0,
+            " µm",
+        )?;
         if op.window_px < 2 || op.window_px > MAX_WINDOW_PX {
             return Err(SimError::field(
                 "optics.window_px",

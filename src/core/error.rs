@@ -5,8 +5,8 @@ use thiserror::Error;
 /// Everything that can go wrong in a simulation. Messages name what was wrong and where.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SimError {
-    /// A design parameter is out of range; `field` is its path in the design file.
-    #[error("design field `{field}`: {message}")]
+    /// A parameter is out of range; `field` is its path in the design file (or the setting's name).
+    #[error("field `{field}`: {message}")]
     InvalidField { field: String, message: String },
     /// The sampling cannot represent the design (e.g. the pupil does not fit the FFT grid).
     #[error("sampling: {0}")]
@@ -14,6 +14,14 @@ pub enum SimError {
     /// The job would need more memory than the studio allows.
     #[error("too large: {0}")]
     TooLarge(String),
+    /// A result that is not a finite number (an overflow somewhere upstream): never reported
+    /// as a value.
+    #[error("{what} is not a finite number ({value:?}); {hint}")]
+    NonFinite {
+        what: String,
+        value: f64,
+        hint: &'static str,
+    },
     /// The caller cancelled the job through its [`crate::core::Progress`].
     #[error("cancelled")]
     Cancelled,

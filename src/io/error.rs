@@ -39,6 +39,9 @@ pub enum IoError {
     /// A file past the byte cap of its kind (read no further than the cap).
     #[error("{} is larger than {} MB, the limit for this kind of file", path.display(), cap / 1_000_000)]
     TooLarge { path: PathBuf, cap: u64 },
+    /// An output path that names one of the command's own inputs.
+    #[error("{} is also an input of this command; it is left as it is: write to another file", path.display())]
+    OutputIsInput { path: PathBuf },
     /// Bytes that are not UTF-8 text.
     #[error("{} is not UTF-8 text (an invalid byte at offset {offset})", path.display())]
     NotText { path: PathBuf, offset: usize },

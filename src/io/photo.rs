@@ -23,6 +23,13 @@ use super::export::{size_mismatch, write_image};
 /// held several times over as `f64` during a simulation.
 pub const MAX_PHOTO_PIXELS: u64 = 4096 * 4096;
 
+/// The largest image decoded at all (before any downscale), in pixels: 64 megapixels, so a
+/// decompression bomb is refused from its header instead of decoded.
+pub const MAX_DECODED_PIXELS: u64 = 64_000_000;
+
+/// The decoder's allocation cap: 64 megapixels of 16-bit RGBA fit, nothing much larger.
+const MAX_DECODE_BYTES: u64 = 600 * 1024 * 1024;
+
 /// Gain of difference images: `|restored − truth|` is multiplied by this before it is written,
 /// so an error of 0.05 (5 % of full scale) shows as 25 % grey.
 pub const DIFFERENCE_GAIN: f64 = 5.0;
@@ -55,7 +62,8 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
             .map_err(|e| IoError::file("read the photo", path, e))
     };
     let reader = open()?;
-    if reader.format().is_none() {
+    let reader_format = reader.format();
+    if reader_format.is_none() {
         return Err(image_err(
             "not an image in a supported format (PNG, JPEG, TIFF, HDR or EXR)".into(),
         ));
@@ -67,6 +75,13 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
     if w == 0 || h == 0 {
         return Err(image_err(format!("the image is empty ({w}×{h} pixels)")));
     }
+    if u64::from(w) * u64::from(h) > MAX_DECODED_PIXELS {
+        return Err(image_err(format!(
+            "the image is {w}×{h} pixels; at most {} megapixels are decoded, even to be scaled \
+             down (scale it down first)",
+            MAX_DECODED_PIXELS / 1_000_000
+        )));
+    }
     let scale = max_side_px.map_or(1.0, |m| (f64::from(m) / f64::from(w.max(h))).min(1.0));
     let pixels = (f64::from(w) * scale).round() * (f64::from(h) * scale).round();
     if pixels > MAX_PHOTO_PIXELS as f64 {
@@ -75,16 +90,49 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
              simulated (scale it down, e.g. with a maximum side)"
         )));
     }
-    let img = open()?
+    if reader_format == Some(ImageFormat::Jpeg) {
+        check_jpeg_complete(path)?;
+    }
+    let mut reader = open()?;
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    let img = reader
         .decode()
         .map_err(|e| image_err(format!("not a readable image: {e}")))?;
-    let mut rgb = DynamicImage::ImageRgb32F(img.to_rgb32f());
-    if let Some(m) = max_side_px
-        && w.max(h) > m
-    {
-        rgb = rgb.resize(m, m, FilterType::Triangle);
+    // Scale down in the decoded type first: a float copy of the full image is 4× its bytes.
+    let img = match max_side_px {
+        Some(m) if w.max(h) > m => img.resize(m, m, FilterType::Triangle),
+        _ => img,
+    };
+    Ok(planes_of(&img.to_rgb32f()))
+}
+
+/// A JPEG must end with its end-of-image marker: decoders fill a truncated file's missing rows
+/// with grey and call it a success.
+fn check_jpeg_complete(path: &Path) -> Result<(), IoError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut f = std::fs::File::open(path).map_err(|e| IoError::file("read the photo", path, e))?;
+    let len = f
+        .seek(SeekFrom::End(0))
+        .map_err(|e| IoError::file("read the photo", path, e))?;
+    // Some writers pad after the marker; look at the last few hundred bytes.
+    let tail_len = len.min(512);
+    f.seek(SeekFrom::Start(len - tail_len))
+        .map_err(|e| IoError::file("read the photo", path, e))?;
+    let mut tail = Vec::with_capacity(tail_len as usize);
+    f.take(tail_len)
+        .read_to_end(&mut tail)
+        .map_err(|e| IoError::file("read the photo", path, e))?;
+    if tail.windows(2).any(|w| w == [0xFF, 0xD9]) {
+        Ok(())
+    } else {
+        Err(IoError::Image {
+            path: path.to_path_buf(),
+            message: "the JPEG is truncated (no end-of-image marker): the file is incomplete"
+                .into(),
+        })
     }
-    Ok(planes_of(&rgb.to_rgb32f()))
 }
 
 /// The built-in test photo (public domain, in `assets/photos`): what the restore views and

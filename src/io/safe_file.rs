@@ -18,6 +18,28 @@ use super::IoError;
 /// Temp files in flight, removed by the signal handler.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// Refuses an output `out` that is the same file as one of `inputs` (after following links and
+/// `..`), so a command never overwrites what it read. An output that does not exist yet is never
+/// an input.
+///
+/// # Errors
+/// [`IoError::OutputIsInput`].
+pub fn check_not_an_input(out: &Path, inputs: &[&Path]) -> Result<(), IoError> {
+    let Ok(target) = std::fs::canonicalize(out) else {
+        return Ok(());
+    };
+    if inputs
+        .iter()
+        .filter_map(|p| std::fs::canonicalize(p).ok())
+        .any(|p| p == target)
+    {
+        return Err(IoError::OutputIsInput {
+            path: out.to_path_buf(),
+        });
+    }
+    Ok(())
+}
+
 /// `path` names a regular file (symlinks followed); anything else (a directory, a FIFO, a
 /// device) is refused before it is opened.
 ///

@@ -105,6 +105,12 @@ fn bad_files_are_rejected_with_the_field_named() {
     v["tiling"]["mode"] = serde_json::json!("hexagonal");
     assert!(err_of(&v.to_string()).contains("tiling.mode"));
 
+    // Recipes are a closed set: an unknown one is refused, naming the field and the choices.
+    let mut v = good();
+    v["optics"]["recipe"] = serde_json::json!("hubble");
+    let e = err_of(&v.to_string());
+    assert!(e.contains("optics.recipe") && e.contains("iccp21"), "{e}");
+
     let mut v = good();
     v["version"] = serde_json::json!(7);
     assert!(err_of(&v.to_string()).contains("version 7"));

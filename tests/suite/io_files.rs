@@ -483,7 +483,11 @@ fn presets_use_the_thesis_optics_unless_their_cells_need_a_finer_pupil_grid() {
         }
         // 300 / 600 DPI: the pupil grid resolves the cells, everything else stays iccp21.
         let op = &d.optics;
-        assert_eq!(op.recipe, "custom", "{name}");
+        assert_eq!(
+            op.recipe,
+            udc_studio::core::design::OpticsRecipe::Custom,
+            "{name}"
+        );
         assert_eq!(op.pupil_sample_um, cell_um, "{name}");
         assert_eq!((op.sensor_pixel_um, op.window_px), (2.0, 294), "{name}");
         let iccp = Optics::iccp21();

@@ -9,6 +9,7 @@ mod cli_optimize;
 mod cli_phase;
 mod cli_restore;
 mod cli_sensor;
+mod corpus;
 mod design_file;
 mod expected_psf;
 mod io_files;

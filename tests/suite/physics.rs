@@ -12,7 +12,7 @@ use udc_studio::core::sampling::fft_size;
 
 fn optics(f_number: f64, fine_um: f64) -> Optics {
     Optics {
-        recipe: "custom".into(),
+        recipe: udc_studio::core::design::OpticsRecipe::Custom,
         focal_length_mm: 10.0,
         f_number,
         pupil_sample_um: 8.0,

@@ -2,7 +2,7 @@
 
 use super::PanelCtx;
 use crate::app::commands::Command;
-use crate::core::design::{Channel, Design, Optics};
+use crate::core::design::{Channel, Design, OpticsRecipe};
 
 #[derive(Default)]
 pub struct OpticsPanel {
@@ -40,13 +40,12 @@ impl OpticsPanel {
         let mut dragging = false;
         ui.horizontal(|ui| {
             ui.label("Recipe:");
-            for name in Optics::RECIPES {
-                let tip = match name {
-                    "iccp21" => "The thesis recipe: f = 10 mm, f/2.5, δ1 = 8 µm, δ2 = 0.5 µm, 2-µm pixels, 294-px window",
-                    _ => "A phone main camera: f = 5.56 mm, f/1.6, 1.0-µm pixels",
-                };
-                if ui.selectable_label(d.optics.recipe == name, name).on_hover_text(tip).clicked()
-                    && let Some(o) = Optics::recipe_named(name)
+            for recipe in OpticsRecipe::NAMED {
+                if ui
+                    .selectable_label(d.optics.recipe == recipe, recipe.as_str())
+                    .on_hover_text(recipe.describe())
+                    .clicked()
+                    && let Some(o) = recipe.optics()
                 {
                     d.optics = o;
                 }
@@ -73,8 +72,8 @@ impl OpticsPanel {
             dragging |= num(ui, "Axis in pixel x", &mut o.axis_in_pixel_um[0], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase: where the optical axis lies inside its pixel, from the pixel's left edge (µm)");
             dragging |= num(ui, "Axis in pixel y", &mut o.axis_in_pixel_um[1], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase along y, from the pixel's lower edge (µm)");
         });
-        if d.optics != before && d.optics.recipe != "custom" {
-            d.optics.recipe = "custom".into();
+        if d.optics != before {
+            d.optics.recipe = OpticsRecipe::Custom;
         }
         ui.separator();
         ui.label("Channels");

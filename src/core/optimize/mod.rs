@@ -104,6 +104,9 @@ impl Default for OptimizeSettings {
     }
 }
 
+/// The largest loss weight accepted.
+pub const MAX_LOSS_WEIGHT: f64 = 1e6;
+
 impl OptimizeSettings {
     /// # Errors
     /// [`SimError::InvalidField`] naming the first bad setting.
@@ -114,7 +117,7 @@ impl OptimizeSettings {
             } else {
                 Err(SimError::field(
                     name,
-                    format!("must be a positive number, got {v}"),
+                    format!("must be a positive number, got {v:?}"),
                 ))
             }
         };
@@ -122,7 +125,7 @@ impl OptimizeSettings {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
-                Err(SimError::field(name, format!("must be ≥ 0, got {v}")))
+                Err(SimError::field(name, format!("must be ≥ 0, got {v:?}")))
             }
         };
         if !(1..=100_000).contains(&self.epochs) {
@@ -138,9 +141,20 @@ impl OptimizeSettings {
                 format!("must be in (0, 1], got {c}"),
             ));
         }
-        non_negative("weights.area", self.weights.area)?;
-        non_negative("weights.inv", self.weights.inv)?;
-        non_negative("weights.data", self.weights.data)?;
+        for (name, w) in [
+            ("weights.area", self.weights.area),
+            ("weights.inv", self.weights.inv),
+            ("weights.data", self.weights.data),
+        ] {
+            non_negative(name, w)?;
+            // Losses are O(1); a weight past this only overflows the sum.
+            if w > MAX_LOSS_WEIGHT {
+                return Err(SimError::field(
+                    name,
+                    format!("must be at most {MAX_LOSS_WEIGHT:e}, got {w:?}"),
+                ));
+            }
+        }
         positive("learning_rate", self.learning_rate)?;
         non_negative("area_step", self.area_step)?;
         for (name, b) in [("beta1", self.beta1), ("beta2", self.beta2)] {
@@ -343,6 +357,13 @@ pub fn optimize(
         progress.check()?;
         let c = settings.area_target(epoch);
         let step = objective.step(&logits, c)?;
+        if !(step.loss_total.is_finite() && step.grad_logits.iter().all(|g| g.is_finite())) {
+            return Err(SimError::NonFinite {
+                what: format!("the loss at epoch {}", epoch + 1),
+                value: step.loss_total,
+                hint: "lower the loss weights or the learning rate",
+            });
+        }
         let mask: Vec<f64> = logits.iter().map(|&x| sigmoid(x)).collect();
         let report = EpochReport {
             epoch,

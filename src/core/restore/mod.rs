@@ -97,21 +97,35 @@ pub struct RestoreResult {
     pub elapsed_ms: f64,
 }
 
-/// Checks the inputs; returns the image size.
-fn validate(photo: &[Array2<f64>], psfs: &[&Array2<f64>]) -> Result<(usize, usize), SimError> {
+/// Checks a photo and the settings before anything is computed (callers that must first
+/// compute the PSFs check here before they do); returns the image size.
+///
+/// # Errors
+/// [`SimError::InvalidField`] naming the first bad input.
+pub fn check(
+    photo: &[Array2<f64>],
+    settings: &RestoreSettings,
+) -> Result<(usize, usize), SimError> {
+    let dim = validate_photo(photo)?;
+    settings.capture.validate()?;
+    match settings.method {
+        Method::Wiener { nsr } if !(nsr.is_finite() && nsr >= 0.0) => {
+            return Err(SimError::field(
+                "method.nsr",
+                format!("must be a finite number ≥ 0 (got {nsr:?})"),
+            ));
+        }
+        Method::Wiener { .. } => {}
+        Method::Cg(cg) => cg.validate()?,
+    }
+    Ok(dim)
+}
+
+/// Checks the photo; returns its size.
+fn validate_photo(photo: &[Array2<f64>]) -> Result<(usize, usize), SimError> {
     let Some(first) = photo.first() else {
         return Err(SimError::field("photo", "has no channels"));
     };
-    if psfs.len() != photo.len() {
-        return Err(SimError::field(
-            "psfs",
-            format!(
-                "{} PSFs for a photo of {} channels",
-                psfs.len(),
-                photo.len()
-            ),
-        ));
-    }
     let dim = first.dim();
     let win = 2 * quality::SSIM_RADIUS_PX + 1;
     if dim.0 < win || dim.1 < win {
@@ -137,6 +151,17 @@ fn validate(photo: &[Array2<f64>], psfs: &[&Array2<f64>]) -> Result<(usize, usiz
             ));
         }
     }
+    Ok(dim)
+}
+
+/// Checks the PSFs, one per photo channel.
+fn validate_psfs(psfs: &[&Array2<f64>], channels: usize) -> Result<(), SimError> {
+    if psfs.len() != channels {
+        return Err(SimError::field(
+            "psfs",
+            format!("{} PSFs for a photo of {channels} channels", psfs.len()),
+        ));
+    }
     for (c, psf) in psfs.iter().enumerate() {
         if psf.is_empty() {
             return Err(SimError::field(format!("psfs[{c}]"), "is empty"));
@@ -151,7 +176,7 @@ fn validate(photo: &[Array2<f64>], psfs: &[&Array2<f64>]) -> Result<(usize, usiz
             return Err(SimError::field(format!("psfs[{c}]"), "carries no light"));
         }
     }
-    Ok(dim)
+    Ok(())
 }
 
 /// One channel: kernel spectrum, blur, exposure, restoration, scores.
@@ -232,18 +257,8 @@ pub fn simulate(
     progress: &Progress,
 ) -> Result<RestoreResult, SimError> {
     let start = Instant::now();
-    let dim = validate(photo, psfs)?;
-    settings.capture.validate()?;
-    match settings.method {
-        Method::Wiener { nsr } if !(nsr.is_finite() && nsr >= 0.0) => {
-            return Err(SimError::field(
-                "method.nsr",
-                format!("must be a finite number ≥ 0 (got {nsr:?})"),
-            ));
-        }
-        Method::Wiener { .. } => {}
-        Method::Cg(cg) => cg.validate()?,
-    }
+    let dim = check(photo, settings)?;
+    validate_psfs(psfs, photo.len())?;
     progress.set(0.0);
     progress.check()?;
     let kernel_dim = psfs

@@ -24,7 +24,7 @@ pub fn open_design(optics: Optics, channels: Vec<Channel>) -> Design {
 /// Small, fast optics: f = 10 mm, f/5 (D = 2 mm = 250 samples), 2 fine samples per 2-µm pixel.
 pub fn small_optics() -> Optics {
     Optics {
-        recipe: "custom".into(),
+        recipe: udc_studio::core::design::OpticsRecipe::Custom,
         focal_length_mm: 10.0,
         f_number: 5.0,
         pupil_sample_um: 8.0,
