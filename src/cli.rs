@@ -85,6 +85,10 @@ impl From<clap::Error> for CliParseError {
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
+    /// Memory budget: jobs estimated to need more are refused before they start (e.g. 2G,
+    /// 512M). Default: half the physical memory.
+    #[arg(long, global = true, value_name = "SIZE", value_parser = crate::core::budget::parse_size)]
+    pub max_memory: Option<u64>,
 }
 
 #[derive(Debug, Subcommand)]

@@ -11,6 +11,10 @@ fn main() -> std::process::ExitCode {
             return std::process::ExitCode::from(2);
         }
     };
+    udc_studio::core::budget::set_max_memory_bytes(
+        cli.max_memory
+            .unwrap_or_else(udc_studio::io::system::default_max_memory_bytes),
+    );
     let result = match cli.command {
         None => udc_studio::app::run_studio(None),
         Some(Command::Studio { design }) => udc_studio::app::run_studio(design),

@@ -44,6 +44,7 @@ impl StudioApp {
 
     fn set_status(&mut self, msg: impl Into<String>, is_error: bool) {
         self.session.status = Some((msg.into(), is_error));
+        self.session.status_is_simulation_error = false;
     }
 
     fn ask(&mut self, purpose: Purpose, file_name: Option<String>) {

@@ -125,6 +125,8 @@ pub struct Session {
     autosave_every: Duration,
     /// The latest message for the status bar, and whether it is an error.
     pub status: Option<(String, bool)>,
+    /// The status is the simulation's error, which its next good result clears.
+    pub status_is_simulation_error: bool,
 }
 
 struct Panels {
@@ -201,6 +203,7 @@ impl StudioApp {
                 quit_confirmed: false,
                 autosave_every: options.autosave_every,
                 status,
+                status_is_simulation_error: false,
             },
             panels: Panels {
                 editor: Default::default(),
@@ -361,13 +364,17 @@ impl StudioApp {
                             });
                         }
                         self.results.shown = Some(shown);
-                        if self.session.status.as_ref().is_some_and(|(_, err)| *err) {
+                        // A good result answers the simulation's own error, not the others
+                        // (a file kept aside, a failed save) the user has not read yet.
+                        if self.session.status_is_simulation_error {
                             self.session.status = None;
+                            self.session.status_is_simulation_error = false;
                         }
                     }
                     Err(e) => {
                         self.session.status =
-                            Some((format!("cannot simulate this design: {e}"), true))
+                            Some((format!("cannot simulate this design: {e}"), true));
+                        self.session.status_is_simulation_error = true;
                     }
                 },
             }
@@ -674,12 +681,14 @@ fn restore_or_default(dirs: &AppDirs, status: &mut Option<(String, bool)>) -> De
             Ok(d) => return d,
             Err(e) => {
                 // Keep the unreadable autosave aside instead of overwriting it.
-                let aside = path.with_extension("unreadable.json");
-                let _ = std::fs::rename(&path, &aside);
+                let kept = match crate::io::safe_file::keep_aside(&path) {
+                    Ok(aside) => format!("kept it as {}", aside.display()),
+                    Err(e) => format!("it stays where it was ({e})"),
+                };
                 *status = Some((
                     format!(
-                        "could not restore the last design ({e}); kept it as {}",
-                        aside.display()
+                        "could not restore the last design ({e}); {kept}; opened the default \
+                         design"
                     ),
                     true,
                 ));

@@ -3,6 +3,7 @@
 
 pub mod analyze;
 pub mod aperture;
+pub mod budget;
 pub mod design;
 pub mod error;
 pub mod expected;

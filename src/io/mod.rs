@@ -16,5 +16,6 @@ pub mod restore_report;
 pub mod safe_file;
 pub mod sensor_report;
 pub mod spectral;
+pub mod system;
 
 pub use error::IoError;

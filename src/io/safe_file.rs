@@ -18,6 +18,53 @@ use super::IoError;
 /// Temp files in flight, removed by the signal handler.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// Moves an unreadable file aside instead of losing it: `NAME.json` becomes
+/// `NAME.unreadable.json`, or `NAME.unreadable-2.json`, `-3`, … when earlier copies are there
+/// (an earlier copy is never overwritten). Returns the new path.
+///
+/// # Errors
+/// [`IoError::File`] when the file cannot be moved.
+pub fn keep_aside(path: &Path) -> Result<PathBuf, IoError> {
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| format!(".{}", e.to_string_lossy()))
+        .unwrap_or_default();
+    let dir = path.parent().unwrap_or_else(|| Path::new("."));
+    for k in 1..10_000u32 {
+        let suffix = if k == 1 {
+            String::new()
+        } else {
+            format!("-{k}")
+        };
+        let aside = dir.join(format!("{stem}.unreadable{suffix}{ext}"));
+        // A hard link fails when the name is taken, so two studios never pick the same copy.
+        match std::fs::hard_link(path, &aside) {
+            Ok(()) => {
+                std::fs::remove_file(path)
+                    .map_err(|e| IoError::file("move the unreadable file aside", path, e))?;
+                return Ok(aside);
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(_) if !aside.exists() => {
+                // File systems without hard links: a plain rename to a free name.
+                std::fs::rename(path, &aside)
+                    .map_err(|e| IoError::file("move the unreadable file aside", path, e))?;
+                return Ok(aside);
+            }
+            Err(_) => {}
+        }
+    }
+    Err(IoError::file(
+        "move the unreadable file aside",
+        path,
+        std::io::Error::other("too many earlier copies"),
+    ))
+}
+
 /// Refuses an output `out` that is the same file as one of `inputs` (after following links and
 /// `..`), so a command never overwrites what it read. An output that does not exist yet is never
 /// an input.

@@ -222,3 +222,53 @@ fn negative_numbers_reach_validation_and_usage_errors_are_one_line() {
         assert!(stderr.ends_with("(see --help)\n"), "{stderr}");
     }
 }
+
+#[test]
+fn jobs_over_the_memory_budget_are_refused_before_they_start() {
+    let photo = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/photos/astronaut_256.png"
+    );
+    let hdr = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/hdr/StillLife_620x423.exr"
+    );
+    // 256² photo: ~17 MB by the estimate; an 8 MiB budget refuses it, naming the flag.
+    for args in [
+        vec![
+            "--max-memory",
+            "8M",
+            "restore",
+            "--image",
+            photo,
+            "--snr-db",
+            "28",
+        ],
+        vec!["sensor", "--hdr", hdr, "--max-memory", "8M"],
+    ] {
+        let (code, stdout, stderr, _) = run_timed(&args);
+        assert_eq!(code, Some(1), "{args:?}: {stdout}{stderr}");
+        assert!(stdout.is_empty(), "{args:?} started: {stdout}");
+        assert!(
+            stderr.contains("needs about") && stderr.contains("--max-memory"),
+            "{stderr}"
+        );
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    }
+    // The same jobs run under a budget that fits them.
+    let (code, _, stderr, _) = run_timed(&[
+        "--max-memory",
+        "1G",
+        "restore",
+        "--image",
+        photo,
+        "--snr-db",
+        "28",
+    ]);
+    assert_eq!(code, Some(0), "{stderr}");
+    let (code, _, stderr, _) = run_timed(&["--max-memory", "1G", "sensor", "--hdr", hdr]);
+    assert_eq!(code, Some(0), "{stderr}");
+    // A size that is not one is a usage error.
+    let (code, _, stderr, _) = run_timed(&["--max-memory", "lots", "presets"]);
+    assert_eq!(code, Some(2), "{stderr}");
+}

@@ -238,3 +238,52 @@ fn a_mask_imports_back_as_the_opening() {
             .all(|v| *v == 0.0)
     );
 }
+
+#[test]
+fn unreadable_autosaves_are_kept_aside_numbered_and_said_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let autosave = dir.path().join("autosave.json");
+    let phase = dir.path().join(udc_studio::app::phase::DESIGN_FILE);
+    let names = || {
+        let mut n: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.contains("unreadable"))
+            .collect();
+        n.sort();
+        n
+    };
+    for (round, garbage) in ["{ first", "{ second"].into_iter().enumerate() {
+        std::fs::write(&autosave, garbage).unwrap();
+        std::fs::write(&phase, garbage).unwrap();
+        let mut h = harness(dir.path());
+        step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+        // The notice outlives the first good result: it is not the simulation's error.
+        let (msg, is_error) = h.state().status().cloned().expect("a notice");
+        assert!(is_error && msg.contains("kept it as"), "{msg}");
+        let (pmsg, _) = h
+            .state_mut()
+            .phase()
+            .message()
+            .cloned()
+            .expect("a phase notice");
+        assert!(pmsg.contains("kept it as"), "{pmsg}");
+        drop(h);
+        // Every copy is still there, none overwritten.
+        let kept = names();
+        assert_eq!(kept.len(), 2 * (round + 1), "{kept:?}");
+        for name in &kept {
+            let text = std::fs::read_to_string(dir.path().join(name)).unwrap();
+            assert!(text == "{ first" || text == "{ second", "{name}: {text}");
+        }
+    }
+    assert_eq!(
+        names(),
+        [
+            "autosave.unreadable-2.json",
+            "autosave.unreadable.json",
+            "phase-design.unreadable-2.json",
+            "phase-design.unreadable.json"
+        ]
+    );
+}

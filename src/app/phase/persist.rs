@@ -19,13 +19,20 @@ pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<(String, 
             let note = (!loaded.notes.is_empty()).then(|| (loaded.notes.join("; "), false));
             (loaded.design, note)
         }
-        Err(e) => (
-            PhaseDesign::thesis(42.0, 1.0),
-            Some((
-                format!("could not restore the phase design ({e}); using the thesis's"),
-                true,
-            )),
-        ),
+        Err(e) => {
+            // Kept aside: the next autosave would otherwise overwrite it.
+            let kept = match crate::io::safe_file::keep_aside(p) {
+                Ok(aside) => format!("kept it as {}", aside.display()),
+                Err(e) => format!("it stays where it was ({e})"),
+            };
+            (
+                PhaseDesign::thesis(42.0, 1.0),
+                Some((
+                    format!("could not restore the phase design ({e}); {kept}; using the thesis's"),
+                    true,
+                )),
+            )
+        }
     }
 }
 

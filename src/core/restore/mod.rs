@@ -108,6 +108,12 @@ pub fn check(
 ) -> Result<(usize, usize), SimError> {
     let dim = validate_photo(photo)?;
     settings.capture.validate()?;
+    let pixels = (dim.0 * dim.1) as u64;
+    crate::core::budget::check(
+        &format!("capturing and restoring a {}×{} photo", dim.1, dim.0),
+        pixels.saturating_mul(crate::core::budget::RESTORE_BYTES_PER_PIXEL),
+        "scale the photo down (a smaller maximum side)",
+    )?;
     match settings.method {
         Method::Wiener { nsr } if !(nsr.is_finite() && nsr >= 0.0) => {
             return Err(SimError::field(

@@ -206,6 +206,12 @@ pub fn run(
     let start = Instant::now();
     settings.validate()?;
     scene.validate(metrics::SSIM_WINDOW_PX)?;
+    let (rows, cols) = scene.dim();
+    crate::core::budget::check(
+        &format!("simulating the sensor on a {cols}×{rows} scene"),
+        ((rows * cols) as u64).saturating_mul(crate::core::budget::SENSOR_BYTES_PER_PIXEL),
+        "use a smaller scene or crop it",
+    )?;
     progress.set(0.0);
     progress.check()?;
     let sensor = &settings.sensor;
