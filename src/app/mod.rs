@@ -67,10 +67,22 @@ pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
     eframe::run_native(
         "UDC Studio",
         options,
-        Box::new(move |cc| Ok(Box::new(StudioApp::new(&cc.egui_ctx, studio)))),
+        Box::new(move |cc| {
+            // Ctrl-C or SIGTERM in the terminal closes the window the normal way (no prompt:
+            // the design is autosaved on exit), instead of killing it between autosaves.
+            let ctx = cc.egui_ctx.clone();
+            let _ = ctrlc::set_handler(move || {
+                INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed);
+                ctx.request_repaint();
+            });
+            Ok(Box::new(StudioApp::new(&cc.egui_ctx, studio)))
+        }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the studio window: {e}"))
 }
+
+/// Set by the Ctrl-C / SIGTERM handler; the next frame closes the window.
+static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
 /// Results on screen (the last good ones stay when a newer job fails).
 #[derive(Default)]
@@ -562,6 +574,10 @@ impl StudioApp {
     /// Draws one frame (shared by the native window and the test harness).
     pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();
+        if INTERRUPTED.swap(false, std::sync::atomic::Ordering::Relaxed) {
+            self.session.quit_confirmed = true;
+            ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        }
         self.take_results();
         let mut cmds = Vec::new();
         commands::shortcuts(&ctx, &mut cmds);

@@ -67,7 +67,7 @@ fn optimize_rejects_bad_settings_with_a_clear_message() {
         out.to_str().unwrap(),
     ]);
     assert!(!ok);
-    assert!(stderr.contains("target_open_fraction"), "{stderr}");
+    assert!(stderr.contains("--area: must be in (0, 1]"), "{stderr}");
     assert!(!out.exists(), "nothing written on error");
     let (ok, _, stderr) = run(&[
         "optimize",

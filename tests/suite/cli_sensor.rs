@@ -143,7 +143,7 @@ fn sensor_errors_are_one_line_and_exit_non_zero() {
         &["sensor", "--hdr", STILL_LIFE, "--sensor", "canon"],
         "nikon-z5",
     );
-    one_line(&["sensor", "--hdr", STILL_LIFE, "--roi", "2"], "roi_px");
+    one_line(&["sensor", "--hdr", STILL_LIFE, "--roi", "2"], "--roi:");
     one_line(
         &["sensor", "--hdr", STILL_LIFE, "--exposure", "mean:-1"],
         "exposure",

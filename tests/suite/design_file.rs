@@ -194,3 +194,64 @@ fn nonsense_values_never_reach_the_simulation() {
         .to_string();
     assert!(e.contains("opening.cells") && e.contains("no light"), "{e}");
 }
+
+/// Hostile numbers: the extremes a script or a hand-edited file can hold.
+fn hostile_f64() -> impl Strategy<Value = f64> {
+    prop_oneof![
+        prop::sample::select(vec![
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            0.0,
+            -0.0,
+            -1.0,
+            1e-300,
+            f64::MIN_POSITIVE,
+            1e308,
+            f64::MAX,
+            1e-9,
+            1e9,
+        ]),
+        any::<f64>(),
+        0.001f64..1e5,
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(256))]
+    /// Whatever number lands in whichever field, validation answers (no panic), and a design it
+    /// accepts has a sampling plan within the limits: no FFT past `MAX_FFT_SIZE`, no pupil past
+    /// `MAX_PUPIL_PIXELS` samples. So nothing validated can exhaust memory or loop.
+    #[test]
+    fn hostile_numbers_are_refused_or_bounded(field in 0usize..12, v in hostile_f64()) {
+        use udc_studio::core::design::{MAX_FFT_SIZE, MAX_PUPIL_PIXELS};
+        use udc_studio::core::sampling::plan;
+        let mut d = Design::default_toled();
+        match field {
+            0 => d.opening.pitch_um = v,
+            1 => d.optics.focal_length_mm = v,
+            2 => d.optics.f_number = v,
+            3 => d.optics.pupil_sample_um = v,
+            4 => d.optics.fine_sample_um = v,
+            5 => d.optics.sensor_pixel_um = v,
+            6 => d.optics.axis_in_pixel_um[0] = v,
+            7 => d.tiling.wiring_gap_um = v,
+            8 => d.tiling.origin_offset_cells[1] = v,
+            9 => d.channels[1].wavelengths_nm[0] = v,
+            10 => d.channels[0].weights[0] = v,
+            _ => d.opening.cells[0][0] = v,
+        }
+        if d.validate().is_ok() {
+            let op = &d.optics;
+            let across = op.pupil_diameter_um() / d.opening.pitch_um;
+            prop_assert!(std::f64::consts::FRAC_PI_4 * across * across <= MAX_PUPIL_PIXELS);
+            let mut warnings = Vec::new();
+            if let Ok(p) = plan(&d, op.fine_sample_um, false, &mut warnings) {
+                for s in p.iter().flatten() {
+                    prop_assert!(s.fft_size <= MAX_FFT_SIZE, "{}", s.fft_size);
+                    prop_assert!(s.fine_um.is_finite() && s.fine_um > 0.0);
+                }
+            }
+        }
+    }
+}
