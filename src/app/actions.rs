@@ -263,20 +263,12 @@ impl StudioApp {
                 &std::path::Path,
                 &ndarray::Array2<f64>,
             ) -> Result<(), crate::io::IoError>| {
-                let stem = path
-                    .file_stem()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_default();
-                let ext = path
-                    .extension()
-                    .map(|s| s.to_string_lossy().into_owned())
-                    .unwrap_or_default();
                 let mut written = Vec::new();
                 for c in &a.channels {
                     let p = if a.channels.len() == 1 {
                         path.clone()
                     } else {
-                        path.with_file_name(format!("{stem}_{}.{ext}", c.name))
+                        crate::io::safe_file::with_stem_suffix(&path, &format!("_{}", c.name))
                     };
                     write(&p, &c.psf).map_err(|e| e.to_string())?;
                     written.push(p.display().to_string());

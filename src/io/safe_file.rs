@@ -18,13 +18,8 @@ use super::IoError;
 /// Temp files in flight, removed by the signal handler.
 static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
-/// Moves an unreadable file aside instead of losing it: `NAME.json` becomes
-/// `NAME.unreadable.json`, or `NAME.unreadable-2.json`, `-3`, … when earlier copies are there
-/// (an earlier copy is never overwritten). Returns the new path.
-///
-/// # Errors
-/// [`IoError::File`] when the file cannot be moved.
-pub fn keep_aside(path: &Path) -> Result<PathBuf, IoError> {
+/// `dir/NAME.EXT` → `dir/NAME{suffix}.EXT` (no extension: `dir/NAME{suffix}`).
+pub fn with_stem_suffix(path: &Path, suffix: &str) -> PathBuf {
     let stem = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
@@ -33,14 +28,23 @@ pub fn keep_aside(path: &Path) -> Result<PathBuf, IoError> {
         .extension()
         .map(|e| format!(".{}", e.to_string_lossy()))
         .unwrap_or_default();
-    let dir = path.parent().unwrap_or_else(|| Path::new("."));
+    path.with_file_name(format!("{stem}{suffix}{ext}"))
+}
+
+/// Moves an unreadable file aside instead of losing it: `NAME.json` becomes
+/// `NAME.unreadable.json`, or `NAME.unreadable-2.json`, `-3`, … when earlier copies are there
+/// (an earlier copy is never overwritten). Returns the new path.
+///
+/// # Errors
+/// [`IoError::File`] when the file cannot be moved.
+pub fn keep_aside(path: &Path) -> Result<PathBuf, IoError> {
     for k in 1..10_000u32 {
         let suffix = if k == 1 {
             String::new()
         } else {
             format!("-{k}")
         };
-        let aside = dir.join(format!("{stem}.unreadable{suffix}{ext}"));
+        let aside = with_stem_suffix(path, &format!(".unreadable{suffix}"));
         // A hard link fails when the name is taken, so two studios never pick the same copy.
         match std::fs::hard_link(path, &aside) {
             Ok(()) => {

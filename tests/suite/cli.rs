@@ -1,7 +1,7 @@
 //! The CLI contract: names other tools depend on, one-line errors, non-zero exits.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use crate::common::run_cli as run;
+use crate::common::{run_cli as run, run_cli_timed as run_timed};
 
 #[test]
 fn analyze_json_has_the_contract_fields() {
@@ -143,21 +143,6 @@ fn spectral_channels_from_a_csv() {
     );
     let (ok, _, stderr) = run(&["analyze", "--spectral", "/missing.csv"]);
     assert!(!ok && stderr.contains("missing.csv"), "{stderr}");
-}
-
-/// Runs the binary with its exit code and wall time.
-fn run_timed(args: &[&str]) -> (Option<i32>, String, String, std::time::Duration) {
-    let t0 = std::time::Instant::now();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
-        .args(args)
-        .output()
-        .expect("run the binary");
-    (
-        out.status.code(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-        t0.elapsed(),
-    )
 }
 
 #[test]

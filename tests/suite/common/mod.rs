@@ -121,13 +121,21 @@ pub fn press_and_move<S>(
 
 /// Runs the `udc-studio` binary: (success, stdout, stderr).
 pub fn run_cli(args: &[&str]) -> (bool, String, String) {
+    let (code, stdout, stderr, _) = run_cli_timed(args);
+    (code == Some(0), stdout, stderr)
+}
+
+/// Runs the `udc-studio` binary: (exit code, stdout, stderr, wall time).
+pub fn run_cli_timed(args: &[&str]) -> (Option<i32>, String, String, std::time::Duration) {
+    let t0 = std::time::Instant::now();
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
         .args(args)
         .output()
         .expect("run the binary");
     (
-        out.status.success(),
+        out.status.code(),
         String::from_utf8_lossy(&out.stdout).into_owned(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
+        t0.elapsed(),
     )
 }
