@@ -269,7 +269,9 @@ pub fn run(command: Command) -> Result<()> {
 }
 
 /// Settings that only a flag sets, by the field name the core reports, and their flag.
-const FLAG_OF_FIELD: [(&str, &str); 13] = [
+const FLAG_OF_FIELD: [(&str, &str); 15] = [
+    ("eta", "--eta"),
+    ("eta_per_pixel", "--eta-per-pixel"),
     ("capture.light.snr_db", "--snr-db"),
     ("capture.light.electrons_at_peak", "--light"),
     ("capture.adc_bits", "--adc-bits"),

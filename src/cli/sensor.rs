@@ -231,7 +231,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         s.adc_bits
     );
     println!(
-        "exposure: {} ({:.4} e⁻ per unit radiance); ROI {} px ({}×{}); η {}; SNR_t {}; {} binning; \
+        "exposure: {} ({:.4} e⁻ per unit radiance); ROI {} px ({}×{}); η {:?}; SNR_t {:?}; {} binning; \
          {:.0} ms",
         exposure_text(&settings.exposure),
         result.electrons_per_radiance,

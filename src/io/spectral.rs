@@ -240,7 +240,7 @@ pub fn channels_from_response(
                         ));
                     }
                     resp.interpolate(values, l).ok_or_else(|| {
-                        format!("sample wavelength {l} nm is outside the table ({lo}–{hi} nm)")
+                        format!("sample wavelength {l:?} nm is outside the table ({lo}–{hi} nm)")
                     })
                 })
                 .collect::<Result<Vec<f64>, String>>()?;

@@ -224,3 +224,66 @@ fn malformed_masks_are_refused_by_the_importer() {
         assert_eq!(std::fs::read(&case).expect("read"), before);
     }
 }
+
+/// Extreme flag values on every command: refused in one line, never run on.
+#[test]
+fn hostile_flag_values_are_refused_in_one_line() {
+    use crate::common::run_cli_timed;
+    let hdr = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/hdr/StillLife_620x423.exr"
+    );
+    let out = tempfile::tempdir().expect("temp dir");
+    let design_out = out.path().join("o.json");
+    let design_out = design_out.to_str().expect("utf-8");
+    for v in ["1e-300", "1e308", "-1", "NaN", "inf"] {
+        let exposure = format!("mean:{v}");
+        let cases: Vec<Vec<&str>> = vec![
+            vec!["analyze", "--pitch-um", v, "--preview"],
+            vec!["phase", "psf", "--pitch-um", v],
+            vec!["phase", "psf", "--fold", v],
+            vec!["phase", "psf", "--n", v],
+            vec!["phase", "psf", "--open-ratio", v],
+            vec!["phase", "invertibility", "--f-mla-um", v],
+            vec!["phase", "restore", "--photons", v, "--peaks", "--preview"],
+            vec!["sensor", "--hdr", hdr, "--snr-t", v],
+            vec!["sensor", "--hdr", hdr, "--exposure", &exposure],
+            vec!["restore", "--image", PHOTO, "--light", v],
+            vec![
+                "optimize",
+                "--area",
+                v,
+                "--epochs",
+                "1",
+                "--preview",
+                "--out",
+                design_out,
+            ],
+        ];
+        let mut cases = cases;
+        if v != "1e-300" {
+            // η = 0 is a valid margin and 0 a valid loss weight, so tiny ones are too.
+            cases.push(vec!["sensor", "--hdr", hdr, "--eta", v]);
+            cases.push(vec![
+                "optimize",
+                "--weight-inv",
+                v,
+                "--epochs",
+                "1",
+                "--out",
+                design_out,
+            ]);
+        }
+        for args in cases {
+            let (code, stdout, stderr, _) = run_cli_timed(&args);
+            assert_eq!(code, Some(1), "{args:?}: {stdout}{stderr}");
+            assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
+            // Numbers are shown compactly, never as hundreds of digits.
+            assert!(stderr.len() < 400, "{args:?}: {stderr}");
+        }
+        assert!(
+            !out.path().join("o.json").exists(),
+            "an optimize run saved a design"
+        );
+    }
+}

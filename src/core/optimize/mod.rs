@@ -335,6 +335,17 @@ pub fn optimize(
         data,
     )?;
     let n = objective.model.n;
+    let cells = (n * n) as f64;
+    if settings.target_open_fraction * cells < 1.0 {
+        return Err(SimError::field(
+            "target_open_fraction",
+            format!(
+                "{:?} of the {n}×{n} cells opens none; at least {:.4} (one cell) is needed",
+                settings.target_open_fraction,
+                1.0 / cells
+            ),
+        ));
+    }
     let mut logits: Vec<f64> = match settings.start {
         Start::AllOpen => vec![1.0; n * n],
         Start::Current => design

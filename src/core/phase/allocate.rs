@@ -76,7 +76,7 @@ pub fn channel_matrix(v: &VMatrix, channels: &[Channel]) -> Result<Vec<Vec<f64>>
             if !(p >= -1e-9 && p <= (GRID_LEN - 1) as f64 + 1e-9) {
                 return Err(SimError::field(
                     format!("channels[{c}]"),
-                    format!("wavelength {l} nm is outside the grid 401–691 nm"),
+                    format!("wavelength {l:?} nm is outside the grid 401–691 nm"),
                 ));
             }
             let lo = (p.floor().max(0.0) as usize).min(GRID_LEN - 1);

@@ -263,7 +263,7 @@ fn check_photons(photons: f64) -> Result<(), SimError> {
     } else {
         Err(SimError::field(
             "photons",
-            format!("{photons} is outside {lo} … {hi} photons per pixel"),
+            format!("{photons:?} is outside {lo} … {hi} photons per pixel"),
         ))
     }
 }

@@ -270,7 +270,7 @@ impl PhaseDesign {
             } else {
                 Err(SimError::field(
                     field,
-                    format!("{v} is outside {lo}–{hi} {unit}"),
+                    format!("{v:?} is outside {lo}–{hi} {unit}"),
                 ))
             }
         };
@@ -349,7 +349,7 @@ impl PhaseSampling {
         if !(self.display_sample_um >= 0.005 && self.display_sample_um <= 1.0) {
             return Err(SimError::field(
                 "sampling.display_sample_um",
-                format!("{} is outside 0.005–1 µm", self.display_sample_um),
+                format!("{:?} is outside 0.005–1 µm", self.display_sample_um),
             ));
         }
         if self.fine_per_pixel == 0 || self.fine_per_pixel > 64 {

@@ -201,13 +201,20 @@ impl Exposure {
     /// # Errors
     /// [`SimError::InvalidField`].
     pub fn validate(&self) -> Result<(), SimError> {
+        // Below the lower bounds a capture is under a millionth of an electron (black); above
+        // the upper ones every pixel clips: refused rather than scored.
         let positive = |field: &str, v: f64| {
-            if v.is_finite() && v > 0.0 {
+            let (lo, hi) = if field == "electrons_per_um2" {
+                (1e-6, 1e9)
+            } else {
+                (1e-6, 1e3)
+            };
+            if v.is_finite() && (lo..=hi).contains(&v) {
                 Ok(())
             } else {
                 Err(SimError::field(
                     format!("exposure.{field}"),
-                    format!("must be a positive number (got {v:?})"),
+                    format!("must be {lo:e} … {hi:e} (got {v:?})"),
                 ))
             }
         };

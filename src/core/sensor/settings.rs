@@ -221,17 +221,18 @@ impl SensorSettings {
             ));
         }
         for (field, v) in [("eta", self.eta), ("eta_per_pixel", self.eta_per_pixel)] {
-            if !(v.is_finite() && v >= 0.0) {
+            if !(v.is_finite() && (0.0..=1e3).contains(&v)) {
                 return Err(SimError::field(
                     field,
-                    format!("must be a finite number ≥ 0 (got {v:?})"),
+                    format!("must be 0 … 1000 (got {v:?})"),
                 ));
             }
         }
-        if !(self.snr_t.is_finite() && self.snr_t > 0.0) {
+        // An SNR threshold below 0.01 or above 10⁶ asks for nothing or for the impossible.
+        if !(self.snr_t.is_finite() && (0.01..=1e6).contains(&self.snr_t)) {
             return Err(SimError::field(
                 "snr_t",
-                format!("must be a positive number (got {:?})", self.snr_t),
+                format!("must be 0.01 … 1e6 (got {:?})", self.snr_t),
             ));
         }
         if !(self.gamma.is_finite() && self.gamma > 0.0 && self.gamma <= 1.0) {
