@@ -2,7 +2,7 @@
 """Pure-numpy reference of `analyze/iccp21/toled-repeat` (benches/analyze.rs, case a).
 
 It does the same work as the Rust `analyze` of `Design::default_toled()` by the most direct
-route, the dense formulation of PHYSICS.md §0-4 written out without any of the Rust pruning
+route, the dense formulation of conventions.md §0-4 written out without any of the Rust pruning
 (full complex `fft2` of the whole padded pupil per channel). It serves two purposes:
 
 * an independent check of the numbers: its AUCs must match the Rust ones to ~1e-6 relative;
@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-# The iccp21 recipe (PHYSICS.md §4).
+# The iccp21 recipe (conventions.md §4).
 FOCAL_MM = 10.0
 PUPIL_D_UM = 4000.0
 DELTA1_UM = 8.0

@@ -1,4 +1,4 @@
-//! The opening optimiser's speed (issue 7): one epoch (forward and adjoint through the FFTs of
+//! The opening optimizer's speed (issue 7): one epoch (forward and adjoint through the FFTs of
 //! all three channels) as a criterion bench, and one complete 150-epoch `L_inv` run of the
 //! thesis recipe (T-OLED geometry, random-4 tiling, iccp21 optics), timed once: a run takes tens
 //! of seconds, too long for criterion's ten samples. The run's wall time and result go to
@@ -33,7 +33,7 @@ fn full_run() {
     });
     let seconds = start.elapsed().as_secs_f64();
     let Ok(result) = result else {
-        eprintln!("the optimiser failed: {result:?}");
+        eprintln!("the optimizer failed: {result:?}");
         return;
     };
     let options = AnalyzeOptions {

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""The phase-mask V matrix (thesis chapter 4, PHYSICS.md §7, thesis sampling convention) in numpy:
+"""The phase-mask V matrix (thesis chapter 4, conventions.md §7, thesis sampling convention) in numpy:
 the same work as `udc_studio::core::phase::v_matrix`, written the way a numpy user would, to hold
 the Rust implementation to its speed goal and to check that both agree.
 
-Convention (PHYSICS.md §7): lattice x = m·δ (δ = 15 nm); lenslets of round(pitch/δ) samples tile
+Convention (conventions.md §7): lattice x = m·δ (δ = 15 nm); lenslets of round(pitch/δ) samples tile
 from the first sample inside the display aperture D + 2 f_MLA tan 50°; each slit starts at sample
 round_half_even((patternN − slitN)/2) of its cell; the grating is padded with ONES outside the
 lenslets; input = rect(display aperture) · MLA 1; Fresnel TF over f_MLA on a grid wide enough not

@@ -132,7 +132,7 @@ time_row("restore/cg/toled-256x256")
 # metrics included; and the studio panel's preview (the scene downscaled to 640 px).
 time_row("sensor/table54/stilllife-1240x846", 400)
 time_row("sensor/preview", 100)
-# The optimiser (issue 7): one epoch, and one whole 150-epoch L_inv run timed once.
+# The optimizer (issue 7): one epoch, and one whole 150-epoch L_inv run timed once.
 time_row("optimize/iccp21/epoch")
 opt = load(os.path.join(bench, "optimize.json")) or {}
 secs = opt.get("seconds")
@@ -140,7 +140,7 @@ aucs = ""
 if opt.get("auc_before") and opt.get("auc_after"):
     aucs = " (AUC R " + f"{opt['auc_before'][0]:.4f} → {opt['auc_after'][0]:.4f})"
 rows.append(
-    f"| 150 epochs of `L_inv` optimisation, iccp21, one run{aucs} | "
+    f"| 150 epochs of `L_inv` optimization, iccp21, one run{aucs} | "
     f"{'n/a' if secs is None else f'{secs:.1f} s'} | ≤ 60 s | {verdict(None if secs is None else secs <= 60)} |"
 )
 # Phase masks (issue 5): one PSF, the studio's three-channel update, and the whole V matrix

@@ -3,7 +3,7 @@
 //! Cases (criterion ids):
 //! - `restore/wiener/toled-1024x768`: a 1024×768 colour photo (the committed astronaut, scaled
 //!   up) blurred by the T-OLED 150-DPI PSFs (294×294 per channel), exposed at 28 dB with noise and
-//!   restored by Wiener on the default 2×-padded grid (PHYSICS.md §5), PSNR and SSIM included:
+//!   restored by Wiener on the default 2×-padded grid (conventions.md §5), PSNR and SSIM included:
 //!   everything [`simulate`] does. Goal ≤ 300 ms on 2 cores.
 //! - `restore/wiener-linear/toled-1024x768`: the same on the smallest linear grid, to show what
 //!   the 2× padding costs.

@@ -107,7 +107,7 @@ pub enum Command {
     /// Capture a photo through the display (blur, photon and read noise) and restore it; prints
     /// PSNR and SSIM per run (thesis §3.5).
     Restore(RestoreArgs),
-    /// Optimise the opening of one display pixel (thesis §3.4.2) and save the new design.
+    /// Optimize the opening of one display pixel (thesis §3.4.2) and save the new design.
     Optimize(optimize::OptimizeArgs),
     /// Simulate spatially-varying gain and binning on an HDR scene (thesis chapter 5): the four
     /// strategies of Table 5.4 with worst-ROI SSIM, PSNR and saturation.
@@ -454,7 +454,7 @@ pub struct RestoreArgs {
     /// Scale the photo down so its longer side has at most this many pixels.
     #[arg(long)]
     pub max_side_px: Option<u32>,
-    /// Wiener on the smallest linear FFT grid instead of PHYSICS.md §5's 2× zero padding
+    /// Wiener on the smallest linear FFT grid instead of conventions.md §5's 2× zero padding
     /// (faster; changes only the borders). Conjugate gradients always use it: their result does
     /// not depend on the padding.
     #[arg(long)]

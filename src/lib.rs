@@ -23,7 +23,7 @@
 //! On the pupil grid of size `M` and spacing `δ1`, sample `i` sits at `x = (i − M/2)·δ1`.
 //!
 //! **Fourier transforms.** Forward DFTs are unnormalised, `X[k] = Σ x[n] e^{−2πi kn/N}`. The
-//! fine PSF of one wavelength is `|DFT(a)|²` on an `M×M` grid of spacing `λf/(M δ1)` (PHYSICS.md §2);
+//! fine PSF of one wavelength is `|DFT(a)|²` on an `M×M` grid of spacing `λf/(M δ1)` (conventions.md §2);
 //! its absolute scale is irrelevant because every PSF is normalised before it is used.
 //!
 //! **PSF normalisation.** Each wavelength's fine PSF is divided by its total energy over the whole
@@ -43,6 +43,9 @@
 //! capture does not depend on the number of threads.
 
 pub mod app;
+/// The physics and numeric conventions, stated once (`src/conventions.md`).
+#[doc = include_str!("conventions.md")]
+pub mod conventions {}
 pub mod cli;
 pub mod core;
 pub mod io;

@@ -116,7 +116,7 @@ pub enum LeftTab {
     Opening,
     Tiling,
     Optics,
-    Optimise,
+    Optimize,
 }
 
 /// A design being read from disk: the design and the path it came from, or a message.
@@ -145,7 +145,7 @@ struct Panels {
     editor: panels::editor::EditorPanel,
     tiling: panels::tiling::TilingPanel,
     optics: panels::optics::OpticsPanel,
-    optimise: panels::optimise::OptimisePanel,
+    optimize: panels::optimize::OptimizePanel,
     numbers: panels::numbers::NumbersPanel,
     views: panels::views::ViewsPanel,
     mask_export: panels::mask_export::MaskExportDialog,
@@ -221,7 +221,7 @@ impl StudioApp {
                 editor: Default::default(),
                 tiling: Default::default(),
                 optics: Default::default(),
-                optimise: Default::default(),
+                optimize: Default::default(),
                 numbers: Default::default(),
                 views: Default::default(),
                 mask_export: Default::default(),
@@ -276,14 +276,14 @@ impl StudioApp {
         self.apply(vec![command]);
     }
 
-    /// The optimise panel (tests read its runs).
-    pub fn optimiser(&self) -> &panels::optimise::OptimisePanel {
-        &self.panels.optimise
+    /// The optimize panel (tests read its runs).
+    pub fn optimizer(&self) -> &panels::optimize::OptimizePanel {
+        &self.panels.optimize
     }
 
-    /// The optimise panel's settings (tests set up runs through it).
-    pub fn optimiser_settings(&mut self) -> &mut crate::core::optimize::OptimizeSettings {
-        &mut self.panels.optimise.settings
+    /// The optimize panel's settings (tests set up runs through it).
+    pub fn optimizer_settings(&mut self) -> &mut crate::core::optimize::OptimizeSettings {
+        &mut self.panels.optimize.settings
     }
 
     /// The sensor previewer workspace.
@@ -505,7 +505,7 @@ impl StudioApp {
                 Workspace::Display,
                 "Display layouts",
             )
-            .on_hover_text("Chapter 3: draw, tile, analyse, restore, optimise");
+            .on_hover_text("Chapter 3: draw, tile, analyse, restore, optimize");
             ui.selectable_value(&mut self.view.workspace, Workspace::Phase, "Phase masks")
                 .on_hover_text("Chapter 4: folded double microlens arrays around a T-OLED");
             ui.selectable_value(
@@ -537,7 +537,7 @@ impl StudioApp {
                 (LeftTab::Opening, "Opening"),
                 (LeftTab::Tiling, "Tiling"),
                 (LeftTab::Optics, "Optics"),
-                (LeftTab::Optimise, "Optimise"),
+                (LeftTab::Optimize, "Optimize"),
             ] {
                 if ui
                     .selectable_label(self.view.left_tab == tab, label)
@@ -553,7 +553,7 @@ impl StudioApp {
             LeftTab::Opening => self.panels.editor.ui(ui, &mut pctx),
             LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
             LeftTab::Optics => self.panels.optics.ui(ui, &mut pctx),
-            LeftTab::Optimise => self.panels.optimise.ui(ui, &mut pctx),
+            LeftTab::Optimize => self.panels.optimize.ui(ui, &mut pctx),
         });
     }
 

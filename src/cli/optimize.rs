@@ -1,4 +1,4 @@
-//! `udc-studio optimize`: the opening optimiser of §3.4.2 from the command line.
+//! `udc-studio optimize`: the opening optimizer of §3.4.2 from the command line.
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
@@ -53,13 +53,13 @@ pub struct OptimizeArgs {
     /// Where the cells start.
     #[arg(long, value_enum, default_value_t = StartArg::AllOpen)]
     pub start: StartArg,
-    /// Optimise on the preview sampling (twice the fine spacing: about 4× faster).
+    /// Optimize on the preview sampling (twice the fine spacing: about 4× faster).
     #[arg(long)]
     pub preview: bool,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Where to write the optimised design (JSON).
+    /// Where to write the optimized design (JSON).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -193,7 +193,7 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
         );
     } else {
         println!(
-            "optimised {} epochs in {:.1} s -> {}",
+            "optimized {} epochs in {:.1} s -> {}",
             result.history.len(),
             result.elapsed_ms / 1e3,
             args.out.display()

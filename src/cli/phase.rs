@@ -86,7 +86,7 @@ pub struct RestoreArgs {
     pub peaks: bool,
 }
 
-/// `--sampling`: where the chain's samples sit (PHYSICS.md §7).
+/// `--sampling`: where the chain's samples sit (conventions.md §7).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum SamplingArg {
     /// The thesis code's convention: its published numbers reproduce.
@@ -318,7 +318,7 @@ fn parse_lambda0(s: &str) -> Result<Option<Lambda0>> {
     if t == "uniform" {
         return Ok(Some(Lambda0::Uniform));
     }
-    if t == "optimized" || t == "optimised" {
+    if t == "optimized" {
         return Ok(None);
     }
     if let Some(v) = t.strip_prefix("fixed:") {
@@ -342,7 +342,7 @@ fn resolve_lambda0(
         return Ok(plan);
     }
     let channels = grid_channels(spectral)?;
-    let (_, alloc) = with_progress("optimising λ0", |p| {
+    let (_, alloc) = with_progress("optimizing λ0", |p| {
         optimize_lambda0(
             design,
             sampling,
@@ -557,7 +557,7 @@ fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
     let sampling = sampling_of(&a.mask);
     let channels = grid_channels(a.spectral.as_deref())?;
     let settings = AllocationSettings::default();
-    let (v, alloc) = with_progress("optimising λ0", |p| {
+    let (v, alloc) = with_progress("optimizing λ0", |p| {
         optimize_lambda0(&design, &sampling, &channels, &settings, p)
     })?;
     let lenslets = lenslet_count(&design);
@@ -567,14 +567,14 @@ fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
     fixed[13] = lenslets;
     let fixed_inv = channel_invertibility(&matrix, &fixed);
     let uniform_inv = channel_invertibility(&matrix, &uniform_counts(lenslets));
-    let mut optimised = design.clone();
-    optimised.lambda0 = Lambda0::Counts {
+    let mut optimized = design.clone();
+    optimized.lambda0 = Lambda0::Counts {
         counts: alloc.counts.clone(),
     };
     if let Some(dir) = &a.mask.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
         let path = dir.join("phase_design.json");
-        save_phase_design(&path, &optimised)?;
+        save_phase_design(&path, &optimized)?;
         if !a.mask.json {
             println!("wrote {}", path.display());
         }
@@ -607,7 +607,7 @@ fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
         }
         let show = |v: [f64; 3]| format!("R {:.3}  G {:.3}  B {:.3}", v[0], v[1], v[2]);
         println!("invertibility (A·x, 1 = best single fold)");
-        println!("  optimised   {}", show(alloc.channel_invertibility));
+        println!("  optimized   {}", show(alloc.channel_invertibility));
         println!("  fixed 531   {}", show(fixed_inv));
         println!("  uniform     {}", show(uniform_inv));
     }

@@ -1,4 +1,4 @@
-//! Rasterising the effective aperture `a = p · o` (PHYSICS.md §1) onto the pupil grid.
+//! Rasterising the effective aperture `a = p · o` (conventions.md §1) onto the pupil grid.
 //!
 //! Samples sit at `x = ix·δ1`, `y = iy·δ1` (signed offsets from the optical axis) and represent
 //! the `δ1×δ1` square around them. The display is box-filtered (area-weighted amplitude) onto that
@@ -202,7 +202,7 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
 
 /// The display as a linear map from the `N×N` cell transmittances (flattened row-major) to the
 /// samples of the pupil grid: sample `k` at `(iy[k], ix[k])` holds `Σ weight · cell` over its
-/// terms. The optimiser needs this to send gradients from samples back to cells.
+/// terms. The optimizer needs this to send gradients from samples back to cells.
 #[derive(Debug, Clone, Default)]
 pub struct CellMap {
     pub n: usize,

@@ -69,7 +69,7 @@ pub enum TilingMode {
     /// Each pixel takes one of the 8 rotations/reflections of the dihedral group D4
     /// (three fair coins: rotate 90° counter-clockwise, flip left-right, flip up-down).
     RandomD4,
-    /// Each pixel takes one of {P, Pᵀ, fliplr P, flipud Pᵀ} (the thesis's optimisation set).
+    /// Each pixel takes one of {P, Pᵀ, fliplr P, flipud Pᵀ} (the thesis's optimization set).
     #[serde(rename = "random-4")]
     Random4,
 }
@@ -197,7 +197,7 @@ impl Optics {
         self.focal_length_mm * 1000.0 / self.f_number
     }
 
-    /// The thesis display recipe (PHYSICS.md §4).
+    /// The thesis display recipe (conventions.md §4).
     pub fn iccp21() -> Self {
         Optics {
             recipe: OpticsRecipe::Iccp21,

@@ -1,4 +1,4 @@
-//! Light transmittance and the invertibility score (PHYSICS.md §3, thesis eq. 3.9).
+//! Light transmittance and the invertibility score (conventions.md §3, thesis eq. 3.9).
 
 use ndarray::Array2;
 

@@ -1,4 +1,4 @@
-//! OTF/MTF of a sensor PSF and the numbers derived from it (PHYSICS.md §3).
+//! OTF/MTF of a sensor PSF and the numbers derived from it (conventions.md §3).
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};

@@ -1,4 +1,4 @@
-//! Sensor PSFs per colour channel (PHYSICS.md §2): per-wavelength Fraunhofer intensities,
+//! Sensor PSFs per colour channel (conventions.md §2): per-wavelength Fraunhofer intensities,
 //! each normalised by its total energy, weighted by the channel's spectral weights, integrated
 //! over sensor pixels and normalised to sum 1 over the window.
 

@@ -1,5 +1,5 @@
 //! The sampling plan: FFT size per wavelength, fine spacing, sensor binning and the warnings
-//! PHYSICS.md §2 asks for when the sampling is unsafe.
+//! conventions.md §2 asks for when the sampling is unsafe.
 
 use super::SimError;
 use super::design::{Design, MAX_FFT_SIZE};
@@ -40,7 +40,7 @@ pub struct WavelengthSampling {
     pub binning: Binning,
 }
 
-/// `M = 2·floor(λ f / (2 δ1 δ2))`, PHYSICS.md §4.
+/// `M = 2·floor(λ f / (2 δ1 δ2))`, conventions.md §4.
 pub fn fft_size(
     wavelength_nm: f64,
     focal_length_mm: f64,

@@ -8,7 +8,7 @@
 //!   to 0 (white); see the constant.
 //! - `psf_rgb.exr`: the three channels' PSFs as R, G, B (only for 3-channel analyses).
 //! - `mtf.csv`: per channel the horizontal and vertical MTF slices and the radial minimum and mean,
-//!   one row per ring (PHYSICS.md §3).
+//!   one row per ring (conventions.md §3).
 //!
 //! Every file is encoded in memory and written through a temp file and a rename, so an
 //! interrupted export never leaves half an image behind.

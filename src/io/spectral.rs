@@ -1,4 +1,4 @@
-//! Sensor spectral response tables (CSV) and the colour channels they define (PHYSICS.md §2,
+//! Sensor spectral response tables (CSV) and the colour channels they define (conventions.md §2,
 //! "a spectral mode takes a sensor response table").
 //!
 //! The table has four columns, wavelength in nm then the R, G and B responses:
@@ -261,7 +261,7 @@ pub fn channels_from_response(
 }
 
 /// The thesis's sensor response (`assets/spectral/thesis_sensor_response.csv`), built in so the
-/// phase-mask optimiser works without a file.
+/// phase-mask optimizer works without a file.
 pub fn thesis_response() -> SpectralResponse {
     const TEXT: &str = include_str!("../../assets/spectral/thesis_sensor_response.csv");
     // The table is a committed asset checked by the tests; a parse failure is a build defect.

@@ -199,7 +199,7 @@ fn bad_phase_arguments_are_one_line_errors() {
 }
 
 #[test]
-fn export_writes_each_format_and_reads_an_optimised_design() {
+fn export_writes_each_format_and_reads_an_optimized_design() {
     let dir = tempfile::tempdir().unwrap();
     let gds = dir.path().join("plate.gds");
     let v = json_of(&[
@@ -254,7 +254,7 @@ fn export_writes_each_format_and_reads_an_optimised_design() {
         .collect();
     assert!(
         lambda0.len() > 1,
-        "the optimised plate has several λ0: {lambda0:?}"
+        "the optimized plate has several λ0: {lambda0:?}"
     );
     for (args, needle) in [
         (vec!["phase", "export", "--format", "stl"], "--out"),

@@ -455,7 +455,7 @@ fn buttons_push_commands() {
     assert_eq!(single_edit(&h).len(), 42);
 }
 
-/// A pixel snapshot of the editor showing the thesis's optimised opening, compared with
+/// A pixel snapshot of the editor showing the thesis's optimized opening, compared with
 /// `tests/snapshots/editor-l2inv-random.png` (regenerate with `UPDATE_SNAPSHOTS=1`). Skipped
 /// only where no renderer exists (CI installs lavapipe, so it runs there).
 #[test]

@@ -1,4 +1,4 @@
-//! The opening optimiser (thesis §3.4.2, PHYSICS.md §6): its model agrees with `analyze`, its
+//! The opening optimizer (thesis §3.4.2, conventions.md §6): its model agrees with `analyze`, its
 //! gradients agree with finite differences, and a run does what the thesis says it does.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -245,7 +245,7 @@ fn area_schedule_follows_physics_md() {
 /// From all-open with `L_inv` only, the run lands on the target open fraction and beats the
 /// T-OLED pixel of the same open fraction on AUC, under the same random tiling.
 #[test]
-fn optimised_opening_beats_toled_at_the_same_open_fraction() {
+fn optimized_opening_beats_toled_at_the_same_open_fraction() {
     let toled_d = small(toled(TilingMode::RandomD4));
     let target = 5.0 / 21.0; // the T-OLED slit's open fraction
     let settings = OptimizeSettings {
@@ -286,7 +286,7 @@ fn optimised_opening_beats_toled_at_the_same_open_fraction() {
     for (b, a) in before.channels.iter().zip(&after.channels) {
         assert!(
             a.mtf.auc_radial_min > b.mtf.auc_radial_min,
-            "{}: optimised AUC {} vs T-OLED {}",
+            "{}: optimized AUC {} vs T-OLED {}",
             b.name,
             a.mtf.auc_radial_min,
             b.mtf.auc_radial_min

@@ -1,4 +1,4 @@
-//! Phase masks (thesis chapter 4, PHYSICS.md §7): geometry, the folded plate, energy, FoV,
+//! Phase masks (thesis chapter 4, conventions.md §7): geometry, the folded plate, energy, FoV,
 //! invertibility, Lemma 1 and the λ0 allocation.
 
 use proptest::prelude::*;
@@ -186,7 +186,7 @@ proptest! {
     }
 }
 
-/// Lemma 1 speaks of the continuous, unbinned OTF (PHYSICS.md §7): the studio's single-mask
+/// Lemma 1 speaks of the continuous, unbinned OTF (conventions.md §7): the studio's single-mask
 /// plate, as sampled by the chain, never raises the autocorrelation of the bare T-OLED's
 /// aperture at any shift. (The pixel-binned sensor MTF may: aliasing is not covered.)
 #[test]
@@ -236,7 +236,7 @@ fn summary(psf: &[f64], norm: f64) -> (f64, f64, usize) {
 
 /// The thesis code's own numbers (issue 12): normal incidence at 530 nm, PSFs normalised by the
 /// bare T-OLED's energy at the same λ over the 1024-pixel window, the invertibility score of
-/// PHYSICS.md §7 (DC + 511 positive frequencies). They depend on every detail of the sampling
+/// conventions.md §7 (DC + 511 positive frequencies). They depend on every detail of the sampling
 /// convention: the axis on the left edge of pixel 512, 2.03 µm pixels, lenslets from the first
 /// display sample, the slit at sample 1066 of 2800, the grating padded with ones.
 #[test]
@@ -337,7 +337,7 @@ fn the_centred_sampling_differs_from_the_thesis() {
     );
 }
 #[test]
-fn the_optimised_allocation_is_a_barrier_optimum_and_beats_fixed_530() {
+fn the_optimized_allocation_is_a_barrier_optimum_and_beats_fixed_530() {
     let design = thesis(42.0, 1.0);
     let channels = channels_from_response(&thesis_response(), &wavelength_grid_nm()).unwrap();
     let settings = AllocationSettings::default();
@@ -371,7 +371,7 @@ fn the_optimised_allocation_is_a_barrier_optimum_and_beats_fixed_530() {
     eprintln!("fixed {fixed_inv:?}");
     assert!(
         worst(alloc.channel_invertibility) > worst(fixed_inv),
-        "optimised {:?} vs fixed {:?}",
+        "optimized {:?} vs fixed {:?}",
         alloc.channel_invertibility,
         fixed_inv
     );

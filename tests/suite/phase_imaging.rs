@@ -191,7 +191,7 @@ fn bad_scenes_and_light_levels_are_refused() {
 }
 
 /// The thesis's headline (Fig. 4.6, Table 4.1) on a real photo: the double MLA with T = 5 beats
-/// the bare T-OLED at every light level, and at T = 1 the optimised λ0 beats fixed 530 nm.
+/// the bare T-OLED at every light level, and at T = 1 the optimized λ0 beats fixed 530 nm.
 /// Channels integrate the thesis's spectral response, as §4.4.1 does (with the three peak
 /// wavelengths alone, green sees exactly 530 nm and the fixed plate looks better than it is).
 /// Preview sampling and the built-in photo keep the test fast; the README's table is the

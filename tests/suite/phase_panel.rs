@@ -1,6 +1,6 @@
 //! The phase-mask workspace, driven like a user: the thesis design on screen, PSFs from the
 //! worker that match the core, live edits, a bad value that keeps the last result, the λ0
-//! optimiser with Apply, undo and Cancel, persistence and the exports.
+//! optimizer with Apply, undo and Cancel, persistence and the exports.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use crate::common;
@@ -83,7 +83,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
     // Every view draws.
     for (view, label) in [
         (PhaseView::Geometry, "Height profile around lenslet"),
-        (PhaseView::Optimiser, "Run optimiser"),
+        (PhaseView::Optimizer, "Run optimizer"),
         (PhaseView::Psf, "incidence angle"),
     ] {
         h.state_mut().phase().view = view;
@@ -202,23 +202,23 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
 }
 
 #[test]
-fn the_optimiser_allocates_every_lenslet_and_apply_is_undoable() {
+fn the_optimizer_allocates_every_lenslet_and_apply_is_undoable() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
-    h.state_mut().phase().view = PhaseView::Optimiser;
+    h.state_mut().phase().view = PhaseView::Optimizer;
     wait_psfs(&mut h, "the preview PSFs");
-    h.get_by_label("Run optimiser").click();
+    h.get_by_label("Run optimizer").click();
     h.step();
-    assert!(h.state().phase_ref().is_optimising());
-    step_until(&mut h, "the optimiser", |app| {
-        app.phase_ref().optimised().is_some()
+    assert!(h.state().phase_ref().is_optimizing());
+    step_until(&mut h, "the optimizer", |app| {
+        app.phase_ref().optimized().is_some()
     });
-    let o = h.state().phase_ref().optimised().unwrap();
+    let o = h.state().phase_ref().optimized().unwrap();
     let counts = o.allocation.counts.clone();
     assert_eq!(counts.len(), 30);
     assert_eq!(counts.iter().sum::<usize>(), 58);
     assert_eq!(o.allocation.lambda0_nm.len(), 58);
-    // The optimised plan's worst channel beats the fixed 530 nm.
+    // The optimized plan's worst channel beats the fixed 530 nm.
     let worst = |v: [f64; 3]| v.iter().copied().fold(f64::INFINITY, f64::min);
     assert!(worst(o.allocation.channel_invertibility) >= worst(o.fixed_530) - 1e-9);
     let v = h.state().phase_ref().v().unwrap();
@@ -233,7 +233,7 @@ fn the_optimiser_allocates_every_lenslet_and_apply_is_undoable() {
             counts: counts.clone()
         }
     );
-    wait_psfs(&mut h, "the optimised PSFs");
+    wait_psfs(&mut h, "the optimized PSFs");
     assert!(matches!(
         h.state().phase_ref().shown().unwrap().design.lambda0,
         Lambda0::Counts { .. }
@@ -257,30 +257,30 @@ fn the_optimiser_allocates_every_lenslet_and_apply_is_undoable() {
 }
 
 #[test]
-fn cancel_stops_an_optimiser_run() {
+fn cancel_stops_an_optimizer_run() {
     let dir = tempfile::tempdir().unwrap();
     // Thesis sampling: a run takes long enough to cancel.
     let mut h = phase_studio(dir.path(), PhaseQuality::Full);
-    h.state_mut().phase().view = PhaseView::Optimiser;
+    h.state_mut().phase().view = PhaseView::Optimizer;
     h.step();
-    h.get_by_label("Run optimiser").click();
+    h.get_by_label("Run optimizer").click();
     h.step();
     h.step();
-    assert!(h.state().phase_ref().is_optimising());
+    assert!(h.state().phase_ref().is_optimizing());
     assert!(
-        h.query_by_label_contains("optimiser (V, then Algorithm 1)")
+        h.query_by_label_contains("optimizer (V, then Algorithm 1)")
             .is_some()
     );
     h.get_by_label("Cancel").click();
     h.step();
-    assert!(!h.state().phase_ref().is_optimising());
-    assert!(h.state().phase_ref().optimised().is_none());
-    let (msg, is_error) = h.state().phase_ref().optimiser_message().unwrap().clone();
+    assert!(!h.state().phase_ref().is_optimizing());
+    assert!(h.state().phase_ref().optimized().is_none());
+    let (msg, is_error) = h.state().phase_ref().optimizer_message().unwrap().clone();
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
     // The buttons are back.
     h.step();
     assert!(
-        !h.get_by_label("Run optimiser")
+        !h.get_by_label("Run optimizer")
             .accesskit_node()
             .is_disabled()
     );

@@ -1,4 +1,4 @@
-//! Capture and restore (thesis §3.5, PHYSICS.md §5): the blur, the noise model, Wiener and
+//! Capture and restore (thesis §3.5, conventions.md §5): the blur, the noise model, Wiener and
 //! conjugate gradients, the quality scores, the photo files, and the thesis's random-tiling trend.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -527,12 +527,12 @@ fn restore_scores(design: &udc_studio::core::Design, snr_db: f64) -> (f64, f64) 
     (r.psnr_db, r.ssim)
 }
 
-/// The whole of Fig. 3.8's trend on a real photo: T-OLED repeat < T-OLED random < optimised,
-/// for the thesis's optimised opening and for one this studio's optimiser finds from all open
+/// The whole of Fig. 3.8's trend on a real photo: T-OLED repeat < T-OLED random < optimized,
+/// for the thesis's optimized opening and for one this studio's optimizer finds from all open
 /// with the thesis's "top-10 L2 + inv" loss, trained on another photo (`coffee_256.png`) at the
 /// T-OLED's open fraction.
 #[test]
-fn psnr_orders_toled_repeat_below_random_below_optimised() {
+fn psnr_orders_toled_repeat_below_random_below_optimized() {
     use std::ops::ControlFlow;
     use udc_studio::core::optimize::{DataSet, OptimizeSettings, optimize};
     let snr_db = 36.0;
@@ -558,10 +558,10 @@ fn psnr_orders_toled_repeat_below_random_below_optimised() {
     let found = optimize(&toled, &settings, Some(&data), &Progress::new(), |_| {
         ControlFlow::Continue(())
     })
-    .expect("optimise");
+    .expect("optimize");
     let ours = restore_scores(&found.design, snr_db);
     eprintln!(
-        "PSNR/SSIM repeat {repeat:?} random {random:?} thesis-optimised {thesis:?} ours {ours:?}"
+        "PSNR/SSIM repeat {repeat:?} random {random:?} thesis-optimized {thesis:?} ours {ours:?}"
     );
     assert!(
         repeat.0 < random.0,
@@ -569,7 +569,7 @@ fn psnr_orders_toled_repeat_below_random_below_optimised() {
     );
     assert!(
         random.0 < thesis.0,
-        "random {random:?} vs thesis optimised {thesis:?}"
+        "random {random:?} vs thesis optimized {thesis:?}"
     );
     assert!(random.0 < ours.0, "random {random:?} vs ours {ours:?}");
     assert!(repeat.1 < random.1 && random.1 < thesis.1 && random.1 < ours.1);

@@ -107,7 +107,7 @@ fn editor_mid_drawing() {
 }
 
 #[test]
-fn optimiser_after_a_run() {
+fn optimizer_after_a_run() {
     use udc_studio::app::LeftTab;
     use udc_studio::core::analyze::Quality;
     let dir = tempfile::tempdir().unwrap();
@@ -118,24 +118,24 @@ fn optimiser_after_a_run() {
     d.tiling.mode = TilingMode::Random4;
     h.state_mut().command(Command::Edit(Box::new(d)));
     settle(&mut h);
-    h.state_mut().show_left_tab(LeftTab::Optimise);
+    h.state_mut().show_left_tab(LeftTab::Optimize);
     {
-        let s = h.state_mut().optimiser_settings();
+        let s = h.state_mut().optimizer_settings();
         s.epochs = 100;
         s.quality = Quality::Preview;
     }
     h.step();
-    h.get_by_label("Run optimiser").click();
-    common::step_until(&mut h, "the optimiser", |app| {
-        app.optimiser().finished().is_some()
+    h.get_by_label("Run optimizer").click();
+    common::step_until(&mut h, "the optimizer", |app| {
+        app.optimizer().finished().is_some()
     });
     h.get_by_label("MTF plots").click();
     settle(&mut h);
-    capture(&mut h, "optimiser-run");
+    capture(&mut h, "optimizer-run");
     h.get_by_label("Apply as new design").click();
     settle(&mut h);
-    assert!(h.state().design().name.contains("optimised"));
-    capture(&mut h, "optimiser-applied");
+    assert!(h.state().design().name.contains("optimized"));
+    capture(&mut h, "optimizer-applied");
 }
 
 #[test]
@@ -202,7 +202,7 @@ fn sensor_previewer_maps_and_split_compare() {
 }
 
 #[test]
-fn phase_masks_psfs_plate_and_optimiser() {
+fn phase_masks_psfs_plate_and_optimizer() {
     use udc_studio::app::Workspace;
     use udc_studio::app::phase::{PhaseQuality, PhaseView};
     let dir = tempfile::tempdir().unwrap();
@@ -221,22 +221,22 @@ fn phase_masks_psfs_plate_and_optimiser() {
         h.step();
     }
     capture(&mut h, "phase-plate");
-    // The optimiser at preview sampling keeps the scenario quick.
+    // The optimizer at preview sampling keeps the scenario quick.
     h.state_mut().phase().quality = PhaseQuality::Preview;
-    h.state_mut().phase().view = PhaseView::Optimiser;
+    h.state_mut().phase().view = PhaseView::Optimizer;
     common::step_until(&mut h, "the preview PSFs", |app| {
         app.phase_ref().is_up_to_date()
     });
-    h.get_by_label("Run optimiser").click();
-    common::step_until(&mut h, "the phase optimiser", |app| {
-        app.phase_ref().optimised().is_some()
+    h.get_by_label("Run optimizer").click();
+    common::step_until(&mut h, "the phase optimizer", |app| {
+        app.phase_ref().optimized().is_some()
     });
     for _ in 0..4 {
         h.step();
     }
-    let o = h.state().phase_ref().optimised().unwrap();
+    let o = h.state().phase_ref().optimized().unwrap();
     assert_eq!(o.allocation.counts.iter().sum::<usize>(), 58);
-    capture(&mut h, "phase-optimiser");
+    capture(&mut h, "phase-optimizer");
 }
 
 #[test]

@@ -1,4 +1,4 @@
-//! Monte-Carlo checks of the sensor noise model (thesis §5.3–5.5, PHYSICS.md §8): eq. 5.1's
+//! Monte-Carlo checks of the sensor noise model (thesis §5.3–5.5, conventions.md §8): eq. 5.1's
 //! mean and variance, Table 5.1's four binning variances, eq. 5.3's gain and its 2.2 %
 //! saturation at η = 2, the per-pixel and alternating-row readouts, and dynamic range.
 #![allow(clippy::unwrap_used, clippy::expect_used)]

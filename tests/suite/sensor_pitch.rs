@@ -1,5 +1,5 @@
-//! The optimal-pitch analysis of §5.5.1 (PHYSICS.md §8): contrast and noise (Fig. 5.3a), the
-//! cutoff frequency, and the optimal pitch against light (Fig. 5.3b) with PHYSICS.md's sanity
+//! The optimal-pitch analysis of §5.5.1 (conventions.md §8): contrast and noise (Fig. 5.3a), the
+//! cutoff frequency, and the optimal pitch against light (Fig. 5.3b) with conventions.md's sanity
 //! points.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 

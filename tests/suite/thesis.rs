@@ -1,4 +1,4 @@
-//! The thesis's published numbers and trends (PHYSICS.md §4, thesis §3.4.1 and Fig. 3.7).
+//! The thesis's published numbers and trends (conventions.md §4, thesis §3.4.1 and Fig. 3.7).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use udc_studio::core::Progress;

@@ -5,7 +5,7 @@ pub mod editor;
 pub mod mask_export;
 pub mod numbers;
 pub mod optics;
-pub mod optimise;
+pub mod optimize;
 pub mod tiling;
 pub mod views;
 

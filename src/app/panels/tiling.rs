@@ -31,7 +31,7 @@ fn mode_hint(m: TilingMode) -> &'static str {
             "Each pixel takes one of the 8 rotations/flips (three coins: rotate 90° CCW, flip left-right, flip up-down)."
         }
         TilingMode::Random4 => {
-            "Each pixel takes one of P, Pᵀ, fliplr P, flipud Pᵀ (the thesis's optimisation set)."
+            "Each pixel takes one of P, Pᵀ, fliplr P, flipud Pᵀ (the thesis's optimization set)."
         }
     }
 }

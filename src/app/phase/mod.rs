@@ -2,7 +2,7 @@
 //! thin plates with a folding wavelength λ0 per lenslet. Every parameter is live: a change runs
 //! the channel PSFs at preview sampling at once, then at the thesis sampling, on a background
 //! thread (a newer change cancels the running job and stale results are dropped). The V matrix
-//! and the λ0 optimiser run on request, with progress and Cancel. The UI thread only draws.
+//! and the λ0 optimizer run on request, with progress and Cancel. The UI thread only draws.
 //!
 //! The parameters have their own undo history (Ctrl+Z / Ctrl+Shift+Z while the workspace is
 //! shown) and are kept between runs in `phase-design.json` beside the studio's autosave.
@@ -12,8 +12,8 @@ mod capture_view;
 mod compare;
 mod export;
 mod kernels;
-mod optimiser;
-mod optimiser_view;
+mod optimizer;
+mod optimizer_view;
 mod panels;
 mod persist;
 mod response;
@@ -29,7 +29,7 @@ pub use capture::CaptureRow;
 pub use compare::CompareRun;
 pub use export::HeightFormat;
 pub use kernels::ShownKernels;
-pub use optimiser::{OptimiserResult, ShownV};
+pub use optimizer::{OptimizerResult, ShownV};
 pub use response::CustomResponse;
 
 use crate::app::settings::AppDirs;
@@ -42,7 +42,7 @@ use crate::core::phase::{
 };
 use crate::core::{Progress, SimError};
 use crate::io::spectral;
-use optimiser::LongJob;
+use optimizer::LongJob;
 
 /// Where the workspace keeps its design, inside the studio's data directory.
 pub const DESIGN_FILE: &str = "phase-design.json";
@@ -72,7 +72,7 @@ impl PhaseQuality {
     }
 }
 
-/// The colour channels the PSFs and the optimiser use.
+/// The colour channels the PSFs and the optimizer use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ChannelSet {
     /// R 610, G 530, B 470 nm.
@@ -98,7 +98,7 @@ impl ChannelSet {
 pub enum PhaseView {
     Psf,
     Geometry,
-    Optimiser,
+    Optimizer,
     /// Photos captured through the design and restored (§4.5), and the setup comparison.
     Capture,
 }
@@ -139,7 +139,7 @@ pub struct PhaseWorkspace {
     committed: PhaseDesign,
     undo: Vec<PhaseDesign>,
     redo: Vec<PhaseDesign>,
-    /// Preview only, or preview then the thesis sampling (also the V matrix's and optimiser's).
+    /// Preview only, or preview then the thesis sampling (also the V matrix's and optimizer's).
     pub quality: PhaseQuality,
     pub channels: ChannelSet,
     /// Lemma 1's comparison: one plate at the display, no second MLA.
@@ -161,7 +161,7 @@ pub struct PhaseWorkspace {
     v_job: Option<LongJob<VMatrix>>,
     v: Option<ShownV>,
     opt_job: Option<LongJob<(VMatrix, Allocation)>>,
-    optimised: Option<OptimiserResult>,
+    optimized: Option<OptimizerResult>,
     opt_message: Option<(String, bool)>,
     design_path: Option<PathBuf>,
     saved: PhaseDesign,
@@ -216,7 +216,7 @@ impl PhaseWorkspace {
             v_job: None,
             v: None,
             opt_job: None,
-            optimised: None,
+            optimized: None,
             opt_message: None,
             design_path,
             last_save: Instant::now(),
@@ -267,8 +267,8 @@ impl PhaseWorkspace {
         self.message.as_ref()
     }
 
-    /// The latest message of the V matrix or the optimiser.
-    pub fn optimiser_message(&self) -> Option<&(String, bool)> {
+    /// The latest message of the V matrix or the optimizer.
+    pub fn optimizer_message(&self) -> Option<&(String, bool)> {
         self.opt_message.as_ref()
     }
 
@@ -281,11 +281,11 @@ impl PhaseWorkspace {
         self.v.as_ref()
     }
 
-    pub fn optimised(&self) -> Option<&OptimiserResult> {
-        self.optimised.as_ref()
+    pub fn optimized(&self) -> Option<&OptimizerResult> {
+        self.optimized.as_ref()
     }
 
-    pub fn is_optimising(&self) -> bool {
+    pub fn is_optimizing(&self) -> bool {
         self.opt_job.is_some()
     }
 

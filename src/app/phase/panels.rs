@@ -278,13 +278,13 @@ impl PhaseWorkspace {
             if ui
                 .add_enabled(
                     can,
-                    egui::Button::selectable(kind == PlanKind::Counts, "optimised"),
+                    egui::Button::selectable(kind == PlanKind::Counts, "optimized"),
                 )
-                .on_hover_text("Counts per grid wavelength from the optimiser")
-                .on_disabled_hover_text("Run the optimiser first (Optimiser view)")
+                .on_hover_text("Counts per grid wavelength from the optimizer")
+                .on_disabled_hover_text("Run the optimizer first (Optimizer view)")
                 .clicked()
                 && kind != PlanKind::Counts
-                && let Some(o) = &self.optimised
+                && let Some(o) = &self.optimized
             {
                 self.design.lambda0 = Lambda0::Counts {
                     counts: o.allocation.counts.clone(),

@@ -1,5 +1,5 @@
 //! The phase workspace's centre: PSFs and MTFs, the plate's geometry, and the V matrix with the
-//! λ0 optimiser.
+//! λ0 optimizer.
 
 use egui::{Align2, Color32, FontId, Sense, Stroke, Ui, pos2, vec2};
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
@@ -142,7 +142,7 @@ fn fov_ruler(ui: &mut Ui, angle: f64, fov_deg: f64, range: f64) {
 }
 
 impl PhaseWorkspace {
-    /// Centre: PSFs, geometry or the optimiser.
+    /// Centre: PSFs, geometry or the optimizer.
     pub fn views_ui(&mut self, ui: &mut Ui) {
         // Wrapped: at laptop widths the four tabs do not fit on one line.
         ui.horizontal_wrapped(|ui| {
@@ -150,8 +150,8 @@ impl PhaseWorkspace {
             ui.selectable_value(&mut self.view, PhaseView::Geometry, "Plate and λ0");
             ui.selectable_value(
                 &mut self.view,
-                PhaseView::Optimiser,
-                "V matrix and optimiser",
+                PhaseView::Optimizer,
+                "V matrix and optimizer",
             );
             ui.selectable_value(&mut self.view, PhaseView::Capture, "Capture & restore");
         });
@@ -162,7 +162,7 @@ impl PhaseWorkspace {
                 self.kernels_ui(ui);
             }
             PhaseView::Geometry => self.geometry_ui(ui),
-            PhaseView::Optimiser => self.optimiser_ui(ui),
+            PhaseView::Optimizer => self.optimizer_ui(ui),
             PhaseView::Capture => self.capture_ui(ui),
         });
     }

@@ -3,7 +3,7 @@
 //! worst 10 % of pixels (hard-sample mining), with its gradient with respect to the PSFs.
 //!
 //! The thesis writes the loss as a sum over the top 10 %; we take the mean so that its weight
-//! (PHYSICS.md §6: 10) balances the area and invertibility terms whatever the patch count.
+//! (conventions.md §6: 10) balances the area and invertibility terms whatever the patch count.
 
 use ndarray::Array2;
 use rayon::prelude::*;
@@ -12,7 +12,7 @@ use rustfft::num_complex::Complex64;
 use super::spectra::dft2_complex;
 use crate::core::SimError;
 
-/// Noise-to-signal ratio of the Wiener filter (PHYSICS.md §5).
+/// Noise-to-signal ratio of the Wiener filter (conventions.md §5).
 pub const DATA_NSR: f64 = 0.00371;
 /// Fraction of the largest residuals kept.
 pub const TOP_FRACTION: f64 = 0.1;

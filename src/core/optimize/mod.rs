@@ -1,4 +1,4 @@
-//! The opening optimiser of thesis §3.4.2 (PHYSICS.md §6): sigmoid-relaxed cells under a fixed,
+//! The opening optimizer of thesis §3.4.2 (conventions.md §6): sigmoid-relaxed cells under a fixed,
 //! seeded tiling; loss `α_area (mean g − c)² + α_inv L_inv + α_data L_top10`; analytic gradients
 //! through the FFTs ([`model`], [`data`]); Adam; an area target that falls from 1 by 0.05 every
 //! five epochs; and a final binarisation that keeps the target open fraction.
@@ -23,7 +23,7 @@ use adam::Adam;
 pub use data::DataSet;
 pub use model::Model;
 
-/// Weights of the three loss terms (PHYSICS.md §6: 10 / 0.01 / 10).
+/// Weights of the three loss terms (conventions.md §6: 10 / 0.01 / 10).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LossWeights {
     pub area: f64,
@@ -63,7 +63,7 @@ pub enum Start {
 pub enum Relaxation {
     #[default]
     StraightThrough,
-    /// The loss of the grey mask `g` itself (PHYSICS.md §6 read literally).
+    /// The loss of the grey mask `g` itself (conventions.md §6 read literally).
     Sigmoid,
 }
 
@@ -311,7 +311,7 @@ impl<'a> Objective<'a> {
     }
 }
 
-/// Optimises `design`'s opening under its own pitch, tiling (seed fixed) and optics.
+/// Optimizes `design`'s opening under its own pitch, tiling (seed fixed) and optics.
 /// `on_epoch` sees every epoch and may stop the run early (the result so far is returned);
 /// cancelling `progress` aborts with [`SimError::Cancelled`].
 ///
@@ -400,9 +400,9 @@ pub fn optimize(
     let mut out = design.clone();
     out.opening.cells = binarise(&relaxed, n, settings.target_open_fraction);
     out.opening.polygons.clear();
-    out.name = format!("{} (optimised)", design.name);
+    out.name = format!("{} (optimized)", design.name);
     out.description = format!(
-        "Optimised from \"{}\" for {} epochs (L_inv weight {}, data weight {}), open fraction {:.3}. {}",
+        "Optimized from \"{}\" for {} epochs (L_inv weight {}, data weight {}), open fraction {:.3}. {}",
         design.name,
         history.len(),
         settings.weights.inv,

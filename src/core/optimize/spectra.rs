@@ -1,4 +1,4 @@
-//! The transforms the optimiser differentiates through, each with its adjoint.
+//! The transforms the optimizer differentiates through, each with its adjoint.
 //!
 //! [`WindowDft`] is `A = DFT_M(a)` restricted to the frequencies that land in the sensor window,
 //! for a real field `a` that is nonzero only inside a small box (the pupil): rows first over the

@@ -1,5 +1,5 @@
 //! Allocation of folding wavelengths to lenslets: the log-barrier method of eqs. 4.9–4.11 and
-//! Algorithm 1, exactly as PHYSICS.md §7 specifies it, then rounding to the lenslet count.
+//! Algorithm 1, exactly as conventions.md §7 specifies it, then rounding to the lenslet count.
 
 use nalgebra::{SMatrix, SVector};
 use serde::{Deserialize, Serialize};
@@ -12,7 +12,7 @@ type Vec30 = SVector<f64, GRID_LEN>;
 type Mat30 = SMatrix<f64, GRID_LEN, GRID_LEN>;
 type Mat3x30 = SMatrix<f64, 3, GRID_LEN>;
 
-/// Parameters of Algorithm 1 (PHYSICS.md's values by default).
+/// Parameters of Algorithm 1 (conventions.md's values by default).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AllocationSettings {
     /// ℓ1 weight q (the thesis's α).
@@ -37,7 +37,7 @@ impl Default for AllocationSettings {
     }
 }
 
-/// The optimiser's result.
+/// The optimizer's result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Allocation {
     /// The continuous solution x (≥ 0), one value per grid wavelength.
@@ -190,7 +190,7 @@ pub fn allocate(
     })
 }
 
-/// The whole job behind "run optimiser": V for the design's geometry and fold, the channel
+/// The whole job behind "run optimizer": V for the design's geometry and fold, the channel
 /// matrix for `channels` (R, G, B, e.g. a response on the grid), Algorithm 1 and the rounding to
 /// the design's lenslet count. Progress covers V, which is nearly all of the time.
 ///
@@ -236,7 +236,7 @@ pub fn plan_invertibility(a: &[Vec<f64>], lambda0_nm: &[f64]) -> [f64; 3] {
         return out;
     }
     for &l in lambda0_nm {
-        // The nearest grid row (PHYSICS.md §7: a fixed 530 nm design is scored on the 531 row).
+        // The nearest grid row (conventions.md §7: a fixed 530 nm design is scored on the 531 row).
         let j = ((l - GRID_FIRST_NM) / GRID_STEP_NM)
             .round()
             .clamp(0.0, (GRID_LEN - 1) as f64) as usize;

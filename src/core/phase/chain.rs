@@ -1,4 +1,4 @@
-//! The 1-D propagation chain of PHYSICS.md §7 for one wavelength and one incidence direction.
+//! The 1-D propagation chain of conventions.md §7 for one wavelength and one incidence direction.
 //!
 //! Samples sit on the lattice `x = m·δ` (m an integer, δ the display sample); sample `i` of the
 //! chain's arrays is lattice point `m_first + i`. Under [`SamplingConvention::Thesis`] the
@@ -23,7 +23,7 @@ use crate::core::sampling::{next_fast_size, next_fast_size_235};
 /// Largest display-plane grid the chain accepts (2²⁴ samples ≈ 270 MB per complex field).
 pub const MAX_GRID_SAMPLES: usize = 1 << 24;
 
-/// The thesis's Fraunhofer output spacing δ3 at 14 samples per pixel, in µm (PHYSICS.md §7).
+/// The thesis's Fraunhofer output spacing δ3 at 14 samples per pixel, in µm (conventions.md §7).
 pub const THESIS_OUTPUT_SAMPLE_UM: f64 = 0.145;
 /// Fine sensor samples per pixel that [`THESIS_OUTPUT_SAMPLE_UM`] belongs to.
 pub const THESIS_FINE_PER_PIXEL: usize = 14;

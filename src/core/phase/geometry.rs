@@ -1,4 +1,4 @@
-//! Lenslet layout and height profiles (PHYSICS.md §7, eq. 4.8).
+//! Lenslet layout and height profiles (conventions.md §7, eq. 4.8).
 
 use serde::{Deserialize, Serialize};
 

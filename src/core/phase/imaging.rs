@@ -506,7 +506,7 @@ impl Setup {
 
     /// The design and optics of this setup, from `base` (its camera, index, open ratio, κ,
     /// rounding and sampling convention; pitch, fold, plan and step are the setup's). An
-    /// optimised plan runs Algorithm 1 for `grid_channels` (channels on the 401:10:691 grid).
+    /// optimized plan runs Algorithm 1 for `grid_channels` (channels on the 401:10:691 grid).
     ///
     /// # Errors
     /// An invalid parameter, or [`SimError::Cancelled`].
@@ -622,7 +622,7 @@ pub struct CompareRow {
 }
 
 /// Runs every setup on every photo at every light level (Fig. 4.6, Tables 4.1–4.2, Fig. 4.10):
-/// each setup is designed once (an optimised plan runs Algorithm 1 once) and its operator is
+/// each setup is designed once (an optimized plan runs Algorithm 1 once) and its operator is
 /// built once per photo width over `channels` (the thesis: the sensor's spectral response on
 /// the 401:10:691 grid, as `grid_channels`). Rows arrive through `on_row` as they finish; `progress` follows
 /// the step under way (designing, the operator, a run) and cancels any of them.

@@ -1,4 +1,4 @@
-//! The invertibility score of §4.3.5 and the matrix V over (λ0, λ) (PHYSICS.md §7).
+//! The invertibility score of §4.3.5 and the matrix V over (λ0, λ) (conventions.md §7).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 

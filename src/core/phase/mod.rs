@@ -1,8 +1,8 @@
-//! Phase masks (thesis chapter 4, PHYSICS.md §7): two microlens arrays (MLAs) around a T-OLED,
+//! Phase masks (thesis chapter 4, conventions.md §7): two microlens arrays (MLAs) around a T-OLED,
 //! folded into thin plates, with a folding wavelength λ0 per lenslet.
 //!
 //! Everything is 1-D along x (a T-OLED pixel is a slit, fully open along y). Conventions, stated
-//! once here (PHYSICS.md §7 is their source):
+//! once here (conventions.md §7 is their source):
 //! - x = 0 is the optical axis; display-plane samples sit on the lattice `x = m·δ` (δ = 15 nm).
 //! - Where the optics and the sensor sit relative to the axis is a [`SamplingConvention`]:
 //!   - [`SamplingConvention::Thesis`] (default, reproduces the thesis code's numbers): lenslets of
@@ -113,9 +113,9 @@ impl PhaseCamera {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PhaseSampling {
-    /// δ1, the display-plane sample (PHYSICS.md §7: 15 nm).
+    /// δ1, the display-plane sample (conventions.md §7: 15 nm).
     pub display_sample_um: f64,
-    /// Fine sensor samples per sensor pixel (PHYSICS.md §7: 14).
+    /// Fine sensor samples per sensor pixel (conventions.md §7: 14).
     pub fine_per_pixel: usize,
 }
 
@@ -138,7 +138,7 @@ impl PhaseSampling {
     }
 }
 
-/// Where the chain's samples sit relative to the optics (PHYSICS.md §7). The thesis's numbers
+/// Where the chain's samples sit relative to the optics (conventions.md §7). The thesis's numbers
 /// (Tables 4.1–4.2, its V matrices and λ0 allocations) depend on it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -168,7 +168,7 @@ impl SamplingConvention {
     }
 }
 
-/// How a fabrication step quantises the folded profile (PHYSICS.md §7, "Phase plate
+/// How a fabrication step quantises the folded profile (conventions.md §7, "Phase plate
 /// quantisation").
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -191,7 +191,7 @@ pub enum Lambda0 {
     /// Wavelengths spread evenly over 400–700 nm: the 30-value grid in equal counts, ascending.
     Uniform,
     /// Counts per grid wavelength (30 values summing to the lenslet count), assigned in
-    /// ascending order: what the optimiser returns.
+    /// ascending order: what the optimizer returns.
     Counts { counts: Vec<usize> },
     /// One λ0 per lenslet, left to right, as the user edited them.
     PerLenslet { nm: Vec<f64> },
@@ -203,7 +203,7 @@ pub enum Lambda0 {
 pub struct PhaseDesign {
     /// Display pixel pitch in µm (also the lenslet pitch). 42 µm = 600 DPI.
     pub pitch_um: f64,
-    /// Lenslet focal length f_MLA in µm (= the MLA–display gap z); PHYSICS.md: f_MLA = pitch.
+    /// Lenslet focal length f_MLA in µm (= the MLA–display gap z); conventions.md: f_MLA = pitch.
     pub f_mla_um: f64,
     pub refractive_index: f64,
     /// Fold thickness T: the plate's maximum height is `T λ0 / (n − 1)` (1 = phase SLM, 5 thicker).

@@ -1,4 +1,4 @@
-//! The camera behind the display (PHYSICS.md §5): blur, photon noise, read noise, full well and
+//! The camera behind the display (conventions.md §5): blur, photon noise, read noise, full well and
 //! ADC, with the light level given as electrons or as an SNR.
 
 use ndarray::{Array2, ArrayView2};

@@ -1,4 +1,4 @@
-//! Capture and restore (thesis §3.5, PHYSICS.md §5): what a photo looks like through the display
+//! Capture and restore (thesis §3.5, conventions.md §5): what a photo looks like through the display
 //! and how much of it deconvolution gets back. One entry point, [`simulate`], serves the CLI, the
 //! studio, the tests and the benches.
 //!
@@ -53,7 +53,7 @@ impl Default for Method {
 pub struct RestoreSettings {
     pub capture: CaptureSettings,
     pub method: Method,
-    /// Zero padding of the FFT grid: PHYSICS.md §5's 2× by default ([`Padding::Double`]);
+    /// Zero padding of the FFT grid: conventions.md §5's 2× by default ([`Padding::Double`]);
     /// [`Padding::Linear`] is the smallest grid on which the blur is exactly linear, faster, and
     /// changes Wiener's output only near the borders and conjugate gradients' not at all.
     pub padding: Padding,

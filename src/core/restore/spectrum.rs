@@ -74,7 +74,7 @@ fn complex_inverse_plan(n: usize) -> Arc<dyn Fft<f64>> {
 /// Wiener's output near the borders changes, because the filter wraps around the grid.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Padding {
-    /// At least twice the image (PHYSICS.md §5's "zero-padded to 2×"), and never less than
+    /// At least twice the image (conventions.md §5's "zero-padded to 2×"), and never less than
     /// [`Padding::Linear`]. The default: about 245 ms for a 1024×768 colour capture and Wiener
     /// restoration with the T-OLED PSFs on 2 cores (`benches/restore.rs`), inside the 300 ms
     /// budget.

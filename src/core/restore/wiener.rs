@@ -1,4 +1,4 @@
-//! Wiener deconvolution (PHYSICS.md §5): `X = Y·K* / (|K|² + nsr)` on the zero-padded grid,
+//! Wiener deconvolution (conventions.md §5): `X = Y·K* / (|K|² + nsr)` on the zero-padded grid,
 //! cropped back and clipped at 0.
 
 use ndarray::{Array2, ArrayView2};

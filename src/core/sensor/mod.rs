@@ -1,5 +1,5 @@
 //! Sensor previewer: spatially-varying gain and binning on HDR scenes (thesis chapter 5,
-//! PHYSICS.md §8). One entry point, [`run`], serves the CLI, the studio, the tests and the
+//! conventions.md §8). One entry point, [`run`], serves the CLI, the studio, the tests and the
 //! benches.
 //!
 //! **What is simulated.** The simulation runs on **luminance**

@@ -1,4 +1,4 @@
-//! The optimal pixel pitch (§5.5.1, PHYSICS.md §8), with `l0` in e⁻/µm², `p` in µm and `f0` in
+//! The optimal pixel pitch (§5.5.1, conventions.md §8), with `l0` in e⁻/µm², `p` in µm and `f0` in
 //! cycles/µm.
 //!
 //! A sinusoid of peak `l0` and mean `l0/2` seen through pixels of pitch `p` has the contrast

@@ -60,7 +60,7 @@ impl BinStrategy {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BinMode {
     /// Analog sum of the N pixels' charge, read once at gain `ĝ = g/N` so the sum does not
-    /// saturate (PHYSICS.md §8).
+    /// saturate (conventions.md §8).
     AnalogAdditive,
     /// Analog average of the N pixels, read once at gain `g`.
     AnalogAverage,
@@ -180,7 +180,7 @@ pub struct SensorSettings {
 }
 
 impl Default for SensorSettings {
-    /// Table 5.4's setting (PHYSICS.md §8): its sensor, mean at 5 % of the full well, ROI 128,
+    /// Table 5.4's setting (conventions.md §8): its sensor, mean at 5 % of the full well, ROI 128,
     /// η 2 (per pixel 4), SNR_t 4, γ 1/3.2, the four strategies.
     fn default() -> Self {
         SensorSettings {

@@ -51,4 +51,4 @@ pub const RESTORE: &str = "A photo seen through the display: blurred by each cha
 exposed with photon and read noise at the chosen light level (the brighter the display's LTR, the \
 more electrons it collects), then restored by Wiener deconvolution or least squares. PSNR and SSIM \
 compare the restoration with the original. A blur whose MTF has deep dips (a periodic T-OLED) \
-loses those frequencies to the noise for good; random tiling and optimised openings keep them.";
+loses those frequencies to the noise for good; random tiling and optimized openings keep them.";

@@ -1,4 +1,4 @@
-//! The Optimise panel (thesis §3.4.2): runs [`crate::core::optimize::optimize`] on a background
+//! The Optimize panel (thesis §3.4.2): runs [`crate::core::optimize::optimize`] on a background
 //! thread from the current design, plots the losses live, shows the opening as it evolves, and
 //! applies the result as one undoable edit. Stop keeps the run so far; Cancel discards it.
 
@@ -17,7 +17,7 @@ use crate::core::optimize::{
 };
 use crate::core::{Design, Progress, SimError};
 
-/// Messages from the optimiser thread.
+/// Messages from the optimizer thread.
 enum Msg {
     Epoch(EpochReport),
     Done(Box<Result<Optimized, SimError>>),
@@ -39,7 +39,7 @@ pub struct Finished {
 }
 
 /// Panel state: the settings, the running job, the live history and the last result.
-pub struct OptimisePanel {
+pub struct OptimizePanel {
     pub settings: OptimizeSettings,
     run: Option<Run>,
     history: Vec<EpochReport>,
@@ -50,9 +50,9 @@ pub struct OptimisePanel {
     pub data_loss: bool,
 }
 
-impl Default for OptimisePanel {
+impl Default for OptimizePanel {
     fn default() -> Self {
-        OptimisePanel {
+        OptimizePanel {
             settings: OptimizeSettings {
                 // Live feedback first: the preview sampling is about 4× faster per epoch.
                 quality: Quality::Preview,
@@ -85,7 +85,7 @@ fn training_data(channels: usize) -> Result<DataSet, String> {
     DataSet::new(&[planes], channels, 256).map_err(|e| e.to_string())
 }
 
-impl OptimisePanel {
+impl OptimizePanel {
     pub fn is_running(&self) -> bool {
         self.run.is_some()
     }
@@ -129,7 +129,7 @@ impl OptimisePanel {
         let design = design.clone();
         let wake = ctx.clone();
         let spawned = std::thread::Builder::new()
-            .name("udc-optimiser".into())
+            .name("udc-optimizer".into())
             .spawn(move || {
                 let result = optimize(&design, &settings, data.as_ref(), &p, |r| {
                     let _ = tx.send(Msg::Epoch(r.clone()));
@@ -155,7 +155,7 @@ impl OptimisePanel {
                     start_name,
                 });
             }
-            Err(e) => self.message = Some((format!("cannot start the optimiser: {e}"), true)),
+            Err(e) => self.message = Some((format!("cannot start the optimizer: {e}"), true)),
         }
     }
 
@@ -170,7 +170,7 @@ impl OptimisePanel {
     pub fn cancel(&mut self) {
         if let Some(r) = self.run.take() {
             r.progress.cancel();
-            self.message = Some(("optimisation cancelled".into(), false));
+            self.message = Some(("optimization cancelled".into(), false));
         }
     }
 
@@ -211,7 +211,7 @@ impl OptimisePanel {
                         }
                         Err(SimError::Cancelled) => {}
                         Err(e) => {
-                            self.message = Some((format!("optimising {name} failed: {e}"), true));
+                            self.message = Some((format!("optimizing {name} failed: {e}"), true));
                         }
                     }
                     return true;
@@ -219,7 +219,7 @@ impl OptimisePanel {
                 Err(TryRecvError::Empty) => return changed,
                 Err(TryRecvError::Disconnected) => {
                     self.run = None;
-                    self.message = Some(("the optimiser stopped unexpectedly".into(), true));
+                    self.message = Some(("the optimizer stopped unexpectedly".into(), true));
                     return true;
                 }
             }
@@ -263,7 +263,7 @@ impl OptimisePanel {
                     self.cancel();
                 }
             } else if ui
-                .button("Run optimiser")
+                .button("Run optimizer")
                 .on_hover_text(
                     "Start from the current design's geometry; the opening starts as chosen above",
                 )
@@ -285,16 +285,16 @@ impl OptimisePanel {
                 Quality::Preview => "preview",
                 Quality::Full => "full",
             };
-            egui::Grid::new("optimise_result")
+            egui::Grid::new("optimize_result")
                 .num_columns(2)
                 .show(ui, |ui| {
                     ui.label("L_inv of the start (full sampling)");
                     ui.label(f.start_loss_inv.map_or("?".into(), |v| format!("{v:.4}")));
                     ui.end_row();
-                    ui.label(format!("L_inv optimised ({run_sampling} sampling)"));
+                    ui.label(format!("L_inv optimized ({run_sampling} sampling)"));
                     ui.label(last.map_or("?".into(), |l| format!("{:.4}", l.loss_inv)));
                     ui.end_row();
-                    ui.label("open fraction, start -> optimised");
+                    ui.label("open fraction, start -> optimized");
                     ui.label(format!(
                         "{:.3} -> {:.3}",
                         crate::core::metrics::open_fraction(&ctx.design.opening.cells),
@@ -314,7 +314,7 @@ impl OptimisePanel {
             });
             if apply {
                 ctx.edit(f.result.design.clone());
-                self.message = Some(("applied the optimised opening".into(), false));
+                self.message = Some(("applied the optimized opening".into(), false));
                 self.finished = None;
             } else if discard {
                 self.finished = None;
@@ -325,7 +325,7 @@ impl OptimisePanel {
 
     fn settings_ui(&mut self, ui: &mut Ui) {
         let s = &mut self.settings;
-        egui::Grid::new("optimise_settings")
+        egui::Grid::new("optimize_settings")
             .num_columns(2)
             .show(ui, |ui| {
                 ui.label("Epochs");
@@ -461,7 +461,7 @@ impl OptimisePanel {
                 .map(|r| [(r.epoch + 1) as f64, f(r)])
                 .collect()
         };
-        Plot::new("optimise_losses")
+        Plot::new("optimize_losses")
             .legend(Legend::default())
             .height(180.0)
             .x_axis_label("epoch")

@@ -1,10 +1,10 @@
-//! The phase workspace's optimiser view: the V matrix as a heat map with its colour key, the
-//! optimiser's progress and Cancel, and its allocation beside the fixed and uniform plans.
+//! The phase workspace's optimizer view: the V matrix as a heat map with its colour key, the
+//! optimizer's progress and Cancel, and its allocation beside the fixed and uniform plans.
 
 use egui::{Ui, vec2};
 use egui_plot::{Bar, BarChart, Plot, PlotImage, PlotPoint};
 
-use super::optimiser::without_plan;
+use super::optimizer::without_plan;
 use super::views::{gradient_bar, lambda0_strip, wavelength_legend};
 use super::{ChannelSet, PhaseWorkspace, wavelength_color};
 use crate::app::colormap::Colormap;
@@ -23,11 +23,11 @@ fn colormap_key(ui: &mut Ui, name: &str, lo: f64, hi: f64) {
 }
 
 impl PhaseWorkspace {
-    pub(super) fn optimiser_ui(&mut self, ui: &mut Ui) {
+    pub(super) fn optimizer_ui(&mut self, ui: &mut Ui) {
         let ctx = ui.ctx().clone();
         ui.label(
             "V[λ0][λ]: the invertibility (sum of the MTF) with every lenslet folded at λ0, seen at \
-             λ. The optimiser (Algorithm 1, eqs. 4.9-4.11) chooses how many lenslets to fold at \
+             λ. The optimizer (Algorithm 1, eqs. 4.9-4.11) chooses how many lenslets to fold at \
              each grid wavelength so that every channel stays invertible.",
         );
         ui.horizontal_wrapped(|ui| {
@@ -40,10 +40,10 @@ impl PhaseWorkspace {
                 self.compute_v(&ctx);
             }
             if ui
-                .add_enabled(idle, egui::Button::new("Run optimiser"))
+                .add_enabled(idle, egui::Button::new("Run optimizer"))
                 .clicked()
             {
-                self.run_optimiser(&ctx);
+                self.run_optimizer(&ctx);
             }
             ui.weak(format!(
                 "at {} sampling, {} channels",
@@ -61,7 +61,7 @@ impl PhaseWorkspace {
             .map(|j| {
                 (
                     j.progress.fraction(),
-                    "optimiser (V, then Algorithm 1)…",
+                    "optimizer (V, then Algorithm 1)…",
                     j.started,
                 )
             })
@@ -92,7 +92,7 @@ impl PhaseWorkspace {
 
     fn v_ui(&mut self, ui: &mut Ui) {
         let Some(v) = &self.v else {
-            ui.label("V: not computed yet (Compute V, or Run optimiser).");
+            ui.label("V: not computed yet (Compute V, or Run optimizer).");
             return;
         };
         ui.strong(format!("V ({} sampling)", v.quality.label()));
@@ -143,8 +143,8 @@ impl PhaseWorkspace {
     }
 
     fn allocation_ui(&mut self, ui: &mut Ui) {
-        let Some(o) = &self.optimised else {
-            ui.label("No allocation yet: Run optimiser.");
+        let Some(o) = &self.optimized else {
+            ui.label("No allocation yet: Run optimizer.");
             return;
         };
         let a = &o.allocation;
@@ -189,7 +189,7 @@ impl PhaseWorkspace {
             .show(ui, |ui| {
                 for h in [
                     "channel",
-                    "optimised",
+                    "optimized",
                     "fixed 530 nm (V row 531 nm)",
                     "uniform",
                     "current plan",
@@ -222,7 +222,7 @@ impl PhaseWorkspace {
             .on_disabled_hover_text("The lenslet count changed since the run")
             .clicked()
         {
-            self.apply_optimised();
+            self.apply_optimized();
         }
     }
 }

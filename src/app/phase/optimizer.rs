@@ -1,4 +1,4 @@
-//! The V matrix and the λ0 optimiser of the phase workspace: background runs with progress and
+//! The V matrix and the λ0 optimizer of the phase workspace: background runs with progress and
 //! Cancel, the allocation compared with the fixed and uniform plans, and Apply.
 
 use std::sync::Arc;
@@ -17,7 +17,7 @@ use crate::core::phase::{
 };
 use crate::core::{Progress, SimError};
 
-/// A V matrix or optimiser run in flight.
+/// A V matrix or optimizer run in flight.
 pub(super) struct LongJob<T> {
     pub(super) design: PhaseDesign,
     pub(super) quality: PhaseQuality,
@@ -36,8 +36,8 @@ pub struct ShownV {
     pub(super) texture: TextureHandle,
 }
 
-/// The optimiser's allocation and the plans it is compared with.
-pub struct OptimiserResult {
+/// The optimizer's allocation and the plans it is compared with.
+pub struct OptimizerResult {
     pub design: PhaseDesign,
     pub quality: PhaseQuality,
     pub channels: ChannelSet,
@@ -83,8 +83,8 @@ impl PhaseWorkspace {
         self.v_job = Some(self.spawn_long("phase-v", ctx, v_matrix));
     }
 
-    /// Runs the λ0 optimiser (V, then Algorithm 1) for the current design and channels.
-    pub fn run_optimiser(&mut self, ctx: &egui::Context) {
+    /// Runs the λ0 optimizer (V, then Algorithm 1) for the current design and channels.
+    pub fn run_optimizer(&mut self, ctx: &egui::Context) {
         if self.opt_job.is_some() {
             return;
         }
@@ -101,7 +101,7 @@ impl PhaseWorkspace {
         };
         self.opt_message = None;
         self.opt_job = Some(
-            self.spawn_long("phase-optimiser", ctx, move |d, sampling, p| {
+            self.spawn_long("phase-optimizer", ctx, move |d, sampling, p| {
                 optimize_lambda0(d, sampling, &channels, &AllocationSettings::default(), p)
             }),
         );
@@ -135,7 +135,7 @@ impl PhaseWorkspace {
         }
     }
 
-    /// Stops the V matrix and the optimiser; their last results stay.
+    /// Stops the V matrix and the optimizer; their last results stay.
     pub fn cancel_long_jobs(&mut self) {
         let mut any = false;
         for p in [
@@ -200,9 +200,9 @@ impl PhaseWorkspace {
                     let fixed_530 = plan_invertibility(&allocation.a, &vec![530.0; n]);
                     let uniform = channel_invertibility(&allocation.a, &uniform_counts(n));
                     let elapsed_s = job.started.elapsed().as_secs_f64();
-                    self.opt_message = Some((format!("optimised in {elapsed_s:.1} s"), false));
+                    self.opt_message = Some((format!("optimized in {elapsed_s:.1} s"), false));
                     self.show_v(ctx, job.design.clone(), job.quality, v);
-                    self.optimised = Some(OptimiserResult {
+                    self.optimized = Some(OptimizerResult {
                         design: job.design,
                         quality: job.quality,
                         channels: job.channels,
@@ -214,24 +214,24 @@ impl PhaseWorkspace {
                 }
                 Ok(Err(SimError::Cancelled)) => {}
                 Ok(Err(e)) => self.opt_message = Some((e.to_string(), true)),
-                Err(()) => self.opt_message = Some(("the optimiser stopped".into(), true)),
+                Err(()) => self.opt_message = Some(("the optimizer stopped".into(), true)),
             }
         }
     }
 
-    /// Whether the optimiser's allocation fits the current design's lenslet count.
+    /// Whether the optimizer's allocation fits the current design's lenslet count.
     pub fn can_apply(&self) -> bool {
-        self.optimised.as_ref().is_some_and(|o| {
+        self.optimized.as_ref().is_some_and(|o| {
             o.allocation.counts.iter().sum::<usize>() == lenslet_count(&self.design)
         })
     }
 
-    /// Uses the optimiser's allocation as the λ0 plan (one undo step).
-    pub fn apply_optimised(&mut self) -> bool {
+    /// Uses the optimizer's allocation as the λ0 plan (one undo step).
+    pub fn apply_optimized(&mut self) -> bool {
         if !self.can_apply() {
             return false;
         }
-        let Some(o) = &self.optimised else {
+        let Some(o) = &self.optimized else {
             return false;
         };
         let mut d = self.design.clone();

@@ -1,4 +1,4 @@
-//! The Optimise panel, driven like a user: run from the current design, watch the epochs arrive,
+//! The Optimize panel, driven like a user: run from the current design, watch the epochs arrive,
 //! apply the result as one undoable edit.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -19,9 +19,9 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
         .command(Command::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
     let before = h.state().design().clone();
-    h.state_mut().show_left_tab(LeftTab::Optimise);
+    h.state_mut().show_left_tab(LeftTab::Optimize);
     {
-        let s = h.state_mut().optimiser_settings();
+        let s = h.state_mut().optimizer_settings();
         s.epochs = 12;
         s.target_open_fraction = 0.3;
         s.area_every_epochs = 1;
@@ -29,15 +29,15 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
         s.quality = Quality::Preview;
     }
     h.step();
-    h.get_by_label("Run optimiser").click();
+    h.get_by_label("Run optimizer").click();
     h.step();
     step_until(&mut h, "the run to finish", |app| {
-        app.optimiser().finished().is_some()
+        app.optimizer().finished().is_some()
     });
     // Every epoch reached the panel, in order, and the plot and opening are on screen.
     let epochs: Vec<usize> = h
         .state()
-        .optimiser()
+        .optimizer()
         .history()
         .iter()
         .map(|r| r.epoch)
@@ -46,7 +46,7 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     // The data loss on the built-in training photo is on by default, as in the thesis.
     let data: Vec<Option<f64>> = h
         .state()
-        .optimiser()
+        .optimizer()
         .history()
         .iter()
         .map(|r| r.loss_data)
@@ -81,18 +81,18 @@ fn stop_keeps_the_run_so_far() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    h.state_mut().show_left_tab(LeftTab::Optimise);
-    h.state_mut().optimiser_settings().epochs = 2000;
+    h.state_mut().show_left_tab(LeftTab::Optimize);
+    h.state_mut().optimizer_settings().epochs = 2000;
     h.step();
-    h.get_by_label("Run optimiser").click();
+    h.get_by_label("Run optimizer").click();
     step_until(&mut h, "a few epochs", |app| {
-        app.optimiser().history().len() >= 2
+        app.optimizer().history().len() >= 2
     });
     h.get_by_label("Stop").click();
     step_until(&mut h, "the stopped run", |app| {
-        app.optimiser().finished().is_some()
+        app.optimizer().finished().is_some()
     });
-    let f = h.state().optimiser().finished().unwrap();
+    let f = h.state().optimizer().finished().unwrap();
     assert!(f.result.stopped_early);
     assert!(f.result.history.len() < 2000);
     assert!(h.query_by_label_contains("(stopped)").is_some());
