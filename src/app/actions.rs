@@ -488,30 +488,38 @@ impl StudioApp {
             ));
             ui.horizontal(|ui| {
                 if self.doc.path.is_some() && ui.button("Save").clicked() {
-                    choice = Some(0);
+                    choice = Some(UnsavedChoice::Save);
                 }
                 if ui.button("Discard changes").clicked() {
-                    choice = Some(1);
+                    choice = Some(UnsavedChoice::Discard);
                 }
                 if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(egui::Key::Escape)) {
-                    choice = Some(2);
+                    choice = Some(UnsavedChoice::Cancel);
                 }
             });
         });
         match choice {
-            Some(0) => {
+            Some(UnsavedChoice::Save) => {
                 self.session.confirm = None;
                 self.apply_one(Command::Save, true);
                 if !self.doc.is_dirty() {
                     self.apply_one(pending, true);
                 }
             }
-            Some(1) => {
+            Some(UnsavedChoice::Discard) => {
                 self.session.confirm = None;
                 self.apply_one(pending, true);
             }
-            Some(_) => self.session.confirm = None,
+            Some(UnsavedChoice::Cancel) => self.session.confirm = None,
             None => {}
         }
     }
+}
+
+/// The answers of the unsaved-changes prompt.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum UnsavedChoice {
+    Save,
+    Discard,
+    Cancel,
 }

@@ -470,7 +470,7 @@ fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
 /// scores are linear in the counts; rounding keeps the lenslet count.
 #[test]
 fn allocation_identities_hold() {
-    use udc_studio::core::phase::allocate::round_to_total;
+    use udc_studio::core::phase::geometry::round_to_total;
     use udc_studio::core::phase::geometry::uniform_counts;
     let a: Vec<Vec<f64>> = (0..3)
         .map(|c| {

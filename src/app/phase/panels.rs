@@ -58,7 +58,7 @@ pub fn fit_plan(l: &Lambda0, n: usize) -> Lambda0 {
                 .map(|j| counts.get(j).copied().unwrap_or(0) as f64 * n as f64 / sum)
                 .collect();
             Lambda0::Counts {
-                counts: crate::core::phase::allocate::round_to_total(&shares, n),
+                counts: crate::core::phase::geometry::round_to_total(&shares, n),
             }
         }
         Lambda0::PerLenslet { nm } if !nm.is_empty() => Lambda0::PerLenslet {

@@ -177,7 +177,7 @@ pub fn allocate(
     }
     let sum: f64 = x.iter().sum();
     let shares: Vec<f64> = x.iter().map(|v| v / sum * lenslets as f64).collect();
-    let counts = round_to_total(&shares, lenslets);
+    let counts = super::geometry::round_to_total(&shares, lenslets);
     let grid = wavelength_grid_nm();
     Ok(Allocation {
         channel_invertibility: channel_invertibility(a, &counts),
@@ -245,41 +245,4 @@ pub fn plan_invertibility(a: &[Vec<f64>], lambda0_nm: &[f64]) -> [f64; 3] {
         }
     }
     out.map(|v| v / lambda0_nm.len() as f64)
-}
-
-/// Rounds `shares` (summing to about `total`) to integers summing to exactly `total`: round each,
-/// then add to the largest remainders or take from the smallest (largest-remainder method).
-pub fn round_to_total(shares: &[f64], total: usize) -> Vec<usize> {
-    let mut counts: Vec<usize> = shares.iter().map(|s| s.max(0.0).round() as usize).collect();
-    let remainder = |i: usize, counts: &[usize]| shares[i] - counts[i] as f64;
-    let mut order: Vec<usize> = (0..shares.len()).collect();
-    let mut sum: usize = counts.iter().sum();
-    while sum < total {
-        order.sort_by(|&i, &j| remainder(j, &counts).total_cmp(&remainder(i, &counts)));
-        counts[order[0]] += 1;
-        sum += 1;
-    }
-    while sum > total {
-        order.sort_by(|&i, &j| remainder(i, &counts).total_cmp(&remainder(j, &counts)));
-        match order.iter().find(|&&i| counts[i] > 0) {
-            Some(&i) => counts[i] -= 1,
-            None => break,
-        }
-        sum -= 1;
-    }
-    counts
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn rounding_keeps_the_total_and_follows_the_remainders() {
-        assert_eq!(round_to_total(&[1.4, 1.4, 1.2], 4), vec![2, 1, 1]);
-        assert_eq!(round_to_total(&[1.6, 1.6, 1.8], 5), vec![1, 2, 2]);
-        let even = round_to_total(&[58.0 / 30.0; 30], 58);
-        assert_eq!(even.iter().sum::<usize>(), 58);
-        assert!(even.iter().all(|&c| c == 1 || c == 2));
-    }
 }

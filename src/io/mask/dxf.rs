@@ -133,11 +133,7 @@ pub(super) fn estimate(layout: &MaskLayout) -> FileCounts {
 
 /// Reads closed LWPOLYLINEs on the layer `L<layer>D<datatype>` (any `_TONE` suffix) in µm, and
 /// every TEXT (plus a `TONE=` note derived from the layer's suffix).
-pub(super) fn read(
-    path: &Path,
-    layer: i16,
-    datatype: i16,
-) -> Result<super::import::Drawn, IoError> {
+pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<super::Drawn, IoError> {
     let bytes = crate::io::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
     let drawing = Drawing::load(&mut std::io::Cursor::new(bytes)).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),

@@ -56,9 +56,6 @@ pub struct ImportedMask {
     pub polygons: usize,
 }
 
-/// Polygons (µm, y up) and text notes read from a file.
-pub(super) type Drawn = (Vec<Vec<[f64; 2]>>, Vec<String>);
-
 /// Largest grid an import produces (cells).
 pub const MAX_IMPORT_CELLS: usize = 64 << 20;
 

@@ -28,6 +28,9 @@ use super::safe_file::{TempFile, write_atomic};
 
 pub use import::{ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening};
 
+/// Polygons (µm, y up) and text notes a mask reader found in a file.
+pub(crate) type Drawn = (Vec<Vec<[f64; 2]>>, Vec<String>);
+
 /// A mask file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum MaskFormat {
