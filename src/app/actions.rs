@@ -1,5 +1,6 @@
 //! Applying commands, the unsaved-changes prompt, file tasks and autosave.
 
+use crate::app::notice::Notice;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -42,14 +43,14 @@ impl StudioApp {
         self.edit_design(d);
     }
 
-    fn set_status(&mut self, msg: impl Into<String>, is_error: bool) {
-        self.session.status = Some((msg.into(), is_error));
+    fn set_status(&mut self, notice: Notice) {
+        self.session.status = Some(notice);
         self.session.status_is_simulation_error = false;
     }
 
     fn ask(&mut self, purpose: Purpose, file_name: Option<String>) {
         if !self.session.native_dialogs {
-            self.set_status("file dialogs are disabled in this session", true);
+            self.set_status(Notice::error("file dialogs are disabled in this session"));
             return;
         }
         if self.session.dialog.is_none() {
@@ -124,17 +125,17 @@ impl StudioApp {
             Command::Copy => {
                 self.egui_ctx
                     .copy_text(opening_ops::to_text(&self.doc.design().opening.cells));
-                self.set_status("opening copied as text (# open, . closed)", false);
+                self.set_status(Notice::info("opening copied as text (# open, . closed)"));
             }
             Command::Paste(text) => match opening_ops::from_text(&text) {
                 Ok(cells) => self.edit_cells(|c| *c = cells),
-                Err(e) => self.set_status(format!("cannot paste an opening: {e}"), true),
+                Err(e) => self.set_status(Notice::error(format!("cannot paste an opening: {e}"))),
             },
             Command::Reroll => {
                 let mut d = self.doc.design().clone();
                 d.tiling.seed = rand::random::<u32>() as u64;
                 if !d.tiling.mode.is_random() {
-                    self.set_status("reroll changes the random tiling's seed; pick Random D4 or Random 4 to see it", false);
+                    self.set_status(Notice::info("reroll changes the random tiling's seed; pick Random D4 or Random 4 to see it"));
                 }
                 self.edit_design(d);
             }
@@ -168,7 +169,7 @@ impl StudioApp {
 
     fn save_settings(&mut self) {
         if let Err(e) = self.view.settings.save(&self.session.dirs) {
-            self.set_status(format!("cannot save settings: {e}"), true);
+            self.set_status(Notice::error(format!("cannot save settings: {e}")));
         }
     }
 
@@ -177,9 +178,9 @@ impl StudioApp {
             Ok(d) => {
                 self.doc.replace(d, None);
                 self.submit();
-                self.set_status(format!("preset {name} loaded"), false);
+                self.set_status(Notice::info(format!("preset {name} loaded")));
             }
-            Err(e) => self.set_status(e.to_string(), true),
+            Err(e) => self.set_status(Notice::error(e.to_string())),
         }
     }
 
@@ -190,11 +191,15 @@ impl StudioApp {
                     design: s.design.clone(),
                     analysis: s.analysis.clone(),
                 });
-                self.set_status("pinned as A: keep editing, then look at Compare", false);
+                self.set_status(Notice::info(
+                    "pinned as A: keep editing, then look at Compare",
+                ));
             }
             _ => {
                 self.results.pin_requested = true;
-                self.set_status("will pin as A when the full-quality result is ready", false);
+                self.set_status(Notice::info(
+                    "will pin as A when the full-quality result is ready",
+                ));
             }
         }
     }
@@ -245,15 +250,15 @@ impl StudioApp {
                 self.doc.mark_saved(path.clone());
                 self.view.settings.add_recent(&path);
                 self.save_settings();
-                self.set_status(format!("saved {}", path.display()), false);
+                self.set_status(Notice::info(format!("saved {}", path.display())));
             }
-            Err(e) => self.set_status(e.to_string(), true),
+            Err(e) => self.set_status(Notice::error(e.to_string())),
         }
     }
 
     fn export_to(&mut self, kind: ExportKind, path: PathBuf) {
         let Some(shown) = self.results.shown.clone() else {
-            self.set_status("nothing to export yet", true);
+            self.set_status(Notice::error("nothing to export yet"));
             return;
         };
         let task = Task::spawn("export", self.wake(), move || {
@@ -316,17 +321,17 @@ impl StudioApp {
                 Ok(Ok((design, Some(p)))) => {
                     self.view.settings.add_recent(&p);
                     self.save_settings();
-                    self.set_status(format!("opened {}", p.display()), false);
+                    self.set_status(Notice::info(format!("opened {}", p.display())));
                     self.doc.replace(design, Some(p));
                     self.submit();
                 }
                 // An imported opening: an edit of the current design, not a new document.
                 Ok(Ok((design, None))) => {
                     self.edit_design(design);
-                    self.set_status("opening imported", false);
+                    self.set_status(Notice::info("opening imported"));
                 }
-                Ok(Err(e)) => self.set_status(format!("cannot read: {e}"), true),
-                Err(()) => self.set_status("the file task stopped unexpectedly", true),
+                Ok(Err(e)) => self.set_status(Notice::error(format!("cannot read: {e}"))),
+                Err(()) => self.set_status(Notice::error("the file task stopped unexpectedly")),
             }
         }
         let mut still = Vec::new();
@@ -335,15 +340,15 @@ impl StudioApp {
                 None => still.push(t),
                 // Autosaves succeed silently (empty message) and must not wipe other messages.
                 Some(Ok(Ok(msg))) if msg.is_empty() => {}
-                Some(Ok(Ok(msg))) => self.set_status(msg, false),
-                Some(Ok(Err(e))) => self.set_status(e, true),
-                Some(Err(())) => self.set_status("a file task stopped unexpectedly", true),
+                Some(Ok(Ok(msg))) => self.set_status(Notice::info(msg)),
+                Some(Ok(Err(e))) => self.set_status(Notice::error(e)),
+                Some(Err(())) => self.set_status(Notice::error("a file task stopped unexpectedly")),
             }
         }
         self.session.writes = still;
         match self.panels.mask_export.poll() {
-            Some(Ok(lines)) => self.set_status(lines.join("; "), false),
-            Some(Err(e)) => self.set_status(e, true),
+            Some(Ok(lines)) => self.set_status(Notice::info(lines.join("; "))),
+            Some(Err(e)) => self.set_status(Notice::error(e)),
             None => {}
         }
         self.autosave_tick();
@@ -376,10 +381,11 @@ impl StudioApp {
                                 d.channels = ch;
                                 self.edit_design(d);
                             }
-                            Err(e) => self.set_status(format!("{e} (in {})", path.display()), true),
+                            Err(e) => self
+                                .set_status(Notice::error(format!("{e} (in {})", path.display()))),
                         }
                     }
-                    Err(e) => self.set_status(e.to_string(), true),
+                    Err(e) => self.set_status(Notice::error(e.to_string())),
                 }
             }
         }

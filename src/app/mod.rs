@@ -9,6 +9,7 @@ pub mod colormap;
 pub mod commands;
 pub mod dialogs;
 pub mod document;
+pub mod notice;
 pub mod panels;
 pub mod phase;
 pub mod sensor;
@@ -16,6 +17,7 @@ pub mod settings;
 pub mod tasks;
 mod worker;
 
+use crate::app::notice::Notice;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -136,7 +138,7 @@ pub struct Session {
     quit_confirmed: bool,
     autosave_every: Duration,
     /// The latest message for the status bar, and whether it is an error.
-    pub status: Option<(String, bool)>,
+    pub status: Option<Notice>,
     /// The status is the simulation's error, which its next good result clears.
     pub status_is_simulation_error: bool,
 }
@@ -178,7 +180,7 @@ impl StudioApp {
         let (design, path) = match options.design_path.as_deref().map(design_file::load_design) {
             Some(Ok(d)) => (d, options.design_path.clone()),
             Some(Err(e)) => {
-                status = Some((e.to_string(), true));
+                status = Some(Notice::error(e.to_string()));
                 (restore_or_default(&options.dirs, &mut status), None)
             }
             None => (restore_or_default(&options.dirs, &mut status), None),
@@ -262,7 +264,7 @@ impl StudioApp {
     }
 
     /// The status-bar message and whether it is an error.
-    pub fn status(&self) -> Option<&(String, bool)> {
+    pub fn status(&self) -> Option<&Notice> {
         self.session.status.as_ref()
     }
 
@@ -385,7 +387,7 @@ impl StudioApp {
                     }
                     Err(e) => {
                         self.session.status =
-                            Some((format!("cannot simulate this design: {e}"), true));
+                            Some(Notice::error(format!("cannot simulate this design: {e}")));
                         self.session.status_is_simulation_error = true;
                     }
                 },
@@ -559,9 +561,9 @@ impl StudioApp {
 
     fn status_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
-            if let Some((msg, is_error)) = &self.session.status {
-                let color = if *is_error { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
-                ui.colored_label(color, msg);
+            if let Some(n) = &self.session.status {
+                let color = if n.is_error() { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
+                ui.colored_label(color, &n.text);
                 if ui.small_button("Dismiss").on_hover_text("Dismiss").clicked() {
                     self.session.status = None;
                 }
@@ -691,7 +693,7 @@ fn panel_ctx<'a>(
 }
 
 /// The autosaved design of the last session, or the default preset.
-fn restore_or_default(dirs: &AppDirs, status: &mut Option<(String, bool)>) -> Design {
+fn restore_or_default(dirs: &AppDirs, status: &mut Option<Notice>) -> Design {
     if let Some(path) = dirs.autosave_path().filter(|p| p.exists()) {
         match design_file::load_design(&path) {
             Ok(d) => return d,
@@ -701,13 +703,10 @@ fn restore_or_default(dirs: &AppDirs, status: &mut Option<(String, bool)>) -> De
                     Ok(aside) => format!("kept it as {}", aside.display()),
                     Err(e) => format!("it stays where it was ({e})"),
                 };
-                *status = Some((
-                    format!(
-                        "could not restore the last design ({e}); {kept}; opened the default \
+                *status = Some(Notice::error(format!(
+                    "could not restore the last design ({e}); {kept}; opened the default \
                          design"
-                    ),
-                    true,
-                ));
+                )));
             }
         }
     }

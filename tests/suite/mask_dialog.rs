@@ -65,7 +65,8 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     common::step_until(&mut h, "the mask export", |app| {
         !app.mask_export().is_running()
     });
-    let (status, is_error) = h.state().status().cloned().expect("a status message");
+    let notice = h.state().status().cloned().expect("a status message");
+    let (status, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error, "{status}");
     assert!(status.contains("wrote"), "{status}");
     assert!(path.exists());

@@ -150,9 +150,10 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
     step_until(&mut h, "the photo reader", |app| {
         app.phase_ref()
             .capture_message()
-            .is_some_and(|m| m.0.contains("cannot open the photo"))
+            .is_some_and(|m| m.text.contains("cannot open the photo"))
     });
-    let (msg, is_error) = h.state().phase_ref().capture_message().unwrap().clone();
+    let notice = h.state().phase_ref().capture_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(is_error && msg.contains("not-a-photo.png"), "{msg}");
     assert_eq!(
         h.state().phase_ref().capture_photo_name(),
@@ -185,7 +186,8 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
     h.get_by_label("Cancel").click_accesskit();
     h.step();
     assert!(!h.state().phase_ref().is_capturing());
-    let (msg, is_error) = h.state().phase_ref().capture_message().unwrap().clone();
+    let notice = h.state().phase_ref().capture_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
     for _ in 0..5 {
         h.step();
@@ -234,7 +236,8 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     )
     .unwrap();
     assert_eq!(rows, expected, "the studio's rows are the core's");
-    let (msg, is_error) = h.state().phase_ref().compare_message().unwrap().clone();
+    let notice = h.state().phase_ref().compare_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("4 runs"), "{msg}");
     // The table names the setups; the mean column fills once every level is in.
     assert!(

@@ -165,7 +165,8 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
     for _ in 0..5 {
         h.step();
     }
-    let (msg, is_error) = h.state().phase_ref().message().unwrap().clone();
+    let notice = h.state().phase_ref().message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(is_error && msg.contains("pitch_um"), "{msg}");
     assert!(
         h.query_by_label_contains("pitch_um").is_some(),
@@ -181,7 +182,8 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
     for _ in 0..3 {
         h.step();
     }
-    let (msg, _) = h.state().phase_ref().message().unwrap().clone();
+    let notice = h.state().phase_ref().message().unwrap().clone();
+    let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("fold"), "{msg}");
     assert_eq!(
         h.state().phase_ref().shown().unwrap().generation,
@@ -196,7 +198,12 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
     });
     let d = h.state().phase_ref().design().clone();
     assert_eq!((d.pitch_um, d.fold), (84.0, 5.0));
-    assert!(h.state().phase_ref().message().is_none_or(|m| !m.1));
+    assert!(
+        h.state()
+            .phase_ref()
+            .message()
+            .is_none_or(|m| !m.is_error())
+    );
     // The display document was not touched by the phase workspace's undo.
     assert!(!h.state().document().can_undo());
 }
@@ -275,7 +282,8 @@ fn cancel_stops_an_optimizer_run() {
     h.step();
     assert!(!h.state().phase_ref().is_optimizing());
     assert!(h.state().phase_ref().optimized().is_none());
-    let (msg, is_error) = h.state().phase_ref().optimizer_message().unwrap().clone();
+    let notice = h.state().phase_ref().optimizer_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
     // The buttons are back.
     h.step();
@@ -309,14 +317,16 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
             let path = dir.path().join(name);
             h.state_mut().phase().export_to(format, path.clone(), &ctx);
             step_until(&mut h, "the export", |app| !app.phase_ref().is_exporting());
-            let (msg, is_error) = h.state().phase_ref().export_message().unwrap().clone();
+            let notice = h.state().phase_ref().export_message().unwrap().clone();
+            let (msg, is_error) = (notice.text.clone(), notice.is_error());
             assert!(!is_error && msg.contains(name), "{msg}");
             assert!(std::fs::metadata(&path).unwrap().len() > 100, "{name}");
         }
         // Without native dialogs the buttons say so instead of blocking.
         h.get_by_label("Heights (CSV)…").click_accesskit();
         h.step();
-        let (msg, _) = h.state().phase_ref().export_message().unwrap().clone();
+        let notice = h.state().phase_ref().export_message().unwrap().clone();
+        let (msg, _) = (notice.text.clone(), notice.is_error());
         assert!(msg.contains("dialogs are disabled"), "{msg}");
     }
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
@@ -370,7 +380,8 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
                 .is_some_and(|s| matches!(s.channels, ChannelSet::Custom(_)))
     });
     let phase = h.state().phase_ref();
-    let (msg, is_error) = phase.response_message().unwrap().clone();
+    let notice = phase.response_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(
         !is_error && msg.contains("canon_eos_5d_mark_ii_rawtoaces.csv"),
         "{msg}"
@@ -412,7 +423,8 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
         !app.phase_ref().is_loading_response()
     });
     let phase = h.state().phase_ref();
-    let (msg, is_error) = phase.response_message().unwrap().clone();
+    let notice = phase.response_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(is_error, "{msg}");
     assert!(msg.contains("line 3, column 3"), "{msg}");
     assert_eq!(phase.channels, custom);
@@ -421,7 +433,8 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
     // Without native dialogs the button says so instead of blocking.
     h.get_by_label("Open response CSV…").click_accesskit();
     h.step();
-    let (msg, _) = h.state().phase_ref().response_message().unwrap().clone();
+    let notice = h.state().phase_ref().response_message().unwrap().clone();
+    let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("dialogs are disabled"), "{msg}");
 }
 
@@ -464,7 +477,8 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
     step_until(&mut h, "the CSV", |app| {
         !app.phase_ref().is_saving_kernels()
     });
-    let (msg, is_error) = h.state().phase_ref().kernels_message().unwrap().clone();
+    let notice = h.state().phase_ref().kernels_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("k.csv"), "{msg}");
     let text = std::fs::read_to_string(&path).unwrap();
     let rows: Vec<Vec<f64>> = text
@@ -510,7 +524,8 @@ fn cancel_stops_a_blur_matrix_run() {
     h.step();
     assert!(!h.state().phase_ref().is_computing_kernels());
     assert!(h.state().phase_ref().kernels().is_none());
-    let (msg, is_error) = h.state().phase_ref().kernels_message().unwrap().clone();
+    let notice = h.state().phase_ref().kernels_message().unwrap().clone();
+    let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
 }
 

@@ -90,9 +90,10 @@ fn a_broken_hdr_file_shows_an_error_and_keeps_the_scene() {
     });
     h.state_mut().sensor().load_scene(bad.clone(), &ctx);
     step_until(&mut h, "the error", |app| {
-        app.sensor_ref().message().is_some_and(|m| m.1)
+        app.sensor_ref().message().is_some_and(|m| m.is_error())
     });
-    let (msg, _) = h.state().sensor_ref().message().unwrap().clone();
+    let notice = h.state().sensor_ref().message().unwrap().clone();
+    let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("broken.exr"), "{msg}");
     assert_eq!(
         h.state().sensor_ref().scene_name(),

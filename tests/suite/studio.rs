@@ -110,9 +110,10 @@ fn a_corrupt_design_file_shows_an_error_and_keeps_the_design() {
     let before = h.state().design().clone();
     h.state_mut().command(Command::OpenPath(bad.clone()));
     step_until(&mut h, "the error", |a| {
-        a.status().is_some_and(|(_, err)| *err)
+        a.status().is_some_and(|n| n.is_error())
     });
-    let (msg, _) = h.state().status().unwrap().clone();
+    let notice = h.state().status().unwrap().clone();
+    let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("broken.json"), "{msg}");
     assert_eq!(h.state().design(), &before, "the design is unchanged");
     assert!(
@@ -223,7 +224,7 @@ fn a_mask_imports_back_as_the_opening() {
     );
     h.state_mut().command(Command::ImportOpening(gds));
     step_until(&mut h, "the import", |a| {
-        a.status().is_some_and(|(m, _)| m == "opening imported")
+        a.status().is_some_and(|n| n.text == "opening imported")
     });
     assert_eq!(h.state().design().opening.cells, exported.opening.cells);
     // One undo step back to the cleared opening.
@@ -259,13 +260,14 @@ fn unreadable_autosaves_are_kept_aside_numbered_and_said_so() {
         let mut h = harness(dir.path());
         step_until(&mut h, "the first result", StudioApp::is_up_to_date);
         // The notice outlives the first good result: it is not the simulation's error.
-        let (msg, is_error) = h.state().status().cloned().expect("a notice");
+        let notice = h.state().status().cloned().expect("a notice");
+        let (msg, is_error) = (notice.text.clone(), notice.is_error());
         assert!(is_error && msg.contains("kept it as"), "{msg}");
-        let (pmsg, _) = h
+        let pmsg = h
             .state_mut()
             .phase()
             .message()
-            .cloned()
+            .map(|n| n.text.clone())
             .expect("a phase notice");
         assert!(pmsg.contains("kept it as"), "{pmsg}");
         drop(h);

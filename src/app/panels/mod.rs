@@ -9,6 +9,7 @@ pub mod optimize;
 pub mod tiling;
 pub mod views;
 
+use crate::app::notice::Notice;
 use std::sync::Arc;
 
 use super::commands::{Command, Tool};
@@ -66,13 +67,13 @@ impl PanelCtx<'_> {
 }
 
 /// A panel's latest message: red when it is an error, dimmed otherwise.
-pub fn message_ui(ui: &mut egui::Ui, message: Option<&(String, bool)>) {
-    if let Some((msg, is_error)) = message {
-        let color = if *is_error {
+pub fn message_ui(ui: &mut egui::Ui, message: Option<&Notice>) {
+    if let Some(n) = message {
+        let color = if n.is_error() {
             ui.visuals().error_fg_color
         } else {
             ui.visuals().weak_text_color()
         };
-        ui.colored_label(color, msg);
+        ui.colored_label(color, &n.text);
     }
 }

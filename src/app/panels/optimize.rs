@@ -2,6 +2,7 @@
 //! thread from the current design, plots the losses live, shows the opening as it evolves, and
 //! applies the result as one undoable edit. Stop keeps the run so far; Cancel discards it.
 
+use crate::app::notice::Notice;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -44,7 +45,7 @@ pub struct OptimizePanel {
     run: Option<Run>,
     history: Vec<EpochReport>,
     finished: Option<Finished>,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
     show_relaxed: bool,
     /// Add the data loss on the built-in training photo (the thesis's "top-10 L2 + inv").
     pub data_loss: bool,
@@ -103,7 +104,7 @@ impl OptimizePanel {
     /// Starts a run from `design` (settings are checked first; an error is shown, not run).
     pub fn start(&mut self, design: &Design, ctx: &egui::Context) {
         if let Err(e) = self.settings.validate() {
-            self.message = Some((e.to_string(), true));
+            self.message = Some(Notice::error(e.to_string()));
             return;
         }
         if let Some(r) = &self.run {
@@ -117,7 +118,7 @@ impl OptimizePanel {
             match training_data(design.channels.len()) {
                 Ok(d) => Some(d),
                 Err(e) => {
-                    self.message = Some((e, true));
+                    self.message = Some(Notice::error(e));
                     return;
                 }
             }
@@ -155,7 +156,9 @@ impl OptimizePanel {
                     start_name,
                 });
             }
-            Err(e) => self.message = Some((format!("cannot start the optimizer: {e}"), true)),
+            Err(e) => {
+                self.message = Some(Notice::error(format!("cannot start the optimizer: {e}")))
+            }
         }
     }
 
@@ -170,7 +173,7 @@ impl OptimizePanel {
     pub fn cancel(&mut self) {
         if let Some(r) = self.run.take() {
             r.progress.cancel();
-            self.message = Some(("optimization cancelled".into(), false));
+            self.message = Some(Notice::info("optimization cancelled"));
         }
     }
 
@@ -191,19 +194,16 @@ impl OptimizePanel {
                     self.run = None;
                     match *result {
                         Ok(result) => {
-                            self.message = Some((
-                                format!(
-                                    "{} epochs{} in {:.1} s; apply to use the new opening",
-                                    result.history.len(),
-                                    if result.stopped_early {
-                                        " (stopped)"
-                                    } else {
-                                        ""
-                                    },
-                                    result.elapsed_ms / 1e3
-                                ),
-                                false,
-                            ));
+                            self.message = Some(Notice::info(format!(
+                                "{} epochs{} in {:.1} s; apply to use the new opening",
+                                result.history.len(),
+                                if result.stopped_early {
+                                    " (stopped)"
+                                } else {
+                                    ""
+                                },
+                                result.elapsed_ms / 1e3
+                            )));
                             self.finished = Some(Finished {
                                 result,
                                 start_loss_inv,
@@ -211,7 +211,8 @@ impl OptimizePanel {
                         }
                         Err(SimError::Cancelled) => {}
                         Err(e) => {
-                            self.message = Some((format!("optimizing {name} failed: {e}"), true));
+                            self.message =
+                                Some(Notice::error(format!("optimizing {name} failed: {e}")));
                         }
                     }
                     return true;
@@ -219,7 +220,7 @@ impl OptimizePanel {
                 Err(TryRecvError::Empty) => return changed,
                 Err(TryRecvError::Disconnected) => {
                     self.run = None;
-                    self.message = Some(("the optimizer stopped unexpectedly".into(), true));
+                    self.message = Some(Notice::error("the optimizer stopped unexpectedly"));
                     return true;
                 }
             }
@@ -314,7 +315,7 @@ impl OptimizePanel {
             });
             if apply {
                 ctx.edit(f.result.design.clone());
-                self.message = Some(("applied the optimized opening".into(), false));
+                self.message = Some(Notice::info("applied the optimized opening"));
                 self.finished = None;
             } else if discard {
                 self.finished = None;

@@ -8,6 +8,7 @@
 //! restoration a fraction of one: operators are kept per design, optics, sampling, channels and
 //! photo width, so moving the light slider or the noise seed only captures and restores again.
 
+use crate::app::notice::Notice;
 use std::ops::Range;
 use std::path::PathBuf;
 use std::sync::mpsc::{Receiver, Sender, channel};
@@ -103,7 +104,7 @@ pub(super) struct CaptureState {
     job: Option<CaptureJob>,
     done_key: Option<RunKey>,
     rows: Vec<CaptureRow>,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
 }
 
 impl CaptureState {
@@ -180,7 +181,7 @@ impl PhaseWorkspace {
     }
 
     /// The latest message of the view, and whether it is an error.
-    pub fn capture_message(&self) -> Option<&(String, bool)> {
+    pub fn capture_message(&self) -> Option<&Notice> {
         self.capture.message.as_ref()
     }
 
@@ -239,7 +240,7 @@ impl PhaseWorkspace {
     pub fn cancel_capture(&mut self) {
         if let Some(j) = self.capture.job.take() {
             j.progress.cancel();
-            self.capture.message = Some(("capture cancelled; the last result stays".into(), false));
+            self.capture.message = Some(Notice::info("capture cancelled; the last result stays"));
             // The same settings would start it again at once: wait for a change.
             self.capture.done_key = Some(j.key);
         }
@@ -247,7 +248,7 @@ impl PhaseWorkspace {
 
     pub(super) fn ask_capture_photo(&mut self) {
         if !self.capture.native_dialogs {
-            self.capture.message = Some(("file dialogs are disabled in this session".into(), true));
+            self.capture.message = Some(Notice::error("file dialogs are disabled in this session"));
             return;
         }
         if self.capture.dialog.is_none() {
@@ -319,10 +320,11 @@ impl PhaseWorkspace {
                 }
                 // The previous photo stays.
                 Ok(Err(e)) => {
-                    self.capture.message = Some((format!("cannot open the photo: {e}"), true));
+                    self.capture.message =
+                        Some(Notice::error(format!("cannot open the photo: {e}")));
                 }
                 Err(()) => {
-                    self.capture.message = Some(("the photo reader stopped".into(), true));
+                    self.capture.message = Some(Notice::error("the photo reader stopped"));
                 }
             }
         }
@@ -348,16 +350,17 @@ impl PhaseWorkspace {
         match done {
             Ok(Ok(())) => {
                 let seconds = job.started.elapsed().as_secs_f64();
-                self.capture.message =
-                    Some((format!("captured and restored in {seconds:.1} s"), false));
+                self.capture.message = Some(Notice::info(format!(
+                    "captured and restored in {seconds:.1} s"
+                )));
                 self.capture.done_key = Some(job.key);
             }
             Ok(Err(SimError::Cancelled)) => {}
             Ok(Err(e)) => {
-                self.capture.message = Some((e.to_string(), true));
+                self.capture.message = Some(Notice::error(e.to_string()));
                 self.capture.done_key = Some(job.key);
             }
-            Err(()) => self.capture.message = Some(("the capture job stopped".into(), true)),
+            Err(()) => self.capture.message = Some(Notice::error("the capture job stopped")),
         }
     }
 
@@ -404,7 +407,7 @@ impl PhaseWorkspace {
                     self.set_capture_photo(p, ctx);
                 }
                 Err(e) => {
-                    self.capture.message = Some((format!("the built-in photo: {e}"), true));
+                    self.capture.message = Some(Notice::error(format!("the built-in photo: {e}")));
                     return;
                 }
             }
@@ -415,9 +418,10 @@ impl PhaseWorkspace {
         let key = match self.capture_setups() {
             Ok(_) => self.capture_key(),
             Err(e) => {
-                if self.capture.job.is_none() && !self.capture.message.as_ref().is_some_and(|m| m.1)
+                if self.capture.job.is_none()
+                    && !self.capture.message.as_ref().is_some_and(Notice::is_error)
                 {
-                    self.capture.message = Some((format!("cannot capture: {e}"), true));
+                    self.capture.message = Some(Notice::error(format!("cannot capture: {e}")));
                 }
                 return;
             }
@@ -455,7 +459,8 @@ impl PhaseWorkspace {
             let channels = match self.channel_list(set) {
                 Ok(c) => Arc::new(c),
                 Err(e) => {
-                    self.capture.message = Some((format!("cannot make the channels: {e}"), true));
+                    self.capture.message =
+                        Some(Notice::error(format!("cannot make the channels: {e}")));
                     self.capture.done_key = Some(key);
                     return;
                 }

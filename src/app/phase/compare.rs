@@ -5,6 +5,7 @@
 //! thread. Rows arrive as they finish; the table, the PSNR-vs-photons plot (Fig. 4.6) and the
 //! CSV (the CLI's `compare.csv`) are made from them.
 
+use crate::app::notice::Notice;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, channel};
@@ -83,7 +84,7 @@ pub(super) struct CompareState {
     elapsed_s: f64,
     dialog: Option<Task<Option<PathBuf>>>,
     writes: Vec<Task<Result<String, String>>>,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
 }
 
 impl CompareState {
@@ -162,7 +163,7 @@ impl PhaseWorkspace {
         self.compare.job.is_some()
     }
 
-    pub fn compare_message(&self) -> Option<&(String, bool)> {
+    pub fn compare_message(&self) -> Option<&Notice> {
         self.compare.message.as_ref()
     }
 
@@ -177,7 +178,7 @@ impl PhaseWorkspace {
         if self.compare.job.is_some() {
             return;
         }
-        let fail = |this: &mut Self, m: String| this.compare.message = Some((m, true));
+        let fail = |this: &mut Self, m: String| this.compare.message = Some(Notice::error(m));
         let Some(photo) = self.capture.photo_arc() else {
             return fail(self, "no photo yet".into());
         };
@@ -266,14 +267,11 @@ impl PhaseWorkspace {
         if let Some(j) = self.compare.job.take() {
             j.progress.cancel();
             self.compare.rows.extend(j.rows.try_iter());
-            self.compare.message = Some((
-                format!(
-                    "cancelled after {} of {} runs",
-                    self.compare.rows.len(),
-                    j.run.setups.len() * j.run.photons.len()
-                ),
-                false,
-            ));
+            self.compare.message = Some(Notice::info(format!(
+                "cancelled after {} of {} runs",
+                self.compare.rows.len(),
+                j.run.setups.len() * j.run.photons.len()
+            )));
         }
     }
 
@@ -296,12 +294,12 @@ impl PhaseWorkspace {
     /// Writes the rows on screen as CSV to `path` on a background thread (no dialog).
     pub fn save_compare_csv_to(&mut self, path: PathBuf, ctx: &egui::Context) {
         let Some(run) = &self.compare.run else {
-            self.compare.message = Some(("no comparison to save yet".into(), true));
+            self.compare.message = Some(Notice::error("no comparison to save yet"));
             return;
         };
         let text = compare_csv(&self.compare.rows, std::slice::from_ref(&run.photo_name));
         let wake = ctx.clone();
-        self.compare.message = Some((format!("writing {}…", path.display()), false));
+        self.compare.message = Some(Notice::info(format!("writing {}…", path.display())));
         self.compare.writes.push(Task::spawn(
             "phase-compare-csv",
             move || wake.request_repaint(),
@@ -314,7 +312,7 @@ impl PhaseWorkspace {
 
     pub(super) fn ask_compare_file(&mut self, ctx: &egui::Context) {
         if !self.compare.native_dialogs {
-            self.compare.message = Some(("file dialogs are disabled in this session".into(), true));
+            self.compare.message = Some(Notice::error("file dialogs are disabled in this session"));
             return;
         }
         if self.compare.dialog.is_some() || self.compare.run.is_none() {
@@ -346,10 +344,10 @@ impl PhaseWorkspace {
         for t in std::mem::take(&mut self.compare.writes) {
             match t.poll() {
                 None => still.push(t),
-                Some(Ok(Ok(msg))) => self.compare.message = Some((msg, false)),
-                Some(Ok(Err(e))) => self.compare.message = Some((e, true)),
+                Some(Ok(Ok(msg))) => self.compare.message = Some(Notice::info(msg)),
+                Some(Ok(Err(e))) => self.compare.message = Some(Notice::error(e)),
                 Some(Err(())) => {
-                    self.compare.message = Some(("the CSV write stopped".into(), true));
+                    self.compare.message = Some(Notice::error("the CSV write stopped"));
                 }
             }
         }
@@ -369,18 +367,15 @@ impl PhaseWorkspace {
         match done {
             Ok(Ok(())) => {
                 self.compare.elapsed_s = job.started.elapsed().as_secs_f64();
-                self.compare.message = Some((
-                    format!(
-                        "{} runs in {:.0} s",
-                        self.compare.rows.len(),
-                        self.compare.elapsed_s
-                    ),
-                    false,
-                ));
+                self.compare.message = Some(Notice::info(format!(
+                    "{} runs in {:.0} s",
+                    self.compare.rows.len(),
+                    self.compare.elapsed_s
+                )));
             }
             Ok(Err(SimError::Cancelled)) => {}
-            Ok(Err(e)) => self.compare.message = Some((e.to_string(), true)),
-            Err(()) => self.compare.message = Some(("the comparison stopped".into(), true)),
+            Ok(Err(e)) => self.compare.message = Some(Notice::error(e.to_string())),
+            Err(()) => self.compare.message = Some(Notice::error("the comparison stopped")),
         }
     }
 }

@@ -1,6 +1,7 @@
 //! Exports of the plate's height profile (CSV, 16-bit PNG, GDSII, STL): a save dialog on a helper
 //! thread, then the write on another, so the UI never waits for either.
 
+use crate::app::notice::Notice;
 use std::path::PathBuf;
 
 use egui::Ui;
@@ -75,7 +76,7 @@ pub(super) struct ExportState {
     pub params: ExportParams,
     dialog: Option<(HeightFormat, PhaseDesign, Task<Option<PathBuf>>)>,
     writes: Vec<Task<Result<String, String>>>,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
 }
 
 /// Writes one export; the message names the file and what was written.
@@ -144,7 +145,7 @@ impl ExportState {
         }
     }
 
-    pub fn message(&self) -> Option<&(String, bool)> {
+    pub fn message(&self) -> Option<&Notice> {
         self.message.as_ref()
     }
 
@@ -161,7 +162,7 @@ impl ExportState {
     ) {
         let params = self.params;
         let wake = ctx.clone();
-        self.message = Some((format!("writing {}…", path.display()), false));
+        self.message = Some(Notice::info(format!("writing {}…", path.display())));
         self.writes.push(Task::spawn(
             "phase-export",
             move || wake.request_repaint(),
@@ -171,7 +172,7 @@ impl ExportState {
 
     fn ask(&mut self, format: HeightFormat, design: PhaseDesign, ctx: &egui::Context) {
         if !self.native_dialogs {
-            self.message = Some(("file dialogs are disabled in this session".into(), true));
+            self.message = Some(Notice::error("file dialogs are disabled in this session"));
             return;
         }
         if self.dialog.is_some() {
@@ -204,9 +205,11 @@ impl ExportState {
         for t in std::mem::take(&mut self.writes) {
             match t.poll() {
                 None => still.push(t),
-                Some(Ok(Ok(msg))) => self.message = Some((msg, false)),
-                Some(Ok(Err(e))) => self.message = Some((format!("export failed: {e}"), true)),
-                Some(Err(())) => self.message = Some(("the export stopped".into(), true)),
+                Some(Ok(Ok(msg))) => self.message = Some(Notice::info(msg)),
+                Some(Ok(Err(e))) => {
+                    self.message = Some(Notice::error(format!("export failed: {e}")))
+                }
+                Some(Err(())) => self.message = Some(Notice::error("the export stopped")),
             }
         }
         self.writes = still;
@@ -220,7 +223,7 @@ impl PhaseWorkspace {
             Ok(()) => self
                 .export
                 .start_write(format, self.design.clone(), path, ctx),
-            Err(e) => self.export.message = Some((format!("cannot export: {e}"), true)),
+            Err(e) => self.export.message = Some(Notice::error(format!("cannot export: {e}"))),
         }
     }
 

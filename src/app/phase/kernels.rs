@@ -3,6 +3,7 @@
 //! pixel, columns = direction), and "Save as CSV…" (a save dialog on a helper thread, the write
 //! on another).
 
+use crate::app::notice::Notice;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -62,7 +63,7 @@ pub(super) struct KernelState {
     /// The matrix being saved and the dialog asking where.
     dialog: Option<(Arc<Array2<f64>>, FileDialog)>,
     writes: Vec<Task<Result<String, String>>>,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
 }
 
 impl KernelState {
@@ -148,7 +149,7 @@ impl PhaseWorkspace {
     }
 
     /// The latest message of the blur matrix or its CSV, and whether it is an error.
-    pub fn kernels_message(&self) -> Option<&(String, bool)> {
+    pub fn kernels_message(&self) -> Option<&Notice> {
         self.kernels.message.as_ref()
     }
 
@@ -177,19 +178,22 @@ impl PhaseWorkspace {
             return;
         }
         if let Err(e) = self.design.validate() {
-            self.kernels.message = Some((format!("cannot compute the blur matrix: {e}"), true));
+            self.kernels.message = Some(Notice::error(format!(
+                "cannot compute the blur matrix: {e}"
+            )));
             return;
         }
         let channels = match self.channel_list(self.channels) {
             Ok(c) => c,
             Err(e) => {
-                self.kernels.message = Some((format!("cannot make the channels: {e}"), true));
+                self.kernels.message =
+                    Some(Notice::error(format!("cannot make the channels: {e}")));
                 return;
             }
         };
         let index = self.kernels.channel.min(channels.len().saturating_sub(1));
         let Some(channel) = channels.into_iter().nth(index) else {
-            self.kernels.message = Some(("the channel set is empty".into(), true));
+            self.kernels.message = Some(Notice::error("the channel set is empty"));
             return;
         };
         let design = self.design.clone();
@@ -221,7 +225,7 @@ impl PhaseWorkspace {
     pub fn cancel_kernels(&mut self) {
         if let Some(j) = self.kernels.job.take() {
             j.progress.cancel();
-            self.kernels.message = Some(("blur matrix cancelled".into(), false));
+            self.kernels.message = Some(Notice::info("blur matrix cancelled"));
         }
     }
 
@@ -232,13 +236,13 @@ impl PhaseWorkspace {
                 let k = s.k.clone();
                 self.start_kernel_write(k, path, ctx);
             }
-            None => self.kernels.message = Some(("no blur matrix to save yet".into(), true)),
+            None => self.kernels.message = Some(Notice::error("no blur matrix to save yet")),
         }
     }
 
     fn start_kernel_write(&mut self, k: Arc<Array2<f64>>, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
-        self.kernels.message = Some((format!("writing {}…", path.display()), false));
+        self.kernels.message = Some(Notice::info(format!("writing {}…", path.display())));
         self.kernels.writes.push(Task::spawn(
             "phase-kernels-csv",
             move || wake.request_repaint(),
@@ -248,7 +252,7 @@ impl PhaseWorkspace {
 
     fn ask_kernel_file(&mut self, ctx: &egui::Context) {
         if !self.kernels.native_dialogs {
-            self.kernels.message = Some(("file dialogs are disabled in this session".into(), true));
+            self.kernels.message = Some(Notice::error("file dialogs are disabled in this session"));
             return;
         }
         let Some(s) = &self.kernels.shown else {
@@ -285,10 +289,10 @@ impl PhaseWorkspace {
         for t in std::mem::take(&mut self.kernels.writes) {
             match t.poll() {
                 None => still.push(t),
-                Some(Ok(Ok(msg))) => self.kernels.message = Some((msg, false)),
-                Some(Ok(Err(e))) => self.kernels.message = Some((e, true)),
+                Some(Ok(Ok(msg))) => self.kernels.message = Some(Notice::info(msg)),
+                Some(Ok(Err(e))) => self.kernels.message = Some(Notice::error(e)),
                 Some(Err(())) => {
-                    self.kernels.message = Some(("the CSV write stopped".into(), true));
+                    self.kernels.message = Some(Notice::error("the CSV write stopped"));
                 }
             }
         }
@@ -308,8 +312,9 @@ impl PhaseWorkspace {
                     kernel_image(&k, max),
                     TextureOptions::NEAREST,
                 );
-                self.kernels.message =
-                    Some((format!("blur matrix computed in {elapsed_s:.1} s"), false));
+                self.kernels.message = Some(Notice::info(format!(
+                    "blur matrix computed in {elapsed_s:.1} s"
+                )));
                 self.kernels.shown = Some(ShownKernels {
                     design: job.design,
                     quality: job.quality,
@@ -324,8 +329,8 @@ impl PhaseWorkspace {
                 });
             }
             Ok(Err(SimError::Cancelled)) => {}
-            Ok(Err(e)) => self.kernels.message = Some((e.to_string(), true)),
-            Err(()) => self.kernels.message = Some(("the blur-matrix job stopped".into(), true)),
+            Ok(Err(e)) => self.kernels.message = Some(Notice::error(e.to_string())),
+            Err(()) => self.kernels.message = Some(Notice::error("the blur-matrix job stopped")),
         }
     }
 

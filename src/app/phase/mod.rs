@@ -19,6 +19,7 @@ mod persist;
 mod response;
 mod views;
 
+use crate::app::notice::Notice;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -157,12 +158,12 @@ pub struct PhaseWorkspace {
     generation: u64,
     job: Option<PsfJob>,
     shown: Option<ShownPsfs>,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
     v_job: Option<LongJob<VMatrix>>,
     v: Option<ShownV>,
     opt_job: Option<LongJob<(VMatrix, Allocation)>>,
     optimized: Option<OptimizerResult>,
-    opt_message: Option<(String, bool)>,
+    opt_message: Option<Notice>,
     design_path: Option<PathBuf>,
     saved: PhaseDesign,
     last_save: Instant,
@@ -263,17 +264,17 @@ impl PhaseWorkspace {
     }
 
     /// The latest message about the design or its PSFs, and whether it is an error.
-    pub fn message(&self) -> Option<&(String, bool)> {
+    pub fn message(&self) -> Option<&Notice> {
         self.message.as_ref()
     }
 
     /// The latest message of the V matrix or the optimizer.
-    pub fn optimizer_message(&self) -> Option<&(String, bool)> {
+    pub fn optimizer_message(&self) -> Option<&Notice> {
         self.opt_message.as_ref()
     }
 
     /// The latest message of an export.
-    pub fn export_message(&self) -> Option<&(String, bool)> {
+    pub fn export_message(&self) -> Option<&Notice> {
         self.export.message()
     }
 
@@ -410,17 +411,17 @@ impl PhaseWorkspace {
             j.progress.cancel();
         }
         if let Err(e) = self.design.validate() {
-            self.message = Some((e.to_string(), true));
+            self.message = Some(Notice::error(e.to_string()));
             return;
         }
         if !(self.angle_deg.is_finite() && self.angle_deg.abs() <= 80.0) {
-            self.message = Some((
-                format!("the angle {} ° is outside -80 to 80 °", self.angle_deg),
-                true,
-            ));
+            self.message = Some(Notice::error(format!(
+                "the angle {} ° is outside -80 to 80 °",
+                self.angle_deg
+            )));
             return;
         }
-        if self.message.as_ref().is_some_and(|m| m.1) {
+        if self.message.as_ref().is_some_and(Notice::is_error) {
             self.message = None;
         }
         self.start(PhaseQuality::Preview, ctx);
@@ -436,7 +437,7 @@ impl PhaseWorkspace {
         let channels = match self.channel_list(set) {
             Ok(c) => c,
             Err(e) => {
-                self.message = Some((format!("cannot make the channels: {e}"), true));
+                self.message = Some(Notice::error(format!("cannot make the channels: {e}")));
                 return;
             }
         };
@@ -480,7 +481,7 @@ impl PhaseWorkspace {
     pub fn cancel_psfs(&mut self) {
         if let Some(j) = self.job.take() {
             j.progress.cancel();
-            self.message = Some(("PSF run cancelled; the last result stays".into(), false));
+            self.message = Some(Notice::info("PSF run cancelled; the last result stays"));
         }
     }
 
@@ -502,7 +503,7 @@ impl PhaseWorkspace {
                     psfs: Arc::new(psfs),
                     elapsed_ms: ms,
                 });
-                if self.message.as_ref().is_some_and(|m| m.1) {
+                if self.message.as_ref().is_some_and(Notice::is_error) {
                     self.message = None;
                 }
                 if job.quality == PhaseQuality::Preview && self.quality == PhaseQuality::Full {
@@ -510,8 +511,8 @@ impl PhaseWorkspace {
                 }
             }
             Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}
-            Ok(Err(e)) => self.message = Some((e.to_string(), true)),
-            Err(()) => self.message = Some(("the PSF job stopped".into(), true)),
+            Ok(Err(e)) => self.message = Some(Notice::error(e.to_string())),
+            Err(()) => self.message = Some(Notice::error("the PSF job stopped")),
         }
     }
 }

@@ -1,6 +1,7 @@
 //! The V matrix and the λ0 optimizer of the phase workspace: background runs with progress and
 //! Cancel, the allocation compared with the fixed and uniform plans, and Apply.
 
+use crate::app::notice::Notice;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -76,7 +77,7 @@ impl PhaseWorkspace {
             return;
         }
         if let Err(e) = self.design.validate() {
-            self.opt_message = Some((e.to_string(), true));
+            self.opt_message = Some(Notice::error(e.to_string()));
             return;
         }
         self.opt_message = None;
@@ -89,13 +90,13 @@ impl PhaseWorkspace {
             return;
         }
         if let Err(e) = self.design.validate() {
-            self.opt_message = Some((e.to_string(), true));
+            self.opt_message = Some(Notice::error(e.to_string()));
             return;
         }
         let channels = match self.channel_list(self.channels) {
             Ok(c) => c,
             Err(e) => {
-                self.opt_message = Some((format!("cannot make the channels: {e}"), true));
+                self.opt_message = Some(Notice::error(format!("cannot make the channels: {e}")));
                 return;
             }
         };
@@ -149,7 +150,7 @@ impl PhaseWorkspace {
             any = true;
         }
         if any {
-            self.opt_message = Some(("cancelled".into(), false));
+            self.opt_message = Some(Notice::info("cancelled"));
         }
     }
 
@@ -183,12 +184,12 @@ impl PhaseWorkspace {
             match done {
                 Ok(Ok(v)) => {
                     let s = job.started.elapsed().as_secs_f64();
-                    self.opt_message = Some((format!("V computed in {s:.1} s"), false));
+                    self.opt_message = Some(Notice::info(format!("V computed in {s:.1} s")));
                     self.show_v(ctx, job.design, job.quality, v);
                 }
                 Ok(Err(SimError::Cancelled)) => {}
-                Ok(Err(e)) => self.opt_message = Some((e.to_string(), true)),
-                Err(()) => self.opt_message = Some(("the V job stopped".into(), true)),
+                Ok(Err(e)) => self.opt_message = Some(Notice::error(e.to_string())),
+                Err(()) => self.opt_message = Some(Notice::error("the V job stopped")),
             }
         }
         if let Some(done) = self.opt_job.as_ref().and_then(|j| j.task.poll())
@@ -200,7 +201,7 @@ impl PhaseWorkspace {
                     let fixed_530 = plan_invertibility(&allocation.a, &vec![530.0; n]);
                     let uniform = channel_invertibility(&allocation.a, &uniform_counts(n));
                     let elapsed_s = job.started.elapsed().as_secs_f64();
-                    self.opt_message = Some((format!("optimized in {elapsed_s:.1} s"), false));
+                    self.opt_message = Some(Notice::info(format!("optimized in {elapsed_s:.1} s")));
                     self.show_v(ctx, job.design.clone(), job.quality, v);
                     self.optimized = Some(OptimizerResult {
                         design: job.design,
@@ -213,8 +214,8 @@ impl PhaseWorkspace {
                     });
                 }
                 Ok(Err(SimError::Cancelled)) => {}
-                Ok(Err(e)) => self.opt_message = Some((e.to_string(), true)),
-                Err(()) => self.opt_message = Some(("the optimizer stopped".into(), true)),
+                Ok(Err(e)) => self.opt_message = Some(Notice::error(e.to_string())),
+                Err(()) => self.opt_message = Some(Notice::error("the optimizer stopped")),
             }
         }
     }

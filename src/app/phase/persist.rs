@@ -1,6 +1,7 @@
 //! Keeping the phase design between runs: `phase-design.json` in the studio's data directory,
 //! written off the UI thread a few seconds after a change and on exit.
 
+use crate::app::notice::Notice;
 use std::path::Path;
 use std::time::Instant;
 
@@ -10,13 +11,13 @@ use crate::core::phase::PhaseDesign;
 use crate::io::phase_design::{load_phase_design, save_phase_design};
 
 /// The design kept at `path`, or the thesis's and a message when it cannot be read.
-pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<(String, bool)>) {
+pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<Notice>) {
     let Some(p) = path.filter(|p| p.exists()) else {
         return (PhaseDesign::thesis(42.0, 1.0), None);
     };
     match load_phase_design(p) {
         Ok(loaded) => {
-            let note = (!loaded.notes.is_empty()).then(|| (loaded.notes.join("; "), false));
+            let note = (!loaded.notes.is_empty()).then(|| Notice::info(loaded.notes.join("; ")));
             (loaded.design, note)
         }
         Err(e) => {
@@ -27,10 +28,9 @@ pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<(String, 
             };
             (
                 PhaseDesign::thesis(42.0, 1.0),
-                Some((
-                    format!("could not restore the phase design ({e}); {kept}; using the thesis's"),
-                    true,
-                )),
+                Some(Notice::error(format!(
+                    "could not restore the phase design ({e}); {kept}; using the thesis's"
+                ))),
             )
         }
     }
@@ -52,8 +52,8 @@ impl PhaseWorkspace {
             self.save_task = None;
             match done {
                 Ok(Ok(())) => {}
-                Ok(Err(e)) => self.message = Some((e, true)),
-                Err(()) => self.message = Some(("the save task stopped".into(), true)),
+                Ok(Err(e)) => self.message = Some(Notice::error(e)),
+                Err(()) => self.message = Some(Notice::error("the save task stopped")),
             }
         }
         let Some(path) = self.design_path.clone() else {

@@ -2,6 +2,7 @@
 //! helper thread, reads it on another, and makes the R, G, B channels on the 401:10:691 nm grid.
 //! A bad file leaves the channels as they were and says which line and column is wrong.
 
+use crate::app::notice::Notice;
 use std::path::{Path, PathBuf};
 
 use egui::Ui;
@@ -39,7 +40,7 @@ pub(super) struct ResponseState {
     load: Option<Task<Loaded>>,
     custom: Option<CustomResponse>,
     serial: u32,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
 }
 
 /// Reads a response CSV and makes its channels on the phase wavelength grid.
@@ -77,7 +78,7 @@ impl PhaseWorkspace {
     }
 
     /// The latest message about a response CSV, and whether it is an error.
-    pub fn response_message(&self) -> Option<&(String, bool)> {
+    pub fn response_message(&self) -> Option<&Notice> {
         self.response.message.as_ref()
     }
 
@@ -100,7 +101,7 @@ impl PhaseWorkspace {
     /// the chosen ones, on failure the message names the problem and the channels stay.
     pub fn load_response_from(&mut self, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
-        self.response.message = Some((format!("reading {}…", path.display()), false));
+        self.response.message = Some(Notice::info(format!("reading {}…", path.display())));
         self.response.load = Some(Task::spawn(
             "phase-response",
             move || wake.request_repaint(),
@@ -114,7 +115,7 @@ impl PhaseWorkspace {
     fn ask_response(&mut self, ctx: &egui::Context) {
         if !self.response.native_dialogs {
             self.response.message =
-                Some(("file dialogs are disabled in this session".into(), true));
+                Some(Notice::error("file dialogs are disabled in this session"));
             return;
         }
         if self.response.dialog.is_some() {
@@ -153,24 +154,20 @@ impl PhaseWorkspace {
                     path,
                     channels,
                 };
-                self.response.message = Some((
-                    format!(
-                        "loaded {}: R, G, B on {} wavelengths",
-                        c.file_name(),
-                        wavelength_grid_nm().len()
-                    ),
-                    false,
-                ));
+                self.response.message = Some(Notice::info(format!(
+                    "loaded {}: R, G, B on {} wavelengths",
+                    c.file_name(),
+                    wavelength_grid_nm().len()
+                )));
                 self.channels = ChannelSet::Custom(c.serial);
                 self.response.custom = Some(c);
             }
             Ok((_, Err(e))) => {
-                self.response.message = Some((
-                    format!("cannot use the response: {e}; the channels stay"),
-                    true,
-                ));
+                self.response.message = Some(Notice::error(format!(
+                    "cannot use the response: {e}; the channels stay"
+                )));
             }
-            Err(()) => self.response.message = Some(("the response read stopped".into(), true)),
+            Err(()) => self.response.message = Some(Notice::error("the response read stopped")),
         }
     }
 

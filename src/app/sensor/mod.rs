@@ -7,6 +7,7 @@
 mod images;
 mod panels;
 
+use crate::app::notice::Notice;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -96,7 +97,7 @@ pub struct SensorWorkspace {
     split_texture: Option<(TextureKey, TextureHandle)>,
     curve_light_e_per_um2: f64,
     curve_pitch_um: f64,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
 }
 
 type TextureKey = (u64, RunQuality, usize, usize, u32);
@@ -159,7 +160,7 @@ impl SensorWorkspace {
     }
 
     /// The latest message and whether it is an error.
-    pub fn message(&self) -> Option<&(String, bool)> {
+    pub fn message(&self) -> Option<&Notice> {
         self.message.as_ref()
     }
 
@@ -219,14 +220,14 @@ impl SensorWorkspace {
             self.load = None;
             match done {
                 Ok(Ok(s)) => {
-                    self.message = Some((format!("loaded {}", s.name), false));
+                    self.message = Some(Notice::info(format!("loaded {}", s.name)));
                     self.scene = Some(Arc::new(s));
                     self.submitted = None;
                 }
                 Ok(Err(e)) => {
-                    self.message = Some((format!("cannot open the HDR scene: {e}"), true))
+                    self.message = Some(Notice::error(format!("cannot open the HDR scene: {e}")))
                 }
-                Err(()) => self.message = Some(("the HDR reader stopped".into(), true)),
+                Err(()) => self.message = Some(Notice::error("the HDR reader stopped")),
             }
         }
         if let Some(done) = self.job.as_ref().and_then(|j| j.task.poll())
@@ -242,7 +243,7 @@ impl SensorWorkspace {
                         textures,
                     });
                     self.split_texture = None;
-                    if self.message.as_ref().is_some_and(|m| m.1) {
+                    if self.message.as_ref().is_some_and(Notice::is_error) {
                         self.message = None;
                     }
                     if job.quality == RunQuality::Preview {
@@ -250,8 +251,8 @@ impl SensorWorkspace {
                     }
                 }
                 Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}
-                Ok(Err(e)) => self.message = Some((e.to_string(), true)),
-                Err(()) => self.message = Some(("the sensor job stopped".into(), true)),
+                Ok(Err(e)) => self.message = Some(Notice::error(e.to_string())),
+                Err(()) => self.message = Some(Notice::error("the sensor job stopped")),
             }
         }
         // A change of scene or settings: a new generation, preview first.
@@ -268,7 +269,7 @@ impl SensorWorkspace {
         if !unchanged {
             self.submitted = Some((self.settings.clone(), scene_id));
             if let Err(e) = self.settings.validate() {
-                self.message = Some((e.to_string(), true));
+                self.message = Some(Notice::error(e.to_string()));
                 return;
             }
             self.generation += 1;

@@ -3,6 +3,7 @@
 //! on a background thread whenever the design, the photo or a setting changes; the previous
 //! pictures stay until the new ones arrive.
 
+use crate::app::notice::Notice;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -79,7 +80,7 @@ pub struct RestoreView {
     job: Option<Job>,
     done_key: Option<Key>,
     rows: Vec<Row>,
-    message: Option<(String, bool)>,
+    message: Option<Notice>,
 }
 
 impl Default for RestoreView {
@@ -185,7 +186,7 @@ impl RestoreView {
         if self.photo.is_none() && self.photo_load.is_none() {
             match built_in() {
                 Ok(p) => self.set_photo(p, ctx),
-                Err(e) => self.message = Some((format!("the built-in photo: {e}"), true)),
+                Err(e) => self.message = Some(Notice::error(format!("the built-in photo: {e}"))),
             }
         }
         if let Some(answer) = self.dialog.as_ref().and_then(PendingDialog::poll) {
@@ -202,8 +203,10 @@ impl RestoreView {
                     self.set_photo(p, ctx);
                 }
                 // The previous photo stays.
-                Ok(Err(e)) => self.message = Some((format!("cannot open the photo: {e}"), true)),
-                Err(()) => self.message = Some(("the photo reader stopped".into(), true)),
+                Ok(Err(e)) => {
+                    self.message = Some(Notice::error(format!("cannot open the photo: {e}")))
+                }
+                Err(()) => self.message = Some(Notice::error("the photo reader stopped")),
             }
         }
         if let Some(done) = self.job.as_ref().and_then(|j| j.task.poll()) {
@@ -247,10 +250,10 @@ impl RestoreView {
                     self.done_key = key;
                 }
                 Ok(Err(e)) => {
-                    self.message = Some((e, true));
+                    self.message = Some(Notice::error(e));
                     self.done_key = key;
                 }
-                Err(()) => self.message = Some(("the restore job stopped".into(), true)),
+                Err(()) => self.message = Some(Notice::error("the restore job stopped")),
             }
         }
     }
