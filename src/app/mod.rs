@@ -563,9 +563,13 @@ impl StudioApp {
         ui.horizontal(|ui| {
             if let Some(n) = &self.session.status {
                 let color = if n.is_error() { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
-                ui.colored_label(color, &n.text);
+                // The button first: a long message is cut to the window (hover shows it whole)
+                // and never pushes Dismiss out of reach.
                 if ui.small_button("Dismiss").on_hover_text("Dismiss").clicked() {
                     self.session.status = None;
+                } else {
+                    ui.add(egui::Label::new(egui::RichText::new(&n.text).color(color)).truncate())
+                        .on_hover_text(&n.text);
                 }
             } else {
                 ui.weak("Ready. Draw on the opening (B paint, E erase, R rectangle, O ellipse, L line, F fill).");
@@ -700,7 +704,10 @@ fn restore_or_default(dirs: &AppDirs, status: &mut Option<Notice>) -> Design {
             Err(e) => {
                 // Keep the unreadable autosave aside instead of overwriting it.
                 let kept = match crate::io::safe_file::keep_aside(&path) {
-                    Ok(aside) => format!("kept it as {}", aside.display()),
+                    Ok(aside) => format!(
+                        "kept it as {} beside it",
+                        aside.file_name().unwrap_or_default().to_string_lossy()
+                    ),
                     Err(e) => format!("it stays where it was ({e})"),
                 };
                 *status = Some(Notice::error(format!(

@@ -23,7 +23,10 @@ pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<Notice>) 
         Err(e) => {
             // Kept aside: the next autosave would otherwise overwrite it.
             let kept = match crate::io::safe_file::keep_aside(p) {
-                Ok(aside) => format!("kept it as {}", aside.display()),
+                Ok(aside) => format!(
+                    "kept it as {} beside it",
+                    aside.file_name().unwrap_or_default().to_string_lossy()
+                ),
                 Err(e) => format!("it stays where it was ({e})"),
             };
             (
