@@ -27,6 +27,14 @@ pub enum Quality {
 }
 
 impl Quality {
+    /// How the UI names it.
+    pub fn label(self) -> &'static str {
+        match self {
+            Quality::Preview => "preview",
+            Quality::Full => "full quality",
+        }
+    }
+
     /// The target fine spacing at this quality, µm.
     pub fn fine_sample_um(self, op: &Optics) -> f64 {
         match self {

@@ -12,7 +12,7 @@ use crate::common::step_until;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use ndarray::Array2;
-use udc_studio::app::phase::{ChannelSet, PhaseQuality, PhaseView};
+use udc_studio::app::phase::{ChannelSet, PhaseView, Quality};
 use udc_studio::app::{StudioApp, Workspace};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
@@ -26,7 +26,7 @@ const PIXELS: usize = 64;
 fn capture_studio(dir: &std::path::Path) -> (Harness<'static, StudioApp>, PhaseDesign) {
     let mut h = common::studio(dir, false, Duration::from_secs(600));
     h.state_mut().set_workspace(Workspace::Phase);
-    h.state_mut().phase().quality = PhaseQuality::Preview;
+    h.state_mut().phase().quality = Quality::Preview;
     let mut d = PhaseDesign::thesis(42.0, 1.0);
     d.camera.pixels = PIXELS;
     h.state_mut().phase().set_design(d.clone());
@@ -165,7 +165,7 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
         "the pictures stay"
     );
     // A full-quality run over 64 directions × the spectral grid takes long enough to cancel.
-    h.state_mut().phase().quality = PhaseQuality::Full;
+    h.state_mut().phase().quality = Quality::Full;
     h.state_mut()
         .phase()
         .set_capture_channels(ChannelSet::Spectral);

@@ -10,14 +10,14 @@ use std::time::Duration;
 use crate::common::step_until;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
-use udc_studio::app::phase::{ChannelSet, HeightFormat, PhaseQuality, PhaseView};
+use udc_studio::app::phase::{ChannelSet, HeightFormat, PhaseView, Quality};
 use udc_studio::app::{StudioApp, Workspace};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::geometry::lenslet_count;
 use udc_studio::core::phase::{Incidence, Lambda0, Optics, PhaseDesign, PhaseSampling, phase_psfs};
 
-fn phase_studio(dir: &std::path::Path, quality: PhaseQuality) -> Harness<'static, StudioApp> {
+fn phase_studio(dir: &std::path::Path, quality: Quality) -> Harness<'static, StudioApp> {
     let mut h = common::studio(dir, false, Duration::from_secs(600));
     h.state_mut().set_workspace(Workspace::Phase);
     h.state_mut().phase().quality = quality;
@@ -37,7 +37,7 @@ fn wait_psfs(h: &mut Harness<'_, StudioApp>, what: &str) {
 #[test]
 fn the_thesis_design_shows_and_its_psfs_match_the_core() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = phase_studio(dir.path(), PhaseQuality::Full);
+    let mut h = phase_studio(dir.path(), Quality::Full);
     let d = h.state().phase_ref().design().clone();
     assert_eq!(d, PhaseDesign::thesis(42.0, 1.0));
     assert_eq!(lenslet_count(&d), 58);
@@ -49,7 +49,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
     assert!(on_screen(&h, "4.20"), "κ");
     wait_psfs(&mut h, "the full-quality PSFs");
     let shown = h.state().phase_ref().shown().unwrap();
-    assert_eq!(shown.quality, PhaseQuality::Full);
+    assert_eq!(shown.quality, Quality::Full);
     let psfs = shown.psfs.clone();
     let direct = phase_psfs(
         &d,
@@ -99,7 +99,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
 #[test]
 fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    let mut h = phase_studio(dir.path(), Quality::Preview);
     wait_psfs(&mut h, "the preview PSFs");
     let first = h.state().phase_ref().shown().unwrap().psfs.clone();
     // A thicker fold: the same geometry, other PSFs.
@@ -211,7 +211,7 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
 #[test]
 fn the_optimizer_allocates_every_lenslet_and_apply_is_undoable() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    let mut h = phase_studio(dir.path(), Quality::Preview);
     h.state_mut().phase().view = PhaseView::Optimizer;
     wait_psfs(&mut h, "the preview PSFs");
     h.get_by_label("Run optimizer").click();
@@ -267,7 +267,7 @@ fn the_optimizer_allocates_every_lenslet_and_apply_is_undoable() {
 fn cancel_stops_an_optimizer_run() {
     let dir = tempfile::tempdir().unwrap();
     // Thesis sampling: a run takes long enough to cancel.
-    let mut h = phase_studio(dir.path(), PhaseQuality::Full);
+    let mut h = phase_studio(dir.path(), Quality::Full);
     h.state_mut().phase().view = PhaseView::Optimizer;
     h.step();
     h.get_by_label("Run optimizer").click();
@@ -300,7 +300,7 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
     {
         let mut h = common::studio(dir.path(), false, Duration::from_millis(20));
         h.state_mut().set_workspace(Workspace::Phase);
-        h.state_mut().phase().quality = PhaseQuality::Preview;
+        h.state_mut().phase().quality = Quality::Preview;
         let mut d = PhaseDesign::thesis(56.0, 5.0);
         d.height_step_um = Some(0.2);
         h.state_mut().phase().set_design(d);
@@ -345,7 +345,7 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
     use udc_studio::core::phase::wavelength_grid_nm;
     use udc_studio::io::spectral;
     let dir = tempfile::tempdir().unwrap();
-    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    let mut h = phase_studio(dir.path(), Quality::Preview);
     h.state_mut().phase().channels = ChannelSet::Spectral;
     step_until(&mut h, "the thesis-response PSFs", |app| {
         app.phase_ref().is_up_to_date()
@@ -442,7 +442,7 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
 fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
     use udc_studio::core::phase::kernel_matrix;
     let dir = tempfile::tempdir().unwrap();
-    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    let mut h = phase_studio(dir.path(), Quality::Preview);
     let mut d = PhaseDesign::thesis(42.0, 1.0);
     d.camera.pixels = 64;
     h.state_mut().phase().set_design(d.clone());
@@ -509,7 +509,7 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
 fn cancel_stops_a_blur_matrix_run() {
     let dir = tempfile::tempdir().unwrap();
     // Thesis sampling and 1024 directions: long enough to cancel.
-    let mut h = phase_studio(dir.path(), PhaseQuality::Full);
+    let mut h = phase_studio(dir.path(), Quality::Full);
     h.step();
     h.get_by_label("Blur matrix (all 1024 directions)…")
         .click_accesskit();
@@ -533,7 +533,7 @@ fn cancel_stops_a_blur_matrix_run() {
 #[test]
 fn the_sampling_selector_switches_the_convention_and_undoes() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = phase_studio(dir.path(), PhaseQuality::Preview);
+    let mut h = phase_studio(dir.path(), Quality::Preview);
     wait_psfs(&mut h, "the preview PSFs");
     assert_eq!(
         h.state().phase_ref().design().sampling,

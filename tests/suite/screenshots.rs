@@ -204,7 +204,7 @@ fn sensor_previewer_maps_and_split_compare() {
 #[test]
 fn phase_masks_psfs_plate_and_optimizer() {
     use udc_studio::app::Workspace;
-    use udc_studio::app::phase::{PhaseQuality, PhaseView};
+    use udc_studio::app::phase::{PhaseView, Quality};
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut().set_workspace(Workspace::Phase);
@@ -222,7 +222,7 @@ fn phase_masks_psfs_plate_and_optimizer() {
     }
     capture(&mut h, "phase-plate");
     // The optimizer at preview sampling keeps the scenario quick.
-    h.state_mut().phase().quality = PhaseQuality::Preview;
+    h.state_mut().phase().quality = Quality::Preview;
     h.state_mut().phase().view = PhaseView::Optimizer;
     common::step_until(&mut h, "the preview PSFs", |app| {
         app.phase_ref().is_up_to_date()
@@ -242,13 +242,13 @@ fn phase_masks_psfs_plate_and_optimizer() {
 #[test]
 fn phase_capture_and_compare() {
     use udc_studio::app::Workspace;
-    use udc_studio::app::phase::{ChannelSet, PhaseQuality, PhaseView};
+    use udc_studio::app::phase::{ChannelSet, PhaseView, Quality};
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut().set_workspace(Workspace::Phase);
     // Full sampling through the peak wavelengths: the real view, ten times quicker than the
     // spectral channels.
-    h.state_mut().phase().quality = PhaseQuality::Full;
+    h.state_mut().phase().quality = Quality::Full;
     h.state_mut()
         .phase()
         .set_capture_channels(ChannelSet::Peaks);

@@ -18,7 +18,7 @@ use std::time::Instant;
 use egui::{ColorImage, TextureHandle, TextureOptions};
 use ndarray::Array2;
 
-use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::panels::views::restore::{Photo, built_in, color_image};
 use crate::app::tasks::Task;
@@ -36,7 +36,7 @@ const KEPT_OPERATORS: usize = 6;
 struct OperatorKey {
     design: PhaseDesign,
     optics: Optics,
-    quality: PhaseQuality,
+    quality: Quality,
     channels: ChannelSet,
     width: usize,
 }
@@ -275,7 +275,7 @@ impl PhaseWorkspace {
         }
         .resolve(
             &self.design,
-            &self.quality.sampling(),
+            &crate::core::phase::PhaseSampling::for_quality(self.quality),
             &[],
             &Progress::new(),
         )?;
@@ -569,7 +569,7 @@ fn run_setups(
                 progress.set(0.0);
                 let b = phase_blur(
                     &key.design,
-                    &key.quality.sampling(),
+                    &crate::core::phase::PhaseSampling::for_quality(key.quality),
                     &job.channels,
                     key.optics,
                     key.width,

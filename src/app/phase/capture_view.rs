@@ -6,7 +6,7 @@ use egui_plot::{Corner, GridMark, HoverPosition, Legend, Line, Plot, PlotPoints}
 
 use super::capture::CaptureRow;
 use super::compare::{CompareMetric, mean_score};
-use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::panels::message_ui;
 use crate::core::phase::imaging::THESIS_PHOTONS;
 use crate::io::photo::DIFFERENCE_GAIN;
@@ -70,7 +70,7 @@ impl PhaseWorkspace {
             }
         }
         message_ui(ui, self.capture_message());
-        if self.quality == PhaseQuality::Preview {
+        if self.quality == Quality::Preview {
             ui.colored_label(
                 ui.visuals().warn_fg_color,
                 "Preview sampling (Simulation panel): quick to look at, but it overstates the \

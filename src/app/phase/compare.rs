@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::sync::mpsc::{Receiver, channel};
 use std::time::Instant;
 
-use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::tasks::Task;
 use crate::core::phase::imaging::{
     CompareRow, Setup, THESIS_PHOTONS, compare_setups, thesis_setups,
@@ -55,7 +55,7 @@ impl CompareMetric {
 #[derive(Debug, Clone)]
 pub struct CompareRun {
     pub photo_name: String,
-    pub quality: PhaseQuality,
+    pub quality: Quality,
     pub channels: ChannelSet,
     pub setups: Vec<Setup>,
     pub photons: Vec<f64>,
@@ -236,7 +236,7 @@ impl PhaseWorkspace {
                 let photos = [photo.planes.clone()];
                 compare_setups(
                     &base,
-                    &quality.sampling(),
+                    &crate::core::phase::PhaseSampling::for_quality(quality),
                     &setups,
                     &grid,
                     &channels,

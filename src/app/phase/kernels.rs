@@ -13,7 +13,7 @@ use egui::{Align2, ColorImage, FontId, Sense, TextureHandle, TextureOptions, Ui,
 use ndarray::Array2;
 
 use super::views::gradient_bar;
-use super::{ChannelSet, PhaseQuality, PhaseWorkspace, same};
+use super::{ChannelSet, PhaseWorkspace, Quality, same};
 use crate::app::colormap::Colormap;
 use crate::app::tasks::Task;
 use crate::core::phase::{Optics, PhaseDesign, kernel_matrix};
@@ -27,7 +27,7 @@ const CHANNEL_NAMES: [&str; 3] = ["R", "G", "B"];
 /// A blur matrix on screen, with what it was computed for.
 pub struct ShownKernels {
     pub design: PhaseDesign,
-    pub quality: PhaseQuality,
+    pub quality: Quality,
     pub optics: Optics,
     pub channels: ChannelSet,
     /// Index of the channel (0 R, 1 G, 2 B).
@@ -42,7 +42,7 @@ pub struct ShownKernels {
 
 struct KernelJob {
     design: PhaseDesign,
-    quality: PhaseQuality,
+    quality: Quality,
     optics: Optics,
     channels: ChannelSet,
     channel: usize,
@@ -205,7 +205,15 @@ impl PhaseWorkspace {
         let task = Task::spawn(
             "phase-kernels",
             move || wake.request_repaint(),
-            move || kernel_matrix(&d, &quality.sampling(), &channel, optics, &p),
+            move || {
+                kernel_matrix(
+                    &d,
+                    &crate::core::phase::PhaseSampling::for_quality(quality),
+                    &channel,
+                    optics,
+                    &p,
+                )
+            },
         );
         self.kernels.message = None;
         self.kernels.job = Some(KernelJob {

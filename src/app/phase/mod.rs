@@ -20,6 +20,7 @@ mod response;
 mod views;
 
 use crate::app::notice::Notice;
+pub use crate::core::Quality;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -49,29 +50,6 @@ use optimizer::LongJob;
 pub const DESIGN_FILE: &str = "phase-design.json";
 /// Undo steps kept.
 const MAX_HISTORY: usize = 200;
-
-/// How finely the chain is sampled: the live preview, or the thesis's sampling.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PhaseQuality {
-    Preview,
-    Full,
-}
-
-impl PhaseQuality {
-    pub fn sampling(self) -> PhaseSampling {
-        match self {
-            PhaseQuality::Preview => PhaseSampling::preview(),
-            PhaseQuality::Full => PhaseSampling::thesis(),
-        }
-    }
-
-    pub fn label(self) -> &'static str {
-        match self {
-            PhaseQuality::Preview => "preview",
-            PhaseQuality::Full => "full quality",
-        }
-    }
-}
 
 /// The colour channels the PSFs and the optimizer use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -107,7 +85,7 @@ pub enum PhaseView {
 /// PSFs on screen, with what they were computed for.
 pub struct ShownPsfs {
     pub generation: u64,
-    pub quality: PhaseQuality,
+    pub quality: Quality,
     pub design: PhaseDesign,
     pub optics: Optics,
     pub channels: ChannelSet,
@@ -117,7 +95,7 @@ pub struct ShownPsfs {
 
 struct PsfJob {
     generation: u64,
-    quality: PhaseQuality,
+    quality: Quality,
     design: PhaseDesign,
     optics: Optics,
     channels: ChannelSet,
@@ -131,7 +109,7 @@ struct Submitted {
     channels: ChannelSet,
     single_mask: bool,
     angle_deg: f64,
-    target: PhaseQuality,
+    target: Quality,
 }
 
 /// The workspace's state.
@@ -141,7 +119,7 @@ pub struct PhaseWorkspace {
     undo: Vec<PhaseDesign>,
     redo: Vec<PhaseDesign>,
     /// Preview only, or preview then the thesis sampling (also the V matrix's and optimizer's).
-    pub quality: PhaseQuality,
+    pub quality: Quality,
     pub channels: ChannelSet,
     /// Lemma 1's comparison: one plate at the display, no second MLA.
     pub single_mask: bool,
@@ -200,7 +178,7 @@ impl PhaseWorkspace {
             design,
             undo: Vec::new(),
             redo: Vec::new(),
-            quality: PhaseQuality::Full,
+            quality: Quality::Full,
             channels: ChannelSet::Peaks,
             single_mask: false,
             angle_deg: 0.0,
@@ -424,10 +402,10 @@ impl PhaseWorkspace {
         if self.message.as_ref().is_some_and(Notice::is_error) {
             self.message = None;
         }
-        self.start(PhaseQuality::Preview, ctx);
+        self.start(Quality::Preview, ctx);
     }
 
-    fn start(&mut self, quality: PhaseQuality, ctx: &egui::Context) {
+    fn start(&mut self, quality: Quality, ctx: &egui::Context) {
         let Some(sub) = &self.submitted else {
             return;
         };
@@ -454,7 +432,7 @@ impl PhaseWorkspace {
             move || wake.request_repaint(),
             move || {
                 let t0 = Instant::now();
-                let sampling = quality.sampling();
+                let sampling = PhaseSampling::for_quality(quality);
                 let r = phase_psfs(
                     &d,
                     &sampling,
@@ -506,8 +484,8 @@ impl PhaseWorkspace {
                 if self.message.as_ref().is_some_and(Notice::is_error) {
                     self.message = None;
                 }
-                if job.quality == PhaseQuality::Preview && self.quality == PhaseQuality::Full {
-                    self.start(PhaseQuality::Full, ctx);
+                if job.quality == Quality::Preview && self.quality == Quality::Full {
+                    self.start(Quality::Full, ctx);
                 }
             }
             Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use egui::{ColorImage, TextureHandle, TextureOptions};
 
-use super::{ChannelSet, PhaseQuality, PhaseWorkspace};
+use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::colormap::Colormap;
 use crate::app::tasks::Task;
 use crate::core::phase::allocate::{channel_invertibility, plan_invertibility};
@@ -21,7 +21,7 @@ use crate::core::{Progress, SimError};
 /// A V matrix or optimizer run in flight.
 pub(super) struct LongJob<T> {
     pub(super) design: PhaseDesign,
-    pub(super) quality: PhaseQuality,
+    pub(super) quality: Quality,
     pub(super) channels: ChannelSet,
     pub(super) task: Task<Result<T, SimError>>,
     pub(super) progress: Arc<Progress>,
@@ -31,7 +31,7 @@ pub(super) struct LongJob<T> {
 /// The V matrix on screen and its picture.
 pub struct ShownV {
     pub design: PhaseDesign,
-    pub quality: PhaseQuality,
+    pub quality: Quality,
     pub v: Arc<VMatrix>,
     pub max: f64,
     pub(super) texture: TextureHandle,
@@ -40,7 +40,7 @@ pub struct ShownV {
 /// The optimizer's allocation and the plans it is compared with.
 pub struct OptimizerResult {
     pub design: PhaseDesign,
-    pub quality: PhaseQuality,
+    pub quality: Quality,
     pub channels: ChannelSet,
     pub allocation: Allocation,
     /// Per-channel invertibility (A normalised to max 1) of every lenslet at 530 nm.
@@ -124,7 +124,7 @@ impl PhaseWorkspace {
         let task = Task::spawn(
             name,
             move || wake.request_repaint(),
-            move || job(&d, &quality.sampling(), &p),
+            move || job(&d, &PhaseSampling::for_quality(quality), &p),
         );
         LongJob {
             design,
@@ -154,13 +154,7 @@ impl PhaseWorkspace {
         }
     }
 
-    fn show_v(
-        &mut self,
-        ctx: &egui::Context,
-        design: PhaseDesign,
-        quality: PhaseQuality,
-        v: VMatrix,
-    ) {
+    fn show_v(&mut self, ctx: &egui::Context, design: PhaseDesign, quality: Quality, v: VMatrix) {
         let max =
             v.v.iter()
                 .flatten()

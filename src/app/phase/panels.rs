@@ -2,7 +2,7 @@
 
 use egui::{RichText, Ui};
 
-use super::{PhaseQuality, PhaseWorkspace};
+use super::{PhaseWorkspace, Quality};
 use crate::app::panels::message_ui;
 use crate::core::phase::geometry::{Lenslets, lambda0_per_lenslet, lenslet_count};
 use crate::core::phase::{
@@ -352,14 +352,10 @@ impl PhaseWorkspace {
             .show(ui, |ui| {
                 ui.label("Quality");
                 ui.horizontal(|ui| {
-                    ui.selectable_value(&mut self.quality, PhaseQuality::Preview, "preview only")
+                    ui.selectable_value(&mut self.quality, Quality::Preview, "preview only")
                         .on_hover_text("60-nm display samples, 7 per sensor pixel: for dragging");
-                    ui.selectable_value(
-                        &mut self.quality,
-                        PhaseQuality::Full,
-                        "preview, then full",
-                    )
-                    .on_hover_text("Then the thesis's 15-nm samples, 14 per sensor pixel");
+                    ui.selectable_value(&mut self.quality, Quality::Full, "preview, then full")
+                        .on_hover_text("Then the thesis's 15-nm samples, 14 per sensor pixel");
                 });
                 ui.end_row();
                 ui.label("Channels");
@@ -381,8 +377,8 @@ impl PhaseWorkspace {
         if let Some(j) = &self.job {
             let p = j.progress.fraction();
             let label = match j.quality {
-                PhaseQuality::Preview => "preview…",
-                PhaseQuality::Full => "full quality…",
+                Quality::Preview => "preview…",
+                Quality::Full => "full quality…",
             };
             let mut cancel = false;
             ui.horizontal(|ui| {

@@ -8,6 +8,7 @@ mod images;
 mod panels;
 
 use crate::app::notice::Notice;
+pub use crate::core::Quality;
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -29,23 +30,17 @@ pub struct LoadedScene {
     pub preview: Scene,
 }
 
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum RunQuality {
-    Preview,
-    Full,
-}
-
 /// A finished run on screen, with its uploaded images.
 pub struct ShownRun {
     pub generation: u64,
-    pub quality: RunQuality,
+    pub quality: Quality,
     pub run: Arc<SensorRun>,
     textures: images::RunTextures,
 }
 
 struct Job {
     generation: u64,
-    quality: RunQuality,
+    quality: Quality,
     task: Task<Result<SensorRun, SimError>>,
     progress: Arc<Progress>,
 }
@@ -100,7 +95,7 @@ pub struct SensorWorkspace {
     message: Option<Notice>,
 }
 
-type TextureKey = (u64, RunQuality, usize, usize, u32);
+type TextureKey = (u64, Quality, usize, usize, u32);
 
 impl Default for SensorWorkspace {
     fn default() -> Self {
@@ -144,7 +139,7 @@ impl SensorWorkspace {
             && self
                 .shown
                 .as_ref()
-                .is_some_and(|s| s.generation == self.generation && s.quality == RunQuality::Full)
+                .is_some_and(|s| s.generation == self.generation && s.quality == Quality::Full)
     }
 
     /// Chooses the two captures of the Compare view and how they are shown.
@@ -246,8 +241,8 @@ impl SensorWorkspace {
                     if self.message.as_ref().is_some_and(Notice::is_error) {
                         self.message = None;
                     }
-                    if job.quality == RunQuality::Preview {
-                        self.start(RunQuality::Full, ctx);
+                    if job.quality == Quality::Preview {
+                        self.start(Quality::Full, ctx);
                     }
                 }
                 Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}
@@ -273,11 +268,11 @@ impl SensorWorkspace {
                 return;
             }
             self.generation += 1;
-            self.start(RunQuality::Preview, ctx);
+            self.start(Quality::Preview, ctx);
         }
     }
 
-    fn start(&mut self, quality: RunQuality, ctx: &egui::Context) {
+    fn start(&mut self, quality: Quality, ctx: &egui::Context) {
         let Some(scene) = self.scene.clone() else {
             return;
         };
@@ -285,10 +280,10 @@ impl SensorWorkspace {
             j.progress.cancel();
         }
         let settings = match quality {
-            RunQuality::Preview => self
+            Quality::Preview => self
                 .settings
                 .for_preview(scene.scene.dim(), scene.preview.dim()),
-            RunQuality::Full => self.settings.clone(),
+            Quality::Full => self.settings.clone(),
         };
         let progress = Arc::new(Progress::new());
         let p = progress.clone();
@@ -298,8 +293,8 @@ impl SensorWorkspace {
             move || wake.request_repaint(),
             move || {
                 let s = match quality {
-                    RunQuality::Preview => &scene.preview,
-                    RunQuality::Full => &scene.scene,
+                    Quality::Preview => &scene.preview,
+                    Quality::Full => &scene.scene,
                 };
                 run(s, &settings, &p)
             },

@@ -6,7 +6,7 @@ use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotImage, PlotPoint, Plot
 use ndarray::Array2;
 
 use super::images::{BIN_COLORS, gain_color, split_image};
-use super::{CompareMode, ExposureKind, RunQuality, SensorView, SensorWorkspace};
+use super::{CompareMode, ExposureKind, Quality, SensorView, SensorWorkspace};
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, pitch};
 
@@ -257,8 +257,8 @@ impl SensorWorkspace {
                 ui.horizontal(|ui| {
                     ui.spinner();
                     ui.label(match j.quality {
-                        RunQuality::Preview => "preview…",
-                        RunQuality::Full => "full scene…",
+                        Quality::Preview => "preview…",
+                        Quality::Full => "full scene…",
                     });
                 });
                 ui.add(egui::ProgressBar::new(j.progress.fraction()));
@@ -267,8 +267,8 @@ impl SensorWorkspace {
                 ui.weak(format!(
                     "{} · {}×{} px · {:.0} ms",
                     match s.quality {
-                        RunQuality::Preview => "preview",
-                        RunQuality::Full => "full scene",
+                        Quality::Preview => "preview",
+                        Quality::Full => "full scene",
                     },
                     s.run.electrons.ncols(),
                     s.run.electrons.nrows(),

@@ -120,6 +120,14 @@ pub struct PhaseSampling {
 }
 
 impl PhaseSampling {
+    /// The live preview's sampling or the thesis's, by quality.
+    pub fn for_quality(quality: crate::core::Quality) -> Self {
+        match quality {
+            crate::core::Quality::Preview => PhaseSampling::preview(),
+            crate::core::Quality::Full => PhaseSampling::thesis(),
+        }
+    }
+
     /// The thesis sampling: 15 nm at the display, 14 fine samples per pixel.
     pub fn thesis() -> Self {
         PhaseSampling {
