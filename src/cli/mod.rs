@@ -4,6 +4,9 @@ pub mod optimize;
 pub mod phase;
 pub mod sensor;
 
+mod parse;
+pub use parse::{CliParseError, parse};
+
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
@@ -15,66 +18,6 @@ use crate::core::mask::{MaskRegion, MaskSpec, Tone};
 use crate::core::{Analysis, Progress};
 use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
 use crate::io::{design_file, export, pattern, presets, report, spectral};
-
-/// Every command, and every subcommand below it, takes negative numbers as values.
-fn negative_numbers(cmd: clap::Command) -> clap::Command {
-    cmd.allow_negative_numbers(true)
-        .mut_subcommands(negative_numbers)
-}
-
-/// Parses the command line. Negative numbers are values, so `--snr-db -1000` reaches the check
-/// that says what is wrong with it; a usage error is one line (`--help` prints the rest).
-///
-/// # Errors
-/// Help and version requests as clap's own "errors" (print them and exit 0); anything else as
-/// one line for stderr.
-pub fn parse() -> Result<Cli, CliParseError> {
-    use clap::{CommandFactory, FromArgMatches};
-    let matches = negative_numbers(Cli::command())
-        .try_get_matches()
-        .map_err(CliParseError::from)?;
-    Cli::from_arg_matches(&matches).map_err(CliParseError::from)
-}
-
-/// What [`parse`] refuses.
-pub enum CliParseError {
-    /// `--help` or `--version`: clap prints it.
-    Display(clap::Error),
-    /// A usage error in one line, without "error: ".
-    Usage(String),
-}
-
-impl From<clap::Error> for CliParseError {
-    fn from(e: clap::Error) -> Self {
-        use clap::error::ErrorKind;
-        match e.kind() {
-            ErrorKind::DisplayHelp
-            | ErrorKind::DisplayVersion
-            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => CliParseError::Display(e),
-            _ => {
-                // clap's message is a headline, then indented details (the missing arguments,
-                // the possible values, tips), then a usage block: keep the headline and the
-                // details that say what is allowed, on one line.
-                let text = e.render().to_string();
-                let mut lines = text.lines().filter(|l| !l.trim().is_empty());
-                let mut first = lines
-                    .next()
-                    .unwrap_or("invalid arguments")
-                    .trim_start_matches("error: ")
-                    .to_string();
-                let details: Vec<&str> = lines
-                    .take_while(|l| l.starts_with(' '))
-                    .map(str::trim)
-                    .filter(|l| !l.starts_with("tip:"))
-                    .collect();
-                if !details.is_empty() {
-                    first = format!("{first} {}", details.join(", "));
-                }
-                CliParseError::Usage(format!("{first} (see --help)"))
-            }
-        }
-    }
-}
 
 #[derive(Debug, Parser)]
 #[command(

@@ -1,0 +1,246 @@
+//! Every design value checked against its documented range (the README's Limits table), the
+//! error naming the field by its path in the design file.
+
+use super::*;
+
+fn finite_positive(field: &str, v: f64) -> Result<(), SimError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(SimError::field(
+            field,
+            format!("must be a positive finite number (got {v:?})"),
+        ))
+    }
+}
+
+fn finite(field: &str, v: f64) -> Result<(), SimError> {
+    if v.is_finite() {
+        Ok(())
+    } else {
+        Err(SimError::field(
+            field,
+            format!("must be a finite number (got {v:?})"),
+        ))
+    }
+}
+
+/// `v` in `[lo, hi]` (both positive): the documented range of a length or ratio, so that no
+/// overflow or degenerate sampling reaches the simulation.
+fn within(field: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), SimError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(SimError::field(
+            field,
+            format!("must be between {lo} and {hi}{unit} (got {v:?})"),
+        ))
+    }
+}
+
+impl Design {
+    /// Checks every value; the error names the first bad field by its path in the design file.
+    ///
+    /// # Errors
+    /// [`SimError::InvalidField`] for the first value out of range.
+    pub fn validate(&self) -> Result<(), SimError> {
+        let o = &self.opening;
+        finite_positive("opening.pitch_um", o.pitch_um)?;
+        within("opening.pitch_um", o.pitch_um, 0.0, 20_000.0, " µm")?;
+        let n = o.cells.len();
+        if n == 0 {
+            return Err(SimError::field(
+                "opening.cells",
+                "must have at least one row",
+            ));
+        }
+        if n > MAX_CELLS {
+            return Err(SimError::field(
+                "opening.cells",
+                format!("{n} rows is more than the {MAX_CELLS} the studio supports"),
+            ));
+        }
+        for (r, row) in o.cells.iter().enumerate() {
+            if row.len() != n {
+                return Err(SimError::field(
+                    format!("opening.cells[{r}]"),
+                    format!(
+                        "has {} entries; the grid must be square ({n}×{n})",
+                        row.len()
+                    ),
+                ));
+            }
+            for (c, &v) in row.iter().enumerate() {
+                if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
+                    return Err(SimError::field(
+                        format!("opening.cells[{r}][{c}]"),
+                        format!("transmittance must be in [0, 1] (got {v:?})"),
+                    ));
+                }
+            }
+        }
+        for (i, p) in o.polygons.iter().enumerate() {
+            if p.vertices_um.len() < 3 {
+                return Err(SimError::field(
+                    format!("opening.polygons[{i}].vertices_um"),
+                    "a polygon needs at least 3 vertices",
+                ));
+            }
+            for (j, v) in p.vertices_um.iter().enumerate() {
+                if !(v[0].is_finite() && v[1].is_finite()) {
+                    return Err(SimError::field(
+                        format!("opening.polygons[{i}].vertices_um[{j}]"),
+                        "coordinates must be finite",
+                    ));
+                }
+            }
+        }
+        let t = &self.tiling;
+        finite("tiling.origin_offset_cells[0]", t.origin_offset_cells[0])?;
+        finite("tiling.origin_offset_cells[1]", t.origin_offset_cells[1])?;
+        within(
+            "tiling.wiring_gap_um",
+            t.wiring_gap_um,
+            0.0,
+            20_000.0,
+            " µm",
+        )?;
+        if !(t.wiring_gap_um.is_finite() && t.wiring_gap_um >= 0.0) {
+            return Err(SimError::field(
+                "tiling.wiring_gap_um",
+                format!(
+                    "must be zero or a positive finite number of µm (got {:?})",
+                    t.wiring_gap_um
+                ),
+            ));
+        }
+        let op = &self.optics;
+        finite_positive("optics.focal_length_mm", op.focal_length_mm)?;
+        finite_positive("optics.f_number", op.f_number)?;
+        finite_positive("optics.pupil_sample_um", op.pupil_sample_um)?;
+        finite_positive("optics.fine_sample_um", op.fine_sample_um)?;
+        finite_positive("optics.sensor_pixel_um", op.sensor_pixel_um)?;
+        within(
+            "optics.focal_length_mm",
+            op.focal_length_mm,
+            0.1,
+            1000.0,
+            " mm",
+        )?;
+        within("optics.f_number", op.f_number, 0.5, 64.0, "")?;
+        within(
+            "optics.pupil_sample_um",
+            op.pupil_sample_um,
+            0.05,
+            1000.0,
+            " µm",
+        )?;
+        within(
+            "optics.fine_sample_um",
+            op.fine_sample_um,
+            0.01,
+            100.0,
+            " µm",
+        )?;
+        within(
+            "optics.sensor_pixel_um",
+            op.sensor_pixel_um,
+            0.1,
+            100.0,
+            " µm",
+        )?;
+        if op.window_px < 2 || op.window_px > MAX_WINDOW_PX {
+            return Err(SimError::field(
+                "optics.window_px",
+                format!(
+                    "must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {:?})",
+                    op.window_px
+                ),
+            ));
+        }
+        for (k, v) in op.axis_in_pixel_um.iter().enumerate() {
+            if !(v.is_finite() && *v >= 0.0 && *v < op.sensor_pixel_um) {
+                return Err(SimError::field(
+                    format!("optics.axis_in_pixel_um[{k}]"),
+                    format!(
+                        "must lie inside the pixel, in [0, {}) µm (got {v:?})",
+                        op.sensor_pixel_um
+                    ),
+                ));
+            }
+        }
+        let across = op.pupil_diameter_um() / o.pitch_um;
+        let pixels = std::f64::consts::FRAC_PI_4 * across * across;
+        if pixels > MAX_PUPIL_PIXELS {
+            let min_pitch =
+                op.pupil_diameter_um() * (std::f64::consts::FRAC_PI_4 / MAX_PUPIL_PIXELS).sqrt();
+            return Err(SimError::field(
+                "opening.pitch_um",
+                format!(
+                    "at {:?} µm the lens pupil ({:.2} mm) spans {:.2e} display pixels; at most \
+                     {MAX_PUPIL_PIXELS:.0} are simulated: use a pitch of at least {:.1} µm",
+                    o.pitch_um,
+                    op.pupil_diameter_um() / 1000.0,
+                    pixels,
+                    (min_pitch * 10.0).ceil() / 10.0
+                ),
+            ));
+        }
+        if self.channels.is_empty() {
+            return Err(SimError::field(
+                "channels",
+                "at least one colour channel is needed",
+            ));
+        }
+        for (i, ch) in self.channels.iter().enumerate() {
+            if ch.wavelengths_nm.is_empty() {
+                return Err(SimError::field(
+                    format!("channels[{i}].wavelengths_nm"),
+                    "needs at least one wavelength",
+                ));
+            }
+            if ch.wavelengths_nm.len() > MAX_WAVELENGTHS {
+                return Err(SimError::field(
+                    format!("channels[{i}].wavelengths_nm"),
+                    format!(
+                        "has {} wavelengths; at most {MAX_WAVELENGTHS} per channel are simulated",
+                        ch.wavelengths_nm.len()
+                    ),
+                ));
+            }
+            if ch.wavelengths_nm.len() != ch.weights.len() {
+                return Err(SimError::field(
+                    format!("channels[{i}].weights"),
+                    format!(
+                        "has {} entries but wavelengths_nm has {}",
+                        ch.weights.len(),
+                        ch.wavelengths_nm.len()
+                    ),
+                ));
+            }
+            for (j, &l) in ch.wavelengths_nm.iter().enumerate() {
+                if !(l.is_finite() && (100.0..=20_000.0).contains(&l)) {
+                    return Err(SimError::field(
+                        format!("channels[{i}].wavelengths_nm[{j}]"),
+                        format!("must be a wavelength between 100 and 20000 nm (got {l:?})"),
+                    ));
+                }
+            }
+            for (j, &w) in ch.weights.iter().enumerate() {
+                if !(w.is_finite() && w >= 0.0) {
+                    return Err(SimError::field(
+                        format!("channels[{i}].weights[{j}]"),
+                        format!("must be zero or positive (got {w:?})"),
+                    ));
+                }
+            }
+            if ch.weights.iter().sum::<f64>() <= 0.0 {
+                return Err(SimError::field(
+                    format!("channels[{i}].weights"),
+                    "at least one weight must be positive",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
