@@ -5,6 +5,7 @@
 //! cancels the running job). The UI thread only draws.
 
 mod images;
+mod numbers;
 mod panels;
 
 use crate::app::notice::Notice;

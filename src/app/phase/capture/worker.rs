@@ -1,0 +1,84 @@
+//! The capture job on its worker thread: each setup's operator (kept or built), then the
+//! capture and restoration, sent row by row.
+
+use super::*;
+
+/// One setup for the worker: its row, its operator's key, the operator if kept.
+pub(super) struct SetupJob {
+    pub(super) row: usize,
+    pub(super) key: OperatorKey,
+    pub(super) blur: Option<Arc<PhaseBlur>>,
+    pub(super) channels: Arc<Vec<Channel>>,
+}
+
+/// The worker: each setup's operator (kept or built), then the capture and restoration, sent
+/// through `out` as each setup finishes.
+pub(super) fn run_setups(
+    jobs: &[SetupJob],
+    truth: &[Array2<f64>],
+    photons: f64,
+    seed: u64,
+    progress: &Progress,
+    step: &Mutex<(String, Instant)>,
+    out: &Sender<(usize, Finished)>,
+) -> Result<(), SimError> {
+    let say = |text: String| {
+        if let Ok(mut s) = step.lock() {
+            *s = (text, Instant::now());
+        }
+    };
+    let n = jobs.len();
+    for (i, job) in jobs.iter().enumerate() {
+        let key = &job.key;
+        let label = match key.channels {
+            ChannelSet::Peaks => format!(
+                "{} (peak wavelengths)",
+                setup_label(key.optics, &key.design)
+            ),
+            _ => setup_label(key.optics, &key.design),
+        };
+        let (blur, built) = match &job.blur {
+            Some(b) => (b.clone(), false),
+            None => {
+                say(format!(
+                    "step {} of {}: blur matrix of {label} ({} directions)",
+                    2 * i + 1,
+                    2 * n,
+                    key.width
+                ));
+                progress.set(0.0);
+                let b = phase_blur(
+                    &key.design,
+                    &crate::core::phase::PhaseSampling::for_quality(key.quality),
+                    &job.channels,
+                    key.optics,
+                    key.width,
+                    progress,
+                )?;
+                (Arc::new(b), true)
+            }
+        };
+        say(format!(
+            "step {} of {}: capture and restore through {label}",
+            2 * i + 2,
+            2 * n
+        ));
+        progress.set(0.0);
+        let run = capture_and_restore(&blur, truth, photons, seed, progress)?;
+        let images = run_images(&run, truth);
+        let finished = Finished {
+            label,
+            key: key.clone(),
+            blur,
+            built,
+            fov_deg: key.design.fov_deg(),
+            run,
+            images,
+        };
+        // A closed channel means the view went away: nothing to show it to.
+        if out.send((job.row, finished)).is_err() {
+            return Err(SimError::Cancelled);
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,90 @@
+//! The sensor workspace's right panel: the Table 5.4-style numbers of the shown run.
+
+use egui::{RichText, Ui};
+
+use super::{Quality, SensorWorkspace};
+
+impl SensorWorkspace {
+    /// Right: the Table 5.4-style numbers.
+    pub fn numbers_ui(&mut self, ui: &mut Ui) {
+        ui.heading("Numbers");
+        match (&self.job, &self.shown) {
+            (Some(j), _) => {
+                ui.horizontal(|ui| {
+                    ui.spinner();
+                    ui.label(match j.quality {
+                        Quality::Preview => "preview…",
+                        Quality::Full => "full scene…",
+                    });
+                });
+                ui.add(egui::ProgressBar::new(j.progress.fraction()));
+            }
+            (None, Some(s)) => {
+                ui.weak(format!(
+                    "{} · {}×{} px · {:.0} ms",
+                    match s.quality {
+                        Quality::Preview => "preview",
+                        Quality::Full => "full scene",
+                    },
+                    s.run.electrons.ncols(),
+                    s.run.electrons.nrows(),
+                    s.run.elapsed_ms
+                ));
+            }
+            (None, None) => {}
+        }
+        let Some(shown) = &self.shown else {
+            ui.label("Open an HDR scene to start.");
+            return;
+        };
+        let run = &shown.run;
+        ui.label(format!(
+            "ROI {} px; metrics after the tone curve",
+            run.roi_px
+        ));
+        egui::Grid::new("sensor_numbers")
+            .striped(true)
+            .num_columns(5)
+            .show(ui, |ui| {
+                for h in [
+                    "strategy",
+                    "worst ROI SSIM",
+                    "mean SSIM",
+                    "PSNR (dB)",
+                    "saturated",
+                ] {
+                    ui.strong(h);
+                }
+                ui.end_row();
+                let best = run
+                    .strategies
+                    .iter()
+                    .map(|s| s.worst_roi_ssim)
+                    .fold(f64::NEG_INFINITY, f64::max);
+                for s in &run.strategies {
+                    let name = RichText::new(&s.name);
+                    ui.label(if s.worst_roi_ssim == best {
+                        name.strong()
+                    } else {
+                        name
+                    });
+                    ui.monospace(format!("{:.4}", s.worst_roi_ssim));
+                    ui.monospace(format!("{:.4}", s.mean_ssim));
+                    ui.monospace(format!("{:.2}", s.psnr_db));
+                    ui.monospace(format!("{:.2} %", 100.0 * s.saturated_fraction));
+                    ui.end_row();
+                }
+            });
+        ui.add_space(6.0);
+        egui::Grid::new("sensor_dr").num_columns(2).show(ui, |ui| {
+            ui.strong("strategy");
+            ui.strong("dynamic range");
+            ui.end_row();
+            for s in &run.strategies {
+                ui.label(&s.name);
+                ui.monospace(format!("{:.1} dB", s.dynamic_range_db));
+                ui.end_row();
+            }
+        });
+    }
+}
