@@ -5,7 +5,6 @@
 //! (2) draws the panels, which push [`Command`]s, and (3) applies those commands once.
 
 mod actions;
-pub mod colormap;
 pub mod commands;
 pub mod dialogs;
 pub mod document;
@@ -16,6 +15,7 @@ pub mod phase;
 pub mod sensor;
 pub mod settings;
 pub mod tasks;
+pub mod widgets;
 mod worker;
 
 use crate::app::notice::Notice;

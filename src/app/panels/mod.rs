@@ -9,7 +9,6 @@ pub mod optimize;
 pub mod tiling;
 pub mod views;
 
-use crate::app::notice::Notice;
 use std::sync::Arc;
 
 use super::commands::{Command, Tool};
@@ -63,17 +62,5 @@ impl PanelCtx<'_> {
         if &design != self.design {
             self.commands.push(Command::Edit(Box::new(design)));
         }
-    }
-}
-
-/// A panel's latest message: red when it is an error, dimmed otherwise.
-pub fn message_ui(ui: &mut egui::Ui, message: Option<&Notice>) {
-    if let Some(n) = message {
-        let color = if n.is_error() {
-            ui.visuals().error_fg_color
-        } else {
-            ui.visuals().weak_text_color()
-        };
-        ui.colored_label(color, &n.text);
     }
 }

@@ -273,7 +273,7 @@ impl OptimizePanel {
                 self.start(ctx.design, ui.ctx());
             }
         });
-        crate::app::panels::message_ui(ui, self.message.as_ref());
+        crate::app::widgets::message_ui(ui, self.message.as_ref());
         if let Some(last) = self.history.last().cloned() {
             ui.separator();
             self.opening_ui(ui, &last);

@@ -25,8 +25,8 @@ use self::plots::{
 };
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
-use crate::app::colormap::Colormap;
 use crate::app::commands::Command;
+use crate::app::widgets::colormap::Colormap;
 use crate::core::analyze::{ChannelAnalysis, Quality};
 
 /// The tabs of the result views.

@@ -20,8 +20,8 @@ use ndarray::Array2;
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{PendingDialog, Purpose};
-use crate::app::panels::views::restore::{Photo, built_in, color_image};
 use crate::app::tasks::Task;
+use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::design::Channel;
 use crate::core::phase::imaging::{PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur};
 use crate::core::phase::{Optics, PhaseDesign};

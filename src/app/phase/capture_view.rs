@@ -7,7 +7,7 @@ use egui_plot::{Corner, GridMark, HoverPosition, Legend, Line, Plot, PlotPoints}
 use super::capture::CaptureRow;
 use super::compare::{CompareMetric, mean_score};
 use super::{ChannelSet, PhaseWorkspace, Quality};
-use crate::app::panels::message_ui;
+use crate::app::widgets::message_ui;
 use crate::core::phase::imaging::THESIS_PHOTONS;
 use crate::io::photo::DIFFERENCE_GAIN;
 

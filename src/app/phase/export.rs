@@ -296,7 +296,7 @@ impl PhaseWorkspace {
                         ui.label("exporting…");
                     });
                 }
-                crate::app::panels::message_ui(ui, self.export.message.as_ref());
+                crate::app::widgets::message_ui(ui, self.export.message.as_ref());
             });
     }
 }

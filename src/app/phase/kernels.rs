@@ -14,8 +14,8 @@ use ndarray::Array2;
 
 use super::views::gradient_bar;
 use super::{ChannelSet, PhaseWorkspace, Quality, same};
-use crate::app::colormap::Colormap;
 use crate::app::tasks::Task;
+use crate::app::widgets::colormap::Colormap;
 use crate::core::phase::{Optics, PhaseDesign, kernel_matrix};
 use crate::core::{Progress, SimError};
 
@@ -396,7 +396,7 @@ impl PhaseWorkspace {
         if cancel {
             self.cancel_kernels();
         }
-        crate::app::panels::message_ui(ui, self.kernels.message.as_ref());
+        crate::app::widgets::message_ui(ui, self.kernels.message.as_ref());
         let stale = self.kernels_are_stale();
         let Some(s) = &self.kernels.shown else {
             return;

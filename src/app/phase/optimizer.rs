@@ -8,8 +8,8 @@ use std::time::Instant;
 use egui::{ColorImage, TextureHandle, TextureOptions};
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
-use crate::app::colormap::Colormap;
 use crate::app::tasks::Task;
+use crate::app::widgets::colormap::Colormap;
 use crate::core::phase::allocate::{channel_invertibility, plan_invertibility};
 use crate::core::phase::geometry::{lenslet_count, uniform_counts};
 use crate::core::phase::{

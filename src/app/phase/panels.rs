@@ -3,7 +3,7 @@
 use egui::{RichText, Ui};
 
 use super::{PhaseWorkspace, Quality};
-use crate::app::panels::message_ui;
+use crate::app::widgets::message_ui;
 use crate::core::phase::geometry::{Lenslets, lambda0_per_lenslet, lenslet_count};
 use crate::core::phase::{
     GRID_LEN, HeightRounding, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, SamplingConvention,

@@ -195,7 +195,7 @@ impl PhaseWorkspace {
             {
                 self.ask_response(&ctx);
             }
-            crate::app::panels::message_ui(ui, self.response.message.as_ref());
+            crate::app::widgets::message_ui(ui, self.response.message.as_ref());
         });
     }
 }

@@ -4,7 +4,7 @@
 use egui::{Color32, ColorImage, TextureHandle, TextureOptions};
 use ndarray::Array2;
 
-use crate::app::colormap::Colormap;
+use crate::app::widgets::colormap::Colormap;
 use crate::core::sensor::{BIN_SIZES, SensorRun};
 
 /// Colours of the bin sizes 1, 2, 4, 8 (legend and map).

@@ -246,7 +246,7 @@ impl SensorWorkspace {
                 ui.add(egui::DragValue::new(&mut s.seed));
                 ui.end_row();
             });
-        crate::app::panels::message_ui(ui, self.message.as_ref());
+        crate::app::widgets::message_ui(ui, self.message.as_ref());
     }
 
     /// Centre: maps, comparison or curves.

@@ -6,7 +6,7 @@ use std::ops::RangeInclusive;
 use egui::{Color32, ColorImage};
 use ndarray::Array2;
 
-use crate::app::colormap::Colormap;
+use crate::app::widgets::colormap::Colormap;
 
 /// Default depth of the log views: six decades below the peak show the display's faint
 /// diffraction orders without drowning the image in round-off noise.

@@ -9,7 +9,7 @@ use egui_plot::{
 use ndarray::Array2;
 
 use super::images::{Grid, circle_points, format_value};
-use crate::app::colormap::Colormap;
+use crate::app::widgets::colormap::Colormap;
 use crate::core::Analysis;
 
 /// Width reserved beside an image plot for its colour bar and tick labels.

@@ -7,12 +7,13 @@ use crate::app::notice::Notice;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use egui::{Color32, ColorImage, TextureHandle, TextureOptions, Ui};
+use egui::{TextureHandle, TextureOptions, Ui};
 use ndarray::Array2;
 
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::panels::{PanelCtx, Pinned, Shown};
 use crate::app::tasks::Task;
+use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::restore::capture::REFERENCE_LTR;
 use crate::core::restore::{
     CaptureSettings, CgSettings, Light, Method, RestoreResult, RestoreSettings, THESIS_NSR,
@@ -25,12 +26,6 @@ use crate::io::photo;
 const MAX_SIDE_PX: u32 = 1024;
 /// Gain of the difference image (as the CLI's).
 const DIFFERENCE_GAIN: f64 = photo::DIFFERENCE_GAIN;
-
-/// A loaded photo: a name for the screen and one plane per channel in `[0, 1]`.
-pub struct Photo {
-    pub name: String,
-    pub planes: Vec<Array2<f64>>,
-}
 
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum MethodChoice {
@@ -102,36 +97,6 @@ impl Default for RestoreView {
             message: None,
         }
     }
-}
-
-/// The built-in photo, named for the screen.
-pub(crate) fn built_in() -> Result<Photo, String> {
-    Ok(Photo {
-        name: photo::BUILT_IN_PHOTO_NAME.into(),
-        planes: photo::built_in_photo().map_err(|e| e.to_string())?,
-    })
-}
-
-/// Planes (1 grey or 3 R, G, B) as an 8-bit picture, values × `scale` clipped to [0, 1].
-pub(crate) fn color_image(planes: &[&Array2<f64>], scale: f64) -> ColorImage {
-    let Some(first) = planes.first() else {
-        return ColorImage::new([1, 1], vec![Color32::BLACK]);
-    };
-    let (h, w) = first.dim();
-    let byte = |v: f64| ((v * scale).clamp(0.0, 1.0) * 255.0).round() as u8;
-    let pixels = (0..h * w)
-        .map(|i| {
-            let (y, x) = (i / w, i % w);
-            let c = |k: usize| {
-                planes
-                    .get(k)
-                    .or(planes.first())
-                    .map_or(0, |p| byte(p[[y, x]]))
-            };
-            Color32::from_rgb(c(0), c(1), c(2))
-        })
-        .collect();
-    ColorImage::new([w, h], pixels)
 }
 
 impl RestoreView {
@@ -345,7 +310,7 @@ impl RestoreView {
         if stale && !running_this && self.photo.is_some() {
             self.start(key, shown, ctx.pinned, &egui_ctx);
         }
-        crate::app::panels::message_ui(ui, self.message.as_ref());
+        crate::app::widgets::message_ui(ui, self.message.as_ref());
         if ctx.pinned.is_none() {
             ui.weak("Pin a design as A (Compare menu) to see both on the same photo and light.");
         }
