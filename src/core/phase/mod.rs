@@ -41,6 +41,7 @@ pub mod czt;
 pub mod geometry;
 pub mod imaging;
 pub mod invertibility;
+pub mod plate;
 pub mod psf;
 
 use serde::{Deserialize, Serialize};

@@ -55,9 +55,7 @@ pub const MAX_LENGTH_UM: f64 = 100_000.0;
 /// STL base-slab thickness limits. A base keeps the solid one piece where the height is 0.
 pub const MIN_BASE_UM: f64 = 0.01;
 pub const MAX_BASE_UM: f64 = 10_000.0;
-/// Most flat or curved stretches between height jumps the profile may have (a design with a
-/// tiny step or fold under wide lenslets has billions).
-pub const MAX_PIECES: usize = 4_000_000;
+pub use crate::core::phase::plate::MAX_PIECES;
 /// Most STL triangles (1 GB of binary STL).
 pub const MAX_STL_TRIANGLES: usize = 20_000_000;
 
