@@ -605,3 +605,30 @@ fn fit_max_side_shrinks_to_the_limit_and_keeps_what_fits() {
     }
     assert_eq!(fit_max_side(full.clone(), w.max(h)), full);
 }
+
+#[test]
+fn a_truncated_jpeg_is_refused_and_the_whole_one_loads() {
+    use udc_studio::io::photo::load_photo;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let img = image::RgbImage::from_fn(64, 48, |x, y| {
+        image::Rgb([(x * 4) as u8, (y * 5) as u8, 90])
+    });
+    let mut bytes = Vec::new();
+    image::DynamicImage::ImageRgb8(img)
+        .write_to(
+            &mut std::io::Cursor::new(&mut bytes),
+            image::ImageFormat::Jpeg,
+        )
+        .expect("encode");
+    let whole = dir.path().join("whole.jpg");
+    std::fs::write(&whole, &bytes).expect("write");
+    let planes = load_photo(&whole, None).expect("a complete JPEG loads");
+    assert_eq!(planes[0].dim(), (48, 64));
+    // Cut before the last rows: decoders would fill them with grey and report success.
+    let cut = dir.path().join("cut.jpg");
+    std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).expect("write");
+    let err = load_photo(&cut, None).expect_err("a truncated JPEG is refused");
+    let text = err.to_string();
+    assert!(text.contains("truncated"), "{text}");
+    assert_names(&err, &cut);
+}
