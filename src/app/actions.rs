@@ -7,9 +7,9 @@ use std::time::Instant;
 use super::StudioApp;
 use super::commands::{Command, ExportKind};
 use super::dialogs::{PendingDialog, Purpose};
+use super::job::{Job, JobError};
 use super::panels::Pinned;
 use super::panels::views::ViewTab;
-use super::tasks::Task;
 use crate::core::Design;
 use crate::core::analyze::Quality;
 use crate::core::opening_ops;
@@ -212,10 +212,8 @@ impl StudioApp {
     /// Reads a design file on a background thread; the current design stays until it is valid.
     pub fn open_path(&mut self, path: PathBuf) {
         let p = path.clone();
-        let task = Task::spawn("open-design", self.wake(), move || {
-            design_file::load_design(&p)
-                .map(|d| (d, Some(p)))
-                .map_err(|e| e.to_string())
+        let task = Job::spawn("design reader", self.wake(), move |_| {
+            design_file::load_design(&p).map(|d| (d, Some(p)))
         });
         self.session.load = Some(task);
     }
@@ -224,7 +222,7 @@ impl StudioApp {
     /// thread; it arrives as one undoable edit of the current design.
     fn import_opening(&mut self, path: PathBuf) {
         let mut design = self.doc.design().clone();
-        let task = Task::spawn("import-opening", self.wake(), move || {
+        let task = Job::spawn("opening reader", self.wake(), move |_| {
             let ext = path
                 .extension()
                 .map(|e| e.to_string_lossy().to_lowercase())
@@ -233,11 +231,10 @@ impl StudioApp {
                 crate::io::mask::import_opening(&path, &design)
             } else {
                 pattern::load_pattern_png(&path)
-            }
-            .map_err(|e| e.to_string())?;
+            }?;
             design.opening.cells = cells;
             design.opening.polygons.clear();
-            Ok((design, None))
+            Ok::<_, JobError>((design, None))
         });
         self.session.load = Some(task);
     }
@@ -261,7 +258,8 @@ impl StudioApp {
             self.set_status(Notice::error("nothing to export yet"));
             return;
         };
-        let task = Task::spawn("export", self.wake(), move || {
+        let wake = self.wake();
+        self.session.writes.spawn(wake, move || {
             let a = &shown.analysis;
             // One dialog, every channel: multi-channel images get the channel name appended.
             let per_channel = |write: fn(
@@ -304,7 +302,6 @@ impl StudioApp {
                 }
             }
         });
-        self.session.writes.push(task);
     }
 
     /// Handles finished dialogs and tasks, and autosaves.
@@ -318,7 +315,7 @@ impl StudioApp {
         if let Some(done) = self.session.load.as_ref().and_then(|t| t.poll()) {
             self.session.load = None;
             match done {
-                Ok(Ok((design, Some(p)))) => {
+                Ok((design, Some(p))) => {
                     self.view.settings.add_recent(&p);
                     self.save_settings();
                     self.set_status(Notice::info(format!("opened {}", p.display())));
@@ -326,26 +323,17 @@ impl StudioApp {
                     self.submit();
                 }
                 // An imported opening: an edit of the current design, not a new document.
-                Ok(Ok((design, None))) => {
+                Ok((design, None)) => {
                     self.edit_design(design);
                     self.set_status(Notice::info("opening imported"));
                 }
-                Ok(Err(e)) => self.set_status(Notice::error(format!("cannot read: {e}"))),
-                Err(()) => self.set_status(Notice::error("the file task stopped unexpectedly")),
+                Err(e) => self.set_status(Notice::error(format!("cannot read: {e}"))),
             }
         }
-        let mut still = Vec::new();
-        for t in std::mem::take(&mut self.session.writes) {
-            match t.poll() {
-                None => still.push(t),
-                // Autosaves succeed silently (empty message) and must not wipe other messages.
-                Some(Ok(Ok(msg))) if msg.is_empty() => {}
-                Some(Ok(Ok(msg))) => self.set_status(Notice::info(msg)),
-                Some(Ok(Err(e))) => self.set_status(Notice::error(e)),
-                Some(Err(())) => self.set_status(Notice::error("a file task stopped unexpectedly")),
-            }
+        // Autosaves succeed silently and leave the other messages alone.
+        if let Some(report) = self.session.writes.poll() {
+            self.set_status(report);
         }
-        self.session.writes = still;
         match self.panels.mask_export.poll() {
             Some(Ok(lines)) => self.set_status(Notice::info(lines.join("; "))),
             Some(Err(e)) => self.set_status(Notice::error(e)),
@@ -408,7 +396,8 @@ impl StudioApp {
         let design = self.doc.design().clone();
         self.session.autosaved = Some(design.clone());
         self.session.last_autosave = now;
-        let task = Task::spawn("autosave", self.wake(), move || {
+        let wake = self.wake();
+        self.session.writes.spawn(wake, move || {
             if let Some(dir) = path.parent() {
                 std::fs::create_dir_all(dir).map_err(|e| format!("autosave failed: {e}"))?;
             }
@@ -416,7 +405,6 @@ impl StudioApp {
                 .map(|()| String::new())
                 .map_err(|e| format!("autosave failed: {e}"))
         });
-        self.session.writes.push(task);
     }
 
     /// Writes the autosave now (on exit).

@@ -1,8 +1,8 @@
 //! Native file dialogs, always on a helper thread: a modal dialog on the UI thread would freeze
 //! rendering (and hang headless tests). The app polls for the answer each frame.
 
+use super::job::{Job, JobError};
 use std::path::PathBuf;
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
 
 /// What the chosen path is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -19,86 +19,124 @@ pub enum Purpose {
     Mask(crate::io::mask::MaskFormat),
 }
 
-/// A dialog in flight.
+/// What a native file dialog asks for.
+#[derive(Debug, Clone)]
+pub struct FileSpec {
+    /// Title bar text.
+    pub title: &'static str,
+    /// The filter's name and its extensions (without dots).
+    pub filter: (&'static str, Vec<&'static str>),
+    /// `Some(suggested file name)` for a save dialog, `None` to pick an existing file.
+    pub save_as: Option<String>,
+    /// The folder it opens in.
+    pub start_dir: Option<PathBuf>,
+}
+
+impl FileSpec {
+    /// A dialog that picks an existing file.
+    pub fn open(title: &'static str, filter: (&'static str, &[&'static str])) -> Self {
+        FileSpec {
+            title,
+            filter: (filter.0, filter.1.to_vec()),
+            save_as: None,
+            start_dir: None,
+        }
+    }
+
+    /// A dialog that asks where to write a new file, suggesting `file_name`.
+    pub fn save(
+        title: &'static str,
+        filter: (&'static str, &[&'static str]),
+        file_name: impl Into<String>,
+    ) -> Self {
+        FileSpec {
+            title,
+            filter: (filter.0, filter.1.to_vec()),
+            save_as: Some(file_name.into()),
+            start_dir: None,
+        }
+    }
+}
+
+/// Shows the dialog on a helper thread: the answer arrives as `Ok(None)` when cancelled.
+pub fn ask(spec: FileSpec, wake: impl Fn() + Send + 'static) -> Job<Option<PathBuf>> {
+    Job::spawn("file dialog", wake, move |_| {
+        let mut d = rfd::FileDialog::new()
+            .add_filter(spec.filter.0, &spec.filter.1)
+            .set_title(spec.title);
+        if let Some(dir) = spec.start_dir {
+            d = d.set_directory(dir);
+        }
+        Ok::<_, JobError>(match spec.save_as {
+            Some(name) => d.set_file_name(name).save_file(),
+            None => d.pick_file(),
+        })
+    })
+}
+
+impl Purpose {
+    /// The dialog this purpose shows.
+    fn spec(self, file_name: Option<String>) -> FileSpec {
+        const IMAGES_AND_MASKS: &[&str] = &[
+            "png", "bmp", "tif", "tiff", "jpg", "jpeg", "gds", "gds2", "dxf",
+        ];
+        match self {
+            Purpose::Open => FileSpec::open("Open design", ("UDC design", &["json"])),
+            Purpose::ImportPattern => FileSpec::open(
+                "Import opening: an image, or the axis pixel of a mask",
+                ("Openings (images, GDSII, DXF)", IMAGES_AND_MASKS),
+            ),
+            Purpose::Spectral => FileSpec::open(
+                "Load spectral response (wavelength_nm, r, g, b)",
+                ("Spectral response CSV", &["csv"]),
+            ),
+            Purpose::Photo => FileSpec::open(
+                "Open a photo to capture through the display",
+                ("Photos", &["png", "jpg", "jpeg"]),
+            ),
+            Purpose::Hdr => FileSpec::open(
+                "Open an HDR scene (Radiance .hdr or OpenEXR .exr)",
+                ("HDR scenes", &["hdr", "exr"]),
+            ),
+            Purpose::SaveAs => FileSpec::save(
+                "Save design as",
+                ("UDC design", &["json"]),
+                file_name.unwrap_or_else(|| "design.json".into()),
+            ),
+            Purpose::Export(kind) => FileSpec::save(
+                "Export",
+                (kind.label().trim_end_matches('…'), &[kind.extension()]),
+                file_name.unwrap_or_else(|| format!("export.{}", kind.extension())),
+            ),
+            Purpose::Mask(format) => FileSpec::save(
+                "Export mask",
+                (format.label(), &[format.extension()]),
+                file_name.unwrap_or_else(|| format!("mask.{}", format.extension())),
+            ),
+        }
+    }
+}
+
+/// A dialog of the display workspace in flight, with what its answer is for.
 pub struct PendingDialog {
+    /// What the chosen path is for.
     pub purpose: Purpose,
-    rx: Receiver<Option<PathBuf>>,
+    job: Job<Option<PathBuf>>,
 }
 
 impl PendingDialog {
     /// Opens a native dialog on a helper thread.
     pub fn spawn(purpose: Purpose, start_dir: Option<PathBuf>, file_name: Option<String>) -> Self {
-        let (tx, rx) = channel();
-        let spawned = std::thread::Builder::new()
-            .name("file-dialog".into())
-            .spawn(move || {
-                let mut d = rfd::FileDialog::new();
-                if let Some(dir) = start_dir {
-                    d = d.set_directory(dir);
-                }
-                let path = match purpose {
-                    Purpose::Open => d
-                        .add_filter("UDC design", &["json"])
-                        .set_title("Open design")
-                        .pick_file(),
-                    Purpose::ImportPattern => d
-                        .add_filter(
-                            "Openings (images, GDSII, DXF)",
-                            &[
-                                "png", "bmp", "tif", "tiff", "jpg", "jpeg", "gds", "gds2", "dxf",
-                            ],
-                        )
-                        .set_title("Import opening: an image, or the axis pixel of a mask")
-                        .pick_file(),
-                    Purpose::Spectral => d
-                        .add_filter("Spectral response CSV", &["csv"])
-                        .set_title("Load spectral response (wavelength_nm, r, g, b)")
-                        .pick_file(),
-                    Purpose::Photo => d
-                        .add_filter("Photos", &["png", "jpg", "jpeg"])
-                        .set_title("Open a photo to capture through the display")
-                        .pick_file(),
-                    Purpose::Hdr => d
-                        .add_filter("HDR scenes", &["hdr", "exr"])
-                        .set_title("Open an HDR scene (Radiance .hdr or OpenEXR .exr)")
-                        .pick_file(),
-                    Purpose::SaveAs => d
-                        .add_filter("UDC design", &["json"])
-                        .set_file_name(file_name.unwrap_or_else(|| "design.json".into()))
-                        .set_title("Save design as")
-                        .save_file(),
-                    Purpose::Export(kind) => d
-                        .add_filter(kind.label().trim_end_matches('…'), &[kind.extension()])
-                        .set_file_name(
-                            file_name.unwrap_or_else(|| format!("export.{}", kind.extension())),
-                        )
-                        .set_title("Export")
-                        .save_file(),
-                    Purpose::Mask(format) => d
-                        .add_filter(format.label(), &[format.extension()])
-                        .set_file_name(
-                            file_name.unwrap_or_else(|| format!("mask.{}", format.extension())),
-                        )
-                        .set_title("Export mask")
-                        .save_file(),
-                };
-                let _ = tx.send(path);
-            });
-        if spawned.is_err() {
-            // No thread, no dialog: the receiver reports a cancelled dialog.
-            let (tx2, rx2) = channel();
-            let _ = tx2.send(None);
-            return PendingDialog { purpose, rx: rx2 };
+        let mut spec = purpose.spec(file_name);
+        spec.start_dir = start_dir;
+        PendingDialog {
+            purpose,
+            job: ask(spec, || {}),
         }
-        PendingDialog { purpose, rx }
     }
 
     /// `Some(answer)` once the user closed the dialog (`None` inside = cancelled).
     pub fn poll(&self) -> Option<Option<PathBuf>> {
-        match self.rx.try_recv() {
-            Ok(p) => Some(p),
-            Err(TryRecvError::Empty) => None,
-            Err(TryRecvError::Disconnected) => Some(None),
-        }
+        self.job.poll().map(|answer| answer.ok().flatten())
     }
 }

@@ -8,13 +8,13 @@ mod actions;
 pub mod commands;
 pub mod dialogs;
 pub mod document;
+pub mod job;
 mod menu;
 pub mod notice;
 pub mod panels;
 pub mod phase;
 pub mod sensor;
 pub mod settings;
-pub mod tasks;
 pub mod widgets;
 mod worker;
 
@@ -123,7 +123,7 @@ pub enum LeftTab {
 }
 
 /// A design being read from disk: the design and the path it came from, or a message.
-type LoadTask = tasks::Task<Result<(Design, Option<PathBuf>), String>>;
+type LoadTask = job::Job<(Design, Option<PathBuf>)>;
 
 /// Files, dialogs, autosave and messages.
 pub struct Session {
@@ -131,7 +131,7 @@ pub struct Session {
     native_dialogs: bool,
     dialog: Option<dialogs::PendingDialog>,
     load: Option<LoadTask>,
-    writes: Vec<tasks::Task<Result<String, String>>>,
+    writes: job::Writes,
     confirm: Option<Command>,
     last_autosave: Instant,
     autosaved: Option<Design>,
@@ -210,7 +210,7 @@ impl StudioApp {
                 native_dialogs: options.native_dialogs,
                 dialog: None,
                 load: None,
-                writes: Vec::new(),
+                writes: job::Writes::default(),
                 confirm: None,
                 last_autosave: Instant::now(),
                 autosaved: Some(design),

@@ -3,14 +3,12 @@
 //! background task with progress and cancel.
 
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::time::Duration;
 
 use egui::{Color32, ColorImage, DragValue, Stroke, TextureHandle, TextureOptions};
 
 use crate::app::commands::Command;
-use crate::app::tasks::Task;
-use crate::core::Progress;
+use crate::app::job::Job;
 use crate::core::design::Design;
 use crate::core::mask::{BinaryGrid, MaskRegion, MaskStats, Tone};
 use crate::io::mask::{
@@ -42,12 +40,6 @@ struct PreviewData {
     outlines: Vec<Vec<[f32; 2]>>,
 }
 
-/// An export running on its own thread.
-struct Job {
-    task: Task<Result<Vec<String>, String>>,
-    progress: Arc<Progress>,
-}
-
 /// The dialog's state, kept while it is closed.
 pub struct MaskExportDialog {
     open: bool,
@@ -56,7 +48,8 @@ pub struct MaskExportDialog {
     block: [u32; 2],
     preview: Option<Preview>,
     texture: Option<TextureHandle>,
-    job: Option<Job>,
+    /// The export running on its own thread: the report's lines.
+    job: Option<Job<Vec<String>>>,
     /// The last export's report (or error), shown in the dialog.
     last: Option<Result<Vec<String>, String>>,
 }
@@ -99,23 +92,21 @@ impl MaskExportDialog {
         if self.job.is_some() {
             return;
         }
-        let progress = Arc::new(Progress::new());
-        let p = progress.clone();
         let (d, o) = (design.clone(), self.options.clone());
-        let task = Task::spawn("mask-export", wake, move || {
-            export_mask(&d, &o, &path, &p)
+        let job = Job::spawn("mask export", wake, move |p| {
+            export_mask(&d, &o, &path, p)
                 .map(|r| r.lines())
                 .map_err(|e| format!("cannot export the mask: {e}"))
         });
         self.last = None;
-        self.job = Some(Job { task, progress });
+        self.job = Some(job);
     }
 
     /// The finished export's report (or error), once.
     pub fn poll(&mut self) -> Option<Result<Vec<String>, String>> {
-        let done = self.job.as_ref()?.task.poll()?;
+        let done = self.job.as_ref()?.poll()?;
         self.job = None;
-        let result = done.unwrap_or_else(|()| Err("the export task stopped unexpectedly".into()));
+        let result = done.map_err(|e| e.to_string());
         self.last = Some(result.clone());
         Some(result)
     }
@@ -321,13 +312,13 @@ impl MaskExportDialog {
         ui.horizontal(|ui| {
             if let Some(job) = &self.job {
                 ui.add(
-                    egui::ProgressBar::new(job.progress.fraction())
+                    egui::ProgressBar::new(job.fraction())
                         .desired_width(240.0)
                         .show_percentage()
                         .text("exporting"),
                 );
                 if ui.button("Cancel").clicked() {
-                    job.progress.cancel();
+                    job.cancel();
                 }
             } else if ui
                 .add_enabled(ok, egui::Button::new("Export…"))

@@ -6,27 +6,23 @@ use crate::app::notice::Notice;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::sync::mpsc::{Receiver, channel};
 
 use egui::{Color32, Ui};
 use egui_plot::{Legend, Line, Plot, PlotPoints};
 
 use super::PanelCtx;
+use crate::app::job::{Job, JobError};
+use crate::core::Design;
 use crate::core::analyze::Quality;
 use crate::core::optimize::{
     DataSet, EpochReport, OptimizeSettings, Optimized, Relaxation, Start, binarise, optimize,
 };
-use crate::core::{Design, Progress, SimError};
 
-/// Messages from the optimizer thread.
-enum Msg {
-    Epoch(EpochReport),
-    Done(Box<Result<Optimized, SimError>>),
-}
-
+/// A run on its own thread, streaming one report per epoch beside its result.
 struct Run {
-    rx: Receiver<Msg>,
-    progress: Arc<Progress>,
+    job: Job<Optimized>,
+    epochs: Receiver<EpochReport>,
     stop: Arc<AtomicBool>,
     /// The design the run started from (the result replaces its opening only).
     start_name: String,
@@ -107,13 +103,11 @@ impl OptimizePanel {
             self.message = Some(Notice::error(e.to_string()));
             return;
         }
-        if let Some(r) = &self.run {
-            r.progress.cancel();
-        }
-        let (tx, rx) = channel();
-        let progress = Arc::new(Progress::new());
+        // Dropping a running job cancels it.
+        self.run = None;
+        let (tx, epochs) = channel();
         let stop = Arc::new(AtomicBool::new(false));
-        let (p, s) = (progress.clone(), stop.clone());
+        let s = stop.clone();
         let data = if self.data_loss {
             match training_data(design.channels.len()) {
                 Ok(d) => Some(d),
@@ -128,38 +122,31 @@ impl OptimizePanel {
         let settings = self.settings.clone();
         let start_name = design.name.clone();
         let design = design.clone();
-        let wake = ctx.clone();
-        let spawned = std::thread::Builder::new()
-            .name("udc-optimizer".into())
-            .spawn(move || {
-                let result = optimize(&design, &settings, data.as_ref(), &p, |r| {
-                    let _ = tx.send(Msg::Epoch(r.clone()));
-                    wake.request_repaint();
+        let (wake, wake_epoch) = (ctx.clone(), ctx.clone());
+        let job = Job::spawn(
+            "optimizer",
+            move || wake.request_repaint(),
+            move |p| {
+                optimize(&design, &settings, data.as_ref(), p, |r| {
+                    let _ = tx.send(r.clone());
+                    wake_epoch.request_repaint();
                     if s.load(Ordering::Relaxed) {
                         ControlFlow::Break(())
                     } else {
                         ControlFlow::Continue(())
                     }
-                });
-                let _ = tx.send(Msg::Done(Box::new(result)));
-                wake.request_repaint();
-            });
-        match spawned {
-            Ok(_) => {
-                self.history.clear();
-                self.finished = None;
-                self.message = None;
-                self.run = Some(Run {
-                    rx,
-                    progress,
-                    stop,
-                    start_name,
-                });
-            }
-            Err(e) => {
-                self.message = Some(Notice::error(format!("cannot start the optimizer: {e}")))
-            }
-        }
+                })
+            },
+        );
+        self.history.clear();
+        self.finished = None;
+        self.message = None;
+        self.run = Some(Run {
+            job,
+            epochs,
+            stop,
+            start_name,
+        });
     }
 
     /// Asks the run to stop after the current epoch and keep what it has.
@@ -172,7 +159,7 @@ impl OptimizePanel {
     /// Aborts the run and discards it.
     pub fn cancel(&mut self) {
         if let Some(r) = self.run.take() {
-            r.progress.cancel();
+            r.job.cancel();
             self.message = Some(Notice::info("optimization cancelled"));
         }
     }
@@ -182,49 +169,39 @@ impl OptimizePanel {
         let Some(run) = &self.run else {
             return false;
         };
-        let mut changed = false;
-        loop {
-            match run.rx.try_recv() {
-                Ok(Msg::Epoch(r)) => {
-                    self.history.push(r);
-                    changed = true;
-                }
-                Ok(Msg::Done(result)) => {
-                    let name = run.start_name.clone();
-                    self.run = None;
-                    match *result {
-                        Ok(result) => {
-                            self.message = Some(Notice::info(format!(
-                                "{} epochs{} in {:.1} s; apply to use the new opening",
-                                result.history.len(),
-                                if result.stopped_early {
-                                    " (stopped)"
-                                } else {
-                                    ""
-                                },
-                                result.elapsed_ms / 1e3
-                            )));
-                            self.finished = Some(Finished {
-                                result,
-                                start_loss_inv,
-                            });
-                        }
-                        Err(SimError::Cancelled) => {}
-                        Err(e) => {
-                            self.message =
-                                Some(Notice::error(format!("optimizing {name} failed: {e}")));
-                        }
-                    }
-                    return true;
-                }
-                Err(TryRecvError::Empty) => return changed,
-                Err(TryRecvError::Disconnected) => {
-                    self.run = None;
-                    self.message = Some(Notice::error("the optimizer stopped unexpectedly"));
-                    return true;
-                }
+        // The epochs first: the result is sent after the last one.
+        let before = self.history.len();
+        self.history.extend(run.epochs.try_iter());
+        let changed = self.history.len() != before;
+        let Some(result) = run.job.poll() else {
+            return changed;
+        };
+        let name = run.start_name.clone();
+        self.history.extend(run.epochs.try_iter());
+        self.run = None;
+        match result {
+            Ok(result) => {
+                self.message = Some(Notice::info(format!(
+                    "{} epochs{} in {:.1} s; apply to use the new opening",
+                    result.history.len(),
+                    if result.stopped_early {
+                        " (stopped)"
+                    } else {
+                        ""
+                    },
+                    result.elapsed_ms / 1e3
+                )));
+                self.finished = Some(Finished {
+                    result,
+                    start_loss_inv,
+                });
+            }
+            Err(JobError::Cancelled) => {}
+            Err(e) => {
+                self.message = Some(Notice::error(format!("optimizing {name} failed: {e}")));
             }
         }
+        true
     }
 
     pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
@@ -245,7 +222,7 @@ impl OptimizePanel {
             if let Some(run) = &self.run {
                 let done = self.history.len();
                 ui.add(
-                    egui::ProgressBar::new(run.progress.fraction())
+                    egui::ProgressBar::new(run.job.fraction())
                         .desired_width(160.0)
                         .text(format!("epoch {done} / {}", self.settings.epochs)),
                 );

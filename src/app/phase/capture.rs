@@ -20,7 +20,7 @@ use ndarray::Array2;
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{PendingDialog, Purpose};
-use crate::app::tasks::Task;
+use crate::app::job::{Job, JobError};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::design::Channel;
 use crate::core::phase::imaging::{PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur};
@@ -82,12 +82,10 @@ type Step = Arc<Mutex<(String, Instant)>>;
 
 struct CaptureJob {
     key: RunKey,
-    task: Task<Result<(), SimError>>,
+    job: Job<()>,
     /// Each setup's result as soon as it is ready (its index among the rows, the result).
     finished: Receiver<(usize, Finished)>,
-    progress: Arc<Progress>,
     step: Step,
-    started: Instant,
 }
 
 pub(super) struct CaptureState {
@@ -95,7 +93,7 @@ pub(super) struct CaptureState {
     photo: Option<Arc<Photo>>,
     photo_id: u64,
     photo_texture: Option<TextureHandle>,
-    photo_load: Option<Task<Result<Photo, String>>>,
+    photo_load: Option<Job<Photo>>,
     dialog: Option<PendingDialog>,
     /// Photons on an open display aperture per pixel of value 1.
     pub(super) photons: f64,
@@ -219,16 +217,16 @@ impl PhaseWorkspace {
     pub fn load_capture_photo(&mut self, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
         let max_side = u32::try_from(self.design.camera.pixels).unwrap_or(u32::MAX);
-        self.capture.photo_load = Some(Task::spawn(
-            "phase-photo-load",
+        self.capture.photo_load = Some(Job::spawn(
+            "photo reader",
             move || wake.request_repaint(),
-            move || {
-                let planes = photo::load_photo(&path, Some(max_side)).map_err(|e| e.to_string())?;
+            move |_| {
+                let planes = photo::load_photo(&path, Some(max_side))?;
                 let name = path.file_name().map_or_else(
                     || path.display().to_string(),
                     |n| n.to_string_lossy().into_owned(),
                 );
-                Ok(Photo { name, planes })
+                Ok::<_, crate::io::IoError>(Photo { name, planes })
             },
         ));
     }
@@ -242,7 +240,6 @@ impl PhaseWorkspace {
     /// Stops the running capture; the last pictures stay.
     pub fn cancel_capture(&mut self) {
         if let Some(j) = self.capture.job.take() {
-            j.progress.cancel();
             self.capture.message = Some(Notice::info("capture cancelled; the last result stays"));
             // The same settings would start it again at once: wait for a change.
             self.capture.done_key = Some(j.key);
@@ -314,20 +311,17 @@ impl PhaseWorkspace {
                 self.load_capture_photo(path, ctx);
             }
         }
-        if let Some(done) = self.capture.photo_load.as_ref().and_then(Task::poll) {
+        if let Some(done) = self.capture.photo_load.as_ref().and_then(Job::poll) {
             self.capture.photo_load = None;
             match done {
-                Ok(Ok(p)) => {
+                Ok(p) => {
                     self.capture.message = None;
                     self.set_capture_photo(p, ctx);
                 }
                 // The previous photo stays.
-                Ok(Err(e)) => {
+                Err(e) => {
                     self.capture.message =
                         Some(Notice::error(format!("cannot open the photo: {e}")));
-                }
-                Err(()) => {
-                    self.capture.message = Some(Notice::error("the photo reader stopped"));
                 }
             }
         }
@@ -340,7 +334,7 @@ impl PhaseWorkspace {
         for (i, f) in arrived {
             self.show_finished(i, f, ctx);
         }
-        let Some(done) = self.capture.job.as_ref().and_then(|j| j.task.poll()) else {
+        let Some(done) = self.capture.job.as_ref().and_then(|j| j.job.poll()) else {
             return;
         };
         let Some(job) = self.capture.job.take() else {
@@ -351,19 +345,19 @@ impl PhaseWorkspace {
             self.show_finished(i, f, ctx);
         }
         match done {
-            Ok(Ok(())) => {
-                let seconds = job.started.elapsed().as_secs_f64();
+            Ok(()) => {
+                let seconds = job.job.elapsed().as_secs_f64();
                 self.capture.message = Some(Notice::info(format!(
                     "captured and restored in {seconds:.1} s"
                 )));
                 self.capture.done_key = Some(job.key);
             }
-            Ok(Err(SimError::Cancelled)) => {}
-            Ok(Err(e)) => {
+            Err(JobError::Cancelled) => {}
+            // Not retried until a setting changes.
+            Err(e) => {
                 self.capture.message = Some(Notice::error(e.to_string()));
                 self.capture.done_key = Some(job.key);
             }
-            Err(()) => self.capture.message = Some(Notice::error("the capture job stopped")),
         }
     }
 
@@ -480,26 +474,22 @@ impl PhaseWorkspace {
                 });
             }
         }
-        if let Some(j) = self.capture.job.take() {
-            j.progress.cancel();
-        }
+        // Dropping the running job cancels it.
+        self.capture.job = None;
         let (photons, seed) = (self.capture.photons, self.capture.seed);
-        let progress = Arc::new(Progress::new());
         let step: Step = Arc::new(Mutex::new((String::new(), Instant::now())));
-        let (p, s, wake) = (progress.clone(), step.clone(), ctx.clone());
+        let (s, wake) = (step.clone(), ctx.clone());
         let (tx, rx) = channel();
-        let task = Task::spawn(
-            "phase-capture",
+        let job = Job::spawn(
+            "capture job",
             move || wake.request_repaint(),
-            move || run_setups(&jobs, &photo.planes, photons, seed, &p, &s, &tx),
+            move |p| run_setups(&jobs, &photo.planes, photons, seed, p, &s, &tx),
         );
         self.capture.job = Some(CaptureJob {
             key,
-            task,
+            job,
             finished: rx,
-            progress,
             step,
-            started: Instant::now(),
         });
     }
 
@@ -511,7 +501,7 @@ impl PhaseWorkspace {
                 .lock()
                 .map(|s| (s.0.clone(), s.1.elapsed().as_secs_f64()))
                 .unwrap_or_default();
-            (step, j.progress.fraction(), since)
+            (step, j.job.fraction(), since)
         })
     }
 

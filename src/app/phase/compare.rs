@@ -7,16 +7,14 @@
 
 use crate::app::notice::Notice;
 use std::path::PathBuf;
-use std::sync::Arc;
 use std::sync::mpsc::{Receiver, channel};
-use std::time::Instant;
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
-use crate::app::tasks::Task;
+use crate::app::dialogs::{FileSpec, ask};
+use crate::app::job::{Job, JobError, Writes};
 use crate::core::phase::imaging::{
     CompareRow, Setup, THESIS_PHOTONS, compare_setups, thesis_setups,
 };
-use crate::core::{Progress, SimError};
 use crate::io::restore_report::compare_csv;
 use crate::io::safe_file::write_atomic;
 
@@ -61,12 +59,11 @@ pub struct CompareRun {
     pub photons: Vec<f64>,
 }
 
+/// A comparison in flight; its rows stream in as they finish.
 struct CompareJob {
     run: CompareRun,
-    task: Task<Result<(), SimError>>,
+    job: Job<()>,
     rows: Receiver<CompareRow>,
-    progress: Arc<Progress>,
-    started: Instant,
 }
 
 pub(super) struct CompareState {
@@ -82,8 +79,8 @@ pub(super) struct CompareState {
     run: Option<CompareRun>,
     rows: Vec<CompareRow>,
     elapsed_s: f64,
-    dialog: Option<Task<Option<PathBuf>>>,
-    writes: Vec<Task<Result<String, String>>>,
+    dialog: Option<Job<Option<PathBuf>>>,
+    writes: Writes,
     message: Option<Notice>,
 }
 
@@ -101,7 +98,7 @@ impl CompareState {
             rows: Vec::new(),
             elapsed_s: 0.0,
             dialog: None,
-            writes: Vec::new(),
+            writes: Writes::default(),
             message: None,
         }
     }
@@ -225,14 +222,13 @@ impl PhaseWorkspace {
         };
         let base = self.design.clone();
         let seed = self.capture.seed;
-        let progress = Arc::new(Progress::new());
         let (tx, rx) = channel();
-        let (p, wake) = (progress.clone(), ctx.clone());
+        let wake = ctx.clone();
         let quality = self.quality;
-        let task = Task::spawn(
-            "phase-compare",
+        let job = Job::spawn(
+            "comparison",
             move || wake.request_repaint(),
-            move || {
+            move |p| {
                 let photos = [photo.planes.clone()];
                 compare_setups(
                     &base,
@@ -243,7 +239,7 @@ impl PhaseWorkspace {
                     &photos,
                     &photons,
                     seed,
-                    &p,
+                    p,
                     |row| {
                         let _ = tx.send(row);
                     },
@@ -253,19 +249,13 @@ impl PhaseWorkspace {
         self.compare.rows.clear();
         self.compare.run = Some(run.clone());
         self.compare.message = None;
-        self.compare.job = Some(CompareJob {
-            run,
-            task,
-            rows: rx,
-            progress,
-            started: Instant::now(),
-        });
+        self.compare.job = Some(CompareJob { run, job, rows: rx });
     }
 
     /// Stops the comparison; the rows so far stay.
     pub fn cancel_compare(&mut self) {
         if let Some(j) = self.compare.job.take() {
-            j.progress.cancel();
+            j.job.cancel();
             self.compare.rows.extend(j.rows.try_iter());
             self.compare.message = Some(Notice::info(format!(
                 "cancelled after {} of {} runs",
@@ -281,8 +271,8 @@ impl PhaseWorkspace {
             (
                 self.compare.rows.len(),
                 j.run.setups.len() * j.run.photons.len(),
-                j.progress.fraction(),
-                j.started.elapsed().as_secs_f64(),
+                j.job.fraction(),
+                j.job.elapsed().as_secs_f64(),
             )
         })
     }
@@ -300,14 +290,13 @@ impl PhaseWorkspace {
         let text = compare_csv(&self.compare.rows, std::slice::from_ref(&run.photo_name));
         let wake = ctx.clone();
         self.compare.message = Some(Notice::info(format!("writing {}…", path.display())));
-        self.compare.writes.push(Task::spawn(
-            "phase-compare-csv",
+        self.compare.writes.spawn(
             move || wake.request_repaint(),
             move || {
-                write_atomic(&path, text.as_bytes()).map_err(|e| e.to_string())?;
-                Ok(format!("saved {}", path.display()))
+                write_atomic(&path, text.as_bytes())?;
+                Ok::<_, JobError>(format!("saved {}", path.display()))
             },
-        ));
+        );
     }
 
     pub(super) fn ask_compare_file(&mut self, ctx: &egui::Context) {
@@ -319,45 +308,31 @@ impl PhaseWorkspace {
             return;
         }
         let wake = ctx.clone();
-        self.compare.dialog = Some(Task::spawn(
-            "file-dialog",
-            move || wake.request_repaint(),
-            move || {
-                rfd::FileDialog::new()
-                    .add_filter("Setup comparison (CSV)", &["csv"])
-                    .set_file_name("compare.csv")
-                    .set_title("Save the setup comparison")
-                    .save_file()
-            },
-        ));
+        let spec = FileSpec::save(
+            "Save the setup comparison",
+            ("Setup comparison (CSV)", &["csv"]),
+            "compare.csv",
+        );
+        self.compare.dialog = Some(ask(spec, move || wake.request_repaint()));
     }
 
     /// Takes streamed rows, the finished run, an answered dialog and finished writes.
     pub(super) fn poll_compare(&mut self, ctx: &egui::Context) {
-        if let Some(answer) = self.compare.dialog.as_ref().and_then(Task::poll) {
+        if let Some(answer) = self.compare.dialog.as_ref().and_then(Job::poll) {
             self.compare.dialog = None;
             if let Ok(Some(path)) = answer {
                 self.save_compare_csv_to(path, ctx);
             }
         }
-        let mut still = Vec::new();
-        for t in std::mem::take(&mut self.compare.writes) {
-            match t.poll() {
-                None => still.push(t),
-                Some(Ok(Ok(msg))) => self.compare.message = Some(Notice::info(msg)),
-                Some(Ok(Err(e))) => self.compare.message = Some(Notice::error(e)),
-                Some(Err(())) => {
-                    self.compare.message = Some(Notice::error("the CSV write stopped"));
-                }
-            }
+        if let Some(report) = self.compare.writes.poll() {
+            self.compare.message = Some(report);
         }
-        self.compare.writes = still;
         let Some(job) = &self.compare.job else {
             return;
         };
         self.compare.rows.extend(job.rows.try_iter());
         ctx.request_repaint_after(std::time::Duration::from_millis(500));
-        let Some(done) = job.task.poll() else {
+        let Some(done) = job.job.poll() else {
             return;
         };
         let Some(job) = self.compare.job.take() else {
@@ -365,17 +340,16 @@ impl PhaseWorkspace {
         };
         self.compare.rows.extend(job.rows.try_iter());
         match done {
-            Ok(Ok(())) => {
-                self.compare.elapsed_s = job.started.elapsed().as_secs_f64();
+            Ok(()) => {
+                self.compare.elapsed_s = job.job.elapsed().as_secs_f64();
                 self.compare.message = Some(Notice::info(format!(
                     "{} runs in {:.0} s",
                     self.compare.rows.len(),
                     self.compare.elapsed_s
                 )));
             }
-            Ok(Err(SimError::Cancelled)) => {}
-            Ok(Err(e)) => self.compare.message = Some(Notice::error(e.to_string())),
-            Err(()) => self.compare.message = Some(Notice::error("the comparison stopped")),
+            Err(JobError::Cancelled) => {}
+            Err(e) => self.compare.message = Some(Notice::error(e.to_string())),
         }
     }
 }

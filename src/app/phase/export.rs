@@ -7,7 +7,8 @@ use std::path::PathBuf;
 use egui::Ui;
 
 use super::PhaseWorkspace;
-use crate::app::tasks::Task;
+use crate::app::dialogs::{FileSpec, ask};
+use crate::app::job::{Job, Writes};
 use crate::core::phase::PhaseDesign;
 use crate::io::phase_export;
 
@@ -74,8 +75,8 @@ impl Default for ExportParams {
 pub(super) struct ExportState {
     native_dialogs: bool,
     pub params: ExportParams,
-    dialog: Option<(HeightFormat, PhaseDesign, Task<Option<PathBuf>>)>,
-    writes: Vec<Task<Result<String, String>>>,
+    dialog: Option<(HeightFormat, PhaseDesign, Job<Option<PathBuf>>)>,
+    writes: Writes,
     message: Option<Notice>,
 }
 
@@ -140,7 +141,7 @@ impl ExportState {
             native_dialogs,
             params: ExportParams::default(),
             dialog: None,
-            writes: Vec::new(),
+            writes: Writes::default(),
             message: None,
         }
     }
@@ -163,11 +164,13 @@ impl ExportState {
         let params = self.params;
         let wake = ctx.clone();
         self.message = Some(Notice::info(format!("writing {}…", path.display())));
-        self.writes.push(Task::spawn(
-            "phase-export",
+        self.writes.spawn(
             move || wake.request_repaint(),
-            move || write_height(format, &design, &path, &params),
-        ));
+            move || {
+                write_height(format, &design, &path, &params)
+                    .map_err(|e| format!("export failed: {e}"))
+            },
+        );
     }
 
     fn ask(&mut self, format: HeightFormat, design: PhaseDesign, ctx: &egui::Context) {
@@ -179,17 +182,12 @@ impl ExportState {
             return;
         }
         let wake = ctx.clone();
-        let task = Task::spawn(
-            "file-dialog",
-            move || wake.request_repaint(),
-            move || {
-                rfd::FileDialog::new()
-                    .add_filter(format.label().trim_end_matches('…'), &[format.extension()])
-                    .set_file_name(format!("phase-plate.{}", format.extension()))
-                    .set_title("Export the phase plate")
-                    .save_file()
-            },
+        let spec = FileSpec::save(
+            "Export the phase plate",
+            (format.label().trim_end_matches('…'), &[format.extension()]),
+            format!("phase-plate.{}", format.extension()),
         );
+        let task = ask(spec, move || wake.request_repaint());
         self.dialog = Some((format, design, task));
     }
 
@@ -201,18 +199,9 @@ impl ExportState {
         {
             self.start_write(format, design, path, ctx);
         }
-        let mut still = Vec::new();
-        for t in std::mem::take(&mut self.writes) {
-            match t.poll() {
-                None => still.push(t),
-                Some(Ok(Ok(msg))) => self.message = Some(Notice::info(msg)),
-                Some(Ok(Err(e))) => {
-                    self.message = Some(Notice::error(format!("export failed: {e}")))
-                }
-                Some(Err(())) => self.message = Some(Notice::error("the export stopped")),
-            }
+        if let Some(report) = self.writes.poll() {
+            self.message = Some(report);
         }
-        self.writes = still;
     }
 }
 

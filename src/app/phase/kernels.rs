@@ -7,17 +7,16 @@ use crate::app::notice::Notice;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::Instant;
 
 use egui::{Align2, ColorImage, FontId, Sense, TextureHandle, TextureOptions, Ui, pos2, vec2};
 use ndarray::Array2;
 
 use super::views::gradient_bar;
 use super::{ChannelSet, PhaseWorkspace, Quality, same};
-use crate::app::tasks::Task;
+use crate::app::dialogs::{FileSpec, ask};
+use crate::app::job::{Job, JobError, Writes};
 use crate::app::widgets::colormap::Colormap;
 use crate::core::phase::{Optics, PhaseDesign, kernel_matrix};
-use crate::core::{Progress, SimError};
 
 /// Decades of the picture's log scale below the matrix's maximum.
 const DECADES: f64 = 6.0;
@@ -47,13 +46,8 @@ struct KernelJob {
     channels: ChannelSet,
     channel: usize,
     channel_name: String,
-    task: Task<Result<Array2<f64>, SimError>>,
-    progress: Arc<Progress>,
-    started: Instant,
+    job: Job<Array2<f64>>,
 }
-
-/// A save dialog's answer.
-type FileDialog = Task<Option<PathBuf>>;
 
 pub(super) struct KernelState {
     native_dialogs: bool,
@@ -61,8 +55,8 @@ pub(super) struct KernelState {
     job: Option<KernelJob>,
     shown: Option<ShownKernels>,
     /// The matrix being saved and the dialog asking where.
-    dialog: Option<(Arc<Array2<f64>>, FileDialog)>,
-    writes: Vec<Task<Result<String, String>>>,
+    dialog: Option<(Arc<Array2<f64>>, Job<Option<PathBuf>>)>,
+    writes: Writes,
     message: Option<Notice>,
 }
 
@@ -74,7 +68,7 @@ impl KernelState {
             job: None,
             shown: None,
             dialog: None,
-            writes: Vec::new(),
+            writes: Writes::default(),
             message: None,
         }
     }
@@ -199,19 +193,18 @@ impl PhaseWorkspace {
         let design = self.design.clone();
         let quality = self.quality;
         let optics = self.optics();
-        let progress = Arc::new(Progress::new());
-        let (p, d, wake) = (progress.clone(), design.clone(), ctx.clone());
+        let (d, wake) = (design.clone(), ctx.clone());
         let channel_name = channel.name.clone();
-        let task = Task::spawn(
-            "phase-kernels",
+        let job = Job::spawn(
+            "blur-matrix job",
             move || wake.request_repaint(),
-            move || {
+            move |p| {
                 kernel_matrix(
                     &d,
                     &crate::core::phase::PhaseSampling::for_quality(quality),
                     &channel,
                     optics,
-                    &p,
+                    p,
                 )
             },
         );
@@ -223,16 +216,13 @@ impl PhaseWorkspace {
             channels: self.channels,
             channel: index,
             channel_name,
-            task,
-            progress,
-            started: Instant::now(),
+            job,
         });
     }
 
     /// Stops the blur matrix; the last result stays.
     pub fn cancel_kernels(&mut self) {
-        if let Some(j) = self.kernels.job.take() {
-            j.progress.cancel();
+        if self.kernels.job.take().is_some() {
             self.kernels.message = Some(Notice::info("blur matrix cancelled"));
         }
     }
@@ -251,11 +241,10 @@ impl PhaseWorkspace {
     fn start_kernel_write(&mut self, k: Arc<Array2<f64>>, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
         self.kernels.message = Some(Notice::info(format!("writing {}…", path.display())));
-        self.kernels.writes.push(Task::spawn(
-            "phase-kernels-csv",
+        self.kernels.writes.spawn(
             move || wake.request_repaint(),
             move || write_kernels_csv(&k, &path),
-        ));
+        );
     }
 
     fn ask_kernel_file(&mut self, ctx: &egui::Context) {
@@ -271,17 +260,12 @@ impl PhaseWorkspace {
         }
         let name = format!("blur-matrix-{}.csv", s.channel_name);
         let wake = ctx.clone();
-        let task = Task::spawn(
-            "file-dialog",
-            move || wake.request_repaint(),
-            move || {
-                rfd::FileDialog::new()
-                    .add_filter("Blur matrix (CSV)", &["csv"])
-                    .set_file_name(name)
-                    .set_title("Save the blur matrix")
-                    .save_file()
-            },
+        let spec = FileSpec::save(
+            "Save the blur matrix",
+            ("Blur matrix (CSV)", &["csv"]),
+            name,
         );
+        let task = ask(spec, move || wake.request_repaint());
         self.kernels.dialog = Some((s.k.clone(), task));
     }
 
@@ -293,27 +277,18 @@ impl PhaseWorkspace {
         {
             self.start_kernel_write(k, path, ctx);
         }
-        let mut still = Vec::new();
-        for t in std::mem::take(&mut self.kernels.writes) {
-            match t.poll() {
-                None => still.push(t),
-                Some(Ok(Ok(msg))) => self.kernels.message = Some(Notice::info(msg)),
-                Some(Ok(Err(e))) => self.kernels.message = Some(Notice::error(e)),
-                Some(Err(())) => {
-                    self.kernels.message = Some(Notice::error("the CSV write stopped"));
-                }
-            }
+        if let Some(report) = self.kernels.writes.poll() {
+            self.kernels.message = Some(report);
         }
-        self.kernels.writes = still;
-        let Some(done) = self.kernels.job.as_ref().and_then(|j| j.task.poll()) else {
+        let Some(done) = self.kernels.job.as_ref().and_then(|j| j.job.poll()) else {
             return;
         };
         let Some(job) = self.kernels.job.take() else {
             return;
         };
         match done {
-            Ok(Ok(k)) => {
-                let elapsed_s = job.started.elapsed().as_secs_f64();
+            Ok(k) => {
+                let elapsed_s = job.job.elapsed().as_secs_f64();
                 let max = k.iter().copied().fold(0.0, f64::max);
                 let texture = ctx.load_texture(
                     "phase-kernels",
@@ -336,9 +311,8 @@ impl PhaseWorkspace {
                     texture,
                 });
             }
-            Ok(Err(SimError::Cancelled)) => {}
-            Ok(Err(e)) => self.kernels.message = Some(Notice::error(e.to_string())),
-            Err(()) => self.kernels.message = Some(Notice::error("the blur-matrix job stopped")),
+            Err(JobError::Cancelled) => {}
+            Err(e) => self.kernels.message = Some(Notice::error(e.to_string())),
         }
     }
 
@@ -391,7 +365,7 @@ impl PhaseWorkspace {
                 ));
                 cancel = ui.button("Cancel").clicked();
             });
-            ui.add(egui::ProgressBar::new(j.progress.fraction()).show_percentage());
+            ui.add(egui::ProgressBar::new(j.job.fraction()).show_percentage());
         }
         if cancel {
             self.cancel_kernels();

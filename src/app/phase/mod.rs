@@ -34,15 +34,15 @@ pub use kernels::ShownKernels;
 pub use optimizer::{OptimizerResult, ShownV};
 pub use response::CustomResponse;
 
+use crate::app::job::{Job, JobError};
 use crate::app::settings::AppDirs;
-use crate::app::tasks::Task;
+use crate::core::SimError;
 use crate::core::design::Channel;
 use crate::core::phase::geometry::lenslet_count;
 use crate::core::phase::{
     Allocation, Incidence, Optics, PhaseDesign, PhasePsfs, PhaseSampling, VMatrix, phase_psfs,
     wavelength_grid_nm,
 };
-use crate::core::{Progress, SimError};
 use crate::io::spectral;
 use optimizer::LongJob;
 
@@ -99,8 +99,8 @@ struct PsfJob {
     design: PhaseDesign,
     optics: Optics,
     channels: ChannelSet,
-    task: Task<Result<(PhasePsfs, f64), SimError>>,
-    progress: Arc<Progress>,
+    /// The PSFs and the milliseconds they took.
+    job: Job<(PhasePsfs, f64)>,
 }
 
 /// What the newest generation was started for (compared in place with the controls each frame).
@@ -146,7 +146,7 @@ pub struct PhaseWorkspace {
     saved: PhaseDesign,
     last_save: Instant,
     autosave_every: Duration,
-    save_task: Option<Task<Result<(), String>>>,
+    save_task: Option<Job<()>>,
     export: export::ExportState,
     response: response::ResponseState,
     kernels: kernels::KernelState,
@@ -385,9 +385,8 @@ impl PhaseWorkspace {
         });
         // Whatever happens next, results of older parameters are stale.
         self.generation += 1;
-        if let Some(j) = self.job.take() {
-            j.progress.cancel();
-        }
+        // Dropping the running job cancels it.
+        self.job = None;
         if let Err(e) = self.design.validate() {
             self.message = Some(Notice::error(e.to_string()));
             return;
@@ -419,18 +418,14 @@ impl PhaseWorkspace {
                 return;
             }
         };
-        if let Some(j) = self.job.take() {
-            j.progress.cancel();
-        }
+        self.job = None;
         let optics = self.optics();
-        let progress = Arc::new(Progress::new());
-        let p = progress.clone();
         let wake = ctx.clone();
         let d = design.clone();
-        let task = Task::spawn(
-            "phase-psf",
+        let job = Job::spawn(
+            "PSF job",
             move || wake.request_repaint(),
-            move || {
+            move |p| {
                 let t0 = Instant::now();
                 let sampling = PhaseSampling::for_quality(quality);
                 let r = phase_psfs(
@@ -439,9 +434,9 @@ impl PhaseWorkspace {
                     &channels,
                     optics,
                     Incidence::AngleDeg(angle),
-                    &p,
+                    p,
                 )?;
-                Ok((r, t0.elapsed().as_secs_f64() * 1e3))
+                Ok::<_, SimError>((r, t0.elapsed().as_secs_f64() * 1e3))
             },
         );
         self.job = Some(PsfJob {
@@ -450,28 +445,26 @@ impl PhaseWorkspace {
             design,
             optics,
             channels: set,
-            task,
-            progress,
+            job,
         });
     }
 
     /// Cancels the running PSF job; the last result stays.
     pub fn cancel_psfs(&mut self) {
-        if let Some(j) = self.job.take() {
-            j.progress.cancel();
+        if self.job.take().is_some() {
             self.message = Some(Notice::info("PSF run cancelled; the last result stays"));
         }
     }
 
     fn take_psfs(&mut self, ctx: &egui::Context) {
-        let Some(done) = self.job.as_ref().and_then(|j| j.task.poll()) else {
+        let Some(done) = self.job.as_ref().and_then(|j| j.job.poll()) else {
             return;
         };
         let Some(job) = self.job.take() else {
             return;
         };
         match done {
-            Ok(Ok((psfs, ms))) if job.generation == self.generation => {
+            Ok((psfs, ms)) if job.generation == self.generation => {
                 self.shown = Some(ShownPsfs {
                     generation: job.generation,
                     quality: job.quality,
@@ -488,9 +481,8 @@ impl PhaseWorkspace {
                     self.start(Quality::Full, ctx);
                 }
             }
-            Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}
-            Ok(Err(e)) => self.message = Some(Notice::error(e.to_string())),
-            Err(()) => self.message = Some(Notice::error("the PSF job stopped")),
+            Ok(_) | Err(JobError::Cancelled) => {}
+            Err(e) => self.message = Some(Notice::error(e.to_string())),
         }
     }
 }

@@ -3,12 +3,11 @@
 
 use crate::app::notice::Notice;
 use std::sync::Arc;
-use std::time::Instant;
 
 use egui::{ColorImage, TextureHandle, TextureOptions};
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
-use crate::app::tasks::Task;
+use crate::app::job::{Job, JobError};
 use crate::app::widgets::colormap::Colormap;
 use crate::core::phase::allocate::{channel_invertibility, plan_invertibility};
 use crate::core::phase::geometry::{lenslet_count, uniform_counts};
@@ -23,9 +22,7 @@ pub(super) struct LongJob<T> {
     pub(super) design: PhaseDesign,
     pub(super) quality: Quality,
     pub(super) channels: ChannelSet,
-    pub(super) task: Task<Result<T, SimError>>,
-    pub(super) progress: Arc<Progress>,
-    pub(super) started: Instant,
+    pub(super) job: Job<T>,
 }
 
 /// The V matrix on screen and its picture.
@@ -81,7 +78,7 @@ impl PhaseWorkspace {
             return;
         }
         self.opt_message = None;
-        self.v_job = Some(self.spawn_long("phase-v", ctx, v_matrix));
+        self.v_job = Some(self.spawn_long("V matrix job", ctx, v_matrix));
     }
 
     /// Runs the λ0 optimizer (V, then Algorithm 1) for the current design and channels.
@@ -101,17 +98,15 @@ impl PhaseWorkspace {
             }
         };
         self.opt_message = None;
-        self.opt_job = Some(
-            self.spawn_long("phase-optimizer", ctx, move |d, sampling, p| {
-                optimize_lambda0(d, sampling, &channels, &AllocationSettings::default(), p)
-            }),
-        );
+        self.opt_job = Some(self.spawn_long("optimizer", ctx, move |d, sampling, p| {
+            optimize_lambda0(d, sampling, &channels, &AllocationSettings::default(), p)
+        }));
     }
 
     /// Runs `job` on the current design at the chosen quality on a background thread.
     fn spawn_long<T: Send + 'static>(
         &self,
-        name: &str,
+        name: &'static str,
         ctx: &egui::Context,
         job: impl FnOnce(&PhaseDesign, &PhaseSampling, &Progress) -> Result<T, SimError>
         + Send
@@ -119,34 +114,28 @@ impl PhaseWorkspace {
     ) -> LongJob<T> {
         let design = self.design.clone();
         let quality = self.quality;
-        let progress = Arc::new(Progress::new());
-        let (p, d, wake) = (progress.clone(), design.clone(), ctx.clone());
-        let task = Task::spawn(
+        let (d, wake) = (design.clone(), ctx.clone());
+        let job = Job::spawn(
             name,
             move || wake.request_repaint(),
-            move || job(&d, &PhaseSampling::for_quality(quality), &p),
+            move |p| job(&d, &PhaseSampling::for_quality(quality), p),
         );
         LongJob {
             design,
             quality,
             channels: self.channels,
-            task,
-            progress,
-            started: Instant::now(),
+            job,
         }
     }
 
     /// Stops the V matrix and the optimizer; their last results stay.
     pub fn cancel_long_jobs(&mut self) {
         let mut any = false;
-        for p in [
-            self.v_job.take().map(|j| j.progress),
-            self.opt_job.take().map(|j| j.progress),
-        ]
-        .into_iter()
-        .flatten()
-        {
-            p.cancel();
+        // Dropping a job cancels it.
+        if self.v_job.take().is_some() {
+            any = true;
+        }
+        if self.opt_job.take().is_some() {
             any = true;
         }
         if any {
@@ -172,29 +161,28 @@ impl PhaseWorkspace {
     }
 
     pub(super) fn take_long_jobs(&mut self, ctx: &egui::Context) {
-        if let Some(done) = self.v_job.as_ref().and_then(|j| j.task.poll())
+        if let Some(done) = self.v_job.as_ref().and_then(|j| j.job.poll())
             && let Some(job) = self.v_job.take()
         {
             match done {
-                Ok(Ok(v)) => {
-                    let s = job.started.elapsed().as_secs_f64();
+                Ok(v) => {
+                    let s = job.job.elapsed().as_secs_f64();
                     self.opt_message = Some(Notice::info(format!("V computed in {s:.1} s")));
                     self.show_v(ctx, job.design, job.quality, v);
                 }
-                Ok(Err(SimError::Cancelled)) => {}
-                Ok(Err(e)) => self.opt_message = Some(Notice::error(e.to_string())),
-                Err(()) => self.opt_message = Some(Notice::error("the V job stopped")),
+                Err(JobError::Cancelled) => {}
+                Err(e) => self.opt_message = Some(Notice::error(e.to_string())),
             }
         }
-        if let Some(done) = self.opt_job.as_ref().and_then(|j| j.task.poll())
+        if let Some(done) = self.opt_job.as_ref().and_then(|j| j.job.poll())
             && let Some(job) = self.opt_job.take()
         {
             match done {
-                Ok(Ok((v, allocation))) => {
+                Ok((v, allocation)) => {
                     let n = lenslet_count(&job.design);
                     let fixed_530 = plan_invertibility(&allocation.a, &vec![530.0; n]);
                     let uniform = channel_invertibility(&allocation.a, &uniform_counts(n));
-                    let elapsed_s = job.started.elapsed().as_secs_f64();
+                    let elapsed_s = job.job.elapsed().as_secs_f64();
                     self.opt_message = Some(Notice::info(format!("optimized in {elapsed_s:.1} s")));
                     self.show_v(ctx, job.design.clone(), job.quality, v);
                     self.optimized = Some(OptimizerResult {
@@ -207,9 +195,8 @@ impl PhaseWorkspace {
                         elapsed_s,
                     });
                 }
-                Ok(Err(SimError::Cancelled)) => {}
-                Ok(Err(e)) => self.opt_message = Some(Notice::error(e.to_string())),
-                Err(()) => self.opt_message = Some(Notice::error("the optimizer stopped")),
+                Err(JobError::Cancelled) => {}
+                Err(e) => self.opt_message = Some(Notice::error(e.to_string())),
             }
         }
     }

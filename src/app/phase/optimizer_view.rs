@@ -60,21 +60,21 @@ impl PhaseWorkspace {
             .as_ref()
             .map(|j| {
                 (
-                    j.progress.fraction(),
+                    j.job.fraction(),
                     "optimizer (V, then Algorithm 1)…",
-                    j.started,
+                    j.job.elapsed(),
                 )
             })
             .or_else(|| {
                 self.v_job
                     .as_ref()
-                    .map(|j| (j.progress.fraction(), "V matrix…", j.started))
+                    .map(|j| (j.job.fraction(), "V matrix…", j.job.elapsed()))
             });
-        if let Some((f, what, started)) = running {
+        if let Some((f, what, elapsed)) = running {
             let mut cancel = false;
             ui.horizontal(|ui| {
                 ui.spinner();
-                ui.label(format!("{what} {:.0} s", started.elapsed().as_secs_f64()));
+                ui.label(format!("{what} {:.0} s", elapsed.as_secs_f64()));
                 cancel = ui.button("Cancel").clicked();
             });
             ui.add(egui::ProgressBar::new(f).show_percentage());

@@ -375,7 +375,7 @@ impl PhaseWorkspace {
     pub fn numbers_ui(&mut self, ui: &mut Ui) {
         ui.heading("Numbers");
         if let Some(j) = &self.job {
-            let p = j.progress.fraction();
+            let p = j.job.fraction();
             let label = match j.quality {
                 Quality::Preview => "preview…",
                 Quality::Full => "full quality…",

@@ -6,7 +6,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::{PhaseWorkspace, same};
-use crate::app::tasks::Task;
+use crate::app::job::Job;
 use crate::core::phase::PhaseDesign;
 use crate::io::phase_design::{load_phase_design, save_phase_design};
 
@@ -51,12 +51,10 @@ impl PhaseWorkspace {
     }
 
     pub(super) fn autosave_tick(&mut self, ctx: &egui::Context) {
-        if let Some(done) = self.save_task.as_ref().and_then(Task::poll) {
+        if let Some(done) = self.save_task.as_ref().and_then(Job::poll) {
             self.save_task = None;
-            match done {
-                Ok(Ok(())) => {}
-                Ok(Err(e)) => self.message = Some(Notice::error(e)),
-                Err(()) => self.message = Some(Notice::error("the save task stopped")),
+            if let Err(e) = done {
+                self.message = Some(Notice::error(e.to_string()));
             }
         }
         let Some(path) = self.design_path.clone() else {
@@ -78,10 +76,10 @@ impl PhaseWorkspace {
         self.last_save = now;
         let design = self.committed.clone();
         let wake = ctx.clone();
-        self.save_task = Some(Task::spawn(
-            "phase-autosave",
+        self.save_task = Some(Job::spawn(
+            "phase autosave",
             move || wake.request_repaint(),
-            move || write_design(&path, &design),
+            move |_| write_design(&path, &design),
         ));
     }
 }

@@ -8,7 +8,8 @@ use std::path::{Path, PathBuf};
 use egui::Ui;
 
 use super::{ChannelSet, PhaseWorkspace};
-use crate::app::tasks::Task;
+use crate::app::dialogs::{FileSpec, ask};
+use crate::app::job::Job;
 use crate::core::design::Channel;
 use crate::core::phase::wavelength_grid_nm;
 use crate::io::spectral;
@@ -31,13 +32,11 @@ impl CustomResponse {
     }
 }
 
-/// A read response file: its path and channels, or the problem.
-type Loaded = (PathBuf, Result<Vec<Channel>, String>);
-
 pub(super) struct ResponseState {
     native_dialogs: bool,
-    dialog: Option<Task<Option<PathBuf>>>,
-    load: Option<Task<Loaded>>,
+    dialog: Option<Job<Option<PathBuf>>>,
+    /// A response file being read: its path and channels.
+    load: Option<Job<(PathBuf, Vec<Channel>)>>,
     custom: Option<CustomResponse>,
     serial: u32,
     message: Option<Notice>,
@@ -102,13 +101,10 @@ impl PhaseWorkspace {
     pub fn load_response_from(&mut self, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
         self.response.message = Some(Notice::info(format!("reading {}…", path.display())));
-        self.response.load = Some(Task::spawn(
-            "phase-response",
+        self.response.load = Some(Job::spawn(
+            "response reader",
             move || wake.request_repaint(),
-            move || {
-                let r = read_channels(&path);
-                (path, r)
-            },
+            move |_| read_channels(&path).map(|c| (path, c)),
         ));
     }
 
@@ -122,32 +118,27 @@ impl PhaseWorkspace {
             return;
         }
         let wake = ctx.clone();
-        self.response.dialog = Some(Task::spawn(
-            "file-dialog",
-            move || wake.request_repaint(),
-            move || {
-                rfd::FileDialog::new()
-                    .add_filter("Spectral response (CSV)", &["csv"])
-                    .set_title("Open a sensor response")
-                    .pick_file()
-            },
-        ));
+        let spec = FileSpec::open(
+            "Open a sensor response",
+            ("Spectral response (CSV)", &["csv"]),
+        );
+        self.response.dialog = Some(ask(spec, move || wake.request_repaint()));
     }
 
     /// Takes an answered dialog and a finished read.
     pub(super) fn poll_response(&mut self, ctx: &egui::Context) {
-        if let Some(answer) = self.response.dialog.as_ref().and_then(Task::poll) {
+        if let Some(answer) = self.response.dialog.as_ref().and_then(Job::poll) {
             self.response.dialog = None;
             if let Ok(Some(path)) = answer {
                 self.load_response_from(path, ctx);
             }
         }
-        let Some(done) = self.response.load.as_ref().and_then(Task::poll) else {
+        let Some(done) = self.response.load.as_ref().and_then(Job::poll) else {
             return;
         };
         self.response.load = None;
         match done {
-            Ok((path, Ok(channels))) => {
+            Ok((path, channels)) => {
                 self.response.serial += 1;
                 let c = CustomResponse {
                     serial: self.response.serial,
@@ -162,12 +153,11 @@ impl PhaseWorkspace {
                 self.channels = ChannelSet::Custom(c.serial);
                 self.response.custom = Some(c);
             }
-            Ok((_, Err(e))) => {
+            Err(e) => {
                 self.response.message = Some(Notice::error(format!(
                     "cannot use the response: {e}; the channels stay"
                 )));
             }
-            Err(()) => self.response.message = Some(Notice::error("the response read stopped")),
         }
     }
 

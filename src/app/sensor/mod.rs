@@ -16,9 +16,9 @@ use std::sync::Arc;
 use egui::TextureHandle;
 
 use crate::app::dialogs::PendingDialog;
-use crate::app::tasks::Task;
+use crate::app::job::{Job, JobError};
 use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
-use crate::core::{Progress, SimError};
+
 use crate::io::hdr;
 
 /// The preview runs on the scene scaled to at most this side (the core's preview size, benched).
@@ -39,11 +39,11 @@ pub struct ShownRun {
     textures: images::RunTextures,
 }
 
-struct Job {
+/// A run of one generation at one quality.
+struct SensorJob {
     generation: u64,
     quality: Quality,
-    task: Task<Result<SensorRun, SimError>>,
-    progress: Arc<Progress>,
+    job: Job<SensorRun>,
 }
 
 /// Which picture the centre shows.
@@ -71,7 +71,7 @@ pub enum ExposureKind {
 /// The workspace's state.
 pub struct SensorWorkspace {
     scene: Option<Arc<LoadedScene>>,
-    load: Option<Task<Result<LoadedScene, String>>>,
+    load: Option<Job<LoadedScene>>,
     dialog: Option<PendingDialog>,
     pub settings: SensorSettings,
     exposure_kind: ExposureKind,
@@ -82,7 +82,7 @@ pub struct SensorWorkspace {
     /// The settings and scene of the newest generation.
     submitted: Option<(SensorSettings, usize)>,
     generation: u64,
-    job: Option<Job>,
+    job: Option<SensorJob>,
     shown: Option<ShownRun>,
     pub view: SensorView,
     map_strategy: usize,
@@ -163,17 +163,17 @@ impl SensorWorkspace {
     /// Reads an HDR file on a background thread; the current scene stays until it succeeds.
     pub fn load_scene(&mut self, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
-        self.load = Some(Task::spawn(
-            "hdr-load",
+        self.load = Some(Job::spawn(
+            "HDR reader",
             move || wake.request_repaint(),
-            move || {
-                let scene = hdr::load_hdr(&path).map_err(|e| e.to_string())?;
+            move |_| {
+                let scene = hdr::load_hdr(&path)?;
                 let name = path.file_name().map_or_else(
                     || path.display().to_string(),
                     |n| n.to_string_lossy().into_owned(),
                 );
                 let preview = scene.downscaled(PREVIEW_SIDE_PX);
-                Ok(LoadedScene {
+                Ok::<_, JobError>(LoadedScene {
                     name,
                     scene,
                     preview,
@@ -212,25 +212,24 @@ impl SensorWorkspace {
                 self.load_scene(path, ctx);
             }
         }
-        if let Some(done) = self.load.as_ref().and_then(Task::poll) {
+        if let Some(done) = self.load.as_ref().and_then(Job::poll) {
             self.load = None;
             match done {
-                Ok(Ok(s)) => {
+                Ok(s) => {
                     self.message = Some(Notice::info(format!("loaded {}", s.name)));
                     self.scene = Some(Arc::new(s));
                     self.submitted = None;
                 }
-                Ok(Err(e)) => {
+                Err(e) => {
                     self.message = Some(Notice::error(format!("cannot open the HDR scene: {e}")))
                 }
-                Err(()) => self.message = Some(Notice::error("the HDR reader stopped")),
             }
         }
-        if let Some(done) = self.job.as_ref().and_then(|j| j.task.poll())
+        if let Some(done) = self.job.as_ref().and_then(|j| j.job.poll())
             && let Some(job) = self.job.take()
         {
             match done {
-                Ok(Ok(run)) if job.generation == self.generation => {
+                Ok(run) if job.generation == self.generation => {
                     let textures = images::RunTextures::new(ctx, &run, job.generation);
                     self.shown = Some(ShownRun {
                         generation: job.generation,
@@ -246,9 +245,8 @@ impl SensorWorkspace {
                         self.start(Quality::Full, ctx);
                     }
                 }
-                Ok(Ok(_)) | Ok(Err(SimError::Cancelled)) => {}
-                Ok(Err(e)) => self.message = Some(Notice::error(e.to_string())),
-                Err(()) => self.message = Some(Notice::error("the sensor job stopped")),
+                Ok(_) | Err(JobError::Cancelled) => {}
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
             }
         }
         // A change of scene or settings: a new generation, preview first.
@@ -277,34 +275,30 @@ impl SensorWorkspace {
         let Some(scene) = self.scene.clone() else {
             return;
         };
-        if let Some(j) = self.job.take() {
-            j.progress.cancel();
-        }
+        // Dropping the running job cancels it.
+        self.job = None;
         let settings = match quality {
             Quality::Preview => self
                 .settings
                 .for_preview(scene.scene.dim(), scene.preview.dim()),
             Quality::Full => self.settings.clone(),
         };
-        let progress = Arc::new(Progress::new());
-        let p = progress.clone();
         let wake = ctx.clone();
-        let task = Task::spawn(
-            "sensor",
+        let job = Job::spawn(
+            "sensor job",
             move || wake.request_repaint(),
-            move || {
+            move |p| {
                 let s = match quality {
                     Quality::Preview => &scene.preview,
                     Quality::Full => &scene.scene,
                 };
-                run(s, &settings, &p)
+                run(s, &settings, p)
             },
         );
-        self.job = Some(Job {
+        self.job = Some(SensorJob {
             generation: self.generation,
             quality,
-            task,
-            progress,
+            job,
         });
     }
 }

@@ -17,7 +17,7 @@ impl SensorWorkspace {
                         Quality::Full => "full scene…",
                     });
                 });
-                ui.add(egui::ProgressBar::new(j.progress.fraction()));
+                ui.add(egui::ProgressBar::new(j.job.fraction()));
             }
             (None, Some(s)) => {
                 ui.weak(format!(

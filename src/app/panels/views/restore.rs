@@ -11,15 +11,15 @@ use egui::{TextureHandle, TextureOptions, Ui};
 use ndarray::Array2;
 
 use crate::app::dialogs::{PendingDialog, Purpose};
+use crate::app::job::Job;
 use crate::app::panels::{PanelCtx, Pinned, Shown};
-use crate::app::tasks::Task;
 use crate::app::widgets::photo::{Photo, built_in, color_image};
+use crate::core::Analysis;
 use crate::core::restore::capture::REFERENCE_LTR;
 use crate::core::restore::{
     CaptureSettings, CgSettings, Light, Method, RestoreResult, RestoreSettings, THESIS_NSR,
     simulate,
 };
-use crate::core::{Analysis, Progress};
 use crate::io::photo;
 
 /// Photos are scaled down to this side so a run stays interactive.
@@ -53,26 +53,24 @@ struct Row {
     textures: [TextureHandle; 3],
 }
 
-type RunOutput = Result<Vec<(String, RestoreResult)>, String>;
-
-struct Job {
+/// A run for the settings in `key`.
+struct RestoreJob {
     key: Key,
-    task: Task<RunOutput>,
-    progress: Arc<Progress>,
+    job: Job<Vec<(String, RestoreResult)>>,
 }
 
 pub struct RestoreView {
     photo: Option<Arc<Photo>>,
     photo_id: u64,
     photo_texture: Option<TextureHandle>,
-    photo_load: Option<Task<Result<Photo, String>>>,
+    photo_load: Option<Job<Photo>>,
     dialog: Option<PendingDialog>,
     snr_db: f64,
     method: MethodChoice,
     nsr: f64,
     lambda: f64,
     seed: u64,
-    job: Option<Job>,
+    job: Option<RestoreJob>,
     done_key: Option<Key>,
     rows: Vec<Row>,
     message: Option<Notice>,
@@ -121,17 +119,16 @@ impl RestoreView {
     /// Loads a photo file on a background thread (the open dialog and dropped files call this).
     pub fn load_photo(&mut self, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
-        self.photo_load = Some(Task::spawn(
-            "photo-load",
+        self.photo_load = Some(Job::spawn(
+            "photo reader",
             move || wake.request_repaint(),
-            move || {
-                let planes =
-                    photo::load_photo(&path, Some(MAX_SIDE_PX)).map_err(|e| e.to_string())?;
+            move |_| {
+                let planes = photo::load_photo(&path, Some(MAX_SIDE_PX))?;
                 let name = path.file_name().map_or_else(
                     || path.display().to_string(),
                     |n| n.to_string_lossy().into_owned(),
                 );
-                Ok(Photo { name, planes })
+                Ok::<_, crate::io::IoError>(Photo { name, planes })
             },
         ));
     }
@@ -160,24 +157,21 @@ impl RestoreView {
                 self.load_photo(path, ctx);
             }
         }
-        if let Some(done) = self.photo_load.as_ref().and_then(Task::poll) {
+        if let Some(done) = self.photo_load.as_ref().and_then(Job::poll) {
             self.photo_load = None;
             match done {
-                Ok(Ok(p)) => {
+                Ok(p) => {
                     self.message = None;
                     self.set_photo(p, ctx);
                 }
                 // The previous photo stays.
-                Ok(Err(e)) => {
-                    self.message = Some(Notice::error(format!("cannot open the photo: {e}")))
-                }
-                Err(()) => self.message = Some(Notice::error("the photo reader stopped")),
+                Err(e) => self.message = Some(Notice::error(format!("cannot open the photo: {e}"))),
             }
         }
-        if let Some(done) = self.job.as_ref().and_then(|j| j.task.poll()) {
+        if let Some(done) = self.job.as_ref().and_then(|j| j.job.poll()) {
             let key = self.job.take().map(|j| j.key);
             match done {
-                Ok(Ok(runs)) => {
+                Ok(runs) => {
                     self.rows = runs
                         .into_iter()
                         .enumerate()
@@ -214,11 +208,11 @@ impl RestoreView {
                     self.message = None;
                     self.done_key = key;
                 }
-                Ok(Err(e)) => {
-                    self.message = Some(Notice::error(e));
+                // Not retried until a setting changes.
+                Err(e) => {
+                    self.message = Some(Notice::error(e.to_string()));
                     self.done_key = key;
                 }
-                Err(()) => self.message = Some(Notice::error("the restore job stopped")),
             }
         }
     }
@@ -240,9 +234,8 @@ impl RestoreView {
         let Some(photo) = self.photo.clone() else {
             return;
         };
-        if let Some(j) = self.job.take() {
-            j.progress.cancel();
-        }
+        // Dropping the running job cancels it.
+        self.job = None;
         let method = match self.method {
             MethodChoice::Wiener => Method::Wiener { nsr: self.nsr },
             MethodChoice::Cg => Method::Cg(CgSettings {
@@ -266,13 +259,11 @@ impl RestoreView {
         if let Some(p) = pinned {
             designs.push((format!("A: {}", p.design.name), p.analysis.clone()));
         }
-        let progress = Arc::new(Progress::new());
-        let p = progress.clone();
         let wake = ctx.clone();
-        let task = Task::spawn(
-            "restore",
+        let job = Job::spawn(
+            "restore job",
             move || wake.request_repaint(),
-            move || {
+            move |p| {
                 let mut out = Vec::new();
                 for (label, analysis) in designs {
                     let psfs: Vec<&Array2<f64>> =
@@ -286,18 +277,14 @@ impl RestoreView {
                     }
                     let mut s = settings.clone();
                     s.capture.ltr_relative = analysis.ltr / REFERENCE_LTR;
-                    let r = simulate(&photo.planes, &psfs, &s, &p)
+                    let r = simulate(&photo.planes, &psfs, &s, p)
                         .map_err(|e| format!("{label}: {e}"))?;
                     out.push((label, r));
                 }
-                Ok(out)
+                Ok::<_, String>(out)
             },
         );
-        self.job = Some(Job {
-            key,
-            task,
-            progress,
-        });
+        self.job = Some(RestoreJob { key, job });
     }
 
     pub fn ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &mut PanelCtx) {
@@ -337,7 +324,7 @@ impl RestoreView {
             if self.is_running() {
                 ui.spinner();
                 if let Some(j) = &self.job {
-                    ui.weak(format!("{:.0} %", 100.0 * j.progress.fraction()));
+                    ui.weak(format!("{:.0} %", 100.0 * j.job.fraction()));
                 }
             }
         });

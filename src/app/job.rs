@@ -1,0 +1,237 @@
+//! One shape for every background computation and file task of the studio, so the UI thread
+//! only draws: [`Job::spawn`] runs a closure on its own named thread with a [`Progress`] it can
+//! report to and check for cancellation; the UI polls it once per frame; dropping the handle
+//! cancels it. Results arrive as `Result<T, JobError>`, one level deep.
+//!
+//! The display workspace's live analysis is the one exception: [`super::Worker`] keeps a single
+//! thread that coalesces a stream of designs (newest wins) rather than running one job.
+
+use std::fmt;
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::time::{Duration, Instant};
+
+use super::notice::Notice;
+use crate::core::{Progress, SimError};
+
+/// Why a job gave no result.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum JobError {
+    /// The computation refused its input or failed; the message says what and where.
+    Failed(String),
+    /// It was cancelled (by the user, by a newer job, or by dropping its handle).
+    Cancelled,
+    /// Its thread ended without an answer (it could not start, or it panicked); the job's name.
+    Stopped(&'static str),
+}
+
+impl fmt::Display for JobError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            JobError::Failed(m) => f.write_str(m),
+            JobError::Cancelled => f.write_str("cancelled"),
+            JobError::Stopped(name) => write!(f, "the {name} stopped unexpectedly"),
+        }
+    }
+}
+
+impl std::error::Error for JobError {}
+
+impl From<SimError> for JobError {
+    fn from(e: SimError) -> Self {
+        match e {
+            SimError::Cancelled => JobError::Cancelled,
+            e => JobError::Failed(e.to_string()),
+        }
+    }
+}
+
+impl From<String> for JobError {
+    fn from(e: String) -> Self {
+        JobError::Failed(e)
+    }
+}
+
+impl From<crate::io::IoError> for JobError {
+    fn from(e: crate::io::IoError) -> Self {
+        JobError::Failed(e.to_string())
+    }
+}
+
+/// A value being produced on another thread.
+pub struct Job<T> {
+    rx: Receiver<Result<T, JobError>>,
+    progress: Arc<Progress>,
+    started: Instant,
+    name: &'static str,
+}
+
+impl<T: Send + 'static> Job<T> {
+    /// Runs `work` on a new thread named `name` (also the name errors use, e.g. "PSF job");
+    /// `wake` is called when it is done, e.g. `request_repaint`.
+    pub fn spawn<E: Into<JobError>>(
+        name: &'static str,
+        wake: impl Fn() + Send + 'static,
+        work: impl FnOnce(&Progress) -> Result<T, E> + Send + 'static,
+    ) -> Self {
+        let (tx, rx) = channel();
+        let progress = Arc::new(Progress::new());
+        let p = progress.clone();
+        // If the thread cannot start, `tx` is dropped with the closure and `poll` reports Stopped.
+        let _ = std::thread::Builder::new()
+            .name(name.replace(' ', "-"))
+            .spawn(move || {
+                let _ = tx.send(work(&p).map_err(Into::into));
+                wake();
+            });
+        Job {
+            rx,
+            progress,
+            started: Instant::now(),
+            name,
+        }
+    }
+
+    /// `Some(result)` once done; `None` while running.
+    pub fn poll(&self) -> Option<Result<T, JobError>> {
+        match self.rx.try_recv() {
+            Ok(v) => Some(v),
+            Err(TryRecvError::Empty) => None,
+            Err(TryRecvError::Disconnected) => Some(Err(JobError::Stopped(self.name))),
+        }
+    }
+
+    /// The fraction done, in `[0, 1]`, as the job last reported it.
+    pub fn fraction(&self) -> f32 {
+        self.progress.fraction()
+    }
+
+    /// Asks the job to stop at its next check; its result then arrives as `Cancelled`.
+    pub fn cancel(&self) {
+        self.progress.cancel();
+    }
+
+    /// Time since the job started.
+    pub fn elapsed(&self) -> Duration {
+        self.started.elapsed()
+    }
+}
+
+impl<T> Drop for Job<T> {
+    /// Nobody will read the result: stop the work instead of letting it burn the cores.
+    fn drop(&mut self) {
+        self.progress.cancel();
+    }
+}
+
+/// File writes in flight, each answering with one line for the user ("saved …").
+#[derive(Default)]
+pub struct Writes(Vec<Job<String>>);
+
+impl Writes {
+    /// Writes on a helper thread; `write` answers with what was written.
+    pub fn spawn<E: Into<JobError>>(
+        &mut self,
+        wake: impl Fn() + Send + 'static,
+        write: impl FnOnce() -> Result<String, E> + Send + 'static,
+    ) {
+        self.0
+            .push(Job::spawn("file write", wake, move |_| write()));
+    }
+
+    /// Whether none is in flight.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    /// Takes the finished writes; the newest one's report, if any finished. A write that
+    /// reports an empty line (an autosave) succeeds silently, leaving the user's last message.
+    pub fn poll(&mut self) -> Option<Notice> {
+        let mut last = None;
+        self.0.retain(|job| match job.poll() {
+            None => true,
+            Some(Ok(line)) if line.is_empty() => false,
+            Some(done) => {
+                last = Some(match done {
+                    Ok(line) => Notice::info(line),
+                    Err(e) => Notice::error(e.to_string()),
+                });
+                false
+            }
+        });
+        last
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn wait<T: Send + 'static>(job: &Job<T>) -> Result<T, JobError> {
+        for _ in 0..2000 {
+            if let Some(r) = job.poll() {
+                return r;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        panic!("the job did not finish in 10 s");
+    }
+
+    #[test]
+    fn result_and_errors_arrive_one_level_deep() {
+        let ok = Job::spawn("test job", || {}, |_| Ok::<_, JobError>(41 + 1));
+        assert_eq!(wait(&ok), Ok(42));
+        let failed = Job::spawn("test job", || {}, |_| Err::<(), _>("bad size".to_string()));
+        assert_eq!(wait(&failed), Err(JobError::Failed("bad size".into())));
+        let sim = Job::spawn("test job", || {}, |_| Err::<(), _>(SimError::Cancelled));
+        assert_eq!(wait(&sim), Err(JobError::Cancelled));
+    }
+
+    #[test]
+    fn a_panicking_job_reports_stopped_with_its_name() {
+        let job = Job::spawn(
+            "PSF job",
+            || {},
+            |_| -> Result<(), JobError> { panic!("boom") },
+        );
+        let e = wait(&job).expect_err("a panic gives no value");
+        assert_eq!(e, JobError::Stopped("PSF job"));
+        assert_eq!(e.to_string(), "the PSF job stopped unexpectedly");
+    }
+
+    #[test]
+    fn cancel_and_drop_stop_a_running_job() {
+        let (seen_tx, seen_rx) = channel();
+        let job = Job::spawn(
+            "test job",
+            || {},
+            move |p: &Progress| {
+                while !p.is_cancelled() {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+                let _ = seen_tx.send(());
+                p.check()
+            },
+        );
+        assert!(job.poll().is_none(), "still running");
+        drop(job);
+        assert!(
+            seen_rx.recv_timeout(Duration::from_secs(10)).is_ok(),
+            "dropping the handle cancels the work"
+        );
+        let job = Job::spawn(
+            "test job",
+            || {},
+            |p: &Progress| {
+                p.set(0.5);
+                while !p.is_cancelled() {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+                p.check()
+            },
+        );
+        job.cancel();
+        assert_eq!(wait(&job), Err(JobError::Cancelled));
+        assert!((job.fraction() - 0.5).abs() < 1e-6);
+    }
+}
