@@ -39,6 +39,9 @@ pub struct ShownKernels {
     texture: TextureHandle,
 }
 
+/// A save dialog's answer: the chosen path, or `None` when cancelled.
+type FileDialog = Job<Option<PathBuf>>;
+
 struct KernelJob {
     design: PhaseDesign,
     quality: Quality,
@@ -55,7 +58,7 @@ pub(super) struct KernelState {
     job: Option<KernelJob>,
     shown: Option<ShownKernels>,
     /// The matrix being saved and the dialog asking where.
-    dialog: Option<(Arc<Array2<f64>>, Job<Option<PathBuf>>)>,
+    dialog: Option<(Arc<Array2<f64>>, FileDialog)>,
     writes: Writes,
     message: Option<Notice>,
 }
