@@ -1,45 +1,42 @@
 //! The studio (egui/eframe). The only module that touches egui.
 //!
-//! `StudioApp` owns the document (undoable), the simulation worker, the shown results, the
-//! panels and the session (files, dialogs, autosave). Every frame it (1) takes finished results,
-//! (2) draws the panels, which push [`Command`]s, and (3) applies those commands once.
+//! `StudioApp` is the shell: it owns the list of [`Workspace`]s (display layouts, phase masks,
+//! sensor previewer), the menu bar, the status bar, the unsaved-changes prompt and the settings.
+//! Every frame it reads the keyboard shortcuts, draws the menus and the active workspace (which
+//! takes its finished jobs and draws its panels), and hands the frame's [`Command`]s to it.
 
-mod actions;
 pub mod commands;
 pub mod dialogs;
-pub mod document;
+pub mod display;
 pub mod job;
 mod menu;
 pub mod notice;
-pub mod panels;
 pub mod phase;
 pub mod sensor;
 pub mod settings;
 pub mod widgets;
-mod worker;
+pub mod workspace;
 
 use crate::app::notice::Notice;
 use std::path::PathBuf;
-use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::Result;
 
 pub use commands::{Command, ExportKind, Tool};
-pub use document::Document;
+pub use display::panels;
+pub use display::{DisplayWorkspace, Document, JobResult, LeftTab, Payload, Worker};
 pub use settings::{AppDirs, Settings};
-pub use worker::{JobResult, Payload, Worker};
+pub use workspace::{Shell, Workspace, WorkspaceId};
 
 use crate::core::Design;
-use crate::core::analyze::Quality;
-use crate::io::{design_file, presets};
-use panels::{DisplayPreview, PanelCtx, Pinned, Shown};
 
 /// How often the design is autosaved while it changes.
 pub const AUTOSAVE_EVERY: Duration = Duration::from_secs(3);
 
 /// How the studio starts.
 pub struct StudioOptions {
+    /// Where settings and autosaves live.
     pub dirs: AppDirs,
     /// Open this file instead of restoring the autosave.
     pub design_path: Option<PathBuf>,
@@ -87,500 +84,386 @@ pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
 /// Set by the Ctrl-C / SIGTERM handler; the next frame closes the window.
 static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// Results on screen (the last good ones stay when a newer job fails).
-#[derive(Default)]
-pub struct Results {
-    pub shown: Option<Shown>,
-    pub display: Option<DisplayPreview>,
-    pub pinned: Option<Pinned>,
-    /// Pin the next full-quality result of the current generation.
-    pin_requested: bool,
-}
-
-/// View state: persisted, never undone.
-pub struct View {
-    pub workspace: Workspace,
-    pub tool: Tool,
-    pub settings: Settings,
-    pub left_tab: LeftTab,
-}
-
-/// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4) and the sensor
-/// previewer (chapter 5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Workspace {
-    Display,
-    Phase,
-    Sensor,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LeftTab {
-    Opening,
-    Tiling,
-    Optics,
-    Optimize,
-}
-
-/// A design being read from disk: the design and the path it came from, or a message.
-type LoadTask = job::Job<(Design, Option<PathBuf>)>;
-
-/// Files, dialogs, autosave and messages.
-pub struct Session {
-    dirs: AppDirs,
-    native_dialogs: bool,
-    dialog: Option<dialogs::PendingDialog>,
-    load: Option<LoadTask>,
-    writes: job::Writes,
-    confirm: Option<Command>,
-    last_autosave: Instant,
-    autosaved: Option<Design>,
-    spectral_step_nm: f64,
-    quit_confirmed: bool,
-    autosave_every: Duration,
-    /// The latest message for the status bar, and whether it is an error.
-    pub status: Option<Notice>,
-    /// The status is the simulation's error, which its next good result clears.
-    pub status_is_simulation_error: bool,
-}
-
-struct Panels {
-    editor: panels::editor::EditorPanel,
-    tiling: panels::tiling::TilingPanel,
-    optics: panels::optics::OpticsPanel,
-    optimize: panels::optimize::OptimizePanel,
-    numbers: panels::numbers::NumbersPanel,
-    views: panels::views::ViewsPanel,
-    mask_export: panels::mask_export::MaskExportDialog,
-}
-
-/// The studio.
+/// The studio: the workspaces and what they share.
 pub struct StudioApp {
-    doc: Document,
-    sensor: sensor::SensorWorkspace,
-    phase: phase::PhaseWorkspace,
-    worker: Worker,
-    results: Results,
-    view: View,
-    session: Session,
-    panels: Panels,
+    workspaces: Vec<Box<dyn Workspace>>,
+    active: WorkspaceId,
+    shell: Shell,
     title: String,
-    egui_ctx: egui::Context,
 }
 
 impl StudioApp {
     /// Starts the studio: opens `design_path`, or restores the autosave, or the default preset.
     pub fn new(ctx: &egui::Context, options: StudioOptions) -> Self {
-        let settings = Settings::load(&options.dirs);
-        ctx.set_visuals(if settings.dark {
+        let mut shell = Shell::new(
+            ctx.clone(),
+            options.dirs,
+            options.native_dialogs,
+            options.autosave_every,
+        );
+        ctx.set_visuals(if shell.settings.dark {
             egui::Visuals::dark()
         } else {
             egui::Visuals::light()
         });
-        let mut status = None;
-        let (design, path) = match options.design_path.as_deref().map(design_file::load_design) {
-            Some(Ok(d)) => (d, options.design_path.clone()),
-            Some(Err(e)) => {
-                status = Some(Notice::error(e.to_string()));
-                (restore_or_default(&options.dirs, &mut status), None)
-            }
-            None => (restore_or_default(&options.dirs, &mut status), None),
-        };
-        let wake_ctx = ctx.clone();
-        let worker = Worker::spawn(move || wake_ctx.request_repaint());
-        let phase = phase::PhaseWorkspace::new(
-            &options.dirs,
-            options.native_dialogs,
-            options.autosave_every,
-        );
-        let mut app = StudioApp {
-            doc: Document::new(design.clone(), path),
-            sensor: sensor::SensorWorkspace::default(),
-            phase,
-            worker,
-            results: Results::default(),
-            view: View {
-                workspace: Workspace::Display,
-                tool: Tool::Paint,
-                settings,
-                left_tab: LeftTab::Opening,
-            },
-            session: Session {
-                dirs: options.dirs,
-                native_dialogs: options.native_dialogs,
-                dialog: None,
-                load: None,
-                writes: job::Writes::default(),
-                confirm: None,
-                last_autosave: Instant::now(),
-                autosaved: Some(design),
-                spectral_step_nm: 30.0,
-                quit_confirmed: false,
-                autosave_every: options.autosave_every,
-                status,
-                status_is_simulation_error: false,
-            },
-            panels: Panels {
-                editor: Default::default(),
-                tiling: Default::default(),
-                optics: Default::default(),
-                optimize: Default::default(),
-                numbers: Default::default(),
-                views: Default::default(),
-                mask_export: Default::default(),
-            },
+        // The switch shows them in this order.
+        let workspaces: Vec<Box<dyn Workspace>> = vec![
+            Box::new(DisplayWorkspace::new(&mut shell, options.design_path)),
+            Box::new(phase::PhaseWorkspace::new(
+                &shell.dirs,
+                shell.native_dialogs,
+                shell.autosave_every,
+            )),
+            Box::new(sensor::SensorWorkspace::default()),
+        ];
+        StudioApp {
+            workspaces,
+            active: WorkspaceId::Display,
+            shell,
             title: String::new(),
-            egui_ctx: ctx.clone(),
-        };
-        app.submit();
-        app
+        }
     }
 
-    /// The design being edited.
+    fn get<T: Workspace>(&self) -> &T {
+        self.workspaces
+            .iter()
+            .find_map(|w| w.as_any().downcast_ref::<T>())
+            .expect("every workspace type is in the list from the start")
+    }
+
+    fn get_mut<T: Workspace>(&mut self) -> &mut T {
+        self.workspaces
+            .iter_mut()
+            .find_map(|w| w.as_any_mut().downcast_mut::<T>())
+            .expect("every workspace type is in the list from the start")
+    }
+
+    fn workspace_mut(&mut self, id: WorkspaceId) -> &mut dyn Workspace {
+        let i = self
+            .workspaces
+            .iter()
+            .position(|w| w.id() == id)
+            .unwrap_or(0);
+        self.workspaces[i].as_mut()
+    }
+
+    /// The display-layout workspace.
+    pub fn display(&self) -> &DisplayWorkspace {
+        self.get()
+    }
+
+    /// The display-layout workspace, mutable.
+    pub fn display_mut(&mut self) -> &mut DisplayWorkspace {
+        self.get_mut()
+    }
+
+    /// The design being edited in the display workspace.
     pub fn design(&self) -> &Design {
-        self.doc.design()
+        self.display().design()
     }
 
+    /// The display workspace's document.
     pub fn document(&self) -> &Document {
-        &self.doc
+        self.display().document()
     }
 
-    /// The result on screen, if any.
-    pub fn shown(&self) -> Option<&Shown> {
-        self.results.shown.as_ref()
+    /// The display workspace's result on screen, if any.
+    pub fn shown(&self) -> Option<&panels::Shown> {
+        self.display().shown()
     }
 
     /// The pinned comparison design, if any.
-    pub fn pinned(&self) -> Option<&Pinned> {
-        self.results.pinned.as_ref()
+    pub fn pinned(&self) -> Option<&panels::Pinned> {
+        self.display().pinned()
     }
 
     /// Whether the shown result is the full-quality result of the current design.
     pub fn is_up_to_date(&self) -> bool {
-        self.results
-            .shown
-            .as_ref()
-            .is_some_and(|s| s.generation == self.worker.generation() && s.quality == Quality::Full)
-            && self.session.load.is_none()
+        self.display().is_up_to_date()
     }
 
-    /// The status-bar message and whether it is an error.
+    /// The status-bar message.
     pub fn status(&self) -> Option<&Notice> {
-        self.session.status.as_ref()
+        self.shell.status()
     }
 
     /// The editor panel (tests use its grid rectangle to draw with the pointer).
     pub fn editor(&self) -> &panels::editor::EditorPanel {
-        &self.panels.editor
+        self.display().editor()
     }
 
-    /// Queues a command as if a menu item or shortcut had been used.
+    /// Runs a command as if a menu item or shortcut had been used.
     pub fn command(&mut self, command: Command) {
         self.apply(vec![command]);
     }
 
     /// The optimize panel (tests read its runs).
     pub fn optimizer(&self) -> &panels::optimize::OptimizePanel {
-        &self.panels.optimize
+        self.display().optimizer()
     }
 
     /// The optimize panel's settings (tests set up runs through it).
     pub fn optimizer_settings(&mut self) -> &mut crate::core::optimize::OptimizeSettings {
-        &mut self.panels.optimize.settings
+        self.display_mut().optimizer_settings()
+    }
+
+    /// The Export-mask dialog.
+    pub fn mask_export(&self) -> &panels::mask_export::MaskExportDialog {
+        self.display().mask_export()
     }
 
     /// The sensor previewer workspace.
     pub fn sensor(&mut self) -> &mut sensor::SensorWorkspace {
-        &mut self.sensor
+        self.get_mut()
     }
 
     /// The sensor previewer, read-only (for `step_until` conditions).
     pub fn sensor_ref(&self) -> &sensor::SensorWorkspace {
-        &self.sensor
+        self.get()
     }
 
     /// The phase-mask workspace.
     pub fn phase(&mut self) -> &mut phase::PhaseWorkspace {
-        &mut self.phase
+        self.get_mut()
     }
 
     /// The phase-mask workspace, read-only (for `step_until` conditions).
     pub fn phase_ref(&self) -> &phase::PhaseWorkspace {
-        &self.phase
+        self.get()
     }
 
     /// The workspace on screen.
-    pub fn workspace(&self) -> Workspace {
-        self.view.workspace
+    pub fn workspace(&self) -> WorkspaceId {
+        self.active
     }
 
-    /// Switches between the display-layout, phase-mask and sensor workspaces.
-    pub fn set_workspace(&mut self, workspace: Workspace) {
-        self.view.workspace = workspace;
+    /// Switches between the workspaces.
+    pub fn set_workspace(&mut self, workspace: WorkspaceId) {
+        self.active = workspace;
     }
 
     /// The result views (tests pick tabs and read the Restore view).
     pub fn views(&mut self) -> &mut panels::views::ViewsPanel {
-        &mut self.panels.views
+        self.display_mut().views()
     }
 
     /// The Restore view's results.
     pub fn restore_view(&self) -> &panels::views::restore::RestoreView {
-        &self.panels.views.restore
+        self.display().restore_view()
     }
 
-    /// Shows a tab of the left panel.
+    /// Shows a tab of the display workspace's left panel.
     pub fn show_left_tab(&mut self, tab: LeftTab) {
-        self.view.left_tab = tab;
+        self.display_mut().show_left_tab(tab);
     }
 
+    /// The display editor's current tool.
     pub fn tool(&self) -> Tool {
-        self.view.tool
+        self.display().tool()
     }
 
-    fn submit(&mut self) {
-        self.worker.submit(self.doc.design().clone());
+    /// Reads a design file into the display workspace (as File > Open would).
+    pub fn open_path(&mut self, path: PathBuf) {
+        self.command(Command::OpenPath(path));
     }
 
-    /// Takes finished results; keeps the last good result when a job fails.
-    fn take_results(&mut self) {
-        for r in self.worker.poll() {
-            if r.generation != self.worker.generation() {
-                continue;
-            }
-            match r.payload {
-                Payload::Display {
-                    side,
-                    values,
-                    sample_um,
-                    pupil_diameter_um,
-                } => {
-                    self.results.display = Some(DisplayPreview {
-                        generation: r.generation,
-                        side,
-                        values: Arc::new(values),
-                        sample_um,
-                        pupil_diameter_um,
+    /// Applies the frame's commands in order: the shell's own, then the active workspace's.
+    fn apply(&mut self, cmds: Vec<Command>) {
+        for c in cmds {
+            match c {
+                Command::ToggleTheme => {
+                    self.shell.settings.dark = !self.shell.settings.dark;
+                    self.shell.ctx.set_visuals(if self.shell.settings.dark {
+                        egui::Visuals::dark()
+                    } else {
+                        egui::Visuals::light()
                     });
+                    self.shell.save_settings();
                 }
-                Payload::Analysis { quality, result } => match result {
-                    Ok(a) => {
-                        let shown = Shown {
-                            generation: r.generation,
-                            quality,
-                            analysis: Arc::new(a),
-                            design: Arc::new(self.doc.design().clone()),
-                        };
-                        if quality == Quality::Full && self.results.pin_requested {
-                            self.results.pin_requested = false;
-                            self.results.pinned = Some(Pinned {
-                                design: shown.design.clone(),
-                                analysis: shown.analysis.clone(),
-                            });
-                        }
-                        self.results.shown = Some(shown);
-                        // A good result answers the simulation's own error, not the others
-                        // (a file kept aside, a failed save) the user has not read yet.
-                        if self.session.status_is_simulation_error {
-                            self.session.status = None;
-                            self.session.status_is_simulation_error = false;
-                        }
+                Command::ToggleOverlays => {
+                    self.shell.settings.overlays = !self.shell.settings.overlays;
+                    self.shell.save_settings();
+                }
+                Command::Quit => self.quit(false),
+                c => {
+                    let active = self.active;
+                    let shell = &mut self.shell;
+                    if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == active) {
+                        ws.command(c, false, shell);
                     }
-                    Err(e) => {
-                        self.session.status =
-                            Some(Notice::error(format!("cannot simulate this design: {e}")));
-                        self.session.status_is_simulation_error = true;
-                    }
-                },
+                }
             }
         }
     }
 
-    fn left_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
-        ui.horizontal(|ui| {
-            for (tab, label) in [
-                (LeftTab::Opening, "Opening"),
-                (LeftTab::Tiling, "Tiling"),
-                (LeftTab::Optics, "Optics"),
-                (LeftTab::Optimize, "Optimize"),
-            ] {
-                if ui
-                    .selectable_label(self.view.left_tab == tab, label)
-                    .clicked()
-                {
-                    self.view.left_tab = tab;
-                }
-            }
-        });
-        ui.separator();
-        let mut pctx = panel_ctx(&self.doc, &self.results, &self.view, cmds);
-        egui::ScrollArea::vertical().show(ui, |ui| match self.view.left_tab {
-            LeftTab::Opening => self.panels.editor.ui(ui, &mut pctx),
-            LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
-            LeftTab::Optics => self.panels.optics.ui(ui, &mut pctx),
-            LeftTab::Optimize => self.panels.optimize.ui(ui, &mut pctx),
-        });
+    /// Closes the window, first asking when a workspace has unsaved changes.
+    fn quit(&mut self, confirmed: bool) {
+        if !confirmed && let Some(ws) = self.workspaces.iter().find(|w| w.is_dirty()) {
+            self.shell.confirm = Some((ws.id(), Command::Quit));
+            return;
+        }
+        self.shell.quit_confirmed = true;
+        self.shell
+            .ctx
+            .send_viewport_cmd(egui::ViewportCommand::Close);
     }
 
     fn status_ui(&mut self, ui: &mut egui::Ui) {
+        let hint = self.workspace_mut(self.active).hint();
         ui.horizontal(|ui| {
-            if let Some(n) = &self.session.status {
-                let color = if n.is_error() { ui.visuals().error_fg_color } else { ui.visuals().text_color() };
+            if let Some(n) = self.shell.status() {
+                let color = if n.is_error() {
+                    ui.visuals().error_fg_color
+                } else {
+                    ui.visuals().text_color()
+                };
+                let text = n.text.clone();
                 // The button first: a long message is cut to the window (hover shows it whole)
                 // and never pushes Dismiss out of reach.
-                if ui.small_button("Dismiss").on_hover_text("Dismiss").clicked() {
-                    self.session.status = None;
+                if ui
+                    .small_button("Dismiss")
+                    .on_hover_text("Dismiss")
+                    .clicked()
+                {
+                    self.shell.clear_status();
                 } else {
-                    ui.add(egui::Label::new(egui::RichText::new(&n.text).color(color)).truncate())
-                        .on_hover_text(&n.text);
+                    ui.add(egui::Label::new(egui::RichText::new(&text).color(color)).truncate())
+                        .on_hover_text(&text);
                 }
             } else {
-                ui.weak("Ready. Draw on the opening (B paint, E erase, R rectangle, O ellipse, L line, F fill).");
+                ui.weak(hint);
             }
         });
+    }
+
+    /// Files dropped on the window go to the active workspace, else to the first that takes
+    /// them, which is then shown (an HDR scene dropped on the display opens the sensor).
+    fn dropped_files(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_path_buf())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        for p in dropped {
+            let active = self.active;
+            let shell = &mut self.shell;
+            let mut order: Vec<&mut Box<dyn Workspace>> = self.workspaces.iter_mut().collect();
+            order.sort_by_key(|w| w.id() != active);
+            let taker = order
+                .into_iter()
+                .find_map(|w| w.open_dropped(&p, shell).then(|| w.id()));
+            match taker {
+                Some(id) => self.active = id,
+                None => self
+                    .shell
+                    .set_status(Notice::error(format!("no workspace opens {}", p.display()))),
+            }
+        }
+    }
+
+    /// The window's close button asks first when there are unsaved changes.
+    fn close_request(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested())
+            && !self.shell.quit_confirmed
+            && self.workspaces.iter().any(|w| w.is_dirty())
+        {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.quit(false);
+        }
+    }
+
+    /// The unsaved-changes prompt.
+    fn confirm_ui(&mut self, ctx: &egui::Context) {
+        let Some((id, pending)) = self.shell.confirm.clone() else {
+            return;
+        };
+        let what = match &pending {
+            Command::Quit => "quitting",
+            Command::New => "starting a new design",
+            Command::LoadPreset(_) => "loading the preset",
+            _ => "opening another design",
+        };
+        let name = self.workspace_mut(id).document_name();
+        let can_save = self.workspace_mut(id).can_save_in_place();
+        let mut choice = None;
+        egui::Modal::new(egui::Id::unique("unsaved-changes")).show(ctx, |ui| {
+            ui.heading("Unsaved changes");
+            ui.label(format!(
+                "\"{name}\" has changes that are not saved to a file. They stay in the autosave \
+                 and in undo, but save them before {what}?"
+            ));
+            ui.horizontal(|ui| {
+                if can_save && ui.button("Save").clicked() {
+                    choice = Some(UnsavedChoice::Save);
+                }
+                if ui.button("Discard changes").clicked() {
+                    choice = Some(UnsavedChoice::Discard);
+                }
+                if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(egui::Key::Escape)) {
+                    choice = Some(UnsavedChoice::Cancel);
+                }
+            });
+        });
+        let Some(choice) = choice else {
+            return;
+        };
+        self.shell.confirm = None;
+        if choice == UnsavedChoice::Cancel {
+            return;
+        }
+        if choice == UnsavedChoice::Save {
+            let shell = &mut self.shell;
+            if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
+                ws.command(Command::Save, true, shell);
+            }
+            if self.workspace_mut(id).is_dirty() {
+                // Not saved (cancelled Save-as, or an error in the status bar): stay.
+                return;
+            }
+        }
+        match pending {
+            Command::Quit => self.quit(true),
+            c => {
+                let shell = &mut self.shell;
+                if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
+                    ws.command(c, true, shell);
+                }
+            }
+        }
     }
 
     /// Draws one frame (shared by the native window and the test harness).
     pub fn frame_ui(&mut self, ui: &mut egui::Ui) {
         let ctx = ui.ctx().clone();
         if INTERRUPTED.swap(false, std::sync::atomic::Ordering::Relaxed) {
-            self.session.quit_confirmed = true;
+            self.shell.quit_confirmed = true;
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
-        self.take_results();
         let mut cmds = Vec::new();
         commands::shortcuts(&ctx, &mut cmds);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut cmds));
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
-        if self.view.workspace == Workspace::Phase {
-            // Undo and redo act on the phase parameters here; the opening edits do not apply.
-            cmds.retain(|c| match c {
-                Command::Undo => {
-                    self.phase.undo();
-                    false
-                }
-                Command::Redo => {
-                    self.phase.redo();
-                    false
-                }
-                Command::Invert
-                | Command::Clear
-                | Command::Reroll
-                | Command::Copy
-                | Command::Paste(_) => false,
-                _ => true,
-            });
-            egui::Panel::left("phase_controls")
-                .resizable(true)
-                .default_size(380.0)
-                .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| self.phase.controls_ui(ui));
-                });
-            egui::Panel::right("phase_numbers")
-                .resizable(true)
-                .default_size(400.0)
-                .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| self.phase.numbers_ui(ui));
-                });
-            egui::CentralPanel::default().show(ui, |ui| self.phase.views_ui(ui));
-            self.dropped_files(&ctx, &mut cmds);
-            self.close_request(&ctx, &mut cmds);
-            self.confirm_ui(&ctx, &mut cmds);
-            self.apply(cmds);
-            self.poll_session();
-            return;
+        let active = self.active;
+        let shell = &mut self.shell;
+        if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == active) {
+            ws.ui(ui, shell, &mut cmds);
         }
-        if self.view.workspace == Workspace::Sensor {
-            egui::Panel::left("sensor_controls")
-                .resizable(true)
-                .default_size(360.0)
-                .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| self.sensor.controls_ui(ui));
-                });
-            egui::Panel::right("sensor_numbers")
-                .resizable(true)
-                .default_size(420.0)
-                .show(ui, |ui| self.sensor.numbers_ui(ui));
-            egui::CentralPanel::default().show(ui, |ui| self.sensor.views_ui(ui));
-            self.dropped_files(&ctx, &mut cmds);
-            self.close_request(&ctx, &mut cmds);
-            self.confirm_ui(&ctx, &mut cmds);
-            self.apply(cmds);
-            self.poll_session();
-            return;
-        }
-        egui::Panel::left("design")
-            .resizable(true)
-            .default_size(420.0)
-            .show(ui, |ui| self.left_ui(ui, &mut cmds));
-        let progress = self.worker.progress();
-        egui::Panel::right("numbers")
-            .resizable(true)
-            .default_size(300.0)
-            .show(ui, |ui| {
-                let mut pctx = panel_ctx(&self.doc, &self.results, &self.view, &mut cmds);
-                ui.heading("Numbers");
-                self.panels.numbers.ui(ui, &mut pctx, progress);
-            });
-        egui::CentralPanel::default().show(ui, |ui| {
-            let mut pctx = panel_ctx(&self.doc, &self.results, &self.view, &mut cmds);
-            self.panels.views.ui(ui, &mut pctx);
-        });
-        self.dropped_files(&ctx, &mut cmds);
-        self.close_request(&ctx, &mut cmds);
-        self.confirm_ui(&ctx, &mut cmds);
-        self.panels
-            .mask_export
-            .ui(&ctx, self.doc.design(), &mut cmds);
+        self.dropped_files(&ctx);
+        self.close_request(&ctx);
+        self.confirm_ui(&ctx);
         self.apply(cmds);
-        self.poll_session();
-        if self.title != self.doc.title() {
-            self.title = self.doc.title();
-            ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.title.clone()));
+        if let Some(id) = self.shell.switch_to.take() {
+            self.active = id;
+        }
+        let title = self.workspace_mut(self.active).title();
+        if self.title != title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
         }
     }
-}
-
-/// What the panels see this frame (disjoint borrows of the app's fields).
-fn panel_ctx<'a>(
-    doc: &'a Document,
-    results: &'a Results,
-    view: &'a View,
-    commands: &'a mut Vec<Command>,
-) -> PanelCtx<'a> {
-    PanelCtx {
-        design: doc.design(),
-        shown: results.shown.as_ref(),
-        display: results.display.as_ref(),
-        pinned: results.pinned.as_ref(),
-        overlays: view.settings.overlays,
-        tool: view.tool,
-        commands,
-    }
-}
-
-/// The autosaved design of the last session, or the default preset.
-fn restore_or_default(dirs: &AppDirs, status: &mut Option<Notice>) -> Design {
-    if let Some(path) = dirs.autosave_path().filter(|p| p.exists()) {
-        match design_file::load_design(&path) {
-            Ok(d) => return d,
-            Err(e) => {
-                // Keep the unreadable autosave aside instead of overwriting it.
-                let kept = match crate::io::safe_file::keep_aside(&path) {
-                    Ok(aside) => format!(
-                        "kept it as {} beside it",
-                        aside.file_name().unwrap_or_default().to_string_lossy()
-                    ),
-                    Err(e) => format!("it stays where it was ({e})"),
-                };
-                *status = Some(Notice::error(format!(
-                    "could not restore the last design ({e}); {kept}; opened the default \
-                         design"
-                )));
-            }
-        }
-    }
-    presets::load_preset(presets::DEFAULT_PRESET).unwrap_or_default()
 }
 
 impl eframe::App for StudioApp {
@@ -589,8 +472,17 @@ impl eframe::App for StudioApp {
     }
 
     fn on_exit(&mut self) {
-        self.autosave_now_blocking();
-        self.phase.save_now_blocking();
-        let _ = self.view.settings.save(&self.session.dirs);
+        for ws in &mut self.workspaces {
+            ws.save_now_blocking();
+        }
+        let _ = self.shell.settings.save(&self.shell.dirs);
     }
+}
+
+/// The answers of the unsaved-changes prompt.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum UnsavedChoice {
+    Save,
+    Discard,
+    Cancel,
 }

@@ -13,7 +13,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use ndarray::Array2;
 use udc_studio::app::phase::{ChannelSet, PhaseView, Quality};
-use udc_studio::app::{StudioApp, Workspace};
+use udc_studio::app::{StudioApp, WorkspaceId};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::imaging::{Setup, capture_and_restore, compare_setups, phase_blur};
@@ -25,7 +25,7 @@ const PIXELS: usize = 64;
 /// The studio on the phase workspace's Capture & restore view, a 64-pixel sensor, peaks.
 fn capture_studio(dir: &std::path::Path) -> (Harness<'static, StudioApp>, PhaseDesign) {
     let mut h = common::studio(dir, false, Duration::from_secs(600));
-    h.state_mut().set_workspace(Workspace::Phase);
+    h.state_mut().set_workspace(WorkspaceId::Phase);
     h.state_mut().phase().quality = Quality::Preview;
     let mut d = PhaseDesign::thesis(42.0, 1.0);
     d.camera.pixels = PIXELS;

@@ -11,7 +11,7 @@ use crate::common::step_until;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
 use udc_studio::app::phase::{ChannelSet, HeightFormat, PhaseView, Quality};
-use udc_studio::app::{StudioApp, Workspace};
+use udc_studio::app::{StudioApp, WorkspaceId};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::geometry::lenslet_count;
@@ -19,7 +19,7 @@ use udc_studio::core::phase::{Incidence, Lambda0, Optics, PhaseDesign, PhaseSamp
 
 fn phase_studio(dir: &std::path::Path, quality: Quality) -> Harness<'static, StudioApp> {
     let mut h = common::studio(dir, false, Duration::from_secs(600));
-    h.state_mut().set_workspace(Workspace::Phase);
+    h.state_mut().set_workspace(WorkspaceId::Phase);
     h.state_mut().phase().quality = quality;
     h.step();
     h
@@ -299,7 +299,7 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
     let dir = tempfile::tempdir().unwrap();
     {
         let mut h = common::studio(dir.path(), false, Duration::from_millis(20));
-        h.state_mut().set_workspace(Workspace::Phase);
+        h.state_mut().set_workspace(WorkspaceId::Phase);
         h.state_mut().phase().quality = Quality::Preview;
         let mut d = PhaseDesign::thesis(56.0, 5.0);
         d.height_step_um = Some(0.2);
@@ -330,7 +330,7 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
         assert!(msg.contains("dialogs are disabled"), "{msg}");
     }
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
-    h.state_mut().set_workspace(Workspace::Phase);
+    h.state_mut().set_workspace(WorkspaceId::Phase);
     h.step();
     let d = h.state().phase_ref().design();
     assert_eq!(

@@ -166,11 +166,11 @@ fn restore_view_with_a_pinned_design() {
 
 #[test]
 fn sensor_previewer_maps_and_split_compare() {
-    use udc_studio::app::Workspace;
+    use udc_studio::app::WorkspaceId;
     use udc_studio::app::sensor::{CompareMode, SensorView};
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().set_workspace(Workspace::Sensor);
+    h.state_mut().set_workspace(WorkspaceId::Sensor);
     let ctx = h.ctx.clone();
     let scene =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdr/StillLife_620x423.exr");
@@ -203,11 +203,11 @@ fn sensor_previewer_maps_and_split_compare() {
 
 #[test]
 fn phase_masks_psfs_plate_and_optimizer() {
-    use udc_studio::app::Workspace;
+    use udc_studio::app::WorkspaceId;
     use udc_studio::app::phase::{PhaseView, Quality};
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().set_workspace(Workspace::Phase);
+    h.state_mut().set_workspace(WorkspaceId::Phase);
     common::step_until(&mut h, "the phase PSFs", |app| {
         app.phase_ref().is_up_to_date()
     });
@@ -241,11 +241,11 @@ fn phase_masks_psfs_plate_and_optimizer() {
 
 #[test]
 fn phase_capture_and_compare() {
-    use udc_studio::app::Workspace;
+    use udc_studio::app::WorkspaceId;
     use udc_studio::app::phase::{ChannelSet, PhaseView, Quality};
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    h.state_mut().set_workspace(Workspace::Phase);
+    h.state_mut().set_workspace(WorkspaceId::Phase);
     // Full sampling through the peak wavelengths: the real view, ten times quicker than the
     // spectral channels.
     h.state_mut().phase().quality = Quality::Full;

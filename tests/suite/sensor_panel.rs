@@ -9,7 +9,7 @@ use std::time::Duration;
 
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::Workspace;
+use udc_studio::app::WorkspaceId;
 use udc_studio::app::sensor::SensorView;
 
 fn still_life() -> std::path::PathBuf {
@@ -20,7 +20,7 @@ fn still_life() -> std::path::PathBuf {
 fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
-    h.state_mut().set_workspace(Workspace::Sensor);
+    h.state_mut().set_workspace(WorkspaceId::Sensor);
     h.step();
     assert!(h.query_by_label("Open HDR…").is_some());
     let ctx = h.ctx.clone();
@@ -82,7 +82,7 @@ fn a_broken_hdr_file_shows_an_error_and_keeps_the_scene() {
     let bad = dir.path().join("broken.exr");
     std::fs::write(&bad, b"v/1\x01 definitely not an OpenEXR file").unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
-    h.state_mut().set_workspace(Workspace::Sensor);
+    h.state_mut().set_workspace(WorkspaceId::Sensor);
     let ctx = h.ctx.clone();
     h.state_mut().sensor().load_scene(still_life(), &ctx);
     step_until(&mut h, "the full run", |app| {

@@ -486,3 +486,85 @@ impl PhaseWorkspace {
         }
     }
 }
+
+impl crate::app::workspace::Workspace for PhaseWorkspace {
+    fn id(&self) -> crate::app::WorkspaceId {
+        crate::app::WorkspaceId::Phase
+    }
+
+    fn label(&self) -> &'static str {
+        "Phase masks"
+    }
+
+    fn about(&self) -> &'static str {
+        "Chapter 4: folded double microlens arrays around a T-OLED"
+    }
+
+    fn hint(&self) -> &'static str {
+        "Ready. Set the pitch, fold and λ0 plan on the left; the PSFs update live. Run the \
+         optimizer for a λ0 plan against chromatic aberration."
+    }
+
+    fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
+    }
+
+    fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        _shell: &mut crate::app::Shell,
+        _cmds: &mut Vec<crate::app::Command>,
+    ) {
+        egui::Panel::left("phase_controls")
+            .resizable(true)
+            .default_size(380.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui));
+            });
+        egui::Panel::right("phase_numbers")
+            .resizable(true)
+            .default_size(400.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.numbers_ui(ui));
+            });
+        egui::CentralPanel::default().show(ui, |ui| self.views_ui(ui));
+    }
+
+    /// Undo and redo act on the phase parameters; the display's commands do not apply here.
+    fn command(
+        &mut self,
+        command: crate::app::Command,
+        _confirmed: bool,
+        _shell: &mut crate::app::Shell,
+    ) {
+        match command {
+            crate::app::Command::Undo => {
+                self.undo();
+            }
+            crate::app::Command::Redo => {
+                self.redo();
+            }
+            _ => {}
+        }
+    }
+
+    fn can_undo(&self) -> bool {
+        PhaseWorkspace::can_undo(self)
+    }
+
+    fn can_redo(&self) -> bool {
+        PhaseWorkspace::can_redo(self)
+    }
+
+    fn save_now_blocking(&mut self) {
+        PhaseWorkspace::save_now_blocking(self);
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}

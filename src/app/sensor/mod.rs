@@ -302,3 +302,82 @@ impl SensorWorkspace {
         });
     }
 }
+
+impl crate::app::workspace::Workspace for SensorWorkspace {
+    fn id(&self) -> crate::app::WorkspaceId {
+        crate::app::WorkspaceId::Sensor
+    }
+
+    fn label(&self) -> &'static str {
+        "Sensor previewer"
+    }
+
+    fn about(&self) -> &'static str {
+        "Chapter 5: spatially-varying gain and binning on HDR scenes"
+    }
+
+    fn hint(&self) -> &'static str {
+        "Ready. Open an HDR scene (.hdr, .exr) or drop one on the window; the four readouts \
+         update as you change the light and the maps."
+    }
+
+    fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
+    }
+
+    fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        _shell: &mut crate::app::Shell,
+        _cmds: &mut Vec<crate::app::Command>,
+    ) {
+        egui::Panel::left("sensor_controls")
+            .resizable(true)
+            .default_size(360.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui));
+            });
+        egui::Panel::right("sensor_numbers")
+            .resizable(true)
+            .default_size(420.0)
+            .show(ui, |ui| self.numbers_ui(ui));
+        egui::CentralPanel::default().show(ui, |ui| self.views_ui(ui));
+    }
+
+    /// The previewer has no document to undo: its settings are the view.
+    fn command(
+        &mut self,
+        _command: crate::app::Command,
+        _confirmed: bool,
+        _shell: &mut crate::app::Shell,
+    ) {
+    }
+
+    fn can_undo(&self) -> bool {
+        false
+    }
+
+    fn can_redo(&self) -> bool {
+        false
+    }
+
+    fn open_dropped(&mut self, path: &std::path::Path, shell: &mut crate::app::Shell) -> bool {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        if ext == "hdr" || ext == "exr" {
+            self.load_scene(path.to_path_buf(), &shell.ctx);
+            return true;
+        }
+        false
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}

@@ -67,7 +67,7 @@ impl Default for OptimizePanel {
 
 /// The built-in training photo of the data loss: another photo than the Restore view's, so the
 /// view shows how the opening generalises.
-const TRAINING_PHOTO: &[u8] = include_bytes!("../../../assets/photos/coffee_256.png");
+const TRAINING_PHOTO: &[u8] = include_bytes!("../../../../assets/photos/coffee_256.png");
 
 fn training_data(channels: usize) -> Result<DataSet, String> {
     let img = image::load_from_memory(TRAINING_PHOTO).map_err(|e| e.to_string())?;

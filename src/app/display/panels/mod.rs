@@ -11,7 +11,7 @@ pub mod views;
 
 use std::sync::Arc;
 
-use super::commands::{Command, Tool};
+use crate::app::commands::{Command, Tool};
 use crate::core::analyze::Quality;
 use crate::core::{Analysis, Design};
 

@@ -11,8 +11,8 @@ use egui::{TextureHandle, TextureOptions, Ui};
 use ndarray::Array2;
 
 use crate::app::dialogs::{PendingDialog, Purpose};
+use crate::app::display::panels::{PanelCtx, Pinned, Shown};
 use crate::app::job::Job;
-use crate::app::panels::{PanelCtx, Pinned, Shown};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::Analysis;
 use crate::core::restore::capture::REFERENCE_LTR;

@@ -1,0 +1,446 @@
+//! The display-layout workspace (thesis chapter 3): draw one pixel's opening, tile it, and see
+//! the PSF, MTF, numbers, a capture and its restoration live; optimize the opening.
+//!
+//! It owns the design document (undoable), the simulation [`Worker`], the results on screen,
+//! its panels and its files (open, save, import, export, autosave). Each frame it (1) takes
+//! finished results, (2) draws the panels, which push [`Command`]s, and (3) the shell applies
+//! those commands through [`Workspace::command`].
+
+mod actions;
+pub mod document;
+mod menu;
+pub mod panels;
+mod worker;
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::Instant;
+
+use super::commands::{Command, Tool};
+use super::dialogs::PendingDialog;
+use super::job::{Job, Writes};
+use super::notice::Notice;
+use super::settings::AppDirs;
+use super::workspace::{Shell, Workspace, WorkspaceId};
+use crate::core::Design;
+use crate::core::analyze::Quality;
+use crate::io::{design_file, presets};
+pub use document::Document;
+use panels::{DisplayPreview, PanelCtx, Pinned, Shown};
+pub use worker::{JobResult, Payload, Worker};
+
+/// Results on screen (the last good ones stay when a newer job fails).
+#[derive(Default)]
+pub struct Results {
+    /// The newest analysis of the current design (preview, then full quality).
+    pub shown: Option<Shown>,
+    /// The rasterised display over the pupil.
+    pub display: Option<DisplayPreview>,
+    /// The design pinned as A for Compare.
+    pub pinned: Option<Pinned>,
+    /// Pin the next full-quality result of the current generation.
+    pin_requested: bool,
+}
+
+/// The tabs of the left panel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LeftTab {
+    /// The pixel editor.
+    Opening,
+    /// Pitch, tiling mode and seed.
+    Tiling,
+    /// Wavelengths, lens and sensor.
+    Optics,
+    /// The opening optimizer.
+    Optimize,
+}
+
+/// A design being read from disk: the design and the path it came from (`None`: an imported
+/// opening, an edit of the current design).
+type LoadJob = Job<(Design, Option<PathBuf>)>;
+
+/// The document's files: dialogs, reads, writes and autosave.
+struct Files {
+    dialog: Option<PendingDialog>,
+    load: Option<LoadJob>,
+    writes: Writes,
+    last_autosave: Instant,
+    autosaved: Option<Design>,
+    /// The wavelength step of a spectral response being loaded, in nm.
+    spectral_step_nm: f64,
+    /// Where the design is autosaved (none in tests without a data directory).
+    autosave_path: Option<PathBuf>,
+}
+
+struct Panels {
+    editor: panels::editor::EditorPanel,
+    tiling: panels::tiling::TilingPanel,
+    optics: panels::optics::OpticsPanel,
+    optimize: panels::optimize::OptimizePanel,
+    numbers: panels::numbers::NumbersPanel,
+    views: panels::views::ViewsPanel,
+    mask_export: panels::mask_export::MaskExportDialog,
+}
+
+/// The display-layout workspace.
+pub struct DisplayWorkspace {
+    doc: Document,
+    worker: Worker,
+    results: Results,
+    panels: Panels,
+    tool: Tool,
+    left_tab: LeftTab,
+    files: Files,
+    egui_ctx: egui::Context,
+}
+
+impl DisplayWorkspace {
+    /// Opens `design_path`, or restores the autosave, or the default preset; a problem is
+    /// reported in the shell's status bar.
+    pub fn new(shell: &mut Shell, design_path: Option<PathBuf>) -> Self {
+        let mut status = None;
+        let (design, path) = match design_path.as_deref().map(design_file::load_design) {
+            Some(Ok(d)) => (d, design_path.clone()),
+            Some(Err(e)) => {
+                status = Some(Notice::error(e.to_string()));
+                (restore_or_default(&shell.dirs, &mut status), None)
+            }
+            None => (restore_or_default(&shell.dirs, &mut status), None),
+        };
+        if let Some(n) = status {
+            shell.set_status(n);
+        }
+        let wake_ctx = shell.ctx.clone();
+        let worker = Worker::spawn(move || wake_ctx.request_repaint());
+        let mut ws = DisplayWorkspace {
+            doc: Document::new(design.clone(), path),
+            worker,
+            results: Results::default(),
+            panels: Panels {
+                editor: Default::default(),
+                tiling: Default::default(),
+                optics: Default::default(),
+                optimize: Default::default(),
+                numbers: Default::default(),
+                views: Default::default(),
+                mask_export: Default::default(),
+            },
+            tool: Tool::Paint,
+            left_tab: LeftTab::Opening,
+            files: Files {
+                dialog: None,
+                load: None,
+                writes: Writes::default(),
+                last_autosave: Instant::now(),
+                autosaved: Some(design),
+                spectral_step_nm: 30.0,
+                autosave_path: shell.dirs.autosave_path(),
+            },
+            egui_ctx: shell.ctx.clone(),
+        };
+        ws.submit();
+        ws
+    }
+
+    /// The design being edited.
+    pub fn design(&self) -> &Design {
+        self.doc.design()
+    }
+
+    /// The document: the design, its file and its undo history.
+    pub fn document(&self) -> &Document {
+        &self.doc
+    }
+
+    /// The result on screen, if any.
+    pub fn shown(&self) -> Option<&Shown> {
+        self.results.shown.as_ref()
+    }
+
+    /// The pinned comparison design, if any.
+    pub fn pinned(&self) -> Option<&Pinned> {
+        self.results.pinned.as_ref()
+    }
+
+    /// Whether the shown result is the full-quality result of the current design.
+    pub fn is_up_to_date(&self) -> bool {
+        self.results
+            .shown
+            .as_ref()
+            .is_some_and(|s| s.generation == self.worker.generation() && s.quality == Quality::Full)
+            && self.files.load.is_none()
+    }
+
+    /// The editor panel (tests use its grid rectangle to draw with the pointer).
+    pub fn editor(&self) -> &panels::editor::EditorPanel {
+        &self.panels.editor
+    }
+
+    /// The optimize panel (tests read its runs).
+    pub fn optimizer(&self) -> &panels::optimize::OptimizePanel {
+        &self.panels.optimize
+    }
+
+    /// The optimize panel's settings (tests set up runs through it).
+    pub fn optimizer_settings(&mut self) -> &mut crate::core::optimize::OptimizeSettings {
+        &mut self.panels.optimize.settings
+    }
+
+    /// The result views (tests pick tabs and read the Restore view).
+    pub fn views(&mut self) -> &mut panels::views::ViewsPanel {
+        &mut self.panels.views
+    }
+
+    /// The Restore view's results.
+    pub fn restore_view(&self) -> &panels::views::restore::RestoreView {
+        &self.panels.views.restore
+    }
+
+    /// The Export-mask dialog (its options and whether an export runs).
+    pub fn mask_export(&self) -> &panels::mask_export::MaskExportDialog {
+        &self.panels.mask_export
+    }
+
+    /// Shows a tab of the left panel.
+    pub fn show_left_tab(&mut self, tab: LeftTab) {
+        self.left_tab = tab;
+    }
+
+    /// The editor's current tool.
+    pub fn tool(&self) -> Tool {
+        self.tool
+    }
+
+    fn submit(&mut self) {
+        self.worker.submit(self.doc.design().clone());
+    }
+
+    /// Takes finished results; keeps the last good result when a job fails.
+    fn take_results(&mut self, shell: &mut Shell) {
+        for r in self.worker.poll() {
+            if r.generation != self.worker.generation() {
+                continue;
+            }
+            match r.payload {
+                Payload::Display {
+                    side,
+                    values,
+                    sample_um,
+                    pupil_diameter_um,
+                } => {
+                    self.results.display = Some(DisplayPreview {
+                        generation: r.generation,
+                        side,
+                        values: Arc::new(values),
+                        sample_um,
+                        pupil_diameter_um,
+                    });
+                }
+                Payload::Analysis { quality, result } => match result {
+                    Ok(a) => {
+                        let shown = Shown {
+                            generation: r.generation,
+                            quality,
+                            analysis: Arc::new(a),
+                            design: Arc::new(self.doc.design().clone()),
+                        };
+                        if quality == Quality::Full && self.results.pin_requested {
+                            self.results.pin_requested = false;
+                            self.results.pinned = Some(Pinned {
+                                design: shown.design.clone(),
+                                analysis: shown.analysis.clone(),
+                            });
+                        }
+                        self.results.shown = Some(shown);
+                        shell.simulation_ok();
+                    }
+                    Err(e) => shell.set_simulation_error(Notice::error(format!(
+                        "cannot simulate this design: {e}"
+                    ))),
+                },
+            }
+        }
+    }
+
+    fn left_ui(&mut self, ui: &mut egui::Ui, shell: &Shell, cmds: &mut Vec<Command>) {
+        ui.horizontal(|ui| {
+            for (tab, label) in [
+                (LeftTab::Opening, "Opening"),
+                (LeftTab::Tiling, "Tiling"),
+                (LeftTab::Optics, "Optics"),
+                (LeftTab::Optimize, "Optimize"),
+            ] {
+                if ui.selectable_label(self.left_tab == tab, label).clicked() {
+                    self.left_tab = tab;
+                }
+            }
+        });
+        ui.separator();
+        let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
+        egui::ScrollArea::vertical().show(ui, |ui| match self.left_tab {
+            LeftTab::Opening => self.panels.editor.ui(ui, &mut pctx),
+            LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
+            LeftTab::Optics => self.panels.optics.ui(ui, &mut pctx),
+            LeftTab::Optimize => self.panels.optimize.ui(ui, &mut pctx),
+        });
+    }
+}
+
+impl Workspace for DisplayWorkspace {
+    fn id(&self) -> WorkspaceId {
+        WorkspaceId::Display
+    }
+
+    fn label(&self) -> &'static str {
+        "Display layouts"
+    }
+
+    fn about(&self) -> &'static str {
+        "Chapter 3: draw, tile, analyse, restore, optimize"
+    }
+
+    fn hint(&self) -> &'static str {
+        "Ready. Draw on the opening (B paint, E erase, R rectangle, O ellipse, L line, F fill)."
+    }
+
+    fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
+        &[
+            (
+                "B E R O L F",
+                "paint, erase, rectangle, ellipse, line, fill",
+            ),
+            ("I", "invert the opening"),
+            ("Del", "clear the opening"),
+            ("Ctrl+C / Ctrl+V", "copy / paste the opening as text"),
+            ("F5", "a new seed for the random tiling"),
+            ("Ctrl+P", "pin the design as A for Compare"),
+            (
+                "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S",
+                "new, open, save, save as",
+            ),
+        ]
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell, cmds: &mut Vec<Command>) {
+        self.take_results(shell);
+        egui::Panel::left("design")
+            .resizable(true)
+            .default_size(420.0)
+            .show(ui, |ui| self.left_ui(ui, shell, cmds));
+        let progress = self.worker.progress();
+        egui::Panel::right("numbers")
+            .resizable(true)
+            .default_size(300.0)
+            .show(ui, |ui| {
+                let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
+                ui.heading("Numbers");
+                self.panels.numbers.ui(ui, &mut pctx, progress);
+            });
+        egui::CentralPanel::default().show(ui, |ui| {
+            let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
+            self.panels.views.ui(ui, &mut pctx);
+        });
+        let ctx = ui.ctx().clone();
+        self.panels.mask_export.ui(&ctx, self.doc.design(), cmds);
+        self.poll_files(shell);
+    }
+
+    fn command(&mut self, command: Command, confirmed: bool, shell: &mut Shell) {
+        self.apply_one(command, confirmed, shell);
+    }
+
+    fn can_undo(&self) -> bool {
+        self.doc.can_undo()
+    }
+
+    fn can_redo(&self) -> bool {
+        self.doc.can_redo()
+    }
+
+    fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell, cmds: &mut Vec<Command>) {
+        self.file_menu(ui, shell, cmds);
+    }
+
+    fn edit_menu_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+        self.edit_menu(ui, cmds);
+    }
+
+    fn menus_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+        self.extra_menus(ui, cmds);
+    }
+
+    fn open_dropped(&mut self, path: &Path, shell: &mut Shell) -> bool {
+        self.dropped_file(path, shell)
+    }
+
+    fn is_dirty(&self) -> bool {
+        self.doc.is_dirty()
+    }
+
+    fn can_save_in_place(&self) -> bool {
+        self.doc.path.is_some()
+    }
+
+    fn document_name(&self) -> String {
+        self.doc.design().name.clone()
+    }
+
+    fn title(&self) -> String {
+        self.doc.title()
+    }
+
+    fn save_now_blocking(&mut self) {
+        self.autosave_now_blocking();
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}
+
+/// What the panels see this frame (disjoint borrows of the workspace's fields).
+fn panel_ctx<'a>(
+    doc: &'a Document,
+    results: &'a Results,
+    shell: &Shell,
+    tool: Tool,
+    commands: &'a mut Vec<Command>,
+) -> PanelCtx<'a> {
+    PanelCtx {
+        design: doc.design(),
+        shown: results.shown.as_ref(),
+        display: results.display.as_ref(),
+        pinned: results.pinned.as_ref(),
+        overlays: shell.settings.overlays,
+        tool,
+        commands,
+    }
+}
+
+/// The autosaved design of the last session, or the default preset.
+fn restore_or_default(dirs: &AppDirs, status: &mut Option<Notice>) -> Design {
+    if let Some(path) = dirs.autosave_path().filter(|p| p.exists()) {
+        match design_file::load_design(&path) {
+            Ok(d) => return d,
+            Err(e) => {
+                // Keep the unreadable autosave aside instead of overwriting it.
+                let kept = match crate::io::safe_file::keep_aside(&path) {
+                    Ok(aside) => format!(
+                        "kept it as {} beside it",
+                        aside.file_name().unwrap_or_default().to_string_lossy()
+                    ),
+                    Err(e) => format!("it stays where it was ({e})"),
+                };
+                *status = Some(Notice::error(format!(
+                    "could not restore the last design ({e}); {kept}; opened the default \
+                         design"
+                )));
+            }
+        }
+    }
+    presets::load_preset(presets::DEFAULT_PRESET).unwrap_or_default()
+}

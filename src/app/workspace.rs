@@ -1,0 +1,185 @@
+//! The shape every workspace has, and what the shell lends it each frame.
+//!
+//! A workspace (display layouts, phase masks, sensor previewer) owns its document, panels,
+//! background jobs, undo history and autosave file. The shell ([`super::StudioApp`]) owns only
+//! the list of workspaces, the menu bar, the status bar, the unsaved-changes prompt and the
+//! settings; it draws the active workspace and routes menu and keyboard commands to it.
+//! Adding a workspace is one folder under `app/`, one [`WorkspaceId`] and one line in
+//! [`super::StudioApp::new`].
+
+use std::any::Any;
+use std::path::Path;
+use std::time::Duration;
+
+use super::commands::Command;
+use super::notice::Notice;
+use super::settings::{AppDirs, Settings};
+
+/// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4) and the sensor
+/// previewer (chapter 5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum WorkspaceId {
+    /// Draw, tile, analyse, restore and optimize a display pixel's opening.
+    Display,
+    /// Folded double microlens arrays around a T-OLED.
+    Phase,
+    /// Spatially-varying gain and binning on HDR scenes.
+    Sensor,
+}
+
+/// A workspace of the studio.
+pub trait Workspace: Any {
+    /// Which one it is.
+    fn id(&self) -> WorkspaceId;
+    /// Its name in the workspace switch.
+    fn label(&self) -> &'static str;
+    /// The switch's tooltip: what it is for.
+    fn about(&self) -> &'static str;
+    /// The status bar's line when there is no message: how to start.
+    fn hint(&self) -> &'static str;
+    /// Its keyboard shortcuts (keys, action), for the Help menu.
+    fn shortcuts(&self) -> &'static [(&'static str, &'static str)];
+    /// Takes finished background work and draws its panels (side panels, then the centre) into
+    /// `ui`; panels push what they want done to `cmds`.
+    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell, cmds: &mut Vec<Command>);
+    /// Carries out a menu or keyboard command; commands it has no use for are ignored.
+    /// `confirmed` is set when the user already answered the unsaved-changes prompt.
+    fn command(&mut self, command: Command, confirmed: bool, shell: &mut Shell);
+    /// Whether Undo / Redo would change something.
+    fn can_undo(&self) -> bool;
+    /// See [`Workspace::can_undo`].
+    fn can_redo(&self) -> bool;
+    /// Its entries at the top of the File menu (the shell adds Quit).
+    fn file_menu_ui(&mut self, _ui: &mut egui::Ui, _shell: &Shell, _cmds: &mut Vec<Command>) {}
+    /// Its entries in the Edit menu, below Undo and Redo.
+    fn edit_menu_ui(&mut self, _ui: &mut egui::Ui, _cmds: &mut Vec<Command>) {}
+    /// Menus of its own, after Edit.
+    fn menus_ui(&mut self, _ui: &mut egui::Ui, _cmds: &mut Vec<Command>) {}
+    /// Takes a file dropped on the window if it is one of its kinds; returns whether it did.
+    fn open_dropped(&mut self, _path: &Path, _shell: &mut Shell) -> bool {
+        false
+    }
+    /// Changes that are in no file yet (the unsaved-changes prompt asks before losing them).
+    fn is_dirty(&self) -> bool {
+        false
+    }
+    /// Whether Save writes to a known file without asking (the prompt then offers Save).
+    fn can_save_in_place(&self) -> bool {
+        false
+    }
+    /// The document's name for the prompt and the window title.
+    fn document_name(&self) -> String {
+        self.label().to_string()
+    }
+    /// The window title while it is shown.
+    fn title(&self) -> String {
+        format!("{} — UDC Studio", self.label())
+    }
+    /// Writes its autosave now (on exit).
+    fn save_now_blocking(&mut self) {}
+    /// For the shell's typed accessors.
+    fn as_any(&self) -> &dyn Any;
+    /// For the shell's typed accessors.
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+/// What the shell lends a workspace: where files live, the settings, and the status bar.
+pub struct Shell {
+    /// The egui context, to wake the UI from jobs and copy to the clipboard.
+    pub ctx: egui::Context,
+    /// Where settings and autosaves live.
+    pub dirs: AppDirs,
+    /// Native file dialogs (off in tests, where nothing may block).
+    pub native_dialogs: bool,
+    /// How often documents are autosaved while they change.
+    pub autosave_every: Duration,
+    /// Persisted view settings (theme, overlays, recent files).
+    pub settings: Settings,
+    status: Option<Notice>,
+    /// The status is a simulation's error, which its next good result clears.
+    status_is_simulation_error: bool,
+    /// A workspace asks to be shown (a dropped HDR file goes to the sensor previewer).
+    pub(super) switch_to: Option<WorkspaceId>,
+    /// A command waiting for the unsaved-changes answer, and whose it is.
+    pub(super) confirm: Option<(WorkspaceId, Command)>,
+    /// The user chose to quit: the window closes without asking again.
+    pub(super) quit_confirmed: bool,
+}
+
+impl Shell {
+    pub(super) fn new(
+        ctx: egui::Context,
+        dirs: AppDirs,
+        native_dialogs: bool,
+        autosave_every: Duration,
+    ) -> Self {
+        let settings = Settings::load(&dirs);
+        Shell {
+            ctx,
+            dirs,
+            native_dialogs,
+            autosave_every,
+            settings,
+            status: None,
+            status_is_simulation_error: false,
+            switch_to: None,
+            confirm: None,
+            quit_confirmed: false,
+        }
+    }
+
+    /// The status bar's message.
+    pub fn status(&self) -> Option<&Notice> {
+        self.status.as_ref()
+    }
+
+    /// Shows a message in the status bar.
+    pub fn set_status(&mut self, notice: Notice) {
+        self.status = Some(notice);
+        self.status_is_simulation_error = false;
+    }
+
+    /// Removes the status bar's message.
+    pub fn clear_status(&mut self) {
+        self.status = None;
+        self.status_is_simulation_error = false;
+    }
+
+    /// Shows a simulation's error; [`Shell::simulation_ok`] clears it.
+    pub fn set_simulation_error(&mut self, notice: Notice) {
+        self.status = Some(notice);
+        self.status_is_simulation_error = true;
+    }
+
+    /// A good result answers the simulation's own error, not the other messages (a file kept
+    /// aside, a failed save) the user has not read yet.
+    pub fn simulation_ok(&mut self) {
+        if self.status_is_simulation_error {
+            self.clear_status();
+        }
+    }
+
+    /// Asks the unsaved-changes question before `command` of workspace `id` runs; the
+    /// answer runs it again with `confirmed` set (or drops it).
+    pub fn confirm(&mut self, id: WorkspaceId, command: Command) {
+        self.confirm = Some((id, command));
+    }
+
+    /// Shows workspace `id` at the end of the frame.
+    pub fn show(&mut self, id: WorkspaceId) {
+        self.switch_to = Some(id);
+    }
+
+    /// Writes the settings; a failure is reported in the status bar.
+    pub fn save_settings(&mut self) {
+        if let Err(e) = self.settings.save(&self.dirs) {
+            self.set_status(Notice::error(format!("cannot save settings: {e}")));
+        }
+    }
+
+    /// A callback that wakes the UI (for jobs).
+    pub fn waker(&self) -> impl Fn() + Send + 'static {
+        let ctx = self.ctx.clone();
+        move || ctx.request_repaint()
+    }
+}
