@@ -183,3 +183,29 @@ impl Shell {
         move || ctx.request_repaint()
     }
 }
+
+/// The layout the workspaces share: controls on the left and numbers on the right, both
+/// resizable and scrolling, the views in the centre. Each part is a method of the workspace.
+pub fn three_panels<W>(
+    ws: &mut W,
+    ui: &mut egui::Ui,
+    left: (&'static str, f32, fn(&mut W, &mut egui::Ui)),
+    right: (&'static str, f32, fn(&mut W, &mut egui::Ui)),
+    centre: fn(&mut W, &mut egui::Ui),
+) {
+    let (id, width, draw) = left;
+    egui::Panel::left(id)
+        .resizable(true)
+        .default_size(width)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
+        });
+    let (id, width, draw) = right;
+    egui::Panel::right(id)
+        .resizable(true)
+        .default_size(width)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
+        });
+    egui::CentralPanel::default().show(ui, |ui| centre(ws, ui));
+}

@@ -1,4 +1,4 @@
-//! The simulation core stays pure: no GUI, no dialogs, no files (STYLE.md, "The house").
+//! The simulation core stays pure: no GUI, no dialogs, no files (the layering in the crate docs, `src/lib.rs`).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {

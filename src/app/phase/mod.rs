@@ -515,19 +515,13 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
         _shell: &mut crate::app::Shell,
         _cmds: &mut Vec<crate::app::Command>,
     ) {
-        egui::Panel::left("phase_controls")
-            .resizable(true)
-            .default_size(380.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui));
-            });
-        egui::Panel::right("phase_numbers")
-            .resizable(true)
-            .default_size(400.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| self.numbers_ui(ui));
-            });
-        egui::CentralPanel::default().show(ui, |ui| self.views_ui(ui));
+        crate::app::workspace::three_panels(
+            self,
+            ui,
+            ("phase_controls", 380.0, Self::controls_ui),
+            ("phase_numbers", 400.0, Self::numbers_ui),
+            Self::views_ui,
+        );
     }
 
     /// Undo and redo act on the phase parameters; the display's commands do not apply here.

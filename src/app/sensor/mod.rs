@@ -331,17 +331,13 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
         _shell: &mut crate::app::Shell,
         _cmds: &mut Vec<crate::app::Command>,
     ) {
-        egui::Panel::left("sensor_controls")
-            .resizable(true)
-            .default_size(360.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui));
-            });
-        egui::Panel::right("sensor_numbers")
-            .resizable(true)
-            .default_size(420.0)
-            .show(ui, |ui| self.numbers_ui(ui));
-        egui::CentralPanel::default().show(ui, |ui| self.views_ui(ui));
+        crate::app::workspace::three_panels(
+            self,
+            ui,
+            ("sensor_controls", 360.0, Self::controls_ui),
+            ("sensor_numbers", 420.0, Self::numbers_ui),
+            Self::views_ui,
+        );
     }
 
     /// The previewer has no document to undo: its settings are the view.

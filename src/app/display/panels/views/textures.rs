@@ -1,5 +1,5 @@
 //! The uploaded images of the result views, one per slot, each rebuilt only when the result or
-//! a setting it depends on changes (STYLE.md: upload textures once per result, never per frame).
+//! a setting it depends on changes (upload textures once per result, never per frame: per-frame uploads cost more than drawing).
 
 use std::collections::HashMap;
 
