@@ -48,12 +48,12 @@ impl BinaryGrid {
         g
     }
 
-    /// Columns.
+    /// Width in cells (columns).
     pub fn width(&self) -> usize {
         self.width
     }
 
-    /// Rows.
+    /// Height in cells (rows).
     pub fn height(&self) -> usize {
         self.height
     }
