@@ -11,8 +11,10 @@ use super::{
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum Surface {
+    /// The folded plate: heights wrap every fold height `T λ0 / (n − 1)` (the design).
     #[default]
     Folded,
+    /// The unfolded thick lens with the same focal length (the reference).
     Unfolded,
 }
 
