@@ -90,7 +90,8 @@ pub struct ChannelAnalysis {
     pub expected_psf: Option<Array2<f64>>,
     /// MTF of the sensor PSF with its slices, radial statistics and AUC.
     pub mtf: Mtf,
-    /// Fraction of the channel's light inside the sensor window before normalising (conventions.md §2).
+    /// Fraction of the channel's light inside the sensor window, before normalising
+    /// (conventions.md §2).
     pub energy_in_window: f64,
     /// Mean of the lowest 30 % of `H` for this channel alone.
     pub invertibility: f64,

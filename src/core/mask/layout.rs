@@ -109,7 +109,8 @@ pub struct Placement {
 }
 
 impl Placement {
-    /// Carries a base-tile point `[x, y]` (corner frame, nm) to its place in the oriented tile, corner frame.
+    /// Carries a base-tile point `[x, y]` (corner frame, nm) to its place in the oriented tile
+    /// (corner frame).
     pub fn apply(&self, p: [i64; 2]) -> [i64; 2] {
         let m = self.matrix;
         [

@@ -13,7 +13,8 @@ pub struct Adam {
 }
 
 impl Adam {
-    /// Fresh state for `len` parameters with learning rate `lr` and moment decays `beta1`, `beta2` (ε = 1e-8).
+    /// Fresh state for `len` parameters: learning rate `lr`, moment decays `beta1` and `beta2`,
+    /// ε = 1e-8.
     pub fn new(len: usize, lr: f64, beta1: f64, beta2: f64) -> Self {
         Adam {
             lr,

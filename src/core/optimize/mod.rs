@@ -64,7 +64,8 @@ pub enum Start {
 /// reported is that of a pattern that can be built, and the final threshold changes nothing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Relaxation {
-    /// Loss of the mask binarised at the current area target, gradient passed to the sigmoid (the default).
+    /// The loss of the mask binarised at the current area target, its gradient passed straight
+    /// to the sigmoid (the default).
     #[default]
     StraightThrough,
     /// The loss of the grey mask `g` itself (conventions.md §6 read literally).

@@ -211,7 +211,7 @@ pub struct CompareRow {
     pub setup: Setup,
     /// Its label for tables and plots (`Setup::label`).
     pub label: String,
-    /// Its light transmittance ratio, polariser included (as `PhaseBlur::ltr`).
+    /// Its light transmittance ratio, as `PhaseBlur::ltr`.
     pub ltr: f64,
     /// Index into the photos compared.
     pub photo: usize,
