@@ -21,8 +21,10 @@ use super::sampling::plan;
 /// FFT) when the sensor pixel still holds a whole number of fine samples. Same physics.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Quality {
+    /// Every FFT at the design's own fine spacing.
     #[default]
     Full,
+    /// Twice the fine spacing where the sensor pixel allows it: faster, for interactive editing.
     Preview,
 }
 
@@ -51,8 +53,10 @@ impl Quality {
     }
 }
 
+/// How [`analyze_with`] runs: quality and optional extras.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct AnalyzeOptions {
+    /// Sampling quality of the run.
     pub quality: Quality,
     /// Also compute the closed-form expected PSF of a random tiling (ignored for `repeat`).
     pub expected_psf: bool,
@@ -70,9 +74,11 @@ impl Default for AnalyzeOptions {
 /// Everything computed for one colour channel.
 #[derive(Debug, Clone)]
 pub struct ChannelAnalysis {
+    /// Channel name as given in the design (e.g. "R").
     pub name: String,
     /// Weighted mean wavelength (the peak wavelength for a single-wavelength channel).
     pub wavelength_nm: f64,
+    /// Every wavelength sampled for this channel, nm.
     pub wavelengths_nm: Vec<f64>,
     /// FFT size per sampled wavelength.
     pub fft_sizes: Vec<usize>,
@@ -82,7 +88,10 @@ pub struct ChannelAnalysis {
     pub psf: Array2<f64>,
     /// Expected PSF of the random tiling, when requested and the tiling is random.
     pub expected_psf: Option<Array2<f64>>,
+    /// MTF of the sensor PSF with its slices, radial statistics and AUC.
     pub mtf: Mtf,
+    /// Fraction of the channel's light inside the sensor window, before normalising
+    /// (conventions.md §2).
     pub energy_in_window: f64,
     /// Mean of the lowest 30 % of `H` for this channel alone.
     pub invertibility: f64,
@@ -91,6 +100,7 @@ pub struct ChannelAnalysis {
 /// The result of [`analyze`].
 #[derive(Debug, Clone)]
 pub struct Analysis {
+    /// One entry per colour channel, in the design's order.
     pub channels: Vec<ChannelAnalysis>,
     /// Intensity transmittance of one tile (= open area fraction for binary cells).
     pub open_fraction: f64,
@@ -98,10 +108,15 @@ pub struct Analysis {
     pub ltr: f64,
     /// `L_inv`, pooled over the channels (eq. 3.9).
     pub invertibility_loss: f64,
+    /// Sampling and energy warnings, ready to show to the user.
     pub warnings: Vec<String>,
+    /// Wall-clock time of the analysis, ms.
     pub elapsed_ms: f64,
+    /// The quality the analysis ran at.
     pub quality: Quality,
+    /// Side of the square sensor window, in sensor pixels.
     pub window_px: usize,
+    /// Sensor pixel pitch, µm.
     pub sensor_pixel_um: f64,
     /// Pupil diameter in µm and in δ1 samples.
     pub pupil_diameter_um: f64,

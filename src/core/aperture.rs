@@ -16,12 +16,14 @@ pub struct SparseRow {
     pub iy: i64,
     /// Signed column offset of `values[0]`.
     pub ix0: i64,
+    /// Consecutive samples from column `ix0` on.
     pub values: Vec<f64>,
 }
 
 /// A real field on the pupil grid (amplitude transmittance).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Field {
+    /// Rows with any nonzero sample, in ascending `iy`.
     pub rows: Vec<SparseRow>,
 }
 
@@ -72,14 +74,20 @@ impl Field {
 pub struct Display<'a> {
     /// `N×N` effective cell transmittance (see [`effective_cells`]).
     pub cells: &'a [Vec<f64>],
+    /// Display pixel pitch `T`, µm.
     pub pitch_um: f64,
+    /// Opaque wiring gap around every pixel, µm; the tiling period is `pitch_um + gap_um`.
     pub gap_um: f64,
+    /// Cell `[x, y]` of its tile that the optical axis sits on (see `Tiling::origin_offset_cells`).
     pub origin_offset_cells: [f64; 2],
+    /// How the pixel pattern is laid out (repeat or random orientations).
     pub mode: TilingMode,
+    /// Seed of the random tile orientations.
     pub seed: u64,
 }
 
 impl<'a> Display<'a> {
+    /// The display of `design`, with `cells` as its effective cell transmittance.
     pub fn from_design(design: &'a Design, cells: &'a [Vec<f64>]) -> Self {
         Display {
             cells,
@@ -108,11 +116,17 @@ impl<'a> Display<'a> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Extent {
     /// Everything inside a circular pupil of this diameter (µm).
-    Pupil { diameter_um: f64 },
+    Pupil {
+        /// Pupil diameter `D`, µm.
+        diameter_um: f64,
+    },
     /// Only the tile holding the optical axis, unclipped (for the expected-PSF terms).
     SingleTile,
     /// Everything within a square of half-side `half_um` around the axis (previews).
-    Square { half_um: f64 },
+    Square {
+        /// Half the side of the square, µm.
+        half_um: f64,
+    },
 }
 
 /// A run of one axis of a sample square that falls in one tile and one cell (`None` = gap).
@@ -205,12 +219,15 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
 /// terms. The optimizer needs this to send gradients from samples back to cells.
 #[derive(Debug, Clone, Default)]
 pub struct CellMap {
+    /// Cells per side `N` of the opening.
     pub n: usize,
     /// Signed sample offsets from the axis of every sample inside the extent, row by row.
     pub iy: Vec<i64>,
+    /// Signed column offsets from the axis, one per sample (pairs with `iy`).
     pub ix: Vec<i64>,
     /// Terms of sample `k` are `terms[starts[k]..starts[k + 1]]` as `(cell, weight)`.
     pub starts: Vec<usize>,
+    /// `(cell, weight)` terms of all samples back to back, cells flattened row-major.
     pub terms: Vec<(usize, f64)>,
 }
 

@@ -7,7 +7,12 @@ use thiserror::Error;
 pub enum SimError {
     /// A parameter is out of range; `field` is its path in the design file (or the setting's name).
     #[error("field `{field}`: {message}")]
-    InvalidField { field: String, message: String },
+    InvalidField {
+        /// Path of the offending parameter.
+        field: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// The sampling cannot represent the design (e.g. the pupil does not fit the FFT grid).
     #[error("sampling: {0}")]
     Sampling(String),
@@ -18,8 +23,11 @@ pub enum SimError {
     /// as a value.
     #[error("{what} is not a finite number ({value:?}); {hint}")]
     NonFinite {
+        /// What was computed (e.g. "the loss at epoch 3").
         what: String,
+        /// The offending value (NaN or ±∞).
         value: f64,
+        /// What the user can change to avoid it.
         hint: &'static str,
     },
     /// The caller cancelled the job through its [`crate::core::Progress`].
@@ -28,6 +36,7 @@ pub enum SimError {
 }
 
 impl SimError {
+    /// An [`SimError::InvalidField`] for `field` with `message`.
     pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
         SimError::InvalidField {
             field: field.into(),

@@ -41,10 +41,13 @@ pub struct Mtf {
     pub horizontal: Vec<f64>,
     /// Frequency along y through DC.
     pub vertical: Vec<f64>,
+    /// Minimum MTF over every sample of ring `d`, at `d/N` cycles/pixel (conventions.md §3).
     pub radial_min: Vec<f64>,
+    /// Mean MTF over every sample of ring `d`.
     pub radial_mean: Vec<f64>,
     /// Trapezoidal area under `radial_min` over `ν = d/N` (cycles/pixel).
     pub auc_radial_min: f64,
+    /// Trapezoidal area under `radial_mean` over `ν = d/N` (cycles/pixel).
     pub auc_radial_mean: f64,
     /// `|OTF|²` uncentred, kept for the invertibility score.
     pub power: Array2<f64>,

@@ -12,6 +12,7 @@ use super::design::MAX_CELLS;
 /// Mirror symmetry applied while drawing: every touched cell is also set at its mirror images.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
 pub enum Symmetry {
+    /// No mirroring: only the touched cell changes.
     #[default]
     None,
     /// Mirror across the vertical centre line (left ↔ right): `(r, c) → (r, N−1−c)`.
@@ -23,6 +24,7 @@ pub enum Symmetry {
 }
 
 impl Symmetry {
+    /// Every symmetry, in the order the UI lists them.
     pub const ALL: [Symmetry; 4] = [
         Symmetry::None,
         Symmetry::MirrorX,
@@ -30,6 +32,7 @@ impl Symmetry {
         Symmetry::FourFold,
     ];
 
+    /// How the UI names it.
     pub fn label(self) -> &'static str {
         match self {
             Symmetry::None => "none",

@@ -12,6 +12,7 @@ pub struct Progress {
 }
 
 impl Progress {
+    /// A fresh tracker at 0 % and not cancelled.
     pub fn new() -> Self {
         Self::default()
     }
@@ -26,14 +27,17 @@ impl Progress {
         self.fraction_bits.store(f.to_bits(), Ordering::Relaxed);
     }
 
+    /// The last recorded fraction, in `[0, 1]`.
     pub fn fraction(&self) -> f32 {
         f32::from_bits(self.fraction_bits.load(Ordering::Relaxed))
     }
 
+    /// Asks the job to stop; it returns [`SimError::Cancelled`] at its next [`Progress::check`].
     pub fn cancel(&self) {
         self.cancelled.store(true, Ordering::Relaxed);
     }
 
+    /// Whether [`Progress::cancel`] was called.
     pub fn is_cancelled(&self) -> bool {
         self.cancelled.load(Ordering::Relaxed)
     }

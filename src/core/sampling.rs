@@ -31,12 +31,15 @@ impl Binning {
 /// Sampling of one wavelength.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WavelengthSampling {
+    /// The wavelength, nm.
     pub wavelength_nm: f64,
+    /// Its share of the channel's spectral weight (the channel's weights sum to 1).
     pub weight: f64,
     /// FFT size `M` (even).
     pub fft_size: usize,
     /// The real fine spacing `λ f / (M δ1)` in µm.
     pub fine_um: f64,
+    /// How this wavelength's fine samples are integrated into sensor pixels.
     pub binning: Binning,
 }
 

@@ -10,12 +10,16 @@ use super::design::TilingMode;
 /// (transpose first).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub struct D4 {
+    /// Transpose the pattern (applied first).
     pub transpose: bool,
+    /// Then flip left-right (mirror the columns).
     pub flip_lr: bool,
+    /// Then flip up-down (mirror the rows).
     pub flip_ud: bool,
 }
 
 impl D4 {
+    /// The identity: the pattern as drawn.
     pub const IDENTITY: D4 = D4 {
         transpose: false,
         flip_lr: false,

@@ -31,9 +31,13 @@ pub struct Design {
     /// Free text: what the design is and where it comes from (e.g. a thesis figure).
     #[serde(default)]
     pub description: String,
+    /// The pixel's opening pattern and pitch.
     pub opening: Opening,
+    /// How the opening is tiled over the display.
     pub tiling: Tiling,
+    /// Camera optics and sampling.
     pub optics: Optics,
+    /// Colour channels, each analysed separately (the thesis uses R, G, B).
     pub channels: Vec<Channel>,
 }
 
@@ -54,6 +58,7 @@ pub struct Opening {
     pub polygons: Vec<Polygon>,
 }
 
+/// A polygonal opening drawn in the tile frame, rasterised with area-weighted coverage.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Polygon {
@@ -77,12 +82,14 @@ pub enum TilingMode {
 }
 
 impl TilingMode {
+    /// Every mode, in the order the UI lists them.
     pub const ALL: [TilingMode; 3] = [
         TilingMode::Repeat,
         TilingMode::RandomD4,
         TilingMode::Random4,
     ];
 
+    /// The name used in design files and on the command line (e.g. `random-d4`).
     pub fn as_str(self) -> &'static str {
         match self {
             TilingMode::Repeat => "repeat",
@@ -91,6 +98,7 @@ impl TilingMode {
         }
     }
 
+    /// Whether pixels take random orientations (anything but `repeat`).
     pub fn is_random(self) -> bool {
         self != TilingMode::Repeat
     }
@@ -106,9 +114,11 @@ impl std::str::FromStr for TilingMode {
     }
 }
 
+/// How the display tiles the pixel pattern (conventions.md §1).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Tiling {
+    /// Periodic or random orientations.
     pub mode: TilingMode,
     /// Seed of the random orientations (ignored by `repeat`).
     #[serde(default)]
@@ -131,6 +141,7 @@ pub struct Optics {
     /// Which named recipe these values came from (`custom` once edited).
     #[serde(default)]
     pub recipe: OpticsRecipe,
+    /// Lens focal length `f`, mm.
     pub focal_length_mm: f64,
     /// Pupil diameter D = f / F#.
     pub f_number: f64,
@@ -139,6 +150,7 @@ pub struct Optics {
     /// Target fine output spacing δ2 at the sensor; the FFT size per wavelength is
     /// `M = 2·floor(λ f / (2 δ1 δ2))`, so the real spacing `λ f / (M δ1)` is a hair above δ2.
     pub fine_sample_um: f64,
+    /// Sensor pixel pitch, µm.
     pub sensor_pixel_um: f64,
     /// Side of the square sensor window, in sensor pixels.
     pub window_px: usize,
@@ -165,6 +177,7 @@ impl OpticsRecipe {
     /// The recipes a design can switch to.
     pub const NAMED: [OpticsRecipe; 2] = [OpticsRecipe::Iccp21, OpticsRecipe::Phone];
 
+    /// The name used in design files and on the command line.
     pub fn as_str(self) -> &'static str {
         match self {
             OpticsRecipe::Iccp21 => "iccp21",
@@ -195,6 +208,7 @@ impl OpticsRecipe {
 }
 
 impl Optics {
+    /// Pupil diameter `D = f / F#`, µm.
     pub fn pupil_diameter_um(&self) -> f64 {
         self.focal_length_mm * 1000.0 / self.f_number
     }
@@ -233,12 +247,16 @@ impl Optics {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Channel {
+    /// Label shown in the UI and reports (e.g. "R").
     pub name: String,
+    /// Wavelengths sampled for this channel, nm.
     pub wavelengths_nm: Vec<f64>,
+    /// Spectral weight of each wavelength (same length as `wavelengths_nm`).
     pub weights: Vec<f64>,
 }
 
 impl Channel {
+    /// A single-wavelength channel at `wavelength_nm` with weight 1.
     pub fn peak(name: &str, wavelength_nm: f64) -> Self {
         Channel {
             name: name.into(),
@@ -277,10 +295,12 @@ impl Opening {
         self.cells.len()
     }
 
+    /// Cell size `T / N`, µm.
     pub fn cell_um(&self) -> f64 {
         self.pitch_um / self.n().max(1) as f64
     }
 
+    /// Display resolution in dots per inch, `25400 / pitch_um`.
     pub fn dpi(&self) -> f64 {
         25400.0 / self.pitch_um
     }

@@ -17,12 +17,18 @@ pub enum MaskRegion {
     /// A block of `cols × rows` pixels centred on the pixel that holds the optical axis
     /// (tiles `−⌊cols/2⌋ …` in x, likewise in y). `1 × 1` is that one pixel; a whole display is
     /// its `W × H` pixels.
-    Block { cols: u32, rows: u32 },
+    Block {
+        /// Pixels across (x).
+        cols: u32,
+        /// Pixels down (y).
+        rows: u32,
+    },
     /// Every pixel that overlaps the lens pupil (diameter f / F#), plus the pupil outline.
     Pupil,
 }
 
 impl MaskRegion {
+    /// The single pixel that holds the optical axis.
     pub const PIXEL: MaskRegion = MaskRegion::Block { cols: 1, rows: 1 };
 
     /// `pixel`, `pupil` or `WxH`.
@@ -57,14 +63,18 @@ impl std::str::FromStr for MaskRegion {
 /// A run of consecutive tiles in one tile row.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TileRow {
+    /// Tile row (0 holds the optical axis; grows downwards).
     pub ty: i64,
+    /// First tile column of the run.
     pub tx0: i64,
+    /// Tiles in the run.
     pub count: u32,
 }
 
 /// A polygon in nanometres (mask frame or a tile's corner frame), first point not repeated.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Polygon {
+    /// Vertices `[x, y]` in nm.
     pub points_nm: Vec<[i64; 2]>,
 }
 
@@ -88,14 +98,19 @@ impl Polygon {
 /// tile's corner plus `offset_nm`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Placement {
+    /// Whether the base tile is reflected about the x-axis before rotating.
     pub reflected: bool,
+    /// Counter-clockwise rotation: 0, 90, 180 or 270.
     pub angle_deg: u16,
     /// Linear part `[[a, b], [c, d]]`: `x' = a·x + b·y`, `y' = c·x + d·y`.
     pub matrix: [[i64; 2]; 2],
+    /// Translation within the corner frame, nm (the tile's corner is added on top).
     pub offset_nm: [i64; 2],
 }
 
 impl Placement {
+    /// Carries a base-tile point `[x, y]` (corner frame, nm) to its place in the oriented tile
+    /// (corner frame).
     pub fn apply(&self, p: [i64; 2]) -> [i64; 2] {
         let m = self.matrix;
         [
@@ -108,15 +123,19 @@ impl Placement {
 /// Counts and areas of a laid-out mask (the drawn layer only).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaskStats {
+    /// Pixels in the region.
     pub tiles: u64,
     /// Distinct D4 orientations among the tiles.
     pub orientations: usize,
     /// Polygons and vertices of one tile's drawing (identity orientation, gap included).
     pub polygons_per_tile: usize,
+    /// Vertices of one tile's drawing.
     pub vertices_per_tile: usize,
     /// Polygons and vertices once every reference is expanded.
     pub flat_polygons: u64,
+    /// Vertices once every reference is expanded.
     pub flat_vertices: u64,
+    /// Area of everything drawn (openings, or chrome for the chrome tone), µm².
     pub drawn_area_um2: f64,
     /// Clear area (what light passes), whatever the tone.
     pub open_area_um2: f64,
@@ -125,6 +144,7 @@ pub struct MaskStats {
 }
 
 impl MaskStats {
+    /// Clear area over region area, in `[0, 1]`.
     pub fn open_fraction(&self) -> f64 {
         if self.region_area_um2 > 0.0 {
             self.open_area_um2 / self.region_area_um2
@@ -138,10 +158,13 @@ impl MaskStats {
 /// orientations. Building one is cheap; writers then stream the tiles.
 #[derive(Debug, Clone)]
 pub struct MaskLayout {
+    /// The region, tone and grid the layout was made for.
     pub spec: MaskSpec,
+    /// Snapping grid, nm.
     pub grid_nm: i64,
     /// Cells per side of the opening.
     pub n: usize,
+    /// Display pixel pitch `T` snapped to the grid, nm.
     pub pitch_nm: i64,
     /// Pitch plus wiring gap.
     pub period_nm: i64,
@@ -150,9 +173,13 @@ pub struct MaskLayout {
     pub bounds_nm: Vec<i64>,
     /// Top-left corner of tile (0, 0).
     pub origin_nm: [i64; 2],
+    /// The region's tiles, as runs along tile rows.
     pub rows: Vec<TileRow>,
+    /// Total tiles in `rows`.
     pub tiles: u64,
+    /// Tiling mode; with the seed it picks each tile's orientation as the simulation does.
     pub mode: TilingMode,
+    /// Seed of the random tile orientations.
     pub seed: u64,
     /// Drawn cells of the identity orientation (the openings, or their complement for chrome).
     pub drawn: BinaryGrid,
@@ -164,6 +191,7 @@ pub struct MaskLayout {
     pub gap_polygon: Option<Polygon>,
     /// Pupil region: the pupil outline, mask frame.
     pub pupil_outline: Option<Polygon>,
+    /// Lens pupil diameter `f / F#`, µm.
     pub pupil_diameter_um: f64,
 }
 

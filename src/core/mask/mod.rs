@@ -43,8 +43,10 @@ pub enum Tone {
 }
 
 impl Tone {
+    /// Both tones, in the order the UI lists them.
     pub const ALL: [Tone; 2] = [Tone::Open, Tone::Chrome];
 
+    /// The name used on the command line and in files.
     pub fn as_str(self) -> &'static str {
         match self {
             Tone::Open => "open",
@@ -75,7 +77,9 @@ impl std::str::FromStr for Tone {
 /// What to lay out: the region, the tone and the coordinate grid.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaskSpec {
+    /// Which pixels the mask covers.
     pub region: MaskRegion,
+    /// Whether the polygons are the openings or the chrome.
     pub tone: Tone,
     /// Coordinates are snapped to multiples of this many nanometres (the database unit is 1 nm).
     pub grid_nm: u32,
@@ -97,16 +101,21 @@ impl Default for MaskSpec {
 /// Why a mask cannot be laid out.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum MaskError {
+    /// The design itself is invalid.
     #[error("{0}")]
     Design(#[from] SimError),
+    /// No cell is open, so there is nothing to draw.
     #[error(
         "the opening has no open cell (none reaches transmittance {OPEN_THRESHOLD}); there is nothing to draw"
     )]
     EmptyPattern,
+    /// A bad setting (e.g. a zero grid or an empty region); the message says which.
     #[error("{0}")]
     Invalid(String),
+    /// Too many tiles, or coordinates beyond GDSII's 32-bit range.
     #[error("region too large: {0}")]
     TooLarge(String),
+    /// The caller cancelled the job through its `Progress`.
     #[error("cancelled")]
     Cancelled,
 }

@@ -48,10 +48,12 @@ impl BinaryGrid {
         g
     }
 
+    /// Width in cells (columns).
     pub fn width(&self) -> usize {
         self.width
     }
 
+    /// Height in cells (rows).
     pub fn height(&self) -> usize {
         self.height
     }
@@ -62,6 +64,7 @@ impl BinaryGrid {
         col < self.width && row < self.height && self.cells[row * self.width + col]
     }
 
+    /// Opens or closes cell `(col, row)`; writes outside the grid are ignored.
     #[inline]
     pub fn set(&mut self, col: usize, row: usize, open: bool) {
         if col < self.width && row < self.height {
@@ -69,6 +72,7 @@ impl BinaryGrid {
         }
     }
 
+    /// Number of open cells.
     pub fn count_open(&self) -> usize {
         self.cells.iter().filter(|v| **v).count()
     }
@@ -87,6 +91,7 @@ impl BinaryGrid {
 /// repeated at the end. Outer boundaries run counter-clockwise.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Ring {
+    /// Vertices `[x, y]` in half cells (see the module docs).
     pub points: Vec<[i64; 2]>,
 }
 

@@ -1,5 +1,6 @@
 //! Adam (Kingma & Ba), with bias correction, on a flat parameter vector.
 
+/// Adam optimizer state: learning rate, moment decays and the running first/second moments.
 #[derive(Debug, Clone)]
 pub struct Adam {
     lr: f64,
@@ -12,6 +13,8 @@ pub struct Adam {
 }
 
 impl Adam {
+    /// Fresh state for `len` parameters: learning rate `lr`, moment decays `beta1` and `beta2`,
+    /// ε = 1e-8.
     pub fn new(len: usize, lr: f64, beta1: f64, beta2: f64) -> Self {
         Adam {
             lr,

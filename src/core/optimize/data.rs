@@ -20,6 +20,7 @@ pub const TOP_FRACTION: f64 = 0.1;
 /// Square training patches, one plane per channel, and their spectra.
 #[derive(Debug, Clone)]
 pub struct DataSet {
+    /// Side of the square patches, px.
     pub side_px: usize,
     /// `spectra[photo][channel]`.
     spectra: Vec<Vec<Array2<Complex64>>>,
@@ -97,10 +98,12 @@ impl DataSet {
         Ok(DataSet { side_px, spectra })
     }
 
+    /// Number of photos that gave a patch.
     pub fn len(&self) -> usize {
         self.spectra.len()
     }
 
+    /// Whether no photo gave a patch (never true once built).
     pub fn is_empty(&self) -> bool {
         self.spectra.is_empty()
     }

@@ -26,8 +26,11 @@ pub use model::Model;
 /// Weights of the three loss terms (conventions.md §6: 10 / 0.01 / 10).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LossWeights {
+    /// `α_area`, weight of the area term `(mean g − c)²`.
     pub area: f64,
+    /// `α_inv`, weight of the invertibility loss `L_inv`.
     pub inv: f64,
+    /// `α_data`, weight of the data loss (used only when a data set is given).
     pub data: f64,
 }
 
@@ -61,25 +64,36 @@ pub enum Start {
 /// reported is that of a pattern that can be built, and the final threshold changes nothing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Relaxation {
+    /// The loss of the mask binarised at the current area target, its gradient passed straight
+    /// to the sigmoid (the default).
     #[default]
     StraightThrough,
     /// The loss of the grey mask `g` itself (conventions.md §6 read literally).
     Sigmoid,
 }
 
+/// Everything that steers an [`optimize`] run; the defaults are the thesis's (conventions.md §6).
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptimizeSettings {
+    /// How the loss sees the logits.
     pub relaxation: Relaxation,
+    /// Epochs to run (the thesis: 150).
     pub epochs: usize,
     /// Final open fraction `c` of the pixel (the thesis: 0.2).
     pub target_open_fraction: f64,
+    /// Weights of the area, invertibility and data terms.
     pub weights: LossWeights,
+    /// Adam learning rate (the thesis: 1).
     pub learning_rate: f64,
+    /// Adam's first-moment decay (the thesis: 0.5).
     pub beta1: f64,
+    /// Adam's second-moment decay.
     pub beta2: f64,
     /// The area target falls by `area_step` every `area_every_epochs` epochs, from 1 to `c`.
     pub area_step: f64,
+    /// Epochs between two steps of the area target.
     pub area_every_epochs: usize,
+    /// Where the logits start.
     pub start: Start,
     /// Preview doubles the fine spacing (a quarter of the FFT work), as in
     /// [`crate::core::analyze::Quality`].
@@ -108,6 +122,8 @@ impl Default for OptimizeSettings {
 pub const MAX_LOSS_WEIGHT: f64 = 1e6;
 
 impl OptimizeSettings {
+    /// Checks every setting's range.
+    ///
     /// # Errors
     /// [`SimError::InvalidField`] naming the first bad setting.
     pub fn validate(&self) -> Result<(), SimError> {
@@ -178,12 +194,19 @@ impl OptimizeSettings {
 /// One epoch of the run, as the studio plots it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EpochReport {
+    /// Epoch index, 0-based.
     pub epoch: usize,
+    /// Epochs planned for the run.
     pub epochs: usize,
+    /// Area target `c` used in this epoch.
     pub area_target: f64,
+    /// Weighted total loss.
     pub loss_total: f64,
+    /// `L_inv`, unweighted (negative; more negative is better).
     pub loss_inv: f64,
+    /// `(mean g − c)²`, unweighted.
     pub loss_area: f64,
+    /// Data loss, unweighted; `None` without a data set.
     pub loss_data: Option<f64>,
     /// Mean of the relaxed mask `g` (its open fraction).
     pub open_fraction: f64,
@@ -198,9 +221,11 @@ pub struct Optimized {
     pub design: Design,
     /// The relaxed mask at the end, `N×N` row-major.
     pub relaxed: Vec<f64>,
+    /// Every epoch run, in order.
     pub history: Vec<EpochReport>,
     /// True when the caller stopped the run before the last epoch.
     pub stopped_early: bool,
+    /// Wall-clock time of the run, ms.
     pub elapsed_ms: f64,
 }
 
@@ -222,23 +247,34 @@ pub fn binarise(relaxed: &[f64], n: usize, open_fraction: f64) -> Vec<Vec<f64>> 
 
 /// The differentiable model and the optional data set of one run, ready to evaluate.
 pub struct Objective<'a> {
+    /// The differentiable image-formation model of the design.
     pub model: Model,
+    /// Training patches for the data loss, if any.
     pub data: Option<&'a DataSet>,
+    /// Weights of the loss terms.
     pub weights: LossWeights,
+    /// How the loss sees the logits.
     pub relaxation: Relaxation,
 }
 
 /// Loss terms and the gradient with respect to the logits.
 #[derive(Debug, Clone)]
 pub struct Step {
+    /// Weighted sum of the terms below.
     pub loss_total: f64,
+    /// `L_inv`, unweighted.
     pub loss_inv: f64,
+    /// `(mean g − c)²`, unweighted.
     pub loss_area: f64,
+    /// Data loss, unweighted; `None` without a data set.
     pub loss_data: Option<f64>,
+    /// `∂(loss_total)/∂logit` per cell, `N×N` row-major.
     pub grad_logits: Vec<f64>,
 }
 
 impl<'a> Objective<'a> {
+    /// Builds the model of `design` at `quality` (the cells are the variables).
+    ///
     /// # Errors
     /// As [`Model::new`]; [`SimError::InvalidField`] for a bad design.
     pub fn new(

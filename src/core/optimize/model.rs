@@ -35,7 +35,9 @@ pub struct Model {
     /// Index of each map sample in the dense `rows × cols` box.
     dense_index: Vec<usize>,
     channels: Vec<Vec<Wave>>,
+    /// Side of the square sensor window, in sensor pixels.
     pub window_px: usize,
+    /// Cells per side `N` of the opening.
     pub n: usize,
     pool: Pool,
 }

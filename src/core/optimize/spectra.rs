@@ -69,7 +69,9 @@ impl Pool {
 /// A contiguous run of signed offsets `start, start + 1, …, start + len − 1`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Span {
+    /// First offset.
     pub start: i64,
+    /// Number of offsets.
     pub len: usize,
 }
 
@@ -83,10 +85,15 @@ impl Span {
 /// `freq_rows × freq_cols`. Frequencies are stored column-major: `out[j * freq_rows.len + i]`.
 #[derive(Debug, Clone)]
 pub struct WindowDft {
+    /// DFT size `M`.
     pub m: usize,
+    /// Signed row offsets of the field's sample box.
     pub rows: Span,
+    /// Signed column offsets of the field's sample box.
     pub cols: Span,
+    /// Signed frequency rows kept (taken modulo `M`).
     pub freq_rows: Span,
+    /// Signed frequency columns kept (taken modulo `M`).
     pub freq_cols: Span,
 }
 

@@ -19,9 +19,11 @@ pub struct AllocationSettings {
     pub q: f64,
     /// First barrier parameter t, doubled after every stage.
     pub t0: f64,
+    /// Barrier stages (t doubles after each).
     pub stages: usize,
     /// A stage stops when f changes by less than this between Newton steps.
     pub tolerance: f64,
+    /// Most Newton steps per stage.
     pub max_steps: usize,
 }
 
@@ -50,6 +52,7 @@ pub struct Allocation {
     pub channel_invertibility: [f64; 3],
     /// The last stage's barrier parameter and Newton steps per stage.
     pub final_t: f64,
+    /// Newton steps taken in each stage.
     pub steps_per_stage: Vec<usize>,
     /// The normalised channel matrix A (3 × 30) the allocation was made for.
     pub a: Vec<Vec<f64>>,

@@ -52,6 +52,7 @@ pub enum Incidence {
 }
 
 impl Incidence {
+    /// sinθ of this direction for `d`'s camera.
     pub fn sin_theta(self, d: &PhaseDesign) -> f64 {
         match self {
             Incidence::Pixel(j) => d.camera.sin_theta_of_pixel(j as f64),
@@ -380,10 +381,12 @@ impl Chain {
         }
     }
 
+    /// The design the chain was sampled for.
     pub fn design(&self) -> &PhaseDesign {
         &self.design
     }
 
+    /// The design's lenslets (λ0 and fold heights).
     pub fn lenslets(&self) -> &Lenslets {
         &self.lenslets
     }
@@ -393,6 +396,7 @@ impl Chain {
         self.n
     }
 
+    /// Whether the chain has no display-plane samples.
     pub fn is_empty(&self) -> bool {
         self.n == 0
     }

@@ -111,6 +111,7 @@ pub struct CztWork {
 }
 
 impl CztWork {
+    /// Empty buffers; they grow on first use.
     pub const fn new() -> Self {
         CztWork {
             padded: Vec::new(),

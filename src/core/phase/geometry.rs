@@ -11,8 +11,10 @@ use super::{
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "kebab-case")]
 pub enum Surface {
+    /// The folded plate: heights wrap every fold height `T λ0 / (n − 1)` (the design).
     #[default]
     Folded,
+    /// The unfolded thick lens with the same focal length (the reference).
     Unfolded,
 }
 
@@ -131,7 +133,9 @@ pub fn radius_at_sag_um(d: &PhaseDesign, sag_um: f64) -> f64 {
 /// `u0_um ≤ |u| < u1_um`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Band {
+    /// Inner radius of the ring, µm from the lenslet centre.
     pub u0_um: f64,
+    /// Outer radius of the ring, µm (exclusive).
     pub u1_um: f64,
     /// Folds below the ring: the continuous height there is `sag − wraps · fold` (0 unfolded).
     pub wraps: u64,
@@ -297,12 +301,17 @@ pub fn expand_counts(counts: &[usize], grid_nm: &[f64]) -> Vec<f64> {
 /// The lenslets of one design: centres, λ0 and fold heights.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Lenslets {
+    /// Lenslet pitch (= display pixel pitch), µm.
     pub pitch_um: f64,
+    /// Folding wavelength λ0 of each lenslet, nm, left to right.
     pub lambda0_nm: Vec<f64>,
+    /// Fold height of each lenslet, µm: `T λ0 / (n − 1)`, rounded as `fold_height_um` says.
     pub fold_height_um: Vec<f64>,
 }
 
 impl Lenslets {
+    /// The lenslets of `d`, with their λ0 and fold heights.
+    ///
     /// # Errors
     /// When the λ0 plan does not fit the lenslet count.
     pub fn new(d: &PhaseDesign) -> Result<Self, SimError> {
@@ -315,6 +324,7 @@ impl Lenslets {
         })
     }
 
+    /// Number of lenslets.
     pub fn count(&self) -> usize {
         self.lambda0_nm.len()
     }

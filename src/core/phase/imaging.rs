@@ -73,6 +73,7 @@ pub const CG_ITERATIONS: usize = 80;
 pub struct PhaseBlur {
     /// Per channel, `[sensor pixel, direction]`, both `width` long (absolute energies).
     pub channels: Vec<Array2<f64>>,
+    /// Name of each channel, in the order of `channels`.
     pub channel_names: Vec<String>,
     /// Light transmittance ratio: the mean over channels of the light that leaves the main-lens
     /// opening at normal incidence, the polariser's ½ included (≈ 0.476 for the thesis design,
@@ -83,6 +84,7 @@ pub struct PhaseBlur {
     /// Green (middle channel) column energies before the polariser: the light of each direction
     /// that reaches the scene's sensor columns.
     pub green_column_energy: Vec<f64>,
+    /// The optics the operator was computed for (double MLA or bare T-OLED).
     pub optics: Optics,
 }
 
@@ -354,6 +356,7 @@ pub fn restore(
 /// One light level: the capture, the restoration and their scores.
 #[derive(Debug, Clone)]
 pub struct RestoreRun {
+    /// Light level: photons on an open display aperture per pixel.
     pub photons: f64,
     /// PSNR of the restoration on the field of view (MSE pooled over channels, peak 1).
     pub psnr_db: f64,
@@ -361,7 +364,9 @@ pub struct RestoreRun {
     pub ssim: f64,
     /// PSNR of the capture itself against the scene.
     pub captured_psnr_db: f64,
+    /// The capture per channel, divided by `photons` (a white pixel reads ≈ 1).
     pub captured: Vec<Array2<f64>>,
+    /// The conjugate-gradient restoration per channel.
     pub restored: Vec<Array2<f64>>,
 }
 

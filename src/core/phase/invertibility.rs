@@ -40,8 +40,11 @@ pub fn invertibility_score(psf: &[f64]) -> f64 {
 /// `v[j][k]`: invertibility with every lenslet folded at `lambda0_nm[j]`, seen at `lambda_nm[k]`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct VMatrix {
+    /// Wavelengths `λ` the PSFs are seen at (columns), nm.
     pub lambda_nm: Vec<f64>,
+    /// Folding wavelengths `λ0` (rows), nm.
     pub lambda0_nm: Vec<f64>,
+    /// `v[j][k]`, one row per `λ0`.
     pub v: Vec<Vec<f64>>,
 }
 

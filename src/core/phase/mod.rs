@@ -64,7 +64,9 @@ pub const DISPLAY_APERTURE_HALF_ANGLE_DEG: f64 = 50.0;
 pub const POLARISER_TRANSMISSION: f64 = 0.5;
 /// The wavelength grid of V and of the λ0 allocation: 401, 411, … 691 nm (30 values).
 pub const GRID_FIRST_NM: f64 = 401.0;
+/// Spacing of the wavelength grid, nm.
 pub const GRID_STEP_NM: f64 = 10.0;
+/// Wavelengths in the grid.
 pub const GRID_LEN: usize = 30;
 
 /// The 30 wavelengths of V and of the allocation, in nm.
@@ -78,14 +80,18 @@ pub fn wavelength_grid_nm() -> Vec<f64> {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PhaseCamera {
+    /// Main-lens focal length `f`, mm.
     pub focal_length_mm: f64,
+    /// Main-lens F-number; the opening is `D = f / F#`.
     pub f_number: f64,
+    /// Nominal sensor pixel pitch, µm (sets the incidence directions).
     pub pixel_um: f64,
     /// Sensor pixels along x (even): also the number of incidence directions of the kernel matrix.
     pub pixels: usize,
 }
 
 impl PhaseCamera {
+    /// The thesis's camera: f = 4.67 mm, F/2, 1024 pixels of 2 µm.
     pub fn thesis() -> Self {
         PhaseCamera {
             focal_length_mm: 4.67,
@@ -95,6 +101,7 @@ impl PhaseCamera {
         }
     }
 
+    /// Focal length `f`, µm.
     pub fn focal_length_um(&self) -> f64 {
         self.focal_length_mm * 1000.0
     }
@@ -165,6 +172,7 @@ pub enum SamplingConvention {
 }
 
 impl SamplingConvention {
+    /// Both conventions, in the order the UI lists them.
     pub const ALL: [SamplingConvention; 2] =
         [SamplingConvention::Thesis, SamplingConvention::Centred];
 
@@ -196,14 +204,23 @@ pub enum HeightRounding {
 #[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Lambda0 {
     /// Every lenslet folded at one wavelength (the thesis's fixed 530 nm).
-    Fixed { nm: f64 },
+    Fixed {
+        /// The folding wavelength, nm.
+        nm: f64,
+    },
     /// Wavelengths spread evenly over 400–700 nm: the 30-value grid in equal counts, ascending.
     Uniform,
     /// Counts per grid wavelength (30 values summing to the lenslet count), assigned in
     /// ascending order: what the optimizer returns.
-    Counts { counts: Vec<usize> },
+    Counts {
+        /// Lenslets folded at each grid wavelength (401, 411, … 691 nm).
+        counts: Vec<usize>,
+    },
     /// One λ0 per lenslet, left to right, as the user edited them.
-    PerLenslet { nm: Vec<f64> },
+    PerLenslet {
+        /// λ0 of each lenslet, nm, left to right.
+        nm: Vec<f64>,
+    },
 }
 
 /// One double-MLA phase-mask design.
@@ -214,11 +231,13 @@ pub struct PhaseDesign {
     pub pitch_um: f64,
     /// Lenslet focal length f_MLA in µm (= the MLA–display gap z); conventions.md: f_MLA = pitch.
     pub f_mla_um: f64,
+    /// Refractive index `n` of the lenslets (the thesis: 1.515).
     pub refractive_index: f64,
     /// Fold thickness T: the plate's maximum height is `T λ0 / (n − 1)` (1 = phase SLM, 5 thicker).
     pub fold: f64,
     /// Open fraction of each display pixel (a slit of `open_ratio · pitch`).
     pub open_ratio: f64,
+    /// Folding wavelength λ0 of each lenslet.
     pub lambda0: Lambda0,
     /// Optional fabrication step in µm (e.g. 0.2): fold heights and the profile are rounded to it.
     #[serde(default)]
@@ -232,6 +251,7 @@ pub struct PhaseDesign {
     /// Where the samples sit (the thesis's convention unless a file says otherwise).
     #[serde(default)]
     pub sampling: SamplingConvention,
+    /// The camera behind the display.
     pub camera: PhaseCamera,
 }
 
@@ -352,6 +372,8 @@ impl PhaseDesign {
 }
 
 impl PhaseSampling {
+    /// Checks both sampling parameters.
+    ///
     /// # Errors
     /// [`SimError::InvalidField`] for a sample outside 5 nm – 1 µm or 1–64 fine samples.
     pub fn validate(&self) -> Result<(), SimError> {

@@ -13,11 +13,19 @@ pub const MAX_PIECES: usize = 4_000_000;
 #[derive(Debug, Clone, Copy)]
 pub enum Shape {
     /// A quantised level: height `level × step`.
-    Flat { level: u64, height_um: f64 },
+    Flat {
+        /// Level index (0 = the plate's base).
+        level: u64,
+        /// Height of the level, µm.
+        height_um: f64,
+    },
     /// The sag about `centre_um`, less the folds below it (`offset_um`), at most `cap_um`.
     Curved {
+        /// Centre of the lenslet, µm in the plate's frame.
         centre_um: f64,
+        /// Height removed by the folds below, µm.
         offset_um: f64,
+        /// Largest height on the piece, µm.
         cap_um: f64,
     },
 }
@@ -25,8 +33,11 @@ pub enum Shape {
 /// One stretch of the profile between consecutive height jumps (or lenslet edges).
 #[derive(Debug, Clone, Copy)]
 pub struct Piece {
+    /// Left end, µm in the plate's frame (array centred on x = 0).
     pub x0_um: f64,
+    /// Right end, µm in the plate's frame.
     pub x1_um: f64,
+    /// How the height varies between the ends.
     pub shape: Shape,
 }
 

@@ -16,18 +16,22 @@ use crate::core::design::Channel;
 /// One colour channel through the design and through the bare T-OLED.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ChannelPsf {
+    /// Channel name (e.g. "G").
     pub name: String,
     /// The peak wavelength, or the response-weighted mean wavelength of a spectral channel.
     pub wavelength_nm: f64,
     /// Sensor PSF normalised to sum 1 over the whole sensor (entry `k` is pixel `k`, axis at `P/2`).
     pub psf: Vec<f64>,
+    /// The bare T-OLED's PSF, normalised the same way.
     pub toled_psf: Vec<f64>,
     /// Light on the sensor window, as a fraction of the light on the main-lens opening, before
     /// the polariser's ½.
     pub window_energy: f64,
+    /// The bare T-OLED's `window_energy`.
     pub toled_window_energy: f64,
     /// All light leaving the main-lens opening (the display's transmission), before the ½.
     pub transmission: f64,
+    /// The bare T-OLED's `transmission`.
     pub toled_transmission: f64,
     /// `window_energy / toled_window_energy` (≈ 1/0.238 for the thesis design at λ0).
     pub energy_vs_toled_before_polariser: f64,
@@ -35,26 +39,33 @@ pub struct ChannelPsf {
     pub energy_vs_toled: f64,
     /// Largest value of the normalised PSF (the brightest pixel's share).
     pub peak: f64,
+    /// The bare T-OLED's `peak`.
     pub toled_peak: f64,
     /// Sum of the one-sided MTF ([`invertibility_score`]).
     pub invertibility: f64,
+    /// The bare T-OLED's `invertibility`.
     pub toled_invertibility: f64,
     /// One-sided MTFs, frequencies `k / P` cycles per pixel, `k = 0 … P/2 − 1`.
     pub mtf: Vec<f64>,
+    /// The bare T-OLED's one-sided MTF.
     pub toled_mtf: Vec<f64>,
 }
 
 /// All channels for one direction.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct PhasePsfs {
+    /// One entry per colour channel.
     pub channels: Vec<ChannelPsf>,
+    /// Incidence angle of the direction, degrees from the axis.
     pub angle_deg: f64,
     /// Where a plain lens images the direction, in pixels from the axis (the T-OLED's PSF sits
     /// there; the double MLA's near the opposite pixel).
     pub image_pixel: i64,
+    /// Number of lenslets in the design.
     pub lenslets: usize,
     /// Light transmittance with the polariser: ½ × the mean channel transmission.
     pub ltr_with_polariser: f64,
+    /// The bare T-OLED's light transmittance: the mean channel transmission (no polariser).
     pub toled_ltr: f64,
 }
 

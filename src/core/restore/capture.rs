@@ -26,7 +26,9 @@ pub const THESIS_SNR_DB: [f64; 5] = [24.0, 28.0, 32.0, 36.0, 40.0];
 /// display, or the equivalent SNR `20 log10(L / sqrt(L + σ_read²))` at that pixel.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Light {
+    /// `L` given directly: electrons at a sharp pixel of value 1.
     ElectronsAtPeak(f64),
+    /// `L` given as the SNR at that pixel, dB.
     SnrDb(f64),
 }
 
@@ -60,8 +62,11 @@ pub fn snr_db_of(electrons: f64, read_noise_e: f64) -> f64 {
 /// The sensor and the light of one capture.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CaptureSettings {
+    /// How bright the scene is: electrons or SNR at the brightest pixel.
     pub light: Light,
+    /// Read noise σ, electrons (the thesis: 4.87).
     pub read_noise_e: f64,
+    /// Full-well capacity, electrons (the thesis: 15506); brighter pixels clip.
     pub full_well_e: f64,
     /// ADC resolution over the full well (`Some(12)`: 4095 steps from 0 to the full well);
     /// `None` rounds to whole electrons.

@@ -68,6 +68,7 @@ impl CgSettings {
 /// What the solver did.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct CgReport {
+    /// Iterations run before the tolerance or the iteration limit stopped the solver.
     pub iterations: usize,
     /// `||k ∗ x − y||² + λ||∇x||²` at the start and after every iteration; conjugate gradients
     /// never let it grow.
@@ -136,7 +137,9 @@ pub trait LinearBlur: Sync {
 
 /// The shift-invariant blur of the display workspace: a kernel spectrum on a padded grid.
 pub struct Convolution<'a> {
+    /// The padded FFT grid the kernel lives on.
     pub grid: &'a PadGrid,
+    /// The kernel's half spectrum on `grid`.
     pub kernel: &'a Spectrum,
 }
 

@@ -37,7 +37,10 @@ use crate::core::{Progress, SimError};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {
     /// Wiener deconvolution with a constant noise-to-signal ratio (the thesis: 0.00371).
-    Wiener { nsr: f64 },
+    Wiener {
+        /// Noise-to-signal ratio added to `|K|²` in the denominator.
+        nsr: f64,
+    },
     /// Gradient-regularised least squares by conjugate gradients.
     Cg(CgSettings),
 }
@@ -51,7 +54,9 @@ impl Default for Method {
 /// Everything [`simulate`] needs besides the photo and the PSFs.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct RestoreSettings {
+    /// Sensor, light level and noise of the capture.
     pub capture: CaptureSettings,
+    /// The restoration algorithm.
     pub method: Method,
     /// Zero padding of the FFT grid: conventions.md §5's 2× by default ([`Padding::Double`]);
     /// [`Padding::Linear`] is the smallest grid on which the blur is exactly linear, faster, and
@@ -64,6 +69,7 @@ pub struct RestoreSettings {
 pub struct ChannelResult {
     /// PSNR of the restoration against the ground truth, peak 1 (`+∞` when identical).
     pub psnr_db: f64,
+    /// SSIM of the restoration against the ground truth (Gaussian window σ = 1.5).
     pub ssim: f64,
     /// PSNR of the capture itself (blurred and noisy), for comparison.
     pub captured_psnr_db: f64,
@@ -78,7 +84,9 @@ pub struct ChannelResult {
 pub struct RestoreResult {
     /// Per channel, on the ground truth's scale.
     pub captured: Vec<Array2<f64>>,
+    /// Restoration per channel, on the ground truth's scale.
     pub restored: Vec<Array2<f64>>,
+    /// The scores of each channel.
     pub channels: Vec<ChannelResult>,
     /// PSNR with the MSE pooled over all channels.
     pub psnr_db: f64,
@@ -94,6 +102,7 @@ pub struct RestoreResult {
     pub electrons_per_unit: f64,
     /// The FFT grid of the restoration (the blur always runs on the linear grid).
     pub grid: PadGrid,
+    /// Wall-clock time of the simulation, ms.
     pub elapsed_ms: f64,
 }
 

@@ -19,6 +19,7 @@ pub const SSIM_SIGMA_PX: f64 = 1.5;
 pub const SSIM_RADIUS_PX: usize = 5;
 /// SSIM's `K1` and `K2`.
 pub const SSIM_K1: f64 = 0.01;
+/// SSIM's `K2` (see `SSIM_K1`).
 pub const SSIM_K2: f64 = 0.03;
 
 fn same_size(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> Result<(), SimError> {

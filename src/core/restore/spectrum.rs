@@ -91,16 +91,20 @@ pub enum Padding {
 pub struct PadGrid {
     /// Padded rows `P` and columns `Q` (both even, 7-smooth).
     pub rows: usize,
+    /// Padded columns `Q`.
     pub cols: usize,
     /// The image size `H×W`.
     pub image_rows: usize,
+    /// Image columns `W`.
     pub image_cols: usize,
 }
 
 /// A half spectrum on a [`PadGrid`], column-major: `data[kx · rows + ky]`, `kx ≤ cols/2`.
 #[derive(Debug, Clone)]
 pub struct Spectrum {
+    /// The grid the spectrum is laid out on.
     pub grid: PadGrid,
+    /// The coefficients, column-major: `data[kx · rows + ky]`.
     pub data: Vec<Complex64>,
 }
 

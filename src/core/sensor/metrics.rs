@@ -18,10 +18,12 @@ pub const SSIM_WINDOW_PX: usize = 2 * SSIM_RADIUS_PX + 1;
 pub struct ToneCurve {
     /// Display units per electron.
     pub scale: f64,
+    /// Exponent applied after scaling and clamping (Table 5.4: 1/3.2).
     pub gamma: f64,
 }
 
 impl ToneCurve {
+    /// The tone-mapped display value of `x_e` electrons, in `[0, 1]`.
     pub fn value(&self, x_e: f64) -> f64 {
         let v = (x_e * self.scale).clamp(0.0, 1.0);
         if (self.gamma - 0.3125).abs() < 1e-15 {
@@ -55,6 +57,7 @@ pub struct Scores {
     /// SSIM of each ROI (an edge ROI thinner than the SSIM window is scored over the
     /// window-wide strip at the image edge).
     pub roi_ssim: Array2<f64>,
+    /// Lowest ROI SSIM, the metric of Table 5.4.
     pub worst_roi_ssim: f64,
     /// Mean of the ROI SSIMs weighted by their areas.
     pub mean_ssim: f64,

@@ -62,6 +62,7 @@ pub struct StrategyResult {
     /// [`Strategy::name`]: `const-gain/no-bin`, `vary-gain/no-bin`, `const-gain/vary-bin`,
     /// `vary-gain/vary-bin` for Table 5.4's four.
     pub name: String,
+    /// The gain and bin rules used.
     pub strategy: Strategy,
     /// The estimate `l̂`, electrons per unit pixel (the scale of [`SensorRun::electrons`]).
     pub capture: Array2<f64>,
@@ -75,11 +76,13 @@ pub struct StrategyResult {
     pub saturated: Array2<f64>,
     /// SSIM per ROI, `[roi row, roi col]`.
     pub roi_ssim: Array2<f64>,
+    /// Lowest ROI SSIM, the metric of Table 5.4.
     pub worst_roi_ssim: f64,
     /// Area-weighted mean of `roi_ssim`.
     pub mean_ssim: f64,
     /// PSNR of `display` against [`SensorRun::truth_display`], peak 1.
     pub psnr_db: f64,
+    /// Fraction of pixels that saturated (the mean of `saturated`).
     pub saturated_fraction: f64,
     /// The brightest unsaturated level at the lowest gain used over the lowest read-noise floor
     /// used (Table 5.1 at `l* = 0` with the gain and bin of each pixel), dB.
@@ -93,15 +96,19 @@ pub struct SensorRun {
     pub truth_display: Array2<f64>,
     /// The exposed scene: expected electrons per unit pixel (noise-free, not clipped).
     pub electrons: Array2<f64>,
+    /// One result per strategy, in the order asked for.
     pub strategies: Vec<StrategyResult>,
+    /// Side of the square ROIs, unit pixels.
     pub roi_px: usize,
     /// The ROI grid (`rows × cols` ROIs).
     pub grid: RoiGrid,
     /// Electrons per unit pixel per unit of scene luminance (what the exposure chose).
     pub electrons_per_radiance: f64,
+    /// The tone curve used for `display` and the metrics.
     pub tone: ToneCurve,
     /// The snapshot of the two-shot strategies (`None` when no strategy needed it).
     pub snapshot: Option<Snapshot>,
+    /// Wall-clock time of the run, ms.
     pub elapsed_ms: f64,
 }
 

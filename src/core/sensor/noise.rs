@@ -45,6 +45,7 @@ pub struct Adc {
 }
 
 impl Adc {
+    /// The ADC of `sensor`: its bit depth, black level and full well.
     pub fn of(sensor: &SensorSpec) -> Adc {
         let max_code = ((1u64 << sensor.adc_bits.clamp(1, 52)) - 1) as f64;
         let black_dn = (sensor.black_level_fraction * max_code).round();

@@ -8,9 +8,11 @@ use std::ops::Range;
 pub struct RoiGrid {
     /// Image size `(rows, cols)`.
     pub dim: (usize, usize),
+    /// Side of a full ROI, pixels.
     pub roi_px: usize,
     /// Number of ROIs down and across.
     pub rows: usize,
+    /// Number of ROIs across (the last column may be narrower).
     pub cols: usize,
 }
 

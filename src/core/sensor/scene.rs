@@ -16,6 +16,7 @@ pub const LUMINANCE_WEIGHTS: [f64; 3] = [0.2126, 0.7152, 0.0722];
 /// [`run`]: super::run
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Scene {
+    /// The planes, all of the same size.
     pub planes: Vec<Array2<f64>>,
 }
 
@@ -182,7 +183,12 @@ pub enum Exposure {
     MeanFraction(f64),
     /// The `percentile`-th percentile (0–100, nearest rank) of the luminance fills `fill` of the
     /// full well (e.g. 99.9 and 0.8).
-    PercentileFill { percentile: f64, fill: f64 },
+    PercentileFill {
+        /// Percentile of the luminance, 0–100.
+        percentile: f64,
+        /// Fraction of the full well it fills.
+        fill: f64,
+    },
     /// Absolute: radiance 1 gives this many electrons per µm² (a unit pixel collects that times
     /// its area).
     ElectronsPerUm2(f64),

@@ -23,6 +23,7 @@ pub enum GainStrategy {
 }
 
 impl GainStrategy {
+    /// The short name used in strategy names (e.g. `vary-gain`).
     pub fn label(self) -> &'static str {
         match self {
             GainStrategy::Base => "const-gain",
@@ -47,6 +48,7 @@ pub enum BinStrategy {
 }
 
 impl BinStrategy {
+    /// The short name used in strategy names (e.g. `bin-2`).
     pub fn label(self) -> String {
         match self {
             BinStrategy::None => "no-bin".into(),
@@ -71,6 +73,7 @@ pub enum BinMode {
 }
 
 impl BinMode {
+    /// The short name shown in the studio and in reports.
     pub fn label(self) -> &'static str {
         match self {
             BinMode::AnalogAdditive => "additive",
@@ -92,7 +95,9 @@ impl BinMode {
 /// One readout strategy: a gain rule and a bin rule.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Strategy {
+    /// How the analog gain is chosen.
     pub gain: GainStrategy,
+    /// How pixels are binned.
     pub bin: BinStrategy,
 }
 
@@ -157,7 +162,9 @@ impl Strategy {
 /// Everything [`super::run`] needs besides the scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SensorSettings {
+    /// The sensor's pixel, noise and ADC parameters.
     pub sensor: SensorSpec,
+    /// How the scene's radiance becomes electrons.
     pub exposure: Exposure,
     /// Side of the square ROIs (gain map, bin map and per-ROI SSIM), unit pixels.
     pub roi_px: usize,

@@ -8,7 +8,10 @@ use super::*;
 #[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Lambda0Plan {
     /// Every lenslet at one wavelength (the thesis: 530 nm).
-    Fixed { nm: f64 },
+    Fixed {
+        /// The folding wavelength, nm.
+        nm: f64,
+    },
     /// The 30 grid wavelengths in equal counts.
     Uniform,
     /// Algorithm 1's allocation (needs V: 900 propagations).
@@ -19,9 +22,11 @@ pub enum Lambda0Plan {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum LensletOrder {
+    /// Ascending λ0 from left to right, as the thesis assigns them.
     Ascending,
     /// A seeded random permutation of the ascending plan.
     Shuffled {
+        /// Seed of the permutation.
         seed: u64,
     },
 }
@@ -31,12 +36,19 @@ pub enum LensletOrder {
 #[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Setup {
     /// The T-OLED alone at this pitch.
-    Bare { pitch_um: f64 },
+    Bare {
+        /// Display pixel pitch, µm.
+        pitch_um: f64,
+    },
     /// The double MLA.
     DoubleMla {
+        /// Display pixel (and lenslet) pitch, µm.
         pitch_um: f64,
+        /// Fold thickness T (1 = phase SLM, 5 thicker).
         fold: f64,
+        /// Where the folding wavelengths come from.
         lambda0: Lambda0Plan,
+        /// Left-to-right order of the lenslets' λ0.
         order: LensletOrder,
         /// Heights floored to this step in µm (Fig. 4.10b: 0.2).
         quantize_um: Option<f64>,
@@ -55,6 +67,7 @@ impl Setup {
         }
     }
 
+    /// Display pixel pitch of the setup, µm.
     pub fn pitch_um(&self) -> f64 {
         match self {
             Setup::Bare { pitch_um } | Setup::DoubleMla { pitch_um, .. } => *pitch_um,
@@ -194,13 +207,19 @@ pub fn thesis_setups() -> Vec<Setup> {
 /// One row of a setup comparison: a setup, a photo, a light level.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CompareRow {
+    /// The setup run.
     pub setup: Setup,
+    /// Its label for tables and plots (`Setup::label`).
     pub label: String,
+    /// Its light transmittance ratio, as `PhaseBlur::ltr`.
     pub ltr: f64,
     /// Index into the photos compared.
     pub photo: usize,
+    /// Light level: photons on an open display aperture per pixel.
     pub photons: f64,
+    /// PSNR of the restoration on the field of view, dB.
     pub psnr_db: f64,
+    /// Mean SSIM of the restoration over channels, on the field of view.
     pub ssim: f64,
 }
 
