@@ -19,6 +19,7 @@ use crate::core::{Analysis, Progress};
 use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
 use crate::io::{design_file, export, pattern, presets, report, spectral};
 
+/// The command line: an optional headless command and the global options.
 #[derive(Debug, Parser)]
 #[command(
     name = "udc-studio",
@@ -26,6 +27,7 @@ use crate::io::{design_file, export, pattern, presets, report, spectral};
     about = "Design studio for under-display cameras"
 )]
 pub struct Cli {
+    /// The command to run; `None` opens the studio.
     #[command(subcommand)]
     pub command: Option<Command>,
     /// Memory budget: jobs estimated to need more are refused before they start (e.g. 2G,
@@ -34,6 +36,7 @@ pub struct Cli {
     pub max_memory: Option<u64>,
 }
 
+/// A command of `udc-studio`: the studio or one of the headless commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Open the studio (the default when no command is given).
@@ -93,8 +96,10 @@ pub struct DesignSelection {
     pub spectral_step_nm: f64,
 }
 
+/// Arguments of `udc-studio analyze`.
 #[derive(Debug, Args)]
 pub struct AnalyzeArgs {
+    /// The design to analyse.
     #[command(flatten)]
     pub selection: DesignSelection,
     /// Print one JSON object to stdout instead of a table.
@@ -108,8 +113,10 @@ pub struct AnalyzeArgs {
     pub preview: bool,
 }
 
+/// Arguments of `udc-studio export`.
 #[derive(Debug, Args)]
 pub struct ExportArgs {
+    /// The design to write as a mask.
     #[command(flatten)]
     pub selection: DesignSelection,
     /// File format: gds, dxf, svg or png.
@@ -358,11 +365,13 @@ pub enum RestoreMethod {
     Cg,
 }
 
+/// Arguments of `udc-studio restore`; at least one `--light` or `--snr-db` is required.
 #[derive(Debug, Args)]
 #[command(group(
     clap::ArgGroup::new("light_level").required(true).args(["light", "snr_db"])
 ))]
 pub struct RestoreArgs {
+    /// The display design the photo is captured through.
     #[command(flatten)]
     pub selection: DesignSelection,
     /// The photo (PNG, JPEG, TIFF, HDR or EXR), read as linear intensities in [0, 1].

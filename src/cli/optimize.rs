@@ -13,6 +13,7 @@ use crate::core::optimize::{DataSet, LossWeights, OptimizeSettings, Relaxation, 
 use crate::core::{Analysis, Progress};
 use crate::io::{design_file, photo};
 
+/// `--start`: the cells' state before the first epoch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum StartArg {
     /// Every cell half-way open (logit +1), as the thesis.
@@ -21,8 +22,10 @@ pub enum StartArg {
     Current,
 }
 
+/// Arguments of `udc-studio optimize`.
 #[derive(Debug, Args)]
 pub struct OptimizeArgs {
+    /// The design whose opening is optimized (its optics, tiling and channels are kept).
     #[command(flatten)]
     pub selection: DesignSelection,
     /// Number of epochs (Adam steps).

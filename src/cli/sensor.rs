@@ -34,6 +34,7 @@ impl From<BinModeArg> for BinMode {
     }
 }
 
+/// Arguments of `udc-studio sensor`.
 #[derive(Debug, Args)]
 pub struct SensorArgs {
     /// The HDR scene: a Radiance .hdr or an OpenEXR .exr (linear relative radiance).

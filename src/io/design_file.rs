@@ -19,7 +19,9 @@ use super::safe_file::read_text_bounded;
 use super::safe_file::write_atomic;
 use crate::core::design::{Channel, Design, Opening, Optics, Tiling};
 
+/// The `format` field every design file carries.
 pub const FORMAT: &str = "udc-studio-design";
+/// The file-format version this studio reads and writes (the `version` field).
 pub const VERSION: u32 = 1;
 /// Design files larger than this are refused before parsing (a 512² grid is ~1.5 MB).
 pub const MAX_FILE_BYTES: u64 = 32 * 1024 * 1024;

@@ -15,6 +15,7 @@ use crate::core::phase::PhaseDesign;
 /// A design read from a file, with what the reader had to assume.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadedPhaseDesign {
+    /// The validated design.
     pub design: PhaseDesign,
     /// Said to the user once: e.g. that an older file got the thesis sampling convention.
     pub notes: Vec<String>,

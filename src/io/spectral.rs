@@ -21,9 +21,13 @@ pub const MAX_TABLE_BYTES: u64 = 16 * 1024 * 1024;
 /// A sensor's spectral response, one row per wavelength (strictly increasing).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SpectralResponse {
+    /// Wavelength of each row, in nm, strictly increasing.
     pub wavelengths_nm: Vec<f64>,
+    /// Red response at each wavelength (non-negative, any scale: channels are normalised).
     pub r: Vec<f64>,
+    /// Green response at each wavelength (non-negative, any scale).
     pub g: Vec<f64>,
+    /// Blue response at each wavelength (non-negative, any scale).
     pub b: Vec<f64>,
 }
 

@@ -23,6 +23,7 @@ use crate::io::phase_design::{load_phase_design, save_phase_design};
 use crate::io::sensor_report::r;
 use crate::io::spectral::{channels_from_response, load_response_csv, thesis_response};
 
+/// A subcommand of `udc-studio phase`.
 #[derive(Debug, Subcommand)]
 pub enum PhaseCommand {
     /// PSF per colour channel through the double MLA beside the bare T-OLED's: energy, peak,
@@ -42,13 +43,16 @@ pub enum PhaseCommand {
 /// `--order`: the lenslets' λ0 left to right.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum OrderArg {
+    /// The plan's own order: λ0 rising from left to right.
     Ascending,
     /// A seeded random permutation (`--seed`).
     Shuffled,
 }
 
+/// Arguments of `udc-studio phase restore`.
 #[derive(Debug, Args)]
 pub struct RestoreArgs {
+    /// The mask and camera.
     #[command(flatten)]
     pub mask: MaskArgs,
     /// The photo (PNG, JPEG, TIFF, HDR or EXR), linear in [0, 1]; at most 1024 px wide (the
@@ -122,16 +126,23 @@ impl From<RoundingArg> for HeightRounding {
     }
 }
 
+/// `--format` of `phase export`: the height map's file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum HeightFormat {
+    /// Profile as text: x_um, height_um, lenslet, lambda0_nm per sample.
     Csv,
+    /// 16-bit grey height map for grayscale lithography.
     Png,
+    /// One GDSII layer per height level, for layer-per-dose mask writers.
     Gds,
+    /// Closed binary STL solid on a base slab, for two-photon printing.
     Stl,
 }
 
+/// Arguments of `udc-studio phase export`.
 #[derive(Debug, Args)]
 pub struct ExportArgs {
+    /// The mask, and the output file (`--out`); with `--design` only `--out` and `--json` apply.
     #[command(flatten)]
     pub mask: MaskArgs,
     /// Folding wavelengths: `fixed:NM`, `uniform` or `optimized` (as for `psf`).
@@ -198,8 +209,10 @@ pub struct MaskArgs {
     pub out: Option<PathBuf>,
 }
 
+/// Arguments of `udc-studio phase psf`.
 #[derive(Debug, Args)]
 pub struct PsfArgs {
+    /// The mask and camera.
     #[command(flatten)]
     pub mask: MaskArgs,
     /// Folding wavelengths: `fixed:NM` (all lenslets), `uniform` (400–700 nm evenly) or
@@ -224,8 +237,10 @@ pub struct PsfArgs {
     pub all_angles: bool,
 }
 
+/// Arguments of `udc-studio phase optimize`.
 #[derive(Debug, Args)]
 pub struct OptimizeArgs {
+    /// The mask and camera whose folding wavelengths are allocated.
     #[command(flatten)]
     pub mask: MaskArgs,
     /// Sensor response CSV (wavelength_nm,r,g,b); default: the thesis's built-in response.

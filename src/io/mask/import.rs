@@ -16,18 +16,24 @@ use crate::io::IoError;
 /// (`left_um`, `top_um`) in the mask frame (y up).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ImportWindow {
+    /// x of the window's left edge in the mask frame, in µm.
     pub left_um: f64,
+    /// y of the window's top edge in the mask frame (y up), in µm.
     pub top_um: f64,
+    /// Cells across (along x).
     pub cols: usize,
+    /// Cells down (along −y).
     pub rows: usize,
 }
 
 /// How to read a mask back.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImportOptions {
+    /// Side of a square cell, in µm.
     pub cell_um: f64,
     /// GDSII layer and datatype of the drawn polygons (DXF: the layer `L<layer>_…`).
     pub layer: i16,
+    /// GDSII datatype of the drawn polygons (DXF: the `D<datatype>` of the layer name).
     pub datatype: i16,
     /// Cells to sample; by default the drawn polygons' bounding box, rounded out to whole cells.
     pub window: Option<ImportWindow>,
@@ -50,9 +56,13 @@ impl Default for ImportOptions {
 /// A mask read back: transmittance per cell (1 open, 0 chrome), row 0 at the top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImportedMask {
+    /// Transmittance per cell, `[row][col]`: 1 open, 0 chrome.
     pub cells: Vec<Vec<f64>>,
+    /// The cells sampled (given, or the polygons' bounding box).
     pub window: ImportWindow,
+    /// The tone the polygons were read with (given, from the notes, or open).
     pub tone: Tone,
+    /// Polygons read from the layer, references expanded.
     pub polygons: usize,
 }
 

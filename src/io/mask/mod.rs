@@ -34,14 +34,19 @@ pub(crate) type Drawn = (Vec<Vec<[f64; 2]>>, Vec<String>);
 /// A mask file format.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum MaskFormat {
+    /// GDSII stream (`.gds`), with cell references for repeated pixels.
     #[default]
     Gds,
+    /// AutoCAD DXF (`.dxf`), every polygon flattened.
     Dxf,
+    /// SVG (`.svg`), every polygon flattened; for viewing.
     Svg,
+    /// A raster image (`.png`) of the region, 1 or 8 bits per pixel.
     Png,
 }
 
 impl MaskFormat {
+    /// Every format, in menu order.
     pub const ALL: [MaskFormat; 4] = [
         MaskFormat::Gds,
         MaskFormat::Dxf,
@@ -49,6 +54,7 @@ impl MaskFormat {
         MaskFormat::Png,
     ];
 
+    /// The name on the command line (`--format`), lower case.
     pub fn as_str(self) -> &'static str {
         match self {
             MaskFormat::Gds => "gds",
@@ -58,6 +64,7 @@ impl MaskFormat {
         }
     }
 
+    /// The name shown to users (e.g. "GDSII").
     pub fn label(self) -> &'static str {
         match self {
             MaskFormat::Gds => "GDSII",
@@ -67,6 +74,7 @@ impl MaskFormat {
         }
     }
 
+    /// The file extension, without the dot.
     pub fn extension(self) -> &'static str {
         self.as_str()
     }
@@ -131,17 +139,23 @@ impl std::str::FromStr for PngBits {
 /// Everything an export needs besides the design.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ExportOptions {
+    /// The file format.
     pub format: MaskFormat,
+    /// The region, tone and coordinate grid to lay out.
     pub spec: MaskSpec,
     /// GDSII layer and datatype of the drawn polygons.
     pub layer: i16,
+    /// GDSII datatype of the drawn polygons (0–255).
     pub datatype: i16,
     /// Layer of the pupil outline and the text notes.
     pub note_layer: i16,
+    /// GDSII top cell name: 1 to 32 ASCII letters, digits, `_`, `-` or `$`.
     pub top_cell: String,
+    /// How GDSII realises the pixels' orientations.
     pub gds_cells: GdsCells,
     /// PNG resolution.
     pub um_per_px: f64,
+    /// Bits per PNG pixel.
     pub png_bits: PngBits,
 }
 
@@ -208,25 +222,36 @@ impl ExportOptions {
 pub struct FileCounts {
     /// Polygons written to the file (GDSII: in its cells, references not expanded).
     pub polygons: u64,
+    /// Vertices of those polygons.
     pub vertices: u64,
     /// Single references (one per pixel of a random tiling).
     pub references: u64,
     /// Array references (periodic tilings).
     pub arrays: u64,
+    /// File size in bytes (an estimate before writing).
     pub bytes: u64,
 }
 
 /// The export report: what was written, and the numbers a mask house asks about.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaskReport {
+    /// The mask file written.
     pub path: PathBuf,
+    /// The design written beside it (`<file>.design.json`).
     pub sidecar: PathBuf,
+    /// The options it was written with.
     pub options: ExportOptions,
+    /// Counts and areas of the laid-out region.
     pub stats: MaskStats,
+    /// What the file holds.
     pub counts: FileCounts,
+    /// Light transmittance ratio of the thresholded display over the lens pupil (0–1).
     pub ltr: f64,
+    /// Display pixel pitch on the grid, in nm.
     pub pitch_nm: i64,
+    /// Tile period (pitch plus wiring gap) on the grid, in nm.
     pub period_nm: i64,
+    /// Wall-clock time of the export, in seconds.
     pub seconds: f64,
 }
 

@@ -51,9 +51,11 @@ pub const MAX_PNG_ROWS: usize = 65_535;
 pub const MAX_PNG_PIXELS: u64 = 200_000_000;
 /// Extrusion length limits: 10 nm to 10 cm (GDSII's 32-bit nanometres reach ±2.1 m).
 pub const MIN_LENGTH_UM: f64 = 0.01;
+/// Longest extrusion along y, in µm (10 cm).
 pub const MAX_LENGTH_UM: f64 = 100_000.0;
 /// STL base-slab thickness limits. A base keeps the solid one piece where the height is 0.
 pub const MIN_BASE_UM: f64 = 0.01;
+/// Thickest STL base slab, in µm (1 cm).
 pub const MAX_BASE_UM: f64 = 10_000.0;
 pub use crate::core::phase::plate::MAX_PIECES;
 /// Most STL triangles (1 GB of binary STL).
@@ -63,24 +65,33 @@ pub const MAX_STL_TRIANGLES: usize = 20_000_000;
 const DB_UNIT_UM: f64 = 0.001;
 /// Layer of the GDSII notes: text only, no geometry (height 0 is bare substrate, never drawn).
 pub const GDS_NOTE_LAYER: i16 = 0;
+/// Name of the GDSII library the export writes.
 pub const GDS_LIBRARY: &str = "UDCSTUDIO";
+/// Name of the GDSII top cell that holds the plate's rectangles and notes.
 pub const GDS_TOP_CELL: &str = "UDC_PHASE";
 
 /// Which file an export wrote.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ExportKind {
+    /// The CSV height profile.
     Csv,
+    /// The 16-bit grey PNG height map.
     Png,
+    /// The multi-level GDSII, one layer per height.
     Gds,
+    /// The closed binary STL solid.
     Stl,
 }
 
 /// One GDSII layer: the rectangles of one quantised height.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct GdsLayer {
+    /// GDSII layer number: the level index k ≥ 1.
     pub layer: i16,
+    /// Height of the level, in µm.
     pub height_um: f64,
+    /// Number of rectangles drawn on the layer.
     pub rectangles: usize,
     /// Summed x-width of the layer's rectangles (their area is this × the length).
     pub width_um: f64,
@@ -89,7 +100,9 @@ pub struct GdsLayer {
 /// What an export wrote, in the numbers a user checks against the fabrication order.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ExportSummary {
+    /// The file written.
     pub path: PathBuf,
+    /// Its format.
     pub kind: ExportKind,
     /// Array width W = lenslets × pitch.
     pub width_um: f64,
@@ -98,26 +111,35 @@ pub struct ExportSummary {
     /// x samples (CSV rows, PNG columns) or STL profile vertices.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub samples: Option<usize>,
+    /// Sample spacing along x, in µm (CSV, PNG; for STL the longest chord of a curved part).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sample_um: Option<f64>,
     /// PNG pixel size, in x and y.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub pixel_um: Option<f64>,
+    /// PNG rows (identical: the plate is uniform along y).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rows: Option<usize>,
     /// Quantised heights, 0 included.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub levels: Option<usize>,
+    /// Height of one level, in µm: a PNG pixel value or GDSII layer number times this is the
+    /// height.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub um_per_level: Option<f64>,
+    /// GDSII rectangles over all layers.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rectangles: Option<usize>,
+    /// GDSII layers, one per height level above 0, lowest first.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub layers: Vec<GdsLayer>,
+    /// STL triangles.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub triangles: Option<usize>,
+    /// Extrusion length along y as written, in µm (GDSII, STL).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub length_um: Option<f64>,
+    /// STL base-slab thickness under the plate, in µm.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub base_um: Option<f64>,
     /// The x grid coordinates were snapped to.
