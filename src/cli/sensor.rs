@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use clap::{Args, ValueEnum};
+use clap::Args;
 use serde_json::json;
 
 use crate::core::Progress;
@@ -12,27 +12,6 @@ use crate::core::sensor::{
 };
 use crate::io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
 use crate::io::sensor_report::{r, run_json, write_run_images};
-
-/// Binning mode of the vary-bin strategies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum BinModeArg {
-    /// Analog sum, read at gain/N.
-    Additive,
-    /// Analog average.
-    Average,
-    /// Every pixel read, then averaged.
-    Digital,
-}
-
-impl From<BinModeArg> for BinMode {
-    fn from(m: BinModeArg) -> Self {
-        match m {
-            BinModeArg::Additive => BinMode::AnalogAdditive,
-            BinModeArg::Average => BinMode::AnalogAverage,
-            BinModeArg::Digital => BinMode::Digital,
-        }
-    }
-}
 
 /// Arguments of `udc-studio sensor`.
 #[derive(Debug, Args)]
@@ -64,8 +43,8 @@ pub struct SensorArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// How the vary-bin strategies combine a bin.
-    #[arg(long, value_enum, default_value_t = BinModeArg::Digital)]
-    pub bin_mode: BinModeArg,
+    #[arg(long, value_enum, default_value_t = BinMode::Digital)]
+    pub bin_mode: BinMode,
     /// Also run the other baselines: maximum gain, alternating rows, per-pixel gain, 2×2 bins.
     #[arg(long)]
     pub all_strategies: bool,

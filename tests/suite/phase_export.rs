@@ -10,7 +10,7 @@ use gds21::{GdsElement, GdsLibrary};
 use udc_studio::core::phase::geometry::{self, Lenslets};
 use udc_studio::core::phase::{HeightRounding, Lambda0, PhaseDesign, Surface};
 use udc_studio::io::phase_export::{
-    ExportKind, height_csv_text, write_height_csv, write_height_gds, write_height_png,
+    HeightFormat, height_csv_text, write_height_csv, write_height_gds, write_height_png,
     write_height_stl,
 };
 
@@ -66,7 +66,7 @@ fn phase_export_csv_round_trips_the_profile_and_lenslets() {
     let xs = sample_xs(&d, 0.5);
     assert_eq!(rows.len(), xs.len());
     assert_eq!(s.samples, Some(xs.len()));
-    assert_eq!(s.kind, ExportKind::Csv);
+    assert_eq!(s.kind, HeightFormat::Csv);
     let parsed: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
     let expected = geometry::profile_um(&d, &parsed).unwrap();
     let mut seen = vec![false; lenslets.count()];

@@ -12,41 +12,7 @@ use crate::app::job::{Job, Writes};
 use crate::core::phase::PhaseDesign;
 use crate::io::phase_export;
 
-/// The file formats of the height profile.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum HeightFormat {
-    Csv,
-    Png,
-    Gds,
-    Stl,
-}
-
-impl HeightFormat {
-    pub const ALL: [HeightFormat; 4] = [
-        HeightFormat::Csv,
-        HeightFormat::Png,
-        HeightFormat::Gds,
-        HeightFormat::Stl,
-    ];
-
-    pub fn label(self) -> &'static str {
-        match self {
-            HeightFormat::Csv => "Heights (CSV)…",
-            HeightFormat::Png => "Height map (16-bit PNG)…",
-            HeightFormat::Gds => "Mask layers (GDSII)…",
-            HeightFormat::Stl => "Plate (STL)…",
-        }
-    }
-
-    pub fn extension(self) -> &'static str {
-        match self {
-            HeightFormat::Csv => "csv",
-            HeightFormat::Png => "png",
-            HeightFormat::Gds => "gds",
-            HeightFormat::Stl => "stl",
-        }
-    }
-}
+pub use crate::io::phase_export::HeightFormat;
 
 /// The exports' parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -108,26 +74,25 @@ pub fn write_height(
 
 /// The numbers of a finished export, for the message line.
 fn describe(s: &phase_export::ExportSummary) -> String {
-    use phase_export::ExportKind;
     let what = match s.kind {
-        ExportKind::Csv => format!(
+        HeightFormat::Csv => format!(
             "{} samples every {} µm",
             s.samples.unwrap_or(0),
             s.sample_um.unwrap_or(0.0)
         ),
-        ExportKind::Png => format!(
+        HeightFormat::Png => format!(
             "{}×{} px of {} µm, {} levels",
             s.samples.unwrap_or(0),
             s.rows.unwrap_or(0),
             s.pixel_um.unwrap_or(0.0),
             s.levels.unwrap_or(0)
         ),
-        ExportKind::Gds => format!(
+        HeightFormat::Gds => format!(
             "{} layers, {} rectangles",
             s.layers.len(),
             s.rectangles.unwrap_or(0)
         ),
-        ExportKind::Stl => format!("{} triangles", s.triangles.unwrap_or(0)),
+        HeightFormat::Stl => format!("{} triangles", s.triangles.unwrap_or(0)),
     };
     format!(
         "{what}; {:.1} µm wide, up to {:.3} µm high",

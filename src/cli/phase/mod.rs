@@ -20,6 +20,7 @@ use crate::core::phase::{
     v_matrix, wavelength_grid_nm,
 };
 use crate::io::phase_design::{load_phase_design, save_phase_design};
+use crate::io::phase_export::HeightFormat;
 use crate::io::sensor_report::r;
 use crate::io::spectral::{channels_from_response, load_response_csv, thesis_response};
 
@@ -90,55 +91,6 @@ pub struct RestoreArgs {
     pub peaks: bool,
 }
 
-/// `--sampling`: where the chain's samples sit (conventions.md §7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum SamplingArg {
-    /// The thesis code's convention: its published numbers reproduce.
-    Thesis,
-    /// Axis at a pixel centre, exact pixel pitch, symmetric lenslets.
-    Centred,
-}
-
-impl From<SamplingArg> for SamplingConvention {
-    fn from(a: SamplingArg) -> Self {
-        match a {
-            SamplingArg::Thesis => SamplingConvention::Thesis,
-            SamplingArg::Centred => SamplingConvention::Centred,
-        }
-    }
-}
-
-/// `--height-rounding`: how `--height-step-um` quantises heights.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum RoundingArg {
-    /// `floor(h/step)·step`: every level stays within the fold height (the authors' code).
-    Floor,
-    /// The nearest level.
-    Nearest,
-}
-
-impl From<RoundingArg> for HeightRounding {
-    fn from(a: RoundingArg) -> Self {
-        match a {
-            RoundingArg::Floor => HeightRounding::Floor,
-            RoundingArg::Nearest => HeightRounding::Nearest,
-        }
-    }
-}
-
-/// `--format` of `phase export`: the height map's file format.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum HeightFormat {
-    /// Profile as text: x_um, height_um, lenslet, lambda0_nm per sample.
-    Csv,
-    /// 16-bit grey height map for grayscale lithography.
-    Png,
-    /// One GDSII layer per height level, for layer-per-dose mask writers.
-    Gds,
-    /// Closed binary STL solid on a base slab, for two-photon printing.
-    Stl,
-}
-
 /// Arguments of `udc-studio phase export`.
 #[derive(Debug, Args)]
 pub struct ExportArgs {
@@ -193,11 +145,11 @@ pub struct MaskArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub height_step_um: Option<f64>,
     /// How `--height-step-um` quantises heights.
-    #[arg(long, value_enum, default_value_t = RoundingArg::Floor)]
-    pub height_rounding: RoundingArg,
+    #[arg(long, value_enum, default_value_t = HeightRounding::Floor)]
+    pub height_rounding: HeightRounding,
     /// Sampling convention: `thesis` (the thesis code's, its numbers reproduce) or `centred`.
-    #[arg(long, value_enum, default_value_t = SamplingArg::Thesis)]
-    pub sampling: SamplingArg,
+    #[arg(long, value_enum, default_value_t = SamplingConvention::Thesis)]
+    pub sampling: SamplingConvention,
     /// Coarse sampling (60 nm at the display, 7 samples per pixel) for quick looks.
     #[arg(long)]
     pub preview: bool,

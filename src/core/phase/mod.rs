@@ -156,7 +156,7 @@ impl PhaseSampling {
 
 /// Where the chain's samples sit relative to the optics (conventions.md §7). The thesis's numbers
 /// (Tables 4.1–4.2, its V matrices and λ0 allocations) depend on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum SamplingConvention {
     /// The thesis code's: the sensor is 1024 pixels of 14 Fraunhofer samples of
@@ -187,7 +187,7 @@ impl SamplingConvention {
 
 /// How a fabrication step quantises the folded profile (conventions.md §7, "Phase plate
 /// quantisation").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
 #[serde(rename_all = "kebab-case")]
 pub enum HeightRounding {
     /// `floor(h / step) · step`, as the authors' code: every height stays below the fold height.

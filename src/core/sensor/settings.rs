@@ -59,12 +59,14 @@ impl BinStrategy {
 }
 
 /// How a bin's pixels are combined (Table 5.1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum BinMode {
     /// Analog sum of the N pixels' charge, read once at gain `ĝ = g/N` so the sum does not
     /// saturate (conventions.md §8).
+    #[value(name = "additive")]
     AnalogAdditive,
     /// Analog average of the N pixels, read once at gain `g`.
+    #[value(name = "average")]
     AnalogAverage,
     /// Every pixel read at gain `g`, the N readouts averaged: the best of the three when the
     /// gain is free (§5.5.2), and what the thesis's best results use.

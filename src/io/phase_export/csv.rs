@@ -55,7 +55,7 @@ pub fn write_height_csv(
     let width = geometry::lenslet_count(design) as f64 * design.pitch_um;
     let mut summary = ExportSummary::new(
         path,
-        ExportKind::Csv,
+        HeightFormat::Csv,
         width,
         max_of(s.height_um.iter().copied()),
     );

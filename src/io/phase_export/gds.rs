@@ -117,7 +117,7 @@ pub fn write_height_gds(
     write_atomic(path, &bytes)?;
     let mut summary = ExportSummary::new(
         path,
-        ExportKind::Gds,
+        HeightFormat::Gds,
         lenslets.span_um(),
         level_height_um(top_level, step),
     );

@@ -70,18 +70,49 @@ pub const GDS_LIBRARY: &str = "UDCSTUDIO";
 /// Name of the GDSII top cell that holds the plate's rectangles and notes.
 pub const GDS_TOP_CELL: &str = "UDC_PHASE";
 
-/// Which file an export wrote.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+/// The phase plate's file formats (the CLI's `--format`, the studio's export menu, and which
+/// file an export wrote).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, clap::ValueEnum)]
 #[serde(rename_all = "lowercase")]
-pub enum ExportKind {
-    /// The CSV height profile.
+pub enum HeightFormat {
+    /// Profile as text: x_um, height_um, lenslet, lambda0_nm per sample.
     Csv,
-    /// The 16-bit grey PNG height map.
+    /// 16-bit grey height map for grayscale lithography.
     Png,
-    /// The multi-level GDSII, one layer per height.
+    /// One GDSII layer per height level, for layer-per-dose mask writers.
     Gds,
-    /// The closed binary STL solid.
+    /// Closed binary STL solid on a base slab, for two-photon printing.
     Stl,
+}
+
+impl HeightFormat {
+    /// Every format, in menu order.
+    pub const ALL: [HeightFormat; 4] = [
+        HeightFormat::Csv,
+        HeightFormat::Png,
+        HeightFormat::Gds,
+        HeightFormat::Stl,
+    ];
+
+    /// The menu entry.
+    pub fn label(self) -> &'static str {
+        match self {
+            HeightFormat::Csv => "Heights (CSV)…",
+            HeightFormat::Png => "Height map (16-bit PNG)…",
+            HeightFormat::Gds => "Mask layers (GDSII)…",
+            HeightFormat::Stl => "Plate (STL)…",
+        }
+    }
+
+    /// The file extension, without the dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            HeightFormat::Csv => "csv",
+            HeightFormat::Png => "png",
+            HeightFormat::Gds => "gds",
+            HeightFormat::Stl => "stl",
+        }
+    }
 }
 
 /// One GDSII layer: the rectangles of one quantised height.
@@ -103,7 +134,7 @@ pub struct ExportSummary {
     /// The file written.
     pub path: PathBuf,
     /// Its format.
-    pub kind: ExportKind,
+    pub kind: HeightFormat,
     /// Array width W = lenslets × pitch.
     pub width_um: f64,
     /// Tallest height written (above the base for STL).
@@ -148,7 +179,7 @@ pub struct ExportSummary {
 }
 
 impl ExportSummary {
-    fn new(path: &Path, kind: ExportKind, width_um: f64, max_height_um: f64) -> Self {
+    fn new(path: &Path, kind: HeightFormat, width_um: f64, max_height_um: f64) -> Self {
         ExportSummary {
             path: path.to_path_buf(),
             kind,

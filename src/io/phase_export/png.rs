@@ -84,7 +84,7 @@ pub fn write_height_png(
         sample_um,
     )?;
     write_atomic(path, &bytes)?;
-    let mut summary = ExportSummary::new(path, ExportKind::Png, lenslets.span_um(), max_height);
+    let mut summary = ExportSummary::new(path, HeightFormat::Png, lenslets.span_um(), max_height);
     summary.samples = Some(width);
     summary.sample_um = Some(sample_um);
     summary.pixel_um = Some(sample_um);

@@ -218,7 +218,7 @@ pub fn write_height_stl(
     let max_z = max_of(top.iter().map(|p| p.z_um));
     let mut summary = ExportSummary::new(
         path,
-        ExportKind::Stl,
+        HeightFormat::Stl,
         lenslets.span_um(),
         (max_z - base_um).max(0.0),
     );
