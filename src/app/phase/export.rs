@@ -15,13 +15,18 @@ use crate::io::phase_export;
 /// The file formats of the height profile.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum HeightFormat {
+    /// A table of x positions and plate heights.
     Csv,
+    /// A 16-bit grey height map (the plate is uniform along y).
     Png,
+    /// Mask layers, one per quantised height level (needs a height step).
     Gds,
+    /// A 3-D solid of the plate on a base slab.
     Stl,
 }
 
 impl HeightFormat {
+    /// Every format, in the order of the export buttons.
     pub const ALL: [HeightFormat; 4] = [
         HeightFormat::Csv,
         HeightFormat::Png,
@@ -29,6 +34,7 @@ impl HeightFormat {
         HeightFormat::Stl,
     ];
 
+    /// Button text, ending in an ellipsis because it opens a save dialog.
     pub fn label(self) -> &'static str {
         match self {
             HeightFormat::Csv => "Heights (CSV)…",
@@ -38,6 +44,7 @@ impl HeightFormat {
         }
     }
 
+    /// File extension (without the dot) the save dialog suggests.
     pub fn extension(self) -> &'static str {
         match self {
             HeightFormat::Csv => "csv",
