@@ -62,7 +62,7 @@ impl Tool {
 /// What the studio can export from the current result.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ExportKind {
-    /// The sensor PSF as a floating-point OpenEXR image (one RGB file for three channels).
+    /// The sensor PSF as a float OpenEXR image (RGB for three channels, else the first channel).
     PsfExr,
     /// The sensor PSF as a 16-bit PNG, one file per colour channel.
     PsfPng16,
@@ -136,7 +136,7 @@ pub enum Command {
     ImportOpening(std::path::PathBuf),
     /// Load a spectral response CSV and sample it every given step (nm).
     LoadSpectral(f64),
-    /// Ask for a file and write this export of the current full-quality result.
+    /// Ask for a file and write this export of the result on screen.
     Export(ExportKind),
     /// Open the Export-mask dialog.
     ExportMask,

@@ -22,7 +22,7 @@ pub struct Document {
 }
 
 impl Document {
-    /// A clean document (nothing to undo, not dirty) holding `design`, read from `path` if any.
+    /// A clean document (nothing to undo, not dirty) of `design`, whose file is `path` if any.
     pub fn new(design: Design, path: Option<PathBuf>) -> Self {
         let saved = design.clone();
         Document {

@@ -55,7 +55,7 @@ struct RunKey {
 
 /// One setup's result, with its pictures uploaded.
 pub struct CaptureRow {
-    /// Name of the setup shown above its pictures (the design, or the bare T-OLED).
+    /// Name of the setup shown with its pictures ("this design: …" or "bare T-OLED, …").
     pub label: String,
     /// The optical chain the photo went through.
     pub optics: Optics,

@@ -77,7 +77,7 @@ impl ChannelSet {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PhaseView {
     /// The channel PSFs at the chosen incidence angle beside the bare T-OLED's, with their MTFs
-    /// and the deconvolution kernels.
+    /// and the blur matrix of all directions.
     Psf,
     /// The folded plate's height profile around a chosen lenslet, and every lenslet's λ0.
     Geometry,
@@ -292,7 +292,7 @@ impl PhaseWorkspace {
         self.v_job.is_some()
     }
 
-    /// Whether a height-map export is being written.
+    /// Whether a height-profile export is being written.
     pub fn is_exporting(&self) -> bool {
         self.export.is_running()
     }

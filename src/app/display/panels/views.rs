@@ -32,7 +32,7 @@ use crate::core::analyze::{ChannelAnalysis, Quality};
 /// The tabs of the result views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum ViewTab {
-    /// The sensor PSF of one channel on a linear scale, with diffraction-order and Airy overlays.
+    /// The sensor PSF of one channel on a linear scale (teaching overlays: orders, Airy disc).
     #[default]
     Psf,
     /// The PSF in decades below its peak, so the faint orders and halo show.
