@@ -7,15 +7,21 @@ use std::path::PathBuf;
 /// What the chosen path is for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Purpose {
+    /// A design file (`.json`) to open.
     Open,
+    /// Where to save the design (`.json`).
     SaveAs,
+    /// An image or GDSII/DXF mask to import as the opening.
     ImportPattern,
+    /// A spectral response CSV (`wavelength_nm, r, g, b`) for the colour channels.
     Spectral,
     /// A photo for the Restore view (the view polls its own dialog).
     Photo,
     /// An HDR scene for the sensor previewer (it polls its own dialog).
     Hdr,
+    /// Where to write this export of the current result.
     Export(super::commands::ExportKind),
+    /// Where to write the photolithography mask, in this file format.
     Mask(crate::io::mask::MaskFormat),
 }
 

@@ -11,6 +11,7 @@ const MAX_RECENT: usize = 8;
 /// Where the studio keeps its own files (autosave, settings). Tests point it at a temp dir.
 #[derive(Debug, Clone)]
 pub struct AppDirs {
+    /// The folder of the settings, the autosave and the phase design; `None`: nothing is kept.
     pub data_dir: Option<PathBuf>,
 }
 
@@ -28,12 +29,14 @@ impl AppDirs {
         AppDirs { data_dir: None }
     }
 
+    /// Keeps everything in `dir` (tests and portable setups).
     pub fn at(dir: &Path) -> Self {
         AppDirs {
             data_dir: Some(dir.to_path_buf()),
         }
     }
 
+    /// The display workspace's autosave file, `autosave.json` in the data directory.
     pub fn autosave_path(&self) -> Option<PathBuf> {
         self.data_dir.as_ref().map(|d| d.join("autosave.json"))
     }
@@ -43,11 +46,15 @@ impl AppDirs {
     }
 }
 
+/// The persisted view settings, kept in `settings.json` in the data directory.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Settings {
+    /// Recently opened or saved design files, newest first (at most 8), for File > Open recent.
     pub recent: Vec<PathBuf>,
+    /// Dark theme (the default) rather than light.
     pub dark: bool,
+    /// Teaching overlays and "What am I seeing?" hints shown (the default).
     pub overlays: bool,
 }
 
@@ -88,6 +95,7 @@ impl Settings {
         write_atomic(&path, text.as_bytes()).map_err(|e| e.to_string())
     }
 
+    /// Puts `path` first in the recent files, removing its older entry and the oldest beyond 8.
     pub fn add_recent(&mut self, path: &Path) {
         self.recent.retain(|p| p != path);
         self.recent.insert(0, path.to_path_buf());

@@ -8,6 +8,8 @@ use crate::core::Design;
 /// Most undo steps kept (a 21×21 design is ~10 kB, so this is a few MB at most).
 const MAX_UNDO: usize = 200;
 
+/// The design being edited in the display workspace, its file and its undo/redo history
+/// (at most 200 steps).
 #[derive(Debug, Clone)]
 pub struct Document {
     design: Design,
@@ -20,6 +22,7 @@ pub struct Document {
 }
 
 impl Document {
+    /// A clean document (nothing to undo, not dirty) of `design`, whose file is `path` if any.
     pub fn new(design: Design, path: Option<PathBuf>) -> Self {
         let saved = design.clone();
         Document {
@@ -31,6 +34,7 @@ impl Document {
         }
     }
 
+    /// The design as currently edited.
     pub fn design(&self) -> &Design {
         &self.design
     }
@@ -49,14 +53,17 @@ impl Document {
         true
     }
 
+    /// Whether there is an edit to undo.
     pub fn can_undo(&self) -> bool {
         !self.undo.is_empty()
     }
 
+    /// Whether there is an undone edit to redo.
     pub fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }
 
+    /// Steps back one edit. Returns false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
         match self.undo.pop() {
             Some(prev) => {
@@ -68,6 +75,7 @@ impl Document {
         }
     }
 
+    /// Re-applies the edit last undone. Returns false when there is nothing to redo.
     pub fn redo(&mut self) -> bool {
         match self.redo.pop() {
             Some(next) => {

@@ -11,21 +11,32 @@ use crate::core::{Analysis, Design, Progress, SimError};
 
 /// What a job produces, in order: the display preview, then the preview and full analyses.
 pub enum Payload {
+    /// The rasterised display around the pupil, for the tiling preview (sent first, only for a
+    /// valid design).
     Display {
+        /// Samples per side of the square image; the optical axis is at `side / 2`.
         side: usize,
+        /// Amplitude transmittance in [0, 1], row-major.
         values: Vec<f32>,
+        /// Spacing between samples, in µm.
         sample_um: f64,
+        /// Diameter of the lens pupil, in µm.
         pupil_diameter_um: f64,
     },
+    /// One analysis of the design: the fast preview, then the full quality.
     Analysis {
+        /// Whether this is the fast preview or the full-quality result.
         quality: Quality,
+        /// The analysis, or why it failed (a failed preview ends the job).
         result: Result<Analysis, SimError>,
     },
 }
 
 /// A finished (or failed) piece of the job of one generation.
 pub struct JobResult {
+    /// Generation of the design it was computed for; stale when older than the worker's newest.
     pub generation: u64,
+    /// What was computed.
     pub payload: Payload,
 }
 

@@ -55,13 +55,17 @@ struct RunKey {
 
 /// One setup's result, with its pictures uploaded.
 pub struct CaptureRow {
+    /// Name of the setup shown with its pictures ("this design: …" or "bare T-OLED, …").
     pub label: String,
+    /// The optical chain the photo went through.
     pub optics: Optics,
     /// Light transmittance ratio of the setup (the polariser's ½ included for the double MLA).
     pub ltr: f64,
+    /// Full field of view of the setup (eq. 4.13), in degrees.
     pub fov_deg: f64,
     /// Columns the scores are taken on (the field of view).
     pub valid: Range<usize>,
+    /// The capture, the restoration and their PSNR and SSIM.
     pub run: RestoreRun,
     textures: [TextureHandle; 3],
 }
@@ -187,6 +191,7 @@ impl PhaseWorkspace {
     }
 
     /// The photo's name, once one is loaded.
+    /// Name of the photo the view captures, once one is loaded.
     pub fn capture_photo_name(&self) -> Option<&str> {
         self.capture.photo.as_ref().map(|p| p.name.as_str())
     }
@@ -196,18 +201,22 @@ impl PhaseWorkspace {
         self.capture.operators_built
     }
 
+    /// Light level: photons an open display aperture would pass to a white pixel.
     pub fn capture_photons(&self) -> f64 {
         self.capture.photons
     }
 
+    /// Sets the light level, in photons per white pixel (as the slider does).
     pub fn set_capture_photons(&mut self, photons: f64) {
         self.capture.photons = photons;
     }
 
+    /// Sets the seed of the capture's photon and read noise.
     pub fn set_capture_seed(&mut self, seed: u64) {
         self.capture.seed = seed;
     }
 
+    /// Sets the colour channels the capture's operators are built for.
     pub fn set_capture_channels(&mut self, channels: ChannelSet) {
         self.capture.channels = channels;
     }

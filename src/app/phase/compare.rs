@@ -21,11 +21,14 @@ use crate::io::safe_file::write_atomic;
 /// The score the table and the plot show.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CompareMetric {
+    /// PSNR of the restoration on the field of view, in dB.
     PsnrDb,
+    /// Mean SSIM of the restoration over the channels on the field of view.
     Ssim,
 }
 
 impl CompareMetric {
+    /// This score of a comparison row.
     pub fn of(self, row: &CompareRow) -> f64 {
         match self {
             CompareMetric::PsnrDb => row.psnr_db,
@@ -33,6 +36,7 @@ impl CompareMetric {
         }
     }
 
+    /// Name on the metric picker, the table header and the plot's axis.
     pub fn label(self) -> &'static str {
         match self {
             CompareMetric::PsnrDb => "PSNR (dB)",
@@ -52,10 +56,15 @@ impl CompareMetric {
 /// What a comparison was run for.
 #[derive(Debug, Clone)]
 pub struct CompareRun {
+    /// Name of the photo every setup captured.
     pub photo_name: String,
+    /// Sampling of the setups' operators.
     pub quality: Quality,
+    /// Colour channels of the capture.
     pub channels: ChannelSet,
+    /// The ticked setups, in table order.
     pub setups: Vec<Setup>,
+    /// The ticked light levels, in photons per white pixel.
     pub photons: Vec<f64>,
 }
 
@@ -156,10 +165,12 @@ impl PhaseWorkspace {
         self.compare.run.as_ref()
     }
 
+    /// Whether a comparison is running.
     pub fn is_comparing(&self) -> bool {
         self.compare.job.is_some()
     }
 
+    /// The latest message of the comparison or its CSV export.
     pub fn compare_message(&self) -> Option<&Notice> {
         self.compare.message.as_ref()
     }

@@ -25,16 +25,23 @@ const CHANNEL_NAMES: [&str; 3] = ["R", "G", "B"];
 
 /// A blur matrix on screen, with what it was computed for.
 pub struct ShownKernels {
+    /// The design it was computed for.
     pub design: PhaseDesign,
+    /// Preview or thesis sampling.
     pub quality: Quality,
+    /// The optical chain it was computed for.
     pub optics: Optics,
+    /// The channel set its channel was taken from.
     pub channels: ChannelSet,
     /// Index of the channel (0 R, 1 G, 2 B).
     pub channel: usize,
+    /// Name of the channel ("R", "G" or "B").
     pub channel_name: String,
     /// `k[[i, j]]`: energy on sensor pixel `i` from the direction imaged on pixel `j`.
     pub k: Arc<Array2<f64>>,
+    /// Largest entry of `k`: the top of the picture's log scale, which spans 6 decades below it.
     pub max: f64,
+    /// How long the computation took, in seconds.
     pub elapsed_s: f64,
     texture: TextureHandle,
 }
@@ -136,6 +143,7 @@ impl PhaseWorkspace {
         self.kernels.shown.as_ref()
     }
 
+    /// Whether the blur matrix is being computed.
     pub fn is_computing_kernels(&self) -> bool {
         self.kernels.job.is_some()
     }
@@ -155,6 +163,7 @@ impl PhaseWorkspace {
         self.kernels.channel
     }
 
+    /// Chooses the channel of the next blur matrix (0 R, 1 G, 2 B; larger values mean B).
     pub fn set_kernel_channel(&mut self, channel: usize) {
         self.kernels.channel = channel.min(CHANNEL_NAMES.len() - 1);
     }

@@ -63,6 +63,7 @@ pub enum ChannelSet {
 }
 
 impl ChannelSet {
+    /// Name shown in the channel picker.
     pub fn label(self) -> &'static str {
         match self {
             ChannelSet::Peaks => "peaks (R 610, G 530, B 470 nm)",
@@ -75,8 +76,12 @@ impl ChannelSet {
 /// Which picture the centre shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PhaseView {
+    /// The channel PSFs at the chosen incidence angle beside the bare T-OLED's, with their MTFs
+    /// and the blur matrix of all directions.
     Psf,
+    /// The folded plate's height profile around a chosen lenslet, and every lenslet's λ0.
     Geometry,
+    /// The V matrix and the λ0 optimizer's allocation.
     Optimizer,
     /// Photos captured through the design and restored (§4.5), and the setup comparison.
     Capture,
@@ -84,12 +89,19 @@ pub enum PhaseView {
 
 /// PSFs on screen, with what they were computed for.
 pub struct ShownPsfs {
+    /// Generation of the parameters they were computed for (older than the newest: stale).
     pub generation: u64,
+    /// Preview or thesis sampling.
     pub quality: Quality,
+    /// The design they were computed for.
     pub design: PhaseDesign,
+    /// The optical chain: double MLA, or the single mask of Lemma 1.
     pub optics: Optics,
+    /// The colour channels they were computed for.
     pub channels: ChannelSet,
+    /// The channel PSFs through the design and through the bare T-OLED, with their MTFs.
     pub psfs: Arc<PhasePsfs>,
+    /// How long the computation took, in milliseconds.
     pub elapsed_ms: f64,
 }
 
@@ -120,13 +132,17 @@ pub struct PhaseWorkspace {
     redo: Vec<PhaseDesign>,
     /// Preview only, or preview then the thesis sampling (also the V matrix's and optimizer's).
     pub quality: Quality,
+    /// The colour channels the PSFs and the optimizer use.
     pub channels: ChannelSet,
     /// Lemma 1's comparison: one plate at the display, no second MLA.
     pub single_mask: bool,
     /// Incidence angle of the PSFs, in degrees.
     pub angle_deg: f64,
+    /// Plot the PSFs on a log10 scale instead of a linear one.
     pub log_psf: bool,
+    /// Half width of the PSF plots, in sensor pixels either side of the image point.
     pub psf_half_width_px: usize,
+    /// The picture the centre shows.
     pub view: PhaseView,
     /// Keep f_MLA equal to the pitch when the pitch is edited (the thesis's choice).
     pub link_focal: bool,
@@ -256,30 +272,37 @@ impl PhaseWorkspace {
         self.export.message()
     }
 
+    /// The computed V matrix on screen, if any.
     pub fn v(&self) -> Option<&ShownV> {
         self.v.as_ref()
     }
 
+    /// The optimizer's last result, if any.
     pub fn optimized(&self) -> Option<&OptimizerResult> {
         self.optimized.as_ref()
     }
 
+    /// Whether the λ0 optimizer is running.
     pub fn is_optimizing(&self) -> bool {
         self.opt_job.is_some()
     }
 
+    /// Whether the V matrix is being computed.
     pub fn is_computing_v(&self) -> bool {
         self.v_job.is_some()
     }
 
+    /// Whether a height-profile export is being written.
     pub fn is_exporting(&self) -> bool {
         self.export.is_running()
     }
 
+    /// Whether there is a change to undo, including an edit not yet committed.
     pub fn can_undo(&self) -> bool {
         !self.undo.is_empty() || !same(&self.design, &self.committed)
     }
 
+    /// Whether there is an undone change to redo.
     pub fn can_redo(&self) -> bool {
         !self.redo.is_empty()
     }

@@ -27,23 +27,32 @@ pub(super) struct LongJob<T> {
 
 /// The V matrix on screen and its picture.
 pub struct ShownV {
+    /// The design it was computed for (its λ0 plan does not matter).
     pub design: PhaseDesign,
+    /// Preview or thesis sampling.
     pub quality: Quality,
+    /// `v[j][k]`: invertibility with every lenslet folded at the j-th λ0, seen at the k-th λ.
     pub v: Arc<VMatrix>,
+    /// Largest entry of V: the top of the picture's colour scale.
     pub max: f64,
     pub(super) texture: TextureHandle,
 }
 
 /// The optimizer's allocation and the plans it is compared with.
 pub struct OptimizerResult {
+    /// The design it was run for.
     pub design: PhaseDesign,
+    /// Preview or thesis sampling of its V matrix.
     pub quality: Quality,
+    /// The colour channels it kept invertible.
     pub channels: ChannelSet,
+    /// Lenslets per grid wavelength, each lenslet's λ0 and the channels' invertibility.
     pub allocation: Allocation,
     /// Per-channel invertibility (A normalised to max 1) of every lenslet at 530 nm.
     pub fixed_530: [f64; 3],
     /// The same for the uniform plan.
     pub uniform: [f64; 3],
+    /// How long the run took (V matrix included), in seconds.
     pub elapsed_s: f64,
 }
 

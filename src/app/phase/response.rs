@@ -18,7 +18,9 @@ use crate::io::spectral;
 pub struct CustomResponse {
     /// Which load this is: [`ChannelSet::Custom`] carries it, so a new file is a new choice.
     pub serial: u32,
+    /// The CSV file it was read from.
     pub path: PathBuf,
+    /// The R, G, B channels it makes on the phase workspace's wavelength grid.
     pub channels: Vec<Channel>,
 }
 

@@ -26,15 +26,21 @@ pub const PREVIEW_SIDE_PX: usize = crate::core::sensor::PREVIEW_MAX_SIDE_PX;
 
 /// A scene and its preview-sized copy.
 pub struct LoadedScene {
+    /// The file name it was read from (or the name it was given).
     pub name: String,
+    /// The scene at full size, for the full-quality run.
     pub scene: Scene,
+    /// The scene downscaled to at most `PREVIEW_SIDE_PX` per side, for the quick preview run.
     pub preview: Scene,
 }
 
 /// A finished run on screen, with its uploaded images.
 pub struct ShownRun {
+    /// Generation of the settings it was computed for (older than the newest: stale).
     pub generation: u64,
+    /// Preview (downscaled scene) or full scene.
     pub quality: Quality,
+    /// Every strategy's capture, maps and scores, with the ground truth.
     pub run: Arc<SensorRun>,
     textures: images::RunTextures,
 }
@@ -49,22 +55,31 @@ struct SensorJob {
 /// Which picture the centre shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SensorView {
+    /// The ground truth beside one strategy's capture, gain map, bin map and saturated pixels.
     Maps,
+    /// Two strategies' captures, side by side or split, with their worst-ROI SSIM and PSNR.
     Compare,
+    /// Contrast and noise against pixel pitch, to find the optimal pitch (Fig. 5.3).
     Curves,
 }
 
+/// How the Compare view shows its two captures A and B.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CompareMode {
+    /// A and B as two pictures next to each other.
     SideBySide,
+    /// One picture, A left and B right of a movable split line.
     Split,
 }
 
 /// How the exposure is chosen in the controls (each keeps its own number).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ExposureKind {
+    /// The scene's mean fills a fraction of the full well (Table 5.4: 5 %).
     Mean,
+    /// A percentile of the scene's luminance fills a fraction of the full well.
     Percentile,
+    /// A fixed number of electrons per µm² at radiance 1.
     Absolute,
 }
 
@@ -73,6 +88,8 @@ pub struct SensorWorkspace {
     scene: Option<Arc<LoadedScene>>,
     load: Option<Job<LoadedScene>>,
     dialog: Option<PendingDialog>,
+    /// The sensor, ROI size, strategies and seed of the next run; its `exposure` is overwritten
+    /// from the exposure controls before each run.
     pub settings: SensorSettings,
     exposure_kind: ExposureKind,
     mean_fraction: f64,
@@ -84,6 +101,7 @@ pub struct SensorWorkspace {
     generation: u64,
     job: Option<SensorJob>,
     shown: Option<ShownRun>,
+    /// The picture the centre shows.
     pub view: SensorView,
     map_strategy: usize,
     compare: [usize; 2],

@@ -7,7 +7,9 @@ use crate::io::photo;
 
 /// A loaded photo: a name for the screen and one plane per channel in `[0, 1]`.
 pub struct Photo {
+    /// Name shown with the pictures (usually the file name).
     pub name: String,
+    /// One plane per channel (1 grey or 3 R, G, B), values in `[0, 1]`, `[row, col]`.
     pub planes: Vec<Array2<f64>>,
 }
 

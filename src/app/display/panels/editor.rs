@@ -159,6 +159,7 @@ impl EditorPanel {
         self.stroke.is_some()
     }
 
+    /// Side of the square brush of Paint, Erase and Line, in cells.
     pub fn brush_cells(&self) -> usize {
         self.brush_cells
     }
@@ -168,14 +169,18 @@ impl EditorPanel {
         self.brush_cells = cells.clamp(1, MAX_BRUSH_CELLS);
     }
 
+    /// The mirror symmetry applied to every stroke.
     pub fn symmetry(&self) -> Symmetry {
         self.symmetry
     }
 
+    /// Sets the mirror symmetry applied to every later stroke.
     pub fn set_symmetry(&mut self, symmetry: Symmetry) {
         self.symmetry = symmetry;
     }
 
+    /// Draws the toolbar, brush, symmetry and grid-size controls, the cell grid and the readouts
+    /// under it; a finished stroke becomes one edit.
     pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
         let n = ctx.design.opening.n();
         if n != self.synced_n {

@@ -70,10 +70,12 @@ impl Default for MaskExportDialog {
 }
 
 impl MaskExportDialog {
+    /// Shows the dialog (its options are kept from last time).
     pub fn open(&mut self) {
         self.open = true;
     }
 
+    /// Whether the dialog is on screen.
     pub fn is_open(&self) -> bool {
         self.open
     }
@@ -83,6 +85,7 @@ impl MaskExportDialog {
         &self.options
     }
 
+    /// Whether a mask export is being written in the background.
     pub fn is_running(&self) -> bool {
         self.job.is_some()
     }

@@ -18,41 +18,55 @@ use crate::core::{Analysis, Design};
 /// A result on screen: the analysis and the design it was computed for.
 #[derive(Clone)]
 pub struct Shown {
+    /// Worker generation of the design it was computed for (older than the newest: stale).
     pub generation: u64,
+    /// Fast preview or full quality.
     pub quality: Quality,
+    /// The PSFs, MTFs and numbers the views and the Numbers panel draw.
     pub analysis: Arc<Analysis>,
+    /// The design the analysis belongs to (it may lag behind the document while computing).
     pub design: Arc<Design>,
 }
 
 /// The rasterised display over the pupil, for the tiling preview.
 #[derive(Clone)]
 pub struct DisplayPreview {
+    /// Worker generation of the design it shows.
     pub generation: u64,
     /// Samples per side; the optical axis is at `side / 2`.
     pub side: usize,
     /// Amplitude transmittance, row-major.
     pub values: Arc<Vec<f32>>,
+    /// Spacing between samples, in µm.
     pub sample_um: f64,
+    /// Diameter of the lens pupil drawn over the preview, in µm.
     pub pupil_diameter_um: f64,
 }
 
 /// A design pinned for comparison (A), with its full-quality result.
 #[derive(Clone)]
 pub struct Pinned {
+    /// The design as it was when pinned.
     pub design: Arc<Design>,
+    /// Its full-quality analysis.
     pub analysis: Arc<Analysis>,
 }
 
 /// What a panel may look at, and where it sends what it wants done.
 pub struct PanelCtx<'a> {
+    /// The document's current design (read-only; change it with [`PanelCtx::edit`]).
     pub design: &'a Design,
+    /// The newest result on screen, if any has arrived yet.
     pub shown: Option<&'a Shown>,
+    /// The newest display preview for the tiling view, if any.
     pub display: Option<&'a DisplayPreview>,
+    /// The design pinned as A for Compare, if any.
     pub pinned: Option<&'a Pinned>,
     /// Teaching overlays and hints on.
     pub overlays: bool,
     /// The editor's current tool (also set by shortcuts).
     pub tool: Tool,
+    /// Where the panel queues what it wants done; applied after the frame's UI.
     pub commands: &'a mut Vec<Command>,
 }
 

@@ -4,10 +4,13 @@ use super::PanelCtx;
 use crate::app::commands::Command;
 use crate::core::analyze::Quality;
 
+/// The Numbers panel: progress, open fraction, LTR, invertibility loss, per-channel MTF areas
+/// and the sampling warnings of the shown result.
 #[derive(Default)]
 pub struct NumbersPanel;
 
 impl NumbersPanel {
+    /// Draws the panel; `progress` is the running job's fraction done (`None`: up to date).
     pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelCtx, progress: Option<f32>) {
         ui.horizontal(|ui| {
             match progress {

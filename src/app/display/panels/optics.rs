@@ -4,6 +4,8 @@ use super::PanelCtx;
 use crate::app::commands::Command;
 use crate::core::design::{Channel, Design, OpticsRecipe};
 
+/// The Optics panel: recipe, focal length, f-number, sampling, sampling phase and colour
+/// channels.
 #[derive(Default)]
 pub struct OpticsPanel {
     draft: Option<Design>,
@@ -35,6 +37,7 @@ fn num(
 }
 
 impl OpticsPanel {
+    /// Draws the panel; values being dragged are held in a draft and committed on release.
     pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelCtx) {
         let mut d = self.draft.clone().unwrap_or_else(|| ctx.design.clone());
         let mut dragging = false;

@@ -30,6 +30,7 @@ struct Run {
 
 /// Finished run waiting to be applied.
 pub struct Finished {
+    /// The optimized design (binarised opening), its history and run time.
     pub result: Optimized,
     /// `L_inv` of the design the run started from, when known.
     pub start_loss_inv: Option<f64>,
@@ -37,6 +38,7 @@ pub struct Finished {
 
 /// Panel state: the settings, the running job, the live history and the last result.
 pub struct OptimizePanel {
+    /// Settings of the next run (epochs, learning rate, start, quality…), edited in the panel.
     pub settings: OptimizeSettings,
     run: Option<Run>,
     history: Vec<EpochReport>,
@@ -83,6 +85,7 @@ fn training_data(channels: usize) -> Result<DataSet, String> {
 }
 
 impl OptimizePanel {
+    /// Whether a run is in progress.
     pub fn is_running(&self) -> bool {
         self.run.is_some()
     }
@@ -204,6 +207,8 @@ impl OptimizePanel {
         true
     }
 
+    /// Draws the settings, Run/Stop/Cancel, the live loss plot and the result to apply or discard,
+    /// and picks up the run's epochs and its end.
     pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
         let start_loss = ctx
             .shown

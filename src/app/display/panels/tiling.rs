@@ -7,6 +7,8 @@ use super::{DisplayPreview, PanelCtx};
 use crate::app::commands::Command;
 use crate::core::design::{Design, TilingMode};
 
+/// The Tiling panel: tiling mode, seed, wiring gap, axis cell and the preview of the tiled
+/// display over the pupil.
 #[derive(Default)]
 pub struct TilingPanel {
     /// Edits in progress while a value is being dragged (committed on release).
@@ -37,6 +39,7 @@ fn mode_hint(m: TilingMode) -> &'static str {
 }
 
 impl TilingPanel {
+    /// Draws the controls and the preview; values being dragged are committed on release.
     pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut PanelCtx) {
         let mut d = self.draft.clone().unwrap_or_else(|| ctx.design.clone());
         let mut dragging = false;

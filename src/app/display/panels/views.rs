@@ -32,18 +32,27 @@ use crate::core::analyze::{ChannelAnalysis, Quality};
 /// The tabs of the result views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum ViewTab {
+    /// The sensor PSF of one channel on a linear scale (teaching overlays: orders, Airy disc).
     #[default]
     Psf,
+    /// The PSF in decades below its peak, so the faint orders and halo show.
     LogPsf,
+    /// The colour channels' log-PSFs together as one RGB image.
     Rgb,
+    /// The 2-D MTF of one channel, DC in the centre, in decades below MTF(0) = 1.
     Mtf2d,
+    /// MTF curves: horizontal and vertical slices, radial mean and radial minimum.
     MtfPlots,
+    /// This random tiling's PSF beside the expected PSF averaged over all tilings.
     Expected,
+    /// The pinned design A against the current design B, with their differences.
     Compare,
+    /// A photo blurred by the PSFs, exposed with noise and restored, with PSNR and SSIM.
     Restore,
 }
 
 impl ViewTab {
+    /// Every tab, in the order of the tab bar.
     pub const ALL: [ViewTab; 8] = [
         ViewTab::Psf,
         ViewTab::LogPsf,
@@ -55,6 +64,7 @@ impl ViewTab {
         ViewTab::Restore,
     ];
 
+    /// Text on the tab.
     pub fn label(self) -> &'static str {
         match self {
             ViewTab::Psf => "PSF",

@@ -127,7 +127,9 @@ pub fn rgb_composite(planes: [Option<&Array2<f64>>; 3], floor_decades: f64) -> C
 /// right, y = `step·(n/2 − row)` upwards, so row 0 (the image's top row) is drawn at the top.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Grid {
+    /// Samples per side.
     pub n: usize,
+    /// Spacing between samples: µm on the sensor for a PSF, cycles/pixel for an MTF.
     pub step: f64,
 }
 

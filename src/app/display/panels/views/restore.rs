@@ -59,6 +59,8 @@ struct RestoreJob {
     job: Job<Vec<(String, RestoreResult)>>,
 }
 
+/// The Restore view's state: the photo, the light level and restoration method, the background
+/// run and its results for the current and the pinned design.
 pub struct RestoreView {
     photo: Option<Arc<Photo>>,
     photo_id: u64,
@@ -108,10 +110,13 @@ impl RestoreView {
         self.rows.get(1).map(|r| &r.result)
     }
 
+    /// Whether a photo is loading or a capture-and-restore run is in progress.
     pub fn is_running(&self) -> bool {
         self.job.is_some() || self.photo_load.is_some()
     }
 
+    /// Sets the light level, as the SNR of a white pixel behind the reference display, in dB
+    /// (the slider spans 16 to 48 dB).
     pub fn set_snr_db(&mut self, snr_db: f64) {
         self.snr_db = snr_db;
     }
@@ -287,6 +292,8 @@ impl RestoreView {
         self.job = Some(RestoreJob { key, job });
     }
 
+    /// Draws the controls, the pictures and the numbers; starts a new run when the design, the
+    /// pinned design, the photo or a setting changed.
     pub fn ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &mut PanelCtx) {
         let egui_ctx = ui.ctx().clone();
         self.poll(&egui_ctx);
