@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! # UDC Studio
 //!
 //! A design studio for under-display cameras (UDC): draw a display pixel's opening, tile it, and

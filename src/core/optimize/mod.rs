@@ -299,7 +299,7 @@ impl<'a> Objective<'a> {
     /// The loss at `logits` for area target `c`, and its gradient.
     ///
     /// # Errors
-    /// As [`Model::evaluate`].
+    /// As [`Model::forward`].
     pub fn step(&self, logits: &[f64], c: f64) -> Result<Step, SimError> {
         let g: Vec<f64> = logits.iter().map(|&x| sigmoid(x)).collect();
         let count = g.len().max(1) as f64;

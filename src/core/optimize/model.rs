@@ -1,7 +1,7 @@
 //! The differentiable image-formation model of the optimizer: cell transmittances → pupil field
 //! → per-wavelength Fraunhofer intensity in the sensor window → binned, normalised channel PSF →
 //! OTF → `L_inv` (conventions.md §2–3, §6). Every step is the same arithmetic as
-//! [`crate::core::analyze`] (so `L_inv` here equals the analysis's for the same cells), written
+//! [`crate::core::analyze()`] (so `L_inv` here equals the analysis's for the same cells), written
 //! out with its adjoint so gradients reach the cells exactly.
 
 use ndarray::Array2;
