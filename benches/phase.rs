@@ -16,7 +16,7 @@ use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::{
-    Chain, Incidence, Optics, PhaseDesign, PhaseSampling, phase_psfs, v_matrix,
+    Chain, Incidence, PhaseDesign, PhaseOptics, PhaseSampling, phase_psfs, v_matrix,
 };
 
 /// The capture + restoration of a 512×512 photo at one light level through a prepared operator
@@ -32,7 +32,7 @@ fn imaging() {
         &design,
         &PhaseSampling::thesis(),
         &channels,
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         1024,
         &Progress::new(),
     );
@@ -54,7 +54,7 @@ fn imaging() {
         &design,
         &PhaseSampling::preview(),
         &channels,
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         512,
         &Progress::new(),
     ) else {
@@ -114,7 +114,7 @@ fn bench_phase(c: &mut Criterion) {
     group.bench_function("psf-530nm/thesis", |b| {
         b.iter(|| {
             black_box(chain.mono(
-                Optics::DoubleMla,
+                PhaseOptics::DoubleMla,
                 chain.heights_um(),
                 black_box(530.0),
                 Incidence::Pixel(0),
@@ -132,7 +132,7 @@ fn bench_phase(c: &mut Criterion) {
                     &design,
                     &sampling,
                     &channels,
-                    Optics::DoubleMla,
+                    PhaseOptics::DoubleMla,
                     Incidence::Pixel(0),
                     &Progress::new(),
                 ))

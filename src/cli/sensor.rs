@@ -11,7 +11,8 @@ use crate::core::sensor::{
     BinMode, Exposure, PRESET_NAMES, SensorSettings, SensorSpec, Strategy, run,
 };
 use crate::io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
-use crate::io::sensor_report::{r, run_json, write_run_images};
+use crate::io::numbers::json6 as r;
+use crate::io::sensor_report::{run_json, write_run_images};
 
 /// Arguments of `udc-studio sensor`.
 #[derive(Debug, Args)]

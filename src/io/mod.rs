@@ -6,6 +6,7 @@ pub mod error;
 pub mod export;
 pub mod hdr;
 pub mod mask;
+pub mod numbers;
 pub mod pattern;
 pub mod phase_design;
 pub mod phase_export;

@@ -6,14 +6,9 @@ use serde_json::{Value, json};
 use crate::core::Analysis;
 use crate::core::analyze::Quality;
 
-/// Rounds to 9 significant digits so reports stay readable and diffable.
+/// Analysis reports keep 9 significant digits.
 fn r(v: f64) -> f64 {
-    if v == 0.0 || !v.is_finite() {
-        return v;
-    }
-    let digits = 9 - v.abs().log10().ceil() as i32;
-    let scale = 10f64.powi(digits.clamp(-300, 300));
-    (v * scale).round() / scale
+    super::numbers::round_sig(v, 9)
 }
 
 fn rs(v: &[f64]) -> Vec<f64> {

@@ -7,22 +7,10 @@ use ndarray::Array2;
 use serde_json::{Value, json};
 
 use super::IoError;
+use super::numbers::json6 as r;
 use super::photo::{DIFFERENCE_GAIN, write_difference_png, write_photo_exr, write_photo_png};
 use crate::core::phase::imaging::CompareRow;
 use crate::core::restore::RestoreResult;
-
-/// Rounds to 6 significant digits; non-finite values (an infinite PSNR) become JSON `null`.
-fn r(v: f64) -> Value {
-    if !v.is_finite() {
-        return Value::Null;
-    }
-    if v == 0.0 {
-        return json!(0.0);
-    }
-    let digits = 6 - v.abs().log10().ceil() as i32;
-    let scale = 10f64.powi(digits.clamp(-300, 300));
-    json!((v * scale).round() / scale)
-}
 
 /// One element of `runs`: the light level and the scores, pooled and per channel (named
 /// `channel_names[c]`, or by index when a name is missing). `outputs` are the files written.

@@ -16,21 +16,9 @@ use serde_json::{Value, json};
 
 use super::IoError;
 use super::hdr::{ExrPrecision, write_exr};
+use super::numbers::json6 as r;
 use super::photo::write_photo_png;
 use crate::core::sensor::{BIN_SIZES, SensorRun, StrategyResult};
-
-/// Rounds to 6 significant digits; non-finite values become JSON `null`.
-pub fn r(v: f64) -> Value {
-    if !v.is_finite() {
-        return Value::Null;
-    }
-    if v == 0.0 {
-        return json!(0.0);
-    }
-    let digits = 6 - v.abs().log10().ceil() as i32;
-    let scale = 10f64.powi(digits.clamp(-300, 300));
-    json!((v * scale).round() / scale)
-}
 
 fn min_max_mean(a: &Array2<f64>) -> (f64, f64, f64) {
     let (lo, hi) = a

@@ -8,9 +8,9 @@ use udc_studio::core::design::Channel;
 use udc_studio::core::phase::allocate::{barrier_gradient, channel_invertibility};
 use udc_studio::core::phase::geometry::lenslet_count;
 use udc_studio::core::phase::{
-    AllocationSettings, Chain, GRID_LEN, Incidence, Lambda0, Optics, PhaseDesign, PhaseSampling,
-    SamplingConvention, Surface, invertibility_score, optical_mtf, optimize_lambda0, phase_psfs,
-    v_matrix_on, wavelength_grid_nm,
+    AllocationSettings, Chain, GRID_LEN, Incidence, Lambda0, PhaseDesign, PhaseOptics,
+    PhaseSampling, SamplingConvention, Surface, invertibility_score, optical_mtf, optimize_lambda0,
+    phase_psfs, v_matrix_on, wavelength_grid_nm,
 };
 use udc_studio::io::spectral::{channels_from_response, thesis_response};
 
@@ -50,24 +50,29 @@ fn at_lambda0_the_folded_plate_equals_the_thick_lens() {
             "fold T={fold}: the plate is not folded ({max_diff} µm)"
         );
         let a = chain.mono(
-            Optics::DoubleMla,
+            PhaseOptics::DoubleMla,
             chain.heights_um(),
             l0,
             Incidence::Pixel(0),
         );
-        let b = chain.mono(Optics::DoubleMla, &thick_h, l0, Incidence::Pixel(0));
+        let b = chain.mono(PhaseOptics::DoubleMla, &thick_h, l0, Incidence::Pixel(0));
         let peak = b.sensor.iter().copied().fold(0.0, f64::max);
         for (x, y) in a.sensor.iter().zip(&b.sensor) {
             assert!((x - y).abs() <= 1e-9 * peak, "T={fold}: {x} vs {y}");
         }
         // Away from λ0 the fold matters.
         let c = chain.mono(
-            Optics::DoubleMla,
+            PhaseOptics::DoubleMla,
             chain.heights_um(),
             l0 - 90.0,
             Incidence::Pixel(0),
         );
-        let d = chain.mono(Optics::DoubleMla, &thick_h, l0 - 90.0, Incidence::Pixel(0));
+        let d = chain.mono(
+            PhaseOptics::DoubleMla,
+            &thick_h,
+            l0 - 90.0,
+            Incidence::Pixel(0),
+        );
         let diff: f64 = c
             .sensor
             .iter()
@@ -88,7 +93,7 @@ fn double_mla_passes_about_one_over_the_open_ratio_more_light_than_the_toled() {
         &design,
         &PhaseSampling::thesis(),
         &[Channel::peak("G", 530.0)],
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         Incidence::Pixel(0),
         &Progress::new(),
     )
@@ -199,10 +204,10 @@ fn lemma1_holds_for_the_studio_single_mask_on_the_unbinned_otf() {
         design.sampling = sampling;
         let chain = Chain::new(&design, &PhaseSampling::preview()).unwrap();
         for nm in [470.0, 530.0, 610.0] {
-            let bare = optical_mtf(&chain.aperture(Optics::Toled, &[], nm).unwrap());
+            let bare = optical_mtf(&chain.aperture(PhaseOptics::Toled, &[], nm).unwrap());
             let masked = optical_mtf(
                 &chain
-                    .aperture(Optics::SingleMask, chain.heights_um(), nm)
+                    .aperture(PhaseOptics::SingleMask, chain.heights_um(), nm)
                     .unwrap(),
             );
             assert_eq!(bare.len(), masked.len());
@@ -221,7 +226,7 @@ fn lemma1_holds_for_the_studio_single_mask_on_the_unbinned_otf() {
                 "{nm} nm: the mask changed too little"
             );
         }
-        assert!(chain.aperture(Optics::DoubleMla, &[], 530.0).is_err());
+        assert!(chain.aperture(PhaseOptics::DoubleMla, &[], 530.0).is_err());
     }
 }
 
@@ -252,7 +257,7 @@ fn the_thesis_sampling_reproduces_the_thesis_codes_psfs() {
         let design = thesis(pitch, 1.0);
         assert_eq!(design.sampling, SamplingConvention::Thesis);
         let chain = Chain::new(&design, &sampling).unwrap();
-        let t = chain.mono(Optics::Toled, &[], 530.0, Incidence::Pixel(0));
+        let t = chain.mono(PhaseOptics::Toled, &[], 530.0, Incidence::Pixel(0));
         let (sum, p, i) = summary(&t.sensor, t.window_energy);
         check("T-OLED Σ", sum, 1.0, 1e-12);
         check(&format!("T-OLED {pitch} µm peak"), p, peak, 5e-5);
@@ -267,9 +272,9 @@ fn the_thesis_sampling_reproduces_the_thesis_codes_psfs() {
     let mut design = thesis(42.0, 5.0);
     design.lambda0 = Lambda0::Fixed { nm: 530.0 };
     let chain = Chain::new(&design, &sampling).unwrap();
-    let t = chain.mono(Optics::Toled, &[], 530.0, Incidence::Pixel(0));
+    let t = chain.mono(PhaseOptics::Toled, &[], 530.0, Incidence::Pixel(0));
     let ours = chain.mono(
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         chain.heights_um(),
         530.0,
         Incidence::Pixel(0),
@@ -302,9 +307,9 @@ fn the_centred_sampling_differs_from_the_thesis() {
         )
     };
     let (thesis_score, (_, thesis_peak, thesis_at)) =
-        psf(SamplingConvention::Thesis, Optics::Toled);
+        psf(SamplingConvention::Thesis, PhaseOptics::Toled);
     let (centred_score, (_, centred_peak, centred_at)) =
-        psf(SamplingConvention::Centred, Optics::Toled);
+        psf(SamplingConvention::Centred, PhaseOptics::Toled);
     assert_eq!(thesis_at, 519);
     assert_ne!(centred_at, thesis_at, "the axis moved half a pixel");
     assert!(
@@ -394,7 +399,7 @@ fn field_of_view_follows_kappa() {
             &design,
             &PhaseSampling::preview(),
             &[Channel::peak("G", 530.0)],
-            Optics::DoubleMla,
+            PhaseOptics::DoubleMla,
             Incidence::AngleDeg(deg),
             &Progress::new(),
         )
@@ -425,7 +430,7 @@ fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
         )
         .unwrap()
     };
-    let (ours, toled) = (kernels(Optics::DoubleMla), kernels(Optics::Toled));
+    let (ours, toled) = (kernels(PhaseOptics::DoubleMla), kernels(PhaseOptics::Toled));
     assert_eq!(ours.dim(), (256, 256));
     let chain = Chain::new(&design, &sampling).unwrap();
     let centroid = |col: Vec<f64>| -> f64 {
@@ -440,7 +445,7 @@ fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
         let j = (128 + j_rel) as usize;
         // Each column is that direction's PSF over the whole sensor.
         let psf = chain.mono(
-            Optics::DoubleMla,
+            PhaseOptics::DoubleMla,
             chain.heights_um(),
             530.0,
             Incidence::Pixel(j_rel),

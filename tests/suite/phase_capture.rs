@@ -17,7 +17,7 @@ use udc_studio::app::{StudioApp, WorkspaceId};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::imaging::{Setup, capture_and_restore, compare_setups, phase_blur};
-use udc_studio::core::phase::{Optics, PhaseDesign, PhaseSampling};
+use udc_studio::core::phase::{PhaseDesign, PhaseOptics, PhaseSampling};
 use udc_studio::io::photo::{built_in_photo, fit_max_side};
 
 const PIXELS: usize = 64;
@@ -66,7 +66,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
         .resolve(&d, &sampling, &[], &p)
         .unwrap();
     let expected = |photons: f64| {
-        [(d.clone(), Optics::DoubleMla), bare.clone()].map(|(design, optics)| {
+        [(d.clone(), PhaseOptics::DoubleMla), bare.clone()].map(|(design, optics)| {
             let blur = phase_blur(&design, &sampling, &peaks, optics, PIXELS, &p).unwrap();
             (
                 blur.ltr,
@@ -77,8 +77,8 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
     let check = |h: &Harness<'_, StudioApp>, photons: f64| {
         let rows = h.state().phase_ref().capture_rows();
         assert_eq!(rows.len(), 2);
-        assert_eq!(rows[0].optics, Optics::DoubleMla);
-        assert_eq!(rows[1].optics, Optics::Toled);
+        assert_eq!(rows[0].optics, PhaseOptics::DoubleMla);
+        assert_eq!(rows[1].optics, PhaseOptics::Toled);
         for (row, (ltr, run)) in rows.iter().zip(expected(photons)) {
             assert_eq!(row.run.photons, photons);
             assert!(

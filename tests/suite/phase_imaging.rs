@@ -11,7 +11,7 @@ use udc_studio::core::phase::imaging::{
     phase_blur, restore, scores,
 };
 use udc_studio::core::phase::{
-    Chain, Incidence, Lambda0, Optics, POLARISER_TRANSMISSION, PhaseDesign, PhaseSampling,
+    Chain, Incidence, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, PhaseOptics, PhaseSampling,
 };
 use udc_studio::io::photo::built_in_photo;
 use udc_studio::io::spectral::{channels_from_response, thesis_response};
@@ -34,7 +34,7 @@ fn the_operator_holds_each_directions_psf() {
         &d,
         &sampling,
         &channels,
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         width,
         &Progress::new(),
     )
@@ -43,7 +43,7 @@ fn the_operator_holds_each_directions_psf() {
     let first = d.camera.pixels / 2 - width / 2;
     for j in [0usize, 17, 32, 63] {
         let psf = chain.mono(
-            Optics::DoubleMla,
+            PhaseOptics::DoubleMla,
             chain.heights_um(),
             530.0,
             Incidence::Pixel(j as i64 - 32),
@@ -71,7 +71,7 @@ fn the_scored_field_is_where_the_double_mla_passes_half_the_light() {
         &d,
         &PhaseSampling::preview(),
         &[Channel::peak("G", 530.0)],
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         width,
         &Progress::new(),
     )
@@ -108,7 +108,7 @@ fn scene(width: usize) -> Vec<Array2<f64>> {
 fn bright_captures_are_the_blur_and_restoration_undoes_it() {
     let width = 48;
     let s = scene(width);
-    for (optics, fold) in [(Optics::DoubleMla, 5.0), (Optics::Toled, 1.0)] {
+    for (optics, fold) in [(PhaseOptics::DoubleMla, 5.0), (PhaseOptics::Toled, 1.0)] {
         let blur = phase_blur(
             &design(fold),
             &PhaseSampling::preview(),
@@ -162,7 +162,7 @@ fn bad_scenes_and_light_levels_are_refused() {
         &design(5.0),
         &PhaseSampling::preview(),
         &Channel::rgb_peaks(),
-        Optics::Toled,
+        PhaseOptics::Toled,
         32,
         &Progress::new(),
     )
@@ -181,7 +181,7 @@ fn bad_scenes_and_light_levels_are_refused() {
             &design(5.0),
             &PhaseSampling::preview(),
             &Channel::rgb_peaks(),
-            Optics::Toled,
+            PhaseOptics::Toled,
             2048,
             &Progress::new()
         )

@@ -15,7 +15,9 @@ use udc_studio::app::{StudioApp, WorkspaceId};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::geometry::lenslet_count;
-use udc_studio::core::phase::{Incidence, Lambda0, Optics, PhaseDesign, PhaseSampling, phase_psfs};
+use udc_studio::core::phase::{
+    Incidence, Lambda0, PhaseDesign, PhaseOptics, PhaseSampling, phase_psfs,
+};
 
 fn phase_studio(dir: &std::path::Path, quality: Quality) -> Harness<'static, StudioApp> {
     let mut h = common::studio(dir, false, Duration::from_secs(600));
@@ -55,7 +57,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
         &d,
         &PhaseSampling::thesis(),
         &Channel::rgb_peaks(),
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         Incidence::AngleDeg(0.0),
         &Progress::new(),
     )
@@ -135,7 +137,7 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
             && app
                 .phase_ref()
                 .shown()
-                .is_some_and(|s| s.optics == Optics::SingleMask)
+                .is_some_and(|s| s.optics == PhaseOptics::SingleMask)
     });
     let single = h.state().phase_ref().shown().unwrap().psfs.clone();
     assert_ne!(single.channels[1].psf, double.channels[1].psf);
@@ -466,7 +468,7 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
         &d,
         &PhaseSampling::preview(),
         &Channel::rgb_peaks()[1],
-        Optics::DoubleMla,
+        PhaseOptics::DoubleMla,
         &Progress::new(),
     )
     .unwrap();

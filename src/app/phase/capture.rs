@@ -24,7 +24,7 @@ use crate::app::job::{Job, JobError};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::design::Channel;
 use crate::core::phase::imaging::{PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur};
-use crate::core::phase::{Optics, PhaseDesign};
+use crate::core::phase::{PhaseDesign, PhaseOptics};
 use crate::core::{Progress, SimError};
 use crate::io::photo;
 
@@ -38,7 +38,7 @@ const KEPT_OPERATORS: usize = 6;
 #[derive(Debug, Clone, PartialEq)]
 struct OperatorKey {
     design: PhaseDesign,
-    optics: Optics,
+    optics: PhaseOptics,
     quality: Quality,
     channels: ChannelSet,
     width: usize,
@@ -58,7 +58,7 @@ pub struct CaptureRow {
     /// Name of the setup shown with its pictures ("this design: …" or "bare T-OLED, …").
     pub label: String,
     /// The optical chain the photo went through.
-    pub optics: Optics,
+    pub optics: PhaseOptics,
     /// Light transmittance ratio of the setup (the polariser's ½ included for the double MLA).
     pub ltr: f64,
     /// Full field of view of the setup (eq. 4.13), in degrees.
@@ -159,11 +159,11 @@ fn run_images(run: &RestoreRun, truth: &[Array2<f64>]) -> [ColorImage; 3] {
 }
 
 /// The name of a setup in the view.
-fn setup_label(optics: Optics, design: &PhaseDesign) -> String {
+fn setup_label(optics: PhaseOptics, design: &PhaseDesign) -> String {
     match optics {
-        Optics::DoubleMla => format!("this design: double MLA, T = {}", design.fold),
-        Optics::SingleMask => format!("this design: single mask, T = {}", design.fold),
-        Optics::Toled => format!("bare T-OLED, pitch {} µm", design.pitch_um),
+        PhaseOptics::DoubleMla => format!("this design: double MLA, T = {}", design.fold),
+        PhaseOptics::SingleMask => format!("this design: single mask, T = {}", design.fold),
+        PhaseOptics::Toled => format!("bare T-OLED, pitch {} µm", design.pitch_um),
     }
 }
 
@@ -277,7 +277,7 @@ impl PhaseWorkspace {
     }
 
     /// The two setups of a run: this design through its optics, the bare T-OLED of its pitch.
-    fn capture_setups(&self) -> Result<Vec<(PhaseDesign, Optics)>, SimError> {
+    fn capture_setups(&self) -> Result<Vec<(PhaseDesign, PhaseOptics)>, SimError> {
         self.design.validate()?;
         let bare = Setup::Bare {
             pitch_um: self.design.pitch_um,

@@ -16,7 +16,7 @@ use super::{ChannelSet, PhaseWorkspace, Quality, same};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::job::{Job, JobError, Writes};
 use crate::app::widgets::colormap::Colormap;
-use crate::core::phase::{Optics, PhaseDesign, kernel_matrix};
+use crate::core::phase::{PhaseDesign, PhaseOptics, kernel_matrix};
 
 /// Decades of the picture's log scale below the matrix's maximum.
 const DECADES: f64 = 6.0;
@@ -30,7 +30,7 @@ pub struct ShownKernels {
     /// Preview or thesis sampling.
     pub quality: Quality,
     /// The optical chain it was computed for.
-    pub optics: Optics,
+    pub optics: PhaseOptics,
     /// The channel set its channel was taken from.
     pub channels: ChannelSet,
     /// Index of the channel (0 R, 1 G, 2 B).
@@ -52,7 +52,7 @@ type FileDialog = Job<Option<PathBuf>>;
 struct KernelJob {
     design: PhaseDesign,
     quality: Quality,
-    optics: Optics,
+    optics: PhaseOptics,
     channels: ChannelSet,
     channel: usize,
     channel_name: String,
@@ -130,9 +130,9 @@ fn kernel_image(k: &Array2<f64>, max: f64) -> ColorImage {
     ColorImage::new([cols, rows], pixels)
 }
 
-fn optics_label(o: Optics) -> &'static str {
+fn optics_label(o: PhaseOptics) -> &'static str {
     match o {
-        Optics::SingleMask => "single mask",
+        PhaseOptics::SingleMask => "single mask",
         _ => "double MLA",
     }
 }

@@ -40,7 +40,7 @@ use crate::core::SimError;
 use crate::core::design::Channel;
 use crate::core::phase::geometry::lenslet_count;
 use crate::core::phase::{
-    Allocation, Incidence, Optics, PhaseDesign, PhasePsfs, PhaseSampling, VMatrix, phase_psfs,
+    Allocation, Incidence, PhaseDesign, PhaseOptics, PhasePsfs, PhaseSampling, VMatrix, phase_psfs,
     wavelength_grid_nm,
 };
 use crate::io::spectral;
@@ -96,7 +96,7 @@ pub struct ShownPsfs {
     /// The design they were computed for.
     pub design: PhaseDesign,
     /// The optical chain: double MLA, or the single mask of Lemma 1.
-    pub optics: Optics,
+    pub optics: PhaseOptics,
     /// The colour channels they were computed for.
     pub channels: ChannelSet,
     /// The channel PSFs through the design and through the bare T-OLED, with their MTFs.
@@ -109,7 +109,7 @@ struct PsfJob {
     generation: u64,
     quality: Quality,
     design: PhaseDesign,
-    optics: Optics,
+    optics: PhaseOptics,
     channels: ChannelSet,
     /// The PSFs and the milliseconds they took.
     job: Job<(PhasePsfs, f64)>,
@@ -360,11 +360,11 @@ impl PhaseWorkspace {
         }
     }
 
-    fn optics(&self) -> Optics {
+    fn optics(&self) -> PhaseOptics {
         if self.single_mask {
-            Optics::SingleMask
+            PhaseOptics::SingleMask
         } else {
-            Optics::DoubleMla
+            PhaseOptics::DoubleMla
         }
     }
 

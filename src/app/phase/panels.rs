@@ -361,7 +361,7 @@ impl PhaseWorkspace {
                 ui.label("Channels");
                 self.channel_choice_ui(ui);
                 ui.end_row();
-                ui.label("Optics");
+                ui.label("PhaseOptics");
                 ui.checkbox(&mut self.single_mask, "single mask (Lemma 1)")
                     .on_hover_text(
                         "One plate at the display and no second MLA: Lemma 1 says a single \
@@ -395,7 +395,7 @@ impl PhaseWorkspace {
                 "{} · {} · {:.0} ms",
                 s.quality.label(),
                 match s.optics {
-                    crate::core::phase::Optics::SingleMask => "single mask",
+                    crate::core::phase::PhaseOptics::SingleMask => "single mask",
                     _ => "double MLA",
                 },
                 s.elapsed_ms

@@ -212,7 +212,7 @@ impl PhaseWorkspace {
         };
         let p = s.psfs.clone();
         let ours = match s.optics {
-            crate::core::phase::Optics::SingleMask => "single mask",
+            crate::core::phase::PhaseOptics::SingleMask => "single mask",
             _ => "double MLA",
         };
         let mut caption = format!(
@@ -222,7 +222,7 @@ impl PhaseWorkspace {
             ours,
             p.image_pixel
         );
-        if p.image_pixel != 0 && s.optics == crate::core::phase::Optics::DoubleMla {
+        if p.image_pixel != 0 && s.optics == crate::core::phase::PhaseOptics::DoubleMla {
             caption.push_str(&format!(
                 " The double MLA inverts the angle (a 1:1 telescope per lenslet): its light lands \
                  near pixel {}.",

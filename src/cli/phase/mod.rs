@@ -15,13 +15,13 @@ use crate::core::design::Channel;
 use crate::core::phase::allocate::{channel_invertibility, channel_matrix};
 use crate::core::phase::geometry::{lambda0_per_lenslet, lenslet_count, uniform_counts};
 use crate::core::phase::{
-    AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, Optics, PhaseDesign,
+    AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, PhaseDesign, PhaseOptics,
     PhaseSampling, SamplingConvention, Surface, kernel_matrix, optimize_lambda0, phase_psfs,
     v_matrix, wavelength_grid_nm,
 };
+use crate::io::numbers::json6 as r;
 use crate::io::phase_design::{load_phase_design, save_phase_design};
 use crate::io::phase_export::HeightFormat;
-use crate::io::sensor_report::r;
 use crate::io::spectral::{channels_from_response, load_response_csv, thesis_response};
 
 /// A subcommand of `udc-studio phase`.

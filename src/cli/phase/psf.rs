@@ -23,9 +23,9 @@ pub(super) fn psf_cmd(a: &PsfArgs) -> Result<()> {
         None => Channel::rgb_peaks(),
     };
     let optics = if a.single_mask {
-        Optics::SingleMask
+        PhaseOptics::SingleMask
     } else {
-        Optics::DoubleMla
+        PhaseOptics::DoubleMla
     };
     let incidence = Incidence::AngleDeg(a.angle_deg);
     let psfs = with_progress("PSFs", |p| {

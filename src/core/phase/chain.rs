@@ -32,7 +32,7 @@ pub const THESIS_FINE_PER_PIXEL: usize = 14;
 
 /// Which optics sit at the display.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Optics {
+pub enum PhaseOptics {
     /// MLA 1, display, MLA 2, each a focal length apart: the thesis's design.
     DoubleMla,
     /// The bare T-OLED against the main lens: the reference.
@@ -439,7 +439,7 @@ impl Chain {
     /// [`SimError::Sampling`] for the double MLA, whose lens-plane field is not a mask.
     pub fn aperture(
         &self,
-        optics: Optics,
+        optics: PhaseOptics,
         heights_um: &[f64],
         wavelength_nm: f64,
     ) -> Result<Vec<Complex64>, SimError> {
@@ -447,16 +447,16 @@ impl Chain {
         let (start, end) = self.lens_range;
         let amplitude = |i: usize| self.slits[i] * self.lens_rect[i];
         match optics {
-            Optics::Toled => Ok((start..end)
+            PhaseOptics::Toled => Ok((start..end)
                 .map(|i| Complex64::new(amplitude(i), 0.0))
                 .collect()),
-            Optics::SingleMask => Ok((start..end)
+            PhaseOptics::SingleMask => Ok((start..end)
                 .map(|i| {
                     let h = heights_um.get(i).copied().unwrap_or(0.0);
                     Complex64::from_polar(amplitude(i), -k_n1 * h)
                 })
                 .collect()),
-            Optics::DoubleMla => Err(SimError::Sampling(
+            PhaseOptics::DoubleMla => Err(SimError::Sampling(
                 "the double MLA is not a single mask at the display".into(),
             )),
         }
@@ -466,7 +466,7 @@ impl Chain {
     /// (from [`Chain::heights_um`] or [`Chain::heights_for`]; ignored for the bare T-OLED).
     pub fn mono(
         &self,
-        optics: Optics,
+        optics: PhaseOptics,
         heights_um: &[f64],
         wavelength_nm: f64,
         incidence: Incidence,
@@ -491,12 +491,12 @@ impl Chain {
                 czt: czt_work,
                 ..
             } = match optics {
-                Optics::DoubleMla => {
+                PhaseOptics::DoubleMla => {
                     self.transmission(heights_um, k_n1, &mut work.plate);
                     self.relay(work, lambda, k_sin);
                     work
                 }
-                Optics::Toled | Optics::SingleMask => work,
+                PhaseOptics::Toled | PhaseOptics::SingleMask => work,
             };
             // The field on the main-lens opening, fed to the Fraunhofer transform as it is
             // formed; one closure per optics keeps the loop free of branches.
@@ -511,7 +511,7 @@ impl Chain {
             };
             let total = &mut total;
             match optics {
-                Optics::DoubleMla => czt.intensity_with(
+                PhaseOptics::DoubleMla => czt.intensity_with(
                     czt_work,
                     |j| {
                         let i = start + j;
@@ -524,7 +524,7 @@ impl Chain {
                     },
                     &mut intensity,
                 ),
-                Optics::Toled => czt.intensity_with(
+                PhaseOptics::Toled => czt.intensity_with(
                     czt_work,
                     |j| {
                         let i = start + j;
@@ -534,7 +534,7 @@ impl Chain {
                     },
                     &mut intensity,
                 ),
-                Optics::SingleMask => czt.intensity_with(
+                PhaseOptics::SingleMask => czt.intensity_with(
                     czt_work,
                     |j| {
                         let i = start + j;

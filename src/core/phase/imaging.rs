@@ -42,7 +42,7 @@ use rand_distr::{Distribution, Normal, Poisson};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::chain::{Chain, Incidence, Optics};
+use super::chain::{Chain, Incidence, PhaseOptics};
 use super::geometry::lambda0_per_lenslet;
 use super::{
     AllocationSettings, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, PhaseSampling, SimError,
@@ -85,7 +85,7 @@ pub struct PhaseBlur {
     /// that reaches the scene's sensor columns.
     pub green_column_energy: Vec<f64>,
     /// The optics the operator was computed for (double MLA or bare T-OLED).
-    pub optics: Optics,
+    pub optics: PhaseOptics,
 }
 
 /// Columns of a `width`-wide scene inside the field of view of eq. 4.13 for `design`'s κ.
@@ -107,7 +107,7 @@ pub fn phase_blur(
     design: &PhaseDesign,
     sampling: &PhaseSampling,
     channels: &[Channel],
-    optics: Optics,
+    optics: PhaseOptics,
     width: usize,
     progress: &Progress,
 ) -> Result<PhaseBlur, SimError> {
@@ -127,8 +127,8 @@ pub fn phase_blur(
     let chain = Chain::new(design, sampling)?;
     let first = pixels / 2 - width / 2;
     let polariser = match optics {
-        Optics::DoubleMla => POLARISER_TRANSMISSION,
-        Optics::Toled | Optics::SingleMask => 1.0,
+        PhaseOptics::DoubleMla => POLARISER_TRANSMISSION,
+        PhaseOptics::Toled | PhaseOptics::SingleMask => 1.0,
     };
     // Every wavelength once, with each channel's normalised weight.
     let mut wavelengths: Vec<f64> = channels

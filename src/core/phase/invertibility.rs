@@ -5,7 +5,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::chain::{Chain, Incidence, Optics};
+use super::chain::{Chain, Incidence, PhaseOptics};
 use super::{Lambda0, PhaseDesign, PhaseSampling, SimError, wavelength_grid_nm};
 use crate::core::Progress;
 use rustfft::num_complex::Complex64;
@@ -92,7 +92,7 @@ pub fn v_matrix_on(
             progress.check()?;
             let (j, k) = (idx / cols, idx % cols);
             let psf = chain.mono(
-                Optics::DoubleMla,
+                PhaseOptics::DoubleMla,
                 &heights[j],
                 lambda_nm[k],
                 Incidence::Pixel(0),

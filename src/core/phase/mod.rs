@@ -49,7 +49,7 @@ use serde::{Deserialize, Serialize};
 use super::SimError;
 
 pub use allocate::{Allocation, AllocationSettings, allocate, optimize_lambda0};
-pub use chain::{Chain, Incidence, MonoPsf, Optics, effective_pixel_um};
+pub use chain::{Chain, Incidence, MonoPsf, PhaseOptics, effective_pixel_um};
 pub use geometry::{Lenslets, Surface};
 pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
 pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, phase_psfs};

@@ -7,7 +7,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::chain::{Chain, Incidence, MonoPsf, Optics};
+use super::chain::{Chain, Incidence, MonoPsf, PhaseOptics};
 use super::invertibility::{invertibility_score, mtf_one_sided};
 use super::{POLARISER_TRANSMISSION, PhaseDesign, PhaseSampling, SimError};
 use crate::core::Progress;
@@ -133,7 +133,7 @@ pub fn phase_psfs(
     design: &PhaseDesign,
     sampling: &PhaseSampling,
     channels: &[Channel],
-    optics: Optics,
+    optics: PhaseOptics,
     incidence: Incidence,
     progress: &Progress,
 ) -> Result<PhasePsfs, SimError> {
@@ -157,7 +157,7 @@ pub fn phase_psfs(
         .map(|&(_, l, _)| {
             progress.check()?;
             let ours = chain.mono(optics, chain.heights_um(), l, incidence);
-            let toled = chain.mono(Optics::Toled, &[], l, incidence);
+            let toled = chain.mono(PhaseOptics::Toled, &[], l, incidence);
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress.set(n as f32 / jobs.len() as f32);
             Ok((ours, toled))
@@ -227,7 +227,7 @@ pub fn kernel_matrix(
     design: &PhaseDesign,
     sampling: &PhaseSampling,
     channel: &Channel,
-    optics: Optics,
+    optics: PhaseOptics,
     progress: &Progress,
 ) -> Result<Array2<f64>, SimError> {
     check_channels(std::slice::from_ref(channel))?;

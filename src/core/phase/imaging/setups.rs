@@ -112,7 +112,7 @@ impl Setup {
         sampling: &PhaseSampling,
         grid_channels: &[Channel],
         progress: &Progress,
-    ) -> Result<(PhaseDesign, Optics), SimError> {
+    ) -> Result<(PhaseDesign, PhaseOptics), SimError> {
         let at_pitch = |pitch_um: f64| {
             let mut d = base.clone();
             // The same κ = f_MLA / opening at every pitch (§4.5: f_MLA = pitch).
@@ -128,7 +128,7 @@ impl Setup {
                 // No plate: one canonical fold, so equal T-OLEDs are equal designs.
                 d.fold = 1.0;
                 d.validate()?;
-                Ok((d, Optics::Toled))
+                Ok((d, PhaseOptics::Toled))
             }
             Setup::DoubleMla {
                 pitch_um,
@@ -162,7 +162,7 @@ impl Setup {
                     d.lambda0 = Lambda0::PerLenslet { nm };
                 }
                 d.validate()?;
-                Ok((d, Optics::DoubleMla))
+                Ok((d, PhaseOptics::DoubleMla))
             }
         }
     }

@@ -1,0 +1,38 @@
+//! Numbers in reports, rounded to significant digits so files stay readable and diffable.
+
+use serde_json::Value;
+
+/// `v` rounded to `digits` significant digits; zero and non-finite values pass unchanged.
+pub fn round_sig(v: f64, digits: i32) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let shift = digits - v.abs().log10().ceil() as i32;
+    let scale = 10f64.powi(shift.clamp(-300, 300));
+    (v * scale).round() / scale
+}
+
+/// `v` to 6 significant digits as JSON; a non-finite value (an infinite PSNR) is `null`.
+pub fn json6(v: f64) -> Value {
+    if v.is_finite() {
+        Value::from(round_sig(v, 6))
+    } else {
+        Value::Null
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rounds_to_significant_digits_at_any_scale() {
+        assert_eq!(round_sig(123_456_789.0, 3), 123_000_000.0);
+        assert_eq!(round_sig(0.000_123_456, 2), 0.000_12);
+        assert_eq!(round_sig(-2.345_678, 3), -2.35);
+        assert_eq!(round_sig(0.0, 6), 0.0);
+        assert!(round_sig(f64::NAN, 6).is_nan());
+        assert_eq!(json6(1.0 / 3.0), Value::from(0.333_333));
+        assert_eq!(json6(f64::INFINITY), Value::Null);
+    }
+}
