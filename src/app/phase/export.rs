@@ -14,29 +14,16 @@ use crate::io::phase_export;
 
 pub use crate::io::phase_export::HeightFormat;
 
-/// The exports' parameters.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ExportParams {
-    /// Sample along x, in µm (CSV, PNG, STL).
-    pub sample_um: f64,
-    /// Rows of the PNG (the plate is uniform along y).
-    pub rows: usize,
-    /// Length of the plate along y, in µm (GDSII, STL).
-    pub length_um: f64,
-    /// Thickness of the STL's base under the profile, in µm.
-    pub base_um: f64,
-}
+/// The exports' parameters (the controls' defaults suit a 42 µm pitch plate).
+pub type ExportParams = phase_export::HeightParams;
 
-impl Default for ExportParams {
-    fn default() -> Self {
-        ExportParams {
-            sample_um: 0.1,
-            rows: 16,
-            length_um: 100.0,
-            base_um: 20.0,
-        }
-    }
-}
+/// The controls' starting values.
+const DEFAULT_PARAMS: ExportParams = ExportParams {
+    sample_um: 0.1,
+    rows: 16,
+    length_um: 100.0,
+    base_um: 20.0,
+};
 
 pub(super) struct ExportState {
     native_dialogs: bool,
@@ -56,15 +43,7 @@ pub fn write_height(
     path: &std::path::Path,
     p: &ExportParams,
 ) -> Result<String, String> {
-    let summary = match format {
-        HeightFormat::Csv => phase_export::write_height_csv(design, path, p.sample_um),
-        HeightFormat::Png => phase_export::write_height_png(design, path, p.sample_um, p.rows),
-        HeightFormat::Gds => phase_export::write_height_gds(design, path, p.length_um),
-        HeightFormat::Stl => {
-            phase_export::write_height_stl(design, path, p.sample_um, p.length_um, p.base_um)
-        }
-    }
-    .map_err(|e| e.to_string())?;
+    let summary = phase_export::write_height(format, design, path, p).map_err(|e| e.to_string())?;
     Ok(format!(
         "exported {}: {}",
         path.display(),
@@ -104,7 +83,7 @@ impl ExportState {
     pub fn new(native_dialogs: bool) -> Self {
         ExportState {
             native_dialogs,
-            params: ExportParams::default(),
+            params: DEFAULT_PARAMS,
             dialog: None,
             writes: Writes::default(),
             message: None,

@@ -4,7 +4,6 @@
 //! on another).
 
 use crate::app::notice::Notice;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -84,27 +83,12 @@ impl KernelState {
     }
 }
 
-/// Writes the matrix as CSV: one line per row (sensor pixel), comma-separated `{:e}` values.
+/// Writes the blur matrix as CSV; the message says what was saved.
 ///
 /// # Errors
-/// The file's error, naming it.
+/// The writer's message.
 pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, String> {
-    let fail = |e: std::io::Error| format!("cannot write {}: {e}", path.display());
-    let temp = crate::io::safe_file::TempFile::beside(path).map_err(|e| e.to_string())?;
-    let file = std::fs::File::create(temp.path()).map_err(fail)?;
-    let mut w = std::io::BufWriter::new(file);
-    for row in k.rows() {
-        for (j, v) in row.iter().enumerate() {
-            if j > 0 {
-                w.write_all(b",").map_err(fail)?;
-            }
-            write!(w, "{v:e}").map_err(fail)?;
-        }
-        w.write_all(b"\n").map_err(fail)?;
-    }
-    w.flush().map_err(fail)?;
-    drop(w);
-    temp.persist().map_err(|e| e.to_string())?;
+    crate::io::phase_export::write_kernels_csv(k, path).map_err(|e| e.to_string())?;
     let (rows, cols) = k.dim();
     Ok(format!(
         "saved {}: {rows} rows (sensor pixels) × {cols} columns (directions)",

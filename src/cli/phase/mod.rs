@@ -462,15 +462,13 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
     if a.unfolded {
         design.surface = Surface::Unfolded;
     }
-    use crate::io::phase_export as pe;
-    let written = match a.format {
-        HeightFormat::Csv => pe::write_height_csv(&design, file, a.sample_um),
-        HeightFormat::Png => pe::write_height_png(&design, file, a.sample_um, a.rows),
-        HeightFormat::Gds => pe::write_height_gds(&design, file, a.length_um),
-        HeightFormat::Stl => {
-            pe::write_height_stl(&design, file, a.sample_um, a.length_um, a.base_um)
-        }
+    let params = crate::io::phase_export::HeightParams {
+        sample_um: a.sample_um,
+        rows: a.rows,
+        length_um: a.length_um,
+        base_um: a.base_um,
     };
+    let written = crate::io::phase_export::write_height(a.format, &design, file, &params);
     // The writer's messages name design fields; a CLI user knows them as flags. Printed without
     // the error's source chain, which repeats the same message.
     let summary = written.map_err(|e| {

@@ -63,3 +63,27 @@ pub fn write_height_csv(
     summary.sample_um = Some(sample_um);
     Ok(summary)
 }
+
+/// Writes a blur matrix (rows: sensor pixels, columns: directions) as CSV in scientific
+/// notation, streamed to a temporary file beside `path` and renamed into place.
+///
+/// # Errors
+/// When the file cannot be written.
+pub fn write_kernels_csv(k: &ndarray::Array2<f64>, path: &Path) -> Result<(), IoError> {
+    let fail = |e| IoError::file("write", path, e);
+    let temp = TempFile::beside(path)?;
+    let file = File::create(temp.path()).map_err(fail)?;
+    let mut w = std::io::BufWriter::new(file);
+    for row in k.rows() {
+        for (j, v) in row.iter().enumerate() {
+            if j > 0 {
+                w.write_all(b",").map_err(fail)?;
+            }
+            write!(w, "{v:e}").map_err(fail)?;
+        }
+        w.write_all(b"\n").map_err(fail)?;
+    }
+    w.flush().map_err(fail)?;
+    drop(w);
+    temp.persist()
+}

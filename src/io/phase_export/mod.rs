@@ -321,7 +321,38 @@ mod pieces;
 mod png;
 mod stl;
 
-pub use csv::{height_csv_text, write_height_csv};
+pub use csv::{height_csv_text, write_height_csv, write_kernels_csv};
 pub use gds::write_height_gds;
 pub use png::write_height_png;
 pub use stl::write_height_stl;
+
+/// The per-format sizes of a height export (each format reads the ones it needs).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HeightParams {
+    /// Sample along x, in µm (CSV, PNG pixel size, STL chord length).
+    pub sample_um: f64,
+    /// Rows of the PNG (the plate is uniform along y).
+    pub rows: usize,
+    /// Length of the plate along y, in µm (GDSII, STL).
+    pub length_um: f64,
+    /// Thickness of the STL's base under the profile, in µm.
+    pub base_um: f64,
+}
+
+/// Writes `design`'s plate to `path` in `format`: the one entry point of the studio and the CLI.
+///
+/// # Errors
+/// What the format's writer refuses (sizes, steps, piece counts) or cannot write.
+pub fn write_height(
+    format: HeightFormat,
+    design: &PhaseDesign,
+    path: &Path,
+    p: &HeightParams,
+) -> Result<ExportSummary, IoError> {
+    match format {
+        HeightFormat::Csv => write_height_csv(design, path, p.sample_um),
+        HeightFormat::Png => write_height_png(design, path, p.sample_um, p.rows),
+        HeightFormat::Gds => write_height_gds(design, path, p.length_um),
+        HeightFormat::Stl => write_height_stl(design, path, p.sample_um, p.length_um, p.base_um),
+    }
+}
