@@ -137,7 +137,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         eta_per_pixel: args.eta_per_pixel,
         snr_t: args.snr_t,
         seed: args.seed,
-        bin_mode: args.bin_mode.into(),
+        bin_mode: args.bin_mode,
         strategies: if args.all_strategies {
             Strategy::all()
         } else {

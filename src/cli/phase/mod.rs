@@ -208,8 +208,8 @@ fn design_of(m: &MaskArgs) -> Result<PhaseDesign> {
         d.open_ratio = o;
     }
     d.height_step_um = m.height_step_um;
-    d.height_rounding = m.height_rounding.into();
-    d.sampling = m.sampling.into();
+    d.height_rounding = m.height_rounding;
+    d.sampling = m.sampling;
     // Flag names, not field names, in the messages a CLI user sees.
     d.validate().map_err(|e| {
         anyhow::anyhow!(
