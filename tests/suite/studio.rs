@@ -289,3 +289,52 @@ fn unreadable_autosaves_are_kept_aside_numbered_and_said_so() {
         ]
     );
 }
+
+/// Typing a number is one edit: nothing reaches the design (or the simulation) until Enter,
+/// then one undo step takes the whole number back.
+#[test]
+fn a_typed_number_commits_once_on_enter() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut()
+        .show_left_tab(udc_studio::app::LeftTab::Tiling);
+    h.run_steps(3);
+    let before = h.state().design().clone();
+    let undo_steps_before = undo_depth(&mut h);
+    h.get_by_role_and_label(egui::Role::SpinButton, "Wiring gap")
+        .focus();
+    h.run_steps(2);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    for ch in ["1", "2"] {
+        h.get_by_role_and_label(egui::Role::SpinButton, "Wiring gap")
+            .type_text(ch);
+        h.run_steps(2);
+        assert_eq!(
+            h.state().design().tiling.wiring_gap_um,
+            before.tiling.wiring_gap_um,
+            "a keystroke must not reach the design"
+        );
+    }
+    h.key_press(egui::Key::Enter);
+    h.run_steps(3);
+    assert_eq!(h.state().design().tiling.wiring_gap_um, 12.0);
+    assert_eq!(undo_depth(&mut h), undo_steps_before + 1, "one undo step");
+    h.state_mut().command(Command::Undo);
+    h.run_steps(2);
+    assert_eq!(h.state().design(), &before);
+}
+
+/// How many undo steps the display document holds.
+fn undo_depth(h: &mut Harness<'static, StudioApp>) -> usize {
+    let mut n = 0;
+    let start = h.state().design().clone();
+    while h.state().document().can_undo() {
+        h.state_mut().command(Command::Undo);
+        n += 1;
+    }
+    for _ in 0..n {
+        h.state_mut().command(Command::Redo);
+    }
+    assert_eq!(h.state().design(), &start);
+    n
+}

@@ -161,7 +161,7 @@ impl PhaseWorkspace {
             self.set_capture_channels(set);
             ui.separator();
             let mut seed = self.capture.seed;
-            ui.add(egui::DragValue::new(&mut seed).prefix("noise seed "));
+            ui.add(crate::app::widgets::number(&mut seed).prefix("noise seed "));
             self.set_capture_seed(seed);
             ui.separator();
             ui.weak(format!("{} sampling", self.quality.label()));

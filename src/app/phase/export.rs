@@ -173,7 +173,7 @@ impl PhaseWorkspace {
                     .show(ui, |ui| {
                         ui.label("Sample along x");
                         ui.add(
-                            egui::DragValue::new(&mut p.sample_um)
+                            crate::app::widgets::number(&mut p.sample_um)
                                 .range(0.005..=10.0)
                                 .speed(0.005)
                                 .suffix(" µm"),
@@ -181,21 +181,21 @@ impl PhaseWorkspace {
                         ui.end_row();
                         ui.label("PNG rows");
                         ui.add(
-                            egui::DragValue::new(&mut p.rows)
+                            crate::app::widgets::number(&mut p.rows)
                                 .range(1..=4096)
                                 .suffix(" px"),
                         );
                         ui.end_row();
                         ui.label("Length along y");
                         ui.add(
-                            egui::DragValue::new(&mut p.length_um)
+                            crate::app::widgets::number(&mut p.length_um)
                                 .range(1.0..=100_000.0)
                                 .suffix(" µm"),
                         );
                         ui.end_row();
                         ui.label("STL base");
                         ui.add(
-                            egui::DragValue::new(&mut p.base_um)
+                            crate::app::widgets::number(&mut p.base_um)
                                 .range(0.0..=10_000.0)
                                 .suffix(" µm"),
                         );

@@ -23,7 +23,7 @@ fn number(
     suffix: &str,
 ) -> egui::Response {
     ui.add(
-        egui::DragValue::new(v)
+        crate::app::widgets::number(v)
             .range(range)
             .clamp_existing_to_range(false)
             .speed(speed)
@@ -131,7 +131,7 @@ impl PhaseWorkspace {
                     let old_dpi = UM_PER_INCH / d.pitch_um;
                     let mut dpi = old_dpi;
                     ui.add(
-                        egui::DragValue::new(&mut dpi)
+                        crate::app::widgets::number(&mut dpi)
                             .range(12.7..=25_400.0)
                             .clamp_existing_to_range(false)
                             .max_decimals(1)
@@ -322,7 +322,7 @@ impl PhaseWorkspace {
                 ui.horizontal(|ui| {
                     ui.label("lenslet");
                     let mut s = selected;
-                    ui.add(egui::DragValue::new(&mut s).range(0..=n.saturating_sub(1)));
+                    ui.add(crate::app::widgets::number(&mut s).range(0..=n.saturating_sub(1)));
                     self.selected_lenslet = s;
                     if let Some(v) = nm.get_mut(self.selected_lenslet) {
                         ui.label("λ0");

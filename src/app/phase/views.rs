@@ -194,7 +194,7 @@ impl PhaseWorkspace {
             ui.separator();
             ui.label("half width");
             ui.add(
-                egui::DragValue::new(&mut self.psf_half_width_px)
+                crate::app::widgets::number(&mut self.psf_half_width_px)
                     .range(4..=512)
                     .suffix(" px"),
             );
@@ -313,7 +313,10 @@ impl PhaseWorkspace {
         self.selected_lenslet = self.selected_lenslet.min(n.saturating_sub(1));
         ui.horizontal(|ui| {
             ui.label("Height profile around lenslet");
-            ui.add(egui::DragValue::new(&mut self.selected_lenslet).range(0..=n.saturating_sub(1)));
+            ui.add(
+                crate::app::widgets::number(&mut self.selected_lenslet)
+                    .range(0..=n.saturating_sub(1)),
+            );
             ui.label(format!(
                 "of {n} (λ0 {:.0} nm, fold height {:.3} µm)",
                 lenslets.lambda0_nm[self.selected_lenslet],

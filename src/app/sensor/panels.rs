@@ -193,14 +193,14 @@ impl SensorWorkspace {
             .show(ui, |ui| {
                 ui.label("ROI side");
                 ui.add(
-                    egui::DragValue::new(&mut s.roi_px)
+                    crate::app::widgets::number(&mut s.roi_px)
                         .range(16..=1024)
                         .suffix(" px"),
                 );
                 ui.end_row();
                 ui.label("eta (ROI gain)");
                 ui.add(
-                    egui::DragValue::new(&mut s.eta)
+                    crate::app::widgets::number(&mut s.eta)
                         .range(0.0..=10.0)
                         .speed(0.05),
                 )
@@ -208,14 +208,14 @@ impl SensorWorkspace {
                 ui.end_row();
                 ui.label("eta (per-pixel gain)");
                 ui.add(
-                    egui::DragValue::new(&mut s.eta_per_pixel)
+                    crate::app::widgets::number(&mut s.eta_per_pixel)
                         .range(0.0..=10.0)
                         .speed(0.05),
                 );
                 ui.end_row();
                 ui.label("SNR threshold");
                 ui.add(
-                    egui::DragValue::new(&mut s.snr_t)
+                    crate::app::widgets::number(&mut s.snr_t)
                         .range(0.5..=50.0)
                         .speed(0.1),
                 )
@@ -236,14 +236,14 @@ impl SensorWorkspace {
                 ui.end_row();
                 ui.label("Display gamma");
                 ui.add(
-                    egui::DragValue::new(&mut s.gamma)
+                    crate::app::widgets::number(&mut s.gamma)
                         .range(0.1..=1.0)
                         .speed(0.005),
                 )
                 .on_hover_text("Tone curve for display and the metrics (Table 5.4: 1/3.2)");
                 ui.end_row();
                 ui.label("Noise seed");
-                ui.add(egui::DragValue::new(&mut s.seed));
+                ui.add(crate::app::widgets::number(&mut s.seed));
                 ui.end_row();
             });
         crate::app::widgets::message_ui(ui, self.message.as_ref());

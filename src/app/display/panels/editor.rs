@@ -6,9 +6,9 @@
 //! itself is [`crate::core::opening_ops`]; this file only maps the pointer to cells.
 
 use egui::{
-    Button, Color32, ColorImage, ComboBox, DragValue, PointerButton, Pos2, Rect, Response, Role,
-    Sense, Slider, Stroke as LineStroke, StrokeKind, TextureHandle, TextureOptions, Ui, Vec2,
-    WidgetInfo, pos2, vec2,
+    Button, Color32, ColorImage, ComboBox, PointerButton, Pos2, Rect, Response, Role, Sense,
+    Slider, Stroke as LineStroke, StrokeKind, TextureHandle, TextureOptions, Ui, Vec2, WidgetInfo,
+    pos2, vec2,
 };
 
 use super::PanelCtx;
@@ -223,7 +223,7 @@ impl EditorPanel {
             let pitch_um = ctx.design.opening.pitch_um;
             let label = ui.label("grid");
             ui.add(
-                DragValue::new(&mut self.new_n)
+                crate::app::widgets::number(&mut self.new_n)
                     .range(1..=MAX_CELLS)
                     .suffix(" cells"),
             )

@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use egui::{Color32, ColorImage, DragValue, Stroke, TextureHandle, TextureOptions};
+use egui::{Color32, ColorImage, Stroke, TextureHandle, TextureOptions};
 
 use crate::app::commands::Command;
 use crate::app::job::Job;
@@ -221,9 +221,9 @@ impl MaskExportDialog {
                         .on_hover_text("Every pixel over the lens pupil, with the pupil outline");
                     ui.horizontal(|ui| {
                         ui.radio_value(&mut self.region, RegionChoice::Block, "Pixels");
-                        ui.add(DragValue::new(&mut self.block[0]).range(1..=100_000));
+                        ui.add(crate::app::widgets::number(&mut self.block[0]).range(1..=100_000));
                         ui.label("×");
-                        ui.add(DragValue::new(&mut self.block[1]).range(1..=100_000));
+                        ui.add(crate::app::widgets::number(&mut self.block[1]).range(1..=100_000));
                     });
                 });
                 ui.end_row();
@@ -236,18 +236,18 @@ impl MaskExportDialog {
                 ui.end_row();
                 ui.label("Layer / datatype");
                 ui.horizontal(|ui| {
-                    ui.add(DragValue::new(&mut o.layer).range(0..=255));
+                    ui.add(crate::app::widgets::number(&mut o.layer).range(0..=255));
                     ui.label("/");
-                    ui.add(DragValue::new(&mut o.datatype).range(0..=255));
+                    ui.add(crate::app::widgets::number(&mut o.datatype).range(0..=255));
                 });
                 ui.end_row();
                 ui.label("Notes layer");
-                ui.add(DragValue::new(&mut o.note_layer).range(0..=255))
+                ui.add(crate::app::widgets::number(&mut o.note_layer).range(0..=255))
                     .on_hover_text("Pupil outline and the text notes (tone, units, design)");
                 ui.end_row();
                 ui.label("Grid");
                 ui.add(
-                    DragValue::new(&mut o.spec.grid_nm)
+                    crate::app::widgets::number(&mut o.spec.grid_nm)
                         .range(1..=1000)
                         .suffix(" nm"),
                 );
@@ -364,7 +364,7 @@ fn format_options_ui(ui: &mut egui::Ui, o: &mut ExportOptions) {
         MaskFormat::Png => {
             ui.label("Pixel size");
             ui.add(
-                DragValue::new(&mut o.um_per_px)
+                crate::app::widgets::number(&mut o.um_per_px)
                     .range(0.05..=100.0)
                     .speed(0.05)
                     .suffix(" µm"),

@@ -25,7 +25,7 @@ fn num(
     ui.label(label);
     let r = ui
         .add(
-            egui::DragValue::new(v)
+            crate::app::widgets::number(v)
                 .range(range)
                 .speed(speed)
                 .suffix(suffix)
@@ -67,7 +67,7 @@ impl OpticsPanel {
             dragging |= num(ui, "Sensor pixel", &mut o.sensor_pixel_um, 0.2..=20.0, 0.01, " µm", "Sensor pixel pitch (µm)");
             ui.label("Window");
             let r = ui
-                .add(egui::DragValue::new(&mut o.window_px).range(8..=2048).suffix(" px"))
+                .add(crate::app::widgets::number(&mut o.window_px).range(8..=2048).suffix(" px"))
                 .on_hover_text("Side of the square PSF window, in sensor pixels");
             dragging |= r.dragged();
             ui.end_row();
@@ -88,7 +88,7 @@ impl OpticsPanel {
                     if ch.wavelengths_nm.len() == 1 {
                         let r = ui
                             .add(
-                                egui::DragValue::new(&mut ch.wavelengths_nm[0])
+                                crate::app::widgets::number(&mut ch.wavelengths_nm[0])
                                     .range(350.0..=1100.0)
                                     .speed(1.0)
                                     .suffix(" nm"),
@@ -119,7 +119,7 @@ impl OpticsPanel {
             if self.spectral_step_nm <= 0.0 {
                 self.spectral_step_nm = 30.0;
             }
-            ui.add(egui::DragValue::new(&mut self.spectral_step_nm).range(5.0..=100.0).suffix(" nm step"))
+            ui.add(crate::app::widgets::number(&mut self.spectral_step_nm).range(5.0..=100.0).suffix(" nm step"))
                 .on_hover_text("Wavelength step when sampling a spectral response (smaller = slower)");
             if ui
                 .button("Spectral CSV…")

@@ -312,11 +312,11 @@ impl OptimizePanel {
             .num_columns(2)
             .show(ui, |ui| {
                 ui.label("Epochs");
-                ui.add(egui::DragValue::new(&mut s.epochs).range(1..=2000));
+                ui.add(crate::app::widgets::number(&mut s.epochs).range(1..=2000));
                 ui.end_row();
                 ui.label("Target open fraction");
                 ui.add(
-                    egui::DragValue::new(&mut s.target_open_fraction)
+                    crate::app::widgets::number(&mut s.target_open_fraction)
                         .range(0.02..=1.0)
                         .speed(0.005)
                         .fixed_decimals(3),
@@ -325,14 +325,14 @@ impl OptimizePanel {
                 ui.end_row();
                 ui.label("L_inv weight");
                 ui.add(
-                    egui::DragValue::new(&mut s.weights.inv)
+                    crate::app::widgets::number(&mut s.weights.inv)
                         .range(0.0..=100.0)
                         .speed(0.001),
                 );
                 ui.end_row();
                 ui.label("Area weight");
                 ui.add(
-                    egui::DragValue::new(&mut s.weights.area)
+                    crate::app::widgets::number(&mut s.weights.area)
                         .range(0.0..=1000.0)
                         .speed(0.1),
                 );
@@ -340,12 +340,12 @@ impl OptimizePanel {
                 ui.label("Area step / every");
                 ui.horizontal(|ui| {
                     ui.add(
-                        egui::DragValue::new(&mut s.area_step)
+                        crate::app::widgets::number(&mut s.area_step)
                             .range(0.0..=1.0)
                             .speed(0.005),
                     );
                     ui.add(
-                        egui::DragValue::new(&mut s.area_every_epochs)
+                        crate::app::widgets::number(&mut s.area_every_epochs)
                             .range(1..=100)
                             .suffix(" epochs"),
                     );

@@ -57,7 +57,7 @@ impl TilingPanel {
         ui.horizontal(|ui| {
             ui.label("Seed");
             let r = ui
-                .add(egui::DragValue::new(&mut d.tiling.seed).speed(1.0))
+                .add(crate::app::widgets::number(&mut d.tiling.seed).speed(1.0))
                 .on_hover_text("Seed of the random orientations (the same seed gives the same display everywhere)");
             dragging |= r.dragged();
             if ui
@@ -69,9 +69,10 @@ impl TilingPanel {
             }
         });
         ui.horizontal(|ui| {
-            ui.label("Wiring gap");
+            let label = ui.label("Wiring gap");
             let r = ui
-                .add(egui::DragValue::new(&mut d.tiling.wiring_gap_um).range(0.0..=100.0).speed(0.5).suffix(" µm"))
+                .add(crate::app::widgets::number(&mut d.tiling.wiring_gap_um).range(0.0..=100.0).speed(0.5).suffix(" µm"))
+                .labelled_by(label.id)
                 .on_hover_text("Opaque gap added around every pixel (µm); the display period becomes pitch + gap");
             dragging |= r.dragged();
         });
@@ -80,7 +81,7 @@ impl TilingPanel {
             for k in 0..2 {
                 let r = ui
                     .add(
-                        egui::DragValue::new(&mut d.tiling.origin_offset_cells[k])
+                        crate::app::widgets::number(&mut d.tiling.origin_offset_cells[k])
                             .range(0.0..=d.opening.n() as f64)
                             .speed(0.05)
                             .prefix(if k == 0 { "x " } else { "y " })

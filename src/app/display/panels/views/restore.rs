@@ -353,7 +353,7 @@ impl RestoreView {
             match self.method {
                 MethodChoice::Wiener => {
                     ui.add(
-                        egui::DragValue::new(&mut self.nsr)
+                        crate::app::widgets::number(&mut self.nsr)
                             .range(0.0..=1.0)
                             .speed(0.0001)
                             .prefix("nsr ")
@@ -365,7 +365,7 @@ impl RestoreView {
                 }
                 MethodChoice::Cg => {
                     ui.add(
-                        egui::DragValue::new(&mut self.lambda)
+                        crate::app::widgets::number(&mut self.lambda)
                             .range(0.0..=1.0)
                             .speed(0.0001)
                             .prefix("λ ")
@@ -375,7 +375,7 @@ impl RestoreView {
                 }
             }
             ui.separator();
-            ui.add(egui::DragValue::new(&mut self.seed).prefix("noise seed "));
+            ui.add(crate::app::widgets::number(&mut self.seed).prefix("noise seed "));
         });
     }
 
