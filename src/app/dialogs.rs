@@ -64,19 +64,33 @@ impl FileSpec {
     }
 }
 
-/// Shows the dialog on a helper thread: the answer arrives as `Ok(None)` when cancelled.
+/// What the user is told when no dialog could be shown.
+pub const NO_DIALOG: &str = "no file dialog could open: this desktop has no \
+    xdg-desktop-portal (on Debian or Ubuntu: sudo apt install xdg-desktop-portal-gtk). Until \
+    then, drop the file onto the window";
+
+/// A dialog that answers faster than this never appeared: nobody cancels that quickly.
+const NOT_SHOWN: std::time::Duration = std::time::Duration::from_millis(250);
+
+/// Shows the dialog on a helper thread: the answer arrives as `Ok(None)` when cancelled, and as
+/// an error saying what to install when no dialog could appear (no portal on this desktop).
 pub fn ask(spec: FileSpec, wake: impl Fn() + Send + 'static) -> Job<Option<PathBuf>> {
     Job::spawn("file dialog", wake, move |_| {
+        let started = std::time::Instant::now();
         let mut d = rfd::FileDialog::new()
             .add_filter(spec.filter.0, &spec.filter.1)
             .set_title(spec.title);
         if let Some(dir) = spec.start_dir {
             d = d.set_directory(dir);
         }
-        Ok::<_, JobError>(match spec.save_as {
+        let answer = match spec.save_as {
             Some(name) => d.set_file_name(name).save_file(),
             None => d.pick_file(),
-        })
+        };
+        if answer.is_none() && started.elapsed() < NOT_SHOWN {
+            return Err(JobError::Failed(NO_DIALOG.into()));
+        }
+        Ok(answer)
     })
 }
 
@@ -141,8 +155,9 @@ impl PendingDialog {
         }
     }
 
-    /// `Some(answer)` once the user closed the dialog (`None` inside = cancelled).
-    pub fn poll(&self) -> Option<Option<PathBuf>> {
-        self.job.poll().map(|answer| answer.ok().flatten())
+    /// `Some(answer)` once the user closed the dialog: the path, `None` when cancelled, or why
+    /// no dialog could be shown.
+    pub fn poll(&self) -> Option<Result<Option<PathBuf>, JobError>> {
+        self.job.poll()
     }
 }

@@ -54,9 +54,13 @@ impl StudioApp {
                 }
             });
             ui.menu_button("Help", |ui| {
+                ui.set_max_width(420.0);
                 ui.label(egui::RichText::new(ws.label()).strong());
-                ui.label(ws.hint());
+                for (i, step) in ws.tour().iter().enumerate() {
+                    ui.label(format!("{}. {step}", i + 1));
+                }
                 ui.separator();
+                ui.label(egui::RichText::new("Keyboard").strong());
                 egui::Grid::new("shortcuts").show(ui, |ui| {
                     for (keys, action) in ws.shortcuts() {
                         ui.monospace(*keys);

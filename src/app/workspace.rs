@@ -37,6 +37,8 @@ pub trait Workspace: Any {
     fn about(&self) -> &'static str;
     /// The status bar's line when there is no message: how to start.
     fn hint(&self) -> &'static str;
+    /// A short tour for the Help menu: what to do first and where the results are.
+    fn tour(&self) -> &'static [&'static str];
     /// Its keyboard shortcuts (keys, action), for the Help menu.
     fn shortcuts(&self) -> &'static [(&'static str, &'static str)];
     /// Takes finished background work and draws its panels (side panels, then the centre) into
@@ -184,28 +186,35 @@ impl Shell {
     }
 }
 
+/// A side panel's width: `share` of the window's `total` width, within `min..=max` px, so
+/// that at 1024 px the centre keeps about half the window and at 4K the panels stop growing.
+/// The user may drag it wider, up to 40 % of the window.
+pub fn side_panel(panel: egui::Panel, total: f32, share: f32, min: f32, max: f32) -> egui::Panel {
+    let default = (total * share).clamp(min, max);
+    panel
+        .resizable(true)
+        .default_size(default)
+        .size_range(min.min(default)..=(0.4 * total).max(default))
+}
+
 /// The layout the workspaces share: controls on the left and numbers on the right, both
-/// resizable and scrolling, the views in the centre. Each part is a method of the workspace.
+/// scrolling and sized to the window (see [`side_panel`]), the views in the centre. Each part
+/// is a method of the workspace.
 pub fn three_panels<W>(
     ws: &mut W,
     ui: &mut egui::Ui,
-    left: (&'static str, f32, fn(&mut W, &mut egui::Ui)),
-    right: (&'static str, f32, fn(&mut W, &mut egui::Ui)),
+    left: (&'static str, fn(&mut W, &mut egui::Ui)),
+    right: (&'static str, fn(&mut W, &mut egui::Ui)),
     centre: fn(&mut W, &mut egui::Ui),
 ) {
-    let (id, width, draw) = left;
-    egui::Panel::left(id)
-        .resizable(true)
-        .default_size(width)
-        .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
-        });
-    let (id, width, draw) = right;
-    egui::Panel::right(id)
-        .resizable(true)
-        .default_size(width)
-        .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
-        });
+    let total = ui.available_width();
+    let (id, draw) = left;
+    side_panel(egui::Panel::left(id), total, 0.3, 260.0, 400.0).show(ui, |ui| {
+        egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
+    });
+    let (id, draw) = right;
+    side_panel(egui::Panel::right(id), total, 0.26, 240.0, 420.0).show(ui, |ui| {
+        egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
+    });
     egui::CentralPanel::default().show(ui, |ui| centre(ws, ui));
 }

@@ -126,6 +126,24 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
     Ok((Scene { planes }, report))
 }
 
+/// The built-in sample scene (`assets/hdr/StillLife_620x423.exr`: oil lamps and glasses, a
+/// dynamic range of about 2·10⁶), so the sensor previewer has a scene before any file is opened.
+pub const SAMPLE_SCENE_NAME: &str = "StillLife (built-in sample)";
+
+/// Decodes the built-in sample scene.
+///
+/// # Errors
+/// Never for the shipped file; a message if it were corrupt.
+pub fn sample_scene() -> Result<Scene, IoError> {
+    const SAMPLE_EXR: &[u8] = include_bytes!("../../assets/hdr/StillLife_620x423.exr");
+    let (planes, _) = read_exr(SAMPLE_EXR).map_err(|message| IoError::Image {
+        path: SAMPLE_SCENE_NAME.into(),
+        message,
+    })?;
+    let planes = repair(planes, &mut HdrReport::default());
+    Ok(Scene { planes })
+}
+
 fn check_size(width: usize, height: usize) -> Result<(), String> {
     if width == 0 || height == 0 {
         return Err(format!("the image is empty ({width}×{height} pixels)"));

@@ -268,8 +268,10 @@ impl DisplayWorkspace {
     pub(super) fn poll_files(&mut self, shell: &mut Shell) {
         if let Some(answer) = self.files.dialog.as_ref().and_then(PendingDialog::poll) {
             let purpose = self.files.dialog.take().map(|d| d.purpose);
-            if let (Some(purpose), Some(path)) = (purpose, answer) {
-                self.dialog_done(purpose, path, shell);
+            match (purpose, answer) {
+                (Some(purpose), Ok(Some(path))) => self.dialog_done(purpose, path, shell),
+                (_, Err(e)) => shell.set_status(Notice::error(e.to_string())),
+                _ => {}
             }
         }
         if let Some(done) = self.files.load.as_ref().and_then(|t| t.poll()) {

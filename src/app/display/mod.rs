@@ -21,7 +21,7 @@ use super::dialogs::PendingDialog;
 use super::job::{Job, Writes};
 use super::notice::Notice;
 use super::settings::AppDirs;
-use super::workspace::{Shell, Workspace, WorkspaceId};
+use super::workspace::{Shell, Workspace, WorkspaceId, side_panel};
 use crate::core::Design;
 use crate::core::analyze::Quality;
 use crate::io::{design_file, presets};
@@ -303,6 +303,20 @@ impl Workspace for DisplayWorkspace {
         "Ready. Draw on the opening (B paint, E erase, R rectangle, O ellipse, L line, F fill)."
     }
 
+    fn tour(&self) -> &'static [&'static str] {
+        &[
+            "Draw one display pixel's opening on the left (Opening tab): white cells let light \
+             through.",
+            "The log-PSF in the centre and the Numbers on the right follow every stroke; AUC is \
+             the area under the radially-minimum MTF: higher is sharper.",
+            "Tiling repeats the pixel or rotates and flips it at random, which spreads the \
+             diffraction orders into a softer halo.",
+            "Optimize searches for an opening whose blur is easy to invert; Restore shows a \
+             photo captured through the display and restored.",
+            "File ▸ Export mask writes GDSII, DXF, SVG or PNG for photolithography.",
+        ]
+    }
+
     fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
         &[
             (
@@ -323,19 +337,16 @@ impl Workspace for DisplayWorkspace {
 
     fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell, cmds: &mut Vec<Command>) {
         self.take_results(shell);
-        egui::Panel::left("design")
-            .resizable(true)
-            .default_size(420.0)
+        let total = ui.available_width();
+        // The pixel editor wants room; the numbers table fits in 240 px.
+        side_panel(egui::Panel::left("design"), total, 0.34, 300.0, 440.0)
             .show(ui, |ui| self.left_ui(ui, shell, cmds));
         let progress = self.worker.progress();
-        egui::Panel::right("numbers")
-            .resizable(true)
-            .default_size(300.0)
-            .show(ui, |ui| {
-                let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
-                ui.heading("Numbers");
-                self.panels.numbers.ui(ui, &mut pctx, progress);
-            });
+        side_panel(egui::Panel::right("numbers"), total, 0.24, 240.0, 340.0).show(ui, |ui| {
+            let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
+            ui.heading("Numbers");
+            self.panels.numbers.ui(ui, &mut pctx, progress);
+        });
         egui::CentralPanel::default().show(ui, |ui| {
             let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
             self.panels.views.ui(ui, &mut pctx);

@@ -316,8 +316,10 @@ impl PhaseWorkspace {
     pub(super) fn poll_capture(&mut self, ctx: &egui::Context) {
         if let Some(answer) = self.capture.dialog.as_ref().and_then(PendingDialog::poll) {
             self.capture.dialog = None;
-            if let Some(path) = answer {
-                self.load_capture_photo(path, ctx);
+            match answer {
+                Ok(Some(path)) => self.load_capture_photo(path, ctx),
+                Ok(None) => {}
+                Err(e) => self.capture.message = Some(Notice::error(e.to_string())),
             }
         }
         if let Some(done) = self.capture.photo_load.as_ref().and_then(Job::poll) {

@@ -331,8 +331,10 @@ impl PhaseWorkspace {
     pub(super) fn poll_compare(&mut self, ctx: &egui::Context) {
         if let Some(answer) = self.compare.dialog.as_ref().and_then(Job::poll) {
             self.compare.dialog = None;
-            if let Ok(Some(path)) = answer {
-                self.save_compare_csv_to(path, ctx);
+            match answer {
+                Ok(Some(path)) => self.save_compare_csv_to(path, ctx),
+                Ok(None) => {}
+                Err(e) => self.compare.message = Some(Notice::error(e.to_string())),
             }
         }
         if let Some(report) = self.compare.writes.poll() {

@@ -139,9 +139,12 @@ impl ExportState {
     pub fn poll(&mut self, ctx: &egui::Context) {
         if let Some(answer) = self.dialog.as_ref().and_then(|d| d.2.poll())
             && let Some((format, design, _)) = self.dialog.take()
-            && let Ok(Some(path)) = answer
         {
-            self.start_write(format, design, path, ctx);
+            match answer {
+                Ok(Some(path)) => self.start_write(format, design, path, ctx),
+                Ok(None) => {}
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
+            }
         }
         if let Some(report) = self.writes.poll() {
             self.message = Some(report);

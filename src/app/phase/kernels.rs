@@ -269,9 +269,12 @@ impl PhaseWorkspace {
     pub(super) fn poll_kernels(&mut self, ctx: &egui::Context) {
         if let Some(answer) = self.kernels.dialog.as_ref().and_then(|d| d.1.poll())
             && let Some((k, _)) = self.kernels.dialog.take()
-            && let Ok(Some(path)) = answer
         {
-            self.start_kernel_write(k, path, ctx);
+            match answer {
+                Ok(Some(path)) => self.start_kernel_write(k, path, ctx),
+                Ok(None) => {}
+                Err(e) => self.kernels.message = Some(Notice::error(e.to_string())),
+            }
         }
         if let Some(report) = self.kernels.writes.poll() {
             self.kernels.message = Some(report);

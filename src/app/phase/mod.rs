@@ -528,6 +528,19 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
          optimizer for a λ0 plan against chromatic aberration."
     }
 
+    fn tour(&self) -> &'static [&'static str] {
+        &[
+            "The left sets the two microlens arrays: pitch, focal length, fold thickness T and \
+             each lenslet's folding wavelength λ0.",
+            "The centre shows the PSFs and MTFs of the masks against the bare T-OLED (dashed); \
+             the right lists their light and sharpness.",
+            "V matrix and optimizer chooses λ0 per lenslet against chromatic aberration \
+             (Algorithm 1); Apply makes it the plan.",
+            "Capture & restore sends a photo through the masks; Export the plate writes CSV, \
+             PNG, GDSII or STL.",
+        ]
+    }
+
     fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
         &[]
     }
@@ -541,8 +554,8 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
         crate::app::workspace::three_panels(
             self,
             ui,
-            ("phase_controls", 380.0, Self::controls_ui),
-            ("phase_numbers", 400.0, Self::numbers_ui),
+            ("phase_controls", Self::controls_ui),
+            ("phase_numbers", Self::numbers_ui),
             Self::views_ui,
         );
     }

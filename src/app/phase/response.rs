@@ -131,8 +131,10 @@ impl PhaseWorkspace {
     pub(super) fn poll_response(&mut self, ctx: &egui::Context) {
         if let Some(answer) = self.response.dialog.as_ref().and_then(Job::poll) {
             self.response.dialog = None;
-            if let Ok(Some(path)) = answer {
-                self.load_response_from(path, ctx);
+            match answer {
+                Ok(Some(path)) => self.load_response_from(path, ctx),
+                Ok(None) => {}
+                Err(e) => self.response.message = Some(Notice::error(e.to_string())),
             }
         }
         let Some(done) = self.response.load.as_ref().and_then(Job::poll) else {

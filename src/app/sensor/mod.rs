@@ -15,7 +15,7 @@ use std::sync::Arc;
 
 use egui::TextureHandle;
 
-use crate::app::dialogs::PendingDialog;
+use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::job::{Job, JobError};
 use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
 
@@ -87,6 +87,8 @@ pub enum ExposureKind {
 pub struct SensorWorkspace {
     scene: Option<Arc<LoadedScene>>,
     load: Option<Job<LoadedScene>>,
+    /// The built-in sample scene was asked for (once, when no scene is open).
+    sample_requested: bool,
     dialog: Option<PendingDialog>,
     /// The sensor, ROI size, strategies and seed of the next run; its `exposure` is overwritten
     /// from the exposure controls before each run.
@@ -121,6 +123,7 @@ impl Default for SensorWorkspace {
         SensorWorkspace {
             scene: None,
             load: None,
+            sample_requested: false,
             dialog: None,
             settings: SensorSettings::default(),
             exposure_kind: ExposureKind::Mean,
@@ -202,6 +205,9 @@ impl SensorWorkspace {
 
     /// Uses an in-memory scene (tests, and scenes made by other panels).
     pub fn set_scene(&mut self, name: &str, scene: Scene) {
+        // A scene still being read (the sample) must not replace this one when it arrives.
+        self.load = None;
+        self.sample_requested = true;
         let preview = scene.downscaled(PREVIEW_SIDE_PX);
         self.scene = Some(Arc::new(LoadedScene {
             name: name.into(),
@@ -224,10 +230,30 @@ impl SensorWorkspace {
 
     /// Takes finished loads, dialogs and runs; starts the runs the settings call for.
     pub fn poll(&mut self, ctx: &egui::Context) {
+        if self.scene.is_none() && self.load.is_none() && !self.sample_requested {
+            // Something to look at before the user finds an HDR file.
+            self.sample_requested = true;
+            let wake = ctx.clone();
+            self.load = Some(Job::spawn(
+                "sample scene reader",
+                move || wake.request_repaint(),
+                |_| {
+                    let scene = hdr::sample_scene()?;
+                    let preview = scene.downscaled(PREVIEW_SIDE_PX);
+                    Ok::<_, JobError>(LoadedScene {
+                        name: hdr::SAMPLE_SCENE_NAME.into(),
+                        scene,
+                        preview,
+                    })
+                },
+            ));
+        }
         if let Some(answer) = self.dialog.as_ref().and_then(PendingDialog::poll) {
             self.dialog = None;
-            if let Some(path) = answer {
-                self.load_scene(path, ctx);
+            match answer {
+                Ok(Some(path)) => self.load_scene(path, ctx),
+                Ok(None) => {}
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
             }
         }
         if let Some(done) = self.load.as_ref().and_then(Job::poll) {
@@ -339,6 +365,17 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
          update as you change the light and the maps."
     }
 
+    fn tour(&self) -> &'static [&'static str] {
+        &[
+            "Open an HDR scene (.hdr or .exr) on the left, or drop one on the window.",
+            "Set the exposure and the sensor: the previewer picks a gain and a bin size per \
+             region from the local brightness.",
+            "Compare captures shows conventional readout against spatially-varying gain and \
+             binning, with their SNR and the maps.",
+            "Optimal pitch reproduces Fig. 5.3: which pixel size suits which light level.",
+        ]
+    }
+
     fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
         &[]
     }
@@ -352,10 +389,28 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
         crate::app::workspace::three_panels(
             self,
             ui,
-            ("sensor_controls", 360.0, Self::controls_ui),
-            ("sensor_numbers", 420.0, Self::numbers_ui),
+            ("sensor_controls", Self::controls_ui),
+            ("sensor_numbers", Self::numbers_ui),
             Self::views_ui,
         );
+    }
+
+    fn file_menu_ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        shell: &crate::app::Shell,
+        _cmds: &mut Vec<crate::app::Command>,
+    ) {
+        if ui
+            .add_enabled(self.dialog.is_none(), egui::Button::new("Open HDR scene…"))
+            .clicked()
+        {
+            if shell.native_dialogs {
+                self.dialog = Some(PendingDialog::spawn(Purpose::Hdr, None, None));
+            } else {
+                self.message = Some(Notice::error("file dialogs are disabled in this session"));
+            }
+        }
     }
 
     /// The previewer has no document to undo: its settings are the view.

@@ -26,9 +26,11 @@ pub fn number<Num: egui::emath::Numeric>(value: &mut Num) -> egui::DragValue<'_>
         .custom_parser(parse_finite)
 }
 
-/// egui's own number syntax (spaces ignored, `−` as minus), finite values only.
+/// egui's own number syntax (spaces ignored, `−` as minus), finite values only; a unit after
+/// the number ("6 cells", "12 µm", as a formatter shows it) is ignored.
 fn parse_finite(text: &str) -> Option<f64> {
-    let cleaned: String = text
+    let number = text.trim_end_matches(|c: char| c.is_alphabetic() || c.is_whitespace());
+    let cleaned: String = number
         .chars()
         .filter(|c| !c.is_whitespace())
         .map(|c| if c == '−' { '-' } else { c })
@@ -36,12 +38,30 @@ fn parse_finite(text: &str) -> Option<f64> {
     cleaned.parse::<f64>().ok().filter(|v| v.is_finite())
 }
 
+/// `value` with its unit in the right number: "1 cell", "2 cells", "0.5 cells".
+pub fn counted(value: f64, one: &str, many: &str) -> String {
+    let unit = if value == 1.0 { one } else { many };
+    format!(
+        "{} {unit}",
+        egui::emath::format_with_decimals_in_range(value, 0..=2)
+    )
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn counts_agree_with_their_number() {
+        assert_eq!(super::counted(1.0, "cell", "cells"), "1 cell");
+        assert_eq!(super::counted(2.0, "cell", "cells"), "2 cells");
+        assert_eq!(super::counted(0.5, "cell", "cells"), "0.5 cells");
+    }
+
     #[test]
     fn only_finite_numbers_parse() {
         assert_eq!(super::parse_finite(" 1 234.5 "), Some(1234.5));
         assert_eq!(super::parse_finite("−2"), Some(-2.0));
+        assert_eq!(super::parse_finite("6 cells"), Some(6.0));
+        assert_eq!(super::parse_finite("12 µm"), Some(12.0));
         for bad in ["nan", "NaN", "inf", "-inf", "abc", ""] {
             assert_eq!(super::parse_finite(bad), None, "{bad}");
         }

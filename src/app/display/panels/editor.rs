@@ -199,7 +199,7 @@ impl EditorPanel {
         ui.horizontal_wrapped(|ui| {
             let brush = Slider::new(&mut self.brush_cells, 1..=MAX_BRUSH_CELLS)
                 .text("brush")
-                .suffix(" cells");
+                .custom_formatter(|v, _| crate::app::widgets::counted(v, "cell", "cells"));
             ui.add(brush).on_hover_text(format!(
                 "Side of the square brush of Paint, Erase and Line, in cells \
                      (1 cell = {} µm)",
@@ -225,7 +225,7 @@ impl EditorPanel {
             ui.add(
                 crate::app::widgets::number(&mut self.new_n)
                     .range(1..=MAX_CELLS)
-                    .suffix(" cells"),
+                    .custom_formatter(|v, _| crate::app::widgets::counted(v, "cell", "cells")),
             )
             .labelled_by(label.id)
             .on_hover_text(format!(

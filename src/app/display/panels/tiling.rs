@@ -85,7 +85,9 @@ impl TilingPanel {
                             .range(0.0..=d.opening.n() as f64)
                             .speed(0.05)
                             .prefix(if k == 0 { "x " } else { "y " })
-                            .suffix(" cells"),
+                            .custom_formatter(|v, _| {
+                                crate::app::widgets::counted(v, "cell", "cells")
+                            }),
                     )
                     .on_hover_text("Tile-origin offset: the optical axis sits on the centre of this cell of its tile (thesis: 6, 6)");
                 dragging |= r.dragged();

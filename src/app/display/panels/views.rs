@@ -104,18 +104,21 @@ pub struct ViewsPanel {
     textures: Textures,
     /// The Restore view (its own photo, settings and background job).
     pub restore: restore::RestoreView,
+    /// The reference marks drawn over the PSFs (with the teaching overlays on).
+    overlay_choice: OverlayChoice,
 }
 
 impl Default for ViewsPanel {
     fn default() -> Self {
         ViewsPanel {
-            tab: ViewTab::default(),
+            tab: ViewTab::LogPsf,
             channel: 0,
             floor_decades: DEFAULT_FLOOR_DECADES,
             mtf_floor_decades: 3.0,
             families: MtfFamilies::default(),
             textures: Textures::default(),
             restore: restore::RestoreView::default(),
+            overlay_choice: OverlayChoice::default(),
         }
     }
 }
@@ -154,7 +157,7 @@ impl ViewsPanel {
         };
         let n_channels = shown.analysis.channels.len();
         self.channel = self.channel.min(n_channels.saturating_sub(1));
-        self.controls_ui(ui, shown);
+        self.controls_ui(ui, shown, ctx.overlays);
         if ctx.overlays {
             egui::CollapsingHeader::new("What am I seeing?")
                 .id_salt(("views_hint", self.tab))
@@ -176,7 +179,7 @@ impl ViewsPanel {
     }
 
     /// The settings row of the current tab: channel, floor, curve families.
-    fn controls_ui(&mut self, ui: &mut Ui, shown: &Shown) {
+    fn controls_ui(&mut self, ui: &mut Ui, shown: &Shown, overlays: bool) {
         let tab = self.tab;
         ui.horizontal_wrapped(|ui| {
             if matches!(
@@ -192,6 +195,29 @@ impl ViewsPanel {
                 if tab != ViewTab::Psf {
                     ui.separator();
                 }
+            }
+            if overlays && matches!(tab, ViewTab::Psf | ViewTab::LogPsf | ViewTab::Expected) {
+                let (f_mm, f_number, period_um) = (
+                    shown.design.optics.focal_length_mm,
+                    shown.design.optics.f_number,
+                    shown.design.opening.pitch_um + shown.design.tiling.wiring_gap_um,
+                );
+                let nm = shown
+                    .analysis
+                    .channels
+                    .get(self.channel)
+                    .map_or(530.0, |c| c.wavelength_nm);
+                let o = &mut self.overlay_choice;
+                ui.checkbox(&mut o.airy, "Airy ring").on_hover_text(format!(
+                    "The lens alone: first dark ring at 1.22 λ F# = {:.2} µm",
+                    airy_radius_um(nm, f_number)
+                ));
+                ui.checkbox(&mut o.orders, "diffraction orders")
+                    .on_hover_text(format!(
+                        "Where a periodic display throws light: every λ f / T = {:.1} µm",
+                        order_spacing_um(nm, f_mm, period_um)
+                    ));
+                ui.separator();
             }
             if matches!(tab, ViewTab::LogPsf | ViewTab::Rgb | ViewTab::Expected) {
                 ui.add(
@@ -257,7 +283,7 @@ impl ViewsPanel {
             (tex, Scale::Linear { max: p })
         };
         let grid = psf_grid(shown, ch);
-        let overlay = overlays.then(|| psf_overlay(shown, ch, grid));
+        let overlay = overlays.then(|| psf_overlay(shown, ch, grid, self.overlay_choice));
         let id = if log { "views_log_psf" } else { "views_psf" };
         image_with_colorbar_ui(ui, id, texture, grid, &ch.psf, scale, overlay.as_ref());
     }
@@ -422,7 +448,7 @@ impl ViewsPanel {
             log_image(expected, reference, floor, Colormap::Inferno)
         });
         let grid = psf_grid(shown, ch);
-        let overlay = overlays.then(|| psf_overlay(shown, ch, grid));
+        let overlay = overlays.then(|| psf_overlay(shown, ch, grid, self.overlay_choice));
         let scale = Scale::Log {
             reference,
             floor_decades: floor,
@@ -534,16 +560,46 @@ fn psf_grid(shown: &Shown, ch: &ChannelAnalysis) -> Grid {
     }
 }
 
-/// The diffraction-order lattice and Airy ring of a channel, over the extent of `grid`.
-fn psf_overlay(shown: &Shown, ch: &ChannelAnalysis, grid: Grid) -> PsfOverlay {
+/// Which reference marks are drawn over the PSF images.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct OverlayChoice {
+    /// The Airy ring of the lens alone.
+    pub airy: bool,
+    /// The display's diffraction orders (off by default: on a periodic display they sit on the
+    /// peaks they explain and would hide them).
+    pub orders: bool,
+}
+
+impl Default for OverlayChoice {
+    fn default() -> Self {
+        OverlayChoice {
+            airy: true,
+            orders: false,
+        }
+    }
+}
+
+/// The diffraction orders and Airy ring of a channel chosen in `choice`, over `grid`.
+fn psf_overlay(
+    shown: &Shown,
+    ch: &ChannelAnalysis,
+    grid: Grid,
+    choice: OverlayChoice,
+) -> PsfOverlay {
     let d = &shown.design;
     let period_um = d.opening.pitch_um + d.tiling.wiring_gap_um;
     let spacing = order_spacing_um(ch.wavelength_nm, d.optics.focal_length_mm, period_um);
     let half_extent = grid.image_size()[0] / 2.0;
     PsfOverlay {
         order_spacing_um: spacing,
-        lattice_um: order_lattice(spacing, half_extent, 64),
-        airy_radius_um: airy_radius_um(ch.wavelength_nm, d.optics.f_number),
+        lattice_um: if choice.orders {
+            order_lattice(spacing, half_extent, 64)
+        } else {
+            Vec::new()
+        },
+        airy_radius_um: choice
+            .airy
+            .then(|| airy_radius_um(ch.wavelength_nm, d.optics.f_number)),
     }
 }
 

@@ -27,9 +27,12 @@ pub enum Scale {
 /// Diffraction-order lattice and Airy ring drawn over a PSF, in µm.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PsfOverlay {
+    /// Spacing of the orders on the sensor, `λ f / T`, in µm.
     pub order_spacing_um: f64,
+    /// The orders to mark (empty when they are switched off).
     pub lattice_um: Vec<[f64; 2]>,
-    pub airy_radius_um: f64,
+    /// The Airy ring's radius `1.22 λ F#` in µm, when it is switched on.
+    pub airy_radius_um: Option<f64>,
 }
 
 /// One zoomable image: a texture placed on `grid`, with `values` read out under the pointer.
@@ -96,9 +99,6 @@ pub fn image_plot_ui(ui: &mut Ui, p: &ImagePlot<'_>) {
     if let Some(link) = p.link {
         plot = plot.link_axis(link, true).link_cursor(link, true);
     }
-    if p.overlay.is_some() {
-        plot = plot.legend(Legend::default());
-    }
     let [cx, cy] = grid.image_centre();
     let [w, h] = grid.image_size();
     plot.show(ui, |plot_ui| {
@@ -109,28 +109,26 @@ pub fn image_plot_ui(ui: &mut Ui, p: &ImagePlot<'_>) {
             PlotPoint::new(cx, cy),
             vec2(w as f32, h as f32),
         ));
+        // No legend over the data: the checkboxes above the plot name the overlays.
         if let Some(o) = p.overlay {
-            plot_ui.points(
-                Points::new(
-                    format!("diffraction orders (λf/T = {:.1} µm)", o.order_spacing_um),
-                    o.lattice_um.clone(),
-                )
-                .shape(MarkerShape::Circle)
-                .filled(false)
-                .radius(5.0)
-                .color(Color32::from_rgb(90, 220, 255))
-                // Hovering must keep reading the image under the pointer, not snap to a marker.
-                .allow_hover(false),
-            );
-            plot_ui.line(
-                Line::new(
-                    format!("Airy radius (1.22 λ F# = {:.2} µm)", o.airy_radius_um),
-                    circle_points(o.airy_radius_um, 96),
-                )
-                .color(Color32::WHITE)
-                .width(1.5)
-                .allow_hover(false),
-            );
+            if !o.lattice_um.is_empty() {
+                plot_ui.points(
+                    Points::new("diffraction orders", o.lattice_um.clone())
+                        .shape(MarkerShape::Plus)
+                        .radius(3.0)
+                        .color(Color32::from_rgb(90, 220, 255))
+                        // Hovering must keep reading the image under the pointer.
+                        .allow_hover(false),
+                );
+            }
+            if let Some(r) = o.airy_radius_um {
+                plot_ui.line(
+                    Line::new("Airy radius", circle_points(r, 96))
+                        .color(Color32::WHITE)
+                        .width(1.0)
+                        .allow_hover(false),
+                );
+            }
         }
     });
 }

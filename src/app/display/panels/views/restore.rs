@@ -158,8 +158,10 @@ impl RestoreView {
         }
         if let Some(answer) = self.dialog.as_ref().and_then(PendingDialog::poll) {
             self.dialog = None;
-            if let Some(path) = answer {
-                self.load_photo(path, ctx);
+            match answer {
+                Ok(Some(path)) => self.load_photo(path, ctx),
+                Ok(None) => {}
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
             }
         }
         if let Some(done) = self.photo_load.as_ref().and_then(Job::poll) {
