@@ -391,15 +391,28 @@ impl StudioApp {
         let mut choice = None;
         egui::Modal::new(egui::Id::unique("unsaved-changes")).show(ctx, |ui| {
             ui.heading("Unsaved changes");
+            let kept = if matches!(pending, Command::Quit) {
+                "The autosave brings them back at the next start, but they are in no file of \
+                 yours."
+            } else {
+                "Undo brings them back, but they are in no file of yours."
+            };
             ui.label(format!(
-                "\"{name}\" has changes that are not saved to a file. They stay in the autosave \
-                 and in undo, but save them before {what}?"
+                "\"{name}\" has changes that are not saved. {kept} Save before {what}?"
             ));
             ui.horizontal(|ui| {
                 if can_save && ui.button("Save").clicked() {
                     choice = Some(UnsavedChoice::Save);
                 }
-                if ui.button("Discard changes").clicked() {
+                if !can_save
+                    && ui
+                        .button("Save as…")
+                        .on_hover_text("Choose a file; then do it again")
+                        .clicked()
+                {
+                    choice = Some(UnsavedChoice::SaveAs);
+                }
+                if ui.button("Don't save").clicked() {
                     choice = Some(UnsavedChoice::Discard);
                 }
                 if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(egui::Key::Escape)) {
@@ -412,6 +425,14 @@ impl StudioApp {
         };
         self.shell.confirm = None;
         if choice == UnsavedChoice::Cancel {
+            return;
+        }
+        if choice == UnsavedChoice::SaveAs {
+            // The dialog answers later: the user repeats what they asked once the file exists.
+            let shell = &mut self.shell;
+            if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
+                ws.command(Command::SaveAs, true, shell);
+            }
             return;
         }
         if choice == UnsavedChoice::Save {
@@ -482,7 +503,12 @@ impl eframe::App for StudioApp {
 /// The answers of the unsaved-changes prompt.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum UnsavedChoice {
+    /// Save to the document's file, then go on.
     Save,
+    /// Ask for a file (the document has none yet); the user repeats the command after.
+    SaveAs,
+    /// Go on without saving.
     Discard,
+    /// Do nothing.
     Cancel,
 }

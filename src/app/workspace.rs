@@ -188,18 +188,25 @@ impl Shell {
 
 /// A side panel's width: `share` of the window's `total` width, within `min..=max` px, so
 /// that at 1024 px the centre keeps about half the window and at 4K the panels stop growing.
-/// The user may drag it wider, up to 40 % of the window.
+/// Wide content scrolls or wraps inside it instead of pushing the panel over the centre; the
+/// user may drag it narrower.
 pub fn side_panel(panel: egui::Panel, total: f32, share: f32, min: f32, max: f32) -> egui::Panel {
-    let default = (total * share).clamp(min, max);
+    let width = (total * share).clamp(min, max);
     panel
         .resizable(true)
-        .default_size(default)
-        .size_range(min.min(default)..=(0.4 * total).max(default))
+        .default_size(width)
+        .size_range(min.min(width)..=width)
 }
 
+/// Below this window width the controls and the numbers share one side panel, as two tabs,
+/// so the views in the centre keep more than half the window.
+pub const NARROW_PX: f32 = 1280.0;
+
 /// The layout the workspaces share: controls on the left and numbers on the right, both
-/// scrolling and sized to the window (see [`side_panel`]), the views in the centre. Each part
-/// is a method of the workspace.
+/// scrolling and sized to the window (see [`side_panel`]), the views in the centre; in a window
+/// narrower than [`NARROW_PX`] the controls and the numbers are two tabs of the left panel.
+/// Each part is a method of the workspace; none of them may be what polls its jobs, since a
+/// tab that is not shown is not drawn.
 pub fn three_panels<W>(
     ws: &mut W,
     ui: &mut egui::Ui,
@@ -208,13 +215,34 @@ pub fn three_panels<W>(
     centre: fn(&mut W, &mut egui::Ui),
 ) {
     let total = ui.available_width();
-    let (id, draw) = left;
-    side_panel(egui::Panel::left(id), total, 0.3, 260.0, 400.0).show(ui, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
-    });
-    let (id, draw) = right;
-    side_panel(egui::Panel::right(id), total, 0.26, 240.0, 420.0).show(ui, |ui| {
-        egui::ScrollArea::vertical().show(ui, |ui| draw(ws, ui))
-    });
+    let (left_id, draw_left) = left;
+    let (right_id, draw_right) = right;
+    if total < NARROW_PX {
+        let tab_id = egui::Id::unique((left_id, "numbers tab"));
+        let mut numbers: bool = ui.data(|d| d.get_temp(tab_id)).unwrap_or(false);
+        side_panel(egui::Panel::left(left_id), total, 0.36, 280.0, 460.0).show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.selectable_value(&mut numbers, false, "Controls");
+                ui.selectable_value(&mut numbers, true, "Numbers");
+            });
+            ui.separator();
+            egui::ScrollArea::both().show(ui, |ui| {
+                if numbers {
+                    draw_right(ws, ui);
+                } else {
+                    draw_left(ws, ui);
+                }
+            });
+        });
+        ui.data_mut(|d| d.insert_temp(tab_id, numbers));
+    } else {
+        side_panel(egui::Panel::left(left_id), total, 0.3, 300.0, 420.0).show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| draw_left(ws, ui))
+        });
+        // Wide tables scroll sideways inside the panel instead of spilling out of it.
+        side_panel(egui::Panel::right(right_id), total, 0.26, 300.0, 440.0).show(ui, |ui| {
+            egui::ScrollArea::both().show(ui, |ui| draw_right(ws, ui))
+        });
+    }
     egui::CentralPanel::default().show(ui, |ui| centre(ws, ui));
 }

@@ -13,6 +13,7 @@ mod corpus;
 mod design_file;
 mod expected_psf;
 mod io_files;
+mod layouts;
 mod mask_dialog;
 mod mask_export;
 mod mask_geometry;

@@ -176,7 +176,7 @@ fn unsaved_changes_are_confirmed_before_loading_another_design() {
         .command(Command::LoadPreset("open-aperture".into()));
     h.step();
     h.step();
-    h.get_by_label("Discard changes").click();
+    h.get_by_label("Don't save").click();
     h.step();
     h.step();
     assert_eq!(h.state().design().opening.cells, vec![vec![1.0; 21]; 21]);

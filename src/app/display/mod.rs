@@ -339,13 +339,17 @@ impl Workspace for DisplayWorkspace {
         self.take_results(shell);
         let total = ui.available_width();
         // The pixel editor wants room; the numbers table fits in 240 px.
-        side_panel(egui::Panel::left("design"), total, 0.34, 300.0, 440.0)
+        side_panel(egui::Panel::left("design"), total, 0.3, 290.0, 440.0)
             .show(ui, |ui| self.left_ui(ui, shell, cmds));
         let progress = self.worker.progress();
-        side_panel(egui::Panel::right("numbers"), total, 0.24, 240.0, 340.0).show(ui, |ui| {
+        // The AUC is what a designer watches while drawing: the numbers stay beside the views
+        // at every width, scrolling sideways when the table is wider than the panel.
+        side_panel(egui::Panel::right("numbers"), total, 0.26, 270.0, 360.0).show(ui, |ui| {
             let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
             ui.heading("Numbers");
-            self.panels.numbers.ui(ui, &mut pctx, progress);
+            egui::ScrollArea::both().show(ui, |ui| {
+                self.panels.numbers.ui(ui, &mut pctx, progress);
+            });
         });
         egui::CentralPanel::default().show(ui, |ui| {
             let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);

@@ -551,6 +551,9 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
         _shell: &mut crate::app::Shell,
         _cmds: &mut Vec<crate::app::Command>,
     ) {
+        // Jobs are taken here, not in a panel: a tab that is not shown is not drawn.
+        let ctx = ui.ctx().clone();
+        self.poll(&ctx);
         crate::app::workspace::three_panels(
             self,
             ui,

@@ -74,8 +74,6 @@ pub fn fit_plan(l: &Lambda0, n: usize) -> Lambda0 {
 impl PhaseWorkspace {
     /// Left: the design's parameters, the simulation choices and the exports.
     pub fn controls_ui(&mut self, ui: &mut Ui) {
-        let ctx = ui.ctx().clone();
-        self.poll(&ctx);
         ui.heading("Phase masks");
         ui.label(
             "Two microlens arrays around a T-OLED (thesis chapter 4): the first focuses each \
@@ -361,7 +359,7 @@ impl PhaseWorkspace {
                 ui.label("Channels");
                 self.channel_choice_ui(ui);
                 ui.end_row();
-                ui.label("PhaseOptics");
+                ui.label("Optics");
                 ui.checkbox(&mut self.single_mask, "single mask (Lemma 1)")
                     .on_hover_text(
                         "One plate at the display and no second MLA: Lemma 1 says a single \

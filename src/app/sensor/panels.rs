@@ -78,8 +78,6 @@ fn swatch(ui: &mut Ui, color: Color32) {
 impl SensorWorkspace {
     /// Left: scene, sensor, exposure and strategy parameters.
     pub fn controls_ui(&mut self, ui: &mut Ui) {
-        let ctx = ui.ctx().clone();
-        self.poll(&ctx);
         ui.heading("Sensor previewer");
         ui.label(
             "Spatially-varying gain and binning (thesis chapter 5): choose them per region from \

@@ -164,7 +164,7 @@ impl TilingPanel {
             })
             .response
             .on_hover_text(
-                "The tiled display over the lens pupil (orange); scroll to zoom, drag to pan",
+                "The tiled display over the lens pupil (orange); Ctrl + scroll to zoom, drag or scroll to pan, double-click to reset",
             );
     }
 }

@@ -242,6 +242,12 @@ impl ViewsPanel {
                      zeros whose log is −∞, take the floor colour.",
                 );
             }
+            if matches!(
+                tab,
+                ViewTab::Psf | ViewTab::LogPsf | ViewTab::Rgb | ViewTab::Mtf2d | ViewTab::Expected
+            ) {
+                ui.weak("Ctrl + scroll: zoom · drag: pan · double-click: reset");
+            }
             if tab == ViewTab::MtfPlots {
                 let f = &mut self.families;
                 ui.checkbox(&mut f.horizontal, "horizontal");
