@@ -8,6 +8,7 @@
 
 mod actions;
 pub mod document;
+pub mod labels;
 mod menu;
 pub mod panels;
 mod worker;
@@ -255,7 +256,8 @@ impl DisplayWorkspace {
                         shell.simulation_ok();
                     }
                     Err(e) => shell.set_simulation_error(Notice::error(format!(
-                        "cannot simulate this design: {e}"
+                        "cannot simulate this design: {}",
+                        labels::in_ui_words(&e.to_string())
                     ))),
                 },
             }

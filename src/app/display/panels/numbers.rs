@@ -80,7 +80,10 @@ impl NumbersPanel {
             }
         });
         for w in &a.warnings {
-            ui.colored_label(ui.visuals().warn_fg_color, format!("Warning: {w}"));
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                format!("Warning: {}", crate::app::display::labels::in_ui_words(w)),
+            );
         }
     }
 }
