@@ -338,3 +338,32 @@ fn undo_depth(h: &mut Harness<'static, StudioApp>) -> usize {
     assert_eq!(h.state().design(), &start);
     n
 }
+
+/// The Help menu of every workspace opens with its tour and its shortcuts (and every glyph in
+/// them exists in the studio's fonts: a missing one would panic here).
+#[test]
+fn the_help_menu_tours_every_workspace() {
+    use udc_studio::app::WorkspaceId;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    for (ws, first_step) in [
+        (WorkspaceId::Display, "1. Draw one display pixel's opening"),
+        (
+            WorkspaceId::Phase,
+            "1. The left sets the two microlens arrays",
+        ),
+        (WorkspaceId::Sensor, "1. Open an HDR scene"),
+    ] {
+        h.state_mut().set_workspace(ws);
+        h.run_steps(2);
+        h.get_by_label("Help").click();
+        h.run_steps(2);
+        assert!(
+            h.query_by_label_contains(first_step).is_some(),
+            "{ws:?}: the tour is missing"
+        );
+        assert!(h.query_by_label_contains("undo / redo").is_some());
+        h.key_press(egui::Key::Escape);
+        h.run_steps(2);
+    }
+}

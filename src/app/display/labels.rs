@@ -3,20 +3,20 @@
 
 /// Each design field the simulation's messages name, and where the user finds it.
 const FIELDS: &[(&str, &str)] = &[
-    ("optics.window_px", "Optics ▸ Window"),
-    ("optics.pupil_sample_um", "Optics ▸ Pupil sampling δ1"),
-    ("optics.fine_sample_um", "Optics ▸ Fine PSF spacing δ2"),
-    ("optics.sensor_pixel_um", "Optics ▸ Sensor pixel"),
-    ("optics.focal_length_mm", "Optics ▸ Focal length"),
-    ("optics.f_number", "Optics ▸ f-number"),
-    ("optics.axis_in_pixel_um", "Optics ▸ Axis in pixel"),
+    ("optics.window_px", "Optics > Window"),
+    ("optics.pupil_sample_um", "Optics > Pupil sampling δ1"),
+    ("optics.fine_sample_um", "Optics > Fine PSF spacing δ2"),
+    ("optics.sensor_pixel_um", "Optics > Sensor pixel"),
+    ("optics.focal_length_mm", "Optics > Focal length"),
+    ("optics.f_number", "Optics > f-number"),
+    ("optics.axis_in_pixel_um", "Optics > Axis in pixel"),
     ("opening.pitch_um", "the pixel pitch"),
-    ("opening.cell_um", "the cell size (pitch / Opening ▸ grid)"),
+    ("opening.cell_um", "the cell size (pitch / Opening > grid)"),
     ("opening.cells", "the opening"),
     ("opening.polygons", "the opening's polygons"),
-    ("tiling.wiring_gap_um", "Tiling ▸ Wiring gap"),
-    ("tiling.origin_offset_cells", "Tiling ▸ Axis on cell"),
-    ("tiling.mode", "Tiling ▸ mode"),
+    ("tiling.wiring_gap_um", "Tiling > Wiring gap"),
+    ("tiling.origin_offset_cells", "Tiling > Axis on cell"),
+    ("tiling.mode", "Tiling > mode"),
 ];
 
 /// `message` with every design field it names replaced by the label the studio shows.
@@ -39,11 +39,11 @@ mod tests {
     fn fields_become_the_labels_the_user_sees() {
         assert_eq!(
             in_ui_words("the window is small; enlarge optics.window_px"),
-            "the window is small; enlarge Optics ▸ Window"
+            "the window is small; enlarge Optics > Window"
         );
         assert_eq!(
             in_ui_words("`optics.pupil_sample_um` must be positive"),
-            "Optics ▸ Pupil sampling δ1 must be positive"
+            "Optics > Pupil sampling δ1 must be positive"
         );
         assert_eq!(in_ui_words("no field here"), "no field here");
     }

@@ -315,7 +315,7 @@ impl Workspace for DisplayWorkspace {
              diffraction orders into a softer halo.",
             "Optimize searches for an opening whose blur is easy to invert; Restore shows a \
              photo captured through the display and restored.",
-            "File ▸ Export mask writes GDSII, DXF, SVG or PNG for photolithography.",
+            "File > Export mask writes GDSII, DXF, SVG or PNG for photolithography.",
         ]
     }
 
