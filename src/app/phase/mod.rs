@@ -18,6 +18,7 @@ mod panels;
 mod persist;
 mod response;
 mod views;
+mod workspace;
 
 use crate::app::notice::Notice;
 pub use crate::core::Quality;
@@ -507,97 +508,5 @@ impl PhaseWorkspace {
             Ok(_) | Err(JobError::Cancelled) => {}
             Err(e) => self.message = Some(Notice::error(e.to_string())),
         }
-    }
-}
-
-impl crate::app::workspace::Workspace for PhaseWorkspace {
-    fn id(&self) -> crate::app::WorkspaceId {
-        crate::app::WorkspaceId::Phase
-    }
-
-    fn label(&self) -> &'static str {
-        "Phase masks"
-    }
-
-    fn about(&self) -> &'static str {
-        "Chapter 4: folded double microlens arrays around a T-OLED"
-    }
-
-    fn hint(&self) -> &'static str {
-        "Ready. Set the pitch, fold and λ0 plan on the left; the PSFs update live. Run the \
-         optimizer for a λ0 plan against chromatic aberration."
-    }
-
-    fn tour(&self) -> &'static [&'static str] {
-        &[
-            "The left sets the two microlens arrays: pitch, focal length, fold thickness T and \
-             each lenslet's folding wavelength λ0.",
-            "The centre shows the PSFs and MTFs of the masks against the bare T-OLED (dashed); \
-             the right lists their light and sharpness.",
-            "V matrix and optimizer chooses λ0 per lenslet against chromatic aberration \
-             (Algorithm 1); Apply makes it the plan.",
-            "Capture & restore sends a photo through the masks; Export the plate writes CSV, \
-             PNG, GDSII or STL.",
-        ]
-    }
-
-    fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
-        &[]
-    }
-
-    fn ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        _shell: &mut crate::app::Shell,
-        _cmds: &mut Vec<crate::app::Command>,
-    ) {
-        // Jobs are taken here, not in a panel: a tab that is not shown is not drawn.
-        let ctx = ui.ctx().clone();
-        self.poll(&ctx);
-        crate::app::workspace::three_panels(
-            self,
-            ui,
-            ("phase_controls", Self::controls_ui),
-            ("phase_numbers", Self::numbers_ui),
-            Self::views_ui,
-        );
-    }
-
-    /// Undo and redo act on the phase parameters; the display's commands do not apply here.
-    fn command(
-        &mut self,
-        command: crate::app::Command,
-        _confirmed: bool,
-        _shell: &mut crate::app::Shell,
-    ) {
-        match command {
-            crate::app::Command::Undo => {
-                self.undo();
-            }
-            crate::app::Command::Redo => {
-                self.redo();
-            }
-            _ => {}
-        }
-    }
-
-    fn can_undo(&self) -> bool {
-        PhaseWorkspace::can_undo(self)
-    }
-
-    fn can_redo(&self) -> bool {
-        PhaseWorkspace::can_redo(self)
-    }
-
-    fn save_now_blocking(&mut self) {
-        PhaseWorkspace::save_now_blocking(self);
-    }
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
     }
 }

@@ -15,6 +15,7 @@
 
 pub mod layout;
 pub mod polygons;
+pub mod region;
 
 use thiserror::Error;
 

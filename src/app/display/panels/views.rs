@@ -8,20 +8,22 @@
 mod compare;
 mod hints;
 pub mod images;
+mod overlay;
 mod plots;
 pub mod restore;
 mod textures;
 
-use egui::{RichText, TextureId, Ui};
+use egui::{RichText, Ui};
 
 use self::images::{
     DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, Grid, airy_radius_um, channel_color, linear_image,
-    log_image, mtf_repeat_cyc_per_px, multiples_up_to, order_lattice, order_spacing_um, peak,
-    rgb_composite, rgb_slots,
+    log_image, mtf_repeat_cyc_per_px, multiples_up_to, order_spacing_um, peak, rgb_composite,
+    rgb_slots,
 };
+use self::overlay::{OverlayChoice, psf_overlay};
 use self::plots::{
-    COLORBAR_WIDTH, ImagePlot, Markers, MtfFamilies, PsfOverlay, Scale, colorbar_ui, image_plot_ui,
-    mtf_plot_ui,
+    ImagePlot, Markers, MtfFamilies, Scale, colorbar_ui, image_plot_ui, image_with_colorbar_ui,
+    mtf_plot_ui, plot_size,
 };
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
@@ -564,87 +566,4 @@ fn psf_grid(shown: &Shown, ch: &ChannelAnalysis) -> Grid {
         n: ch.psf.nrows(),
         step: shown.analysis.sensor_pixel_um,
     }
-}
-
-/// Which reference marks are drawn over the PSF images.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct OverlayChoice {
-    /// The Airy ring of the lens alone.
-    pub airy: bool,
-    /// The display's diffraction orders (off by default: on a periodic display they sit on the
-    /// peaks they explain and would hide them).
-    pub orders: bool,
-}
-
-impl Default for OverlayChoice {
-    fn default() -> Self {
-        OverlayChoice {
-            airy: true,
-            orders: false,
-        }
-    }
-}
-
-/// The diffraction orders and Airy ring of a channel chosen in `choice`, over `grid`.
-fn psf_overlay(
-    shown: &Shown,
-    ch: &ChannelAnalysis,
-    grid: Grid,
-    choice: OverlayChoice,
-) -> PsfOverlay {
-    let d = &shown.design;
-    let period_um = d.opening.pitch_um + d.tiling.wiring_gap_um;
-    let spacing = order_spacing_um(ch.wavelength_nm, d.optics.focal_length_mm, period_um);
-    let half_extent = grid.image_size()[0] / 2.0;
-    PsfOverlay {
-        order_spacing_um: spacing,
-        lattice_um: if choice.orders {
-            order_lattice(spacing, half_extent, 64)
-        } else {
-            Vec::new()
-        },
-        airy_radius_um: choice
-            .airy
-            .then(|| airy_radius_um(ch.wavelength_nm, d.optics.f_number)),
-    }
-}
-
-/// Size of each of `count` image plots side by side, leaving room for one colour bar.
-fn plot_size(ui: &Ui, count: usize) -> egui::Vec2 {
-    let avail = ui.available_size();
-    let gaps = ui.spacing().item_spacing.x * count as f32;
-    let w = ((avail.x - COLORBAR_WIDTH - gaps) / count.max(1) as f32).max(120.0);
-    // Leave a line for the captions above side-by-side plots.
-    let h = (avail.y - if count > 1 { 24.0 } else { 0.0 }).max(160.0);
-    egui::vec2(w, h)
-}
-
-fn image_with_colorbar_ui(
-    ui: &mut Ui,
-    id: &str,
-    texture: TextureId,
-    grid: Grid,
-    values: &ndarray::Array2<f64>,
-    scale: Scale,
-    overlay: Option<&PsfOverlay>,
-) {
-    let size = plot_size(ui, 1);
-    ui.horizontal(|ui| {
-        image_plot_ui(
-            ui,
-            &ImagePlot {
-                id,
-                texture,
-                grid,
-                values,
-                scale,
-                unit: "µm",
-                value_name: "PSF",
-                overlay,
-                link: None,
-                size,
-            },
-        );
-        colorbar_ui(ui, size.y, scale, Colormap::Inferno);
-    });
 }

@@ -341,3 +341,43 @@ pub fn mtf_plot_ui(
             }
         });
 }
+
+/// Size of each of `count` image plots side by side, leaving room for one colour bar.
+pub(super) fn plot_size(ui: &Ui, count: usize) -> egui::Vec2 {
+    let avail = ui.available_size();
+    let gaps = ui.spacing().item_spacing.x * count as f32;
+    let w = ((avail.x - COLORBAR_WIDTH - gaps) / count.max(1) as f32).max(120.0);
+    // Leave a line for the captions above side-by-side plots.
+    let h = (avail.y - if count > 1 { 24.0 } else { 0.0 }).max(160.0);
+    egui::vec2(w, h)
+}
+
+pub(super) fn image_with_colorbar_ui(
+    ui: &mut Ui,
+    id: &str,
+    texture: TextureId,
+    grid: Grid,
+    values: &ndarray::Array2<f64>,
+    scale: Scale,
+    overlay: Option<&PsfOverlay>,
+) {
+    let size = plot_size(ui, 1);
+    ui.horizontal(|ui| {
+        image_plot_ui(
+            ui,
+            &ImagePlot {
+                id,
+                texture,
+                grid,
+                values,
+                scale,
+                unit: "µm",
+                value_name: "PSF",
+                overlay,
+                link: None,
+                size,
+            },
+        );
+        colorbar_ui(ui, size.y, scale, Colormap::Inferno);
+    });
+}
