@@ -346,7 +346,7 @@ impl Workspace for DisplayWorkspace {
         let progress = self.worker.progress();
         // The AUC is what a designer watches while drawing: the numbers stay beside the views
         // at every width, scrolling sideways when the table is wider than the panel.
-        side_panel(egui::Panel::right("numbers"), total, 0.26, 270.0, 360.0).show(ui, |ui| {
+        side_panel(egui::Panel::right("numbers"), total, 0.27, 270.0, 400.0).show(ui, |ui| {
             let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
             ui.heading("Numbers");
             egui::ScrollArea::both().show(ui, |ui| {
