@@ -254,8 +254,12 @@ fn name_flags(e: anyhow::Error) -> anyhow::Error {
 fn run_command(command: Command) -> Result<()> {
     match command {
         Command::Presets => {
-            for (name, desc) in presets::list() {
-                println!("{name:<16} {desc}");
+            let list = presets::list();
+            for group in presets::PresetGroup::ALL {
+                println!("{}:", group.label());
+                for (name, _, desc) in list.iter().filter(|p| p.1 == group) {
+                    println!("  {name:<20} {desc}");
+                }
             }
             Ok(())
         }

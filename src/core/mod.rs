@@ -19,6 +19,7 @@ pub mod psf;
 pub mod restore;
 pub mod sampling;
 pub mod sensor;
+pub mod theory;
 pub mod tiling;
 
 pub use analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};

@@ -18,6 +18,7 @@ use super::IoError;
 use super::safe_file::read_text_bounded;
 use super::safe_file::write_atomic;
 use crate::core::design::{Channel, Design, Opening, Optics, Tiling};
+use crate::core::theory::Theory;
 
 /// The `format` field every design file carries.
 pub const FORMAT: &str = "udc-studio-design";
@@ -45,6 +46,8 @@ struct FileV1 {
     tiling: Tiling,
     optics: Optics,
     channels: Vec<Channel>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    theory: Option<Theory>,
 }
 
 /// Parses and validates a design file's text.
@@ -90,6 +93,7 @@ pub fn parse_design(text: &str) -> Result<Design, String> {
         tiling: file.tiling,
         optics: file.optics,
         channels: file.channels,
+        theory: file.theory,
     };
     design.validate().map_err(|e| e.to_string())?;
     Ok(design)
@@ -126,6 +130,7 @@ pub fn to_json(design: &Design) -> String {
         tiling: design.tiling.clone(),
         optics: design.optics.clone(),
         channels: design.channels.clone(),
+        theory: design.theory,
     };
     // Serialising plain data to a String cannot fail.
     serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"

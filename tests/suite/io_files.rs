@@ -19,7 +19,7 @@ use udc_studio::io::export::{
     write_psf_png16,
 };
 use udc_studio::io::pattern::{load_pattern_png, save_pattern_png};
-use udc_studio::io::presets::{PRESETS, load_preset};
+use udc_studio::io::presets::{PRESETS, PresetGroup, load_preset};
 use udc_studio::io::spectral::{channels_from_response, load_response_csv};
 
 fn asset(rel: &str) -> PathBuf {
@@ -438,7 +438,11 @@ const PRESET_SOURCES: &[(&str, &str, f64, TilingMode, f64)] = &[
 
 #[test]
 fn every_preset_is_its_reference_pattern_and_round_trips() {
-    let mut names: Vec<&str> = PRESETS.iter().map(|p| p.0).collect();
+    let mut names: Vec<&str> = PRESETS
+        .iter()
+        .filter(|p| p.group == PresetGroup::Thesis)
+        .map(|p| p.name)
+        .collect();
     names.sort_unstable();
     let mut sources: Vec<&str> = PRESET_SOURCES.iter().map(|p| p.0).collect();
     sources.sort_unstable();
@@ -467,7 +471,7 @@ fn every_preset_is_its_reference_pattern_and_round_trips() {
         let again = parse_design(&to_json(&d)).unwrap();
         assert_eq!(again, d, "{name}: to_json → parse_design");
         // The file is exactly what the studio would write.
-        let text = PRESETS.iter().find(|p| p.0 == name).unwrap().1;
+        let text = PRESETS.iter().find(|p| p.name == name).unwrap().text;
         assert_eq!(text, to_json(&d), "{name} is in the design_file format");
     }
 }

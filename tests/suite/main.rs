@@ -36,5 +36,6 @@ mod sensor_noise;
 mod sensor_panel;
 mod sensor_pitch;
 mod studio;
+mod theory;
 mod thesis;
 mod views;

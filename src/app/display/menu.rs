@@ -76,10 +76,15 @@ impl DisplayWorkspace {
 
     pub(super) fn extra_menus(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
         ui.menu_button("Presets", |ui| {
-            for (name, desc) in presets::list() {
-                if ui.button(name).on_hover_text(desc).clicked() {
-                    cmds.push(Command::LoadPreset(name.to_string()));
-                }
+            let list = presets::list();
+            for group in presets::PresetGroup::ALL {
+                ui.menu_button(group.label(), |ui| {
+                    for (name, _, desc) in list.iter().filter(|p| p.1 == group) {
+                        if ui.button(*name).on_hover_text(desc).clicked() {
+                            cmds.push(Command::LoadPreset(name.to_string()));
+                        }
+                    }
+                });
             }
         });
         ui.menu_button("Compare", |ui| {

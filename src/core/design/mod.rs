@@ -39,6 +39,10 @@ pub struct Design {
     pub optics: Optics,
     /// Colour channels, each analysed separately (the thesis uses R, G, B).
     pub channels: Vec<Channel>,
+    /// The analytic pattern a teaching design is compared with (the Theory view); designs
+    /// without one compare with their own diffraction orders.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub theory: Option<crate::core::theory::Theory>,
 }
 
 /// One display pixel's opening: an `N×N` grid of amplitude transmittance in `[0, 1]`.
@@ -345,6 +349,7 @@ impl Design {
             },
             optics: Optics::iccp21(),
             channels: Channel::rgb_peaks(),
+            theory: None,
         }
     }
 }

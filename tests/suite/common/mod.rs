@@ -18,6 +18,7 @@ pub fn open_design(optics: Optics, channels: Vec<Channel>) -> Design {
         },
         optics,
         channels,
+        theory: None,
     }
 }
 

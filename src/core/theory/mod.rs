@@ -1,0 +1,269 @@
+//! Fourier-optics theory beside the simulation: the closed-form Fraunhofer patterns of a slit,
+//! a double slit, a rectangle and a circle, and the diffraction orders of a periodic (or
+//! randomly oriented) tiling from the tile's Fourier series.
+//!
+//! Each comparison is sampled exactly as the simulation samples its PSF: the same fine samples
+//! per wavelength (`λ f / (M δ1)`), the same sensor-pixel integration and axis phase, the same
+//! spectral weights. What is left between theory and simulation is physics the formula leaves
+//! out (the lens pupil's rim, cell staircases, the window crop), which is what a lecturer wants
+//! to point at once the symmetry is broken.
+
+mod orders;
+mod shapes;
+
+use serde::{Deserialize, Serialize};
+
+use super::SimError;
+use super::analyze::{Analysis, Quality};
+use super::design::Design;
+use super::sampling::{WavelengthSampling, plan};
+
+pub use orders::{OrderEnergy, order_energies};
+
+/// The analytic aperture a teaching design is compared with (stored in the design file as
+/// `"theory"`). Positions are relative to the optical axis; `x` runs along the tile's columns.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "shape", rename_all = "kebab-case", deny_unknown_fields)]
+pub enum Theory {
+    /// One slit of width `a` along x, long along y: `I(x) ∝ sinc²(a x / λf)`.
+    Slit {
+        /// Slit width `a`, µm.
+        width_um: f64,
+    },
+    /// Two slits of width `a` whose centres are `d` apart:
+    /// `I(x) ∝ sinc²(a x / λf) · cos²(π d x / λf)`.
+    DoubleSlit {
+        /// Width `a` of each slit, µm.
+        width_um: f64,
+        /// Centre-to-centre separation `d`, µm.
+        separation_um: f64,
+    },
+    /// A rectangle `a × b`: `I(x, y) ∝ sinc²(a x / λf) · sinc²(b y / λf)`.
+    Rectangle {
+        /// Width `a` along x, µm.
+        width_um: f64,
+        /// Height `b` along y, µm.
+        height_um: f64,
+    },
+    /// A circular opening of diameter `D`: the Airy pattern `I(r) ∝ [2 J1(v) / v]²`,
+    /// `v = π D r / (λf)`.
+    Circle {
+        /// Diameter `D`, µm.
+        diameter_um: f64,
+    },
+    /// The display's own diffraction orders: the tile's Fourier coefficients `c(m, n)` put
+    /// `|c(m, n)|²` of the light at `(m, n) · λf / P`; a random tiling keeps only the mean
+    /// over its orientations coherent, the rest goes to a halo.
+    Grating,
+}
+
+impl Theory {
+    /// Every shape, in the order the UI lists them (parameters are placeholders).
+    pub fn name(self) -> &'static str {
+        match self {
+            Theory::Slit { .. } => "single slit",
+            Theory::DoubleSlit { .. } => "double slit",
+            Theory::Rectangle { .. } => "rectangle",
+            Theory::Circle { .. } => "circle (Airy)",
+            Theory::Grating => "grating orders",
+        }
+    }
+
+    /// The formula with this design's numbers, for a tooltip; `wavelength_nm` and
+    /// `focal_length_mm` give the scale `λf`.
+    pub fn formula(self, wavelength_nm: f64, focal_length_mm: f64, period_um: f64) -> String {
+        let lf_um2 = wavelength_nm * focal_length_mm; // λ[µm]·f[µm] = λ[nm]·f[mm]
+        let scale = format!("λ = {wavelength_nm:.0} nm, f = {focal_length_mm} mm");
+        match self {
+            Theory::Slit { width_um: a } => format!(
+                "Single slit: I(x) ∝ sinc²(a·x / λf), a = {a} µm, {scale}.\n\
+                 Dark fringes every λf/a = {:.1} µm; the central lobe is twice as wide.",
+                lf_um2 / a
+            ),
+            Theory::DoubleSlit {
+                width_um: a,
+                separation_um: d,
+            } => format!(
+                "Double slit: I(x) ∝ sinc²(a·x / λf) · cos²(π·d·x / λf), a = {a} µm, d = {d} µm, \
+                 {scale}.\nFringes every λf/d = {:.1} µm under a sinc² envelope whose zeros are \
+                 λf/a = {:.1} µm apart.",
+                lf_um2 / d,
+                lf_um2 / a
+            ),
+            Theory::Rectangle {
+                width_um: a,
+                height_um: b,
+            } => format!(
+                "Rectangle: I(x, y) ∝ sinc²(a·x / λf) · sinc²(b·y / λf), a = {a} µm, b = {b} µm, \
+                 {scale}.\nThe profile along x (summed over y) is sinc²(a·x / λf): zeros every \
+                 λf/a = {:.1} µm.",
+                lf_um2 / a
+            ),
+            Theory::Circle { diameter_um: dd } => format!(
+                "Circular opening: I(r) ∝ [2·J1(v) / v]², v = π·D·r / (λf), D = {dd} µm, {scale}.\n\
+                 First dark ring at r = 1.22·λf/D = {:.1} µm (the Airy disc).",
+                1.22 * lf_um2 / dd
+            ),
+            Theory::Grating => format!(
+                "Grating: orders at (m, n)·λf/P, P = {period_um:.1} µm, {scale}: {:.1} µm apart.\n\
+                 Order (m, n) carries |c(m, n)|² of the light, c the tile's Fourier coefficients; \
+                 for a slit of duty a/P, |c(m)|² = (a/P)²·sinc²(m·a/P), so orders at multiples \
+                 of P/a are missing. A random tiling keeps only |mean c|² in the orders.",
+                lf_um2 / period_um
+            ),
+        }
+    }
+}
+
+/// What a comparison plots against position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProfileKind {
+    /// The PSF summed over rows (the light per column), against x.
+    ColumnSums,
+    /// The PSF's row through the axis, against x.
+    AxisRow,
+    /// The light in each diffraction order along the x axis (n = 0), against its position.
+    Orders,
+}
+
+impl ProfileKind {
+    /// How the plot's y axis is labelled.
+    pub fn label(self) -> &'static str {
+        match self {
+            ProfileKind::ColumnSums => "PSF summed over y, relative to its peak",
+            ProfileKind::AxisRow => "PSF row through the axis, relative to its peak",
+            ProfileKind::Orders => "fraction of the light in the order",
+        }
+    }
+}
+
+/// Theory and simulation side by side for one channel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TheoryComparison {
+    /// The reference compared with.
+    pub theory: Theory,
+    /// What the values are.
+    pub kind: ProfileKind,
+    /// Positions, µm from the axis (pixel centres, or order positions).
+    pub x_um: Vec<f64>,
+    /// The simulated values at `x_um`.
+    pub simulated: Vec<f64>,
+    /// The predicted values at `x_um`.
+    pub predicted: Vec<f64>,
+    /// Largest `|simulated − predicted|`, relative to the largest predicted value.
+    pub deviation: f64,
+    /// What a reader should know to read the comparison (e.g. a random tiling's halo).
+    pub note: Option<String>,
+}
+
+/// Compares channel `channel` of `analysis` (an analysis of `design`) with `theory`.
+///
+/// # Errors
+/// [`SimError::Sampling`] when the sampling plan fails, the channel does not exist, or the
+/// orders are closer than the comparison can separate (see [`order_energies`]).
+pub fn compare(
+    design: &Design,
+    theory: Theory,
+    analysis: &Analysis,
+    channel: usize,
+) -> Result<TheoryComparison, SimError> {
+    let quality = analysis.quality;
+    let ch = analysis
+        .channels
+        .get(channel)
+        .ok_or_else(|| SimError::Sampling(format!("no channel {channel}")))?;
+    let (psf, energy_in_window) = (&ch.psf, ch.energy_in_window);
+    let fine = quality.fine_sample_um(&design.optics);
+    let samplings = plan(design, fine, quality == Quality::Preview, &mut Vec::new())?;
+    let samp = samplings
+        .get(channel)
+        .ok_or_else(|| SimError::Sampling(format!("no channel {channel}")))?;
+    let (w, w2) = psf.dim();
+    if w != w2 || samp.is_empty() || samp[0].binning.window_px != w {
+        return Err(SimError::Sampling(
+            "the PSF does not match the design's sampling".into(),
+        ));
+    }
+    let pixel_um = design.optics.sensor_pixel_um;
+    let axis_um = design.optics.axis_in_pixel_um;
+    let pixel_centre = |j: usize| (j as f64 - (w / 2) as f64 + 0.5) * pixel_um - axis_um[0];
+    let lf = |ws: &WavelengthSampling| ws.wavelength_nm * design.optics.focal_length_mm;
+    let (kind, x_um, simulated, predicted, note) = match theory {
+        Theory::Slit { .. } | Theory::DoubleSlit { .. } | Theory::Rectangle { .. } => {
+            let sim: Vec<f64> = psf.sum_axis(ndarray::Axis(0)).to_vec();
+            let mut pred = vec![0.0; w];
+            for ws in samp {
+                let line = shapes::binned_line(ws, |x| shapes::marginal_x(theory, x, lf(ws)));
+                for (p, v) in pred.iter_mut().zip(line) {
+                    *p += ws.weight * v;
+                }
+            }
+            let x: Vec<f64> = (0..w).map(pixel_centre).collect();
+            (ProfileKind::ColumnSums, x, sim, pred, None)
+        }
+        Theory::Circle { diameter_um } => {
+            let sim: Vec<f64> = psf.row(w / 2).to_vec();
+            let mut pred = vec![0.0; w];
+            for ws in samp {
+                let row = shapes::binned_axis_row(ws, |r| shapes::airy(diameter_um, r, lf(ws)));
+                for (p, v) in pred.iter_mut().zip(row) {
+                    *p += ws.weight * v;
+                }
+            }
+            let x: Vec<f64> = (0..w).map(pixel_centre).collect();
+            (ProfileKind::AxisRow, x, sim, pred, None)
+        }
+        Theory::Grating => {
+            let o = order_energies(design, samp, psf, energy_in_window)?;
+            let note = design.tiling.mode.is_random().then(|| {
+                format!(
+                    "Random tiling: theory counts only the coherent light (the mean tile's \
+                     orders, {:.1} % of the light); the simulated orders also hold the halo \
+                     that the random orientations spread everywhere ({:.1} % in all).",
+                    100.0 * o.coherent_fraction,
+                    100.0 * (1.0 - o.coherent_fraction)
+                )
+            });
+            (ProfileKind::Orders, o.x_um, o.simulated, o.predicted, note)
+        }
+    };
+    let (simulated, predicted) = match kind {
+        ProfileKind::Orders => (simulated, predicted),
+        _ => (to_peak(simulated), to_peak(predicted)),
+    };
+    let top = predicted.iter().cloned().fold(0.0_f64, f64::max);
+    let deviation = simulated
+        .iter()
+        .zip(&predicted)
+        .map(|(s, p)| (s - p).abs())
+        .fold(0.0_f64, f64::max)
+        / top.max(f64::MIN_POSITIVE);
+    Ok(TheoryComparison {
+        theory,
+        kind,
+        x_um,
+        simulated,
+        predicted,
+        deviation,
+        note,
+    })
+}
+
+/// `sin(π t) / (π t)`, 1 at 0.
+fn sinc(t: f64) -> f64 {
+    if t.abs() < 1e-12 {
+        1.0
+    } else {
+        let pt = std::f64::consts::PI * t;
+        pt.sin() / pt
+    }
+}
+
+/// `v` divided by its largest value (left alone when that is not positive).
+fn to_peak(mut v: Vec<f64>) -> Vec<f64> {
+    let top = v.iter().cloned().fold(0.0_f64, f64::max);
+    if top > 0.0 {
+        v.iter_mut().for_each(|x| *x /= top);
+    }
+    v
+}

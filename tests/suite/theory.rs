@@ -1,0 +1,147 @@
+//! The Fourier-optics presets against their closed-form patterns: theory and simulation agree
+//! on every teaching preset, and stop agreeing once the symmetry is broken.
+
+use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::theory::{ProfileKind, Theory, compare};
+use udc_studio::core::{Design, Progress};
+use udc_studio::io::design_file::to_json;
+use udc_studio::io::presets::{PRESETS, PresetGroup, load_preset};
+
+fn full(d: &Design) -> udc_studio::core::Analysis {
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    analyze_with(d, &options, &Progress::new()).unwrap()
+}
+
+/// Largest deviation over the channels, relative to the predicted peak.
+fn deviation(d: &Design) -> f64 {
+    let a = full(d);
+    let theory = d.theory.unwrap();
+    (0..a.channels.len())
+        .map(|c| compare(d, theory, &a, c).unwrap().deviation)
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn every_teaching_preset_agrees_with_its_formula() {
+    // Shapes agree to 0.1 % (the circle's 96-gon on 24-µm cells is the worst); an order keeps
+    // ~1 % less than theory in its cell because the lens's own Airy pattern spills it into the
+    // neighbours. A zero or an order in the wrong place costs tens of percent.
+    let tolerance = [
+        ("fourier-slit", 0.005),
+        ("fourier-double-slit", 0.005),
+        ("fourier-square", 0.005),
+        ("fourier-circle", 0.005),
+        ("fourier-grating", 0.02),
+        ("fourier-periodic", 0.02),
+    ];
+    let teaching: Vec<&str> = PRESETS
+        .iter()
+        .filter(|p| p.group == PresetGroup::FourierOptics)
+        .map(|p| p.name)
+        .collect();
+    assert_eq!(
+        teaching.len(),
+        tolerance.len() + 1,
+        "fourier-random is checked below"
+    );
+    for (name, tol) in tolerance {
+        let d = load_preset(name).unwrap();
+        let dev = deviation(&d);
+        assert!(
+            dev < tol,
+            "{name}: theory and simulation differ by {dev:.4}"
+        );
+    }
+}
+
+#[test]
+fn teaching_presets_are_design_files_with_a_theory() {
+    for p in PRESETS
+        .iter()
+        .filter(|p| p.group == PresetGroup::FourierOptics)
+    {
+        let d = load_preset(p.name).unwrap();
+        assert!(d.theory.is_some(), "{}", p.name);
+        assert_eq!(
+            p.text,
+            to_json(&d),
+            "{} is in the design_file format",
+            p.name
+        );
+    }
+}
+
+#[test]
+fn breaking_the_slit_breaks_the_agreement() {
+    let mut d = load_preset("fourier-slit").unwrap();
+    let n = d.opening.n();
+    // Open a second, narrower slit beside the first: the sinc² no longer describes it.
+    for row in d.opening.cells.iter_mut().take(n / 2 + 40).skip(n / 2 - 40) {
+        row[n / 2 + 12] = 1.0;
+    }
+    let dev = deviation(&d);
+    assert!(dev > 0.1, "an asymmetric opening still matches: {dev}");
+}
+
+#[test]
+fn a_slit_grating_misses_the_orders_its_duty_cycle_predicts() {
+    let d = load_preset("fourier-grating").unwrap();
+    let a = full(&d);
+    let c = compare(&d, Theory::Grating, &a, 1).unwrap();
+    assert_eq!(c.kind, ProfileKind::Orders);
+    let zero = c.x_um.iter().position(|x| x.abs() < 1e-9).unwrap();
+    // Duty 1/5: order 5 is dark in theory and nearly so in the simulation.
+    assert!(c.predicted[zero + 5] < 1e-12);
+    assert!(c.simulated[zero + 5] < 0.02 * c.simulated[zero + 4]);
+    assert!(c.simulated[zero + 4] > 0.005, "order 4 carries light");
+}
+
+#[test]
+fn a_random_tiling_keeps_only_the_mean_tile_in_its_orders() {
+    let periodic = load_preset("fourier-periodic").unwrap();
+    let random = load_preset("fourier-random").unwrap();
+    let (ap, ar) = (full(&periodic), full(&random));
+    let cp = compare(&periodic, Theory::Grating, &ap, 1).unwrap();
+    let cr = compare(&random, Theory::Grating, &ar, 1).unwrap();
+    assert!(cp.note.is_none() && cr.note.is_some());
+    // Same opening, same mean: theory gives both the same zero order and the random tiling
+    // weaker first orders (the mean of its orientations diffracts less).
+    let zero = cp.x_um.iter().position(|x| x.abs() < 1e-9).unwrap();
+    assert!((cp.predicted[zero] - cr.predicted[zero]).abs() < 1e-12);
+    assert!(cr.predicted[zero + 1] < 0.7 * cp.predicted[zero + 1]);
+    // The simulation agrees: the first order's sharp peak (its brightest pixel) drops...
+    let peak = |a: &udc_studio::core::Analysis, x_um: f64| {
+        let psf = &a.channels[1].psf;
+        let w = psf.nrows();
+        let j = (w / 2) as f64 + ((x_um + 0.25) / 2.0).floor();
+        let j = j as usize;
+        (w / 2 - 1..=w / 2 + 1)
+            .flat_map(|i| (j - 1..=j + 1).map(move |j| (i, j)))
+            .map(|(i, j)| psf[[i, j]])
+            .fold(0.0, f64::max)
+    };
+    let x1 = cp.x_um[zero + 1];
+    assert!(
+        peak(&ar, x1) < 0.7 * peak(&ap, x1),
+        "{} vs {}",
+        peak(&ar, x1),
+        peak(&ap, x1)
+    );
+    // ...while the light around it never falls below the coherent part: the halo only adds.
+    for (s, p) in cr.simulated.iter().zip(&cr.predicted) {
+        assert!(*s > 0.95 * p, "{s} < {p}");
+    }
+}
+
+#[test]
+fn every_formula_names_its_numbers() {
+    let f = Theory::Slit { width_um: 216.0 }.formula(530.0, 10.0, 4200.0);
+    assert!(f.contains("a = 216 µm") && f.contains("24.5 µm"), "{f}");
+    let f = Theory::Circle { diameter_um: 600.0 }.formula(530.0, 10.0, 4200.0);
+    assert!(f.contains("10.8 µm"), "{f}");
+    let f = Theory::Grating.formula(530.0, 10.0, 160.0);
+    assert!(f.contains("33.1 µm"), "{f}");
+}
