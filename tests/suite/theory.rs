@@ -12,15 +12,15 @@ fn full(d: &Design) -> udc_studio::core::Analysis {
         quality: Quality::Full,
         expected_psf: false,
     };
-    analyze_with(d, &options, &Progress::new()).unwrap()
+    analyze_with(d, &options, &Progress::new()).expect("teaching presets analyse")
 }
 
 /// Largest deviation over the channels, relative to the predicted peak.
 fn deviation(d: &Design) -> f64 {
     let a = full(d);
-    let theory = d.theory.unwrap();
+    let theory = d.theory.expect("a teaching preset has a theory");
     (0..a.channels.len())
-        .map(|c| compare(d, theory, &a, c).unwrap().deviation)
+        .map(|c| compare(d, theory, &a, c).expect("comparable").deviation)
         .fold(0.0, f64::max)
 }
 
