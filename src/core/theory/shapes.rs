@@ -37,6 +37,50 @@ pub(super) fn airy(diameter_um: f64, r_um: f64, lf_um2: f64) -> f64 {
     std::f64::consts::PI * diameter_um * diameter_um / 4.0 / (lf_um2 * lf_um2) * shape
 }
 
+/// The triangle `max(0, 1 − |t|)`: the autocorrelation of a unit box.
+fn triangle(t: f64) -> f64 {
+    (1.0 - t.abs()).max(0.0)
+}
+
+/// The optical MTF along x (`ν_y = 0`) of the shape at `nu_cyc_per_um`: the aperture's
+/// autocorrelation at shift `λf ν`, normalised to 1 at 0. `None` for the grating.
+pub(super) fn mtf_x(theory: Theory, nu_cyc_per_um: f64, lf_um2: f64) -> Option<f64> {
+    let shift_um = lf_um2 * nu_cyc_per_um;
+    match theory {
+        Theory::Slit { width_um: a } | Theory::Rectangle { width_um: a, .. } => {
+            Some(triangle(shift_um / a))
+        }
+        Theory::DoubleSlit {
+            width_um: a,
+            separation_um: d,
+        } => Some(
+            triangle(shift_um / a)
+                + 0.5 * triangle((shift_um - d) / a)
+                + 0.5 * triangle((shift_um + d) / a),
+        ),
+        Theory::Circle { diameter_um } => {
+            // The overlap of two discs, the textbook diffraction-limited MTF.
+            let s = (shift_um / diameter_um).abs();
+            Some(if s >= 1.0 {
+                0.0
+            } else {
+                2.0 / std::f64::consts::PI * (s.acos() - s * (1.0 - s * s).sqrt())
+            })
+        }
+        Theory::Grating => None,
+    }
+}
+
+/// The MTF of integrating `samples` fine samples `fine_um` apart into one pixel, at
+/// `nu_cyc_per_um`: `|sin(π ν n δ) / (n sin(π ν δ))|`.
+pub(super) fn pixel_mtf(nu_cyc_per_um: f64, samples: usize, fine_um: f64) -> f64 {
+    let x = std::f64::consts::PI * nu_cyc_per_um * fine_um;
+    if x.sin().abs() < 1e-12 {
+        return 1.0;
+    }
+    ((samples as f64 * x).sin() / (samples as f64 * x.sin())).abs()
+}
+
 /// The fine-sample offsets (from the axis sample) that sensor pixel `j` integrates along
 /// `axis` (0 = x, 1 = y), as the simulation bins them (`Binning::pixel_of`).
 fn samples_of_pixel(ws: &WavelengthSampling, j: usize, axis: usize) -> std::ops::Range<i64> {
@@ -109,6 +153,30 @@ mod tests {
             })
             .sum();
         assert!((total - 1.0).abs() < 2e-3, "Airy: {total}");
+    }
+
+    /// The MTF closed forms at their landmarks: 1 at 0, cut off at a/λf (slit) and D/λf
+    /// (circle), the double slit's side peaks at d/λf half as high as its centre.
+    #[test]
+    fn mtf_closed_forms_have_their_cutoffs() {
+        let lf = 5300.0;
+        let slit = Theory::Slit { width_um: 200.0 };
+        assert_eq!(mtf_x(slit, 0.0, lf), Some(1.0));
+        assert_eq!(mtf_x(slit, 200.0 / lf, lf), Some(0.0));
+        let circle = Theory::Circle { diameter_um: 600.0 };
+        assert!((mtf_x(circle, 0.0, lf).unwrap_or(0.0) - 1.0).abs() < 1e-12);
+        assert_eq!(mtf_x(circle, 600.0 / lf, lf), Some(0.0));
+        let ds = Theory::DoubleSlit {
+            width_um: 100.0,
+            separation_um: 400.0,
+        };
+        assert_eq!(mtf_x(ds, 400.0 / lf, lf), Some(0.5));
+        assert_eq!(mtf_x(ds, 250.0 / lf, lf), Some(0.0));
+        assert_eq!(mtf_x(Theory::Grating, 0.0, lf), None);
+        // A 2-µm pixel of four 0.5-µm samples: zero at 1 cycle/pixel, 1/(4 sin π/8) at 0.5.
+        assert!(pixel_mtf(0.5, 4, 0.5) < 1e-12);
+        let nyquist = 1.0 / (4.0 * (std::f64::consts::PI / 8.0).sin());
+        assert!((pixel_mtf(0.25, 4, 0.5) - nyquist).abs() < 1e-12);
     }
 
     /// The textbook landmarks: slit zeros at λf/a, the Airy ring at 1.22 λf/D.
