@@ -106,12 +106,18 @@ fn presets_lists_every_named_preset() {
         "l2inv-repeat",
         "l2-random",
         "l2inv-random",
+        "fourier-slit",
+        "fourier-random",
     ] {
         assert!(
-            stdout.lines().any(|l| l.starts_with(name)),
+            stdout.lines().any(|l| l.trim_start().starts_with(name)),
             "missing {name}"
         );
     }
+    // Grouped: the teaching presets under their own heading, after the thesis's.
+    let thesis = stdout.find("Thesis designs:").unwrap();
+    let fourier = stdout.find("Fourier optics (teaching):").unwrap();
+    assert!(thesis < fourier && fourier < stdout.find("fourier-slit").unwrap());
 }
 
 #[test]

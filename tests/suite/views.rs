@@ -198,3 +198,67 @@ fn compare_tab_pins_and_shows_a_and_b() {
     assert!(h.query_by_label("invertibility loss").is_some());
     capture(&mut h, "Compare-pinned");
 }
+
+/// The percentage in the Theory tab's agreement line.
+fn theory_deviation_percent(h: &Harness<'_, State>) -> f64 {
+    use egui_kittest::kittest::NodeT;
+    let node = h.get_by_label_contains("differ by at most");
+    let text = node.accesskit_node().value().unwrap_or_default();
+    let after = text.split("at most ").nth(1).unwrap_or_default();
+    after
+        .split(' ')
+        .next()
+        .unwrap_or_default()
+        .parse()
+        .unwrap_or(f64::NAN)
+}
+
+#[test]
+fn the_theory_tab_agrees_on_a_slit_then_parts_when_it_is_broken() {
+    let design = load_preset("fourier-slit").unwrap();
+    let analysis = analyze(&design, &Progress::new()).unwrap();
+    let mut h = harness(State {
+        panel: ViewsPanel::default(),
+        shown: Some(shown(&design, analysis, 1)),
+        design: design.clone(),
+        pinned: None,
+        overlays: false,
+        commands: Vec::new(),
+    });
+    h.step();
+    h.get_by_label("Theory").click();
+    h.step();
+    h.step();
+    assert!(h.query_by_label("Theory: single slit").is_some());
+    assert!(
+        h.query_by_label_contains("I(x) = I(0)·sinc²(a·x / λf), a = 216 µm")
+            .is_some()
+    );
+    let agree = theory_deviation_percent(&h);
+    assert!(agree < 0.5, "{agree} %");
+    capture(&mut h, "theory-slit");
+    // Open a second slit beside the first: the formula stays, the simulation follows.
+    let mut broken = design.clone();
+    let n = broken.opening.n();
+    for row in broken
+        .opening
+        .cells
+        .iter_mut()
+        .take(n / 2 + 40)
+        .skip(n / 2 - 40)
+    {
+        row[n / 2 + 12] = 1.0;
+    }
+    let analysis = analyze(&broken, &Progress::new()).unwrap();
+    h.state_mut().shown = Some(shown(&broken, analysis, 2));
+    h.step();
+    h.step();
+    let parted = theory_deviation_percent(&h);
+    assert!(parted > 10.0, "{parted} %");
+    // A design without a named aperture is compared with its own orders.
+    let (design, analysis) = small_result();
+    h.state_mut().shown = Some(shown(&design, analysis, 3));
+    h.step();
+    h.step();
+    assert!(h.query_by_label("Theory: grating orders").is_some());
+}

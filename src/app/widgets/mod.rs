@@ -2,6 +2,7 @@
 
 pub mod colormap;
 pub mod photo;
+pub mod ticks;
 
 use crate::app::notice::Notice;
 

@@ -77,7 +77,7 @@ impl Theory {
         let scale = format!("λ = {wavelength_nm:.0} nm, f = {focal_length_mm} mm");
         match self {
             Theory::Slit { width_um: a } => format!(
-                "Single slit: I(x) ∝ sinc²(a·x / λf), a = {a} µm, {scale}.\n\
+                "Single slit: I(x) = I(0)·sinc²(a·x / λf), a = {a} µm, {scale}.\n\
                  Dark fringes every λf/a = {:.1} µm; the central lobe is twice as wide.",
                 lf_um2 / a
             ),
@@ -85,7 +85,7 @@ impl Theory {
                 width_um: a,
                 separation_um: d,
             } => format!(
-                "Double slit: I(x) ∝ sinc²(a·x / λf) · cos²(π·d·x / λf), a = {a} µm, d = {d} µm, \
+                "Double slit: I(x) = I(0)·sinc²(a·x / λf)·cos²(π·d·x / λf), a = {a} µm, d = {d} µm, \
                  {scale}.\nFringes every λf/d = {:.1} µm under a sinc² envelope whose zeros are \
                  λf/a = {:.1} µm apart.",
                 lf_um2 / d,
@@ -95,13 +95,13 @@ impl Theory {
                 width_um: a,
                 height_um: b,
             } => format!(
-                "Rectangle: I(x, y) ∝ sinc²(a·x / λf) · sinc²(b·y / λf), a = {a} µm, b = {b} µm, \
+                "Rectangle: I(x, y) = I(0)·sinc²(a·x / λf)·sinc²(b·y / λf), a = {a} µm, b = {b} µm, \
                  {scale}.\nThe profile along x (summed over y) is sinc²(a·x / λf): zeros every \
                  λf/a = {:.1} µm.",
                 lf_um2 / a
             ),
             Theory::Circle { diameter_um: dd } => format!(
-                "Circular opening: I(r) ∝ [2·J1(v) / v]², v = π·D·r / (λf), D = {dd} µm, {scale}.\n\
+                "Circular opening: I(r) = I(0)·[2·J1(v) / v]², v = π·D·r / (λf), D = {dd} µm, {scale}.\n\
                  First dark ring at r = 1.22·λf/D = {:.1} µm (the Airy disc).",
                 1.22 * lf_um2 / dd
             ),
@@ -131,9 +131,9 @@ impl ProfileKind {
     /// How the plot's y axis is labelled.
     pub fn label(self) -> &'static str {
         match self {
-            ProfileKind::ColumnSums => "PSF summed over y, relative to its peak",
-            ProfileKind::AxisRow => "PSF row through the axis, relative to its peak",
-            ProfileKind::Orders => "fraction of the light in the order",
+            ProfileKind::ColumnSums => "PSF per column (peak = 1)",
+            ProfileKind::AxisRow => "PSF on the axis row (peak = 1)",
+            ProfileKind::Orders => "light in the order (fraction)",
         }
     }
 }

@@ -12,6 +12,7 @@ mod overlay;
 mod plots;
 pub mod restore;
 mod textures;
+mod theory;
 
 use egui::{RichText, Ui};
 
@@ -47,6 +48,8 @@ pub enum ViewTab {
     MtfPlots,
     /// This random tiling's PSF beside the expected PSF averaged over all tilings.
     Expected,
+    /// The PSF profile and MTF over the closed-form pattern of the aperture (Fourier optics).
+    Theory,
     /// The pinned design A against the current design B, with their differences.
     Compare,
     /// A photo blurred by the PSFs, exposed with noise and restored, with PSNR and SSIM.
@@ -55,13 +58,14 @@ pub enum ViewTab {
 
 impl ViewTab {
     /// Every tab, in the order of the tab bar.
-    pub const ALL: [ViewTab; 8] = [
+    pub const ALL: [ViewTab; 9] = [
         ViewTab::Psf,
         ViewTab::LogPsf,
         ViewTab::Rgb,
         ViewTab::Mtf2d,
         ViewTab::MtfPlots,
         ViewTab::Expected,
+        ViewTab::Theory,
         ViewTab::Compare,
         ViewTab::Restore,
     ];
@@ -75,6 +79,7 @@ impl ViewTab {
             ViewTab::Mtf2d => "MTF 2-D",
             ViewTab::MtfPlots => "MTF plots",
             ViewTab::Expected => "Expected PSF",
+            ViewTab::Theory => "Theory",
             ViewTab::Compare => "Compare",
             ViewTab::Restore => "Restore",
         }
@@ -88,6 +93,7 @@ impl ViewTab {
             ViewTab::Mtf2d => hints::MTF_2D,
             ViewTab::MtfPlots => hints::MTF_PLOTS,
             ViewTab::Expected => hints::EXPECTED,
+            ViewTab::Theory => hints::THEORY,
             ViewTab::Compare => hints::COMPARE,
             ViewTab::Restore => hints::RESTORE,
         }
@@ -108,6 +114,8 @@ pub struct ViewsPanel {
     pub restore: restore::RestoreView,
     /// The reference marks drawn over the PSFs (with the teaching overlays on).
     overlay_choice: OverlayChoice,
+    /// The Theory view's cached comparison and scale.
+    theory: theory::TheoryView,
 }
 
 impl Default for ViewsPanel {
@@ -121,6 +129,7 @@ impl Default for ViewsPanel {
             textures: Textures::default(),
             restore: restore::RestoreView::default(),
             overlay_choice: OverlayChoice::default(),
+            theory: theory::TheoryView::default(),
         }
     }
 }
@@ -175,6 +184,7 @@ impl ViewsPanel {
             ViewTab::Mtf2d => self.mtf2d_ui(ui, shown, ch),
             ViewTab::MtfPlots => self.mtf_plots_ui(ui, shown, ctx),
             ViewTab::Expected => self.expected_ui(ui, shown, ch, ctx.overlays),
+            ViewTab::Theory => self.theory.ui(ui, shown, self.channel),
             ViewTab::Compare => self.compare_ui(ui, shown, ctx),
             ViewTab::Restore => self.restore.ui(ui, shown, ctx),
         }
@@ -186,7 +196,11 @@ impl ViewsPanel {
         ui.horizontal_wrapped(|ui| {
             if matches!(
                 tab,
-                ViewTab::Psf | ViewTab::LogPsf | ViewTab::Mtf2d | ViewTab::Expected
+                ViewTab::Psf
+                    | ViewTab::LogPsf
+                    | ViewTab::Mtf2d
+                    | ViewTab::Expected
+                    | ViewTab::Theory
             ) {
                 ui.label("Channel:");
                 for (i, c) in shown.analysis.channels.iter().enumerate() {

@@ -52,3 +52,13 @@ exposed with photon and read noise at the chosen light level (the brighter the d
 more electrons it collects), then restored by Wiener deconvolution or least squares. PSNR and SSIM \
 compare the restoration with the original. A blur whose MTF has deep dips (a periodic T-OLED) \
 loses those frequencies to the noise for good; random tiling and optimized openings keep them.";
+
+pub const THEORY: &str = "Theory beside simulation. The Fourier-optics presets (Presets > Fourier \
+optics) are apertures with a textbook answer: a slit gives sinc², two slits give Young's fringes \
+under that envelope, a circle gives the Airy pattern, a grating puts light into orders whose \
+strengths are the tile's Fourier coefficients. The top plot is the simulated PSF (solid) over \
+the formula (dashed), sampled on the same sensor pixels; the bottom plot does the same for the \
+MTF, the aperture's autocorrelation. Hover the formula for its numbers. Then draw in the pixel \
+editor: the formula stays, the simulation follows your opening, and the gap between them is the \
+diffraction of what you changed. Designs that name no aperture are compared with their own \
+diffraction orders.";
