@@ -96,10 +96,17 @@ impl TheoryView {
             height,
         );
         if let Some(m) = &c.mtf {
+            // Up to a little past the aperture's cutoff: a slit's MTF ends at 0.07 cycles/pixel.
+            let last = m
+                .predicted
+                .iter()
+                .rposition(|v| *v > 1e-3)
+                .and_then(|i| m.freqs_cyc_per_px.get(i + 1))
+                .map_or(0.5, |f| (1.3 * f).min(0.5));
             Plot::new("views_theory_mtf")
                 .height(height)
                 .legend(Legend::default().position(Corner::RightTop))
-                .default_x_bounds(0.0, 0.5)
+                .default_x_bounds(0.0, last)
                 .default_y_bounds(0.0, 1.05)
                 .x_grid_spacer(ticks_125())
                 .y_grid_spacer(ticks_125())
