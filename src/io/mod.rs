@@ -1,6 +1,7 @@
 //! Every file format the studio reads or writes. Core types go in, files come out; nothing here
 //! simulates.
 
+pub mod bin_study_csv;
 pub mod design_file;
 pub mod error;
 pub mod export;

@@ -35,6 +35,7 @@ mod sensor_hdr;
 mod sensor_noise;
 mod sensor_panel;
 mod sensor_pitch;
+mod sensor_study;
 mod studio;
 mod theory;
 mod thesis;

@@ -35,6 +35,7 @@ pub mod roi;
 pub mod scene;
 pub mod settings;
 pub mod spec;
+pub mod study;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
