@@ -7,6 +7,7 @@
 mod images;
 mod numbers;
 mod panels;
+pub mod study_view;
 mod workspace;
 
 use crate::app::notice::Notice;
@@ -62,6 +63,8 @@ pub enum SensorView {
     Compare,
     /// Contrast and noise against pixel pitch, to find the optimal pitch (Fig. 5.3).
     Curves,
+    /// One region at every bin size across light levels, and the binning modes (Fig. 5.4).
+    Study,
 }
 
 /// How the Compare view shows its two captures A and B.
@@ -115,6 +118,8 @@ pub struct SensorWorkspace {
     curve_light_e_per_um2: f64,
     curve_pitch_um: f64,
     message: Option<Notice>,
+    /// The bin-size study (Fig. 5.4): its own job, started from its view.
+    pub study: study_view::StudyView,
 }
 
 type TextureKey = (u64, Quality, usize, usize, u32);
@@ -146,6 +151,7 @@ impl Default for SensorWorkspace {
             curve_light_e_per_um2: 20.0,
             curve_pitch_um: 1.0,
             message: None,
+            study: study_view::StudyView::default(),
         }
     }
 }
@@ -231,6 +237,7 @@ impl SensorWorkspace {
 
     /// Takes finished loads, dialogs and runs; starts the runs the settings call for.
     pub fn poll(&mut self, ctx: &egui::Context) {
+        self.study.poll(ctx);
         if self.scene.is_none() && self.load.is_none() && !self.sample_requested {
             // Something to look at before the user finds an HDR file.
             self.sample_requested = true;

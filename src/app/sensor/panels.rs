@@ -257,6 +257,7 @@ impl SensorWorkspace {
                 SensorView::Curves,
                 "Optimal pitch (Fig. 5.3)",
             );
+            ui.selectable_value(&mut self.view, SensorView::Study, "Bin sizes (Fig. 5.4)");
             ui.separator();
             ui.checkbox(&mut self.roi_grid, "ROI grid");
         });
@@ -265,6 +266,10 @@ impl SensorWorkspace {
             SensorView::Curves => self.curves_ui(ui),
             SensorView::Maps => self.maps_ui(ui),
             SensorView::Compare => self.compare_ui(ui),
+            SensorView::Study => {
+                let scene = self.scene.clone();
+                self.study.ui(ui, scene.as_deref(), &self.settings);
+            }
         }
     }
 
