@@ -4,6 +4,7 @@
 use egui::{Key, KeyboardShortcut, Modifiers};
 
 use crate::core::Design;
+use crate::core::design::Optics;
 
 /// Drawing tools of the opening editor.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
@@ -114,6 +115,9 @@ impl ExportKind {
 pub enum Command {
     /// A committed design change (one undo step).
     Edit(Box<Design>),
+    /// Replace the design's optics, keeping the rest (one undo step): the Apply button of a
+    /// sampling warning's advice.
+    SetOptics(Optics),
     /// Step back one design change.
     Undo,
     /// Re-apply the design change last undone.

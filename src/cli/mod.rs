@@ -283,7 +283,9 @@ fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
         },
         expected_psf: args.out.is_some(),
     };
-    let analysis = analyze_with(&design, &options, &Progress::new())?;
+    let progress = Progress::new();
+    let mut analysis = analyze_with(&design, &options, &progress)?;
+    crate::core::advice::advise(&design, &mut analysis.warnings, &progress)?;
     if let Some(dir) = &args.out {
         export::write_analysis_outputs(dir, &analysis)?;
     }
@@ -356,7 +358,10 @@ fn print_table(design: &Design, a: &Analysis) {
         );
     }
     for w in &a.warnings {
-        println!("warning: {w}");
+        println!("{}: {w}", w.severity.as_str());
+        if let Some(fix) = &w.fix {
+            println!("  advice: set {} ({})", fix.assignments(), fix.summary());
+        }
     }
 }
 
@@ -497,7 +502,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             args.image.display(),
         );
         for w in &analysis.warnings {
-            println!("warning: {w}");
+            println!("{}: {w}", w.severity.as_str());
         }
         println!("light (e⁻)  SNR (dB)  PSNR (dB)  SSIM     capture PSNR  per channel PSNR / SSIM");
     }
@@ -558,7 +563,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             "ltr_relative": ltr_relative,
             "method": method_json,
             "noise_seed": args.noise_seed,
-            "warnings": analysis.warnings,
+            "warnings": crate::io::report::warning_messages(&analysis.warnings),
             "runs": runs,
         });
         println!("{}", serde_json::to_string(&out)?);

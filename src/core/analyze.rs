@@ -15,7 +15,8 @@ use super::metrics::{invertibility_loss, ltr, mean_lowest_h, open_fraction};
 use super::mtf::{Mtf, mtf_of};
 use super::progress::Progress;
 use super::psf::channel_psf;
-use super::sampling::plan;
+use super::sampling::{WavelengthSampling, plan};
+use super::warning::{SamplingWarning, WarningKind};
 
 /// Full quality follows the design's sampling; preview doubles the fine spacing (halving every
 /// FFT) when the sensor pixel still holds a whole number of fine samples. Same physics.
@@ -108,8 +109,9 @@ pub struct Analysis {
     pub ltr: f64,
     /// `L_inv`, pooled over the channels (eq. 3.9).
     pub invertibility_loss: f64,
-    /// Sampling and energy warnings, ready to show to the user.
-    pub warnings: Vec<String>,
+    /// Sampling and energy warnings and notes, one per kind, naming design fields by their paths;
+    /// [`crate::core::advice::advise`] adds their fixes.
+    pub warnings: Vec<SamplingWarning>,
     /// Wall-clock time of the analysis, ms.
     pub elapsed_ms: f64,
     /// The quality the analysis ran at.
@@ -155,6 +157,34 @@ pub fn analyze_with(
     options: &AnalyzeOptions,
     progress: &Progress,
 ) -> Result<Analysis, SimError> {
+    analyze_within(design, options, progress, &Limits::REPORTED).map(|(a, _)| a)
+}
+
+/// The energy fractions beyond which the analysis warns.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Limits {
+    /// Least share of a channel's light inside the window.
+    pub min_energy_in_window: f64,
+    /// Largest share of a channel's light in the outer band of the fine grid.
+    pub max_edge_energy: f64,
+}
+
+impl Limits {
+    /// What [`analyze_with`] reports (conventions.md §2).
+    pub const REPORTED: Limits = Limits {
+        min_energy_in_window: 0.98,
+        max_edge_energy: 0.02,
+    };
+}
+
+/// [`analyze_with`], and the kinds of energy warning the analysis would raise at `strict`
+/// limits (advice checks that its fix resolves a warning with a margin).
+pub(crate) fn analyze_within(
+    design: &Design,
+    options: &AnalyzeOptions,
+    progress: &Progress,
+    strict: &Limits,
+) -> Result<(Analysis, Vec<WarningKind>), SimError> {
     let start = Instant::now();
     design.validate()?;
     progress.set(0.0);
@@ -174,10 +204,13 @@ pub fn analyze_with(
     let d_um = op.pupil_diameter_um();
     let cell_um = design.opening.cell_um();
     if cell_um < op.pupil_sample_um * 0.999 {
-        warnings.push(format!(
-            "display cells ({cell_um:.2} µm) are finer than the pupil sampling ({} µm): their \
-             diffraction is averaged and aliased; set optics.pupil_sample_um ≤ {cell_um:.2}",
-            op.pupil_sample_um
+        warnings.push(SamplingWarning::warning(
+            WarningKind::CellsFinerThanSampling,
+            format!(
+                "display cells ({cell_um:.2} µm) are finer than the pupil sampling ({} µm): their \
+                 diffraction is averaged and aliased; set optics.pupil_sample_um ≤ {cell_um:.2}",
+                op.pupil_sample_um
+            ),
         ));
     }
     let field = rasterise(
@@ -204,31 +237,12 @@ pub fn analyze_with(
         progress.set(d as f32 / total_steps.max(1) as f32);
     };
     // Channels run side by side: each is a few FFTs too small to keep both cores busy alone.
-    let results: Vec<Result<(ChannelAnalysis, Vec<String>), SimError>> = design
+    let results: Vec<Result<(ChannelAnalysis, f64), SimError>> = design
         .channels
         .par_iter()
         .zip(samplings.par_iter())
         .map(|(ch, samp)| {
-            let mut notes = Vec::new();
             let psf = channel_psf(&field, samp, progress, || step(1))?;
-            if psf.energy_in_window < 0.98 {
-                notes.push(format!(
-                    "{:.1} % of channel {}'s light falls outside the {}-pixel window: the window is \
-                     smaller than the diffraction orders that carry energy; enlarge optics.window_px",
-                    100.0 * (1.0 - psf.energy_in_window),
-                    ch.name,
-                    op.window_px
-                ));
-            }
-            if psf.edge_energy > 0.02 {
-                notes.push(format!(
-                    "PSF aliasing in channel {}: {:.1} % of the light reaches the edge of the fine grid \
-                     ({:.0} µm wide) and wraps around; decrease optics.pupil_sample_um",
-                    ch.name,
-                    100.0 * psf.edge_energy,
-                    samp[0].fft_size as f64 * samp[0].fine_um
-                ));
-            }
             let expected_psf = if want_expected {
                 let e = expected_channel_psf(&display, d_um, op.pupil_sample_um, samp, progress)?;
                 step(samp.len());
@@ -251,21 +265,26 @@ pub fn analyze_with(
                     energy_in_window: psf.energy_in_window,
                     invertibility,
                 },
-                notes,
+                psf.edge_energy,
             ))
         })
         .collect();
     let mut channels = Vec::with_capacity(results.len());
+    let mut edge_energy = Vec::with_capacity(results.len());
     for r in results {
-        let (c, notes) = r?;
+        let (c, edge) = r?;
         channels.push(c);
-        warnings.extend(notes);
+        edge_energy.push(edge);
     }
+    let energy_warnings_at =
+        |limits| energy_warnings(design, &samplings, &channels, &edge_energy, limits);
+    let strict_kinds = energy_warnings_at(strict).iter().map(|w| w.kind).collect();
+    warnings.extend(energy_warnings_at(&Limits::REPORTED));
     progress.check()?;
     let loss = invertibility_loss(channels.iter().map(|c| &c.mtf.power));
     let period = design.opening.pitch_um + design.tiling.wiring_gap_um;
     progress.set(1.0);
-    Ok(Analysis {
+    let analysis = Analysis {
         open_fraction: open_fraction(&cells),
         ltr: ltr(energy, pupil),
         invertibility_loss: loss,
@@ -277,5 +296,98 @@ pub fn analyze_with(
         pupil_diameter_um: d_um,
         tiles_in_pupil: pupil * op.pupil_sample_um.powi(2) / (period * period),
         channels,
-    })
+    };
+    Ok((analysis, strict_kinds))
+}
+
+/// "2.1 % of channel R's" or "14.1 % of channel R's and 8.8 % of channel G's".
+fn shares(items: &[(f64, &str)]) -> String {
+    let each: Vec<String> = items
+        .iter()
+        .map(|(f, name)| format!("{:.1} % of channel {name}'s", 100.0 * f))
+        .collect();
+    match each.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} and {last}", rest.join(", ")),
+        _ => each.join(""),
+    }
+}
+
+/// The light-outside-window and aliasing warnings, one per kind over all channels.
+fn energy_warnings(
+    design: &Design,
+    samplings: &[Vec<WavelengthSampling>],
+    channels: &[ChannelAnalysis],
+    edge_energy: &[f64],
+    limits: &Limits,
+) -> Vec<SamplingWarning> {
+    let op = &design.optics;
+    let mut out = Vec::new();
+    let outside: Vec<(f64, &str)> = channels
+        .iter()
+        .filter(|c| c.energy_in_window < limits.min_energy_in_window)
+        .map(|c| (1.0 - c.energy_in_window, c.name.as_str()))
+        .collect();
+    if !outside.is_empty() {
+        // The narrowest grid, in sensor pixels, bounds the window.
+        let (grid_px, l) = samplings
+            .iter()
+            .flatten()
+            .map(|s| {
+                (
+                    s.fft_size as f64 / s.binning.samples_per_px as f64,
+                    s.wavelength_nm,
+                )
+            })
+            .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a });
+        let hint = if (op.window_px as f64) < grid_px.round() {
+            format!(
+                "enlarge optics.window_px (the FFT grid at {l} nm allows {:.0})",
+                grid_px.round()
+            )
+        } else {
+            format!(
+                "the window already fills the FFT grid at {l} nm: decrease \
+                 optics.pupil_sample_um and enlarge optics.window_px together"
+            )
+        };
+        out.push(SamplingWarning::about_the_crop(
+            WarningKind::LightOutsideWindow,
+            op,
+            &format!(
+                "{} light falls outside the {}-pixel window",
+                shares(&outside),
+                op.window_px
+            ),
+            &format!("the window is smaller than the diffraction orders that carry energy; {hint}"),
+        ));
+    }
+    let aliased: Vec<(f64, &str)> = channels
+        .iter()
+        .zip(edge_energy)
+        .filter(|(_, e)| **e > limits.max_edge_energy)
+        .map(|(c, e)| (*e, c.name.as_str()))
+        .collect();
+    if !aliased.is_empty() {
+        let widths: Vec<String> = channels
+            .iter()
+            .zip(edge_energy)
+            .filter(|(_, e)| **e > limits.max_edge_energy)
+            .map(|(c, _)| {
+                let m = c.fft_sizes.first().copied().unwrap_or(0);
+                format!("{:.0}", m as f64 * c.fine_um)
+            })
+            .collect();
+        out.push(SamplingWarning::about_the_crop(
+            WarningKind::Aliasing,
+            op,
+            &format!(
+                "{} light reaches the edge of the fine grid ({} µm wide) and wraps around (PSF \
+                 aliasing)",
+                shares(&aliased),
+                widths.join(", ")
+            ),
+            "the grid (λf/δ1) is narrower than the light; decrease optics.pupil_sample_um",
+        ));
+    }
+    out
 }

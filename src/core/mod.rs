@@ -1,6 +1,7 @@
 //! The pure simulation core. Nothing here knows about the GUI, files or threads of its own
 //! (rayon's pool is used for data parallelism inside a call).
 
+pub mod advice;
 pub mod analyze;
 pub mod aperture;
 pub mod budget;
@@ -21,6 +22,7 @@ pub mod sampling;
 pub mod sensor;
 pub mod theory;
 pub mod tiling;
+pub mod warning;
 
 pub use analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};
 pub use design::Design;

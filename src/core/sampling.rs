@@ -3,6 +3,7 @@
 
 use super::SimError;
 use super::design::{Design, MAX_FFT_SIZE};
+use super::warning::{SamplingWarning, WarningKind};
 
 /// How fine samples are integrated into sensor pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -109,7 +110,7 @@ pub fn plan(
     design: &Design,
     fine_sample_um: f64,
     fast_sizes: bool,
-    warnings: &mut Vec<String>,
+    warnings: &mut Vec<SamplingWarning>,
 ) -> Result<Vec<Vec<WavelengthSampling>>, SimError> {
     let op = &design.optics;
     let d_um = op.pupil_diameter_um();
@@ -117,6 +118,8 @@ pub fn plan(
     let mut out = Vec::with_capacity(design.channels.len());
     let mut warned_padding = false;
     let mut warned_pixel = false;
+    // The wavelength whose grid the window overshoots most: (excess, λ, M, samples per pixel).
+    let mut beyond: Option<(usize, f64, usize, usize)> = None;
     for ch in &design.channels {
         let mut per = Vec::with_capacity(ch.wavelengths_nm.len());
         let wsum: f64 = ch.weights.iter().sum();
@@ -137,41 +140,51 @@ pub fn plan(
                     ch.name, op.pupil_sample_um
                 )));
             }
-            if !warned_padding && (m as f64) < 2.0 * pupil_samples {
+            // Padding and pixel integration are judged at the design's own δ2, which full
+            // quality uses: the preview's doubled, FFT-friendly spacing pads less and bins a
+            // little off on purpose (its documented trade-off), and advice must not chase that.
+            let lf_um2 = l * op.focal_length_mm;
+            let m_design = fft_size(l, op.focal_length_mm, op.pupil_sample_um, op.fine_sample_um);
+            if !warned_padding && (m_design as f64) < 2.0 * pupil_samples {
                 warned_padding = true;
-                warnings.push(format!(
-                    "pupil zero-padding is only {:.2}× (< 2×) at {l} nm: the PSF is under-sampled; \
-                     decrease optics.fine_sample_um",
-                    m as f64 / pupil_samples
+                warnings.push(SamplingWarning::warning(
+                    WarningKind::UnderPadded,
+                    format!(
+                        "pupil zero-padding is only {:.2}× (< 2×) at {l} nm: the PSF is \
+                         under-sampled; decrease optics.fine_sample_um",
+                        m_design as f64 / pupil_samples
+                    ),
                 ));
             }
-            let lf_um2 = l * op.focal_length_mm;
-            let fine_um = lf_um2 / (m as f64 * op.pupil_sample_um);
-            let spp_f = op.sensor_pixel_um / fine_um;
-            let spp = spp_f.round().max(1.0) as usize;
+            let fine_design_um = lf_um2 / (m_design.max(1) as f64 * op.pupil_sample_um);
+            let spp_design = (op.sensor_pixel_um / fine_design_um).round().max(1.0);
             if !warned_pixel
-                && ((spp as f64 * fine_um - op.sensor_pixel_um).abs() > 0.02 * op.sensor_pixel_um)
+                && ((spp_design * fine_design_um - op.sensor_pixel_um).abs()
+                    > 0.02 * op.sensor_pixel_um)
             {
                 warned_pixel = true;
-                warnings.push(format!(
-                    "the sensor pixel ({} µm) is not a whole number of fine samples ({fine_um:.4} µm): \
-                     pixels are integrated over {spp} samples = {:.3} µm",
-                    op.sensor_pixel_um,
-                    spp as f64 * fine_um
+                warnings.push(SamplingWarning::warning(
+                    WarningKind::PixelNotWhole,
+                    format!(
+                        "the sensor pixel ({} µm) is not a whole number of fine samples \
+                         ({fine_design_um:.4} µm): pixels are integrated over {spp_design} \
+                         samples = {:.3} µm; set optics.fine_sample_um to the pixel divided by a \
+                         whole number",
+                        op.sensor_pixel_um,
+                        spp_design * fine_design_um
+                    ),
                 ));
             }
+            let fine_um = lf_um2 / (m as f64 * op.pupil_sample_um);
+            let spp = (op.sensor_pixel_um / fine_um).round().max(1.0) as usize;
             let phase = [
                 ((op.axis_in_pixel_um[0] / fine_um).floor().max(0.0) as usize).min(spp - 1),
                 ((op.axis_in_pixel_um[1] / fine_um).floor().max(0.0) as usize).min(spp - 1),
             ];
             let window_fine = op.window_px * spp;
             // A couple of missing fine samples at the rim (the thesis recipe's blue channel) are noise.
-            if window_fine > m + 2 * spp {
-                warnings.push(format!(
-                    "the sensor window ({} px = {} fine samples) is larger than the FFT grid at {l} nm \
-                     ({m} samples): its edges are empty",
-                    op.window_px, window_fine
-                ));
+            if window_fine > m + 2 * spp && beyond.is_none_or(|(e, ..)| window_fine - m > e) {
+                beyond = Some((window_fine - m, l, m, spp));
             }
             per.push(WavelengthSampling {
                 wavelength_nm: l,
@@ -186,6 +199,23 @@ pub fn plan(
             });
         }
         out.push(per);
+    }
+    if let Some((_, l, m, spp)) = beyond {
+        warnings.push(SamplingWarning::about_the_crop(
+            WarningKind::WindowBeyondGrid,
+            op,
+            &format!(
+                "the sensor window ({} px = {} fine samples) is larger than the FFT grid at {l} nm \
+                 ({m} samples)",
+                op.window_px,
+                op.window_px * spp
+            ),
+            &format!(
+                "its edges are empty; shrink optics.window_px to {:.0} or decrease \
+                 optics.pupil_sample_um",
+                (m as f64 / spp as f64).round()
+            ),
+        ));
     }
     Ok(out)
 }

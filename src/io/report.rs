@@ -5,6 +5,7 @@ use serde_json::{Value, json};
 
 use crate::core::Analysis;
 use crate::core::analyze::Quality;
+use crate::core::warning::{OpticsField, SamplingWarning};
 
 /// Analysis reports keep 9 significant digits.
 fn r(v: f64) -> f64 {
@@ -13,6 +14,41 @@ fn r(v: f64) -> f64 {
 
 fn rs(v: &[f64]) -> Vec<f64> {
     v.iter().map(|x| r(*x)).collect()
+}
+
+/// The `warnings` array of a report: each warning's message, a plain string.
+pub fn warning_messages(warnings: &[SamplingWarning]) -> Vec<&str> {
+    warnings.iter().map(|w| w.message.as_str()).collect()
+}
+
+/// The `advice` array of a report, parallel to `warnings`: per warning its `kind`
+/// (`light-outside-window`, …), `severity` (`note` or `warning`), `message`, and `fix`: `null`,
+/// or `{"summary": "δ1 8 → 4 µm, window 294 → 588 px", "set": {"optics.pupil_sample_um": 4.0,
+/// "optics.window_px": 588}}`, the design-file values to set.
+pub fn advice_json(warnings: &[SamplingWarning]) -> Value {
+    let each = warnings.iter().map(|w| {
+        let fix = w.fix.as_ref().map(|f| {
+            let set: serde_json::Map<String, Value> = f
+                .changes
+                .iter()
+                .map(|c| {
+                    let v = match c.field {
+                        OpticsField::Window => json!(c.to.round() as u64),
+                        OpticsField::PupilSample | OpticsField::FineSample => json!(c.to),
+                    };
+                    (c.field.path().to_string(), v)
+                })
+                .collect();
+            json!({ "summary": f.summary(), "set": set })
+        });
+        json!({
+            "kind": w.kind.as_str(),
+            "severity": w.severity.as_str(),
+            "message": w.message,
+            "fix": fix,
+        })
+    });
+    Value::Array(each.collect())
 }
 
 /// The JSON object printed by `analyze --json`.
@@ -45,7 +81,8 @@ pub fn analysis_json(a: &Analysis) -> Value {
         "open_fraction": r(a.open_fraction),
         "ltr": r(a.ltr),
         "invertibility_loss": r(a.invertibility_loss),
-        "warnings": a.warnings,
+        "warnings": warning_messages(&a.warnings),
+        "advice": advice_json(&a.warnings),
         "elapsed_ms": (a.elapsed_ms * 1000.0).round() / 1000.0,
         "quality": match a.quality { Quality::Full => "full", Quality::Preview => "preview" },
         "window_px": a.window_px,

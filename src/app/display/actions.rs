@@ -61,6 +61,12 @@ impl DisplayWorkspace {
     pub(super) fn apply_one(&mut self, c: Command, confirmed: bool, shell: &mut Shell) {
         match c {
             Command::Edit(d) => self.edit_design(*d),
+            Command::SetOptics(optics) => {
+                let mut d = self.doc.design().clone();
+                d.optics = optics;
+                self.edit_design(d);
+                shell.set_status(Notice::info("optics changed as advised (Ctrl+Z undoes it)"));
+            }
             Command::Undo => {
                 if self.doc.undo() {
                     self.submit();

@@ -19,7 +19,8 @@ const FIELDS: &[(&str, &str)] = &[
     ("tiling.mode", "Tiling > mode"),
 ];
 
-/// `message` with every design field it names replaced by the label the studio shows.
+/// `message` with every design field it names replaced by the label the studio shows, and its
+/// arrows in words the studio's font can draw.
 pub fn in_ui_words(message: &str) -> String {
     let mut out = message.to_string();
     for (field, label) in FIELDS {
@@ -28,7 +29,9 @@ pub fn in_ui_words(message: &str) -> String {
             .replace(&format!("`{field}`"), label)
             .replace(field, label);
     }
-    out
+    // The studio's proportional font (Ubuntu Light) has no arrow: "δ1 8 → 4 µm" reads
+    // "δ1 8 to 4 µm".
+    out.replace(" → ", " to ")
 }
 
 #[cfg(test)]
@@ -46,5 +49,9 @@ mod tests {
             "Optics > Pupil sampling δ1 must be positive"
         );
         assert_eq!(in_ui_words("no field here"), "no field here");
+        assert_eq!(
+            in_ui_words("optics.window_px: 294 → 588 px"),
+            "Optics > Window: 294 to 588 px"
+        );
     }
 }

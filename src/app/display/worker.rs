@@ -1,11 +1,13 @@
 //! The simulation worker: a named thread that takes the newest job, computes a fast preview and
-//! then full quality, and wakes the UI. A newer job cancels the running one (generation numbers
-//! tell stale results apart). The UI thread never calls the simulation.
+//! then full quality (with the advice for its sampling warnings), and wakes the UI. A newer job
+//! cancels the running one (generation numbers tell stale results apart). The UI thread never
+//! calls the simulation.
 
 use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
+use crate::core::advice::advise;
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::{Analysis, Design, Progress, SimError};
 
@@ -185,7 +187,14 @@ fn worker_loop(
                 quality,
                 expected_psf: true,
             };
-            let result = analyze_with(&design, &options, &progress);
+            let mut result = analyze_with(&design, &options, &progress);
+            // Advice analyses candidates of its own: only for the result that stays on screen.
+            if quality == Quality::Full
+                && let Ok(a) = &mut result
+                && let Err(e) = advise(&design, &mut a.warnings, &progress)
+            {
+                result = Err(e);
+            }
             let cancelled = matches!(result, Err(SimError::Cancelled));
             if !cancelled {
                 let failed = result.is_err();

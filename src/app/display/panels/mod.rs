@@ -1,6 +1,7 @@
 //! The studio's panels. Each is a self-contained struct; it reads the document and the shown
 //! result through [`PanelCtx`] and changes things only by pushing [`Command`]s.
 
+pub mod advice;
 pub mod editor;
 pub mod mask_export;
 pub mod numbers;

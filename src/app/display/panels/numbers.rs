@@ -79,11 +79,6 @@ impl NumbersPanel {
                 ui.end_row();
             }
         });
-        for w in &a.warnings {
-            ui.colored_label(
-                ui.visuals().warn_fg_color,
-                format!("Warning: {}", crate::app::display::labels::in_ui_words(w)),
-            );
-        }
+        super::advice::warnings_ui(ui, ctx, shown);
     }
 }

@@ -2,6 +2,8 @@
 
 use super::PanelCtx;
 use crate::app::commands::Command;
+// The advice's limits are these fields' ranges: a fix the fields would clamp is no fix.
+use crate::core::advice::{MAX_FIX_WINDOW_PX, MIN_FIX_FINE_SAMPLE_UM, MIN_FIX_PUPIL_SAMPLE_UM};
 use crate::core::design::{Channel, Design, OpticsRecipe};
 
 /// The Optics panel: recipe, focal length, f-number, sampling, sampling phase and colour
@@ -62,12 +64,12 @@ impl OpticsPanel {
             ui.label("Pupil diameter");
             ui.label(format!("{:.3} mm", o.pupil_diameter_um() / 1000.0));
             ui.end_row();
-            dragging |= num(ui, "Pupil sampling δ1", &mut o.pupil_sample_um, 0.25..=64.0, 0.05, " µm", "Pupil/display sample spacing (µm); must resolve the display cells");
-            dragging |= num(ui, "Fine PSF spacing δ2", &mut o.fine_sample_um, 0.05..=8.0, 0.01, " µm", "Target fine PSF spacing on the sensor (µm); FFT size M = 2·floor(λf/(2 δ1 δ2))");
+            dragging |= num(ui, "Pupil sampling δ1", &mut o.pupil_sample_um, MIN_FIX_PUPIL_SAMPLE_UM..=64.0, 0.05, " µm", "Pupil/display sample spacing (µm); must resolve the display cells");
+            dragging |= num(ui, "Fine PSF spacing δ2", &mut o.fine_sample_um, MIN_FIX_FINE_SAMPLE_UM..=8.0, 0.01, " µm", "Target fine PSF spacing on the sensor (µm); FFT size M = 2·floor(λf/(2 δ1 δ2))");
             dragging |= num(ui, "Sensor pixel", &mut o.sensor_pixel_um, 0.2..=20.0, 0.01, " µm", "Sensor pixel pitch (µm)");
             ui.label("Window");
             let r = ui
-                .add(crate::app::widgets::number(&mut o.window_px).range(8..=2048).suffix(" px"))
+                .add(crate::app::widgets::number(&mut o.window_px).range(8..=MAX_FIX_WINDOW_PX).suffix(" px"))
                 .on_hover_text("Side of the square PSF window, in sensor pixels");
             dragging |= r.dragged();
             ui.end_row();
