@@ -120,7 +120,7 @@ fn the_default_presets_fix_leaves_a_full_quality_analysis_without_warnings() {
 
 #[test]
 fn no_preset_opens_with_a_warning() {
-    for (name, _) in presets::list() {
+    for (name, _, _) in presets::list() {
         let d = load_preset(name).unwrap();
         // The studio shows the preview first, then the full result with its advice.
         let preview = analysis(&d, Quality::Preview);
