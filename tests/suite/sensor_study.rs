@@ -138,3 +138,40 @@ fn the_csv_holds_every_capture_with_its_bins() {
             .all(|r| r[0] == "modes" && r[8].is_empty())
     );
 }
+
+#[test]
+fn the_study_view_runs_shows_every_capture_and_exports_csv() {
+    use crate::common::{self, step_until};
+    use egui_kittest::kittest::Queryable;
+    use udc_studio::app::WorkspaceId;
+    use udc_studio::app::sensor::SensorView;
+
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, std::time::Duration::from_secs(600));
+    h.state_mut().set_workspace(WorkspaceId::Sensor);
+    step_until(&mut h, "the sample scene", |app| {
+        app.sensor_ref().scene_name().is_some()
+    });
+    h.state_mut().sensor().view = SensorView::Study;
+    h.step();
+    h.get_by_label("Run the study").click();
+    step_until(&mut h, "the study", |app| {
+        app.sensor_ref().study.study().is_some()
+    });
+    let study = h.state().sensor_ref().study.study().unwrap().clone();
+    // Every capture on screen with its SSIM; 8 light levels × 4 bins + 3 modes × 2 gains × 4.
+    assert_eq!(study.sweep.len() + study.modes.len(), 56);
+    assert_eq!(h.query_all_by_label_contains("SSIM 0.").count(), 56);
+    assert!(h.query_by_label("8 e-/µm²").is_none() && h.query_by_label("200 e-/µm²").is_some());
+    let csv = dir.path().join("study.csv");
+    let ctx = h.ctx.clone();
+    h.state_mut().sensor().study.write_csv(csv.clone(), &ctx);
+    step_until(&mut h, "the CSV", |app| {
+        app.sensor_ref()
+            .study
+            .message()
+            .is_some_and(|m| m.text.starts_with("wrote"))
+    });
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 57, "a header and 56 captures");
+}

@@ -72,6 +72,16 @@ fn crop(lum: &Array2<f64>, centre: [usize; 2], side: usize) -> Array2<f64> {
 }
 
 impl StudyView {
+    /// The study on screen, if any.
+    pub fn study(&self) -> Option<&BinStudy> {
+        self.shown.as_ref().map(|s| s.study.as_ref())
+    }
+
+    /// The latest message (progress of a CSV write, an error).
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
     /// Takes the finished study, dialog answers and CSV writes (called every frame from the
     /// workspace, whichever view is on screen).
     pub fn poll(&mut self, ctx: &egui::Context) {
@@ -332,6 +342,7 @@ fn thumb_ui(
                 Stroke::new(2.0, PREDICTED),
                 egui::StrokeKind::Outside,
             );
+            ui.add_space(6.0);
         }
         let sat = if c.saturated_fraction > 0.0 {
             format!(", {:.1} % sat.", 100.0 * c.saturated_fraction)
