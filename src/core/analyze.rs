@@ -110,7 +110,7 @@ pub struct Analysis {
     /// `L_inv`, pooled over the channels (eq. 3.9).
     pub invertibility_loss: f64,
     /// Sampling and energy warnings and notes, one per kind, naming design fields by their paths;
-    /// [`crate::core::advice::advise`] adds their fixes.
+    /// `advice::advise` adds their fixes.
     pub warnings: Vec<SamplingWarning>,
     /// Wall-clock time of the analysis, ms.
     pub elapsed_ms: f64,

@@ -1,6 +1,6 @@
 //! Sampling warnings as data: what is wrong ([`WarningKind`]), how much it matters
 //! ([`Severity`]), the message in the design file's field words (the studio maps them to its
-//! labels) and, once [`crate::core::advice::advise`] has found one, a [`Fix`]: the optics to
+//! labels) and, once `advice::advise` has found one, a [`Fix`]: the optics to
 //! apply, checked to resolve the warning without raising a new one.
 //!
 //! **Severity.** The thesis recipe (`iccp21`) crops every PSF to its 294-pixel window
@@ -253,7 +253,7 @@ pub struct SamplingWarning {
     /// The message, naming design fields by their paths (`optics.window_px`); when no fix
     /// exists it also says why.
     pub message: String,
-    /// The optics that resolve it, once [`crate::core::advice::advise`] found them.
+    /// The optics that resolve it, once `advice::advise` found them.
     pub fix: Option<Fix>,
 }
 

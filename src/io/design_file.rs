@@ -17,8 +17,8 @@ use serde::{Deserialize, Serialize};
 use super::IoError;
 use super::safe_file::read_text_bounded;
 use super::safe_file::write_atomic;
+use crate::core::design::Theory;
 use crate::core::design::{Channel, Design, Opening, Optics, Tiling};
-use crate::core::theory::Theory;
 
 /// The `format` field every design file carries.
 pub const FORMAT: &str = "udc-studio-design";

@@ -12,6 +12,7 @@ mod cli_restore;
 mod cli_sensor;
 mod corpus;
 mod design_file;
+mod drop;
 mod expected_psf;
 mod io_files;
 mod layouts;

@@ -85,6 +85,27 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
         PhaseWorkspace::save_now_blocking(self);
     }
 
+    /// Photos go to the capture view, CSV files become the sensor response; anything else is
+    /// left to the other workspaces (a design `.json` to the display, an HDR to the sensor).
+    fn open_dropped(&mut self, path: &std::path::Path, shell: &mut crate::app::Shell) -> bool {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "png" | "jpg" | "jpeg" | "tif" | "tiff" => {
+                self.view = super::PhaseView::Capture;
+                self.load_capture_photo(path.to_path_buf(), &shell.ctx);
+                true
+            }
+            "csv" => {
+                self.load_response_from(path.to_path_buf(), &shell.ctx);
+                true
+            }
+            _ => false,
+        }
+    }
+
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }

@@ -6,7 +6,10 @@ use serde::{Deserialize, Serialize};
 
 use super::SimError;
 
+mod theory;
 mod validate;
+
+pub use theory::Theory;
 
 /// Largest opening grid the studio accepts (cells per side).
 pub const MAX_CELLS: usize = 512;
@@ -42,7 +45,7 @@ pub struct Design {
     /// The analytic pattern a teaching design is compared with (the Theory view); designs
     /// without one compare with their own diffraction orders.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub theory: Option<crate::core::theory::Theory>,
+    pub theory: Option<Theory>,
 }
 
 /// One display pixel's opening: an `N×N` grid of amplitude transmittance in `[0, 1]`.

@@ -1,0 +1,67 @@
+//! Drag and drop works wherever a file can be opened: the active workspace takes what it can
+//! open, else the first that can, which is then shown.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use crate::common::{self, step_until};
+use udc_studio::app::WorkspaceId;
+use udc_studio::app::phase::PhaseView;
+
+fn asset(p: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("assets").join(p)
+}
+
+/// A file as the window system hands it over.
+#[derive(Debug)]
+struct Dropped(PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+fn drop_file(h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>, path: PathBuf) {
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(path)));
+    h.step();
+}
+
+#[test]
+fn each_dropped_file_reaches_the_workspace_that_opens_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.step();
+    // An HDR scene dropped on the display opens the sensor previewer with it.
+    drop_file(&mut h, asset("hdr/StillLife_620x423.exr"));
+    assert_eq!(h.state().workspace(), WorkspaceId::Sensor);
+    step_until(&mut h, "the dropped scene", |app| {
+        app.sensor_ref().scene_name() == Some("StillLife_620x423.exr")
+    });
+    // A photo dropped on the phase workspace becomes its capture photo, not a display opening.
+    h.state_mut().set_workspace(WorkspaceId::Phase);
+    h.step();
+    drop_file(&mut h, asset("photos/coffee_256.png"));
+    assert_eq!(h.state().workspace(), WorkspaceId::Phase);
+    assert_eq!(h.state().phase_ref().view, PhaseView::Capture);
+    step_until(&mut h, "the dropped photo", |app| {
+        app.phase_ref().capture_photo_name() == Some("coffee_256.png")
+    });
+    // A response CSV dropped there becomes the sensor response.
+    drop_file(&mut h, asset("spectral/thesis_sensor_response.csv"));
+    step_until(&mut h, "the dropped response", |app| {
+        app.phase_ref().custom_response().is_some()
+    });
+    // A design file goes to the display, wherever it is dropped.
+    let design = dir.path().join("d.json");
+    std::fs::write(&design, udc_studio::io::presets::PRESETS[0].text).unwrap();
+    drop_file(&mut h, design);
+    assert_eq!(h.state().workspace(), WorkspaceId::Display);
+}
