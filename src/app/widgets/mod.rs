@@ -2,6 +2,7 @@
 
 pub mod colormap;
 pub mod photo;
+pub mod plot;
 
 use crate::app::notice::Notice;
 
