@@ -29,7 +29,7 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     assert!(h.state().mask_export().is_open());
     // One T-OLED pixel: the slit is one rectangle of 40 × 168 µm.
     assert!(
-        h.query_by_label("1 in 1 orientations").is_some(),
+        h.query_by_label("1 in 1 orientation").is_some(),
         "pixel count"
     );
     assert!(h.query_by_label("Open area").is_some());
@@ -47,14 +47,19 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     h.step();
     assert_eq!(h.state().mask_export().options().spec.tone, Tone::Chrome);
     assert!(
-        h.query_by_label("496 in 1 orientations").is_some(),
+        h.query_by_label("496 in 1 orientation").is_some(),
         "pupil pixels"
     );
     // The dialog shows what the writer's estimate says for these options.
     let options = h.state().mask_export().options().clone();
     let layout = plan(h.state().design(), &options).unwrap();
     let counts = estimate(&layout, &options);
-    let refs = format!("{} single, {} arrays", counts.references, counts.arrays);
+    let arrays = if counts.arrays == 1 {
+        "array"
+    } else {
+        "arrays"
+    };
+    let refs = format!("{} single, {} {arrays}", counts.references, counts.arrays);
     assert!(h.query_by_label(&refs).is_some(), "{refs}");
     // Without native dialogs the Export… button reports it; the command writes directly.
     h.get_by_label("Export…").click();

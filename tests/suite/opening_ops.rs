@@ -379,6 +379,54 @@ fn a_fast_drag_is_one_edit_without_gaps() {
     assert_eq!(open_fraction(&cells), 14.0 / 441.0);
 }
 
+/// A press whose first move arrives in the same frame (a quick flick) paints from the pressed
+/// cell, not from where the pointer already is; and the frame that ends the stroke still draws
+/// it, since the document only takes the edit after that frame.
+#[test]
+fn a_press_that_moves_in_its_first_frame_keeps_the_pressed_cell() {
+    let mut h = harness(Tool::Paint, 0.0);
+    h.hover_at(at(&h, 2, 2));
+    h.run();
+    // Both events in one frame, as a windowing system batches them (`Harness::event` would
+    // run a frame for each).
+    let (a, b) = (at(&h, 2, 2), at(&h, 2, 6));
+    h.input_mut().events.extend([
+        egui::Event::PointerButton {
+            pos: a,
+            button: PointerButton::Primary,
+            pressed: true,
+            modifiers: egui::Modifiers::NONE,
+        },
+        egui::Event::PointerMoved(b),
+    ]);
+    h.step();
+    h.event(egui::Event::PointerMoved(at(&h, 2, 9)));
+    h.step();
+    pointer(&h, at(&h, 2, 9), PointerButton::Primary, false);
+    h.step();
+    let cells = single_edit(&h);
+    assert_eq!(
+        open_extent(&cells),
+        Some((2, 2, 2, 9)),
+        "cells (2, 2)…(2, 9)"
+    );
+    assert_eq!(open_fraction(&cells), 8.0 / 441.0);
+    assert_eq!(
+        h.state().panel.shown_cells(),
+        Some(cells.as_slice()),
+        "the release frame draws the stroke, not the cells from before it"
+    );
+    // Once the document has the edit, the grid shows the document.
+    h.state_mut().design.opening.cells = cells.clone();
+    h.state_mut().commands.clear();
+    h.run();
+    assert_eq!(h.state().panel.shown_cells(), Some(cells.as_slice()));
+    assert!(
+        h.state().commands.is_empty(),
+        "the stroke is committed once"
+    );
+}
+
 #[test]
 fn secondary_drag_with_paint_erases() {
     let mut h = harness(Tool::Paint, 1.0);

@@ -302,6 +302,70 @@ fn optimized_opening_beats_toled_at_the_same_open_fraction() {
     );
 }
 
+/// A run's summary scores are what `analyze` reports for its start and its result, at full
+/// quality and at the run's own (preview) sampling. The last epoch is not the result: its loss
+/// is of the mask before the last step, thresholded at that epoch's area target, and a run
+/// stopped early thresholds the result at the final open fraction instead.
+#[test]
+fn a_runs_scores_are_the_analysis_of_its_start_and_its_result() {
+    let d = small(toled(TilingMode::RandomD4));
+    let settings = OptimizeSettings {
+        epochs: 40,
+        target_open_fraction: 0.3,
+        area_every_epochs: 1,
+        area_step: 0.05,
+        quality: Quality::Preview,
+        ..Default::default()
+    };
+    // Stopped after 4 epochs, while the area target is still 0.85.
+    let out = optimize(&d, &settings, None, &Progress::new(), |r| {
+        if r.epoch == 3 {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    })
+    .unwrap();
+    assert!(out.stopped_early);
+    let analysis = |design: &Design, quality| {
+        let options = AnalyzeOptions {
+            quality,
+            expected_psf: false,
+        };
+        analyze_with(design, &options, &Progress::new()).unwrap()
+    };
+    for (scores, quality) in [
+        (&out.at_full_quality, Quality::Full),
+        (&out.at_run_quality, Quality::Preview),
+    ] {
+        assert_eq!(scores.quality, quality);
+        let (start, result) = (analysis(&d, quality), analysis(&out.design, quality));
+        let s = scores.start.expect("the T-OLED lets light through");
+        assert!(
+            (s.loss_inv - start.invertibility_loss).abs() < 1e-9,
+            "{quality:?} start: {} vs {}",
+            s.loss_inv,
+            start.invertibility_loss
+        );
+        assert!(
+            (scores.result.loss_inv - result.invertibility_loss).abs() < 1e-9,
+            "{quality:?} result: {} vs {}",
+            scores.result.loss_inv,
+            result.invertibility_loss
+        );
+        assert!((scores.result.open_fraction - result.open_fraction).abs() < 1e-12);
+        assert!((s.open_fraction - start.open_fraction).abs() < 1e-12);
+    }
+    // The two samplings disagree, which is why the summary names its own.
+    assert!(
+        (out.at_full_quality.result.loss_inv - out.at_run_quality.result.loss_inv).abs() > 1e-6
+    );
+    // The last epoch's loss is of another pattern than the result's.
+    let last = out.history.last().unwrap();
+    assert!((last.area_target - 0.85).abs() < 1e-12);
+    assert!((last.loss_inv - out.at_run_quality.result.loss_inv).abs() > 1e-6);
+}
+
 #[test]
 fn stopping_early_returns_the_run_so_far_and_cancel_aborts() {
     let d = small(toled(TilingMode::Repeat));

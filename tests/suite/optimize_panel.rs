@@ -19,6 +19,7 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
         .command(Command::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
     let before = h.state().design().clone();
+    let loss_before = h.state().shown().unwrap().analysis.invertibility_loss;
     h.state_mut().show_left_tab(LeftTab::Optimize);
     {
         let s = h.state_mut().optimizer_settings();
@@ -54,10 +55,37 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     assert!(data.iter().all(Option::is_some), "{data:?}");
     assert!(h.query_by_label("Apply as new design").is_some());
     assert_eq!(h.state().design(), &before, "nothing changes before Apply");
+    // The summary's full-quality start is what the numbers showed before the run.
+    let scores = h
+        .state()
+        .optimizer()
+        .finished()
+        .unwrap()
+        .result
+        .at_full_quality;
+    let start = scores.start.unwrap().loss_inv;
+    assert!(
+        (start - loss_before).abs() < 1e-9,
+        "{start} vs {loss_before}"
+    );
+    let result = format!("{:.4}", scores.result.loss_inv);
+    assert!(
+        h.query_all_by_label(&result).next().is_some(),
+        "the summary shows the result's L_inv {result}"
+    );
     h.get_by_label("Apply as new design").click();
     h.step();
     h.step();
     let after = h.state().design().clone();
+    // Applied, the numbers show the very L_inv the summary promised.
+    step_until(&mut h, "the applied result", StudioApp::is_up_to_date);
+    let shown = h.state().shown().unwrap().analysis.invertibility_loss;
+    assert!(
+        (shown - scores.result.loss_inv).abs() < 1e-9,
+        "summary {} vs numbers {shown}",
+        scores.result.loss_inv
+    );
+    assert!(h.query_all_by_label(&result).next().is_some());
     let open = after
         .opening
         .cells

@@ -9,6 +9,7 @@ use crate::common::step_until;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use udc_studio::app::panels::views::ViewTab;
 use udc_studio::app::{Command, StudioApp};
 use udc_studio::core::design::TilingMode;
 
@@ -94,6 +95,77 @@ fn drawing_changes_the_design_and_undo_restores_it() {
     );
     h.step();
     assert_eq!(h.state().design(), &after);
+}
+
+/// A flick (the press and the first move in one frame) paints its first cell, and no frame
+/// shows the opening without the stroke once the button is up.
+#[test]
+fn a_quick_stroke_keeps_its_first_cell_and_does_not_blink() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    let before = h.state().design().opening.cells.clone();
+    assert!((1..=6).all(|c| before[3][c] == 0.0));
+    let (a, b, c) = (
+        cell_centre(&h, 3, 1),
+        cell_centre(&h, 3, 4),
+        cell_centre(&h, 3, 6),
+    );
+    h.hover_at(a);
+    h.step();
+    let button = |pos, pressed| egui::Event::PointerButton {
+        pos,
+        button: egui::PointerButton::Primary,
+        pressed,
+        modifiers: Default::default(),
+    };
+    // The press and the first move in one frame (`Harness::event` would run a frame each).
+    h.input_mut()
+        .events
+        .extend([button(a, true), egui::Event::PointerMoved(b)]);
+    h.step();
+    h.event(egui::Event::PointerMoved(c));
+    h.step();
+    h.event(button(c, false));
+    h.step();
+    let after = h.state().design().opening.cells.clone();
+    assert_eq!(after[3][1..=6], [1.0; 6], "cells (3, 1)…(3, 6) painted");
+    let opened = |cells: &[Vec<f64>]| cells.iter().flatten().filter(|v| **v == 1.0).count();
+    assert_eq!(opened(&after), opened(&before) + 6);
+    // The frame of the release drew what the document now holds.
+    assert_eq!(
+        h.state().editor().shown_cells(),
+        Some(after.as_slice()),
+        "the stroke stays on screen"
+    );
+    h.step();
+    assert_eq!(h.state().editor().shown_cells(), Some(after.as_slice()));
+}
+
+/// Pinned and edited, A and B carry one design name; the Compare tab names them apart.
+#[test]
+fn compare_names_the_pinned_and_the_edited_design_apart() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    h.state_mut().command(Command::PinCompare);
+    step_until(&mut h, "the pin", |app| app.pinned().is_some());
+    let name = h.state().design().name.clone();
+    let pinned_at = h.state().pinned().unwrap().pinned_at.clone();
+    assert_eq!(pinned_at.len(), 5, "HH:MM, got {pinned_at}");
+    h.state_mut().command(Command::Invert);
+    step_until(&mut h, "the edited result", StudioApp::is_up_to_date);
+    h.state_mut().views().set_tab(ViewTab::Compare);
+    h.step();
+    h.step();
+    let a = format!("A: {name} (pinned {pinned_at})");
+    let b = format!("B: {name} (current, edited: opening)");
+    assert!(h.query_by_label(&a).is_some(), "{a}");
+    assert!(h.query_by_label(&b).is_some(), "{b}");
 }
 
 #[test]

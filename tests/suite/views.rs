@@ -9,9 +9,10 @@ use std::sync::Arc;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::commands::{Command, Tool};
+use udc_studio::app::panels::numbers::NumbersPanel;
 use udc_studio::app::panels::views::{ViewTab, ViewsPanel};
 use udc_studio::app::panels::{PanelCtx, Pinned, Shown};
-use udc_studio::core::analyze::{Quality, analyze};
+use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze, analyze_with};
 use udc_studio::core::design::{Design, TilingMode};
 use udc_studio::core::{Analysis, Progress};
 use udc_studio::io::presets::load_preset;
@@ -186,12 +187,22 @@ fn compare_tab_pins_and_shows_a_and_b() {
     // The shell answers the command by pinning the result.
     let s = h.state_mut();
     let current = s.shown.clone().expect("shown");
-    s.pinned = Some(Pinned {
-        design: current.design.clone(),
-        analysis: current.analysis.clone(),
-    });
+    s.pinned = Some(Pinned::now(
+        current.design.clone(),
+        current.analysis.clone(),
+    ));
+    let at = s.pinned.as_ref().unwrap().pinned_at.clone();
     h.step();
     h.step();
+    let name = &current.design.name;
+    assert!(
+        h.query_by_label(&format!("A: {name} (pinned {at})"))
+            .is_some()
+    );
+    assert!(
+        h.query_by_label(&format!("B: {name} (current, same as A)"))
+            .is_some()
+    );
     assert!(h.query_by_label("A (pinned)").is_some());
     assert!(h.query_by_label("B − A").is_some());
     assert!(h.query_by_label("R AUC").is_some());
@@ -261,4 +272,93 @@ fn the_theory_tab_agrees_on_a_slit_then_parts_when_it_is_broken() {
     h.step();
     h.step();
     assert!(h.query_by_label("Theory: grating orders").is_some());
+
+/// The Numbers panel alone, showing `shown`.
+struct NumbersState {
+    panel: NumbersPanel,
+    design: Design,
+    shown: Shown,
+    commands: Vec<Command>,
+}
+
+/// The numbers say which result they are: a preview estimate, with "≈" on what the sampling
+/// changes, until the full-quality result replaces it; the Compare tab says it of B too.
+#[test]
+fn the_quality_label_follows_the_shown_result() {
+    let (design, _) = small_result();
+    for quality in [Quality::Preview, Quality::Full] {
+        let options = AnalyzeOptions {
+            quality,
+            expected_psf: false,
+        };
+        let analysis = analyze_with(&design, &options, &Progress::new()).expect("analysis");
+        let loss = format!("{:.4}", analysis.invertibility_loss);
+        let mut s = shown(&design, analysis, 1);
+        s.quality = quality;
+        let preview = quality == Quality::Preview;
+        let mut h = Harness::builder()
+            .with_size(egui::vec2(400.0, 600.0))
+            .build_ui_state(
+                |ui, st: &mut NumbersState| {
+                    let mut ctx = PanelCtx {
+                        design: &st.design,
+                        shown: Some(&st.shown),
+                        display: None,
+                        pinned: None,
+                        overlays: false,
+                        tool: Tool::default(),
+                        commands: &mut st.commands,
+                    };
+                    st.panel.ui(ui, &mut ctx, None);
+                },
+                NumbersState {
+                    panel: NumbersPanel,
+                    design: design.clone(),
+                    shown: s.clone(),
+                    commands: Vec::new(),
+                },
+            );
+        h.run();
+        let said =
+            |h: &Harness<'_, NumbersState>, text: &str| h.query_by_label_contains(text).is_some();
+        // The spacing is the result's own: about 2 µm in a preview, 1 µm at full quality.
+        let spacing = if preview {
+            "(δ2 = 1.99 µm)"
+        } else {
+            "(δ2 = 1 µm)"
+        };
+        assert_eq!(
+            said(&h, &format!("Preview estimate {spacing}")),
+            preview,
+            "{quality:?}"
+        );
+        assert_eq!(
+            said(&h, &format!("Full quality {spacing}")),
+            !preview,
+            "{quality:?}"
+        );
+        assert_eq!(h.query_by_label(&format!("≈ {loss}")).is_some(), preview);
+        assert_eq!(h.query_by_label(&loss).is_some(), !preview);
+        assert_eq!(h.query_by_label("≈ AUC").is_some(), preview);
+
+        let mut v = harness(State {
+            panel: ViewsPanel::default(),
+            shown: Some(s.clone()),
+            design: design.clone(),
+            pinned: Some(Pinned::now(s.design.clone(), s.analysis.clone())),
+            overlays: false,
+            commands: Vec::new(),
+        });
+        v.state_mut().panel.set_tab(ViewTab::Compare);
+        v.step();
+        v.step();
+        assert_eq!(
+            v.query_by_label_contains("Preview estimate").is_some(),
+            preview
+        );
+        assert_eq!(
+            v.query_by_label_contains("Full quality").is_some(),
+            !preview
+        );
+    }
 }

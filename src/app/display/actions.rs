@@ -158,10 +158,7 @@ impl DisplayWorkspace {
     fn pin(&mut self, shell: &mut Shell) {
         match &self.results.shown {
             Some(s) if s.quality == Quality::Full && s.generation == self.worker.generation() => {
-                self.results.pinned = Some(Pinned {
-                    design: s.design.clone(),
-                    analysis: s.analysis.clone(),
-                });
+                self.results.pinned = Some(Pinned::now(s.design.clone(), s.analysis.clone()));
                 shell.set_status(Notice::info(
                     "pinned as A: keep editing, then look at Compare",
                 ));

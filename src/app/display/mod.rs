@@ -247,10 +247,8 @@ impl DisplayWorkspace {
                         };
                         if quality == Quality::Full && self.results.pin_requested {
                             self.results.pin_requested = false;
-                            self.results.pinned = Some(Pinned {
-                                design: shown.design.clone(),
-                                analysis: shown.analysis.clone(),
-                            });
+                            self.results.pinned =
+                                Some(Pinned::now(shown.design.clone(), shown.analysis.clone()));
                         }
                         self.results.shown = Some(shown);
                         shell.simulation_ok();

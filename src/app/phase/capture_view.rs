@@ -219,7 +219,8 @@ impl PhaseWorkspace {
             ui.horizontal_wrapped(|ui| {
                 cancel = ui.button("Cancel").clicked();
                 ui.spinner();
-                ui.label(format!("{done} of {total} runs, {seconds:.0} s"));
+                let total = crate::app::widgets::counted(total as f64, "run", "runs");
+                ui.label(format!("{done} of {total}, {seconds:.0} s"));
             });
             let overall = (done as f32 + f.min(0.99)) / total.max(1) as f32;
             ui.add(egui::ProgressBar::new(overall).show_percentage());

@@ -269,9 +269,13 @@ impl PhaseWorkspace {
             j.job.cancel();
             self.compare.rows.extend(j.rows.try_iter());
             self.compare.message = Some(Notice::info(format!(
-                "cancelled after {} of {} runs",
+                "cancelled after {} of {}",
                 self.compare.rows.len(),
-                j.run.setups.len() * j.run.photons.len()
+                crate::app::widgets::counted(
+                    (j.run.setups.len() * j.run.photons.len()) as f64,
+                    "run",
+                    "runs"
+                )
             )));
         }
     }
@@ -356,8 +360,8 @@ impl PhaseWorkspace {
             Ok(()) => {
                 self.compare.elapsed_s = job.job.elapsed().as_secs_f64();
                 self.compare.message = Some(Notice::info(format!(
-                    "{} runs in {:.0} s",
-                    self.compare.rows.len(),
+                    "{} in {:.0} s",
+                    crate::app::widgets::counted(self.compare.rows.len() as f64, "run", "runs"),
                     self.compare.elapsed_s
                 )));
             }

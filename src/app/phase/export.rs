@@ -67,9 +67,13 @@ fn describe(s: &phase_export::ExportSummary) -> String {
             s.levels.unwrap_or(0)
         ),
         HeightFormat::Gds => format!(
-            "{} layers, {} rectangles",
-            s.layers.len(),
-            s.rectangles.unwrap_or(0)
+            "{}, {}",
+            crate::app::widgets::counted(s.layers.len() as f64, "layer", "layers"),
+            crate::app::widgets::counted(
+                s.rectangles.unwrap_or(0) as f64,
+                "rectangle",
+                "rectangles"
+            )
         ),
         HeightFormat::Stl => format!("{} triangles", s.triangles.unwrap_or(0)),
     };

@@ -150,8 +150,13 @@ impl PhaseWorkspace {
         let a = &o.allocation;
         let total: usize = a.counts.iter().sum();
         ui.strong(format!(
-            "Allocation: {total} lenslets on {} wavelengths ({} sampling, {:.1} s)",
-            a.counts.iter().filter(|c| **c > 0).count(),
+            "Allocation: {} on {} ({} sampling, {:.1} s)",
+            crate::app::widgets::counted(total as f64, "lenslet", "lenslets"),
+            crate::app::widgets::counted(
+                a.counts.iter().filter(|c| **c > 0).count() as f64,
+                "wavelength",
+                "wavelengths"
+            ),
             o.quality.label(),
             o.elapsed_s
         ));

@@ -307,13 +307,22 @@ impl PhaseWorkspace {
                 });
             }
             Lambda0::Uniform => {
-                ui.weak(format!("{n} lenslets over 401-691 nm in 10-nm steps"));
+                ui.weak(format!(
+                    "{} over 401-691 nm in 10-nm steps",
+                    crate::app::widgets::counted(n as f64, "lenslet", "lenslets")
+                ));
             }
             Lambda0::Counts { counts } => {
                 let used = counts.iter().filter(|c| **c > 0).count();
+                let total = counts.iter().sum::<usize>() as f64;
                 ui.weak(format!(
-                    "{} lenslets on {used} grid wavelengths",
-                    counts.iter().sum::<usize>()
+                    "{} on {}",
+                    crate::app::widgets::counted(total, "lenslet", "lenslets"),
+                    crate::app::widgets::counted(
+                        used as f64,
+                        "grid wavelength",
+                        "grid wavelengths"
+                    )
                 ));
             }
             Lambda0::PerLenslet { nm } => {
@@ -336,7 +345,10 @@ impl PhaseWorkspace {
         };
         if !fits
             && ui
-                .button(format!("Fit the λ0 plan to {n} lenslets"))
+                .button(format!(
+                    "Fit the λ0 plan to {}",
+                    crate::app::widgets::counted(n as f64, "lenslet", "lenslets")
+                ))
                 .on_hover_text("The lenslet count changed with the geometry")
                 .clicked()
         {

@@ -2,7 +2,7 @@
 
 pub mod colormap;
 pub mod photo;
-pub mod ticks;
+pub mod plot;
 
 use crate::app::notice::Notice;
 

@@ -214,6 +214,28 @@ pub struct EpochReport {
     pub mask: Vec<f64>,
 }
 
+/// The losses of one opening as an [`Objective`] sees it, without a step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Score {
+    /// `L_inv`, unweighted (negative; more negative is better).
+    pub loss_inv: f64,
+    /// Data loss, unweighted; `None` without a data set.
+    pub loss_data: Option<f64>,
+    /// Mean transmittance of the cells scored.
+    pub open_fraction: f64,
+}
+
+/// The design a run started from and its result, scored alike at one sampling quality.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Scores {
+    /// The sampling both were scored at.
+    pub quality: Quality,
+    /// The start design's opening (`None` when no light passes it).
+    pub start: Option<Score>,
+    /// The binarised opening of the result.
+    pub result: Score,
+}
+
 /// The outcome of [`optimize`].
 #[derive(Debug, Clone)]
 pub struct Optimized {
@@ -227,6 +249,13 @@ pub struct Optimized {
     pub stopped_early: bool,
     /// Wall-clock time of the run, ms.
     pub elapsed_ms: f64,
+    /// Start and result at the run's own sampling: the scale of [`Optimized::history`].
+    pub at_run_quality: Scores,
+    /// Start and result at full quality: the `L_inv` that [`crate::core::analyze::analyze_with`]
+    /// reports (and the studio's numbers show) for each design. The epochs' losses are those of
+    /// the mask before each step, and a preview run's are at another sampling, so a summary of
+    /// the run must come from here, not from its last epoch.
+    pub at_full_quality: Scores,
 }
 
 fn sigmoid(x: f64) -> f64 {
@@ -293,6 +322,40 @@ impl<'a> Objective<'a> {
             data,
             weights,
             relaxation,
+        })
+    }
+
+    /// The losses of `cells` (`N×N` row-major transmittances) with no gradient.
+    ///
+    /// # Errors
+    /// As [`Model::forward`] (no light through the cells, a bad sampling).
+    pub fn score(&self, cells: &[f64]) -> Result<Score, SimError> {
+        let fwd = self.model.forward(cells)?;
+        let loss_data = self.data.map(|d| d.loss(&fwd.psfs(), false).0);
+        let loss_inv = fwd.loss_inv;
+        self.model.recycle(fwd);
+        Ok(Score {
+            loss_inv,
+            loss_data,
+            open_fraction: cells.iter().sum::<f64>() / cells.len().max(1) as f64,
+        })
+    }
+
+    /// The start's and the result's scores (the start's opening as the simulation sees it,
+    /// polygons included).
+    fn scores(
+        &self,
+        quality: Quality,
+        start: &Design,
+        result: &Design,
+    ) -> Result<Scores, SimError> {
+        let flat = |cells: Vec<Vec<f64>>| cells.into_iter().flatten().collect::<Vec<f64>>();
+        let start_cells = flat(super::aperture::effective_cells(&start.opening));
+        Ok(Scores {
+            quality,
+            // A start that lets no light through has no loss to compare with; the result has.
+            start: self.score(&start_cells).ok(),
+            result: self.score(&flat(result.opening.cells.clone()))?,
         })
     }
 
@@ -450,11 +513,26 @@ pub fn optimize(
         open_fraction(&out.opening.cells),
         design.description
     );
+    progress.check()?;
+    let at_run_quality = objective.scores(settings.quality, design, &out)?;
+    let at_full_quality = match settings.quality {
+        Quality::Full => at_run_quality,
+        Quality::Preview => Objective::new(
+            design,
+            Quality::Full,
+            settings.weights,
+            settings.relaxation,
+            data,
+        )?
+        .scores(Quality::Full, design, &out)?,
+    };
     Ok(Optimized {
         design: out,
         relaxed,
         history,
         stopped_early,
         elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
+        at_run_quality,
+        at_full_quality,
     })
 }

@@ -255,6 +255,11 @@ pub struct MaskReport {
     pub seconds: f64,
 }
 
+/// `n` and its noun in the right number ("1 pixel", "2 pixels").
+fn counted(n: u64, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
+}
+
 impl MaskReport {
     /// The report as lines of text (CLI output, studio status).
     pub fn lines(&self) -> Vec<String> {
@@ -280,10 +285,10 @@ impl MaskReport {
                 o.top_cell
             ),
             format!(
-                "region: {}, {} pixels in {} orientations; pitch {:.3} µm, period {:.3} µm, grid {} nm",
+                "region: {}, {} in {}; pitch {:.3} µm, period {:.3} µm, grid {} nm",
                 o.spec.region.label(),
-                s.tiles,
-                s.orientations,
+                counted(s.tiles, "pixel", "pixels"),
+                counted(s.orientations as u64, "orientation", "orientations"),
                 self.pitch_nm as f64 * 1e-3,
                 self.period_nm as f64 * 1e-3,
                 o.spec.grid_nm
@@ -292,7 +297,11 @@ impl MaskReport {
                 "polygons: {} written ({} vertices), {} per pixel, {} when flattened",
                 c.polygons, c.vertices, s.polygons_per_tile, s.flat_polygons
             ),
-            format!("references: {} single, {} arrays", c.references, c.arrays),
+            format!(
+                "references: {} single, {}",
+                c.references,
+                counted(c.arrays, "array", "arrays")
+            ),
             format!(
                 "open area: {:.6e} µm² of {:.6e} µm² (open fraction {:.6}); LTR {:.4}",
                 s.open_area_um2,

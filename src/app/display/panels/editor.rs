@@ -154,6 +154,11 @@ impl EditorPanel {
         Some(rect.min + vec2((col as f32 + 0.5) * cell, (row as f32 + 0.5) * cell))
     }
 
+    /// The cells the grid shows (the stroke's draft while drawing, else the document's).
+    pub fn shown_cells(&self) -> Option<&[Vec<f64>]> {
+        self.view.as_ref().map(|v| v.cells.as_slice())
+    }
+
     /// Whether a stroke is in progress (the pointer is down on the grid).
     pub fn is_drawing(&self) -> bool {
         self.stroke.is_some()
@@ -283,12 +288,16 @@ impl EditorPanel {
             (self.stroke, self.view) = (None, None);
             return None;
         }
-        self.pointer(ui, &response, ctx, grid, n);
+        let committed = self.pointer(ui, &response, ctx, grid, n);
 
-        let cells = self
-            .stroke
-            .as_ref()
-            .map_or(&ctx.design.opening.cells, |s| &s.draft);
+        // The frame that commits a stroke still draws it: the document takes the edit only
+        // after this frame, and drawing its old cells here would blink the stroke away until
+        // the next repaint (which may wait for the worker's result).
+        let cells = match (&self.stroke, &committed) {
+            (Some(s), _) => &s.draft,
+            (None, Some(draft)) => draft,
+            (None, None) => &ctx.design.opening.cells,
+        };
         refresh_view(&mut self.view, ui.ctx(), cells, cell_colors(ui.visuals()));
         let pointer = response
             .hover_pos()
@@ -338,8 +347,16 @@ impl EditorPanel {
         }
     }
 
-    /// Starts, extends and commits the stroke from the pointer state of this frame.
-    fn pointer(&mut self, ui: &Ui, response: &Response, ctx: &mut PanelCtx, grid: Rect, n: usize) {
+    /// Starts, extends and commits the stroke from the pointer state of this frame; returns
+    /// the cells of a stroke committed in this frame.
+    fn pointer(
+        &mut self,
+        ui: &Ui,
+        response: &Response,
+        ctx: &mut PanelCtx,
+        grid: Rect,
+        n: usize,
+    ) -> Option<Vec<Vec<f64>>> {
         let pos = response
             .interact_pointer_pos()
             .or_else(|| ui.input(|i| i.pointer.latest_pos()));
@@ -356,7 +373,14 @@ impl EditorPanel {
                 ui.input(|i| i.pointer.button_down(PointerButton::Secondary))
             };
             let cells = &ctx.design.opening.cells;
-            let start = clamped_cell(grid, n, p);
+            // The stroke starts where the button went down: when the press and the first move
+            // arrive in one frame, the pointer is already a cell or more further on, and
+            // starting there would skip the pressed cell.
+            let origin = ui
+                .input(|i| i.pointer.press_origin())
+                .filter(|o| grid.contains(*o))
+                .unwrap_or(p);
+            let start = clamped_cell(grid, n, origin);
             self.stroke = Some(Stroke::begin(self, ctx.tool, secondary, cells, start));
         }
         if let (Some(stroke), Some(p)) = (self.stroke.as_mut(), pos) {
@@ -366,10 +390,14 @@ impl EditorPanel {
             // If the design changed under the stroke (e.g. an undo mid-drag), drop the stroke.
             if ctx.design.opening.cells == stroke.base {
                 let mut design = ctx.design.clone();
-                design.opening.cells = stroke.draft;
+                design.opening.cells = stroke.draft.clone();
                 ctx.edit(design);
+                // Draw the next frame from the document, which then holds the stroke.
+                ui.ctx().request_repaint();
+                return Some(stroke.draft);
             }
         }
+        None
     }
 
     fn readouts_ui(&self, ui: &mut Ui, design: &Design, hovered: Option<(usize, usize)>) {

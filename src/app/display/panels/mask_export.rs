@@ -281,7 +281,7 @@ impl MaskExportDialog {
                 .collect();
             ui.painter().add(egui::Shape::closed_line(pts, stroke));
         }
-        ui.small("One pixel: drawn cells, polygon outlines");
+        ui.weak("One pixel: drawn cells, polygon outlines");
         let s = &data.stats;
         let c = &data.counts;
         egui::Grid::new("mask-stats")
@@ -293,17 +293,29 @@ impl MaskExportDialog {
                     ui.monospace(v);
                     ui.end_row();
                 };
+                let n = |v: f64, one: &str, many: &str| crate::app::widgets::counted(v, one, many);
                 row(
                     "Pixels",
-                    format!("{} in {} orientations", s.tiles, s.orientations),
+                    format!(
+                        "{} in {}",
+                        s.tiles,
+                        n(s.orientations as f64, "orientation", "orientations")
+                    ),
                 );
                 row("Polygons", format!("{}", c.polygons));
                 row("Vertices", format!("{}", c.vertices));
                 row(
                     "References",
-                    format!("{} single, {} arrays", c.references, c.arrays),
+                    format!(
+                        "{} single, {}",
+                        c.references,
+                        n(c.arrays as f64, "array", "arrays")
+                    ),
                 );
-                row("Flattened", format!("{} polygons", s.flat_polygons));
+                row(
+                    "Flattened",
+                    n(s.flat_polygons as f64, "polygon", "polygons"),
+                );
                 row("File size", format!("about {}", human_bytes(c.bytes)));
                 row("Open area", format!("{:.4e} µm²", s.open_area_um2));
                 row("Open fraction", format!("{:.4}", s.open_fraction()));
@@ -337,7 +349,7 @@ impl MaskExportDialog {
         match &self.last {
             Some(Ok(lines)) => {
                 for l in lines {
-                    ui.small(l);
+                    ui.label(l);
                 }
             }
             Some(Err(e)) => {

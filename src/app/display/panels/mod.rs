@@ -7,6 +7,7 @@ pub mod mask_export;
 pub mod numbers;
 pub mod optics;
 pub mod optimize;
+pub mod quality;
 pub mod tiling;
 pub mod views;
 
@@ -51,6 +52,19 @@ pub struct Pinned {
     pub design: Arc<Design>,
     /// Its full-quality analysis.
     pub analysis: Arc<Analysis>,
+    /// Local time of day of the pin, `HH:MM`: A and B often share a design name.
+    pub pinned_at: String,
+}
+
+impl Pinned {
+    /// `design` and its full-quality `analysis`, pinned at the present time.
+    pub fn now(design: Arc<Design>, analysis: Arc<Analysis>) -> Self {
+        Pinned {
+            design,
+            analysis,
+            pinned_at: chrono::Local::now().format("%H:%M").to_string(),
+        }
+    }
 }
 
 /// What a panel may look at, and where it sends what it wants done.

@@ -2,7 +2,6 @@
 
 use super::PanelCtx;
 use crate::app::commands::Command;
-use crate::core::analyze::Quality;
 
 /// The Numbers panel: progress, open fraction, LTR, invertibility loss, per-channel MTF areas
 /// and the sampling warnings of the shown result.
@@ -42,14 +41,9 @@ impl NumbersPanel {
         };
         let a = &shown.analysis;
         let d = &shown.design;
-        ui.small(format!(
-            "{} · computed in {:.0} ms",
-            match shown.quality {
-                Quality::Preview => "preview quality",
-                Quality::Full => "full quality",
-            },
-            a.elapsed_ms
-        ));
+        super::quality::badge_ui(ui, shown);
+        // Values that depend on the PSF sampling carry "≈" in a preview.
+        let est = |v: String| super::quality::estimate(shown.quality, v);
         egui::Grid::new("numbers-grid").num_columns(2).striped(true).show(ui, |ui| {
             let row = |ui: &mut egui::Ui, k: &str, v: String, tip: &str| {
                 ui.label(k).on_hover_text(tip);
@@ -58,7 +52,7 @@ impl NumbersPanel {
             };
             row(ui, "Open fraction", format!("{:.2} %", 100.0 * a.open_fraction), "Open area of one pixel (intensity transmittance of the tile)");
             row(ui, "LTR", format!("{:.2} %", 100.0 * a.ltr), "Light transmittance ratio: fraction of the pupil's light that passes the display");
-            row(ui, "Invertibility loss", format!("{:.4}", a.invertibility_loss), "L_inv = −mean of the lowest 30 % of H = |K|²/(|K|²+0.015), pooled over channels (thesis eq. 3.9); lower is better");
+            row(ui, "Invertibility loss", est(format!("{:.4}", a.invertibility_loss)), "L_inv = −mean of the lowest 30 % of H = |K|²/(|K|²+0.015), pooled over channels (thesis eq. 3.9); lower is better");
             row(ui, "Pixel pitch", format!("{:.1} µm ({:.0} DPI)", d.opening.pitch_um, d.opening.dpi()), "Display pixel pitch");
             row(ui, "Tiles in pupil", format!("{:.0}", a.tiles_in_pupil), "Display pixels inside the lens pupil");
         });
@@ -66,9 +60,10 @@ impl NumbersPanel {
         egui::Grid::new("channel-grid").num_columns(5).striped(true).show(ui, |ui| {
             ui.strong("ch");
             ui.strong("λ (nm)").on_hover_text("Peak or mean wavelength");
-            ui.strong("AUC").on_hover_text("Area under the radially-minimum MTF over 0…0.5 cycles/pixel; bigger is more invertible");
-            ui.strong("AUC/0.5").on_hover_text("AUC normalised by the ideal 0.5");
-            ui.strong("in window").on_hover_text("Fraction of the light inside the PSF window");
+            // The headers carry the preview's "≈", so the columns keep their width.
+            ui.strong(est("AUC".into())).on_hover_text("Area under the radially-minimum MTF over 0…0.5 cycles/pixel; bigger is more invertible");
+            ui.strong(est("AUC/0.5".into())).on_hover_text("AUC normalised by the ideal 0.5");
+            ui.strong(est("in window".into())).on_hover_text("Fraction of the light inside the PSF window");
             ui.end_row();
             for c in &a.channels {
                 ui.label(&c.name);

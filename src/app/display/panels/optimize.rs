@@ -9,14 +9,18 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, channel};
 
 use egui::{Color32, Ui};
-use egui_plot::{Legend, Line, Plot, PlotPoints};
+use egui_plot::{Line, Plot, PlotPoints, Points};
 
 use super::PanelCtx;
 use crate::app::job::{Job, JobError};
+use crate::app::widgets::plot::{
+    LegendEntry, Swatch, hidden_names, legend_ui, visible_width, with_nice_ticks,
+};
 use crate::core::Design;
 use crate::core::analyze::Quality;
 use crate::core::optimize::{
-    DataSet, EpochReport, OptimizeSettings, Optimized, Relaxation, Start, binarise, optimize,
+    DataSet, EpochReport, OptimizeSettings, Optimized, Relaxation, Scores, Start, binarise,
+    optimize,
 };
 
 /// A run on its own thread, streaming one report per epoch beside its result.
@@ -30,10 +34,9 @@ struct Run {
 
 /// Finished run waiting to be applied.
 pub struct Finished {
-    /// The optimized design (binarised opening), its history and run time.
+    /// The optimized design (binarised opening), its history, run time and the scores of the
+    /// start and the result that the panel's summary shows.
     pub result: Optimized,
-    /// `L_inv` of the design the run started from, when known.
-    pub start_loss_inv: Option<f64>,
 }
 
 /// Panel state: the settings, the running job, the live history and the last result.
@@ -168,7 +171,7 @@ impl OptimizePanel {
     }
 
     /// Takes the thread's messages; returns true when something changed.
-    pub fn poll(&mut self, start_loss_inv: Option<f64>) -> bool {
+    pub fn poll(&mut self) -> bool {
         let Some(run) = &self.run else {
             return false;
         };
@@ -185,8 +188,8 @@ impl OptimizePanel {
         match result {
             Ok(result) => {
                 self.message = Some(Notice::info(format!(
-                    "{} epochs{} in {:.1} s; apply to use the new opening",
-                    result.history.len(),
+                    "{}{} in {:.1} s; apply to use the new opening",
+                    crate::app::widgets::counted(result.history.len() as f64, "epoch", "epochs"),
                     if result.stopped_early {
                         " (stopped)"
                     } else {
@@ -194,10 +197,7 @@ impl OptimizePanel {
                     },
                     result.elapsed_ms / 1e3
                 )));
-                self.finished = Some(Finished {
-                    result,
-                    start_loss_inv,
-                });
+                self.finished = Some(Finished { result });
             }
             Err(JobError::Cancelled) => {}
             Err(e) => {
@@ -210,11 +210,7 @@ impl OptimizePanel {
     /// Draws the settings, Run/Stop/Cancel, the live loss plot and the result to apply or discard,
     /// and picks up the run's epochs and its end.
     pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
-        let start_loss = ctx
-            .shown
-            .filter(|s| *s.design == *ctx.design)
-            .map(|s| s.analysis.invertibility_loss);
-        self.poll(start_loss);
+        self.poll();
         ui.label(
             "Finds a pixel opening whose blur is easy to invert (thesis §3.4.2), under this \
              design's pitch, tiling (its seed stays fixed) and optics.",
@@ -256,36 +252,13 @@ impl OptimizePanel {
             }
         });
         crate::app::widgets::message_ui(ui, self.message.as_ref());
-        if let Some(last) = self.history.last().cloned() {
-            ui.separator();
-            self.opening_ui(ui, &last);
-            self.loss_plot_ui(ui);
-        }
         if let Some(f) = &self.finished {
             ui.separator();
-            let last = f.result.history.last();
-            let run_sampling = match self.settings.quality {
-                Quality::Preview => "preview",
-                Quality::Full => "full",
-            };
-            egui::Grid::new("optimize_result")
-                .num_columns(2)
-                .show(ui, |ui| {
-                    ui.label("L_inv of the start (full sampling)");
-                    ui.label(f.start_loss_inv.map_or("?".into(), |v| format!("{v:.4}")));
-                    ui.end_row();
-                    ui.label(format!("L_inv optimized ({run_sampling} sampling)"));
-                    ui.label(last.map_or("?".into(), |l| format!("{:.4}", l.loss_inv)));
-                    ui.end_row();
-                    ui.label("open fraction, start -> optimized");
-                    ui.label(format!(
-                        "{:.3} -> {:.3}",
-                        crate::core::metrics::open_fraction(&ctx.design.opening.cells),
-                        crate::core::metrics::open_fraction(&f.result.design.opening.cells)
-                    ));
-                    ui.end_row();
-                });
-            ui.weak("Apply, and the views and numbers show the new opening at full quality.");
+            summary_ui(ui, &f.result);
+            ui.weak(
+                "Apply, and the views and numbers show the new opening with the full-quality \
+                 L_inv above.",
+            );
             let mut apply = false;
             let mut discard = false;
             ui.horizontal(|ui| {
@@ -303,6 +276,13 @@ impl OptimizePanel {
                 self.finished = None;
                 self.message = None;
             }
+        }
+        // The run's story below its outcome: Apply stays in view without scrolling.
+        if let Some(last) = self.history.last().cloned() {
+            ui.separator();
+            let result = self.finished.as_ref().map(|f| &f.result);
+            opening_ui(ui, &mut self.show_relaxed, &last, result);
+            self.loss_plot_ui(ui);
         }
     }
 
@@ -355,7 +335,8 @@ impl OptimizePanel {
                 ui.horizontal(|ui| {
                     ui.selectable_value(&mut s.start, Start::AllOpen, "all open")
                         .on_hover_text("The thesis's choice (its ablation's best)");
-                    ui.selectable_value(&mut s.start, Start::Current, "current opening");
+                    ui.selectable_value(&mut s.start, Start::Current, "current")
+                        .on_hover_text("The current design's opening");
                 });
                 ui.end_row();
                 ui.label("Sampling");
@@ -367,7 +348,7 @@ impl OptimizePanel {
                 });
                 ui.end_row();
                 ui.label("Data loss");
-                ui.checkbox(&mut self.data_loss, "top-10 % L2 on a training photo")
+                ui.checkbox(&mut self.data_loss, "top-10 % L2 (photo)")
                     .on_hover_text(
                         "Restore the built-in training photo (coffee, 256 px) through the \
                          Wiener filter and penalise the worst 10 % of pixels, as the thesis's \
@@ -396,66 +377,211 @@ impl OptimizePanel {
             });
     }
 
-    fn opening_ui(&mut self, ui: &mut Ui, last: &EpochReport) {
-        let n = (last.mask.len() as f64).sqrt() as usize;
-        ui.horizontal(|ui| {
-            ui.label(format!(
-                "Epoch {} of {}: open {:.3} (target {:.3})",
-                last.epoch + 1,
-                last.epochs,
-                last.open_fraction,
-                last.area_target
-            ));
-            ui.checkbox(&mut self.show_relaxed, "grey mask")
-                .on_hover_text("Show the sigmoid mask g instead of the thresholded opening");
-        });
-        let cells: Vec<f64> = if self.show_relaxed {
-            last.mask.clone()
-        } else {
-            binarise(&last.mask, n, last.area_target)
-                .into_iter()
-                .flatten()
-                .collect()
-        };
-        let side = 168.0f32;
-        let (rect, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
-        let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, Color32::BLACK);
-        let cell = side / n.max(1) as f32;
-        for (i, v) in cells.iter().enumerate() {
-            let (r, c) = (i / n.max(1), i % n.max(1));
-            let g = (v.clamp(0.0, 1.0) * 255.0) as u8;
-            if g == 0 {
-                continue;
-            }
-            let min = rect.min + egui::vec2(c as f32 * cell, r as f32 * cell);
-            painter.rect_filled(
-                egui::Rect::from_min_size(min, egui::vec2(cell, cell)),
-                0.0,
-                Color32::from_gray(g),
-            );
-        }
-    }
-
+    /// The losses per epoch at the run's sampling, with the start design and the result
+    /// scored alike as points at both ends; the legend above the plot, clear of the curves.
     fn loss_plot_ui(&self, ui: &mut Ui) {
-        let pts = |f: &dyn Fn(&EpochReport) -> f64| -> PlotPoints {
+        let pts = |f: &dyn Fn(&EpochReport) -> f64| -> Vec<[f64; 2]> {
             self.history
                 .iter()
                 .map(|r| [(r.epoch + 1) as f64, f(r)])
                 .collect()
         };
-        Plot::new("optimize_losses")
-            .legend(Legend::default())
+        let mut series: Vec<(LegendEntry, Vec<[f64; 2]>)> = vec![
+            (
+                LegendEntry::new("L_inv", L_INV, Swatch::Solid(2)),
+                pts(&|r| r.loss_inv),
+            ),
+            (
+                LegendEntry::new("grey-mask mean", Color32::GRAY, Swatch::Solid(1)),
+                pts(&|r| r.open_fraction),
+            ),
+            (
+                LegendEntry::new("area target", AREA, Swatch::Solid(1)),
+                pts(&|r| r.area_target),
+            ),
+        ];
+        if self.history.iter().any(|r| r.loss_data.is_some()) {
+            series.push((
+                LegendEntry::new("L_data", DATA, Swatch::Solid(1)),
+                pts(&|r| r.loss_data.unwrap_or(0.0)),
+            ));
+        }
+        let mut marks: Vec<(LegendEntry, [f64; 2])> = Vec::new();
+        if let Some(f) = &self.finished {
+            let s = &f.result.at_run_quality;
+            if let Some(start) = s.start {
+                marks.push((
+                    LegendEntry::new("L_inv of the start design", START, Swatch::Marker),
+                    [0.0, start.loss_inv],
+                ));
+            }
+            marks.push((
+                LegendEntry::new("L_inv of the result", RESULT, Swatch::Marker),
+                [f.result.history.len() as f64, s.result.loss_inv],
+            ));
+        }
+        let legend_id = ui.make_persistent_id("optimize_losses_legend");
+        let entries: Vec<LegendEntry> = series
+            .iter()
+            .map(|(e, _)| e.clone())
+            .chain(marks.iter().map(|(e, _)| e.clone()))
+            .collect();
+        legend_ui(ui, legend_id, &[entries]);
+        let hidden = hidden_names(ui.ctx(), legend_id);
+        with_nice_ticks(Plot::new("optimize_losses"))
+            .width(visible_width(ui))
             .height(180.0)
             .x_axis_label("epoch")
-            .y_axis_label("value")
+            .y_axis_label("value (no unit)")
             .show(ui, |p| {
-                p.line(Line::new("L_inv", pts(&|r| r.loss_inv)).width(2.0));
-                p.line(Line::new("open fraction", pts(&|r| r.open_fraction)));
-                p.line(Line::new("area target", pts(&|r| r.area_target)));
-                if self.history.iter().any(|r| r.loss_data.is_some()) {
-                    p.line(Line::new("L_data", pts(&|r| r.loss_data.unwrap_or(0.0))));
+                for (e, points) in series
+                    .into_iter()
+                    .filter(|(e, _)| !hidden.contains(&e.name))
+                {
+                    let width = if let Swatch::Solid(w) = e.swatch {
+                        f32::from(w)
+                    } else {
+                        1.0
+                    };
+                    p.line(
+                        Line::new(e.name, PlotPoints::new(points))
+                            .color(e.color)
+                            .width(width),
+                    );
+                }
+                for (e, at) in marks.into_iter().filter(|(e, _)| !hidden.contains(&e.name)) {
+                    p.points(Points::new(e.name, vec![at]).color(e.color).radius(4.0));
                 }
             });
     }
+}
+
+/// The opening of the last epoch, or the result once the run has finished (the result is
+/// the mask after the last step, binarised at the final open fraction: what Apply applies).
+fn opening_ui(
+    ui: &mut Ui,
+    show_relaxed: &mut bool,
+    last: &EpochReport,
+    result: Option<&Optimized>,
+) {
+    let n = (last.mask.len() as f64).sqrt() as usize;
+    ui.horizontal_wrapped(|ui| {
+        ui.label(format!(
+            "Epoch {} of {}: grey-mask mean {:.3}, area target {:.3}",
+            last.epoch + 1,
+            last.epochs,
+            last.open_fraction,
+            last.area_target
+        ))
+        .on_hover_text(
+            "The mean of the sigmoid mask g lags the area target; the opening is g's \
+             brightest cells, as many as the target asks",
+        );
+        ui.checkbox(show_relaxed, "grey mask")
+            .on_hover_text("Show the sigmoid mask g instead of the thresholded opening");
+    });
+    let cells: Vec<f64> = match result {
+        Some(r) if *show_relaxed => r.relaxed.clone(),
+        _ if *show_relaxed => last.mask.clone(),
+        Some(r) => r.design.opening.cells.iter().flatten().copied().collect(),
+        None => binarise(&last.mask, n, last.area_target)
+            .into_iter()
+            .flatten()
+            .collect(),
+    };
+    let side = 168.0f32;
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(side, side), egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 0.0, Color32::BLACK);
+    let cell = side / n.max(1) as f32;
+    for (i, v) in cells.iter().enumerate() {
+        let (r, c) = (i / n.max(1), i % n.max(1));
+        let g = (v.clamp(0.0, 1.0) * 255.0) as u8;
+        if g == 0 {
+            continue;
+        }
+        let min = rect.min + egui::vec2(c as f32 * cell, r as f32 * cell);
+        painter.rect_filled(
+            egui::Rect::from_min_size(min, egui::vec2(cell, cell)),
+            0.0,
+            Color32::from_gray(g),
+        );
+    }
+}
+
+const L_INV: Color32 = Color32::from_rgb(90, 160, 255);
+const AREA: Color32 = Color32::from_rgb(255, 170, 60);
+const DATA: Color32 = Color32::from_rgb(200, 110, 230);
+const START: Color32 = Color32::from_rgb(230, 230, 230);
+const RESULT: Color32 = Color32::from_rgb(70, 200, 110);
+
+/// The start and the result, at full quality (what the numbers show for each design) and,
+/// for a preview run, at the run's sampling (the plot's scale). One wrapped line per
+/// quantity, so the summary fits the narrowest panel.
+fn summary_ui(ui: &mut Ui, run: &Optimized) {
+    let full = &run.at_full_quality;
+    let sampled = &run.at_run_quality;
+    let good = Color32::from_rgb(70, 175, 90);
+    let bad = ui.visuals().error_fg_color;
+    let line = |ui: &mut Ui, what: &str, start: Option<f64>, result: f64, tip: &str| {
+        ui.horizontal_wrapped(|ui| {
+            ui.label(format!("{what}:")).on_hover_text(tip);
+            ui.monospace(start.map_or_else(|| "–".to_owned(), |v| format!("{v:.4}")));
+            ui.monospace("→");
+            ui.monospace(format!("{result:.4}"));
+            let Some(start) = start else {
+                return;
+            };
+            // Lower losses are better; a change below the printed precision is neither.
+            let d = result - start;
+            if d < -5e-5 {
+                ui.colored_label(good, format!("(better by {:.4})", -d));
+            } else if d > 5e-5 {
+                ui.colored_label(bad, format!("(worse by {d:.4})"));
+            } else {
+                ui.label("(unchanged)");
+            }
+        });
+    };
+    ui.strong("Start and optimized, both scored alike");
+    let rows = |ui: &mut Ui, s: &Scores, what: &str, tip: &str| {
+        line(
+            ui,
+            &format!("L_inv, {what}"),
+            s.start.map(|v| v.loss_inv),
+            s.result.loss_inv,
+            tip,
+        );
+        if let Some(data) = s.result.loss_data {
+            let start = s.start.and_then(|v| v.loss_data);
+            line(ui, &format!("L_data, {what}"), start, data, tip);
+        }
+    };
+    rows(
+        ui,
+        full,
+        "full quality",
+        "What the Numbers panel shows for each design (L_inv: thesis eq. 3.9); lower is better",
+    );
+    if sampled.quality != full.quality {
+        rows(
+            ui,
+            sampled,
+            "preview",
+            "At the run's preview sampling, the scale of the plot: an estimate",
+        );
+    }
+    ui.horizontal_wrapped(|ui| {
+        ui.label("open fraction:");
+        ui.monospace(
+            full.start
+                .map_or_else(|| "–".to_owned(), |s| percent(s.open_fraction)),
+        );
+        ui.monospace("→");
+        ui.monospace(percent(full.result.open_fraction));
+    });
+}
+
+fn percent(fraction: f64) -> String {
+    format!("{:.1} %", 100.0 * fraction)
 }

@@ -94,10 +94,11 @@ impl TilingPanel {
             }
         });
         let period = d.opening.pitch_um + d.tiling.wiring_gap_um;
-        ui.small(format!(
-            "period {period:.1} µm · {:.0} DPI · {:.0} tiles in the pupil",
+        let tiles = std::f64::consts::PI * (0.5 * d.optics.pupil_diameter_um() / period).powi(2);
+        ui.label(format!(
+            "period {period:.1} µm · {:.0} DPI · {} in the pupil",
             25400.0 / period,
-            std::f64::consts::PI * (0.5 * d.optics.pupil_diameter_um() / period).powi(2)
+            crate::app::widgets::counted(tiles.round(), "tile", "tiles")
         ));
         if dragging {
             self.draft = Some(d);
@@ -144,7 +145,7 @@ impl TilingPanel {
                 [r * t.cos(), r * t.sin()]
             })
             .collect();
-        Plot::new("display-preview")
+        crate::app::widgets::plot::with_nice_ticks(Plot::new("display-preview"))
             .data_aspect(1.0)
             .height(ui.available_height().clamp(160.0, 420.0))
             .x_axis_label("x (µm)")

@@ -6,6 +6,7 @@
 //! only places them in plots.
 
 mod compare;
+mod expected;
 mod hints;
 pub mod images;
 mod overlay;
@@ -23,14 +24,13 @@ use self::images::{
 };
 use self::overlay::{OverlayChoice, psf_overlay};
 use self::plots::{
-    ImagePlot, Markers, MtfFamilies, Scale, colorbar_ui, image_plot_ui, image_with_colorbar_ui,
-    mtf_plot_ui, plot_size,
+    ImagePlot, Markers, MtfFamilies, Scale, colorbar_ui, image_layout, image_plot_ui,
+    image_with_colorbar_ui, mtf_plot_ui, view_half,
 };
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
-use crate::app::commands::Command;
 use crate::app::widgets::colormap::Colormap;
-use crate::core::analyze::{ChannelAnalysis, Quality};
+use crate::core::analyze::ChannelAnalysis;
 
 /// The tabs of the result views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -208,9 +208,6 @@ impl ViewsPanel {
                     ui.selectable_value(&mut self.channel, i, text)
                         .on_hover_text(format!("{:.0} nm", c.wavelength_nm));
                 }
-                if tab != ViewTab::Psf {
-                    ui.separator();
-                }
             }
             if overlays && matches!(tab, ViewTab::Psf | ViewTab::LogPsf | ViewTab::Expected) {
                 let (f_mm, f_number, period_um) = (
@@ -224,6 +221,7 @@ impl ViewsPanel {
                     .get(self.channel)
                     .map_or(530.0, |c| c.wavelength_nm);
                 let o = &mut self.overlay_choice;
+                ui.separator();
                 ui.checkbox(&mut o.airy, "Airy ring").on_hover_text(format!(
                     "The lens alone: first dark ring at 1.22 λ F# = {:.2} µm",
                     airy_radius_um(nm, f_number)
@@ -233,7 +231,11 @@ impl ViewsPanel {
                         "Where a periodic display throws light: every λ f / T = {:.1} µm",
                         order_spacing_um(nm, f_mm, period_um)
                     ));
-                ui.separator();
+            }
+            // A slider is a row of its own inside a wrapped row: it cannot wrap, so it starts a
+            // line rather than run past the panel's edge (and widen everything below).
+            if matches!(tab, ViewTab::LogPsf | ViewTab::Expected | ViewTab::Mtf2d) {
+                ui.end_row();
             }
             if matches!(tab, ViewTab::LogPsf | ViewTab::Rgb | ViewTab::Expected) {
                 ui.add(
@@ -343,7 +345,7 @@ impl ViewsPanel {
             reference: peak(&first.psf),
             floor_decades: floor,
         };
-        let size = plot_size(ui, 1);
+        let size = image_layout(ui, 1).size;
         ui.horizontal(|ui| {
             image_plot_ui(
                 ui,
@@ -358,6 +360,7 @@ impl ViewsPanel {
                     overlay: None,
                     link: None,
                     size,
+                    view_half: view_half(&first.psf, grid, scale),
                 },
             );
             // Each plane runs from black (floor) to full (its own peak).
@@ -383,7 +386,7 @@ impl ViewsPanel {
             reference,
             floor_decades: floor,
         };
-        let size = plot_size(ui, 1);
+        let size = image_layout(ui, 1).size;
         ui.horizontal(|ui| {
             image_plot_ui(
                 ui,
@@ -398,6 +401,7 @@ impl ViewsPanel {
                     overlay: None,
                     link: None,
                     size,
+                    view_half: view_half(mtf, grid, scale),
                 },
             );
             colorbar_ui(ui, size.y, scale, Colormap::Viridis);
@@ -420,7 +424,7 @@ impl ViewsPanel {
                         d.optics.focal_length_mm,
                     );
                     Markers {
-                        label: format!("{}: repeats every T·p/(λf) = {nu:.3} cyc/px", c.name),
+                        label: format!("{} repeats every {nu:.3} cyc/px", c.name),
                         freqs_cyc_per_px: multiples_up_to(nu, 0.5, 200),
                         color: channel_color(&c.name),
                     }
@@ -439,138 +443,6 @@ impl ViewsPanel {
             &markers,
             channel_color,
         );
-    }
-
-    fn expected_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis, overlays: bool) {
-        let mode = shown.design.tiling.mode;
-        if !mode.is_random() {
-            ui.label(
-                "This design uses a periodic tiling (repeat): every pixel is identical, so there \
-                 is no randomness to average and the expected PSF is the PSF itself. Choose a \
-                 random tiling to compare one realisation with the expectation.",
-            );
-            return;
-        }
-        let Some(expected) = &ch.expected_psf else {
-            ui.label(
-                "The expected PSF was not computed for this result (previews skip it); it \
-                 appears with the full-quality result.",
-            );
-            return;
-        };
-        // One colour scale for both: the larger of the two peaks.
-        let reference = peak(&ch.psf).max(peak(expected));
-        let floor = self.floor_decades;
-        let key = self.key(shown, self.channel, floor);
-        let ctx = ui.ctx().clone();
-        let real = self.textures.get(&ctx, Slot::ExpectedRealisation, key, || {
-            log_image(&ch.psf, reference, floor, Colormap::Inferno)
-        });
-        let mean = self.textures.get(&ctx, Slot::ExpectedMean, key, || {
-            log_image(expected, reference, floor, Colormap::Inferno)
-        });
-        let grid = psf_grid(shown, ch);
-        let overlay = overlays.then(|| psf_overlay(shown, ch, grid, self.overlay_choice));
-        let scale = Scale::Log {
-            reference,
-            floor_decades: floor,
-        };
-        let size = plot_size(ui, 2);
-        let link = Some(ui.make_persistent_id("views_expected_link"));
-        let seed = shown.design.tiling.seed;
-        ui.horizontal(|ui| {
-            ui.vertical(|ui| {
-                ui.label(format!("this realisation ({}, seed {seed})", mode.as_str()));
-                image_plot_ui(
-                    ui,
-                    &ImagePlot {
-                        id: "views_expected_realisation",
-                        texture: real,
-                        grid,
-                        values: &ch.psf,
-                        scale,
-                        unit: "µm",
-                        value_name: "PSF",
-                        overlay: overlay.as_ref(),
-                        link,
-                        size,
-                    },
-                );
-            });
-            ui.vertical(|ui| {
-                ui.label("expected over all random tilings");
-                image_plot_ui(
-                    ui,
-                    &ImagePlot {
-                        id: "views_expected_mean",
-                        texture: mean,
-                        grid,
-                        values: expected,
-                        scale,
-                        unit: "µm",
-                        value_name: "expected PSF",
-                        overlay: overlay.as_ref(),
-                        link,
-                        size,
-                    },
-                );
-            });
-            colorbar_ui(ui, size.y, scale, Colormap::Inferno);
-        });
-    }
-
-    fn compare_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &mut PanelCtx) {
-        ui.horizontal(|ui| {
-            if ui
-                .button("Pin as A")
-                .on_hover_text("Ctrl+P: keep the current design's full-quality result as A")
-                .clicked()
-            {
-                ctx.commands.push(Command::PinCompare);
-            }
-            if ctx.pinned.is_some() && ui.button("Clear A").clicked() {
-                ctx.commands.push(Command::ClearCompare);
-            }
-        });
-        let Some(pinned) = ctx.pinned else {
-            ui.label(
-                "Nothing is pinned yet. Press Ctrl+P or \"Pin as A\" to keep the current design \
-                 as A; then edit the design (B) and compare the numbers and MTFs here.",
-            );
-            return;
-        };
-        ui.label(format!(
-            "A: {}    B: {} (current)",
-            display_name(&pinned.design.name),
-            display_name(&shown.design.name)
-        ));
-        if shown.quality == Quality::Preview {
-            ui.weak(
-                "B is a preview result; its numbers settle when the full-quality result arrives.",
-            );
-        }
-        compare::compare_table_ui(
-            ui,
-            &compare::compare_rows(&pinned.analysis, &shown.analysis),
-        );
-        ui.separator();
-        mtf_plot_ui(
-            ui,
-            "views_compare_mtf",
-            &shown.analysis,
-            Some(&pinned.analysis),
-            MtfFamilies::RADIAL_MIN,
-            &[],
-            channel_color,
-        );
-    }
-}
-
-fn display_name(name: &str) -> &str {
-    if name.trim().is_empty() {
-        "(untitled)"
-    } else {
-        name
     }
 }
 

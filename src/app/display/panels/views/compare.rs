@@ -1,15 +1,108 @@
-//! The numbers of the Compare tab: design A (pinned) and B (current) side by side.
+//! The Compare tab: design A (pinned) and B (current) side by side, named apart even when
+//! both carry the same design name, with their numbers and radial-minimum MTFs.
 
 use egui::{Color32, RichText, Ui};
 
-use crate::core::Analysis;
+use super::ViewsPanel;
+use super::images::channel_color;
+use super::plots::{MtfFamilies, mtf_plot_ui};
+use crate::app::commands::Command;
+use crate::app::display::panels::{PanelCtx, Pinned, Shown};
 use crate::core::analyze::ChannelAnalysis;
+use crate::core::{Analysis, Design};
+
+fn display_name(name: &str) -> &str {
+    if name.trim().is_empty() {
+        "(untitled)"
+    } else {
+        name
+    }
+}
+
+/// The parts of the design in which `b` differs from `a`, as the studio's tabs name them.
+pub fn edited_parts(a: &Design, b: &Design) -> Vec<&'static str> {
+    [
+        ("opening", a.opening != b.opening),
+        ("tiling", a.tiling != b.tiling),
+        ("optics", a.optics != b.optics),
+        ("channels", a.channels != b.channels),
+    ]
+    .into_iter()
+    .filter_map(|(part, differs)| differs.then_some(part))
+    .collect()
+}
+
+/// How A and B are named on screen: the pinned design with the time of the pin, the current
+/// one with what was edited since, so the two never read alike, even under one design name.
+pub fn captions(pinned: &Pinned, b: &Design) -> (String, String) {
+    let a = format!(
+        "A: {} (pinned {})",
+        display_name(&pinned.design.name),
+        pinned.pinned_at
+    );
+    let parts = edited_parts(&pinned.design, b);
+    let state = if !parts.is_empty() {
+        format!("current, edited: {}", parts.join(", "))
+    } else if pinned.design.name == b.name && *pinned.design == *b {
+        "current, same as A".to_owned()
+    } else {
+        "current".to_owned()
+    };
+    (a, format!("B: {} ({state})", display_name(&b.name)))
+}
+
+impl ViewsPanel {
+    pub(super) fn compare_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &mut PanelCtx) {
+        ui.horizontal(|ui| {
+            if ui
+                .button("Pin as A")
+                .on_hover_text("Ctrl+P: keep the current design's full-quality result as A")
+                .clicked()
+            {
+                ctx.commands.push(Command::PinCompare);
+            }
+            if ctx.pinned.is_some() && ui.button("Clear A").clicked() {
+                ctx.commands.push(Command::ClearCompare);
+            }
+        });
+        let Some(pinned) = ctx.pinned else {
+            ui.label(
+                "Nothing is pinned yet. Press Ctrl+P or \"Pin as A\" to keep the current design \
+                 as A; then edit the design (B) and compare the numbers and MTFs here.",
+            );
+            return;
+        };
+        let (a, b) = captions(pinned, &shown.design);
+        ui.label(a);
+        ui.label(b);
+        crate::app::display::panels::quality::badge_ui(ui, shown);
+        // The table and the plot scroll together in a short window.
+        egui::ScrollArea::vertical()
+            .id_salt("views_compare_scroll")
+            .show(ui, |ui| {
+                compare_table_ui(ui, &compare_rows(&pinned.analysis, &shown.analysis));
+                ui.separator();
+                mtf_plot_ui(
+                    ui,
+                    "views_compare_mtf",
+                    &shown.analysis,
+                    Some(&pinned.analysis),
+                    MtfFamilies::RADIAL_MIN,
+                    &[],
+                    channel_color,
+                );
+            });
+    }
+}
 
 /// One line of the comparison table.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Row {
+    /// The quantity, with its channel.
     pub label: String,
+    /// A's value, if A has this quantity.
     pub a: Option<f64>,
+    /// B's value, if B has this quantity.
     pub b: Option<f64>,
     /// Whether a larger value is the better design (colours the difference).
     pub higher_is_better: bool,
@@ -150,6 +243,31 @@ mod tests {
             pupil_diameter_um: 1000.0,
             tiles_in_pupil: 10.0,
         }
+    }
+
+    #[test]
+    fn a_and_b_are_named_apart_under_one_design_name() {
+        let design = Design::default_toled();
+        let pinned = Pinned {
+            design: std::sync::Arc::new(design.clone()),
+            analysis: std::sync::Arc::new(analysis(Vec::new(), 0.2, -0.3)),
+            pinned_at: "12:03".into(),
+        };
+        let name = &design.name;
+        let (a, b) = captions(&pinned, &design);
+        assert_eq!(a, format!("A: {name} (pinned 12:03)"));
+        assert_eq!(b, format!("B: {name} (current, same as A)"));
+        let mut edited = design.clone();
+        edited.opening.cells[0][0] = 1.0 - edited.opening.cells[0][0];
+        edited.tiling.seed += 1;
+        let (a2, b2) = captions(&pinned, &edited);
+        assert_eq!(a2, a);
+        assert_eq!(b2, format!("B: {name} (current, edited: opening, tiling)"));
+        let mut renamed = design.clone();
+        renamed.name = "mine".into();
+        assert_eq!(captions(&pinned, &renamed).1, "B: mine (current)");
+        renamed.name = " ".into();
+        assert_eq!(captions(&pinned, &renamed).1, "B: (untitled) (current)");
     }
 
     #[test]

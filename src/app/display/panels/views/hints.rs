@@ -35,9 +35,10 @@ lost and cannot be restored. The area under the radial minimum (AUC; 0.5 is perf
 lines mark multiples of ν = T·p/(λf) cycles/pixel, where the display's structure repeats in the \
 MTF.";
 
-pub const EXPECTED: &str = "Left: the PSF of this one random tiling, one roll of the dice fixed by \
-the seed. Right: the expected PSF, the average over all random tilings, computed in closed form. \
-Both use the same colour scale. The realisation shows speckle (fine random fluctuations) on top of \
+pub const EXPECTED: &str = "First: the PSF of this one random tiling, one roll of the dice fixed by \
+the seed. Second (beside it, or below it in a tall window): the expected PSF, the average over all \
+random tilings, computed in closed form. Both use the same colour scale and open on where the \
+light is; double-click returns there. The realisation shows speckle (fine random fluctuations) on top of \
 the expected halo; re-rolling the seed changes the speckle but not the expectation.";
 
 pub const COMPARE: &str = "A is the pinned design, B the current one, each with its own optics. \

@@ -169,6 +169,28 @@ impl Grid {
     }
 }
 
+/// Half-width of the centred square that holds every sample of `a` at or above `threshold`
+/// (where the light is, on `grid`), with one sample to spare; at least four samples and at most
+/// the image's own half-width. The views open on this square instead of the whole window.
+pub fn light_half_extent(a: &Array2<f64>, grid: Grid, threshold: f64) -> f64 {
+    let image_half = grid.image_size()[0] / 2.0;
+    if !(grid.step > 0.0) {
+        return image_half;
+    }
+    let reach = a
+        .indexed_iter()
+        .filter(|(_, v)| v.is_finite() && **v >= threshold && **v > 0.0)
+        .map(|((row, col), _)| {
+            let [x, y] = grid.position(row, col);
+            x.abs().max(y.abs())
+        })
+        .fold(None, |m: Option<f64>, r| Some(m.map_or(r, |m| m.max(r))));
+    match reach {
+        Some(r) => (r + 1.5 * grid.step).clamp(4.0 * grid.step, image_half.max(4.0 * grid.step)),
+        None => image_half,
+    }
+}
+
 /// Spacing of the display's diffraction orders on the sensor, `λ f / T`, in µm
 /// (λ in µm × f in µm / T in µm).
 pub fn order_spacing_um(wavelength_nm: f64, focal_length_mm: f64, period_um: f64) -> f64 {
@@ -323,6 +345,24 @@ mod tests {
         assert_eq!(g.index_at(0.0, 7.1), None);
         let odd = Grid { n: 5, step: 1.0 };
         assert_eq!(odd.image_centre(), [0.0, 0.0]);
+    }
+
+    #[test]
+    fn views_open_on_where_the_light_is() {
+        let g = Grid { n: 64, step: 2.0 };
+        let mut a = Array2::zeros((64, 64));
+        a[[32, 32]] = 1.0;
+        // Light 10 samples right of and 5 below the axis, and a faint sample far out.
+        a[[37, 42]] = 0.1;
+        a[[0, 0]] = 1e-9;
+        assert_eq!(light_half_extent(&a, g, 1e-6), 20.0 + 3.0);
+        // A lower threshold reaches the faint corner: the whole image.
+        assert_eq!(light_half_extent(&a, g, 1e-10), 64.0);
+        // A lone peak still opens on a few samples, and no light shows everything.
+        let mut spot = Array2::zeros((64, 64));
+        spot[[32, 32]] = 1.0;
+        assert_eq!(light_half_extent(&spot, g, 0.5), 8.0);
+        assert_eq!(light_half_extent(&Array2::zeros((64, 64)), g, 0.5), 64.0);
     }
 
     #[test]

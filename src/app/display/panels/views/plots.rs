@@ -1,16 +1,20 @@
 //! Plot widgets of the result views: a zoomable image with a hover readout and optional
 //! teaching overlays, its colour bar, and the MTF line plot.
 
-use egui::{Align2, Color32, FontId, Id, Mesh, Rect, Sense, Stroke, TextureId, Ui, pos2, vec2};
+use egui::{Align2, Color32, Id, Mesh, Rect, Sense, Stroke, TextureId, Ui, pos2, vec2};
 use egui_plot::{
-    HoverPosition, Legend, Line, LineStyle, MarkerShape, Plot, PlotImage, PlotPoint, PlotPoints,
-    Points, VLine,
+    HoverPosition, Line, LineStyle, MarkerShape, Plot, PlotImage, PlotPoint, PlotPoints, Points,
+    VLine,
 };
 use ndarray::Array2;
 
-use super::images::{Grid, circle_points, format_value};
+use super::images::{Grid, circle_points, format_value, light_half_extent};
 use crate::app::widgets::colormap::Colormap;
+use crate::app::widgets::plot::{
+    LegendEntry, Swatch, hidden_names, legend_ui, visible_width, with_nice_ticks,
+};
 use crate::core::Analysis;
+use crate::core::analyze::Quality;
 
 /// Width reserved beside an image plot for its colour bar and tick labels.
 pub const COLORBAR_WIDTH: f32 = 78.0;
@@ -50,6 +54,23 @@ pub struct ImagePlot<'a> {
     /// Plots sharing this id pan, zoom and hover together.
     pub link: Option<Id>,
     pub size: egui::Vec2,
+    /// Half-width of the view the plot opens on (and returns to on a double-click), centred on
+    /// the axis: where the light is, not the whole window.
+    pub view_half: f64,
+}
+
+impl Scale {
+    /// The smallest value the colour map tells apart from no light: the floor of a log scale,
+    /// 1 % of the maximum of a linear one (darker than that reads as black).
+    pub fn visible_threshold(self) -> f64 {
+        match self {
+            Scale::Linear { max } => 0.01 * max,
+            Scale::Log {
+                reference,
+                floor_decades,
+            } => reference * 10f64.powf(-floor_decades),
+        }
+    }
 }
 
 /// Shows an image plot (data aspect 1, zoom and pan) with a hover readout of the value at the
@@ -88,7 +109,10 @@ pub fn image_plot_ui(ui: &mut Ui, p: &ImagePlot<'_>) {
             format_value(v)
         ))
     };
-    let mut plot = Plot::new(p.id)
+    let half = p.view_half;
+    let mut plot = with_nice_ticks(Plot::new(p.id))
+        .default_x_bounds(-half, half)
+        .default_y_bounds(-half, half)
         .data_aspect(1.0)
         .width(p.size.x)
         .height(p.size.y)
@@ -183,7 +207,7 @@ pub fn colorbar_ui(ui: &mut Ui, height: f32, scale: Scale, map: Colormap) {
                 .collect()
         }
     };
-    let font = FontId::proportional(11.0);
+    let font = egui::TextStyle::Body.resolve(ui.style());
     for (t, label) in ticks {
         let y = bar.bottom() - t * bar.height();
         painter.line_segment(
@@ -242,8 +266,28 @@ pub struct Markers {
     pub color: Color32,
 }
 
+/// The AUC as a legend shows it: a preview's is marked as an estimate.
+fn auc_label(analysis: &Analysis, auc: f64) -> String {
+    match analysis.quality {
+        Quality::Full => format!("AUC {auc:.3}"),
+        Quality::Preview => format!("AUC ≈ {auc:.3}, preview"),
+    }
+}
+
+/// The MTF plot's items, one legend entry each (a marker family is one entry for all its lines).
+enum MtfItem<'a> {
+    Curve {
+        values: &'a [f64],
+        freqs: Vec<f64>,
+        width: f32,
+        style: LineStyle,
+    },
+    Marks(&'a [f64]),
+}
+
 /// MTF curves of `b` (solid) and the radial minima of the pinned design `a` (dashed, "A:"),
-/// over 0…0.5 cycles/pixel, with optional vertical marker lines.
+/// over 0…0.5 cycles/pixel, with optional vertical marker lines. The legend sits above the
+/// plot, a row per channel, so no curve hides behind it; clicking an entry hides its curves.
 pub fn mtf_plot_ui(
     ui: &mut Ui,
     id: &str,
@@ -253,12 +297,95 @@ pub fn mtf_plot_ui(
     markers: &[Markers],
     channel_color: impl Fn(&str) -> Color32,
 ) {
-    Plot::new(id)
-        .legend(Legend::default())
+    let mut groups: Vec<Vec<(LegendEntry, MtfItem<'_>)>> = Vec::new();
+    let curve_item =
+        |values, ch: &crate::core::analyze::ChannelAnalysis, width, style| MtfItem::Curve {
+            values,
+            freqs: ch.mtf.freqs_cyc_per_px(),
+            width,
+            style,
+        };
+    for ch in &b.channels {
+        let color = channel_color(&ch.name);
+        let (m, name) = (&ch.mtf, &ch.name);
+        let mut g = Vec::new();
+        if families.radial_min {
+            let label = format!("{name} radial min ({})", auc_label(b, m.auc_radial_min));
+            g.push((
+                LegendEntry::new(label, color, Swatch::Solid(2)),
+                curve_item(&m.radial_min, ch, 2.0, LineStyle::Solid),
+            ));
+        }
+        if families.radial_mean {
+            let faint = color.gamma_multiply(0.55);
+            g.push((
+                LegendEntry::new(format!("{name} radial mean"), faint, Swatch::Solid(1)),
+                curve_item(&m.radial_mean, ch, 1.0, LineStyle::Solid),
+            ));
+        }
+        if families.horizontal {
+            g.push((
+                LegendEntry::new(format!("{name} horizontal"), color, Swatch::Dotted),
+                curve_item(&m.horizontal, ch, 1.5, LineStyle::Dotted { spacing: 4.0 }),
+            ));
+        }
+        if families.vertical {
+            g.push((
+                LegendEntry::new(format!("{name} vertical"), color, Swatch::Dashed),
+                curve_item(&m.vertical, ch, 1.5, LineStyle::Dashed { length: 4.0 }),
+            ));
+        }
+        groups.push(g);
+    }
+    groups.push(
+        markers
+            .iter()
+            .map(|m| {
+                let faint = m.color.gamma_multiply(0.6);
+                (
+                    LegendEntry::new(m.label.clone(), faint, Swatch::Dotted),
+                    MtfItem::Marks(&m.freqs_cyc_per_px),
+                )
+            })
+            .collect(),
+    );
+    // A's curve of a channel sits in that channel's row; channels only A has, in a last row.
+    let mut a_only = Vec::new();
+    if let Some(a) = a {
+        for ch in &a.channels {
+            let m = &ch.mtf;
+            let label = format!(
+                "A: {} radial min ({})",
+                ch.name,
+                auc_label(a, m.auc_radial_min)
+            );
+            let entry = (
+                LegendEntry::new(label, channel_color(&ch.name), Swatch::Dashed),
+                curve_item(&m.radial_min, ch, 1.5, LineStyle::dashed_loose()),
+            );
+            // The first groups are B's channels, one each, in order.
+            match b.channels.iter().position(|c| c.name == ch.name) {
+                Some(row) => groups[row].push(entry),
+                None => a_only.push(entry),
+            }
+        }
+    }
+    groups.push(a_only);
+    let legend_id = ui.make_persistent_id((id, "legend"));
+    let entries: Vec<Vec<LegendEntry>> = groups
+        .iter()
+        .map(|g| g.iter().map(|(e, _)| e.clone()).collect())
+        .collect();
+    legend_ui(ui, legend_id, &entries);
+    let hidden = hidden_names(ui.ctx(), legend_id);
+    with_nice_ticks(Plot::new(id))
+        .width(visible_width(ui))
+        // Room for the curves even under a long table (the Compare tab scrolls).
+        .height(ui.available_height().max(220.0))
         .default_x_bounds(0.0, 0.5)
         .default_y_bounds(0.0, 1.0)
         .x_axis_label("spatial frequency (cycles/pixel)")
-        .y_axis_label("MTF")
+        .y_axis_label("MTF (fraction of DC)")
         .label_formatter(|pos| match pos {
             HoverPosition::NearDataPoint {
                 plot_name,
@@ -271,85 +398,83 @@ pub fn mtf_plot_ui(
             HoverPosition::Elsewhere { position } => Some(format!("ν = {:.3} cyc/px", position.x)),
         })
         .show(ui, |plot_ui| {
-            // Lines of one family share a name, so the legend groups (and toggles) them together.
-            for m in markers {
-                for nu in &m.freqs_cyc_per_px {
-                    plot_ui.vline(
-                        VLine::new(m.label.clone(), *nu)
-                            .color(m.color.gamma_multiply(0.6))
-                            .style(LineStyle::dotted_dense())
-                            .allow_hover(false),
-                    );
+            // Marker lines first, under the curves.
+            let items = groups
+                .iter()
+                .flatten()
+                .filter(|(e, _)| !hidden.contains(&e.name));
+            let (marks, curves): (Vec<_>, Vec<_>) =
+                items.partition(|(_, item)| matches!(item, MtfItem::Marks(_)));
+            for (e, item) in marks.into_iter().chain(curves) {
+                match item {
+                    MtfItem::Marks(freqs) => {
+                        for nu in *freqs {
+                            plot_ui.vline(
+                                VLine::new(e.name.clone(), *nu)
+                                    .color(e.color)
+                                    .style(LineStyle::dotted_dense())
+                                    .allow_hover(false),
+                            );
+                        }
+                    }
+                    MtfItem::Curve {
+                        values,
+                        freqs,
+                        width,
+                        style,
+                    } => {
+                        plot_ui.line(
+                            Line::new(e.name.clone(), PlotPoints::new(curve(freqs, values)))
+                                .color(e.color)
+                                .width(*width)
+                                .style(*style),
+                        );
+                    }
                 }
-            }
-            for ch in &b.channels {
-                let color = channel_color(&ch.name);
-                let freqs = ch.mtf.freqs_cyc_per_px();
-                let m = &ch.mtf;
-                if families.horizontal {
-                    plot_ui.line(
-                        Line::new(
-                            format!("{} horizontal", ch.name),
-                            curve(&freqs, &m.horizontal),
-                        )
-                        .color(color)
-                        .style(LineStyle::Dotted { spacing: 4.0 }),
-                    );
-                }
-                if families.vertical {
-                    plot_ui.line(
-                        Line::new(format!("{} vertical", ch.name), curve(&freqs, &m.vertical))
-                            .color(color)
-                            .style(LineStyle::Dashed { length: 4.0 }),
-                    );
-                }
-                if families.radial_mean {
-                    plot_ui.line(
-                        Line::new(
-                            format!("{} radial mean", ch.name),
-                            curve(&freqs, &m.radial_mean),
-                        )
-                        .color(color.gamma_multiply(0.55))
-                        .width(1.0),
-                    );
-                }
-                if families.radial_min {
-                    plot_ui.line(
-                        Line::new(
-                            format!("{} radial min (AUC {:.3})", ch.name, m.auc_radial_min),
-                            curve(&freqs, &m.radial_min),
-                        )
-                        .color(color)
-                        .width(2.0),
-                    );
-                }
-            }
-            for ch in a.map(|a| a.channels.as_slice()).unwrap_or_default() {
-                let freqs = ch.mtf.freqs_cyc_per_px();
-                plot_ui.line(
-                    Line::new(
-                        format!(
-                            "A: {} radial min (AUC {:.3})",
-                            ch.name, ch.mtf.auc_radial_min
-                        ),
-                        PlotPoints::new(curve(&freqs, &ch.mtf.radial_min)),
-                    )
-                    .color(channel_color(&ch.name))
-                    .width(1.5)
-                    .style(LineStyle::dashed_loose()),
-                );
             }
         });
 }
 
-/// Size of each of `count` image plots side by side, leaving room for one colour bar.
-pub(super) fn plot_size(ui: &Ui, count: usize) -> egui::Vec2 {
-    let avail = ui.available_size();
-    let gaps = ui.spacing().item_spacing.x * count as f32;
-    let w = ((avail.x - COLORBAR_WIDTH - gaps) / count.max(1) as f32).max(120.0);
-    // Leave a line for the captions above side-by-side plots.
-    let h = (avail.y - if count > 1 { 24.0 } else { 0.0 }).max(160.0);
-    egui::vec2(w, h)
+/// Room the axes take beside a plot's data: tick labels and the axis title on the left, the
+/// same below.
+const AXES: egui::Vec2 = vec2(56.0, 40.0);
+
+/// How image plots share the space: the size of each plot widget, and whether they are stacked
+/// (one above the other) rather than side by side.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct ImageLayout {
+    pub size: egui::Vec2,
+    pub stacked: bool,
+}
+
+/// Lays out `count` image plots and one colour bar so that each plot's data area is the largest
+/// square that fits: side by side in a wide area, stacked in a tall one. Data of aspect 1 in a
+/// square frame uses the whole frame, none of it blank axis range.
+pub(super) fn image_layout(ui: &Ui, count: usize) -> ImageLayout {
+    // Never past the panel's visible edge, even when a row above ran over it.
+    let avail = vec2(visible_width(ui), ui.available_height());
+    let gap = ui.spacing().item_spacing;
+    let k = count.max(1) as f32;
+    // Side-by-side plots carry a caption line each.
+    let caption = if count > 1 {
+        ui.text_style_height(&egui::TextStyle::Body) + gap.y
+    } else {
+        0.0
+    };
+    let width = avail.x - COLORBAR_WIDTH - gap.x * k;
+    let beside = (width / k - AXES.x).min(avail.y - caption - AXES.y);
+    let above = (width - AXES.x).min((avail.y - gap.y * (k - 1.0)) / k - caption - AXES.y);
+    let stacked = count > 1 && above > beside;
+    let side = beside.max(above).max(120.0);
+    ImageLayout {
+        size: vec2(side + AXES.x, side + AXES.y),
+        stacked,
+    }
+}
+
+/// The view an image plot opens on: where `values` are brighter than the colour scale's floor.
+pub(super) fn view_half(values: &ndarray::Array2<f64>, grid: Grid, scale: Scale) -> f64 {
+    light_half_extent(values, grid, scale.visible_threshold())
 }
 
 pub(super) fn image_with_colorbar_ui(
@@ -361,7 +486,7 @@ pub(super) fn image_with_colorbar_ui(
     scale: Scale,
     overlay: Option<&PsfOverlay>,
 ) {
-    let size = plot_size(ui, 1);
+    let size = image_layout(ui, 1).size;
     ui.horizontal(|ui| {
         image_plot_ui(
             ui,
@@ -376,6 +501,7 @@ pub(super) fn image_with_colorbar_ui(
                 overlay,
                 link: None,
                 size,
+                view_half: view_half(values, grid, scale),
             },
         );
         colorbar_ui(ui, size.y, scale, Colormap::Inferno);

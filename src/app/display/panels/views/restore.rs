@@ -259,12 +259,21 @@ impl RestoreView {
             method,
             ..RestoreSettings::default()
         };
-        let mut designs: Vec<(String, Arc<Analysis>)> = vec![(
-            format!("current: {}", shown.design.name),
-            shown.analysis.clone(),
-        )];
-        if let Some(p) = pinned {
-            designs.push((format!("A: {}", p.design.name), p.analysis.clone()));
+        // The names the Compare tab uses, so A and B read apart here too.
+        let (a, b) = match pinned {
+            Some(p) => {
+                let (a, b) = super::compare::captions(p, &shown.design);
+                (Some(a), b)
+            }
+            None => (None, format!("current: {}", shown.design.name)),
+        };
+        let b = match shown.quality {
+            crate::core::Quality::Preview => format!("{b}, preview estimate"),
+            crate::core::Quality::Full => b,
+        };
+        let mut designs: Vec<(String, Arc<Analysis>)> = vec![(b, shown.analysis.clone())];
+        if let (Some(a), Some(p)) = (a, pinned) {
+            designs.push((a, p.analysis.clone()));
         }
         let wake = ctx.clone();
         let job = Job::spawn(

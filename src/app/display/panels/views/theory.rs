@@ -8,7 +8,7 @@ use egui_plot::{Corner, Legend, Line, LineStyle, MarkerShape, Plot, Points};
 
 use super::images::channel_color;
 use crate::app::display::panels::Shown;
-use crate::app::widgets::ticks::{tick_label, ticks_125};
+use crate::app::widgets::plot::with_nice_ticks;
 use crate::core::Quality;
 use crate::core::theory::{ProfileKind, Theory, TheoryComparison, compare};
 
@@ -103,14 +103,11 @@ impl TheoryView {
                 .rposition(|v| *v > 1e-3)
                 .and_then(|i| m.freqs_cyc_per_px.get(i + 1))
                 .map_or(0.5, |f| (1.3 * f).min(0.5));
-            Plot::new("views_theory_mtf")
+            with_nice_ticks(Plot::new("views_theory_mtf"))
                 .height(height)
                 .legend(Legend::default().position(Corner::RightTop))
                 .default_x_bounds(0.0, last)
                 .default_y_bounds(0.0, 1.05)
-                .x_grid_spacer(ticks_125())
-                .y_grid_spacer(ticks_125())
-                .x_axis_formatter(tick_label)
                 .x_axis_label("spatial frequency along x (cycles/pixel)")
                 .y_axis_label("MTF")
                 .show(ui, |p| {
@@ -193,10 +190,7 @@ fn profile_plot_ui(
     let pts = |v: &[f64]| -> Vec<[f64; 2]> {
         c.x_um.iter().zip(v).map(|(x, y)| [*x, value(*y)]).collect()
     };
-    let mut plot = Plot::new("views_theory_profile")
-        .x_grid_spacer(ticks_125())
-        .y_grid_spacer(ticks_125())
-        .x_axis_formatter(tick_label)
+    let mut plot = with_nice_ticks(Plot::new("views_theory_profile"))
         .height(height)
         .legend(Legend::default().position(Corner::RightTop))
         .x_axis_label("position on the sensor, x (µm)")
@@ -208,12 +202,11 @@ fn profile_plot_ui(
     if let Some(e) = extent_um {
         plot = plot.default_x_bounds(-e, e);
     }
-    plot = if log {
-        plot.default_y_bounds(LOG_FLOOR.log10(), 0.1)
-            .y_axis_formatter(|mark, _| format!("1e{:.0}", mark.value))
-    } else {
-        plot.y_axis_formatter(tick_label)
-    };
+    if log {
+        plot = plot
+            .default_y_bounds(LOG_FLOOR.log10(), 0.1)
+            .y_axis_formatter(|mark, _| format!("1e{:.0}", mark.value));
+    }
     plot.show(ui, |p| match c.kind {
         ProfileKind::Orders => {
             p.points(
