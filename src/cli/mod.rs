@@ -56,7 +56,8 @@ pub enum Command {
     /// Optimize the opening of one display pixel (thesis §3.4.2) and save the new design.
     Optimize(optimize::OptimizeArgs),
     /// Simulate spatially-varying gain and binning on an HDR scene (thesis chapter 5): the four
-    /// strategies of Table 5.4 with worst-ROI SSIM, PSNR and saturation.
+    /// strategies of Table 5.4 with worst-ROI SSIM, PSNR and saturation; `sensor flat-patch`
+    /// checks eq. 5.3's η on a flat patch.
     Sensor(sensor::SensorArgs),
     /// Phase masks (thesis chapter 4): double microlens arrays around a T-OLED, folded plates
     /// and the allocation of folding wavelengths.

@@ -3,23 +3,28 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use clap::Args;
+use clap::{Args, Subcommand};
 use serde_json::json;
 
-use crate::core::Progress;
 use crate::core::sensor::{
-    BinMode, Exposure, PRESET_NAMES, SensorSettings, SensorSpec, Strategy, run,
+    AdditiveGain, BinMode, Exposure, FlatPatchSpec, PRESET_NAMES, RoiLight, SensorSettings,
+    SensorSpec, Strategy, flat_patch, run,
 };
+use crate::core::{Progress, SimError};
 use crate::io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
 use crate::io::numbers::json6 as r;
 use crate::io::sensor_report::{run_json, write_run_images};
 
-/// Arguments of `udc-studio sensor`.
+/// Arguments of `udc-studio sensor`: a run on a scene, or a check (`sensor flat-patch`).
 #[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct SensorArgs {
+    /// A check of the noise model instead of a run on a scene.
+    #[command(subcommand)]
+    pub check: Option<SensorCheck>,
     /// The HDR scene: a Radiance .hdr or an OpenEXR .exr (linear relative radiance).
-    #[arg(long)]
-    pub hdr: PathBuf,
+    #[arg(long, required = true)]
+    pub hdr: Option<PathBuf>,
     /// Sensor preset: table54, nikon-z5, nexus-6p, bfs-u3-200s6c or bfs-u3-16s2m.
     #[arg(long, default_value = "table54")]
     pub sensor: String,
@@ -46,6 +51,14 @@ pub struct SensorArgs {
     /// How the vary-bin strategies combine a bin.
     #[arg(long, value_enum, default_value_t = BinMode::Digital)]
     pub bin_mode: BinMode,
+    /// Amplifier gain of additive bins of N pixels: `scaled` (g/N: no extra saturation, read
+    /// noise σ_post²/g²) or `same` (g: least read noise, the sum saturates N× sooner).
+    #[arg(long, value_enum, default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
+    pub additive_gain: AdditiveGain,
+    /// The light level eq. 5.3 sets an ROI's gain for: its brightest 2×2 snapshot block, the
+    /// 99th percentile of its blocks, or its mean.
+    #[arg(long, value_enum, default_value_t = RoiLight::Brightest)]
+    pub roi_light: RoiLight,
     /// Also run the other baselines: maximum gain, alternating rows, per-pixel gain, 2×2 bins.
     #[arg(long)]
     pub all_strategies: bool,
@@ -59,6 +72,132 @@ pub struct SensorArgs {
     /// simulated (half-float EXR) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// A check of the sensor model, `udc-studio sensor <CHECK>`.
+#[derive(Debug, Subcommand)]
+pub enum SensorCheck {
+    /// Expose a flat patch at light E, read it at the gain of eq. 5.3 for E with η, and compare
+    /// the saturated fraction with the model's prediction (η = 2: ≈ 2.2 % per pixel).
+    FlatPatch(FlatPatchArgs),
+}
+
+/// Arguments of `udc-studio sensor flat-patch`.
+#[derive(Debug, Args)]
+pub struct FlatPatchArgs {
+    /// Light level of the patch, electrons per unit pixel (also the l̂ of eq. 5.3).
+    #[arg(long, value_name = "E")]
+    pub light: f64,
+    /// η of eq. 5.3.
+    #[arg(long, value_name = "H", default_value_t = 2.0)]
+    pub eta: f64,
+    /// Sensor preset: table54, nikon-z5, nexus-6p, bfs-u3-200s6c or bfs-u3-16s2m.
+    #[arg(long, default_value = "table54")]
+    pub sensor: String,
+    /// Bin side in unit pixels: 1, 2, 4 or 8.
+    #[arg(long, default_value_t = 1)]
+    pub bin: usize,
+    /// How a bin's pixels are combined.
+    #[arg(long, value_enum, default_value_t = BinMode::Digital)]
+    pub bin_mode: BinMode,
+    /// Amplifier gain of additive bins: `scaled` (g/N) or `same` (g).
+    #[arg(long, value_enum, default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
+    pub additive_gain: AdditiveGain,
+    /// Side of the square patch, pixels.
+    #[arg(long, default_value_t = 512)]
+    pub side_px: usize,
+    /// Seed of the photon and read noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Print one JSON object to stdout instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn named_sensor(name: &str) -> Result<SensorSpec> {
+    SensorSpec::named(name).with_context(|| {
+        format!(
+            "unknown sensor `{name}` (expected one of: {})",
+            PRESET_NAMES.join(", ")
+        )
+    })
+}
+
+/// Runs `udc-studio sensor flat-patch`.
+///
+/// # Errors
+/// Unknown sensors and bad values, naming the flag.
+pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
+    let sensor = named_sensor(&args.sensor)?;
+    let spec = FlatPatchSpec {
+        light_e: args.light,
+        eta: args.eta,
+        bin_px: args.bin,
+        bin_mode: args.bin_mode,
+        additive_gain: args.additive_gain,
+        side_px: args.side_px,
+        seed: args.seed,
+    };
+    let flag_of = |field: &str| match field {
+        "light_e" => Some("--light"),
+        "eta" => Some("--eta"),
+        "bin_px" => Some("--bin"),
+        "side_px" => Some("--side-px"),
+        _ => None,
+    };
+    let res = flat_patch(&spec, &sensor, &Progress::new()).map_err(|e| match e {
+        SimError::InvalidField { field, message } => match flag_of(&field) {
+            Some(flag) => anyhow::anyhow!("{flag}: {message}"),
+            None => SimError::InvalidField { field, message }.into(),
+        },
+        e => e.into(),
+    })?;
+    let mode = if spec.bin_px == 1 {
+        "none".to_string()
+    } else if spec.bin_mode == BinMode::AnalogAdditive {
+        format!(
+            "{0}×{0} additive ({1} gain)",
+            spec.bin_px,
+            spec.additive_gain.label()
+        )
+    } else {
+        format!("{0}×{0} {1}", spec.bin_px, spec.bin_mode.label())
+    };
+    if args.json {
+        let v = json!({
+            "saturated_fraction": r(res.saturated_fraction),
+            "predicted": r(res.predicted),
+            "gaussian_tail": r(res.gaussian_tail),
+            "standard_error": r(res.standard_error),
+            "readouts": res.readouts,
+            "gain": r(res.gain),
+            "amplifier_gain": r(res.amplifier_gain),
+            "light_e": spec.light_e,
+            "eta": spec.eta,
+            "sensor": sensor.name,
+            "bin_px": spec.bin_px,
+            "bin_mode": spec.bin_mode.label(),
+            "additive_gain": spec.additive_gain.label(),
+            "side_px": spec.side_px,
+            "seed": spec.seed,
+        });
+        println!("{}", serde_json::to_string(&v)?);
+        return Ok(());
+    }
+    println!(
+        "flat patch {0}×{0} px at {1} e⁻ on {2}, η {3}: gain {4:.4} (eq. 5.3), binning {mode}",
+        spec.side_px, spec.light_e, sensor.name, spec.eta, res.gain
+    );
+    println!(
+        "saturated {:.3} % of pixels (± {:.3} % standard error, {} readouts); predicted {:.3} % \
+         (Poisson photons, Gaussian read noise, ADC top code); eq. 5.3's Gaussian 1 − Φ(η) = {:.3} %",
+        100.0 * res.saturated_fraction,
+        100.0 * res.standard_error,
+        res.readouts,
+        100.0 * res.predicted,
+        100.0 * res.gaussian_tail
+    );
+    Ok(())
 }
 
 /// Parses `mean:F`, `pP:F` or `abs:E` (see [`SensorArgs::exposure`]).
@@ -116,18 +255,18 @@ fn exposure_text(e: &Exposure) -> String {
 /// # Errors
 /// Unknown sensors, unreadable scenes, invalid settings, unwritable outputs.
 pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
-    let sensor = SensorSpec::named(&args.sensor).with_context(|| {
-        format!(
-            "unknown sensor `{}` (expected one of: {})",
-            args.sensor,
-            PRESET_NAMES.join(", ")
-        )
-    })?;
+    if let Some(SensorCheck::FlatPatch(check)) = &args.check {
+        return flat_patch_cmd(check);
+    }
+    let Some(hdr) = &args.hdr else {
+        bail!("--hdr is required (or a check such as `sensor flat-patch`)");
+    };
+    let sensor = named_sensor(&args.sensor)?;
     if args.max_side_px == Some(0) {
         bail!("--max-side-px must be at least 1");
     }
     let exposure = parse_exposure(&args.exposure).map_err(|e| anyhow::anyhow!("--exposure {e}"))?;
-    let (mut scene, report) = load_hdr_with_report(&args.hdr)?;
+    let (mut scene, report) = load_hdr_with_report(hdr)?;
     let full = scene.dim();
     let settings = SensorSettings {
         sensor,
@@ -138,6 +277,8 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         snr_t: args.snr_t,
         seed: args.seed,
         bin_mode: args.bin_mode,
+        additive_gain: args.additive_gain,
+        roi_light: args.roi_light,
         strategies: if args.all_strategies {
             Strategy::all()
         } else {
@@ -162,7 +303,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         let mut v = run_json(&result);
         if let Some(obj) = v.as_object_mut() {
             let s = &settings.sensor;
-            obj.insert("hdr".into(), json!(args.hdr.display().to_string()));
+            obj.insert("hdr".into(), json!(hdr.display().to_string()));
             obj.insert("source_size_px".into(), json!([full.1, full.0]));
             obj.insert(
                 "sensor".into(),
@@ -179,6 +320,11 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
             obj.insert("seed".into(), json!(settings.seed));
             obj.insert("gamma".into(), r(settings.gamma));
             obj.insert("bin_mode".into(), json!(settings.bin_mode.label()));
+            obj.insert(
+                "additive_gain".into(),
+                json!(settings.additive_gain.label()),
+            );
+            obj.insert("roi_light".into(), json!(settings.roi_light.label()));
             obj.insert("notes".into(), json!(notes));
             obj.insert(
                 "outputs".into(),
@@ -197,7 +343,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
     println!(
         "{} ({cols}×{rows}{}): sensor {} ({} µm, full well {} e⁻, σ_pre {} e⁻, σ_post {} e⁻, \
          gain ≤ {:.1}, {}-bit)",
-        args.hdr.display(),
+        hdr.display(),
         if (rows, cols) == full {
             String::new()
         } else {
@@ -211,29 +357,34 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         s.max_gain,
         s.adc_bits
     );
+    let binning = match settings.bin_mode {
+        BinMode::AnalogAdditive => format!("additive ({} gain)", settings.additive_gain.label()),
+        m => m.label().to_string(),
+    };
     println!(
-        "exposure: {} ({:.4} e⁻ per unit radiance); ROI {} px ({}×{}); η {:?}; SNR_t {:?}; {} binning; \
-         {:.0} ms",
+        "exposure: {} ({:.4} e⁻ per unit radiance); ROI {} px ({}×{}), gain from its {} light; \
+         η {:?}; SNR_t {:?}; {binning} binning; {:.0} ms",
         exposure_text(&settings.exposure),
         result.electrons_per_radiance,
         settings.roi_px,
         result.grid.cols,
         result.grid.rows,
+        settings.roi_light.label(),
         settings.eta,
         settings.snr_t,
-        settings.bin_mode.label(),
         result.elapsed_ms
     );
     for n in &notes {
         println!("note: {n}");
     }
     println!(
-        "{:<22} {:>10} {:>9} {:>9} {:>10} {:>8} {:>13} {:>10}",
+        "{:<22} {:>10} {:>9} {:>9} {:>10} {:>10} {:>8} {:>13} {:>10}",
         "strategy",
         "worst SSIM",
         "mean SSIM",
         "PSNR (dB)",
         "saturated",
+        "sat. ROIs",
         "DR (dB)",
         "gain",
         "mean bin"
@@ -244,12 +395,13 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
             .iter()
             .fold((f64::INFINITY, 0.0f64), |(a, b), g| (a.min(*g), b.max(*g)));
         println!(
-            "{:<22} {:>10.4} {:>9.4} {:>9.2} {:>9.2}% {:>8.1} {:>13} {:>10.2}",
+            "{:<22} {:>10.4} {:>9.4} {:>9.2} {:>9.2}% {:>9.1}% {:>8.1} {:>13} {:>10.2}",
             st.name,
             st.worst_roi_ssim,
             st.mean_ssim,
             st.psnr_db,
             100.0 * st.saturated_fraction,
+            100.0 * st.saturated_roi_fraction,
             st.dynamic_range_db,
             format!("{lo:.1}–{hi:.1}"),
             st.bin_map.mean().unwrap_or(1.0)

@@ -63,6 +63,7 @@ pub fn strategy_json(s: &StrategyResult) -> Value {
         "mean_ssim": r(s.mean_ssim),
         "psnr_db": r(s.psnr_db),
         "saturated_fraction": r(s.saturated_fraction),
+        "saturated_roi_fraction": r(s.saturated_roi_fraction),
         "dynamic_range_db": r(s.dynamic_range_db),
         "gain_map": gain_summary(&s.gain_map),
         "bin_map": bin_summary(&s.bin_map),

@@ -150,3 +150,177 @@ fn sensor_errors_are_one_line_and_exit_non_zero() {
     );
     one_line(&["sensor", "--hdr", STILL_LIFE, "--eta=-1"], "eta");
 }
+
+#[test]
+fn sensor_json_names_the_gain_policy_and_counts_saturated_rois() {
+    let args = |extra: &[&'static str]| {
+        let mut a = vec![
+            "sensor",
+            "--hdr",
+            STILL_LIFE,
+            "--max-side-px",
+            "200",
+            "--roi",
+            "40",
+            "--json",
+        ];
+        a.extend_from_slice(extra);
+        a
+    };
+    let (ok, stdout, stderr) = run(&args(&[]));
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(v["additive_gain"], "scaled");
+    assert_eq!(v["roi_light"], "brightest");
+    let rois = |v: &serde_json::Value, i: usize| {
+        v["strategies"][i]["saturated_roi_fraction"]
+            .as_f64()
+            .unwrap()
+    };
+    for i in 0..4 {
+        let f = rois(&v, i);
+        assert!((0.0..=1.0).contains(&f), "{f}");
+        // A saturated pixel puts its ROI among the saturated ones.
+        let pixels = v["strategies"][i]["saturated_fraction"].as_f64().unwrap();
+        assert_eq!(pixels > 0.0, f > 0.0);
+    }
+    let (ok, stdout, stderr) = run(&args(&[
+        "--bin-mode",
+        "additive",
+        "--additive-gain",
+        "same",
+        "--roi-light",
+        "mean",
+    ]));
+    assert!(ok, "{stderr}");
+    let w: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(
+        (&w["bin_mode"], &w["additive_gain"], &w["roi_light"]),
+        (
+            &serde_json::json!("additive"),
+            &serde_json::json!("same"),
+            &serde_json::json!("mean")
+        )
+    );
+    // The mean light of an ROI gets a higher gain than its brightest block: more saturated ROIs.
+    assert!(
+        rois(&w, 1) >= rois(&v, 1),
+        "{} vs {}",
+        rois(&w, 1),
+        rois(&v, 1)
+    );
+    // The table has the column.
+    let (ok, stdout, _) = run(&[
+        "sensor",
+        "--hdr",
+        STILL_LIFE,
+        "--max-side-px",
+        "120",
+        "--roi",
+        "32",
+        "--gain-policy",
+        "same",
+        "--bin-mode",
+        "additive",
+    ]);
+    assert!(ok);
+    assert!(stdout.contains("sat. ROIs"), "{stdout}");
+    assert!(stdout.contains("additive (same gain)"), "{stdout}");
+}
+
+#[test]
+fn flat_patch_prints_measured_and_predicted_saturation() {
+    let (ok, stdout, stderr) = run(&[
+        "sensor",
+        "flat-patch",
+        "--light",
+        "400",
+        "--eta",
+        "2",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+    let f = |k: &str| v[k].as_f64().unwrap_or_else(|| panic!("{k} in {v}"));
+    let (measured, predicted, se) = (f("saturated_fraction"), f("predicted"), f("standard_error"));
+    assert!((measured - predicted).abs() < 3.0 * se, "{v}");
+    // The thesis's Gaussian number, 1 − Φ(2).
+    assert!((f("gaussian_tail") - 0.02275).abs() < 1e-5);
+    assert_eq!(v["readouts"], 512 * 512);
+    // The same patch in 2×2 additive bins: at the same gain the sum saturates N× sooner.
+    let bins = |policy: &str| {
+        let (ok, stdout, stderr) = run(&[
+            "sensor",
+            "flat-patch",
+            "--light",
+            "400",
+            "--bin",
+            "2",
+            "--bin-mode",
+            "additive",
+            "--gain-policy",
+            policy,
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+        assert_eq!(v["additive_gain"], policy);
+        v["saturated_fraction"].as_f64().unwrap()
+    };
+    assert!(bins("same") > measured && measured > bins("scaled"));
+    // Text output.
+    let (ok, stdout, stderr) = run(&["sensor", "flat-patch", "--light", "100"]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("predicted"), "{stdout}");
+}
+
+#[test]
+fn flat_patch_errors_are_one_line_and_exit_non_zero() {
+    let one_line = |args: &[&str], needle: &str| {
+        let (ok, _, stderr) = run(args);
+        assert!(!ok, "{args:?} succeeded");
+        assert!(stderr.contains(needle), "{needle} not in {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+    };
+    one_line(&["sensor", "flat-patch", "--light", "-5"], "--light");
+    one_line(&["sensor", "flat-patch", "--light", "NaN"], "--light");
+    one_line(&["sensor", "flat-patch", "--light", "1e300"], "--light");
+    one_line(
+        &["sensor", "flat-patch", "--light", "10", "--eta=-1"],
+        "--eta",
+    );
+    one_line(
+        &["sensor", "flat-patch", "--light", "10", "--bin", "3"],
+        "--bin",
+    );
+    one_line(
+        &[
+            "sensor",
+            "flat-patch",
+            "--light",
+            "10",
+            "--side-px",
+            "100",
+            "--bin",
+            "8",
+        ],
+        "--side-px",
+    );
+    one_line(
+        &["sensor", "flat-patch", "--light", "10", "--sensor", "canon"],
+        "nikon-z5",
+    );
+    one_line(
+        &[
+            "sensor",
+            "flat-patch",
+            "--light",
+            "10",
+            "--gain-policy",
+            "half",
+        ],
+        "scaled",
+    );
+    one_line(&["sensor", "flat-patch"], "--light");
+    one_line(&["sensor"], "--hdr");
+}

@@ -10,7 +10,7 @@ use udc_studio::core::sensor::gain::{
     dynamic_range, gain_for_light, ratio_db, read_alternating_rows, read_per_pixel,
 };
 use udc_studio::core::sensor::noise::{Adc, expose_frame, read_bin};
-use udc_studio::core::sensor::{BinMode, RoiGrid, SensorSpec};
+use udc_studio::core::sensor::{AdditiveGain, BinMode, RoiGrid, SensorSpec};
 
 /// Table 5.4's sensor with a 20-bit ADC: quantisation (≈ 1e-3 e⁻) vanishes from the variances.
 fn fine_adc_sensor() -> SensorSpec {
@@ -57,6 +57,7 @@ fn flat_readout(sensor: &SensorSpec, light_e: f64, gain: f64, side: usize, seed:
         &Array2::from_elem((1, 1), gain),
         &Array2::from_elem((1, 1), 1),
         BinMode::Digital,
+        AdditiveGain::Scaled,
         &Adc::of(sensor),
     );
     r.estimate_e.iter().copied().collect()
@@ -131,8 +132,8 @@ fn table_5_1_variances_of_the_four_binning_modes() {
         let want = variance(mode, light, &sensor, amp, pixels);
         assert_moments(&est, light, want, what);
     }
-    // The thesis's point (§5.5.2): with ĝ = g/N additive binning keeps σ_post²/g², digital
-    // binning divides it by N.
+    // The thesis's point (§5.5.2): with ĝ = g/N additive binning keeps σ_post²/g² (average
+    // binning's), digital binning divides it by N.
     let add = variance(BinMode::AnalogAdditive, light, &sensor, gain / 4.0, n);
     let avg = variance(BinMode::AnalogAverage, light, &sensor, gain, n);
     let dig = variance(BinMode::Digital, light, &sensor, gain, n);
@@ -146,10 +147,11 @@ fn read_regions_bins_like_read_bin() {
     let electrons = Array2::from_shape_fn((40, 40), |(y, x)| (y * 40 + x) as f64 * 0.3);
     let frame = expose_frame(electrons.view(), &sensor, 5, 1);
     let grid = RoiGrid::new((40, 40), 20);
-    for mode in [
-        BinMode::AnalogAdditive,
-        BinMode::AnalogAverage,
-        BinMode::Digital,
+    for (mode, additive) in [
+        (BinMode::AnalogAdditive, AdditiveGain::Scaled),
+        (BinMode::AnalogAdditive, AdditiveGain::Same),
+        (BinMode::AnalogAverage, AdditiveGain::Same),
+        (BinMode::Digital, AdditiveGain::Same),
     ] {
         let r = read_regions(
             &frame,
@@ -157,6 +159,7 @@ fn read_regions_bins_like_read_bin() {
             &Array2::from_elem((2, 2), 3.0),
             &Array2::from_elem((2, 2), 8),
             mode,
+            additive,
             &adc,
         );
         // ROI (1, 1) starts at pixel (20, 20); its last bins are cut to 4 px by the ROI edge.
@@ -166,7 +169,7 @@ fn read_regions_bins_like_read_bin() {
                 .collect();
             let c: Vec<f64> = idx.iter().map(|p| frame.charge_e[*p]).collect();
             let p: Vec<f64> = idx.iter().map(|p| frame.post_noise_e[*p]).collect();
-            let amp = mode.amplifier_gain(3.0, c.len());
+            let amp = mode.amplifier_gain(3.0, c.len(), additive);
             let want = read_bin(mode, amp, &c, &p, &adc).estimate_e;
             for q in &idx {
                 assert_eq!(r.estimate_e[*q], want, "{mode:?} at {q:?}");
@@ -193,6 +196,7 @@ fn eta_2_saturates_about_2_2_percent_of_a_flat_field() {
         &Array2::from_elem((1, 1), gain),
         &Array2::from_elem((1, 1), 1),
         BinMode::Digital,
+        AdditiveGain::Scaled,
         &Adc::of(&sensor),
     );
     let fraction = r.saturated.mean().unwrap();
@@ -206,6 +210,7 @@ fn eta_2_saturates_about_2_2_percent_of_a_flat_field() {
         &Array2::from_elem((1, 1), g4),
         &Array2::from_elem((1, 1), 1),
         BinMode::Digital,
+        AdditiveGain::Scaled,
         &Adc::of(&sensor),
     );
     assert!(r4.saturated.mean().unwrap() < 1e-3);

@@ -104,3 +104,71 @@ fn a_broken_hdr_file_shows_an_error_and_keeps_the_scene() {
         "the last result stays"
     );
 }
+
+#[test]
+fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
+    use udc_studio::core::sensor::{AdditiveGain, BinMode};
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut().set_workspace(WorkspaceId::Sensor);
+    h.step();
+    assert!(h.query_by_label("Flat patch check (eq. 5.3)").is_some());
+    let checked = |app: &udc_studio::app::StudioApp| {
+        let s = app.sensor_ref();
+        let f = s.flat_patch_check_ref();
+        f.is_up_to_date(&s.settings) && f.result().is_some()
+    };
+    step_until(&mut h, "the flat-patch check", checked);
+    fn h_result(
+        h: &egui_kittest::Harness<'_, udc_studio::app::StudioApp>,
+    ) -> (
+        udc_studio::core::sensor::FlatPatchSpec,
+        udc_studio::core::sensor::FlatPatch,
+    ) {
+        h.state()
+            .sensor_ref()
+            .flat_patch_check_ref()
+            .result()
+            .cloned()
+            .unwrap()
+    }
+    let (spec, eta2) = h_result(&h);
+    assert_eq!((spec.light_e, spec.eta, spec.bin_px), (400.0, 2.0, 1));
+    for shown in [
+        format!("{:.2} %", 100.0 * eta2.predicted),
+        format!("{:.2} %", 100.0 * eta2.gaussian_tail),
+    ] {
+        assert!(
+            h.query_all_by_label(&shown).next().is_some(),
+            "{shown} on screen"
+        );
+    }
+    // A new η reruns the check: more headroom, fewer saturated pixels.
+    h.state_mut().sensor().flat_patch_check().eta = 4.0;
+    step_until(&mut h, "the η = 4 check", checked);
+    let (spec, eta4) = h_result(&h);
+    assert_eq!(spec.eta, 4.0);
+    assert!(eta4.saturated_fraction < eta2.saturated_fraction);
+    // Additive bins at the same gain: the sum of 2×2 pixels saturates sooner than one pixel.
+    {
+        let s = h.state_mut().sensor();
+        s.settings.bin_mode = BinMode::AnalogAdditive;
+        s.settings.additive_gain = AdditiveGain::Same;
+        s.flat_patch_check().bin_px = 2;
+    }
+    step_until(&mut h, "the binned check", checked);
+    let (spec, same) = h_result(&h);
+    assert_eq!(
+        (spec.bin_px, spec.bin_mode, spec.additive_gain),
+        (2, BinMode::AnalogAdditive, AdditiveGain::Same)
+    );
+    assert!(same.saturated_fraction > eta4.saturated_fraction);
+    // The additive-gain row explains its choice with the sensor's numbers.
+    assert!(
+        h.query_by_label_contains("2x2 at gain 1: read noise")
+            .is_some()
+    );
+    // The numbers table counts saturated ROIs once a run is on screen.
+    step_until(&mut h, "a run", |app| app.sensor_ref().shown().is_some());
+    assert!(h.query_by_label("saturated ROIs").is_some());
+}

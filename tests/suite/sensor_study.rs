@@ -4,7 +4,7 @@
 use ndarray::Array2;
 use udc_studio::core::Progress;
 use udc_studio::core::sensor::study::{BinStudy, StudySpec, bin_study};
-use udc_studio::core::sensor::{BinMode, SensorSettings};
+use udc_studio::core::sensor::{AdditiveGain, BinMode, SensorSettings};
 use udc_studio::io::hdr::sample_scene;
 
 /// The shipped scene's central 128×128 pixels, studied with Fig. 5.4's defaults.
@@ -47,7 +47,12 @@ fn digital_binning_beats_analog_at_the_same_pixel_gain() {
     let ssim = |mode: BinMode, gain: f64, bin: usize| {
         s.modes
             .iter()
-            .find(|c| c.mode == mode && c.gain == gain && c.bin == bin)
+            .find(|c| {
+                c.mode == mode
+                    && c.additive_gain == AdditiveGain::Scaled
+                    && c.gain == gain
+                    && c.bin == bin
+            })
             .map(|c| c.ssim)
             .unwrap()
     };
@@ -72,6 +77,33 @@ fn digital_binning_beats_analog_at_the_same_pixel_gain() {
     // A large gain helps every mode in the dark (read noise σ_post/g).
     for mode in [BinMode::AnalogAdditive, BinMode::Digital] {
         assert!(ssim(mode, 16.0, 2) > ssim(mode, 1.0, 2), "{mode:?}");
+    }
+}
+
+#[test]
+fn with_the_same_gain_additive_binning_beats_digital_in_the_dark() {
+    // §5.6: "with the same gain, digital binning is slightly worse than analog additive
+    // binning" (Table 5.1: σ_post²/(N² g²) against σ_post²/(N g²)); Fig. 5.4b at a low gain.
+    let s = study();
+    let ssim = |mode: BinMode, additive: AdditiveGain, bin: usize| {
+        s.modes
+            .iter()
+            .find(|c| {
+                c.mode == mode && c.additive_gain == additive && c.gain == 1.0 && c.bin == bin
+            })
+            .map(|c| c.ssim)
+            .unwrap()
+    };
+    for bin in [2, 4] {
+        let same = ssim(BinMode::AnalogAdditive, AdditiveGain::Same, bin);
+        assert!(
+            same > ssim(BinMode::Digital, AdditiveGain::Scaled, bin),
+            "bin {bin}"
+        );
+        assert!(
+            same > ssim(BinMode::AnalogAdditive, AdditiveGain::Scaled, bin),
+            "bin {bin}"
+        );
     }
 }
 
@@ -128,15 +160,18 @@ fn the_csv_holds_every_capture_with_its_bins() {
             .iter()
             .find(|k| k.light_e_per_um2 == c.light_e_per_um2)
             .unwrap();
-        assert_eq!(row[8].parse::<usize>().unwrap(), choice.predicted_bin);
-        assert_eq!(row[9].parse::<usize>().unwrap(), choice.best_bin);
-        assert!((row[5].parse::<f64>().unwrap() - c.ssim).abs() < 1e-6);
+        assert_eq!(row[4], "scaled", "the sweep's additive bins at g/N");
+        assert_eq!(row[9].parse::<usize>().unwrap(), choice.predicted_bin);
+        assert_eq!(row[10].parse::<usize>().unwrap(), choice.best_bin);
+        assert!((row[6].parse::<f64>().unwrap() - c.ssim).abs() < 1e-6);
     }
     assert!(
         rows[s.sweep.len()..]
             .iter()
-            .all(|r| r[0] == "modes" && r[8].is_empty())
+            .all(|r| r[0] == "modes" && r[9].is_empty())
     );
+    // The policy column only on additive rows.
+    assert!(rows.iter().all(|r| (r[3] == "additive") != r[4].is_empty()));
 }
 
 #[test]
@@ -159,9 +194,9 @@ fn the_study_view_runs_shows_every_capture_and_exports_csv() {
         app.sensor_ref().study.study().is_some()
     });
     let study = h.state().sensor_ref().study.study().unwrap().clone();
-    // Every capture on screen with its SSIM; 8 light levels × 4 bins + 3 modes × 2 gains × 4.
-    assert_eq!(study.sweep.len() + study.modes.len(), 56);
-    assert_eq!(h.query_all_by_label_contains("SSIM 0.").count(), 56);
+    // Every capture on screen with its SSIM; 8 light levels × 4 bins + 4 modes × 2 gains × 4.
+    assert_eq!(study.sweep.len() + study.modes.len(), 64);
+    assert_eq!(h.query_all_by_label_contains("SSIM 0.").count(), 64);
     assert!(h.query_by_label("8 e-/µm²").is_none() && h.query_by_label("200 e-/µm²").is_some());
     let csv = dir.path().join("study.csv");
     let ctx = h.ctx.clone();
@@ -173,5 +208,5 @@ fn the_study_view_runs_shows_every_capture_and_exports_csv() {
             .is_some_and(|m| m.text.starts_with("wrote"))
     });
     let text = std::fs::read_to_string(&csv).unwrap();
-    assert_eq!(text.lines().count(), 57, "a header and 56 captures");
+    assert_eq!(text.lines().count(), 65, "a header and 64 captures");
 }

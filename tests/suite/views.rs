@@ -272,6 +272,7 @@ fn the_theory_tab_agrees_on_a_slit_then_parts_when_it_is_broken() {
     h.step();
     h.step();
     assert!(h.query_by_label("Theory: grating orders").is_some());
+}
 
 /// The Numbers panel alone, showing `shown`.
 struct NumbersState {

@@ -4,6 +4,7 @@
 //! downscaled scene at once, then the full scene, on a background thread (a newer change
 //! cancels the running job). The UI thread only draws.
 
+mod gain_panel;
 mod images;
 mod numbers;
 mod panels;
@@ -22,6 +23,8 @@ use crate::app::job::{Job, JobError};
 use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
 
 use crate::io::hdr;
+
+pub use gain_panel::FlatPatchCheck;
 
 /// The preview runs on the scene scaled to at most this side (the core's preview size, benched).
 pub const PREVIEW_SIDE_PX: usize = crate::core::sensor::PREVIEW_MAX_SIDE_PX;
@@ -120,6 +123,7 @@ pub struct SensorWorkspace {
     message: Option<Notice>,
     /// The bin-size study (Fig. 5.4): its own job, started from its view.
     pub study: study_view::StudyView,
+    flat: FlatPatchCheck,
 }
 
 type TextureKey = (u64, Quality, usize, usize, u32);
@@ -152,6 +156,7 @@ impl Default for SensorWorkspace {
             curve_pitch_um: 1.0,
             message: None,
             study: study_view::StudyView::default(),
+            flat: FlatPatchCheck::default(),
         }
     }
 }
@@ -162,13 +167,15 @@ impl SensorWorkspace {
         self.shown.as_ref()
     }
 
-    /// True once the full-scene result of the newest settings is on screen.
+    /// True once the full-scene result of the newest settings is on screen, and the flat-patch
+    /// check of its current inputs.
     pub fn is_up_to_date(&self) -> bool {
         self.load.is_none()
             && self
                 .shown
                 .as_ref()
                 .is_some_and(|s| s.generation == self.generation && s.quality == Quality::Full)
+            && self.flat.is_up_to_date(&self.settings)
     }
 
     /// Chooses the two captures of the Compare view and how they are shown.
@@ -176,6 +183,16 @@ impl SensorWorkspace {
         self.compare = [a, b];
         self.compare_mode = mode;
         self.split = split.clamp(0.0, 1.0);
+    }
+
+    /// The flat-patch check of the gain controls.
+    pub fn flat_patch_check(&mut self) -> &mut FlatPatchCheck {
+        &mut self.flat
+    }
+
+    /// The flat-patch check, read-only (for `step_until` conditions).
+    pub fn flat_patch_check_ref(&self) -> &FlatPatchCheck {
+        &self.flat
     }
 
     /// The loaded scene's name.
@@ -303,6 +320,7 @@ impl SensorWorkspace {
         }
         // A change of scene or settings: a new generation, preview first.
         self.settings.exposure = self.exposure();
+        self.flat.poll(&self.settings, ctx);
         let Some(scene) = &self.scene else {
             return;
         };

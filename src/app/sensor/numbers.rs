@@ -44,7 +44,7 @@ impl SensorWorkspace {
         ));
         egui::Grid::new("sensor_numbers")
             .striped(true)
-            .num_columns(5)
+            .num_columns(6)
             .show(ui, |ui| {
                 for h in [
                     "strategy",
@@ -52,6 +52,7 @@ impl SensorWorkspace {
                     "mean SSIM",
                     "PSNR (dB)",
                     "saturated",
+                    "saturated ROIs",
                 ] {
                     ui.strong(h);
                 }
@@ -71,7 +72,10 @@ impl SensorWorkspace {
                     ui.monospace(format!("{:.4}", s.worst_roi_ssim));
                     ui.monospace(format!("{:.4}", s.mean_ssim));
                     ui.monospace(format!("{:.2}", s.psnr_db));
-                    ui.monospace(format!("{:.2} %", 100.0 * s.saturated_fraction));
+                    ui.monospace(format!("{:.2} %", 100.0 * s.saturated_fraction))
+                        .on_hover_text("Pixels whose readout (or bin) hit the ADC's top code");
+                    ui.monospace(format!("{:.1} %", 100.0 * s.saturated_roi_fraction))
+                        .on_hover_text("ROIs holding at least one saturated pixel");
                     ui.end_row();
                 }
             });

@@ -232,6 +232,8 @@ impl SensorWorkspace {
                         }
                     });
                 ui.end_row();
+                super::gain_panel::additive_gain_row(ui, s);
+                super::gain_panel::roi_light_row(ui, s);
                 ui.label("Display gamma");
                 ui.add(
                     crate::app::widgets::number(&mut s.gamma)
@@ -244,6 +246,10 @@ impl SensorWorkspace {
                 ui.add(crate::app::widgets::number(&mut s.seed));
                 ui.end_row();
             });
+        ui.separator();
+        egui::CollapsingHeader::new("Flat patch check (eq. 5.3)")
+            .default_open(true)
+            .show(ui, |ui| self.flat.ui(ui));
         crate::app::widgets::message_ui(ui, self.message.as_ref());
     }
 
@@ -360,8 +366,9 @@ impl SensorWorkspace {
             cell(
                 ui,
                 &format!(
-                    "Saturated (red): {:.2} % of pixels",
-                    100.0 * s.saturated_fraction
+                    "Saturated (red): {:.2} % of pixels, {:.1} % of ROIs",
+                    100.0 * s.saturated_fraction,
+                    100.0 * s.saturated_roi_fraction
                 ),
                 &mut |ui| {
                     picture(

@@ -1,7 +1,7 @@
 //! The bin-size study view (Fig. 5.4): a region of the scene captured at bins 1, 2, 4 and 8
 //! across light levels, the bin the theory predicts framed black and the best framed blue, and
 //! the binning modes at a small and a large gain; exported as CSV. It runs as its own
-//! background job, started by the user, because it is 56 captures.
+//! background job, started by the user, because it is 64 captures.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -15,7 +15,7 @@ use crate::app::dialogs::{FileSpec, ask};
 use crate::app::job::{Job, JobError, Writes};
 use crate::app::notice::Notice;
 use crate::core::sensor::study::{BinStudy, StudyCapture, StudySpec, bin_study};
-use crate::core::sensor::{BIN_SIZES, SensorSettings};
+use crate::core::sensor::{BIN_SIZES, BinMode, SensorSettings};
 
 /// Frame of the bin the optimal-pitch theory predicts (the thesis's black box; white here, on
 /// the dark theme).
@@ -302,7 +302,18 @@ impl StudyView {
                     let per_row = BIN_SIZES.len();
                     for (r, chunk) in study.modes.chunks(per_row).enumerate() {
                         if let Some(first) = chunk.first() {
-                            ui.label(format!("{}, gain {}", first.mode.label(), first.gain));
+                            let mode = match first.mode {
+                                BinMode::AnalogAdditive => {
+                                    format!("additive ({})", first.additive_gain.label())
+                                }
+                                m => m.label().to_string(),
+                            };
+                            ui.label(format!("{mode}, gain {}", first.gain))
+                                .on_hover_text(
+                                    "additive (scaled): read at g/N, no extra saturation; additive \
+                                 (same): read at g, the least read noise, saturates N times \
+                                 sooner",
+                                );
                         }
                         for (k, c) in chunk.iter().enumerate() {
                             if let Some(t) = shown.modes.get(r * per_row + k) {

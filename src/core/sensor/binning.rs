@@ -9,11 +9,11 @@ use rayon::prelude::*;
 
 use super::noise::{Adc, BinRead, Frame, read_analog, read_pixel};
 use super::roi::RoiGrid;
-use super::{BinMode, SensorSpec};
+use super::{AdditiveGain, BinMode, SensorSpec};
 
 /// Table 5.1: the variance of the per-pixel estimate `l̂` of a bin of `pixels` pixels at light
 /// `light_e` (electrons per pixel), read at amplifier gain `amp_gain` (`ĝ` for additive
-/// binning, `g` otherwise):
+/// binning, `g/N` or `g` by [`AdditiveGain`]; `g` otherwise):
 ///
 /// | mode | variance |
 /// |---|---|
@@ -47,9 +47,16 @@ pub fn variance(
 }
 
 /// Read-noise RMS of the per-pixel estimate of a bin of `pixels` pixels whose pixel gain is
-/// `gain` (for additive binning read at `ĝ = g/N`): Table 5.1 at `l* = 0`.
-pub fn read_sigma_e(mode: BinMode, sensor: &SensorSpec, gain: f64, pixels: usize) -> f64 {
-    variance(mode, 0.0, sensor, mode.amplifier_gain(gain, pixels), pixels).sqrt()
+/// `gain` (additive bins read at the `ĝ` of `additive`): Table 5.1 at `l* = 0`.
+pub fn read_sigma_e(
+    mode: BinMode,
+    additive: AdditiveGain,
+    sensor: &SensorSpec,
+    gain: f64,
+    pixels: usize,
+) -> f64 {
+    let amp = mode.amplifier_gain(gain, pixels, additive);
+    variance(mode, 0.0, sensor, amp, pixels).sqrt()
 }
 
 /// A readout of the whole image: the estimate, the saturation map and the maps of what was done.
@@ -59,14 +66,15 @@ pub struct Readout {
     pub estimate_e: Array2<f64>,
     /// 1 where the pixel's (or its bin's) code hit the top, else 0.
     pub saturated: Array2<f64>,
-    /// The pixel gain `g` (additive bins are read at `g/N`).
+    /// The pixel gain `g` (additive bins are read at the `ĝ` of their [`AdditiveGain`]).
     pub gain: Array2<f64>,
     /// Side of the bin that holds the pixel.
     pub bin: Array2<f64>,
 }
 
 /// Reads `frame` ROI by ROI: ROI `(r, c)` at pixel gain `roi_gain[[r, c]]` in bins of
-/// `roi_bin[[r, c]]` (see the module docs), combined in `mode`.
+/// `roi_bin[[r, c]]` (see the module docs), combined in `mode` (additive bins amplified as
+/// `additive` says).
 ///
 /// # Panics
 /// If `roi_gain` or `roi_bin` are not `grid.rows × grid.cols`, or the frame is not
@@ -77,6 +85,7 @@ pub fn read_regions(
     roi_gain: &Array2<f64>,
     roi_bin: &Array2<usize>,
     mode: BinMode,
+    additive: AdditiveGain,
     adc: &Adc,
 ) -> Readout {
     assert_eq!(roi_gain.dim(), (grid.rows, grid.cols), "one gain per ROI");
@@ -104,7 +113,8 @@ pub fn read_regions(
                 gain: g.as_slice_mut().unwrap_or_default(),
                 bin: b.as_slice_mut().unwrap_or_default(),
             };
-            read_band(r, grid, (charge, post), roi_gain, roi_bin, mode, adc, band);
+            let how = (mode, additive);
+            read_band(r, grid, (charge, post), roi_gain, roi_bin, how, adc, band);
         });
     let [estimate_e, saturated, gain, bin] = out;
     Readout {
@@ -131,7 +141,7 @@ fn read_band(
     (charge, post): (&[f64], &[f64]),
     roi_gain: &Array2<f64>,
     roi_bin: &Array2<usize>,
-    mode: BinMode,
+    (mode, additive): (BinMode, AdditiveGain),
     adc: &Adc,
     out: Band<'_>,
 ) {
@@ -163,7 +173,7 @@ fn read_band(
             for bx in cols.clone().step_by(n) {
                 let xs = bx..(bx + n).min(cols.end);
                 let pixels = ys.len() * xs.len();
-                let amp = mode.amplifier_gain(g, pixels);
+                let amp = mode.amplifier_gain(g, pixels, additive);
                 let read = if mode == BinMode::Digital {
                     let (mut sum, mut saturated) = (0.0, false);
                     for y in ys.clone() {

@@ -9,7 +9,7 @@ use rand_distr::{Distribution, StandardNormal};
 
 use super::noise::{Adc, Frame, photons, read_analog, read_pixel, row_rng, stream};
 use super::roi::RoiGrid;
-use super::{BinMode, SensorSpec};
+use super::{BinMode, RoiLight, SensorSpec};
 
 /// Eq. 5.3: the largest gain `g` with `g·l̂ + η·g·√l̂ ≤ l_wc`, i.e. `l_wc / (l̂ + η√l̂)`, clamped
 /// to `[1, max_gain]`. A light level ≤ 0 (or NaN) gets the maximum gain. Never above
@@ -42,10 +42,23 @@ pub const SNAPSHOT_BLOCK_PX: usize = 2;
 #[derive(Debug, Clone)]
 pub struct Snapshot {
     /// Per ROI, the brightest 2×2 block of the base-gain snapshot, electrons per pixel (≥ 0):
-    /// the `l̂` of eq. 5.3.
+    /// the `l̂` of eq. 5.3 by default ([`RoiLight::Brightest`]).
     pub roi_peak_e: Array2<f64>,
+    /// Per ROI, the 99th percentile (nearest rank) of its 2×2 blocks, electrons per pixel (≥ 0).
+    pub roi_p99_e: Array2<f64>,
     /// Per ROI, the mean of the snapshot, electrons per pixel (≥ 0): sets the ROI's bin.
     pub roi_mean_e: Array2<f64>,
+}
+
+impl Snapshot {
+    /// Per ROI, the light level `which` picks: the `l̂` of eq. 5.3 for the ROI's gain.
+    pub fn roi_light_e(&self, which: RoiLight) -> &Array2<f64> {
+        match which {
+            RoiLight::Brightest => &self.roi_peak_e,
+            RoiLight::P99 => &self.roi_p99_e,
+            RoiLight::Mean => &self.roi_mean_e,
+        }
+    }
 }
 
 /// Takes the snapshot: an exposure of its own (noise stream [`stream::SNAPSHOT`], one ChaCha8
@@ -94,27 +107,39 @@ pub fn take_snapshot(
                 *out = read.estimate_e;
             }
         });
-    let per_roi: Vec<(f64, f64)> = (0..grid.rows * grid.cols)
+    let per_roi: Vec<[f64; 3]> = (0..grid.rows * grid.cols)
         .into_par_iter()
         .map(|k| {
             let (r, c) = (k / grid.cols, k % grid.cols);
             let (rows, cols) = (grid.row_range(r), grid.col_range(c));
-            let (mut peak, mut total, mut count) = (0.0f64, 0.0, 0usize);
-            for by in rows.start.div_ceil(b)..rows.end.div_ceil(b) {
-                for bx in cols.start.div_ceil(b)..cols.end.div_ceil(b) {
-                    let v = blocks[[by, bx]];
-                    peak = peak.max(v);
-                    total += v;
-                    count += 1;
+            let mut values: Vec<f64> = (rows.start.div_ceil(b)..rows.end.div_ceil(b))
+                .flat_map(|by| {
+                    (cols.start.div_ceil(b)..cols.end.div_ceil(b)).map(move |bx| (by, bx))
+                })
+                .map(|i| blocks[i])
+                .collect();
+            let count = values.len().max(1) as f64;
+            let mean = (values.iter().sum::<f64>() / count).max(0.0);
+            let peak = values.iter().copied().fold(0.0f64, f64::max);
+            // Nearest rank, as `scene::percentile_of`.
+            let rank = (0.99 * values.len() as f64).ceil() as usize;
+            let p99 = match values.len() {
+                0 => 0.0,
+                n => {
+                    let (_, x, _) =
+                        values.select_nth_unstable_by(rank.clamp(1, n) - 1, f64::total_cmp);
+                    x.max(0.0)
                 }
-            }
-            (peak, (total / count.max(1) as f64).max(0.0))
+            };
+            [peak, p99, mean]
         })
         .collect();
     let dim = (grid.rows, grid.cols);
+    let map = |i: usize| Array2::from_shape_fn(dim, |(r, c)| per_roi[r * grid.cols + c][i]);
     Snapshot {
-        roi_peak_e: Array2::from_shape_fn(dim, |(r, c)| per_roi[r * grid.cols + c].0),
-        roi_mean_e: Array2::from_shape_fn(dim, |(r, c)| per_roi[r * grid.cols + c].1),
+        roi_peak_e: map(0),
+        roi_p99_e: map(1),
+        roi_mean_e: map(2),
     }
 }
 

@@ -19,14 +19,20 @@
 //! ROI by eq. 5.3, single-shot per pixel) and a bin rule ([`binning`]: none, uniform, per ROI from
 //! the optimal-pitch theory of [`pitch`]) in one of Table 5.1's modes. The ROI rules read a
 //! snapshot at base gain (averaged over 2×2 pixels); an ROI's gain comes from its brightest
-//! block, its bin from its mean light `m` analysed at `l0 = 2m` (the derivation's sinusoid has
-//! mean `l0/2`) with the ROI's gain.
+//! block (or the statistic [`RoiLight`] names), its bin from its mean light `m` analysed at
+//! `l0 = 2m` (the derivation's sinusoid has mean `l0/2`) with the ROI's gain. Additive bins are
+//! read at `ĝ = g/N` or `g` ([`AdditiveGain`]).
+//!
+//! **Saturation** is reported per pixel (the fraction of pixels whose own or whose bin's code hit
+//! the top) and per ROI (the fraction of the grid's ROIs, each counted once whatever its size,
+//! that hold at least one saturated pixel). [`flat_patch`] checks eq. 5.3's η on a flat patch.
 //!
 //! **Scores** ([`metrics`]): every capture (and the truth, the noise-free electrons) goes through
 //! the display tone curve `clamp(x · display_mean / mean(truth), 0, 1)^γ` (Table 5.4: 0.05 and
 //! γ = 1/3.2); PSNR over the image, SSIM per ROI, the worst ROI and the area-weighted mean.
 
 pub mod binning;
+pub mod flat;
 pub mod gain;
 pub mod metrics;
 pub mod noise;
@@ -44,11 +50,14 @@ use ndarray::{Array2, Axis};
 use rayon::prelude::*;
 
 pub use binning::Readout;
+pub use flat::{FlatPatch, FlatPatchSpec, flat_patch};
 pub use gain::Snapshot;
 pub use metrics::ToneCurve;
 pub use roi::RoiGrid;
 pub use scene::{Exposure, Scene};
-pub use settings::{BIN_SIZES, BinMode, BinStrategy, GainStrategy, SensorSettings, Strategy};
+pub use settings::{
+    AdditiveGain, BIN_SIZES, BinMode, BinStrategy, GainStrategy, RoiLight, SensorSettings, Strategy,
+};
 pub use spec::{PRESET_NAMES, SensorSpec};
 
 use crate::core::{Progress, SimError};
@@ -69,7 +78,8 @@ pub struct StrategyResult {
     pub capture: Array2<f64>,
     /// The capture through the tone curve, `[0, 1]`.
     pub display: Array2<f64>,
-    /// Pixel gain per pixel (1 where constant; additive bins are read at gain/N).
+    /// Pixel gain per pixel (1 where constant; additive bins are read at the `ĝ` of
+    /// [`SensorSettings::additive_gain`]).
     pub gain_map: Array2<f64>,
     /// Bin side per pixel: 1, 2, 4 or 8.
     pub bin_map: Array2<f64>,
@@ -85,6 +95,8 @@ pub struct StrategyResult {
     pub psnr_db: f64,
     /// Fraction of pixels that saturated (the mean of `saturated`).
     pub saturated_fraction: f64,
+    /// Fraction of the ROIs (each counted once) with at least one saturated pixel.
+    pub saturated_roi_fraction: f64,
     /// The brightest unsaturated level at the lowest gain used over the lowest read-noise floor
     /// used (Table 5.1 at `l* = 0` with the gain and bin of each pixel), dB.
     pub dynamic_range_db: f64,
@@ -132,7 +144,7 @@ fn read_strategy(
             let roi_gain = Array2::from_shape_fn(dim, |(r, c)| match strategy.gain {
                 GainStrategy::Maximum => sensor.max_gain,
                 GainStrategy::Roi => gain::gain_for_light(
-                    snapshot.map_or(0.0, |s| s.roi_peak_e[[r, c]]),
+                    snapshot.map_or(0.0, |s| s.roi_light_e(settings.roi_light)[[r, c]]),
                     settings.eta,
                     sensor.full_well_e,
                     sensor.max_gain,
@@ -149,7 +161,9 @@ fn read_strategy(
                 }
             });
             let adc = noise::Adc::of(sensor);
-            binning::read_regions(frame, grid, &roi_gain, &roi_bin, settings.bin_mode, &adc)
+            let mode = settings.bin_mode;
+            let additive = settings.additive_gain;
+            binning::read_regions(frame, grid, &roi_gain, &roi_bin, mode, additive, &adc)
         }
     }
 }
@@ -171,7 +185,8 @@ fn dynamic_range_db(readout: &Readout, settings: &SensorSettings) -> f64 {
                 }
                 last = (*g, *b);
                 let pixels = (*b as usize).pow(2);
-                let sigma = binning::read_sigma_e(settings.bin_mode, sensor, *g, pixels);
+                let (mode, additive) = (settings.bin_mode, settings.additive_gain);
+                let sigma = binning::read_sigma_e(mode, additive, sensor, *g, pixels);
                 acc = (acc.0.min(*g), acc.1.min(sigma));
             }
             acc
@@ -268,6 +283,7 @@ pub fn run(
             let display = tone.apply(&readout.estimate_e);
             let scores = metrics::score(&display, &truth_display, &grid)?;
             let saturated_fraction = readout.saturated.mean().unwrap_or(0.0);
+            let saturated_roi_fraction = grid.fraction_with_any(&readout.saturated);
             let dynamic_range_db = dynamic_range_db(&readout, settings);
             let d = done.fetch_add(1, Ordering::Relaxed) as f32 + 3.0;
             progress.set(d / steps);
@@ -284,6 +300,7 @@ pub fn run(
                 mean_ssim: scores.mean_ssim,
                 psnr_db: scores.psnr_db,
                 saturated_fraction,
+                saturated_roi_fraction,
                 dynamic_range_db,
             })
         })

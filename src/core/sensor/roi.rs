@@ -43,6 +43,30 @@ impl RoiGrid {
         (y / self.roi_px, x / self.roi_px)
     }
 
+    /// The fraction of ROIs, each counted once whatever its size, in which `map` (of `dim`) has
+    /// any non-zero pixel; 0 for an empty grid.
+    ///
+    /// # Panics
+    /// If `map` is not `dim`.
+    pub fn fraction_with_any(&self, map: &ndarray::Array2<f64>) -> f64 {
+        assert_eq!(map.dim(), self.dim, "a map of the grid's size");
+        let count = self.rows * self.cols;
+        let hit = (0..count)
+            .filter(|k| {
+                let (r, c) = (k / self.cols, k % self.cols);
+                self.row_range(r).any(|y| {
+                    let row = map.row(y);
+                    self.col_range(c).any(|x| row[x] != 0.0)
+                })
+            })
+            .count();
+        if count == 0 {
+            0.0
+        } else {
+            hit as f64 / count as f64
+        }
+    }
+
     /// A range of at least `min_len` inside `0..len` that contains `range` (extended backwards,
     /// then forwards): where an edge ROI is thinner than the SSIM window, its score is taken over
     /// the window-sized strip at the image edge.

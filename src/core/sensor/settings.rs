@@ -61,8 +61,8 @@ impl BinStrategy {
 /// How a bin's pixels are combined (Table 5.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
 pub enum BinMode {
-    /// Analog sum of the N pixels' charge, read once at gain `ĝ = g/N` so the sum does not
-    /// saturate (conventions.md §8).
+    /// Analog sum of the N pixels' charge, read once at the amplifier gain `ĝ` that
+    /// [`AdditiveGain`] chooses: `g/N` (the default) or `g` (conventions.md §8).
     #[value(name = "additive")]
     AnalogAdditive,
     /// Analog average of the N pixels, read once at gain `g`.
@@ -85,11 +85,69 @@ impl BinMode {
     }
 
     /// The amplifier gain a bin of `pixels` pixels is read at when the pixel gain is `gain`:
-    /// `gain / pixels` for additive binning, `gain` otherwise.
-    pub fn amplifier_gain(self, gain: f64, pixels: usize) -> f64 {
+    /// for additive binning `gain / pixels` or `gain` as `additive` says, `gain` otherwise.
+    pub fn amplifier_gain(self, gain: f64, pixels: usize, additive: AdditiveGain) -> f64 {
+        match (self, additive) {
+            (BinMode::AnalogAdditive, AdditiveGain::Scaled) => gain / pixels.max(1) as f64,
+            (BinMode::AnalogAdditive, AdditiveGain::Same)
+            | (BinMode::AnalogAverage | BinMode::Digital, _) => gain,
+        }
+    }
+}
+
+/// The amplifier gain `ĝ` of an analog additive bin of N pixels whose pixel gain is `g`. The
+/// thesis compares both (Fig. 5.4b, §5.6); Table 5.1's read-noise term is `σ_post²/(N² ĝ²)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum AdditiveGain {
+    /// `ĝ = g/N`: the N-pixel sum fills the ADC at the same light per pixel as one pixel at `g`
+    /// (no extra saturation); its read noise `σ_post²/g²` is then average binning's, N× digital
+    /// binning's (§5.5.2).
+    #[default]
+    #[value(name = "scaled")]
+    Scaled,
+    /// `ĝ = g`, the gain of the other modes: the least read noise, `σ_post²/(N² g²)`, N× below
+    /// digital binning's, but the sum saturates at `l_wc/(N g)` electrons per pixel, N× sooner.
+    #[value(name = "same")]
+    Same,
+}
+
+impl AdditiveGain {
+    /// The short name shown in the studio and in reports (`scaled`, `same`).
+    pub fn label(self) -> &'static str {
         match self {
-            BinMode::AnalogAdditive => gain / pixels.max(1) as f64,
-            BinMode::AnalogAverage | BinMode::Digital => gain,
+            AdditiveGain::Scaled => "scaled",
+            AdditiveGain::Same => "same",
+        }
+    }
+}
+
+/// Which statistic of an ROI's base-gain snapshot is the light level `l̂` that eq. 5.3 turns into
+/// the ROI's gain. The thesis says only that the gain comes from the snapshot's light level.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum RoiLight {
+    /// The brightest 2×2 block of the ROI: eq. 5.3 then bounds the saturation of the ROI's
+    /// brightest pixels by its tail probability, the thesis's intent ("saturates with a small
+    /// probability").
+    #[default]
+    #[value(name = "brightest")]
+    Brightest,
+    /// The 99th percentile (nearest rank) of the ROI's 2×2 blocks: a higher gain for the rest,
+    /// at the cost of the brightest 1 % of the ROI, which may saturate.
+    #[value(name = "p99")]
+    P99,
+    /// The mean of the ROI: the gain for its typical pixel; whatever is brighter than the mean
+    /// by more than `η√l̂` saturates.
+    #[value(name = "mean")]
+    Mean,
+}
+
+impl RoiLight {
+    /// The short name shown in the studio and in reports (`brightest`, `p99`, `mean`).
+    pub fn label(self) -> &'static str {
+        match self {
+            RoiLight::Brightest => "brightest",
+            RoiLight::P99 => "p99",
+            RoiLight::Mean => "mean",
         }
     }
 }
@@ -184,13 +242,18 @@ pub struct SensorSettings {
     pub display_mean: f64,
     /// How vary-bin and uniform strategies combine a bin.
     pub bin_mode: BinMode,
+    /// The amplifier gain of additive bins (used only when `bin_mode` is additive).
+    pub additive_gain: AdditiveGain,
+    /// Which snapshot statistic of an ROI sets its gain (vary-gain).
+    pub roi_light: RoiLight,
     /// What to simulate, in order; by default Table 5.4's four.
     pub strategies: Vec<Strategy>,
 }
 
 impl Default for SensorSettings {
     /// Table 5.4's setting (conventions.md §8): its sensor, mean at 5 % of the full well, ROI 128,
-    /// η 2 (per pixel 4), SNR_t 4, γ 1/3.2, the four strategies.
+    /// η 2 (per pixel 4), SNR_t 4, γ 1/3.2, the four strategies; digital binning (additive bins
+    /// at `ĝ = g/N`), ROI gains from the brightest snapshot block.
     fn default() -> Self {
         SensorSettings {
             sensor: SensorSpec::table54(),
@@ -203,6 +266,8 @@ impl Default for SensorSettings {
             gamma: 1.0 / 3.2,
             display_mean: 0.05,
             bin_mode: BinMode::default(),
+            additive_gain: AdditiveGain::default(),
+            roi_light: RoiLight::default(),
             strategies: Strategy::table54(),
         }
     }

@@ -16,7 +16,7 @@ use super::binning::read_regions;
 use super::metrics::{self, SSIM_WINDOW_PX, ToneCurve};
 use super::noise::{Adc, expose_frame};
 use super::pitch::optimal_bin;
-use super::{BIN_SIZES, BinMode, RoiGrid, SensorSettings};
+use super::{AdditiveGain, BIN_SIZES, BinMode, RoiGrid, SensorSettings};
 use crate::core::{Progress, SimError};
 
 /// What to sweep.
@@ -35,8 +35,8 @@ pub struct StudySpec {
 }
 
 impl Default for StudySpec {
-    /// Fig. 5.4's setting: 1 … 200 e⁻/µm², additive binning at base gain; the modes at
-    /// 20 e⁻/µm² with gains 1 and 16.
+    /// Fig. 5.4's setting: 1 … 200 e⁻/µm², additive binning at base gain (at the settings'
+    /// additive gain); the modes at 20 e⁻/µm² with gains 1 and 16.
     fn default() -> Self {
         StudySpec {
             lights_e_per_um2: vec![1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0],
@@ -103,6 +103,9 @@ pub struct StudyCapture {
     pub bin: usize,
     /// How the bin was combined.
     pub mode: BinMode,
+    /// The amplifier gain of an additive bin (`scaled` for the other modes, where it does not
+    /// apply).
+    pub additive_gain: AdditiveGain,
     /// The pixel gain.
     pub gain: f64,
     /// The capture through the tone curve, `[0, 1]`.
@@ -136,7 +139,8 @@ pub struct BinStudy {
     pub sweep: Vec<StudyCapture>,
     /// Predicted and best bin per light level.
     pub choices: Vec<BinChoice>,
-    /// Fig. 5.4b: additive, average and digital binning × the two gains × every bin size.
+    /// Fig. 5.4b: additive binning at ĝ = g/N and at the same gain g, average and digital
+    /// binning, × the two gains × every bin size.
     pub modes: Vec<StudyCapture>,
 }
 
@@ -181,21 +185,29 @@ pub fn bin_study(
     };
     let truth_display = tone.apply(region);
     let area_um2 = sensor.unit_pixel_area_um2();
-    let mut jobs: Vec<(f64, usize, BinMode, f64)> = Vec::new();
+    let mut jobs: Vec<(f64, usize, BinMode, AdditiveGain, f64)> = Vec::new();
     for &l in &spec.lights_e_per_um2 {
         for &n in &BIN_SIZES {
-            jobs.push((l, n, spec.sweep_mode, spec.sweep_gain));
+            jobs.push((
+                l,
+                n,
+                spec.sweep_mode,
+                settings.additive_gain,
+                spec.sweep_gain,
+            ));
         }
     }
     let sweep_len = jobs.len();
-    for mode in [
-        BinMode::AnalogAdditive,
-        BinMode::AnalogAverage,
-        BinMode::Digital,
-    ] {
+    let modes = [
+        (BinMode::AnalogAdditive, AdditiveGain::Scaled),
+        (BinMode::AnalogAdditive, AdditiveGain::Same),
+        (BinMode::AnalogAverage, AdditiveGain::Scaled),
+        (BinMode::Digital, AdditiveGain::Scaled),
+    ];
+    for (mode, additive) in modes {
         for &g in &spec.modes_gains {
             for &n in &BIN_SIZES {
-                jobs.push((spec.modes_light_e_per_um2, n, mode, g));
+                jobs.push((spec.modes_light_e_per_um2, n, mode, additive, g));
             }
         }
     }
@@ -203,7 +215,7 @@ pub fn bin_study(
     let done = std::sync::atomic::AtomicUsize::new(0);
     let captures = jobs
         .par_iter()
-        .map(|&(light, bin, mode, gain)| {
+        .map(|&(light, bin, mode, additive_gain, gain)| {
             progress.check()?;
             // One exposure per light level, shared by its bins and modes (common random
             // numbers: the bins differ by their readout only).
@@ -221,6 +233,7 @@ pub fn bin_study(
                 &Array2::from_elem((1, 1), gain),
                 &Array2::from_elem((1, 1), bin),
                 mode,
+                additive_gain,
                 &adc,
             );
             // Display in the units of the truth: electrons back to relative luminance.
@@ -232,6 +245,7 @@ pub fn bin_study(
                 light_e_per_um2: light,
                 bin,
                 mode,
+                additive_gain,
                 gain,
                 display,
                 ssim: scores.worst_roi_ssim,
