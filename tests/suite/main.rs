@@ -31,6 +31,7 @@ mod restore_view;
 mod safe_file;
 mod screenshots;
 mod sensor;
+mod sensor_colour;
 mod sensor_hdr;
 mod sensor_noise;
 mod sensor_panel;

@@ -86,5 +86,6 @@ impl SensorWorkspace {
                 ui.end_row();
             }
         });
+        super::colour::channels_ui(ui, run);
     }
 }
