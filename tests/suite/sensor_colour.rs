@@ -113,11 +113,14 @@ fn the_rggb_mosaic_takes_each_sites_channel() {
     );
 }
 
+/// A lit site, the ROI side, the bin side, and the rows and columns of the bin that holds it.
+type BinCase = ((usize, usize), usize, usize, Vec<usize>, Vec<usize>);
+
 #[test]
 fn a_bin_of_side_n_takes_n_by_n_same_colour_sites_of_a_2n_super_block() {
     let adc = Adc::of(&fine_adc_sensor());
     // One lit site; its bin is `rows × cols`. ROIs of 15 px start the second ROI at (15, 15).
-    let cases: [((usize, usize), usize, usize, Vec<usize>, Vec<usize>); 5] = [
+    let cases: [BinCase; 5] = [
         // Red at (4, 4) and (6, 6): the 2×2 red bin of the 4×4 super-block at (4, 4).
         ((4, 4), 16, 2, vec![4, 6], vec![4, 6]),
         ((6, 6), 16, 2, vec![4, 6], vec![4, 6]),
@@ -426,4 +429,72 @@ fn the_previewer_shows_colour_captures_and_channel_scores() {
     h.step();
     h.step();
     assert!(h.query_by_label_contains("A: worst ROI SSIM").is_some());
+}
+
+#[test]
+fn every_strategy_runs_on_the_bayer_sensor() {
+    // Six decades of grey light from left to right; a deep red ROI where the grey gets high gain.
+    let (h, w) = (96, 192);
+    let level = |x: usize| 10f64.powf(-4.0 + 6.0 * x as f64 / w as f64);
+    let red_patch = |y: usize, x: usize| y < 32 && (96..128).contains(&x);
+    let plane = |c: usize| {
+        Array2::from_shape_fn((h, w), |(y, x)| {
+            let tex = 1.0 + 0.5 * ((x as f64 * 0.4).sin() * (y as f64 * 0.3).cos());
+            match (red_patch(y, x), c) {
+                (true, 0) => 4.0 * level(x),
+                (true, _) => 0.02 * level(x),
+                _ => level(x) * tex,
+            }
+        })
+    };
+    let scene = Scene {
+        planes: vec![plane(0), plane(1), plane(2)],
+    };
+    let settings = SensorSettings {
+        roi_px: 32,
+        strategies: Strategy::all(),
+        cfa: Cfa::Rggb,
+        ..SensorSettings::default()
+    };
+    let r = run(&scene, &settings, &Progress::new()).unwrap();
+    let by = |name: &str| r.strategies.iter().find(|s| s.name == name).unwrap();
+    let max_gain = settings.sensor.max_gain;
+    // Alternating gains in row pairs, so each colour has rows at both gains.
+    let alt = by("alt-gain/no-bin");
+    let gains: Vec<f64> = (0..6).map(|y| alt.gain_map[[y, 5]]).collect();
+    assert_eq!(gains, [1.0, 1.0, max_gain, max_gain, 1.0, 1.0]);
+    // Per pixel: the first site of each colour in a row is read at base gain.
+    let pp = by("pixel-gain/no-bin");
+    assert!((0..h).all(|y| pp.gain_map[[y, 0]] == 1.0 && pp.gain_map[[y, 1]] == 1.0));
+    assert!(pp.gain_map.iter().any(|g| *g > 30.0));
+    assert!(pp.saturated_fraction < 0.05, "{}", pp.saturated_fraction);
+    // The ROI gain comes from the brightest colour: the red patch's red sites clip no more
+    // than eq. 5.3's η = 2 allows (≈ 2.2 % at the ROI's brightest block, less elsewhere); a
+    // luminance snapshot would see a fifth of the red and give it the grey's gain.
+    let vary = by("vary-gain/no-bin");
+    let (mut red_sites, mut red_clipped) = (0usize, 0usize);
+    for y in (0..32).step_by(2) {
+        for x in (96..128).step_by(2) {
+            red_sites += 1;
+            red_clipped += usize::from(vary.saturated[[y, x]] > 0.5);
+        }
+    }
+    let clipped = red_clipped as f64 / red_sites as f64;
+    assert!(
+        clipped < 0.06,
+        "{red_clipped} of {red_sites} red sites clipped"
+    );
+    assert!(
+        vary.gain_map[[0, 110]] < 0.6 * vary.gain_map[[40, 110]],
+        "the red ROI's gain {} vs the grey's {}",
+        vary.gain_map[[0, 110]],
+        vary.gain_map[[40, 110]]
+    );
+    assert!(by("max-gain/no-bin").saturated_fraction > 0.2);
+    assert!(by("const-gain/bin-2").bin_map.iter().all(|b| *b == 2.0));
+    for s in &r.strategies {
+        let c = s.colour.as_ref().unwrap();
+        assert_eq!(c.mosaic_e.dim(), (h, w));
+        assert!(s.worst_roi_ssim <= s.mean_ssim, "{}", s.name);
+    }
 }
