@@ -498,3 +498,39 @@ fn every_strategy_runs_on_the_bayer_sensor() {
         assert!(s.worst_roi_ssim <= s.mean_ssim, "{}", s.name);
     }
 }
+
+#[test]
+fn a_colour_run_is_the_same_on_any_thread_count() {
+    let scene = Scene {
+        planes: (0..3)
+            .map(|c| {
+                Array2::from_shape_fn((70, 90), |(y, x)| {
+                    10f64.powf(-3.0 + 4.0 * x as f64 / 90.0) * (1.0 + 0.2 * c as f64)
+                        + 0.01 * ((y * 7 + x * 3) % 11) as f64
+                })
+            })
+            .collect(),
+    };
+    let settings = SensorSettings {
+        roi_px: 24,
+        strategies: Strategy::all(),
+        cfa: Cfa::Rggb,
+        seed: 5,
+        ..SensorSettings::default()
+    };
+    let on = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| run(&scene, &settings, &Progress::new()).unwrap())
+    };
+    let (a, b) = (on(1), on(3));
+    for (x, y) in a.strategies.iter().zip(&b.strategies) {
+        let (cx, cy) = (x.colour.as_ref().unwrap(), y.colour.as_ref().unwrap());
+        assert_eq!(cx.mosaic_e, cy.mosaic_e, "{}", x.name);
+        assert_eq!(cx.rgb_e, cy.rgb_e, "{}", x.name);
+        assert_eq!(x.gain_map, y.gain_map, "{}", x.name);
+        assert_eq!(x.roi_ssim, y.roi_ssim, "{}", x.name);
+    }
+}

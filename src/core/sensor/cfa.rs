@@ -5,7 +5,7 @@
 //! **Mosaic.** Site `(y, x)` of an RGGB sensor sits under the filter [`rggb_channel`]: red at
 //! even row and even column, blue at odd row and odd column, green elsewhere (`Gr` on the red
 //! rows, `Gb` on the blue rows). Its expected electrons are the scene's linear channel of that
-//! colour times the exposure's electrons per radiance ([`mosaic`]); see [`super::colour`] for
+//! colour times the exposure's electrons per radiance ([`mosaic`]); the `colour` module states
 //! the response assumption.
 //!
 //! **Same-colour binning.** The sites of one colour *phase* (R, Gr, Gb or B: one of the four
@@ -15,7 +15,7 @@
 //! apart, so every bin holds `n²` sites, Table 5.1's `N`, whatever its colour. As in the
 //! monochrome readout, bins start at the ROI's first site of each phase and are cut at the
 //! ROI's (and the image's) edge; every site of a bin carries the bin's estimate, so the readout
-//! is still a full-resolution RGGB mosaic, ready for [`super::demosaic`]. Gain and bin size stay
+//! is still a full-resolution RGGB mosaic, ready for the `demosaic` module. Gain and bin size stay
 //! one per ROI.
 //!
 //! **Snapshot.** The two-shot strategies' snapshot bins 2×2 same-colour sites (a 4×4

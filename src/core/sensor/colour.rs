@@ -7,8 +7,8 @@
 //! the monochrome sensor (Table 5.4: the luminance mean at 5 % of the full well). The
 //! luminance weights sum to 1, so a grey scene exposes every site exactly as the monochrome
 //! sensor exposes its pixel: the two sensors are compared at the same light, and only the
-//! scene's colour, the mosaic, same-colour binning and the demosaic set them apart. A
-//! one-plane (luminance) scene is taken as grey, `R = G = B = Y`. Real filters overlap and
+//! scene's colour, the mosaic, same-colour binning and the demosaic set them apart. A scene
+//! of one plane (luminance), or of any count but three, is taken as grey, `R = G = B = Y`. Real filters overlap and
 //! pass less light; leaving that out keeps the comparison about the readout.
 //!
 //! **Scores.** The truth is the noise-free RGB electrons. A readout (a mosaic) is demosaiced
