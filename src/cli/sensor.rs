@@ -7,7 +7,7 @@ use clap::{Args, Subcommand};
 use serde_json::json;
 
 use crate::core::sensor::{
-    AdditiveGain, BinMode, Exposure, FlatPatchSpec, PRESET_NAMES, RoiLight, SensorSettings,
+    AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, PRESET_NAMES, RoiLight, SensorSettings,
     SensorSpec, Strategy, flat_patch, run,
 };
 use crate::core::{Progress, SimError};
@@ -62,6 +62,11 @@ pub struct SensorArgs {
     /// Also run the other baselines: maximum gain, alternating rows, per-pixel gain, 2×2 bins.
     #[arg(long)]
     pub all_strategies: bool,
+    /// Colour filter array: `none` (monochrome, on the scene's luminance) or `rggb` (a Bayer
+    /// mosaic of the RGB scene, same-colour binning, demosaiced; scores on the demosaiced
+    /// luminance and per channel).
+    #[arg(long, value_enum, default_value_t = Cfa::None)]
+    pub cfa: Cfa,
     /// Scale the scene down (area average) so its longer side has at most this many pixels.
     #[arg(long)]
     pub max_side_px: Option<usize>,
@@ -284,6 +289,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         } else {
             Strategy::table54()
         },
+        cfa: args.cfa,
         ..SensorSettings::default()
     };
     if let Some(m) = args.max_side_px {
@@ -357,6 +363,13 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         s.max_gain,
         s.adc_bits
     );
+    if settings.cfa != Cfa::None {
+        println!(
+            "colour: {} Bayer mosaic, same-colour binning, Malvar-He-Cutler demosaic; scores on \
+             the demosaiced luminance",
+            settings.cfa.label().to_uppercase()
+        );
+    }
     let binning = match settings.bin_mode {
         BinMode::AnalogAdditive => format!("additive ({} gain)", settings.additive_gain.label()),
         m => m.label().to_string(),
@@ -407,8 +420,34 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
             st.bin_map.mean().unwrap_or(1.0)
         );
     }
+    print_channels(&result);
     for p in &outputs {
         println!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// With a colour filter array, the per-channel scores under the table.
+fn print_channels(result: &crate::core::sensor::SensorRun) {
+    use crate::core::sensor::colour::CHANNEL_NAMES;
+    if result.colour_truth.is_none() {
+        return;
+    }
+    println!("per channel (worst ROI SSIM / PSNR dB):");
+    print!("{:<22}", "strategy");
+    for c in CHANNEL_NAMES {
+        print!(" {:>17}", c);
+    }
+    println!();
+    for st in &result.strategies {
+        let Some(colour) = &st.colour else { continue };
+        print!("{:<22}", st.name);
+        for ch in &colour.channels {
+            print!(
+                " {:>17}",
+                format!("{:.4} / {:.2}", ch.worst_roi_ssim, ch.psnr_db)
+            );
+        }
+        println!();
+    }
 }

@@ -8,6 +8,11 @@
 //!   `…_capture.png` (tone-mapped), `…_capture.exr` (electrons, float `Y`), `…_gain.png` (gain
 //!   on a log scale: black = 1, white = the sensor's maximum), `…_bins.png` (bin side: black 1,
 //!   then 2, 4, white 8), `…_saturated.png` (white where saturated).
+//!
+//! With a colour filter array (`"cfa": "rggb"`) `truth.png` and `…_capture.png` are RGB (each
+//! channel through the tone curve), `truth.exr` and `…_capture.exr` stay the luminance (`Y`)
+//! the scores use, and `truth_rgb.exr` and `…_capture_rgb.exr` (float `R`, `G`, `B`) add the
+//! demosaiced capture and the scene's electrons per channel.
 
 use std::path::{Path, PathBuf};
 
@@ -18,6 +23,7 @@ use super::IoError;
 use super::hdr::{ExrPrecision, write_exr};
 use super::numbers::json6 as r;
 use super::photo::write_photo_png;
+use crate::core::sensor::colour::CHANNEL_NAMES;
 use crate::core::sensor::{BIN_SIZES, SensorRun, StrategyResult};
 
 fn min_max_mean(a: &Array2<f64>) -> (f64, f64, f64) {
@@ -50,14 +56,15 @@ pub fn bin_summary(bin: &Array2<f64>) -> Value {
     json!({ "min": r(lo), "max": r(hi), "mean": r(mean), "fractions": fractions })
 }
 
-/// One element of `strategies`.
+/// One element of `strategies`; with a colour filter array it also has `channels`:
+/// `{"R": {worst_roi_ssim, mean_ssim, psnr_db}, "G": …, "B": …}`.
 pub fn strategy_json(s: &StrategyResult) -> Value {
     let roi: Vec<Vec<Value>> = s
         .roi_ssim
         .outer_iter()
         .map(|row| row.iter().map(|v| r(*v)).collect())
         .collect();
-    json!({
+    let mut v = json!({
         "name": s.name,
         "worst_roi_ssim": r(s.worst_roi_ssim),
         "mean_ssim": r(s.mean_ssim),
@@ -68,10 +75,28 @@ pub fn strategy_json(s: &StrategyResult) -> Value {
         "gain_map": gain_summary(&s.gain_map),
         "bin_map": bin_summary(&s.bin_map),
         "roi_ssim": roi,
-    })
+    });
+    if let (Some(colour), Some(obj)) = (&s.colour, v.as_object_mut()) {
+        let channels: serde_json::Map<String, Value> = CHANNEL_NAMES
+            .iter()
+            .zip(&colour.channels)
+            .map(|(name, c)| {
+                let scores = json!({
+                    "worst_roi_ssim": r(c.worst_roi_ssim),
+                    "mean_ssim": r(c.mean_ssim),
+                    "psnr_db": r(c.psnr_db),
+                });
+                ((*name).to_string(), scores)
+            })
+            .collect();
+        obj.insert("channels".into(), Value::Object(channels));
+    }
+    v
 }
 
-/// The run's numbers: image size, ROI grid, exposure, timing and `strategies`.
+/// The run's numbers: image size, ROI grid, colour filter array (`cfa`: `none` or `rggb`;
+/// with one, `metrics` says the scores are on the demosaiced luminance), exposure, timing and
+/// `strategies`.
 pub fn run_json(run: &SensorRun) -> Value {
     let (rows, cols) = run.electrons.dim();
     let (_, max_e, mean_e) = min_max_mean(&run.electrons);
@@ -83,6 +108,12 @@ pub fn run_json(run: &SensorRun) -> Value {
         "electrons_mean": r(mean_e),
         "electrons_max": r(max_e),
         "elapsed_ms": (run.elapsed_ms * 1000.0).round() / 1000.0,
+        "cfa": run.cfa.label(),
+        "metrics": if run.colour_truth.is_some() {
+            "luminance of the demosaiced capture; channels per R, G, B"
+        } else {
+            "luminance"
+        },
         "strategies": run.strategies.iter().map(strategy_json).collect::<Vec<_>>(),
     })
 }
@@ -105,38 +136,51 @@ pub fn write_run_images(
 ) -> Result<Vec<PathBuf>, IoError> {
     std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
     let mut written = Vec::new();
-    let mut png = |name: String, plane: &Array2<f64>| -> Result<(), IoError> {
+    let mut png = |name: String, planes: &[&Array2<f64>]| -> Result<(), IoError> {
         let p = dir.join(name);
-        write_photo_png(&p, &[plane])?;
+        write_photo_png(&p, planes)?;
         written.push(p);
         Ok(())
     };
-    png("truth.png".into(), &run.truth_display)?;
+    match &run.colour_truth {
+        Some(t) => png("truth.png".into(), &t.display_rgb.each_ref())?,
+        None => png("truth.png".into(), &[&run.truth_display])?,
+    }
     let log_max = max_gain.max(1.0).ln();
     for s in &run.strategies {
         let stem = strategy_stem(&s.name);
-        png(format!("{stem}_capture.png"), &s.display)?;
+        match &s.colour {
+            Some(c) => png(format!("{stem}_capture.png"), &c.display_rgb.each_ref())?,
+            None => png(format!("{stem}_capture.png"), &[&s.display])?,
+        }
         let gain = if log_max > 0.0 {
             s.gain_map.mapv(|g| g.max(1.0).ln() / log_max)
         } else {
             s.gain_map.mapv(|_| 0.0)
         };
-        png(format!("{stem}_gain.png"), &gain)?;
+        png(format!("{stem}_gain.png"), &[&gain])?;
         png(
             format!("{stem}_bins.png"),
-            &s.bin_map.mapv(|b| b.max(1.0).log2() / 3.0),
+            &[&s.bin_map.mapv(|b| b.max(1.0).log2() / 3.0)],
         )?;
-        png(format!("{stem}_saturated.png"), &s.saturated)?;
+        png(format!("{stem}_saturated.png"), &[&s.saturated])?;
     }
-    let mut exrs = vec![(dir.join("truth.exr"), &run.electrons)];
+    let mut exrs = vec![(dir.join("truth.exr"), vec![&run.electrons])];
+    if let Some(t) = &run.colour_truth {
+        exrs.push((dir.join("truth_rgb.exr"), t.rgb_e.iter().collect()));
+    }
     for s in &run.strategies {
-        exrs.push((
-            dir.join(format!("{}_capture.exr", strategy_stem(&s.name))),
-            &s.capture,
-        ));
+        let stem = strategy_stem(&s.name);
+        exrs.push((dir.join(format!("{stem}_capture.exr")), vec![&s.capture]));
+        if let Some(c) = &s.colour {
+            exrs.push((
+                dir.join(format!("{stem}_capture_rgb.exr")),
+                c.rgb_e.iter().collect(),
+            ));
+        }
     }
-    for (p, plane) in exrs {
-        write_exr(&p, &[plane], ExrPrecision::Float)?;
+    for (p, planes) in exrs {
+        write_exr(&p, &planes, ExrPrecision::Float)?;
         written.push(p);
     }
     Ok(written)

@@ -324,3 +324,91 @@ fn flat_patch_errors_are_one_line_and_exit_non_zero() {
     one_line(&["sensor", "flat-patch"], "--light");
     one_line(&["sensor"], "--hdr");
 }
+
+#[test]
+fn sensor_cfa_rggb_reports_luminance_and_channels() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let (ok, stdout, stderr) = run(&[
+        "sensor",
+        "--hdr",
+        STILL_LIFE,
+        "--max-side-px",
+        "200",
+        "--roi",
+        "32",
+        "--cfa",
+        "rggb",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+    assert_eq!(v["cfa"], "rggb");
+    for s in v["strategies"].as_array().unwrap() {
+        assert!(s["worst_roi_ssim"].is_number());
+        for c in ["R", "G", "B"] {
+            for key in ["worst_roi_ssim", "mean_ssim", "psnr_db"] {
+                assert!(
+                    s["channels"][c][key].is_number(),
+                    "channels.{c}.{key} in {s}"
+                );
+            }
+        }
+    }
+    // The colour captures: RGB PNGs, the luminance EXR the scores use, and RGB EXRs.
+    let png = image::open(out.join("vary-gain_vary-bin_capture.png"))
+        .unwrap()
+        .to_rgb8();
+    assert!(
+        png.pixels().any(|p| p[0] != p[1] || p[1] != p[2]),
+        "a colour capture"
+    );
+    let rgb =
+        udc_studio::io::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture_rgb.exr")).unwrap();
+    assert_eq!(rgb.planes.len(), 3);
+    let y = udc_studio::io::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture.exr")).unwrap();
+    assert_eq!(y.planes.len(), 1);
+    assert!(out.join("truth_rgb.exr").is_file());
+    // Without the flag the run is monochrome and says so.
+    let (ok, stdout, _) = run(&[
+        "sensor",
+        "--hdr",
+        STILL_LIFE,
+        "--max-side-px",
+        "120",
+        "--roi",
+        "32",
+        "--json",
+    ]);
+    assert!(ok);
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(v["cfa"], "none");
+    assert!(v["strategies"][0].get("channels").is_none());
+    // The table names the colour path and prints the channels.
+    let (ok, stdout, stderr) = run(&[
+        "sensor",
+        "--hdr",
+        STILL_LIFE,
+        "--max-side-px",
+        "120",
+        "--roi",
+        "32",
+        "--cfa",
+        "rggb",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("RGGB Bayer mosaic") && stdout.contains("per channel"),
+        "{stdout}"
+    );
+    // A bad value is one line naming the choices.
+    let (ok, _, stderr) = run(&["sensor", "--hdr", STILL_LIFE, "--cfa", "cmyk"]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("cmyk") && stderr.contains("none") && stderr.contains("rggb"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+}

@@ -33,6 +33,7 @@ mod restore_view;
 mod safe_file;
 mod screenshots;
 mod sensor;
+mod sensor_colour;
 mod sensor_gain;
 mod sensor_hdr;
 mod sensor_noise;

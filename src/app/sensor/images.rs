@@ -1,5 +1,6 @@
-//! Pictures of a sensor run: grey captures, the gain map (log colour scale), the bin map (one
-//! colour per bin size) and the saturation map, uploaded once per run.
+//! Pictures of a sensor run: the captures (grey, or RGB on a colour sensor), the gain map (log
+//! colour scale), the bin map (one colour per bin size) and the saturation map, uploaded once
+//! per run.
 
 use egui::{Color32, ColorImage, TextureHandle, TextureOptions};
 use ndarray::Array2;
@@ -43,17 +44,37 @@ pub fn grey(v: f64) -> Color32 {
     Color32::from_gray(g)
 }
 
-/// `a` left of column `split`, `b` from it on (the split-slider comparison).
-pub fn split_image(a: &Array2<f64>, b: &Array2<f64>, split_col: usize) -> ColorImage {
-    let (h, w) = a.dim();
+/// The colour of pixel `(y, x)` of one (grey) or three (R, G, B) display planes in `[0, 1]`.
+fn pixel(planes: &[&Array2<f64>], y: usize, x: usize) -> Color32 {
+    let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    match planes {
+        [r, g, b] => Color32::from_rgb(byte(r[[y, x]]), byte(g[[y, x]]), byte(b[[y, x]])),
+        [p, ..] => grey(p[[y, x]]),
+        [] => Color32::BLACK,
+    }
+}
+
+/// One (grey) or three (R, G, B) display planes as an image.
+pub fn display_image(planes: &[&Array2<f64>]) -> ColorImage {
+    let (h, w) = planes.first().map_or((0, 0), |p| p.dim());
+    let pixels = (0..h)
+        .flat_map(|y| (0..w).map(move |x| (y, x)))
+        .map(|(y, x)| pixel(planes, y, x))
+        .collect();
+    ColorImage::new([w, h], pixels)
+}
+
+/// `a` left of column `split`, `b` from it on (the split-slider comparison); each one (grey)
+/// or three (R, G, B) display planes of one size.
+pub fn split_image(a: &[&Array2<f64>], b: &[&Array2<f64>], split_col: usize) -> ColorImage {
+    let (h, w) = a.first().map_or((0, 0), |p| p.dim());
     let mut pixels = Vec::with_capacity(h * w);
     for y in 0..h {
         for x in 0..w {
-            let v = if x < split_col { a[[y, x]] } else { b[[y, x]] };
-            pixels.push(if x == split_col {
-                Color32::YELLOW
-            } else {
-                grey(v)
+            pixels.push(match x.cmp(&split_col) {
+                std::cmp::Ordering::Less => pixel(a, y, x),
+                std::cmp::Ordering::Equal => Color32::YELLOW,
+                std::cmp::Ordering::Greater => pixel(b, y, x),
             });
         }
     }
@@ -80,7 +101,7 @@ impl RunTextures {
             |name: String, img: ColorImage| ctx.load_texture(name, img, TextureOptions::NEAREST);
         let truth = up(
             format!("sensor-{generation}-truth"),
-            image_of(&run.truth_display, grey),
+            display_image(&super::colour::truth_planes(run)),
         );
         let strategies = run
             .strategies
@@ -90,7 +111,7 @@ impl RunTextures {
                 [
                     up(
                         format!("sensor-{generation}-{i}-capture"),
-                        image_of(&s.display, grey),
+                        display_image(&super::colour::display_planes(s)),
                     ),
                     up(
                         format!("sensor-{generation}-{i}-gain"),

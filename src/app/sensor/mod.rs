@@ -4,6 +4,7 @@
 //! downscaled scene at once, then the full scene, on a background thread (a newer change
 //! cancels the running job). The UI thread only draws.
 
+mod colour;
 mod gain_panel;
 mod images;
 mod numbers;

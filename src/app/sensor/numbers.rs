@@ -90,5 +90,6 @@ impl SensorWorkspace {
                 ui.end_row();
             }
         });
+        super::colour::channels_ui(ui, run);
     }
 }

@@ -234,6 +234,7 @@ impl SensorWorkspace {
                 ui.end_row();
                 super::gain_panel::additive_gain_row(ui, s);
                 super::gain_panel::roi_light_row(ui, s);
+                super::colour::cfa_row_ui(ui, &mut s.cfa);
                 ui.label("Display gamma");
                 ui.add(
                     crate::app::widgets::number(&mut s.gamma)
@@ -442,7 +443,11 @@ impl SensorWorkspace {
                 let split_col = ((self.split * w as f32) as usize).min(w);
                 let key = (shown.generation, shown.quality, ia, ib, split_col as u32);
                 if self.split_texture.as_ref().is_none_or(|(k, _)| *k != key) {
-                    let img = split_image(&a.display, &b.display, split_col);
+                    let img = split_image(
+                        &super::colour::display_planes(a),
+                        &super::colour::display_planes(b),
+                        split_col,
+                    );
                     let tex =
                         ui.ctx()
                             .load_texture("sensor-split", img, egui::TextureOptions::NEAREST);

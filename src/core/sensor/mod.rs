@@ -2,9 +2,12 @@
 //! conventions.md §8). One entry point, [`run`], serves the CLI, the studio, the tests and the
 //! benches.
 //!
-//! **What is simulated.** The simulation runs on **luminance**
+//! **What is simulated.** By default the simulation runs on **luminance**
 //! ([`Scene::luminance`]: `0.2126 R + 0.7152 G + 0.0722 B` of the linear scene), as a monochrome
-//! sensor sees it; the thesis's Table 5.4 scores grey images the same way. The scene's relative
+//! sensor sees it; the thesis's Table 5.4 scores grey images the same way. With
+//! [`SensorSettings::cfa`] = [`Cfa::Rggb`] it is a Bayer colour sensor: an RGGB mosaic of the
+//! RGB scene, same-colour binning ([`cfa`]), a demosaic ([`demosaic`]) and scores on the
+//! luminance of the demosaiced capture and per channel ([`colour`]). The scene's relative
 //! radiance is mapped to expected photo-electrons per unit pixel by an explicit [`Exposure`]
 //! (Table 5.4: the image mean at 5 % of the full well). Electrons are always per *unit* pixel
 //! (the sensor's smallest pixel, [`SensorSpec::unit_pixel_um`]); light per area is e⁻/µm².
@@ -32,6 +35,9 @@
 //! γ = 1/3.2); PSNR over the image, SSIM per ROI, the worst ROI and the area-weighted mean.
 
 pub mod binning;
+pub mod cfa;
+pub mod colour;
+pub mod demosaic;
 pub mod flat;
 pub mod gain;
 pub mod metrics;
@@ -50,6 +56,8 @@ use ndarray::{Array2, Axis};
 use rayon::prelude::*;
 
 pub use binning::Readout;
+pub use cfa::Cfa;
+pub use colour::{ChannelScores, ColourCapture, ColourTruth};
 pub use flat::{FlatPatch, FlatPatchSpec, flat_patch};
 pub use gain::Snapshot;
 pub use metrics::ToneCurve;
@@ -100,6 +108,9 @@ pub struct StrategyResult {
     /// The brightest unsaturated level at the lowest gain used over the lowest read-noise floor
     /// used (Table 5.1 at `l* = 0` with the gain and bin of each pixel), dB.
     pub dynamic_range_db: f64,
+    /// With a colour filter array: the raw mosaic, the demosaiced RGB capture and the scores
+    /// per channel (then `capture` is the luminance of the demosaiced capture).
+    pub colour: Option<ColourCapture>,
 }
 
 /// The result of [`run`].
@@ -123,6 +134,11 @@ pub struct SensorRun {
     pub snapshot: Option<Snapshot>,
     /// Wall-clock time of the run, ms.
     pub elapsed_ms: f64,
+    /// The colour filter array simulated.
+    pub cfa: Cfa,
+    /// With a colour filter array: the scene's RGB electrons, their display and their mosaic
+    /// (then `electrons` and `truth_display` are their luminance).
+    pub colour_truth: Option<ColourTruth>,
 }
 
 /// Reads the capture `frame` with one strategy.
@@ -135,10 +151,14 @@ fn read_strategy(
 ) -> Readout {
     let sensor = &settings.sensor;
     match strategy.gain {
-        GainStrategy::PerPixel => gain::read_per_pixel(frame, sensor, settings.eta_per_pixel),
-        GainStrategy::AlternatingRows => {
-            gain::read_alternating_rows(frame, sensor, 1.0, sensor.max_gain)
-        }
+        GainStrategy::PerPixel => match settings.cfa {
+            Cfa::None => gain::read_per_pixel(frame, sensor, settings.eta_per_pixel),
+            Cfa::Rggb => cfa::read_per_pixel(frame, sensor, settings.eta_per_pixel),
+        },
+        GainStrategy::AlternatingRows => match settings.cfa {
+            Cfa::None => gain::read_alternating_rows(frame, sensor, 1.0, sensor.max_gain),
+            Cfa::Rggb => cfa::read_alternating_rows(frame, sensor, 1.0, sensor.max_gain),
+        },
         GainStrategy::Base | GainStrategy::Maximum | GainStrategy::Roi => {
             let dim = (grid.rows, grid.cols);
             let roi_gain = Array2::from_shape_fn(dim, |(r, c)| match strategy.gain {
@@ -161,9 +181,20 @@ fn read_strategy(
                 }
             });
             let adc = noise::Adc::of(sensor);
-            let mode = settings.bin_mode;
+            let read = match settings.cfa {
+                Cfa::None => binning::read_regions,
+                Cfa::Rggb => cfa::read_regions,
+            };
             let additive = settings.additive_gain;
-            binning::read_regions(frame, grid, &roi_gain, &roi_bin, mode, additive, &adc)
+            read(
+                frame,
+                grid,
+                &roi_gain,
+                &roi_bin,
+                settings.bin_mode,
+                additive,
+                &adc,
+            )
         }
     }
 }
@@ -232,7 +263,14 @@ pub fn run(
     let (rows, cols) = scene.dim();
     crate::core::budget::check(
         &format!("simulating the sensor on a {cols}×{rows} scene"),
-        ((rows * cols) as u64).saturating_mul(crate::core::budget::SENSOR_BYTES_PER_PIXEL),
+        ((rows * cols) as u64).saturating_mul(
+            crate::core::budget::SENSOR_BYTES_PER_PIXEL
+                + if colour::is_colour(settings.cfa) {
+                    colour::EXTRA_BYTES_PER_PIXEL
+                } else {
+                    0
+                },
+        ),
         "use a smaller scene or crop it",
     )?;
     progress.set(0.0);
@@ -256,21 +294,25 @@ pub fn run(
     };
     let grid = RoiGrid::new(electrons.dim(), settings.roi_px);
     let steps = settings.strategies.len() as f32 + 2.0;
-    let frame = noise::expose_frame(
-        electrons.view(),
-        sensor,
-        settings.seed,
-        noise::stream::CAPTURE,
-    );
+    // A colour sensor is exposed to the mosaic of the RGB scene (see `colour`).
+    let colour_scene =
+        colour::is_colour(settings.cfa).then(|| colour::expose(scene, electrons_per_radiance));
+    let sensed = colour_scene
+        .as_ref()
+        .map_or(electrons.view(), |(_, m)| m.view());
+    let frame = noise::expose_frame(sensed, sensor, settings.seed, noise::stream::CAPTURE);
     progress.set(1.0 / steps);
     progress.check()?;
     let needs_snapshot = settings
         .strategies
         .iter()
         .any(|s| s.gain == GainStrategy::Roi || s.bin == BinStrategy::Roi);
-    let snapshot =
-        needs_snapshot.then(|| gain::take_snapshot(electrons.view(), sensor, &grid, settings.seed));
+    let snapshot = needs_snapshot.then(|| match settings.cfa {
+        Cfa::None => gain::take_snapshot(electrons.view(), sensor, &grid, settings.seed),
+        Cfa::Rggb => cfa::take_snapshot(sensed, sensor, &grid, settings.seed),
+    });
     let truth_display = tone.apply(&electrons);
+    let colour_truth = colour_scene.map(|planes| colour::truth(planes, &tone));
     progress.set(2.0 / steps);
     // Strategies side by side; each also spreads its rows over the pool.
     let done = AtomicUsize::new(0);
@@ -280,6 +322,7 @@ pub fn run(
         .map(|strategy| {
             progress.check()?;
             let readout = read_strategy(strategy, &frame, snapshot.as_ref(), &grid, settings);
+            let (readout, colour) = colour::develop(readout, colour_truth.as_ref(), &tone, &grid)?;
             let display = tone.apply(&readout.estimate_e);
             let scores = metrics::score(&display, &truth_display, &grid)?;
             let saturated_fraction = readout.saturated.mean().unwrap_or(0.0);
@@ -302,6 +345,7 @@ pub fn run(
                 saturated_fraction,
                 saturated_roi_fraction,
                 dynamic_range_db,
+                colour,
             })
         })
         .collect::<Result<Vec<_>, SimError>>()?;
@@ -317,5 +361,7 @@ pub fn run(
         tone,
         snapshot,
         elapsed_ms: start.elapsed().as_secs_f64() * 1e3,
+        cfa: settings.cfa,
+        colour_truth,
     })
 }

@@ -1,6 +1,6 @@
 //! What [`super::run`] simulates: the sensor, the exposure, the strategies and their knobs.
 
-use super::{Exposure, SensorSpec};
+use super::{Cfa, Exposure, SensorSpec};
 use crate::core::SimError;
 
 /// How the analog gain is chosen (§5.4).
@@ -248,6 +248,9 @@ pub struct SensorSettings {
     pub roi_light: RoiLight,
     /// What to simulate, in order; by default Table 5.4's four.
     pub strategies: Vec<Strategy>,
+    /// The colour filter array: none (a monochrome sensor on the scene's luminance, the
+    /// default) or an RGGB Bayer mosaic (see [`super::colour`]).
+    pub cfa: Cfa,
 }
 
 impl Default for SensorSettings {
@@ -269,6 +272,7 @@ impl Default for SensorSettings {
             additive_gain: AdditiveGain::default(),
             roi_light: RoiLight::default(),
             strategies: Strategy::table54(),
+            cfa: Cfa::None,
         }
     }
 }

@@ -1,0 +1,394 @@
+//! Colour filter arrays: the RGGB Bayer mosaic, and the readouts of chapter 5 on a Bayer sensor,
+//! where binning combines sites of the **same colour** (thesis §5.6: the BFS-U3-200S6C is a
+//! Bayer colour camera; Jin and Hirakawa 2012 analyse binning on such sensors).
+//!
+//! **Mosaic.** Site `(y, x)` of an RGGB sensor sits under the filter [`rggb_channel`]: red at
+//! even row and even column, blue at odd row and odd column, green elsewhere (`Gr` on the red
+//! rows, `Gb` on the blue rows). Its expected electrons are the scene's linear channel of that
+//! colour times the exposure's electrons per radiance ([`mosaic`]); the `colour` module states
+//! the response assumption.
+//!
+//! **Same-colour binning.** The sites of one colour *phase* (R, Gr, Gb or B: one of the four
+//! `(y mod 2, x mod 2)`) form a grid of pitch 2. A bin of side `n` combines `n×n` sites of one
+//! phase: every other row and column of a `2n×2n` super-block. For `n = 2` this is quad-Bayer
+//! binning: a 4×4 super-block holds a 2×2 bin of each of R, Gr, Gb and B. Gr and Gb are binned
+//! apart, so every bin holds `n²` sites, Table 5.1's `N`, whatever its colour. As in the
+//! monochrome readout, bins start at the ROI's first site of each phase and are cut at the
+//! ROI's (and the image's) edge; every site of a bin carries the bin's estimate, so the readout
+//! is still a full-resolution RGGB mosaic, ready for the `demosaic` module. Gain and bin size stay
+//! one per ROI.
+//!
+//! **Snapshot.** The two-shot strategies' snapshot bins 2×2 same-colour sites (a 4×4
+//! super-block per block), and an ROI's peak is its brightest block of **any** colour, so
+//! eq. 5.3's gain keeps the brightest channel from clipping.
+//!
+//! **Row-wise gains.** Alternating rows alternate in *pairs* of rows (one R/G and one G/B row
+//! at each gain, as dual-ISO Bayer sensors do) and substitute from the same-colour rows two
+//! above and below; the single-shot per-pixel gain of a site comes from the readout of the
+//! previous site of the same colour (two to the left).
+
+use std::ops::Range;
+
+use ndarray::{Array2, ArrayView2, Axis};
+use rand_distr::{Distribution, StandardNormal};
+use rayon::prelude::*;
+
+use super::binning::Readout;
+use super::gain::{SNAPSHOT_BLOCK_PX, Snapshot, gain_for_light};
+use super::noise::{Adc, Frame, photons, read_analog, read_bin, read_pixel, row_rng, stream};
+use super::roi::RoiGrid;
+use super::{AdditiveGain, BinMode, SensorSpec};
+
+/// The sensor's colour filter array.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+pub enum Cfa {
+    /// No filters: a monochrome sensor that sees the scene's luminance (`none`).
+    #[default]
+    #[value(name = "none")]
+    None,
+    /// An RGGB Bayer mosaic with same-colour binning and a demosaic (`rggb`).
+    #[value(name = "rggb")]
+    Rggb,
+}
+
+impl Cfa {
+    /// Every colour filter array, in menu order.
+    pub const ALL: [Cfa; 2] = [Cfa::None, Cfa::Rggb];
+
+    /// The name the CLI takes and reports print.
+    pub fn label(self) -> &'static str {
+        match self {
+            Cfa::None => "none",
+            Cfa::Rggb => "rggb",
+        }
+    }
+}
+
+/// The colour under RGGB site `(y, x)`: 0 = red, 1 = green, 2 = blue.
+pub fn rggb_channel(y: usize, x: usize) -> usize {
+    match (y % 2, x % 2) {
+        (0, 0) => 0,
+        (1, 1) => 2,
+        _ => 1,
+    }
+}
+
+/// The RGGB mosaic of three equal-sized planes: each site takes the plane of its colour.
+///
+/// # Panics
+/// If the planes differ in size.
+pub fn mosaic(rgb: [&Array2<f64>; 3]) -> Array2<f64> {
+    let dim = rgb[0].dim();
+    assert!(
+        rgb.iter().all(|p| p.dim() == dim),
+        "three planes of one size"
+    );
+    let mut out = Array2::<f64>::zeros(dim);
+    out.axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(y, mut row)| {
+            for (x, o) in row.iter_mut().enumerate() {
+                *o = rgb[rggb_channel(y, x)][[y, x]];
+            }
+        });
+    out
+}
+
+/// The first index of `range` with `index mod 2 == phase`, if any.
+fn first_of_phase(range: &Range<usize>, phase: usize) -> Option<usize> {
+    let first = range.start + (range.start + phase) % 2;
+    (first < range.end).then_some(first)
+}
+
+/// The sites of one same-colour bin: starting at `(y0, x0)`, every other row and column of the
+/// `2n×2n` super-block, cut at `rows.end` and `cols.end`.
+fn bin_sites(
+    (y0, x0): (usize, usize),
+    n: usize,
+    rows_end: usize,
+    cols_end: usize,
+) -> impl Iterator<Item = (usize, usize)> {
+    (y0..(y0 + 2 * n).min(rows_end))
+        .step_by(2)
+        .flat_map(move |y| {
+            (x0..(x0 + 2 * n).min(cols_end))
+                .step_by(2)
+                .map(move |x| (y, x))
+        })
+}
+
+/// Reads a Bayer `frame` ROI by ROI, like [`super::binning::read_regions`], but a bin of side
+/// `n` combines `n×n` sites of one colour (see the module docs).
+///
+/// # Panics
+/// If `roi_gain` or `roi_bin` are not `grid.rows × grid.cols`, or the frame is not
+/// `grid.dim`.
+pub fn read_regions(
+    frame: &Frame,
+    grid: &RoiGrid,
+    roi_gain: &Array2<f64>,
+    roi_bin: &Array2<usize>,
+    mode: BinMode,
+    additive: AdditiveGain,
+    adc: &Adc,
+) -> Readout {
+    assert_eq!(roi_gain.dim(), (grid.rows, grid.cols), "one gain per ROI");
+    assert_eq!(roi_bin.dim(), (grid.rows, grid.cols), "one bin per ROI");
+    assert_eq!(frame.charge_e.dim(), grid.dim, "a frame of the grid's size");
+    let mut out: [Array2<f64>; 4] = std::array::from_fn(|_| Array2::zeros(grid.dim));
+    let [est, sat, gain, bin] = &mut out;
+    let band = grid.roi_px;
+    est.axis_chunks_iter_mut(Axis(0), band)
+        .into_par_iter()
+        .zip(sat.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
+        .zip(gain.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
+        .zip(bin.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
+        .enumerate()
+        .for_each(|(r, (((mut e, mut s), mut g), mut b))| {
+            let rows = grid.row_range(r);
+            let y0 = rows.start;
+            let (mut charges, mut posts, mut sites) = (Vec::new(), Vec::new(), Vec::new());
+            for c in 0..grid.cols {
+                let cols = grid.col_range(c);
+                let (roi_g, n) = (roi_gain[[r, c]], roi_bin[[r, c]].max(1));
+                for y in rows.clone() {
+                    for x in cols.clone() {
+                        g[[y - y0, x]] = roi_g;
+                        b[[y - y0, x]] = n as f64;
+                    }
+                }
+                if n == 1 {
+                    // Unbinned: each site on its own, as on the monochrome sensor.
+                    for y in rows.clone() {
+                        for x in cols.clone() {
+                            let rd = read_pixel(
+                                frame.charge_e[[y, x]],
+                                frame.post_noise_e[[y, x]],
+                                roi_g,
+                                adc,
+                            );
+                            e[[y - y0, x]] = rd.estimate_e;
+                            s[[y - y0, x]] = f64::from(u8::from(rd.saturated));
+                        }
+                    }
+                    continue;
+                }
+                for (py, px) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                    let (Some(ys), Some(xs)) =
+                        (first_of_phase(&rows, py), first_of_phase(&cols, px))
+                    else {
+                        continue;
+                    };
+                    for by in (ys..rows.end).step_by(2 * n) {
+                        for bx in (xs..cols.end).step_by(2 * n) {
+                            sites.clear();
+                            charges.clear();
+                            posts.clear();
+                            for (y, x) in bin_sites((by, bx), n, rows.end, cols.end) {
+                                sites.push((y, x));
+                                charges.push(frame.charge_e[[y, x]]);
+                                posts.push(frame.post_noise_e[[y, x]]);
+                            }
+                            let amp = mode.amplifier_gain(roi_g, sites.len(), additive);
+                            let read = read_bin(mode, amp, &charges, &posts, adc);
+                            for (y, x) in &sites {
+                                e[[y - y0, *x]] = read.estimate_e;
+                                s[[y - y0, *x]] = f64::from(u8::from(read.saturated));
+                            }
+                        }
+                    }
+                }
+            }
+        });
+    let [estimate_e, saturated, gain, bin] = out;
+    Readout {
+        estimate_e,
+        saturated,
+        gain,
+        bin,
+    }
+}
+
+/// The two-shot snapshot of a Bayer sensor: like [`super::gain::take_snapshot`] (its own
+/// exposure, base gain, 2×2 analog-average blocks), but each block holds 2×2 sites of **one**
+/// colour, the top-left sites of a 4×4 super-block's phase. An ROI is summarised from the
+/// blocks whose top-left site it holds: its peak is the brightest block of any colour, its mean
+/// the mean of all its blocks.
+pub fn take_snapshot(
+    mosaic_e: ArrayView2<'_, f64>,
+    sensor: &SensorSpec,
+    grid: &RoiGrid,
+    seed: u64,
+) -> Snapshot {
+    let adc = Adc::of(sensor);
+    let n = SNAPSHOT_BLOCK_PX;
+    let (h, w) = mosaic_e.dim();
+    let span = 2 * n;
+    // One ChaCha8 stream per (super-row, phase): the blocks of a super-row are drawn in order.
+    let blocks: Vec<Vec<(usize, f64)>> = (0..h.div_ceil(span))
+        .into_par_iter()
+        .map(|sr| {
+            let mut out = Vec::new();
+            for (k, (py, px)) in [(0, 0), (0, 1), (1, 0), (1, 1)].into_iter().enumerate() {
+                let mut rng = row_rng(seed, stream::SNAPSHOT, 4 * sr + k);
+                let y0 = sr * span + py;
+                if y0 >= h {
+                    continue;
+                }
+                for x0 in (px..w).step_by(span) {
+                    let sites: Vec<(usize, usize)> = bin_sites((y0, x0), n, h, w).collect();
+                    let pixels = sites.len() as f64;
+                    let mean: f64 = sites.iter().map(|p| mosaic_e[*p].max(0.0)).sum();
+                    let l = photons(mean, pixels * sensor.full_well_e, &mut rng);
+                    let z_pre: f64 = StandardNormal.sample(&mut rng);
+                    let z_post: f64 = StandardNormal.sample(&mut rng);
+                    let read = read_analog(
+                        BinMode::AnalogAverage,
+                        1.0,
+                        l + sensor.sigma_pre_e * pixels.sqrt() * z_pre,
+                        sites.len(),
+                        sensor.sigma_post_e * z_post,
+                        &adc,
+                    );
+                    let (r, c) = grid.roi_of(y0, x0);
+                    out.push((r * grid.cols + c, read.estimate_e));
+                }
+            }
+            out
+        })
+        .collect();
+    let mut per_roi: Vec<Vec<f64>> = vec![Vec::new(); grid.rows * grid.cols];
+    for (roi, v) in blocks.into_iter().flatten() {
+        per_roi[roi].push(v);
+    }
+    // The same three statistics as the monochrome snapshot (`gain::take_snapshot`).
+    let stats: Vec<[f64; 3]> = per_roi
+        .into_iter()
+        .map(|mut values| {
+            let n = values.len();
+            let mean = (values.iter().sum::<f64>() / n.max(1) as f64).max(0.0);
+            let peak = values.iter().copied().fold(0.0f64, f64::max);
+            let p99 = match n {
+                0 => 0.0,
+                n => {
+                    let rank = ((0.99 * n as f64).ceil() as usize).clamp(1, n);
+                    let (_, x, _) = values.select_nth_unstable_by(rank - 1, f64::total_cmp);
+                    x.max(0.0)
+                }
+            };
+            [peak, p99, mean]
+        })
+        .collect();
+    let dim = (grid.rows, grid.cols);
+    let map = |i: usize| Array2::from_shape_fn(dim, |(r, c)| stats[r * grid.cols + c][i]);
+    Snapshot {
+        roi_peak_e: map(0),
+        roi_p99_e: map(1),
+        roi_mean_e: map(2),
+    }
+}
+
+/// The single-shot per-pixel strategy on a Bayer sensor: along each row, site `x` is read at
+/// the gain eq. 5.3 (with `eta`) gives for the readout of site `x − 2`, the previous site of
+/// its colour; the first site of each colour in a row, and a site after a saturated one of its
+/// colour, are read at base gain.
+pub fn read_per_pixel(frame: &Frame, sensor: &SensorSpec, eta: f64) -> Readout {
+    let adc = Adc::of(sensor);
+    let dim = frame.charge_e.dim();
+    let mut out: [Array2<f64>; 3] = std::array::from_fn(|_| Array2::zeros(dim));
+    let [est, sat, gain] = &mut out;
+    est.axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
+        .zip(gain.axis_iter_mut(Axis(0)).into_par_iter())
+        .enumerate()
+        .for_each(|(y, ((mut e_row, mut s_row), mut g_row))| {
+            let mut next_gain = [1.0f64; 2];
+            let (c_row, p_row) = (frame.charge_e.row(y), frame.post_noise_e.row(y));
+            for x in 0..c_row.len() {
+                let g = next_gain[x % 2];
+                let r = read_pixel(c_row[x], p_row[x], g, &adc);
+                e_row[x] = r.estimate_e;
+                s_row[x] = f64::from(u8::from(r.saturated));
+                g_row[x] = g;
+                next_gain[x % 2] = if r.saturated {
+                    1.0
+                } else {
+                    gain_for_light(r.estimate_e, eta, sensor.full_well_e, sensor.max_gain)
+                };
+            }
+        });
+    let [estimate_e, saturated, gain] = out;
+    Readout {
+        estimate_e,
+        saturated,
+        bin: Array2::ones(dim),
+        gain,
+    }
+}
+
+/// Alternating gains on a Bayer sensor (Hajisharif et al. 2014 in its dual-ISO form): row
+/// pairs `{0, 1}`, `{4, 5}`, … at gain `low`, `{2, 3}`, `{6, 7}`, … at `high`, so each colour
+/// has rows at both gains. The substitution of [`super::gain::read_alternating_rows`] uses the
+/// same-colour rows two above and below (which are at the other gain): a high-gain site that
+/// saturated takes their mean, a low-gain site whose same-colour neighbours are unsaturated
+/// takes theirs.
+pub fn read_alternating_rows(frame: &Frame, sensor: &SensorSpec, low: f64, high: f64) -> Readout {
+    let adc = Adc::of(sensor);
+    let dim = frame.charge_e.dim();
+    let (h, w) = dim;
+    let is_high = |y: usize| (y / 2) % 2 == 1;
+    let row_gain = |y: usize| if is_high(y) { high } else { low };
+    let raw: Vec<(Vec<f64>, Vec<bool>)> = (0..h)
+        .into_par_iter()
+        .map(|y| {
+            let g = row_gain(y);
+            let (c_row, p_row) = (frame.charge_e.row(y), frame.post_noise_e.row(y));
+            c_row
+                .iter()
+                .zip(p_row.iter())
+                .map(|(c, p)| {
+                    let r = read_pixel(*c, *p, g, &adc);
+                    (r.estimate_e, r.saturated)
+                })
+                .unzip()
+        })
+        .collect();
+    let mut est = Array2::<f64>::zeros(dim);
+    let mut sat = Array2::<f64>::zeros(dim);
+    est.axis_iter_mut(Axis(0))
+        .into_par_iter()
+        .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
+        .enumerate()
+        .for_each(|(y, (mut e_row, mut s_row))| {
+            let neighbours: Vec<usize> = [y.checked_sub(2), (y + 2 < h).then_some(y + 2)]
+                .into_iter()
+                .flatten()
+                .collect();
+            let (own_e, own_s) = &raw[y];
+            for x in 0..w {
+                let mean_of = |pick: &dyn Fn(usize) -> f64| {
+                    neighbours.iter().map(|&n| pick(n)).sum::<f64>() / neighbours.len() as f64
+                };
+                let others_sat = neighbours.iter().any(|&n| raw[n].1[x]);
+                let (value, saturated) = if neighbours.is_empty() {
+                    (own_e[x], own_s[x])
+                } else if is_high(y) && own_s[x] {
+                    (mean_of(&|n| raw[n].0[x]), others_sat)
+                } else if !is_high(y) && !others_sat {
+                    (mean_of(&|n| raw[n].0[x]), false)
+                } else {
+                    (own_e[x], own_s[x])
+                };
+                e_row[x] = value;
+                s_row[x] = f64::from(u8::from(saturated));
+            }
+        });
+    Readout {
+        estimate_e: est,
+        saturated: sat,
+        gain: Array2::from_shape_fn(dim, |(y, _)| row_gain(y)),
+        bin: Array2::ones(dim),
+    }
+}
