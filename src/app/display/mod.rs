@@ -345,11 +345,12 @@ impl Workspace for DisplayWorkspace {
             .show(ui, |ui| self.left_ui(ui, shell, cmds));
         let progress = self.worker.progress();
         // The AUC is what a designer watches while drawing: the numbers stay beside the views
-        // at every width, scrolling sideways when the table is wider than the panel.
+        // at every width (the table is four columns so that it fits the narrowest panel).
         side_panel(egui::Panel::right("numbers"), total, 0.27, 270.0, 400.0).show(ui, |ui| {
             let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
             ui.heading("Numbers");
-            egui::ScrollArea::both().show(ui, |ui| {
+            // Vertical only: warnings wrap at the panel's width, and the table fits it.
+            egui::ScrollArea::vertical().show(ui, |ui| {
                 self.panels.numbers.ui(ui, &mut pctx, progress);
             });
         });

@@ -34,7 +34,7 @@ pub fn warnings_ui(ui: &mut egui::Ui, ctx: &mut PanelCtx, shown: &Shown) {
                 if apply.clicked() {
                     ctx.commands.push(Command::SetOptics(fix.optics.clone()));
                 }
-                ui.small(in_ui_words(&fix.summary()));
+                ui.weak(in_ui_words(&fix.summary()));
             });
         }
     }

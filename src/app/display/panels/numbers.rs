@@ -52,24 +52,30 @@ impl NumbersPanel {
             };
             row(ui, "Open fraction", format!("{:.2} %", 100.0 * a.open_fraction), "Open area of one pixel (intensity transmittance of the tile)");
             row(ui, "LTR", format!("{:.2} %", 100.0 * a.ltr), "Light transmittance ratio: fraction of the pupil's light that passes the display");
-            row(ui, "Invertibility loss", est(format!("{:.4}", a.invertibility_loss)), "L_inv = −mean of the lowest 30 % of H = |K|²/(|K|²+0.015), pooled over channels (thesis eq. 3.9); lower is better");
+            // −0.00001 would print as "−0.0000": a sign that means nothing at four decimals.
+            let l_inv = if a.invertibility_loss.abs() < 5e-5 { 0.0 } else { a.invertibility_loss };
+            row(ui, "Invertibility loss", est(format!("{l_inv:.4}")), "L_inv = −mean of the lowest 30 % of H = |K|²/(|K|²+0.015), pooled over channels (thesis eq. 3.9); lower is better");
             row(ui, "Pixel pitch", format!("{:.1} µm ({:.0} DPI)", d.opening.pitch_um, d.opening.dpi()), "Display pixel pitch");
             row(ui, "Tiles in pupil", format!("{:.0}", a.tiles_in_pupil), "Display pixels inside the lens pupil");
         });
         ui.separator();
-        egui::Grid::new("channel-grid").num_columns(5).striped(true).show(ui, |ui| {
+        // Four columns fit the panel at 1024 px; the normalised AUC is in the AUC's tooltip.
+        egui::Grid::new("channel-grid").num_columns(4).striped(true).show(ui, |ui| {
             ui.strong("ch");
             ui.strong("λ (nm)").on_hover_text("Peak or mean wavelength");
             // The headers carry the preview's "≈", so the columns keep their width.
             ui.strong(est("AUC".into())).on_hover_text("Area under the radially-minimum MTF over 0…0.5 cycles/pixel; bigger is more invertible");
-            ui.strong(est("AUC/0.5".into())).on_hover_text("AUC normalised by the ideal 0.5");
             ui.strong(est("in window".into())).on_hover_text("Fraction of the light inside the PSF window");
             ui.end_row();
             for c in &a.channels {
                 ui.label(&c.name);
                 ui.monospace(format!("{:.0}", c.wavelength_nm));
-                ui.monospace(format!("{:.4}", c.mtf.auc_radial_min)).on_hover_text(format!("AUC {} = {:.5}", c.name, c.mtf.auc_radial_min));
-                ui.monospace(format!("{:.3}", c.mtf.auc_normalised()));
+                ui.monospace(format!("{:.4}", c.mtf.auc_radial_min)).on_hover_text(format!(
+                    "AUC {} = {:.5}; {:.1} % of the ideal 0.5",
+                    c.name,
+                    c.mtf.auc_radial_min,
+                    100.0 * c.mtf.auc_normalised()
+                ));
                 ui.monospace(format!("{:.2} %", 100.0 * c.energy_in_window));
                 ui.end_row();
             }
