@@ -199,6 +199,22 @@ fn sensor_previewer_maps_and_split_compare() {
         h.step();
     }
     capture(&mut h, "sensor-curves");
+    h.state_mut().sensor().view = SensorView::Study;
+    h.step();
+    let ctx = h.ctx.clone();
+    let app = h.state_mut();
+    let settings = app.sensor_ref().settings.clone();
+    let scene = app.sensor_ref().scene().cloned();
+    if let Some(scene) = scene {
+        app.sensor().study.start(scene.as_ref(), &settings, &ctx);
+    }
+    common::step_until(&mut h, "the bin-size study", |app| {
+        app.sensor_ref().study.study().is_some()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    capture(&mut h, "sensor-bin-study");
 }
 
 #[test]

@@ -163,6 +163,11 @@ impl Default for SensorWorkspace {
 }
 
 impl SensorWorkspace {
+    /// The open scene, if any.
+    pub fn scene(&self) -> Option<&Arc<LoadedScene>> {
+        self.scene.as_ref()
+    }
+
     /// The run on screen, if any.
     pub fn shown(&self) -> Option<&ShownRun> {
         self.shown.as_ref()
