@@ -41,6 +41,7 @@ mod sensor_panel;
 mod sensor_pitch;
 mod sensor_saturation;
 mod sensor_study;
+mod sensor_table54;
 mod studio;
 mod theory;
 mod thesis;
