@@ -187,10 +187,25 @@ pub fn read_per_pixel(frame: &Frame, sensor: &SensorSpec, eta: f64) -> Readout {
 /// where the other rows are used. The saturation map marks pixels whose value still comes from
 /// a saturated readout.
 pub fn read_alternating_rows(frame: &Frame, sensor: &SensorSpec, low: f64, high: f64) -> Readout {
+    read_alternating_row_groups(frame, sensor, (low, high), 1)
+}
+
+/// Alternating gains by groups of `group` rows: groups 0, 2, 4, … at `gains.0`, the others at
+/// `gains.1`; a row's substitutes are the rows `group` above and below, in the neighbouring
+/// groups (at the other gain). One row per group is [`read_alternating_rows`]; two is the
+/// Bayer sensor's, where the rows two apart share a colour.
+pub fn read_alternating_row_groups(
+    frame: &Frame,
+    sensor: &SensorSpec,
+    (low, high): (f64, f64),
+    group: usize,
+) -> Readout {
+    let group = group.max(1);
     let adc = Adc::of(sensor);
     let dim = frame.charge_e.dim();
     let (h, w) = dim;
-    let row_gain = |y: usize| if y.is_multiple_of(2) { low } else { high };
+    let is_high = |y: usize| (y / group) % 2 == 1;
+    let row_gain = |y: usize| if is_high(y) { high } else { low };
     let raw: Vec<(Vec<f64>, Vec<bool>)> = (0..h)
         .into_par_iter()
         .map(|y| {
@@ -213,10 +228,11 @@ pub fn read_alternating_rows(frame: &Frame, sensor: &SensorSpec, low: f64, high:
         .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
         .enumerate()
         .for_each(|(y, (mut e_row, mut s_row))| {
-            let neighbours: Vec<usize> = [y.checked_sub(1), (y + 1 < h).then_some(y + 1)]
-                .into_iter()
-                .flatten()
-                .collect();
+            let neighbours: Vec<usize> =
+                [y.checked_sub(group), (y + group < h).then_some(y + group)]
+                    .into_iter()
+                    .flatten()
+                    .collect();
             let (own_e, own_s) = &raw[y];
             for x in 0..w {
                 let mean_of = |pick: &dyn Fn(usize) -> f64| {
@@ -225,9 +241,9 @@ pub fn read_alternating_rows(frame: &Frame, sensor: &SensorSpec, low: f64, high:
                 let others_sat = neighbours.iter().any(|&n| raw[n].1[x]);
                 let (value, saturated) = if neighbours.is_empty() {
                     (own_e[x], own_s[x])
-                } else if !y.is_multiple_of(2) && own_s[x] {
+                } else if is_high(y) && own_s[x] {
                     (mean_of(&|n| raw[n].0[x]), others_sat)
-                } else if y.is_multiple_of(2) && !others_sat {
+                } else if !is_high(y) && !others_sat {
                     (mean_of(&|n| raw[n].0[x]), false)
                 } else {
                     (own_e[x], own_s[x])
