@@ -262,31 +262,7 @@ pub fn take_snapshot(
     for (roi, v) in blocks.into_iter().flatten() {
         per_roi[roi].push(v);
     }
-    // The same three statistics as the monochrome snapshot (`gain::take_snapshot`).
-    let stats: Vec<[f64; 3]> = per_roi
-        .into_iter()
-        .map(|mut values| {
-            let n = values.len();
-            let mean = (values.iter().sum::<f64>() / n.max(1) as f64).max(0.0);
-            let peak = values.iter().copied().fold(0.0f64, f64::max);
-            let p99 = match n {
-                0 => 0.0,
-                n => {
-                    let rank = ((0.99 * n as f64).ceil() as usize).clamp(1, n);
-                    let (_, x, _) = values.select_nth_unstable_by(rank - 1, f64::total_cmp);
-                    x.max(0.0)
-                }
-            };
-            [peak, p99, mean]
-        })
-        .collect();
-    let dim = (grid.rows, grid.cols);
-    let map = |i: usize| Array2::from_shape_fn(dim, |(r, c)| stats[r * grid.cols + c][i]);
-    Snapshot {
-        roi_peak_e: map(0),
-        roi_p99_e: map(1),
-        roi_mean_e: map(2),
-    }
+    Snapshot::of_blocks(grid, per_roi)
 }
 
 /// The single-shot per-pixel strategy on a Bayer sensor: along each row, site `x` is read at

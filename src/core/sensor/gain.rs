@@ -107,39 +107,51 @@ pub fn take_snapshot(
                 *out = read.estimate_e;
             }
         });
-    let per_roi: Vec<[f64; 3]> = (0..grid.rows * grid.cols)
+    let per_roi: Vec<Vec<f64>> = (0..grid.rows * grid.cols)
         .into_par_iter()
         .map(|k| {
             let (r, c) = (k / grid.cols, k % grid.cols);
             let (rows, cols) = (grid.row_range(r), grid.col_range(c));
-            let mut values: Vec<f64> = (rows.start.div_ceil(b)..rows.end.div_ceil(b))
+            (rows.start.div_ceil(b)..rows.end.div_ceil(b))
                 .flat_map(|by| {
                     (cols.start.div_ceil(b)..cols.end.div_ceil(b)).map(move |bx| (by, bx))
                 })
                 .map(|i| blocks[i])
-                .collect();
-            let count = values.len().max(1) as f64;
-            let mean = (values.iter().sum::<f64>() / count).max(0.0);
-            let peak = values.iter().copied().fold(0.0f64, f64::max);
-            // Nearest rank, as `scene::percentile_of`.
-            let rank = (0.99 * values.len() as f64).ceil() as usize;
-            let p99 = match values.len() {
-                0 => 0.0,
-                n => {
-                    let (_, x, _) =
-                        values.select_nth_unstable_by(rank.clamp(1, n) - 1, f64::total_cmp);
-                    x.max(0.0)
-                }
-            };
-            [peak, p99, mean]
+                .collect()
         })
         .collect();
-    let dim = (grid.rows, grid.cols);
-    let map = |i: usize| Array2::from_shape_fn(dim, |(r, c)| per_roi[r * grid.cols + c][i]);
-    Snapshot {
-        roi_peak_e: map(0),
-        roi_p99_e: map(1),
-        roi_mean_e: map(2),
+    Snapshot::of_blocks(grid, per_roi)
+}
+
+impl Snapshot {
+    /// The snapshot of the ROIs of `grid` from each ROI's block readouts (row-major ROIs):
+    /// the brightest block, the 99th percentile (nearest rank, as `scene::percentile_of`) and
+    /// the mean, each at least 0.
+    pub(super) fn of_blocks(grid: &RoiGrid, per_roi: Vec<Vec<f64>>) -> Snapshot {
+        let stats: Vec<[f64; 3]> = per_roi
+            .into_par_iter()
+            .map(|mut values| {
+                let n = values.len();
+                let mean = (values.iter().sum::<f64>() / n.max(1) as f64).max(0.0);
+                let peak = values.iter().copied().fold(0.0f64, f64::max);
+                let p99 = match n {
+                    0 => 0.0,
+                    n => {
+                        let rank = ((0.99 * n as f64).ceil() as usize).clamp(1, n);
+                        let (_, x, _) = values.select_nth_unstable_by(rank - 1, f64::total_cmp);
+                        x.max(0.0)
+                    }
+                };
+                [peak, p99, mean]
+            })
+            .collect();
+        let dim = (grid.rows, grid.cols);
+        let map = |i: usize| Array2::from_shape_fn(dim, |(r, c)| stats[r * grid.cols + c][i]);
+        Snapshot {
+            roi_peak_e: map(0),
+            roi_p99_e: map(1),
+            roi_mean_e: map(2),
+        }
     }
 }
 
