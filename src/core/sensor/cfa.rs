@@ -34,7 +34,7 @@ use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 
 use super::binning::Readout;
-use super::gain::{SNAPSHOT_BLOCK_PX, Snapshot, gain_for_light};
+use super::gain::{SNAPSHOT_BLOCK_PX, Snapshot};
 use super::noise::{Adc, Frame, photons, read_analog, read_bin, read_pixel, row_rng, stream};
 use super::roi::RoiGrid;
 use super::{AdditiveGain, BinMode, SensorSpec};
@@ -270,38 +270,7 @@ pub fn take_snapshot(
 /// its colour; the first site of each colour in a row, and a site after a saturated one of its
 /// colour, are read at base gain.
 pub fn read_per_pixel(frame: &Frame, sensor: &SensorSpec, eta: f64) -> Readout {
-    let adc = Adc::of(sensor);
-    let dim = frame.charge_e.dim();
-    let mut out: [Array2<f64>; 3] = std::array::from_fn(|_| Array2::zeros(dim));
-    let [est, sat, gain] = &mut out;
-    est.axis_iter_mut(Axis(0))
-        .into_par_iter()
-        .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
-        .zip(gain.axis_iter_mut(Axis(0)).into_par_iter())
-        .enumerate()
-        .for_each(|(y, ((mut e_row, mut s_row), mut g_row))| {
-            let mut next_gain = [1.0f64; 2];
-            let (c_row, p_row) = (frame.charge_e.row(y), frame.post_noise_e.row(y));
-            for x in 0..c_row.len() {
-                let g = next_gain[x % 2];
-                let r = read_pixel(c_row[x], p_row[x], g, &adc);
-                e_row[x] = r.estimate_e;
-                s_row[x] = f64::from(u8::from(r.saturated));
-                g_row[x] = g;
-                next_gain[x % 2] = if r.saturated {
-                    1.0
-                } else {
-                    gain_for_light(r.estimate_e, eta, sensor.full_well_e, sensor.max_gain)
-                };
-            }
-        });
-    let [estimate_e, saturated, gain] = out;
-    Readout {
-        estimate_e,
-        saturated,
-        bin: Array2::ones(dim),
-        gain,
-    }
+    super::gain::read_per_pixel_interleaved(frame, sensor, eta, 2)
 }
 
 /// Alternating gains on a Bayer sensor (Hajisharif et al. 2014 in its dual-ISO form): row

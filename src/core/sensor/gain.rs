@@ -159,6 +159,19 @@ impl Snapshot {
 /// read at the gain eq. 5.3 (with `eta`) gives for pixel k's estimate; each row starts at base
 /// gain, and a saturated pixel resets the next to base gain.
 pub fn read_per_pixel(frame: &Frame, sensor: &SensorSpec, eta: f64) -> Readout {
+    read_per_pixel_interleaved(frame, sensor, eta, 1)
+}
+
+/// The single-shot per-pixel gain along each row with `stride` interleaved chains: site `x`'s
+/// gain comes from the readout of site `x − stride`. One chain is [`read_per_pixel`]; two is
+/// the Bayer sensor's, where the sites two apart share a colour.
+pub fn read_per_pixel_interleaved(
+    frame: &Frame,
+    sensor: &SensorSpec,
+    eta: f64,
+    stride: usize,
+) -> Readout {
+    let stride = stride.max(1);
     let adc = Adc::of(sensor);
     let dim = frame.charge_e.dim();
     let mut out: [Array2<f64>; 3] = std::array::from_fn(|_| Array2::zeros(dim));
@@ -169,14 +182,15 @@ pub fn read_per_pixel(frame: &Frame, sensor: &SensorSpec, eta: f64) -> Readout {
         .zip(gain.axis_iter_mut(Axis(0)).into_par_iter())
         .enumerate()
         .for_each(|(y, ((mut e_row, mut s_row), mut g_row))| {
-            let mut g = 1.0;
+            let mut next_gain = vec![1.0f64; stride];
             let (c_row, p_row) = (frame.charge_e.row(y), frame.post_noise_e.row(y));
             for x in 0..c_row.len() {
+                let g = next_gain[x % stride];
                 let r = read_pixel(c_row[x], p_row[x], g, &adc);
                 e_row[x] = r.estimate_e;
                 s_row[x] = if r.saturated { 1.0 } else { 0.0 };
                 g_row[x] = g;
-                g = if r.saturated {
+                next_gain[x % stride] = if r.saturated {
                     1.0
                 } else {
                     gain_for_light(r.estimate_e, eta, sensor.full_well_e, sensor.max_gain)
