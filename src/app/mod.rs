@@ -472,6 +472,9 @@ impl StudioApp {
         if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == active) {
             ws.ui(ui, shell, &mut cmds);
         }
+        if let Some(why) = crate::app::widgets::take_refused() {
+            self.shell.set_status(Notice::error(why));
+        }
         self.dropped_files(&ctx);
         self.close_request(&ctx);
         self.confirm_ui(&ctx);

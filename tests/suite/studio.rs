@@ -394,6 +394,23 @@ fn a_typed_number_commits_once_on_enter() {
     h.state_mut().command(Command::Undo);
     h.run_steps(2);
     assert_eq!(h.state().design(), &before);
+    // Text that is not a number never reaches the design, and the status bar says why, in red.
+    h.get_by_role_and_label(egui::Role::SpinButton, "Wiring gap")
+        .focus();
+    h.run_steps(2);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::A);
+    h.get_by_role_and_label(egui::Role::SpinButton, "Wiring gap")
+        .type_text("abc");
+    h.key_press(egui::Key::Enter);
+    h.run_steps(3);
+    assert_eq!(h.state().design(), &before);
+    let status = h.state().status().unwrap();
+    assert!(status.is_error(), "{}", status.text);
+    assert!(
+        status.text.contains("\"abc\" is not a number"),
+        "{}",
+        status.text
+    );
 }
 
 /// How many undo steps the display document holds.

@@ -28,7 +28,8 @@ pub fn number<Num: egui::emath::Numeric>(value: &mut Num) -> egui::DragValue<'_>
 }
 
 /// egui's own number syntax (spaces ignored, `−` as minus), finite values only; a unit after
-/// the number ("6 cells", "12 µm", as a formatter shows it) is ignored.
+/// the number ("6 cells", "12 µm", as a formatter shows it) is ignored. Refused text is
+/// remembered for [`take_refused`], so the shell can say why the field kept its value.
 fn parse_finite(text: &str) -> Option<f64> {
     let number = text.trim_end_matches(|c: char| c.is_alphabetic() || c.is_whitespace());
     let cleaned: String = number
@@ -36,7 +37,29 @@ fn parse_finite(text: &str) -> Option<f64> {
         .filter(|c| !c.is_whitespace())
         .map(|c| if c == '−' { '-' } else { c })
         .collect();
-    cleaned.parse::<f64>().ok().filter(|v| v.is_finite())
+    let value = cleaned.parse::<f64>().ok();
+    let reason = match value {
+        Some(v) if v.is_finite() => return Some(v),
+        Some(_) => "is not a finite number",
+        None => "is not a number",
+    };
+    REFUSED.with(|r| {
+        *r.borrow_mut() = Some(format!(
+            "\"{}\" {reason}: the field keeps its value",
+            text.trim()
+        ));
+    });
+    None
+}
+
+thread_local! {
+    /// The latest text a number field refused (the UI thread's; each test harness has its own).
+    static REFUSED: std::cell::RefCell<Option<String>> = const { std::cell::RefCell::new(None) };
+}
+
+/// Why a number field refused what was typed since the last call, if it did.
+pub fn take_refused() -> Option<String> {
+    REFUSED.with(|r| r.borrow_mut().take())
 }
 
 /// `value` with its unit in the right number: "1 cell", "2 cells", "0.5 cells".
@@ -50,6 +73,20 @@ pub fn counted(value: f64, one: &str, many: &str) -> String {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn refused_text_says_why() {
+        assert_eq!(super::parse_finite("12 µm"), Some(12.0));
+        assert_eq!(super::take_refused(), None);
+        assert_eq!(super::parse_finite("abc"), None);
+        assert_eq!(
+            super::take_refused().as_deref(),
+            Some("\"abc\" is not a number: the field keeps its value")
+        );
+        assert_eq!(super::parse_finite("1e400"), None);
+        assert!(super::take_refused().is_some_and(|m| m.contains("not a finite number")));
+        assert_eq!(super::take_refused(), None, "said once");
+    }
+
     #[test]
     fn counts_agree_with_their_number() {
         assert_eq!(super::counted(1.0, "cell", "cells"), "1 cell");
