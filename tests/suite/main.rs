@@ -17,6 +17,7 @@ mod expected_psf;
 mod io_files;
 mod layouts;
 mod mask_dialog;
+mod mask_drc;
 mod mask_export;
 mod mask_geometry;
 mod opening_ops;

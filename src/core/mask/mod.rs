@@ -13,6 +13,7 @@
 //! **Tone.** [`Tone::Open`] draws the clear openings; [`Tone::Chrome`] draws the dark chrome, i.e.
 //! the complement of the openings within each pixel *including* the wiring gap around it.
 
+pub mod drc;
 pub mod layout;
 pub mod polygons;
 pub mod region;
