@@ -45,3 +45,42 @@ fn the_random_l2inv_layout_has_corner_contacts_and_one_cell_features() {
     let with_gap = check(&wired, &Rules::default()).corner_contacts;
     assert!(with_gap > 0 && with_gap <= check(&d, &Rules::default()).corner_contacts);
 }
+
+#[test]
+fn the_drc_command_reports_json_and_fails_strictly() {
+    use crate::common::run_cli;
+    let (ok, stdout, stderr) = run_cli(&["drc", "--preset", "l2inv-random", "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(v["clean"], false);
+    assert_eq!(v["report"]["min_feature_um"], 8.0);
+    assert_eq!(v["report"]["corner_contacts"], 8);
+    // --strict turns violations into an error, a clean design passes.
+    let (ok, _, stderr) = run_cli(&["drc", "--preset", "l2inv-random", "--strict"]);
+    assert!(!ok && stderr.contains("design-rule violations"), "{stderr}");
+    let (ok, _, stderr) = run_cli(&["drc", "--preset", "toled-150dpi", "--strict"]);
+    assert!(ok, "{stderr}");
+    // A rules file; flags override it; bad values are one line naming the rule.
+    let dir = tempfile::tempdir().unwrap();
+    let rules = dir.path().join("fab.json");
+    std::fs::write(&rules, r#"{"min_feature_um": 50, "min_gap_um": 1, "no_corner_contact": true, "min_angle_deg": 90}"#).unwrap();
+    let r = rules.to_str().unwrap();
+    let (ok, _, _) = run_cli(&["drc", "--preset", "toled-150dpi", "--rules", r, "--strict"]);
+    assert!(!ok, "a 40-µm slit under a 50-µm rule");
+    let (ok, _, stderr) = run_cli(&[
+        "drc",
+        "--preset",
+        "toled-150dpi",
+        "--rules",
+        r,
+        "--min-feature-um",
+        "10",
+        "--strict",
+    ]);
+    assert!(ok, "{stderr}");
+    let (ok, _, stderr) = run_cli(&["drc", "--preset", "toled-150dpi", "--min-gap-um", "nan"]);
+    assert!(
+        !ok && stderr.contains("min_gap_um") && stderr.trim().lines().count() == 1,
+        "{stderr}"
+    );
+}
