@@ -77,3 +77,26 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     assert!(path.exists());
     assert!(dir.path().join("pupil.gds.design.json").exists());
 }
+
+#[test]
+fn the_dialog_shows_the_design_rules_before_export() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(3600));
+    h.state_mut()
+        .command(Command::LoadPreset("l2inv-random".into()));
+    h.step();
+    h.get_by_label("File").click();
+    h.step();
+    h.step();
+    h.get_by_label("Export mask…").click();
+    for _ in 0..4 {
+        h.step();
+    }
+    // The thesis's random L2-inverse opening: single-cell features and 8 corner contacts,
+    // the same numbers `udc-studio drc` reports.
+    let r = udc_studio::core::mask::drc::check(h.state().design(), &Default::default());
+    assert_eq!(r.corner_contacts, 8);
+    assert!(h.query_by_label("8 corner contacts").is_some());
+    assert!(h.query_by_label("smallest opening 8.00 µm").is_some());
+    assert!(h.query_by_label("smallest chrome gap 8.00 µm").is_some());
+}

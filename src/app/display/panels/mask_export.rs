@@ -10,6 +10,7 @@ use egui::{Color32, ColorImage, Stroke, TextureHandle, TextureOptions};
 use crate::app::commands::Command;
 use crate::app::job::Job;
 use crate::core::design::Design;
+use crate::core::mask::drc::{DrcReport, Rules, ViolationKind, check};
 use crate::core::mask::{BinaryGrid, MaskRegion, MaskStats, Tone};
 use crate::io::mask::{
     ExportOptions, FileCounts, GdsCells, MaskFormat, PngBits, estimate, export_mask, human_bytes,
@@ -38,6 +39,10 @@ struct PreviewData {
     /// (x right, y down, `[0, 1]²`).
     drawn: BinaryGrid,
     outlines: Vec<Vec<[f32; 2]>>,
+    /// The design-rule check at the default rules (`udc-studio drc` checks others).
+    drc: DrcReport,
+    /// The tile's pitch, µm, to place the violations on the preview.
+    pitch_um: f64,
 }
 
 /// The dialog's state, kept while it is closed.
@@ -154,6 +159,8 @@ impl MaskExportDialog {
                     counts: estimate(&layout, &self.options),
                     drawn: layout.drawn.clone(),
                     outlines,
+                    drc: check(design, &Rules::default()),
+                    pitch_um: design.opening.pitch_um,
                 }
             });
         if let Ok(data) = &result {
@@ -281,7 +288,17 @@ impl MaskExportDialog {
                 .collect();
             ui.painter().add(egui::Shape::closed_line(pts, stroke));
         }
-        ui.weak("One pixel: drawn cells, polygon outlines");
+        // Design-rule violations on the pixel, where they are (red rings).
+        let red = Stroke::new(1.5, Color32::from_rgb(255, 70, 70));
+        for v in &data.drc.violations {
+            let [x, y] = v.at_um;
+            let scale = side / data.pitch_um.max(f64::MIN_POSITIVE) as f32;
+            let centre = rect.min + egui::vec2(x as f32 * scale, y as f32 * scale);
+            if rect.expand(4.0).contains(centre) {
+                ui.painter().circle_stroke(centre, 4.0, red);
+            }
+        }
+        ui.weak("One pixel: drawn cells, polygon outlines, rule violations (red)");
         let s = &data.stats;
         let c = &data.counts;
         egui::Grid::new("mask-stats")
@@ -320,6 +337,7 @@ impl MaskExportDialog {
                 row("Open area", format!("{:.4e} µm²", s.open_area_um2));
                 row("Open fraction", format!("{:.4}", s.open_fraction()));
             });
+        drc_ui(ui, &data.drc);
     }
 
     fn actions_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
@@ -394,6 +412,58 @@ fn format_options_ui(ui: &mut egui::Ui, o: &mut ExportOptions) {
 }
 
 /// Drawn cells in blue on a dark background, one texel per cell.
+/// The design-rule summary: the smallest opening and gap, the corner contacts, each in the
+/// warning colour when it breaks the default rules.
+fn drc_ui(ui: &mut egui::Ui, r: &DrcReport) {
+    ui.label(format!(
+        "Design rules ({} µm features and gaps, no corner contacts)",
+        r.rules.min_feature_um
+    ))
+    .on_hover_text("udc-studio drc checks other rules, from a fab's rules file");
+    let line = |ui: &mut egui::Ui, bad: bool, text: String, kind: ViolationKind| {
+        let places: Vec<&str> = r
+            .violations
+            .iter()
+            .filter(|v| v.kind == kind)
+            .take(5)
+            .map(|v| v.place.as_str())
+            .collect();
+        let color = if bad {
+            ui.visuals().warn_fg_color
+        } else {
+            ui.visuals().text_color()
+        };
+        let resp = ui.colored_label(color, text);
+        if !places.is_empty() {
+            resp.on_hover_text(places.join("\n"));
+        }
+    };
+    let um = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.2} µm"));
+    let count = |k: ViolationKind| r.counts[k as usize];
+    line(
+        ui,
+        count(ViolationKind::MinFeature) > 0,
+        format!("smallest opening {}", um(r.min_feature_um)),
+        ViolationKind::MinFeature,
+    );
+    line(
+        ui,
+        count(ViolationKind::MinGap) > 0,
+        format!("smallest chrome gap {}", um(r.min_gap_um)),
+        ViolationKind::MinGap,
+    );
+    line(
+        ui,
+        count(ViolationKind::CornerContact) > 0,
+        crate::app::widgets::counted(
+            r.corner_contacts as f64,
+            "corner contact",
+            "corner contacts",
+        ),
+        ViolationKind::CornerContact,
+    );
+}
+
 fn drawn_image(drawn: &BinaryGrid) -> ColorImage {
     let (w, h) = (drawn.width(), drawn.height());
     let pixels = (0..h)
