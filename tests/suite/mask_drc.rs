@@ -84,3 +84,48 @@ fn the_drc_command_reports_json_and_fails_strictly() {
         "{stderr}"
     );
 }
+
+#[test]
+fn the_phase_plate_reports_its_narrowest_ring() {
+    use crate::common::run_cli;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("plate.gds");
+    let (ok, stdout, stderr) = run_cli(&[
+        "phase",
+        "export",
+        "--format",
+        "gds",
+        "--height-step-um",
+        "0.2",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    let narrowest = v["narrowest_feature_um"].as_f64().unwrap();
+    // The fold rings thin out towards each lenslet's edge: the thesis plate's narrowest is
+    // under 200 nm, a feature for e-beam, not contact lithography.
+    assert!(narrowest > 0.0 && narrowest < 0.2, "{narrowest}");
+    // In core: the narrowest of the plate's pieces, positive, and where the rings are thinnest,
+    // near a lenslet's edge (away from its centre by more than a third of the pitch).
+    let mut d = udc_studio::core::phase::PhaseDesign::thesis(168.0, 1.0);
+    d.height_step_um = Some(0.2);
+    let lenslets = udc_studio::core::phase::geometry::Lenslets::new(&d).unwrap();
+    let pieces = udc_studio::core::phase::plate::pieces(&d, &lenslets).unwrap();
+    let min = pieces
+        .iter()
+        .map(|p| p.x1_um - p.x0_um)
+        .filter(|w| *w > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let n = udc_studio::core::phase::plate::narrowest_piece(&d, &lenslets)
+        .unwrap()
+        .unwrap();
+    assert_eq!(n.width_um, min);
+    let (l, _) = lenslets.locate(n.x0_um + 0.5 * n.width_um).unwrap();
+    let from_centre = (n.x0_um - lenslets.centre_um(l)).abs();
+    assert!(
+        from_centre > d.pitch_um / 3.0,
+        "{from_centre} µm from its lenslet's centre"
+    );
+}

@@ -484,10 +484,26 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
         }
         anyhow::anyhow!("{text}")
     })?;
+    // The design-rule minimum a fab must write: the narrowest ring, at a lenslet's edge.
+    let mut report = serde_json::to_value(&summary)?;
+    let lenslets = crate::core::phase::geometry::Lenslets::new(&design)?;
+    if let (Some(n), Some(obj)) = (
+        crate::core::phase::plate::narrowest_piece(&design, &lenslets)?,
+        report.as_object_mut(),
+    ) {
+        obj.insert(
+            "narrowest_feature_um".into(),
+            serde_json::json!(crate::io::numbers::round_sig(n.width_um, 6)),
+        );
+        obj.insert(
+            "narrowest_feature_at_um".into(),
+            serde_json::json!(crate::io::numbers::round_sig(n.x0_um, 6)),
+        );
+    }
     if a.mask.json {
-        println!("{}", serde_json::to_string(&summary)?);
+        println!("{}", serde_json::to_string(&report)?);
     } else {
-        println!("{}", serde_json::to_string_pretty(&summary)?);
+        println!("{}", serde_json::to_string_pretty(&report)?);
     }
     Ok(())
 }

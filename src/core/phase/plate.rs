@@ -148,3 +148,31 @@ pub fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, S
     }
     Ok(out)
 }
+
+/// The narrowest stretch of the plate between two height jumps: the smallest feature a fab
+/// must write (the fold rings narrow towards each lenslet's edge, as `1/u`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NarrowestPiece {
+    /// Its width, µm.
+    pub width_um: f64,
+    /// Where it starts, µm in the plate's frame.
+    pub x0_um: f64,
+}
+
+/// The narrowest piece of the plate of `design` (its design-rule minimum feature).
+///
+/// # Errors
+/// As [`pieces`].
+pub fn narrowest_piece(
+    design: &PhaseDesign,
+    lenslets: &Lenslets,
+) -> Result<Option<NarrowestPiece>, SimError> {
+    Ok(pieces(design, lenslets)?
+        .iter()
+        .map(|p| NarrowestPiece {
+            width_um: p.x1_um - p.x0_um,
+            x0_um: p.x0_um,
+        })
+        .filter(|p| p.width_um > 0.0)
+        .min_by(|a, b| a.width_um.total_cmp(&b.width_um)))
+}
