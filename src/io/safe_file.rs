@@ -164,6 +164,26 @@ pub struct TempFile {
     target: PathBuf,
 }
 
+/// The operating system's error inside `e`, without the path a wrapper (tempfile) appended to
+/// its message: [`IoError::File`] names the path itself, once.
+fn os_cause(e: std::io::Error) -> std::io::Error {
+    if e.raw_os_error().is_some() {
+        return e;
+    }
+    let mut inner: Option<&(dyn std::error::Error + 'static)> =
+        e.get_ref().map(|r| r as &(dyn std::error::Error + 'static));
+    while let Some(err) = inner {
+        if let Some(code) = err
+            .downcast_ref::<std::io::Error>()
+            .and_then(std::io::Error::raw_os_error)
+        {
+            return std::io::Error::from_raw_os_error(code);
+        }
+        inner = err.source();
+    }
+    e
+}
+
 impl TempFile {
     /// Reserves a unique temp file in `target`'s directory.
     ///
@@ -182,7 +202,9 @@ impl TempFile {
             .prefix(&format!(".{name}."))
             .suffix(".part")
             .tempfile_in(dir)
-            .map_err(|e| IoError::file("create a file in", dir, e))?
+            // The error names the target once: tempfile's own error appends the temp file's
+            // path, which the user never asked for and which repeated the directory.
+            .map_err(|e| IoError::file("create the file", target, os_cause(e)))?
             .into_temp_path();
         if let Ok(mut live) = LIVE.lock() {
             live.push(temp.to_path_buf());
