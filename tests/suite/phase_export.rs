@@ -73,6 +73,7 @@ fn phase_export_csv_round_trips_the_profile_and_lenslets() {
     for ((r, &x), (&want_x, &h)) in rows.iter().zip(&parsed).zip(xs.iter().zip(&expected)) {
         assert_eq!(r.len(), 4);
         assert!((x - want_x).abs() < 1e-9, "x {x} vs {want_x}");
+        let h = udc_studio::io::numbers::snap_decimals(h, 9);
         assert_eq!(r[1].parse::<f64>().unwrap(), h, "height at x = {x}");
         let (l, _) = lenslets.locate(x).unwrap();
         assert_eq!(r[2].parse::<usize>().unwrap(), l, "lenslet at x = {x}");
