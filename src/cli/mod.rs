@@ -1,5 +1,6 @@
 //! Headless commands, built only on `core` and `io`.
 
+pub mod import;
 pub mod optimize;
 pub mod phase;
 pub mod sensor;
@@ -50,6 +51,8 @@ pub enum Command {
     Presets,
     /// Write a photolithography mask of the design: GDSII, DXF, SVG or PNG.
     Export(ExportArgs),
+    /// Read a mask (GDSII, DXF or PNG) back into a design file: its pixel on the optical axis.
+    Import(import::ImportArgs),
     /// Capture a photo through the display (blur, photon and read noise) and restore it; prints
     /// PSNR and SSIM per run (thesis §3.5).
     Restore(RestoreArgs),
@@ -266,6 +269,7 @@ fn run_command(command: Command) -> Result<()> {
         }
         Command::Analyze(args) => analyze_cmd(&args),
         Command::Export(args) => export_cmd(&args),
+        Command::Import(args) => import::import_cmd(&args),
         Command::Restore(args) => restore_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
         Command::Sensor(args) => sensor::sensor_cmd(&args),
