@@ -164,24 +164,18 @@ pub struct TempFile {
     target: PathBuf,
 }
 
-/// The operating system's error inside `e`, without the path a wrapper (tempfile) appended to
-/// its message: [`IoError::File`] names the path itself, once.
+/// The operating system's error inside `e`, without the path a wrapper (tempfile: `… at path
+/// "…"`) appended to its message: [`IoError::File`] names the path itself, once. tempfile's
+/// wrapper is private and hides the inner error from `source()`, so its message is cut.
 fn os_cause(e: std::io::Error) -> std::io::Error {
     if e.raw_os_error().is_some() {
         return e;
     }
-    let mut inner: Option<&(dyn std::error::Error + 'static)> =
-        e.get_ref().map(|r| r as &(dyn std::error::Error + 'static));
-    while let Some(err) = inner {
-        if let Some(code) = err
-            .downcast_ref::<std::io::Error>()
-            .and_then(std::io::Error::raw_os_error)
-        {
-            return std::io::Error::from_raw_os_error(code);
-        }
-        inner = err.source();
+    let text = e.to_string();
+    match text.rfind(" at path ") {
+        Some(i) => std::io::Error::new(e.kind(), text[..i].to_string()),
+        None => e,
     }
-    e
 }
 
 impl TempFile {
