@@ -126,10 +126,10 @@ fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result
         d.tiling.seed = note_field(lines(), "SEED")
             .and_then(|s| s.parse().ok())
             .unwrap_or(0);
-        if let Some((x, y)) = note_field(lines(), "AXIS_CELL").and_then(|a| a.split_once(',')) {
-            if let (Ok(x), Ok(y)) = (x.parse::<f64>(), y.parse::<f64>()) {
-                d.tiling.origin_offset_cells = [x, y];
-            }
+        if let Some((x, y)) = note_field(lines(), "AXIS_CELL").and_then(|a| a.split_once(','))
+            && let (Ok(x), Ok(y)) = (x.parse::<f64>(), y.parse::<f64>())
+        {
+            d.tiling.origin_offset_cells = [x, y];
         }
         d
     };
