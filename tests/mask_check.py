@@ -4,6 +4,7 @@ really holds, with gdstk (GDSII) and ezdxf (DXF), and prints one JSON object.
 
     mask_check.py gds FILE LAYER DATATYPE [POINTS.json]
     mask_check.py dxf FILE LAYER_NAME_PREFIX
+    mask_check.py dxf-audit FILE
 
 For GDSII the top cell is flattened by gdstk (references, arrays, reflections and rotations
 applied by gdstk, not by the studio), and the optional POINTS.json ([[x_um, y_um], ...]) is
@@ -65,9 +66,31 @@ def check_dxf(path, prefix):
     }
 
 
+def audit_dxf(path):
+    """What a strict reader repairs: ezdxf's recover mode counts errors and fixes; also the
+    header extents and the bounding box of every LWPOLYLINE vertex."""
+    from ezdxf import recover
+
+    doc, auditor = recover.readfile(path)
+    xs, ys = [], []
+    for e in doc.modelspace().query("LWPOLYLINE"):
+        for x, y, *_ in e.get_points():
+            xs.append(x)
+            ys.append(y)
+    return {
+        "errors": [str(e.message) for e in auditor.errors],
+        "fixes": [str(f.message) for f in auditor.fixes],
+        "extmin": list(doc.header.get("$EXTMIN", (0, 0, 0)))[:2],
+        "extmax": list(doc.header.get("$EXTMAX", (0, 0, 0)))[:2],
+        "bbox": [min(xs), min(ys), max(xs), max(ys)] if xs else None,
+    }
+
+
 def main(argv):
     if len(argv) >= 5 and argv[1] == "gds":
         out = check_gds(argv[2], int(argv[3]), int(argv[4]), argv[5] if len(argv) > 5 else None)
+    elif len(argv) == 3 and argv[1] == "dxf-audit":
+        out = audit_dxf(argv[2])
     elif len(argv) == 4 and argv[1] == "dxf":
         out = check_dxf(argv[2], argv[3])
     else:

@@ -1,6 +1,7 @@
 //! Headless commands, built only on `core` and `io`.
 
 pub mod drc;
+pub mod import;
 pub mod optimize;
 pub mod phase;
 pub mod sensor;
@@ -54,6 +55,8 @@ pub enum Command {
     /// Check a display mask against a fab's design rules: smallest opening and gap, corner
     /// contacts, acute angles.
     Drc(drc::DrcArgs),
+    /// Read a mask (GDSII, DXF or PNG) back into a design file: its pixel on the optical axis.
+    Import(import::ImportArgs),
     /// Capture a photo through the display (blur, photon and read noise) and restore it; prints
     /// PSNR and SSIM per run (thesis §3.5).
     Restore(RestoreArgs),
@@ -271,6 +274,7 @@ fn run_command(command: Command) -> Result<()> {
         Command::Analyze(args) => analyze_cmd(&args),
         Command::Export(args) => export_cmd(&args),
         Command::Drc(args) => drc::drc_cmd(&args),
+        Command::Import(args) => import::import_cmd(&args),
         Command::Restore(args) => restore_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
         Command::Sensor(args) => sensor::sensor_cmd(&args),

@@ -164,6 +164,20 @@ pub struct TempFile {
     target: PathBuf,
 }
 
+/// The operating system's error inside `e`, without the path a wrapper (tempfile: `… at path
+/// "…"`) appended to its message: [`IoError::File`] names the path itself, once. tempfile's
+/// wrapper is private and hides the inner error from `source()`, so its message is cut.
+fn os_cause(e: std::io::Error) -> std::io::Error {
+    if e.raw_os_error().is_some() {
+        return e;
+    }
+    let text = e.to_string();
+    match text.rfind(" at path ") {
+        Some(i) => std::io::Error::new(e.kind(), text[..i].to_string()),
+        None => e,
+    }
+}
+
 impl TempFile {
     /// Reserves a unique temp file in `target`'s directory.
     ///
@@ -182,7 +196,9 @@ impl TempFile {
             .prefix(&format!(".{name}."))
             .suffix(".part")
             .tempfile_in(dir)
-            .map_err(|e| IoError::file("create a file in", dir, e))?
+            // The error names the target once: tempfile's own error appends the temp file's
+            // path, which the user never asked for and which repeated the directory.
+            .map_err(|e| IoError::file("create the file", target, os_cause(e)))?
             .into_temp_path();
         if let Ok(mut live) = LIVE.lock() {
             live.push(temp.to_path_buf());

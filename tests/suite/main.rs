@@ -19,6 +19,7 @@ mod layouts;
 mod mask_dialog;
 mod mask_drc;
 mod mask_export;
+mod mask_fab;
 mod mask_geometry;
 mod opening_ops;
 mod optimize;

@@ -73,6 +73,7 @@ fn phase_export_csv_round_trips_the_profile_and_lenslets() {
     for ((r, &x), (&want_x, &h)) in rows.iter().zip(&parsed).zip(xs.iter().zip(&expected)) {
         assert_eq!(r.len(), 4);
         assert!((x - want_x).abs() < 1e-9, "x {x} vs {want_x}");
+        let h = udc_studio::io::numbers::snap_decimals(h, 9);
         assert_eq!(r[1].parse::<f64>().unwrap(), h, "height at x = {x}");
         let (l, _) = lenslets.locate(x).unwrap();
         assert_eq!(r[2].parse::<usize>().unwrap(), l, "lenslet at x = {x}");
@@ -796,7 +797,9 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         assert_eq!(heights.len(), xs.len());
         let csv_levels: Vec<i64> = heights.iter().map(|h| (h / STEP).round() as i64).collect();
         for ((&h, &k), &x) in heights.iter().zip(&csv_levels).zip(&xs) {
-            assert_eq!(h, k as f64 * STEP, "x = {x}: {h} is not exactly a level");
+            // The CSV writes the level's height as its shortest decimal (0.6, not 0.6000000000000001).
+            let level = udc_studio::io::numbers::snap_decimals(k as f64 * STEP, 9);
+            assert_eq!(h, level, "x = {x}: {h} is not exactly a level");
             assert!(h < D0, "x = {x}: {h} µm is above the fold height {D0}");
             assert_eq!(k, floor_level_at(&d, x), "x = {x}: level {k}");
         }
@@ -931,7 +934,8 @@ fn phase_export_nearest_rounding_is_still_available_and_differs() {
             .map(|l| {
                 let h: f64 = l.split(',').nth(1).unwrap().parse().unwrap();
                 let k = (h / STEP).round() as i64;
-                assert_eq!(h, k as f64 * STEP, "{h} is not exactly a level");
+                let level = udc_studio::io::numbers::snap_decimals(k as f64 * STEP, 9);
+                assert_eq!(h, level, "{h} is not exactly a level");
                 k
             })
             .collect();

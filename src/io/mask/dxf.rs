@@ -4,15 +4,20 @@
 //! References are expanded: every pixel's polygons are written (DXF blocks with mirrored inserts
 //! are poorly supported by CAM tools). The drawn layer is `L<layer>D<datatype>_<TONE>`, the pupil
 //! outline and the TEXT notes are on `NOTES`.
+//!
+//! The `dxf` crate writes table heads without a handle (group 5), which strict readers repair
+//! (ezdxf's `recover` counts one fix per table); [`TableHandles`] adds them while the file is
+//! written. `$EXTMIN`/`$EXTMAX` are the bounding box of the polylines (the notes' text lies
+//! above it and is not counted: a text's width depends on the reader's font).
 
 use std::fs::File;
-use std::io::BufWriter;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use dxf::entities::{Entity, EntityType, LwPolyline, Text};
 use dxf::enums::{AcadVersion, DrawingUnits, Units};
 use dxf::tables::Layer;
-use dxf::{Drawing, LwPolylineVertex, Point};
+use dxf::{Drawing, Handle, LwPolylineVertex, Point};
 
 use super::{ExportOptions, FileCounts, for_each_flat_polygon, region_bbox_nm};
 use crate::core::Progress;
@@ -45,8 +50,10 @@ fn polyline(points_um: impl Iterator<Item = [f64; 2]>, layer: &str) -> Entity {
     e
 }
 
+/// Nanometres as micrometres: dividing (not multiplying by 1e-3) gives the double nearest the
+/// decimal, so a shortest round-trip writer prints 0.3, not 0.30000000000000004.
 fn um(p: &[i64; 2]) -> [f64; 2] {
-    [p[0] as f64 * 1e-3, p[1] as f64 * 1e-3]
+    [p[0] as f64 / 1000.0, p[1] as f64 / 1000.0]
 }
 
 /// Writes the DXF file.
@@ -82,13 +89,27 @@ pub(super) fn write(
         });
     }
     let mut counts = FileCounts::default();
+    // [min x, min y, max x, max y] of every polyline vertex, in nm (exact until written).
+    let mut ext = [i64::MAX, i64::MAX, i64::MIN, i64::MIN];
+    let mut extend = |poly: &[[i64; 2]]| {
+        for p in poly {
+            ext = [
+                ext[0].min(p[0]),
+                ext[1].min(p[1]),
+                ext[2].max(p[0]),
+                ext[3].max(p[1]),
+            ];
+        }
+    };
     for_each_flat_polygon(layout, progress, |poly| {
+        extend(poly);
         drawing.add_entity(polyline(poly.iter().map(um), &drawn));
         counts.polygons += 1;
         counts.vertices += poly.len() as u64;
         Ok(())
     })?;
     if let Some(outline) = &layout.pupil_outline {
+        extend(&outline.points_nm);
         drawing.add_entity(polyline(outline.points_nm.iter().map(um), NOTES_LAYER));
     }
     let bbox = region_bbox_nm(layout);
@@ -107,15 +128,99 @@ pub(super) fn write(
         e.common.layer = NOTES_LAYER.to_string();
         drawing.add_entity(e);
     }
+    if ext[0] <= ext[2] {
+        let ([x0, y0], [x1, y1]) = (um(&[ext[0], ext[1]]), um(&[ext[2], ext[3]]));
+        drawing.header.minimum_drawing_extents = Point::new(x0, y0, 0.0);
+        drawing.header.maximum_drawing_extents = Point::new(x1, y1, 0.0);
+    }
+    // The table heads' handles come after every handle the crate gave out, and `$HANDSEED`
+    // (written from `next_available_handle`) moves past them.
+    let first = drawing.header.next_available_handle.0;
+    drawing.header.next_available_handle = Handle(first + TABLE_HANDLES);
     let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
-    let mut w = BufWriter::new(file);
+    let mut w = TableHandles::new(BufWriter::new(file), first);
     drawing.save(&mut w).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),
         message: format!("cannot write the DXF drawing: {e}"),
     })?;
-    drop(w);
+    w.finish().map_err(|e| IoError::file("write", path, e))?;
     counts.bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     Ok(counts)
+}
+
+/// Handles reserved for table heads: R2000 has nine tables.
+const TABLE_HANDLES: u64 = 16;
+
+/// A writer that gives each `0/TABLE` head a handle (group 5) and owner (group 330 = 0) right
+/// after its `2/<name>` pair, as AutoCAD writes them.
+struct TableHandles<W: Write> {
+    inner: W,
+    /// The bytes of the line being written.
+    line: Vec<u8>,
+    /// Lines written so far: even lines are group codes, odd lines values.
+    lines: u64,
+    /// The group code of the current pair.
+    code: String,
+    /// The previous pair was `0/TABLE`.
+    after_table: bool,
+    /// The next handle to give, and the first one not to.
+    next: u64,
+    end: u64,
+}
+
+impl<W: Write> TableHandles<W> {
+    fn new(inner: W, first: u64) -> Self {
+        TableHandles {
+            inner,
+            line: Vec::new(),
+            lines: 0,
+            code: String::new(),
+            after_table: false,
+            next: first,
+            end: first + TABLE_HANDLES,
+        }
+    }
+
+    fn line_done(&mut self) -> std::io::Result<()> {
+        self.inner.write_all(&self.line)?;
+        let text = String::from_utf8_lossy(&self.line).trim().to_string();
+        self.line.clear();
+        self.lines += 1;
+        if self.lines % 2 == 1 {
+            self.code = text;
+            return Ok(());
+        }
+        let head = std::mem::replace(&mut self.after_table, false);
+        if self.code == "0" {
+            self.after_table = text == "TABLE";
+        } else if self.code == "2" && head && self.next < self.end {
+            write!(self.inner, "  5\r\n{:X}\r\n330\r\n0\r\n", self.next)?;
+            self.next += 1;
+        }
+        Ok(())
+    }
+
+    /// Writes what is left and flushes.
+    fn finish(mut self) -> std::io::Result<()> {
+        self.inner.write_all(&self.line)?;
+        self.inner.flush()
+    }
+}
+
+impl<W: Write> Write for TableHandles<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        for &b in buf {
+            self.line.push(b);
+            if b == b'\n' {
+                self.line_done()?;
+            }
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
 }
 
 /// What [`write`] would produce.

@@ -214,12 +214,52 @@ fn sample_polygon(poly: &[[f64; 2]], w: &ImportWindow, s: f64, drawn: &mut [Vec<
 /// # Errors
 /// As [`import_mask`], and [`IoError::MaskLayout`] when the design cannot be laid out.
 pub fn import_opening(path: &Path, design: &crate::core::Design) -> Result<Vec<Vec<f64>>, IoError> {
+    import_opening_on(path, design, 1, 0)
+}
+
+/// As [`import_opening`], reading the polygons of GDSII `layer`/`datatype` (DXF: the layer
+/// `L<layer>D<datatype>…`), or a PNG mask written by the export (`.png`: its `REGION=` and
+/// `GRID_NM=` notes place the region, `pHYs` gives the pixel size; a cell is open when the
+/// image pixel under its centre is at least half drawn, so the cells come back exactly when the
+/// image pixel is at most half a cell).
+///
+/// # Errors
+/// As [`import_mask`]; for a PNG, a missing pixel size or region, or a region that does not fit
+/// the image.
+pub fn import_opening_on(
+    path: &Path,
+    design: &crate::core::Design,
+    layer: i16,
+    datatype: i16,
+) -> Result<Vec<Vec<f64>>, IoError> {
     use crate::core::mask::{MaskLayout, MaskRegion, MaskSpec};
     use crate::core::tiling::{D4, tile_orientation};
-    let spec = MaskSpec {
+    let png = is_png(path);
+    let notes = if png {
+        Some(super::png_read::read(path)?)
+    } else {
+        None
+    };
+    let err = |message: String| IoError::Mask {
+        path: path.to_path_buf(),
+        message,
+    };
+    let mut spec = MaskSpec {
         region: MaskRegion::PIXEL,
         ..MaskSpec::default()
     };
+    if let Some(m) = &notes {
+        let lines = m.notes.iter().map(String::as_str);
+        spec.region = note_field(lines.clone(), "REGION")
+            .ok_or_else(
+                || err("the PNG states no REGION= note (not written by udc-studio)".into()),
+            )?
+            .parse()
+            .map_err(err)?;
+        if let Some(g) = note_field(lines, "GRID_NM").and_then(|g| g.parse().ok()) {
+            spec.grid_nm = g;
+        }
+    }
     // Only the registration matters here, not the cells (which may all be closed right now).
     let n = design.opening.n();
     let mut frame = design.clone();
@@ -227,19 +267,27 @@ pub fn import_opening(path: &Path, design: &crate::core::Design) -> Result<Vec<V
     frame.opening.polygons.clear();
     let layout = MaskLayout::new(&frame, &spec)?;
     let [x_nm, y_nm] = layout.tile_corner_nm(0, 0);
-    let imported = import_mask(
-        path,
-        &ImportOptions {
-            cell_um: design.opening.cell_um(),
-            window: Some(ImportWindow {
-                left_um: x_nm as f64 * 1e-3,
-                top_um: y_nm as f64 * 1e-3,
-                cols: n,
-                rows: n,
-            }),
-            ..ImportOptions::default()
-        },
-    )?;
+    let cells = match notes {
+        Some(m) => png_axis_pixel(&m, &layout).map_err(err)?,
+        None => {
+            import_mask(
+                path,
+                &ImportOptions {
+                    cell_um: design.opening.cell_um(),
+                    layer,
+                    datatype,
+                    window: Some(ImportWindow {
+                        left_um: x_nm as f64 * 1e-3,
+                        top_um: y_nm as f64 * 1e-3,
+                        cols: n,
+                        rows: n,
+                    }),
+                    ..ImportOptions::default()
+                },
+            )?
+            .cells
+        }
+    };
     // The axis pixel shows g·P; find h with h·(g·P) = P for every pattern (h = g⁻¹).
     let g = tile_orientation(design.tiling.mode, design.tiling.seed, 0, 0);
     let probe: Vec<Vec<usize>> = (0..3)
@@ -249,5 +297,73 @@ pub fn import_opening(path: &Path, design: &crate::core::Design) -> Result<Vec<V
         .into_iter()
         .find(|h| h.apply(&g.apply(&probe)) == probe)
         .unwrap_or(D4::IDENTITY);
-    Ok(inverse.apply(&imported.cells))
+    Ok(inverse.apply(&cells))
+}
+
+fn is_png(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.to_string_lossy().eq_ignore_ascii_case("png"))
+}
+
+/// The axis pixel's cells of a PNG mask: each cell's centre looked up in the image.
+fn png_axis_pixel(
+    m: &super::png_read::PngMask,
+    layout: &crate::core::mask::MaskLayout,
+) -> Result<Vec<Vec<f64>>, String> {
+    let d_nm = m
+        .um_per_px
+        .ok_or("the PNG has no metric pHYs chunk, so its pixel size is unknown")?
+        * 1e3;
+    let tone = tone_of_notes(m.notes.iter().map(String::as_str)).unwrap_or(Tone::Open);
+    let bbox = super::region_bbox_nm(layout);
+    let [cx, cy] = layout.tile_corner_nm(0, 0);
+    let b = &layout.bounds_nm;
+    let mut cells = vec![vec![0.0; layout.n]; layout.n];
+    for (r, row) in cells.iter_mut().enumerate() {
+        for (c, cell) in row.iter_mut().enumerate() {
+            // Cell centre in the mask frame (nm), then in image pixels (y down).
+            let x = cx as f64 + (b[c] + b[c + 1]) as f64 / 2.0;
+            let y = cy as f64 - (b[r] + b[r + 1]) as f64 / 2.0;
+            let px = ((x - bbox[0] as f64) / d_nm).floor();
+            let py = ((bbox[3] as f64 - y) / d_nm).floor();
+            if !(px >= 0.0 && py >= 0.0 && (px as usize) < m.width && (py as usize) < m.height) {
+                return Err(format!(
+                    "the {}×{} image does not cover the axis pixel at {} µm per pixel",
+                    m.width,
+                    m.height,
+                    d_nm / 1e3
+                ));
+            }
+            let drawn = m.grey[py as usize * m.width + px as usize] >= 128;
+            *cell = f64::from(u8::from(drawn != (tone == Tone::Chrome)));
+        }
+    }
+    Ok(cells)
+}
+
+/// The value of `KEY=VALUE` in the notes (values end at a space), e.g. `CELLS` → `"21"`.
+pub fn note_field<'a>(notes: impl IntoIterator<Item = &'a str>, key: &str) -> Option<&'a str> {
+    notes.into_iter().find_map(|line| {
+        line.split([' ', ':'])
+            .find_map(|token| token.strip_prefix(key)?.strip_prefix('='))
+    })
+}
+
+/// The text notes of a mask (GDSII and DXF TEXTs, PNG `Description` lines), as the export
+/// writes them: `TONE=…`, `PITCH_NM=… PERIOD_NM=… CELLS=… REGION=… TILING=… SEED=…`.
+///
+/// # Errors
+/// As [`import_mask`] when the file cannot be read.
+pub fn mask_notes(path: &Path, layer: i16, datatype: i16) -> Result<Vec<String>, IoError> {
+    if is_png(path) {
+        return Ok(super::png_read::read(path)?.notes);
+    }
+    match path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .as_deref()
+    {
+        Some("dxf") => Ok(dxf::read(path, layer, datatype)?.1),
+        _ => Ok(gds::read(path, layer, datatype)?.texts),
+    }
 }

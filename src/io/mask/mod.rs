@@ -9,6 +9,8 @@ mod dxf;
 mod gds;
 mod import;
 mod png;
+mod png_read;
+mod sampling;
 mod svg;
 
 use std::path::{Path, PathBuf};
@@ -18,6 +20,7 @@ use crate::core::Progress;
 use crate::core::design::Design;
 use crate::core::mask::{MaskError, MaskLayout, MaskSpec, MaskStats, Polygon, Tone, mask_ltr};
 use crate::core::tiling::D4;
+use crate::core::warning::SamplingWarning;
 
 use super::IoError;
 
@@ -26,7 +29,10 @@ pub const MAX_MASK_BYTES: u64 = 1024 * 1024 * 1024;
 use super::design_file::to_json;
 use super::safe_file::{TempFile, write_atomic};
 
-pub use import::{ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening};
+pub use import::{
+    ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening, import_opening_on,
+    mask_notes, note_field,
+};
 
 /// Polygons (µm, y up) and text notes a mask reader found in a file.
 pub(crate) type Drawn = (Vec<Vec<[f64; 2]>>, Vec<String>);
@@ -253,6 +259,11 @@ pub struct MaskReport {
     pub period_nm: i64,
     /// Wall-clock time of the export, in seconds.
     pub seconds: f64,
+    /// The design's sampling warnings and notes, as `udc-studio analyze` and the studio give
+    /// them: the LTR and the design's numbers come with the same caveats.
+    pub sampling: Vec<SamplingWarning>,
+    /// Why the sampling could not be checked (the analysis failed), when it could not.
+    pub sampling_unchecked: Option<String>,
 }
 
 /// `n` and its noun in the right number ("1 pixel", "2 pixels").
@@ -310,6 +321,12 @@ impl MaskReport {
                 self.ltr
             ),
         ]
+        .into_iter()
+        .chain(sampling::lines(
+            &self.sampling,
+            self.sampling_unchecked.as_deref(),
+        ))
+        .collect()
     }
 }
 
@@ -370,6 +387,9 @@ pub fn export_mask(
     let notes = notes(design, &layout, options, path);
     // Dropped on any error (or a cancel), the temp file goes with it.
     let temp = TempFile::beside(path)?;
+    // After the temp file (an unwritable path fails before a second of analysis), before the
+    // mask (a cancel during the analysis leaves nothing behind).
+    let (sampling, sampling_unchecked) = sampling::check(design, progress)?;
     let tmp = temp.path();
     let counts = match options.format {
         MaskFormat::Gds => gds::write(&layout, options, &notes, tmp, progress),
@@ -392,6 +412,8 @@ pub fn export_mask(
         pitch_nm: layout.pitch_nm,
         period_nm: layout.period_nm,
         seconds: start.elapsed().as_secs_f64(),
+        sampling,
+        sampling_unchecked,
     })
 }
 
@@ -422,14 +444,18 @@ fn notes(design: &Design, layout: &MaskLayout, o: &ExportOptions, path: &Path) -
             o.layer, o.datatype, o.note_layer, o.spec.grid_nm
         ),
         format!(
-            "PITCH_NM={} PERIOD_NM={} CELLS={} REGION={} PIXELS={} TILING={} SEED={}",
+            "PITCH_NM={} PERIOD_NM={} CELLS={} REGION={} PIXELS={} TILING={} SEED={} \
+             AXIS_CELL={},{}",
             layout.pitch_nm,
             layout.period_nm,
             layout.n,
             o.spec.region.label(),
             layout.tiles,
             design.tiling.mode.as_str(),
-            design.tiling.seed
+            design.tiling.seed,
+            // The registration, so `udc-studio import` finds the axis pixel without the sidecar.
+            design.tiling.origin_offset_cells[0],
+            design.tiling.origin_offset_cells[1]
         ),
         format!(
             "DESIGN FILE: {}",

@@ -16,15 +16,28 @@ use crate::io::IoError;
 /// SVG files beyond this many polygons are refused (several GB; use GDSII).
 pub const MAX_SVG_POLYGONS: u64 = 20_000_000;
 
-/// Nanometres as micrometres with exactly three decimals (no float noise).
-fn um(nm: i64) -> String {
-    let sign = if nm < 0 { "-" } else { "" };
-    let a = nm.unsigned_abs();
-    if a.is_multiple_of(1000) {
-        format!("{sign}{}", a / 1000)
-    } else {
-        format!("{sign}{}.{:03}", a / 1000, a % 1000)
+/// `n / 10^digits` as the shortest exact decimal (integer arithmetic, so no float noise such
+/// as 0.30000000000000004, and no trailing zeros).
+fn decimal(n: i64, digits: u32) -> String {
+    let sign = if n < 0 { "-" } else { "" };
+    let a = n.unsigned_abs();
+    let scale = 10u64.pow(digits);
+    let frac = a % scale;
+    if frac == 0 {
+        return format!("{sign}{}", a / scale);
     }
+    let text = format!("{frac:0width$}", width = digits as usize);
+    format!("{sign}{}.{}", a / scale, text.trim_end_matches('0'))
+}
+
+/// Nanometres as micrometres (at most three decimals).
+fn um(nm: i64) -> String {
+    decimal(nm, 3)
+}
+
+/// Micrometres from the design snapped to the 1 nm database unit, as [`um`] writes them.
+fn um_snapped(um_value: f64) -> String {
+    um((um_value * 1000.0).round() as i64)
 }
 
 fn escape(s: &str) -> String {
@@ -57,8 +70,8 @@ pub(super) fn write(
         w,
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
          <svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{}mm\" height=\"{}mm\" viewBox=\"{} {} {} {}\">",
-        w_nm as f64 * 1e-6,
-        h_nm as f64 * 1e-6,
+        decimal(w_nm, 6),
+        decimal(h_nm, 6),
         um(x0),
         um(-y1),
         um(w_nm),
@@ -92,8 +105,8 @@ pub(super) fn write(
         writeln!(
             w,
             "<g id=\"pupil\"><circle cx=\"0\" cy=\"0\" r=\"{}\" fill=\"none\" stroke=\"#d00\" stroke-width=\"{}\"/></g>",
-            layout.pupil_diameter_um / 2.0,
-            layout.pupil_diameter_um / 500.0
+            um_snapped(layout.pupil_diameter_um / 2.0),
+            um_snapped(layout.pupil_diameter_um / 500.0)
         )
         .map_err(io)?;
     }
@@ -114,5 +127,19 @@ pub(super) fn estimate(layout: &MaskLayout) -> FileCounts {
         arrays: 0,
         // About 12 bytes of path syntax per polygon and 20 per vertex.
         bytes: 1_000 + 12 * s.flat_polygons + 20 * s.flat_vertices,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::decimal;
+
+    #[test]
+    fn decimals_are_exact_and_short() {
+        assert_eq!(decimal(300, 3), "0.3");
+        assert_eq!(decimal(-1500, 3), "-1.5");
+        assert_eq!(decimal(168_000, 3), "168");
+        assert_eq!(decimal(1, 6), "0.000001");
+        assert_eq!(decimal(-7, 3), "-0.007");
     }
 }

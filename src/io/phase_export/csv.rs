@@ -3,8 +3,9 @@
 use super::*;
 
 /// The CSV text of [`write_height_csv`]: a `#` header stating units and design, then
-/// `x_um,height_um,lenslet,lambda0_nm` rows. Numbers are written in full (shortest round-trip)
-/// precision so a reader recovers exactly the heights the model computed.
+/// `x_um,height_um,lenslet,lambda0_nm` rows. Positions and heights are rounded to
+/// [`CSV_DECIMALS`] decimals (1e-9 µm) and written as shortest round-trip decimals: a reader
+/// recovers the model's heights to 1e-9 µm, without float noise (0.6, not 0.6000000000000001).
 ///
 /// # Errors
 /// A message naming `sample_um` when it is out of range or gives too many rows, or the design's
@@ -29,6 +30,7 @@ fn csv_text(design: &PhaseDesign, sample_um: f64) -> Result<(String, Samples), I
     ));
     out.push_str("x_um,height_um,lenslet,lambda0_nm\n");
     for (&x, &h) in s.x_um.iter().zip(&s.height_um) {
+        let h = crate::io::numbers::snap_decimals(h, CSV_DECIMALS);
         match lenslets.locate(x) {
             Some((l, _)) => {
                 let lambda = lenslets.lambda0_nm.get(l).copied().unwrap_or(f64::NAN);

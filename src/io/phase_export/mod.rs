@@ -261,8 +261,15 @@ fn sample_profile(
         )));
     }
     let n = n as usize;
+    // Snapped to 1e-9 µm so the files carry the decimal the grid means (1.05, not
+    // 1.0500000000000003); the heights are computed at the snapped positions.
     let x_um: Vec<f64> = (0..n)
-        .map(|i| (2.0 * i as f64 + 1.0 - n as f64) * sample_um / 2.0)
+        .map(|i| {
+            crate::io::numbers::snap_decimals(
+                (2.0 * i as f64 + 1.0 - n as f64) * sample_um / 2.0,
+                CSV_DECIMALS,
+            )
+        })
         .collect();
     let height_um = x_um
         .iter()
@@ -270,6 +277,10 @@ fn sample_profile(
         .collect();
     Ok(Samples { x_um, height_um })
 }
+
+/// Decimal places of positions and heights in µm in the CSV (1e-9 µm = 1 fm, far below any
+/// fabrication tolerance, far above float noise).
+pub const CSV_DECIMALS: i32 = 9;
 
 fn max_of(values: impl IntoIterator<Item = f64>) -> f64 {
     values.into_iter().fold(0.0, f64::max)

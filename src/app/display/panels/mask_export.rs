@@ -12,6 +12,7 @@ use crate::app::job::Job;
 use crate::core::design::Design;
 use crate::core::mask::drc::{DrcReport, Rules, ViolationKind, check};
 use crate::core::mask::{BinaryGrid, MaskRegion, MaskStats, Tone};
+use crate::io::IoError;
 use crate::io::mask::{
     ExportOptions, FileCounts, GdsCells, MaskFormat, PngBits, estimate, export_mask, human_bytes,
     plan,
@@ -104,7 +105,12 @@ impl MaskExportDialog {
         let job = Job::spawn("mask export", wake, move |p| {
             export_mask(&d, &o, &path, p)
                 .map(|r| r.lines())
-                .map_err(|e| format!("cannot export the mask: {e}"))
+                // File errors already say "cannot <action>" and name the file; only a layout
+                // error needs the context, so no message says its what twice.
+                .map_err(|e| match e {
+                    IoError::MaskLayout(m) => format!("cannot export the mask: {m}"),
+                    other => other.to_string(),
+                })
         });
         self.last = None;
         self.job = Some(job);
