@@ -145,9 +145,16 @@ pub struct ExportArgs {
     /// Coordinate grid in nm (the database unit is 1 nm).
     #[arg(long, default_value_t = 1)]
     pub grid_nm: u32,
-    /// GDSII top cell name.
-    #[arg(long, default_value = "UDC_MASK")]
-    pub top_cell: String,
+    /// GDSII top cell name (default: the design's name and a short hash of the design).
+    #[arg(long)]
+    pub top_cell: Option<String>,
+    /// Layer map file: one `role layer/datatype` per line (roles openings, outline, notes),
+    /// or a KLayout `.lyp`; overrides --layer, --datatype and --note-layer.
+    #[arg(long)]
+    pub layer_map: Option<PathBuf>,
+    /// Fixed timestamps (2000-01-01 00:00:00): identical exports are byte-identical.
+    #[arg(long)]
+    pub deterministic: bool,
     /// GDSII orientations: `strans` (one cell, reflected/rotated references) or
     /// `per-orientation` (one cell per orientation, plain references).
     #[arg(long, default_value = "strans")]
@@ -318,6 +325,8 @@ fn export_cmd(args: &ExportArgs) -> Result<()> {
         gds_cells: args.gds_cells,
         um_per_px: args.um_per_px,
         png_bits: args.png_bits,
+        layer_map: args.layer_map.as_deref().map(read_layer_map).transpose()?,
+        deterministic: args.deterministic,
     };
     crate::io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
     let report = export_mask(&design, &options, &args.out, &Progress::new())?;
@@ -325,6 +334,13 @@ fn export_cmd(args: &ExportArgs) -> Result<()> {
         println!("{line}");
     }
     Ok(())
+}
+
+/// Reads a `--layer-map` file (a small text file).
+fn read_layer_map(path: &std::path::Path) -> Result<crate::io::fab::LayerMap> {
+    let bytes = crate::io::safe_file::read_bounded(path, 1 << 20, "read the layer map")?;
+    let text = String::from_utf8_lossy(&bytes);
+    crate::io::fab::LayerMap::parse(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
 }
 
 fn print_table(design: &Design, a: &Analysis) {

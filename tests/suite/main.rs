@@ -18,6 +18,7 @@ mod io_files;
 mod layouts;
 mod mask_dialog;
 mod mask_export;
+mod mask_fab;
 mod mask_geometry;
 mod opening_ops;
 mod optimize;

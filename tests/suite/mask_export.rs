@@ -55,6 +55,8 @@ fn options(format: MaskFormat, region: MaskRegion, tone: Tone) -> ExportOptions 
             tone,
             ..MaskSpec::default()
         },
+        // Fixed timestamps: reruns write the same bytes.
+        deterministic: true,
         ..ExportOptions::default()
     }
 }
