@@ -1,6 +1,8 @@
 //! Headless commands, built only on `core` and `io`.
 
 pub mod drc;
+mod export_cmd;
+pub use export_cmd::ExportArgs;
 pub mod import;
 pub mod optimize;
 pub mod phase;
@@ -16,9 +18,7 @@ use clap::{Args, Parser, Subcommand};
 
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::design::{Design, OpticsRecipe, TilingMode};
-use crate::core::mask::{MaskRegion, MaskSpec, Tone};
 use crate::core::{Analysis, Progress};
-use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
 use crate::io::{design_file, export, pattern, presets, report, spectral};
 
 /// The command line: an optional headless command and the global options.
@@ -119,52 +119,6 @@ pub struct AnalyzeArgs {
     /// Interactive preview quality (coarser sampling, same physics).
     #[arg(long)]
     pub preview: bool,
-}
-
-/// Arguments of `udc-studio export`.
-#[derive(Debug, Args)]
-pub struct ExportArgs {
-    /// The design to write as a mask.
-    #[command(flatten)]
-    pub selection: DesignSelection,
-    /// File format: gds, dxf, svg or png.
-    #[arg(long)]
-    pub format: MaskFormat,
-    /// Which pixels: `pixel` (the one on the optical axis), `pupil` (every pixel over the lens
-    /// pupil, with its outline) or `WxH` (a block of pixels centred on the axis, e.g. 1080x2400).
-    #[arg(long)]
-    pub region: MaskRegion,
-    /// What the polygons are: `open` (drawn = clear) or `chrome` (drawn = dark, gap included).
-    #[arg(long, default_value = "open")]
-    pub tone: Tone,
-    /// Output file; the design is written beside it as `<FILE>.design.json`.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// GDSII layer of the drawn polygons.
-    #[arg(long, default_value_t = 1)]
-    pub layer: i16,
-    /// GDSII datatype of the drawn polygons.
-    #[arg(long, default_value_t = 0)]
-    pub datatype: i16,
-    /// Layer of the pupil outline and the text notes.
-    #[arg(long, default_value_t = 2)]
-    pub note_layer: i16,
-    /// Coordinate grid in nm (the database unit is 1 nm).
-    #[arg(long, default_value_t = 1)]
-    pub grid_nm: u32,
-    /// GDSII top cell name.
-    #[arg(long, default_value = "UDC_MASK")]
-    pub top_cell: String,
-    /// GDSII orientations: `strans` (one cell, reflected/rotated references) or
-    /// `per-orientation` (one cell per orientation, plain references).
-    #[arg(long, default_value = "strans")]
-    pub gds_cells: GdsCells,
-    /// PNG pixel size in µm.
-    #[arg(long, default_value_t = 1.0)]
-    pub um_per_px: f64,
-    /// PNG bits per pixel: 1 (black/white) or 8 (grey = covered fraction).
-    #[arg(long, default_value = "8")]
-    pub png_bits: PngBits,
 }
 
 impl DesignSelection {
@@ -272,7 +226,7 @@ fn run_command(command: Command) -> Result<()> {
             Ok(())
         }
         Command::Analyze(args) => analyze_cmd(&args),
-        Command::Export(args) => export_cmd(&args),
+        Command::Export(args) => export_cmd::export_cmd(&args),
         Command::Drc(args) => drc::drc_cmd(&args),
         Command::Import(args) => import::import_cmd(&args),
         Command::Restore(args) => restore_cmd(&args),
@@ -306,32 +260,6 @@ fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
         );
     } else {
         print_table(&design, &analysis);
-    }
-    Ok(())
-}
-
-fn export_cmd(args: &ExportArgs) -> Result<()> {
-    let design = args.selection.resolve()?;
-    let options = ExportOptions {
-        format: args.format,
-        spec: MaskSpec {
-            region: args.region,
-            tone: args.tone,
-            grid_nm: args.grid_nm,
-            ..MaskSpec::default()
-        },
-        layer: args.layer,
-        datatype: args.datatype,
-        note_layer: args.note_layer,
-        top_cell: args.top_cell.clone(),
-        gds_cells: args.gds_cells,
-        um_per_px: args.um_per_px,
-        png_bits: args.png_bits,
-    };
-    crate::io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
-    let report = export_mask(&design, &options, &args.out, &Progress::new())?;
-    for line in report.lines() {
-        println!("{line}");
     }
     Ok(())
 }

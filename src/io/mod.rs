@@ -5,6 +5,7 @@ pub mod bin_study_csv;
 pub mod design_file;
 pub mod error;
 pub mod export;
+pub mod fab;
 pub mod hdr;
 pub mod mask;
 pub mod numbers;

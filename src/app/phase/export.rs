@@ -23,6 +23,7 @@ const DEFAULT_PARAMS: ExportParams = ExportParams {
     rows: 16,
     length_um: 100.0,
     base_um: 20.0,
+    deterministic: false,
 };
 
 pub(super) struct ExportState {

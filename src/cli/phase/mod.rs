@@ -121,6 +121,9 @@ pub struct ExportArgs {
     /// STL base thickness under the plate in µm.
     #[arg(long, default_value_t = 5.0, allow_negative_numbers = true)]
     pub base_um: f64,
+    /// Fixed GDSII timestamps (2000-01-01 00:00:00): identical exports are byte-identical.
+    #[arg(long)]
+    pub deterministic: bool,
 }
 
 /// The mask and camera: the thesis's 600-DPI design unless overridden.
@@ -467,6 +470,7 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
         rows: a.rows,
         length_um: a.length_um,
         base_um: a.base_um,
+        deterministic: a.deterministic,
     };
     let written = crate::io::phase_export::write_height(a.format, &design, file, &params);
     // The writer's messages name design fields; a CLI user knows them as flags. Printed without

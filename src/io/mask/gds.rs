@@ -15,15 +15,16 @@ use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use gds21::{
-    GdsArrayRef, GdsBoundary, GdsDateTime, GdsElement, GdsFloat64, GdsLibrary, GdsPoint, GdsStrans,
-    GdsStruct, GdsStructRef, GdsTextElem, GdsUnits,
+    GdsArrayRef, GdsBoundary, GdsElement, GdsFloat64, GdsLibrary, GdsPoint, GdsStrans, GdsStruct,
+    GdsStructRef, GdsTextElem, GdsUnits,
 };
 
-use super::{ExportOptions, FileCounts, GdsCells, region_bbox_nm};
+use super::{ExportOptions, FileCounts, GdsCells, MaskLayers, region_bbox_nm};
 use crate::core::Progress;
 use crate::core::mask::{MaskError, MaskLayout, Polygon};
 use crate::core::tiling::D4;
 use crate::io::IoError;
+use crate::io::fab::{OUTLINE_WIDTH_NM, gds_date, outline_paths};
 
 /// GDSII counts rows and columns of an array in 16 bits.
 const MAX_ARRAY: i64 = 32767;
@@ -107,8 +108,13 @@ fn arrays(layout: &MaskLayout, name: &str, offset: [i64; 2]) -> Vec<GdsElement> 
 }
 
 /// The library up to and including the top cell, with everything but per-pixel references.
-fn library(layout: &MaskLayout, o: &ExportOptions, notes: &[String]) -> GdsLibrary {
-    let top = &o.top_cell;
+fn library(
+    layout: &MaskLayout,
+    o: &ExportOptions,
+    layers: &MaskLayers,
+    notes: &[String],
+) -> GdsLibrary {
+    let top = o.top_cell_name();
     let mut lib = GdsLibrary::new("UDCSTUDIO");
     // Database unit 1 nm = 1e-3 user units (1 µm), 1e-9 m.
     lib.units = GdsUnits::new(1e-3, 1e-9);
@@ -128,13 +134,13 @@ fn library(layout: &MaskLayout, o: &ExportOptions, notes: &[String]) -> GdsLibra
             }
         }
     }
-    let mut top_cell = GdsStruct::new(top.clone());
+    let mut top_cell = GdsStruct::new(top);
     let bbox = region_bbox_nm(layout);
     for (k, note) in notes.iter().enumerate() {
         top_cell.elems.push(GdsElement::GdsTextElem(GdsTextElem {
             string: note.clone(),
-            layer: o.note_layer,
-            texttype: 0,
+            layer: layers.notes.0,
+            texttype: layers.notes.1,
             // One line per note, 10 µm apart, above the region's top-left corner.
             xy: GdsPoint::new(
                 bbox[0] as i32,
@@ -144,7 +150,15 @@ fn library(layout: &MaskLayout, o: &ExportOptions, notes: &[String]) -> GdsLibra
         }));
     }
     if let Some(outline) = &layout.pupil_outline {
-        top_cell.elems.push(boundary(outline, o.note_layer, 0));
+        // An outline, not a filled disc: a path, split to the XY record limit.
+        let ring = points(outline, [0, 0]);
+        let ring = &ring[..ring.len().saturating_sub(1)];
+        let (l, d) = layers.outline;
+        top_cell.elems.extend(
+            outline_paths(ring, l, d, OUTLINE_WIDTH_NM)
+                .into_iter()
+                .map(GdsElement::GdsPath),
+        );
     }
     if let Some(gap) = &layout.gap_polygon {
         let name = format!("{top}_GAP");
@@ -164,7 +178,7 @@ fn library(layout: &MaskLayout, o: &ExportOptions, notes: &[String]) -> GdsLibra
         top_cell.elems.extend(arrays(layout, &name, [0, 0]));
     }
     lib.structs.push(top_cell);
-    lib.set_all_dates(GdsDateTime::now());
+    lib.set_all_dates(gds_date(o.deterministic));
     lib
 }
 
@@ -222,11 +236,11 @@ fn sref_table(layout: &MaskLayout, o: &ExportOptions) -> Vec<(Vec<u8>, [i64; 2])
                     angle: (p.angle_deg != 0).then_some(f64::from(p.angle_deg)),
                     ..Default::default()
                 });
-                let name = format!("{}_PIXEL", o.top_cell);
+                let name = format!("{}_PIXEL", o.top_cell_name());
                 (sref_prefix(&name, strans.as_ref()), p.offset_nm)
             }
             GdsCells::PerOrientation => {
-                let name = orientation_cell(layout, &o.top_cell, g);
+                let name = orientation_cell(layout, o.top_cell_name(), g);
                 (sref_prefix(&name, None), [0, 0])
             }
         })
@@ -245,7 +259,11 @@ pub(super) fn write(
     path: &Path,
     progress: &Progress,
 ) -> Result<FileCounts, IoError> {
-    let lib = library(layout, o, notes);
+    let layers = o.mask_layers().map_err(|message| IoError::Mask {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    let lib = library(layout, o, &layers, notes);
     let mut head = Vec::new();
     lib.write(&mut head).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),
@@ -339,7 +357,7 @@ pub(super) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
     };
     // Boundary: BOUNDARY, LAYER, DATATYPE, XY header, ENDEL = 24 bytes, 8 per point.
     let boundary_bytes = 24 * polygons + 8 * (vertices + polygons);
-    let name = o.top_cell.len() as u64 + 8;
+    let name = o.top_cell_name().len() as u64 + 8;
     let sref = 4
         + 4
         + name
@@ -351,10 +369,11 @@ pub(super) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
             0
         };
     let aref = 4 + 4 + name + 8 + 28 + 4;
-    let outline = layout
-        .pupil_outline
-        .as_ref()
-        .map_or(0, |p| 24 + 8 * (p.points_nm.len() as u64 + 1));
+    let outline = layout.pupil_outline.as_ref().map_or(0, |p| {
+        // PATH: PATH, LAYER, DATATYPE, PATHTYPE, WIDTH, XY header, ENDEL = 38 bytes per path.
+        let n = p.points_nm.len() as u64 + 1;
+        38 * n.div_ceil(crate::io::fab::MAX_XY_POINTS as u64 - 1) + 8 * (n + n / 4094)
+    });
     let bytes = 600 + boundary_bytes + references * sref + arrays * aref + outline;
     FileCounts {
         polygons,

@@ -6,6 +6,7 @@
 //! equivalent) in a note, and the design is written beside it as `<file>.design.json`.
 
 mod dxf;
+mod fab;
 mod gds;
 mod import;
 mod png;
@@ -23,12 +24,14 @@ use crate::core::tiling::D4;
 use crate::core::warning::SamplingWarning;
 
 use super::IoError;
+use super::fab::{LayerMap, MAX_BOUNDARY_VERTICES, Sidecars};
 
 /// Largest mask file read back (GDSII or DXF): masks of whole displays are tens of MB.
 pub const MAX_MASK_BYTES: u64 = 1024 * 1024 * 1024;
 use super::design_file::to_json;
 use super::safe_file::{TempFile, write_atomic};
 
+pub use fab::{LayerRole, MaskLayers, design_hash};
 pub use import::{
     ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening, import_opening_on,
     mask_notes, note_field,
@@ -155,14 +158,19 @@ pub struct ExportOptions {
     pub datatype: i16,
     /// Layer of the pupil outline and the text notes.
     pub note_layer: i16,
-    /// GDSII top cell name: 1 to 32 ASCII letters, digits, `_`, `-` or `$`.
-    pub top_cell: String,
+    /// GDSII top cell name: 1 to 32 ASCII letters, digits, `_`, `-` or `$`; `None` derives it
+    /// from the design's name and hash (see [`crate::io::fab::derived_cell_name`]).
+    pub top_cell: Option<String>,
     /// How GDSII realises the pixels' orientations.
     pub gds_cells: GdsCells,
     /// PNG resolution.
     pub um_per_px: f64,
     /// Bits per PNG pixel.
     pub png_bits: PngBits,
+    /// Layers by role (`--layer-map`), overriding `layer`, `datatype` and `note_layer`.
+    pub layer_map: Option<LayerMap>,
+    /// Fixed GDSII timestamps, so identical exports are byte-identical.
+    pub deterministic: bool,
 }
 
 impl Default for ExportOptions {
@@ -173,10 +181,12 @@ impl Default for ExportOptions {
             layer: 1,
             datatype: 0,
             note_layer: 2,
-            top_cell: "UDC_MASK".into(),
+            top_cell: None,
             gds_cells: GdsCells::Strans,
             um_per_px: 1.0,
             png_bits: PngBits::Eight,
+            layer_map: None,
+            deterministic: false,
         }
     }
 }
@@ -187,7 +197,7 @@ impl ExportOptions {
     /// # Errors
     /// A message naming the bad option.
     pub fn validate(&self) -> Result<(), String> {
-        let name = &self.top_cell;
+        let name = self.top_cell.as_deref().unwrap_or("UDC_MASK");
         if name.is_empty()
             || name.len() > 32
             || !name
@@ -213,6 +223,7 @@ impl ExportOptions {
                 self.note_layer
             ));
         }
+        self.mask_layers()?;
         if !(self.um_per_px.is_finite() && self.um_per_px > 0.0) {
             return Err(format!(
                 "µm per pixel must be a positive number (got {:?})",
@@ -245,6 +256,8 @@ pub struct MaskReport {
     pub path: PathBuf,
     /// The design written beside it (`<file>.design.json`).
     pub sidecar: PathBuf,
+    /// Checksum, manifest and layer map written beside it.
+    pub fab_files: Sidecars,
     /// The options it was written with.
     pub options: ExportOptions,
     /// Counts and areas of the laid-out region.
@@ -293,7 +306,7 @@ impl MaskReport {
                 o.layer,
                 o.datatype,
                 o.note_layer,
-                o.top_cell
+                o.top_cell_name()
             ),
             format!(
                 "region: {}, {} in {}; pitch {:.3} µm, period {:.3} µm, grid {} nm",
@@ -357,7 +370,12 @@ pub fn sidecar_path(path: &Path) -> PathBuf {
 /// A message for bad options or a design that cannot be laid out.
 pub fn plan(design: &Design, options: &ExportOptions) -> Result<MaskLayout, MaskError> {
     options.validate().map_err(MaskError::Invalid)?;
-    MaskLayout::new(design, &options.spec)
+    let mut spec = options.spec.clone();
+    if options.format == MaskFormat::Gds {
+        // Many GDSII readers keep records within 32 kB: split boundaries before they exceed it.
+        spec.max_vertices = spec.max_vertices.min(MAX_BOUNDARY_VERTICES);
+    }
+    MaskLayout::new(design, &spec)
 }
 
 /// What the file would hold, without writing it (the dialog's preview).
@@ -383,6 +401,7 @@ pub fn export_mask(
     progress: &Progress,
 ) -> Result<MaskReport, IoError> {
     let start = Instant::now();
+    let options = &options.resolved(design).map_err(MaskError::Invalid)?;
     let layout = plan(design, options)?;
     let notes = notes(design, &layout, options, path);
     // Dropped on any error (or a cancel), the temp file goes with it.
@@ -401,10 +420,12 @@ pub fn export_mask(
     temp.persist()?;
     let sidecar = sidecar_path(path);
     write_atomic(&sidecar, to_json(design).as_bytes())?;
+    let fab_files = fab::write_mask_sidecars(design, options, path)?;
     progress.set(1.0);
     Ok(MaskReport {
         path: path.to_path_buf(),
         sidecar,
+        fab_files,
         options: options.clone(),
         stats: layout.stats(),
         counts,

@@ -21,6 +21,39 @@ pub fn write_height_gds(
     path: &Path,
     length_um: f64,
 ) -> Result<ExportSummary, IoError> {
+    write_height_gds_with(design, path, length_um, false)
+}
+
+/// The layer map of a written plate: `level_k k/0` per level layer, then `notes`.
+pub(super) fn layer_map(summary: &ExportSummary) -> crate::io::fab::LayerMap {
+    use crate::io::fab::LayerEntry;
+    let mut entries: Vec<LayerEntry> = summary
+        .layers
+        .iter()
+        .map(|l| LayerEntry {
+            name: format!("level_{}", l.layer),
+            layer: l.layer,
+            datatype: 0,
+        })
+        .collect();
+    entries.push(LayerEntry {
+        name: "notes".into(),
+        layer: GDS_NOTE_LAYER,
+        datatype: 0,
+    });
+    crate::io::fab::LayerMap { entries }
+}
+
+/// [`write_height_gds`], with fixed timestamps (2000-01-01) when `deterministic`.
+///
+/// # Errors
+/// As [`write_height_gds`].
+pub fn write_height_gds_with(
+    design: &PhaseDesign,
+    path: &Path,
+    length_um: f64,
+    deterministic: bool,
+) -> Result<ExportSummary, IoError> {
     let lenslets = lenslets_of(design)?;
     check_length(length_um)?;
     let Some(step) = design.height_step_um else {
@@ -33,11 +66,11 @@ pub fn write_height_gds(
     let pieces = pieces(design, &lenslets)?;
     let runs = level_runs(&pieces);
     let top_level = runs.iter().map(|r| r.2).max().unwrap_or(0);
-    if top_level > i16::MAX as u64 {
+    if top_level > MAX_GDS_LEVEL {
         return Err(invalid(format!(
-            "height_step_um = {step}: {top_level} levels above 0 need more than GDSII's {} \
-             layers; use a coarser step",
-            i16::MAX
+            "height_step_um = {step}: {top_level} levels above 0 need more than the \
+             {MAX_GDS_LEVEL} level layers (layer {GDS_NOTE_LAYER} holds the notes); use a \
+             coarser step"
         )));
     }
     let half_nm = (length_um / DB_UNIT_UM / 2.0).round().max(1.0) as i64;
@@ -54,7 +87,9 @@ pub fn write_height_gds(
             width_um: 0.0,
         })
         .collect();
-    let mut cell = GdsStruct::new(GDS_TOP_CELL);
+    let hash =
+        crate::io::fab::sha256_hex(crate::io::phase_design::phase_design_json(design).as_bytes());
+    let mut cell = GdsStruct::new(format!("{GDS_TOP_CELL}_{}", hash[..8].to_uppercase()));
     let mut width_nm = vec![0i64; layers.len()];
     for &(x0, x1, level) in &runs {
         if level == 0 {
@@ -84,7 +119,7 @@ pub fn write_height_gds(
     let mut notes = vec![
         format!(
             "UDC STUDIO PHASE PLATE: layer k = height k x {step} um (k = 1..{top_level}); \
-             height 0 = bare substrate, not drawn"
+             height 0 = bare substrate, not drawn; layer {GDS_NOTE_LAYER} = these notes"
         ),
         format!(
             "units: user unit 1 um, database unit 1 nm; x across lenslets (x = 0 on the axis), \
@@ -108,7 +143,7 @@ pub fn write_height_gds(
     // Database unit 1 nm = 1e-3 user units (1 µm), 1e-9 m.
     lib.units = GdsUnits::new(1e-3, 1e-9);
     lib.structs.push(cell);
-    lib.set_all_dates(GdsDateTime::now());
+    lib.set_all_dates(crate::io::fab::gds_date(deterministic));
     let mut bytes = Vec::new();
     lib.write(&mut bytes).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),

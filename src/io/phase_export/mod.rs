@@ -27,9 +27,7 @@ use std::io::{Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
 use ::png::{BitDepth, ColorType, Encoder, PixelDimensions, Unit};
-use gds21::{
-    GdsBoundary, GdsDateTime, GdsElement, GdsLibrary, GdsPoint, GdsStruct, GdsTextElem, GdsUnits,
-};
+use gds21::{GdsBoundary, GdsElement, GdsLibrary, GdsPoint, GdsStruct, GdsTextElem, GdsUnits};
 use serde::Serialize;
 use stl_io::{Normal, Triangle, Vertex};
 
@@ -63,11 +61,16 @@ pub const MAX_STL_TRIANGLES: usize = 20_000_000;
 
 /// GDSII database unit in µm.
 const DB_UNIT_UM: f64 = 0.001;
-/// Layer of the GDSII notes: text only, no geometry (height 0 is bare substrate, never drawn).
-pub const GDS_NOTE_LAYER: i16 = 0;
+/// Layer of the GDSII notes: a documentation layer, text only. Not 0, which reads as height
+/// level 0; level layers stop below it (see [`MAX_GDS_LEVEL`]).
+pub const GDS_NOTE_LAYER: i16 = 255;
+/// Highest level layer of the plate's GDSII: every level stays below [`GDS_NOTE_LAYER`] and in
+/// the 0–255 layers every reader accepts.
+pub const MAX_GDS_LEVEL: u64 = 254;
 /// Name of the GDSII library the export writes.
 pub const GDS_LIBRARY: &str = "UDCSTUDIO";
-/// Name of the GDSII top cell that holds the plate's rectangles and notes.
+/// Prefix of the GDSII top cell that holds the plate's rectangles and notes; the cell is
+/// `UDC_PHASE_<first 8 hex digits of the design's SHA-256>` so two plates merge without a clash.
 pub const GDS_TOP_CELL: &str = "UDC_PHASE";
 
 /// The phase plate's file formats (the CLI's `--format`, the studio's export menu, and which
@@ -348,6 +351,8 @@ pub struct HeightParams {
     pub length_um: f64,
     /// Thickness of the STL's base under the profile, in µm.
     pub base_um: f64,
+    /// Fixed GDSII timestamps, so identical exports are byte-identical.
+    pub deterministic: bool,
 }
 
 /// Writes `design`'s plate to `path` in `format`: the one entry point of the studio and the CLI.
@@ -360,10 +365,40 @@ pub fn write_height(
     path: &Path,
     p: &HeightParams,
 ) -> Result<ExportSummary, IoError> {
-    match format {
-        HeightFormat::Csv => write_height_csv(design, path, p.sample_um),
-        HeightFormat::Png => write_height_png(design, path, p.sample_um, p.rows),
-        HeightFormat::Gds => write_height_gds(design, path, p.length_um),
-        HeightFormat::Stl => write_height_stl(design, path, p.sample_um, p.length_um, p.base_um),
-    }
+    let (summary, layers) = match format {
+        HeightFormat::Csv => (write_height_csv(design, path, p.sample_um)?, None),
+        HeightFormat::Png => (write_height_png(design, path, p.sample_um, p.rows)?, None),
+        HeightFormat::Gds => {
+            let s = gds::write_height_gds_with(design, path, p.length_um, p.deterministic)?;
+            let map = gds::layer_map(&s);
+            (s, Some(map))
+        }
+        HeightFormat::Stl => (
+            write_height_stl(design, path, p.sample_um, p.length_um, p.base_um)?,
+            None,
+        ),
+    };
+    let json = crate::io::phase_design::phase_design_json(design);
+    let mut m = serde_json::Map::new();
+    m.insert("format".into(), format.extension().into());
+    m.insert(
+        "design".into(),
+        serde_json::json!({"name": "phase plate", "sha256": crate::io::fab::sha256_hex(json.as_bytes())}),
+    );
+    m.insert(
+        "parameters".into(),
+        serde_json::json!({
+            "sample_um": p.sample_um,
+            "rows": p.rows,
+            "length_um": p.length_um,
+            "base_um": p.base_um,
+            "deterministic": p.deterministic,
+        }),
+    );
+    let header = vec![
+        "layer map of a phase plate: level_k = height k x height_step_um; notes = text only".into(),
+    ];
+    let layers = layers.as_ref().map(|m| (m, header.as_slice()));
+    crate::io::fab::write_sidecars(path, m, layers)?;
+    Ok(summary)
 }

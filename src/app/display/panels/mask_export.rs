@@ -162,7 +162,14 @@ impl MaskExportDialog {
                     .collect();
                 PreviewData {
                     stats: layout.stats(),
-                    counts: estimate(&layout, &self.options),
+                    // Resolved: the derived top cell name's length is part of the size.
+                    counts: estimate(
+                        &layout,
+                        &self
+                            .options
+                            .resolved(design)
+                            .unwrap_or(self.options.clone()),
+                    ),
                     drawn: layout.drawn.clone(),
                     outlines,
                     drc: check(design, &Rules::default()),

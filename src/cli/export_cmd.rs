@@ -1,0 +1,101 @@
+//! `udc-studio export`: a photolithography mask of a design (GDSII, DXF, SVG or PNG) and the
+//! files a mask house gets beside it.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+use super::DesignSelection;
+use crate::core::Progress;
+use crate::core::mask::{MaskRegion, MaskSpec, Tone};
+use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
+
+/// Arguments of `udc-studio export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// The design to write as a mask.
+    #[command(flatten)]
+    pub selection: DesignSelection,
+    /// File format: gds, dxf, svg or png.
+    #[arg(long)]
+    pub format: MaskFormat,
+    /// Which pixels: `pixel` (the one on the optical axis), `pupil` (every pixel over the lens
+    /// pupil, with its outline) or `WxH` (a block of pixels centred on the axis, e.g. 1080x2400).
+    #[arg(long)]
+    pub region: MaskRegion,
+    /// What the polygons are: `open` (drawn = clear) or `chrome` (drawn = dark, gap included).
+    #[arg(long, default_value = "open")]
+    pub tone: Tone,
+    /// Output file; the design is written beside it as `<FILE>.design.json`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// GDSII layer of the drawn polygons.
+    #[arg(long, default_value_t = 1)]
+    pub layer: i16,
+    /// GDSII datatype of the drawn polygons.
+    #[arg(long, default_value_t = 0)]
+    pub datatype: i16,
+    /// Layer of the pupil outline and the text notes.
+    #[arg(long, default_value_t = 2)]
+    pub note_layer: i16,
+    /// Coordinate grid in nm (the database unit is 1 nm).
+    #[arg(long, default_value_t = 1)]
+    pub grid_nm: u32,
+    /// GDSII top cell name (default: the design's name and a short hash of the design).
+    #[arg(long)]
+    pub top_cell: Option<String>,
+    /// Layer map file: one `role layer/datatype` per line (roles openings, outline, notes),
+    /// or a KLayout `.lyp`; overrides --layer, --datatype and --note-layer.
+    #[arg(long)]
+    pub layer_map: Option<PathBuf>,
+    /// Fixed timestamps (2000-01-01 00:00:00): identical exports are byte-identical.
+    #[arg(long)]
+    pub deterministic: bool,
+    /// GDSII orientations: `strans` (one cell, reflected/rotated references) or
+    /// `per-orientation` (one cell per orientation, plain references).
+    #[arg(long, default_value = "strans")]
+    pub gds_cells: GdsCells,
+    /// PNG pixel size in µm.
+    #[arg(long, default_value_t = 1.0)]
+    pub um_per_px: f64,
+    /// PNG bits per pixel: 1 (black/white) or 8 (grey = covered fraction).
+    #[arg(long, default_value = "8")]
+    pub png_bits: PngBits,
+}
+
+/// Runs `udc-studio export`.
+pub(super) fn export_cmd(args: &ExportArgs) -> Result<()> {
+    let design = args.selection.resolve()?;
+    let options = ExportOptions {
+        format: args.format,
+        spec: MaskSpec {
+            region: args.region,
+            tone: args.tone,
+            grid_nm: args.grid_nm,
+            ..MaskSpec::default()
+        },
+        layer: args.layer,
+        datatype: args.datatype,
+        note_layer: args.note_layer,
+        top_cell: args.top_cell.clone(),
+        gds_cells: args.gds_cells,
+        um_per_px: args.um_per_px,
+        png_bits: args.png_bits,
+        layer_map: args.layer_map.as_deref().map(read_layer_map).transpose()?,
+        deterministic: args.deterministic,
+    };
+    crate::io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
+    let report = export_mask(&design, &options, &args.out, &Progress::new())?;
+    for line in report.lines() {
+        println!("{line}");
+    }
+    Ok(())
+}
+
+/// Reads a `--layer-map` file (a small text file).
+fn read_layer_map(path: &std::path::Path) -> Result<crate::io::fab::LayerMap> {
+    let bytes = crate::io::safe_file::read_bounded(path, 1 << 20, "read the layer map")?;
+    let text = String::from_utf8_lossy(&bytes);
+    crate::io::fab::LayerMap::parse(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+}

@@ -1,0 +1,192 @@
+//! The mask export's side of [`crate::io::fab`]: the roles of its layers, the names derived from
+//! the design, and the manifest.
+
+use std::path::Path;
+
+use super::{ExportOptions, MaskFormat};
+use crate::core::design::Design;
+use crate::io::IoError;
+use crate::io::design_file::to_json;
+use crate::io::fab::{
+    LayerEntry, LayerMap, Sidecars, derived_cell_name, sha256_hex, write_sidecars,
+};
+
+/// What a layer of a mask export holds (the names of a layer map file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LayerRole {
+    /// The drawn polygons (openings for the open tone, chrome for the chrome tone).
+    Openings,
+    /// The pupil outline (a path).
+    Outline,
+    /// The text notes.
+    Notes,
+}
+
+impl LayerRole {
+    /// Every role, in layer-map order.
+    pub const ALL: [LayerRole; 3] = [LayerRole::Openings, LayerRole::Outline, LayerRole::Notes];
+
+    /// The name in a layer map file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LayerRole::Openings => "openings",
+            LayerRole::Outline => "outline",
+            LayerRole::Notes => "notes",
+        }
+    }
+}
+
+/// The layer/datatype of every role.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MaskLayers {
+    /// Drawn polygons.
+    pub openings: (i16, i16),
+    /// Pupil outline.
+    pub outline: (i16, i16),
+    /// Text notes.
+    pub notes: (i16, i16),
+}
+
+impl MaskLayers {
+    /// The pair of `role`.
+    pub fn of(&self, role: LayerRole) -> (i16, i16) {
+        match role {
+            LayerRole::Openings => self.openings,
+            LayerRole::Outline => self.outline,
+            LayerRole::Notes => self.notes,
+        }
+    }
+
+    /// As a [`LayerMap`] (what `<out>.layers.txt` holds).
+    pub fn to_map(&self) -> LayerMap {
+        LayerMap {
+            entries: LayerRole::ALL
+                .into_iter()
+                .map(|r| LayerEntry {
+                    name: r.as_str().into(),
+                    layer: self.of(r).0,
+                    datatype: self.of(r).1,
+                })
+                .collect(),
+        }
+    }
+}
+
+impl ExportOptions {
+    /// The layers of every role: the `--layer-map` entries, the rest from `layer`/`datatype`
+    /// (openings) and `note_layer` (outline and notes, datatype 0).
+    ///
+    /// # Errors
+    /// A message for a map entry that names no role, or a map that puts the openings on the
+    /// layer/datatype of another role.
+    pub fn mask_layers(&self) -> Result<MaskLayers, String> {
+        let mut l = MaskLayers {
+            openings: (self.layer, self.datatype),
+            outline: (self.note_layer, 0),
+            notes: (self.note_layer, 0),
+        };
+        if let Some(map) = &self.layer_map {
+            for e in &map.entries {
+                let pair = (e.layer, e.datatype);
+                match LayerRole::ALL.into_iter().find(|r| r.as_str() == e.name) {
+                    Some(LayerRole::Openings) => l.openings = pair,
+                    Some(LayerRole::Outline) => l.outline = pair,
+                    Some(LayerRole::Notes) => l.notes = pair,
+                    None => {
+                        return Err(format!(
+                            "layer map: unknown role `{}` (expected openings, outline or notes)",
+                            e.name
+                        ));
+                    }
+                }
+            }
+        }
+        if l.openings == l.outline || l.openings == l.notes {
+            return Err(format!(
+                "layer map: the openings ({}/{}) must be on their own layer/datatype",
+                l.openings.0, l.openings.1
+            ));
+        }
+        Ok(l)
+    }
+
+    /// The options as written for `design`: the layer map applied to `layer`, `datatype` and
+    /// `note_layer`, and the top cell named when none was given.
+    ///
+    /// # Errors
+    /// A message for a bad layer map.
+    pub fn resolved(&self, design: &Design) -> Result<ExportOptions, String> {
+        let l = self.mask_layers()?;
+        let mut o = self.clone();
+        (o.layer, o.datatype) = l.openings;
+        o.note_layer = l.notes.0;
+        if o.top_cell.is_none() {
+            o.top_cell = Some(derived_cell_name(&design.name, &design_hash(design)));
+        }
+        Ok(o)
+    }
+
+    /// The top cell name (after [`ExportOptions::resolved`], always the derived or given one).
+    pub fn top_cell_name(&self) -> &str {
+        self.top_cell.as_deref().unwrap_or("UDC_MASK")
+    }
+}
+
+/// The SHA-256 (hex) of the design's JSON: the same design always gives the same hash.
+pub fn design_hash(design: &Design) -> String {
+    sha256_hex(to_json(design).as_bytes())
+}
+
+/// Writes the checksum, the manifest and (GDSII) the layer map beside the export at `path`.
+pub(super) fn write_mask_sidecars(
+    design: &Design,
+    o: &ExportOptions,
+    path: &Path,
+) -> Result<Sidecars, IoError> {
+    let layers = o.mask_layers().map_err(|message| IoError::Mask {
+        path: path.to_path_buf(),
+        message,
+    })?;
+    let map = layers.to_map();
+    let spec = &o.spec;
+    let mut m = serde_json::Map::new();
+    m.insert("format".into(), o.format.as_str().into());
+    m.insert(
+        "design".into(),
+        serde_json::json!({"name": design.name, "sha256": design_hash(design)}),
+    );
+    m.insert(
+        "parameters".into(),
+        serde_json::json!({
+            "region": spec.region.label(),
+            "tone": spec.tone.as_str(),
+            "grid_nm": spec.grid_nm,
+            "top_cell": o.top_cell_name(),
+            "gds_cells": match o.gds_cells {
+                super::GdsCells::Strans => "strans",
+                super::GdsCells::PerOrientation => "per-orientation",
+            },
+            "um_per_px": o.um_per_px,
+            "png_bits": match o.png_bits {
+                super::PngBits::One => 1,
+                super::PngBits::Eight => 8,
+            },
+            "deterministic": o.deterministic,
+        }),
+    );
+    let header = vec![
+        format!(
+            "layer map of {}",
+            path.file_name().unwrap_or_default().to_string_lossy()
+        ),
+        "one `name layer/datatype` per line; udc-studio export --layer-map reads this format"
+            .into(),
+        format!("tone {}: {}", spec.tone.as_str(), spec.tone.meaning()),
+    ];
+    if o.format == MaskFormat::Gds {
+        write_sidecars(path, m, Some((&map, &header)))
+    } else {
+        m.insert("layer_map".into(), map.to_json());
+        write_sidecars(path, m, None)
+    }
+}
