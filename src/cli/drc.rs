@@ -68,7 +68,7 @@ fn rules(args: &DrcArgs) -> Result<Rules> {
         ("min_angle_deg", r.min_angle_deg, 180.0),
     ] {
         if !(v.is_finite() && (0.0..=max).contains(&v)) {
-            bail!("{name}: must be 0 … {max} (got {v})");
+            bail!("{name}: must be 0 … {max} (got {v:?})");
         }
     }
     Ok(r)

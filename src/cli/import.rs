@@ -54,8 +54,13 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
         .map(|e| e.to_string_lossy().to_lowercase())
         .unwrap_or_default();
     if !matches!(ext.as_str(), "gds" | "gdsii" | "gds2" | "dxf" | "png") {
+        let what = if ext.is_empty() {
+            "a file without an extension".to_string()
+        } else {
+            format!("`.{ext}` masks")
+        };
         bail!(
-            "{}: cannot import `.{ext}` masks (expected .gds, .dxf or .png)",
+            "{}: cannot import {what} (expected .gds, .dxf or .png)",
             path.display()
         );
     }

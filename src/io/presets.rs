@@ -90,16 +90,21 @@ pub fn load_preset(name: &str) -> Result<Design, IoError> {
     })
 }
 
-/// `(name, group, one-line description)` of every preset.
+/// `(name, group, one-line description)` of every preset, parsed once (menus ask every frame).
 pub fn list() -> Vec<(&'static str, PresetGroup, String)> {
-    PRESETS
-        .iter()
-        .map(|p| {
-            let d = load_preset(p.name)
-                .map(|d| d.description)
-                .unwrap_or_else(|e| e.to_string());
-            let first = d.split(['\n', ';']).next().unwrap_or("").trim().to_string();
-            (p.name, p.group, first)
-        })
-        .collect()
+    static LIST: std::sync::OnceLock<Vec<(&'static str, PresetGroup, String)>> =
+        std::sync::OnceLock::new();
+    LIST.get_or_init(|| {
+        PRESETS
+            .iter()
+            .map(|p| {
+                let d = load_preset(p.name)
+                    .map(|d| d.description)
+                    .unwrap_or_else(|e| e.to_string());
+                let first = d.split(['\n', ';']).next().unwrap_or("").trim().to_string();
+                (p.name, p.group, first)
+            })
+            .collect()
+    })
+    .clone()
 }
