@@ -5,6 +5,9 @@ really holds, with gdstk (GDSII) and ezdxf (DXF), and prints one JSON object.
     mask_check.py gds FILE LAYER DATATYPE [POINTS.json]
     mask_check.py dxf FILE LAYER_NAME_PREFIX
     mask_check.py dxf-audit FILE
+    mask_check.py klayout FILE LAYER DATATYPE [OTHER_FILE]
+    mask_check.py klayout-convert IN OUT
+    mask_check.py oas-validate FILE
 
 For GDSII the top cell is flattened by gdstk (references, arrays, reflections and rotations
 applied by gdstk, not by the studio), and the optional POINTS.json ([[x_um, y_um], ...]) is
@@ -86,11 +89,88 @@ def audit_dxf(path):
     }
 
 
+def klayout_read(path):
+    """Reads `path` with KLayout in this process; its warnings go to stderr, which the caller
+    captures (the tests require none)."""
+    import klayout.db as db
+
+    layout = db.Layout()
+    options = db.LoadLayoutOptions()
+    options.warn_level = 3
+    layout.read(path, options)
+    return layout
+
+
+def check_klayout(path, layer, datatype, other=None):
+    """KLayout's view of a mask: top cells, cells, the flattened region's merged area, and,
+    with a second file, the area of the XOR of the two (0 when they draw the same thing)."""
+    import klayout.db as db
+
+    def region(path):
+        layout = klayout_read(path)
+        tops = layout.top_cells()
+        index = layout.find_layer(layer, datatype)
+        r = db.Region()
+        if index is not None and len(tops) == 1:
+            r = db.Region(tops[0].begin_shapes_rec(index))
+        return layout, tops, r
+
+    layout, tops, r = region(path)
+    out = {
+        "dbu_um": layout.dbu,
+        "tops": [c.name for c in tops],
+        "cells": layout.cells(),
+        "shapes": r.count(),
+        "area_um2": r.merged().area() * layout.dbu**2,
+        "texts": sorted(
+            {
+                it.shape().text_string
+                for li in layout.layer_indexes()
+                for it in (tops[0].begin_shapes_rec(li) if len(tops) == 1 else [])
+                if it.shape().is_text()
+            }
+        ),
+    }
+    if other:
+        layout2, _, r2 = region(other)
+        out["xor_area_um2"] = (r ^ r2).area() * layout.dbu**2
+    return out
+
+
+def klayout_convert(src, dst):
+    """KLayout rewrites a mask in the format of `dst` (for OASIS: CBLOCKs, its own modal
+    compression and repetitions), to test that our reader takes what other tools write."""
+    import klayout.db as db
+
+    layout = klayout_read(src)
+    options = db.SaveLayoutOptions()
+    if not options.set_format_from_filename(dst):
+        raise SystemExit(f"KLayout has no writer for {dst}")
+    options.oasis_write_cblocks = True
+    options.oasis_compression_level = 10
+    layout.write(dst, options)
+    return {"written": dst}
+
+
+def oas_validate(path):
+    """gdstk's check of an OASIS file's END-record validation (CRC-32 or checksum)."""
+    import gdstk
+
+    valid, signature = gdstk.oas_validate(path)
+    return {"valid": bool(valid), "signature": signature}
+
+
 def main(argv):
     if len(argv) >= 5 and argv[1] == "gds":
         out = check_gds(argv[2], int(argv[3]), int(argv[4]), argv[5] if len(argv) > 5 else None)
     elif len(argv) == 3 and argv[1] == "dxf-audit":
         out = audit_dxf(argv[2])
+    elif len(argv) in (5, 6) and argv[1] == "klayout":
+        out = check_klayout(argv[2], int(argv[3]), int(argv[4]), argv[5] if len(argv) > 5 else None)
+    elif len(argv) == 4 and argv[1] == "klayout-convert":
+        out = klayout_convert(argv[2], argv[3])
+    elif len(argv) == 3 and argv[1] == "oas-validate":
+        out = oas_validate(argv[2])
     elif len(argv) == 4 and argv[1] == "dxf":
         out = check_dxf(argv[2], argv[3])
     else:

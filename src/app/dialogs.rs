@@ -98,13 +98,13 @@ impl Purpose {
     /// The dialog this purpose shows.
     fn spec(self, file_name: Option<String>) -> FileSpec {
         const IMAGES_AND_MASKS: &[&str] = &[
-            "png", "bmp", "tif", "tiff", "jpg", "jpeg", "gds", "gds2", "dxf",
+            "png", "bmp", "tif", "tiff", "jpg", "jpeg", "gds", "gds2", "oas", "dxf",
         ];
         match self {
             Purpose::Open => FileSpec::open("Open design", ("UDC design", &["json"])),
             Purpose::ImportPattern => FileSpec::open(
                 "Import opening: an image, or the axis pixel of a mask",
-                ("Openings (images, GDSII, DXF)", IMAGES_AND_MASKS),
+                ("Openings (images, GDSII, OASIS, DXF)", IMAGES_AND_MASKS),
             ),
             Purpose::Spectral => FileSpec::open(
                 "Load spectral response (wavelength_nm, r, g, b)",

@@ -1,4 +1,4 @@
-//! `udc-studio export`: a photolithography mask of a design (GDSII, DXF, SVG or PNG) and the
+//! `udc-studio export`: a photolithography mask of a design (GDSII, OASIS, DXF, SVG or PNG) and the
 //! files a mask house gets beside it.
 
 use std::path::PathBuf;
@@ -17,7 +17,7 @@ pub struct ExportArgs {
     /// The design to write as a mask.
     #[command(flatten)]
     pub selection: DesignSelection,
-    /// File format: gds, dxf, svg or png.
+    /// File format: gds, oas (OASIS), dxf, svg or png.
     #[arg(long)]
     pub format: MaskFormat,
     /// Which pixels: `pixel` (the one on the optical axis), `pupil` (every pixel over the lens

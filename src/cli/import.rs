@@ -1,4 +1,4 @@
-//! `udc-studio import`: a mask (GDSII, DXF or PNG) read back into a design file.
+//! `udc-studio import`: a mask (GDSII, OASIS, DXF or PNG) read back into a design file.
 
 use std::path::{Path, PathBuf};
 
@@ -12,7 +12,7 @@ use crate::io::mask::{import_opening_on, mask_notes, note_field, sidecar_path};
 /// Arguments of `udc-studio import`.
 #[derive(Debug, Args)]
 pub struct ImportArgs {
-    /// The mask: `.gds`, `.dxf` or `.png` (as `udc-studio export` writes them).
+    /// The mask: `.gds`, `.oas`, `.dxf` or `.png` (as `udc-studio export` writes them).
     pub mask: PathBuf,
     /// GDSII layer/datatype of the drawn polygons, e.g. `1/0` (DXF: the layer `L1D0…`).
     #[arg(long, default_value = "1/0", value_parser = parse_layer)]
@@ -53,14 +53,17 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase())
         .unwrap_or_default();
-    if !matches!(ext.as_str(), "gds" | "gdsii" | "gds2" | "dxf" | "png") {
+    if !matches!(
+        ext.as_str(),
+        "gds" | "gdsii" | "gds2" | "oas" | "oasis" | "dxf" | "png"
+    ) {
         let what = if ext.is_empty() {
             "a file without an extension".to_string()
         } else {
             format!("`.{ext}` masks")
         };
         bail!(
-            "{}: cannot import {what} (expected .gds, .dxf or .png)",
+            "{}: cannot import {what} (expected .gds, .oas, .dxf or .png)",
             path.display()
         );
     }

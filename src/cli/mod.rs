@@ -50,7 +50,7 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// List the built-in presets with one-line descriptions.
     Presets,
-    /// Write a photolithography mask of the design: GDSII, DXF, SVG or PNG.
+    /// Write a photolithography mask of the design: GDSII, OASIS, DXF, SVG or PNG.
     Export(ExportArgs),
     /// Check a display mask against a fab's design rules: smallest opening and gap, corner
     /// contacts, acute angles.

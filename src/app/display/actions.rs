@@ -190,7 +190,10 @@ impl DisplayWorkspace {
                 .extension()
                 .map(|e| e.to_string_lossy().to_lowercase())
                 .unwrap_or_default();
-            let cells = if matches!(ext.as_str(), "gds" | "gds2" | "gdsii" | "dxf") {
+            let cells = if matches!(
+                ext.as_str(),
+                "gds" | "gds2" | "gdsii" | "oas" | "oasis" | "dxf"
+            ) {
                 crate::io::mask::import_opening(&path, &design)
             } else {
                 pattern::load_pattern_png(&path)

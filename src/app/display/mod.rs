@@ -313,7 +313,7 @@ impl Workspace for DisplayWorkspace {
              diffraction orders into a softer halo.",
             "Optimize searches for an opening whose blur is easy to invert; Restore shows a \
              photo captured through the display and restored.",
-            "File > Export mask writes GDSII, DXF, SVG or PNG for photolithography.",
+            "File > Export mask writes GDSII, OASIS, DXF, SVG or PNG for photolithography.",
             "Teaching? Presets > Fourier optics: slits, a circle, gratings; the Theory view lays \
              the textbook formula over the simulation.",
         ]

@@ -183,7 +183,7 @@ pub(super) fn write_mask_sidecars(
             .into(),
         format!("tone {}: {}", spec.tone.as_str(), spec.tone.meaning()),
     ];
-    if o.format == MaskFormat::Gds {
+    if matches!(o.format, MaskFormat::Gds | MaskFormat::Oas) {
         write_sidecars(path, m, Some((&map, &header)))
     } else {
         m.insert("layer_map".into(), map.to_json());

@@ -391,32 +391,38 @@ pub(super) struct Flat {
     pub texts: Vec<String>,
 }
 
-/// An affine map `p ↦ M p + t` in database units.
+/// An affine map `p ↦ M p + t` in database units (GDSII and OASIS references).
 #[derive(Clone, Copy)]
-struct Affine {
+pub(super) struct Affine {
     m: [[f64; 2]; 2],
     t: [f64; 2],
 }
 
 impl Affine {
-    const IDENTITY: Affine = Affine {
+    pub(super) const IDENTITY: Affine = Affine {
         m: [[1.0, 0.0], [0.0, 1.0]],
         t: [0.0, 0.0],
     };
 
-    fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+    pub(super) fn apply(&self, p: [f64; 2]) -> [f64; 2] {
         [
             self.m[0][0] * p[0] + self.m[0][1] * p[1] + self.t[0],
             self.m[1][0] * p[0] + self.m[1][1] * p[1] + self.t[1],
         ]
     }
 
-    /// `self ∘ (STRANS at xy)`: GDSII reflects about x first, then scales and rotates.
+    /// `self ∘ (STRANS at xy)`.
     fn then_ref(&self, strans: Option<&GdsStrans>, xy: [f64; 2]) -> Affine {
         let (refl, mag, angle) = strans.map_or((false, 1.0, 0.0), |s| {
             (s.reflected, s.mag.unwrap_or(1.0), s.angle.unwrap_or(0.0))
         });
-        let (sin, cos) = angle.to_radians().sin_cos();
+        self.then(refl, mag, angle, xy)
+    }
+
+    /// `self ∘ (reference at xy)`: GDSII and OASIS both reflect about x first, then scale and
+    /// rotate counter-clockwise by `angle_deg`, then translate.
+    pub(super) fn then(&self, refl: bool, mag: f64, angle_deg: f64, xy: [f64; 2]) -> Affine {
+        let (sin, cos) = angle_deg.to_radians().sin_cos();
         let f = if refl { -1.0 } else { 1.0 };
         let local = [[mag * cos, -mag * sin * f], [mag * sin, mag * cos * f]];
         let mut m = [[0.0; 2]; 2];

@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use super::{MaskFormat, dxf, gds, tone_of_notes};
+use super::{MaskFormat, dxf, gds, oasis, tone_of_notes};
 use crate::core::mask::Tone;
 use crate::io::IoError;
 
@@ -86,9 +86,10 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
     let format = match ext.as_str() {
         "gds" | "gdsii" | "gds2" => MaskFormat::Gds,
         "dxf" => MaskFormat::Dxf,
+        "oas" | "oasis" => MaskFormat::Oas,
         other => {
             return Err(err(format!(
-                "cannot read `.{other}` masks (expected .gds or .dxf)"
+                "cannot read `.{other}` masks (expected .gds, .oas or .dxf)"
             )));
         }
     };
@@ -98,6 +99,10 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
     }
     let (polygons, texts) = match format {
         MaskFormat::Dxf => dxf::read(path, options.layer, options.datatype)?,
+        MaskFormat::Oas => {
+            let flat = oasis::read(path, options.layer, options.datatype)?;
+            (flat.polygons_um, flat.texts)
+        }
         _ => {
             let flat = gds::read(path, options.layer, options.datatype)?;
             (flat.polygons_um, flat.texts)
@@ -364,6 +369,7 @@ pub fn mask_notes(path: &Path, layer: i16, datatype: i16) -> Result<Vec<String>,
         .as_deref()
     {
         Some("dxf") => Ok(dxf::read(path, layer, datatype)?.1),
+        Some("oas" | "oasis") => Ok(oasis::read(path, layer, datatype)?.texts),
         _ => Ok(gds::read(path, layer, datatype)?.texts),
     }
 }

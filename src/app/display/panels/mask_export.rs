@@ -394,7 +394,7 @@ impl MaskExportDialog {
 /// The rows of the options grid that only one format has.
 fn format_options_ui(ui: &mut egui::Ui, o: &mut ExportOptions) {
     match o.format {
-        MaskFormat::Gds => {
+        MaskFormat::Gds | MaskFormat::Oas => {
             ui.label("Orientations");
             ui.vertical(|ui| {
                 ui.radio_value(&mut o.gds_cells, GdsCells::Strans, "Rotated references")
