@@ -143,6 +143,24 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
         h.query_by_label("design rules: 8 violations (8 corner contacts)")
             .is_some()
     );
+    // Hovering a ring inside the tile names its rule.
+    let pitch = h.state().design().opening.pitch_um;
+    let grid = h.state().editor().grid_rect().unwrap();
+    let inside = marks
+        .iter()
+        .find(|m| m.at_um.iter().all(|v| *v > 0.0 && *v < pitch))
+        .expect("a contact inside the tile");
+    let scale = grid.width() / pitch as f32;
+    let at = grid.min + egui::vec2(inside.at_um[0] as f32, inside.at_um[1] as f32) * scale;
+    h.hover_at(at);
+    for _ in 0..4 {
+        h.step();
+    }
+    assert!(
+        h.query_by_label_contains("Corner contact: openings touch")
+            .is_some(),
+        "the hover names the rule"
+    );
     // A clean design: no rings once its check is done.
     h.state_mut()
         .command(Command::LoadPreset("toled-150dpi".into()));
