@@ -1,5 +1,6 @@
 //! The design-rule check of a phase plate, and `--strict` on both exports: a failing check
 //! writes nothing, a lenient one warns in the export report.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use crate::common::run_cli;
 use udc_studio::core::phase::PhaseDesign;
