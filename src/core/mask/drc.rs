@@ -87,7 +87,8 @@ pub struct Violation {
 pub struct DrcReport {
     /// The rules checked.
     pub rules: Rules,
-    /// Smallest opening width anywhere, µm (`None`: no bounded opening).
+    /// Smallest opening width anywhere, µm (`None`: no bounded opening); for a phase plate,
+    /// its narrowest ring or height step.
     pub min_feature_um: Option<f64>,
     /// Smallest chrome gap anywhere, µm (`None`: no bounded gap).
     pub min_gap_um: Option<f64>,
