@@ -167,6 +167,8 @@ pub enum Command {
     ToggleTheme,
     /// Show or hide the teaching overlays and hints (saved in the settings).
     ToggleOverlays,
+    /// Show or hide the design-rule rings on the opening editor (saved in the settings).
+    ToggleDesignRules,
     /// Close the window, asking first if a workspace has unsaved changes.
     Quit,
 }

@@ -52,6 +52,18 @@ impl StudioApp {
                 {
                     cmds.push(Command::ToggleOverlays);
                 }
+                let mut rules = shell.settings.design_rules;
+                if ui
+                    .checkbox(&mut rules, "Design rules on the editor")
+                    .on_hover_text(
+                        "Red rings on the opening editor where the opening breaks the default \
+                         design rules (2-µm features and gaps, no corner contacts); hover a \
+                         ring for the rule, the value and the limit",
+                    )
+                    .clicked()
+                {
+                    cmds.push(Command::ToggleDesignRules);
+                }
             });
             ui.menu_button("Help", |ui| {
                 ui.set_max_width(420.0);

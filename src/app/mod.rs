@@ -284,6 +284,10 @@ impl StudioApp {
                     self.shell.settings.overlays = !self.shell.settings.overlays;
                     self.shell.save_settings();
                 }
+                Command::ToggleDesignRules => {
+                    self.shell.settings.design_rules = !self.shell.settings.design_rules;
+                    self.shell.save_settings();
+                }
                 Command::Quit => self.quit(false),
                 c => {
                     let active = self.active;

@@ -56,6 +56,9 @@ pub struct Settings {
     pub dark: bool,
     /// Teaching overlays and "What am I seeing?" hints shown (the default).
     pub overlays: bool,
+    /// Design-rule rings on the opening editor (off by default: View > Design rules on the
+    /// editor turns them on).
+    pub design_rules: bool,
 }
 
 impl Default for Settings {
@@ -64,6 +67,7 @@ impl Default for Settings {
             recent: Vec::new(),
             dark: true,
             overlays: true,
+            design_rules: false,
         }
     }
 }

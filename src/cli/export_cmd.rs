@@ -7,6 +7,7 @@ use anyhow::Result;
 use clap::Args;
 
 use super::DesignSelection;
+use super::drc::{Checked, RuleArgs, report_lines, strict_error};
 use crate::core::Progress;
 use crate::core::mask::{MaskRegion, MaskSpec, Tone};
 use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
@@ -62,11 +63,25 @@ pub struct ExportArgs {
     /// PNG bits per pixel: 1 (black/white) or 8 (grey = covered fraction).
     #[arg(long, default_value = "8")]
     pub png_bits: PngBits,
+    /// The design rules checked before writing (as `udc-studio drc`).
+    #[command(flatten)]
+    pub rules: RuleArgs,
+    /// Refuse to write the mask when it breaks a design rule (else they are warnings).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// Runs `udc-studio export`.
 pub(super) fn export_cmd(args: &ExportArgs) -> Result<()> {
     let design = args.selection.resolve()?;
+    // Checked first: a strict export that fails leaves nothing behind.
+    let drc = crate::core::mask::drc::check(&design, &args.rules.resolve()?);
+    if args.strict && !drc.is_clean() {
+        for line in report_lines(&drc, Checked::Display) {
+            println!("{line}");
+        }
+        return Err(strict_error(&drc));
+    }
     let options = ExportOptions {
         format: args.format,
         spec: MaskSpec {
@@ -89,6 +104,15 @@ pub(super) fn export_cmd(args: &ExportArgs) -> Result<()> {
     let report = export_mask(&design, &options, &args.out, &Progress::new())?;
     for line in report.lines() {
         println!("{line}");
+    }
+    if !drc.is_clean() {
+        println!(
+            "warning: {} design-rule violations (--strict refuses them):",
+            drc.total()
+        );
+        for line in report_lines(&drc, Checked::Display) {
+            println!("warning: {line}");
+        }
     }
     Ok(())
 }

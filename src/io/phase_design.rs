@@ -69,3 +69,17 @@ pub fn phase_design_json(design: &PhaseDesign) -> String {
 pub fn save_phase_design(path: &Path, design: &PhaseDesign) -> Result<(), IoError> {
     write_atomic(path, phase_design_json(design).as_bytes())
 }
+
+/// True when `path` holds a phase design rather than a display design: a display design names
+/// its `format`, a phase design has none and carries the folding wavelengths (`lambda0`). An
+/// unreadable file is not one, so the display reader reports why it cannot be read.
+pub fn is_phase_design_file(path: &Path) -> bool {
+    read_design_text(path).is_ok_and(|text| is_phase_design_text(&text))
+}
+
+/// As [`is_phase_design_file`], on the file's text.
+pub fn is_phase_design_text(text: &str) -> bool {
+    serde_json::from_str::<serde_json::Value>(text).is_ok_and(|v| {
+        v.get("format").is_none() && v.get("lambda0").is_some() && v.get("fold").is_some()
+    })
+}

@@ -12,6 +12,7 @@ mod cli_restore;
 mod cli_sensor;
 mod corpus;
 mod design_file;
+mod drc_strict;
 mod drop;
 mod expected_psf;
 mod io_files;

@@ -9,6 +9,7 @@ use std::time::Duration;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::Command;
 use udc_studio::core::mask::Tone;
+use udc_studio::core::mask::drc::ViolationKind;
 use udc_studio::io::mask::{estimate, plan};
 
 #[test]
@@ -92,6 +93,10 @@ fn the_dialog_shows_the_design_rules_before_export() {
     for _ in 0..4 {
         h.step();
     }
+    // The check runs off the UI thread; the dialog says "checking…" until it answers.
+    common::step_until(&mut h, "the dialog's design-rule check", |app| {
+        !app.mask_export().rules_checking()
+    });
     // The thesis's random L2-inverse opening: single-cell features and 8 corner contacts,
     // the same numbers `udc-studio drc` reports.
     let r = udc_studio::core::mask::drc::check(h.state().design(), &Default::default());
@@ -99,4 +104,78 @@ fn the_dialog_shows_the_design_rules_before_export() {
     assert!(h.query_by_label("8 corner contacts").is_some());
     assert!(h.query_by_label("smallest opening 8.00 µm").is_some());
     assert!(h.query_by_label("smallest chrome gap 8.00 µm").is_some());
+}
+
+#[test]
+fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(3600));
+    h.state_mut()
+        .command(Command::LoadPreset("l2inv-random".into()));
+    for _ in 0..3 {
+        h.step();
+    }
+    // Off by default: no check runs and the canvas has no rings.
+    assert!(h.state().editor().rule_marks().is_empty());
+    assert!(!h.state().editor().rules_checking());
+    // View > Design rules on the editor.
+    h.get_by_label("View").click();
+    h.step();
+    h.step();
+    h.get_by_label("Design rules on the editor").click();
+    h.step();
+    common::step_until(&mut h, "the canvas's design-rule check", |app| {
+        !app.editor().rule_marks().is_empty()
+    });
+    // The random L2-inverse tiling's cells touching at a corner, one ring each, the rule named
+    // on hover; the same places as the command line's check.
+    let r = udc_studio::core::mask::drc::check(h.state().design(), &Default::default());
+    let marks = h.state().editor().rule_marks().to_vec();
+    assert_eq!(marks.len(), r.violations.len());
+    assert!(marks.iter().all(|m| m.kind == ViolationKind::CornerContact));
+    assert!(
+        marks[0].text.starts_with("Corner contact") && marks[0].text.contains("not allowed"),
+        "{}",
+        marks[0].text
+    );
+    assert_eq!(marks[0].at_um, r.violations[0].at_um);
+    assert!(
+        h.query_by_label("design rules: 8 violations (8 corner contacts)")
+            .is_some()
+    );
+    // Hovering a ring inside the tile names its rule.
+    let pitch = h.state().design().opening.pitch_um;
+    let grid = h.state().editor().grid_rect().unwrap();
+    let inside = marks
+        .iter()
+        .find(|m| m.at_um.iter().all(|v| *v > 0.0 && *v < pitch))
+        .expect("a contact inside the tile");
+    let scale = grid.width() / pitch as f32;
+    let at = grid.min + egui::vec2(inside.at_um[0] as f32, inside.at_um[1] as f32) * scale;
+    h.hover_at(at);
+    for _ in 0..4 {
+        h.step();
+    }
+    assert!(
+        h.query_by_label_contains("Corner contact: openings touch")
+            .is_some(),
+        "the hover names the rule"
+    );
+    // A clean design: no rings once its check is done.
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    common::step_until(&mut h, "the clean design's check", |app| {
+        !app.editor().rules_checking()
+    });
+    assert!(h.state().editor().rule_marks().is_empty());
+    assert!(h.query_by_label("design rules: clean").is_some());
+    // Turned off again, the rings and the summary go.
+    h.state_mut().command(Command::ToggleDesignRules);
+    h.state_mut()
+        .command(Command::LoadPreset("l2inv-random".into()));
+    for _ in 0..3 {
+        h.step();
+    }
+    assert!(h.state().editor().rule_marks().is_empty());
+    assert!(h.query_by_label("design rules: clean").is_none());
 }

@@ -331,6 +331,7 @@ fn editor_harness(
                 display: None,
                 pinned: None,
                 overlays: false,
+                design_rules: false,
                 tool: s.tool,
                 commands: &mut s.commands,
             };

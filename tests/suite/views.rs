@@ -59,6 +59,7 @@ fn harness(state: State) -> Harness<'static, State> {
                 display: None,
                 pinned: s.pinned.as_ref(),
                 overlays: s.overlays,
+                design_rules: false,
                 tool: Tool::default(),
                 commands: &mut s.commands,
             };
@@ -307,6 +308,7 @@ fn the_quality_label_follows_the_shown_result() {
                         display: None,
                         pinned: None,
                         overlays: false,
+                        design_rules: false,
                         tool: Tool::default(),
                         commands: &mut st.commands,
                     };

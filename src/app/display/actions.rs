@@ -140,7 +140,10 @@ impl DisplayWorkspace {
                 self.results.pin_requested = false;
             }
             // The shell's own commands.
-            Command::ToggleTheme | Command::ToggleOverlays | Command::Quit => {}
+            Command::ToggleTheme
+            | Command::ToggleOverlays
+            | Command::ToggleDesignRules
+            | Command::Quit => {}
         }
     }
 

@@ -434,6 +434,7 @@ fn panel_ctx<'a>(
         display: results.display.as_ref(),
         pinned: results.pinned.as_ref(),
         overlays: shell.settings.overlays,
+        design_rules: shell.settings.design_rules,
         tool,
         commands,
     }

@@ -10,6 +10,7 @@ use clap::{Args, Subcommand};
 use ndarray::Array2;
 use serde_json::{Value, json};
 
+use crate::cli::drc::{Checked, report_lines, strict_error};
 use crate::core::Progress;
 use crate::core::design::Channel;
 use crate::core::phase::allocate::{channel_invertibility, channel_matrix};
@@ -124,6 +125,12 @@ pub struct ExportArgs {
     /// Fixed GDSII timestamps (2000-01-01 00:00:00): identical exports are byte-identical.
     #[arg(long)]
     pub deterministic: bool,
+    /// The design rules checked before writing (`--phase-min-feature-um` applies to a plate).
+    #[command(flatten)]
+    pub rules: crate::cli::drc::RuleArgs,
+    /// Refuse to write the plate when a ring or step breaks the rule (else they are warnings).
+    #[arg(long)]
+    pub strict: bool,
 }
 
 /// The mask and camera: the thesis's 600-DPI design unless overridden.
@@ -465,6 +472,15 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
     if a.unfolded {
         design.surface = Surface::Unfolded;
     }
+    // Checked first: a strict export that fails leaves nothing behind.
+    let drc =
+        crate::core::phase::drc::check_plate(&design, &a.rules.resolve()?).map_err(flag_names)?;
+    if a.strict && !drc.is_clean() {
+        for line in report_lines(&drc, Checked::Phase) {
+            eprintln!("{line}");
+        }
+        return Err(strict_error(&drc));
+    }
     let params = crate::io::phase_export::HeightParams {
         sample_um: a.sample_um,
         rows: a.rows,
@@ -473,21 +489,7 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
         deterministic: a.deterministic,
     };
     let written = crate::io::phase_export::write_height(a.format, &design, file, &params);
-    // The writer's messages name design fields; a CLI user knows them as flags. Printed without
-    // the error's source chain, which repeats the same message.
-    let summary = written.map_err(|e| {
-        let mut text = e.to_string();
-        for (field, flag) in [
-            ("height_step_um", "--height-step-um"),
-            ("sample_um", "--sample-um"),
-            ("length_um", "--length-um"),
-            ("base_um", "--base-um"),
-            ("rows", "--rows"),
-        ] {
-            text = text.replace(field, flag);
-        }
-        anyhow::anyhow!("{text}")
-    })?;
+    let summary = written.map_err(flag_names)?;
     // The design-rule minimum a fab must write: the narrowest ring, at a lenslet's edge.
     let mut report = serde_json::to_value(&summary)?;
     let lenslets = crate::core::phase::geometry::Lenslets::new(&design)?;
@@ -504,12 +506,43 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
             serde_json::json!(crate::io::numbers::round_sig(n.x0_um, 6)),
         );
     }
+    if let Some(obj) = report.as_object_mut() {
+        obj.insert(
+            "drc".into(),
+            json!({ "clean": drc.is_clean(), "report": drc }),
+        );
+    }
+    if !drc.is_clean() {
+        eprintln!(
+            "warning: {} design-rule violations (--strict refuses them):",
+            drc.total()
+        );
+        for line in report_lines(&drc, Checked::Phase) {
+            eprintln!("warning: {line}");
+        }
+    }
     if a.mask.json {
         println!("{}", serde_json::to_string(&report)?);
     } else {
         println!("{}", serde_json::to_string_pretty(&report)?);
     }
     Ok(())
+}
+
+/// A writer's or checker's message with the design fields it names as the flags a CLI user
+/// knows; without the error's source chain, which repeats the same message.
+fn flag_names(e: impl std::fmt::Display) -> anyhow::Error {
+    let mut text = e.to_string();
+    for (field, flag) in [
+        ("height_step_um", "--height-step-um"),
+        ("sample_um", "--sample-um"),
+        ("length_um", "--length-um"),
+        ("base_um", "--base-um"),
+        ("rows", "--rows"),
+    ] {
+        text = text.replace(field, flag);
+    }
+    anyhow::anyhow!("{text}")
 }
 
 mod psf;

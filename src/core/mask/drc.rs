@@ -28,6 +28,16 @@ pub struct Rules {
     pub no_corner_contact: bool,
     /// Smallest interior angle of a drawn polygon, degrees (90 flags acute angles).
     pub min_angle_deg: f64,
+    /// Narrowest ring or height step of a phase plate, µm. Its own rule because a plate goes to
+    /// a grey-scale writer, not to the chrome-mask process `min_feature_um` describes; optional
+    /// in a rules file so older files still read.
+    #[serde(default = "default_phase_min_feature_um")]
+    pub phase_min_feature_um: f64,
+}
+
+/// A laser writer's half micron: the thesis plate's outer fold rings (under 200 nm) break it.
+fn default_phase_min_feature_um() -> f64 {
+    0.5
 }
 
 impl Default for Rules {
@@ -39,6 +49,7 @@ impl Default for Rules {
             min_gap_um: 2.0,
             no_corner_contact: true,
             min_angle_deg: 90.0,
+            phase_min_feature_um: default_phase_min_feature_um(),
         }
     }
 }
@@ -47,7 +58,8 @@ impl Default for Rules {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum ViolationKind {
-    /// An opening narrower than [`Rules::min_feature_um`].
+    /// An opening narrower than [`Rules::min_feature_um`] (or a phase plate's ring or step
+    /// narrower than [`Rules::phase_min_feature_um`]).
     MinFeature,
     /// A chrome gap narrower than [`Rules::min_gap_um`].
     MinGap,
@@ -75,7 +87,8 @@ pub struct Violation {
 pub struct DrcReport {
     /// The rules checked.
     pub rules: Rules,
-    /// Smallest opening width anywhere, µm (`None`: no bounded opening).
+    /// Smallest opening width anywhere, µm (`None`: no bounded opening); for a phase plate,
+    /// its narrowest ring or height step.
     pub min_feature_um: Option<f64>,
     /// Smallest chrome gap anywhere, µm (`None`: no bounded gap).
     pub min_gap_um: Option<f64>,
@@ -91,12 +104,30 @@ pub struct DrcReport {
 pub const MAX_LISTED: usize = 50;
 
 impl DrcReport {
+    /// A report with nothing found yet.
+    pub fn new(rules: Rules) -> Self {
+        DrcReport {
+            rules,
+            min_feature_um: None,
+            min_gap_um: None,
+            corner_contacts: 0,
+            violations: Vec::new(),
+            counts: [0; 4],
+        }
+    }
+
+    /// How many violations there are in all.
+    pub fn total(&self) -> usize {
+        self.counts.iter().sum()
+    }
+
     /// True when nothing breaks a rule.
     pub fn is_clean(&self) -> bool {
         self.counts.iter().all(|c| *c == 0)
     }
 
-    fn push(&mut self, v: Violation) {
+    /// Records `v` (listed while its kind has fewer than [`MAX_LISTED`]).
+    pub fn push(&mut self, v: Violation) {
         let k = v.kind as usize;
         self.counts[k] += 1;
         if self.counts[k] <= MAX_LISTED {
@@ -127,14 +158,7 @@ pub fn check(design: &Design, rules: &Rules) -> DrcReport {
         .into_iter()
         .map(|g| (g, g.apply(&open)))
         .collect();
-    let mut report = DrcReport {
-        rules: *rules,
-        min_feature_um: None,
-        min_gap_um: None,
-        corner_contacts: 0,
-        violations: Vec::new(),
-        counts: [0; 4],
-    };
+    let mut report = DrcReport::new(*rules);
     if n == 0 {
         return report;
     }

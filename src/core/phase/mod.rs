@@ -38,6 +38,7 @@
 pub mod allocate;
 pub mod chain;
 pub mod czt;
+pub mod drc;
 pub mod geometry;
 pub mod imaging;
 pub mod invertibility;

@@ -126,6 +126,28 @@ impl ExportOptions {
         Ok(o)
     }
 
+    /// The layer of every role as written ("layers: openings 1/0, outline 5/0, notes 2/0"):
+    /// a layer map can give the outline and the notes layers of their own.
+    pub fn layers_line(&self) -> String {
+        match self.mask_layers() {
+            Ok(l) => {
+                let roles: Vec<String> = LayerRole::ALL
+                    .into_iter()
+                    .map(|r| {
+                        let (layer, datatype) = l.of(r);
+                        format!("{} {layer}/{datatype}", r.as_str())
+                    })
+                    .collect();
+                format!("layers: {}", roles.join(", "))
+            }
+            // Export refuses a bad map before any report exists; the plain options then.
+            Err(_) => format!(
+                "layer {}/{}; notes and pupil outline on layer {}",
+                self.layer, self.datatype, self.note_layer
+            ),
+        }
+    }
+
     /// The top cell name (after [`ExportOptions::resolved`], always the derived or given one).
     pub fn top_cell_name(&self) -> &str {
         self.top_cell.as_deref().unwrap_or("UDC_MASK")

@@ -313,12 +313,10 @@ impl MaskReport {
                 self.sidecar.display()
             ),
             format!(
-                "tone: {} ({}); layer {}/{}; notes and pupil outline on layer {}; top cell {}",
+                "tone: {} ({}); {}; top cell {}",
                 o.spec.tone.as_str(),
                 o.spec.tone.meaning(),
-                o.layer,
-                o.datatype,
-                o.note_layer,
+                o.layers_line(),
                 o.top_cell_name()
             ),
             format!(

@@ -12,6 +12,7 @@ use egui::{
 };
 
 use super::PanelCtx;
+use super::editor_rules::{RuleMark, RulesOverlay};
 use crate::app::commands::{self, Command, Tool};
 use crate::core::design::{Design, MAX_CELLS};
 use crate::core::opening_ops::{self as ops, Symmetry};
@@ -36,6 +37,8 @@ pub struct EditorPanel {
     grid_rect: Option<Rect>,
     grid_n: usize,
     view: Option<View>,
+    /// The design rules on the canvas (View > Design rules on the editor).
+    rules: RulesOverlay,
 }
 
 impl Default for EditorPanel {
@@ -49,6 +52,7 @@ impl Default for EditorPanel {
             grid_rect: None,
             grid_n: 0,
             view: None,
+            rules: RulesOverlay::default(),
         }
     }
 }
@@ -159,6 +163,16 @@ impl EditorPanel {
         self.view.as_ref().map(|v| v.cells.as_slice())
     }
 
+    /// The design-rule rings on the canvas (none while the overlay is off or checking).
+    pub fn rule_marks(&self) -> &[RuleMark] {
+        self.rules.marks()
+    }
+
+    /// Whether the canvas's design-rule check is still running.
+    pub fn rules_checking(&self) -> bool {
+        self.rules.is_checking()
+    }
+
     /// Whether a stroke is in progress (the pointer is down on the grid).
     pub fn is_drawing(&self) -> bool {
         self.stroke.is_some()
@@ -192,11 +206,13 @@ impl EditorPanel {
             self.synced_n = n;
             self.new_n = n;
         }
+        self.rules.update(ui.ctx(), ctx.design, ctx.design_rules);
         tools_ui(ui, ctx);
         self.options_ui(ui, ctx);
         ui.separator();
         let hovered = self.grid_ui(ui, ctx);
         self.readouts_ui(ui, ctx.design, hovered);
+        self.rules.summary_ui(ui);
     }
 
     fn options_ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
@@ -270,7 +286,9 @@ impl EditorPanel {
         let n = ctx.design.opening.n();
         let line_h = ui.text_style_height(&egui::TextStyle::Body) + ui.spacing().item_spacing.y;
         let avail = ui.available_size();
-        let side = (avail.x.min(avail.y - 3.0 * line_h) - 2.0 * MARGIN_PX).clamp(16.0, 4096.0);
+        // The readouts under the grid, and the design-rule summary when it is shown.
+        let lines = if ctx.design_rules { 4.0 } else { 3.0 };
+        let side = (avail.x.min(avail.y - lines * line_h) - 2.0 * MARGIN_PX).clamp(16.0, 4096.0);
         let (outer, _) = ui.allocate_exact_size(
             vec2(avail.x.max(side), side + 2.0 * MARGIN_PX),
             Sense::hover(),
@@ -308,6 +326,10 @@ impl EditorPanel {
             _ => 1,
         };
         self.paint_grid(ui, grid, n, hovered.map(|cell| (cell, brush)));
+        // Rings on the border reach past the grid's frame.
+        let painter = ui.painter_at(grid.expand(16.0));
+        let pitch_um = ctx.design.opening.pitch_um;
+        self.rules.paint(&painter, grid, n, pitch_um, &response);
         hovered
     }
 

@@ -7,10 +7,11 @@ use std::time::Duration;
 
 use egui::{Color32, ColorImage, Stroke, TextureHandle, TextureOptions};
 
+use super::rules_check::{RulesCheck, RulesState};
 use crate::app::commands::Command;
 use crate::app::job::Job;
 use crate::core::design::Design;
-use crate::core::mask::drc::{DrcReport, Rules, ViolationKind, check};
+use crate::core::mask::drc::{DrcReport, ViolationKind};
 use crate::core::mask::{BinaryGrid, MaskRegion, MaskStats, Tone};
 use crate::io::IoError;
 use crate::io::mask::{
@@ -40,8 +41,6 @@ struct PreviewData {
     /// (x right, y down, `[0, 1]²`).
     drawn: BinaryGrid,
     outlines: Vec<Vec<[f32; 2]>>,
-    /// The design-rule check at the default rules (`udc-studio drc` checks others).
-    drc: DrcReport,
     /// The tile's pitch, µm, to place the violations on the preview.
     pitch_um: f64,
 }
@@ -58,6 +57,9 @@ pub struct MaskExportDialog {
     job: Option<Job<Vec<String>>>,
     /// The last export's report (or error), shown in the dialog.
     last: Option<Result<Vec<String>, String>>,
+    /// The design-rule check at the default rules (`udc-studio drc` checks others), run in
+    /// the background while the dialog is open.
+    rules: RulesCheck,
 }
 
 impl Default for MaskExportDialog {
@@ -71,6 +73,7 @@ impl Default for MaskExportDialog {
             texture: None,
             job: None,
             last: None,
+            rules: RulesCheck::default(),
         }
     }
 }
@@ -89,6 +92,11 @@ impl MaskExportDialog {
     /// The options the next export uses.
     pub fn options(&self) -> &ExportOptions {
         &self.options
+    }
+
+    /// Whether the design-rule check of the dialog is still running.
+    pub fn rules_checking(&self) -> bool {
+        self.rules.is_checking()
     }
 
     /// Whether a mask export is being written in the background.
@@ -172,7 +180,6 @@ impl MaskExportDialog {
                     ),
                     drawn: layout.drawn.clone(),
                     outlines,
-                    drc: check(design, &Rules::default()),
                     pitch_um: design.opening.pitch_um,
                 }
             });
@@ -199,6 +206,7 @@ impl MaskExportDialog {
             return;
         }
         self.refresh(ctx, design);
+        self.rules.update(ctx, design);
         let mut open = self.open;
         egui::Window::new("Export mask")
             .open(&mut open)
@@ -210,7 +218,7 @@ impl MaskExportDialog {
                     ui.vertical(|ui| self.options_ui(ui));
                     // Space, not a separator: a vertical separator grows to the window's height.
                     ui.add_space(16.0);
-                    ui.vertical(|ui| self.preview_ui(ui));
+                    ui.vertical(|ui| self.preview_ui(ui, design));
                 });
                 ui.separator();
                 self.actions_ui(ui, commands);
@@ -276,7 +284,7 @@ impl MaskExportDialog {
             });
     }
 
-    fn preview_ui(&self, ui: &mut egui::Ui) {
+    fn preview_ui(&self, ui: &mut egui::Ui, design: &Design) {
         let Some(preview) = &self.preview else {
             return;
         };
@@ -303,7 +311,12 @@ impl MaskExportDialog {
         }
         // Design-rule violations on the pixel, where they are (red rings).
         let red = Stroke::new(1.5, Color32::from_rgb(255, 70, 70));
-        for v in &data.drc.violations {
+        let rules = self.rules.state(design);
+        let violations = match rules {
+            RulesState::Done(r) => r.violations.as_slice(),
+            RulesState::Checking | RulesState::Failed(_) => &[],
+        };
+        for v in violations {
             let [x, y] = v.at_um;
             let scale = side / data.pitch_um.max(f64::MIN_POSITIVE) as f32;
             let centre = rect.min + egui::vec2(x as f32 * scale, y as f32 * scale);
@@ -350,7 +363,15 @@ impl MaskExportDialog {
                 row("Open area", format!("{:.4e} µm²", s.open_area_um2));
                 row("Open fraction", format!("{:.4}", s.open_fraction()));
             });
-        drc_ui(ui, &data.drc);
+        match rules {
+            RulesState::Done(r) => drc_ui(ui, r),
+            RulesState::Checking => {
+                ui.weak("Design rules: checking…");
+            }
+            RulesState::Failed(e) => {
+                ui.colored_label(ui.visuals().error_fg_color, format!("Design rules: {e}"));
+            }
+        }
     }
 
     fn actions_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {

@@ -3,11 +3,13 @@
 
 pub mod advice;
 pub mod editor;
+pub mod editor_rules;
 pub mod mask_export;
 pub mod numbers;
 pub mod optics;
 pub mod optimize;
 pub mod quality;
+pub mod rules_check;
 pub mod tiling;
 pub mod views;
 
@@ -79,6 +81,8 @@ pub struct PanelCtx<'a> {
     pub pinned: Option<&'a Pinned>,
     /// Teaching overlays and hints on.
     pub overlays: bool,
+    /// The design-rule rings on the opening editor on (View menu).
+    pub design_rules: bool,
     /// The editor's current tool (also set by shortcuts).
     pub tool: Tool,
     /// Where the panel queues what it wants done; applied after the frame's UI.

@@ -1,0 +1,93 @@
+//! The display mask's design-rule check on a background job, for the panels that show it: a
+//! 512-cell random design takes about 0.1 s, several frames' worth, so the UI thread only
+//! starts the check and draws its answer.
+
+use crate::app::job::Job;
+use crate::core::design::{Design, Opening, Tiling};
+use crate::core::mask::drc::{DrcReport, Rules, check};
+
+/// What the check reads of a design: an optics or channel edit does not start a new one.
+#[derive(Debug, Clone, PartialEq)]
+struct Key {
+    opening: Opening,
+    tiling: Tiling,
+}
+
+impl Key {
+    fn of(design: &Design) -> Self {
+        Key {
+            opening: design.opening.clone(),
+            tiling: design.tiling.clone(),
+        }
+    }
+
+    fn is_of(&self, design: &Design) -> bool {
+        self.opening == design.opening && self.tiling == design.tiling
+    }
+}
+
+/// Where the check of the current design stands.
+#[derive(Debug, Clone, Copy)]
+pub enum RulesState<'a> {
+    /// Running (or about to): nothing to show yet.
+    Checking,
+    /// Done: the report of the current design.
+    Done(&'a DrcReport),
+    /// The job stopped without a report; why.
+    Failed(&'a str),
+}
+
+/// One panel's background design-rule check, at the default rules (`udc-studio drc` checks a
+/// fab's own).
+#[derive(Default)]
+pub struct RulesCheck {
+    /// The check in flight and what it checks.
+    running: Option<(Key, Job<DrcReport>)>,
+    /// The newest answer and what it is of.
+    done: Option<(Key, Result<DrcReport, String>)>,
+}
+
+impl RulesCheck {
+    /// Collects a finished check and starts one for `design` when its mask changed. Wakes
+    /// `ctx` when a check finishes.
+    pub fn update(&mut self, ctx: &egui::Context, design: &Design) {
+        if let Some((key, job)) = &self.running
+            && let Some(result) = job.poll()
+        {
+            self.done = Some((key.clone(), result.map_err(|e| e.to_string())));
+            self.running = None;
+        }
+        let answered = self.done.as_ref().is_some_and(|(k, _)| k.is_of(design));
+        let asked = self.running.as_ref().is_some_and(|(k, _)| k.is_of(design));
+        if answered || asked {
+            return;
+        }
+        // A newer design replaces the check in flight (dropping it asks it to stop).
+        let key = Key::of(design);
+        let (opening, tiling) = (key.opening.clone(), key.tiling.clone());
+        let wake = {
+            let ctx = ctx.clone();
+            move || ctx.request_repaint()
+        };
+        let job = Job::spawn("design-rule check", wake, move |_| {
+            let mut d = Design::default_toled();
+            (d.opening, d.tiling) = (opening, tiling);
+            Ok::<_, String>(check(&d, &Rules::default()))
+        });
+        self.running = Some((key, job));
+    }
+
+    /// Where the check of `design` stands (as of the last [`RulesCheck::update`]).
+    pub fn state(&self, design: &Design) -> RulesState<'_> {
+        match &self.done {
+            Some((k, Ok(report))) if k.is_of(design) => RulesState::Done(report),
+            Some((k, Err(e))) if k.is_of(design) => RulesState::Failed(e),
+            _ => RulesState::Checking,
+        }
+    }
+
+    /// Whether a check is in flight.
+    pub fn is_checking(&self) -> bool {
+        self.running.is_some()
+    }
+}
