@@ -21,6 +21,7 @@ mod mask_drc;
 mod mask_export;
 mod mask_fab;
 mod mask_fab_gds;
+mod mask_frame;
 mod mask_geometry;
 mod opening_ops;
 mod optimize;
