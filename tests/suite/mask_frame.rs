@@ -344,6 +344,7 @@ fn cli_draws_the_frame_and_refuses_bad_sizes_with_a_clear_error() {
         assert!(stdout.is_empty(), "{flag} {value}: {stdout}");
         assert!(stderr.contains(needle), "{flag} {value}: {stderr}");
         assert!(!stderr.contains("panicked"), "{stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{flag} {value}: {stderr}");
         assert!(!out.exists(), "{flag} {value} wrote the mask");
     }
     let (ok, _, stderr) = run_cli(&[&base[..], &["--frame-margin-um", "wide"]].concat());
