@@ -350,3 +350,51 @@ fn cli_draws_the_frame_and_refuses_bad_sizes_with_a_clear_error() {
     let (ok, _, stderr) = run_cli(&[&base[..], &["--frame-margin-um", "wide"]].concat());
     assert!(!ok && stderr.contains("--frame-margin-um"), "{stderr}");
 }
+
+#[test]
+fn the_dialog_turns_the_frame_on_and_the_export_draws_it() {
+    use egui_kittest::kittest::Queryable;
+    use udc_studio::app::Command;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = crate::common::studio(dir.path(), false, std::time::Duration::from_secs(3600));
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    h.step();
+    h.get_by_label("File").click();
+    h.step();
+    h.step();
+    h.get_by_label("Export mask…").click();
+    for _ in 0..4 {
+        h.step();
+    }
+    assert!(
+        h.query_by_label("Frame width").is_none(),
+        "sizes hidden while off"
+    );
+    h.get_by_label("Die frame").click();
+    h.step();
+    h.get_by_label("Label").click();
+    h.step();
+    h.step();
+    let f = h.state().mask_export().options().frame.clone();
+    assert!(f.frame && f.label && !f.marks, "{f:?}");
+    assert!(h.query_by_label("Frame width").is_some());
+    assert!(h.query_by_label("Label height").is_some());
+    assert!(h.query_by_label("Mark size").is_none());
+    let path = dir.path().join("framed.gds");
+    h.state_mut()
+        .command(Command::WriteMask(Some(path.clone())));
+    crate::common::step_until(&mut h, "the mask export", |app| {
+        !app.mask_export().is_running()
+    });
+    let v = python_check(&["gds-layers", s(&path)]);
+    assert_eq!(v["layers"]["10/0"]["polygons"], 4, "{v}");
+    assert!(v["layers"].get("11/0").is_none());
+    assert!(
+        v["texts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|t| t["layer"] == "12/0")
+    );
+}
