@@ -8,10 +8,15 @@ really holds, with gdstk (GDSII) and ezdxf (DXF), and prints one JSON object.
     mask_check.py klayout FILE LAYER DATATYPE [OTHER_FILE]
     mask_check.py klayout-convert IN OUT
     mask_check.py oas-validate FILE
+    mask_check.py gds-layers FILE
+    mask_check.py dxf-layers FILE
 
 For GDSII the top cell is flattened by gdstk (references, arrays, reflections and rotations
 applied by gdstk, not by the studio), and the optional POINTS.json ([[x_um, y_um], ...]) is
 answered with whether each point lies inside the flattened polygons.
+
+The `-layers` modes report every layer of the (flattened) top cell or drawing: its polygons'
+count, area and bounding boxes, and its texts with their place (and DXF height).
 """
 import json
 import sys
@@ -160,9 +165,63 @@ def oas_validate(path):
     return {"valid": bool(valid), "signature": signature}
 
 
+def bbox(points):
+    xs = [p[0] for p in points]
+    ys = [p[1] for p in points]
+    return [min(xs), min(ys), max(xs), max(ys)]
+
+
+def layers_gds(path):
+    import gdstk
+
+    lib = gdstk.read_gds(path)
+    top = lib.top_level()[0]
+    layers = {}
+    for p in top.get_polygons():
+        key = f"{p.layer}/{p.datatype}"
+        entry = layers.setdefault(key, {"polygons": 0, "area_um2": 0.0, "bboxes": []})
+        entry["polygons"] += 1
+        entry["area_um2"] += abs(p.area())
+        entry["bboxes"].append(bbox(p.points.tolist()))
+    texts = [
+        {"layer": f"{t.layer}/{t.texttype}", "text": t.text, "at": list(t.origin)}
+        for t in top.get_labels()
+    ]
+    return {"layers": layers, "texts": texts}
+
+
+def layers_dxf(path):
+    import ezdxf
+    from ezdxf.math import area
+
+    doc = ezdxf.readfile(path)
+    msp = doc.modelspace()
+    layers = {}
+    for e in msp.query("LWPOLYLINE"):
+        pts = [(x, y) for x, y, *_ in e.get_points()]
+        entry = layers.setdefault(e.dxf.layer, {"polygons": 0, "area_um2": 0.0, "bboxes": []})
+        entry["polygons"] += 1
+        entry["area_um2"] += abs(area(pts))
+        entry["bboxes"].append(bbox(pts))
+    texts = [
+        {
+            "layer": t.dxf.layer,
+            "text": t.dxf.text,
+            "at": list(t.dxf.insert)[:2],
+            "height": t.dxf.height,
+        }
+        for t in msp.query("TEXT")
+    ]
+    return {"layer_table": [l.dxf.name for l in doc.layers], "layers": layers, "texts": texts}
+
+
 def main(argv):
     if len(argv) >= 5 and argv[1] == "gds":
         out = check_gds(argv[2], int(argv[3]), int(argv[4]), argv[5] if len(argv) > 5 else None)
+    elif len(argv) == 3 and argv[1] == "gds-layers":
+        out = layers_gds(argv[2])
+    elif len(argv) == 3 and argv[1] == "dxf-layers":
+        out = layers_dxf(argv[2])
     elif len(argv) == 3 and argv[1] == "dxf-audit":
         out = audit_dxf(argv[2])
     elif len(argv) in (5, 6) and argv[1] == "klayout":

@@ -9,7 +9,7 @@ use clap::Args;
 use super::DesignSelection;
 use super::drc::{Checked, RuleArgs, report_lines, strict_error};
 use crate::core::Progress;
-use crate::core::mask::{MaskRegion, MaskSpec, Tone};
+use crate::core::mask::{FrameSpec, MaskRegion, MaskSpec, Tone};
 use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
 
 /// Arguments of `udc-studio export`.
@@ -46,8 +46,9 @@ pub struct ExportArgs {
     /// GDSII top cell name (default: the design's name and a short hash of the design).
     #[arg(long)]
     pub top_cell: Option<String>,
-    /// Layer map file: one `role layer/datatype` per line (roles openings, outline, notes),
-    /// or a KLayout `.lyp`; overrides --layer, --datatype and --note-layer.
+    /// Layer map file: one `role layer/datatype` per line (roles openings, outline, notes,
+    /// frame, marks, label), or a KLayout `.lyp`; overrides --layer, --datatype and
+    /// --note-layer.
     #[arg(long)]
     pub layer_map: Option<PathBuf>,
     /// Fixed timestamps (2000-01-01 00:00:00): identical exports are byte-identical.
@@ -69,6 +70,49 @@ pub struct ExportArgs {
     /// Refuse to write the mask when it breaks a design rule (else they are warnings).
     #[arg(long)]
     pub strict: bool,
+    /// Draw a die frame around the region, on layer `frame` (default 10/0; not in PNG).
+    #[arg(long)]
+    pub frame: bool,
+    /// Draw four alignment crosses beyond the frame's corners, on layer `marks` (default 11/0).
+    #[arg(long)]
+    pub marks: bool,
+    /// Write a label (design name, date, scale) below the region, on layer `label` (default
+    /// 12/0); the date is 2000-01-01 with --deterministic.
+    #[arg(long)]
+    pub label: bool,
+    /// Gap between the region and the frame, the frame and the marks, the marks and the
+    /// label, in µm [default: 50].
+    #[arg(long, allow_negative_numbers = true)]
+    pub frame_margin_um: Option<f64>,
+    /// Width of the frame in µm [default: 10].
+    #[arg(long, allow_negative_numbers = true)]
+    pub frame_width_um: Option<f64>,
+    /// Side of an alignment cross in µm [default: 100].
+    #[arg(long, allow_negative_numbers = true)]
+    pub mark_size_um: Option<f64>,
+    /// Width of an alignment cross's arms in µm [default: 10].
+    #[arg(long, allow_negative_numbers = true)]
+    pub mark_arm_width_um: Option<f64>,
+    /// Height of the label's letters in µm (DXF, SVG) [default: 20].
+    #[arg(long, allow_negative_numbers = true)]
+    pub label_height_um: Option<f64>,
+}
+
+impl ExportArgs {
+    /// The frame options, unset sizes at their defaults.
+    fn frame(&self) -> FrameSpec {
+        let d = FrameSpec::default();
+        FrameSpec {
+            frame: self.frame,
+            marks: self.marks,
+            label: self.label,
+            margin_um: self.frame_margin_um.unwrap_or(d.margin_um),
+            frame_width_um: self.frame_width_um.unwrap_or(d.frame_width_um),
+            mark_size_um: self.mark_size_um.unwrap_or(d.mark_size_um),
+            mark_arm_width_um: self.mark_arm_width_um.unwrap_or(d.mark_arm_width_um),
+            label_height_um: self.label_height_um.unwrap_or(d.label_height_um),
+        }
+    }
 }
 
 /// Runs `udc-studio export`.
@@ -99,6 +143,7 @@ pub(super) fn export_cmd(args: &ExportArgs) -> Result<()> {
         png_bits: args.png_bits,
         layer_map: args.layer_map.as_deref().map(read_layer_map).transpose()?,
         deterministic: args.deterministic,
+        frame: args.frame(),
     };
     crate::io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
     let report = export_mask(&design, &options, &args.out, &Progress::new())?;

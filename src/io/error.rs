@@ -47,7 +47,7 @@ pub enum IoError {
         cause: std::io::Error,
     },
     /// A simulation error met while preparing or writing a file (e.g. an out-of-range value).
-    #[error("{0}")]
+    #[error(transparent)]
     Invalid(#[from] SimError),
     /// A mask file that cannot be read as a mask.
     #[error("{message} (in {})", path.display())]
@@ -58,7 +58,7 @@ pub enum IoError {
         message: String,
     },
     /// A design or options that cannot be laid out as a mask (or a cancelled export).
-    #[error("{0}")]
+    #[error(transparent)]
     MaskLayout(#[from] MaskError),
     /// A preset name that is not built in (the name as given).
     #[error("unknown preset `{0}` (run `udc-studio presets` for the list)")]

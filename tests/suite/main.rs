@@ -22,6 +22,7 @@ mod mask_drc;
 mod mask_export;
 mod mask_fab;
 mod mask_fab_gds;
+mod mask_frame;
 mod mask_geometry;
 mod mask_oas;
 mod opening_ops;

@@ -327,3 +327,49 @@ fn klayout_reads_every_export_without_a_warning() {
         );
     }
 }
+
+#[test]
+fn oas_frame_marks_and_label_match_gds() {
+    use udc_studio::core::mask::FrameSpec;
+    let dir = tempfile::tempdir().unwrap();
+    let d = load_preset("l2inv-random").unwrap();
+    let o = |format| ExportOptions {
+        format,
+        spec: MaskSpec {
+            region: MaskRegion::Block { cols: 5, rows: 3 },
+            ..MaskSpec::default()
+        },
+        frame: FrameSpec {
+            frame: true,
+            marks: true,
+            label: true,
+            ..FrameSpec::default()
+        },
+        deterministic: true,
+        ..ExportOptions::default()
+    };
+    let (oas, gds) = (dir.path().join("f.oas"), dir.path().join("f.gds"));
+    export_mask(&d, &o(MaskFormat::Oas), &oas, &Progress::new()).unwrap();
+    export_mask(&d, &o(MaskFormat::Gds), &gds, &Progress::new()).unwrap();
+    for layer in ["10", "11"] {
+        let k = check(&["klayout", s(&oas), layer, "0", s(&gds)]);
+        assert!(
+            k["area_um2"].as_f64().unwrap() > 0.0,
+            "nothing on {layer}/0: {k}"
+        );
+        assert_eq!(k["xor_area_um2"].as_f64().unwrap(), 0.0, "{layer}/0: {k}");
+    }
+    let k = check(&["klayout", s(&oas), "1", "0"]);
+    let texts: Vec<&str> = k["texts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|t| t.as_str().unwrap())
+        .collect();
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.starts_with("UDC STUDIO") && t.contains("2000-01-01")),
+        "{texts:?}"
+    );
+}

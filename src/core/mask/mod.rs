@@ -14,6 +14,7 @@
 //! the complement of the openings within each pixel *including* the wiring gap around it.
 
 pub mod drc;
+pub mod frame;
 pub mod layout;
 pub mod polygons;
 pub mod region;
@@ -24,6 +25,7 @@ use super::SimError;
 use super::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
 use super::design::Design;
 
+pub use frame::{FrameGeometry, FrameLabel, FramePart, FrameSpec, frame_geometry, label_text};
 pub use layout::{MaskLayout, MaskRegion, MaskStats, Placement, Polygon, TileRow};
 pub use polygons::{BinaryGrid, Ring, trace_polygons};
 
@@ -104,7 +106,7 @@ impl Default for MaskSpec {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum MaskError {
     /// The design itself is invalid.
-    #[error("{0}")]
+    #[error(transparent)]
     Design(#[from] SimError),
     /// No cell is open, so there is nothing to draw.
     #[error(

@@ -3,7 +3,8 @@
 //!
 //! References are expanded: every pixel's polygons are written (DXF blocks with mirrored inserts
 //! are poorly supported by CAM tools). The drawn layer is `L<layer>D<datatype>_<TONE>`, the pupil
-//! outline and the TEXT notes are on `NOTES`.
+//! outline and the TEXT notes are on `NOTES`; the die frame, alignment marks and label (when
+//! asked for) on `FRAME`, `MARKS` and `LABEL`, the label a TEXT of its own height.
 //!
 //! The `dxf` crate writes table heads without a handle (group 5), which strict readers repair
 //! (ezdxf's `recover` counts one fix per table); [`TableHandles`] adds them while the file is
@@ -19,7 +20,9 @@ use dxf::enums::{AcadVersion, DrawingUnits, Units};
 use dxf::tables::Layer;
 use dxf::{Drawing, Handle, LwPolylineVertex, Point};
 
-use super::{ExportOptions, FileCounts, for_each_flat_polygon, region_bbox_nm};
+use super::{
+    ExportOptions, FileCounts, FrameDrawing, LayerRole, for_each_flat_polygon, region_bbox_nm,
+};
 use crate::core::Progress;
 use crate::core::mask::{MaskError, MaskLayout, Tone};
 use crate::io::IoError;
@@ -28,6 +31,11 @@ use crate::io::IoError;
 pub const MAX_DXF_POLYGONS: u64 = 500_000;
 
 const NOTES_LAYER: &str = "NOTES";
+
+/// The DXF layer of a frame role: its upper-case name (DXF layers are names, not numbers).
+fn role_layer(role: LayerRole) -> String {
+    role.as_str().to_uppercase()
+}
 
 fn layer_name(layer: i16, datatype: i16) -> String {
     format!("L{layer}D{datatype}")
@@ -61,6 +69,7 @@ pub(super) fn write(
     layout: &MaskLayout,
     o: &ExportOptions,
     notes: &[String],
+    frame: &FrameDrawing,
     path: &Path,
     progress: &Progress,
 ) -> Result<FileCounts, IoError> {
@@ -77,14 +86,26 @@ pub(super) fn write(
     drawing.header.version = AcadVersion::R2000;
     drawing.header.default_drawing_units = Units::Microns;
     drawing.header.drawing_units = DrawingUnits::Metric;
+    if o.deterministic {
+        fix_header_dates(&mut drawing);
+    }
     let drawn = format!(
         "{}_{}",
         layer_name(o.layer, o.datatype),
         o.spec.tone.as_str().to_uppercase()
     );
-    for name in [drawn.as_str(), NOTES_LAYER] {
+    let mut layers = vec![drawn.clone(), NOTES_LAYER.to_string()];
+    for role in [LayerRole::Frame, LayerRole::Marks] {
+        if frame.polygons.iter().any(|(r, _)| *r == role) {
+            layers.push(role_layer(role));
+        }
+    }
+    if frame.label.is_some() {
+        layers.push(role_layer(LayerRole::Label));
+    }
+    for name in layers {
         drawing.add_layer(Layer {
-            name: name.to_string(),
+            name,
             ..Default::default()
         });
     }
@@ -111,6 +132,22 @@ pub(super) fn write(
     if let Some(outline) = &layout.pupil_outline {
         extend(&outline.points_nm);
         drawing.add_entity(polyline(outline.points_nm.iter().map(um), NOTES_LAYER));
+    }
+    for (role, poly) in &frame.polygons {
+        extend(&poly.points_nm);
+        drawing.add_entity(polyline(poly.points_nm.iter().map(um), &role_layer(*role)));
+    }
+    if let Some(label) = &frame.label {
+        let [x, y] = um(&label.at_nm);
+        let text = Text {
+            location: Point::new(x, y, 0.0),
+            text_height: label.height_nm as f64 / 1000.0,
+            value: label.text.clone(),
+            ..Default::default()
+        };
+        let mut e = Entity::new(EntityType::Text(text));
+        e.common.layer = role_layer(LayerRole::Label);
+        drawing.add_entity(e);
     }
     let bbox = region_bbox_nm(layout);
     for (k, note) in notes.iter().enumerate() {
@@ -146,6 +183,24 @@ pub(super) fn write(
     w.finish().map_err(|e| IoError::file("write", path, e))?;
     counts.bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     Ok(counts)
+}
+
+/// The GDSII writer's fixed date (2000-01-01 00:00) for the header's creation and update
+/// times, and nil GUIDs: the crate fills them with the clock and random GUIDs, so two
+/// deterministic exports would otherwise differ.
+fn fix_header_dates(drawing: &mut Drawing) {
+    use chrono::TimeZone;
+    let utc = chrono::DateTime::<chrono::Utc>::from_timestamp(946_684_800, 0).unwrap_or_default();
+    // Local by its wall-clock reading, so the bytes do not depend on the machine's time zone.
+    let local = chrono::Local
+        .from_local_datetime(&utc.naive_utc())
+        .earliest()
+        .unwrap_or_else(|| utc.with_timezone(&chrono::Local));
+    let h = &mut drawing.header;
+    (h.creation_date, h.update_date) = (local, local);
+    (h.creation_date_universal, h.update_date_universal) = (utc, utc);
+    h.fingerprint_guid = Default::default();
+    h.version_guid = Default::default();
 }
 
 /// Handles reserved for table heads: R2000 has nine tables.

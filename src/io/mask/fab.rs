@@ -20,11 +20,24 @@ pub enum LayerRole {
     Outline,
     /// The text notes.
     Notes,
+    /// The die frame around the active area (default layer 10/0).
+    Frame,
+    /// The alignment crosses (default layer 11/0).
+    Marks,
+    /// The label: design name, date, scale (default layer 12/0).
+    Label,
 }
 
 impl LayerRole {
     /// Every role, in layer-map order.
-    pub const ALL: [LayerRole; 3] = [LayerRole::Openings, LayerRole::Outline, LayerRole::Notes];
+    pub const ALL: [LayerRole; 6] = [
+        LayerRole::Openings,
+        LayerRole::Outline,
+        LayerRole::Notes,
+        LayerRole::Frame,
+        LayerRole::Marks,
+        LayerRole::Label,
+    ];
 
     /// The name in a layer map file.
     pub fn as_str(self) -> &'static str {
@@ -32,9 +45,20 @@ impl LayerRole {
             LayerRole::Openings => "openings",
             LayerRole::Outline => "outline",
             LayerRole::Notes => "notes",
+            LayerRole::Frame => "frame",
+            LayerRole::Marks => "marks",
+            LayerRole::Label => "label",
         }
     }
 }
+
+/// Default layer/datatype of the die frame: well above the drawing and note layers' defaults
+/// (1 and 2), so a mask house can drop it from the write job by layer.
+pub const FRAME_LAYER: (i16, i16) = (10, 0);
+/// Default layer/datatype of the alignment marks.
+pub const MARKS_LAYER: (i16, i16) = (11, 0);
+/// Default layer/datatype of the label.
+pub const LABEL_LAYER: (i16, i16) = (12, 0);
 
 /// The layer/datatype of every role.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -45,6 +69,12 @@ pub struct MaskLayers {
     pub outline: (i16, i16),
     /// Text notes.
     pub notes: (i16, i16),
+    /// Die frame.
+    pub frame: (i16, i16),
+    /// Alignment marks.
+    pub marks: (i16, i16),
+    /// Label.
+    pub label: (i16, i16),
 }
 
 impl MaskLayers {
@@ -54,15 +84,30 @@ impl MaskLayers {
             LayerRole::Openings => self.openings,
             LayerRole::Outline => self.outline,
             LayerRole::Notes => self.notes,
+            LayerRole::Frame => self.frame,
+            LayerRole::Marks => self.marks,
+            LayerRole::Label => self.label,
         }
     }
 
-    /// As a [`LayerMap`] (what `<out>.layers.txt` holds).
-    pub fn to_map(&self) -> LayerMap {
+    /// The pair of `role`, to set.
+    fn of_mut(&mut self, role: LayerRole) -> &mut (i16, i16) {
+        match role {
+            LayerRole::Openings => &mut self.openings,
+            LayerRole::Outline => &mut self.outline,
+            LayerRole::Notes => &mut self.notes,
+            LayerRole::Frame => &mut self.frame,
+            LayerRole::Marks => &mut self.marks,
+            LayerRole::Label => &mut self.label,
+        }
+    }
+
+    /// The `roles` as a [`LayerMap`] (what `<out>.layers.txt` holds).
+    pub fn to_map(&self, roles: &[LayerRole]) -> LayerMap {
         LayerMap {
-            entries: LayerRole::ALL
-                .into_iter()
-                .map(|r| LayerEntry {
+            entries: roles
+                .iter()
+                .map(|&r| LayerEntry {
                     name: r.as_str().into(),
                     layer: self.of(r).0,
                     datatype: self.of(r).1,
@@ -74,40 +119,66 @@ impl MaskLayers {
 
 impl ExportOptions {
     /// The layers of every role: the `--layer-map` entries, the rest from `layer`/`datatype`
-    /// (openings) and `note_layer` (outline and notes, datatype 0).
+    /// (openings), `note_layer` (outline and notes, datatype 0) and the frame's defaults
+    /// ([`FRAME_LAYER`], [`MARKS_LAYER`], [`LABEL_LAYER`]).
     ///
     /// # Errors
     /// A message for a map entry that names no role, or a map that puts the openings on the
-    /// layer/datatype of another role.
+    /// layer/datatype of another role this export writes.
     pub fn mask_layers(&self) -> Result<MaskLayers, String> {
         let mut l = MaskLayers {
             openings: (self.layer, self.datatype),
             outline: (self.note_layer, 0),
             notes: (self.note_layer, 0),
+            frame: FRAME_LAYER,
+            marks: MARKS_LAYER,
+            label: LABEL_LAYER,
         };
         if let Some(map) = &self.layer_map {
             for e in &map.entries {
-                let pair = (e.layer, e.datatype);
-                match LayerRole::ALL.into_iter().find(|r| r.as_str() == e.name) {
-                    Some(LayerRole::Openings) => l.openings = pair,
-                    Some(LayerRole::Outline) => l.outline = pair,
-                    Some(LayerRole::Notes) => l.notes = pair,
-                    None => {
-                        return Err(format!(
-                            "layer map: unknown role `{}` (expected openings, outline or notes)",
-                            e.name
-                        ));
-                    }
-                }
+                let Some(role) = LayerRole::ALL.into_iter().find(|r| r.as_str() == e.name) else {
+                    let names: Vec<&str> = LayerRole::ALL.iter().map(|r| r.as_str()).collect();
+                    return Err(format!(
+                        "layer map: unknown role `{}` (expected one of {})",
+                        e.name,
+                        names.join(", ")
+                    ));
+                };
+                *l.of_mut(role) = (e.layer, e.datatype);
             }
         }
-        if l.openings == l.outline || l.openings == l.notes {
+        // Only the roles written can clash: a frame layer equal to `--layer` is harmless when
+        // no frame is drawn, and refusing it would break exports that worked before frames.
+        if let Some(r) = self
+            .written_roles()
+            .into_iter()
+            .find(|&r| r != LayerRole::Openings && l.of(r) == l.openings)
+        {
             return Err(format!(
-                "layer map: the openings ({}/{}) must be on their own layer/datatype",
-                l.openings.0, l.openings.1
+                "layer map: the openings ({}/{}) must be on their own layer/datatype (the {} \
+                 layer is the same)",
+                l.openings.0,
+                l.openings.1,
+                r.as_str()
             ));
         }
         Ok(l)
+    }
+
+    /// The roles this export writes, in layer-map order: openings, outline and notes always,
+    /// frame, marks and label when asked for and the format draws them (PNG does not).
+    pub fn written_roles(&self) -> Vec<LayerRole> {
+        let f = &self.frame;
+        let drawn = self.format != MaskFormat::Png;
+        LayerRole::ALL
+            .into_iter()
+            .filter(|r| match r {
+                LayerRole::Openings | LayerRole::Outline | LayerRole::Notes => true,
+                LayerRole::Frame => drawn && f.frame,
+                LayerRole::Marks => drawn && f.marks,
+                LayerRole::Label => drawn && f.label,
+            })
+            .collect()
     }
 
     /// The options as written for `design`: the layer map applied to `layer`, `datatype` and
@@ -169,7 +240,7 @@ pub(super) fn write_mask_sidecars(
         path: path.to_path_buf(),
         message,
     })?;
-    let map = layers.to_map();
+    let map = layers.to_map(&o.written_roles());
     let spec = &o.spec;
     let mut m = serde_json::Map::new();
     m.insert("format".into(), o.format.as_str().into());
@@ -196,6 +267,24 @@ pub(super) fn write_mask_sidecars(
             "deterministic": o.deterministic,
         }),
     );
+    let f = &o.frame;
+    if f.any() {
+        // Only when asked for: the manifests of frameless exports stay as they were.
+        m.insert(
+            "frame".into(),
+            serde_json::json!({
+                "frame": f.frame,
+                "marks": f.marks,
+                "label": f.label,
+                "drawn": o.format != MaskFormat::Png,
+                "margin_um": f.margin_um,
+                "frame_width_um": f.frame_width_um,
+                "mark_size_um": f.mark_size_um,
+                "mark_arm_width_um": f.mark_arm_width_um,
+                "label_height_um": f.label_height_um,
+            }),
+        );
+    }
     let header = vec![
         format!(
             "layer map of {}",

@@ -19,7 +19,7 @@ use gds21::{
     GdsStructRef, GdsTextElem, GdsUnits,
 };
 
-use super::{ExportOptions, FileCounts, GdsCells, MaskLayers, region_bbox_nm};
+use super::{ExportOptions, FileCounts, FrameDrawing, GdsCells, MaskLayers, region_bbox_nm};
 use crate::core::Progress;
 use crate::core::mask::{MaskError, MaskLayout, Polygon};
 use crate::core::tiling::D4;
@@ -113,6 +113,7 @@ fn library(
     o: &ExportOptions,
     layers: &MaskLayers,
     notes: &[String],
+    frame: &FrameDrawing,
 ) -> GdsLibrary {
     let top = o.top_cell_name();
     let mut lib = GdsLibrary::new("UDCSTUDIO");
@@ -159,6 +160,20 @@ fn library(
                 .into_iter()
                 .map(GdsElement::GdsPath),
         );
+    }
+    for (role, poly) in &frame.polygons {
+        let (l, d) = layers.of(*role);
+        top_cell.elems.push(boundary(poly, l, d));
+    }
+    if let Some(label) = &frame.label {
+        // Within i32: the frame's geometry checked its extent.
+        top_cell.elems.push(GdsElement::GdsTextElem(GdsTextElem {
+            string: label.text.clone(),
+            layer: layers.label.0,
+            texttype: layers.label.1,
+            xy: GdsPoint::new(label.at_nm[0] as i32, label.at_nm[1] as i32),
+            ..Default::default()
+        }));
     }
     if let Some(gap) = &layout.gap_polygon {
         let name = format!("{top}_GAP");
@@ -256,6 +271,7 @@ pub(super) fn write(
     layout: &MaskLayout,
     o: &ExportOptions,
     notes: &[String],
+    frame: &FrameDrawing,
     path: &Path,
     progress: &Progress,
 ) -> Result<FileCounts, IoError> {
@@ -263,7 +279,7 @@ pub(super) fn write(
         path: path.to_path_buf(),
         message,
     })?;
-    let lib = library(layout, o, &layers, notes);
+    let lib = library(layout, o, &layers, notes, frame);
     let mut head = Vec::new();
     lib.write(&mut head).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),
@@ -312,7 +328,7 @@ pub(super) fn write(
         .iter()
         .flat_map(|s| s.elems.iter())
         .filter_map(|e| match e {
-            GdsElement::GdsBoundary(b) if b.layer == o.layer => Some(b),
+            GdsElement::GdsBoundary(b) if (b.layer, b.datatype) == (o.layer, o.datatype) => Some(b),
             _ => None,
         })
         .collect();

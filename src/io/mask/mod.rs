@@ -7,6 +7,7 @@
 
 mod dxf;
 mod fab;
+mod frame;
 mod gds;
 mod import;
 mod oasis;
@@ -20,7 +21,9 @@ use std::time::Instant;
 
 use crate::core::Progress;
 use crate::core::design::Design;
-use crate::core::mask::{MaskError, MaskLayout, MaskSpec, MaskStats, Polygon, Tone, mask_ltr};
+use crate::core::mask::{
+    FrameSpec, MaskError, MaskLayout, MaskSpec, MaskStats, Polygon, Tone, mask_ltr,
+};
 use crate::core::tiling::D4;
 use crate::core::warning::SamplingWarning;
 
@@ -32,7 +35,8 @@ pub const MAX_MASK_BYTES: u64 = 1024 * 1024 * 1024;
 use super::design_file::to_json;
 use super::safe_file::{TempFile, write_atomic};
 
-pub use fab::{LayerRole, MaskLayers, design_hash};
+pub use fab::{FRAME_LAYER, LABEL_LAYER, LayerRole, MARKS_LAYER, MaskLayers, design_hash};
+pub use frame::{FrameDrawing, frame_drawing, label_date};
 pub use import::{
     ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening, import_opening_on,
     mask_notes, note_field,
@@ -182,8 +186,11 @@ pub struct ExportOptions {
     pub png_bits: PngBits,
     /// Layers by role (`--layer-map`), overriding `layer`, `datatype` and `note_layer`.
     pub layer_map: Option<LayerMap>,
-    /// Fixed GDSII timestamps, so identical exports are byte-identical.
+    /// Fixed GDSII and DXF timestamps (and nil DXF GUIDs), so identical exports are
+    /// byte-identical.
     pub deterministic: bool,
+    /// Die frame, alignment marks and label outside the region (all off by default).
+    pub frame: FrameSpec,
 }
 
 impl Default for ExportOptions {
@@ -200,6 +207,7 @@ impl Default for ExportOptions {
             png_bits: PngBits::Eight,
             layer_map: None,
             deterministic: false,
+            frame: FrameSpec::default(),
         }
     }
 }
@@ -236,6 +244,7 @@ impl ExportOptions {
                 self.note_layer
             ));
         }
+        self.frame.validate()?;
         self.mask_layers()?;
         if !(self.um_per_px.is_finite() && self.um_per_px > 0.0) {
             return Err(format!(
@@ -346,6 +355,7 @@ impl MaskReport {
             ),
         ]
         .into_iter()
+        .chain(frame::report_line(o))
         .chain(sampling::lines(
             &self.sampling,
             self.sampling_unchecked.as_deref(),
@@ -416,6 +426,7 @@ pub fn export_mask(
     let options = &options.resolved(design).map_err(MaskError::Invalid)?;
     let layout = plan(design, options)?;
     let notes = notes(design, &layout, options, path);
+    let frame = frame_drawing(&layout, options, &design.name)?;
     // Dropped on any error (or a cancel), the temp file goes with it.
     let temp = TempFile::beside(path)?;
     // After the temp file (an unwritable path fails before a second of analysis), before the
@@ -423,10 +434,10 @@ pub fn export_mask(
     let (sampling, sampling_unchecked) = sampling::check(design, progress)?;
     let tmp = temp.path();
     let counts = match options.format {
-        MaskFormat::Gds => gds::write(&layout, options, &notes, tmp, progress),
-        MaskFormat::Oas => oasis::write(&layout, options, &notes, tmp, progress),
-        MaskFormat::Dxf => dxf::write(&layout, options, &notes, tmp, progress),
-        MaskFormat::Svg => svg::write(&layout, &notes, tmp, progress),
+        MaskFormat::Gds => gds::write(&layout, options, &notes, &frame, tmp, progress),
+        MaskFormat::Oas => oasis::write(&layout, options, &notes, &frame, tmp, progress),
+        MaskFormat::Dxf => dxf::write(&layout, options, &notes, &frame, tmp, progress),
+        MaskFormat::Svg => svg::write(&layout, &notes, &frame, tmp, progress),
         MaskFormat::Png => png::write(&layout, options, &notes, tmp, progress),
     }
     .map_err(|e| e.naming(tmp, path))?;

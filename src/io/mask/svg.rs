@@ -1,14 +1,16 @@
 //! SVG: user units are micrometres (the `viewBox`), the physical size is given in millimetres
 //! (CSS has no µm unit). SVG's y axis points down, so the mask frame's y is negated. The drawn
 //! polygons are black paths (even-odd fill, so keyhole bridges vanish) in group `drawn`; the
-//! pupil outline is a red circle in group `pupil`; the notes are in `<desc>`. Written as a
-//! stream, tile row by tile row.
+//! pupil outline is a red circle in group `pupil`; the notes are in `<desc>`. The die frame and
+//! alignment marks (when asked for) are blue paths in groups `frame` and `marks`, the label a
+//! `<text id="label">`; the view box then grows to hold them. Written as a stream, tile row by
+//! tile row.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use super::{FileCounts, for_each_flat_polygon, region_bbox_nm};
+use super::{FileCounts, FrameDrawing, LayerRole, for_each_flat_polygon};
 use crate::core::Progress;
 use crate::core::mask::{MaskError, MaskLayout};
 use crate::io::IoError;
@@ -50,6 +52,7 @@ fn escape(s: &str) -> String {
 pub(super) fn write(
     layout: &MaskLayout,
     notes: &[String],
+    frame: &FrameDrawing,
     path: &Path,
     progress: &Progress,
 ) -> Result<FileCounts, IoError> {
@@ -64,7 +67,12 @@ pub(super) fn write(
     let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
     let mut w = BufWriter::with_capacity(1 << 20, file);
     let io = |e| IoError::file("write", path, e);
-    let [x0, y0, x1, y1] = region_bbox_nm(layout);
+    let [x0, y0, mut x1, mut y1] = frame.extent_nm;
+    if let Some(l) = &frame.label {
+        // The letters stand on the anchor; monospace letters are about 0.6 of their height wide.
+        y1 = y1.max(l.at_nm[1] + l.height_nm);
+        x1 = x1.max(l.at_nm[0] + l.height_nm * 6 / 10 * l.text.len() as i64);
+    }
     let (w_nm, h_nm) = (x1 - x0, y1 - y0);
     writeln!(
         w,
@@ -110,11 +118,47 @@ pub(super) fn write(
         )
         .map_err(io)?;
     }
+    frame_svg(&mut w, frame).map_err(io)?;
     writeln!(w, "</svg>").map_err(io)?;
     w.flush().map_err(io)?;
     drop(w);
     counts.bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     Ok(counts)
+}
+
+/// The frame's and marks' groups and the label, when there are any.
+fn frame_svg(w: &mut impl Write, frame: &FrameDrawing) -> std::io::Result<()> {
+    for role in [LayerRole::Frame, LayerRole::Marks] {
+        let polys: Vec<_> = frame.polygons.iter().filter(|(r, _)| *r == role).collect();
+        if polys.is_empty() {
+            continue;
+        }
+        writeln!(
+            w,
+            "<g id=\"{}\" fill=\"#00c\" stroke=\"none\">",
+            role.as_str()
+        )?;
+        for (_, p) in polys {
+            let d: Vec<String> = p
+                .points_nm
+                .iter()
+                .map(|q| format!("{} {}", um(q[0]), um(-q[1])))
+                .collect();
+            writeln!(w, "<path d=\"M{}Z\"/>", d.join(" L"))?;
+        }
+        writeln!(w, "</g>")?;
+    }
+    if let Some(l) = &frame.label {
+        writeln!(
+            w,
+            "<text id=\"label\" x=\"{}\" y=\"{}\" font-size=\"{}\" font-family=\"monospace\" fill=\"#00c\">{}</text>",
+            um(l.at_nm[0]),
+            um(-l.at_nm[1]),
+            um(l.height_nm),
+            escape(&l.text)
+        )?;
+    }
+    Ok(())
 }
 
 /// What [`write`] would produce.

@@ -280,6 +280,7 @@ impl MaskExportDialog {
                         .suffix(" nm"),
                 );
                 ui.end_row();
+                frame_options_ui(ui, o);
                 format_options_ui(ui, o);
             });
     }
@@ -409,6 +410,67 @@ impl MaskExportDialog {
             }
             None => {}
         }
+    }
+}
+
+/// The frame, marks and label checkboxes, and their sizes once one is on.
+fn frame_options_ui(ui: &mut egui::Ui, o: &mut ExportOptions) {
+    let f = &mut o.frame;
+    ui.label("Frame and marks");
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut f.frame, "Die frame")
+            .on_hover_text("A ring around the region, on layer frame (10/0 unless a layer map says otherwise; not in PNG)");
+        ui.checkbox(&mut f.marks, "Alignment marks")
+            .on_hover_text("Four crosses beyond the frame's corners, on layer marks (11/0)");
+        ui.checkbox(&mut f.label, "Label")
+            .on_hover_text("Design name, date and scale below the region, on layer label (12/0)");
+    });
+    ui.end_row();
+    if !f.any() {
+        return;
+    }
+    let max = crate::core::mask::frame::MAX_FRAME_LENGTH_UM;
+    let size = |ui: &mut egui::Ui, name: &str, v: &mut f64, hover: &str| {
+        ui.label(name);
+        ui.add(
+            crate::app::widgets::number(v)
+                .range(1.0..=max)
+                .speed(1.0)
+                .suffix(" µm"),
+        )
+        .on_hover_text(hover);
+        ui.end_row();
+    };
+    size(
+        ui,
+        "Margin",
+        &mut f.margin_um,
+        "Between the region and the frame, the frame and the marks, the marks and the label",
+    );
+    if f.frame {
+        size(
+            ui,
+            "Frame width",
+            &mut f.frame_width_um,
+            "Width of the ring",
+        );
+    }
+    if f.marks {
+        size(ui, "Mark size", &mut f.mark_size_um, "Side of each cross");
+        size(
+            ui,
+            "Mark arm width",
+            &mut f.mark_arm_width_um,
+            "Width of a cross's arms",
+        );
+    }
+    if f.label {
+        size(
+            ui,
+            "Label height",
+            &mut f.label_height_um,
+            "Letter height in DXF and SVG (GDSII texts have none)",
+        );
     }
 }
 

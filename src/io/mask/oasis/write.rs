@@ -19,7 +19,9 @@ use crate::core::mask::{MaskError, MaskLayout, Polygon};
 use crate::core::tiling::D4;
 use crate::io::IoError;
 use crate::io::fab::OUTLINE_WIDTH_NM;
-use crate::io::mask::{ExportOptions, FileCounts, GdsCells, LayerRole, MaskLayers, region_bbox_nm};
+use crate::io::mask::{
+    ExportOptions, FileCounts, FrameDrawing, GdsCells, LayerRole, MaskLayers, region_bbox_nm,
+};
 
 /// A cell of the file and its implicit CELLNAME reference number (its index).
 struct Cells {
@@ -210,6 +212,7 @@ pub(crate) fn write(
     layout: &MaskLayout,
     o: &ExportOptions,
     notes: &[String],
+    frame: &FrameDrawing,
     path: &Path,
     progress: &Progress,
 ) -> Result<FileCounts, IoError> {
@@ -234,10 +237,16 @@ pub(crate) fn write(
         put_u(&mut buf, record::CELLNAME_IMPLICIT);
         put_str(&mut buf, name.as_bytes());
     }
-    // The layer map inside the file: LAYERNAME records with single-value intervals (type 3).
-    for role in LayerRole::ALL {
+    // The layer map inside the file: LAYERNAME records with single-value intervals (type 3),
+    // for the roles this file draws.
+    let drawn = |role: LayerRole| match role {
+        LayerRole::Openings | LayerRole::Outline | LayerRole::Notes => true,
+        LayerRole::Label => frame.label.is_some(),
+        other => frame.polygons.iter().any(|(r, _)| *r == other),
+    };
+    for role in LayerRole::ALL.into_iter().filter(|r| drawn(*r)) {
         let (l, d) = layers.of(role);
-        let id = if role == LayerRole::Notes {
+        let id = if matches!(role, LayerRole::Notes | LayerRole::Label) {
             record::LAYERNAME_TEXT
         } else {
             record::LAYERNAME_GEOMETRY
@@ -300,6 +309,12 @@ pub(crate) fn write(
         put_path_points(&mut buf, &ring);
         put_s(&mut buf, first[0]);
         put_s(&mut buf, first[1]);
+    }
+    for (role, poly) in &frame.polygons {
+        polygon(&mut buf, poly, layers.of(*role));
+    }
+    if let Some(label) = &frame.label {
+        text(&mut buf, &label.text, layers.label, label.at_nm);
     }
     if let Some(id) = cells.gap {
         let (a, s) = tile_arrays(&mut buf, layout, (id, 0, false, [0, 0]));
