@@ -556,3 +556,45 @@ fn the_sampling_selector_switches_the_convention_and_undoes() {
         app.phase_ref().design().sampling == udc_studio::core::phase::SamplingConvention::Thesis
     });
 }
+
+#[test]
+fn the_export_panel_checks_the_plate_against_the_design_rules() {
+    use udc_studio::core::mask::drc::Rules;
+    use udc_studio::core::phase::drc::check_plate;
+    // What the panel must say: the same check as `udc-studio drc`, run off the UI thread.
+    let line = |d: &PhaseDesign| {
+        let r = check_plate(d, &Rules::default()).unwrap();
+        if r.is_clean() {
+            "Design rules: clean".to_string()
+        } else {
+            format!("Design rules: {} features narrower than", r.total())
+        }
+    };
+    let wait_for = |h: &mut Harness<'_, StudioApp>, text: &str| {
+        for _ in 0..600 {
+            if h.query_by_label_contains(text).is_some() {
+                return;
+            }
+            h.step();
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        panic!("`{text}` never appeared on the export panel");
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), Quality::Preview);
+    let mut stepped = PhaseDesign::thesis(168.0, 1.0);
+    stepped.height_step_um = Some(0.2);
+    let want = line(&stepped);
+    assert!(
+        want.contains("narrower"),
+        "the thesis plate has sub-0.5-µm rings: {want}"
+    );
+    h.state_mut().phase().set_design(stepped);
+    wait_for(&mut h, &want);
+    let mut coarse = PhaseDesign::thesis(168.0, 1.0);
+    coarse.height_step_um = Some(2.0);
+    let other = line(&coarse);
+    assert_ne!(other, want);
+    h.state_mut().phase().set_design(coarse);
+    wait_for(&mut h, &other);
+}

@@ -32,6 +32,8 @@ pub(super) struct ExportState {
     dialog: Option<(HeightFormat, PhaseDesign, Job<Option<PathBuf>>)>,
     writes: Writes,
     message: Option<Notice>,
+    /// The plate's design-rule check, shown above the export buttons.
+    pub rules: super::plate_rules::PlateRules,
 }
 
 /// Writes one export; the message names the file and what was written.
@@ -92,6 +94,7 @@ impl ExportState {
             dialog: None,
             writes: Writes::default(),
             message: None,
+            rules: Default::default(),
         }
     }
 
@@ -210,6 +213,8 @@ impl PhaseWorkspace {
                         ui.end_row();
                     });
                 let valid = self.design.validate().is_ok();
+                self.export.rules.update(&ctx, &self.design);
+                self.export.rules.ui(ui, &self.design);
                 ui.horizontal_wrapped(|ui| {
                     for format in HeightFormat::ALL {
                         // GDSII writes one layer per height level: it needs a height step.

@@ -16,6 +16,7 @@ mod optimizer;
 mod optimizer_view;
 mod panels;
 mod persist;
+mod plate_rules;
 mod response;
 mod views;
 mod workspace;
