@@ -38,7 +38,7 @@ impl DisplayWorkspace {
             cmds.push(Command::SaveAs);
         }
         ui.separator();
-        if item(ui, "Import opening (image, GDSII, DXF)…", None) {
+        if item(ui, "Import opening (image, GDSII, OASIS, DXF)…", None) {
             cmds.push(Command::ImportPattern);
         }
         if item(ui, "Export mask…", None) {
