@@ -213,3 +213,16 @@ fn ctrl_c_during_an_export_leaves_no_part_file() {
     assert!(!left.contains(&part), "{part} left behind: {left:?}");
     assert!(left.is_empty(), "{left:?}");
 }
+
+#[cfg(unix)]
+#[test]
+fn saved_files_get_the_same_mode_as_any_new_file() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let (ours, plain) = (dir.path().join("a.json"), dir.path().join("b.json"));
+    udc_studio::io::safe_file::write_atomic(&ours, b"{}").unwrap();
+    std::fs::write(&plain, b"{}").unwrap();
+    let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    // Both are 0666 less the umask: not tempfile's private 0600.
+    assert_eq!(mode(&ours), mode(&plain));
+}
