@@ -234,9 +234,10 @@ fn fab_checksum_manifest_and_layer_map_are_written_beside_every_format() {
         assert_eq!(m["sha256"], sha256_hex(&bytes));
         assert_eq!(m["tool_version"], env!("CARGO_PKG_VERSION"));
         assert_eq!(m["layer_map"][0]["name"], "openings");
-        if format == MaskFormat::Gds {
+        if matches!(format, MaskFormat::Gds | MaskFormat::Oas) {
             let layers = r.fab_files.layers.clone().unwrap();
-            assert_eq!(m["layer_map_file"], "m.gds.layers.txt");
+            let ext = format.extension();
+            assert_eq!(m["layer_map_file"], format!("m.{ext}.layers.txt"));
             let map = LayerMap::parse(&std::fs::read_to_string(layers).unwrap()).unwrap();
             assert_eq!(map.get("openings"), Some((1, 0)));
             assert_eq!(map.get("notes"), Some((2, 0)));

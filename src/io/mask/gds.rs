@@ -344,19 +344,7 @@ pub(super) fn write(
 /// What [`write`] would produce, without encoding anything.
 pub(super) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
     let stats = layout.stats();
-    let cells: Vec<usize> = match o.gds_cells {
-        GdsCells::Strans => layout
-            .base_polygons
-            .iter()
-            .map(|p| p.points_nm.len())
-            .collect(),
-        GdsCells::PerOrientation => layout
-            .orientations
-            .iter()
-            .flat_map(|g| layout.polygons(*g))
-            .map(|p| p.points_nm.len())
-            .collect(),
-    };
+    let cells: Vec<usize> = super::cell_vertex_counts(layout, o.gds_cells);
     let gap = u64::from(layout.gap_polygon.is_some());
     let polygons = cells.len() as u64 + gap;
     let vertices = cells.iter().sum::<usize>() as u64 + 6 * gap;

@@ -15,16 +15,14 @@ mod png;
 mod png_read;
 mod sampling;
 mod svg;
+mod walk;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::core::Progress;
 use crate::core::design::Design;
-use crate::core::mask::{
-    FrameSpec, MaskError, MaskLayout, MaskSpec, MaskStats, Polygon, Tone, mask_ltr,
-};
-use crate::core::tiling::D4;
+use crate::core::mask::{FrameSpec, MaskError, MaskLayout, MaskSpec, MaskStats, Tone, mask_ltr};
 use crate::core::warning::SamplingWarning;
 
 use super::IoError;
@@ -41,6 +39,8 @@ pub use import::{
     ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening, import_opening_on,
     mask_notes, note_field,
 };
+pub use walk::region_bbox_nm;
+use walk::{cell_vertex_counts, for_each_flat_polygon};
 
 /// Polygons (µm, y up) and text notes a mask reader found in a file.
 pub(crate) type Drawn = (Vec<Vec<[f64; 2]>>, Vec<String>);
@@ -525,64 +525,4 @@ pub fn tone_of_notes<'a>(notes: impl IntoIterator<Item = &'a str>) -> Option<Ton
             None
         }
     })
-}
-
-/// The bounding box of the region's tiles, mask frame: `[min_x, min_y, max_x, max_y]` (nm).
-pub fn region_bbox_nm(layout: &MaskLayout) -> [i64; 4] {
-    let mut b = [i64::MAX, i64::MAX, i64::MIN, i64::MIN];
-    for r in &layout.rows {
-        let a = layout.tile_corner_nm(r.tx0, r.ty);
-        let z = layout.tile_corner_nm(r.tx0 + i64::from(r.count), r.ty + 1);
-        b = [
-            b[0].min(a[0]),
-            b[1].min(z[1]),
-            b[2].max(z[0]),
-            b[3].max(a[1]),
-        ];
-    }
-    if let Some(o) = &layout.pupil_outline {
-        for p in &o.points_nm {
-            b = [
-                b[0].min(p[0]),
-                b[1].min(p[1]),
-                b[2].max(p[0]),
-                b[3].max(p[1]),
-            ];
-        }
-    }
-    b
-}
-
-/// Calls `f` with every drawn polygon of the region, references expanded (mask frame), tile
-/// row by tile row; reports progress and stops when cancelled.
-fn for_each_flat_polygon(
-    layout: &MaskLayout,
-    progress: &Progress,
-    mut f: impl FnMut(&[[i64; 2]]) -> Result<(), IoError>,
-) -> Result<(), IoError> {
-    let mut cache: Vec<(D4, Vec<Polygon>)> = Vec::new();
-    let mut buf: Vec<[i64; 2]> = Vec::new();
-    let rows = layout.rows.len().max(1);
-    for (k, r) in layout.rows.iter().enumerate() {
-        progress.check().map_err(|_| MaskError::Cancelled)?;
-        progress.set(k as f32 / rows as f32);
-        for tx in r.tx0..r.tx0 + i64::from(r.count) {
-            let g = layout.orientation(tx, r.ty);
-            let idx = match cache.iter().position(|(h, _)| *h == g) {
-                Some(i) => i,
-                None => {
-                    cache.push((g, layout.polygons(g)));
-                    cache.len() - 1
-                }
-            };
-            let [cx, cy] = layout.tile_corner_nm(tx, r.ty);
-            let gap = layout.gap_polygon.iter();
-            for poly in cache[idx].1.iter().chain(gap) {
-                buf.clear();
-                buf.extend(poly.points_nm.iter().map(|p| [p[0] + cx, p[1] + cy]));
-                f(&buf)?;
-            }
-        }
-    }
-    Ok(())
 }

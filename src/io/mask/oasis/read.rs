@@ -391,23 +391,11 @@ impl State {
             }
             END => self.ended = true,
             CELLNAME_IMPLICIT | CELLNAME => {
-                let name = b.string()?;
-                let n = if id == CELLNAME {
-                    b.u()?
-                } else {
-                    self.next_cellname
-                };
-                self.next_cellname = n + 1;
+                let (n, name) = named(b, id == CELLNAME, &mut self.next_cellname)?;
                 self.cellnames.insert(n, name);
             }
             TEXTSTRING_IMPLICIT | TEXTSTRING => {
-                let s = b.string()?;
-                let n = if id == TEXTSTRING {
-                    b.u()?
-                } else {
-                    self.next_textstring
-                };
-                self.next_textstring = n + 1;
+                let (n, s) = named(b, id == TEXTSTRING, &mut self.next_textstring)?;
                 self.textstrings.insert(n, s);
             }
             PROPNAME_IMPLICIT | PROPSTRING_IMPLICIT => {
@@ -709,6 +697,14 @@ impl State {
         }
         Ok(())
     }
+}
+
+/// A name record's string and reference number: explicit, or the next implicit one.
+fn named(b: &mut Bytes, explicit: bool, next: &mut u64) -> R<(u64, String)> {
+    let s = b.string()?;
+    let n = if explicit { b.u()? } else { *next };
+    *next = n + 1;
+    Ok((n, s))
 }
 
 /// Reads an OASIS file and expands its top cell (the one no other cell places).

@@ -362,19 +362,7 @@ pub(crate) fn write(
 /// about one byte per further tile).
 pub(crate) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
     let stats = layout.stats();
-    let polys: Vec<usize> = match o.gds_cells {
-        GdsCells::Strans => layout
-            .base_polygons
-            .iter()
-            .map(|p| p.points_nm.len())
-            .collect(),
-        GdsCells::PerOrientation => layout
-            .orientations
-            .iter()
-            .flat_map(|g| layout.polygons(*g))
-            .map(|p| p.points_nm.len())
-            .collect(),
-    };
+    let polys: Vec<usize> = crate::io::mask::walk::cell_vertex_counts(layout, o.gds_cells);
     let gap = u64::from(layout.gap_polygon.is_some());
     let polygons = polys.len() as u64 + gap;
     let vertices = polys.iter().sum::<usize>() as u64 + 6 * gap;
