@@ -3,6 +3,7 @@
 pub mod drc;
 mod export_cmd;
 pub mod field_depth;
+pub mod saturation;
 pub use export_cmd::ExportArgs;
 pub mod import;
 pub mod optimize;
@@ -77,6 +78,9 @@ pub enum Command {
     /// PSFs of a point at a finite depth, focused on it and focused at infinity, and their
     /// residual after deblurring with the infinity PSF (thesis §3.7, Fig. 3.31).
     Depth(field_depth::DepthArgs),
+    /// A capture that clips specular highlights against an exposure-bracketed HDR capture, both
+    /// restored by Wiener deconvolution (thesis §3.7, Fig. 3.30).
+    Saturation(saturation::SaturationArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -242,6 +246,7 @@ fn run_command(command: Command) -> Result<()> {
         Command::Phase(cmd) => phase::phase_cmd(&cmd),
         Command::Field(args) => field_depth::field_cmd(&args),
         Command::Depth(args) => field_depth::depth_cmd(&args),
+        Command::Saturation(args) => saturation::saturation_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }

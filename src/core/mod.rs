@@ -22,6 +22,7 @@ pub mod psf;
 pub mod residual;
 pub mod restore;
 pub mod sampling;
+pub mod saturation;
 pub mod sensor;
 pub mod theory;
 pub mod tiling;

@@ -185,3 +185,60 @@ fn bad_field_and_depth_values_fail_with_one_line() {
         assert!(!stderr.contains("panicked"), "{stderr}");
     }
 }
+
+#[test]
+fn bracketing_restores_linearity_around_specular_highlights() {
+    use udc_studio::core::saturation::{SaturationSettings, saturation_study};
+    let design = load_preset("l2inv-random").expect("preset");
+    let options = AnalyzeOptions {
+        quality: Quality::Preview,
+        expected_psf: false,
+    };
+    let a = analyze_with(&design, &options, &Progress::new()).expect("analysis");
+    let psfs: Vec<_> = a.channels.iter().map(|c| &c.psf).collect();
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/hdr/");
+    // Oil lamps over glasses, and a stained-glass window over a desk.
+    for (file, margin_db) in [("StillLife_620x423.exr", 1.0), ("Desk_322x437.exr", 2.0)] {
+        let scene = udc_studio::io::hdr::load_hdr(std::path::Path::new(&format!("{dir}{file}")))
+            .expect("scene");
+        let r =
+            saturation_study(&scene.planes, &psfs, &SaturationSettings::default()).expect("study");
+        assert!(
+            (r.clipped.clipped_fraction - 0.02).abs() < 0.005,
+            "{file}: {}",
+            r.clipped.clipped_fraction
+        );
+        assert!(r.bracketed.clipped_fraction < 0.25 * r.clipped.clipped_fraction);
+        assert!(
+            r.bracketed.psnr_db > r.clipped.psnr_db + margin_db,
+            "{file}: bracketed {} dB vs clipped {} dB",
+            r.bracketed.psnr_db,
+            r.clipped.psnr_db
+        );
+        assert!(r.bracketed.ssim > r.clipped.ssim, "{file}");
+    }
+}
+
+#[test]
+fn saturation_json_compares_both_captures() {
+    let (ok, stdout, stderr) = run(&[
+        "saturation",
+        "--preset",
+        "l2inv-random",
+        "--max-side-px",
+        "200",
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+    for run in ["clipped", "bracketed"] {
+        assert!(v[run]["psnr_db"].as_f64().is_some(), "{run}");
+        assert!(v[run]["ssim"].as_f64().is_some(), "{run}");
+    }
+    assert_eq!(v["exposure_factors"].as_array().map(Vec::len), Some(3));
+    let (ok, _, stderr) = run(&["saturation", "--clip-percent", "NaN"]);
+    assert!(
+        !ok && stderr.starts_with("error: --clip-percent"),
+        "{stderr}"
+    );
+}
