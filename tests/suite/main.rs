@@ -16,6 +16,7 @@ mod drc_strict;
 mod drop;
 mod expected_psf;
 mod field_depth;
+mod field_depth_view;
 mod io_files;
 mod layouts;
 mod mask_dialog;
