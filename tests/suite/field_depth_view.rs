@@ -12,6 +12,20 @@ use udc_studio::app::panels::views::ViewTab;
 use udc_studio::app::panels::views::field_depth::Study;
 use udc_studio::app::{Command, StudioApp};
 
+/// Saves a picture of the studio when `UDC_SCREENSHOTS_DIR` is set (and a renderer exists).
+fn capture(h: &mut egui_kittest::Harness<'_, StudioApp>, name: &str) {
+    let Some(dir) = std::env::var_os("UDC_SCREENSHOTS_DIR").map(std::path::PathBuf::from) else {
+        return;
+    };
+    match h.render() {
+        Ok(img) => {
+            std::fs::create_dir_all(&dir).unwrap();
+            img.save(dir.join(format!("views-{name}.png"))).unwrap();
+        }
+        Err(e) => eprintln!("{name}: no renderer here ({e})"),
+    }
+}
+
 fn wait_for_result(h: &mut egui_kittest::Harness<'_, StudioApp>, what: &str) {
     let start = Instant::now();
     loop {
@@ -32,7 +46,8 @@ fn wait_for_result(h: &mut egui_kittest::Harness<'_, StudioApp>, what: &str) {
 #[test]
 fn the_field_and_depth_view_shows_its_numbers() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    let wgpu = std::env::var_os("UDC_SCREENSHOTS_DIR").is_some();
+    let mut h = common::studio(dir.path(), wgpu, Duration::from_secs(600));
     h.state_mut()
         .command(Command::LoadPreset("l2inv-random".into()));
     step_until(&mut h, "the design's result", StudioApp::is_up_to_date);
@@ -49,6 +64,7 @@ fn the_field_and_depth_view_shows_its_numbers() {
         "9 insets and the note"
     );
     h.get_by_label("display to lens");
+    capture(&mut h, "field");
 
     h.state_mut().views().field_depth.set_study(Study::Depth);
     h.step();
@@ -61,4 +77,5 @@ fn the_field_and_depth_view_shows_its_numbers() {
     );
     h.get_by_label("focused at infinity");
     h.get_by_label("object distance z1");
+    capture(&mut h, "depth");
 }

@@ -20,8 +20,8 @@ use crate::core::field::{FieldResult, FieldSettings, field_psfs};
 
 /// Decades below the peak shown by the thumbnails.
 const FLOOR_DECADES: f64 = 4.0;
-/// Side of a thumbnail, points.
-const THUMB_PT: f32 = 120.0;
+/// Largest and smallest side of a thumbnail, points (they shrink to fit a row in the panel).
+const THUMB_PT: std::ops::RangeInclusive<f32> = 48.0..=160.0;
 
 /// Which study the view shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -316,6 +316,10 @@ impl FieldDepthView {
              Wiener filter; residual = energy of the difference from the reference deblurred by \
              itself, relative to it (0 = identical)",
         );
+        let per_row = self.rows.iter().map(Vec::len).max().unwrap_or(1).max(1) as f32;
+        let spacing = ui.spacing().item_spacing.x;
+        let side =
+            (ui.available_width() / per_row - spacing).clamp(*THUMB_PT.start(), *THUMB_PT.end());
         egui::ScrollArea::both().show(ui, |ui| {
             for row in &self.rows {
                 ui.horizontal(|ui| {
@@ -323,7 +327,7 @@ impl FieldDepthView {
                         ui.vertical(|ui| {
                             ui.add(
                                 egui::Image::new(&t.texture)
-                                    .fit_to_exact_size(egui::vec2(THUMB_PT, THUMB_PT)),
+                                    .fit_to_exact_size(egui::vec2(side, side)),
                             );
                             ui.small(&t.caption);
                         });
