@@ -45,7 +45,7 @@ struct Key {
 
 enum Outcome {
     Field(FieldResult),
-    Depth(DepthResult),
+    Depth(Box<DepthResult>),
 }
 
 /// A picture with its caption.
@@ -152,7 +152,7 @@ impl FieldDepthView {
                     },
                     p,
                 )
-                .map(Outcome::Depth),
+                .map(|r| Outcome::Depth(Box::new(r))),
             },
         );
         self.job = Some((key, job));
