@@ -78,4 +78,16 @@ fn the_field_and_depth_view_shows_its_numbers() {
     h.get_by_label("focused at infinity");
     h.get_by_label("object distance z1");
     capture(&mut h, "depth");
+
+    h.state_mut()
+        .views()
+        .field_depth
+        .set_study(Study::Saturation);
+    h.step();
+    wait_for_result(&mut h, "the saturation study");
+    let summary = h.state_mut().views().field_depth.summary().to_string();
+    assert!(summary.contains("dB PSNR"), "{summary}");
+    assert_eq!(h.query_all_by_label_contains("restored: PSNR").count(), 2);
+    h.get_by_label("clipped");
+    capture(&mut h, "saturation");
 }

@@ -1,6 +1,7 @@
-//! The Field & depth view (thesis §3.7, Figs. 3.29 and 3.31): PSFs over the field through a
+//! The Field & depth view (thesis §3.7, Figs. 3.29–3.31): PSFs over the field through a
 //! display in front of the lens, or of a point at a finite depth, each with its residual after
-//! deblurring with the centre (or infinity) PSF. The PSFs are computed on a background job at
+//! deblurring with the centre (or infinity) PSF; and the saturation study, a capture that clips
+//! highlights of the built-in HDR scene against an exposure-bracketed one, both restored. The PSFs are computed on a background job at
 //! preview sampling whenever the design or a setting changes; the UI thread only draws.
 
 use std::sync::Arc;
@@ -13,10 +14,12 @@ use crate::app::display::panels::Shown;
 use crate::app::job::Job;
 use crate::app::notice::Notice;
 use crate::app::widgets::colormap::Colormap;
+use crate::app::widgets::photo::color_image;
 use crate::core::Quality;
 use crate::core::depth::{DepthResult, DepthSettings, depth_psfs};
 use crate::core::design::Design;
 use crate::core::field::{FieldResult, FieldSettings, field_psfs};
+use crate::core::saturation::{SaturationResult, SaturationSettings, saturation_study};
 
 /// Decades below the peak shown by the thumbnails.
 const FLOOR_DECADES: f64 = 4.0;
@@ -31,7 +34,12 @@ pub enum Study {
     Field,
     /// PSFs of a point at a finite depth (Fig. 3.31).
     Depth,
+    /// Clipped against bracketed captures of an HDR scene, restored (Fig. 3.30).
+    Saturation,
 }
+
+/// The HDR scene is scaled down to this side so a run stays interactive.
+const SCENE_SIDE_PX: usize = 320;
 
 /// The settings a run depends on.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -41,11 +49,14 @@ struct Key {
     display_distance_mm: f64,
     max_field_deg: f64,
     object_distance_mm: f64,
+    clip_percent: f64,
+    brackets: usize,
 }
 
 enum Outcome {
     Field(FieldResult),
     Depth(Box<DepthResult>),
+    Saturation(Box<SaturationResult>),
 }
 
 /// A picture with its caption.
@@ -60,6 +71,8 @@ pub struct FieldDepthView {
     display_distance_mm: f64,
     max_field_deg: f64,
     object_distance_mm: f64,
+    clip_percent: f64,
+    brackets: usize,
     job: Option<(Key, Job<Outcome>)>,
     done_key: Option<Key>,
     rows: Vec<Vec<Tile>>,
@@ -74,6 +87,8 @@ impl Default for FieldDepthView {
             display_distance_mm: 1.0,
             max_field_deg: 30.0,
             object_distance_mm: 100.0,
+            clip_percent: 2.0,
+            brackets: 3,
             job: None,
             done_key: None,
             rows: Vec::new(),
@@ -123,10 +138,14 @@ impl FieldDepthView {
             display_distance_mm: self.display_distance_mm,
             max_field_deg: self.max_field_deg,
             object_distance_mm: self.object_distance_mm,
+            clip_percent: self.clip_percent,
+            brackets: self.brackets,
         }
     }
 
-    fn start(&mut self, key: Key, design: Arc<Design>, ctx: &egui::Context) {
+    fn start(&mut self, key: Key, shown: &Shown, ctx: &egui::Context) {
+        let design: Arc<Design> = shown.design.clone();
+        let analysis = shown.analysis.clone();
         let wake = ctx.clone();
         let job = Job::spawn(
             "field and depth job",
@@ -153,6 +172,27 @@ impl FieldDepthView {
                     p,
                 )
                 .map(|r| Outcome::Depth(Box::new(r))),
+                Study::Saturation => {
+                    let scene = crate::io::hdr::sample_scene()
+                        .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?
+                        .downscaled(SCENE_SIDE_PX);
+                    let psfs: Vec<&Array2<f64>> =
+                        analysis.channels.iter().map(|c| &c.psf).collect();
+                    if psfs.len() != scene.planes.len() {
+                        return Err(crate::core::SimError::field(
+                            "channels",
+                            "the saturation study needs an R, G, B design",
+                        ));
+                    }
+                    let settings = SaturationSettings {
+                        clip_percent: key.clip_percent,
+                        brackets: key.brackets,
+                        ..SaturationSettings::default()
+                    };
+                    p.check()?;
+                    saturation_study(&scene.planes, &psfs, &settings)
+                        .map(|r| Outcome::Saturation(Box::new(r)))
+                }
             },
         );
         self.job = Some((key, job));
@@ -212,6 +252,59 @@ impl FieldDepthView {
                     r.max_residual_rel, self.max_field_deg, self.display_distance_mm
                 );
             }
+            Outcome::Saturation(r) => {
+                let photo = |name: &str, caption: String, planes: &[Array2<f64>]| {
+                    let refs: Vec<&Array2<f64>> = planes.iter().collect();
+                    Tile {
+                        texture: ctx.load_texture(
+                            name,
+                            color_image(&refs, 1.0),
+                            TextureOptions::LINEAR,
+                        ),
+                        caption,
+                    }
+                };
+                let scores = |what: &str, run: &crate::core::saturation::SaturationRun| {
+                    format!(
+                        "{what}: PSNR {:.2} dB, SSIM {:.3}, {:.2} % clipped",
+                        run.psnr_db,
+                        run.ssim,
+                        100.0 * run.clipped_fraction
+                    )
+                };
+                self.rows = vec![
+                    vec![
+                        photo("sat-truth", "truth (HDR, clipped to show)".into(), &r.truth),
+                        photo(
+                            "sat-clipped-captured",
+                            "one exposure, captured".into(),
+                            &r.clipped.captured,
+                        ),
+                        photo(
+                            "sat-clipped-restored",
+                            scores("restored", &r.clipped),
+                            &r.clipped.restored,
+                        ),
+                    ],
+                    vec![
+                        photo(
+                            "sat-bracketed-captured",
+                            format!("{} exposures merged", r.factors.len()),
+                            &r.bracketed.captured,
+                        ),
+                        photo(
+                            "sat-bracketed-restored",
+                            scores("restored", &r.bracketed),
+                            &r.bracketed.restored,
+                        ),
+                    ],
+                ];
+                self.summary = format!(
+                    "bracketed HDR gains {:+.2} dB PSNR over one exposure clipping {:.1} % of the pixels",
+                    r.bracketed.psnr_db - r.clipped.psnr_db,
+                    self.clip_percent
+                );
+            }
             Outcome::Depth(r) => {
                 self.rows = vec![
                     vec![
@@ -269,6 +362,7 @@ impl FieldDepthView {
         ui.horizontal_wrapped(|ui| {
             ui.selectable_value(&mut self.study, Study::Field, "Field (Fig. 3.29)");
             ui.selectable_value(&mut self.study, Study::Depth, "Depth (Fig. 3.31)");
+            ui.selectable_value(&mut self.study, Study::Saturation, "Saturation (Fig. 3.30)");
             ui.separator();
             match self.study {
                 Study::Field => {
@@ -278,6 +372,12 @@ impl FieldDepthView {
                     );
                     ui.label("field");
                     ui.add(egui::Slider::new(&mut self.max_field_deg, 1.0..=45.0).suffix("°"));
+                }
+                Study::Saturation => {
+                    ui.label("clipped");
+                    ui.add(egui::Slider::new(&mut self.clip_percent, 0.5..=10.0).suffix(" %"));
+                    ui.label("exposures, 2 EV apart");
+                    ui.add(egui::Slider::new(&mut self.brackets, 2..=7));
                 }
                 Study::Depth => {
                     ui.label("object distance z1");
@@ -293,7 +393,7 @@ impl FieldDepthView {
         let key = self.key(shown);
         let running_this = self.job.as_ref().is_some_and(|(k, _)| *k == key);
         if self.done_key != Some(key) && !running_this {
-            self.start(key, shown.design.clone(), &egui_ctx);
+            self.start(key, shown, &egui_ctx);
         }
         if let Some((_, job)) = &self.job {
             let mut cancel = false;
@@ -311,11 +411,13 @@ impl FieldDepthView {
         }
         crate::app::widgets::message_ui(ui, self.message.as_ref());
         ui.label(&self.summary);
-        ui.weak(
+        if self.study != Study::Saturation {
+            ui.weak(
             "log-PSFs (4 decades, channels averaged) and each PSF deblurred with the reference's \
              Wiener filter; residual = energy of the difference from the reference deblurred by \
              itself, relative to it (0 = identical)",
         );
+        }
         let per_row = self.rows.iter().map(Vec::len).max().unwrap_or(1).max(1) as f32;
         let spacing = ui.spacing().item_spacing.x;
         let side =
