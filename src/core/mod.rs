@@ -11,6 +11,7 @@ pub mod error;
 pub mod expected;
 pub mod fft;
 pub mod field;
+pub mod field_capture;
 pub mod mask;
 pub mod metrics;
 pub mod mtf;

@@ -242,3 +242,37 @@ fn saturation_json_compares_both_captures() {
         "{stderr}"
     );
 }
+
+#[test]
+fn a_field_capture_blends_the_field_psfs_and_reports_both_restorations() {
+    let photo = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/photos/astronaut_256.png"
+    );
+    let psnr = |z: &str| {
+        let (ok, stdout, stderr) = run(&[
+            "field",
+            "--preset",
+            "l2inv-random",
+            "--display-distance-mm",
+            z,
+            "--image",
+            photo,
+            "--max-side-px",
+            "96",
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
+        let c = &v["capture"];
+        (
+            c["psnr_db_field"].as_f64().expect("number"),
+            c["psnr_db_invariant"].as_f64().expect("number"),
+        )
+    };
+    // Display on the pupil: every field PSF is the centre PSF, the blend is the plain blur.
+    let (field, invariant) = psnr("0");
+    assert!((field - invariant).abs() < 0.01, "{field} vs {invariant}");
+    let (field, invariant) = psnr("2");
+    assert!(field.is_finite() && invariant.is_finite());
+}
