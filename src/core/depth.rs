@@ -22,6 +22,10 @@ use super::residual::{Deblur, channel_residuals, mean};
 use super::sampling::{WavelengthSampling, plan};
 use super::{Progress, SimError};
 
+/// Largest FFT side of the defocused PSF: it needs two dense complex `M×M` grids (512 MiB here),
+/// unlike the analysis, which folds a sparse field column by column.
+pub const MAX_DEFOCUS_FFT: usize = 4096;
+
 /// Farthest object distance accepted, mm (10 km: indistinguishable from infinity).
 pub const MAX_OBJECT_DISTANCE_MM: f64 = 1.0e7;
 
@@ -275,6 +279,13 @@ fn defocused_intensity(
     z1_um: f64,
 ) -> Result<(Array2<f64>, f64), SimError> {
     let m = ws.fft_size;
+    if m > MAX_DEFOCUS_FFT {
+        return Err(SimError::TooLarge(format!(
+            "the defocused PSF at {} nm needs a dense {m}×{m} grid (at most {MAX_DEFOCUS_FFT}); \
+             use preview quality or increase optics.fine_sample_um",
+            ws.wavelength_nm
+        )));
+    }
     let (lo, hi) = field.extent();
     if lo < -(m as i64 / 2) || hi >= m as i64 / 2 {
         return Err(SimError::Sampling(format!(
