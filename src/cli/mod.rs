@@ -2,6 +2,8 @@
 
 pub mod drc;
 mod export_cmd;
+pub mod field_depth;
+pub mod saturation;
 pub use export_cmd::ExportArgs;
 pub mod import;
 pub mod optimize;
@@ -70,6 +72,15 @@ pub enum Command {
     /// and the allocation of folding wavelengths.
     #[command(subcommand)]
     Phase(phase::PhaseCommand),
+    /// PSFs over the field of view through a display in front of the lens, and their residual
+    /// after deblurring with the centre PSF (thesis §3.7, Fig. 3.29).
+    Field(field_depth::FieldArgs),
+    /// PSFs of a point at a finite depth, focused on it and focused at infinity, and their
+    /// residual after deblurring with the infinity PSF (thesis §3.7, Fig. 3.31).
+    Depth(field_depth::DepthArgs),
+    /// A capture that clips specular highlights against an exposure-bracketed HDR capture, both
+    /// restored by Wiener deconvolution (thesis §3.7, Fig. 3.30).
+    Saturation(saturation::SaturationArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -233,6 +244,9 @@ fn run_command(command: Command) -> Result<()> {
         Command::Optimize(args) => optimize::optimize_cmd(&args),
         Command::Sensor(args) => sensor::sensor_cmd(&args),
         Command::Phase(cmd) => phase::phase_cmd(&cmd),
+        Command::Field(args) => field_depth::field_cmd(&args),
+        Command::Depth(args) => field_depth::depth_cmd(&args),
+        Command::Saturation(args) => saturation::saturation_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }

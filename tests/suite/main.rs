@@ -15,6 +15,8 @@ mod design_file;
 mod drc_strict;
 mod drop;
 mod expected_psf;
+mod field_depth;
+mod field_depth_view;
 mod io_files;
 mod layouts;
 mod mask_dialog;

@@ -63,3 +63,11 @@ MTF, the aperture's autocorrelation. Hover the formula for its numbers. Then dra
 editor: the formula stays, the simulation follows your opening, and the gap between them is the \
 diffraction of what you changed. Designs that name no aperture are compared with their own \
 diffraction orders.";
+
+pub const FIELD_DEPTH: &str = "The blur is not the same everywhere. Field: the display sits a \
+little in front of the lens, so light from an angle crosses another part of the display (shifted \
+by distance × tan(angle)). A periodic display looks the same from everywhere; a random one shows \
+other tile orientations, so the PSF changes. Depth: focused on a near object the PSF is the \
+infinity PSF scaled by z2/f from the lens law (a few per cent at 10 cm); focused at infinity, a \
+near object is out of focus. Each PSF is shown with what is left after deblurring it with the \
+reference PSF: a clean dot means the restoration's kernel still fits.";

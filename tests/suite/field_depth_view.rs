@@ -1,0 +1,93 @@
+//! The Field & depth view, driven headless: it opens, computes on its job and shows its numbers
+//! with their units.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use crate::common;
+
+use std::time::{Duration, Instant};
+
+use crate::common::step_until;
+use egui_kittest::kittest::Queryable;
+use udc_studio::app::panels::views::ViewTab;
+use udc_studio::app::panels::views::field_depth::Study;
+use udc_studio::app::{Command, StudioApp};
+
+/// Saves a picture of the studio when `UDC_SCREENSHOTS_DIR` is set (and a renderer exists).
+fn capture(h: &mut egui_kittest::Harness<'_, StudioApp>, name: &str) {
+    let Some(dir) = std::env::var_os("UDC_SCREENSHOTS_DIR").map(std::path::PathBuf::from) else {
+        return;
+    };
+    match h.render() {
+        Ok(img) => {
+            std::fs::create_dir_all(&dir).unwrap();
+            img.save(dir.join(format!("views-{name}.png"))).unwrap();
+        }
+        Err(e) => eprintln!("{name}: no renderer here ({e})"),
+    }
+}
+
+fn wait_for_result(h: &mut egui_kittest::Harness<'_, StudioApp>, what: &str) {
+    let start = Instant::now();
+    loop {
+        h.step();
+        let v = &h.state_mut().views().field_depth;
+        if !v.is_running() && !v.summary().is_empty() {
+            h.step();
+            return;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(90),
+            "timed out waiting for {what}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
+#[test]
+fn the_field_and_depth_view_shows_its_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    let wgpu = std::env::var_os("UDC_SCREENSHOTS_DIR").is_some();
+    let mut h = common::studio(dir.path(), wgpu, Duration::from_secs(600));
+    h.state_mut()
+        .command(Command::LoadPreset("l2inv-random".into()));
+    step_until(&mut h, "the design's result", StudioApp::is_up_to_date);
+    h.state_mut().views().set_tab(ViewTab::FieldDepth);
+    wait_for_result(&mut h, "the field grid");
+    let summary = h.state_mut().views().field_depth.summary().to_string();
+    assert!(
+        summary.contains("max residual_rel") && summary.contains(" mm"),
+        "{summary}"
+    );
+    assert_eq!(
+        h.query_all_by_label_contains("residual ").count(),
+        9 + 1,
+        "9 insets and the note"
+    );
+    h.get_by_label("display to lens");
+    capture(&mut h, "field");
+
+    h.state_mut().views().field_depth.set_study(Study::Depth);
+    h.step();
+    wait_for_result(&mut h, "the depth PSFs");
+    h.step();
+    let summary = h.state_mut().views().field_depth.summary().to_string();
+    assert!(
+        summary.contains("PSF scale z2/f") && summary.contains("waves"),
+        "{summary}"
+    );
+    h.get_by_label("focused at infinity");
+    h.get_by_label("object distance z1");
+    capture(&mut h, "depth");
+
+    h.state_mut()
+        .views()
+        .field_depth
+        .set_study(Study::Saturation);
+    h.step();
+    wait_for_result(&mut h, "the saturation study");
+    let summary = h.state_mut().views().field_depth.summary().to_string();
+    assert!(summary.contains("dB PSNR"), "{summary}");
+    assert_eq!(h.query_all_by_label_contains("restored: PSNR").count(), 2);
+    h.get_by_label("clipped");
+    capture(&mut h, "saturation");
+}
