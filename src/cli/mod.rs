@@ -1,5 +1,6 @@
 //! Headless commands, built only on `core` and `io`.
 
+pub mod appearance;
 pub mod drc;
 mod export_cmd;
 pub use export_cmd::ExportArgs;
@@ -70,6 +71,9 @@ pub enum Command {
     /// and the allocation of folding wavelengths.
     #[command(subcommand)]
     Phase(phase::PhaseCommand),
+    /// Show an image on the design's layout as the eye sees it (subpixels, DPI, viewing
+    /// distance) with display-quality numbers beside the camera's AUC (thesis §3.7).
+    Appearance(appearance::AppearanceArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -144,6 +148,7 @@ impl DesignSelection {
         if let Some(path) = &self.pattern {
             design.opening.cells = pattern::load_pattern_png(path)?;
             design.opening.polygons.clear();
+            design.reconcile_subpixels();
         }
         if let Some(p) = self.pitch_um {
             design.opening.pitch_um = p;
@@ -233,6 +238,7 @@ fn run_command(command: Command) -> Result<()> {
         Command::Optimize(args) => optimize::optimize_cmd(&args),
         Command::Sensor(args) => sensor::sensor_cmd(&args),
         Command::Phase(cmd) => phase::phase_cmd(&cmd),
+        Command::Appearance(args) => appearance::appearance_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }

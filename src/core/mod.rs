@@ -4,8 +4,10 @@
 pub mod advice;
 pub mod analyze;
 pub mod aperture;
+pub mod appearance;
 pub mod budget;
 pub mod design;
+pub mod emitters;
 pub mod error;
 pub mod expected;
 pub mod fft;

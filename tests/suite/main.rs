@@ -4,6 +4,7 @@
 mod common;
 
 mod advice;
+mod appearance;
 mod architecture;
 mod cli;
 mod cli_optimize;
@@ -14,6 +15,7 @@ mod corpus;
 mod design_file;
 mod drc_strict;
 mod drop;
+mod emitters;
 mod expected_psf;
 mod io_files;
 mod layouts;

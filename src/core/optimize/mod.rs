@@ -499,6 +499,7 @@ pub fn optimize(
     let mut out = design.clone();
     out.opening.cells = binarise(&relaxed, n, settings.target_open_fraction);
     out.opening.polygons.clear();
+    out.reconcile_subpixels();
     out.name = format!("{} (optimized)", design.name);
     out.description = format!(
         "Optimized from \"{}\" for {} epochs (L_inv weight {}, data weight {}), open fraction {:.3}. {}",

@@ -269,6 +269,7 @@ impl EditorPanel {
                 let mut design = ctx.design.clone();
                 let new_n = self.new_n.min(MAX_CELLS);
                 design.opening.cells = ops::resample(&design.opening.cells, new_n);
+                design.reconcile_subpixels();
                 ctx.edit(design);
             }
             let import = ui.button("Import PNG…").on_hover_text(
@@ -413,6 +414,7 @@ impl EditorPanel {
             if ctx.design.opening.cells == stroke.base {
                 let mut design = ctx.design.clone();
                 design.opening.cells = stroke.draft.clone();
+                design.reconcile_subpixels();
                 ctx.edit(design);
                 // Draw the next frame from the document, which then holds the stroke.
                 ui.ctx().request_repaint();
