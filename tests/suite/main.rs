@@ -5,6 +5,7 @@ mod common;
 
 mod advice;
 mod appearance;
+mod appearance_view;
 mod architecture;
 mod cli;
 mod cli_optimize;

@@ -5,6 +5,7 @@
 //! setting (a texture cache keyed by generation, quality, channel and floor); the frame loop
 //! only places them in plots.
 
+pub mod appearance;
 mod compare;
 mod expected;
 mod hints;
@@ -54,11 +55,13 @@ pub enum ViewTab {
     Compare,
     /// A photo blurred by the PSFs, exposed with noise and restored, with PSNR and SSIM.
     Restore,
+    /// A photo on the layout as the eye sees it, periodic and random, with display quality.
+    Appearance,
 }
 
 impl ViewTab {
     /// Every tab, in the order of the tab bar.
-    pub const ALL: [ViewTab; 9] = [
+    pub const ALL: [ViewTab; 10] = [
         ViewTab::Psf,
         ViewTab::LogPsf,
         ViewTab::Rgb,
@@ -68,6 +71,7 @@ impl ViewTab {
         ViewTab::Theory,
         ViewTab::Compare,
         ViewTab::Restore,
+        ViewTab::Appearance,
     ];
 
     /// Text on the tab.
@@ -82,6 +86,7 @@ impl ViewTab {
             ViewTab::Theory => "Theory",
             ViewTab::Compare => "Compare",
             ViewTab::Restore => "Restore",
+            ViewTab::Appearance => "Appearance",
         }
     }
 
@@ -96,6 +101,7 @@ impl ViewTab {
             ViewTab::Theory => hints::THEORY,
             ViewTab::Compare => hints::COMPARE,
             ViewTab::Restore => hints::RESTORE,
+            ViewTab::Appearance => hints::APPEARANCE,
         }
     }
 }
@@ -112,6 +118,8 @@ pub struct ViewsPanel {
     textures: Textures,
     /// The Restore view (its own photo, settings and background job).
     pub restore: restore::RestoreView,
+    /// The Appearance view (its settings, renderings and scatter).
+    pub appearance: appearance::AppearanceView,
     /// The reference marks drawn over the PSFs (with the teaching overlays on).
     overlay_choice: OverlayChoice,
     /// The Theory view's cached comparison and scale.
@@ -128,6 +136,7 @@ impl Default for ViewsPanel {
             families: MtfFamilies::default(),
             textures: Textures::default(),
             restore: restore::RestoreView::default(),
+            appearance: appearance::AppearanceView::default(),
             overlay_choice: OverlayChoice::default(),
             theory: theory::TheoryView::default(),
         }
@@ -187,6 +196,7 @@ impl ViewsPanel {
             ViewTab::Theory => self.theory.ui(ui, shown, self.channel),
             ViewTab::Compare => self.compare_ui(ui, shown, ctx),
             ViewTab::Restore => self.restore.ui(ui, shown, ctx),
+            ViewTab::Appearance => self.appearance.ui(ui, shown),
         }
     }
 

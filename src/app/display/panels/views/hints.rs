@@ -63,3 +63,13 @@ MTF, the aperture's autocorrelation. Hover the formula for its numbers. Then dra
 editor: the formula stays, the simulation follows your opening, and the gap between them is the \
 diffraction of what you changed. Designs that name no aperture are compared with their own \
 diffraction orders.";
+
+/// The Appearance view.
+pub const APPEARANCE: &str = "The built-in photo shown on this layout as a display would show it: \
+every pixel's R, G and B emitters (the editor's Emitters layer, or an automatic placement) light \
+with the photo's channel values, the layout scaled to the chosen DPI, then blurred by the eye \
+(a Gaussian of 1 arcminute FWHM at the viewing distance). Left periodic, right random: random \
+tilings trade a little display uniformity for a more invertible camera blur. Nonuniformity is \
+the spread of a flat white field's luminance; aliasing the error energy of a slanted edge \
+against an ideal full-fill display. Scatter presets places every thesis layout on camera AUC \
+against display nonuniformity.";
