@@ -254,7 +254,7 @@ impl StudioApp {
 
     /// The Appearance view's renderings and scatter.
     pub fn appearance_view(&self) -> &panels::views::appearance::AppearanceView {
-        &self.display().panels.views.appearance
+        self.display().appearance_view()
     }
 
     /// Shows a tab of the display workspace's left panel.
