@@ -17,6 +17,7 @@ mod design_file;
 mod drc_strict;
 mod drop;
 mod emitters;
+mod emitters_editor;
 mod expected_psf;
 mod io_files;
 mod layouts;

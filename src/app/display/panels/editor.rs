@@ -39,6 +39,8 @@ pub struct EditorPanel {
     view: Option<View>,
     /// The design rules on the canvas (View > Design rules on the editor).
     rules: RulesOverlay,
+    /// The R, G, B emitter layer.
+    pub emitters: super::editor_emitters::EmitterLayer,
 }
 
 impl Default for EditorPanel {
@@ -53,6 +55,7 @@ impl Default for EditorPanel {
             grid_n: 0,
             view: None,
             rules: RulesOverlay::default(),
+            emitters: Default::default(),
         }
     }
 }
@@ -209,6 +212,7 @@ impl EditorPanel {
         self.rules.update(ui.ctx(), ctx.design, ctx.design_rules);
         tools_ui(ui, ctx);
         self.options_ui(ui, ctx);
+        self.emitters.controls_ui(ui, ctx);
         ui.separator();
         let hovered = self.grid_ui(ui, ctx);
         self.readouts_ui(ui, ctx.design, hovered);
@@ -307,7 +311,12 @@ impl EditorPanel {
             (self.stroke, self.view) = (None, None);
             return None;
         }
-        let committed = self.pointer(ui, &response, ctx, grid, n);
+        let committed = if self.emitters.active() {
+            self.emitters.pointer(&response, ctx, grid, n);
+            None
+        } else {
+            self.pointer(ui, &response, ctx, grid, n)
+        };
 
         // The frame that commits a stroke still draws it: the document takes the edit only
         // after this frame, and drawing its old cells here would blink the stroke away until
@@ -327,6 +336,7 @@ impl EditorPanel {
             _ => 1,
         };
         self.paint_grid(ui, grid, n, hovered.map(|cell| (cell, brush)));
+        self.emitters.paint(ui, grid, n, ctx.design.subpixels.as_ref());
         // Rings on the border reach past the grid's frame.
         let painter = ui.painter_at(grid.expand(16.0));
         let pitch_um = ctx.design.opening.pitch_um;
