@@ -5,6 +5,9 @@
 use udc_studio::core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
 use udc_studio::core::emitters::{auto_place, auto_place_cells, closed_cells};
 use udc_studio::io::design_file::{parse_design, to_json};
+use udc_studio::core::Progress;
+use udc_studio::core::design::TilingMode;
+use udc_studio::core::optimize::{OptimizeSettings, optimize};
 use udc_studio::io::presets::load_preset;
 
 /// The presets that carry an emitter layer: T-OLED, P-OLED and the two proposed layouts.
@@ -99,4 +102,50 @@ fn editing_the_opening_drops_emitters_on_opened_cells() {
     d.opening = Opening::open(7, 168.0);
     d.reconcile_subpixels();
     assert!(d.subpixels.is_none());
+}
+
+#[test]
+fn an_optimized_opening_under_the_reserve_constraint_admits_a_placement() {
+    let mut d = load_preset("toled-150dpi").unwrap();
+    d.optics = crate::common::small_optics();
+    d.tiling.mode = TilingMode::RandomD4;
+    // 60 % open leaves 176 closed cells; 50 cells of 64 µm² per colour need more than the
+    // binarised candidate is likely to leave in three rectangles.
+    let min_um2 = 50.0 * 64.0;
+    let settings = OptimizeSettings {
+        epochs: 6,
+        target_open_fraction: 0.6,
+        reserve_subpixels_um2: min_um2,
+        ..OptimizeSettings::default()
+    };
+    let r = optimize(&d, &settings, None, &Progress::new(), |_| {
+        std::ops::ControlFlow::Continue(())
+    })
+    .unwrap();
+    let out = &r.design;
+    out.validate().expect("emitters on closed cells");
+    let sp = out.subpixels.as_ref().expect("a placement");
+    let checks = SubpixelChecks::of(sp, out.opening.cell_um());
+    assert!(checks.area_um2.iter().all(|a| *a >= min_um2), "{checks:?}");
+    assert!(checks.equal_area_deviation_pct < 1e-9);
+    // Without the constraint the old placement is dropped, not carried over.
+    let free = OptimizeSettings {
+        reserve_subpixels_um2: 0.0,
+        ..settings
+    };
+    let r = optimize(&d, &free, None, &Progress::new(), |_| {
+        std::ops::ControlFlow::Continue(())
+    })
+    .unwrap();
+    assert!(r.design.subpixels.is_none());
+    // A footprint larger than a third of the pixel is refused by name.
+    let huge = OptimizeSettings {
+        reserve_subpixels_um2: 168.0 * 168.0 / 2.0,
+        ..free
+    };
+    let err = optimize(&d, &huge, None, &Progress::new(), |_| {
+        std::ops::ControlFlow::Continue(())
+    })
+    .unwrap_err();
+    assert!(err.to_string().contains("reserve_subpixels_um2"), "{err}");
 }
