@@ -50,13 +50,8 @@ pub struct AppearanceArgs {
 fn name_flag(e: SimError) -> anyhow::Error {
     match e {
         SimError::InvalidField { field, message }
-            if [
-                "dpi",
-                "viewing_distance_mm",
-                "region_mm",
-                "acuity_arcmin",
-            ]
-            .contains(&field.as_str()) =>
+            if ["dpi", "viewing_distance_mm", "region_mm", "acuity_arcmin"]
+                .contains(&field.as_str()) =>
         {
             anyhow!("--{}: {message}", field.replace('_', "-"))
         }
@@ -87,15 +82,14 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
         acuity_arcmin: args.acuity_arcmin,
     };
     let design = args.selection.resolve()?;
-    settings
-        .validate(design.opening.n())
-        .map_err(name_flag)?;
+    settings.validate(design.opening.n()).map_err(name_flag)?;
     let image: Vec<Array2<f64>> = match &args.image {
         Some(path) => photo::load_photo(path, Some(4096))?,
         None => photo::built_in_photo()?,
     };
     let progress = Progress::new();
-    let (quality, rendering) = appearance(&design, &image, &settings, &progress).map_err(name_flag)?;
+    let (quality, rendering) =
+        appearance(&design, &image, &settings, &progress).map_err(name_flag)?;
     let options = AnalyzeOptions {
         quality: if args.preview {
             Quality::Preview

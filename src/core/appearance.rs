@@ -170,8 +170,7 @@ fn layout(design: &Design, sp: &Subpixels, s: &AppearanceSettings) -> Result<Lay
             for r in 0..n {
                 for c in 0..n {
                     let (sr, sc) = d4.source(r, c, n);
-                    colour[[ty * n + r, tx * n + c]] =
-                        sp.cells[sr][sc].map(|k| k.index() as u8);
+                    colour[[ty * n + r, tx * n + c]] = sp.cells[sr][sc].map(|k| k.index() as u8);
                 }
             }
         }
@@ -213,8 +212,14 @@ fn pixel_values(image: &[Array2<f64>], px: usize) -> Vec<[f64; 3]> {
     let (oy, ox) = ((h - side) / 2, (w - side) / 2);
     for (i, v) in out.iter_mut().enumerate() {
         let (py, pxx) = (i / px, i % px);
-        let (y0, y1) = (py * side / px, ((py + 1) * side / px).max(py * side / px + 1));
-        let (x0, x1) = (pxx * side / px, ((pxx + 1) * side / px).max(pxx * side / px + 1));
+        let (y0, y1) = (
+            py * side / px,
+            ((py + 1) * side / px).max(py * side / px + 1),
+        );
+        let (x0, x1) = (
+            pxx * side / px,
+            ((pxx + 1) * side / px).max(pxx * side / px + 1),
+        );
         for (k, plane) in image.iter().take(3).enumerate() {
             let mut sum = 0.0;
             for y in y0..y1.min(side) {
@@ -346,7 +351,11 @@ fn harmonic_fraction(img: &Array2<f64>, period: usize) -> f64 {
         fold[[r % period, c % period]] += v;
     }
     let copies = ((h / period) * (w / period)).max(1) as f64;
-    let periodic: f64 = fold.iter().map(|s| (s / copies - mean).powi(2)).sum::<f64>() * copies;
+    let periodic: f64 = fold
+        .iter()
+        .map(|s| (s / copies - mean).powi(2))
+        .sum::<f64>()
+        * copies;
     (periodic / total).clamp(0.0, 1.0)
 }
 

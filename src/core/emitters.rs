@@ -97,11 +97,9 @@ fn place_three(free: &[Vec<bool>], area: usize) -> Option<Subpixels> {
                     .map(|c| (r, c, h, w))
             })
         })?;
-        for r in r0..r0 + h {
-            for c in c0..c0 + w {
-                avail[r][c] = false;
-                sp.cells[r][c] = Some(colour);
-            }
+        for (row, sp_row) in avail.iter_mut().zip(&mut sp.cells).skip(r0).take(h) {
+            row[c0..c0 + w].fill(false);
+            sp_row[c0..c0 + w].fill(Some(colour));
         }
     }
     Some(sp)

@@ -13,13 +13,17 @@ use crate::common::run_cli as run;
 
 fn quality(design: &Design, s: &AppearanceSettings) -> DisplayQuality {
     let grey = vec![Array2::from_elem((32, 32), 0.5)];
-    appearance(design, &grey, s, &Progress::new()).expect("renders").0
+    appearance(design, &grey, s, &Progress::new())
+        .expect("renders")
+        .0
 }
 
 /// An opaque pixel with R, G, B in three 7-column stripes.
 fn stripes() -> Design {
-    let mut d = Design::default();
-    d.opening = Opening::open(21, 168.0);
+    let mut d = Design {
+        opening: Opening::open(21, 168.0),
+        ..Default::default()
+    };
     d.opening.cells = vec![vec![0.0; 21]; 21];
     let mut sp = Subpixels::empty(21);
     for row in &mut sp.cells {
@@ -103,7 +107,12 @@ fn appearance_cli_prints_quality_beside_the_camera_auc() {
     assert!(ok, "{stderr}");
     let v: serde_json::Value = serde_json::from_str(stdout.trim()).expect("one JSON object");
     let q = &v["display_quality"];
-    for key in ["nonuniformity", "aliasing", "harmonic_fraction", "image_error"] {
+    for key in [
+        "nonuniformity",
+        "aliasing",
+        "harmonic_fraction",
+        "image_error",
+    ] {
         assert!(q[key].as_f64().is_some_and(f64::is_finite), "{key}: {v}");
     }
     assert!(v["camera_auc"].as_f64().is_some_and(|a| a > 0.0), "{v}");

@@ -26,7 +26,10 @@ fn the_appearance_view_shows_quality_beside_the_camera_auc() {
     let q = h.state().appearance_view().qualities();
     assert_eq!(q[0].0, "periodic");
     assert!(q[1].0.starts_with("random"));
-    assert!(q.iter().all(|(_, q)| q.nonuniformity.is_finite() && q.nonuniformity > 0.0));
+    assert!(
+        q.iter()
+            .all(|(_, q)| q.nonuniformity.is_finite() && q.nonuniformity > 0.0)
+    );
     assert_eq!(
         h.query_all_by_label_contains("nonuniformity").count(),
         2,

@@ -2,12 +2,12 @@
 //! (thesis §3.7, Fig. 3.26).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use udc_studio::core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
-use udc_studio::core::emitters::{auto_place, auto_place_cells, closed_cells};
-use udc_studio::io::design_file::{parse_design, to_json};
 use udc_studio::core::Progress;
 use udc_studio::core::design::TilingMode;
+use udc_studio::core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
+use udc_studio::core::emitters::{auto_place, auto_place_cells, closed_cells};
 use udc_studio::core::optimize::{OptimizeSettings, optimize};
+use udc_studio::io::design_file::{parse_design, to_json};
 use udc_studio::io::presets::load_preset;
 
 /// The presets that carry an emitter layer: T-OLED, P-OLED and the two proposed layouts.
@@ -27,7 +27,10 @@ fn presets_carry_equal_area_emitters_in_the_opaque_area() {
         let closed = closed_cells(&d.opening);
         for (r, row) in sp.cells.iter().enumerate() {
             for (c, s) in row.iter().enumerate() {
-                assert!(s.is_none() || closed[r][c], "{name}: emitter on open cell {r},{c}");
+                assert!(
+                    s.is_none() || closed[r][c],
+                    "{name}: emitter on open cell {r},{c}"
+                );
             }
         }
         let checks = SubpixelChecks::of(sp, d.opening.cell_um());
@@ -69,7 +72,10 @@ fn a_wrong_letter_or_size_is_refused() {
     let mut small = d.clone();
     small.subpixels = Some(Subpixels::empty(5));
     let err = parse_design(&to_json(&small)).expect_err("refused");
-    assert!(err.contains("subpixels.cells") && err.contains("21×21"), "{err}");
+    assert!(
+        err.contains("subpixels.cells") && err.contains("21×21"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -4,9 +4,9 @@
 
 use egui_kittest::Harness;
 use udc_studio::app::commands::{Command, Tool};
+use udc_studio::app::panels::PanelCtx;
 use udc_studio::app::panels::editor::EditorPanel;
 use udc_studio::app::panels::editor_emitters::EmitterBrush;
-use udc_studio::app::panels::PanelCtx;
 use udc_studio::core::design::{Design, Subpixel};
 
 struct State {
@@ -81,7 +81,10 @@ fn painting_on_an_open_cell_is_refused_with_a_message() {
     let mut h = harness();
     click(&mut h, 3, 10);
     assert!(
-        !h.state().commands.iter().any(|c| matches!(c, Command::Edit(_))),
+        !h.state()
+            .commands
+            .iter()
+            .any(|c| matches!(c, Command::Edit(_))),
         "no edit"
     );
     let status = h.state().panel.emitters.status.clone().expect("a status");

@@ -434,7 +434,13 @@ const PRESET_SOURCES: &[(&str, &str, f64, TilingMode, f64)] = &[
     ("l2inv-repeat", "L2Inv_Repeat.png", 168.0, Repeat, 6.0),
     ("l2-random", "L2_Random.png", 168.0, Random4, 6.0),
     ("l2inv-random", "L2Inv_Random.png", 168.0, Random4, 6.0),
-    ("l2inv-random-wiring8", "L2Inv_Random.png", 168.0, Random4, 6.0),
+    (
+        "l2inv-random-wiring8",
+        "L2Inv_Random.png",
+        168.0,
+        Random4,
+        6.0,
+    ),
 ];
 
 #[test]

@@ -336,7 +336,8 @@ impl EditorPanel {
             _ => 1,
         };
         self.paint_grid(ui, grid, n, hovered.map(|cell| (cell, brush)));
-        self.emitters.paint(ui, grid, n, ctx.design.subpixels.as_ref());
+        self.emitters
+            .paint(ui, grid, n, ctx.design.subpixels.as_ref());
         // Rings on the border reach past the grid's frame.
         let painter = ui.painter_at(grid.expand(16.0));
         let pitch_um = ctx.design.opening.pitch_um;

@@ -50,8 +50,9 @@ impl EmitterLayer {
     /// The layer's row: toggle, brushes, auto-placement and the per-colour checks.
     pub fn controls_ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
         ui.horizontal_wrapped(|ui| {
-            ui.checkbox(&mut self.shown, "Emitters")
-                .on_hover_text("Show and paint the R, G, B subpixels (they must sit on closed cells)");
+            ui.checkbox(&mut self.shown, "Emitters").on_hover_text(
+                "Show and paint the R, G, B subpixels (they must sit on closed cells)",
+            );
             if !self.shown {
                 return;
             }
@@ -126,7 +127,12 @@ impl EmitterLayer {
         let value = match brush {
             EmitterBrush::Paint(s) => {
                 let closed = closed_cells(&ctx.design.opening);
-                if !closed.get(r).and_then(|row| row.get(c)).copied().unwrap_or(false) {
+                if !closed
+                    .get(r)
+                    .and_then(|row| row.get(c))
+                    .copied()
+                    .unwrap_or(false)
+                {
                     self.status = Some(format!(
                         "cell (row {r}, column {c}) is open: emitters go on closed cells"
                     ));
@@ -163,7 +169,11 @@ impl EmitterLayer {
             for (c, s) in row.iter().enumerate() {
                 if let Some(s) = s {
                     let min = grid.min + vec2(c as f32, r as f32) * cell;
-                    painter.rect_filled(Rect::from_min_size(min, vec2(cell, cell)), 0.0, colour(*s));
+                    painter.rect_filled(
+                        Rect::from_min_size(min, vec2(cell, cell)),
+                        0.0,
+                        colour(*s),
+                    );
                 }
             }
         }

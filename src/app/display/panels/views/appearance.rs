@@ -236,7 +236,10 @@ impl AppearanceView {
             let eye = self.settings().eye_fwhm_um();
             ui.weak(format!("eye blur FWHM {eye:.0} um (1 arcmin)"));
             if ui
-                .add_enabled(self.scatter_job.is_none(), egui::Button::new("Scatter presets"))
+                .add_enabled(
+                    self.scatter_job.is_none(),
+                    egui::Button::new("Scatter presets"),
+                )
                 .on_hover_text("Camera AUC against display nonuniformity for every thesis preset")
                 .clicked()
             {
