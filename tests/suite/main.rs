@@ -23,6 +23,7 @@ mod io_files;
 mod layouts;
 mod mask_dialog;
 mod mask_drc;
+mod mask_emitters;
 mod mask_export;
 mod mask_fab;
 mod mask_fab_gds;
