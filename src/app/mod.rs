@@ -252,6 +252,11 @@ impl StudioApp {
         self.display().restore_view()
     }
 
+    /// The Appearance view's renderings and scatter.
+    pub fn appearance_view(&self) -> &panels::views::appearance::AppearanceView {
+        self.display().appearance_view()
+    }
+
     /// Shows a tab of the display workspace's left panel.
     pub fn show_left_tab(&mut self, tab: LeftTab) {
         self.display_mut().show_left_tab(tab);

@@ -73,6 +73,7 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
     let cells = import_opening_on(path, &design, layer, datatype)?;
     let mut design = design;
     design.opening.cells = cells;
+    design.reconcile_subpixels();
     design
         .validate()
         .map_err(|e| anyhow!("{}: {e}", path.display()))?;
@@ -149,6 +150,7 @@ fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result
     }
     if let Some(n) = args.cells {
         design.opening.cells = square(cells_in_range(n as f64, "--cells")?);
+        design.reconcile_subpixels();
     }
     Ok(design)
 }

@@ -1,5 +1,6 @@
 //! Headless commands, built only on `core` and `io`.
 
+pub mod appearance;
 pub mod drc;
 mod export_cmd;
 pub mod field_depth;
@@ -81,6 +82,9 @@ pub enum Command {
     /// A capture that clips specular highlights against an exposure-bracketed HDR capture, both
     /// restored by Wiener deconvolution (thesis §3.7, Fig. 3.30).
     Saturation(saturation::SaturationArgs),
+    /// Show an image on the design's layout as the eye sees it (subpixels, DPI, viewing
+    /// distance) with display-quality numbers beside the camera's AUC (thesis §3.7).
+    Appearance(appearance::AppearanceArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -155,6 +159,7 @@ impl DesignSelection {
         if let Some(path) = &self.pattern {
             design.opening.cells = pattern::load_pattern_png(path)?;
             design.opening.polygons.clear();
+            design.reconcile_subpixels();
         }
         if let Some(p) = self.pitch_um {
             design.opening.pitch_um = p;
@@ -247,6 +252,7 @@ fn run_command(command: Command) -> Result<()> {
         Command::Field(args) => field_depth::field_cmd(&args),
         Command::Depth(args) => field_depth::depth_cmd(&args),
         Command::Saturation(args) => saturation::saturation_cmd(&args),
+        Command::Appearance(args) => appearance::appearance_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }

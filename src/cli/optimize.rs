@@ -59,6 +59,10 @@ pub struct OptimizeArgs {
     /// Optimize on the preview sampling (twice the fine spacing: about 4× faster).
     #[arg(long)]
     pub preview: bool,
+    /// Reserve room for three equal R, G, B emitters of at least this many µm² each in the
+    /// opaque area (0 = off); the saved design carries their placement.
+    #[arg(long, default_value_t = 0.0)]
+    pub reserve_subpixels_um2: f64,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -122,6 +126,7 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
         } else {
             Quality::Full
         },
+        reserve_subpixels_um2: args.reserve_subpixels_um2,
         ..OptimizeSettings::default()
     };
     settings.validate()?;

@@ -4,9 +4,11 @@
 pub mod advice;
 pub mod analyze;
 pub mod aperture;
+pub mod appearance;
 pub mod budget;
 pub mod depth;
 pub mod design;
+pub mod emitters;
 pub mod error;
 pub mod expected;
 pub mod fft;

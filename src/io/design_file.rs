@@ -6,8 +6,10 @@
 //!   "opening": { "pitch_um": 168, "cells": ["....", "…"], "polygons": [] },
 //!   "tiling":  { "mode": "repeat", "seed": 0, "origin_offset_cells": [6, 6], "wiring_gap_um": 0 },
 //!   "optics":  { "recipe": "iccp21", "focal_length_mm": 10, "f_number": 2.5, … },
-//!   "channels": [ { "name": "R", "wavelengths_nm": [610], "weights": [1] }, … ] }
+//!   "channels": [ { "name": "R", "wavelengths_nm": [610], "weights": [1] }, … ],
+//!   "subpixels": { "cells": ["RR..GG", "…"] } }
 //! ```
+//! `subpixels` (optional) is the emitter layer: `R`, `G`, `B` or `.` per cell of the opening.
 //! Unknown fields are rejected and every error names the field's path (`optics.f_number`).
 
 use std::path::Path;
@@ -18,7 +20,7 @@ use super::IoError;
 use super::safe_file::read_text_bounded;
 use super::safe_file::write_atomic;
 use crate::core::design::Theory;
-use crate::core::design::{Channel, Design, Opening, Optics, Tiling};
+use crate::core::design::{Channel, Design, Opening, Optics, Subpixels, Tiling};
 
 /// The `format` field every design file carries.
 pub const FORMAT: &str = "udc-studio-design";
@@ -48,6 +50,8 @@ struct FileV1 {
     channels: Vec<Channel>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     theory: Option<Theory>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    subpixels: Option<Subpixels>,
 }
 
 /// Parses and validates a design file's text.
@@ -94,6 +98,7 @@ pub fn parse_design(text: &str) -> Result<Design, String> {
         optics: file.optics,
         channels: file.channels,
         theory: file.theory,
+        subpixels: file.subpixels,
     };
     design.validate().map_err(|e| e.to_string())?;
     Ok(design)
@@ -131,6 +136,7 @@ pub fn to_json(design: &Design) -> String {
         optics: design.optics.clone(),
         channels: design.channels.clone(),
         theory: design.theory,
+        subpixels: design.subpixels.clone(),
     };
     // Serialising plain data to a String cannot fail.
     serde_json::to_string_pretty(&file).unwrap_or_default() + "\n"

@@ -62,6 +62,7 @@ presets!(
     Thesis: "l2inv-repeat",
     Thesis: "l2-random",
     Thesis: "l2inv-random",
+    Thesis: "l2inv-random-wiring8",
     FourierOptics: "fourier-slit",
     FourierOptics: "fourier-double-slit",
     FourierOptics: "fourier-square",

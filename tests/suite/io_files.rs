@@ -434,6 +434,13 @@ const PRESET_SOURCES: &[(&str, &str, f64, TilingMode, f64)] = &[
     ("l2inv-repeat", "L2Inv_Repeat.png", 168.0, Repeat, 6.0),
     ("l2-random", "L2_Random.png", 168.0, Random4, 6.0),
     ("l2inv-random", "L2Inv_Random.png", 168.0, Random4, 6.0),
+    (
+        "l2inv-random-wiring8",
+        "L2Inv_Random.png",
+        168.0,
+        Random4,
+        6.0,
+    ),
 ];
 
 #[test]
@@ -456,7 +463,8 @@ fn every_preset_is_its_reference_pattern_and_round_trips() {
         assert_eq!(d.tiling.mode, mode, "{name}");
         assert_eq!(d.tiling.seed, 0, "{name}");
         assert_eq!(d.tiling.origin_offset_cells, [offset, offset], "{name}");
-        assert_eq!(d.tiling.wiring_gap_um, 0.0, "{name}");
+        let gap_um = if name.ends_with("-wiring8") { 8.0 } else { 0.0 };
+        assert_eq!(d.tiling.wiring_gap_um, gap_um, "{name}");
         assert_eq!(d.channels, Channel::rgb_peaks(), "{name}");
         assert!(!d.name.is_empty(), "{name}");
         assert!(

@@ -4,6 +4,8 @@
 mod common;
 
 mod advice;
+mod appearance;
+mod appearance_view;
 mod architecture;
 mod cli;
 mod cli_optimize;
@@ -14,6 +16,8 @@ mod corpus;
 mod design_file;
 mod drc_strict;
 mod drop;
+mod emitters;
+mod emitters_editor;
 mod expected_psf;
 mod field_depth;
 mod field_depth_view;
@@ -21,6 +25,7 @@ mod io_files;
 mod layouts;
 mod mask_dialog;
 mod mask_drc;
+mod mask_emitters;
 mod mask_export;
 mod mask_fab;
 mod mask_fab_gds;

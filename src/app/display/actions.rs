@@ -203,6 +203,7 @@ impl DisplayWorkspace {
             }?;
             design.opening.cells = cells;
             design.opening.polygons.clear();
+            design.reconcile_subpixels();
             Ok::<_, JobError>((design, None))
         });
         self.files.load = Some(task);

@@ -40,7 +40,9 @@ impl Document {
     }
 
     /// Applies a committed edit as one undo step. Returns whether anything changed.
-    pub fn edit(&mut self, design: Design) -> bool {
+    /// Emitters left on cells the edit opened are removed (they must sit on closed cells).
+    pub fn edit(&mut self, mut design: Design) -> bool {
+        design.reconcile_subpixels();
         if design == self.design {
             return false;
         }

@@ -192,6 +192,11 @@ impl DisplayWorkspace {
         &mut self.panels.views
     }
 
+    /// The Appearance view's renderings and scatter.
+    pub fn appearance_view(&self) -> &panels::views::appearance::AppearanceView {
+        &self.panels.views.appearance
+    }
+
     /// The Restore view's results.
     pub fn restore_view(&self) -> &panels::views::restore::RestoreView {
         &self.panels.views.restore

@@ -6,9 +6,11 @@ use serde::{Deserialize, Serialize};
 
 use super::SimError;
 
+mod subpixels;
 mod theory;
 mod validate;
 
+pub use subpixels::{Subpixel, SubpixelChecks, Subpixels};
 pub use theory::Theory;
 
 /// Largest opening grid the studio accepts (cells per side).
@@ -46,6 +48,10 @@ pub struct Design {
     /// without one compare with their own diffraction orders.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub theory: Option<Theory>,
+    /// The emitter layer: where the R, G, B subpixels sit in the opaque area (thesis §3.7).
+    /// Designs without one get an automatic placement where one is needed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub subpixels: Option<Subpixels>,
 }
 
 /// One display pixel's opening: an `N×N` grid of amplitude transmittance in `[0, 1]`.
@@ -353,6 +359,22 @@ impl Design {
             optics: Optics::iccp21(),
             channels: Channel::rgb_peaks(),
             theory: None,
+            subpixels: None,
+        }
+    }
+}
+
+impl Design {
+    /// Keeps the emitter layer consistent after the opening changed: a grid of another size is
+    /// dropped, emitters on cells that are now open are removed.
+    pub fn reconcile_subpixels(&mut self) {
+        let n = self.opening.n();
+        if let Some(sp) = &mut self.subpixels {
+            if sp.cells.len() != n || sp.cells.iter().any(|r| r.len() != n) {
+                self.subpixels = None;
+            } else {
+                sp.clear_open(&self.opening.cells);
+            }
         }
     }
 }

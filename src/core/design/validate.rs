@@ -95,6 +95,9 @@ impl Design {
                 }
             }
         }
+        if let Some(sp) = &self.subpixels {
+            validate_subpixels(sp, &o.cells)?;
+        }
         let t = &self.tiling;
         finite("tiling.origin_offset_cells[0]", t.origin_offset_cells[0])?;
         finite("tiling.origin_offset_cells[1]", t.origin_offset_cells[1])?;
@@ -243,4 +246,44 @@ impl Design {
         }
         Ok(())
     }
+}
+
+/// The emitter grid matches the opening and every emitter sits on a closed cell.
+fn validate_subpixels(sp: &Subpixels, cells: &[Vec<f64>]) -> Result<(), SimError> {
+    let n = cells.len();
+    if sp.cells.len() != n {
+        return Err(SimError::field(
+            "subpixels.cells",
+            format!(
+                "has {} rows; it must match the opening's {n}×{n} cells",
+                sp.cells.len()
+            ),
+        ));
+    }
+    for (r, row) in sp.cells.iter().enumerate() {
+        if row.len() != n {
+            return Err(SimError::field(
+                format!("subpixels.cells[{r}]"),
+                format!(
+                    "has {} entries; it must match the opening's {n}×{n} cells",
+                    row.len()
+                ),
+            ));
+        }
+        for (c, s) in row.iter().enumerate() {
+            if let Some(s) = s
+                && cells[r][c] > 0.0
+            {
+                return Err(SimError::field(
+                    format!("subpixels.cells[{r}][{c}]"),
+                    format!(
+                        "the {} emitter at row {r}, column {c} sits on an open cell; emitters \
+                         are opaque and must lie in the closed area",
+                        s.name()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }

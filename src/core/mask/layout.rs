@@ -140,6 +140,9 @@ pub struct MaskLayout {
     pub orientations: Vec<D4>,
     /// The drawn polygons of the identity orientation, corner frame.
     pub base_polygons: Vec<Polygon>,
+    /// The R, G, B emitter cells of the identity orientation, when the design has an emitter
+    /// layer (thesis §3.7); exported on their own layers.
+    pub emitters: Option<[Vec<Vec<bool>>; 3]>,
     /// Chrome tone with a wiring gap: the gap around one tile (right and below), corner frame.
     pub gap_polygon: Option<Polygon>,
     /// Pupil region: the pupil outline, mask frame.
@@ -219,6 +222,18 @@ impl MaskLayout {
             drawn,
             orientations: Vec::new(),
             base_polygons: Vec::new(),
+            emitters: design
+                .subpixels
+                .as_ref()
+                .filter(|sp| sp.cells.len() == n)
+                .map(|sp| {
+                    crate::core::design::Subpixel::ALL.map(|s| {
+                        sp.cells
+                            .iter()
+                            .map(|r| r.iter().map(|v| *v == Some(s)).collect())
+                            .collect()
+                    })
+                }),
             gap_polygon: None,
             pupil_outline: None,
             pupil_diameter_um,
@@ -269,6 +284,21 @@ impl MaskLayout {
             .iter()
             .map(|r| self.ring_to_polygon(r))
             .collect()
+    }
+
+    /// The emitter polygons of colour `k` (0 = R, 1 = G, 2 = B) of a tile in orientation `g`,
+    /// corner frame; empty without an emitter layer.
+    pub fn emitter_polygons(&self, k: usize, g: D4) -> Vec<Polygon> {
+        let Some(rows) = self.emitters.as_ref().and_then(|e| e.get(k)) else {
+            return Vec::new();
+        };
+        trace_polygons(
+            &BinaryGrid::from_rows(&g.apply(rows)),
+            self.spec.max_vertices,
+        )
+        .iter()
+        .map(|r| self.ring_to_polygon(r))
+        .collect()
     }
 
     /// A ring on the half-cell lattice of one tile, in nanometres (corner frame).

@@ -8,6 +8,7 @@
 pub mod adam;
 pub mod data;
 pub mod model;
+pub mod reserve;
 pub mod spectra;
 
 use std::ops::ControlFlow;
@@ -98,6 +99,9 @@ pub struct OptimizeSettings {
     /// Preview doubles the fine spacing (a quarter of the FFT work), as in
     /// [`crate::core::analyze::Quality`].
     pub quality: Quality,
+    /// Reserve room for three equal R, G, B emitters of at least this many µm² each in the
+    /// opaque area (0 = no constraint); the result carries their placement.
+    pub reserve_subpixels_um2: f64,
 }
 
 impl Default for OptimizeSettings {
@@ -114,6 +118,7 @@ impl Default for OptimizeSettings {
             area_every_epochs: 5,
             start: Start::AllOpen,
             quality: Quality::Full,
+            reserve_subpixels_um2: 0.0,
         }
     }
 }
@@ -180,6 +185,13 @@ impl OptimizeSettings {
         }
         if self.area_every_epochs == 0 {
             return Err(SimError::field("area_every_epochs", "must be ≥ 1"));
+        }
+        let r = self.reserve_subpixels_um2;
+        if !(r.is_finite() && r >= 0.0) {
+            return Err(SimError::field(
+                "reserve_subpixels_um2",
+                format!("must be zero (off) or a positive number of µm² (got {r:?})"),
+            ));
         }
         Ok(())
     }
@@ -499,6 +511,18 @@ pub fn optimize(
     let mut out = design.clone();
     out.opening.cells = binarise(&relaxed, n, settings.target_open_fraction);
     out.opening.polygons.clear();
+    // The old placement belongs to the old opening.
+    out.subpixels = None;
+    if settings.reserve_subpixels_um2 > 0.0 {
+        let (cells, sp) = reserve::reserve_subpixels(
+            std::mem::take(&mut out.opening.cells),
+            &relaxed,
+            out.opening.pitch_um,
+            settings.reserve_subpixels_um2,
+        )?;
+        out.opening.cells = cells;
+        out.subpixels = Some(sp);
+    }
     out.name = format!("{} (optimized)", design.name);
     out.description = format!(
         "Optimized from \"{}\" for {} epochs (L_inv weight {}, data weight {}), open fraction {:.3}. {}",

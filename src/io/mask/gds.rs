@@ -55,6 +55,31 @@ fn boundary(poly: &Polygon, layer: i16, datatype: i16) -> GdsElement {
     })
 }
 
+/// Default GDSII layer/datatype of the R, G, B emitters (roles emitter_red, emitter_green,
+/// emitter_blue).
+pub const EMITTER_LAYERS: [(i16, i16); 3] = [(21, 0), (22, 0), (23, 0)];
+
+/// A pixel cell of orientation `g`: its drawn polygons and, when the design has them, its
+/// emitters on their own layers (they follow the tile's orientation with the references).
+fn pixel_cell(
+    name: String,
+    layout: &MaskLayout,
+    g: D4,
+    polys: &[Polygon],
+    o: &ExportOptions,
+) -> GdsStruct {
+    let mut s = cell(name, polys, o.layer, o.datatype);
+    for (k, (layer, datatype)) in EMITTER_LAYERS.into_iter().enumerate() {
+        s.elems.extend(
+            layout
+                .emitter_polygons(k, g)
+                .iter()
+                .map(|p| boundary(p, layer, datatype)),
+        );
+    }
+    s
+}
+
 fn cell(name: String, polys: &[Polygon], layer: i16, datatype: i16) -> GdsStruct {
     let mut s = GdsStruct::new(name);
     s.elems = polys.iter().map(|p| boundary(p, layer, datatype)).collect();
@@ -119,19 +144,20 @@ fn library(
     let mut lib = GdsLibrary::new("UDCSTUDIO");
     // Database unit 1 nm = 1e-3 user units (1 µm), 1e-9 m.
     lib.units = GdsUnits::new(1e-3, 1e-9);
-    let pixel_cell = format!("{top}_PIXEL");
+    let pixel_cell_name = format!("{top}_PIXEL");
     match o.gds_cells {
-        GdsCells::Strans => lib.structs.push(cell(
-            pixel_cell.clone(),
+        GdsCells::Strans => lib.structs.push(pixel_cell(
+            pixel_cell_name.clone(),
+            layout,
+            D4::IDENTITY,
             &layout.base_polygons,
-            o.layer,
-            o.datatype,
+            o,
         )),
         GdsCells::PerOrientation => {
             for &g in &layout.orientations {
                 let polys = layout.polygons(g);
                 let name = orientation_cell(layout, top, g);
-                lib.structs.push(cell(name, &polys, o.layer, o.datatype));
+                lib.structs.push(pixel_cell(name, layout, g, &polys, o));
             }
         }
     }
@@ -187,7 +213,7 @@ fn library(
     }
     if !layout.mode.is_random() {
         let name = match o.gds_cells {
-            GdsCells::Strans => pixel_cell,
+            GdsCells::Strans => pixel_cell_name,
             GdsCells::PerOrientation => orientation_cell(layout, top, D4::IDENTITY),
         };
         top_cell.elems.extend(arrays(layout, &name, [0, 0]));

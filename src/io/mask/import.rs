@@ -270,6 +270,8 @@ pub fn import_opening_on(
     let mut frame = design.clone();
     frame.opening.cells = vec![vec![1.0; n]; n];
     frame.opening.polygons.clear();
+    // Emitters would sit on the all-open frame's cells; they play no part in the registration.
+    frame.subpixels = None;
     let layout = MaskLayout::new(&frame, &spec)?;
     let [x_nm, y_nm] = layout.tile_corner_nm(0, 0);
     let cells = match notes {

@@ -19,6 +19,7 @@ pub fn open_design(optics: Optics, channels: Vec<Channel>) -> Design {
         optics,
         channels,
         theory: None,
+        subpixels: None,
     }
 }
 

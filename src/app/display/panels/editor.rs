@@ -39,6 +39,8 @@ pub struct EditorPanel {
     view: Option<View>,
     /// The design rules on the canvas (View > Design rules on the editor).
     rules: RulesOverlay,
+    /// The R, G, B emitter layer.
+    pub emitters: super::editor_emitters::EmitterLayer,
 }
 
 impl Default for EditorPanel {
@@ -53,6 +55,7 @@ impl Default for EditorPanel {
             grid_n: 0,
             view: None,
             rules: RulesOverlay::default(),
+            emitters: Default::default(),
         }
     }
 }
@@ -209,6 +212,7 @@ impl EditorPanel {
         self.rules.update(ui.ctx(), ctx.design, ctx.design_rules);
         tools_ui(ui, ctx);
         self.options_ui(ui, ctx);
+        self.emitters.controls_ui(ui, ctx);
         ui.separator();
         let hovered = self.grid_ui(ui, ctx);
         self.readouts_ui(ui, ctx.design, hovered);
@@ -269,6 +273,7 @@ impl EditorPanel {
                 let mut design = ctx.design.clone();
                 let new_n = self.new_n.min(MAX_CELLS);
                 design.opening.cells = ops::resample(&design.opening.cells, new_n);
+                design.reconcile_subpixels();
                 ctx.edit(design);
             }
             let import = ui.button("Import PNG…").on_hover_text(
@@ -306,7 +311,12 @@ impl EditorPanel {
             (self.stroke, self.view) = (None, None);
             return None;
         }
-        let committed = self.pointer(ui, &response, ctx, grid, n);
+        let committed = if self.emitters.active() {
+            self.emitters.pointer(&response, ctx, grid, n);
+            None
+        } else {
+            self.pointer(ui, &response, ctx, grid, n)
+        };
 
         // The frame that commits a stroke still draws it: the document takes the edit only
         // after this frame, and drawing its old cells here would blink the stroke away until
@@ -326,6 +336,8 @@ impl EditorPanel {
             _ => 1,
         };
         self.paint_grid(ui, grid, n, hovered.map(|cell| (cell, brush)));
+        self.emitters
+            .paint(ui, grid, n, ctx.design.subpixels.as_ref());
         // Rings on the border reach past the grid's frame.
         let painter = ui.painter_at(grid.expand(16.0));
         let pitch_um = ctx.design.opening.pitch_um;
@@ -413,6 +425,7 @@ impl EditorPanel {
             if ctx.design.opening.cells == stroke.base {
                 let mut design = ctx.design.clone();
                 design.opening.cells = stroke.draft.clone();
+                design.reconcile_subpixels();
                 ctx.edit(design);
                 // Draw the next frame from the document, which then holds the stroke.
                 ui.ctx().request_repaint();

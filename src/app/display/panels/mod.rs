@@ -3,6 +3,7 @@
 
 pub mod advice;
 pub mod editor;
+pub mod editor_emitters;
 pub mod editor_rules;
 pub mod mask_export;
 pub mod numbers;

@@ -303,6 +303,18 @@ impl OptimizePanel {
                 )
                 .on_hover_text("Fraction of the pixel left open at the end (the thesis: 0.2)");
                 ui.end_row();
+                ui.label("Reserve subpixels");
+                ui.add(
+                    crate::app::widgets::number(&mut s.reserve_subpixels_um2)
+                        .range(0.0..=1.0e6)
+                        .speed(10.0)
+                        .suffix(" um2 per colour"),
+                )
+                .on_hover_text(
+                    "Keep room for three equal R, G, B emitters of at least this area each in \
+                     the opaque area (0 = off); the result carries their placement",
+                );
+                ui.end_row();
                 ui.label("L_inv weight");
                 ui.add(
                     crate::app::widgets::number(&mut s.weights.inv)

@@ -5,6 +5,7 @@
 //! setting (a texture cache keyed by generation, quality, channel and floor); the frame loop
 //! only places them in plots.
 
+pub mod appearance;
 mod compare;
 mod expected;
 pub mod field_depth;
@@ -57,11 +58,13 @@ pub enum ViewTab {
     Restore,
     /// PSFs over the field and with depth, with their residuals (thesis §3.7).
     FieldDepth,
+    /// A photo on the layout as the eye sees it, periodic and random, with display quality.
+    Appearance,
 }
 
 impl ViewTab {
     /// Every tab, in the order of the tab bar.
-    pub const ALL: [ViewTab; 10] = [
+    pub const ALL: [ViewTab; 11] = [
         ViewTab::Psf,
         ViewTab::LogPsf,
         ViewTab::Rgb,
@@ -72,6 +75,7 @@ impl ViewTab {
         ViewTab::Compare,
         ViewTab::Restore,
         ViewTab::FieldDepth,
+        ViewTab::Appearance,
     ];
 
     /// Text on the tab.
@@ -87,6 +91,7 @@ impl ViewTab {
             ViewTab::Compare => "Compare",
             ViewTab::Restore => "Restore",
             ViewTab::FieldDepth => "Field & depth",
+            ViewTab::Appearance => "Appearance",
         }
     }
 
@@ -102,6 +107,7 @@ impl ViewTab {
             ViewTab::Compare => hints::COMPARE,
             ViewTab::Restore => hints::RESTORE,
             ViewTab::FieldDepth => hints::FIELD_DEPTH,
+            ViewTab::Appearance => hints::APPEARANCE,
         }
     }
 }
@@ -120,6 +126,8 @@ pub struct ViewsPanel {
     pub restore: restore::RestoreView,
     /// The Field & depth view (its own settings and background job).
     pub field_depth: field_depth::FieldDepthView,
+    /// The Appearance view (its settings, renderings and scatter).
+    pub appearance: appearance::AppearanceView,
     /// The reference marks drawn over the PSFs (with the teaching overlays on).
     overlay_choice: OverlayChoice,
     /// The Theory view's cached comparison and scale.
@@ -137,6 +145,7 @@ impl Default for ViewsPanel {
             textures: Textures::default(),
             restore: restore::RestoreView::default(),
             field_depth: field_depth::FieldDepthView::default(),
+            appearance: appearance::AppearanceView::default(),
             overlay_choice: OverlayChoice::default(),
             theory: theory::TheoryView::default(),
         }
@@ -197,6 +206,7 @@ impl ViewsPanel {
             ViewTab::Compare => self.compare_ui(ui, shown, ctx),
             ViewTab::Restore => self.restore.ui(ui, shown, ctx),
             ViewTab::FieldDepth => self.field_depth.ui(ui, shown),
+            ViewTab::Appearance => self.appearance.ui(ui, shown),
         }
     }
 

@@ -71,3 +71,12 @@ other tile orientations, so the PSF changes. Depth: focused on a near object the
 infinity PSF scaled by z2/f from the lens law (a few per cent at 10 cm); focused at infinity, a \
 near object is out of focus. Each PSF is shown with what is left after deblurring it with the \
 reference PSF: a clean dot means the restoration's kernel still fits.";
+/// The Appearance view.
+pub const APPEARANCE: &str = "The built-in photo shown on this layout as a display would show it: \
+every pixel's R, G and B emitters (the editor's Emitters layer, or an automatic placement) light \
+with the photo's channel values, the layout scaled to the chosen DPI, then blurred by the eye \
+(a Gaussian of 1 arcminute FWHM at the viewing distance). Left periodic, right random: random \
+tilings trade a little display uniformity for a more invertible camera blur. Nonuniformity is \
+the spread of a flat white field's luminance; aliasing the error energy of a slanted edge \
+against an ideal full-fill display. Scatter presets places every thesis layout on camera AUC \
+against display nonuniformity.";
