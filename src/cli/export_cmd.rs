@@ -144,6 +144,8 @@ pub(super) fn export_cmd(args: &ExportArgs) -> Result<()> {
         layer_map: args.layer_map.as_deref().map(read_layer_map).transpose()?,
         deterministic: args.deterministic,
         frame: args.frame(),
+        // Set from the design when the export resolves its options.
+        emitters: false,
     };
     crate::io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
     let report = export_mask(&design, &options, &args.out, &Progress::new())?;

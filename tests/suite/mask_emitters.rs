@@ -63,3 +63,73 @@ fn emitters_are_exported_on_their_own_gds_layers() {
         );
     }
 }
+
+#[test]
+fn emitter_layers_follow_the_layer_map_and_oasis_draws_them_like_gds() {
+    use udc_studio::io::fab::LayerMap;
+    let dir = tempfile::tempdir().unwrap();
+    let mut d = load_preset("l2inv-random").unwrap();
+    assert!(d.subpixels.is_some(), "the preset carries a placement");
+    d.tiling.mode = TilingMode::RandomD4;
+    let map = LayerMap::parse("emitter_green 40/2\n").unwrap();
+    let o = |format| ExportOptions {
+        format,
+        spec: MaskSpec {
+            region: MaskRegion::Block { cols: 4, rows: 3 },
+            ..MaskSpec::default()
+        },
+        layer_map: Some(map.clone()),
+        deterministic: true,
+        ..ExportOptions::default()
+    };
+    let (gds, oas) = (dir.path().join("e.gds"), dir.path().join("e.oas"));
+    let rg = export_mask(&d, &o(MaskFormat::Gds), &gds, &Progress::new()).unwrap();
+    export_mask(&d, &o(MaskFormat::Oas), &oas, &Progress::new()).unwrap();
+    // The fab's layer map file names every emitter layer, the mapped one moved.
+    let written = std::fs::read_to_string(rg.fab_files.layers.clone().unwrap()).unwrap();
+    let back = LayerMap::parse(&written).unwrap();
+    assert_eq!(back.get("emitter_red"), Some((21, 0)));
+    assert_eq!(back.get("emitter_green"), Some((40, 2)));
+    assert_eq!(back.get("emitter_blue"), Some((23, 0)));
+    assert!(
+        rg.lines().iter().any(|l| l.contains("emitter_green 40/2")),
+        "{:?}",
+        rg.lines()
+    );
+    // KLayout: each emitter layer of the OASIS XORs to nothing against the GDSII's.
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/mask_check.py");
+    for (layer, datatype) in [("21", "0"), ("40", "2"), ("23", "0")] {
+        let out = Command::new("python3")
+            .args([script, "klayout", oas.to_str().unwrap(), layer, datatype])
+            .arg(gds.to_str().unwrap())
+            .output()
+            .expect("python3 with klayout is required");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let k: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert!(
+            k["area_um2"].as_f64().unwrap() > 0.0,
+            "{layer}/{datatype}: {k}"
+        );
+        assert_eq!(
+            k["xor_area_um2"].as_f64().unwrap(),
+            0.0,
+            "{layer}/{datatype}: {k}"
+        );
+    }
+    // A design without emitters writes no emitter layer.
+    let mut bare = d.clone();
+    bare.subpixels = None;
+    let rb = export_mask(
+        &bare,
+        &o(MaskFormat::Gds),
+        &dir.path().join("b.gds"),
+        &Progress::new(),
+    )
+    .unwrap();
+    let none = std::fs::read_to_string(rb.fab_files.layers.clone().unwrap()).unwrap();
+    assert!(!none.contains("emitter"), "{none}");
+}

@@ -26,17 +26,33 @@ pub enum LayerRole {
     Marks,
     /// The label: design name, date, scale (default layer 12/0).
     Label,
+    /// The red emitters of the design's subpixel layer (default 21/0).
+    EmitterRed,
+    /// The green emitters (default 22/0).
+    EmitterGreen,
+    /// The blue emitters (default 23/0).
+    EmitterBlue,
 }
 
 impl LayerRole {
     /// Every role, in layer-map order.
-    pub const ALL: [LayerRole; 6] = [
+    pub const ALL: [LayerRole; 9] = [
         LayerRole::Openings,
         LayerRole::Outline,
         LayerRole::Notes,
         LayerRole::Frame,
         LayerRole::Marks,
         LayerRole::Label,
+        LayerRole::EmitterRed,
+        LayerRole::EmitterGreen,
+        LayerRole::EmitterBlue,
+    ];
+
+    /// The emitter roles in R, G, B order (the subpixel layer's colour index).
+    pub const EMITTERS: [LayerRole; 3] = [
+        LayerRole::EmitterRed,
+        LayerRole::EmitterGreen,
+        LayerRole::EmitterBlue,
     ];
 
     /// The name in a layer map file.
@@ -48,6 +64,9 @@ impl LayerRole {
             LayerRole::Frame => "frame",
             LayerRole::Marks => "marks",
             LayerRole::Label => "label",
+            LayerRole::EmitterRed => "emitter_red",
+            LayerRole::EmitterGreen => "emitter_green",
+            LayerRole::EmitterBlue => "emitter_blue",
         }
     }
 }
@@ -59,6 +78,8 @@ pub const FRAME_LAYER: (i16, i16) = (10, 0);
 pub const MARKS_LAYER: (i16, i16) = (11, 0);
 /// Default layer/datatype of the label.
 pub const LABEL_LAYER: (i16, i16) = (12, 0);
+/// Default layer/datatype of the R, G, B emitters.
+pub const EMITTER_LAYERS: [(i16, i16); 3] = [(21, 0), (22, 0), (23, 0)];
 
 /// The layer/datatype of every role.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -75,6 +96,8 @@ pub struct MaskLayers {
     pub marks: (i16, i16),
     /// Label.
     pub label: (i16, i16),
+    /// R, G, B emitters.
+    pub emitters: [(i16, i16); 3],
 }
 
 impl MaskLayers {
@@ -87,6 +110,9 @@ impl MaskLayers {
             LayerRole::Frame => self.frame,
             LayerRole::Marks => self.marks,
             LayerRole::Label => self.label,
+            LayerRole::EmitterRed => self.emitters[0],
+            LayerRole::EmitterGreen => self.emitters[1],
+            LayerRole::EmitterBlue => self.emitters[2],
         }
     }
 
@@ -99,6 +125,9 @@ impl MaskLayers {
             LayerRole::Frame => &mut self.frame,
             LayerRole::Marks => &mut self.marks,
             LayerRole::Label => &mut self.label,
+            LayerRole::EmitterRed => &mut self.emitters[0],
+            LayerRole::EmitterGreen => &mut self.emitters[1],
+            LayerRole::EmitterBlue => &mut self.emitters[2],
         }
     }
 
@@ -133,6 +162,7 @@ impl ExportOptions {
             frame: FRAME_LAYER,
             marks: MARKS_LAYER,
             label: LABEL_LAYER,
+            emitters: EMITTER_LAYERS,
         };
         if let Some(map) = &self.layer_map {
             for e in &map.entries {
@@ -166,7 +196,8 @@ impl ExportOptions {
     }
 
     /// The roles this export writes, in layer-map order: openings, outline and notes always,
-    /// frame, marks and label when asked for and the format draws them (PNG does not).
+    /// frame, marks and label when asked for and the format draws them (PNG does not), the
+    /// emitters when the design has a subpixel layer and the format has cells (GDSII, OASIS).
     pub fn written_roles(&self) -> Vec<LayerRole> {
         let f = &self.frame;
         let drawn = self.format != MaskFormat::Png;
@@ -177,6 +208,9 @@ impl ExportOptions {
                 LayerRole::Frame => drawn && f.frame,
                 LayerRole::Marks => drawn && f.marks,
                 LayerRole::Label => drawn && f.label,
+                LayerRole::EmitterRed | LayerRole::EmitterGreen | LayerRole::EmitterBlue => {
+                    self.emitters && matches!(self.format, MaskFormat::Gds | MaskFormat::Oas)
+                }
             })
             .collect()
     }
@@ -191,6 +225,7 @@ impl ExportOptions {
         let mut o = self.clone();
         (o.layer, o.datatype) = l.openings;
         o.note_layer = l.notes.0;
+        o.emitters = design.subpixels.is_some();
         if o.top_cell.is_none() {
             o.top_cell = Some(derived_cell_name(&design.name, &design_hash(design)));
         }
@@ -202,7 +237,8 @@ impl ExportOptions {
     pub fn layers_line(&self) -> String {
         match self.mask_layers() {
             Ok(l) => {
-                let roles: Vec<String> = LayerRole::ALL
+                let roles: Vec<String> = self
+                    .written_roles()
                     .into_iter()
                     .map(|r| {
                         let (layer, datatype) = l.of(r);

@@ -55,10 +55,6 @@ fn boundary(poly: &Polygon, layer: i16, datatype: i16) -> GdsElement {
     })
 }
 
-/// Default GDSII layer/datatype of the R, G, B emitters (roles emitter_red, emitter_green,
-/// emitter_blue).
-pub const EMITTER_LAYERS: [(i16, i16); 3] = [(21, 0), (22, 0), (23, 0)];
-
 /// A pixel cell of orientation `g`: its drawn polygons and, when the design has them, its
 /// emitters on their own layers (they follow the tile's orientation with the references).
 fn pixel_cell(
@@ -67,9 +63,11 @@ fn pixel_cell(
     g: D4,
     polys: &[Polygon],
     o: &ExportOptions,
+    layers: &MaskLayers,
 ) -> GdsStruct {
     let mut s = cell(name, polys, o.layer, o.datatype);
-    for (k, (layer, datatype)) in EMITTER_LAYERS.into_iter().enumerate() {
+    for (k, role) in crate::io::mask::LayerRole::EMITTERS.into_iter().enumerate() {
+        let (layer, datatype) = layers.of(role);
         s.elems.extend(
             layout
                 .emitter_polygons(k, g)
@@ -152,12 +150,14 @@ fn library(
             D4::IDENTITY,
             &layout.base_polygons,
             o,
+            layers,
         )),
         GdsCells::PerOrientation => {
             for &g in &layout.orientations {
                 let polys = layout.polygons(g);
                 let name = orientation_cell(layout, top, g);
-                lib.structs.push(pixel_cell(name, layout, g, &polys, o));
+                lib.structs
+                    .push(pixel_cell(name, layout, g, &polys, o, layers));
             }
         }
     }

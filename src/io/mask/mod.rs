@@ -191,6 +191,9 @@ pub struct ExportOptions {
     pub deterministic: bool,
     /// Die frame, alignment marks and label outside the region (all off by default).
     pub frame: FrameSpec,
+    /// Whether the design has a subpixel (emitter) layer to write on the emitter roles' layers
+    /// (set by `ExportOptions::resolved` from the design).
+    pub emitters: bool,
 }
 
 impl Default for ExportOptions {
@@ -208,6 +211,7 @@ impl Default for ExportOptions {
             layer_map: None,
             deterministic: false,
             frame: FrameSpec::default(),
+            emitters: false,
         }
     }
 }

@@ -242,6 +242,9 @@ pub(crate) fn write(
     let drawn = |role: LayerRole| match role {
         LayerRole::Openings | LayerRole::Outline | LayerRole::Notes => true,
         LayerRole::Label => frame.label.is_some(),
+        LayerRole::EmitterRed | LayerRole::EmitterGreen | LayerRole::EmitterBlue => {
+            o.written_roles().contains(&role)
+        }
         other => frame.polygons.iter().any(|(r, _)| *r == other),
     };
     for role in LayerRole::ALL.into_iter().filter(|r| drawn(*r)) {
@@ -266,17 +269,30 @@ pub(crate) fn write(
             counts.vertices += p.points_nm.len() as u64;
         }
     };
+    // Emitters ride in the pixel cells, so each tile's placement orients them with the opening.
+    let emitters = |buf: &mut Vec<u8>, g: D4| {
+        if !o.written_roles().contains(&LayerRole::EmitterRed) {
+            return;
+        }
+        for (k, role) in LayerRole::EMITTERS.into_iter().enumerate() {
+            for p in layout.emitter_polygons(k, g) {
+                polygon(buf, &p, layers.of(role));
+            }
+        }
+    };
     match o.gds_cells {
         GdsCells::Strans => {
             put_u(&mut buf, record::CELL_REF);
             put_u(&mut buf, 0);
             add_polys(&mut buf, &layout.base_polygons, &mut counts);
+            emitters(&mut buf, D4::IDENTITY);
         }
         GdsCells::PerOrientation => {
             for &g in &layout.orientations {
                 put_u(&mut buf, record::CELL_REF);
                 put_u(&mut buf, cells.per_orientation[d4_index(g)].0);
                 add_polys(&mut buf, &layout.polygons(g), &mut counts);
+                emitters(&mut buf, g);
             }
         }
     }
