@@ -14,7 +14,9 @@ use udc_studio::app::{Command, StudioApp};
 #[test]
 fn the_appearance_view_shows_quality_beside_the_camera_auc() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    // With UDC_SCREENSHOTS_DIR (screenshots/make.sh) the harness renders, for the README.
+    let shots = std::env::var_os("UDC_SCREENSHOTS_DIR").map(std::path::PathBuf::from);
+    let mut h = common::studio(dir.path(), shots.is_some(), Duration::from_secs(600));
     h.state_mut()
         .command(Command::LoadPreset("l2inv-repeat".into()));
     step_until(&mut h, "the result", StudioApp::is_up_to_date);
@@ -36,4 +38,11 @@ fn the_appearance_view_shows_quality_beside_the_camera_auc() {
         "numbers under each rendering"
     );
     assert!(h.query_by_label_contains("camera AUC").is_some());
+    if let Some(dir) = shots {
+        h.step();
+        match h.render() {
+            Ok(img) => img.save(dir.join("views-appearance.png")).unwrap(),
+            Err(e) => eprintln!("no renderer here ({e})"),
+        }
+    }
 }

@@ -122,7 +122,11 @@ fn every_tab_draws_and_textures_are_built_once() {
             h.query_by_label("What am I seeing?").is_some(),
             "{tab:?} hint"
         );
-        capture(&mut h, &tab.label().replace(' ', "-"));
+        // These two start a background job on opening; their own tests (field_depth_view,
+        // appearance_view) take the pictures once it has answered.
+        if !matches!(tab, ViewTab::FieldDepth | ViewTab::Appearance) {
+            capture(&mut h, &tab.label().replace(' ', "-"));
+        }
     }
     // Hovering an image reads out the value under the pointer with its position.
     for (tab, unit) in [(ViewTab::LogPsf, "µm"), (ViewTab::Mtf2d, "cyc/px")] {

@@ -265,11 +265,16 @@ impl AppearanceView {
             camera_auc(&shown.analysis)
         ));
         egui::ScrollArea::vertical().show(ui, |ui| {
+            // One side for both renderings, from the width they share, so periodic and random
+            // are compared at the same scale.
+            let n = self.rows.len().max(1) as f32;
+            let side = ((ui.available_width() - ui.spacing().item_spacing.x * n) / n)
+                .floor()
+                .clamp(120.0, 420.0);
             ui.horizontal_top(|ui| {
                 for row in &self.rows {
                     ui.vertical(|ui| {
                         ui.strong(&row.label);
-                        let side = (ui.available_width() / 2.0).clamp(120.0, 420.0);
                         ui.image((row.texture.id(), egui::vec2(side, side)));
                         ui.label(format!(
                             "nonuniformity {:.4}   aliasing {:.4}",

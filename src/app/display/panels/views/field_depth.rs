@@ -359,11 +359,21 @@ impl FieldDepthView {
     pub fn ui(&mut self, ui: &mut Ui, shown: &Shown) {
         let egui_ctx = ui.ctx().clone();
         self.poll(&egui_ctx);
+        // Keep to the visible part of the panel: a parent that scrolls sideways would otherwise
+        // let the thumbnail rows and the controls run past its edge.
+        let visible = ui.clip_rect().right() - ui.cursor().left();
+        if visible > 0.0 {
+            ui.set_max_width(visible);
+        }
         ui.horizontal_wrapped(|ui| {
             ui.selectable_value(&mut self.study, Study::Field, "Field (Fig. 3.29)");
             ui.selectable_value(&mut self.study, Study::Depth, "Depth (Fig. 3.31)");
             ui.selectable_value(&mut self.study, Study::Saturation, "Saturation (Fig. 3.30)");
-            ui.separator();
+        });
+        // The settings on a row of their own, with short sliders: a row wider than the panel
+        // does not wrap in egui and would widen the whole view past its edge.
+        ui.horizontal_wrapped(|ui| {
+            ui.spacing_mut().slider_width = 90.0;
             match self.study {
                 Study::Field => {
                     ui.label("display to lens");
@@ -420,9 +430,14 @@ impl FieldDepthView {
         }
         let per_row = self.rows.iter().map(Vec::len).max().unwrap_or(1).max(1) as f32;
         let spacing = ui.spacing().item_spacing.x;
-        let side =
-            (ui.available_width() / per_row - spacing).clamp(*THUMB_PT.start(), *THUMB_PT.end());
-        egui::ScrollArea::both().show(ui, |ui| {
+        // The row's spacing, the scroll bar and a margin come off before the thumbnails share the
+        // rest: a row that is one thumbnail too wide pushes the panel (and its controls) wider.
+        let room = ui.available_width() - spacing * per_row - 2.0 * ui.spacing().scroll.bar_width;
+        let side = (room / per_row)
+            .floor()
+            .clamp(*THUMB_PT.start(), *THUMB_PT.end());
+        // Vertical only: the thumbnails are sized to the panel's width, never wider.
+        egui::ScrollArea::vertical().show(ui, |ui| {
             for row in &self.rows {
                 ui.horizontal(|ui| {
                     for t in row {
