@@ -10,7 +10,7 @@ use ndarray::Array2;
 use super::DesignSelection;
 use crate::core::SimError;
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
-use crate::core::appearance::{AppearanceSettings, appearance};
+use crate::core::appearance::{AppearanceSettings, appearance, periodic_and_random};
 use crate::core::{Analysis, Progress};
 use crate::io::photo;
 
@@ -109,6 +109,23 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
         photo::write_photo_png(&path, &[r, g, b])?;
         outputs.push(path.display().to_string());
     }
+    // Fig. 3.27's pair: the same opening tiled periodically and randomly, rendered alike.
+    let mut pair = Vec::new();
+    for (label, d) in periodic_and_random(&design) {
+        let (q, rendering) = appearance(&d, &image, &settings, &progress).map_err(name_flag)?;
+        if let Some(dir) = &args.out {
+            let kind = if d.tiling.mode.is_random() {
+                "random"
+            } else {
+                "periodic"
+            };
+            let path = dir.join(format!("appearance-{kind}.png"));
+            let [r, g, b] = &rendering.planes;
+            photo::write_photo_png(&path, &[r, g, b])?;
+            outputs.push(path.display().to_string());
+        }
+        pair.push((label, q));
+    }
     let r = |v: f64| (v * 1e6).round() / 1e6;
     if args.json {
         let out = serde_json::json!({
@@ -131,6 +148,12 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
                 "acuity_arcmin": settings.acuity_arcmin,
             },
             "sample_um": r(rendering.sample_um),
+            "tilings": pair.iter().map(|(label, q)| serde_json::json!({
+                "tiling": label,
+                "nonuniformity": r(q.nonuniformity),
+                "aliasing": r(q.aliasing),
+                "image_error": r(q.image_error),
+            })).collect::<Vec<_>>(),
             "outputs": outputs,
         });
         println!("{}", serde_json::to_string(&out)?);
@@ -148,6 +171,12 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
             quality.nonuniformity, quality.aliasing, quality.harmonic_fraction, quality.image_error
         );
         println!("camera AUC (radial min, mean of channels) {auc:.5}");
+        for (label, q) in &pair {
+            println!(
+                "{label}: nonuniformity {:.5}   aliasing {:.5}   image error {:.5}",
+                q.nonuniformity, q.aliasing, q.image_error
+            );
+        }
         for o in &outputs {
             println!("wrote {o}");
         }

@@ -16,7 +16,7 @@
 use ndarray::Array2;
 
 use super::SimError;
-use super::design::{Design, Subpixels};
+use super::design::{Design, Subpixels, TilingMode};
 use super::emitters::auto_place;
 use super::progress::Progress;
 use super::tiling::tile_orientation;
@@ -372,6 +372,19 @@ fn edge_values(px: usize) -> Vec<[f64; 3]> {
             [v; 3]
         })
         .collect()
+}
+
+/// The design tiled periodically and randomly (its own random mode, else random D4), with
+/// their labels: Fig. 3.27's side-by-side pair.
+pub fn periodic_and_random(design: &Design) -> [(String, Design); 2] {
+    let mut periodic = design.clone();
+    periodic.tiling.mode = TilingMode::Repeat;
+    let mut random = design.clone();
+    if !random.tiling.mode.is_random() {
+        random.tiling.mode = TilingMode::RandomD4;
+    }
+    let random_label = format!("random ({})", random.tiling.mode.as_str());
+    [("periodic".into(), periodic), (random_label, random)]
 }
 
 /// Renders `image` (R, G, B or one grey plane, values in `[0, 1]`) on the design's layout and

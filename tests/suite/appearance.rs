@@ -117,6 +117,18 @@ fn appearance_cli_prints_quality_beside_the_camera_auc() {
     }
     assert!(v["camera_auc"].as_f64().is_some_and(|a| a > 0.0), "{v}");
     assert!(out.join("appearance.png").is_file());
+    // Fig. 3.27's pair: the periodic one is this (periodic) preset's own rendering, so its
+    // numbers are the design's; both pictures are written.
+    let t = v["tilings"].as_array().expect("tilings");
+    assert_eq!(t.len(), 2, "{v}");
+    assert_eq!(t[0]["tiling"], "periodic");
+    assert_eq!(t[0]["nonuniformity"], q["nonuniformity"], "{v}");
+    assert!(
+        t[1]["tiling"].as_str().unwrap().starts_with("random"),
+        "{v}"
+    );
+    assert!(out.join("appearance-periodic.png").is_file());
+    assert!(out.join("appearance-random.png").is_file());
 }
 
 #[test]

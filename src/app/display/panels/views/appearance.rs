@@ -16,7 +16,7 @@ use crate::app::widgets::photo::{built_in, color_image};
 use crate::core::Progress;
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::appearance::{AppearanceSettings, DisplayQuality, appearance};
-use crate::core::design::{Design, TilingMode};
+use crate::core::design::Design;
 use crate::io::presets;
 
 /// What a run depends on.
@@ -73,18 +73,6 @@ impl Default for AppearanceView {
             message: None,
         }
     }
-}
-
-/// The design with the other tiling: periodic and random, in that order.
-fn periodic_and_random(design: &Design) -> [(String, Design); 2] {
-    let mut periodic = design.clone();
-    periodic.tiling.mode = TilingMode::Repeat;
-    let mut random = design.clone();
-    if !random.tiling.mode.is_random() {
-        random.tiling.mode = TilingMode::RandomD4;
-    }
-    let random_label = format!("random ({})", random.tiling.mode.as_str());
-    [("periodic".into(), periodic), (random_label, random)]
 }
 
 fn camera_auc(a: &crate::core::Analysis) -> f64 {
@@ -168,7 +156,7 @@ impl AppearanceView {
             move |p: &Progress| {
                 let photo = built_in()?;
                 let mut out = Vec::new();
-                for (label, d) in periodic_and_random(&design) {
+                for (label, d) in crate::core::appearance::periodic_and_random(&design) {
                     let (q, r) =
                         appearance(&d, &photo.planes, &settings, p).map_err(|e| e.to_string())?;
                     out.push((label, q, r.planes));
