@@ -66,6 +66,36 @@ fn the_field_and_depth_view_shows_its_numbers() {
     h.get_by_label("display to lens");
     capture(&mut h, "field");
 
+    // The photo captured patch-wise through the field PSFs, restored with the centre PSF,
+    // beside the shift-invariant capture: both scores on screen, the field one no better.
+    h.state_mut().views().field_depth.set_capture_photo(true);
+    h.step();
+    wait_for_result(&mut h, "the field capture");
+    let summary = h.state_mut().views().field_depth.summary().to_string();
+    assert!(
+        summary.contains("field-dependent capture") && summary.contains("shift-invariant"),
+        "{summary}"
+    );
+    let db = |key: &str| -> f64 {
+        let at = summary.find(key).unwrap() + key.len();
+        summary[at..]
+            .split_whitespace()
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let (field_db, invariant_db) = (
+        db("field-dependent capture "),
+        db("shift-invariant capture "),
+    );
+    assert!(field_db <= invariant_db + 0.05, "{summary}");
+    assert!(
+        h.query_by_label_contains("field-dependent capture, restored")
+            .is_some()
+    );
+    h.state_mut().views().field_depth.set_capture_photo(false);
+
     h.state_mut().views().field_depth.set_study(Study::Depth);
     h.step();
     wait_for_result(&mut h, "the depth PSFs");

@@ -19,6 +19,7 @@ use crate::core::Quality;
 use crate::core::depth::{DepthResult, DepthSettings, depth_psfs};
 use crate::core::design::Design;
 use crate::core::field::{FieldResult, FieldSettings, field_psfs};
+use crate::core::field_capture::{FieldCapture, field_capture};
 use crate::core::saturation::{SaturationResult, SaturationSettings, saturation_study};
 
 /// Decades below the peak shown by the thumbnails.
@@ -38,6 +39,11 @@ pub enum Study {
     Saturation,
 }
 
+/// The field study's photo is scaled down to this side so a run stays interactive.
+const CAPTURE_SIDE_PX: usize = 256;
+/// Its capture's signal-to-noise ratio, dB (the CLI's `--snr-db` default).
+const CAPTURE_SNR_DB: f64 = 28.0;
+
 /// The HDR scene is scaled down to this side so a run stays interactive.
 const SCENE_SIDE_PX: usize = 320;
 
@@ -51,10 +57,12 @@ struct Key {
     object_distance_mm: f64,
     clip_percent: f64,
     brackets: usize,
+    capture_photo: bool,
 }
 
 enum Outcome {
-    Field(FieldResult),
+    /// The field grid, and the photo captured through it when asked for.
+    Field(FieldResult, Option<Box<FieldCapture>>),
     Depth(Box<DepthResult>),
     Saturation(Box<SaturationResult>),
 }
@@ -73,6 +81,9 @@ pub struct FieldDepthView {
     object_distance_mm: f64,
     clip_percent: f64,
     brackets: usize,
+    /// Also capture the built-in photo through the field's PSFs (patch-wise) and restore it
+    /// with the centre PSF, beside the shift-invariant capture.
+    capture_photo: bool,
     job: Option<(Key, Job<Outcome>)>,
     done_key: Option<Key>,
     rows: Vec<Vec<Tile>>,
@@ -89,6 +100,7 @@ impl Default for FieldDepthView {
             object_distance_mm: 100.0,
             clip_percent: 2.0,
             brackets: 3,
+            capture_photo: false,
             job: None,
             done_key: None,
             rows: Vec::new(),
@@ -140,7 +152,13 @@ impl FieldDepthView {
             object_distance_mm: self.object_distance_mm,
             clip_percent: self.clip_percent,
             brackets: self.brackets,
+            capture_photo: self.capture_photo,
         }
+    }
+
+    /// Turns the field study's photo capture on or off (tests and menus).
+    pub fn set_capture_photo(&mut self, on: bool) {
+        self.capture_photo = on;
     }
 
     fn start(&mut self, key: Key, shown: &Shown, ctx: &egui::Context) {
@@ -151,17 +169,29 @@ impl FieldDepthView {
             "field and depth job",
             move || wake.request_repaint(),
             move |p| match key.study {
-                Study::Field => field_psfs(
-                    &design,
-                    &FieldSettings {
+                Study::Field => {
+                    let settings = FieldSettings {
                         display_distance_mm: key.display_distance_mm,
                         max_field_deg: key.max_field_deg,
                         quality: Quality::Preview,
                         ..FieldSettings::default()
-                    },
-                    p,
-                )
-                .map(Outcome::Field),
+                    };
+                    let r = field_psfs(&design, &settings, p)?;
+                    let capture = if key.capture_photo {
+                        p.check()?;
+                        let photo = crate::io::photo::built_in_photo()
+                            .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?;
+                        let photo = crate::io::photo::fit_max_side(photo, CAPTURE_SIDE_PX);
+                        let capture = crate::core::restore::CaptureSettings {
+                            light: crate::core::restore::Light::SnrDb(CAPTURE_SNR_DB),
+                            ..crate::core::restore::CaptureSettings::default()
+                        };
+                        Some(Box::new(field_capture(&photo, &r, &capture, settings.nsr)?))
+                    } else {
+                        None
+                    };
+                    Ok(Outcome::Field(r, capture))
+                }
                 Study::Depth => depth_psfs(
                     &design,
                     &DepthSettings {
@@ -219,7 +249,7 @@ impl FieldDepthView {
             caption,
         };
         match outcome {
-            Outcome::Field(r) => {
+            Outcome::Field(r, capture) => {
                 let n = (r.points.len() as f64).sqrt().round() as usize;
                 self.rows = r
                     .points
@@ -251,6 +281,42 @@ impl FieldDepthView {
                     "max residual_rel {:.2e} over ±{:.0}° at {:.2} mm",
                     r.max_residual_rel, self.max_field_deg, self.display_distance_mm
                 );
+                if let Some(c) = capture {
+                    let photo = |name: &str, caption: String, planes: &[Array2<f64>]| {
+                        let refs: Vec<&Array2<f64>> = planes.iter().collect();
+                        Tile {
+                            texture: ctx.load_texture(
+                                name,
+                                color_image(&refs, 1.0),
+                                TextureOptions::LINEAR,
+                            ),
+                            caption,
+                        }
+                    };
+                    self.rows.push(vec![
+                        photo(
+                            "field-capture-field",
+                            format!(
+                                "field-dependent capture, restored: {:.2} dB",
+                                c.psnr_db_field
+                            ),
+                            &c.restored_field,
+                        ),
+                        photo(
+                            "field-capture-invariant",
+                            format!(
+                                "centre PSF everywhere, restored: {:.2} dB",
+                                c.psnr_db_invariant
+                            ),
+                            &c.restored_invariant,
+                        ),
+                    ]);
+                    self.summary.push_str(&format!(
+                        "; photo restored with the centre PSF: field-dependent capture {:.2} dB \
+                         (SSIM {:.3}), shift-invariant capture {:.2} dB (SSIM {:.3})",
+                        c.psnr_db_field, c.ssim_field, c.psnr_db_invariant, c.ssim_invariant
+                    ));
+                }
             }
             Outcome::Saturation(r) => {
                 let photo = |name: &str, caption: String, planes: &[Array2<f64>]| {
@@ -382,6 +448,12 @@ impl FieldDepthView {
                     );
                     ui.label("field");
                     ui.add(egui::Slider::new(&mut self.max_field_deg, 1.0..=45.0).suffix("°"));
+                    ui.checkbox(&mut self.capture_photo, "capture a photo")
+                        .on_hover_text(
+                            "Blur the built-in photo patch by patch with the field's PSFs (as a \
+                             real camera behind the display would) and restore it with the centre \
+                             PSF, beside the same photo blurred by the centre PSF everywhere",
+                        );
                 }
                 Study::Saturation => {
                     ui.label("clipped");
