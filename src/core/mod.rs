@@ -7,6 +7,7 @@ pub mod aperture;
 pub mod appearance;
 pub mod budget;
 pub mod depth;
+pub mod depth_capture;
 pub mod design;
 pub mod emitters;
 pub mod error;

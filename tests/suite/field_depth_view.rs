@@ -109,6 +109,19 @@ fn the_field_and_depth_view_shows_its_numbers() {
     h.get_by_label("object distance z1");
     capture(&mut h, "depth");
 
+    // The photo at that depth, restored with the infinity PSF three ways.
+    h.state_mut().views().field_depth.set_capture_photo(true);
+    h.step();
+    wait_for_result(&mut h, "the depth photos");
+    let summary = h.state_mut().views().field_depth.summary().to_string();
+    assert!(
+        summary.contains("refocused on it") && summary.contains("object at infinity"),
+        "{summary}"
+    );
+    assert!(h.query_by_label_contains("refocused on it:").is_some());
+    capture(&mut h, "depth-photo");
+    h.state_mut().views().field_depth.set_capture_photo(false);
+
     h.state_mut()
         .views()
         .field_depth

@@ -17,6 +17,7 @@ use crate::app::widgets::colormap::Colormap;
 use crate::app::widgets::photo::color_image;
 use crate::core::Quality;
 use crate::core::depth::{DepthResult, DepthSettings, depth_psfs};
+use crate::core::depth_capture::{DepthCapture, depth_capture};
 use crate::core::design::Design;
 use crate::core::field::{FieldResult, FieldSettings, field_psfs};
 use crate::core::field_capture::{FieldCapture, field_capture};
@@ -44,6 +45,21 @@ const CAPTURE_SIDE_PX: usize = 256;
 /// Its capture's signal-to-noise ratio, dB (the CLI's `--snr-db` default).
 const CAPTURE_SNR_DB: f64 = 28.0;
 
+/// The built-in photo at [`CAPTURE_SIDE_PX`] and the capture settings of the photo studies.
+fn capture_photo()
+-> Result<(Vec<Array2<f64>>, crate::core::restore::CaptureSettings), crate::core::SimError> {
+    let photo = crate::io::photo::built_in_photo()
+        .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?;
+    let capture = crate::core::restore::CaptureSettings {
+        light: crate::core::restore::Light::SnrDb(CAPTURE_SNR_DB),
+        ..crate::core::restore::CaptureSettings::default()
+    };
+    Ok((
+        crate::io::photo::fit_max_side(photo, CAPTURE_SIDE_PX),
+        capture,
+    ))
+}
+
 /// The HDR scene is scaled down to this side so a run stays interactive.
 const SCENE_SIDE_PX: usize = 320;
 
@@ -63,7 +79,8 @@ struct Key {
 enum Outcome {
     /// The field grid, and the photo captured through it when asked for.
     Field(FieldResult, Option<Box<FieldCapture>>),
-    Depth(Box<DepthResult>),
+    /// The depth PSFs, and the photo captured through them when asked for.
+    Depth(Box<DepthResult>, Option<Box<DepthCapture>>),
     Saturation(Box<SaturationResult>),
 }
 
@@ -119,6 +136,15 @@ fn mean_plane(planes: &[Array2<f64>]) -> Array2<f64> {
         acc += p;
     }
     acc / planes.len().max(1) as f64
+}
+
+/// A photo (linear planes in `[0, 1]`) as a tile.
+fn photo_tile(ctx: &egui::Context, name: &str, caption: String, planes: &[Array2<f64>]) -> Tile {
+    let refs: Vec<&Array2<f64>> = planes.iter().collect();
+    Tile {
+        texture: ctx.load_texture(name, color_image(&refs, 1.0), TextureOptions::LINEAR),
+        caption,
+    }
 }
 
 fn log_picture(planes: &[Array2<f64>]) -> ColorImage {
@@ -179,29 +205,29 @@ impl FieldDepthView {
                     let r = field_psfs(&design, &settings, p)?;
                     let capture = if key.capture_photo {
                         p.check()?;
-                        let photo = crate::io::photo::built_in_photo()
-                            .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?;
-                        let photo = crate::io::photo::fit_max_side(photo, CAPTURE_SIDE_PX);
-                        let capture = crate::core::restore::CaptureSettings {
-                            light: crate::core::restore::Light::SnrDb(CAPTURE_SNR_DB),
-                            ..crate::core::restore::CaptureSettings::default()
-                        };
+                        let (photo, capture) = capture_photo()?;
                         Some(Box::new(field_capture(&photo, &r, &capture, settings.nsr)?))
                     } else {
                         None
                     };
                     Ok(Outcome::Field(r, capture))
                 }
-                Study::Depth => depth_psfs(
-                    &design,
-                    &DepthSettings {
+                Study::Depth => {
+                    let settings = DepthSettings {
                         object_distance_mm: key.object_distance_mm,
                         quality: Quality::Preview,
                         ..DepthSettings::default()
-                    },
-                    p,
-                )
-                .map(|r| Outcome::Depth(Box::new(r))),
+                    };
+                    let r = depth_psfs(&design, &settings, p)?;
+                    let capture = if key.capture_photo {
+                        p.check()?;
+                        let (photo, capture) = capture_photo()?;
+                        Some(Box::new(depth_capture(&photo, &r, &capture, settings.nsr)?))
+                    } else {
+                        None
+                    };
+                    Ok(Outcome::Depth(Box::new(r), capture))
+                }
                 Study::Saturation => {
                     let scene = crate::io::hdr::sample_scene()
                         .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?
@@ -283,15 +309,7 @@ impl FieldDepthView {
                 );
                 if let Some(c) = capture {
                     let photo = |name: &str, caption: String, planes: &[Array2<f64>]| {
-                        let refs: Vec<&Array2<f64>> = planes.iter().collect();
-                        Tile {
-                            texture: ctx.load_texture(
-                                name,
-                                color_image(&refs, 1.0),
-                                TextureOptions::LINEAR,
-                            ),
-                            caption,
-                        }
+                        photo_tile(ctx, name, caption, planes)
                     };
                     self.rows.push(vec![
                         photo(
@@ -320,15 +338,7 @@ impl FieldDepthView {
             }
             Outcome::Saturation(r) => {
                 let photo = |name: &str, caption: String, planes: &[Array2<f64>]| {
-                    let refs: Vec<&Array2<f64>> = planes.iter().collect();
-                    Tile {
-                        texture: ctx.load_texture(
-                            name,
-                            color_image(&refs, 1.0),
-                            TextureOptions::LINEAR,
-                        ),
-                        caption,
-                    }
+                    photo_tile(ctx, name, caption, planes)
                 };
                 let scores = |what: &str, run: &crate::core::saturation::SaturationRun| {
                     format!(
@@ -371,7 +381,7 @@ impl FieldDepthView {
                     self.clip_percent
                 );
             }
-            Outcome::Depth(r) => {
+            Outcome::Depth(r, capture) => {
                 self.rows = vec![
                     vec![
                         tile(
@@ -417,6 +427,36 @@ impl FieldDepthView {
                     waves,
                     r.defocus_blur_um
                 );
+                if let Some(c) = capture {
+                    let photo = |name: &str, caption: String, planes: &[Array2<f64>]| {
+                        photo_tile(ctx, name, caption, planes)
+                    };
+                    let caption = |what: &str, d: &crate::core::depth_capture::DepthRestored| {
+                        format!("{what}: {:.2} dB, SSIM {:.3}", d.psnr_db, d.ssim)
+                    };
+                    self.rows.push(vec![
+                        photo(
+                            "depth-photo-inf",
+                            caption("object at infinity", &c.infinity),
+                            &c.infinity.restored,
+                        ),
+                        photo(
+                            "depth-photo-foc",
+                            caption("refocused on it", &c.focused),
+                            &c.focused.restored,
+                        ),
+                        photo(
+                            "depth-photo-def",
+                            caption("focused at infinity", &c.defocused),
+                            &c.defocused.restored,
+                        ),
+                    ]);
+                    self.summary.push_str(&format!(
+                        "; photo restored with the infinity PSF: object at infinity {:.2} dB, \
+                         refocused on it {:.2} dB, focused at infinity {:.2} dB",
+                        c.infinity.psnr_db, c.focused.psnr_db, c.defocused.psnr_db
+                    ));
+                }
             }
         }
     }
@@ -469,6 +509,11 @@ impl FieldDepthView {
                             .speed(5.0)
                             .suffix(" mm"),
                     );
+                    ui.checkbox(&mut self.capture_photo, "capture a photo")
+                        .on_hover_text(
+                            "Blur the built-in photo with each PSF and restore every capture with \
+                         the infinity PSF, as the thesis restores every depth (Fig. 3.31)",
+                        );
                 }
             }
         });
