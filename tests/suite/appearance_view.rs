@@ -46,3 +46,53 @@ fn the_appearance_view_shows_quality_beside_the_camera_auc() {
         }
     }
 }
+
+#[test]
+fn the_preset_scatter_places_the_thesis_layouts_on_auc_and_nonuniformity() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    step_until(&mut h, "the result", StudioApp::is_up_to_date);
+    h.state_mut().views().set_tab(ViewTab::Appearance);
+    step_until(&mut h, "the renderings", |app| {
+        !app.appearance_view().is_running()
+    });
+    h.get_by_label("Scatter presets").click();
+    h.step();
+    step_until(&mut h, "the scatter", |app| {
+        let v = app.appearance_view();
+        !v.is_running() && !v.scatter().is_empty()
+    });
+    let points = h.state().appearance_view().scatter().to_vec();
+    let at = |name: &str| {
+        points
+            .iter()
+            .find(|p| p.name == name)
+            .unwrap_or_else(|| panic!("{name} missing from {points:?}"))
+            .clone()
+    };
+    assert!(
+        points
+            .iter()
+            .all(|p| p.camera_auc > 0.0 && p.nonuniformity >= 0.0)
+    );
+    // The thesis's trade-off: the optimized random layout sees better (AUC) than the T-OLED and
+    // its own periodic tiling, and pays for it in display uniformity.
+    let (toled, repeat, random) = (at("toled-150dpi"), at("l2inv-repeat"), at("l2inv-random"));
+    assert!(
+        random.camera_auc > toled.camera_auc,
+        "{random:?} vs {toled:?}"
+    );
+    assert!(
+        random.camera_auc > repeat.camera_auc,
+        "{random:?} vs {repeat:?}"
+    );
+    assert!(
+        random.nonuniformity > repeat.nonuniformity,
+        "{random:?} vs {repeat:?}"
+    );
+    h.step();
+    assert!(
+        h.query_by_label_contains("Presets: camera AUC against display nonuniformity")
+            .is_some()
+    );
+}
