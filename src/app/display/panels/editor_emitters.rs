@@ -90,7 +90,7 @@ impl EmitterLayer {
                 Some(sp) => {
                     let c = SubpixelChecks::of(sp, ctx.design.opening.cell_um());
                     ui.label(format!(
-                        "emitter area R {:.0}, G {:.0}, B {:.0} um2; equal-area deviation {:.1} %",
+                        "emitter area R {:.0}, G {:.0}, B {:.0} µm²; equal-area deviation {:.1} %",
                         c.area_um2[0], c.area_um2[1], c.area_um2[2], c.equal_area_deviation_pct
                     ));
                 }

@@ -308,7 +308,7 @@ impl OptimizePanel {
                     crate::app::widgets::number(&mut s.reserve_subpixels_um2)
                         .range(0.0..=1.0e6)
                         .speed(10.0)
-                        .suffix(" um2 per colour"),
+                        .suffix(" µm² per colour"),
                 )
                 .on_hover_text(
                     "Keep room for three equal R, G, B emitters of at least this area each in \
