@@ -89,17 +89,7 @@ fn cell(name: String, polys: &[Polygon], layer: i16, datatype: i16) -> GdsStruct
 fn arrays(layout: &MaskLayout, name: &str, offset: [i64; 2]) -> Vec<GdsElement> {
     let mut out = Vec::new();
     let q = layout.period_nm;
-    let mut k = 0;
-    while k < layout.rows.len() {
-        let r = layout.rows[k];
-        let mut run = 1;
-        while k + run < layout.rows.len()
-            && layout.rows[k + run].tx0 == r.tx0
-            && layout.rows[k + run].count == r.count
-            && layout.rows[k + run].ty == r.ty + run as i64
-        {
-            run += 1;
-        }
+    for (r, run) in super::walk::row_runs(layout) {
         for y0 in (0..run as i64).step_by(MAX_ARRAY as usize) {
             let rows = (run as i64 - y0).min(MAX_ARRAY);
             for x0 in (0..i64::from(r.count)).step_by(MAX_ARRAY as usize) {
@@ -125,7 +115,6 @@ fn arrays(layout: &MaskLayout, name: &str, offset: [i64; 2]) -> Vec<GdsElement> 
                 }));
             }
         }
-        k += run;
     }
     out
 }

@@ -3,7 +3,7 @@
 
 use super::GdsCells;
 use crate::core::Progress;
-use crate::core::mask::{MaskError, MaskLayout, Polygon};
+use crate::core::mask::{MaskError, MaskLayout, Polygon, TileRow};
 use crate::core::tiling::D4;
 use crate::io::IoError;
 
@@ -83,4 +83,27 @@ pub(super) fn for_each_flat_polygon(
         }
     }
     Ok(())
+}
+
+/// The region's tile rows grouped into runs of consecutive rows with the same columns (a block
+/// region is one run; a pupil, one run per row): each run's first row and its length. GDSII
+/// arrays and OASIS repetitions place one cell over a run at once.
+pub(super) fn row_runs(layout: &MaskLayout) -> Vec<(TileRow, usize)> {
+    let rows = &layout.rows;
+    let mut out = Vec::new();
+    let mut k = 0;
+    while k < rows.len() {
+        let r = rows[k];
+        let mut run = 1;
+        while k + run < rows.len()
+            && rows[k + run].tx0 == r.tx0
+            && rows[k + run].count == r.count
+            && rows[k + run].ty == r.ty + run as i64
+        {
+            run += 1;
+        }
+        out.push((r, run));
+        k += run;
+    }
+    out
 }

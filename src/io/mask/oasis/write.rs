@@ -122,17 +122,7 @@ fn tile_arrays(
     let (id, angle, flip, offset) = cell;
     let q = layout.period_nm as u64;
     let (mut arrays, mut singles) = (0, 0);
-    let mut k = 0;
-    while k < layout.rows.len() {
-        let r = layout.rows[k];
-        let mut run = 1;
-        while k + run < layout.rows.len()
-            && layout.rows[k + run].tx0 == r.tx0
-            && layout.rows[k + run].count == r.count
-            && layout.rows[k + run].ty == r.ty + run as i64
-        {
-            run += 1;
-        }
+    for (r, run) in crate::io::mask::walk::row_runs(layout) {
         let (cols, rows) = (u64::from(r.count), run as u64);
         let [cx, cy] = layout.tile_corner_nm(r.tx0, r.ty + run as i64 - 1);
         let mut rep = Vec::new();
@@ -162,7 +152,6 @@ fn tile_arrays(
             arrays += 1;
         }
         placement(out, id, angle, flip, [cx + offset[0], cy + offset[1]], &rep);
-        k += run;
     }
     (arrays, singles)
 }
