@@ -373,3 +373,35 @@ fn oas_frame_marks_and_label_match_gds() {
         "{texts:?}"
     );
 }
+
+#[test]
+fn oas_a_cblock_inside_a_cblock_is_refused() {
+    use std::io::Write;
+    // SEMI P39 forbids nesting; a crafted file could otherwise recurse without bound.
+    let deflate = |data: &[u8]| {
+        let mut e = flate2::write::DeflateEncoder::new(Vec::new(), flate2::Compression::default());
+        e.write_all(data).unwrap();
+        e.finish().unwrap()
+    };
+    let cblock = |inner: &[u8]| {
+        let packed = deflate(inner);
+        let mut out = vec![34, 0, inner.len() as u8, packed.len() as u8];
+        assert!(inner.len() < 128 && packed.len() < 128);
+        out.extend_from_slice(&packed);
+        out
+    };
+    let mut file = b"%SEMI-OASIS\r\n".to_vec();
+    // START: version "1.0", unit 1000 (real type 0), offset-flag 0, twelve zero table offsets.
+    file.extend_from_slice(&[1, 3, b'1', b'.', b'0', 0, 0xe8, 0x07, 0]);
+    file.extend_from_slice(&[0; 12]);
+    file.extend_from_slice(&cblock(&cblock(&[0, 0, 0])));
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("nested.oas");
+    std::fs::write(&path, file).unwrap();
+    let opts = ImportOptions {
+        cell_um: 1.0,
+        ..ImportOptions::default()
+    };
+    let e = import_mask(&path, &opts).unwrap_err().to_string();
+    assert!(e.contains("CBLOCK inside a CBLOCK"), "{e}");
+}

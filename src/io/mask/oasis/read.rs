@@ -80,7 +80,23 @@ struct State {
     modal: Modal,
     expanded: usize,
     ended: bool,
+    in_cblock: bool,
     want: (u64, u64),
+}
+
+/// A displacement of magnitude `m` in octangular direction `dir` (E, N, W, S, NE, NW, SW, SE):
+/// 2-, 3- and g-deltas share it.
+fn octant(m: i64, dir: u64) -> [i64; 2] {
+    match dir {
+        0 => [m, 0],
+        1 => [0, m],
+        2 => [-m, 0],
+        3 => [0, -m],
+        4 => [m, m],
+        5 => [-m, m],
+        6 => [-m, -m],
+        _ => [m, -m],
+    }
 }
 
 struct Bytes<'a> {
@@ -155,16 +171,7 @@ impl Bytes<'_> {
     }
     fn delta(&mut self, low_bits: u32) -> R<[i64; 2]> {
         let (m, dir) = self.tagged(low_bits)?;
-        Ok(match dir {
-            0 => [m, 0],
-            1 => [0, m],
-            2 => [-m, 0],
-            3 => [0, -m],
-            4 => [m, m],
-            5 => [-m, m],
-            6 => [-m, -m],
-            _ => [m, -m],
-        })
+        Ok(octant(m, dir))
     }
     fn gdelta(&mut self) -> R<[i64; 2]> {
         let first = *self
@@ -173,17 +180,7 @@ impl Bytes<'_> {
             .ok_or("the file ends inside a g-delta")?;
         if first & 1 == 0 {
             let (m, bits) = self.tagged(4)?;
-            let d = match bits >> 1 {
-                0 => [m, 0],
-                1 => [0, m],
-                2 => [-m, 0],
-                3 => [0, -m],
-                4 => [m, m],
-                5 => [-m, m],
-                6 => [-m, -m],
-                _ => [m, -m],
-            };
-            Ok(d)
+            Ok(octant(m, bits >> 1))
         } else {
             let (m, bits) = self.tagged(2)?;
             let x = if bits & 2 != 0 { -m } else { m };
@@ -502,15 +499,24 @@ impl State {
                 if full > MAX_CBLOCK_BYTES {
                     return Err(format!("a CBLOCK of {full} bytes is too large"));
                 }
-                let mut data = Vec::with_capacity(full as usize);
+                // SEMI P39 forbids a CBLOCK inside a CBLOCK; refusing it also bounds the
+                // recursion a crafted file could ask for.
+                if self.in_cblock {
+                    return Err("a CBLOCK inside a CBLOCK".into());
+                }
+                // Deflate expands at most about 1032×: a claim beyond that is not reserved.
+                let mut data = Vec::with_capacity(full.min(packed.saturating_mul(1032)) as usize);
                 flate2::read::DeflateDecoder::new(b.take(packed)?)
                     .take(full)
                     .read_to_end(&mut data)
                     .map_err(|e| format!("a CBLOCK does not inflate: {e}"))?;
-                self.records(&mut Bytes {
+                self.in_cblock = true;
+                let inner = self.records(&mut Bytes {
                     data: &data,
                     pos: 0,
-                })?;
+                });
+                self.in_cblock = false;
+                inner?;
             }
             other => return Err(format!("unknown record type {other}")),
         }
@@ -730,6 +736,7 @@ pub(crate) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
         modal: Modal::default(),
         expanded: 0,
         ended: false,
+        in_cblock: false,
         want: (layer.max(0) as u64, datatype.max(0) as u64),
     };
     state
