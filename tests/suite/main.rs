@@ -56,6 +56,8 @@ mod sensor_saturation;
 mod sensor_study;
 mod sensor_table54;
 mod studio;
+mod sweep;
+mod sweep_cli;
 mod theory;
 mod thesis;
 mod views;

@@ -67,25 +67,25 @@ impl SweepJob {
     pub fn default_metrics(self) -> &'static [&'static str] {
         match self {
             SweepJob::Analyze => &[
-                "ltr",
-                "open_fraction",
-                "invertibility_loss",
                 "auc_radial_min_mean",
                 "channels.*.auc_radial_min",
+                "ltr",
+                "invertibility_loss",
+                "open_fraction",
                 "channels.*.energy_in_window",
             ],
-            SweepJob::Restore => &["ltr", "runs.0.psnr_db", "runs.0.ssim"],
+            SweepJob::Restore => &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
             SweepJob::PhasePsf => &[
+                "channels.*.invertibility",
+                "channels.*.peak",
+                "channels.*.energy_vs_toled",
                 "ltr_with_polariser",
                 "fov_deg",
-                "channels.*.energy_vs_toled",
-                "channels.*.peak",
-                "channels.*.invertibility",
             ],
-            SweepJob::PhaseRestore => &["ltr", "runs.*.psnr_db", "runs.*.ssim"],
+            SweepJob::PhaseRestore => &["runs.*.psnr_db", "runs.*.ssim", "ltr"],
             SweepJob::Sensor => &[
+                "strategies.*.worst_roi_ssim",
                 "strategies.*.psnr_db",
-                "strategies.*.ssim_worst_roi",
                 "strategies.*.saturated_fraction",
             ],
         }
@@ -312,11 +312,11 @@ impl SweepSpec {
                     format!("`{}` is both in `base` and an axis", axis.param),
                 ));
             }
-            let values = axis_values(axis).map_err(|(f, m)| bad(field(&f), m))?;
-            for (j, v) in values.iter().enumerate() {
+            let len = axis_len(axis).map_err(|(f, m)| bad(field(&f), m))?;
+            for (j, v) in axis.values.iter().flatten().enumerate() {
                 check_value(v).map_err(|m| bad(field(&format!(".values[{j}]")), m))?;
             }
-            points = points.saturating_mul(values.len() as u64);
+            points = points.saturating_mul(len as u64);
         }
         if points > MAX_POINTS {
             return Err(bad(
@@ -354,6 +354,63 @@ fn check_value(v: &ParamValue) -> Result<(), String> {
     }
 }
 
+/// How many values an axis has, checked but not generated.
+///
+/// # Errors
+/// As [`axis_values`].
+pub fn axis_len(axis: &Axis) -> Result<usize, (String, String)> {
+    match (&axis.values, &axis.range, &axis.linspace) {
+        (Some(v), None, None) if !v.is_empty() && v.len() <= MAX_AXIS_VALUES => Ok(v.len()),
+        (None, Some(r), None) => {
+            check_range(r)?;
+            Ok(range_len(r))
+        }
+        (None, None, Some(l)) => {
+            check_linspace(l)?;
+            Ok(l.count)
+        }
+        _ => axis_values(axis).map(|v| v.len()),
+    }
+}
+
+fn range_len(r: &RangeSpec) -> usize {
+    (((r.stop - r.start) / r.step + 1e-9).floor() + 1.0) as usize
+}
+
+fn check_range(r: &RangeSpec) -> Result<(), (String, String)> {
+    let err = |f: &str, m: String| Err((f.to_string(), m));
+    if !(r.start.is_finite() && r.stop.is_finite()) {
+        return err(".range", "start and stop must be finite".into());
+    }
+    if !(r.step.is_finite() && r.step > 0.0) {
+        return err(".range.step", format!("{}: must be positive", r.step));
+    }
+    if r.stop < r.start {
+        return err(
+            ".range.stop",
+            format!("{} is below start {}", r.stop, r.start),
+        );
+    }
+    let n = ((r.stop - r.start) / r.step + 1e-9).floor() + 1.0;
+    if n > MAX_AXIS_VALUES as f64 {
+        return err(".range", format!("{n} values: at most {MAX_AXIS_VALUES}"));
+    }
+    Ok(())
+}
+
+fn check_linspace(l: &LinspaceSpec) -> Result<(), (String, String)> {
+    if !(l.start.is_finite() && l.stop.is_finite()) {
+        return Err((".linspace".into(), "start and stop must be finite".into()));
+    }
+    if l.count == 0 || l.count > MAX_AXIS_VALUES {
+        return Err((
+            ".linspace.count".into(),
+            format!("{}: between 1 and {MAX_AXIS_VALUES}", l.count),
+        ));
+    }
+    Ok(())
+}
+
 /// The values of one axis, listed or generated; errors name the sub-field and say why.
 ///
 /// # Errors
@@ -384,22 +441,8 @@ pub fn axis_values(axis: &Axis) -> Result<Vec<ParamValue>, (String, String)> {
         return Ok(v.clone());
     }
     if let Some(r) = &axis.range {
-        if !(r.start.is_finite() && r.stop.is_finite()) {
-            return err(".range", "start and stop must be finite".into());
-        }
-        if !(r.step.is_finite() && r.step > 0.0) {
-            return err(".range.step", format!("{}: must be positive", r.step));
-        }
-        if r.stop < r.start {
-            return err(
-                ".range.stop",
-                format!("{} is below start {}", r.stop, r.start),
-            );
-        }
-        let n = ((r.stop - r.start) / r.step + 1e-9).floor() + 1.0;
-        if n > MAX_AXIS_VALUES as f64 {
-            return err(".range", format!("{n} values: at most {MAX_AXIS_VALUES}"));
-        }
+        check_range(r)?;
+        let n = range_len(r) as f64;
         let whole = [r.start, r.step].iter().all(|v| v.fract() == 0.0);
         return Ok((0..n as usize)
             .map(|k| {
@@ -413,15 +456,7 @@ pub fn axis_values(axis: &Axis) -> Result<Vec<ParamValue>, (String, String)> {
             .collect());
     }
     if let Some(l) = &axis.linspace {
-        if !(l.start.is_finite() && l.stop.is_finite()) {
-            return err(".linspace", "start and stop must be finite".into());
-        }
-        if l.count == 0 || l.count > MAX_AXIS_VALUES {
-            return err(
-                ".linspace.count",
-                format!("{}: between 1 and {MAX_AXIS_VALUES}", l.count),
-            );
-        }
+        check_linspace(l)?;
         let span = l.stop - l.start;
         let d = if l.count > 1 {
             span / (l.count - 1) as f64
