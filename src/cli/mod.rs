@@ -13,6 +13,7 @@ pub mod sensor;
 
 mod parse;
 pub use parse::{CliParseError, parse};
+pub mod sweep;
 
 use std::path::PathBuf;
 
@@ -85,6 +86,9 @@ pub enum Command {
     /// Show an image on the design's layout as the eye sees it (subpixels, DPI, viewing
     /// distance) with display-quality numbers beside the camera's AUC (thesis §3.7).
     Appearance(appearance::AppearanceArgs),
+    /// Run a sweep of many designs in-process (`sweep SPEC --out DIR`), merge shard folders
+    /// (`sweep merge`), or write Slurm scripts for a cluster (`sweep slurm`).
+    Sweep(sweep::SweepArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -188,6 +192,51 @@ impl DesignSelection {
     }
 }
 
+thread_local! {
+    /// Where a command's `--json` output goes when a sweep runs it in-process: the sweep's
+    /// point, not stdout.
+    static JSON_SINK: std::cell::RefCell<Option<Option<serde_json::Value>>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Prints a command's `--json` object, or hands it to the sweep running the command.
+///
+/// # Errors
+/// When the object cannot be serialised.
+pub(crate) fn emit_json(v: &serde_json::Value) -> Result<()> {
+    let captured = JSON_SINK.with(|s| {
+        let mut slot = s.borrow_mut();
+        match slot.as_mut() {
+            Some(out) => {
+                *out = Some(v.clone());
+                true
+            }
+            None => false,
+        }
+    });
+    if !captured {
+        println!("{}", serde_json::to_string(v)?);
+    }
+    Ok(())
+}
+
+/// Whether a sweep is running the current command (progress reports stay quiet).
+pub(crate) fn in_sweep() -> bool {
+    JSON_SINK.with(|s| s.borrow().is_some())
+}
+
+/// Runs a command on this thread and returns the object its `--json` output would print.
+///
+/// # Errors
+/// The command's error, or a command that printed no object.
+pub(crate) fn capture_json(run: impl FnOnce() -> Result<()>) -> Result<serde_json::Value> {
+    JSON_SINK.with(|s| *s.borrow_mut() = Some(None));
+    let result = run();
+    let value = JSON_SINK.with(|s| s.borrow_mut().take()).flatten();
+    result?;
+    value.ok_or_else(|| anyhow::anyhow!("the command printed no JSON"))
+}
+
 /// Runs a headless command.
 ///
 /// # Errors
@@ -253,6 +302,7 @@ fn run_command(command: Command) -> Result<()> {
         Command::Depth(args) => field_depth::depth_cmd(&args),
         Command::Saturation(args) => saturation::saturation_cmd(&args),
         Command::Appearance(args) => appearance::appearance_cmd(&args),
+        Command::Sweep(args) => sweep::sweep_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }
@@ -524,7 +574,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             "warnings": crate::io::report::warning_messages(&analysis.warnings),
             "runs": runs,
         });
-        println!("{}", serde_json::to_string(&out)?);
+        emit_json(&out)?;
     } else if args.out.is_some() {
         println!(
             "difference images show |restored − truth| × {}",

@@ -342,7 +342,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
                 ),
             );
         }
-        println!("{}", serde_json::to_string(&v)?);
+        crate::cli::emit_json(&v)?;
         return Ok(());
     }
     let s = &settings.sensor;

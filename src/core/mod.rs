@@ -28,6 +28,7 @@ pub mod restore;
 pub mod sampling;
 pub mod saturation;
 pub mod sensor;
+pub mod sweep;
 pub mod theory;
 pub mod tiling;
 pub mod warning;

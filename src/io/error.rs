@@ -26,6 +26,14 @@ pub enum IoError {
         /// What is wrong.
         message: String,
     },
+    /// A sweep spec (TOML or JSON) that cannot be parsed or is not a valid sweep.
+    #[error("{message} (in {})", path.display())]
+    Spec {
+        /// The spec file.
+        path: PathBuf,
+        /// What is wrong, naming the field (and in TOML the line).
+        message: String,
+    },
     /// A CSV table that cannot be parsed (a spectral response) or written (`mtf.csv`).
     #[error("{message} (in {})", path.display())]
     Table {

@@ -19,6 +19,7 @@ pub mod restore_report;
 pub mod safe_file;
 pub mod sensor_report;
 pub mod spectral;
+pub mod sweep;
 pub mod system;
 
 pub use error::IoError;

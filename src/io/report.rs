@@ -81,6 +81,8 @@ pub fn analysis_json(a: &Analysis) -> Value {
         "open_fraction": r(a.open_fraction),
         "ltr": r(a.ltr),
         "invertibility_loss": r(a.invertibility_loss),
+        "auc_radial_min_mean": r(a.channels.iter().map(|c| c.mtf.auc_radial_min).sum::<f64>()
+            / a.channels.len().max(1) as f64),
         "warnings": warning_messages(&a.warnings),
         "advice": advice_json(&a.warnings),
         "elapsed_ms": (a.elapsed_ms * 1000.0).round() / 1000.0,

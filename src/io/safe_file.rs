@@ -271,6 +271,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), IoError> {
 /// start; a second call is ignored.
 pub fn remove_temp_files_on_signal() {
     let _ = ctrlc::set_handler(|| {
+        // A sweep asked to finish its points in flight first: the first signal sets its flag,
+        // a second one quits at once.
+        if let Ok(slot) = DEFERRED_STOP.lock()
+            && let Some(flag) = slot.as_ref()
+            && !flag.swap(true, std::sync::atomic::Ordering::SeqCst)
+        {
+            eprintln!("\nstopping after the points in flight (Ctrl-C again to quit now)");
+            return;
+        }
         if let Ok(live) = LIVE.lock() {
             for p in live.iter() {
                 let _ = std::fs::remove_file(p);
@@ -278,6 +287,30 @@ pub fn remove_temp_files_on_signal() {
         }
         std::process::exit(130);
     });
+}
+
+static DEFERRED_STOP: Mutex<Option<std::sync::Arc<std::sync::atomic::AtomicBool>>> =
+    Mutex::new(None);
+
+/// While the returned guard lives, the first Ctrl-C or SIGTERM sets `flag` instead of quitting
+/// (a long run stops cleanly, keeping its finished work); a second one quits as usual.
+pub fn defer_signal_to(flag: std::sync::Arc<std::sync::atomic::AtomicBool>) -> DeferredStop {
+    if let Ok(mut slot) = DEFERRED_STOP.lock() {
+        *slot = Some(flag);
+    }
+    DeferredStop(())
+}
+
+/// Restores the usual Ctrl-C behaviour when dropped.
+#[must_use = "the deferral ends when the guard is dropped"]
+pub struct DeferredStop(());
+
+impl Drop for DeferredStop {
+    fn drop(&mut self) {
+        if let Ok(mut slot) = DEFERRED_STOP.lock() {
+            *slot = None;
+        }
+    }
 }
 
 /// How many temp files are in flight (tests check that none is left).

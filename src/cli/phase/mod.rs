@@ -256,7 +256,7 @@ fn grid_channels(spectral: Option<&Path>) -> Result<Vec<Channel>> {
 /// Runs `job` while a thread reports its progress on stderr (only on a terminal).
 fn with_progress<T>(label: &str, job: impl FnOnce(&Progress) -> T) -> T {
     let progress = Arc::new(Progress::new());
-    let show = std::io::stderr().is_terminal();
+    let show = std::io::stderr().is_terminal() && !crate::cli::in_sweep();
     let (done_tx, done_rx) = std::sync::mpsc::channel::<()>();
     let reporter = show.then(|| {
         let progress = progress.clone();

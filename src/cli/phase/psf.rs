@@ -107,7 +107,7 @@ pub(super) fn psf_cmd(a: &PsfArgs) -> Result<()> {
             "channels": channels_json,
             "outputs": outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
         });
-        println!("{v}");
+        crate::cli::emit_json(&v)?;
     } else {
         println!(
             "double MLA, pitch {} µm, T = {}, {} lenslets, λ0 {}–{} nm, angle {:.2}°",

@@ -98,27 +98,24 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
     }
     let valid = blur.valid.clone();
     if a.mask.json {
-        println!(
-            "{}",
-            json!({
-                "setup": setup,
-                "label": setup.label(),
-                "sampling": design.sampling.name(),
-                "channels": if a.peaks { "peaks" } else { "spectral" },
-                "photo": photo_name,
-                "width_px": width,
-                "ltr": r(blur.ltr),
-                "fov_deg": r(design.fov_deg()),
-                "valid_columns": [valid.start, valid.end],
-                "runs": runs.iter().map(|x| json!({
-                    "photons": x.photons,
-                    "psnr_db": r(x.psnr_db),
-                    "ssim": r(x.ssim),
-                    "captured_psnr_db": r(x.captured_psnr_db),
-                })).collect::<Vec<_>>(),
-                "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-            })
-        );
+        crate::cli::emit_json(&json!({
+            "setup": setup,
+            "label": setup.label(),
+            "sampling": design.sampling.name(),
+            "channels": if a.peaks { "peaks" } else { "spectral" },
+            "photo": photo_name,
+            "width_px": width,
+            "ltr": r(blur.ltr),
+            "fov_deg": r(design.fov_deg()),
+            "valid_columns": [valid.start, valid.end],
+            "runs": runs.iter().map(|x| json!({
+                "photons": x.photons,
+                "psnr_db": r(x.psnr_db),
+                "ssim": r(x.ssim),
+                "captured_psnr_db": r(x.captured_psnr_db),
+            })).collect::<Vec<_>>(),
+            "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        }))?;
     } else {
         println!(
             "{}: LTR {:.3}, FoV {:.1}°, scored on columns {}..{} of {width}",

@@ -1,0 +1,199 @@
+//! One point of a sweep: its command line (the job's own flags), its hash, and its metrics,
+//! computed in-process by the same code as the command (`--json`'s object, flattened).
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Mutex;
+
+use anyhow::{Result, anyhow};
+use serde_json::Value;
+
+use crate::cli::{Command, capture_json, parse::parse_from};
+use crate::core::Progress;
+use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::sweep::hash::{point_hash, short_hash};
+use crate::core::sweep::{ParamValue, Points, SweepJob, SweepSpec};
+
+/// Parameters whose values are input files: their content, not their name, enters the hash.
+const FILE_PARAMS: [&str; 6] = ["design", "pattern", "spectral", "image", "photo", "hdr"];
+
+/// The words of a point's command line, `udc-studio <job> --flag value …` (a `true` switch is
+/// the bare flag, a `false` one is left out).
+pub fn command_line(job: SweepJob, params: &[(String, &ParamValue)]) -> Vec<String> {
+    let mut words: Vec<String> = std::iter::once("udc-studio")
+        .chain(job.command_words().iter().copied())
+        .map(str::to_string)
+        .collect();
+    for (name, value) in params {
+        match value {
+            ParamValue::Bool(true) => words.push(format!("--{name}")),
+            ParamValue::Bool(false) => {}
+            v => {
+                words.push(format!("--{name}"));
+                words.push(v.to_arg());
+            }
+        }
+    }
+    words.push("--json".into());
+    words
+}
+
+/// Base and axis values of point `index`, in a stable order (base first).
+pub fn point_params<'a>(
+    spec: &'a SweepSpec,
+    points: &'a Points,
+    index: u64,
+) -> Vec<(String, &'a ParamValue)> {
+    spec.base
+        .iter()
+        .map(|(k, v)| (k.clone(), v))
+        .chain(points.names().iter().cloned().zip(points.point(index)))
+        .collect()
+}
+
+/// Content hashes of input files, read once per path.
+#[derive(Default)]
+pub struct FileDigests(Mutex<HashMap<String, String>>);
+
+impl FileDigests {
+    fn digest(&self, path: &str) -> Result<String> {
+        if let Some(d) = self.0.lock().ok().and_then(|m| m.get(path).cloned()) {
+            return Ok(d);
+        }
+        let p = Path::new(path);
+        crate::io::safe_file::check_regular(p, "input file")?;
+        let bytes = std::fs::read(p).map_err(|e| anyhow!("cannot read {}: {e}", p.display()))?;
+        let d = short_hash(&bytes);
+        if let Ok(mut m) = self.0.lock() {
+            m.insert(path.to_string(), d.clone());
+        }
+        Ok(d)
+    }
+}
+
+/// The point's identity: job, parameters and the content of the files it reads.
+///
+/// # Errors
+/// An input file that cannot be read.
+pub fn hash_of(
+    job: SweepJob,
+    params: &[(String, &ParamValue)],
+    files: &FileDigests,
+) -> Result<String> {
+    let mut canon = Vec::with_capacity(params.len());
+    for (name, value) in params {
+        let mut text = value.to_arg();
+        if FILE_PARAMS.contains(&name.as_str()) {
+            text = format!("{text}@{}", files.digest(&text)?);
+        }
+        canon.push((name.clone(), text));
+    }
+    Ok(point_hash(job.as_str(), &canon))
+}
+
+/// What one point computed: the `--json` object and the hash of the design it resolved (the
+/// point's hash for jobs without a display design).
+pub struct PointOutput {
+    /// The job's `--json` object.
+    pub value: Value,
+    /// Hash of the resolved design.
+    pub design_hash: String,
+}
+
+fn parse(words: &[String]) -> Result<Command> {
+    match parse_from(words) {
+        Ok(cli) => cli
+            .command
+            .ok_or_else(|| anyhow!("the sweep's command line names no command")),
+        Err(crate::cli::CliParseError::Usage(line)) => Err(anyhow!("{line}")),
+        Err(crate::cli::CliParseError::Display(e)) => Err(anyhow!("{}", e.render())),
+    }
+}
+
+fn design_hash(design: &crate::core::design::Design) -> String {
+    short_hash(serde_json::to_string(design).unwrap_or_default().as_bytes())
+}
+
+/// Computes one point from its command line words.
+///
+/// # Errors
+/// The command's own error (an invalid value, an unreadable file, a refused size).
+pub fn evaluate_point(words: &[String], point_hash: &str) -> Result<PointOutput> {
+    let command = parse(words)?;
+    match command {
+        Command::Analyze(a) => {
+            let design = a.selection.resolve()?;
+            let options = AnalyzeOptions {
+                quality: if a.preview {
+                    Quality::Preview
+                } else {
+                    Quality::Full
+                },
+                expected_psf: false,
+            };
+            let analysis = analyze_with(&design, &options, &Progress::new())?;
+            Ok(PointOutput {
+                value: crate::io::report::analysis_json(&analysis),
+                design_hash: design_hash(&design),
+            })
+        }
+        Command::Restore(a) => {
+            let design = a.selection.resolve()?;
+            let value = capture_json(|| crate::cli::run(Command::Restore(a)))?;
+            Ok(PointOutput {
+                value,
+                design_hash: design_hash(&design),
+            })
+        }
+        c @ (Command::Phase(_) | Command::Sensor(_)) => Ok(PointOutput {
+            value: capture_json(|| crate::cli::run(c))?,
+            design_hash: point_hash.to_string(),
+        }),
+        _ => Err(anyhow!(
+            "a sweep runs analyze, restore, phase psf|restore or sensor"
+        )),
+    }
+}
+
+/// Checks a spec without running it: the base alone, and every value of every axis (with the
+/// other axes at their first value), parsed as the job's command line and, for display jobs,
+/// resolved into a design. Returns the number of points.
+///
+/// # Errors
+/// The first value refused, naming its axis and the command's message.
+pub fn check_points(spec: &SweepSpec) -> Result<u64> {
+    let points = Points::new(spec)?;
+    let first: Vec<&ParamValue> = (0..points.names().len())
+        .filter_map(|k| points.axis(k).first())
+        .collect();
+    let check = |params: Vec<(String, &ParamValue)>, what: &str| -> Result<()> {
+        let words = command_line(spec.job, &params);
+        let command = parse(&words).map_err(|e| anyhow!("{what}: {e}"))?;
+        if let Command::Analyze(a) = &command {
+            a.selection
+                .resolve()
+                .map_err(|e| anyhow!("{what}: {e:#}"))?;
+        }
+        if let Command::Restore(a) = &command {
+            a.selection
+                .resolve()
+                .map_err(|e| anyhow!("{what}: {e:#}"))?;
+        }
+        Ok(())
+    };
+    let base: Vec<(String, &ParamValue)> = spec.base.iter().map(|(k, v)| (k.clone(), v)).collect();
+    for (k, name) in points.names().iter().enumerate() {
+        for v in points.axis(k) {
+            let mut params = base.clone();
+            for (j, n) in points.names().iter().enumerate() {
+                let value = if j == k { v } else { first[j] };
+                params.push((n.clone(), value));
+            }
+            check(params, &format!("axis `{name}` value `{}`", v.to_arg()))?;
+        }
+    }
+    if points.names().is_empty() {
+        check(base, "base")?;
+    }
+    Ok(points.count())
+}
