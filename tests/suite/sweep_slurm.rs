@@ -53,16 +53,24 @@ fn slurm_up() -> bool {
     true
 }
 
-/// The job ids a submit script printed (`sbatch --parsable` gives `ID` or `ID;cluster`).
+/// The job ids in what sbatch or a submit script printed: a bare `sbatch --parsable` id (`ID` or
+/// `ID;cluster`), or else every number right after the word "job", in order, each once.
 fn job_ids(stdout: &str) -> Vec<u64> {
-    stdout
-        .split(|c: char| c.is_whitespace() || matches!(c, ';' | ',' | ':' | '=' | '(' | ')'))
-        .filter_map(|w| {
-            w.trim_matches(|c: char| !c.is_ascii_alphanumeric())
-                .parse()
-                .ok()
-        })
-        .collect()
+    if let Ok(id) = stdout.trim().split(';').next().unwrap_or("").parse() {
+        return vec![id];
+    }
+    let words: Vec<&str> = stdout.split_whitespace().collect();
+    let mut ids = Vec::new();
+    for pair in words.windows(2) {
+        let digits: String = pair[1].chars().take_while(char::is_ascii_digit).collect();
+        if pair[0] == "job"
+            && let Ok(id) = digits.parse()
+            && !ids.contains(&id)
+        {
+            ids.push(id);
+        }
+    }
+    ids
 }
 
 /// Every `JobState=` and `Reason=` of a job (an array job lists each of its tasks); None once
@@ -317,7 +325,8 @@ fn the_job_array_and_its_merge_give_the_local_table() {
         ])
         .args(["--mem-mb", "1024"]));
     assert!(ok, "sweep slurm: {err}");
-    let scripts = c.join("slurm");
+    // The scripts name the folder as the nodes see it (resolved).
+    let scripts = std::fs::canonicalize(c).unwrap().join("slurm");
     let submit = scripts.join("submit.sh");
     assert!(
         stdout.contains(&format!("bash {}", submit.display())),
@@ -382,5 +391,18 @@ fn the_job_array_and_its_merge_give_the_local_table() {
         seen.keys().copied().eq(0..n),
         "the shards together ran {:?}, not 0..{n}",
         seen.keys().collect::<Vec<_>>()
+    );
+}
+
+#[test]
+fn job_ids_are_read_from_sbatch_and_from_submit_sh() {
+    assert_eq!(job_ids("12\n"), [12]);
+    assert_eq!(job_ids("12;udc\n"), [12]);
+    assert_eq!(
+        job_ids(
+            "array job 12 (3 tasks), merge job 13\n\
+             results: /tmp/x9/results.csv once job 13 finishes (squeue -j 12,13)\n"
+        ),
+        [12, 13]
     );
 }
