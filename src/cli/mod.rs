@@ -23,7 +23,7 @@ use clap::{Args, Parser, Subcommand};
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::design::{Design, OpticsRecipe, TilingMode};
 use crate::core::{Analysis, Progress};
-use crate::io::{design_file, export, pattern, presets, report, spectral};
+use crate::io::{export, presets, report};
 
 /// The command line: an optional headless command and the global options.
 #[derive(Debug, Parser)]
@@ -155,40 +155,22 @@ impl DesignSelection {
     /// # Errors
     /// Unreadable or invalid files, unknown presets or recipes, bad override values.
     pub fn resolve(&self) -> Result<Design> {
-        let mut design = match (&self.design, &self.preset) {
-            (Some(path), _) => design_file::load_design(path)?,
-            (None, Some(name)) => presets::load_preset(name)?,
-            (None, None) => presets::load_preset(presets::DEFAULT_PRESET)?,
-        };
-        if let Some(path) = &self.pattern {
-            design.opening.cells = pattern::load_pattern_png(path)?;
-            design.opening.polygons.clear();
-            design.reconcile_subpixels();
+        Ok(self.choice().resolve()?)
+    }
+
+    /// The selection as the io layer's [`DesignChoice`](crate::io::design_choice::DesignChoice).
+    pub fn choice(&self) -> crate::io::design_choice::DesignChoice {
+        crate::io::design_choice::DesignChoice {
+            design: self.design.clone(),
+            preset: self.preset.clone(),
+            pattern: self.pattern.clone(),
+            pitch_um: self.pitch_um,
+            tiling: self.tiling,
+            seed: self.seed,
+            optics: self.optics,
+            spectral: self.spectral.clone(),
+            spectral_step_nm: self.spectral_step_nm,
         }
-        if let Some(p) = self.pitch_um {
-            design.opening.pitch_um = p;
-        }
-        if let Some(t) = self.tiling {
-            design.tiling.mode = t;
-        }
-        if let Some(s) = self.seed {
-            design.tiling.seed = s;
-        }
-        if let Some(o) = self.optics.and_then(OpticsRecipe::optics) {
-            design.optics = o;
-        }
-        if let Some(path) = &self.spectral {
-            let step = self.spectral_step_nm;
-            let resp = spectral::load_response_csv(path)?;
-            let lo = resp.wavelengths_nm.first().copied().unwrap_or(0.0);
-            let hi = resp.wavelengths_nm.last().copied().unwrap_or(0.0);
-            let samples = spectral::sample_grid(lo, hi, step)
-                .map_err(|e| anyhow::anyhow!("--spectral-step-nm: {e}"))?;
-            design.channels = spectral::channels_from_response(&resp, &samples)
-                .map_err(|e| anyhow::anyhow!("{e} (in {})", path.display()))?;
-        }
-        design.validate()?;
-        Ok(design)
     }
 }
 

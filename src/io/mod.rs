@@ -2,6 +2,7 @@
 //! simulates.
 
 pub mod bin_study_csv;
+pub mod design_choice;
 pub mod design_file;
 pub mod error;
 pub mod export;

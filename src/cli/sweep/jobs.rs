@@ -110,9 +110,7 @@ fn parse(words: &[String]) -> Result<Command> {
     }
 }
 
-fn design_hash(design: &crate::core::design::Design) -> String {
-    short_hash(serde_json::to_string(design).unwrap_or_default().as_bytes())
-}
+use crate::io::design_choice::design_hash;
 
 /// Computes one point from its command line words.
 ///
