@@ -58,6 +58,7 @@ mod sensor_table54;
 mod studio;
 mod sweep;
 mod sweep_cli;
+mod sweep_slurm;
 mod theory;
 mod thesis;
 mod views;
