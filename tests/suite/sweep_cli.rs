@@ -102,8 +102,15 @@ fn a_sweep_row_holds_what_analyze_prints_for_that_point() {
         assert_eq!((png.width(), png.height()), (960, 600));
         let svg = std::fs::read_to_string(out.join("plots").join(format!("{stem}.svg"))).unwrap();
         assert!(svg.contains("<svg"), "{stem}.svg is not an SVG");
-        let x_label = if stem.starts_with("pareto") { "ltr" } else { "tiling" };
-        assert!(svg.contains(x_label), "{stem}.svg has no {x_label} axis label");
+        let x_label = if stem.starts_with("pareto") {
+            "ltr"
+        } else {
+            "tiling"
+        };
+        assert!(
+            svg.contains(x_label),
+            "{stem}.svg has no {x_label} axis label"
+        );
     }
     // The Parquet file holds the same table, typed.
     check_parquet_equals_csv(&out);
@@ -382,5 +389,69 @@ fn slurm_scripts_run_each_shard_as_an_array_task_then_merge() {
         let (ok, _, err) = run_cli(&args);
         assert!(!ok, "{bad:?} accepted");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+}
+
+#[test]
+fn ctrl_c_keeps_every_finished_point_and_a_rerun_completes() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("s.toml");
+    std::fs::write(
+        &spec,
+        "job = \"analyze\"\n[base]\npreset = \"l2inv-random\"\n[[axis]]\nparam = \"seed\"\nrange = { start = 0, stop = 59 }\n",
+    )
+    .unwrap();
+    let out = dir.path().join("o");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
+        .args([
+            "sweep",
+            spec.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--threads",
+            "2",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Interrupt once a few points are in the journal.
+    let csv = out.join("results.csv");
+    let t0 = std::time::Instant::now();
+    while std::fs::read_to_string(&csv).map_or(0, |t| t.lines().count()) < 4 {
+        assert!(t0.elapsed().as_secs() < 120, "no rows after 2 minutes");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let kill = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(kill.success());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    let (_, kept) = rows(&out);
+    if output.status.success() {
+        // The sweep finished before the signal landed: nothing to check but the table.
+        assert_eq!(kept.len(), 60);
+    } else {
+        assert!(stderr.contains("interrupted"), "{stderr}");
+        assert!(
+            kept.len() >= 3 && kept.len() < 60,
+            "{} rows kept",
+            kept.len()
+        );
+        // The Parquet file was finished too, with the same rows.
+        check_parquet_equals_csv(&out);
+    }
+    let (ok, _, err) = sweep(&[
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    let (_, all) = rows(&out);
+    assert_eq!(all.len(), 60, "every point exactly once after the re-run");
+    for (p, r) in &kept {
+        assert_eq!(&all[p], r, "point {p} changed");
     }
 }
