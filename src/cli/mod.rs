@@ -105,6 +105,9 @@ pub struct DesignSelection {
     /// Display pixel pitch in µm.
     #[arg(long)]
     pub pitch_um: Option<f64>,
+    /// Display resolution in DPI: the pitch becomes 25400 / DPI µm (the cells keep their number).
+    #[arg(long, conflicts_with = "pitch_um")]
+    pub dpi: Option<f64>,
     /// Tiling: repeat, random-d4 or random-4.
     #[arg(long)]
     pub tiling: Option<TilingMode>,
@@ -155,7 +158,11 @@ impl DesignSelection {
     /// # Errors
     /// Unreadable or invalid files, unknown presets or recipes, bad override values.
     pub fn resolve(&self) -> Result<Design> {
-        Ok(self.choice().resolve()?)
+        // A core error stays one, so `name_flags` can name the flag behind its field.
+        self.choice().resolve().map_err(|e| match e {
+            crate::io::error::IoError::Invalid(sim) => anyhow::Error::from(sim),
+            other => other.into(),
+        })
     }
 
     /// The selection as the io layer's [`DesignChoice`](crate::io::design_choice::DesignChoice).
@@ -165,6 +172,7 @@ impl DesignSelection {
             preset: self.preset.clone(),
             pattern: self.pattern.clone(),
             pitch_um: self.pitch_um,
+            dpi: self.dpi,
             tiling: self.tiling,
             seed: self.seed,
             optics: self.optics,
@@ -228,7 +236,8 @@ pub fn run(command: Command) -> Result<()> {
 }
 
 /// Settings that only a flag sets, by the field name the core reports, and their flag.
-const FLAG_OF_FIELD: [(&str, &str); 15] = [
+const FLAG_OF_FIELD: [(&str, &str); 16] = [
+    ("dpi", "--dpi"),
     ("eta", "--eta"),
     ("eta_per_pixel", "--eta-per-pixel"),
     ("capture.light.snr_db", "--snr-db"),

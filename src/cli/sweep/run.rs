@@ -119,8 +119,23 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
     let points = Points::new(spec)?;
     let count = points.count();
     let shard = opts.shard;
+    if let Some(t) = opts.threads
+        && !(1..=1024).contains(&t)
+    {
+        bail!("--threads {t}: between 1 and 1024");
+    }
     super::check_points(spec)?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    // One writer per folder: a second sweep into it would interleave rows.
+    let lock_path = out.join(".sweep.lock");
+    let lock = std::fs::File::create(&lock_path)
+        .with_context(|| format!("cannot create {}", lock_path.display()))?;
+    if lock.try_lock().is_err() {
+        bail!(
+            "another sweep is writing to {}; wait for it or give another --out",
+            out.display()
+        );
+    }
     let files = FileDigests::default();
     let hash_at = |i: u64| hash_of(spec.job, &point_params(spec, &points, i), &files);
 
