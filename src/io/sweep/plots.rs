@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::manifest::{CSV_FILE, Manifest};
@@ -299,6 +300,23 @@ fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// The frame every plot shares: title, margins, label areas, linear axes over the ranges.
+fn chart_on<'a, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    title: &str,
+    x: (f64, f64),
+    y: (f64, f64),
+) -> Result<Chart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 24))
+        .margin(16)
+        .x_label_area_size(48)
+        .y_label_area_size(80)
+        .build_cartesian_2d(x.0..x.1, y.0..y.1)
+}
+
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     p: &PlotSpec,
@@ -316,13 +334,7 @@ fn draw<DB: DrawingBackend>(
                 .flat_map(|l| l.values().flat_map(|s| [s.min, s.max]));
             let (x0, x1) = bounds(xs);
             let (y0, y1) = bounds(ys);
-            let mut chart = ChartBuilder::on(root)
-                .caption(title, ("sans-serif", 24))
-                .margin(16)
-                .x_label_area_size(48)
-                .y_label_area_size(80)
-                .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(e)?;
+            let mut chart = chart_on(root, title, (x0, x1), (y0, y1)).map_err(e)?;
             let labels = x_labels.clone();
             let fmt_x = move |v: &f64| match &labels {
                 Some(l) => {
@@ -382,13 +394,7 @@ fn draw<DB: DrawingBackend>(
         PlotData::Pareto { points, front } => {
             let (x0, x1) = bounds(points.iter().map(|q| q.x));
             let (y0, y1) = bounds(points.iter().map(|q| q.y));
-            let mut chart = ChartBuilder::on(root)
-                .caption(title, ("sans-serif", 24))
-                .margin(16)
-                .x_label_area_size(48)
-                .y_label_area_size(80)
-                .build_cartesian_2d(x0..x1, y0..y1)
-                .map_err(e)?;
+            let mut chart = chart_on(root, title, (x0, x1), (y0, y1)).map_err(e)?;
             chart
                 .configure_mesh()
                 .x_desc(p.x.as_str())
