@@ -402,7 +402,7 @@ fn ctrl_c_keeps_every_finished_point_and_a_rerun_completes() {
     )
     .unwrap();
     let out = dir.path().join("o");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
         .args([
             "sweep",
             spec.to_str().unwrap(),
