@@ -299,7 +299,7 @@ fn bad_specs_and_values_are_one_line_errors() {
     }
     let (ok, _, err) = sweep(&["/nonexistent/spec.toml", "--out", o]);
     assert!(!ok && err.contains("/nonexistent/spec.toml"), "{err}");
-    let (ok, stdout, _) = sweep(&[TINY, "--out", o, "--check"]);
+    let (ok, stdout, _) = sweep(&[TINY, "--check"]);
     assert!(ok && stdout.contains("8 points"), "{stdout}");
 }
 

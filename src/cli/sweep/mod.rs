@@ -28,7 +28,7 @@ pub struct SweepArgs {
     pub spec: Option<PathBuf>,
     /// The results folder: results.csv, results.parquet, sweep.json and plots/. A folder with
     /// results of the same sweep is resumed: finished points are skipped by hash.
-    #[arg(long, required = true)]
+    #[arg(long, required_unless_present = "check")]
     pub out: Option<PathBuf>,
     /// Run only shard I of N (0-based): the points whose index is I modulo N.
     #[arg(long, value_name = "I/N")]
@@ -66,8 +66,8 @@ pub fn sweep_cmd(args: &SweepArgs) -> Result<()> {
         Some(SweepAction::Merge(m)) => merge::merge_cmd(m),
         Some(SweepAction::Slurm(s)) => slurm::slurm_cmd(s),
         None => {
-            let (Some(spec_path), Some(out)) = (&args.spec, &args.out) else {
-                anyhow::bail!("sweep needs a SPEC and --out DIR (see --help)");
+            let Some(spec_path) = &args.spec else {
+                anyhow::bail!("sweep needs a SPEC (see --help)");
             };
             let spec = crate::io::sweep::load_spec(spec_path)?;
             if args.check {
@@ -79,6 +79,9 @@ pub fn sweep_cmd(args: &SweepArgs) -> Result<()> {
                 );
                 return Ok(());
             }
+            let Some(out) = &args.out else {
+                anyhow::bail!("sweep needs --out DIR (see --help)");
+            };
             let options = RunOptions {
                 shard: args.shard.unwrap_or(Shard::WHOLE),
                 threads: args.threads,
