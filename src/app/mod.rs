@@ -14,6 +14,7 @@ pub mod notice;
 pub mod phase;
 pub mod sensor;
 pub mod settings;
+pub mod sweep;
 pub mod widgets;
 pub mod workspace;
 
@@ -115,6 +116,7 @@ impl StudioApp {
                 shell.autosave_every,
             )),
             Box::new(sensor::SensorWorkspace::default()),
+            Box::new(sweep::SweepWorkspace::default()),
         ];
         StudioApp {
             workspaces,
@@ -229,6 +231,16 @@ impl StudioApp {
 
     /// The phase-mask workspace, read-only (for `step_until` conditions).
     pub fn phase_ref(&self) -> &phase::PhaseWorkspace {
+        self.get()
+    }
+
+    /// The Sweep workspace.
+    pub fn sweep(&mut self) -> &mut sweep::SweepWorkspace {
+        self.get_mut()
+    }
+
+    /// The Sweep workspace, read-only (for `step_until` conditions).
+    pub fn sweep_ref(&self) -> &sweep::SweepWorkspace {
         self.get()
     }
 
@@ -488,6 +500,12 @@ impl StudioApp {
         self.close_request(&ctx);
         self.confirm_ui(&ctx);
         self.apply(cmds);
+        for (id, c) in std::mem::take(&mut self.shell.sent) {
+            let shell = &mut self.shell;
+            if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
+                ws.command(c, false, shell);
+            }
+        }
         if let Some(id) = self.shell.switch_to.take() {
             self.active = id;
         }

@@ -25,6 +25,8 @@ pub enum WorkspaceId {
     Phase,
     /// Spatially-varying gain and binning on HDR scenes.
     Sensor,
+    /// The table and plots of a sweep's results folder (issue 19).
+    Sweep,
 }
 
 /// A workspace of the studio.
@@ -106,6 +108,8 @@ pub struct Shell {
     pub(super) confirm: Option<(WorkspaceId, Command)>,
     /// The user chose to quit: the window closes without asking again.
     pub(super) quit_confirmed: bool,
+    /// Commands a workspace sends to another (a sweep row's design to the display).
+    pub(super) sent: Vec<(WorkspaceId, Command)>,
 }
 
 impl Shell {
@@ -127,6 +131,7 @@ impl Shell {
             switch_to: None,
             confirm: None,
             quit_confirmed: false,
+            sent: Vec::new(),
         }
     }
 
@@ -169,6 +174,13 @@ impl Shell {
 
     /// Shows workspace `id` at the end of the frame.
     pub fn show(&mut self, id: WorkspaceId) {
+        self.switch_to = Some(id);
+    }
+
+    /// Hands `command` to workspace `id` at the end of the frame and shows that workspace
+    /// (the Sweep workspace opens a row's design in the display's document, undoable there).
+    pub fn send(&mut self, id: WorkspaceId, command: Command) {
+        self.sent.push((id, command));
         self.switch_to = Some(id);
     }
 
