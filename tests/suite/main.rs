@@ -56,6 +56,7 @@ mod sensor_saturation;
 mod sensor_study;
 mod sensor_table54;
 mod studio;
+mod sweep_view;
 mod theory;
 mod thesis;
 mod views;

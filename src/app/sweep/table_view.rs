@@ -124,7 +124,7 @@ impl SweepWorkspace {
             .map(|c| {
                 let header = ui.fonts_mut(|f| {
                     f.layout_no_wrap(
-                        format!("{} ▼", t.name(*c)),
+                        t.name(*c).to_string(),
                         egui::TextStyle::Button.resolve(ui.style()),
                         egui::Color32::WHITE,
                     )
@@ -132,7 +132,7 @@ impl SweepWorkspace {
                     .x
                 });
                 let chars = view.widest.get(c).copied().unwrap_or(6) as f32;
-                (header + 12.0).max(chars * 7.5 + 12.0).min(MAX_COLUMN_PX)
+                (header + 22.0).max(chars * 7.5 + 12.0).min(MAX_COLUMN_PX)
             })
             .collect();
         let row_h = ui.spacing().interact_size.y;
@@ -187,18 +187,37 @@ impl SweepWorkspace {
     }
 }
 
-/// A column's header: click to sort by it, again to reverse; an arrow shows the order.
+/// A column's header: click to sort by it, again to reverse; a painted triangle shows the
+/// order (the studio's fonts have no arrow glyphs).
 fn header_ui(ui: &mut egui::Ui, name: &str, c: Column, width: f32, sort: &mut Sort) {
-    let arrow = match sort.column == c {
-        true if sort.descending => " ▼",
-        true => " ▲",
-        false => "",
-    };
     let r = ui.add_sized(
         vec2(width, ui.spacing().interact_size.y),
-        egui::Button::new(RichText::new(format!("{name}{arrow}")).strong()).frame(false),
+        egui::Button::new(RichText::new(name).strong()).frame(false),
     );
-    if r.on_hover_text(format!("Sort by {name} (click again to reverse)"))
+    if sort.column == c {
+        let color = ui.visuals().strong_text_color();
+        let centre = egui::pos2(r.rect.right() - 6.0, r.rect.center().y);
+        let (tip, base) = if sort.descending {
+            (4.0, -4.0)
+        } else {
+            (-4.0, 4.0)
+        };
+        ui.painter().add(egui::Shape::convex_polygon(
+            vec![
+                centre + vec2(0.0, tip),
+                centre + vec2(-4.0, base),
+                centre + vec2(4.0, base),
+            ],
+            color,
+            egui::Stroke::NONE,
+        ));
+    }
+    let order = match (sort.column == c, sort.descending) {
+        (true, false) => " (now smallest first)",
+        (true, true) => " (now largest first)",
+        _ => "",
+    };
+    if r.on_hover_text(format!("Sort by {name}{order}; click again to reverse"))
         .clicked()
     {
         *sort = Sort {

@@ -109,7 +109,7 @@ impl SweepField {
                 if !(value.is_finite() && value >= 0.0 && value.fract() == 0.0) {
                     return Err(SimError::InvalidField {
                         field: self.path().into(),
-                        message: format!("{value} is not a whole number ≥ 0"),
+                        message: format!("{value} is not a whole number of at least 0"),
                     });
                 }
                 d.tiling.seed = value as u64;
