@@ -331,8 +331,11 @@ fn sweep_results_and_a_one_parameter_sweep() {
         .show_left_tab(udc_studio::app::LeftTab::Tiling);
     h.state_mut()
         .command(Command::SweepField(SweepField::PitchUm));
-    h.step();
-    h.get_by_label("Run").click();
+    for _ in 0..4 {
+        h.step();
+    }
+    let ctx = h.ctx.clone();
+    h.state_mut().display_mut().field_sweep_mut().run(&ctx);
     common::step_until(&mut h, "the 1-D sweep", |app| {
         let w = app.display().field_sweep();
         !w.is_running() && w.points().iter().all(|(_, p)| p.is_some())

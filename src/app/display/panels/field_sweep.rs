@@ -229,7 +229,6 @@ impl FieldSweepWindow {
             .open(&mut open)
             .collapsible(false)
             .default_width(520.0)
-            .default_height(420.0)
             .show(ctx, |ui| {
                 self.controls_ui(ui, ctx);
                 ui.separator();
@@ -347,7 +346,9 @@ impl FieldSweepWindow {
                 .legend(Legend::default())
                 .x_axis_label(field.label_with_unit())
                 .y_axis_label(y_label.clone())
-                .height(ui.available_height().max(180.0)),
+                // Fixed: a window's available height is the screen's, which would push the
+                // x axis's label out of the window.
+                .height(260.0),
         )
         .show(ui, |pl| {
             for s in segments.iter().filter(|s| !s.is_empty()) {
