@@ -252,14 +252,20 @@ impl SweepWorkspace {
         }
     }
 
-    /// Starts the user's plot on the first metric against the first axis.
+    /// Starts the user's plot where the spec's default plot is not: the second metric
+    /// against the last axis (often the seed), so it shows something new.
     fn default_custom_plot(&mut self, t: &SweepTable) {
         let s = &t.manifest.schema;
         let x_ok = t.column(&self.custom.x).is_some();
         let y_ok = t.column(&self.custom.y).is_some();
         if !(x_ok && y_ok) {
-            self.custom.x = s.params.first().map(|(n, _)| n.clone()).unwrap_or_default();
-            self.custom.y = s.metrics.first().cloned().unwrap_or_default();
+            self.custom.x = s.params.last().map(|(n, _)| n.clone()).unwrap_or_default();
+            self.custom.y = s
+                .metrics
+                .get(1)
+                .or(s.metrics.first())
+                .cloned()
+                .unwrap_or_default();
         }
     }
 

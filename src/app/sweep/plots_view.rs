@@ -85,13 +85,21 @@ fn plot_ui(ui: &mut egui::Ui, k: usize, spec: &PlotSpec, data: &PlotData) {
         } => Some(l.clone()),
         _ => None,
     };
-    let mut plot = crate::app::widgets::plot::with_nice_ticks(
-        Plot::new(("sweep_plot", k, title(spec)))
-            .legend(Legend::default())
+    // A legend only where there is something to tell apart; one line needs none (the title
+    // names it) and its box would hide a small plot.
+    let groups = match data {
+        PlotData::Series { summary, .. } => summary.lines.len(),
+        PlotData::Pareto { .. } => 2,
+    };
+    let mut plot = Plot::new(("sweep_plot", k, title(spec)));
+    if groups > 1 {
+        plot = plot.legend(Legend::default().position(egui_plot::Corner::RightBottom));
+    }
+    // The axis titles after the ticks, which replace the axes.
+    let mut plot =
+        crate::app::widgets::plot::with_nice_ticks(plot.height(ui.available_height().max(120.0)))
             .x_axis_label(spec.x.clone())
-            .y_axis_label(spec.y.clone())
-            .height(ui.available_height().max(120.0)),
-    );
+            .y_axis_label(spec.y.clone());
     if let Some(labels) = labels {
         // A word axis (a tiling): its values sit at 0, 1, 2… and are named there.
         plot = plot.x_axis_formatter(move |mark, _| {

@@ -132,7 +132,7 @@ impl SweepWorkspace {
                     .x
                 });
                 let chars = view.widest.get(c).copied().unwrap_or(6) as f32;
-                (header + 22.0).max(chars * 7.5 + 12.0).min(MAX_COLUMN_PX)
+                (header + 30.0).max(chars * 7.5 + 12.0).min(MAX_COLUMN_PX)
             })
             .collect();
         let row_h = ui.spacing().interact_size.y;
@@ -144,7 +144,7 @@ impl SweepWorkspace {
                 ui.horizontal(|ui| {
                     ui.add_space(OPEN_COLUMN_PX);
                     for (c, w) in columns.iter().zip(&widths) {
-                        header_ui(ui, &t.name(*c).to_string(), *c, *w, &mut sort);
+                        header_ui(ui, t.name(*c), *c, *w, &mut sort);
                     }
                 });
                 ui.separator();
@@ -196,7 +196,7 @@ fn header_ui(ui: &mut egui::Ui, name: &str, c: Column, width: f32, sort: &mut So
     );
     if sort.column == c {
         let color = ui.visuals().strong_text_color();
-        let centre = egui::pos2(r.rect.right() - 6.0, r.rect.center().y);
+        let centre = egui::pos2(r.rect.right() - 5.0, r.rect.center().y);
         let (tip, base) = if sort.descending {
             (4.0, -4.0)
         } else {

@@ -59,10 +59,9 @@ impl Workspace for SweepWorkspace {
             egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui, shell));
         });
         let height = ui.available_height();
+        // Half the height for the plots: the table scrolls, a squeezed plot shows nothing.
         egui::Panel::bottom("sweep_plots")
-            .resizable(true)
-            .default_size((height * 0.48).max(200.0))
-            .size_range(160.0..=(height * 0.8).max(200.0))
+            .exact_size((height * 0.5).clamp(220.0, 640.0))
             .show(ui, |ui| self.plots_ui(ui));
         egui::CentralPanel::default().show(ui, |ui| self.table_ui(ui, shell));
     }

@@ -341,15 +341,15 @@ impl FieldSweepWindow {
         let y_label = metric.label(&self.design);
         let color = Color32::from_rgb(31, 119, 180);
         let current = self.current;
+        // The axis titles after the ticks, which replace the axes.
         crate::app::widgets::plot::with_nice_ticks(
             Plot::new("field_sweep_plot")
                 .legend(Legend::default())
-                .x_axis_label(field.label_with_unit())
-                .y_axis_label(y_label.clone())
-                // Fixed: a window's available height is the screen's, which would push the
-                // x axis's label out of the window.
+                // Fixed: a window's available height is the screen's.
                 .height(260.0),
         )
+        .x_axis_label(field.label_with_unit())
+        .y_axis_label(y_label.clone())
         .show(ui, |pl| {
             for s in segments.iter().filter(|s| !s.is_empty()) {
                 pl.line(
