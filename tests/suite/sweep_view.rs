@@ -269,3 +269,34 @@ fn the_context_menu_of_a_number_field_opens_the_sweep_window() {
     assert!(w.is_open());
     assert_eq!(w.field(), SweepField::WiringGapUm);
 }
+
+/// A file as the window system hands it over.
+#[derive(Debug)]
+struct Dropped(std::path::PathBuf);
+
+impl egui::DroppedFile for Dropped {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|e| e.to_string())
+    }
+}
+
+#[test]
+fn a_dropped_results_csv_opens_in_the_sweep_workspace_from_anywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = tiny_sweep(dir.path());
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.step();
+    assert_eq!(h.state().workspace(), WorkspaceId::Display);
+    // Not the display's opening nor the phase workspace's spectral response: the sweep's table.
+    h.input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(Dropped(out.join("results.csv"))));
+    h.step();
+    assert_eq!(h.state().workspace(), WorkspaceId::Sweep);
+    common::step_until(&mut h, "the dropped table", idle);
+    assert_eq!(h.state().sweep_ref().table().unwrap().rows.len(), 8);
+}
