@@ -9,6 +9,9 @@ use super::SweepWorkspace;
 use crate::core::sweep::{PlotKind, PlotSpec};
 use crate::io::sweep::plots::PlotData;
 
+/// The most rows a Pareto plot draws as points.
+const MAX_POINTS_DRAWN: usize = 5000;
+
 /// Line colours, one per group (the CLI's plots use the same).
 const PALETTE: [Color32; 6] = [
     Color32::from_rgb(31, 119, 180),
@@ -136,12 +139,21 @@ fn plot_ui(ui: &mut egui::Ui, k: usize, spec: &PlotSpec, data: &PlotData) {
             }
         }
         PlotData::Pareto { points, front } => {
+            // Every frame draws them: beyond a few thousand, an even sample shows the cloud as
+            // well and keeps scrolling the table smooth; the front is always drawn whole.
+            let step = points.len().div_ceil(MAX_POINTS_DRAWN).max(1);
             let all: PlotPoints = points
                 .iter()
+                .step_by(step)
                 .filter(|p| p.x.is_finite() && p.y.is_finite())
                 .map(|p| [p.x, p.y])
                 .collect();
-            pl.points(Points::new("rows", all).color(PALETTE[0]).radius(3.0));
+            let name = if step > 1 {
+                format!("rows (1 in {step})")
+            } else {
+                "rows".to_string()
+            };
+            pl.points(Points::new(name, all).color(PALETTE[0]).radius(3.0));
             let f: PlotPoints = front.iter().map(|p| [p.x, p.y]).collect();
             pl.line(Line::new("Pareto front", f).color(PALETTE[1]).width(2.0));
         }
