@@ -268,6 +268,15 @@ fn the_context_menu_of_a_number_field_opens_the_sweep_window() {
     let w = h.state().display().field_sweep();
     assert!(w.is_open());
     assert_eq!(w.field(), SweepField::WiringGapUm);
+    for _ in 0..4 {
+        h.step();
+    }
+    // The window draws its controls (a window is invisible in its first frame).
+    assert!(h.query_by_label("Run").is_some());
+    assert!(
+        h.query_by_label("Full quality (slower; preview otherwise)")
+            .is_some()
+    );
 }
 
 /// A file as the window system hands it over.
