@@ -309,3 +309,29 @@ fn a_dropped_results_csv_opens_in_the_sweep_workspace_from_anywhere() {
     common::step_until(&mut h, "the dropped table", idle);
     assert_eq!(h.state().sweep_ref().table().unwrap().rows.len(), 8);
 }
+
+#[test]
+fn a_phase_sweeps_row_says_open_design_is_for_display_designs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = tiny_sweep(dir.path());
+    // The same table under a phase job's manifest.
+    let path = out.join("sweep.json");
+    let mut m: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    m["spec"]["job"] = "phase-psf".into();
+    std::fs::write(&path, m.to_string()).unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut().set_workspace(WorkspaceId::Sweep);
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .sweep()
+        .open_folder(&out, move || ctx.request_repaint());
+    common::step_until(&mut h, "the table", idle);
+    h.get_all_by_label("Open").next().unwrap().click();
+    common::step_until(&mut h, "the notice", |app| {
+        app.sweep_ref().message().is_some_and(|m| m.is_error())
+    });
+    let text = h.state().sweep_ref().message().unwrap().text.clone();
+    assert!(text.contains("display designs"), "{text}");
+    assert_eq!(h.state().workspace(), WorkspaceId::Sweep);
+}
