@@ -1,9 +1,10 @@
 //! The studio (egui/eframe). The only module that touches egui.
 //!
 //! `StudioApp` is the shell: it owns the list of [`Workspace`]s (display layouts, phase masks,
-//! sensor previewer), the menu bar, the status bar, the unsaved-changes prompt and the settings.
-//! Every frame it reads the keyboard shortcuts, draws the menus and the active workspace (which
-//! takes its finished jobs and draws its panels), and hands the frame's [`Command`]s to it.
+//! sensor previewer, sweep results), the menu bar, the status bar, the unsaved-changes prompt and
+//! the settings. Every frame it reads the keyboard shortcuts, draws the menus and the active
+//! workspace (which takes its finished jobs and draws its panels), and hands the frame's
+//! [`Command`]s to it, then the commands one workspace sent another ([`Shell::send`]).
 
 pub mod commands;
 pub mod dialogs;

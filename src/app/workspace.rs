@@ -1,9 +1,10 @@
 //! The shape every workspace has, and what the shell lends it each frame.
 //!
-//! A workspace (display layouts, phase masks, sensor previewer) owns its document, panels,
-//! background jobs, undo history and autosave file. The shell ([`super::StudioApp`]) owns only
-//! the list of workspaces, the menu bar, the status bar, the unsaved-changes prompt and the
-//! settings; it draws the active workspace and routes menu and keyboard commands to it.
+//! A workspace (display layouts, phase masks, sensor previewer, sweep results) owns its
+//! document, panels, background jobs, undo history and autosave file. The shell
+//! ([`super::StudioApp`]) owns only the list of workspaces, the menu bar, the status bar, the
+//! unsaved-changes prompt and the settings; it draws the active workspace and routes menu and
+//! keyboard commands to it.
 //! Adding a workspace is one folder under `app/`, one [`WorkspaceId`] and one line in
 //! [`super::StudioApp::new`].
 
@@ -15,8 +16,8 @@ use super::commands::Command;
 use super::notice::Notice;
 use super::settings::{AppDirs, Settings};
 
-/// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4) and the sensor
-/// previewer (chapter 5).
+/// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4), the sensor
+/// previewer (chapter 5) and a sweep's results (issue 19).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WorkspaceId {
     /// Draw, tile, analyse, restore and optimize a display pixel's opening.
