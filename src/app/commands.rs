@@ -126,6 +126,16 @@ pub enum Command {
     New,
     /// Ask for a design file to open (asks first if there are unsaved changes).
     Open,
+    /// Open this design, built elsewhere (a sweep row's), as a new unsaved document: one undo
+    /// step; asks first if there are unsaved changes. `what` names it for the status bar.
+    OpenDesign {
+        /// The design.
+        design: Box<Design>,
+        /// Where it came from ("point 3 of sweep `tiny`").
+        what: String,
+    },
+    /// Open the 1-D sweep window for this field of the current design.
+    SweepField(crate::core::sweep::field::SweepField),
     /// Open a specific file (recent files, drag and drop, tests).
     OpenPath(std::path::PathBuf),
     /// Save to the current file, or ask for one when the design has never been saved.

@@ -1,9 +1,10 @@
 //! The studio (egui/eframe). The only module that touches egui.
 //!
 //! `StudioApp` is the shell: it owns the list of [`Workspace`]s (display layouts, phase masks,
-//! sensor previewer), the menu bar, the status bar, the unsaved-changes prompt and the settings.
-//! Every frame it reads the keyboard shortcuts, draws the menus and the active workspace (which
-//! takes its finished jobs and draws its panels), and hands the frame's [`Command`]s to it.
+//! sensor previewer, sweep results), the menu bar, the status bar, the unsaved-changes prompt and
+//! the settings. Every frame it reads the keyboard shortcuts, draws the menus and the active
+//! workspace (which takes its finished jobs and draws its panels), and hands the frame's
+//! [`Command`]s to it, then the commands one workspace sent another ([`Shell::send`]).
 
 pub mod commands;
 pub mod dialogs;
@@ -14,6 +15,7 @@ pub mod notice;
 pub mod phase;
 pub mod sensor;
 pub mod settings;
+pub mod sweep;
 pub mod widgets;
 pub mod workspace;
 
@@ -115,6 +117,7 @@ impl StudioApp {
                 shell.autosave_every,
             )),
             Box::new(sensor::SensorWorkspace::default()),
+            Box::new(sweep::SweepWorkspace::default()),
         ];
         StudioApp {
             workspaces,
@@ -229,6 +232,16 @@ impl StudioApp {
 
     /// The phase-mask workspace, read-only (for `step_until` conditions).
     pub fn phase_ref(&self) -> &phase::PhaseWorkspace {
+        self.get()
+    }
+
+    /// The Sweep workspace.
+    pub fn sweep(&mut self) -> &mut sweep::SweepWorkspace {
+        self.get_mut()
+    }
+
+    /// The Sweep workspace, read-only (for `step_until` conditions).
+    pub fn sweep_ref(&self) -> &sweep::SweepWorkspace {
         self.get()
     }
 
@@ -488,6 +501,12 @@ impl StudioApp {
         self.close_request(&ctx);
         self.confirm_ui(&ctx);
         self.apply(cmds);
+        for (id, c) in std::mem::take(&mut self.shell.sent) {
+            let shell = &mut self.shell;
+            if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
+                ws.command(c, false, shell);
+            }
+        }
         if let Some(id) = self.shell.switch_to.take() {
             self.active = id;
         }

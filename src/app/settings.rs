@@ -59,6 +59,8 @@ pub struct Settings {
     /// Design-rule rings on the opening editor (off by default: View > Design rules on the
     /// editor turns them on).
     pub design_rules: bool,
+    /// The sweep results folder last opened, for File > Reopen in the Sweep workspace.
+    pub last_sweep: Option<PathBuf>,
 }
 
 impl Default for Settings {
@@ -68,6 +70,7 @@ impl Default for Settings {
             dark: true,
             overlays: true,
             design_rules: false,
+            last_sweep: None,
         }
     }
 }

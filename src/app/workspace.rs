@@ -1,9 +1,10 @@
 //! The shape every workspace has, and what the shell lends it each frame.
 //!
-//! A workspace (display layouts, phase masks, sensor previewer) owns its document, panels,
-//! background jobs, undo history and autosave file. The shell ([`super::StudioApp`]) owns only
-//! the list of workspaces, the menu bar, the status bar, the unsaved-changes prompt and the
-//! settings; it draws the active workspace and routes menu and keyboard commands to it.
+//! A workspace (display layouts, phase masks, sensor previewer, sweep results) owns its
+//! document, panels, background jobs, undo history and autosave file. The shell
+//! ([`super::StudioApp`]) owns only the list of workspaces, the menu bar, the status bar, the
+//! unsaved-changes prompt and the settings; it draws the active workspace and routes menu and
+//! keyboard commands to it.
 //! Adding a workspace is one folder under `app/`, one [`WorkspaceId`] and one line in
 //! [`super::StudioApp::new`].
 
@@ -15,8 +16,8 @@ use super::commands::Command;
 use super::notice::Notice;
 use super::settings::{AppDirs, Settings};
 
-/// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4) and the sensor
-/// previewer (chapter 5).
+/// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4), the sensor
+/// previewer (chapter 5) and a sweep's results (issue 19).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum WorkspaceId {
     /// Draw, tile, analyse, restore and optimize a display pixel's opening.
@@ -25,6 +26,8 @@ pub enum WorkspaceId {
     Phase,
     /// Spatially-varying gain and binning on HDR scenes.
     Sensor,
+    /// The table and plots of a sweep's results folder (issue 19).
+    Sweep,
 }
 
 /// A workspace of the studio.
@@ -106,6 +109,8 @@ pub struct Shell {
     pub(super) confirm: Option<(WorkspaceId, Command)>,
     /// The user chose to quit: the window closes without asking again.
     pub(super) quit_confirmed: bool,
+    /// Commands a workspace sends to another (a sweep row's design to the display).
+    pub(super) sent: Vec<(WorkspaceId, Command)>,
 }
 
 impl Shell {
@@ -127,6 +132,7 @@ impl Shell {
             switch_to: None,
             confirm: None,
             quit_confirmed: false,
+            sent: Vec::new(),
         }
     }
 
@@ -169,6 +175,13 @@ impl Shell {
 
     /// Shows workspace `id` at the end of the frame.
     pub fn show(&mut self, id: WorkspaceId) {
+        self.switch_to = Some(id);
+    }
+
+    /// Hands `command` to workspace `id` at the end of the frame and shows that workspace
+    /// (the Sweep workspace opens a row's design in the display's document, undoable there).
+    pub fn send(&mut self, id: WorkspaceId, command: Command) {
+        self.sent.push((id, command));
         self.switch_to = Some(id);
     }
 

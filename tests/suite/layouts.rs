@@ -37,6 +37,7 @@ fn up_to_date(app: &StudioApp, ws: WorkspaceId) -> bool {
         WorkspaceId::Display => app.is_up_to_date(),
         WorkspaceId::Phase => app.phase_ref().is_up_to_date(),
         WorkspaceId::Sensor => app.sensor_ref().is_up_to_date(),
+        WorkspaceId::Sweep => app.sweep_ref().is_idle(),
     }
 }
 
@@ -46,6 +47,8 @@ fn landmarks(ws: WorkspaceId) -> (&'static str, &'static str) {
         WorkspaceId::Display => ("Numbers", "PSF"),
         WorkspaceId::Phase => ("Numbers", "PSF and MTF"),
         WorkspaceId::Sensor => ("Numbers", "Scene and maps"),
+        // No numbers panel: the table is the centre.
+        WorkspaceId::Sweep => ("Sweep results", "Filter"),
     }
 }
 

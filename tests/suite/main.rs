@@ -59,6 +59,7 @@ mod studio;
 mod sweep;
 mod sweep_cli;
 mod sweep_slurm;
+mod sweep_view;
 mod theory;
 mod thesis;
 mod views;

@@ -294,3 +294,59 @@ fn phase_capture_and_compare() {
     }
     capture(&mut h, "phase-compare");
 }
+
+#[test]
+fn sweep_results_and_a_one_parameter_sweep() {
+    use udc_studio::app::WorkspaceId;
+    use udc_studio::core::sweep::field::{FieldPoint, SweepField};
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("tiny-results");
+    let spec = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sweep/tiny.toml");
+    let (ok, _, stderr) = common::run_cli(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let mut h = harness(dir.path());
+    h.state_mut().set_workspace(WorkspaceId::Sweep);
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .sweep()
+        .open_folder(&out, move || ctx.request_repaint());
+    common::step_until(&mut h, "the sweep table", |app| {
+        app.sweep_ref().is_idle() && app.sweep_ref().shown_rows().is_some()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    assert_eq!(h.state().sweep_ref().shown_rows().unwrap().len(), 8);
+    capture(&mut h, "sweep-results");
+    // The T-OLED's pitch swept from its context menu's window, at preview quality.
+    h.state_mut().set_workspace(WorkspaceId::Display);
+    h.state_mut()
+        .command(Command::LoadPreset("toled-150dpi".into()));
+    h.state_mut()
+        .show_left_tab(udc_studio::app::LeftTab::Tiling);
+    h.state_mut()
+        .command(Command::SweepField(SweepField::PitchUm));
+    for _ in 0..4 {
+        h.step();
+    }
+    let ctx = h.ctx.clone();
+    h.state_mut().display_mut().field_sweep_mut().run(&ctx);
+    common::step_until(&mut h, "the 1-D sweep", |app| {
+        let w = app.display().field_sweep();
+        !w.is_running() && w.points().iter().all(|(_, p)| p.is_some())
+    });
+    settle(&mut h);
+    let points = h.state().display().field_sweep().points();
+    assert_eq!(points.len(), 9);
+    assert!(
+        points
+            .iter()
+            .all(|(_, p)| matches!(p, Some(FieldPoint::Value(y)) if y.is_finite()))
+    );
+    capture(&mut h, "sweep-this-parameter");
+}

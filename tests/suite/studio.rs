@@ -442,6 +442,7 @@ fn the_help_menu_tours_every_workspace() {
             "1. The left sets the two microlens arrays",
         ),
         (WorkspaceId::Sensor, "1. Open an HDR scene"),
+        (WorkspaceId::Sweep, "1. Run a sweep on the command line"),
     ] {
         h.state_mut().set_workspace(ws);
         h.run_steps(2);

@@ -84,6 +84,17 @@ impl DisplayWorkspace {
             Command::Open => self.ask(Purpose::Open, None, shell),
             Command::OpenPath(_) if self.needs_confirm(&c, confirmed, shell) => {}
             Command::OpenPath(p) => self.open_path(p),
+            Command::OpenDesign { .. } if self.needs_confirm(&c, confirmed, shell) => {}
+            Command::OpenDesign { design, what } => {
+                // Like a preset: a new document with no file (Save asks where), one undo step.
+                self.doc.replace(*design, None);
+                self.submit();
+                shell.set_status(Notice::info(format!("opened {what} (Ctrl+Z goes back)")));
+            }
+            Command::SweepField(field) => {
+                let design = self.doc.design().clone();
+                self.panels.field_sweep.open(field, design);
+            }
             Command::Save => match self.doc.path.clone() {
                 Some(p) => self.save_to(p, shell),
                 None => self.apply_one(Command::SaveAs, confirmed, shell),
@@ -395,6 +406,10 @@ impl DisplayWorkspace {
             .map(|e| e.to_string_lossy().to_lowercase())
             .unwrap_or_default();
         let photo_ext = matches!(ext.as_str(), "png" | "jpg" | "jpeg");
+        // A sweep's results folder (or its sweep.json / results.csv) is the Sweep workspace's.
+        if crate::app::sweep::results_dir(p).is_some_and(|d| d.join("sweep.json").exists()) {
+            return false;
+        }
         if ext == "json" {
             self.apply_one(Command::OpenPath(p.to_path_buf()), false, shell);
         } else if ext == "hdr" || ext == "exr" {

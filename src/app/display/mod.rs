@@ -81,6 +81,7 @@ struct Panels {
     numbers: panels::numbers::NumbersPanel,
     views: panels::views::ViewsPanel,
     mask_export: panels::mask_export::MaskExportDialog,
+    field_sweep: panels::field_sweep::FieldSweepWindow,
 }
 
 /// The display-layout workspace.
@@ -125,6 +126,7 @@ impl DisplayWorkspace {
                 numbers: Default::default(),
                 views: Default::default(),
                 mask_export: Default::default(),
+                field_sweep: Default::default(),
             },
             tool: Tool::Paint,
             left_tab: LeftTab::Opening,
@@ -205,6 +207,16 @@ impl DisplayWorkspace {
     /// The Export-mask dialog (its options and whether an export runs).
     pub fn mask_export(&self) -> &panels::mask_export::MaskExportDialog {
         &self.panels.mask_export
+    }
+
+    /// The "sweep this parameter" window.
+    pub fn field_sweep(&self) -> &panels::field_sweep::FieldSweepWindow {
+        &self.panels.field_sweep
+    }
+
+    /// The "sweep this parameter" window, to set it up (tests).
+    pub fn field_sweep_mut(&mut self) -> &mut panels::field_sweep::FieldSweepWindow {
+        &mut self.panels.field_sweep
     }
 
     /// Shows a tab of the left panel.
@@ -365,6 +377,7 @@ impl Workspace for DisplayWorkspace {
         });
         let ctx = ui.ctx().clone();
         self.panels.mask_export.ui(&ctx, self.doc.design(), cmds);
+        self.panels.field_sweep.ui(&ctx);
         self.poll_files(shell);
     }
 

@@ -88,6 +88,10 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
     /// Photos go to the capture view, CSV files become the sensor response; anything else is
     /// left to the other workspaces (a design `.json` to the display, an HDR to the sensor).
     fn open_dropped(&mut self, path: &std::path::Path, shell: &mut crate::app::Shell) -> bool {
+        // A sweep's results.csv is the Sweep workspace's, not a spectral response.
+        if crate::app::sweep::results_dir(path).is_some_and(|d| d.join("sweep.json").exists()) {
+            return false;
+        }
         let ext = path
             .extension()
             .map(|e| e.to_string_lossy().to_lowercase())

@@ -3,6 +3,7 @@
 //! makes a sweep resumable; and the summaries its plots draw. Running points, files and
 //! clusters are the CLI's and `io`'s business.
 
+pub mod field;
 pub mod hash;
 pub mod points;
 pub mod spec;

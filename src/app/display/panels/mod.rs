@@ -5,6 +5,7 @@ pub mod advice;
 pub mod editor;
 pub mod editor_emitters;
 pub mod editor_rules;
+pub mod field_sweep;
 pub mod mask_export;
 pub mod numbers;
 pub mod optics;

@@ -5,6 +5,7 @@ use crate::app::commands::Command;
 // The advice's limits are these fields' ranges: a fix the fields would clamp is no fix.
 use crate::core::advice::{MAX_FIX_WINDOW_PX, MIN_FIX_FINE_SAMPLE_UM, MIN_FIX_PUPIL_SAMPLE_UM};
 use crate::core::design::{Channel, Design, OpticsRecipe};
+use crate::core::sweep::field::SweepField;
 
 /// The Optics panel: recipe, focal length, f-number, sampling, sampling phase and colour
 /// channels.
@@ -23,7 +24,7 @@ fn num(
     speed: f64,
     suffix: &str,
     tip: &str,
-) -> bool {
+) -> egui::Response {
     ui.label(label);
     let r = ui
         .add(
@@ -35,7 +36,7 @@ fn num(
         )
         .on_hover_text(tip);
     ui.end_row();
-    r.dragged()
+    r
 }
 
 impl OpticsPanel {
@@ -59,14 +60,20 @@ impl OpticsPanel {
         let before = d.optics.clone();
         egui::Grid::new("optics-grid").num_columns(2).show(ui, |ui| {
             let o = &mut d.optics;
-            dragging |= num(ui, "Focal length", &mut o.focal_length_mm, 0.5..=100.0, 0.05, " mm", "Lens focal length f (mm)");
-            dragging |= num(ui, "f-number", &mut o.f_number, 0.5..=32.0, 0.01, "", "F# = f / D");
+            let r = num(ui, "Focal length", &mut o.focal_length_mm, 0.5..=100.0, 0.05, " mm", "Lens focal length f (mm); right-click: sweep it");
+            dragging |= r.dragged();
+            super::field_sweep::sweep_menu(&r, SweepField::FocalLengthMm, ctx.commands);
+            let r = num(ui, "f-number", &mut o.f_number, 0.5..=32.0, 0.01, "", "F# = f / D; right-click: sweep it");
+            dragging |= r.dragged();
+            super::field_sweep::sweep_menu(&r, SweepField::FNumber, ctx.commands);
             ui.label("Pupil diameter");
             ui.label(format!("{:.3} mm", o.pupil_diameter_um() / 1000.0));
             ui.end_row();
-            dragging |= num(ui, "Pupil sampling δ1", &mut o.pupil_sample_um, MIN_FIX_PUPIL_SAMPLE_UM..=64.0, 0.05, " µm", "Pupil/display sample spacing (µm); must resolve the display cells");
-            dragging |= num(ui, "Fine PSF spacing δ2", &mut o.fine_sample_um, MIN_FIX_FINE_SAMPLE_UM..=8.0, 0.01, " µm", "Target fine PSF spacing on the sensor (µm); FFT size M = 2·floor(λf/(2 δ1 δ2))");
-            dragging |= num(ui, "Sensor pixel", &mut o.sensor_pixel_um, 0.2..=20.0, 0.01, " µm", "Sensor pixel pitch (µm)");
+            dragging |= num(ui, "Pupil sampling δ1", &mut o.pupil_sample_um, MIN_FIX_PUPIL_SAMPLE_UM..=64.0, 0.05, " µm", "Pupil/display sample spacing (µm); must resolve the display cells").dragged();
+            dragging |= num(ui, "Fine PSF spacing δ2", &mut o.fine_sample_um, MIN_FIX_FINE_SAMPLE_UM..=8.0, 0.01, " µm", "Target fine PSF spacing on the sensor (µm); FFT size M = 2·floor(λf/(2 δ1 δ2))").dragged();
+            let r = num(ui, "Sensor pixel", &mut o.sensor_pixel_um, 0.2..=20.0, 0.01, " µm", "Sensor pixel pitch (µm); right-click: sweep it");
+            dragging |= r.dragged();
+            super::field_sweep::sweep_menu(&r, SweepField::SensorPixelUm, ctx.commands);
             ui.label("Window");
             let r = ui
                 .add(crate::app::widgets::number(&mut o.window_px).range(8..=MAX_FIX_WINDOW_PX).suffix(" px"))
@@ -74,8 +81,8 @@ impl OpticsPanel {
             dragging |= r.dragged();
             ui.end_row();
             let px = o.sensor_pixel_um;
-            dragging |= num(ui, "Axis in pixel x", &mut o.axis_in_pixel_um[0], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase: where the optical axis lies inside its pixel, from the pixel's left edge (µm)");
-            dragging |= num(ui, "Axis in pixel y", &mut o.axis_in_pixel_um[1], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase along y, from the pixel's lower edge (µm)");
+            dragging |= num(ui, "Axis in pixel x", &mut o.axis_in_pixel_um[0], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase: where the optical axis lies inside its pixel, from the pixel's left edge (µm)").dragged();
+            dragging |= num(ui, "Axis in pixel y", &mut o.axis_in_pixel_um[1], 0.0..=px * 0.999, 0.01, " µm", "Sampling phase along y, from the pixel's lower edge (µm)").dragged();
         });
         if d.optics != before {
             d.optics.recipe = OpticsRecipe::Custom;

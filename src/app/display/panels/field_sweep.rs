@@ -1,0 +1,394 @@
+//! "Sweep this parameter…": a window that analyses a copy of the design at a range of one
+//! field's values and plots a metric as each value finishes. It works on the copy taken when
+//! it opened, so editing the design meanwhile does not disturb it; invalid values leave gaps.
+//! The values, the copies and the metric come from [`crate::core::sweep::field`].
+
+use std::sync::mpsc::{Receiver, channel};
+
+use egui::Color32;
+use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, Points, VLine};
+
+use crate::app::job::{Job, JobError};
+use crate::app::notice::Notice;
+use crate::core::Design;
+use crate::core::analyze::Quality;
+use crate::core::sweep::field::{FieldPoint, SweepField, SweepMetric, evaluate, values};
+
+/// A run in flight: the job and the points it sends as they finish.
+struct Run {
+    job: Job<()>,
+    points: Receiver<(usize, FieldPoint)>,
+}
+
+/// The 1-D sweep window.
+pub struct FieldSweepWindow {
+    open: bool,
+    field: SweepField,
+    /// The design as it was when the window opened.
+    design: Design,
+    current: f64,
+    /// First value, in the field's unit.
+    pub from: f64,
+    /// Last value, in the field's unit.
+    pub to: f64,
+    /// How many values, both ends included.
+    pub steps: usize,
+    /// The number plotted.
+    pub metric: SweepMetric,
+    /// Full quality instead of the fast preview.
+    pub full: bool,
+    run: Option<Run>,
+    /// The values of the last run and what each gave (`None`: not yet).
+    points: Vec<(f64, Option<FieldPoint>)>,
+    /// The metric and field the points are of (the controls may have changed since).
+    points_of: (SweepField, SweepMetric),
+    message: Option<Notice>,
+}
+
+impl Default for FieldSweepWindow {
+    fn default() -> Self {
+        FieldSweepWindow {
+            open: false,
+            field: SweepField::PitchUm,
+            design: Design::default_toled(),
+            current: 0.0,
+            from: 0.0,
+            to: 0.0,
+            steps: 9,
+            metric: SweepMetric::AucMean,
+            full: false,
+            run: None,
+            points: Vec::new(),
+            points_of: (SweepField::PitchUm, SweepMetric::AucMean),
+            message: None,
+        }
+    }
+}
+
+impl FieldSweepWindow {
+    /// Opens the window for `field` of a copy of `design`, with the default range around its
+    /// value. A run of the previous field is cancelled.
+    pub fn open(&mut self, field: SweepField, design: Design) {
+        let current = field.get(&design);
+        let (from, to, steps) = field.default_range(current);
+        *self = FieldSweepWindow {
+            open: true,
+            field,
+            design,
+            current,
+            from,
+            to,
+            steps,
+            metric: self.metric,
+            full: self.full,
+            run: None,
+            points: Vec::new(),
+            points_of: (field, self.metric),
+            message: None,
+        };
+        let metrics = SweepMetric::all_for(&self.design);
+        if !metrics.contains(&self.metric) {
+            self.metric = SweepMetric::AucMean;
+        }
+    }
+
+    /// Whether it is shown.
+    pub fn is_open(&self) -> bool {
+        self.open
+    }
+
+    /// The field it sweeps.
+    pub fn field(&self) -> SweepField {
+        self.field
+    }
+
+    /// The field's value in the design it works on.
+    pub fn current(&self) -> f64 {
+        self.current
+    }
+
+    /// Whether a run is in flight.
+    pub fn is_running(&self) -> bool {
+        self.run.is_some()
+    }
+
+    /// The values the controls ask for.
+    pub fn values(&self) -> Vec<f64> {
+        values(self.from, self.to, self.steps, self.field.is_integer())
+    }
+
+    /// The last run's values and what each gave (`None`: not computed yet).
+    pub fn points(&self) -> &[(f64, Option<FieldPoint>)] {
+        &self.points
+    }
+
+    /// The window's message line.
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
+    /// Starts a run of the values on a job; each finished value wakes the UI to grow the plot.
+    pub fn run(&mut self, ctx: &egui::Context) {
+        let vals = self.values();
+        self.points = vals.iter().map(|v| (*v, None)).collect();
+        self.points_of = (self.field, self.metric);
+        self.message = None;
+        let (tx, rx) = channel();
+        let (design, field, metric) = (self.design.clone(), self.field, self.metric);
+        let quality = if self.full {
+            Quality::Full
+        } else {
+            Quality::Preview
+        };
+        let wake = ctx.clone();
+        let done = ctx.clone();
+        let job = Job::spawn(
+            "parameter sweep",
+            move || done.request_repaint(),
+            move |progress| -> Result<(), JobError> {
+                for (i, v) in vals.into_iter().enumerate() {
+                    progress.check()?;
+                    let point = evaluate(&design, field, v, metric, quality, progress)?;
+                    // The window may be gone; the job then ends at its next check.
+                    let _ = tx.send((i, point));
+                    wake.request_repaint();
+                }
+                Ok(())
+            },
+        );
+        self.run = Some(Run { job, points: rx });
+    }
+
+    /// Stops the run; the points so far stay.
+    pub fn cancel(&mut self) {
+        if let Some(r) = &self.run {
+            r.job.cancel();
+        }
+    }
+
+    /// Closes the window (a run is cancelled with it).
+    pub fn close(&mut self) {
+        self.open = false;
+        self.run = None;
+    }
+
+    /// Takes the points that finished, and the run's end.
+    fn poll(&mut self) {
+        let Some(run) = &self.run else {
+            return;
+        };
+        while let Ok((i, p)) = run.points.try_recv() {
+            if let Some(slot) = self.points.get_mut(i) {
+                slot.1 = Some(p);
+            }
+        }
+        if let Some(done) = run.job.poll() {
+            // Points sent just before the end are already in the channel.
+            while let Ok((i, p)) = run.points.try_recv() {
+                if let Some(slot) = self.points.get_mut(i) {
+                    slot.1 = Some(p);
+                }
+            }
+            self.run = None;
+            self.message = match done {
+                Ok(()) => {
+                    let bad = self
+                        .points
+                        .iter()
+                        .filter(|(_, p)| matches!(p, Some(FieldPoint::Invalid(_))))
+                        .count();
+                    Some(Notice::info(format!(
+                        "{} values done{}",
+                        self.points.len(),
+                        if bad > 0 {
+                            format!(", {bad} invalid (gaps in the curve)")
+                        } else {
+                            String::new()
+                        }
+                    )))
+                }
+                Err(JobError::Cancelled) => Some(Notice::info("cancelled; the points so far stay")),
+                Err(e) => Some(Notice::error(e.to_string())),
+            };
+        }
+    }
+
+    /// Draws the window when open; Escape closes it.
+    pub fn ui(&mut self, ctx: &egui::Context) {
+        if !self.open {
+            return;
+        }
+        self.poll();
+        if ctx.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Escape)) {
+            self.close();
+            return;
+        }
+        let mut open = self.open;
+        egui::Window::new(format!("Sweep {}", self.field.label()))
+            .id(egui::Id::unique("field_sweep_window"))
+            .open(&mut open)
+            .collapsible(false)
+            .default_width(520.0)
+            .show(ctx, |ui| {
+                self.controls_ui(ui, ctx);
+                ui.separator();
+                self.plot_ui(ui);
+            });
+        if !open {
+            self.close();
+        }
+    }
+
+    fn controls_ui(&mut self, ui: &mut egui::Ui, ctx: &egui::Context) {
+        let unit = self.field.unit();
+        let int = self.field.is_integer();
+        ui.label(format!(
+            "On a copy of the design as it was when this opened: {} = {}{}{unit}",
+            self.field.label(),
+            crate::app::sweep::table::format_number(self.current),
+            if unit.is_empty() { "" } else { " " },
+        ));
+        let idle = self.run.is_none();
+        ui.add_enabled_ui(idle, |ui| {
+            egui::Grid::new("field_sweep_grid")
+                .num_columns(2)
+                .show(ui, |ui| {
+                    let suffix = if unit.is_empty() {
+                        String::new()
+                    } else {
+                        format!(" {unit}")
+                    };
+                    for (label, v) in [("from", &mut self.from), ("to", &mut self.to)] {
+                        ui.label(label);
+                        let speed = if int { 1.0 } else { (v.abs() * 0.01).max(0.01) };
+                        let mut field = crate::app::widgets::number(v)
+                            .speed(speed)
+                            .suffix(suffix.clone());
+                        if int {
+                            field = field.max_decimals(0);
+                        }
+                        ui.add(field);
+                        ui.end_row();
+                    }
+                    ui.label("steps");
+                    ui.add(crate::app::widgets::number(&mut self.steps).range(1..=200));
+                    ui.end_row();
+                    ui.label("metric");
+                    let d = &self.design;
+                    egui::ComboBox::from_id_salt("field_sweep_metric")
+                        .selected_text(self.metric.label(d))
+                        .show_ui(ui, |ui| {
+                            for m in SweepMetric::all_for(d) {
+                                ui.selectable_value(&mut self.metric, m, m.label(d));
+                            }
+                        });
+                    ui.end_row();
+                });
+            ui.checkbox(&mut self.full, "Full quality (slower; preview otherwise)");
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(idle && self.steps > 0, egui::Button::new("Run"))
+                .clicked()
+            {
+                self.run(ctx);
+            }
+            if ui.add_enabled(!idle, egui::Button::new("Cancel")).clicked() {
+                self.cancel();
+            }
+            if let Some(run) = &self.run {
+                ui.spinner();
+                let done = self.points.iter().filter(|(_, p)| p.is_some()).count();
+                ui.label(format!(
+                    "{done} / {} values · {:.0} s",
+                    self.points.len(),
+                    run.job.elapsed().as_secs_f64()
+                ));
+            }
+        });
+        crate::app::widgets::message_ui(ui, self.message.as_ref());
+    }
+
+    fn plot_ui(&mut self, ui: &mut egui::Ui) {
+        let (field, metric) = self.points_of;
+        // Runs of valid values are separate lines, so an invalid value is a gap, not a jump.
+        let mut segments: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
+        let mut invalid: Vec<(f64, &str)> = Vec::new();
+        for (x, p) in &self.points {
+            match p {
+                Some(FieldPoint::Value(y)) => {
+                    if let Some(s) = segments.last_mut() {
+                        s.push([*x, *y]);
+                    }
+                }
+                Some(FieldPoint::Invalid(why)) => {
+                    invalid.push((*x, why.as_str()));
+                    segments.push(Vec::new());
+                }
+                None => {}
+            }
+        }
+        if let Some((x, why)) = invalid.first() {
+            ui.colored_label(
+                ui.visuals().warn_fg_color,
+                format!(
+                    "{} invalid value(s), shown as gaps; at {}: {why}",
+                    invalid.len(),
+                    crate::app::sweep::table::format_number(*x)
+                ),
+            );
+        }
+        let y_label = metric.label(&self.design);
+        let color = Color32::from_rgb(31, 119, 180);
+        let current = self.current;
+        // The axis titles after the ticks, which replace the axes.
+        crate::app::widgets::plot::with_nice_ticks(
+            Plot::new("field_sweep_plot")
+                .legend(Legend::default())
+                // Fixed: a window's available height is the screen's.
+                .height(260.0),
+        )
+        .x_axis_label(field.label_with_unit())
+        .y_axis_label(y_label.clone())
+        .show(ui, |pl| {
+            for s in segments.iter().filter(|s| !s.is_empty()) {
+                pl.line(
+                    Line::new(y_label.clone(), PlotPoints::from(s.clone()))
+                        .color(color)
+                        .width(2.0),
+                );
+                pl.points(
+                    Points::new(y_label.clone(), PlotPoints::from(s.clone()))
+                        .color(color)
+                        .radius(3.5),
+                );
+            }
+            pl.vline(
+                VLine::new("current value", current)
+                    .style(LineStyle::dashed_dense())
+                    .color(Color32::GRAY),
+            );
+        });
+    }
+}
+
+/// The number field's right-click menu: "Sweep this parameter…" opens the window for `field`.
+pub fn sweep_menu(
+    response: &egui::Response,
+    field: SweepField,
+    commands: &mut Vec<crate::app::commands::Command>,
+) {
+    response.context_menu(|ui| {
+        if ui
+            .button("Sweep this parameter…")
+            .on_hover_text(format!(
+                "Analyse the design at a range of {} values and plot a metric",
+                field.label()
+            ))
+            .clicked()
+        {
+            commands.push(crate::app::commands::Command::SweepField(field));
+            ui.close();
+        }
+    });
+}

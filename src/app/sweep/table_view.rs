@@ -1,0 +1,244 @@
+//! The Sweep workspace's controls (the folder, the filter, the message line) and its table.
+//!
+//! The table is rows of fixed-width cells inside a `ScrollArea::show_rows`, so only the rows
+//! on screen are laid out (100 000 rows scroll as fast as 10). Widths are fixed per column,
+//! from the header and the widest cell the view's job measured, because a `Grid` sizes its
+//! columns from the rows it has drawn and would shift the columns under the header as it
+//! scrolls.
+
+use egui::{Align, Layout, RichText, Sense, vec2};
+
+use super::SweepWorkspace;
+use super::table::{Column, Sort};
+use crate::app::workspace::Shell;
+
+/// Room for the Open button at the start of each row.
+const OPEN_COLUMN_PX: f32 = 52.0;
+/// The widest a column gets (longer errors are cut; hover shows them whole).
+const MAX_COLUMN_PX: f32 = 360.0;
+
+impl SweepWorkspace {
+    /// The left panel: what is open, the filter and the message line.
+    pub(super) fn controls_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
+        ui.heading("Sweep results");
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .add_enabled(self.dialog.is_none(), egui::Button::new("Open…"))
+                .on_hover_text("File > Open sweep results…: a folder written by udc-studio sweep")
+                .clicked()
+            {
+                self.ask_folder(shell);
+            }
+            if let Some(last) = shell.settings.last_sweep.clone()
+                && self.table.as_ref().is_none_or(|t| t.dir != last)
+                && ui
+                    .add_enabled(self.load.is_none(), egui::Button::new("Reopen last"))
+                    .on_hover_text(last.display().to_string())
+                    .clicked()
+            {
+                self.open_folder(&last, shell.waker());
+            }
+        });
+        if let Some((dir, job)) = &self.load {
+            let mut cancel = false;
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label(format!(
+                    "reading {} … {:.0} %",
+                    dir.display(),
+                    100.0 * job.fraction()
+                ));
+                cancel = ui.button("Cancel").clicked();
+            });
+            if cancel {
+                self.cancel_load();
+            }
+        }
+        crate::app::widgets::message_ui(ui, self.message.as_ref());
+        let Some(t) = self.table.clone() else {
+            ui.weak("No results open yet.");
+            return;
+        };
+        let m = &t.manifest;
+        ui.separator();
+        egui::Grid::new("sweep_summary")
+            .num_columns(2)
+            .show(ui, |ui| {
+                let mut row = |k: &str, v: String| {
+                    ui.label(k);
+                    ui.label(v);
+                    ui.end_row();
+                };
+                row("name", m.spec.name.clone());
+                row("job", m.spec.job.as_str().to_string());
+                row(
+                    "rows",
+                    format!("{} of {} points ({} failed)", m.rows, m.points, m.failed),
+                );
+                row(
+                    "complete",
+                    if m.complete { "yes" } else { "no: resume it" }.into(),
+                );
+                row("run time", format!("{:.1} s", m.elapsed_s));
+                row("tool", m.tool_version.clone());
+            });
+        ui.label(RichText::new(t.dir.display().to_string()).weak().small());
+        ui.separator();
+        ui.label("Filter");
+        ui.add(
+            egui::TextEdit::singleline(&mut self.filter)
+                .hint_text("random-4  ltr>0.5  seed<3")
+                .desired_width(f32::INFINITY),
+        )
+        .on_hover_text(
+            "Words separated by spaces, all of which must hold: text found in a parameter \
+             or the error (random-4), or a column compared with a number (ltr>0.5, seed<3) \
+             or equal to a word (tiling=repeat)",
+        );
+    }
+
+    /// The table: a header row of sort buttons and the shown rows.
+    pub(super) fn table_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
+        let Some(t) = self.table.clone() else {
+            ui.centered_and_justified(|ui| {
+                ui.weak("File > Open sweep results… to see a sweep's table and plots.");
+            });
+            return;
+        };
+        let Some(view) = &self.view else {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label("sorting and filtering…");
+            });
+            return;
+        };
+        ui.horizontal(|ui| {
+            ui.label(format!("{} shown / {} rows", view.rows.len(), t.rows.len()));
+            if self.view_job.is_some() {
+                ui.spinner();
+            }
+        });
+        let columns = t.columns();
+        let widths: Vec<f32> = columns
+            .iter()
+            .map(|c| {
+                let header = ui.fonts_mut(|f| {
+                    f.layout_no_wrap(
+                        t.name(*c).to_string(),
+                        egui::TextStyle::Button.resolve(ui.style()),
+                        egui::Color32::WHITE,
+                    )
+                    .size()
+                    .x
+                });
+                let chars = view.widest.get(c).copied().unwrap_or(6) as f32;
+                (header + 30.0).max(chars * 7.5 + 12.0).min(MAX_COLUMN_PX)
+            })
+            .collect();
+        let row_h = ui.spacing().interact_size.y;
+        let mut sort = self.sort;
+        let mut open = None;
+        egui::ScrollArea::horizontal()
+            .id_salt("sweep_table_x")
+            .show(ui, |ui| {
+                ui.horizontal(|ui| {
+                    ui.add_space(OPEN_COLUMN_PX);
+                    for (c, w) in columns.iter().zip(&widths) {
+                        header_ui(ui, t.name(*c), *c, *w, &mut sort);
+                    }
+                });
+                ui.separator();
+                egui::ScrollArea::vertical()
+                    .id_salt("sweep_table_y")
+                    .auto_shrink([false, false])
+                    .show_rows(ui, row_h, view.rows.len(), |ui, range| {
+                        for k in range {
+                            let Some(&i) = view.rows.get(k) else { continue };
+                            let Some(row) = t.rows.get(i) else { continue };
+                            ui.horizontal(|ui| {
+                                ui.allocate_ui_with_layout(
+                                    vec2(OPEN_COLUMN_PX, row_h),
+                                    Layout::left_to_right(Align::Center),
+                                    |ui| {
+                                        if ui
+                                            .small_button("Open")
+                                            .on_hover_text(
+                                                "Open this point's design in Display layouts",
+                                            )
+                                            .clicked()
+                                        {
+                                            open = Some(i);
+                                        }
+                                    },
+                                );
+                                for (c, w) in columns.iter().zip(&widths) {
+                                    cell_ui(ui, &t.text(row, *c), *c, *w, row_h);
+                                }
+                            });
+                        }
+                    });
+            });
+        if sort != self.sort {
+            self.sort = sort;
+        }
+        if let Some(i) = open {
+            self.open_row(i, shell.waker());
+        }
+    }
+}
+
+/// A column's header: click to sort by it, again to reverse; a painted triangle shows the
+/// order (the studio's fonts have no arrow glyphs).
+fn header_ui(ui: &mut egui::Ui, name: &str, c: Column, width: f32, sort: &mut Sort) {
+    let r = ui.add_sized(
+        vec2(width, ui.spacing().interact_size.y),
+        egui::Button::new(RichText::new(name).strong()).frame(false),
+    );
+    if sort.column == c {
+        let color = ui.visuals().strong_text_color();
+        let centre = egui::pos2(r.rect.right() - 5.0, r.rect.center().y);
+        let (tip, base) = if sort.descending {
+            (4.0, -4.0)
+        } else {
+            (-4.0, 4.0)
+        };
+        ui.painter().add(egui::Shape::convex_polygon(
+            vec![
+                centre + vec2(0.0, tip),
+                centre + vec2(-4.0, base),
+                centre + vec2(4.0, base),
+            ],
+            color,
+            egui::Stroke::NONE,
+        ));
+    }
+    let order = match (sort.column == c, sort.descending) {
+        (true, false) => " (now smallest first)",
+        (true, true) => " (now largest first)",
+        _ => "",
+    };
+    if r.on_hover_text(format!("Sort by {name}{order}; click again to reverse"))
+        .clicked()
+    {
+        *sort = Sort {
+            column: c,
+            descending: sort.column == c && !sort.descending,
+        };
+    }
+}
+
+/// One cell, cut to its column; numbers right-aligned so their digits line up.
+fn cell_ui(ui: &mut egui::Ui, text: &str, c: Column, width: f32, height: f32) {
+    let layout = match c {
+        Column::Metric(_) | Column::Point => Layout::right_to_left(Align::Center),
+        _ => Layout::left_to_right(Align::Center),
+    };
+    ui.allocate_ui_with_layout(vec2(width, height), layout, |ui| {
+        ui.set_min_width(width);
+        let label = egui::Label::new(text).truncate().sense(Sense::hover());
+        let r = ui.add(label);
+        if matches!(c, Column::Error) && !text.is_empty() {
+            r.on_hover_text(text);
+        }
+    });
+}

@@ -1,0 +1,123 @@
+//! How the Sweep workspace plugs into the studio's shell: its layout, File menu entries and
+//! dropped folders.
+
+use std::path::Path;
+
+use super::SweepWorkspace;
+use crate::app::commands::Command;
+use crate::app::workspace::{Shell, Workspace, WorkspaceId, side_panel};
+
+impl Workspace for SweepWorkspace {
+    fn id(&self) -> WorkspaceId {
+        WorkspaceId::Sweep
+    }
+
+    fn label(&self) -> &'static str {
+        "Sweep results"
+    }
+
+    fn about(&self) -> &'static str {
+        "Issue 19: the table and plots of a `udc-studio sweep` results folder; open any \
+         row's design"
+    }
+
+    fn hint(&self) -> &'static str {
+        "Ready. File > Open sweep results… (a folder written by `udc-studio sweep SPEC --out \
+         DIR`), or drop the folder on the window."
+    }
+
+    fn tour(&self) -> &'static [&'static str] {
+        &[
+            "Run a sweep on the command line: udc-studio sweep SPEC.toml --out DIR.",
+            "File > Open sweep results… and choose DIR (or drop it, its sweep.json or its \
+             results.csv on the window).",
+            "Click a column's header to sort by it (again: the other way); type in Filter to \
+             keep rows: random-4, ltr>0.5, seed<3, tiling=repeat.",
+            "The plots follow the filter: the spec's plots, then your own (pick x and y; \
+             Pareto shows the front of the two).",
+            "Open on a row rebuilds its design and opens it in Display layouts (Ctrl+Z there \
+             goes back).",
+        ]
+    }
+
+    fn shortcuts(&self) -> &'static [(&'static str, &'static str)] {
+        &[]
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell, _cmds: &mut Vec<Command>) {
+        // Jobs are taken here, before drawing, so a finished read shows in this frame.
+        self.poll(shell);
+        let total = ui.available_width();
+        side_panel(
+            egui::Panel::left("sweep_controls"),
+            total,
+            0.26,
+            260.0,
+            380.0,
+        )
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui, shell));
+        });
+        let height = ui.available_height();
+        // Half the height for the plots: the table scrolls, a squeezed plot shows nothing.
+        egui::Panel::bottom("sweep_plots")
+            .exact_size((height * 0.5).clamp(220.0, 640.0))
+            .show(ui, |ui| self.plots_ui(ui));
+        egui::CentralPanel::default().show(ui, |ui| self.table_ui(ui, shell));
+    }
+
+    fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell, _cmds: &mut Vec<Command>) {
+        if ui
+            .add_enabled(
+                self.dialog.is_none(),
+                egui::Button::new("Open sweep results…"),
+            )
+            .on_hover_text("A folder written by udc-studio sweep SPEC --out DIR")
+            .clicked()
+        {
+            self.ask_folder(shell);
+        }
+        let last = shell.settings.last_sweep.clone();
+        let label = match &last {
+            Some(p) => format!("Reopen {}", p.display()),
+            None => "Reopen last sweep (none yet)".into(),
+        };
+        if ui
+            .add_enabled(
+                last.is_some() && self.load.is_none(),
+                egui::Button::new(label),
+            )
+            .clicked()
+            && let Some(p) = last
+        {
+            self.open_folder(&p, shell.waker());
+        }
+    }
+
+    /// The results are read-only: nothing to undo.
+    fn command(&mut self, _command: Command, _confirmed: bool, _shell: &mut Shell) {}
+
+    fn can_undo(&self) -> bool {
+        false
+    }
+
+    fn can_redo(&self) -> bool {
+        false
+    }
+
+    fn open_dropped(&mut self, path: &Path, shell: &mut Shell) -> bool {
+        if super::results_dir(path).is_some_and(|d| d.join("sweep.json").exists()) {
+            self.open_folder(path, shell.waker());
+            return true;
+        }
+        false
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}
