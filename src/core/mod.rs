@@ -22,15 +22,18 @@ pub mod opening_ops;
 pub mod optimize;
 pub mod phase;
 pub mod progress;
+pub mod pruned;
 pub mod psf;
 pub mod residual;
 pub mod restore;
+pub mod route;
 pub mod sampling;
 pub mod saturation;
 pub mod sensor;
 pub mod theory;
 pub mod tiling;
 pub mod warning;
+pub mod zoom;
 
 pub use analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};
 pub use design::Design;

@@ -1,0 +1,361 @@
+//! The pruned PSF route: `|DFT_M(a)|²` only where the sensor window and the aliasing measure
+//! read it, with the same numbers as the full route ([`super::fft::binned_intensity_full`]).
+//!
+//! 1. Real FFTs of length `M` over the field's nonzero rows, keeping only the columns `kx` the
+//!    window reads (`0 … kw`, negative columns by `|A(ky, −kx)| = |A(−ky, kx)|`) and the edge
+//!    band `kx ≥ e = ⌈0.45 M⌉`.
+//! 2. Per window column, a [`Zoom`] straight onto the window rows (chirp-z, a matrix DFT or a
+//!    slice of a full FFT, whichever the operation count says is cheapest); only the window's
+//!    samples are binned.
+//! 3. The aliasing measure `edge = Σ |A|²` over the band `|kx| ≥ e or |ky| ≥ e`, exactly, by
+//!    inclusion–exclusion: columns in the band by Parseval along `y` (`M Σ_y |R(y, kx)|²`),
+//!    rows in the band by Parseval along `x` from zooms of the field's columns onto the band
+//!    rows, minus the corner (band columns zoomed onto band rows). The total is `M² Σ|a|²`.
+//!
+//! Memory: the kept row spectra (`rows × (kw + band)` complex) instead of two `rows × M/2`
+//! copies, and no `M`-long column per window column.
+
+use rayon::prelude::*;
+use rustfft::num_complex::Complex64;
+
+use super::SimError;
+use super::aperture::Field;
+use super::fft::{Binned, check_fits, real_plan};
+use super::progress::Progress;
+use super::sampling::Binning;
+use super::zoom::{Zoom, best_ops, fft_ops};
+
+/// Columns gathered together from the row-major spectra (cache-friendly transposition).
+const BLOCK: usize = 16;
+
+/// The grid geometry of one pruned transform.
+struct Geometry {
+    m: usize,
+    /// `M/2`.
+    h: i64,
+    /// First band offset, `⌈0.45 M⌉`.
+    e: i64,
+    /// Grid rows of the field: `iy0 … iy0 + n_rows − 1`.
+    iy0: i64,
+    n_rows: usize,
+    /// Grid columns of the field: `ix0 … ix0 + n_cols − 1`.
+    ix0: i64,
+    n_cols: usize,
+    /// Window offsets along x and y, clipped to the grid `[−M/2, M/2)`.
+    x_range: (i64, i64),
+    y_range: (i64, i64),
+    /// Largest half-spectrum column the window reads.
+    kw: usize,
+    /// Signed rows each window column's zoom returns.
+    r_lo: i64,
+    r_hi: i64,
+    /// Kept half-spectrum columns, ascending.
+    kept: Vec<usize>,
+}
+
+impl Geometry {
+    fn new(field: &Field, m: usize, b: &Binning) -> Geometry {
+        let h = (m / 2) as i64;
+        let e = (0.45 * m as f64).ceil() as i64;
+        let window = |axis: usize| {
+            let (w, sp) = (b.window_px as i64, b.samples_per_px as i64);
+            let lo = -(w / 2) * sp - b.phase[axis] as i64;
+            let hi = (w - w / 2) * sp - b.phase[axis] as i64 - 1;
+            (lo.max(-h), hi.min(h - 1))
+        };
+        let (x_range, y_range) = (window(0), window(1));
+        let kw = x_range.0.abs().max(x_range.1.abs()).min(h) as usize;
+        let r_lo = y_range.0.min(-y_range.1);
+        let r_hi = y_range.1.max(-y_range.0).min(h - 1);
+        let mut kept: Vec<usize> = (0..=kw).chain(e.max(0) as usize..=h as usize).collect();
+        kept.sort_unstable();
+        kept.dedup();
+        let (iy0, iy1) = field
+            .rows
+            .iter()
+            .fold((i64::MAX, i64::MIN), |(a, b), r| (a.min(r.iy), b.max(r.iy)));
+        let (ix0, ix1) = field.rows.iter().fold((i64::MAX, i64::MIN), |(a, b), r| {
+            (a.min(r.ix0), b.max(r.ix0 + r.values.len() as i64 - 1))
+        });
+        let span = |lo: i64, hi: i64| if hi >= lo { (hi - lo + 1) as usize } else { 0 };
+        Geometry {
+            m,
+            h,
+            e,
+            iy0,
+            n_rows: span(iy0, iy1),
+            ix0,
+            n_cols: span(ix0, ix1),
+            x_range,
+            y_range,
+            kw,
+            r_lo,
+            r_hi,
+            kept,
+        }
+    }
+
+    fn window_zoom_len(&self) -> usize {
+        (self.r_hi - self.r_lo + 1).max(0) as usize
+    }
+
+    fn band_len(&self) -> usize {
+        (self.m as i64 - 2 * self.e + 1).max(0) as usize
+    }
+
+    /// Signed offset folded into `[−M/2, M/2)`.
+    fn wrap(&self, v: i64) -> i64 {
+        (v + self.h).rem_euclid(self.m as i64) - self.h
+    }
+}
+
+/// Modelled cost of the pruned route (complex multiply-adds; see [`super::route`]).
+pub fn pruned_ops(field: &Field, m: usize, binning: &Binning) -> f64 {
+    let g = Geometry::new(field, m, binning);
+    let rows = field.rows.len() as f64 * 0.5 * fft_ops(m);
+    let window = (g.kw + 1) as f64 * best_ops(m, g.n_rows, g.window_zoom_len());
+    let band_ops = best_ops(m, g.n_rows, g.band_len());
+    let band_cols = g.kept.iter().filter(|&&k| k as i64 >= g.e).count();
+    let corner = band_cols as f64 * band_ops;
+    let rowband = g.n_cols.div_ceil(2) as f64 * band_ops;
+    let copies = (g.n_rows * g.kept.len()) as f64 * 2.0;
+    let wf = (g.x_range.1 - g.x_range.0 + 1).max(0) * (g.y_range.1 - g.y_range.0 + 1).max(0);
+    rows + window + corner + rowband + copies + 2.0 * wf as f64
+}
+
+/// Per-chunk partial sums, merged in chunk order (deterministic whatever the scheduling).
+struct Partial {
+    /// Column-major `[jx][jy]` sensor sums.
+    acc: Vec<f64>,
+    /// `Σ |A|²` over band columns.
+    band_cols: f64,
+    /// `Σ |A|²` over band columns ∩ band rows.
+    corner: f64,
+}
+
+/// `|DFT_M(a)|²` integrated over the window of `binning`, by the pruned route.
+///
+/// # Errors
+/// [`SimError::Sampling`] if the field does not fit the grid; [`SimError::Cancelled`].
+pub fn binned_pruned(
+    field: &Field,
+    m: usize,
+    binning: &Binning,
+    progress: &Progress,
+) -> Result<Binned, SimError> {
+    if m < 2 || !m.is_multiple_of(2) {
+        return Err(SimError::Sampling(format!(
+            "FFT size {m} must be even and at least 2"
+        )));
+    }
+    check_fits(field, m)?;
+    progress.check()?;
+    let g = Geometry::new(field, m, binning);
+    let w = binning.window_px;
+    let spectra = kept_row_spectra(field, &g);
+    progress.check()?;
+    let window_zoom = Zoom::new(m, g.iy0, g.n_rows, g.r_lo, g.window_zoom_len());
+    let band_zoom = Zoom::new(m, g.iy0, g.n_rows, g.e, g.band_len());
+    let rows = row_table(&g, binning);
+    let nk = g.kept.len();
+    let chunk = nk.div_ceil(8).max(BLOCK);
+    let starts: Vec<usize> = (0..nk).step_by(chunk).collect();
+    let partials: Vec<Partial> = starts
+        .par_iter()
+        .map(|&first| {
+            let mut p = Partial {
+                acc: vec![0.0; w * w],
+                band_cols: 0.0,
+                corner: 0.0,
+            };
+            let mut col = vec![Complex64::new(0.0, 0.0); g.n_rows * BLOCK];
+            let mut out = vec![Complex64::new(0.0, 0.0); g.window_zoom_len().max(g.band_len())];
+            let mut inten = vec![0.0f64; g.window_zoom_len()];
+            let (mut ws, mut bs) = (window_zoom.scratch(), band_zoom.scratch());
+            let last = (first + chunk).min(nk);
+            for b0 in (first..last).step_by(BLOCK) {
+                if progress.is_cancelled() {
+                    break;
+                }
+                let b1 = (b0 + BLOCK).min(last);
+                for (r, row) in spectra.chunks(nk).enumerate() {
+                    for (s, v) in row[b0..b1].iter().enumerate() {
+                        col[s * g.n_rows + r] = *v;
+                    }
+                }
+                for (s, &kx) in g.kept[b0..b1].iter().enumerate() {
+                    let c = &col[s * g.n_rows..(s + 1) * g.n_rows];
+                    if kx <= g.kw {
+                        window_zoom.process(c, &mut out, &mut ws);
+                        for (i, o) in inten.iter_mut().zip(&out) {
+                            *i = o.norm_sqr();
+                        }
+                        bin_column(&g, binning, &rows, kx, &inten, &mut p.acc);
+                    }
+                    if kx as i64 >= g.e {
+                        // Columns kx and −kx, except the self-mirrored Nyquist column.
+                        let weight = if kx as i64 == g.h { 1.0 } else { 2.0 };
+                        let energy: f64 = c.iter().map(Complex64::norm_sqr).sum();
+                        p.band_cols += weight * m as f64 * energy;
+                        band_zoom.process(c, &mut out, &mut bs);
+                        let band: f64 = out[..g.band_len()].iter().map(Complex64::norm_sqr).sum();
+                        p.corner += weight * band;
+                    }
+                }
+            }
+            p
+        })
+        .collect();
+    progress.check()?;
+    let band_rows = band_rows_energy(field, &g, &band_zoom);
+    progress.check()?;
+    let mut acc = vec![0.0; w * w];
+    let (mut band_cols, mut corner) = (0.0, 0.0);
+    for p in partials {
+        acc.iter_mut().zip(&p.acc).for_each(|(a, b)| *a += b);
+        band_cols += p.band_cols;
+        corner += p.corner;
+    }
+    let sensor = ndarray::Array2::from_shape_fn((w, w), |(jy, jx)| acc[jx * w + jy]);
+    Ok(Binned {
+        sensor,
+        total: (m * m) as f64 * field.energy(),
+        edge: (band_cols + band_rows - corner).max(0.0),
+    })
+}
+
+/// Where window row `ky` reads a computed column and which sensor row it adds to:
+/// `(index for column kx, index for its mirror −kx, jy)`.
+fn row_table(g: &Geometry, b: &Binning) -> Vec<(usize, usize, usize)> {
+    let index = |v: i64| usize::try_from(g.wrap(v) - g.r_lo).ok();
+    (g.y_range.0..=g.y_range.1)
+        .filter_map(|ky| Some((index(ky)?, index(-ky)?, b.pixel_of(ky, 1)?)))
+        .filter(|(d, m, _)| *d < g.window_zoom_len() && *m < g.window_zoom_len())
+        .collect()
+}
+
+/// Adds window column `kx` (and its mirror `−kx`) of the intensity into the sensor sums;
+/// `inten[i]` holds signed row `r_lo + i` of column `kx`.
+fn bin_column(
+    g: &Geometry,
+    b: &Binning,
+    rows: &[(usize, usize, usize)],
+    kx: usize,
+    inten: &[f64],
+    acc: &mut [f64],
+) {
+    let w = b.window_px;
+    let k = kx as i64;
+    let mut add = |s: i64, mirrored: bool| {
+        if s < g.x_range.0 || s > g.x_range.1 {
+            return;
+        }
+        let Some(jx) = b.pixel_of(s, 0) else {
+            return;
+        };
+        let out = &mut acc[jx * w..(jx + 1) * w];
+        if mirrored {
+            rows.iter().for_each(|&(_, src, jy)| out[jy] += inten[src]);
+        } else {
+            rows.iter().for_each(|&(src, _, jy)| out[jy] += inten[src]);
+        }
+    };
+    if k == g.h {
+        // The Nyquist column is signed −M/2 and has no separate mirror.
+        add(-g.h, false);
+        return;
+    }
+    add(k, false);
+    if k != 0 {
+        add(-k, true);
+    }
+}
+
+/// Row spectra of every grid row `iy0 … iy0 + n_rows − 1` (zero rows stay zero), keeping only
+/// the columns of `g.kept`, row-major `[row][kept]`.
+fn kept_row_spectra(field: &Field, g: &Geometry) -> Vec<Complex64> {
+    let plan = real_plan(g.m);
+    let nk = g.kept.len();
+    let mut by_row: Vec<Option<&super::aperture::SparseRow>> = vec![None; g.n_rows];
+    for r in &field.rows {
+        by_row[(r.iy - g.iy0) as usize] = Some(r);
+    }
+    let mut out = vec![Complex64::new(0.0, 0.0); g.n_rows * nk];
+    out.par_chunks_mut(nk.max(1))
+        .zip(by_row.par_iter())
+        .for_each_init(
+            || {
+                (
+                    plan.make_input_vec(),
+                    plan.make_output_vec(),
+                    plan.make_scratch_vec(),
+                )
+            },
+            |(input, spectrum, scratch), (dst, row)| {
+                let Some(row) = row else {
+                    return;
+                };
+                input.iter_mut().for_each(|v| *v = 0.0);
+                let start = (row.ix0 + g.h) as usize;
+                input[start..start + row.values.len()].copy_from_slice(&row.values);
+                // Lengths come from the plan itself, so this cannot fail.
+                let _ = plan.process_with_scratch(input, spectrum, scratch);
+                for (d, &kx) in dst.iter_mut().zip(&g.kept) {
+                    *d = spectrum[kx];
+                }
+            },
+        );
+    out
+}
+
+/// `Σ |A|²` over the band rows `|ky| ≥ e`, all columns: `M Σ_x Σ_band |C(ky, x)|²` with `C` the
+/// DFT along `y` of field column `x` (Parseval along `x`). Two real columns `u`, `v` ride in one
+/// complex zoom of `z = u + i v`: `|U(k)|² + |V(k)|² = (|Z(k)|² + |Z(−k)|²)/2`, and the band is
+/// symmetric (`k` in it iff `−k` is), so the pair's band energy is `Σ_band |Z|²`.
+fn band_rows_energy(field: &Field, g: &Geometry, band_zoom: &Zoom) -> f64 {
+    let band = g.band_len();
+    if band == 0 || g.n_cols == 0 {
+        return 0.0;
+    }
+    let blocks: Vec<i64> = (0..g.n_cols as i64)
+        .step_by(BLOCK)
+        .map(|b| g.ix0 + b)
+        .collect();
+    let sums: Vec<f64> = blocks
+        .par_iter()
+        .map_init(
+            || {
+                (
+                    vec![Complex64::new(0.0, 0.0); g.n_rows * BLOCK / 2],
+                    vec![Complex64::new(0.0, 0.0); band],
+                    band_zoom.scratch(),
+                )
+            },
+            |(col, out, scratch), &x0| {
+                col.iter_mut().for_each(|v| *v = Complex64::new(0.0, 0.0));
+                for r in &field.rows {
+                    let ri = (r.iy - g.iy0) as usize;
+                    let lo = x0.max(r.ix0);
+                    let hi = (x0 + BLOCK as i64).min(r.ix0 + r.values.len() as i64);
+                    for x in lo..hi {
+                        let dx = (x - x0) as usize;
+                        let v = r.values[(x - r.ix0) as usize];
+                        let slot = &mut col[(dx / 2) * g.n_rows + ri];
+                        if dx.is_multiple_of(2) {
+                            slot.re = v;
+                        } else {
+                            slot.im = v;
+                        }
+                    }
+                }
+                col.chunks(g.n_rows)
+                    .map(|c| {
+                        band_zoom.process(c, out, scratch);
+                        out.iter().map(Complex64::norm_sqr).sum::<f64>()
+                    })
+                    .sum::<f64>()
+            },
+        )
+        .collect();
+    g.m as f64 * sums.iter().sum::<f64>()
+}
