@@ -23,7 +23,7 @@ use super::aperture::Field;
 use super::fft::{Binned, check_fits, real_plan};
 use super::progress::Progress;
 use super::sampling::Binning;
-use super::zoom::{Zoom, best_ops, fft_ops};
+use super::zoom::{Zoom, ZoomKind, best_ops, cheapest, fft_ops};
 
 /// Columns gathered together from the row-major spectra (cache-friendly transposition).
 const BLOCK: usize = 16;
@@ -121,6 +121,15 @@ pub fn pruned_ops(field: &Field, m: usize, binning: &Binning) -> f64 {
     let copies = (g.n_rows * g.kept.len()) as f64 * 2.0;
     let wf = (g.x_range.1 - g.x_range.0 + 1).max(0) * (g.y_range.1 - g.y_range.0 + 1).max(0);
     rows + window + corner + rowband + copies + 2.0 * wf as f64
+}
+
+/// The zoom kinds the pruned route would run: onto the window rows, and onto the band rows.
+pub fn zoom_kinds(field: &Field, m: usize, binning: &Binning) -> (ZoomKind, ZoomKind) {
+    let g = Geometry::new(field, m, binning);
+    (
+        cheapest(m, g.n_rows, g.window_zoom_len()),
+        cheapest(m, g.n_rows, g.band_len()),
+    )
 }
 
 /// Per-chunk partial sums, merged in chunk order (deterministic whatever the scheduling).

@@ -306,6 +306,6 @@ mod tests {
     fn the_cost_model_prefers_chirp_for_awkward_sizes_and_matrix_for_tiny_ones() {
         assert_eq!(cheapest(6100, 2000, 1177), ZoomKind::Chirp);
         assert_eq!(cheapest(1536, 500, 1536), ZoomKind::Slice);
-        assert_eq!(cheapest(1524, 21, 40), ZoomKind::Matrix);
+        assert_eq!(cheapest(1524, 21, 8), ZoomKind::Matrix);
     }
 }
