@@ -20,37 +20,38 @@ use rustfft::num_complex::Complex64;
 
 use super::SimError;
 use super::aperture::Field;
-use super::fft::{Binned, check_fits, real_plan};
+use super::fft::{Binned, check_fits};
 use super::progress::Progress;
+use super::pruned_rows::{kept_row_spectra, row_pass_ops};
 use super::sampling::Binning;
-use super::zoom::{Zoom, ZoomKind, best_ops, cheapest, fft_ops};
+use super::zoom::{Zoom, ZoomKind, best_ops, cached, cheapest};
 
 /// Columns gathered together from the row-major spectra (cache-friendly transposition).
 const BLOCK: usize = 16;
 
 /// The grid geometry of one pruned transform.
-struct Geometry {
-    m: usize,
+pub(crate) struct Geometry {
+    pub(crate) m: usize,
     /// `M/2`.
-    h: i64,
+    pub(crate) h: i64,
     /// First band offset, `⌈0.45 M⌉`.
-    e: i64,
+    pub(crate) e: i64,
     /// Grid rows of the field: `iy0 … iy0 + n_rows − 1`.
-    iy0: i64,
-    n_rows: usize,
+    pub(crate) iy0: i64,
+    pub(crate) n_rows: usize,
     /// Grid columns of the field: `ix0 … ix0 + n_cols − 1`.
-    ix0: i64,
-    n_cols: usize,
+    pub(crate) ix0: i64,
+    pub(crate) n_cols: usize,
     /// Window offsets along x and y, clipped to the grid `[−M/2, M/2)`.
-    x_range: (i64, i64),
-    y_range: (i64, i64),
+    pub(crate) x_range: (i64, i64),
+    pub(crate) y_range: (i64, i64),
     /// Largest half-spectrum column the window reads.
-    kw: usize,
+    pub(crate) kw: usize,
     /// Signed rows each window column's zoom returns.
-    r_lo: i64,
-    r_hi: i64,
+    pub(crate) r_lo: i64,
+    pub(crate) r_hi: i64,
     /// Kept half-spectrum columns, ascending.
-    kept: Vec<usize>,
+    pub(crate) kept: Vec<usize>,
 }
 
 impl Geometry {
@@ -95,11 +96,11 @@ impl Geometry {
         }
     }
 
-    fn window_zoom_len(&self) -> usize {
+    pub(crate) fn window_zoom_len(&self) -> usize {
         (self.r_hi - self.r_lo + 1).max(0) as usize
     }
 
-    fn band_len(&self) -> usize {
+    pub(crate) fn band_len(&self) -> usize {
         (self.m as i64 - 2 * self.e + 1).max(0) as usize
     }
 
@@ -112,7 +113,7 @@ impl Geometry {
 /// Modelled cost of the pruned route (complex multiply-adds; see [`super::route`]).
 pub fn pruned_ops(field: &Field, m: usize, binning: &Binning) -> f64 {
     let g = Geometry::new(field, m, binning);
-    let rows = field.rows.len() as f64 * 0.5 * fft_ops(m);
+    let rows = row_pass_ops(field, &g);
     let window = (g.kw + 1) as f64 * best_ops(m, g.n_rows, g.window_zoom_len());
     let band_ops = best_ops(m, g.n_rows, g.band_len());
     let band_cols = g.kept.iter().filter(|&&k| k as i64 >= g.e).count();
@@ -163,8 +164,8 @@ pub fn binned_pruned(
     let w = binning.window_px;
     let spectra = kept_row_spectra(field, &g);
     progress.check()?;
-    let window_zoom = Zoom::new(m, g.iy0, g.n_rows, g.r_lo, g.window_zoom_len());
-    let band_zoom = Zoom::new(m, g.iy0, g.n_rows, g.e, g.band_len());
+    let window_zoom = cached(m, g.iy0, g.n_rows, g.r_lo, g.window_zoom_len());
+    let band_zoom = cached(m, g.iy0, g.n_rows, g.e, g.band_len());
     let rows = row_table(&g, binning);
     let nk = g.kept.len();
     let chunk = nk.div_ceil(8).max(BLOCK);
@@ -278,43 +279,6 @@ fn bin_column(
     if k != 0 {
         add(-k, true);
     }
-}
-
-/// Row spectra of every grid row `iy0 … iy0 + n_rows − 1` (zero rows stay zero), keeping only
-/// the columns of `g.kept`, row-major `[row][kept]`.
-fn kept_row_spectra(field: &Field, g: &Geometry) -> Vec<Complex64> {
-    let plan = real_plan(g.m);
-    let nk = g.kept.len();
-    let mut by_row: Vec<Option<&super::aperture::SparseRow>> = vec![None; g.n_rows];
-    for r in &field.rows {
-        by_row[(r.iy - g.iy0) as usize] = Some(r);
-    }
-    let mut out = vec![Complex64::new(0.0, 0.0); g.n_rows * nk];
-    out.par_chunks_mut(nk.max(1))
-        .zip(by_row.par_iter())
-        .for_each_init(
-            || {
-                (
-                    plan.make_input_vec(),
-                    plan.make_output_vec(),
-                    plan.make_scratch_vec(),
-                )
-            },
-            |(input, spectrum, scratch), (dst, row)| {
-                let Some(row) = row else {
-                    return;
-                };
-                input.iter_mut().for_each(|v| *v = 0.0);
-                let start = (row.ix0 + g.h) as usize;
-                input[start..start + row.values.len()].copy_from_slice(&row.values);
-                // Lengths come from the plan itself, so this cannot fail.
-                let _ = plan.process_with_scratch(input, spectrum, scratch);
-                for (d, &kx) in dst.iter_mut().zip(&g.kept) {
-                    *d = spectrum[kx];
-                }
-            },
-        );
-    out
 }
 
 /// `Σ |A|²` over the band rows `|ky| ≥ e`, all columns: `M Σ_x Σ_band |C(ky, x)|²` with `C` the

@@ -15,8 +15,9 @@
 //! phase is reduced exactly in integers before the one `sin`/`cos`, so all three agree with the
 //! full FFT to rounding (~1e-15 of the largest output).
 
+use std::collections::HashMap;
 use std::f64::consts::PI;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, OnceLock};
 
 use rustfft::Fft;
 use rustfft::num_complex::Complex64;
@@ -124,6 +125,30 @@ pub fn cheapest(m: usize, n_in: usize, n_out: usize) -> ZoomKind {
 /// Modelled cost of the cheapest kind.
 pub fn best_ops(m: usize, n_in: usize, n_out: usize) -> f64 {
     zoom_ops(cheapest(m, n_in, n_out), m, n_in, n_out)
+}
+
+/// Zooms kept for reuse: a sweep analyses many designs with one pupil and one window, so every
+/// call after the first finds its chirps and kernel spectra here (~0.2 ms each to build).
+const CACHED_ZOOMS: usize = 64;
+
+type ZoomKey = (usize, i64, usize, i64, usize);
+
+/// The cheapest exact zoom for these ranges, shared process-wide.
+pub fn cached(m: usize, n0: i64, n_in: usize, k0: i64, n_out: usize) -> Arc<Zoom> {
+    static CACHE: OnceLock<Mutex<HashMap<ZoomKey, Arc<Zoom>>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+    let key = (m, n0, n_in, k0, n_out);
+    if let Some(z) = cache.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
+        return z.clone();
+    }
+    // Built outside the lock: two threads may both build it, and either copy is right.
+    let z = Arc::new(Zoom::new(m, n0, n_in, k0, n_out));
+    let mut guard = cache.lock().unwrap_or_else(|e| e.into_inner());
+    if guard.len() >= CACHED_ZOOMS {
+        guard.clear();
+    }
+    guard.insert(key, z.clone());
+    z
 }
 
 impl Zoom {
