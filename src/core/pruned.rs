@@ -166,7 +166,7 @@ pub fn binned_pruned(
     progress.check()?;
     let window_zoom = cached(m, g.iy0, g.n_rows, g.r_lo, g.window_zoom_len());
     let band_zoom = cached(m, g.iy0, g.n_rows, g.e, g.band_len());
-    let rows = row_table(&g, binning);
+    let runs = row_runs(&g, binning);
     let nk = g.kept.len();
     let chunk = nk.div_ceil(8).max(BLOCK);
     let starts: Vec<usize> = (0..nk).step_by(chunk).collect();
@@ -200,7 +200,7 @@ pub fn binned_pruned(
                         for (i, o) in inten.iter_mut().zip(&out) {
                             *i = o.norm_sqr();
                         }
-                        bin_column(&g, binning, &rows, kx, &inten, &mut p.acc);
+                        bin_column(&g, binning, &runs, kx, &inten, &mut p.acc);
                     }
                     if kx as i64 >= g.e {
                         // Columns kx and −kx, except the self-mirrored Nyquist column.
@@ -234,26 +234,42 @@ pub fn binned_pruned(
     })
 }
 
-/// Where window row `ky` reads a computed column and which sensor row it adds to:
-/// `(index for column kx, index for its mirror −kx, jy)`.
-fn row_table(g: &Geometry, b: &Binning) -> Vec<(usize, usize, usize)> {
+/// A run of window rows that fall in one sensor row: column `kx`'s intensities
+/// `direct … direct + len − 1` for `kx`, and `mirror, mirror − 1, …` for `−kx`.
+#[derive(Debug, Clone, Copy)]
+struct Run {
+    direct: usize,
+    mirror: usize,
+    jy: usize,
+    len: usize,
+}
+
+/// The window's rows as runs (a sensor pixel's `spp` fine rows are one run, summed together).
+fn row_runs(g: &Geometry, b: &Binning) -> Vec<Run> {
     let index = |v: i64| usize::try_from(g.wrap(v) - g.r_lo).ok();
-    (g.y_range.0..=g.y_range.1)
+    let mut runs: Vec<Run> = Vec::new();
+    let rows = (g.y_range.0..=g.y_range.1)
         .filter_map(|ky| Some((index(ky)?, index(-ky)?, b.pixel_of(ky, 1)?)))
-        .filter(|(d, m, _)| *d < g.window_zoom_len() && *m < g.window_zoom_len())
-        .collect()
+        .filter(|(d, m, _)| *d < g.window_zoom_len() && *m < g.window_zoom_len());
+    for (direct, mirror, jy) in rows {
+        match runs.last_mut() {
+            Some(r) if r.jy == jy && r.direct + r.len == direct && r.mirror == mirror + r.len => {
+                r.len += 1;
+            }
+            _ => runs.push(Run {
+                direct,
+                mirror,
+                jy,
+                len: 1,
+            }),
+        }
+    }
+    runs
 }
 
 /// Adds window column `kx` (and its mirror `−kx`) of the intensity into the sensor sums;
 /// `inten[i]` holds signed row `r_lo + i` of column `kx`.
-fn bin_column(
-    g: &Geometry,
-    b: &Binning,
-    rows: &[(usize, usize, usize)],
-    kx: usize,
-    inten: &[f64],
-    acc: &mut [f64],
-) {
+fn bin_column(g: &Geometry, b: &Binning, runs: &[Run], kx: usize, inten: &[f64], acc: &mut [f64]) {
     let w = b.window_px;
     let k = kx as i64;
     let mut add = |s: i64, mirrored: bool| {
@@ -264,10 +280,13 @@ fn bin_column(
             return;
         };
         let out = &mut acc[jx * w..(jx + 1) * w];
-        if mirrored {
-            rows.iter().for_each(|&(_, src, jy)| out[jy] += inten[src]);
-        } else {
-            rows.iter().for_each(|&(src, _, jy)| out[jy] += inten[src]);
+        for r in runs {
+            let first = if mirrored {
+                r.mirror + 1 - r.len
+            } else {
+                r.direct
+            };
+            out[r.jy] += inten[first..first + r.len].iter().sum::<f64>();
         }
     };
     if k == g.h {
