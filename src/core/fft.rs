@@ -280,26 +280,13 @@ pub struct Binned {
     pub edge: f64,
 }
 
-/// `|DFT_M(a)|²` integrated over the sensor pixels of `binning`'s window, by the cheaper route
-/// ([`super::route`]); the numbers are the full route's to rounding.
+/// `|DFT_M(a)|²` integrated over the sensor pixels of `binning`'s window by the full route:
+/// every column FFT, every sample binned (the reference; `core::route` picks the pruned route
+/// when it is cheaper).
 ///
 /// # Errors
 /// [`SimError::Sampling`] if the field does not fit the grid; [`SimError::Cancelled`].
 pub fn binned_intensity(
-    field: &Field,
-    m: usize,
-    binning: &Binning,
-    progress: &Progress,
-) -> Result<Binned, SimError> {
-    super::route::binned_by(super::route::PsfRoute::Auto, field, m, binning, progress)
-}
-
-/// [`binned_intensity`] by the full route: every column FFT, every sample binned (the
-/// reference the pruned route is tested against).
-///
-/// # Errors
-/// [`SimError::Sampling`] if the field does not fit the grid; [`SimError::Cancelled`].
-pub fn binned_intensity_full(
     field: &Field,
     m: usize,
     binning: &Binning,

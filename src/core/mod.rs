@@ -23,6 +23,7 @@ pub mod optimize;
 pub mod phase;
 pub mod progress;
 pub mod pruned;
+mod pruned_grid;
 mod pruned_rows;
 pub mod psf;
 pub mod residual;

@@ -15,7 +15,7 @@ use rustfft::num_complex::Complex64;
 
 use super::aperture::{Field, SparseRow};
 use super::fft::real_plan;
-use super::pruned::Geometry;
+use super::pruned_grid::Geometry;
 use super::zoom::{best_ops, cached, fft_ops};
 
 /// Modelled cost of the cheaper row pass, complex multiply-adds.

@@ -13,7 +13,7 @@
 
 use super::SimError;
 use super::aperture::Field;
-use super::fft::{Binned, binned_intensity_full};
+use super::fft::{Binned, binned_intensity};
 use super::progress::Progress;
 use super::pruned::{binned_pruned, pruned_ops};
 use super::sampling::Binning;
@@ -51,7 +51,7 @@ pub fn choose(field: &Field, m: usize, binning: &Binning) -> PsfRoute {
 /// `|DFT_M(a)|²` over `binning`'s window by `route`.
 ///
 /// # Errors
-/// As [`binned_intensity_full`].
+/// As [`binned_intensity`].
 pub fn binned_by(
     route: PsfRoute,
     field: &Field,
@@ -65,6 +65,6 @@ pub fn binned_by(
     };
     match route {
         PsfRoute::Pruned => binned_pruned(field, m, binning, progress),
-        _ => binned_intensity_full(field, m, binning, progress),
+        _ => binned_intensity(field, m, binning, progress),
     }
 }
