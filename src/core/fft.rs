@@ -281,7 +281,7 @@ pub struct Binned {
 }
 
 /// `|DFT_M(a)|²` integrated over the sensor pixels of `binning`'s window by the full route:
-/// every column FFT, every sample binned (the reference; `core::route` picks the pruned route
+/// every column FFT, every sample binned (the reference; the route module picks the pruned route
 /// when it is cheaper).
 ///
 /// # Errors

@@ -30,7 +30,7 @@ use super::zoom::{Zoom, ZoomKind, best_ops, cached, cheapest};
 /// Columns gathered together from the row-major spectra (cache-friendly transposition).
 const BLOCK: usize = 16;
 
-/// Modelled cost of the pruned route (complex multiply-adds; see [`super::route`]).
+/// Modelled cost of the pruned route (complex multiply-adds; the model is in the route module).
 pub fn pruned_ops(field: &Field, m: usize, binning: &Binning) -> f64 {
     let g = Geometry::new(field, m, binning);
     let rows = row_pass_ops(field, &g);

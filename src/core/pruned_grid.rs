@@ -1,4 +1,4 @@
-//! The grid geometry of one pruned PSF transform ([`super::pruned`]): which rows and columns of
+//! The grid geometry of one pruned PSF transform (the pruned route): which rows and columns of
 //! the `M×M` grid the field occupies, which the sensor window reads, and the aliasing band.
 
 use super::aperture::Field;

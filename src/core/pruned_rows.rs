@@ -1,4 +1,4 @@
-//! Stage 1 of the pruned PSF route ([`super::pruned`]): the spectra of the field's rows at the
+//! Stage 1 of the pruned PSF route: the spectra of the field's rows at the
 //! kept columns only (`0 … kw` and the band `e … M/2`), by the cheaper of two exact ways:
 //!
 //! - a real FFT of length `M` per row: `fft(M)/2` each;
