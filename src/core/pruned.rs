@@ -1,9 +1,9 @@
 //! The pruned PSF route: `|DFT_M(a)|²` only where the sensor window and the aliasing measure
 //! read it, with the same numbers as the full route ([`super::fft::binned_intensity`]).
 //!
-//! 1. Real FFTs of length `M` over the field's nonzero rows, keeping only the columns `kx` the
-//!    window reads (`0 … kw`, negative columns by `|A(ky, −kx)| = |A(−ky, kx)|`) and the edge
-//!    band `kx ≥ e = ⌈0.45 M⌉`.
+//! 1. Spectra of the field's nonzero rows (real FFTs of length `M`, or two rows per complex zoom
+//!    when cheaper), keeping only the columns `kx` the window reads (`0 … kw`, negative columns
+//!    by `|A(ky, −kx)| = |A(−ky, kx)|`) and the edge band `kx ≥ e = ⌈0.45 M⌉`.
 //! 2. Per window column, a [`Zoom`] straight onto the window rows (chirp-z, a matrix DFT or a
 //!    slice of a full FFT, whichever the operation count says is cheapest); only the window's
 //!    samples are binned.
