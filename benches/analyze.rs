@@ -7,6 +7,11 @@
 //!   (the default options), i.e. the most work a chapter-3 design asks for.
 //! - `analyze/preview/toled-repeat`: preview quality, the interactive path while drawing.
 //! - `analyze/iccp21/open-aperture`: no display; its AUCs are the thesis's public check.
+//! - `analyze/iccp21/toled-600dpi`: the `toled-600dpi` preset (FFTs of 6100/5300/4700 points,
+//!   a 294-pixel window), the case the pruned PSF route exists for (goal ≤ 300 ms).
+//! - `analyze/single-thread/toled-150dpi`, `analyze/single-thread/l2inv-random`: one analysis
+//!   (no expected PSF, as a sweep runs it) inside a 1-thread rayon pool: the CPU cost per design
+//!   of a sweep on 2 cores (goal ≤ 35 ms, i.e. ≥ 50 designs/s on 2 cores).
 //!
 //! Each case prints its AUCs and `L_inv` once, so a reader can compare them with the numpy
 //! reference and the thesis, and writes them to `<target>/udc-bench/analyze-figures.json` for
@@ -22,11 +27,21 @@ use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::{Opening, TilingMode};
 use udc_studio::core::{Analysis, Design, Progress};
+use udc_studio::io::presets::load_preset;
 
 struct Case {
     id: &'static str,
     design: Design,
     options: AnalyzeOptions,
+    /// Run inside a 1-thread pool (the sweep's per-design cost) instead of the global pool.
+    single_thread: bool,
+}
+
+fn preset(name: &str) -> Design {
+    match load_preset(name) {
+        Ok(d) => d,
+        Err(e) => panic!("preset {name}: {e}"),
+    }
 }
 
 fn cases() -> Vec<Case> {
@@ -42,32 +57,46 @@ fn cases() -> Vec<Case> {
     // retuned. Same recipe and registration as the T-OLED, every cell open.
     let mut open = Design::default_toled();
     open.opening = Opening::open(open.opening.n(), open.opening.pitch_um);
+    let sweep = AnalyzeOptions {
+        expected_psf: false,
+        ..full
+    };
+    let case = |id, design, options, single_thread| Case {
+        id,
+        design,
+        options,
+        single_thread,
+    };
     vec![
-        Case {
-            id: "iccp21/toled-repeat",
-            design: toled.clone(),
-            options: full,
-        },
-        Case {
-            id: "iccp21/toled-random-d4",
-            design: random,
-            options: full,
-        },
-        Case {
-            id: "preview/toled-repeat",
-            design: toled,
-            options: preview,
-        },
-        Case {
-            id: "iccp21/open-aperture",
-            design: open,
-            options: full,
-        },
+        case("iccp21/toled-repeat", toled.clone(), full, false),
+        case("iccp21/toled-random-d4", random, full, false),
+        case("preview/toled-repeat", toled, preview, false),
+        case("iccp21/open-aperture", open, full, false),
+        // The preset itself: the number is `analyze --preset toled-600dpi`.
+        case("iccp21/toled-600dpi", preset("toled-600dpi"), full, false),
+        case(
+            "single-thread/toled-150dpi",
+            preset("toled-150dpi"),
+            sweep,
+            true,
+        ),
+        case(
+            "single-thread/l2inv-random",
+            preset("l2inv-random"),
+            sweep,
+            true,
+        ),
     ]
 }
 
-fn run(case: &Case) -> Analysis {
-    match analyze_with(&case.design, &case.options, &Progress::new()) {
+fn run(case: &Case, pool: &rayon::ThreadPool) -> Analysis {
+    let job = || analyze_with(&case.design, &case.options, &Progress::new());
+    let result = if case.single_thread {
+        pool.install(job)
+    } else {
+        job()
+    };
+    match result {
         Ok(a) => a,
         // A bench of a failing job would time the error path: stop loudly instead.
         Err(e) => panic!("analyze {} failed: {e}", case.id),
@@ -119,11 +148,15 @@ fn write_figures(figures: &BTreeMap<&str, String>) {
 
 fn bench_analyze(c: &mut Criterion) {
     let cases = cases();
+    let pool = match rayon::ThreadPoolBuilder::new().num_threads(1).build() {
+        Ok(p) => p,
+        Err(e) => panic!("a 1-thread pool: {e}"),
+    };
     let mut figures = BTreeMap::new();
     // One untimed call per case first: it builds the process-wide FFT plans and ring tables and
     // starts rayon's pool, which every later call (like every edit in the studio) reuses.
     for case in &cases {
-        let a = run(case);
+        let a = run(case, &pool);
         print_figures(case.id, &a);
         figures.insert(case.id, figures_json(&a));
     }
@@ -138,7 +171,9 @@ fn bench_analyze(c: &mut Criterion) {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
     for case in &cases {
-        group.bench_function(case.id, |b| b.iter(|| black_box(run(black_box(case)))));
+        group.bench_function(case.id, |b| {
+            b.iter(|| black_box(run(black_box(case), &pool)))
+        });
     }
     group.finish();
 }

@@ -17,14 +17,21 @@ use std::process::Command;
 use udc_studio::core::analyze::{AnalyzeOptions, analyze_with};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::{Design, Progress};
+use udc_studio::io::presets::load_preset;
 
-const CASES: [&str; 2] = ["iccp21/toled-repeat", "iccp21/toled-random-d4"];
+const CASES: [&str; 3] = [
+    "iccp21/toled-repeat",
+    "iccp21/toled-random-d4",
+    "iccp21/toled-600dpi",
+];
 
 fn design(case: &str) -> Option<Design> {
     let mut d = Design::default_toled();
     match case {
         "iccp21/toled-repeat" => {}
         "iccp21/toled-random-d4" => d.tiling.mode = TilingMode::RandomD4,
+        // The preset the issue quotes (`analyze --preset toled-600dpi`; goal ≤ 150 MB).
+        "iccp21/toled-600dpi" => d = load_preset("toled-600dpi").ok()?,
         _ => return None,
     }
     Some(d)

@@ -14,7 +14,8 @@ use super::expected::expected_channel_psf;
 use super::metrics::{invertibility_loss, ltr, mean_lowest_h, open_fraction};
 use super::mtf::{Mtf, mtf_of};
 use super::progress::Progress;
-use super::psf::channel_psf;
+use super::psf::channel_psf_by;
+use super::route::PsfRoute;
 use super::sampling::{WavelengthSampling, plan};
 use super::warning::{SamplingWarning, WarningKind};
 
@@ -160,6 +161,20 @@ pub fn analyze_with(
     analyze_within(design, options, progress, &Limits::REPORTED).map(|(a, _)| a)
 }
 
+/// [`analyze_with`] with the PSF computed by a chosen route ([`PsfRoute::Auto`] is what
+/// [`analyze_with`] does); the routes agree to rounding, and the tests check that they do.
+///
+/// # Errors
+/// As [`analyze_with`].
+pub fn analyze_with_route(
+    design: &Design,
+    options: &AnalyzeOptions,
+    route: PsfRoute,
+    progress: &Progress,
+) -> Result<Analysis, SimError> {
+    analyze_routed(design, options, route, progress, &Limits::REPORTED).map(|(a, _)| a)
+}
+
 /// The energy fractions beyond which the analysis warns.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Limits {
@@ -182,6 +197,16 @@ impl Limits {
 pub(crate) fn analyze_within(
     design: &Design,
     options: &AnalyzeOptions,
+    progress: &Progress,
+    strict: &Limits,
+) -> Result<(Analysis, Vec<WarningKind>), SimError> {
+    analyze_routed(design, options, PsfRoute::Auto, progress, strict)
+}
+
+fn analyze_routed(
+    design: &Design,
+    options: &AnalyzeOptions,
+    route: PsfRoute,
     progress: &Progress,
     strict: &Limits,
 ) -> Result<(Analysis, Vec<WarningKind>), SimError> {
@@ -242,7 +267,7 @@ pub(crate) fn analyze_within(
         .par_iter()
         .zip(samplings.par_iter())
         .map(|(ch, samp)| {
-            let psf = channel_psf(&field, samp, progress, || step(1))?;
+            let psf = channel_psf_by(route, &field, samp, progress, || step(1))?;
             let expected_psf = if want_expected {
                 let e = expected_channel_psf(&display, d_um, op.pupil_sample_um, samp, progress)?;
                 step(samp.len());

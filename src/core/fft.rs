@@ -96,7 +96,7 @@ pub fn complex_plan_f32(n: usize, inverse: bool) -> Arc<dyn Fft<f32>> {
 }
 
 /// Checks that `field` fits an `m×m` grid centred on the axis.
-fn check_fits(field: &Field, m: usize) -> Result<(), SimError> {
+pub(crate) fn check_fits(field: &Field, m: usize) -> Result<(), SimError> {
     let (lo, hi) = field.extent();
     let h = (m / 2) as i64;
     if lo < -h || hi >= h {
@@ -280,7 +280,9 @@ pub struct Binned {
     pub edge: f64,
 }
 
-/// `|DFT_M(a)|²` integrated over the sensor pixels of `binning`'s window.
+/// `|DFT_M(a)|²` integrated over the sensor pixels of `binning`'s window by the full route:
+/// every column FFT, every sample binned (the reference; the route module picks the pruned route
+/// when it is cheaper).
 ///
 /// # Errors
 /// [`SimError::Sampling`] if the field does not fit the grid; [`SimError::Cancelled`].

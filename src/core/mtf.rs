@@ -96,7 +96,11 @@ pub fn mtf_of(psf: &Array2<f64>) -> Mtf {
     let sum = psf.sum();
     let scale = if sum > 0.0 { 1.0 / sum } else { 1.0 };
     let otf = dft2(&psf.mapv(|v| v * scale));
-    let power = otf.mapv(|c| c.norm_sqr());
+    // Divided by |OTF(0)|² (= 1 up to the rounding of the sum) so that MTF(0) = 1 exactly,
+    // whichever route summed the PSF.
+    let dc = otf.first().map_or(1.0, |c| c.norm_sqr());
+    let dc = if dc > 0.0 { dc } else { 1.0 };
+    let power = otf.mapv(|c| c.norm_sqr() / dc);
     let c = n / 2;
     // centred index y ↔ DFT index (y + n − c) mod n
     let unshift: Vec<usize> = (0..n).map(|y| (y + n - c) % n).collect();

@@ -6,8 +6,8 @@ use ndarray::Array2;
 
 use super::SimError;
 use super::aperture::Field;
-use super::fft::binned_intensity;
 use super::progress::Progress;
+use super::route::{PsfRoute, binned_by};
 use super::sampling::WavelengthSampling;
 
 /// The sensor PSF of one channel.
@@ -31,6 +31,20 @@ pub fn channel_psf(
     field: &Field,
     samplings: &[WavelengthSampling],
     progress: &Progress,
+    step: impl FnMut(),
+) -> Result<ChannelPsf, SimError> {
+    channel_psf_by(PsfRoute::Auto, field, samplings, progress, step)
+}
+
+/// [`channel_psf`] by a chosen route (the routes agree to rounding; tests compare them).
+///
+/// # Errors
+/// As [`channel_psf`].
+pub fn channel_psf_by(
+    route: PsfRoute,
+    field: &Field,
+    samplings: &[WavelengthSampling],
+    progress: &Progress,
     mut step: impl FnMut(),
 ) -> Result<ChannelPsf, SimError> {
     let Some(first) = samplings.first() else {
@@ -41,7 +55,7 @@ pub fn channel_psf(
     let mut in_window = 0.0;
     let mut edge = 0.0;
     for ws in samplings {
-        let b = binned_intensity(field, ws.fft_size, &ws.binning, progress)?;
+        let b = binned_by(route, field, ws.fft_size, &ws.binning, progress)?;
         if !(b.total > 0.0) {
             return Err(SimError::Sampling("no light passes the aperture".into()));
         }

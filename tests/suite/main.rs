@@ -41,6 +41,7 @@ mod phase_export;
 mod phase_imaging;
 mod phase_panel;
 mod physics;
+mod psf_route;
 mod restore;
 mod restore_view;
 mod safe_file;

@@ -1,0 +1,70 @@
+//! Which route computes a sensor-binned `|DFT_M(a)|²` (conventions.md §2, "PSF route"): the full
+//! FFT of every column, or the pruned route that computes only what the window and the aliasing
+//! measure read ([`super::pruned`]). Both give the same numbers to rounding; the cheaper one by
+//! an operation count runs.
+//!
+//! Cost model (complex multiply-adds; `fft(n) = n log2 n`, ×4 for sizes with a prime factor
+//! above 7, see [`super::zoom`]), with `R` nonzero rows, `C` field columns, `kw` the window's
+//! largest column, `B` band columns or rows (`|k| ≥ ⌈0.45 M⌉`):
+//! - full: `R·fft(M)/2 + (M/2 + 1)·(fft(M) + 3M) + 8M²` (row FFTs, every column FFT, then
+//!   every sample's intensity, sums, mirror and two table look-ups to bin it);
+//! - pruned: `R·fft(M)/2 + (kw + 1)·zoom(window rows) + (B/2 + C/2)·zoom(band rows) + 2·R·kept
+//!   + 2·window samples`, each `zoom` the cheapest of slice / chirp-z / matrix DFT.
+
+use super::SimError;
+use super::aperture::Field;
+use super::fft::{Binned, binned_intensity};
+use super::progress::Progress;
+use super::pruned::{binned_pruned, pruned_ops};
+use super::sampling::Binning;
+use super::zoom::fft_ops;
+
+/// How the Fraunhofer intensity is computed and binned.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum PsfRoute {
+    /// The cheaper of the two by the operation count.
+    #[default]
+    Auto,
+    /// Every column FFT, every sample binned (the reference).
+    Full,
+    /// Only the window's and the aliasing band's samples.
+    Pruned,
+}
+
+/// Modelled cost of the full route.
+pub fn full_ops(field: &Field, m: usize) -> f64 {
+    let mf = m as f64;
+    field.rows.len() as f64 * 0.5 * fft_ops(m)
+        + (m / 2 + 1) as f64 * (fft_ops(m) + 3.0 * mf)
+        + 8.0 * mf * mf
+}
+
+/// The route [`PsfRoute::Auto`] picks for this field, grid and window: `Full` or `Pruned`.
+pub fn choose(field: &Field, m: usize, binning: &Binning) -> PsfRoute {
+    if pruned_ops(field, m, binning) < full_ops(field, m) {
+        PsfRoute::Pruned
+    } else {
+        PsfRoute::Full
+    }
+}
+
+/// `|DFT_M(a)|²` over `binning`'s window by `route`.
+///
+/// # Errors
+/// As [`binned_intensity`].
+pub fn binned_by(
+    route: PsfRoute,
+    field: &Field,
+    m: usize,
+    binning: &Binning,
+    progress: &Progress,
+) -> Result<Binned, SimError> {
+    let route = match route {
+        PsfRoute::Auto => choose(field, m, binning),
+        r => r,
+    };
+    match route {
+        PsfRoute::Pruned => binned_pruned(field, m, binning, progress),
+        _ => binned_intensity(field, m, binning, progress),
+    }
+}

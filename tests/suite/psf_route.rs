@@ -1,0 +1,164 @@
+//! The pruned PSF route (zooms onto the sensor window, `core::pruned`) gives the full-FFT
+//! route's numbers to rounding on every kind of design, and the cost model picks every zoom
+//! kind somewhere (conventions.md §2, "PSF route").
+
+use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with_route};
+use udc_studio::core::aperture::{Display, Extent, effective_cells, rasterise};
+use udc_studio::core::pruned::zoom_kinds;
+use udc_studio::core::route::PsfRoute;
+use udc_studio::core::sampling::plan;
+use udc_studio::core::zoom::ZoomKind;
+use udc_studio::core::{Analysis, Design, Progress};
+use udc_studio::io::presets::load_preset;
+
+fn preset(name: &str) -> Design {
+    load_preset(name).unwrap_or_else(|e| panic!("preset {name}: {e}"))
+}
+
+/// `H = |K|²/(|K|² + ε)` of a zero of the OTF is rounding noise, ~1e-31: compare absolutely there.
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs()) + 1e-15
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    if a == b {
+        0.0
+    } else {
+        (a - b).abs() / a.abs().max(b.abs())
+    }
+}
+
+/// The largest relative AUC difference; every other number is checked inside.
+fn compare(label: &str, full: &Analysis, pruned: &Analysis) -> f64 {
+    let mut worst_auc = 0.0f64;
+    for (f, p) in full.channels.iter().zip(&pruned.channels) {
+        let auc = rel(f.mtf.auc_radial_min, p.mtf.auc_radial_min);
+        assert!(auc <= 1e-9, "{label} {}: AUC {auc:e}", f.name);
+        worst_auc = worst_auc.max(auc);
+        assert!(rel(f.mtf.auc_radial_mean, p.mtf.auc_radial_mean) <= 1e-9);
+        let peak = f.psf.iter().copied().fold(0.0, f64::max);
+        for (a, b) in f.psf.iter().zip(p.psf.iter()) {
+            assert!(
+                (a - b).abs() <= 1e-12 * peak,
+                "{label} {}: PSF {a} vs {b}",
+                f.name
+            );
+        }
+        for (a, b) in f.mtf.radial_min.iter().zip(&p.mtf.radial_min) {
+            assert!(
+                (a - b).abs() <= 1e-10 * a.abs().max(1e-6),
+                "{label}: MTF {a} vs {b}"
+            );
+        }
+        assert!((f.energy_in_window - p.energy_in_window).abs() <= 1e-12);
+        assert!(
+            close(f.invertibility, p.invertibility),
+            "{label} {}: invertibility {:e} vs {:e}",
+            f.name,
+            f.invertibility,
+            p.invertibility
+        );
+    }
+    assert!(close(full.invertibility_loss, pruned.invertibility_loss));
+    assert_eq!(full.ltr, pruned.ltr);
+    let words = |a: &Analysis| a.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>();
+    assert_eq!(
+        words(full),
+        words(pruned),
+        "{label}: warnings (aliasing measure included)"
+    );
+    worst_auc
+}
+
+/// Every (route, window zoom, band zoom) the cost model picks for the design's wavelengths.
+fn choices(design: &Design, quality: Quality) -> Vec<(PsfRoute, ZoomKind, ZoomKind)> {
+    let op = &design.optics;
+    let mut warnings = Vec::new();
+    let fine = quality.fine_sample_um(op);
+    let samplings = plan(design, fine, quality == Quality::Preview, &mut warnings)
+        .unwrap_or_else(|e| panic!("plan: {e}"));
+    let cells = effective_cells(&design.opening);
+    let display = Display::from_design(design, &cells);
+    let field = rasterise(
+        &display,
+        Extent::Pupil {
+            diameter_um: op.pupil_diameter_um(),
+        },
+        op.pupil_sample_um,
+    );
+    samplings
+        .iter()
+        .flatten()
+        .map(|s| {
+            let route = udc_studio::core::route::choose(&field, s.fft_size, &s.binning);
+            let (w, b) = zoom_kinds(&field, s.fft_size, &s.binning);
+            (route, w, b)
+        })
+        .collect()
+}
+
+fn check(label: &str, design: &Design, quality: Quality) -> Vec<(PsfRoute, ZoomKind, ZoomKind)> {
+    let options = AnalyzeOptions {
+        quality,
+        expected_psf: false,
+    };
+    let run = |route| {
+        analyze_with_route(design, &options, route, &Progress::new())
+            .unwrap_or_else(|e| panic!("{label}: {e}"))
+    };
+    let worst = compare(label, &run(PsfRoute::Full), &run(PsfRoute::Pruned));
+    let auto = run(PsfRoute::Auto);
+    compare(label, &run(PsfRoute::Full), &auto);
+    let picked = choices(design, quality);
+    println!("{label}: max relative AUC difference {worst:.1e}; picked {picked:?}");
+    picked
+}
+
+#[test]
+fn pruned_route_matches_the_full_route_at_150_and_300_dpi() {
+    let mut picked = Vec::new();
+    for name in [
+        "toled-150dpi",
+        "l2inv-random",
+        "toled-300dpi",
+        "open-aperture",
+    ] {
+        picked.extend(check(name, &preset(name), Quality::Full));
+    }
+    assert!(
+        picked
+            .iter()
+            .any(|c| c.0 == PsfRoute::Pruned && c.1 == ZoomKind::Chirp)
+    );
+}
+
+#[test]
+fn pruned_route_matches_the_full_route_at_600_dpi() {
+    let picked = check("toled-600dpi", &preset("toled-600dpi"), Quality::Full);
+    assert!(picked.iter().all(|c| c.0 == PsfRoute::Pruned));
+}
+
+#[test]
+fn pruned_route_matches_on_spectral_preview_and_tiny_window_designs() {
+    // A spectral design: three wavelengths per channel, unequal weights, three FFT sizes each.
+    let mut spectral = preset("l2inv-random");
+    for (ch, centre) in spectral.channels.iter_mut().zip([610.0, 530.0, 470.0]) {
+        ch.wavelengths_nm = vec![centre - 20.0, centre, centre + 20.0];
+        ch.weights = vec![0.25, 0.5, 0.3];
+    }
+    check("spectral", &spectral, Quality::Full);
+    // Preview quality rounds M up to 7-smooth sizes: a slice of the full FFT is cheapest.
+    let preview = check("preview", &preset("toled-150dpi"), Quality::Preview);
+    assert!(
+        preview.iter().any(|c| c.1 == ZoomKind::Slice),
+        "{preview:?}"
+    );
+    // A 2-pixel window: eight outputs per column, a matrix DFT beats any FFT.
+    let mut tiny = preset("l2inv-random");
+    tiny.optics.window_px = 2;
+    let tiny_picked = check("tiny window", &tiny, Quality::Full);
+    assert!(
+        tiny_picked.iter().any(|c| c.1 == ZoomKind::Matrix),
+        "{tiny_picked:?}"
+    );
+}
