@@ -17,6 +17,10 @@ use udc_studio::cli::sweep::{RunOptions, run_sweep};
 use udc_studio::core::sweep::Shard;
 use udc_studio::io::sweep::parse_spec;
 
+/// The binary's allocator (src/main.rs), so the bench measures what `udc-studio sweep` does.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn spec(preset: &str) -> String {
     format!(
         "job = \"analyze\"\n[base]\npreset = \"{preset}\"\n[[axis]]\nparam = \"seed\"\nrange = {{ start = 0, stop = 15 }}\n"

@@ -2,6 +2,11 @@
 
 use udc_studio::cli::{CliParseError, Command, parse};
 
+/// Keeps freed grids for the next design instead of returning them to the kernel (see the
+/// `mimalloc` line in Cargo.toml).
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() -> std::process::ExitCode {
     let cli = match parse() {
         Ok(c) => c,
