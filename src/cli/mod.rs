@@ -105,9 +105,6 @@ pub struct DesignSelection {
     /// Display pixel pitch in µm.
     #[arg(long)]
     pub pitch_um: Option<f64>,
-    /// Display resolution in DPI: the pitch becomes 25400 / DPI µm (the cells keep their number).
-    #[arg(long, conflicts_with = "pitch_um")]
-    pub dpi: Option<f64>,
     /// Tiling: repeat, random-d4 or random-4.
     #[arg(long)]
     pub tiling: Option<TilingMode>,
@@ -172,7 +169,6 @@ impl DesignSelection {
             preset: self.preset.clone(),
             pattern: self.pattern.clone(),
             pitch_um: self.pitch_um,
-            dpi: self.dpi,
             tiling: self.tiling,
             seed: self.seed,
             optics: self.optics,
@@ -236,8 +232,7 @@ pub fn run(command: Command) -> Result<()> {
 }
 
 /// Settings that only a flag sets, by the field name the core reports, and their flag.
-const FLAG_OF_FIELD: [(&str, &str); 16] = [
-    ("dpi", "--dpi"),
+const FLAG_OF_FIELD: [(&str, &str); 15] = [
     ("eta", "--eta"),
     ("eta_per_pixel", "--eta-per-pixel"),
     ("capture.light.snr_db", "--snr-db"),

@@ -20,8 +20,6 @@ pub struct DesignChoice {
     pub pattern: Option<PathBuf>,
     /// Display pixel pitch, µm.
     pub pitch_um: Option<f64>,
-    /// Display resolution in dots per inch: the pitch becomes 25400 / DPI µm (`pitch_um` wins).
-    pub dpi: Option<f64>,
     /// Tiling mode.
     pub tiling: Option<TilingMode>,
     /// Seed of the random tiling.
@@ -41,7 +39,6 @@ impl Default for DesignChoice {
             preset: None,
             pattern: None,
             pitch_um: None,
-            dpi: None,
             tiling: None,
             seed: None,
             optics: None,
@@ -67,16 +64,6 @@ impl DesignChoice {
             design.opening.cells = pattern::load_pattern_png(path)?;
             design.opening.polygons.clear();
             design.reconcile_subpixels();
-        }
-        if let Some(dpi) = self.dpi.filter(|_| self.pitch_um.is_none()) {
-            if !(dpi.is_finite() && dpi > 0.0) {
-                return Err(crate::core::SimError::InvalidField {
-                    field: "dpi".into(),
-                    message: format!("{dpi}: must be a positive number of dots per inch"),
-                }
-                .into());
-            }
-            design.opening.pitch_um = 25_400.0 / dpi;
         }
         if let Some(p) = self.pitch_um {
             design.opening.pitch_um = p;
@@ -127,7 +114,6 @@ impl DesignChoice {
                 "preset" => c.preset = Some(v.to_string()),
                 "pattern" => c.pattern = Some(PathBuf::from(v)),
                 "pitch-um" => c.pitch_um = Some(num(name, v)?),
-                "dpi" => c.dpi = Some(num(name, v)?),
                 "tiling" => c.tiling = Some(v.parse()?),
                 "seed" => {
                     c.seed = Some(

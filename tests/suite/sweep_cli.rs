@@ -455,3 +455,12 @@ fn ctrl_c_keeps_every_finished_point_and_a_rerun_completes() {
         assert_eq!(&all[p], r, "point {p} changed");
     }
 }
+
+/// Every flag a sweep can set is a flag of some command: clap's own consistency check over the
+/// whole command line (two arguments named alike in one command, e.g. a flattened `--dpi`,
+/// only panic when that command runs).
+#[test]
+fn the_command_line_definition_is_consistent() {
+    use clap::CommandFactory;
+    udc_studio::cli::Cli::command().debug_assert();
+}

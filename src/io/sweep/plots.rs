@@ -317,6 +317,18 @@ fn chart_on<'a, DB: DrawingBackend>(
         .build_cartesian_2d(x.0..x.1, y.0..y.1)
 }
 
+/// The legend every plot draws, over its series.
+fn legend<'a, DB: DrawingBackend + 'a>(
+    chart: &mut Chart<'a, DB>,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 16))
+        .draw()
+}
+
 fn draw<DB: DrawingBackend>(
     root: &DrawingArea<DB, Shift>,
     p: &PlotSpec,
@@ -382,13 +394,7 @@ fn draw<DB: DrawingBackend>(
                     .map_err(e)?;
             }
             if summary.lines.keys().any(|k| !k.is_empty()) {
-                chart
-                    .configure_series_labels()
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .label_font(("sans-serif", 16))
-                    .draw()
-                    .map_err(e)?;
+                legend(&mut chart).map_err(e)?;
             }
         }
         PlotData::Pareto { points, front } => {
@@ -428,13 +434,7 @@ fn draw<DB: DrawingBackend>(
                         .map(|q| Circle::new((q.x, q.y), 5, PALETTE[1].filled())),
                 )
                 .map_err(e)?;
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 16))
-                .draw()
-                .map_err(e)?;
+            legend(&mut chart).map_err(e)?;
         }
     }
     Ok(())
