@@ -300,15 +300,7 @@ fn sweep_results_and_a_one_parameter_sweep() {
     use udc_studio::app::WorkspaceId;
     use udc_studio::core::sweep::field::{FieldPoint, SweepField};
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("tiny-results");
-    let spec = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sweep/tiny.toml");
-    let (ok, _, stderr) = common::run_cli(&[
-        "sweep",
-        spec.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(ok, "{stderr}");
+    let out = common::tiny_sweep(dir.path());
     let mut h = harness(dir.path());
     h.state_mut().set_workspace(WorkspaceId::Sweep);
     let ctx = h.ctx.clone();

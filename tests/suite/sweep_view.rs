@@ -15,18 +15,15 @@ use udc_studio::core::design::TilingMode;
 use udc_studio::core::sweep::field::{FieldPoint, SweepField, SweepMetric, values};
 use udc_studio::io::design_choice::design_hash;
 
-/// Runs `udc-studio sweep tests/sweep/tiny.toml --out DIR` (8 points at preview quality).
-fn tiny_sweep(dir: &std::path::Path) -> std::path::PathBuf {
-    let out = dir.join("tiny-results");
-    let spec = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sweep/tiny.toml");
-    let (ok, _, stderr) = common::run_cli(&[
-        "sweep",
-        spec.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
-    assert!(ok, "the sweep ran: {stderr}");
-    out
+use common::tiny_sweep;
+
+/// Opens a results folder in the Sweep workspace and waits for its table.
+fn open_results(h: &mut egui_kittest::Harness<'_, StudioApp>, out: &std::path::Path) {
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .sweep()
+        .open_folder(out, move || ctx.request_repaint());
+    common::step_until(h, "the table", idle);
 }
 
 fn idle(app: &StudioApp) -> bool {
@@ -52,11 +49,7 @@ fn a_results_folder_shows_sorts_filters_and_opens_a_rows_design() {
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Sweep);
     h.step();
-    let ctx = h.ctx.clone();
-    h.state_mut()
-        .sweep()
-        .open_folder(&out, move || ctx.request_repaint());
-    common::step_until(&mut h, "the table", idle);
+    open_results(&mut h, &out);
     assert_eq!(h.state().sweep_ref().table().unwrap().rows.len(), 8);
     assert_eq!(h.state().sweep_ref().shown_rows().unwrap().len(), 8);
     assert!(h.query_by_label("8 shown / 8 rows").is_some());
@@ -124,11 +117,7 @@ fn a_folder_that_is_not_a_sweep_keeps_the_table_and_says_why() {
     let out = tiny_sweep(dir.path());
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Sweep);
-    let ctx = h.ctx.clone();
-    h.state_mut()
-        .sweep()
-        .open_folder(&out, move || ctx.request_repaint());
-    common::step_until(&mut h, "the table", idle);
+    open_results(&mut h, &out);
     let empty = dir.path().join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let ctx = h.ctx.clone();
@@ -322,11 +311,7 @@ fn a_phase_sweeps_row_says_open_design_is_for_display_designs() {
     std::fs::write(&path, m.to_string()).unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Sweep);
-    let ctx = h.ctx.clone();
-    h.state_mut()
-        .sweep()
-        .open_folder(&out, move || ctx.request_repaint());
-    common::step_until(&mut h, "the table", idle);
+    open_results(&mut h, &out);
     h.get_all_by_label("Open").next().unwrap().click();
     common::step_until(&mut h, "the notice", |app| {
         app.sweep_ref().message().is_some_and(|m| m.is_error())

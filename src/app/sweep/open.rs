@@ -36,7 +36,7 @@ pub fn read_folder(dir: &Path, progress: &Progress) -> Result<SweepTable, JobErr
     let expected = manifest.rows.max(1) as f32;
     let mut rows = Vec::with_capacity(usize::try_from(manifest.rows).unwrap_or(0).min(1 << 20));
     let path = dir.join(CSV_FILE);
-    let read = read_csv(&path, Some(&manifest.schema), false, |row| {
+    let read = read_csv(&path, &manifest.schema, false, |row| {
         rows.push(row);
         if rows.len() % 1024 == 0 {
             progress.set((rows.len() as f32 / expected).min(1.0));

@@ -11,7 +11,7 @@ use serde_json::Value;
 use crate::cli::{Command, capture_json, parse::parse_from};
 use crate::core::Progress;
 use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
-use crate::core::sweep::hash::{point_hash, short_hash};
+use crate::core::sweep::hash::{point_hash, short_hash_of_digest};
 use crate::core::sweep::{ParamValue, Points, SweepJob, SweepSpec};
 
 /// Parameters whose values are input files: their content, not their name, enters the hash.
@@ -62,12 +62,28 @@ impl FileDigests {
         }
         let p = Path::new(path);
         crate::io::safe_file::check_regular(p, "input file")?;
-        let bytes = std::fs::read(p).map_err(|e| anyhow!("cannot read {}: {e}", p.display()))?;
-        let d = short_hash(&bytes);
+        // Streamed: an input file (an HDR scene, a large photo) is never held whole just to
+        // be hashed.
+        let d = std::fs::File::open(p)
+            .and_then(short_hash_reader)
+            .map_err(|e| anyhow!("cannot read {}: {e}", p.display()))?;
         if let Ok(mut m) = self.0.lock() {
             m.insert(path.to_string(), d.clone());
         }
         Ok(d)
+    }
+}
+
+fn short_hash_reader(mut r: impl std::io::Read) -> std::io::Result<String> {
+    use sha2::Digest;
+    let mut hasher = sha2::Sha256::new();
+    let mut buf = vec![0u8; 1 << 16];
+    loop {
+        let n = r.read(&mut buf)?;
+        if n == 0 {
+            return Ok(short_hash_of_digest(&hasher.finalize()));
+        }
+        hasher.update(buf.get(..n).unwrap_or_default());
     }
 }
 

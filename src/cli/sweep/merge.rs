@@ -50,7 +50,7 @@ pub fn merge_cmd(a: &MergeArgs) -> Result<()> {
                 f.spec_hash
             );
         }
-        read_csv(&dir.join(CSV_FILE), Some(&m.schema), false, |row| {
+        read_csv(&dir.join(CSV_FILE), &m.schema, false, |row| {
             rows.push(row);
             Ok(())
         })?;

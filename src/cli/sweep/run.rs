@@ -82,15 +82,7 @@ fn compute_row(
         evaluate_point(&words, &hash)
     }))
     .unwrap_or_else(|_| Err(anyhow!("internal error (a panic) computing this point")));
-    let mut row = Row {
-        point: index,
-        hash,
-        params: axis_text,
-        metrics: vec![f64::NAN; metrics.len()],
-        design_hash: String::new(),
-        error: String::new(),
-        tool_version: env!("CARGO_PKG_VERSION").to_string(),
-    };
+    let mut row = Row::failed(index, hash, axis_text, metrics.len(), String::new());
     match outcome {
         Ok(out) => {
             let flat = flatten_metrics(&out.value);
@@ -125,17 +117,6 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
         bail!("--threads {t}: between 1 and 1024");
     }
     super::check_points(spec)?;
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
-    // One writer per folder: a second sweep into it would interleave rows.
-    let lock_path = out.join(".sweep.lock");
-    let lock = std::fs::File::create(&lock_path)
-        .with_context(|| format!("cannot create {}", lock_path.display()))?;
-    if lock.try_lock().is_err() {
-        bail!(
-            "another sweep is writing to {}; wait for it or give another --out",
-            out.display()
-        );
-    }
     let files = FileDigests::default();
     let hash_at = |i: u64| hash_of(spec.job, &point_params(spec, &points, i), &files);
 
@@ -207,13 +188,26 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
         }
     };
 
+    // The folder is made (and locked) only once the points are known to compute: a refused
+    // sweep leaves nothing behind.
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    // One writer per folder: a second sweep into it would interleave rows.
+    let lock_path = out.join(".sweep.lock");
+    let lock = std::fs::File::create(&lock_path)
+        .with_context(|| format!("cannot create {}", lock_path.display()))?;
+    if lock.try_lock().is_err() {
+        bail!(
+            "another sweep is writing to {}; wait for it or give another --out",
+            out.display()
+        );
+    }
     // Resume: what the journal holds, rewritten into a fresh Parquet file.
     let csv_path = out.join(CSV_FILE);
     let mut parquet = ParquetAppender::create(&out.join(PARQUET_FILE), &schema)?;
     let mut done: HashSet<String> = HashSet::new();
     let mut failed_before = 0u64;
     if csv_path.exists() {
-        read_csv(&csv_path, Some(&schema), true, |row| {
+        read_csv(&csv_path, &schema, true, |row| {
             if done.insert(row.hash.clone()) {
                 failed_before += u64::from(!row.error.is_empty());
                 parquet.append(row)?;
@@ -313,15 +307,13 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
                         }
                         Ok(hash) => compute_row(spec, &points, i, hash, &metrics).0,
                         // An unreadable input file: a failed point with its message.
-                        Err(e) => Row {
-                            point: i,
-                            hash: format!("unreadable-{i}"),
-                            params: points.point(i).iter().map(|v| v.to_arg()).collect(),
-                            metrics: vec![f64::NAN; metrics.len()],
-                            design_hash: String::new(),
-                            error: format!("{e:#}"),
-                            tool_version: env!("CARGO_PKG_VERSION").into(),
-                        },
+                        Err(e) => Row::failed(
+                            i,
+                            format!("unreadable-{i}"),
+                            points.point(i).iter().map(|v| v.to_arg()).collect(),
+                            metrics.len(),
+                            format!("{e:#}"),
+                        ),
                     };
                     tx.send(row).map_err(|_| ())
                 })

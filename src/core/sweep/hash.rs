@@ -5,7 +5,11 @@ use sha2::{Digest, Sha256};
 /// Hex of the first 128 bits of SHA-256: enough to tell points apart in any sweep (a collision
 /// among 10⁹ points has probability ~10⁻²¹) and short enough for a table column.
 pub fn short_hash(bytes: &[u8]) -> String {
-    let digest = Sha256::digest(bytes);
+    short_hash_of_digest(&Sha256::digest(bytes))
+}
+
+/// The first 128 bits of a SHA-256 digest as hex (for digests computed incrementally).
+pub fn short_hash_of_digest(digest: &[u8]) -> String {
     digest.iter().take(16).map(|b| format!("{b:02x}")).collect()
 }
 

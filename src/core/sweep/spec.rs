@@ -112,7 +112,12 @@ impl ParamValue {
         match self {
             ParamValue::Bool(b) => b.to_string(),
             ParamValue::Int(i) => i.to_string(),
-            ParamValue::Float(f) => format_float(*f),
+            // The shortest decimal that reads back exactly (`168`, `0.25`); exponent form
+            // where Display would spell out hundreds of digits (`1e308`, `1e-300`).
+            ParamValue::Float(f) if f.abs() >= 1e15 || (*f != 0.0 && f.abs() < 1e-6) => {
+                format!("{f:e}")
+            }
+            ParamValue::Float(f) => f.to_string(),
             ParamValue::Text(s) => s.clone(),
         }
     }
@@ -124,15 +129,6 @@ impl ParamValue {
             ParamValue::Float(f) => Some(*f),
             ParamValue::Bool(_) | ParamValue::Text(_) => None,
         }
-    }
-}
-
-/// The shortest decimal that reads back as the same `f64`; whole numbers without `.0`.
-pub fn format_float(f: f64) -> String {
-    if f.is_finite() && f.fract() == 0.0 && f.abs() < 1e15 {
-        format!("{}", f as i64)
-    } else {
-        format!("{f}")
     }
 }
 
@@ -393,7 +389,7 @@ fn check_range(r: &RangeSpec) -> Result<(), (String, String)> {
     }
     let n = ((r.stop - r.start) / r.step + 1e-9).floor() + 1.0;
     if n > MAX_AXIS_VALUES as f64 {
-        return err(".range", format!("{n} values: at most {MAX_AXIS_VALUES}"));
+        return err(".range", format!("{n:e} values: at most {MAX_AXIS_VALUES}"));
     }
     Ok(())
 }

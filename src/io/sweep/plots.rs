@@ -181,7 +181,7 @@ pub fn plot_data(dir: &Path, m: &Manifest, p: &PlotSpec) -> Result<PlotData, IoE
     match p.kind {
         PlotKind::MetricVsAxis => {
             let mut summary = SeriesSummary::default();
-            read_csv(&path, Some(&m.schema), false, |row| {
+            read_csv(&path, &m.schema, false, |row| {
                 let g = match group {
                     Some(Col::Param(k)) => format!(
                         "{} {}",
@@ -200,7 +200,7 @@ pub fn plot_data(dir: &Path, m: &Manifest, p: &PlotSpec) -> Result<PlotData, IoE
         }
         PlotKind::Pareto => {
             let mut points = Vec::new();
-            read_csv(&path, Some(&m.schema), false, |row| {
+            read_csv(&path, &m.schema, false, |row| {
                 points.push(ParetoPoint {
                     x: value(&row, x),
                     y: value(&row, y),

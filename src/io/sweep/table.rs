@@ -5,7 +5,7 @@
 //! a missing metric (a failed point) is an empty cell.
 
 use std::fs::{File, OpenOptions};
-use std::io::{BufRead, BufReader, Seek, SeekFrom};
+use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
 use crate::io::error::IoError;
@@ -69,6 +69,25 @@ pub struct Row {
 }
 
 impl Row {
+    /// The row of a point that failed: its error, no metrics.
+    pub fn failed(
+        point: u64,
+        hash: String,
+        params: Vec<String>,
+        metrics: usize,
+        error: String,
+    ) -> Row {
+        Row {
+            point,
+            hash,
+            params,
+            metrics: vec![f64::NAN; metrics],
+            design_hash: String::new(),
+            error: error.replace(['\n', '\r'], " "),
+            tool_version: env!("CARGO_PKG_VERSION").to_string(),
+        }
+    }
+
     fn record(&self) -> Vec<String> {
         let mut out = vec![self.point.to_string(), self.hash.clone()];
         out.extend(self.params.iter().cloned());
@@ -180,7 +199,7 @@ fn table_error(path: &Path, message: &str) -> IoError {
     }
 }
 
-/// Reads a results CSV row by row, checking its header against `schema` (when given). A last
+/// Reads a results CSV row by row, checking its header against `schema`. A last
 /// line without its newline (a row an interruption cut) is dropped and, when `repair`, cut
 /// from the file so appending continues cleanly.
 ///
@@ -188,10 +207,10 @@ fn table_error(path: &Path, message: &str) -> IoError {
 /// [`IoError::Table`] naming the file and the line: a different header, a malformed row.
 pub fn read_csv(
     path: &Path,
-    schema: Option<&TableSchema>,
+    schema: &TableSchema,
     repair: bool,
     mut each: impl FnMut(Row) -> Result<(), IoError>,
-) -> Result<TableSchemaOrHeader, IoError> {
+) -> Result<(), IoError> {
     let file = File::open(path).map_err(|e| IoError::file("read the results table", path, e))?;
     let len = file
         .metadata()
@@ -207,12 +226,9 @@ pub fn read_csv(
             .map_err(|e| IoError::file("repair the results table", path, e))?;
     }
     if complete == 0 {
-        return Ok(match schema {
-            Some(s) => TableSchemaOrHeader::Schema(s.clone()),
-            None => TableSchemaOrHeader::Header(Vec::new()),
-        });
+        return Ok(());
     }
-    let reader = BufReader::new(file).take_bytes(complete);
+    let reader = BufReader::new(file).take(complete);
     let mut csv = csv::ReaderBuilder::new()
         .has_headers(true)
         .flexible(true)
@@ -223,38 +239,23 @@ pub fn read_csv(
         .iter()
         .map(str::to_string)
         .collect();
-    let schema = match schema {
-        Some(s) => {
-            if s.header() != header {
-                return Err(table_error(
-                    path,
-                    &format!(
-                        "its columns ({}) are not this sweep's ({}); write to a new --out folder",
-                        header.join(","),
-                        s.header().join(",")
-                    ),
-                ));
-            }
-            s.clone()
-        }
-        None => return Ok(TableSchemaOrHeader::Header(header)),
-    };
+    if schema.header() != header {
+        return Err(table_error(
+            path,
+            &format!(
+                "its columns ({}) are not this sweep's ({}); write to a new --out folder",
+                header.join(","),
+                schema.header().join(",")
+            ),
+        ));
+    }
     for (i, rec) in csv.records().enumerate() {
         let rec = rec.map_err(|e| table_error(path, &e.to_string()))?;
-        let row = Row::from_record(&rec, &schema)
+        let row = Row::from_record(&rec, schema)
             .map_err(|m| table_error(path, &format!("line {}: {m}", i + 2)))?;
         each(row)?;
     }
-    Ok(TableSchemaOrHeader::Schema(schema))
-}
-
-/// What [`read_csv`] learned of the table's columns.
-#[derive(Debug, Clone, PartialEq)]
-pub enum TableSchemaOrHeader {
-    /// The schema it was checked against.
-    Schema(TableSchema),
-    /// The header it read, unchecked (no schema given; no rows read).
-    Header(Vec<String>),
+    Ok(())
 }
 
 /// The length up to and including the last newline.
@@ -267,7 +268,7 @@ fn complete_length(file: &File, len: u64) -> std::io::Result<u64> {
         let n = (pos - start) as usize;
         f.seek(SeekFrom::Start(start))?;
         let chunk = buf.get_mut(..n).unwrap_or_default();
-        std::io::Read::read_exact(&mut f, chunk)?;
+        f.read_exact(chunk)?;
         if let Some(k) = chunk.iter().rposition(|b| *b == b'\n') {
             f.seek(SeekFrom::Start(0))?;
             return Ok(start + k as u64 + 1);
@@ -277,14 +278,6 @@ fn complete_length(file: &File, len: u64) -> std::io::Result<u64> {
     f.seek(SeekFrom::Start(0))?;
     Ok(0)
 }
-
-/// `take` for a `BufRead` that keeps it a `BufRead`.
-trait TakeBytes: BufRead + Sized {
-    fn take_bytes(self, n: u64) -> std::io::Take<Self> {
-        std::io::Read::take(self, n)
-    }
-}
-impl<R: BufRead> TakeBytes for R {}
 
 /// Writes a whole table (a merge) through a temp file and a rename.
 ///

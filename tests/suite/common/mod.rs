@@ -141,3 +141,18 @@ pub fn run_cli_timed(args: &[&str]) -> (Option<i32>, String, String, std::time::
         t0.elapsed(),
     )
 }
+
+/// Runs `udc-studio sweep tests/sweep/tiny.toml --out DIR/tiny-results` (8 points at preview
+/// quality) and returns the results folder.
+pub fn tiny_sweep(dir: &std::path::Path) -> std::path::PathBuf {
+    let out = dir.join("tiny-results");
+    let spec = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/sweep/tiny.toml");
+    let (ok, _, stderr) = run_cli(&[
+        "sweep",
+        spec.to_str().expect("utf-8 path"),
+        "--out",
+        out.to_str().expect("utf-8 path"),
+    ]);
+    assert!(ok, "the sweep ran: {stderr}");
+    out
+}
