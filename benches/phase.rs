@@ -62,12 +62,19 @@ fn imaging() {
         return;
     };
     let start = Instant::now();
-    let run = capture_and_restore(&blur, &scene, 1600.0, 1, &Progress::new());
+    let run = capture_and_restore(
+        &blur,
+        &scene,
+        1600.0,
+        1,
+        udc_studio::core::phase::imaging::thesis_denoise(),
+        &Progress::new(),
+    );
     let restore_seconds = start.elapsed().as_secs_f64();
     let psnr = run.map(|r| r.psnr_db).unwrap_or(f64::NAN);
     println!(
-        "blur matrix of 1024 directions × 3 channels: {blur_seconds:.1} s; capture + restore \
-         512×512 at 1600 photons: {restore_seconds:.2} s ({psnr:.2} dB)"
+        "blur matrix of 1024 directions × 3 channels: {blur_seconds:.1} s; capture + BM3D + \
+         restore 512×512 at 1600 photons: {restore_seconds:.2} s ({psnr:.2} dB)"
     );
     common::write_figures(
         "phase-imaging.json",

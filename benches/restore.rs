@@ -22,7 +22,7 @@ use image::imageops::FilterType;
 use ndarray::Array2;
 use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::restore::{
-    CgSettings, Light, Method, Padding, RestoreResult, RestoreSettings, simulate,
+    CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreResult, RestoreSettings, simulate,
 };
 use udc_studio::core::{Design, Progress};
 use udc_studio::io::photo::{load_photo, planes_of};
@@ -74,8 +74,17 @@ fn bench_restore(c: &mut Criterion) {
         Err(e) => panic!("{e}"),
     };
     let big = photo_1024x768();
-    let mut wiener = RestoreSettings::default();
+    // The deblurring alone, so its figures compare with earlier runs; BM3D has its own case.
+    let mut wiener = RestoreSettings {
+        denoise: Denoise::None,
+        ..RestoreSettings::default()
+    };
     wiener.capture.light = Light::SnrDb(28.0);
+    let bm3d = RestoreSettings {
+        denoise: Denoise::thesis(Recipe::Iccp21),
+        padding: Padding::Linear,
+        ..wiener.clone()
+    };
     let linear = RestoreSettings {
         padding: Padding::Linear,
         ..wiener.clone()
@@ -98,8 +107,13 @@ fn bench_restore(c: &mut Criterion) {
         },
         Case {
             id: "cg/toled-256x256",
-            photo: small,
+            photo: small.clone(),
             settings: cg,
+        },
+        Case {
+            id: "bm3d-wiener-linear/toled-256x256",
+            photo: small,
+            settings: bm3d,
         },
     ];
     // One untimed call per case: FFT plans and rayon's pool are built once per process.

@@ -1,6 +1,9 @@
 //! Headless commands, built only on `core` and `io`.
 
+pub mod analysis_cache;
 pub mod appearance;
+pub mod denoise;
+pub mod denoise_flags;
 pub mod drc;
 mod export_cmd;
 pub mod field_depth;
@@ -13,6 +16,7 @@ pub mod sensor;
 
 mod parse;
 pub use parse::{CliParseError, parse};
+pub mod reproduce;
 pub mod sweep;
 
 use std::path::PathBuf;
@@ -64,6 +68,10 @@ pub enum Command {
     /// Capture a photo through the display (blur, photon and read noise) and restore it; prints
     /// PSNR and SSIM per run (thesis §3.5).
     Restore(RestoreArgs),
+    /// Denoise an image with BM3D (grey) or CBM3D (colour) at a known noise variance σ² on the
+    /// [0, 1] scale; writes the same kind of file (PNG, TIFF or EXR) and, with `--reference`,
+    /// prints the PSNR before and after.
+    Denoise(denoise::DenoiseArgs),
     /// Optimize the opening of one display pixel (thesis §3.4.2) and save the new design.
     Optimize(optimize::OptimizeArgs),
     /// Simulate spatially-varying gain and binning on an HDR scene (thesis chapter 5): the four
@@ -89,6 +97,10 @@ pub enum Command {
     /// Run a sweep of many designs in-process (`sweep SPEC --out DIR`), merge shard folders
     /// (`sweep merge`), or write Slurm scripts for a cluster (`sweep slurm`).
     Sweep(sweep::SweepArgs),
+    /// Reproduce a thesis result in one command (`reproduce --list` names them): its sweep
+    /// specs in presets/reproduce/ run in-process, then report.md, results.csv and plots with
+    /// the thesis's numbers beside ours and its claims checked (`--quick`: ≈ 2 min each).
+    Reproduce(reproduce::ReproduceArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -281,6 +293,7 @@ fn run_command(command: Command) -> Result<()> {
         Command::Drc(args) => drc::drc_cmd(&args),
         Command::Import(args) => import::import_cmd(&args),
         Command::Restore(args) => restore_cmd(&args),
+        Command::Denoise(args) => denoise::denoise_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
         Command::Sensor(args) => sensor::sensor_cmd(&args),
         Command::Phase(cmd) => phase::phase_cmd(&cmd),
@@ -289,6 +302,7 @@ fn run_command(command: Command) -> Result<()> {
         Command::Saturation(args) => saturation::saturation_cmd(&args),
         Command::Appearance(args) => appearance::appearance_cmd(&args),
         Command::Sweep(args) => sweep::sweep_cmd(&args),
+        Command::Reproduce(args) => reproduce::reproduce_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }
@@ -414,10 +428,14 @@ pub struct RestoreArgs {
     /// not depend on the padding.
     #[arg(long)]
     pub pad_linear: bool,
+    /// The denoiser before the deblurring (`--denoise`, `--denoise-sigma2`).
+    #[command(flatten)]
+    pub denoise: denoise_flags::DenoiseFlags,
     /// Print one JSON object to stdout instead of a table.
     #[arg(long)]
     pub json: bool,
-    /// Write captured, restored and difference PNGs (and float EXRs) per run into this directory.
+    /// Write captured, denoised, restored and difference PNGs (and float EXRs) per run into
+    /// this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
@@ -431,6 +449,8 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
 
     let design = args.selection.resolve()?;
     let photo = photo::load_photo(&args.image, args.max_side_px)?;
+    // The display openings are chapter 3's: its σ² table.
+    let denoise = args.denoise.resolve(crate::core::restore::Recipe::Iccp21)?;
     let method = match args.method {
         RestoreMethod::Wiener => Method::Wiener { nsr: args.nsr },
         RestoreMethod::Cg => Method::Cg(CgSettings {
@@ -463,6 +483,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
         } else {
             Padding::Double
         },
+        denoise,
     };
     // Every light level and the photo are checked before the analysis, which is the slow part.
     for (light, _) in &lights {
@@ -472,7 +493,8 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
         quality: Quality::Full,
         expected_psf: false,
     };
-    let analysis = analyze_with(&design, &options, &Progress::new())?;
+    // Shared with the sweep's other points on this design (every light level and photo).
+    let analysis = analysis_cache::analyze_shared(&design, &options)?;
     let psfs: Vec<&ndarray::Array2<f64>> = analysis.channels.iter().map(|c| &c.psf).collect();
     let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
     if photo.len() != psfs.len() {
@@ -498,7 +520,10 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
         for w in &analysis.warnings {
             println!("{}: {w}", w.severity.as_str());
         }
-        println!("light (e⁻)  SNR (dB)  PSNR (dB)  SSIM     capture PSNR  per channel PSNR / SSIM");
+        println!(
+            "light (e⁻)  SNR (dB)  PSNR (dB)  SSIM     capture PSNR  denoised PSNR  per channel \
+             PSNR / SSIM"
+        );
     }
     let mut runs = Vec::new();
     for (light, stem) in lights {
@@ -516,14 +541,18 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
                 .zip(&result.channels)
                 .map(|(n, c)| format!("{n} {:.2}/{:.4}", c.psnr_db, c.ssim))
                 .collect();
+            let denoised = result
+                .denoised_psnr_db
+                .map_or_else(|| "-".to_string(), |p| format!("{p:.2}"));
             println!(
-                "{:>10.0}  {:>8.2}  {:>9.2}  {:.4}   {:>10.2}    {}",
+                "{:>10.0}  {:>8.2}  {:>9.2}  {:.4}   {:>10.2}    {denoised:>11}    {}    ({})",
                 result.light_e,
                 result.snr_db,
                 result.psnr_db,
                 result.ssim,
                 result.captured_psnr_db,
-                per.join("  ")
+                per.join("  "),
+                denoise_flags::denoise_text(&result.denoise)
             );
             let saturated = result
                 .channels
@@ -556,6 +585,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             "ltr": analysis.ltr,
             "ltr_relative": ltr_relative,
             "method": method_json,
+            "denoise": {"method": denoise.method_name()},
             "noise_seed": args.noise_seed,
             "warnings": crate::io::report::warning_messages(&analysis.warnings),
             "runs": runs,

@@ -114,6 +114,9 @@ pub struct FlatPatchArgs {
     /// Seed of the photon and read noise.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
+    /// Read at this pixel gain instead of eq. 5.3's gain for the light and η.
+    #[arg(long, value_name = "G")]
+    pub gain: Option<f64>,
     /// Print one JSON object to stdout instead of text.
     #[arg(long)]
     pub json: bool,
@@ -142,12 +145,14 @@ pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
         additive_gain: args.additive_gain,
         side_px: args.side_px,
         seed: args.seed,
+        gain: args.gain,
     };
     let flag_of = |field: &str| match field {
         "light_e" => Some("--light"),
         "eta" => Some("--eta"),
         "bin_px" => Some("--bin"),
         "side_px" => Some("--side-px"),
+        "gain" => Some("--gain"),
         _ => None,
     };
     let res = flat_patch(&spec, &sensor, &Progress::new()).map_err(|e| match e {
@@ -185,13 +190,27 @@ pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
             "additive_gain": spec.additive_gain.label(),
             "side_px": spec.side_px,
             "seed": spec.seed,
+            "gain_from": if spec.gain.is_some() { "--gain" } else { "eq. 5.3" },
+            "variance_e2": r(res.variance_e2),
+            "table51_variance_e2": r(res.table51_variance_e2),
+            "variance_standard_error_e2": r(res.variance_standard_error_e2),
         });
-        println!("{}", serde_json::to_string(&v)?);
+        // Through the sweep's sink when a sweep (or `reproduce table5.1`) runs this check.
+        crate::cli::emit_json(&v)?;
         return Ok(());
     }
     println!(
-        "flat patch {0}×{0} px at {1} e⁻ on {2}, η {3}: gain {4:.4} (eq. 5.3), binning {mode}",
-        spec.side_px, spec.light_e, sensor.name, spec.eta, res.gain
+        "flat patch {0}×{0} px at {1} e⁻ on {2}, η {3}: gain {4:.4} ({5}), binning {mode}",
+        spec.side_px,
+        spec.light_e,
+        sensor.name,
+        spec.eta,
+        res.gain,
+        if spec.gain.is_some() {
+            "--gain"
+        } else {
+            "eq. 5.3"
+        }
     );
     println!(
         "saturated {:.3} % of pixels (± {:.3} % standard error, {} readouts); predicted {:.3} % \
@@ -201,6 +220,10 @@ pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
         res.readouts,
         100.0 * res.predicted,
         100.0 * res.gaussian_tail
+    );
+    println!(
+        "variance of the estimate {:.4} e⁻² (± {:.4}); Table 5.1: {:.4} e⁻²",
+        res.variance_e2, res.variance_standard_error_e2, res.table51_variance_e2
     );
     Ok(())
 }

@@ -6,6 +6,7 @@ pub mod analyze;
 pub mod aperture;
 pub mod appearance;
 pub mod budget;
+pub mod denoise;
 pub mod depth;
 pub mod depth_capture;
 pub mod design;

@@ -157,7 +157,7 @@ fn check_size(width: usize, height: usize) -> Result<(), String> {
 }
 
 /// The EXR's planes (`[row, col]`, f32 widened) and channel names.
-fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), String> {
+pub(super) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), String> {
     const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
     if bytes.len() < 4 || bytes[..4] != MAGIC {
         return Err("not an OpenEXR file (its first bytes are not the EXR magic number)".into());

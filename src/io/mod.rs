@@ -8,6 +8,7 @@ pub mod error;
 pub mod export;
 pub mod fab;
 pub mod hdr;
+pub mod image_planes;
 pub mod mask;
 pub mod numbers;
 pub mod pattern;
@@ -22,5 +23,6 @@ pub mod sensor_report;
 pub mod spectral;
 pub mod sweep;
 pub mod system;
+pub mod testset;
 
 pub use error::IoError;

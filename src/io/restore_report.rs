@@ -10,7 +10,17 @@ use super::IoError;
 use super::numbers::json6 as r;
 use super::photo::{DIFFERENCE_GAIN, write_difference_png, write_photo_exr, write_photo_png};
 use crate::core::phase::imaging::CompareRow;
-use crate::core::restore::RestoreResult;
+use crate::core::restore::{DenoiseUsed, RestoreResult};
+
+/// `{"method": "bm3d"|"none", "sigma2": σ² BM3D got on the capture's scale (white ≈ 1) or null,
+/// "sigma2_source": "iccp21"|"iccv23"|"override"|null}` of one run.
+pub fn denoise_json(used: &DenoiseUsed) -> Value {
+    json!({
+        "method": used.setting.method_name(),
+        "sigma2": used.sigma2.map_or(Value::Null, r),
+        "sigma2_source": used.source(),
+    })
+}
 
 /// One element of `runs`: the light level and the scores, pooled and per channel (named
 /// `channel_names[c]`, or by index when a name is missing). `outputs` are the files written.
@@ -25,6 +35,7 @@ pub fn run_json(result: &RestoreResult, channel_names: &[String], outputs: &[Pat
                 "psnr_db": r(ch.psnr_db),
                 "ssim": r(ch.ssim),
                 "captured_psnr_db": r(ch.captured_psnr_db),
+                "denoised_psnr_db": ch.denoised_psnr_db.map_or(Value::Null, r),
                 "saturated_fraction": r(ch.saturated_fraction),
             });
             if let (Some(cg), Some(obj)) = (&ch.cg, v.as_object_mut()) {
@@ -44,6 +55,8 @@ pub fn run_json(result: &RestoreResult, channel_names: &[String], outputs: &[Pat
         "psnr_db": r(result.psnr_db),
         "ssim": r(result.ssim),
         "captured_psnr_db": r(result.captured_psnr_db),
+        "denoise": denoise_json(&result.denoise),
+        "denoised_psnr_db": result.denoised_psnr_db.map_or(Value::Null, r),
         "elapsed_ms": (result.elapsed_ms * 1000.0).round() / 1000.0,
         "channels": channels,
         "outputs": outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
@@ -51,9 +64,10 @@ pub fn run_json(result: &RestoreResult, channel_names: &[String], outputs: &[Pat
 }
 
 /// Writes one run's images into `dir` (created if needed), each name starting with `stem`:
-/// `{stem}_captured.png`, `{stem}_restored.png` (8-bit, clipped to `[0, 1]`),
-/// `{stem}_difference.png` (`|restored − truth|` × [`DIFFERENCE_GAIN`]) and
-/// `{stem}_captured.exr`, `{stem}_restored.exr` (float, unclipped). Returns the paths in that
+/// `{stem}_captured.png`, `{stem}_denoised.png` (only when a denoiser ran),
+/// `{stem}_restored.png` (8-bit, clipped to `[0, 1]`), `{stem}_difference.png`
+/// (`|restored − truth|` × [`DIFFERENCE_GAIN`]) and `{stem}_captured.exr`,
+/// `{stem}_denoised.exr`, `{stem}_restored.exr` (float, unclipped). Returns the paths in that
 /// order.
 ///
 /// # Errors
@@ -65,7 +79,27 @@ pub fn write_run_images(
     truth: &[Array2<f64>],
     result: &RestoreResult,
 ) -> Result<Vec<PathBuf>, IoError> {
-    write_capture_images(dir, stem, truth, &result.captured, &result.restored)
+    write_capture_images(
+        dir,
+        stem,
+        truth,
+        &CaptureImages {
+            captured: &result.captured,
+            denoised: &result.denoised,
+            restored: &result.restored,
+        },
+    )
+}
+
+/// The planes of one capture and its restoration; `denoised` is empty when no denoiser ran.
+#[derive(Debug, Clone, Copy)]
+pub struct CaptureImages<'a> {
+    /// The capture per channel.
+    pub captured: &'a [Array2<f64>],
+    /// The denoised capture per channel, or empty.
+    pub denoised: &'a [Array2<f64>],
+    /// The restoration per channel.
+    pub restored: &'a [Array2<f64>],
 }
 
 /// [`write_run_images`] for any capture and restoration of `truth` (the phase masks' too).
@@ -76,17 +110,22 @@ pub fn write_capture_images(
     dir: &Path,
     stem: &str,
     truth: &[Array2<f64>],
-    captured: &[Array2<f64>],
-    restored: &[Array2<f64>],
+    images: &CaptureImages<'_>,
 ) -> Result<Vec<PathBuf>, IoError> {
     std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
-    let captured: Vec<&Array2<f64>> = captured.iter().collect();
-    let restored: Vec<&Array2<f64>> = restored.iter().collect();
+    let captured: Vec<&Array2<f64>> = images.captured.iter().collect();
+    let denoised: Vec<&Array2<f64>> = images.denoised.iter().collect();
+    let restored: Vec<&Array2<f64>> = images.restored.iter().collect();
     let truth: Vec<&Array2<f64>> = truth.iter().collect();
     let mut written = Vec::new();
     let path = dir.join(format!("{stem}_captured.png"));
     write_photo_png(&path, &captured)?;
     written.push(path);
+    if !denoised.is_empty() {
+        let path = dir.join(format!("{stem}_denoised.png"));
+        write_photo_png(&path, &denoised)?;
+        written.push(path);
+    }
     let path = dir.join(format!("{stem}_restored.png"));
     write_photo_png(&path, &restored)?;
     written.push(path);
@@ -96,6 +135,11 @@ pub fn write_capture_images(
     let path = dir.join(format!("{stem}_captured.exr"));
     write_photo_exr(&path, &captured)?;
     written.push(path);
+    if !denoised.is_empty() {
+        let path = dir.join(format!("{stem}_denoised.exr"));
+        write_photo_exr(&path, &denoised)?;
+        written.push(path);
+    }
     let path = dir.join(format!("{stem}_restored.exr"));
     write_photo_exr(&path, &restored)?;
     written.push(path);

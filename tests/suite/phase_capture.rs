@@ -16,8 +16,11 @@ use udc_studio::app::phase::{ChannelSet, PhaseView, Quality};
 use udc_studio::app::{StudioApp, WorkspaceId};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
-use udc_studio::core::phase::imaging::{Setup, capture_and_restore, compare_setups, phase_blur};
+use udc_studio::core::phase::imaging::{
+    Setup, capture_and_restore, compare_setups, phase_blur, thesis_denoise,
+};
 use udc_studio::core::phase::{PhaseDesign, PhaseOptics, PhaseSampling};
+use udc_studio::core::restore::Denoise;
 use udc_studio::io::photo::{built_in_photo, fit_max_side};
 
 const PIXELS: usize = 64;
@@ -70,7 +73,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
             let blur = phase_blur(&design, &sampling, &peaks, optics, PIXELS, &p).unwrap();
             (
                 blur.ltr,
-                capture_and_restore(&blur, &truth, photons, 0, &p).unwrap(),
+                capture_and_restore(&blur, &truth, photons, 0, thesis_denoise(), &p).unwrap(),
             )
         })
     };
@@ -109,6 +112,14 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
     };
     let bright = check(&h, 1600.0);
     assert_eq!(h.query_all_by_label_contains("restored PSNR").count(), 2);
+    // Each setup's row shows the capture, the BM3D-denoised capture and the restoration.
+    for kind in ["captured", "denoised (BM3D)", "restored"] {
+        assert_eq!(
+            h.query_all_by_label_contains(&format!(" {kind}")).count(),
+            2,
+            "a {kind} picture per setup"
+        );
+    }
     assert_eq!(h.state().phase_ref().capture_operators_built(), 2);
     // A lower light: the same operators, a noisier restoration.
     h.state_mut().phase().set_capture_photons(250.0);
@@ -231,6 +242,7 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
         &[photo()],
         &[250.0, 10_000.0],
         0,
+        thesis_denoise(),
         &Progress::new(),
         |r| expected.push(r),
     )
@@ -264,4 +276,42 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
         let photons: f64 = fields[2].parse().unwrap();
         assert_eq!((photons, psnr, ssim), (row.photons, row.psnr_db, row.ssim));
     }
+}
+
+/// The Denoise control: BM3D by default (the thesis's chapter 4), "none" drops the denoised
+/// picture and restores with the solver alone, "override" hands BM3D another σ².
+#[test]
+fn the_denoise_control_switches_bm3d_off_and_overrides_sigma2() {
+    let dir = tempfile::tempdir().unwrap();
+    let (mut h, _) = capture_studio(dir.path());
+    wait_capture(&mut h, "the first capture");
+    assert_eq!(h.state().phase_ref().capture_denoise(), thesis_denoise());
+    let with = h.state().phase_ref().capture_rows()[1].run.clone();
+    assert_eq!(with.denoise.sigma2, Some(0.0005), "1600 photons ≈ 32 dB");
+    // The thesis's σ² at the light level is on the control.
+    assert!(h.query_by_label_contains("(thesis)").is_some());
+    h.get_by_label("none").click_accesskit();
+    h.step();
+    assert_eq!(h.state().phase_ref().capture_denoise(), Denoise::None);
+    wait_capture(&mut h, "the capture without a denoiser");
+    let without = h.state().phase_ref().capture_rows()[1].run.clone();
+    assert!(without.denoised.is_empty() && without.denoise.sigma2.is_none());
+    assert_eq!(
+        h.query_all_by_label_contains(" denoised (BM3D)").count(),
+        0,
+        "no denoised picture without a denoiser"
+    );
+    assert_eq!(h.query_all_by_label_contains(" restored").count(), 2);
+    assert_ne!(with.psnr_db, without.psnr_db);
+    h.get_by_label("BM3D").click_accesskit();
+    h.step();
+    h.get_by_label("override").click_accesskit();
+    h.step();
+    let Denoise::Bm3d {
+        sigma2: udc_studio::core::restore::Sigma2::Fixed(s),
+    } = h.state().phase_ref().capture_denoise()
+    else {
+        panic!("override keeps BM3D with a fixed σ²");
+    };
+    assert_eq!(s, 0.0005, "the override starts at the thesis's value");
 }

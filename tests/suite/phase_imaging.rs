@@ -8,11 +8,12 @@ use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::imaging::{
     Lambda0Plan, LensletOrder, Setup, capture, capture_and_restore, field_of_view_columns,
-    phase_blur, restore, scores,
+    phase_blur, restore, scores, thesis_denoise,
 };
 use udc_studio::core::phase::{
     Chain, Incidence, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, PhaseOptics, PhaseSampling,
 };
+use udc_studio::core::restore::Denoise;
 use udc_studio::io::photo::built_in_photo;
 use udc_studio::io::spectral::{channels_from_response, thesis_response};
 
@@ -102,8 +103,9 @@ fn scene(width: usize) -> Vec<Array2<f64>> {
 }
 
 /// The capture is the blurred scene `K x / LTR` plus the noise of §4.5: its deviation from that
-/// mean has the shot + read + ADC variance the model predicts, and restoring a bright capture
-/// gets much closer to the scene than the capture is.
+/// mean has the shot + read + ADC variance the model predicts (the ADC is conventions.md §5's
+/// `floor(y·4095)/4095`, whose error lies in (−1/4095, 0]), and restoring a bright capture by
+/// conjugate gradients alone gets much closer to the scene than the capture is.
 #[test]
 fn bright_captures_are_the_blur_and_restoration_undoes_it() {
     let width = 48;
@@ -118,25 +120,32 @@ fn bright_captures_are_the_blur_and_restoration_undoes_it() {
             &Progress::new(),
         )
         .unwrap();
-        // 10 000 photons: a white pixel gains to 10 000 e⁻, below the 15 506 e⁻ full well.
+        // 10 000 photons: at most ≈ 4 800 e⁻ behind the double MLA, below the full well.
         let photons = 10_000.0;
         let y = capture(&blur, &s, photons, 3).unwrap();
         let mean = s[1].dot(&blur.channels[1].t()) / blur.ltr;
-        let step = 15_506.0 / 4095.0;
+        let lsb = 1.0 / 4095.0;
         let (mut got, mut want) = (0.0, 0.0);
         for (v, m) in y[1].iter().zip(&mean) {
             got += (v - m).powi(2);
-            // Electrons N·LTR·m (Poisson) + 4.87² read, times the gain 1/LTR, over N²; + ADC.
+            // Electrons N·LTR·m (Poisson) + 4.87² read, times the gain 1/(N·LTR); the floor's
+            // error is uniform on (−1 LSB, 0]: mean square LSB²/3.
             let e = photons * blur.ltr * m;
-            want += ((e + 4.87f64.powi(2)) / (blur.ltr * blur.ltr) + step * step / 12.0)
-                / (photons * photons);
+            want += (e + 4.87f64.powi(2)) / (photons * blur.ltr).powi(2) + lsb * lsb / 3.0;
         }
         let ratio = (got / want).sqrt();
         assert!(
             (ratio - 1.0).abs() < 0.1,
             "{optics:?}: noise {ratio}× the model's"
         );
-        let x = restore(&blur, &y, photons, &Progress::new()).unwrap();
+        // Every value is a whole ADC code (of 4095 per white), none negative.
+        for v in &y[1] {
+            let code = v * 4095.0;
+            assert!(*v >= 0.0 && (code - code.round()).abs() < 1e-6, "{v}");
+        }
+        let x = restore(&blur, &y, photons, Denoise::None, &Progress::new())
+            .unwrap()
+            .restored;
         let valid = 4..width - 4;
         let (restored_db, _) = scores(&x, &s, &valid).unwrap();
         let (captured_db, _) = scores(&y, &s, &valid).unwrap();
@@ -190,8 +199,10 @@ fn bad_scenes_and_light_levels_are_refused() {
     );
 }
 
-/// The thesis's headline (Fig. 4.6, Table 4.1) on a real photo: the double MLA with T = 5 beats
-/// the bare T-OLED at every light level, and at T = 1 the optimized λ0 beats fixed 530 nm.
+/// The thesis's headline (Fig. 4.6, Table 4.1) on a real photo, with its denoise-then-deblur
+/// pipeline: the double MLA with T = 5 beats the bare T-OLED at every light level, and at T = 1
+/// the optimized λ0 beats fixed 530 nm. And BM3D earns its place: at 250 and 650 photons
+/// (≈ 24 and 28 dB) it restores both setups better than the solver alone.
 /// Channels integrate the thesis's spectral response, as §4.4.1 does (with the three peak
 /// wavelengths alone, green sees exactly 530 nm and the fixed plate looks better than it is).
 /// Preview sampling and the built-in photo keep the test fast; the README's table is the
@@ -206,11 +217,11 @@ fn the_double_mla_beats_the_bare_toled_at_every_light_level() {
         &udc_studio::core::phase::wavelength_grid_nm(),
     )
     .unwrap();
-    let psnr = |setup: Setup, photons: f64| {
+    let blur_of = |setup: Setup| {
         let (d, optics) = setup
             .resolve(&base, &sampling, &grid, &Progress::new())
             .unwrap();
-        let blur = phase_blur(
+        phase_blur(
             &d,
             &sampling,
             &grid,
@@ -218,24 +229,38 @@ fn the_double_mla_beats_the_bare_toled_at_every_light_level() {
             photo[0].ncols(),
             &Progress::new(),
         )
-        .unwrap();
-        capture_and_restore(&blur, &photo, photons, 1, &Progress::new())
+        .unwrap()
+    };
+    let psnr = |blur: &udc_studio::core::phase::imaging::PhaseBlur, photons, denoise| {
+        capture_and_restore(blur, &photo, photons, 1, denoise, &Progress::new())
             .unwrap()
             .psnr_db
     };
+    let bare = blur_of(Setup::Bare { pitch_um: 42.0 });
+    let mla = blur_of(Setup::mla(42.0, 5.0, Lambda0Plan::Optimized));
+    let bm3d = thesis_denoise();
     for photons in [250.0, 10_000.0] {
-        let bare = psnr(Setup::Bare { pitch_um: 42.0 }, photons);
-        let ours = psnr(Setup::mla(42.0, 5.0, Lambda0Plan::Optimized), photons);
+        let (b, m) = (psnr(&bare, photons, bm3d), psnr(&mla, photons, bm3d));
         assert!(
-            ours > bare + 2.0,
-            "{photons} photons: MLA {ours} dB vs T-OLED {bare} dB"
+            m > b + 2.0,
+            "{photons} photons: MLA {m} dB vs T-OLED {b} dB"
         );
     }
-    let fixed = psnr(
-        Setup::mla(42.0, 1.0, Lambda0Plan::Fixed { nm: 530.0 }),
-        1600.0,
-    );
-    let optimized = psnr(Setup::mla(42.0, 1.0, Lambda0Plan::Optimized), 1600.0);
+    for photons in [250.0, 650.0] {
+        for (name, blur) in [("T-OLED", &bare), ("MLA", &mla)] {
+            let (with, without) = (
+                psnr(blur, photons, bm3d),
+                psnr(blur, photons, Denoise::None),
+            );
+            assert!(
+                with > without + 0.5,
+                "{name} at {photons} photons: BM3D {with} dB vs none {without} dB"
+            );
+        }
+    }
+    let fixed = blur_of(Setup::mla(42.0, 1.0, Lambda0Plan::Fixed { nm: 530.0 }));
+    let optimized = blur_of(Setup::mla(42.0, 1.0, Lambda0Plan::Optimized));
+    let (fixed, optimized) = (psnr(&fixed, 1600.0, bm3d), psnr(&optimized, 1600.0, bm3d));
     assert!(
         optimized > fixed,
         "T = 1: optimized {optimized} dB vs fixed {fixed} dB"
@@ -307,16 +332,76 @@ fn phase_restore_json_is_the_contract_and_writes_images() {
     assert!(psnr(1) > psnr(0), "more light restores better");
     assert!((0.0..=1.0).contains(&runs[0]["ssim"].as_f64().unwrap()));
     for stem in ["650photons", "10000photons"] {
-        for kind in ["captured", "restored", "difference"] {
+        for kind in ["captured", "denoised", "restored", "difference"] {
             assert!(
                 out.join(format!("{stem}_{kind}.png")).is_file(),
                 "{stem}_{kind}"
             );
         }
+        assert!(out.join(format!("{stem}_denoised.exr")).is_file());
+    }
+    // The thesis's chapter 4 by default: σ² and λ of the nearest row (650 photons ≈ 28 dB,
+    // 10 000 ≈ 40 dB), 150 iterations.
+    assert_eq!(v["denoise"]["method"], "bm3d");
+    for (run, sigma2, lambda) in [(&runs[0], 0.002, 0.005), (&runs[1], 0.0001, 0.001)] {
+        assert_eq!(run["denoise"]["method"], "bm3d");
+        assert_eq!(run["denoise"]["sigma2"].as_f64(), Some(sigma2));
+        assert_eq!(run["denoise"]["sigma2_source"], "iccv23");
+        assert_eq!(run["cg"]["lambda"].as_f64(), Some(lambda));
+        assert_eq!(run["cg"]["iterations"], 150);
+        assert!(run["denoised_psnr_db"].as_f64().is_some(), "{run}");
     }
     let bare = restore_json(&["--bare", "--photons", "650"]);
     assert_eq!(bare["setup"]["kind"], "bare");
     assert!((bare["ltr"].as_f64().unwrap() - 0.238).abs() < 0.01);
+    // Without the denoiser: no σ², no denoised score, today's λ = 30/(N·LTR).
+    let none = restore_json(&["--bare", "--photons", "650", "--denoise", "none"]);
+    let run = &none["runs"][0];
+    assert_eq!(run["denoise"]["method"], "none");
+    assert!(run["denoise"]["sigma2"].is_null());
+    assert!(run["denoised_psnr_db"].is_null());
+    let lambda = 30.0 / (650.0 * none["ltr"].as_f64().unwrap());
+    assert!((run["cg"]["lambda"].as_f64().unwrap() - lambda).abs() < 1e-4 * lambda);
+    assert!(
+        bare["runs"][0]["psnr_db"].as_f64() > run["psnr_db"].as_f64(),
+        "BM3D {} vs none {}",
+        bare["runs"][0]["psnr_db"],
+        run["psnr_db"]
+    );
+    // An override reaches BM3D: another σ², another result.
+    let over = restore_json(&["--bare", "--photons", "650", "--denoise-sigma2", "0.02"]);
+    let run = &over["runs"][0];
+    assert_eq!(run["denoise"]["sigma2"].as_f64(), Some(0.02));
+    assert_eq!(run["denoise"]["sigma2_source"], "override");
+    assert_ne!(run["denoised_psnr_db"], bare["runs"][0]["denoised_psnr_db"]);
+    assert_ne!(run["psnr_db"], bare["runs"][0]["psnr_db"]);
+}
+
+#[test]
+fn phase_restore_refuses_bad_denoise_values_in_one_line() {
+    for (args, needle) in [
+        (vec!["--denoise-sigma2", "0"], "finite number > 0"),
+        (vec!["--denoise-sigma2", "-0.1"], "finite number > 0"),
+        (vec!["--denoise-sigma2", "nan"], "finite number > 0"),
+        (
+            vec!["--denoise", "none", "--denoise-sigma2", "0.002"],
+            "--denoise none",
+        ),
+        (vec!["--denoise", "median"], "median"),
+        (
+            vec!["--compare", "--denoise-sigma2", "0"],
+            "finite number > 0",
+        ),
+    ] {
+        let mut all = vec!["phase", "restore", "--preview", "--photons", "650"];
+        all.extend_from_slice(&args);
+        let (ok, _, stderr) = run(&all);
+        assert!(!ok, "{args:?} was accepted");
+        assert!(stderr.contains(needle), "{args:?}: {stderr}");
+        if needle != "median" {
+            assert_eq!(stderr.trim().lines().count(), 1, "{args:?}: {stderr}");
+        }
+    }
 }
 
 #[test]

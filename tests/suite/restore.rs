@@ -10,8 +10,8 @@ use udc_studio::core::design::TilingMode;
 use udc_studio::core::restore::capture::{READ_NOISE_E, expose};
 use udc_studio::core::restore::quality::{psnr_db, ssim};
 use udc_studio::core::restore::{
-    CaptureSettings, CgSettings, Light, Method, RestoreResult, RestoreSettings, THESIS_NSR,
-    simulate,
+    CaptureSettings, CgSettings, Denoise, Light, Method, Recipe, RestoreResult, RestoreSettings,
+    THESIS_NSR, simulate,
 };
 use udc_studio::core::{Progress, SimError};
 use udc_studio::io::IoError;
@@ -37,6 +37,7 @@ fn astronaut(max_side_px: Option<u32>) -> Vec<Array2<f64>> {
     load_photo(Path::new(ASTRONAUT), max_side_px).expect("the committed photo loads")
 }
 
+/// The deblurring alone (no denoiser): these tests check the blur, the noise and Wiener or CG.
 fn settings(light: Light, noise: bool, method: Method) -> RestoreSettings {
     RestoreSettings {
         capture: CaptureSettings {
@@ -45,7 +46,16 @@ fn settings(light: Light, noise: bool, method: Method) -> RestoreSettings {
             ..CaptureSettings::default()
         },
         method,
+        denoise: Denoise::None,
         ..RestoreSettings::default()
+    }
+}
+
+/// The thesis's pipeline: BM3D with chapter 3's σ², then the deblurring.
+fn thesis_settings(light: Light, method: Method) -> RestoreSettings {
+    RestoreSettings {
+        denoise: Denoise::thesis(Recipe::Iccp21),
+        ..settings(light, true, method)
     }
 }
 
@@ -214,7 +224,8 @@ fn a_fixed_seed_reproduces_bit_for_bit_whatever_the_thread_count() {
     let photo = astronaut(Some(64));
     let psf = gaussian_psf(9, 1.5);
     let psfs = [&psf, &psf, &psf];
-    let s = settings(Light::SnrDb(28.0), true, Method::default());
+    // The whole pipeline, the denoiser included.
+    let s = thesis_settings(Light::SnrDb(28.0), Method::default());
     let a = run(&photo, &psfs, &s);
     let one_thread = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -228,7 +239,13 @@ fn a_fixed_seed_reproduces_bit_for_bit_whatever_the_thread_count() {
                 .all(|(p, q)| p.to_bits() == q.to_bits())
         );
     }
-    for (x, y) in a.restored.iter().zip(&b.restored) {
+    assert_eq!(a.denoised.len(), 3);
+    for (x, y) in a
+        .denoised
+        .iter()
+        .zip(&b.denoised)
+        .chain(a.restored.iter().zip(&b.restored))
+    {
         assert!(
             x.iter()
                 .zip(y.iter())
@@ -367,9 +384,14 @@ fn bad_inputs_name_their_field() {
     let mut s = ok.clone();
     s.capture.full_well_e = 0.0;
     assert_eq!(err(&photo, &all, &s), "capture.full_well_e");
-    let mut s = ok;
+    let mut s = ok.clone();
     s.capture.ltr_relative = f64::INFINITY;
     assert_eq!(err(&photo, &all, &s), "capture.ltr_relative");
+    let mut s = ok;
+    s.denoise = Denoise::Bm3d {
+        sigma2: udc_studio::core::restore::Sigma2::Fixed(-1.0),
+    };
+    assert_eq!(err(&photo, &all, &s), "denoise.sigma2");
 }
 
 #[test]
@@ -480,7 +502,8 @@ fn photos_load_as_three_planes_and_write_back() {
 }
 
 /// Thesis Fig. 3.8 / 3.13: at SNR 28 dB, random D4 tiling of the T-OLED restores better than
-/// the periodic T-OLED, whose near-zero MTF rows cannot be inverted.
+/// the periodic T-OLED, whose near-zero MTF rows cannot be inverted; with the thesis's pipeline
+/// (BM3D, then Wiener).
 #[test]
 fn random_tiling_restores_the_toled_better_than_repeat() {
     let photo = astronaut(None);
@@ -494,7 +517,7 @@ fn random_tiling_restores_the_toled_better_than_repeat() {
         design.tiling.mode = mode;
         let a = analyze_with(&design, &options, &Progress::new()).expect("analyse");
         let psfs: Vec<&Array2<f64>> = a.channels.iter().map(|c| &c.psf).collect();
-        let mut s = settings(Light::SnrDb(28.0), true, Method::default());
+        let mut s = thesis_settings(Light::SnrDb(28.0), Method::default());
         s.capture.ltr_relative = a.ltr / udc_studio::core::restore::capture::REFERENCE_LTR;
         let r = run(&photo, &psfs, &s);
         scores.push((r.psnr_db, r.ssim));
@@ -512,7 +535,8 @@ fn random_tiling_restores_the_toled_better_than_repeat() {
     );
 }
 
-/// PSNR and SSIM of the committed photo through `design` at `snr_db`, Wiener with the thesis nsr.
+/// PSNR and SSIM of the committed photo through `design` at `snr_db`: the thesis's pipeline,
+/// BM3D then Wiener with the thesis nsr.
 fn restore_scores(design: &udc_studio::core::Design, snr_db: f64) -> (f64, f64) {
     let photo = astronaut(None);
     let options = AnalyzeOptions {
@@ -521,7 +545,7 @@ fn restore_scores(design: &udc_studio::core::Design, snr_db: f64) -> (f64, f64) 
     };
     let a = analyze_with(design, &options, &Progress::new()).expect("analyse");
     let psfs: Vec<&Array2<f64>> = a.channels.iter().map(|c| &c.psf).collect();
-    let mut s = settings(Light::SnrDb(snr_db), true, Method::default());
+    let mut s = thesis_settings(Light::SnrDb(snr_db), Method::default());
     s.capture.ltr_relative = a.ltr / udc_studio::core::restore::capture::REFERENCE_LTR;
     let r = run(&photo, &psfs, &s);
     (r.psnr_db, r.ssim)

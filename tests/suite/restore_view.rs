@@ -74,3 +74,54 @@ fn a_bad_photo_shows_an_error_and_keeps_the_last_one() {
     );
     assert_eq!(h.state().restore_view().current().unwrap().psnr_db, psnr);
 }
+
+/// The thesis's pipeline on screen: captured, denoised (BM3D) and restored side by side; the
+/// Denoise control's "none" drops the denoised picture and reruns with the deblurring alone.
+#[test]
+fn the_view_shows_captured_denoised_and_restored_and_denoise_switches_off() {
+    use udc_studio::core::restore::{Denoise, Recipe};
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    h.state_mut().views().set_tab(ViewTab::Restore);
+    let done = |app: &StudioApp| {
+        let v = app.restore_view();
+        !v.is_running() && v.current().is_some()
+    };
+    step_until(&mut h, "the built-in photo restored", done);
+    assert_eq!(
+        h.state().restore_view().denoise(),
+        Denoise::thesis(Recipe::Iccp21)
+    );
+    let with = h.state().restore_view().current().unwrap().clone();
+    assert_eq!(with.denoised.len(), 3);
+    for kind in ["captured", "denoised (BM3D)", "restored"] {
+        assert_eq!(
+            h.query_all_by_label_contains(&format!(" {kind}")).count(),
+            1,
+            "one {kind} picture"
+        );
+    }
+    assert!(h.query_by_label_contains("(thesis)").is_some());
+    h.get_by_label("none").click_accesskit();
+    h.step();
+    assert_eq!(h.state().restore_view().denoise(), Denoise::None);
+    step_until(&mut h, "the run without a denoiser", |app| {
+        done(app)
+            && app
+                .restore_view()
+                .current()
+                .is_some_and(|r| r.denoised.is_empty())
+    });
+    let without = h.state().restore_view().current().unwrap().clone();
+    assert_eq!(h.query_all_by_label_contains(" denoised (BM3D)").count(), 0);
+    assert_eq!(h.query_all_by_label_contains(" restored").count(), 1);
+    // The same capture, a worse restoration: the noise goes straight into Wiener.
+    assert_eq!(with.captured, without.captured);
+    assert!(
+        with.psnr_db > without.psnr_db,
+        "BM3D {} dB vs none {} dB",
+        with.psnr_db,
+        without.psnr_db
+    );
+}

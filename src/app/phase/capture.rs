@@ -23,13 +23,16 @@ use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::job::{Job, JobError};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::design::Channel;
-use crate::core::phase::imaging::{PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur};
+use crate::core::phase::imaging::{
+    PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur, thesis_denoise,
+};
 use crate::core::phase::{PhaseDesign, PhaseOptics};
+use crate::core::restore::Denoise;
 use crate::core::{Progress, SimError};
 use crate::io::photo;
 
 mod worker;
-use worker::{SetupJob, run_setups};
+use worker::{Light, SetupJob, run_setups};
 
 /// Operators kept (each is `width² × channels` numbers: 1.5 MB for a 256 px photo).
 const KEPT_OPERATORS: usize = 6;
@@ -51,6 +54,7 @@ struct RunKey {
     photo: u64,
     photons_bits: u64,
     seed: u64,
+    denoise: Denoise,
 }
 
 /// One setup's result, with its pictures uploaded.
@@ -65,9 +69,26 @@ pub struct CaptureRow {
     pub fov_deg: f64,
     /// Columns the scores are taken on (the field of view).
     pub valid: Range<usize>,
-    /// The capture, the restoration and their PSNR and SSIM.
+    /// The capture, the denoised capture, the restoration and their PSNR and SSIM.
     pub run: RestoreRun,
-    textures: [TextureHandle; 3],
+    textures: RowTextures,
+}
+
+/// The pictures of one setup's row, uploaded.
+pub(super) struct RowTextures {
+    pub(super) captured: TextureHandle,
+    /// `None` when no denoiser ran.
+    pub(super) denoised: Option<TextureHandle>,
+    pub(super) restored: TextureHandle,
+    pub(super) difference: TextureHandle,
+}
+
+/// The pictures of one setup's row, made on the worker thread.
+struct RowImages {
+    captured: ColorImage,
+    denoised: Option<ColorImage>,
+    restored: ColorImage,
+    difference: ColorImage,
 }
 
 /// One setup's result as the worker returns it, pictures not yet uploaded.
@@ -78,7 +99,7 @@ struct Finished {
     built: bool,
     fov_deg: f64,
     run: RestoreRun,
-    images: [ColorImage; 3],
+    images: RowImages,
 }
 
 /// The step under way: what it is and when it started (for the time left).
@@ -104,6 +125,8 @@ pub(super) struct CaptureState {
     /// The channels of the capture: the thesis's spectral response by default, as the CLI.
     pub(super) channels: ChannelSet,
     pub(super) seed: u64,
+    /// The denoiser before the solver: the thesis's chapter 4 by default.
+    pub(super) denoise: Denoise,
     operators: Vec<(OperatorKey, Arc<PhaseBlur>)>,
     operators_built: usize,
     job: Option<CaptureJob>,
@@ -124,6 +147,7 @@ impl CaptureState {
             photons: 1600.0,
             channels: ChannelSet::Spectral,
             seed: 0,
+            denoise: thesis_denoise(),
             operators: Vec::new(),
             operators_built: 0,
             job: None,
@@ -140,8 +164,8 @@ impl CaptureState {
     }
 }
 
-/// The captured, restored and |restored − truth| pictures of a run.
-fn run_images(run: &RestoreRun, truth: &[Array2<f64>]) -> [ColorImage; 3] {
+/// The captured, denoised, restored and |restored − truth| pictures of a run.
+fn run_images(run: &RestoreRun, truth: &[Array2<f64>]) -> RowImages {
     fn refs(v: &[Array2<f64>]) -> Vec<&Array2<f64>> {
         v.iter().collect()
     }
@@ -151,11 +175,12 @@ fn run_images(run: &RestoreRun, truth: &[Array2<f64>]) -> [ColorImage; 3] {
         .zip(truth)
         .map(|(r, t)| (r - t).mapv(f64::abs))
         .collect();
-    [
-        color_image(&refs(&run.captured), 1.0),
-        color_image(&refs(&run.restored), 1.0),
-        color_image(&refs(&diff), photo::DIFFERENCE_GAIN),
-    ]
+    RowImages {
+        captured: color_image(&refs(&run.captured), 1.0),
+        denoised: (!run.denoised.is_empty()).then(|| color_image(&refs(&run.denoised), 1.0)),
+        restored: color_image(&refs(&run.restored), 1.0),
+        difference: color_image(&refs(&diff), photo::DIFFERENCE_GAIN),
+    }
 }
 
 /// The name of a setup in the view.
@@ -209,6 +234,16 @@ impl PhaseWorkspace {
     /// Sets the light level, in photons per white pixel (as the slider does).
     pub fn set_capture_photons(&mut self, photons: f64) {
         self.capture.photons = photons;
+    }
+
+    /// The denoiser before the solver.
+    pub fn capture_denoise(&self) -> Denoise {
+        self.capture.denoise
+    }
+
+    /// Sets the denoiser before the solver (captures and the comparison use it).
+    pub fn set_capture_denoise(&mut self, denoise: Denoise) {
+        self.capture.denoise = denoise;
     }
 
     /// Sets the seed of the capture's photon and read noise.
@@ -309,6 +344,7 @@ impl PhaseWorkspace {
             photo: self.capture.photo_id,
             photons_bits: self.capture.photons.to_bits(),
             seed: self.capture.seed,
+            denoise: self.capture.denoise,
         })
     }
 
@@ -381,7 +417,12 @@ impl PhaseWorkspace {
             let excess = self.capture.operators.len().saturating_sub(KEPT_OPERATORS);
             self.capture.operators.drain(..excess);
         }
-        let [c, r, d] = f.images;
+        let RowImages {
+            captured,
+            denoised,
+            restored,
+            difference,
+        } = f.images;
         let tex = |name: &str, img: ColorImage| {
             ctx.load_texture(
                 format!("phase-capture-{i}-{name}"),
@@ -396,7 +437,12 @@ impl PhaseWorkspace {
             fov_deg: f.fov_deg,
             valid: f.blur.valid.clone(),
             run: f.run,
-            textures: [tex("captured", c), tex("restored", r), tex("difference", d)],
+            textures: RowTextures {
+                captured: tex("captured", captured),
+                denoised: denoised.map(|d| tex("denoised", d)),
+                restored: tex("restored", restored),
+                difference: tex("difference", difference),
+            },
         };
         let rows = &mut self.capture.rows;
         if i < rows.len() {
@@ -487,14 +533,25 @@ impl PhaseWorkspace {
         }
         // Dropping the running job cancels it.
         self.capture.job = None;
-        let (photons, seed) = (self.capture.photons, self.capture.seed);
+        let (photons, seed, denoise) = (
+            self.capture.photons,
+            self.capture.seed,
+            self.capture.denoise,
+        );
         let step: Step = Arc::new(Mutex::new((String::new(), Instant::now())));
         let (s, wake) = (step.clone(), ctx.clone());
         let (tx, rx) = channel();
         let job = Job::spawn(
             "capture job",
             move || wake.request_repaint(),
-            move |p| run_setups(&jobs, &photo.planes, photons, seed, p, &s, &tx),
+            move |p| {
+                let light = Light {
+                    photons,
+                    seed,
+                    denoise,
+                };
+                run_setups(&jobs, &photo.planes, &light, p, &s, &tx)
+            },
         );
         self.capture.job = Some(CaptureJob {
             key,
@@ -522,7 +579,7 @@ impl PhaseWorkspace {
 }
 
 impl CaptureRow {
-    pub(super) fn textures(&self) -> &[TextureHandle; 3] {
+    pub(super) fn textures(&self) -> &RowTextures {
         &self.textures
     }
 }

@@ -7,8 +7,10 @@ use egui_plot::{Corner, GridMark, HoverPosition, Legend, Line, Plot, PlotPoints}
 use super::capture::CaptureRow;
 use super::compare::{CompareMetric, mean_score};
 use super::{ChannelSet, PhaseWorkspace, Quality};
+use crate::app::widgets::denoise::denoise_ui;
 use crate::app::widgets::message_ui;
 use crate::core::phase::imaging::THESIS_PHOTONS;
+use crate::core::restore::Recipe;
 use crate::io::photo::DIFFERENCE_GAIN;
 
 /// Light levels the slider spans (the thesis's range, photons per pixel).
@@ -52,9 +54,10 @@ impl PhaseWorkspace {
         self.capture_tick(&ctx);
         ui.label(
             "A photo captured through this design and through the bare T-OLED of the same pitch \
-             at the same light, then restored (thesis §4.5): the blur matrix of every direction \
-             (eq. 4.12), Poisson and read noise, gain 1/LTR, 12-bit ADC, and conjugate gradients \
-             on the same operator. Scores are on the field of view (eq. 4.13), outlined in yellow.",
+             at the same light, then denoised and restored (thesis §4.5): the blur matrix of \
+             every direction (eq. 4.12), Poisson and read noise, gain 1/LTR, 12-bit ADC, BM3D, \
+             and conjugate gradients on the same operator. Scores are on the field of view \
+             (eq. 4.13), outlined in yellow.",
         );
         self.capture_controls(ui);
         if let Some((step, f, seconds)) = self.capture_progress() {
@@ -77,9 +80,9 @@ impl PhaseWorkspace {
                  double MLA by 3-9 dB. Use full quality for numbers to quote.",
             );
         }
-        // Three pictures and the spacing between them fit the width, whatever the window.
+        // Four pictures and the spacing between them fit the width, whatever the window.
         let gap = ui.spacing().item_spacing.x;
-        let side = ((ui.available_width() - 2.0 * gap - 4.0) / 3.0).clamp(48.0, 320.0);
+        let side = ((ui.available_width() - 3.0 * gap - 4.0) / 4.0).clamp(48.0, 320.0);
         if let Some(t) = self.capture_photo_texture() {
             ui.horizontal(|ui| {
                 ui.vertical(|ui| {
@@ -160,6 +163,15 @@ impl PhaseWorkspace {
             }
             self.set_capture_channels(set);
             ui.separator();
+            let mut denoise = self.capture_denoise();
+            let thesis = crate::core::restore::Sigma2::Thesis(Recipe::Iccv23).resolve(
+                crate::core::phase::imaging::photons_snr_db(self.capture_photons()),
+                1.0,
+            );
+            denoise_ui(ui, &mut denoise, Recipe::Iccv23, thesis);
+            self.set_capture_denoise(denoise);
+        });
+        ui.horizontal_wrapped(|ui| {
             let mut seed = self.capture.seed;
             ui.add(crate::app::widgets::number(&mut seed).prefix("noise seed "));
             self.set_capture_seed(seed);
@@ -247,7 +259,7 @@ impl PhaseWorkspace {
         let rows = self.compare_rows();
         let metric = self.compare.metric;
         ui.label(format!(
-            "{} photo, {} sampling, {} channels{}. Scores on the field of view; the \
+            "{} photo, {} sampling, {} channels, {}{}. Scores on the field of view; the \
              thesis (BM3D-denoised, its photos): T-OLED 22.4 dB, T = 5 optimized 28.0 dB on \
              average over 250-10 000 photons.",
             run.photo_name,
@@ -256,6 +268,10 @@ impl PhaseWorkspace {
                 ChannelSet::Peaks => "peak",
                 ChannelSet::Spectral => "spectral",
                 ChannelSet::Custom(_) => "custom",
+            },
+            match run.denoise {
+                crate::core::restore::Denoise::None => "no denoiser",
+                crate::core::restore::Denoise::Bm3d { .. } => "BM3D",
             },
             if self.compare_elapsed_s() > 0.0 && !self.is_comparing() {
                 format!(", {:.0} s", self.compare_elapsed_s())
@@ -367,22 +383,32 @@ impl PhaseWorkspace {
 
 fn capture_row_ui(ui: &mut Ui, row: &CaptureRow, side: f32) {
     let r = &row.run;
+    let denoised = match (r.denoised_psnr_db, r.denoise.sigma2) {
+        (Some(p), Some(s)) => format!("denoised {p:.2} dB with σ² {s:.2e}, "),
+        _ => "no denoiser, ".to_string(),
+    };
     ui.horizontal_wrapped(|ui| {
         ui.strong(&row.label);
         ui.label(format!(
-            "LTR {:.3}, FoV {:.1}°: restored PSNR {:.2} dB, SSIM {:.3} (captured {:.2} dB) at \
-             {:.0} photons per pixel",
-            row.ltr, row.fov_deg, r.psnr_db, r.ssim, r.captured_psnr_db, r.photons
+            "LTR {:.3}, FoV {:.1}°: restored PSNR {:.2} dB, SSIM {:.3} (captured {:.2} dB, \
+             {denoised}CG λ {}) at {:.0} photons per pixel",
+            row.ltr, row.fov_deg, r.psnr_db, r.ssim, r.captured_psnr_db, r.cg.lambda, r.photons
         ));
     });
     let width = r.captured.first().map_or(1, ndarray::Array2::ncols).max(1) as f32;
     let valid = Some((row.valid.start as f32 / width, row.valid.end as f32 / width));
+    let t = row.textures();
+    let mut pictures = vec![(&t.captured, "captured".to_string())];
+    if let Some(d) = &t.denoised {
+        pictures.push((d, "denoised (BM3D)".to_string()));
+    }
+    pictures.push((&t.restored, "restored".to_string()));
+    pictures.push((
+        &t.difference,
+        format!("|restored - truth| × {DIFFERENCE_GAIN:.0}"),
+    ));
     ui.horizontal(|ui| {
-        for (t, caption) in row.textures().iter().zip([
-            "captured".to_string(),
-            "restored".to_string(),
-            format!("|restored - truth| × {DIFFERENCE_GAIN:.0}"),
-        ]) {
+        for (t, caption) in pictures {
             ui.vertical(|ui| {
                 ui.label(&caption);
                 picture(ui, t, side, valid, &format!("{} {caption}", row.label));

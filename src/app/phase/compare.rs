@@ -66,6 +66,8 @@ pub struct CompareRun {
     pub setups: Vec<Setup>,
     /// The ticked light levels, in photons per white pixel.
     pub photons: Vec<f64>,
+    /// The denoiser before the solver.
+    pub denoise: crate::core::restore::Denoise,
 }
 
 /// A comparison in flight; its rows stream in as they finish.
@@ -230,9 +232,11 @@ impl PhaseWorkspace {
             channels: set,
             setups: setups.clone(),
             photons: photons.clone(),
+            denoise: self.capture.denoise,
         };
         let base = self.design.clone();
         let seed = self.capture.seed;
+        let denoise = self.capture.denoise;
         let (tx, rx) = channel();
         let wake = ctx.clone();
         let quality = self.quality;
@@ -250,6 +254,7 @@ impl PhaseWorkspace {
                     &photos,
                     &photons,
                     seed,
+                    denoise,
                     p,
                     |row| {
                         let _ = tx.send(row);

@@ -1,6 +1,7 @@
 //! Widgets every workspace uses and none owns: colour maps, photos, the message line.
 
 pub mod colormap;
+pub mod denoise;
 pub mod photo;
 pub mod plot;
 

@@ -90,6 +90,10 @@ pub struct RestoreArgs {
     /// the thesis's spectral response over 401:10:691 nm.
     #[arg(long)]
     pub peaks: bool,
+    /// The denoiser before the solver: `--denoise bm3d` (default) is the thesis's chapter 4
+    /// (σ² and λ per light level, 150 iterations); `--denoise none` keeps λ = 30/(N·LTR).
+    #[command(flatten)]
+    pub denoise: crate::cli::denoise_flags::DenoiseFlags,
 }
 
 /// Arguments of `udc-studio phase export`.

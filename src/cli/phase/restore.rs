@@ -24,6 +24,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
     use crate::core::phase::imaging::{
         Lambda0Plan, LensletOrder, Setup, capture_and_restore, phase_blur,
     };
+    let denoise = a.denoise.resolve(crate::core::restore::Recipe::Iccv23)?;
     let base = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
     for &n in &a.photons {
@@ -60,7 +61,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
     };
     let mut photos = restore_photos(&a.photo, base.camera.pixels)?;
     if a.compare {
-        return compare_cmd(a, &base, &sampling, &photos);
+        return compare_cmd(a, denoise, &base, &sampling, &photos);
     }
     if photos.len() > 1 {
         bail!("one --photo per run (several go with --compare)");
@@ -82,7 +83,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
     let mut written = Vec::new();
     for &n in &a.photons {
         let run = with_progress("capture and restore", |p| {
-            capture_and_restore(&blur, &photo, n, a.seed, p)
+            capture_and_restore(&blur, &photo, n, a.seed, denoise, p)
         })?;
         if let Some(dir) = &a.mask.out {
             let stem = format!("{}photons", n.round());
@@ -90,8 +91,11 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
                 dir,
                 &stem,
                 &photo,
-                &run.captured,
-                &run.restored,
+                &crate::io::restore_report::CaptureImages {
+                    captured: &run.captured,
+                    denoised: &run.denoised,
+                    restored: &run.restored,
+                },
             )?);
         }
         runs.push(run);
@@ -108,11 +112,15 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             "ltr": r(blur.ltr),
             "fov_deg": r(design.fov_deg()),
             "valid_columns": [valid.start, valid.end],
+            "denoise": {"method": denoise.method_name()},
             "runs": runs.iter().map(|x| json!({
                 "photons": x.photons,
                 "psnr_db": r(x.psnr_db),
                 "ssim": r(x.ssim),
                 "captured_psnr_db": r(x.captured_psnr_db),
+                "denoised_psnr_db": x.denoised_psnr_db.map_or(Value::Null, r),
+                "denoise": crate::io::restore_report::denoise_json(&x.denoise),
+                "cg": {"lambda": r(x.cg.lambda), "iterations": x.cg.iterations, "tolerance": x.cg.tolerance},
             })).collect::<Vec<_>>(),
             "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
         }))?;
@@ -126,13 +134,21 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             valid.end
         );
         println!(
-            "{:>10}  {:>9}  {:>6}  {:>12}",
-            "photons", "PSNR dB", "SSIM", "capture dB"
+            "{:>10}  {:>9}  {:>6}  {:>12}  {:>12}",
+            "photons", "PSNR dB", "SSIM", "capture dB", "denoised dB"
         );
         for x in &runs {
+            let denoised = x
+                .denoised_psnr_db
+                .map_or_else(|| "-".to_string(), |p| format!("{p:.2}"));
             println!(
-                "{:>10}  {:>9.2}  {:>6.3}  {:>12.2}",
-                x.photons, x.psnr_db, x.ssim, x.captured_psnr_db
+                "{:>10}  {:>9.2}  {:>6.3}  {:>12.2}  {denoised:>12}  {}, CG λ {}",
+                x.photons,
+                x.psnr_db,
+                x.ssim,
+                x.captured_psnr_db,
+                crate::cli::denoise_flags::denoise_text(&x.denoise),
+                x.cg.lambda
             );
         }
         for p in &written {
@@ -144,6 +160,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
 
 fn compare_cmd(
     a: &RestoreArgs,
+    denoise: crate::core::restore::Denoise,
     base: &PhaseDesign,
     sampling: &PhaseSampling,
     photos: &[(String, Vec<Array2<f64>>)],
@@ -168,6 +185,7 @@ fn compare_cmd(
             &planes,
             &a.photons,
             a.seed,
+            denoise,
             p,
             |row| {
                 if !a.mask.json {
@@ -202,7 +220,13 @@ fn compare_cmd(
             .iter()
             .map(|&n| {
                 let at: Vec<&CompareRow> = mine.iter().copied().filter(|r| r.photons == n).collect();
-                json!({"photons": n, "psnr_db": r(mean(&|x| x.psnr_db, &at)), "ssim": r(mean(&|x| x.ssim, &at))})
+                let denoised: Vec<f64> = at.iter().filter_map(|x| x.denoised_psnr_db).collect();
+                let denoised_psnr_db = if denoised.is_empty() {
+                    Value::Null
+                } else {
+                    r(denoised.iter().sum::<f64>() / denoised.len() as f64)
+                };
+                json!({"photons": n, "psnr_db": r(mean(&|x| x.psnr_db, &at)), "ssim": r(mean(&|x| x.ssim, &at)), "denoised_psnr_db": denoised_psnr_db})
             })
             .collect();
         summary.push(json!({
@@ -217,7 +241,7 @@ fn compare_cmd(
     if a.mask.json {
         println!(
             "{}",
-            json!({"sampling": base.sampling.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "setups": summary})
+            json!({"sampling": base.sampling.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "denoise": denoise_summary(denoise, &a.photons), "setups": summary})
         );
     } else {
         print!("{:<42} {:>6}", "setup (mean over photos)", "LTR");
@@ -246,4 +270,17 @@ fn compare_cmd(
         }
     }
     Ok(())
+}
+
+/// The compare JSON's `"denoise"`: the method and, per light level, the σ² BM3D got (the same
+/// in every setup: phase captures all read ≈ 1 at white).
+fn denoise_summary(denoise: crate::core::restore::Denoise, photons: &[f64]) -> Value {
+    let per_level: Vec<Value> = photons
+        .iter()
+        .map(|&n| {
+            let used = denoise.applied(crate::core::phase::imaging::photons_snr_db(n), 1.0);
+            json!({"photons": n, "sigma2": used.sigma2.map_or(Value::Null, r)})
+        })
+        .collect();
+    json!({"method": denoise.method_name(), "runs": per_level})
 }

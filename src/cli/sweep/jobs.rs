@@ -15,7 +15,39 @@ use crate::core::sweep::hash::{point_hash, short_hash_of_digest};
 use crate::core::sweep::{ParamValue, Points, SweepJob, SweepSpec};
 
 /// Parameters whose values are input files: their content, not their name, enters the hash.
-const FILE_PARAMS: [&str; 6] = ["design", "pattern", "spectral", "image", "photo", "hdr"];
+pub const FILE_PARAMS: [&str; 6] = ["design", "pattern", "spectral", "image", "photo", "hdr"];
+
+/// The spec with every relative input file (a value of a [`FILE_PARAMS`] parameter, in the
+/// base, an axis or a `with` list) joined onto `root`: a spec written for one working directory,
+/// run from another.
+pub fn inputs_under(spec: &SweepSpec, root: &Path) -> SweepSpec {
+    let fix = |name: &str, v: &mut ParamValue| {
+        if let ParamValue::Text(t) = v
+            && FILE_PARAMS.contains(&name)
+            && Path::new(t.as_str()).is_relative()
+        {
+            *t = root.join(t.as_str()).to_string_lossy().into_owned();
+        }
+    };
+    let mut out = spec.clone();
+    for (k, v) in &mut out.base {
+        fix(k, v);
+    }
+    for axis in &mut out.axes {
+        // A label axis's values are names, never files.
+        if !axis.label {
+            for v in axis.values.iter_mut().flatten() {
+                fix(&axis.param, v);
+            }
+        }
+        for (k, vals) in &mut axis.with {
+            for v in vals {
+                fix(k, v);
+            }
+        }
+    }
+    out
+}
 
 /// The words of a point's command line, `udc-studio <job> --flag value …` (a `true` switch is
 /// the bare flag, a `false` one is left out).
@@ -38,16 +70,31 @@ pub fn command_line(job: SweepJob, params: &[(String, &ParamValue)]) -> Vec<Stri
     words
 }
 
-/// Base and axis values of point `index`, in a stable order (base first).
+/// Base, axis and linked values of point `index` (label axes left out: they only name the
+/// point), in a stable order (base first).
 pub fn point_params<'a>(
     spec: &'a SweepSpec,
     points: &'a Points,
     index: u64,
 ) -> Vec<(String, &'a ParamValue)> {
+    params_at(spec, points, &points.digits(index))
+}
+
+/// Base, axis and linked values at these value indices (one per axis).
+fn params_at<'a>(
+    spec: &'a SweepSpec,
+    points: &'a Points,
+    digits: &[usize],
+) -> Vec<(String, &'a ParamValue)> {
     spec.base
         .iter()
         .map(|(k, v)| (k.clone(), v))
-        .chain(points.names().iter().cloned().zip(points.point(index)))
+        .chain(
+            points
+                .flags_at(digits)
+                .into_iter()
+                .map(|(k, v)| (k.to_string(), v)),
+        )
         .collect()
 }
 
@@ -164,7 +211,7 @@ pub fn evaluate_point(words: &[String], point_hash: &str) -> Result<PointOutput>
             design_hash: point_hash.to_string(),
         }),
         _ => Err(anyhow!(
-            "a sweep runs analyze, restore, phase psf|restore or sensor"
+            "a sweep runs analyze, restore, phase psf|restore, sensor or sensor flat-patch"
         )),
     }
 }
@@ -177,9 +224,6 @@ pub fn evaluate_point(words: &[String], point_hash: &str) -> Result<PointOutput>
 /// The first value refused, naming its axis and the command's message.
 pub fn check_points(spec: &SweepSpec) -> Result<u64> {
     let points = Points::new(spec)?;
-    let first: Vec<&ParamValue> = (0..points.names().len())
-        .filter_map(|k| points.axis(k).first())
-        .collect();
     let check = |params: Vec<(String, &ParamValue)>, what: &str| -> Result<()> {
         let words = command_line(spec.job, &params);
         let command = parse(&words).map_err(|e| anyhow!("{what}: {e}"))?;
@@ -195,19 +239,17 @@ pub fn check_points(spec: &SweepSpec) -> Result<u64> {
         }
         Ok(())
     };
-    let base: Vec<(String, &ParamValue)> = spec.base.iter().map(|(k, v)| (k.clone(), v)).collect();
+    let axes = points.names().len();
     for (k, name) in points.names().iter().enumerate() {
-        for v in points.axis(k) {
-            let mut params = base.clone();
-            for (j, n) in points.names().iter().enumerate() {
-                let value = if j == k { v } else { first[j] };
-                params.push((n.clone(), value));
-            }
+        for (j, v) in points.axis(k).iter().enumerate() {
+            let mut digits = vec![0; axes];
+            digits[k] = j;
+            let params = params_at(spec, &points, &digits);
             check(params, &format!("axis `{name}` value `{}`", v.to_arg()))?;
         }
     }
-    if points.names().is_empty() {
-        check(base, "base")?;
+    if axes == 0 {
+        check(params_at(spec, &points, &[]), "base")?;
     }
     Ok(points.count())
 }

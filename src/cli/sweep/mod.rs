@@ -13,7 +13,7 @@ use clap::{Args, Subcommand};
 
 use crate::core::sweep::Shard;
 
-pub use jobs::{check_points, evaluate_point};
+pub use jobs::{FILE_PARAMS, check_points, evaluate_point, inputs_under};
 pub use run::{RunOptions, RunSummary, run_sweep};
 
 /// Arguments of `udc-studio sweep`: a run, or an action on runs.

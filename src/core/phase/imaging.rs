@@ -18,15 +18,26 @@
 //!   main-lens opening), the polariser's ½ included for the double MLA.
 //! - **Light and noise.** The light level `N` is the number of photons an open display aperture
 //!   would pass to a pixel of value 1. Electrons are `Poisson(N · K x)` plus read noise
-//!   N(0, 4.87²); the analog gain `1/LTR` makes every setup's mean signal equal (§4.5), the
-//!   gained signal clips at the full well 15 506 e⁻ and a 12-bit ADC quantises it over that
-//!   range. Captures are divided by `N`, so a white pixel reads ≈ 1 in every setup.
+//!   N(0, 4.87²), clipped at the full well 15 506 e⁻ (it binds only above ≈ 30 000 photons).
+//!   The gain `1/(N·LTR)` makes every setup's capture read ≈ 1 at white (§4.5, conventions.md
+//!   §5: "inversely proportional to the LTR of each setup"), and the 12-bit ADC is the thesis's
+//!   `floor(y·4095)/4095` on that scale, clipped at 0 (not at 1: white plus noise keeps its
+//!   value, as the thesis's model).
+//! - **Denoising** ([`Denoise`], conventions.md §5). By default the thesis's chapter 4: BM3D on
+//!   the captured colour image, all channels together (CBM3D), with
+//!   [`ICCV23_SIGMA2`](crate::core::restore::denoise::ICCV23_SIGMA2) at the
+//!   light level's row. Captures are already on chapter 4's scale (white ≈ 1), so σ² needs no
+//!   conversion. The row is the one nearest the SNR `20 log10(N/√(N + 4.87²))` of `N`:
+//!   250 / 650 / 1600 / 4000 / 10 000 photons give 23.6 / 28.0 / 32.0 / 36.0 / 40.0 dB, the rows
+//!   24 … 40 dB.
 //! - **Restoration.** Conjugate gradients on `min ‖A x − y‖² + λ ‖∇x‖²` with `A = K / LTR`, the
-//!   display workspace's solver ([`crate::core::restore::cg_with`]), per colour channel. The
-//!   regulariser follows the noise: `λ = 30 / (N · LTR)` (30 × the variance of a white pixel of
-//!   the capture), clamped to `[1e-5, 1]`. The factor was chosen on the astronaut photo at
-//!   preview sampling, sweeping 0.05 … 60: PSNR rises to about 20 and is flat beyond for every
-//!   setup (the bare T-OLED and the double MLA alike), so no setup is favoured.
+//!   display workspace's solver ([`crate::core::restore::cg_with`]), per colour channel. After
+//!   BM3D, the thesis's λ per row ([`ICCV23_LAMBDA`]), 150 iterations, tolerance 1e-6. Without a
+//!   denoiser the regulariser follows the noise: `λ = 30 / (N · LTR)` (30 × the variance of a
+//!   white pixel of the capture), clamped to `[1e-5, 1]`, at most 80 iterations, tolerance 1e-4.
+//!   The factor was chosen on the astronaut photo at preview sampling, sweeping 0.05 … 60: PSNR
+//!   rises to about 20 and is flat beyond for every setup (the bare T-OLED and the double MLA
+//!   alike), so no setup is favoured.
 //! - **Scores.** PSNR (MSE pooled over channels, peak 1) and SSIM (mean over channels) on the
 //!   columns inside the field of view (eq. 4.13 for the design's κ; the bare T-OLED is scored on
 //!   the same columns as a double MLA of its pitch), every row.
@@ -50,9 +61,13 @@ use super::{
 };
 use crate::core::Progress;
 use crate::core::design::Channel;
+use crate::core::restore::capture::snr_db_of;
 use crate::core::restore::capture::{FULL_WELL_E, READ_NOISE_E};
+use crate::core::restore::denoise::{
+    ICCV23_CG_ITERATIONS, ICCV23_CG_TOLERANCE, ICCV23_LAMBDA, nearest_row,
+};
 use crate::core::restore::quality::{psnr_db_pooled, ssim};
-use crate::core::restore::{CgSettings, LinearBlur, cg_with};
+use crate::core::restore::{CgSettings, Denoise, DenoiseUsed, LinearBlur, Recipe, cg_with};
 
 mod setups;
 pub use setups::{CompareRow, Lambda0Plan, LensletOrder, Setup, compare_setups, thesis_setups};
@@ -65,8 +80,21 @@ pub const PHOTONS_RANGE: (f64, f64) = (10.0, 1.0e6);
 pub const ADC_BITS: u32 = 12;
 /// `λ = LAMBDA_SCALE / (N · LTR)`: the regulariser per unit noise variance.
 pub const LAMBDA_SCALE: f64 = 30.0;
-/// Iterations of the solver (it usually stops earlier on its tolerance).
+/// Iterations of the solver without a denoiser (it usually stops earlier on its tolerance).
 pub const CG_ITERATIONS: usize = 80;
+
+/// The thesis's denoising for the phase masks (chapter 4): BM3D with
+/// [`ICCV23_SIGMA2`](crate::core::restore::denoise::ICCV23_SIGMA2).
+pub fn thesis_denoise() -> Denoise {
+    Denoise::thesis(Recipe::Iccv23)
+}
+
+/// The SNR in dB that picks a light level's row of the thesis tables: that of `photons` with the
+/// thesis camera's read noise (the photons on an open display aperture, as the thesis names its
+/// levels, not those behind the setup).
+pub fn photons_snr_db(photons: f64) -> f64 {
+    snr_db_of(photons, READ_NOISE_E)
+}
 
 /// The imaging operator of one setup on a scene `width` columns wide.
 #[derive(Debug, Clone)]
@@ -274,7 +302,8 @@ fn check_photons(photons: f64) -> Result<(), SimError> {
 }
 
 /// The scene (linear planes in [0, 1], one per channel) as the sensor reads it at `photons`,
-/// divided by `photons`: a white pixel reads ≈ 1 whatever the setup's LTR.
+/// gained by `1/(photons · LTR)` and quantised to 12 bits (module docs): a white pixel reads ≈ 1
+/// whatever the setup's LTR.
 ///
 /// # Errors
 /// A scene that does not fit the operator, a light level outside [`PHOTONS_RANGE`].
@@ -289,8 +318,9 @@ pub fn capture(
     if !(blur.ltr > 0.0) {
         return Err(SimError::field("ltr", "the setup passes no light"));
     }
-    let gain = 1.0 / blur.ltr;
-    let step = FULL_WELL_E / f64::from((1u32 << ADC_BITS) - 1);
+    // White reads ≈ 1 in every setup: the gain 1/(N·LTR) of conventions.md §5.
+    let gain = 1.0 / (photons * blur.ltr);
+    let levels = f64::from((1u32 << ADC_BITS) - 1);
     let read = Normal::new(0.0, READ_NOISE_E)
         .map_err(|e| SimError::field("read_noise_e", e.to_string()))?;
     Ok(blur
@@ -311,9 +341,8 @@ pub fn capture(
                     for (o, m) in o.iter_mut().zip(m) {
                         let mean_e = (m * photons).max(0.0);
                         let shot = Poisson::new(mean_e).map_or(mean_e, |p| p.sample(&mut rng));
-                        let gained =
-                            ((shot + read.sample(&mut rng)) * gain).clamp(0.0, FULL_WELL_E);
-                        *o = (gained / step).round() * step / photons;
+                        let electrons = (shot + read.sample(&mut rng)).min(FULL_WELL_E);
+                        *o = ((electrons * gain * levels).floor() / levels).max(0.0);
                     }
                 });
             out
@@ -321,36 +350,88 @@ pub fn capture(
         .collect())
 }
 
-/// The regulariser for a light level and an LTR (see the module docs).
+/// The regulariser without a denoiser, for a light level and an LTR (see the module docs).
 pub fn regulariser(photons: f64, ltr: f64) -> f64 {
     (LAMBDA_SCALE / (photons * ltr)).clamp(1e-5, 1.0)
 }
 
-/// Restores every channel of a capture by conjugate gradients through the same operator.
+/// The solver's settings after `denoise` at `photons` through a setup of `ltr`: the thesis's
+/// chapter 4 after BM3D, the noise-following rule of [`regulariser`] without (module docs).
+pub fn cg_settings(photons: f64, ltr: f64, denoise: Denoise) -> CgSettings {
+    match denoise {
+        Denoise::Bm3d { .. } => CgSettings {
+            lambda: ICCV23_LAMBDA[nearest_row(photons_snr_db(photons))],
+            iterations: ICCV23_CG_ITERATIONS,
+            tolerance: ICCV23_CG_TOLERANCE,
+        },
+        Denoise::None => CgSettings {
+            lambda: regulariser(photons, ltr),
+            iterations: CG_ITERATIONS,
+            tolerance: 1e-4,
+        },
+    }
+}
+
+/// A restoration of a capture: what the deblurring started from and what it gave.
+#[derive(Debug, Clone)]
+pub struct Restoration {
+    /// The denoised capture per channel; **empty** without a denoiser.
+    pub denoised: Vec<Array2<f64>>,
+    /// The conjugate-gradient restoration per channel.
+    pub restored: Vec<Array2<f64>>,
+    /// The denoising done, with the σ² BM3D got (on the capture's scale, white ≈ 1).
+    pub denoise: DenoiseUsed,
+    /// The solver's settings.
+    pub cg: CgSettings,
+}
+
+/// Denoises a capture (every channel together) as `denoise` says, then restores every channel
+/// by conjugate gradients through the same operator. `progress` runs from 0 to 1 over both
+/// (BM3D takes most of it) and cancels either.
 ///
 /// # Errors
-/// A capture that does not fit the operator, or [`SimError::Cancelled`].
+/// A capture that does not fit the operator, a bad `denoise`, or [`SimError::Cancelled`].
 pub fn restore(
     blur: &PhaseBlur,
     captured: &[Array2<f64>],
     photons: f64,
+    denoise: Denoise,
     progress: &Progress,
-) -> Result<Vec<Array2<f64>>, SimError> {
+) -> Result<Restoration, SimError> {
     check_scene(blur, captured)?;
     check_photons(photons)?;
-    let settings = CgSettings {
-        lambda: regulariser(photons, blur.ltr),
-        iterations: CG_ITERATIONS,
-        tolerance: 1e-4,
+    denoise.validate()?;
+    // Phase captures are on chapter 4's scale: no LTR conversion (ltr_relative 1).
+    let used = denoise.applied(photons_snr_db(photons), 1.0);
+    // BM3D's share of the time: ≈ 1 s for a 512² colour image against a few hundred ms of CG.
+    let deblur_start = if used.sigma2.is_some() { 0.7 } else { 0.0 };
+    let denoised = match used.sigma2 {
+        None => Vec::new(),
+        Some(sigma2) => {
+            let _span = progress.span(0.0, deblur_start);
+            crate::core::denoise::bm3d(captured, sigma2, progress)?
+        }
     };
-    blur.channels
-        .iter()
-        .zip(captured)
-        .map(|(k, y)| {
-            let op = RowBlur::new(k, blur.ltr);
-            cg_with(&op, y.view(), &settings, progress).map(|(x, _)| x)
-        })
-        .collect()
+    progress.check()?;
+    let inputs = if denoised.is_empty() {
+        captured
+    } else {
+        &denoised
+    };
+    let settings = cg_settings(photons, blur.ltr, denoise);
+    let n = blur.channels.len().max(1) as f32;
+    let mut restored = Vec::with_capacity(blur.channels.len());
+    for (c, (k, y)) in blur.channels.iter().zip(inputs).enumerate() {
+        let op = RowBlur::new(k, blur.ltr);
+        restored.push(cg_with(&op, y.view(), &settings, progress)?.0);
+        progress.set(deblur_start + (1.0 - deblur_start) * (c + 1) as f32 / n);
+    }
+    Ok(Restoration {
+        denoised,
+        restored,
+        denoise: used,
+        cg: settings,
+    })
 }
 
 /// One light level: the capture, the restoration and their scores.
@@ -364,10 +445,19 @@ pub struct RestoreRun {
     pub ssim: f64,
     /// PSNR of the capture itself against the scene.
     pub captured_psnr_db: f64,
-    /// The capture per channel, divided by `photons` (a white pixel reads ≈ 1).
+    /// PSNR of the denoised capture (still blurred) against the scene; `None` without a
+    /// denoiser.
+    pub denoised_psnr_db: Option<f64>,
+    /// The capture per channel, gained so that a white pixel reads ≈ 1.
     pub captured: Vec<Array2<f64>>,
+    /// The denoised capture per channel; **empty** without a denoiser.
+    pub denoised: Vec<Array2<f64>>,
     /// The conjugate-gradient restoration per channel.
     pub restored: Vec<Array2<f64>>,
+    /// The denoising done, with the σ² BM3D got.
+    pub denoise: DenoiseUsed,
+    /// The solver's settings.
+    pub cg: CgSettings,
 }
 
 /// PSNR and mean SSIM of `test` against `truth` on the columns `valid`.
@@ -398,7 +488,8 @@ pub fn scores(
     Ok((psnr, sum / pairs.len().max(1) as f64))
 }
 
-/// Captures `scene` at `photons`, restores it and scores both.
+/// Captures `scene` at `photons`, denoises it as `denoise` says ([`thesis_denoise`] is the
+/// thesis's), restores it and scores all three.
 ///
 /// # Errors
 /// As [`capture`] and [`restore`].
@@ -407,12 +498,29 @@ pub fn capture_and_restore(
     scene: &[Array2<f64>],
     photons: f64,
     seed: u64,
+    denoise: Denoise,
     progress: &Progress,
 ) -> Result<RestoreRun, SimError> {
+    denoise.validate()?;
+    progress.set(0.0);
     let captured = capture(blur, scene, photons, seed)?;
-    let restored = restore(blur, &captured, photons, progress)?;
+    progress.check()?;
+    let Restoration {
+        denoised,
+        restored,
+        denoise,
+        cg,
+    } = {
+        let _span = progress.span(0.05, 1.0);
+        restore(blur, &captured, photons, denoise, progress)?
+    };
     let (psnr_db, ssim) = scores(&restored, scene, &blur.valid)?;
     let (captured_psnr_db, _) = scores(&captured, scene, &blur.valid)?;
+    let denoised_psnr_db = if denoised.is_empty() {
+        None
+    } else {
+        Some(scores(&denoised, scene, &blur.valid)?.0)
+    };
     if !(psnr_db.is_finite() || psnr_db == f64::INFINITY) || !ssim.is_finite() {
         return Err(SimError::Sampling(format!(
             "the scores at {photons} photons are not finite (PSNR {psnr_db}, SSIM {ssim})"
@@ -423,7 +531,11 @@ pub fn capture_and_restore(
         psnr_db,
         ssim,
         captured_psnr_db,
+        denoised_psnr_db,
         captured,
+        denoised,
         restored,
+        denoise,
+        cg,
     })
 }

@@ -55,6 +55,9 @@ pub struct FlatPatchSpec {
     pub side_px: usize,
     /// Seed of the photon and read noise.
     pub seed: u64,
+    /// The pixel gain `g`, instead of eq. 5.3's gain for `light_e` and `eta` (Table 5.1's
+    /// variances are compared at a chosen gain).
+    pub gain: Option<f64>,
 }
 
 impl Default for FlatPatchSpec {
@@ -69,12 +72,13 @@ impl Default for FlatPatchSpec {
             additive_gain: AdditiveGain::default(),
             side_px: 512,
             seed: 0,
+            gain: None,
         }
     }
 }
 
 impl FlatPatchSpec {
-    /// Checks every field; errors name it (`light_e`, `eta`, `bin_px`, `side_px`).
+    /// Checks every field; errors name it (`light_e`, `eta`, `bin_px`, `side_px`, `gain`).
     ///
     /// # Errors
     /// [`SimError::InvalidField`] for the first bad field.
@@ -96,6 +100,14 @@ impl FlatPatchSpec {
             return Err(SimError::field(
                 "bin_px",
                 format!("a bin is 1, 2, 4 or 8 pixels wide (got {})", self.bin_px),
+            ));
+        }
+        if let Some(g) = self.gain
+            && !(g.is_finite() && g > 0.0 && g <= 1e6)
+        {
+            return Err(SimError::field(
+                "gain",
+                format!("must be a finite gain in (0, 1e6] (got {g:?})"),
             ));
         }
         let (lo, hi) = FLAT_PATCH_SIDE_RANGE;
@@ -130,6 +142,13 @@ pub struct FlatPatch {
     pub readouts: usize,
     /// Standard error of `saturated_fraction` if `predicted` is right: `√(p(1 − p)/readouts)`.
     pub standard_error: f64,
+    /// Measured: the sample variance of the per-pixel estimate `l̂` over the readouts, e⁻².
+    pub variance_e2: f64,
+    /// Table 5.1's variance of `l̂` for this bin, mode and amplifier gain, e⁻² (no ADC term).
+    pub table51_variance_e2: f64,
+    /// Standard error of `variance_e2` if Table 5.1 is right and `l̂` nearly Gaussian:
+    /// `σ² √(2/(readouts − 1))`.
+    pub variance_standard_error_e2: f64,
 }
 
 /// `Q(x) = 1 − Φ(x)`, the standard normal upper tail.
@@ -206,9 +225,10 @@ pub fn predicted_saturation(
 }
 
 /// Exposes a flat patch at `spec.light_e`, reads it at the gain eq. 5.3 gives for that light
-/// with `spec.eta` (binned as `spec` says) through `sensor`'s noise and ADC model, and returns
-/// the measured and predicted saturated fractions. The one entry point of the CLI's
-/// `sensor flat-patch`, the studio's flat-patch check and the tests.
+/// with `spec.eta` (or at `spec.gain`; binned as `spec` says) through `sensor`'s noise and ADC
+/// model, and returns the measured and predicted saturated fractions, and the measured variance
+/// of the estimate beside Table 5.1's. The one entry point of the CLI's `sensor flat-patch`, the
+/// studio's flat-patch check, the tests and `reproduce table5.1`.
 ///
 /// ```
 /// use udc_studio::core::Progress;
@@ -239,7 +259,9 @@ pub fn flat_patch(
     )?;
     progress.set(0.0);
     progress.check()?;
-    let g = gain::gain_for_light(spec.light_e, spec.eta, sensor.full_well_e, sensor.max_gain);
+    let g = spec.gain.unwrap_or_else(|| {
+        gain::gain_for_light(spec.light_e, spec.eta, sensor.full_well_e, sensor.max_gain)
+    });
     let electrons = Array2::from_elem((side, side), spec.light_e);
     let frame = expose_frame(electrons.view(), sensor, spec.seed, stream::CAPTURE);
     progress.set(0.5);
@@ -266,14 +288,31 @@ pub fn flat_patch(
         sensor,
     );
     let readouts = side * side / n;
+    let amplifier_gain = spec.bin_mode.amplifier_gain(g, n, spec.additive_gain);
+    // Every pixel of a bin carries the bin's estimate: one sample per bin, its first pixel.
+    let b = spec.bin_px;
+    let samples: Vec<f64> = readout
+        .estimate_e
+        .indexed_iter()
+        .filter(|((y, x), _)| y % b == 0 && x % b == 0)
+        .map(|(_, v)| *v)
+        .collect();
+    let count = samples.len().max(2) as f64;
+    let mean = samples.iter().sum::<f64>() / count;
+    let variance_e2 = samples.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (count - 1.0);
+    let table51_variance_e2 =
+        binning::variance(spec.bin_mode, spec.light_e, sensor, amplifier_gain, n);
     progress.set(1.0);
     Ok(FlatPatch {
         gain: g,
-        amplifier_gain: spec.bin_mode.amplifier_gain(g, n, spec.additive_gain),
+        amplifier_gain,
         saturated_fraction: readout.saturated.mean().unwrap_or(0.0),
         predicted,
         gaussian_tail: upper_tail(spec.eta),
         readouts,
         standard_error: (predicted * (1.0 - predicted) / readouts as f64).sqrt(),
+        variance_e2,
+        table51_variance_e2,
+        variance_standard_error_e2: table51_variance_e2 * (2.0 / (count - 1.0)).sqrt(),
     })
 }

@@ -9,6 +9,10 @@ use crate::core::SimError;
 pub struct Points {
     names: Vec<String>,
     values: Vec<Vec<ParamValue>>,
+    /// Per axis, the parameters that change with it and their values (`Axis::with`).
+    linked: Vec<Vec<(String, Vec<ParamValue>)>>,
+    /// Per axis, whether its values only name the points (`Axis::label`).
+    labels: Vec<bool>,
     count: u64,
 }
 
@@ -32,6 +36,12 @@ impl Points {
         Ok(Points {
             names: spec.axes.iter().map(|a| a.param.clone()).collect(),
             values,
+            linked: spec
+                .axes
+                .iter()
+                .map(|a| a.with.iter().map(|(k, v)| (k.clone(), v.clone())).collect())
+                .collect(),
+            labels: spec.axes.iter().map(|a| a.label).collect(),
             count,
         })
     }
@@ -51,21 +61,58 @@ impl Points {
         self.values.get(k).map_or(&[], Vec::as_slice)
     }
 
-    /// The values of point `index` (`< count`), one per axis: a mixed-radix decoding of the
-    /// index with the last axis as the lowest digit.
-    pub fn point(&self, index: u64) -> Vec<&ParamValue> {
+    /// The value index of point `index` (`< count`) on each axis: a mixed-radix decoding of
+    /// the index with the last axis as the lowest digit.
+    pub fn digits(&self, index: u64) -> Vec<usize> {
         let mut rest = index;
-        let mut out: Vec<&ParamValue> = Vec::with_capacity(self.values.len());
+        let mut out: Vec<usize> = Vec::with_capacity(self.values.len());
         for vals in self.values.iter().rev() {
-            let n = vals.len() as u64;
-            let k = (rest % n) as usize;
+            let n = (vals.len() as u64).max(1);
+            out.push((rest % n) as usize);
             rest /= n;
-            if let Some(v) = vals.get(k) {
-                out.push(v);
-            }
         }
         out.reverse();
         out
+    }
+
+    /// The values of point `index` (`< count`), one per axis.
+    pub fn point(&self, index: u64) -> Vec<&ParamValue> {
+        self.at(&self.digits(index))
+    }
+
+    /// The axis values at these value indices (one per axis).
+    pub fn at(&self, digits: &[usize]) -> Vec<&ParamValue> {
+        self.values
+            .iter()
+            .zip(digits)
+            .filter_map(|(vals, k)| vals.get(*k))
+            .collect()
+    }
+
+    /// The parameters (name and value) that reach the command line at these value indices:
+    /// every axis that is not a label, then the linked parameters, axis by axis.
+    pub fn flags_at(&self, digits: &[usize]) -> Vec<(&str, &ParamValue)> {
+        self.names
+            .iter()
+            .zip(self.at(digits))
+            .zip(&self.labels)
+            .filter(|(_, label)| !**label)
+            .map(|((n, v), _)| (n.as_str(), v))
+            .chain(self.linked_at(digits))
+            .collect()
+    }
+
+    /// The linked parameters (`Axis::with`) at these value indices, axis by axis.
+    pub fn linked_at(&self, digits: &[usize]) -> Vec<(&str, &ParamValue)> {
+        self.linked
+            .iter()
+            .zip(digits)
+            .flat_map(|(params, k)| {
+                params
+                    .iter()
+                    .filter_map(move |(name, vals)| vals.get(*k).map(|v| (name.as_str(), v)))
+            })
+            .collect()
     }
 }
 

@@ -28,16 +28,20 @@ pub enum SweepJob {
     PhaseRestore,
     /// `udc-studio sensor`: spatially-varying gain and binning on an HDR scene.
     Sensor,
+    /// `udc-studio sensor flat-patch`: a flat patch read at one gain and bin (Monte Carlo
+    /// saturation and Table 5.1's variances).
+    SensorFlatPatch,
 }
 
 impl SweepJob {
     /// Every job, in the order the docs list them.
-    pub const ALL: [SweepJob; 5] = [
+    pub const ALL: [SweepJob; 6] = [
         SweepJob::Analyze,
         SweepJob::Restore,
         SweepJob::PhasePsf,
         SweepJob::PhaseRestore,
         SweepJob::Sensor,
+        SweepJob::SensorFlatPatch,
     ];
 
     /// The name in spec files (`phase-psf`).
@@ -48,6 +52,7 @@ impl SweepJob {
             SweepJob::PhasePsf => "phase-psf",
             SweepJob::PhaseRestore => "phase-restore",
             SweepJob::Sensor => "sensor",
+            SweepJob::SensorFlatPatch => "sensor-flat-patch",
         }
     }
 
@@ -59,6 +64,7 @@ impl SweepJob {
             SweepJob::PhasePsf => &["phase", "psf"],
             SweepJob::PhaseRestore => &["phase", "restore"],
             SweepJob::Sensor => &["sensor"],
+            SweepJob::SensorFlatPatch => &["sensor", "flat-patch"],
         }
     }
 
@@ -87,6 +93,13 @@ impl SweepJob {
                 "strategies.*.worst_roi_ssim",
                 "strategies.*.psnr_db",
                 "strategies.*.saturated_fraction",
+            ],
+            SweepJob::SensorFlatPatch => &[
+                "variance_e2",
+                "table51_variance_e2",
+                "variance_standard_error_e2",
+                "saturated_fraction",
+                "predicted",
             ],
         }
     }
@@ -176,6 +189,17 @@ pub struct Axis {
     /// Generated values, `count` of them from `start` to `stop`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub linspace: Option<LinspaceSpec>,
+    /// Parameters that change together with this axis, value for value (each list as long as
+    /// the axis): a thesis recipe whose settings follow the light level (`with = { lambda =
+    /// [0.01, 0.005] }`) is one axis, not a product of two. They enter the point's command line
+    /// and hash, not the table's columns.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub with: BTreeMap<String, Vec<ParamValue>>,
+    /// The values only name the points (`"T-OLED"`, `"T=5 optimized"`): the parameter is not a
+    /// flag and stays off the command line; `with` holds what each value runs. Legends and the
+    /// table then read as the thesis names its setups.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub label: bool,
 }
 
 /// Which plot to draw beside the results.
@@ -260,12 +284,7 @@ impl SweepSpec {
     /// [`SimError::InvalidField`] naming the offending field (`axis[1].range.step`).
     pub fn validate(&self) -> Result<(), SimError> {
         let bad = |field: String, message: String| SimError::InvalidField { field, message };
-        let name_ok = |p: &str| {
-            !p.is_empty()
-                && p.chars()
-                    .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
-                && !p.starts_with('-')
-        };
+        let name_ok = is_param_name;
         for (k, v) in &self.base {
             if !name_ok(k) {
                 return Err(bad(
@@ -312,6 +331,7 @@ impl SweepSpec {
             for (j, v) in axis.values.iter().flatten().enumerate() {
                 check_value(v).map_err(|m| bad(field(&format!(".values[{j}]")), m))?;
             }
+            self.validate_linked(i, len)?;
             points = points.saturating_mul(len as u64);
         }
         if points > MAX_POINTS {
@@ -339,6 +359,123 @@ impl SweepSpec {
         }
         Ok(())
     }
+}
+
+impl SweepSpec {
+    /// Checks axis `i`'s linked parameters: flag names no other part of the spec sets, each
+    /// with one value per axis value.
+    fn validate_linked(&self, i: usize, len: usize) -> Result<(), SimError> {
+        let Some(axis) = self.axes.get(i) else {
+            return Ok(());
+        };
+        if axis.label {
+            self.validate_label(i)?;
+        }
+        for (name, values) in &axis.with {
+            let field = format!("axis[{i}].with.{name}");
+            let bad = |message: String| SimError::InvalidField {
+                field: field.clone(),
+                message,
+            };
+            if !is_param_name(name) {
+                return Err(bad(
+                    "a parameter is a flag of the job without `--`, e.g. `lambda`".into(),
+                ));
+            }
+            if RESERVED_PARAMS.contains(&name.as_str()) {
+                return Err(bad("the sweep sets this itself".into()));
+            }
+            let elsewhere = self.base.contains_key(name)
+                || self.axes.iter().any(|a| &a.param == name)
+                || self
+                    .axes
+                    .iter()
+                    .enumerate()
+                    .any(|(j, a)| j != i && a.with.contains_key(name));
+            if elsewhere {
+                return Err(bad(format!(
+                    "`{name}` is set elsewhere in the spec (base, an axis or another axis's `with`)"
+                )));
+            }
+            if values.len() != len {
+                return Err(bad(format!(
+                    "{} values for an axis of {len}: one per axis value",
+                    values.len()
+                )));
+            }
+            for (j, v) in values.iter().enumerate() {
+                check_value(v).map_err(|m| SimError::InvalidField {
+                    field: format!("{field}[{j}]"),
+                    message: m,
+                })?;
+            }
+        }
+        Ok(())
+    }
+}
+
+impl SweepSpec {
+    /// A label axis: listed values, each naming a different set of `with` parameters (two
+    /// labels that ran the same command would be one point).
+    fn validate_label(&self, i: usize) -> Result<(), SimError> {
+        let Some(axis) = self.axes.get(i) else {
+            return Ok(());
+        };
+        let bad = |f: &str, message: String| SimError::InvalidField {
+            field: format!("axis[{i}]{f}"),
+            message,
+        };
+        let Some(values) = &axis.values else {
+            return Err(bad(
+                ".label",
+                "a label axis lists its `values` (the names of its points)".into(),
+            ));
+        };
+        if axis.with.is_empty() {
+            return Err(bad(
+                ".with",
+                format!(
+                    "label axis `{}` runs nothing by itself: give the parameters its values stand for in `with`",
+                    axis.param
+                ),
+            ));
+        }
+        let run_of = |k: usize| -> Vec<String> {
+            axis.with
+                .values()
+                .map(|v| v.get(k).map(ParamValue::to_arg).unwrap_or_default())
+                .collect()
+        };
+        for k in 0..values.len() {
+            for j in 0..k {
+                if values[j].to_arg() == values[k].to_arg() {
+                    return Err(bad(
+                        &format!(".values[{k}]"),
+                        format!("`{}` names two points", values[k].to_arg()),
+                    ));
+                }
+                if run_of(j) == run_of(k) {
+                    return Err(bad(
+                        &format!(".values[{k}]"),
+                        format!(
+                            "`{}` runs what `{}` runs (the same `with` values)",
+                            values[k].to_arg(),
+                            values[j].to_arg()
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A parameter is a job's flag without `--`: lowercase words joined by `-`.
+fn is_param_name(p: &str) -> bool {
+    !p.is_empty()
+        && p.chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+        && !p.starts_with('-')
 }
 
 fn check_value(v: &ParamValue) -> Result<(), String> {

@@ -11,13 +11,19 @@ pub(super) struct SetupJob {
     pub(super) channels: Arc<Vec<Channel>>,
 }
 
+/// The capture's settings shared by every setup of a run.
+pub(super) struct Light {
+    pub(super) photons: f64,
+    pub(super) seed: u64,
+    pub(super) denoise: Denoise,
+}
+
 /// The worker: each setup's operator (kept or built), then the capture and restoration, sent
 /// through `out` as each setup finishes.
 pub(super) fn run_setups(
     jobs: &[SetupJob],
     truth: &[Array2<f64>],
-    photons: f64,
-    seed: u64,
+    light: &Light,
     progress: &Progress,
     step: &Mutex<(String, Instant)>,
     out: &Sender<(usize, Finished)>,
@@ -58,13 +64,24 @@ pub(super) fn run_setups(
                 (Arc::new(b), true)
             }
         };
+        let what = match light.denoise {
+            Denoise::None => "capture and restore",
+            Denoise::Bm3d { .. } => "capture, denoise (BM3D) and restore",
+        };
         say(format!(
-            "step {} of {}: capture and restore through {label}",
+            "step {} of {}: {what} through {label}",
             2 * i + 2,
             2 * n
         ));
         progress.set(0.0);
-        let run = capture_and_restore(&blur, truth, photons, seed, progress)?;
+        let run = capture_and_restore(
+            &blur,
+            truth,
+            light.photons,
+            light.seed,
+            light.denoise,
+            progress,
+        )?;
         let images = run_images(&run, truth);
         let finished = Finished {
             label,

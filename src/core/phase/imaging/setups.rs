@@ -221,12 +221,15 @@ pub struct CompareRow {
     pub psnr_db: f64,
     /// Mean SSIM of the restoration over channels, on the field of view.
     pub ssim: f64,
+    /// PSNR of the denoised capture on the field of view; `None` without a denoiser.
+    pub denoised_psnr_db: Option<f64>,
 }
 
 /// Runs every setup on every photo at every light level (Fig. 4.6, Tables 4.1–4.2, Fig. 4.10):
 /// each setup is designed once (an optimized plan runs Algorithm 1 once) and its operator is
 /// built once per photo width over `channels` (the thesis: the sensor's spectral response on
-/// the 401:10:691 grid, as `grid_channels`). Rows arrive through `on_row` as they finish; `progress` follows
+/// the 401:10:691 grid, as `grid_channels`); every capture is denoised as `denoise` says before
+/// the solver ([`thesis_denoise`] is the thesis's). Rows arrive through `on_row` as they finish; `progress` follows
 /// the step under way (designing, the operator, a run) and cancels any of them.
 ///
 /// # Errors
@@ -241,6 +244,7 @@ pub fn compare_setups(
     photos: &[Vec<Array2<f64>>],
     photons: &[f64],
     seed: u64,
+    denoise: Denoise,
     progress: &Progress,
     mut on_row: impl FnMut(CompareRow),
 ) -> Result<(), SimError> {
@@ -259,7 +263,7 @@ pub fn compare_setups(
             };
             for &n in photons {
                 progress.check()?;
-                let run = capture_and_restore(blur, photo, n, seed, progress)?;
+                let run = capture_and_restore(blur, photo, n, seed, denoise, progress)?;
                 on_row(CompareRow {
                     setup: setup.clone(),
                     label: setup.label(),
@@ -268,6 +272,7 @@ pub fn compare_setups(
                     photons: n,
                     psnr_db: run.psnr_db,
                     ssim: run.ssim,
+                    denoised_psnr_db: run.denoised_psnr_db,
                 });
             }
         }

@@ -1,7 +1,7 @@
 //! The Restore view (thesis §3.5): a photo captured through the current design (and the pinned
-//! design A, on the same photo and light) and restored, with PSNR and SSIM. The simulation runs
-//! on a background thread whenever the design, the photo or a setting changes; the previous
-//! pictures stay until the new ones arrive.
+//! design A, on the same photo and light), denoised (BM3D by default, as the thesis) and restored,
+//! with PSNR and SSIM. The simulation runs on a background thread whenever the design, the photo
+//! or a setting changes; the previous pictures stay until the new ones arrive.
 
 use crate::app::notice::Notice;
 use std::path::PathBuf;
@@ -17,8 +17,8 @@ use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::Analysis;
 use crate::core::restore::capture::REFERENCE_LTR;
 use crate::core::restore::{
-    CaptureSettings, CgSettings, Light, Method, RestoreResult, RestoreSettings, THESIS_NSR,
-    simulate,
+    CaptureSettings, CgSettings, Denoise, Light, Method, Recipe, RestoreResult, RestoreSettings,
+    Sigma2, THESIS_NSR, simulate,
 };
 use crate::io::photo;
 
@@ -44,13 +44,15 @@ struct Key {
     nsr: f64,
     lambda: f64,
     seed: u64,
+    denoise: Denoise,
 }
 
-/// Captured, restored and difference images of one design, uploaded.
+/// Captured, denoised (when a denoiser ran), restored and difference images of one design,
+/// uploaded.
 struct Row {
     label: String,
     result: RestoreResult,
-    textures: [TextureHandle; 3],
+    textures: Vec<(TextureHandle, String)>,
 }
 
 /// A run for the settings in `key`.
@@ -72,6 +74,7 @@ pub struct RestoreView {
     nsr: f64,
     lambda: f64,
     seed: u64,
+    denoise: Denoise,
     job: Option<RestoreJob>,
     done_key: Option<Key>,
     rows: Vec<Row>,
@@ -91,6 +94,7 @@ impl Default for RestoreView {
             nsr: THESIS_NSR,
             lambda: CgSettings::default().lambda,
             seed: 0,
+            denoise: Denoise::thesis(Recipe::Iccp21),
             job: None,
             done_key: None,
             rows: Vec::new(),
@@ -113,6 +117,16 @@ impl RestoreView {
     /// Whether a photo is loading or a capture-and-restore run is in progress.
     pub fn is_running(&self) -> bool {
         self.job.is_some() || self.photo_load.is_some()
+    }
+
+    /// The denoiser before the deblurring.
+    pub fn denoise(&self) -> Denoise {
+        self.denoise
+    }
+
+    /// Sets the denoiser before the deblurring (the Denoise control does this).
+    pub fn set_denoise(&mut self, denoise: Denoise) {
+        self.denoise = denoise;
     }
 
     /// Sets the light level, as the SNR of a white pixel behind the reference display, in dB
@@ -184,6 +198,7 @@ impl RestoreView {
                         .enumerate()
                         .map(|(i, (label, result))| {
                             let c: Vec<&Array2<f64>> = result.captured.iter().collect();
+                            let n: Vec<&Array2<f64>> = result.denoised.iter().collect();
                             let r: Vec<&Array2<f64>> = result.restored.iter().collect();
                             let truth = self.photo.as_ref().map(|p| &p.planes);
                             let diff: Vec<Array2<f64>> = result
@@ -200,11 +215,20 @@ impl RestoreView {
                                     TextureOptions::LINEAR,
                                 )
                             };
-                            let textures = [
-                                tex("captured", color_image(&c, 1.0)),
-                                tex("restored", color_image(&r, 1.0)),
+                            let mut textures =
+                                vec![(tex("captured", color_image(&c, 1.0)), "captured".into())];
+                            if !n.is_empty() {
+                                textures.push((
+                                    tex("denoised", color_image(&n, 1.0)),
+                                    "denoised (BM3D)".into(),
+                                ));
+                            }
+                            textures
+                                .push((tex("restored", color_image(&r, 1.0)), "restored".into()));
+                            textures.push((
                                 tex("difference", color_image(&d, DIFFERENCE_GAIN)),
-                            ];
+                                format!("|restored - truth| x {DIFFERENCE_GAIN:.0}"),
+                            ));
                             Row {
                                 label,
                                 result,
@@ -234,6 +258,7 @@ impl RestoreView {
             nsr: self.nsr,
             lambda: self.lambda,
             seed: self.seed,
+            denoise: self.denoise,
         }
     }
 
@@ -257,6 +282,7 @@ impl RestoreView {
                 ..CaptureSettings::default()
             },
             method,
+            denoise: self.denoise,
             ..RestoreSettings::default()
         };
         // The names the Compare tab uses, so A and B read apart here too.
@@ -388,10 +414,21 @@ impl RestoreView {
             ui.separator();
             ui.add(crate::app::widgets::number(&mut self.seed).prefix("noise seed "));
         });
+        ui.horizontal_wrapped(|ui| {
+            // The current design's σ² (the pinned one's may differ by its LTR): chapter 3's table
+            // is on the reference display's scale, divided by ltr_relative² for ours.
+            let ltr_relative = self.current().map_or(1.0, |r| {
+                r.electrons_per_unit / r.light_e.max(f64::MIN_POSITIVE)
+            });
+            let thesis = Sigma2::Thesis(Recipe::Iccp21).resolve(self.snr_db, ltr_relative);
+            crate::app::widgets::denoise::denoise_ui(ui, &mut self.denoise, Recipe::Iccp21, thesis);
+        });
     }
 
     fn images_ui(&self, ui: &mut Ui) {
-        let side = 240.0f32;
+        // Up to four pictures in a row fit the view's width (a 1024-point window included).
+        let gap = ui.spacing().item_spacing.x;
+        let side = ((ui.available_width() - 3.0 * gap - 8.0) / 4.0).clamp(96.0, 240.0);
         let size_of = |t: &TextureHandle| {
             let [w, h] = t.size();
             let s = side / w.max(h).max(1) as f32;
@@ -406,8 +443,12 @@ impl RestoreView {
             let r = &row.result;
             ui.horizontal_wrapped(|ui| {
                 ui.strong(&row.label);
+                let denoised = match (r.denoised_psnr_db, r.denoise.sigma2) {
+                    (Some(p), Some(s)) => format!(", denoised {p:.2} dB with σ² {s:.2e}"),
+                    _ => ", no denoiser".to_string(),
+                };
                 ui.label(format!(
-                    "restored PSNR {:.2} dB, SSIM {:.3}  (captured {:.2} dB);  {:.0} e- at white, {:.0} ms",
+                    "restored PSNR {:.2} dB, SSIM {:.3}  (captured {:.2} dB{denoised});  {:.0} e- at white, {:.0} ms",
                     r.psnr_db, r.ssim, r.captured_psnr_db, r.electrons_per_unit, r.elapsed_ms
                 ));
             });
@@ -423,14 +464,13 @@ impl RestoreView {
                 );
             }
             ui.horizontal(|ui| {
-                for (t, caption) in row.textures.iter().zip([
-                    "captured".to_string(),
-                    "restored".to_string(),
-                    format!("|restored - truth| x {DIFFERENCE_GAIN:.0}"),
-                ]) {
+                for (t, caption) in &row.textures {
                     ui.vertical(|ui| {
                         ui.label(caption);
-                        ui.image((t.id(), size_of(t)));
+                        ui.add(
+                            egui::Image::new((t.id(), size_of(t)))
+                                .alt_text(format!("{} {caption}", row.label)),
+                        );
                     });
                 }
             });

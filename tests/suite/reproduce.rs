@@ -1,0 +1,373 @@
+//! `udc-studio reproduce`: the list, the refusal of an unknown result, every shipped spec valid
+//! as a sweep, a cheap result end to end (report, table, plots, JSON beside the thesis's
+//! numbers), the reductions' claims on made-up tables, and the sweep features the specs use
+//! (parameters linked to an axis, label axes).
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+
+use crate::common::run_cli;
+use udc_studio::cli::reproduce::outcome::SweepTable;
+use udc_studio::cli::reproduce::{ResultId, reduce};
+use udc_studio::core::sensor::SensorSpec;
+use udc_studio::io::sweep::Row;
+
+fn spec_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/reproduce")
+}
+
+#[test]
+fn list_names_every_result_with_its_cost_and_checks() {
+    let (ok, out, err) = run_cli(&["reproduce", "--list"]);
+    assert!(ok, "{err}");
+    for id in ResultId::ALL {
+        let line = out
+            .lines()
+            .find(|l| l.starts_with(id.as_str()))
+            .unwrap_or_else(|| panic!("{} is not listed:\n{out}", id.as_str()));
+        assert!(line.contains(id.title()), "{line}");
+    }
+    assert_eq!(out.matches("checks:").count(), ResultId::ALL.len());
+    assert_eq!(out.matches("--quick").count(), ResultId::ALL.len());
+    for id in ["fig3.8", "fig3.9", "table4.1", "table4.2", "fig4.10", "fig4.14", "table5.1", "table5.4"] {
+        assert!(out.contains(id), "{id} missing");
+    }
+}
+
+#[test]
+fn an_unknown_result_is_one_line_naming_the_valid_ones() {
+    let (ok, out, err) = run_cli(&["reproduce", "fig9.9"]);
+    assert!(!ok);
+    assert!(out.is_empty(), "{out}");
+    let line = err.trim();
+    assert_eq!(line.lines().count(), 1, "{err}");
+    assert!(line.contains("fig9.9"), "{line}");
+    for id in ResultId::ALL {
+        assert!(line.contains(id.as_str()), "{line} lacks {}", id.as_str());
+    }
+    let (ok, _, err) = run_cli(&["reproduce"]);
+    assert!(!ok && err.trim().lines().count() == 1, "{err}");
+}
+
+#[test]
+fn every_shipped_spec_is_a_valid_sweep_and_belongs_to_a_result() {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(spec_dir())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 8, "{files:?}");
+    let used: Vec<&str> = ResultId::ALL
+        .iter()
+        .flat_map(|id| id.parts().iter().map(|p| p.file))
+        .collect();
+    for id in ResultId::ALL {
+        assert!(
+            spec_dir().join(format!("{}.toml", id.as_str())).is_file()
+                || id.parts().iter().all(|p| spec_dir().join(p.file).is_file()),
+            "{}",
+            id.as_str()
+        );
+        for part in id.parts() {
+            assert!(spec_dir().join(part.file).is_file(), "{}", part.file);
+        }
+    }
+    for f in &files {
+        let name = f.file_name().unwrap().to_str().unwrap();
+        assert!(used.contains(&name), "{name} is run by no result");
+        // `sweep --check`: the spec parses, and every axis value (and linked value) is accepted
+        // by the job's command line; display designs resolve.
+        let (ok, out, err) = run_cli(&["sweep", f.to_str().unwrap(), "--check"]);
+        assert!(ok, "{name}: {err}");
+        assert!(out.contains("every axis value accepted"), "{name}: {out}");
+    }
+}
+
+#[test]
+fn specs_read_the_whole_test_set() {
+    let testset: Vec<String> = udc_studio::io::testset::testset_photos()
+        .unwrap()
+        .iter()
+        .map(|p| format!("assets/testset/{}", p.file_name().unwrap().to_string_lossy()))
+        .collect();
+    assert!(testset.len() >= 10, "{testset:?}");
+    for id in ResultId::ALL {
+        for part in id.parts() {
+            let Some(param) = part.inputs.filter(|p| *p != "hdr") else {
+                continue;
+            };
+            let spec = udc_studio::io::sweep::load_spec(&spec_dir().join(part.file)).unwrap();
+            let axis = spec.axes.iter().find(|a| a.param == param).unwrap();
+            let photos: Vec<String> = axis.values.iter().flatten().map(|v| v.to_arg()).collect();
+            assert_eq!(photos, testset, "{}", part.file);
+        }
+    }
+}
+
+/// Table 5.1's variance at light `l`, pixel gain `g`, amplifier gain `amp`, `n` pixels, computed
+/// here from the thesis's formulas (not the crate's).
+fn table51(mode: &str, l: f64, amp: f64, n: f64) -> f64 {
+    let s = SensorSpec::table54();
+    let (pre2, post2) = (s.sigma_pre_e.powi(2), s.sigma_post_e.powi(2));
+    match mode {
+        "none" => l + pre2 + post2 / (amp * amp),
+        "additive" => l / n + pre2 / n + post2 / (n * n * amp * amp),
+        "average" => l / n + pre2 / n + post2 / (amp * amp),
+        _ => l / n + pre2 / n + post2 / (n * amp * amp),
+    }
+}
+
+#[test]
+fn table5_1_quick_runs_end_to_end_beside_the_thesis() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("t51");
+    let (ok, json, err) = run_cli(&[
+        "reproduce",
+        "table5.1",
+        "--quick",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    assert_eq!(v["id"], "table5.1");
+    assert_eq!(v["quick"], true);
+    let rows = v["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 9, "{rows:?}");
+    // The thesis's column is Table 5.1's formula at the spec's settings (10 e⁻, g = 4).
+    let (light, gain) = (10.0, 4.0);
+    for r in rows {
+        let setup = r["setup"].as_str().unwrap();
+        let ours = r["variance_e2"].as_f64().unwrap();
+        let theirs = r["thesis_variance_e2"].as_f64().unwrap();
+        let want = if setup.starts_with("no binning") {
+            table51("none", light, gain, 1.0)
+        } else {
+            let n = if setup.starts_with("2×2") { 4.0 } else { 16.0 };
+            match setup.split(", ").skip(1).collect::<Vec<_>>().join(", ").as_str() {
+                "additive, g/N" => table51("additive", light, gain / n, n),
+                "additive, g" => table51("additive", light, gain, n),
+                "average" => table51("average", light, gain, n),
+                "digital" => table51("digital", light, gain, n),
+                other => panic!("unexpected row {other}"),
+            }
+        };
+        assert!((theirs - want).abs() < 1e-9 * want, "{setup}: {theirs} vs {want}");
+        // Monte Carlo on a 256² patch: within 5 % of the formula.
+        assert!((ours - want).abs() < 0.05 * want, "{setup}: measured {ours}, formula {want}");
+        assert!(r["note"].as_str().unwrap().contains("standard errors"), "{r}");
+    }
+    let claims = v["claims"].as_array().unwrap();
+    assert_eq!(claims.len(), 3, "{claims:?}");
+    assert!(claims.iter().all(|c| c["pass"] == true), "{claims:?}");
+    // The files.
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.starts_with("# Table 5.1"), "{report}");
+    assert!(report.contains("Claims: 3 of 3 hold"), "{report}");
+    assert!(report.contains("l*/N + σ_pre²/N + σ_post²/(N g²)"), "{report}");
+    assert!(report.contains("30 photos of a test set we do not have"), "{report}");
+    assert!(report.contains("| 2×2 (N = 4), digital |"), "{report}");
+    let mut csv = csv::Reader::from_path(out.join("results.csv")).unwrap();
+    let header: Vec<String> = csv.headers().unwrap().iter().map(str::to_string).collect();
+    for h in ["setup", "variance_e2", "thesis_variance_e2", "diff_variance_e2", "note"] {
+        assert!(header.contains(&h.to_string()), "{header:?}");
+    }
+    assert_eq!(csv.records().count(), 9);
+    for ext in ["png", "svg"] {
+        let plot = out.join(format!("plots/sensor-variance_e2-vs-bin.{ext}"));
+        assert!(std::fs::metadata(&plot).unwrap().len() > 1000, "{}", plot.display());
+    }
+    assert!(out.join("sweep-quick/sensor/results.csv").is_file());
+    // A second run resumes the sweep: nothing is recomputed and the report is the same.
+    let (ok, json2, err) = run_cli(&[
+        "reproduce",
+        "table5.1",
+        "--quick",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(ok, "{err}");
+    let v2: serde_json::Value = serde_json::from_str(&json2).unwrap();
+    assert_eq!(v2["rows"], v["rows"]);
+}
+
+/// A made-up sweep table: axis columns and metric columns, one row per entry.
+fn table(part: &'static str, params: &[&str], metrics: &[&str], rows: &[(&[&str], &[f64])]) -> SweepTable {
+    SweepTable {
+        part,
+        params: params.iter().map(|s| s.to_string()).collect(),
+        metrics: metrics.iter().map(|s| s.to_string()).collect(),
+        rows: rows
+            .iter()
+            .enumerate()
+            .map(|(i, (p, m))| {
+                let mut r = Row::failed(i as u64, format!("h{i}"), p.iter().map(|s| s.to_string()).collect(), 0, String::new());
+                r.metrics = m.to_vec();
+                r
+            })
+            .collect(),
+    }
+}
+
+#[test]
+fn table4_2_reports_a_shuffling_cost_above_one_percent_as_a_failure_with_its_size() {
+    let m = ["runs.0.psnr_db", "runs.0.ssim"];
+    let t = table(
+        "phase",
+        &["lambda0", "order", "photo"],
+        &m,
+        &[
+            (&["uniform", "ascending", "a"], &[20.0, 0.50]),
+            (&["uniform", "shuffled", "a"], &[19.6, 0.49]),
+            (&["optimized", "ascending", "a"], &[21.0, 0.55]),
+            (&["optimized", "shuffled", "a"], &[20.9, 0.55]),
+        ],
+    );
+    let o = reduce(ResultId::Table4_2, &[t]);
+    assert_eq!(o.rows.len(), 4);
+    let shuffled = &o.rows[1];
+    let dp = shuffled.values.iter().find(|v| v.name == "delta_psnr_percent").unwrap();
+    assert!((dp.ours.unwrap() + 2.0).abs() < 1e-9, "{dp:?}");
+    assert_eq!(dp.thesis, Some(-0.68));
+    let uniform = &o.claims[0];
+    assert!(!uniform.pass, "{uniform:?}");
+    assert!(uniform.why.contains("1.00 percentage points more"), "{}", uniform.why);
+    assert!(uniform.why.contains("steps"), "{}", uniform.why);
+    let optimized = &o.claims[1];
+    assert!(optimized.pass, "{optimized:?}");
+    assert!(o.claims[2].pass, "optimized beats uniform: {:?}", o.claims[2]);
+}
+
+#[test]
+fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
+    let pm = [
+        "runs.0.psnr_db", "runs.0.ssim", "runs.0.photons",
+        "runs.1.psnr_db", "runs.1.ssim", "runs.1.photons",
+        "runs.2.psnr_db", "runs.2.ssim", "runs.2.photons",
+        "runs.3.psnr_db", "runs.3.ssim", "runs.3.photons", "ltr",
+    ];
+    let runs = |p: [f64; 4], ltr: f64| -> Vec<f64> {
+        let mut v = Vec::new();
+        for (k, n) in [250.0, 650.0, 1600.0, 10_000.0].iter().enumerate() {
+            v.extend([p[k], 0.6, *n]);
+        }
+        v.push(ltr);
+        v
+    };
+    let toled = runs([21.0, 22.0, 23.0, 24.0], 0.238);
+    let ours = runs([26.0, 27.5, 28.5, 30.0], 0.476);
+    let phase = table(
+        "phase",
+        &["setup", "photo"],
+        &pm,
+        &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)],
+    );
+    let mut rows: Vec<(Vec<&str>, Vec<f64>)> = Vec::new();
+    for (d, base) in [("POLED", 24.0), ("Yang et al.", 31.0), ("TOLED (2-D)", 21.0)] {
+        for (k, n) in ["250", "650", "1600", "10000"].iter().enumerate() {
+            rows.push((vec![d, n, "a"], vec![base + k as f64, 0.7, 0.2]));
+        }
+    }
+    let rows_ref: Vec<(&[&str], &[f64])> = rows.iter().map(|(p, m)| (p.as_slice(), m.as_slice())).collect();
+    let display = table(
+        "display",
+        &["display", "photons", "image"],
+        &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
+        &rows_ref,
+    );
+    let o = reduce(ResultId::Table4_1, &[phase, display]);
+    let row = |n: &str| o.rows.iter().find(|r| r.setup == n).unwrap();
+    let psnr = |n: &str| row(n).values.iter().find(|v| v.name == "psnr_db").unwrap().clone();
+    assert!((psnr("TOLED").ours.unwrap() - 22.5).abs() < 1e-9);
+    assert_eq!(psnr("TOLED").thesis, Some(22.42));
+    assert!((psnr("POLED").ours.unwrap() - 25.5).abs() < 1e-9);
+    assert_eq!(psnr("ZTE Axon").ours, None);
+    assert_eq!(psnr("ZTE Axon").thesis, Some(38.24));
+    assert!(row("ZTE Axon").note.contains("not public"));
+    assert_eq!(psnr("TOLED (2-D)").thesis, None);
+    let claim = |needle: &str| o.claims.iter().find(|c| c.claim.contains(needle)).unwrap();
+    assert!(claim("ours) > P-OLED > T-OLED").pass);
+    // Margin 28.0 − 22.5 = 5.5 dB: within 1.5 dB of 5.59.
+    assert!(claim("margin").pass, "{:?}", claim("margin"));
+    assert!(claim("Yang et al.: PSNR within").pass);
+    // Ours is 28.0 against 28.01; P-OLED 25.5 against 26.22: both within 2.5 dB.
+    assert!(claim("Ours: PSNR within").pass);
+    // Fig. 4.14 from the same tables: P-OLED 24 against ours 26 at 250 photons is 2 dB, not ~10.
+    let f = reduce(ResultId::Fig4_14, &[
+        table("phase", &["setup", "photo"], &pm, &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)]),
+        table("display", &["display", "photons", "image"], &["runs.0.psnr_db", "runs.0.ssim", "ltr"], &rows_ref),
+    ]);
+    let gap = f.claims.iter().find(|c| c.claim.contains("250 photons")).unwrap();
+    assert!(!gap.pass, "{gap:?}");
+    assert!(gap.measured.contains("+2.00 dB"), "{}", gap.measured);
+}
+
+#[test]
+fn sweep_parameters_can_follow_an_axis_and_an_axis_can_only_name_its_points() {
+    use udc_studio::io::sweep::parse_spec;
+    let ok = r#"
+job = "sensor-flat-patch"
+metrics = ["variance_e2", "amplifier_gain"]
+[base]
+light = 10
+[[axis]]
+param = "mode"
+label = true
+values = ["sum", "mean"]
+with = { bin-mode = ["additive", "average"], bin = [2, 2] }
+"#;
+    let spec = parse_spec(ok, true).unwrap();
+    let points = udc_studio::core::sweep::Points::new(&spec).unwrap();
+    assert_eq!(points.count(), 2);
+    let flags: Vec<(String, String)> = points
+        .flags_at(&points.digits(1))
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), v.to_arg()))
+        .collect();
+    // The label stays off the command line; its linked values reach it.
+    assert_eq!(
+        flags,
+        [("bin".to_string(), "2".to_string()), ("bin-mode".into(), "average".into())]
+    );
+    let bad = |text: &str, needle: &str| {
+        let e = parse_spec(text, true).unwrap_err();
+        assert!(e.contains(needle), "{e}");
+    };
+    bad(
+        &ok.replace("bin = [2, 2]", "bin = [2]"),
+        "axis[0].with.bin: 1 values for an axis of 2",
+    );
+    bad(&ok.replace("[base]\nlight = 10", "[base]\nbin = 2"), "set elsewhere");
+    bad(
+        &ok.replace("bin-mode = [\"additive\", \"average\"]", "bin-mode = [\"average\", \"average\"]"),
+        "runs what `sum` runs",
+    );
+    bad(
+        "job = \"sensor-flat-patch\"\n[[axis]]\nparam = \"mode\"\nlabel = true\nvalues = [\"a\"]\n",
+        "runs nothing by itself",
+    );
+    // The table gets the label column; each point runs its linked flags.
+    let dir = tempfile::tempdir().unwrap();
+    let spec_path = dir.path().join("s.toml");
+    std::fs::write(&spec_path, ok.replace("light = 10", "light = 10\nside-px = 64")).unwrap();
+    let out = dir.path().join("r");
+    let (ok_run, _, err) = run_cli(&["sweep", spec_path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    assert!(ok_run, "{err}");
+    let mut r = csv::Reader::from_path(out.join("results.csv")).unwrap();
+    let header: Vec<String> = r.headers().unwrap().iter().map(str::to_string).collect();
+    assert_eq!(header[2], "mode");
+    let amp = header.iter().position(|h| h == "amplifier_gain").unwrap();
+    let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 2);
+    let label_of = |rec: &csv::StringRecord| rec[2].to_string();
+    let labels: Vec<String> = rows.iter().map(label_of).collect();
+    assert!(labels.contains(&"sum".to_string()) && labels.contains(&"mean".to_string()));
+    // An additive 2×2 bin is read at ĝ = g/4, an average one at g: the flags reached the job.
+    let gain = |label: &str| -> f64 {
+        rows.iter().find(|r| label_of(r) == label).unwrap()[amp].parse().unwrap()
+    };
+    assert!((gain("mean") / gain("sum") - 4.0).abs() < 1e-9);
+}
