@@ -185,7 +185,10 @@ fn bad_input_is_refused_with_the_field_named() {
         other => panic!("expected an invalid field, got {other}"),
     };
     for s2 in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-        assert_eq!(field(bm3d(&[img.clone()], s2, &p).unwrap_err()), "sigma2");
+        assert_eq!(
+            field(bm3d(std::slice::from_ref(&img), s2, &p).unwrap_err()),
+            "sigma2"
+        );
     }
     assert_eq!(field(bm3d(&[], 0.01, &p).unwrap_err()), "planes");
     let small = Array2::from_elem((7, 30), 0.5);

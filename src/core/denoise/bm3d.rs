@@ -90,7 +90,7 @@ impl Bm3dProfile {
                 format!("must be 1 … {BLOCK} pixels (got {})", self.step_px),
             ));
         }
-        if self.search_px % 2 == 0 || self.search_px > 255 {
+        if self.search_px.is_multiple_of(2) || self.search_px > 255 {
             return Err(SimError::field(
                 "bm3d.search_px",
                 format!("must be odd and ≤ 255 pixels (got {})", self.search_px),
@@ -457,10 +457,9 @@ fn match_band(img: &[f32], geom: &Geometry, rows: &[usize], cap: usize, tau: f32
                 // May be negative (dx < 0 on row 0); each candidate's own position is not.
                 let base = (r as isize + dy) * w as isize + dx;
                 let row_tops = &mut tops[ri * ncols..(ri + 1) * ncols];
-                for ci in c_lo..c_hi {
-                    let c = geom.cols[ci];
+                for (top, &c) in row_tops[c_lo..c_hi].iter_mut().zip(&geom.cols[c_lo..c_hi]) {
                     let i = c - xlo;
-                    row_tops[ci].offer(sum4[i] + sum4[i + 4], (base + c as isize) as u32);
+                    top.offer(sum4[i] + sum4[i + 4], (base + c as isize) as u32);
                 }
             }
         }

@@ -84,9 +84,9 @@ mod tests {
 
     #[test]
     fn inverse_undoes_forward() {
-        for i in 0..3 {
+        for (i, inv) in INVERSE.iter().enumerate() {
             for j in 0..3 {
-                let v: f64 = (0..3).map(|k| INVERSE[i][k] * FORWARD[k][j]).sum();
+                let v: f64 = inv.iter().zip(&FORWARD).map(|(a, row)| a * row[j]).sum();
                 assert!((v - f64::from(u8::from(i == j))).abs() < 1e-12);
             }
         }
