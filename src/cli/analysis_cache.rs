@@ -34,7 +34,9 @@ pub fn analyze_shared(design: &Design, options: &AnalyzeOptions) -> Result<Arc<A
         options.expected_psf
     );
     let slot: Slot = {
-        let mut kept = cache().lock().map_err(|_| anyhow!("the PSF cache is poisoned"))?;
+        let mut kept = cache()
+            .lock()
+            .map_err(|_| anyhow!("the PSF cache is poisoned"))?;
         match kept.iter().position(|(k, _)| *k == key) {
             Some(i) => {
                 // Most recently used last.
@@ -53,9 +55,7 @@ pub fn analyze_shared(design: &Design, options: &AnalyzeOptions) -> Result<Arc<A
             }
         }
     };
-    slot.get_or_init(|| {
-        analyze_with(design, options, &Progress::new()).map(Arc::new)
-    })
-    .clone()
-    .map_err(anyhow::Error::from)
+    slot.get_or_init(|| analyze_with(design, options, &Progress::new()).map(Arc::new))
+        .clone()
+        .map_err(anyhow::Error::from)
 }

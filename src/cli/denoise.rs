@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Result, bail};
+use anyhow::{Context, Result, bail};
 use clap::Args;
 use ndarray::Array2;
 
@@ -57,7 +57,7 @@ pub fn denoise_cmd(args: &DenoiseArgs) -> Result<()> {
             args.sigma2
         );
     }
-    let out_kind = ImageKind::of_extension(&args.out)?;
+    let out_kind = ImageKind::of_extension(&args.out).context("--out")?;
     let mut inputs = vec![args.image.as_path()];
     inputs.extend(args.reference.as_deref());
     check_not_an_input(&args.out, &inputs)?;
@@ -73,9 +73,8 @@ pub fn denoise_cmd(args: &DenoiseArgs) -> Result<()> {
     let t0 = Instant::now();
     let denoised = crate::core::denoise::bm3d(&noisy.planes, args.sigma2, &Progress::new())?;
     let elapsed_ms = t0.elapsed().as_secs_f64() * 1e3;
-    if denoised.len() != noisy.planes.len()
-        || denoised.iter().any(|p| p.dim() != noisy.planes[0].dim())
-    {
+    let (w, h) = noisy.size();
+    if denoised.len() != noisy.planes.len() || denoised.iter().any(|p| p.dim() != (h, w)) {
         bail!("the denoiser returned planes of another count or size than it was given");
     }
     let refs: Vec<&Array2<f64>> = denoised.iter().collect();
@@ -96,14 +95,22 @@ fn check_kind(noisy: &ImagePlanes, out_kind: ImageKind, out: &Path) -> Result<()
     if noisy.kind == out_kind {
         return Ok(());
     }
+    let ext = out
+        .extension()
+        .map(|e| e.to_string_lossy().into_owned())
+        .unwrap_or_default();
     Err(IoError::Image {
         path: out.to_path_buf(),
         message: format!(
-            "--out: the input is a {} image and the output is written as the same kind; \
-             name it .{} (not a {} file)",
+            "--out: the input is {} {} image, so the output is one too: name it .{} (not \
+             .{ext})",
+            if noisy.kind == ImageKind::Exr {
+                "an"
+            } else {
+                "a"
+            },
             noisy.kind.name(),
             noisy.kind.extensions()[0],
-            out_kind.name()
         ),
     })
 }

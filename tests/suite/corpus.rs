@@ -177,6 +177,15 @@ fn malformed_images_are_refused_as_photos_and_patterns() {
                 "--preview",
             ],
             &["analyze", "--pattern", "{}", "--preview"],
+            &[
+                "denoise",
+                "--image",
+                "{}",
+                "--sigma2",
+                "0.01",
+                "--out",
+                "{out}/d.png",
+            ],
         ],
     );
 }

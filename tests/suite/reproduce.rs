@@ -29,7 +29,9 @@ fn list_names_every_result_with_its_cost_and_checks() {
     }
     assert_eq!(out.matches("checks:").count(), ResultId::ALL.len());
     assert_eq!(out.matches("--quick").count(), ResultId::ALL.len());
-    for id in ["fig3.8", "fig3.9", "table4.1", "table4.2", "fig4.10", "fig4.14", "table5.1", "table5.4"] {
+    for id in [
+        "fig3.8", "fig3.9", "table4.1", "table4.2", "fig4.10", "fig4.14", "table5.1", "table5.4",
+    ] {
         assert!(out.contains(id), "{id} missing");
     }
 }
@@ -89,7 +91,12 @@ fn specs_read_the_whole_test_set() {
     let testset: Vec<String> = udc_studio::io::testset::testset_photos()
         .unwrap()
         .iter()
-        .map(|p| format!("assets/testset/{}", p.file_name().unwrap().to_string_lossy()))
+        .map(|p| {
+            format!(
+                "assets/testset/{}",
+                p.file_name().unwrap().to_string_lossy()
+            )
+        })
         .collect();
     assert!(testset.len() >= 10, "{testset:?}");
     for id in ResultId::ALL {
@@ -146,7 +153,13 @@ fn table5_1_quick_runs_end_to_end_beside_the_thesis() {
             table51("none", light, gain, 1.0)
         } else {
             let n = if setup.starts_with("2×2") { 4.0 } else { 16.0 };
-            match setup.split(", ").skip(1).collect::<Vec<_>>().join(", ").as_str() {
+            match setup
+                .split(", ")
+                .skip(1)
+                .collect::<Vec<_>>()
+                .join(", ")
+                .as_str()
+            {
                 "additive, g/N" => table51("additive", light, gain / n, n),
                 "additive, g" => table51("additive", light, gain, n),
                 "average" => table51("average", light, gain, n),
@@ -154,10 +167,19 @@ fn table5_1_quick_runs_end_to_end_beside_the_thesis() {
                 other => panic!("unexpected row {other}"),
             }
         };
-        assert!((theirs - want).abs() < 1e-9 * want, "{setup}: {theirs} vs {want}");
+        assert!(
+            (theirs - want).abs() < 1e-9 * want,
+            "{setup}: {theirs} vs {want}"
+        );
         // Monte Carlo on a 256² patch: within 5 % of the formula.
-        assert!((ours - want).abs() < 0.05 * want, "{setup}: measured {ours}, formula {want}");
-        assert!(r["note"].as_str().unwrap().contains("standard errors"), "{r}");
+        assert!(
+            (ours - want).abs() < 0.05 * want,
+            "{setup}: measured {ours}, formula {want}"
+        );
+        assert!(
+            r["note"].as_str().unwrap().contains("standard errors"),
+            "{r}"
+        );
     }
     let claims = v["claims"].as_array().unwrap();
     assert_eq!(claims.len(), 3, "{claims:?}");
@@ -166,18 +188,34 @@ fn table5_1_quick_runs_end_to_end_beside_the_thesis() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.starts_with("# Table 5.1"), "{report}");
     assert!(report.contains("Claims: 3 of 3 hold"), "{report}");
-    assert!(report.contains("l*/N + σ_pre²/N + σ_post²/(N g²)"), "{report}");
-    assert!(report.contains("30 photos of a test set we do not have"), "{report}");
+    assert!(
+        report.contains("l*/N + σ_pre²/N + σ_post²/(N g²)"),
+        "{report}"
+    );
+    assert!(
+        report.contains("30 photos of a test set we do not have"),
+        "{report}"
+    );
     assert!(report.contains("| 2×2 (N = 4), digital |"), "{report}");
     let mut csv = csv::Reader::from_path(out.join("results.csv")).unwrap();
     let header: Vec<String> = csv.headers().unwrap().iter().map(str::to_string).collect();
-    for h in ["setup", "variance_e2", "thesis_variance_e2", "diff_variance_e2", "note"] {
+    for h in [
+        "setup",
+        "variance_e2",
+        "thesis_variance_e2",
+        "diff_variance_e2",
+        "note",
+    ] {
         assert!(header.contains(&h.to_string()), "{header:?}");
     }
     assert_eq!(csv.records().count(), 9);
     for ext in ["png", "svg"] {
         let plot = out.join(format!("plots/sensor-variance_e2-vs-bin.{ext}"));
-        assert!(std::fs::metadata(&plot).unwrap().len() > 1000, "{}", plot.display());
+        assert!(
+            std::fs::metadata(&plot).unwrap().len() > 1000,
+            "{}",
+            plot.display()
+        );
     }
     assert!(out.join("sweep-quick/sensor/results.csv").is_file());
     // A second run resumes the sweep: nothing is recomputed and the report is the same.
@@ -195,7 +233,12 @@ fn table5_1_quick_runs_end_to_end_beside_the_thesis() {
 }
 
 /// A made-up sweep table: axis columns and metric columns, one row per entry.
-fn table(part: &'static str, params: &[&str], metrics: &[&str], rows: &[(&[&str], &[f64])]) -> SweepTable {
+fn table(
+    part: &'static str,
+    params: &[&str],
+    metrics: &[&str],
+    rows: &[(&[&str], &[f64])],
+) -> SweepTable {
     SweepTable {
         part,
         params: params.iter().map(|s| s.to_string()).collect(),
@@ -204,7 +247,13 @@ fn table(part: &'static str, params: &[&str], metrics: &[&str], rows: &[(&[&str]
             .iter()
             .enumerate()
             .map(|(i, (p, m))| {
-                let mut r = Row::failed(i as u64, format!("h{i}"), p.iter().map(|s| s.to_string()).collect(), 0, String::new());
+                let mut r = Row::failed(
+                    i as u64,
+                    format!("h{i}"),
+                    p.iter().map(|s| s.to_string()).collect(),
+                    0,
+                    String::new(),
+                );
                 r.metrics = m.to_vec();
                 r
             })
@@ -229,25 +278,46 @@ fn table4_2_reports_a_shuffling_cost_above_one_percent_as_a_failure_with_its_siz
     let o = reduce(ResultId::Table4_2, &[t]);
     assert_eq!(o.rows.len(), 4);
     let shuffled = &o.rows[1];
-    let dp = shuffled.values.iter().find(|v| v.name == "delta_psnr_percent").unwrap();
+    let dp = shuffled
+        .values
+        .iter()
+        .find(|v| v.name == "delta_psnr_percent")
+        .unwrap();
     assert!((dp.ours.unwrap() + 2.0).abs() < 1e-9, "{dp:?}");
     assert_eq!(dp.thesis, Some(-0.68));
     let uniform = &o.claims[0];
     assert!(!uniform.pass, "{uniform:?}");
-    assert!(uniform.why.contains("1.00 percentage points more"), "{}", uniform.why);
+    assert!(
+        uniform.why.contains("1.00 percentage points more"),
+        "{}",
+        uniform.why
+    );
     assert!(uniform.why.contains("steps"), "{}", uniform.why);
     let optimized = &o.claims[1];
     assert!(optimized.pass, "{optimized:?}");
-    assert!(o.claims[2].pass, "optimized beats uniform: {:?}", o.claims[2]);
+    assert!(
+        o.claims[2].pass,
+        "optimized beats uniform: {:?}",
+        o.claims[2]
+    );
 }
 
 #[test]
 fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
     let pm = [
-        "runs.0.psnr_db", "runs.0.ssim", "runs.0.photons",
-        "runs.1.psnr_db", "runs.1.ssim", "runs.1.photons",
-        "runs.2.psnr_db", "runs.2.ssim", "runs.2.photons",
-        "runs.3.psnr_db", "runs.3.ssim", "runs.3.photons", "ltr",
+        "runs.0.psnr_db",
+        "runs.0.ssim",
+        "runs.0.photons",
+        "runs.1.psnr_db",
+        "runs.1.ssim",
+        "runs.1.photons",
+        "runs.2.psnr_db",
+        "runs.2.ssim",
+        "runs.2.photons",
+        "runs.3.psnr_db",
+        "runs.3.ssim",
+        "runs.3.photons",
+        "ltr",
     ];
     let runs = |p: [f64; 4], ltr: f64| -> Vec<f64> {
         let mut v = Vec::new();
@@ -266,12 +336,19 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
         &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)],
     );
     let mut rows: Vec<(Vec<&str>, Vec<f64>)> = Vec::new();
-    for (d, base) in [("POLED", 24.0), ("Yang et al.", 31.0), ("TOLED (2-D)", 21.0)] {
+    for (d, base) in [
+        ("POLED", 24.0),
+        ("Yang et al.", 31.0),
+        ("TOLED (2-D)", 21.0),
+    ] {
         for (k, n) in ["250", "650", "1600", "10000"].iter().enumerate() {
             rows.push((vec![d, n, "a"], vec![base + k as f64, 0.7, 0.2]));
         }
     }
-    let rows_ref: Vec<(&[&str], &[f64])> = rows.iter().map(|(p, m)| (p.as_slice(), m.as_slice())).collect();
+    let rows_ref: Vec<(&[&str], &[f64])> = rows
+        .iter()
+        .map(|(p, m)| (p.as_slice(), m.as_slice()))
+        .collect();
     let display = table(
         "display",
         &["display", "photons", "image"],
@@ -280,7 +357,14 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
     );
     let o = reduce(ResultId::Table4_1, &[phase, display]);
     let row = |n: &str| o.rows.iter().find(|r| r.setup == n).unwrap();
-    let psnr = |n: &str| row(n).values.iter().find(|v| v.name == "psnr_db").unwrap().clone();
+    let psnr = |n: &str| {
+        row(n)
+            .values
+            .iter()
+            .find(|v| v.name == "psnr_db")
+            .unwrap()
+            .clone()
+    };
     assert!((psnr("TOLED").ours.unwrap() - 22.5).abs() < 1e-9);
     assert_eq!(psnr("TOLED").thesis, Some(22.42));
     assert!((psnr("POLED").ours.unwrap() - 25.5).abs() < 1e-9);
@@ -296,11 +380,28 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
     // Ours is 28.0 against 28.01; P-OLED 25.5 against 26.22: both within 2.5 dB.
     assert!(claim("Ours: PSNR within").pass);
     // Fig. 4.14 from the same tables: P-OLED 24 against ours 26 at 250 photons is 2 dB, not ~10.
-    let f = reduce(ResultId::Fig4_14, &[
-        table("phase", &["setup", "photo"], &pm, &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)]),
-        table("display", &["display", "photons", "image"], &["runs.0.psnr_db", "runs.0.ssim", "ltr"], &rows_ref),
-    ]);
-    let gap = f.claims.iter().find(|c| c.claim.contains("250 photons")).unwrap();
+    let f = reduce(
+        ResultId::Fig4_14,
+        &[
+            table(
+                "phase",
+                &["setup", "photo"],
+                &pm,
+                &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)],
+            ),
+            table(
+                "display",
+                &["display", "photons", "image"],
+                &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
+                &rows_ref,
+            ),
+        ],
+    );
+    let gap = f
+        .claims
+        .iter()
+        .find(|c| c.claim.contains("250 photons"))
+        .unwrap();
     assert!(!gap.pass, "{gap:?}");
     assert!(gap.measured.contains("+2.00 dB"), "{}", gap.measured);
 }
@@ -330,7 +431,10 @@ with = { bin-mode = ["additive", "average"], bin = [2, 2] }
     // The label stays off the command line; its linked values reach it.
     assert_eq!(
         flags,
-        [("bin".to_string(), "2".to_string()), ("bin-mode".into(), "average".into())]
+        [
+            ("bin".to_string(), "2".to_string()),
+            ("bin-mode".into(), "average".into())
+        ]
     );
     let bad = |text: &str, needle: &str| {
         let e = parse_spec(text, true).unwrap_err();
@@ -340,9 +444,15 @@ with = { bin-mode = ["additive", "average"], bin = [2, 2] }
         &ok.replace("bin = [2, 2]", "bin = [2]"),
         "axis[0].with.bin: 1 values for an axis of 2",
     );
-    bad(&ok.replace("[base]\nlight = 10", "[base]\nbin = 2"), "set elsewhere");
     bad(
-        &ok.replace("bin-mode = [\"additive\", \"average\"]", "bin-mode = [\"average\", \"average\"]"),
+        &ok.replace("[base]\nlight = 10", "[base]\nbin = 2"),
+        "set elsewhere",
+    );
+    bad(
+        &ok.replace(
+            "bin-mode = [\"additive\", \"average\"]",
+            "bin-mode = [\"average\", \"average\"]",
+        ),
         "runs what `sum` runs",
     );
     bad(
@@ -352,9 +462,19 @@ with = { bin-mode = ["additive", "average"], bin = [2, 2] }
     // The table gets the label column; each point runs its linked flags.
     let dir = tempfile::tempdir().unwrap();
     let spec_path = dir.path().join("s.toml");
-    std::fs::write(&spec_path, ok.replace("light = 10", "light = 10\nside-px = 64")).unwrap();
+    std::fs::write(
+        &spec_path,
+        ok.replace("light = 10", "light = 10\nside-px = 64"),
+    )
+    .unwrap();
     let out = dir.path().join("r");
-    let (ok_run, _, err) = run_cli(&["sweep", spec_path.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    let (ok_run, _, err) = run_cli(&[
+        "sweep",
+        spec_path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
     assert!(ok_run, "{err}");
     let mut r = csv::Reader::from_path(out.join("results.csv")).unwrap();
     let header: Vec<String> = r.headers().unwrap().iter().map(str::to_string).collect();
@@ -367,7 +487,9 @@ with = { bin-mode = ["additive", "average"], bin = [2, 2] }
     assert!(labels.contains(&"sum".to_string()) && labels.contains(&"mean".to_string()));
     // An additive 2×2 bin is read at ĝ = g/4, an average one at g: the flags reached the job.
     let gain = |label: &str| -> f64 {
-        rows.iter().find(|r| label_of(r) == label).unwrap()[amp].parse().unwrap()
+        rows.iter().find(|r| label_of(r) == label).unwrap()[amp]
+            .parse()
+            .unwrap()
     };
     assert!((gain("mean") / gain("sum") - 4.0).abs() < 1e-9);
 }

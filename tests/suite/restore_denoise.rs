@@ -324,7 +324,11 @@ fn denoise_and_its_sigma2_are_sweep_parameters() {
     }
     // The numbers of the JSON are the columns: BM3D's σ² and denoised PSNR, empty without it.
     assert!(methods[&0]["runs.0.denoise.sigma2"].parse::<f64>().unwrap() > 0.0);
-    assert!(methods[&0]["runs.0.denoised_psnr_db"].parse::<f64>().is_ok());
+    assert!(
+        methods[&0]["runs.0.denoised_psnr_db"]
+            .parse::<f64>()
+            .is_ok()
+    );
     assert!(methods[&1]["runs.0.denoise.sigma2"].is_empty());
     assert!(methods[&1]["runs.0.denoised_psnr_db"].is_empty());
     let sigmas = run(
@@ -354,4 +358,91 @@ fn restore_json_at(args: &[&str], max_side_px: u32) -> Value {
     let (ok, stdout, stderr) = run_cli(&all);
     assert!(ok, "{all:?}: {stderr}");
     serde_json::from_str(stdout.trim()).expect("one JSON object")
+}
+
+#[test]
+#[ignore = "exploration"]
+fn explore_phase_lambda_after_bm3d() {
+    use udc_studio::core::design::Channel;
+    use udc_studio::core::phase::imaging::{Setup, capture, phase_blur, scores};
+    use udc_studio::core::phase::{PhaseDesign, PhaseSampling};
+    use udc_studio::core::restore::{CgSettings, LinearBlur, cg_with};
+    struct Rows {
+        kt: Array2<f64>,
+    }
+    impl LinearBlur for Rows {
+        fn blur(&self, x: &Array2<f64>) -> Array2<f64> {
+            x.dot(&self.kt)
+        }
+        fn adjoint(&self, z: &Array2<f64>) -> Array2<f64> {
+            z.dot(&self.kt.t())
+        }
+    }
+    let photo = udc_studio::io::photo::built_in_photo().unwrap();
+    let sampling = PhaseSampling::preview();
+    let base = PhaseDesign::thesis(42.0, 1.0);
+    let peaks = Channel::rgb_peaks();
+    let p = Progress::new();
+    for setup in [
+        Setup::Bare { pitch_um: 42.0 },
+        Setup::mla(
+            42.0,
+            5.0,
+            udc_studio::core::phase::imaging::Lambda0Plan::Fixed { nm: 530.0 },
+        ),
+    ] {
+        let (d, optics) = setup.resolve(&base, &sampling, &[], &p).unwrap();
+        let blur = phase_blur(&d, &sampling, &peaks, optics, photo[0].ncols(), &p).unwrap();
+        for photons in [250.0, 650.0, 1600.0, 10000.0] {
+            let y = capture(&blur, &photo, photons, 1).unwrap();
+            let snr = udc_studio::core::phase::imaging::photons_snr_db(photons);
+            let row = udc_studio::core::restore::denoise::nearest_row(snr);
+            let s2 = udc_studio::core::restore::denoise::ICCV23_SIGMA2[row];
+            let den = udc_studio::core::denoise::bm3d(&y, s2, &p).unwrap();
+            let solve = |input: &[Array2<f64>], lambda: f64, it: usize, tol: f64| {
+                let x: Vec<Array2<f64>> = blur
+                    .channels
+                    .iter()
+                    .zip(input)
+                    .map(|(k, yc)| {
+                        let op = Rows {
+                            kt: k.t().mapv(|v| v / blur.ltr),
+                        };
+                        cg_with(
+                            &op,
+                            yc.view(),
+                            &CgSettings {
+                                lambda,
+                                iterations: it,
+                                tolerance: tol,
+                            },
+                            &p,
+                        )
+                        .unwrap()
+                        .0
+                    })
+                    .collect();
+                scores(&x, &photo, &blur.valid).unwrap().0
+            };
+            let rule = udc_studio::core::phase::imaging::regulariser(photons, blur.ltr);
+            let table = udc_studio::core::restore::denoise::ICCV23_LAMBDA[row];
+            let mut line = format!(
+                "{:<30} {photons:>6}: cap {:.2} den {:.2} | none/rule {:.2}",
+                setup.label(),
+                scores(&y, &photo, &blur.valid).unwrap().0,
+                scores(&den, &photo, &blur.valid).unwrap().0,
+                solve(&y, rule, 80, 1e-4)
+            );
+            for (name, lam, it, tol) in [
+                ("bm3d/table150", table, 150, 1e-6),
+                ("bm3d/table80", table, 80, 1e-4),
+                ("bm3d/rule", rule, 80, 1e-4),
+                ("bm3d/x10", table * 10.0, 150, 1e-6),
+                ("bm3d/x100", table * 100.0, 150, 1e-6),
+            ] {
+                line += &format!(" {name} {:.2}", solve(&den, lam, it, tol));
+            }
+            eprintln!("{line}  (rule λ {rule:.3}, table λ {table})");
+        }
+    }
 }

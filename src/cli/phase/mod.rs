@@ -549,6 +549,7 @@ fn flag_names(e: impl std::fmt::Display) -> anyhow::Error {
     anyhow::anyhow!("{text}")
 }
 
+mod design_cache;
 mod psf;
 mod restore;
 

@@ -74,8 +74,10 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
     } else {
         grid.clone()
     };
-    let (design, optics) =
-        with_progress("designing", |p| setup.resolve(&base, &sampling, &grid, p))?;
+    // Shared with a sweep's other points on this setup (Algorithm 1 and V run once).
+    let (design, optics) = with_progress("designing", |p| {
+        super::design_cache::resolve_shared(&setup, &base, &sampling, &grid, p)
+    })?;
     let blur = with_progress("blur matrix", |p| {
         phase_blur(&design, &sampling, &channels, optics, width, p)
     })?;

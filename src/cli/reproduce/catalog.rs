@@ -79,6 +79,9 @@ pub struct Part {
     pub file: &'static str,
     /// The axis of input photos or scenes, listed in the report.
     pub inputs: Option<&'static str>,
+    /// Whether the sweep's own plots are drawn (a phase part whose light levels are runs
+    /// within a point has none worth drawing; the result draws its curves instead).
+    pub plots: bool,
     /// The quick plan.
     pub quick: QuickPlan,
 }
@@ -233,6 +236,7 @@ impl ResultId {
                 name: "display",
                 file: "fig3.8.toml",
                 inputs: Some("image"),
+                plots: true,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[],
@@ -243,6 +247,7 @@ impl ResultId {
                 name: "display",
                 file: "fig3.9.toml",
                 inputs: Some("image"),
+                plots: true,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[],
@@ -254,6 +259,7 @@ impl ResultId {
                     name: "phase",
                     file: "table4.1.toml",
                     inputs: Some("photo"),
+                    plots: false,
                     quick: QuickPlan {
                         keep: &[],
                         set: &[PEAKS],
@@ -264,8 +270,10 @@ impl ResultId {
                     name: "display",
                     file: "table4.1.display.toml",
                     inputs: Some("image"),
+                    plots: true,
                     quick: QuickPlan {
-                        keep: &[],
+                        // The 2-D T-OLED is a cross-check, not a thesis row.
+                        keep: &[("display", &["POLED", "Yang et al."])],
                         set: &[],
                         photos: QUICK_PHOTOS,
                     },
@@ -275,6 +283,7 @@ impl ResultId {
                 name: "phase",
                 file: "table4.2.toml",
                 inputs: Some("photo"),
+                plots: true,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[PEAKS],
@@ -285,6 +294,7 @@ impl ResultId {
                 name: "phase",
                 file: "fig4.10.toml",
                 inputs: Some("photo"),
+                plots: true,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[PEAKS],
@@ -295,6 +305,7 @@ impl ResultId {
                 name: "sensor",
                 file: "table5.1.toml",
                 inputs: None,
+                plots: true,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[("side-px", QuickValue::Number(256.0))],
@@ -305,6 +316,7 @@ impl ResultId {
                 name: "sensor",
                 file: "table5.4.toml",
                 inputs: Some("hdr"),
+                plots: true,
                 quick: QuickPlan {
                     keep: &[("seed", &["0"])],
                     ..NO_QUICK_CHANGE

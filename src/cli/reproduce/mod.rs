@@ -20,8 +20,8 @@ use anyhow::{Context, Result};
 use clap::Args;
 
 pub use catalog::ResultId;
-pub use outcome::{Claim, Outcome, ReportRow, Value};
 use outcome::SweepTable;
+pub use outcome::{Claim, Outcome, ReportRow, Value};
 use report::RunInfo;
 
 use crate::core::sweep::Shard;
@@ -74,7 +74,12 @@ pub fn reproduce_cmd(args: &ReproduceArgs) -> Result<()> {
         let passed = run.outcome.claims.iter().filter(|c| c.pass).count();
         println!("{} ({:.1} s)", id.title(), run.info.elapsed_s);
         for c in &run.outcome.claims {
-            println!("  {} {}: {}", if c.pass { "PASS" } else { "FAIL" }, c.claim, c.measured);
+            println!(
+                "  {} {}: {}",
+                if c.pass { "PASS" } else { "FAIL" },
+                c.claim,
+                c.measured
+            );
         }
         println!(
             "{passed} of {} claims hold; wrote {}",
@@ -143,7 +148,8 @@ pub fn reproduce(
     };
     let plots_dir = out.join("plots");
     for part in parts {
-        let spec = prepare::prepared_spec(&root, id, part, quick.then_some(quick_photos.as_path()))?;
+        let spec =
+            prepare::prepared_spec(&root, id, part, quick.then_some(quick_photos.as_path()))?;
         for p in prepare::photos_of(&spec, part.inputs) {
             let name = Path::new(&p)
                 .file_name()
@@ -152,13 +158,17 @@ pub fn reproduce(
                 info.inputs.push(name);
             }
         }
-        let rel = Path::new(sweeps_dir).join(part.name);
+        // One folder per spec: an edited spec starts afresh instead of being refused by the
+        // folder of its previous version.
+        let hash = crate::io::sweep::manifest::spec_hash(&spec);
+        let rel =
+            Path::new(sweeps_dir).join(format!("{}-{}", part.name, hash.get(..8).unwrap_or(&hash)));
         let dir = out.join(&rel);
         let options = crate::cli::sweep::RunOptions {
             shard: Shard::WHOLE,
             threads,
             quiet: quiet || !std::io::stderr().is_terminal(),
-            plots: true,
+            plots: part.plots,
         };
         let summary = crate::cli::sweep::run_sweep(&spec, &dir, &options)
             .with_context(|| format!("{} ({})", id.as_str(), part.file))?;
@@ -166,9 +176,11 @@ pub fn reproduce(
             .with_context(|| format!("cannot create {}", plots_dir.display()))?;
         for p in &summary.plots {
             if let Some(name) = p.file_name() {
-                let to = Path::new("plots").join(format!("{}-{}", part.name, name.to_string_lossy()));
-                std::fs::copy(p, out.join(&to))
-                    .with_context(|| format!("cannot copy {} into {}", p.display(), plots_dir.display()))?;
+                let to =
+                    Path::new("plots").join(format!("{}-{}", part.name, name.to_string_lossy()));
+                std::fs::copy(p, out.join(&to)).with_context(|| {
+                    format!("cannot copy {} into {}", p.display(), plots_dir.display())
+                })?;
                 info.plots.push(to);
             }
         }
@@ -178,14 +190,50 @@ pub fn reproduce(
         tables.push(table);
     }
     let outcome = reduce(id, &tables);
+    std::fs::create_dir_all(&plots_dir)
+        .with_context(|| format!("cannot create {}", plots_dir.display()))?;
+    for c in &outcome.curves {
+        for p in draw_curves(&plots_dir, c)? {
+            if let Some(name) = p.file_name() {
+                info.plots.push(Path::new("plots").join(name));
+            }
+        }
+    }
     info.elapsed_s = started.elapsed().as_secs_f64();
     let written = report::write_report(out, &info, &outcome)?;
-    let report = written.first().cloned().unwrap_or_else(|| out.join(report::REPORT_FILE));
+    let report = written
+        .first()
+        .cloned()
+        .unwrap_or_else(|| out.join(report::REPORT_FILE));
     Ok(Reproduction {
         info,
         outcome,
         report,
     })
+}
+
+/// Draws a result's own figure with the sweep engine's plotters code.
+fn draw_curves(plots_dir: &Path, c: &outcome::Curves) -> Result<Vec<PathBuf>> {
+    use crate::core::sweep::summary::SeriesSummary;
+    use crate::core::sweep::{PlotKind, PlotSpec};
+    use crate::io::sweep::plots::{PlotData, write_plot};
+    let mut summary = SeriesSummary::default();
+    for (group, x, y) in &c.points {
+        summary.add(group, *x, *y);
+    }
+    let spec = PlotSpec {
+        kind: PlotKind::MetricVsAxis,
+        x: c.x.to_string(),
+        y: c.y.to_string(),
+        group: Some("display".into()),
+        spread: None,
+        x_smaller_is_better: false,
+    };
+    let data = PlotData::Series {
+        summary,
+        x_labels: None,
+    };
+    Ok(write_plot(plots_dir, c.stem, &spec, &data, &c.title)?)
 }
 
 /// The rows and claims of `id` from its parts' tables (in the catalog's order); a part that

@@ -25,7 +25,12 @@ pub struct Value {
 
 impl Value {
     /// A value the thesis prints no number for.
-    pub fn ours(name: &'static str, heading: &'static str, ours: Option<f64>, decimals: usize) -> Self {
+    pub fn ours(
+        name: &'static str,
+        heading: &'static str,
+        ours: Option<f64>,
+        decimals: usize,
+    ) -> Self {
         Value {
             name,
             heading,
@@ -94,6 +99,22 @@ pub struct Claim {
     pub why: String,
 }
 
+/// A figure of the thesis redrawn from our rows (when no single sweep holds its lines): one
+/// line per group, the mean over the photos.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Curves {
+    /// The file name, without extension.
+    pub stem: &'static str,
+    /// The plot's title.
+    pub title: String,
+    /// The horizontal axis's label.
+    pub x: &'static str,
+    /// The vertical axis's label.
+    pub y: &'static str,
+    /// `(line, x, y)` points.
+    pub points: Vec<(String, f64, f64)>,
+}
+
 /// Everything a reproduction reports.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Outcome {
@@ -103,6 +124,8 @@ pub struct Outcome {
     pub claims: Vec<Claim>,
     /// What the rows are and how they were computed, one paragraph each.
     pub notes: Vec<String>,
+    /// Figures drawn from the rows, beside the sweeps' own plots.
+    pub curves: Vec<Curves>,
 }
 
 /// A finished sweep's table, read back for the reduction.
@@ -133,7 +156,12 @@ impl SweepTable {
         rows.sort_by_key(|r| r.point);
         Ok(SweepTable {
             part,
-            params: manifest.schema.params.iter().map(|(n, _)| n.clone()).collect(),
+            params: manifest
+                .schema
+                .params
+                .iter()
+                .map(|(n, _)| n.clone())
+                .collect(),
             metrics: manifest.schema.metrics,
             rows,
         })
@@ -152,7 +180,10 @@ impl SweepTable {
     }
 
     /// The rows whose axes have these values.
-    pub fn matching<'a>(&'a self, filter: &'a [(&str, &str)]) -> impl Iterator<Item = &'a Row> + 'a {
+    pub fn matching<'a>(
+        &'a self,
+        filter: &'a [(&str, &str)],
+    ) -> impl Iterator<Item = &'a Row> + 'a {
         self.rows
             .iter()
             .filter(move |r| filter.iter().all(|(p, v)| self.param(r, p) == Some(*v)))

@@ -96,14 +96,21 @@ fn quicken(spec: &mut SweepSpec, part: &Part, photo_dir: &Path) -> Result<()> {
             bail!(
                 "axis `{param}` keeps {} but has {}",
                 keep.join(", "),
-                values.iter().map(ParamValue::to_arg).collect::<Vec<_>>().join(", ")
+                values
+                    .iter()
+                    .map(ParamValue::to_arg)
+                    .collect::<Vec<_>>()
+                    .join(", ")
             );
         }
         axis.values = Some(kept.iter().map(|k| values[*k].clone()).collect());
         axis.range = None;
         axis.linspace = None;
         for linked in axis.with.values_mut() {
-            *linked = kept.iter().filter_map(|k| linked.get(*k).cloned()).collect();
+            *linked = kept
+                .iter()
+                .filter_map(|k| linked.get(*k).cloned())
+                .collect();
         }
     }
     for (param, value) in plan.set {

@@ -59,8 +59,14 @@ pub fn fig3_8(t: &SweepTable) -> Outcome {
         }
     }
     let count = pairs.len();
-    let psnr_wins = pairs.iter().filter(|p| p.2.is_some_and(|d| d > 0.0)).count();
-    let ssim_wins = pairs.iter().filter(|p| p.3.is_some_and(|d| d > 0.0)).count();
+    let psnr_wins = pairs
+        .iter()
+        .filter(|p| p.2.is_some_and(|d| d > 0.0))
+        .count();
+    let ssim_wins = pairs
+        .iter()
+        .filter(|p| p.3.is_some_and(|d| d > 0.0))
+        .count();
     let smallest = |k: usize| {
         pairs
             .iter()
@@ -147,7 +153,12 @@ pub fn fig3_9(t: &SweepTable) -> Outcome {
                 values: vec![
                     Value::psnr(at(layout, d, PSNR), None),
                     Value::ssim(at(layout, d, SSIM), None),
-                    Value::ours("ltr", "LTR", t.mean("ltr", &[("layout", layout), ("dpi", d)]), 3),
+                    Value::ours(
+                        "ltr",
+                        "LTR",
+                        t.mean("ltr", &[("layout", layout), ("dpi", d)]),
+                        3,
+                    ),
                 ],
                 thesis_claim: Some(claim.into()),
                 note: "the thesis plots this point; the claims below compare it".into(),
@@ -162,8 +173,16 @@ pub fn fig3_9(t: &SweepTable) -> Outcome {
             (Some(a), Some(b)) => b <= a + tolerance_db,
             _ => false,
         });
-        let span = v.first().copied().flatten().zip(v.last().copied().flatten());
-        falls.push((layout, monotone && span.is_some_and(|(lo, hi)| hi < lo), span));
+        let span = v
+            .first()
+            .copied()
+            .flatten()
+            .zip(v.last().copied().flatten());
+        falls.push((
+            layout,
+            monotone && span.is_some_and(|(lo, hi)| hi < lo),
+            span,
+        ));
     }
     out.claims.push(Claim {
         claim: format!("{} (SNR 32 dB)", thesis::FIG_3_9_CLAIMS[0]),

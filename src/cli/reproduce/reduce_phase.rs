@@ -2,7 +2,7 @@
 //! order of the folding heights) and Fig. 4.10 (pitch and height steps), from `phase restore`
 //! sweeps and, for the 2-D layouts of Table 4.1, a `restore` sweep.
 
-use super::outcome::{Claim, Outcome, ReportRow, SweepTable, Value, fmt, fmt_signed};
+use super::outcome::{Claim, Curves, Outcome, ReportRow, SweepTable, Value, fmt, fmt_signed};
 use super::thesis::{self, ThesisRow};
 
 /// The light levels of Table 4.1 and Fig. 4.14, photons on an open display per pixel.
@@ -54,6 +54,12 @@ const DISPLAYS: [(&str, Model, &str); 5] = [
     ("TOLED (2-D)", Model::Display, "TOLED (2-D)"),
 ];
 
+/// Whether a display has rows: the 2-D T-OLED is an optional cross-check (`--quick` leaves it
+/// out); the thesis's rows are always reported, `—` where missing.
+fn ran(display: &SweepTable, d: &(&str, Model, &str)) -> bool {
+    d.0 != "TOLED (2-D)" || display.values_of("display").iter().any(|v| v == d.2)
+}
+
 /// One display's numbers per light level.
 struct Levels {
     psnr: Vec<Option<f64>>,
@@ -67,8 +73,14 @@ fn levels(phase: &SweepTable, display: &SweepTable, model: Model, name: &str) ->
         Model::Phase => {
             let f = [("setup", name)];
             Levels {
-                psnr: PHOTONS.iter().map(|n| phase_at(phase, &f, *n, "psnr_db")).collect(),
-                ssim: PHOTONS.iter().map(|n| phase_at(phase, &f, *n, "ssim")).collect(),
+                psnr: PHOTONS
+                    .iter()
+                    .map(|n| phase_at(phase, &f, *n, "psnr_db"))
+                    .collect(),
+                ssim: PHOTONS
+                    .iter()
+                    .map(|n| phase_at(phase, &f, *n, "ssim"))
+                    .collect(),
                 ltr: phase.mean("ltr", &f),
             }
         }
@@ -83,6 +95,30 @@ fn levels(phase: &SweepTable, display: &SweepTable, model: Model, name: &str) ->
                 ltr: display.mean("ltr", &[("display", name)]),
             }
         }
+    }
+}
+
+/// PSNR or SSIM against log10(photons), one line per display (Fig. 4.14's axes).
+fn light_curves(
+    stem: &'static str,
+    title: &str,
+    y: &'static str,
+    per: &[(&str, Vec<Option<f64>>)],
+) -> Curves {
+    Curves {
+        stem,
+        title: title.to_string(),
+        x: "log10 photons per pixel",
+        y,
+        points: per
+            .iter()
+            .flat_map(|(name, v)| {
+                PHOTONS
+                    .iter()
+                    .zip(v)
+                    .filter_map(move |(n, y)| y.map(|y| (name.to_string(), n.log10(), y)))
+            })
+            .collect(),
     }
 }
 
@@ -108,12 +144,13 @@ fn table41_note(name: &str, model: Model, d_psnr: Option<f64>) -> String {
 /// Table 4.1 from the `phase` and `display` parts.
 pub fn table4_1(phase: &SweepTable, display: &SweepTable) -> Outcome {
     let mut out = Outcome::default();
-    let thesis_row = |name: &str| -> Option<&ThesisRow> {
-        thesis::TABLE_4_1.iter().find(|r| r.setup == name)
-    };
+    let thesis_row =
+        |name: &str| -> Option<&ThesisRow> { thesis::TABLE_4_1.iter().find(|r| r.setup == name) };
     let mut means: Vec<(&str, Option<f64>, Option<f64>)> = Vec::new();
-    for (name, model, axis) in DISPLAYS {
+    let mut lines = Vec::new();
+    for (name, model, axis) in DISPLAYS.into_iter().filter(|d| ran(display, d)) {
         let l = levels(phase, display, model, axis);
+        lines.push((name, l.psnr.clone()));
         let psnr = over_levels(&l.psnr);
         let ssim = over_levels(&l.ssim);
         means.push((name, psnr, ssim));
@@ -136,6 +173,12 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable) -> Outcome {
             note: table41_note(name, model, d_psnr),
         });
     }
+    out.curves.push(light_curves(
+        "table4.1-psnr-vs-photons",
+        "Table 4.1's displays: PSNR over light (the table is the mean)",
+        "PSNR (dB)",
+        &lines,
+    ));
     if let Some(zte) = thesis_row("ZTE Axon") {
         out.rows.push(ReportRow {
             setup: "ZTE Axon".into(),
@@ -183,10 +226,7 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable) -> Outcome {
         let th = thesis_row(name).and_then(|r| r.psnr_db);
         let d = ours_v.zip(th).map(|(a, b)| a - b);
         out.claims.push(Claim {
-            claim: format!(
-                "{name}: PSNR within 2.5 dB of the thesis's {}",
-                fmt(th, 2)
-            ),
+            claim: format!("{name}: PSNR within 2.5 dB of the thesis's {}", fmt(th, 2)),
             measured: format!("{} dB ({} dB)", fmt(ours_v, 2), fmt_signed(d, 2)),
             pass: d.is_some_and(|d| d.abs() <= 2.5),
             why: "absolute PSNR depends on the photos (ours are not the thesis's 30) and the \
@@ -222,7 +262,7 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable) -> Outcome {
 pub fn fig4_14(phase: &SweepTable, display: &SweepTable) -> Outcome {
     let mut out = Outcome::default();
     let mut per: Vec<(&str, Levels)> = Vec::new();
-    for (name, model, axis) in DISPLAYS {
+    for (name, model, axis) in DISPLAYS.into_iter().filter(|d| ran(display, d)) {
         let l = levels(phase, display, model, axis);
         for (k, n) in PHOTONS.iter().enumerate() {
             let claim = match name {
@@ -244,6 +284,21 @@ pub fn fig4_14(phase: &SweepTable, display: &SweepTable) -> Outcome {
             });
         }
         per.push((name, l));
+    }
+    for (stem, y, pick) in [
+        ("fig4.14-psnr-vs-photons", "PSNR (dB)", true),
+        ("fig4.14-ssim-vs-photons", "SSIM", false),
+    ] {
+        let lines: Vec<(&str, Vec<Option<f64>>)> = per
+            .iter()
+            .map(|(n, l)| (*n, if pick { l.psnr.clone() } else { l.ssim.clone() }))
+            .collect();
+        out.curves.push(light_curves(
+            stem,
+            &format!("Fig. 4.14: {y} over light"),
+            y,
+            &lines,
+        ));
     }
     let get = |n: &str| per.iter().find(|p| p.0 == n).map(|p| &p.1);
     let (ours, toled, poled) = (get("Ours"), get("TOLED"), get("POLED"));
@@ -306,7 +361,10 @@ pub fn fig4_14(phase: &SweepTable, display: &SweepTable) -> Outcome {
 pub fn table4_2(t: &SweepTable) -> Outcome {
     let mut out = Outcome::default();
     let at = |plan: &str, order: &str, m: &str| {
-        t.mean(&format!("runs.0.{m}"), &[("lambda0", plan), ("order", order)])
+        t.mean(
+            &format!("runs.0.{m}"),
+            &[("lambda0", plan), ("order", order)],
+        )
     };
     let mut deltas = Vec::new();
     for (k, plan) in ["uniform", "optimized"].iter().enumerate() {
@@ -357,8 +415,20 @@ pub fn table4_2(t: &SweepTable) -> Outcome {
                     }
                 );
             } else {
-                values.push(Value::both("delta_psnr_percent", "ΔPSNR (%)", None, None, 2));
-                values.push(Value::both("delta_ssim_percent", "ΔSSIM (%)", None, None, 2));
+                values.push(Value::both(
+                    "delta_psnr_percent",
+                    "ΔPSNR (%)",
+                    None,
+                    None,
+                    2,
+                ));
+                values.push(Value::both(
+                    "delta_ssim_percent",
+                    "ΔSSIM (%)",
+                    None,
+                    None,
+                    2,
+                ));
             }
             out.rows.push(ReportRow {
                 setup: label,
@@ -497,9 +567,12 @@ pub fn fig4_10(t: &SweepTable) -> Outcome {
         .iter()
         .map(|p| {
             let dp = Some(
-                at("T=5 optimized, 0.2 um steps", p, "psnr_db")? - at("T=5 optimized", p, "psnr_db")?,
+                at("T=5 optimized, 0.2 um steps", p, "psnr_db")?
+                    - at("T=5 optimized", p, "psnr_db")?,
             );
-            let ds = Some(at("T=5 optimized, 0.2 um steps", p, "ssim")? - at("T=5 optimized", p, "ssim")?);
+            let ds = Some(
+                at("T=5 optimized, 0.2 um steps", p, "ssim")? - at("T=5 optimized", p, "ssim")?,
+            );
             Some((p.clone(), dp, ds))
         })
         .map(|x| x.unwrap_or_default())

@@ -75,7 +75,9 @@ pub fn table5_1(t: &SweepTable) -> Outcome {
         .iter()
         .filter_map(|(l, z)| z.map(|z| (l, z)))
         .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()));
-    let all = within.iter().all(|(_, z)| z.is_some_and(|z| z.abs() <= SE_TOLERANCE));
+    let all = within
+        .iter()
+        .all(|(_, z)| z.is_some_and(|z| z.abs() <= SE_TOLERANCE));
     out.claims.push(Claim {
         claim: "every binning mode's variance is Table 5.1's formula".into(),
         measured: worst.map_or_else(
@@ -181,10 +183,15 @@ pub fn table5_4(t: &SweepTable) -> Outcome {
             out.rows.push(ReportRow {
                 setup: format!("{s}, {name}"),
                 values: vec![
-                    Value::ssim(t.mean(&metric(s, "worst_roi_ssim"), &[("hdr", scene)]), None),
+                    Value::ssim(
+                        t.mean(&metric(s, "worst_roi_ssim"), &[("hdr", scene)]),
+                        None,
+                    ),
                     Value::psnr(t.mean(&metric(s, "psnr_db"), &[("hdr", scene)]), None),
                 ],
-                thesis_claim: Some("the thesis has no such scene; its rows share the ordering".into()),
+                thesis_claim: Some(
+                    "the thesis has no such scene; its rows share the ordering".into(),
+                ),
                 note: "one of our scenes, averaged over the noise seeds".into(),
             });
         }
@@ -204,7 +211,10 @@ pub fn table5_4(t: &SweepTable) -> Outcome {
             .into(),
         measured: listing.clone(),
         pass: best.is_some_and(|b| {
-            others.iter().chain([&worst]).all(|o| o.is_some_and(|o| b >= o))
+            others
+                .iter()
+                .chain([&worst])
+                .all(|o| o.is_some_and(|o| b >= o))
         }),
         why: "ties happen where the worst ROI gets base gain and the same bin either way (the \
               thesis's BloomingGorse and TunnelView tie too)"

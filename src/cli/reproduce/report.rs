@@ -52,7 +52,13 @@ pub fn markdown(info: &RunInfo, o: &Outcome) -> String {
     let mut s = String::new();
     let id = info.id;
     let _ = writeln!(s, "# {}\n", id.title());
-    let _ = writeln!(s, "`udc-studio reproduce {}{}`: {}.\n", id.as_str(), if info.quick { " --quick" } else { "" }, id.runs());
+    let _ = writeln!(
+        s,
+        "`udc-studio reproduce {}{}`: {}.\n",
+        id.as_str(),
+        if info.quick { " --quick" } else { "" },
+        id.runs()
+    );
     let _ = writeln!(
         s,
         "Mode: {}. Run time {:.1} s.\n",

@@ -58,6 +58,10 @@ pub fn command_line(job: SweepJob, params: &[(String, &ParamValue)]) -> Vec<Stri
         .collect();
     for (name, value) in params {
         match value {
+            // The design file of a display job is its positional argument, not a flag.
+            v if name == "design" && matches!(job, SweepJob::Analyze | SweepJob::Restore) => {
+                words.push(v.to_arg());
+            }
             ParamValue::Bool(true) => words.push(format!("--{name}")),
             ParamValue::Bool(false) => {}
             v => {

@@ -243,37 +243,51 @@ pub fn write_plots(dir: &Path, m: &Manifest) -> Result<Vec<PathBuf>, IoError> {
         } else {
             format!("{}: {what}", m.spec.name)
         };
-        let stem = plot_stem(&p);
-        let svg_path = plots_dir.join(format!("{stem}.svg"));
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            draw(&root, &p, &data, &title).map_err(|e| plot_error(&svg_path, &e))?;
-            root.present()
-                .map_err(|e| plot_error(&svg_path, &e.to_string()))?;
-        }
-        crate::io::safe_file::write_atomic(&svg_path, svg.as_bytes())?;
-        written.push(svg_path);
-        let png_path = plots_dir.join(format!("{stem}.png"));
-        let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-        {
-            let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-            draw(&root, &p, &data, &title).map_err(|e| plot_error(&png_path, &e))?;
-            root.present()
-                .map_err(|e| plot_error(&png_path, &e.to_string()))?;
-        }
-        let img = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb)
-            .ok_or_else(|| plot_error(&png_path, "buffer size"))?;
-        let mut bytes = Vec::new();
-        img.write_to(
-            &mut std::io::Cursor::new(&mut bytes),
-            image::ImageFormat::Png,
-        )
-        .map_err(|e| plot_error(&png_path, &e.to_string()))?;
-        crate::io::safe_file::write_atomic(&png_path, &bytes)?;
-        written.push(png_path);
+        written.extend(write_plot(&plots_dir, &plot_stem(&p), &p, &data, &title)?);
     }
     Ok(written)
+}
+
+/// Draws one plot of `data` as `plots_dir/<stem>.svg` and `.png` (the folder must exist);
+/// returns both paths. For data that is no sweep's table (a reproduction's curves).
+///
+/// # Errors
+/// [`IoError`] for a plot that cannot be drawn or a file that cannot be written.
+pub fn write_plot(
+    plots_dir: &Path,
+    stem: &str,
+    p: &PlotSpec,
+    data: &PlotData,
+    title: &str,
+) -> Result<Vec<PathBuf>, IoError> {
+    register_font();
+    let svg_path = plots_dir.join(format!("{stem}.svg"));
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        draw(&root, p, data, title).map_err(|e| plot_error(&svg_path, &e))?;
+        root.present()
+            .map_err(|e| plot_error(&svg_path, &e.to_string()))?;
+    }
+    crate::io::safe_file::write_atomic(&svg_path, svg.as_bytes())?;
+    let png_path = plots_dir.join(format!("{stem}.png"));
+    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        draw(&root, p, data, title).map_err(|e| plot_error(&png_path, &e))?;
+        root.present()
+            .map_err(|e| plot_error(&png_path, &e.to_string()))?;
+    }
+    let img = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb)
+        .ok_or_else(|| plot_error(&png_path, "buffer size"))?;
+    let mut bytes = Vec::new();
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .map_err(|e| plot_error(&png_path, &e.to_string()))?;
+    crate::io::safe_file::write_atomic(&png_path, &bytes)?;
+    Ok(vec![svg_path, png_path])
 }
 
 fn plot_error(path: &Path, message: &str) -> IoError {
