@@ -391,7 +391,7 @@ fn capture_row_ui(ui: &mut Ui, row: &CaptureRow, side: f32) {
         ui.strong(&row.label);
         ui.label(format!(
             "LTR {:.3}, FoV {:.1}°: restored PSNR {:.2} dB, SSIM {:.3} (captured {:.2} dB, \
-             {denoised}CG λ {}) at {:.0} photons per pixel",
+             {denoised}CG λ {:.3}) at {:.0} photons per pixel",
             row.ltr, row.fov_deg, r.psnr_db, r.ssim, r.captured_psnr_db, r.cg.lambda, r.photons
         ));
     });
