@@ -13,6 +13,7 @@ pub mod job;
 mod menu;
 pub mod notice;
 pub mod phase;
+pub mod reproduce;
 pub mod sensor;
 pub mod settings;
 pub mod sweep;
@@ -92,6 +93,7 @@ pub struct StudioApp {
     active: WorkspaceId,
     shell: Shell,
     title: String,
+    reproduce: reproduce::ReproduceWindow,
 }
 
 impl StudioApp {
@@ -119,12 +121,25 @@ impl StudioApp {
             Box::new(sensor::SensorWorkspace::default()),
             Box::new(sweep::SweepWorkspace::default()),
         ];
+        let reproduce =
+            reproduce::ReproduceWindow::new(shell.dirs.data_dir.as_deref(), shell.native_dialogs);
         StudioApp {
             workspaces,
             active: WorkspaceId::Display,
             shell,
             title: String::new(),
+            reproduce,
         }
+    }
+
+    /// Help ▸ Reproduce thesis results.
+    pub fn reproduce_ref(&self) -> &reproduce::ReproduceWindow {
+        &self.reproduce
+    }
+
+    /// Help ▸ Reproduce thesis results, to drive.
+    pub fn reproduce_mut(&mut self) -> &mut reproduce::ReproduceWindow {
+        &mut self.reproduce
     }
 
     fn get<T: Workspace>(&self) -> &T {
@@ -500,6 +515,7 @@ impl StudioApp {
         self.dropped_files(&ctx);
         self.close_request(&ctx);
         self.confirm_ui(&ctx);
+        self.reproduce.ui(&ctx);
         self.apply(cmds);
         for (id, c) in std::mem::take(&mut self.shell.sent) {
             let shell = &mut self.shell;

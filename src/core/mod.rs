@@ -27,6 +27,7 @@ pub mod pruned;
 mod pruned_grid;
 mod pruned_rows;
 pub mod psf;
+pub mod reproduce;
 pub mod residual;
 pub mod restore;
 pub mod route;

@@ -45,6 +45,7 @@ mod phase_panel;
 mod physics;
 mod psf_route;
 mod reproduce;
+mod reproduce_view;
 mod restore;
 mod restore_denoise;
 mod restore_view;

@@ -3,7 +3,7 @@
 //! `sweep slurm` runs the big ones on a cluster), then reduced to rows beside the thesis's
 //! numbers, the claims of its text checked, and written as report.md, results.csv and plots.
 
-pub mod catalog;
+pub use crate::core::reproduce as catalog;
 pub mod outcome;
 mod prepare;
 mod reduce_display;

@@ -1,0 +1,337 @@
+//! Help ▸ Reproduce thesis results: the results `udc-studio reproduce` regenerates, each with
+//! what it runs, checks and costs; a quick run in the background and the report it writes,
+//! shown in the window; any report on disk opened with a file dialog.
+//!
+//! A run is the studio's own program started as `reproduce ID --quick --out DIR`, watched from
+//! a job thread: the UI only polls, Cancel kills the process, and a crash in a run cannot take
+//! the studio (or the user's design) with it.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+use crate::app::dialogs::{self, FileSpec};
+use crate::app::job::{Job, JobError};
+use crate::app::notice::Notice;
+use crate::core::Progress;
+use crate::core::reproduce::ResultId;
+
+/// The file each run writes its stderr to, beside its report (the error line comes from it).
+const LOG_FILE: &str = "reproduce.log";
+/// The largest report read (ours are a few kB).
+const REPORT_LIMIT_BYTES: u64 = 4 << 20;
+/// How often the job thread looks at the running process.
+const POLL: Duration = Duration::from_millis(100);
+
+/// A report read from disk.
+#[derive(Debug, Clone)]
+struct Report {
+    path: PathBuf,
+    text: String,
+}
+
+/// The window's state.
+pub struct ReproduceWindow {
+    /// Whether the window is shown.
+    pub open: bool,
+    selected: ResultId,
+    /// The program run as `udc-studio` (this one, unless a test says otherwise).
+    program: Option<PathBuf>,
+    /// Where runs write: `<data dir>/reproduce/<id>`.
+    out_root: Option<PathBuf>,
+    native_dialogs: bool,
+    run: Option<(ResultId, Job<PathBuf>)>,
+    dialog: Option<Job<Option<PathBuf>>>,
+    report: Option<Report>,
+    message: Option<Notice>,
+}
+
+impl ReproduceWindow {
+    /// A closed window whose runs write under `data_dir/reproduce` (none: no runs, reports
+    /// can still be opened).
+    pub fn new(data_dir: Option<&Path>, native_dialogs: bool) -> Self {
+        ReproduceWindow {
+            open: false,
+            selected: ResultId::ALL[0],
+            program: std::env::current_exe().ok(),
+            out_root: data_dir.map(|d| d.join("reproduce")),
+            native_dialogs,
+            run: None,
+            dialog: None,
+            report: None,
+            message: None,
+        }
+    }
+
+    /// Runs `program` instead of this executable (the test harness is not `udc-studio`).
+    pub fn set_program(&mut self, program: PathBuf) {
+        self.program = Some(program);
+    }
+
+    /// The result shown.
+    pub fn selected(&self) -> ResultId {
+        self.selected
+    }
+
+    /// Shows `id` (and its last report, when there is one).
+    pub fn select(&mut self, id: ResultId) {
+        self.selected = id;
+        self.report = None;
+        if let Some(path) = self.out_of(id).map(|d| d.join("report.md"))
+            && path.is_file()
+        {
+            self.load_report(&path);
+        }
+    }
+
+    /// Whether a run is going.
+    pub fn is_running(&self) -> bool {
+        self.run.is_some()
+    }
+
+    /// The report shown: its path and text.
+    pub fn report(&self) -> Option<(&Path, &str)> {
+        self.report
+            .as_ref()
+            .map(|r| (r.path.as_path(), r.text.as_str()))
+    }
+
+    /// The message line (a finished, failed or cancelled run).
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
+    fn out_of(&self, id: ResultId) -> Option<PathBuf> {
+        self.out_root.as_ref().map(|r| r.join(id.as_str()))
+    }
+
+    /// Starts the quick run of the selected result.
+    pub fn start_quick_run(&mut self, ctx: &egui::Context) {
+        let id = self.selected;
+        let (Some(program), Some(out)) = (self.program.clone(), self.out_of(id)) else {
+            self.message = Some(Notice::error(
+                "no folder to write results in (this system gives no data directory); run \
+                 `udc-studio reproduce` from a terminal instead",
+            ));
+            return;
+        };
+        let wake = {
+            let ctx = ctx.clone();
+            move || ctx.request_repaint()
+        };
+        self.message = None;
+        self.run = Some((
+            id,
+            Job::spawn("reproduce", wake, move |p| quick_run(&program, id, &out, p)),
+        ));
+    }
+
+    /// Stops the run (its process is killed; a later run resumes what it finished).
+    pub fn cancel(&mut self) {
+        if let Some((_, job)) = &self.run {
+            job.cancel();
+        }
+    }
+
+    fn load_report(&mut self, path: &Path) {
+        match crate::io::safe_file::read_text_bounded(path, REPORT_LIMIT_BYTES, "report") {
+            Ok(text) => {
+                self.report = Some(Report {
+                    path: path.to_path_buf(),
+                    text,
+                });
+            }
+            Err(e) => self.message = Some(Notice::error(e.to_string())),
+        }
+    }
+
+    /// Collects finished jobs.
+    fn poll(&mut self) {
+        if let Some((id, job)) = &self.run
+            && let Some(done) = job.poll()
+        {
+            let (id, seconds) = (*id, job.elapsed().as_secs_f64());
+            self.run = None;
+            match done {
+                Ok(report) => {
+                    self.message = Some(Notice::info(format!(
+                        "{} reproduced (quick) in {seconds:.0} s",
+                        id.as_str()
+                    )));
+                    self.selected = id;
+                    self.load_report(&report);
+                }
+                Err(JobError::Cancelled) => {
+                    self.message = Some(Notice::info(format!(
+                        "{} cancelled; a new run resumes its finished points",
+                        id.as_str()
+                    )));
+                }
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
+            }
+        }
+        if let Some(job) = &self.dialog
+            && let Some(done) = job.poll()
+        {
+            self.dialog = None;
+            match done {
+                Ok(Some(path)) => self.load_report(&path),
+                Ok(None) | Err(JobError::Cancelled) => {}
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
+            }
+        }
+    }
+
+    fn open_dialog(&mut self, ctx: &egui::Context) {
+        if !self.native_dialogs {
+            return;
+        }
+        let mut spec = FileSpec::open("Open a reproduction report", ("Report", &["md"]));
+        spec.start_dir = self.out_of(self.selected).filter(|d| d.is_dir());
+        let ctx = ctx.clone();
+        self.dialog = Some(dialogs::ask(spec, move || ctx.request_repaint()));
+    }
+
+    /// Draws the window when it is open.
+    pub fn ui(&mut self, ctx: &egui::Context) {
+        self.poll();
+        if !self.open {
+            return;
+        }
+        let mut open = self.open;
+        egui::Window::new("Reproduce thesis results")
+            .open(&mut open)
+            .default_size([760.0, 520.0])
+            .max_height(ctx.content_rect().height() - 60.0)
+            .show(ctx, |ui| self.contents(ui));
+        self.open = open;
+    }
+
+    fn contents(&mut self, ui: &mut egui::Ui) {
+        ui.label(
+            "Every result below is regenerated by the studio from the thesis's recipe and \
+             reported beside the thesis's own numbers. A quick run uses 3 photos of the test \
+             set at 256²; the full run (the command line below without --quick) uses all of \
+             them.",
+        );
+        ui.horizontal_wrapped(|ui| {
+            for id in ResultId::ALL {
+                if ui
+                    .selectable_label(self.selected == id, id.as_str())
+                    .on_hover_text(id.title())
+                    .clicked()
+                    && self.selected != id
+                {
+                    self.select(id);
+                }
+            }
+        });
+        ui.separator();
+        let id = self.selected;
+        let (quick, full) = id.cost();
+        ui.strong(id.title());
+        egui::Grid::new("reproduce-facts")
+            .num_columns(2)
+            .show(ui, |ui| {
+                for (what, text) in [
+                    ("runs", id.runs().to_string()),
+                    ("checks", id.checks().to_string()),
+                    ("cost", format!("quick {quick}, full {full} (2 cores)")),
+                ] {
+                    ui.label(what);
+                    ui.add(egui::Label::new(text).wrap());
+                    ui.end_row();
+                }
+                ui.label("command");
+                ui.horizontal(|ui| {
+                    let cmd = format!("udc-studio reproduce {} --out DIR", id.as_str());
+                    ui.monospace(&cmd);
+                    if ui.small_button("Copy").clicked() {
+                        ui.ctx().copy_text(cmd);
+                    }
+                });
+                ui.end_row();
+            });
+        ui.horizontal(|ui| {
+            if let Some((running, job)) = &self.run {
+                ui.spinner();
+                ui.label(format!(
+                    "{} running (quick), {:.0} s",
+                    running.as_str(),
+                    job.elapsed().as_secs_f64()
+                ));
+                if ui.button("Cancel").clicked() {
+                    self.cancel();
+                }
+                ui.ctx().request_repaint_after(Duration::from_millis(500));
+            } else if ui
+                .button(format!("Run quick ({quick})"))
+                .on_hover_text("Runs in the background; the report opens here when it is done")
+                .clicked()
+            {
+                self.start_quick_run(ui.ctx());
+            }
+            if ui
+                .add_enabled(
+                    self.native_dialogs && self.dialog.is_none(),
+                    egui::Button::new("Open report…"),
+                )
+                .on_hover_text("A report.md written by `udc-studio reproduce`")
+                .clicked()
+            {
+                self.open_dialog(ui.ctx());
+            }
+        });
+        crate::app::widgets::message_ui(ui, self.message.as_ref());
+        if let Some(r) = &self.report {
+            ui.separator();
+            ui.label(format!("{}", r.path.display()));
+            egui::ScrollArea::vertical()
+                .auto_shrink([false, true])
+                .show(ui, |ui| {
+                    ui.add(egui::Label::new(egui::RichText::new(&r.text).monospace()).wrap());
+                });
+        }
+    }
+}
+
+/// Runs `program reproduce ID --quick --out DIR` and waits for it, killing it on cancel; the
+/// report's path, or the run's last error line.
+fn quick_run(program: &Path, id: ResultId, out: &Path, p: &Progress) -> Result<PathBuf, JobError> {
+    let failed = |what: &str, e: std::io::Error| JobError::Failed(format!("{what}: {e}"));
+    std::fs::create_dir_all(out).map_err(|e| failed(&out.display().to_string(), e))?;
+    let log_path = out.join(LOG_FILE);
+    let log =
+        std::fs::File::create(&log_path).map_err(|e| failed(&log_path.display().to_string(), e))?;
+    let mut child = Command::new(program)
+        .args(["reproduce", id.as_str(), "--quick", "--out"])
+        .arg(out)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(log)
+        .spawn()
+        .map_err(|e| failed(&format!("cannot start {}", program.display()), e))?;
+    let status = loop {
+        if p.is_cancelled() {
+            // Already exited is fine: the run is over either way.
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(JobError::Cancelled);
+        }
+        match child.try_wait() {
+            Ok(Some(status)) => break status,
+            Ok(None) => std::thread::sleep(POLL),
+            Err(e) => return Err(failed("reproduce", e)),
+        }
+    };
+    if !status.success() {
+        let log = std::fs::read_to_string(&log_path).unwrap_or_default();
+        let last = log.lines().rev().find(|l| !l.trim().is_empty());
+        return Err(JobError::Failed(format!(
+            "reproduce {} failed: {}",
+            id.as_str(),
+            last.unwrap_or("no message")
+        )));
+    }
+    Ok(out.join("report.md"))
+}
