@@ -19,7 +19,13 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use udc_studio::core::Progress;
 use udc_studio::core::denoise::bm3d;
+use udc_studio::core::restore::quality::psnr_db_planes;
 use udc_studio::io::testset::{load_testset_photo, testset_dir};
+
+/// PSNR over every channel, peak 1.
+fn psnr(a: &[Array2<f64>], b: &[Array2<f64>]) -> f64 {
+    psnr_db_planes(a, b, 1.0).expect("same sizes")
+}
 
 const SIGMA: f64 = 0.1;
 
@@ -35,15 +41,6 @@ fn noisy(name: &str, seed: u64) -> (Vec<Array2<f64>>, Vec<Array2<f64>>) {
         .map(|p| p.mapv(|v| v + normal.sample(&mut rng)))
         .collect();
     (clean, noisy)
-}
-
-fn psnr_db(a: &[Array2<f64>], b: &[Array2<f64>]) -> f64 {
-    let (mut se, mut n) = (0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        se += (x - y).mapv(|d| d * d).sum();
-        n += x.len() as f64;
-    }
-    10.0 * (n / se).log10()
 }
 
 fn bench(c: &mut Criterion) {
@@ -64,8 +61,8 @@ fn bench(c: &mut Criterion) {
         let out = run();
         println!(
             "{id}: noisy {:.2} dB, denoised {:.2} dB",
-            psnr_db(&noisy, &clean),
-            psnr_db(&out, &clean)
+            psnr(&noisy, &clean),
+            psnr(&out, &clean)
         );
         group.bench_function(id, |b| b.iter(|| black_box(run())));
     }

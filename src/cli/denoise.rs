@@ -12,7 +12,7 @@ use clap::Args;
 use ndarray::Array2;
 
 use crate::core::Progress;
-use crate::core::restore::quality::psnr_db_pooled;
+use crate::core::restore::quality::psnr_db_planes;
 use crate::io::IoError;
 use crate::io::image_planes::{ImageKind, ImagePlanes, read_planes, write_planes};
 use crate::io::safe_file::{TempFile, check_not_an_input};
@@ -171,12 +171,7 @@ fn as_written(planes: &[Array2<f64>], kind: ImageKind) -> Vec<Array2<f64>> {
 }
 
 fn psnr_against(test: &[Array2<f64>], clean: &[Array2<f64>]) -> Result<f64> {
-    let pairs: Vec<_> = test
-        .iter()
-        .zip(clean)
-        .map(|(a, b)| (a.view(), b.view()))
-        .collect();
-    Ok(psnr_db_pooled(&pairs, 1.0)?)
+    Ok(psnr_db_planes(test, clean, 1.0)?)
 }
 
 fn report(

@@ -10,8 +10,14 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use udc_studio::core::denoise::{BlockTransform, Bm3dProfile, bm3d, bm3d_with};
+use udc_studio::core::restore::quality::psnr_db_planes;
 use udc_studio::core::{Progress, SimError};
 use udc_studio::io::testset::{load_testset_photo, testset_dir};
+
+/// PSNR over every channel, peak 1.
+fn psnr(a: &[Array2<f64>], b: &[Array2<f64>]) -> f64 {
+    psnr_db_planes(a, b, 1.0).expect("same sizes")
+}
 
 /// Side of the centred crop the comparison runs on: large enough that the image borders (where
 /// the two implementations pad differently) weigh little, small enough for the reference's
@@ -35,15 +41,6 @@ fn add_noise(clean: &[Array2<f64>], sigma: f64, seed: u64) -> Vec<Array2<f64>> {
         .iter()
         .map(|p| p.mapv(|v| v + normal.sample(&mut rng)))
         .collect()
-}
-
-fn psnr_db(a: &[Array2<f64>], b: &[Array2<f64>]) -> f64 {
-    let (mut se, mut n) = (0.0, 0.0);
-    for (x, y) in a.iter().zip(b) {
-        se += (x - y).mapv(|d| d * d).sum();
-        n += x.len() as f64;
-    }
-    10.0 * (n / se).log10()
 }
 
 /// Raw little-endian f64, row-major, channels last (what the script reads).
@@ -93,9 +90,9 @@ fn matches_reference(photo: &str, seed: u64) {
     for (i, sigma) in [0.02f64, 0.1, 0.2].into_iter().enumerate() {
         let noisy = add_noise(&clean, sigma, seed + i as u64);
         let ours = bm3d(&noisy, sigma * sigma, &Progress::new()).expect("denoise");
-        let ours_db = psnr_db(&ours, &clean);
+        let ours_db = psnr(&ours, &clean);
         let ref_db = reference_psnr_db(&noisy, &clean, sigma * sigma);
-        let noisy_db = psnr_db(&noisy, &clean);
+        let noisy_db = psnr(&noisy, &clean);
         eprintln!(
             "{photo} σ = {sigma}: noisy {noisy_db:.2} dB, ours {ours_db:.2}, reference {ref_db:.2}"
         );
@@ -127,7 +124,7 @@ fn cbm3d_beats_denoising_each_channel_alone() {
         .iter()
         .flat_map(|p| bm3d(std::slice::from_ref(p), 0.01, &Progress::new()).unwrap())
         .collect();
-    let (c, a) = (psnr_db(&colour, &clean), psnr_db(&alone, &clean));
+    let (c, a) = (psnr(&colour, &clean), psnr(&alone, &clean));
     assert!(c > a + 0.3, "CBM3D {c:.2} dB, per channel {a:.2} dB");
 }
 
@@ -135,12 +132,12 @@ fn cbm3d_beats_denoising_each_channel_alone() {
 fn the_reference_profile_beats_weaker_choices() {
     let clean = crop("camera.png");
     let noisy = add_noise(&clean, 0.1, 4);
-    let full = psnr_db(&bm3d(&noisy, 0.01, &Progress::new()).unwrap(), &clean);
+    let full = psnr(&bm3d(&noisy, 0.01, &Progress::new()).unwrap(), &clean);
     let profile = Bm3dProfile {
         transform_ht: BlockTransform::Dct,
         ..Bm3dProfile::default()
     };
-    let dct = psnr_db(
+    let dct = psnr(
         &bm3d_with(&noisy, 0.01, &profile, &Progress::new()).unwrap(),
         &clean,
     );
@@ -152,7 +149,7 @@ fn the_reference_profile_beats_weaker_choices() {
         lambda_ht: 1.0,
         ..Bm3dProfile::default()
     };
-    let w = psnr_db(
+    let w = psnr(
         &bm3d_with(&noisy, 0.01, &weaker, &Progress::new()).unwrap(),
         &clean,
     );

@@ -92,6 +92,29 @@ pub fn psnr_db_pooled(
     Ok(psnr_of(sse, n, peak))
 }
 
+/// [`psnr_db_pooled`] of matching planes (`test[c]` against `truth[c]`).
+///
+/// # Errors
+/// As [`psnr_db_pooled`], and for different numbers of planes.
+pub fn psnr_db_planes(
+    test: &[ndarray::Array2<f64>],
+    truth: &[ndarray::Array2<f64>],
+    peak: f64,
+) -> Result<f64, SimError> {
+    if test.len() != truth.len() {
+        return Err(SimError::field(
+            "image",
+            format!("{} channels against {}", test.len(), truth.len()),
+        ));
+    }
+    let pairs: Vec<_> = test
+        .iter()
+        .zip(truth)
+        .map(|(a, b)| (a.view(), b.view()))
+        .collect();
+    psnr_db_pooled(&pairs, peak)
+}
+
 /// The normalised Gaussian taps `w[t]`, `t = −radius … radius`.
 fn gaussian_taps() -> Vec<f64> {
     let r = SSIM_RADIUS_PX as f64;
