@@ -35,7 +35,7 @@ pub struct ReproduceArgs {
     /// List the results: ID, title, what each runs, the thesis numbers it checks, its cost.
     #[arg(long, conflicts_with_all = ["quick", "out"])]
     pub list: bool,
-    /// Three photos of the test set at 256² and the phase model's peak wavelengths: about
+    /// Three photos of the test set at 256² and the phase model's preview sampling: about
     /// two minutes per result on 2 cores (the full run takes the whole test set).
     #[arg(long)]
     pub quick: bool,
