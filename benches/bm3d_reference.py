@@ -2,7 +2,8 @@
 authors), for the README's speed ratio. Same photos and σ as benches/denoise.rs (its noise
 differs: numpy's generator, not ChaCha; the time does not depend on the draw).
 
-usage: python3 benches/bm3d_reference.py   (prints one line per case: median of 3 runs)
+usage: python3 benches/bm3d_reference.py   (prints one line per case: median of 3 runs;
+       needs numpy, Pillow and bm3d: pip install bm3d pillow)
 """
 import statistics
 import time

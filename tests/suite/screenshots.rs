@@ -342,3 +342,31 @@ fn sweep_results_and_a_one_parameter_sweep() {
     );
     capture(&mut h, "sweep-this-parameter");
 }
+
+/// Help ▸ Reproduce thesis results after a quick run of Table 5.1: the list, the result's facts
+/// and its report beside the thesis's numbers.
+#[test]
+fn reproduce_window_with_a_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(dir.path());
+    settle(&mut h);
+    h.state_mut()
+        .reproduce_mut()
+        .set_program(env!("CARGO_BIN_EXE_udc-studio").into());
+    h.get_by_label("Help").click();
+    h.step();
+    h.step();
+    h.get_by_label("Reproduce thesis results…").click();
+    h.step();
+    h.get_by_label("table5.1").click();
+    h.step();
+    h.get_by_label_contains("Run quick").click();
+    common::step_until(&mut h, "the quick run", |app| {
+        !app.reproduce_ref().is_running()
+    });
+    for _ in 0..4 {
+        h.step();
+    }
+    assert!(h.state().reproduce_ref().report().is_some());
+    capture(&mut h, "reproduce");
+}
