@@ -110,6 +110,7 @@ impl StudioApp {
         } else {
             egui::Visuals::light()
         });
+        ctx.set_fonts(fonts_with_symbols());
         // The switch shows them in this order.
         let workspaces: Vec<Box<dyn Workspace>> = vec![
             Box::new(DisplayWorkspace::new(&mut shell, options.design_path)),
@@ -545,6 +546,27 @@ impl eframe::App for StudioApp {
         }
         let _ = self.shell.settings.save(&self.shell.dirs);
     }
+}
+
+/// egui's fonts, with the monospace font behind the proportional one: Ubuntu Light has no
+/// superscript minus (e⁻², the reports' electron units) and other symbols Hack draws.
+fn fonts_with_symbols() -> egui::FontDefinitions {
+    let mut fonts = egui::FontDefinitions::default();
+    let mono = fonts
+        .families
+        .get(&egui::FontFamily::Monospace)
+        .and_then(|f| f.first())
+        .cloned();
+    if let Some(mono) = mono {
+        let proportional = fonts
+            .families
+            .entry(egui::FontFamily::Proportional)
+            .or_default();
+        if !proportional.contains(&mono) {
+            proportional.push(mono);
+        }
+    }
+    fonts
 }
 
 /// The answers of the unsaved-changes prompt.

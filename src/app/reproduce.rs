@@ -44,6 +44,8 @@ pub struct ReproduceWindow {
     dialog: Option<Job<Option<PathBuf>>>,
     report: Option<Report>,
     message: Option<Notice>,
+    /// The Markdown viewer's layout cache.
+    markdown: egui_commonmark::CommonMarkCache,
 }
 
 impl ReproduceWindow {
@@ -60,6 +62,7 @@ impl ReproduceWindow {
             dialog: None,
             report: None,
             message: None,
+            markdown: egui_commonmark::CommonMarkCache::default(),
         }
     }
 
@@ -199,10 +202,16 @@ impl ReproduceWindow {
             return;
         }
         let mut open = self.open;
+        let area = ctx.content_rect();
         egui::Window::new("Reproduce thesis results")
             .open(&mut open)
+            // Below the menu bar, centred: the window must not hide the menus that opened it.
+            .default_pos(egui::pos2(
+                (area.center().x - 380.0).max(area.left()),
+                area.top() + 40.0,
+            ))
             .default_size([760.0, 520.0])
-            .max_height(ctx.content_rect().height() - 60.0)
+            .max_height(area.height() - 110.0)
             .show(ctx, |ui| self.contents(ui));
         self.open = open;
     }
@@ -286,10 +295,11 @@ impl ReproduceWindow {
         if let Some(r) = &self.report {
             ui.separator();
             ui.label(format!("{}", r.path.display()));
+            let markdown = &mut self.markdown;
             egui::ScrollArea::vertical()
                 .auto_shrink([false, true])
                 .show(ui, |ui| {
-                    ui.add(egui::Label::new(egui::RichText::new(&r.text).monospace()).wrap());
+                    egui_commonmark::CommonMarkViewer::new().show(ui, markdown, &r.text);
                 });
         }
     }

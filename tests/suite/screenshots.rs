@@ -358,6 +358,7 @@ fn reproduce_window_with_a_report() {
     h.step();
     h.get_by_label("Reproduce thesis results…").click();
     h.step();
+    h.step();
     h.get_by_label("table5.1").click();
     h.step();
     h.get_by_label_contains("Run quick").click();
