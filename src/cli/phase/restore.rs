@@ -21,9 +21,7 @@ fn restore_photos(paths: &[PathBuf], pixels: usize) -> Result<Vec<(String, Vec<A
 }
 
 pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
-    use crate::core::phase::imaging::{
-        Lambda0Plan, LensletOrder, Setup, capture_and_restore, phase_blur,
-    };
+    use crate::core::phase::imaging::{Lambda0Plan, LensletOrder, Setup, capture_and_restore};
     let denoise = a.denoise.resolve(crate::core::restore::Recipe::Iccv23)?;
     let base = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
@@ -79,7 +77,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
         super::design_cache::resolve_shared(&setup, &base, &sampling, &grid, p)
     })?;
     let blur = with_progress("blur matrix", |p| {
-        phase_blur(&design, &sampling, &channels, optics, width, p)
+        super::design_cache::blur_shared(&design, &sampling, &channels, optics, width, p)
     })?;
     let mut runs = Vec::new();
     let mut written = Vec::new();
