@@ -9,19 +9,10 @@ use std::time::Duration;
 use egui_kittest::kittest::Queryable;
 use udc_studio::core::reproduce::ResultId;
 
-use crate::common::{step_until, studio};
+use crate::common::{open_reproduce_window, step_until, studio};
 
 fn program() -> PathBuf {
     PathBuf::from(env!("CARGO_BIN_EXE_udc-studio"))
-}
-
-fn open_window(h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>) {
-    h.get_by_label("Help").click();
-    h.step();
-    h.step();
-    h.get_by_label("Reproduce thesis results…").click();
-    h.step();
-    h.step();
 }
 
 #[test]
@@ -29,7 +20,7 @@ fn the_help_menu_lists_the_results_and_a_quick_run_opens_its_report() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = studio(dir.path(), false, Duration::from_secs(3600));
     h.state_mut().reproduce_mut().set_program(program());
-    open_window(&mut h);
+    open_reproduce_window(&mut h);
     assert!(h.state_mut().reproduce_mut().open);
     for id in ResultId::ALL {
         assert!(h.query_by_label(id.as_str()).is_some(), "{}", id.as_str());
@@ -71,7 +62,7 @@ fn cancel_stops_a_run_and_a_failing_run_says_why() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = studio(dir.path(), false, Duration::from_secs(3600));
     h.state_mut().reproduce_mut().set_program(program());
-    open_window(&mut h);
+    open_reproduce_window(&mut h);
     h.get_by_label("fig3.8").click();
     h.step();
     h.get_by_label_contains("Run quick").click();

@@ -165,20 +165,7 @@ fn progress_ends_at_one_and_cancel_stops_the_denoiser() {
 }
 
 fn restore_json(args: &[&str]) -> Value {
-    let mut all = vec![
-        "restore",
-        "--preset",
-        "toled-150dpi",
-        "--image",
-        ASTRONAUT,
-        "--max-side-px",
-        "64",
-        "--json",
-    ];
-    all.extend_from_slice(args);
-    let (ok, stdout, stderr) = run_cli(&all);
-    assert!(ok, "{all:?}: {stderr}");
-    serde_json::from_str(stdout.trim()).expect("one JSON object")
+    restore_json_at(args, 64)
 }
 
 #[test]

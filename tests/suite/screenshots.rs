@@ -353,12 +353,7 @@ fn reproduce_window_with_a_report() {
     h.state_mut()
         .reproduce_mut()
         .set_program(env!("CARGO_BIN_EXE_udc-studio").into());
-    h.get_by_label("Help").click();
-    h.step();
-    h.step();
-    h.get_by_label("Reproduce thesis results…").click();
-    h.step();
-    h.step();
+    common::open_reproduce_window(&mut h);
     h.get_by_label("table5.1").click();
     h.step();
     h.get_by_label_contains("Run quick").click();

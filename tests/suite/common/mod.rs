@@ -156,3 +156,15 @@ pub fn tiny_sweep(dir: &std::path::Path) -> std::path::PathBuf {
     assert!(ok, "the sweep ran: {stderr}");
     out
 }
+
+/// Help ▸ Reproduce thesis results, opened from the menu as a user does.
+pub fn open_reproduce_window(h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>) {
+    use egui_kittest::kittest::Queryable;
+    h.get_by_label("Help").click();
+    h.step();
+    h.step();
+    h.get_by_label("Reproduce thesis results…").click();
+    // A new window is laid out invisibly on its first frame.
+    h.step();
+    h.step();
+}
