@@ -203,7 +203,7 @@ fn report(
         _ => String::new(),
     };
     println!(
-        "{method} σ² = {}: {w}×{h}, {channels} channel{} in {elapsed_ms:.0} ms{scores} → {}",
+        "{method} σ² = {:.4e}: {w}×{h}, {channels} channel{} in {elapsed_ms:.0} ms{scores} → {}",
         args.sigma2,
         if channels == 1 { "" } else { "s" },
         args.out.display()
