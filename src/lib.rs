@@ -44,8 +44,8 @@
 //! capture does not depend on the number of threads.
 
 pub mod app;
-/// The physics and numeric conventions, stated once (`src/conventions.md`).
-#[doc = include_str!("conventions.md")]
+/// The physics and numeric conventions, stated once (`docs/src/conventions.md`).
+#[doc = include_str!("../docs/src/conventions.md")]
 pub mod conventions {}
 pub mod cli;
 pub mod core;

@@ -2,7 +2,7 @@
 //! R, G, B emitters sit in the opaque area, seen by an eye at a viewing distance, and the
 //! display-quality numbers that go beside the camera's AUC.
 //!
-//! Model (documented in src/conventions.md, "Display appearance"):
+//! Model (documented in docs/src/conventions.md, "Display appearance"):
 //! - the layout is scaled to the chosen DPI (pixel period `25400 / dpi` µm, the opening's `N×N`
 //!   cells inside it) and tiled over a square region of whole pixels, each tile in the
 //!   orientation the simulation gives it (`tiling::tile_orientation`, tile 0 at the centre);
@@ -106,7 +106,7 @@ impl AppearanceSettings {
     }
 }
 
-/// The display-quality numbers of a layout (definitions in src/conventions.md).
+/// The display-quality numbers of a layout (definitions in docs/src/conventions.md).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DisplayQuality {
     /// Coefficient of variation of the eye-blurred luminance of a flat white field (0 = uniform).
