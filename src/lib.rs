@@ -2,51 +2,20 @@
 //! # UDC Studio
 //!
 //! A design studio for under-display cameras (UDC): draw a display pixel's opening, tile it, and
-//! see what the camera behind the display sees. The crate is a fat library with a thin binary:
+//! see what the camera behind the display sees. The workspace has one crate per layer, and this
+//! one is the top:
 //!
-//! - [`core`]: the pure simulation (no egui, no files, no threads of its own). One entry point per
-//!   job, e.g. [`core::analyze::analyze`], shared by the studio, the CLI, the tests and the benches.
-//! - [`io`]: every file format (design files, images, reports, photolithography masks).
-//! - [`cli`]: the headless commands, built only on `core` and `io`.
-//! - [`app`]: the egui studio; the only module that touches egui.
+//! - [`core`] (`udc-core`): the pure simulation, with the conventions every number follows.
+//! - [`io`] (`udc-io`): every file format (design files, images, reports, photolithography masks).
+//! - [`cli`] (`udc-cli`): the headless commands, built only on `core` and `io`.
+//! - `app` (this crate, feature `gui`, on by default): the egui studio; the only code that
+//!   touches egui.
 //!
-//! ## Conventions (written down once, here)
-//!
-//! **Units.** Lengths in micrometres (`_um`), wavelengths in nanometres (`_nm`), focal lengths in
-//! millimetres (`_mm`), spatial frequency in cycles per sensor pixel (`_cyc_per_px`). Every public
-//! field and argument carries its unit in its name.
-//!
-//! **Axis order.** 2-D arrays are `[row, col]` = `[y, x]`; row 0 is the top row of an image.
-//! Opening patterns are stored row by row in the same order.
-//!
-//! **Centring.** For an array of even length `N` the optical axis (in space) or DC (in frequency)
-//! sits at index `N / 2` (the `fftshift` convention); for odd `N` at `(N - 1) / 2`.
-//! On the pupil grid of size `M` and spacing `δ1`, sample `i` sits at `x = (i − M/2)·δ1`.
-//!
-//! **Fourier transforms.** Forward DFTs are unnormalised, `X[k] = Σ x[n] e^{−2πi kn/N}`. The
-//! fine PSF of one wavelength is `|DFT(a)|²` on an `M×M` grid of spacing `λf/(M δ1)` (conventions.md §2);
-//! its absolute scale is irrelevant because every PSF is normalised before it is used.
-//!
-//! **PSF normalisation.** Each wavelength's fine PSF is divided by its total energy over the whole
-//! fine grid, so that wavelengths weigh by their spectral weight only. A channel's sensor PSF is
-//! then normalised to sum 1 over its window; the energy that fell outside the window is reported.
-//!
-//! **MTF.** OTF = 2-D DFT of the normalised sensor PSF, MTF = |OTF| with MTF(0) = 1. Ring `d` of the
-//! DC-centred `N×N` MTF holds the samples with `round(hypot(Δrow, Δcol)) = d` at frequency `d/N`
-//! cycles/pixel; AUC is the trapezoidal area under the radial minimum for `d = 0 … N/2 − 1`.
-//!
-//! **Phase sign.** Only intensities of real apertures are computed in chapter 3, so the sign of the
-//! Fourier kernel never shows: `|A(−u)| = |A(u)|`.
-//!
-//! **Randomness.** Every random choice takes an explicit `u64` seed and uses ChaCha8 streams keyed
-//! by the tile index, so a design reproduces bit-for-bit on every machine, whatever the FFT size.
-//! Sensor noise ([`core::restore`]) likewise uses one stream per channel and image row, so a
-//! capture does not depend on the number of threads.
+//! The lower crates are re-exported under their layer's name, so `udc_studio::core::analyze` and
+//! `udc_core::analyze` are the same item.
 
+#[cfg(feature = "gui")]
 pub mod app;
-/// The physics and numeric conventions, stated once (`docs/src/conventions.md`).
-#[doc = include_str!("../docs/src/conventions.md")]
-pub mod conventions {}
-pub mod cli;
-pub mod core;
-pub mod io;
+pub use udc_cli as cli;
+pub use udc_core as core;
+pub use udc_io as io;

@@ -21,8 +21,8 @@ fn main() -> std::process::ExitCode {
             .unwrap_or_else(udc_studio::io::system::default_max_memory_bytes),
     );
     let result = match cli.command {
-        None => udc_studio::app::run_studio(None),
-        Some(Command::Studio { design }) => udc_studio::app::run_studio(design),
+        None => studio(None),
+        Some(Command::Studio { design }) => studio(design),
         Some(command) => {
             // Ctrl-C or SIGTERM during a long export leaves no `.part` file behind.
             udc_studio::io::safe_file::remove_temp_files_on_signal();
@@ -36,4 +36,19 @@ fn main() -> std::process::ExitCode {
             std::process::ExitCode::FAILURE
         }
     }
+}
+
+/// Opens the studio window, optionally on a design file.
+#[cfg(feature = "gui")]
+fn studio(design: Option<std::path::PathBuf>) -> anyhow::Result<()> {
+    udc_studio::app::run_studio(design)
+}
+
+/// A headless build (`--no-default-features`) has no window to open.
+#[cfg(not(feature = "gui"))]
+fn studio(_design: Option<std::path::PathBuf>) -> anyhow::Result<()> {
+    anyhow::bail!(
+        "this udc-studio was built without the studio window (feature `gui`); \
+         run a command (see `udc-studio --help`) or build it with default features"
+    )
 }

@@ -1,4 +1,6 @@
-//! The simulation core stays pure: no GUI, no dialogs, no files (the layering in the crate docs, `src/lib.rs`).
+//! The layering: one crate per layer (core → io → cli → studio), the compiler refusing an arrow
+//! back up; these tests add what the compiler does not see: no GUI crate below the studio, no
+//! file access in the core, and no import cycle between sibling modules inside a crate.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
@@ -12,30 +14,103 @@ fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
     }
 }
 
+fn repo() -> &'static std::path::Path {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The source folders of the workspace's crates, lowest layer first.
+const CRATE_SOURCES: [&str; 4] = ["crates/core/src", "crates/io/src", "crates/cli/src", "src"];
+
+/// What a headless build must not link: the window, GPU and dialog stack.
+const GUI_CRATES: [&str; 7] = [
+    "egui",
+    "eframe",
+    "egui_plot",
+    "wgpu",
+    "winit",
+    "rfd",
+    "egui_kittest",
+];
+
+/// Every package `root` depends on, directly or not, for any target and feature, as
+/// `Cargo.lock` records it (a package's entries name its dependencies by name, or by
+/// "name version" when several versions are locked).
+fn locked_closure(root: &str) -> std::collections::BTreeSet<String> {
+    let lock: toml::Table = std::fs::read_to_string(repo().join("Cargo.lock"))
+        .expect("read Cargo.lock")
+        .parse()
+        .expect("parse Cargo.lock");
+    let packages = lock["package"].as_array().expect("packages");
+    let deps_of = |name: &str| -> Vec<String> {
+        let (name, version) = name.split_once(' ').unwrap_or((name, ""));
+        packages
+            .iter()
+            .filter(|p| p["name"].as_str() == Some(name))
+            .filter(|p| version.is_empty() || p["version"].as_str() == Some(version))
+            .flat_map(|p| p.get("dependencies").and_then(|d| d.as_array()).cloned())
+            .flatten()
+            .filter_map(|d| d.as_str().map(str::to_string))
+            .collect()
+    };
+    let mut seen = std::collections::BTreeSet::new();
+    let mut todo = vec![root.to_string()];
+    while let Some(p) = todo.pop() {
+        for d in deps_of(&p) {
+            if seen.insert(d.clone()) {
+                todo.push(d);
+            }
+        }
+    }
+    seen.into_iter()
+        .map(|d| d.split(' ').next().unwrap_or_default().to_string())
+        .collect()
+}
+
 #[test]
-fn core_uses_neither_egui_nor_files() {
+fn the_core_io_and_cli_crates_link_no_gui() {
+    for krate in ["udc-core", "udc-io", "udc-cli"] {
+        let closure = locked_closure(krate);
+        assert!(
+            closure.contains("ndarray"),
+            "{krate}: the lock walk found {closure:?}"
+        );
+        for gui in GUI_CRATES {
+            assert!(!closure.contains(gui), "{krate} depends on {gui}");
+        }
+    }
+    // The studio crate itself takes each GUI crate only through its `gui` feature.
+    assert!(locked_closure("udc-studio").contains("eframe"));
+    let manifest: toml::Table = std::fs::read_to_string(repo().join("Cargo.toml"))
+        .expect("read Cargo.toml")
+        .parse()
+        .expect("parse Cargo.toml");
+    let deps = manifest["dependencies"].as_table().expect("dependencies");
+    for (name, spec) in deps {
+        if GUI_CRATES.contains(&name.as_str()) || name == "egui_commonmark" {
+            let optional = spec.get("optional").and_then(toml::Value::as_bool);
+            assert_eq!(
+                optional,
+                Some(true),
+                "{name} must be optional (feature `gui`)"
+            );
+        }
+    }
+}
+
+#[test]
+fn core_reads_no_files() {
     let mut files = Vec::new();
-    rust_files(
-        &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src/core"),
-        &mut files,
-    );
+    rust_files(&repo().join(CRATE_SOURCES[0]), &mut files);
     assert!(files.len() > 5);
     for f in files {
         let text = std::fs::read_to_string(&f).expect("read");
-        for banned in [
-            "egui",
-            "eframe",
-            "rfd",
-            "std::fs",
-            "crate::io",
-            "crate::app",
-        ] {
+        for banned in ["std::fs", "File::open", "File::create"] {
             assert!(!text.contains(banned), "{} mentions {banned}", f.display());
         }
     }
 }
 
-/// `src/core/phase/chain.rs` → `core::phase::chain`; a `mod.rs` is its folder's module.
+/// `crates/core/src/phase/chain.rs` → `phase::chain`; a `mod.rs` is its folder's module.
 fn module_of(src: &std::path::Path, file: &std::path::Path) -> Vec<String> {
     let rel = file
         .strip_prefix(src)
@@ -109,18 +184,18 @@ fn paths_named(module: &[String], text: &str) -> Vec<Vec<String>> {
 
 #[test]
 fn sibling_modules_do_not_import_each_other_in_a_cycle() {
+    for crate_src in CRATE_SOURCES {
+        no_sibling_cycle(&repo().join(crate_src));
+    }
+}
+
+fn no_sibling_cycle(src: &std::path::Path) {
     use std::collections::{BTreeMap, BTreeSet};
-    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
     let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    rust_files(src, &mut files);
     let modules: BTreeMap<Vec<String>, String> = files
         .iter()
-        .map(|f| {
-            (
-                module_of(&src, f),
-                std::fs::read_to_string(f).expect("read"),
-            )
-        })
+        .map(|f| (module_of(src, f), std::fs::read_to_string(f).expect("read")))
         .filter(|(m, _)| !m.is_empty() && m != &["lib"] && m != &["main"])
         .collect();
     let known = |p: &[String]| modules.keys().any(|m| m.starts_with(p));
@@ -161,8 +236,9 @@ fn sibling_modules_do_not_import_each_other_in_a_cycle() {
         None
     }
     assert!(
-        edges.len() > 10,
-        "the scan found too few imports: {edges:?}"
+        edges.len() > 3,
+        "the scan of {} found too few imports: {edges:?}",
+        src.display()
     );
     let mut done = BTreeSet::new();
     for v in edges.keys() {

@@ -1,0 +1,107 @@
+//! `--denoise` and `--denoise-sigma2`, shared by `restore` and `phase restore`: the thesis's
+//! denoise-then-deblur step (conventions.md §5) and its JSON.
+
+use anyhow::{Result, bail};
+use clap::Args;
+
+use udc_core::restore::{Denoise, DenoiseUsed, Recipe, Sigma2};
+
+/// The denoiser before the deblurring.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum DenoiseMethod {
+    /// BM3D (CBM3D on colour photos), with the thesis's σ² at the light level (the default).
+    Bm3d,
+    /// No denoiser: deblur the raw capture.
+    None,
+}
+
+/// The denoising flags of a restoration command.
+#[derive(Debug, Clone, Args)]
+pub struct DenoiseFlags {
+    /// Denoise the capture before deblurring: `bm3d` (the thesis, CBM3D for colour) or `none`.
+    #[arg(long, value_enum, default_value_t = DenoiseMethod::Bm3d)]
+    pub denoise: DenoiseMethod,
+    /// BM3D's noise variance σ² on the capture's scale (white ≈ 1), instead of the thesis's
+    /// table at each light level. Must be finite and > 0.
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    pub denoise_sigma2: Option<f64>,
+}
+
+impl DenoiseFlags {
+    /// The setting, with `recipe`'s σ² table unless `--denoise-sigma2` overrides it.
+    ///
+    /// # Errors
+    /// A σ² that is not finite and > 0, or one given with `--denoise none`.
+    pub fn resolve(&self, recipe: Recipe) -> Result<Denoise> {
+        match (self.denoise, self.denoise_sigma2) {
+            (DenoiseMethod::None, Some(s)) => bail!(
+                "--denoise-sigma2 {s}: there is no denoiser to give it to with --denoise none"
+            ),
+            (DenoiseMethod::None, None) => Ok(Denoise::None),
+            (DenoiseMethod::Bm3d, Some(s)) if !(s.is_finite() && s > 0.0) => {
+                bail!("--denoise-sigma2 {s}: the noise variance must be a finite number > 0")
+            }
+            (DenoiseMethod::Bm3d, Some(s)) => Ok(Denoise::Bm3d {
+                sigma2: Sigma2::Fixed(s),
+            }),
+            (DenoiseMethod::Bm3d, None) => Ok(Denoise::thesis(recipe)),
+        }
+    }
+}
+
+/// The run's denoising as a short text for tables: `BM3D σ² 0.002 (iccp21)` or `no denoiser`.
+pub fn denoise_text(used: &DenoiseUsed) -> String {
+    match (used.sigma2, used.source()) {
+        (Some(s), Some(source)) => format!("BM3D σ² {s:.3e} ({source})"),
+        _ => "no denoiser".to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flags(denoise: DenoiseMethod, sigma2: Option<f64>) -> DenoiseFlags {
+        DenoiseFlags {
+            denoise,
+            denoise_sigma2: sigma2,
+        }
+    }
+
+    #[test]
+    fn the_default_is_the_recipes_table_and_an_override_is_fixed() {
+        let d = flags(DenoiseMethod::Bm3d, None).resolve(Recipe::Iccv23);
+        assert_eq!(d.ok(), Some(Denoise::thesis(Recipe::Iccv23)));
+        let d = flags(DenoiseMethod::Bm3d, Some(0.003)).resolve(Recipe::Iccp21);
+        assert_eq!(
+            d.ok(),
+            Some(Denoise::Bm3d {
+                sigma2: Sigma2::Fixed(0.003)
+            })
+        );
+        let d = flags(DenoiseMethod::None, None).resolve(Recipe::Iccp21);
+        assert_eq!(d.ok(), Some(Denoise::None));
+    }
+
+    #[test]
+    fn bad_values_are_one_line_errors() {
+        for (f, needle) in [
+            (flags(DenoiseMethod::Bm3d, Some(0.0)), "finite number > 0"),
+            (flags(DenoiseMethod::Bm3d, Some(-0.01)), "finite number > 0"),
+            (
+                flags(DenoiseMethod::Bm3d, Some(f64::NAN)),
+                "finite number > 0",
+            ),
+            (flags(DenoiseMethod::None, Some(0.002)), "--denoise none"),
+        ] {
+            let msg = f
+                .resolve(Recipe::Iccp21)
+                .err()
+                .map(|e| format!("{e:#}"))
+                .unwrap_or_default();
+            assert!(msg.contains(needle), "{msg}");
+            assert!(msg.contains("--denoise-sigma2"), "{msg}");
+            assert!(!msg.contains('\n'), "{msg}");
+        }
+    }
+}

@@ -1,0 +1,171 @@
+//! `udc-studio import`: a mask (GDSII, OASIS, DXF or PNG) read back into a design file.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Result, anyhow, bail};
+use clap::Args;
+
+use udc_core::design::{Design, MAX_CELLS, TilingMode};
+use udc_io::design_file::{load_design, save_design};
+use udc_io::mask::{import_opening_on, mask_notes, note_field, sidecar_path};
+
+/// Arguments of `udc-studio import`.
+#[derive(Debug, Args)]
+pub struct ImportArgs {
+    /// The mask: `.gds`, `.oas`, `.dxf` or `.png` (as `udc-studio export` writes them).
+    pub mask: PathBuf,
+    /// GDSII layer/datatype of the drawn polygons, e.g. `1/0` (DXF: the layer `L1D0…`).
+    #[arg(long, default_value = "1/0", value_parser = parse_layer)]
+    pub layer: (i16, i16),
+    /// Pixel pitch in µm; by default the mask's `PITCH_NM=` note (or its sidecar design).
+    #[arg(long)]
+    pub pitch_um: Option<f64>,
+    /// Cells across a pixel; by default the mask's `CELLS=` note (or its sidecar design).
+    #[arg(long)]
+    pub cells: Option<usize>,
+    /// The design file to write.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `L/D` as a GDSII layer and datatype, each 0–255.
+fn parse_layer(s: &str) -> Result<(i16, i16), String> {
+    let bad = || format!("`{s}`: give the layer as L/D, e.g. 1/0, each 0–255");
+    let (l, d) = s.split_once('/').ok_or_else(bad)?;
+    let l: i16 = l.trim().parse().map_err(|_| bad())?;
+    let d: i16 = d.trim().parse().map_err(|_| bad())?;
+    if !(0..=255).contains(&l) || !(0..=255).contains(&d) {
+        return Err(bad());
+    }
+    Ok((l, d))
+}
+
+/// Runs `udc-studio import`: the mask's pixel on the optical axis becomes the opening of a
+/// design (the sidecar `<MASK>.design.json` when there is one, else the default design with
+/// the pitch, cells, wiring gap and tiling the mask's notes state), written to `--out`.
+///
+/// # Errors
+/// An unknown extension, an unreadable mask, a pitch or cell count neither stated nor given,
+/// an invalid design, an unwritable output.
+pub fn import_cmd(args: &ImportArgs) -> Result<()> {
+    let path = &args.mask;
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    if !matches!(
+        ext.as_str(),
+        "gds" | "gdsii" | "gds2" | "oas" | "oasis" | "dxf" | "png"
+    ) {
+        let what = if ext.is_empty() {
+            "a file without an extension".to_string()
+        } else {
+            format!("`.{ext}` masks")
+        };
+        bail!(
+            "{}: cannot import {what} (expected .gds, .oas, .dxf or .png)",
+            path.display()
+        );
+    }
+    udc_io::safe_file::check_not_an_input(&args.out, &[path.as_path()])?;
+    let (layer, datatype) = args.layer;
+    let design = template(path, layer, datatype, args)?;
+    let cells = import_opening_on(path, &design, layer, datatype)?;
+    let mut design = design;
+    design.opening.cells = cells;
+    design.reconcile_subpixels();
+    design
+        .validate()
+        .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+    save_design(&args.out, &design)?;
+    let n = design.opening.n();
+    let open = design.opening.cells.iter().flatten().sum::<f64>() / (n * n) as f64;
+    println!(
+        "imported {n}×{n} cells of {:.4} µm (pitch {} µm, open fraction {open:.6}) from {} into {}",
+        design.opening.cell_um(),
+        design.opening.pitch_um,
+        path.display(),
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// The design the opening goes into: the sidecar, or the default design set from the notes;
+/// `--pitch-um` and `--cells` override either.
+fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result<Design> {
+    let sidecar = sidecar_path(path);
+    let mut design = if sidecar.is_file() {
+        load_design(&sidecar)?
+    } else {
+        let notes = mask_notes(path, layer, datatype)?;
+        let lines = || notes.iter().map(String::as_str);
+        let number = |key: &str| -> Option<f64> { note_field(lines(), key)?.parse().ok() };
+        let mut d = Design {
+            name: path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            ..Design::default()
+        };
+        d.opening.polygons.clear();
+        if let Some(cells) = number("CELLS") {
+            d.opening.cells = square(cells_in_range(cells, "the CELLS= note")?);
+        }
+        if let Some(pitch_nm) = number("PITCH_NM") {
+            d.opening.pitch_um = pitch_nm / 1e3;
+            let period_nm = number("PERIOD_NM").unwrap_or(pitch_nm);
+            d.tiling.wiring_gap_um = (period_nm - pitch_nm).max(0.0) / 1e3;
+        } else if args.pitch_um.is_none() {
+            bail!(
+                "{}: the mask states no PITCH_NM= note and has no sidecar design; give --pitch-um",
+                path.display()
+            );
+        }
+        if number("CELLS").is_none() && args.cells.is_none() {
+            bail!(
+                "{}: the mask states no CELLS= note and has no sidecar design; give --cells",
+                path.display()
+            );
+        }
+        if let Some(mode) = note_field(lines(), "TILING") {
+            d.tiling.mode = mode
+                .parse::<TilingMode>()
+                .map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        }
+        d.tiling.seed = note_field(lines(), "SEED")
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(0);
+        if let Some((x, y)) = note_field(lines(), "AXIS_CELL").and_then(|a| a.split_once(','))
+            && let (Ok(x), Ok(y)) = (x.parse::<f64>(), y.parse::<f64>())
+        {
+            d.tiling.origin_offset_cells = [x, y];
+        }
+        d
+    };
+    if let Some(p) = args.pitch_um {
+        if !(p.is_finite() && p > 0.0) {
+            bail!("--pitch-um: must be a positive number of µm (got {p})");
+        }
+        design.opening.pitch_um = p;
+    }
+    if let Some(n) = args.cells {
+        design.opening.cells = square(cells_in_range(n as f64, "--cells")?);
+        design.reconcile_subpixels();
+    }
+    Ok(design)
+}
+
+/// A cell count from user data, checked before a grid of that size is allocated.
+fn cells_in_range(n: f64, what: &str) -> Result<usize> {
+    if !(n.fract() == 0.0 && (1.0..=MAX_CELLS as f64).contains(&n)) {
+        bail!(
+            "{what}: cells across a pixel must be a whole number from 1 to {MAX_CELLS} (got {n})"
+        );
+    }
+    Ok(n as usize)
+}
+
+/// An `n × n` grid of closed cells (the import fills it).
+fn square(n: usize) -> Vec<Vec<f64>> {
+    vec![vec![0.0; n]; n]
+}

@@ -1,0 +1,148 @@
+//! `phase psf`: PSFs, MTFs and invertibility of one design against the bare T-OLED.
+
+use super::*;
+
+pub(super) fn psf_cmd(a: &PsfArgs) -> Result<()> {
+    let mut design = design_of(&a.mask)?;
+    let sampling = sampling_of(&a.mask);
+    if !a.angle_deg.is_finite() || a.angle_deg.abs() >= 89.0 {
+        bail!(
+            "--angle-deg {}: must be a finite angle within ±89°",
+            a.angle_deg
+        );
+    }
+    design.lambda0 = resolve_lambda0(&a.lambda0, &design, &sampling, a.spectral.as_deref())?;
+    if a.unfolded {
+        design.surface = Surface::Unfolded;
+    }
+    design
+        .validate()
+        .map_err(|e| anyhow::anyhow!("{}", e.to_string().replace("`lambda0.nm`", "--lambda0")))?;
+    let channels = match &a.spectral {
+        Some(p) => grid_channels(Some(p))?,
+        None => Channel::rgb_peaks(),
+    };
+    let optics = if a.single_mask {
+        PhaseOptics::SingleMask
+    } else {
+        PhaseOptics::DoubleMla
+    };
+    let incidence = Incidence::AngleDeg(a.angle_deg);
+    let psfs = with_progress("PSFs", |p| {
+        phase_psfs(&design, &sampling, &channels, optics, incidence, p)
+    })?;
+    let mut outputs = Vec::new();
+    if let Some(dir) = &a.mask.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
+        let path = dir.join("psf.csv");
+        let mut text = String::from("pixel_offset");
+        for c in &psfs.channels {
+            text.push_str(&format!(",{0},toled_{0}", c.name));
+        }
+        text.push('\n');
+        let p = design.camera.pixels as i64;
+        for k in 0..design.camera.pixels {
+            text.push_str(&(k as i64 - p / 2).to_string());
+            for c in &psfs.channels {
+                text.push_str(&format!(",{:e},{:e}", c.psf[k], c.toled_psf[k]));
+            }
+            text.push('\n');
+        }
+        udc_io::safe_file::write_atomic(&path, text.as_bytes())?;
+        outputs.push(path);
+        if a.all_angles {
+            for c in &channels {
+                let k = with_progress(&format!("kernels {}", c.name), |p| {
+                    kernel_matrix(&design, &sampling, c, optics, p)
+                })?;
+                let path = dir.join(format!("kernels_{}.csv", c.name));
+                let mut text = String::with_capacity(k.len() * 12);
+                for row in k.rows() {
+                    let line: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
+                    text.push_str(&line.join(","));
+                    text.push('\n');
+                }
+                udc_io::safe_file::write_atomic(&path, text.as_bytes())?;
+                outputs.push(path);
+            }
+        }
+    }
+    let lambda0 = lambda0_per_lenslet(&design)?;
+    if a.mask.json {
+        let channels_json: Vec<Value> = psfs
+            .channels
+            .iter()
+            .map(|c| {
+                json!({
+                    "name": c.name,
+                    "wavelength_nm": r(c.wavelength_nm),
+                    "energy_vs_toled": r(c.energy_vs_toled),
+                    "energy_vs_toled_before_polariser": r(c.energy_vs_toled_before_polariser),
+                    "peak": r(c.peak),
+                    "invertibility": r(c.invertibility),
+                    "transmission": r(c.transmission),
+                    "toled_peak": r(c.toled_peak),
+                    "toled_invertibility": r(c.toled_invertibility),
+                    "toled_transmission": r(c.toled_transmission),
+                    "psf": c.psf.iter().map(|&v| r(v)).collect::<Vec<_>>(),
+                    "toled_psf": c.toled_psf.iter().map(|&v| r(v)).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let v = json!({
+            "pitch_um": design.pitch_um,
+            "fold": design.fold,
+            "f_mla_um": design.f_mla_um,
+            "surface": if a.unfolded { "unfolded" } else { "folded" },
+            "optics": if a.single_mask { "single-mask" } else { "double-mla" },
+            "lenslets": psfs.lenslets,
+            "lambda0_nm": lambda0,
+            "angle_deg": r(psfs.angle_deg),
+            "image_pixel": psfs.image_pixel,
+            "kappa": r(design.kappa()),
+            "fov_deg": r(design.fov_deg()),
+            "ltr_with_polariser": r(psfs.ltr_with_polariser),
+            "ltr_min_with_polariser": r(0.5 * design.ltr_min()),
+            "toled_ltr": r(psfs.toled_ltr),
+            "channels": channels_json,
+            "outputs": outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        });
+        crate::emit_json(&v)?;
+    } else {
+        println!(
+            "double MLA, pitch {} µm, T = {}, {} lenslets, λ0 {}–{} nm, angle {:.2}°",
+            design.pitch_um,
+            design.fold,
+            psfs.lenslets,
+            lambda0.iter().copied().fold(f64::INFINITY, f64::min),
+            lambda0.iter().copied().fold(0.0, f64::max),
+            psfs.angle_deg
+        );
+        println!(
+            "κ {:.2}  FoV {:.1}°  LTR {:.1} % (T-OLED {:.1} %, at the FoV edge {:.1} %)",
+            design.kappa(),
+            design.fov_deg(),
+            100.0 * psfs.ltr_with_polariser,
+            100.0 * psfs.toled_ltr,
+            50.0 * design.ltr_min()
+        );
+        println!("channel  λ nm   energy vs T-OLED   peak (T-OLED)      invertibility (T-OLED)");
+        for c in &psfs.channels {
+            println!(
+                "{:<7} {:5.0}   {:5.2}× ({:4.2}× before ½)   {:.4} ({:.4})   {:7.2} ({:7.2})",
+                c.name,
+                c.wavelength_nm,
+                c.energy_vs_toled,
+                c.energy_vs_toled_before_polariser,
+                c.peak,
+                c.toled_peak,
+                c.invertibility,
+                c.toled_invertibility
+            );
+        }
+        for p in &outputs {
+            println!("wrote {}", p.display());
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,476 @@
+//! `udc-studio sensor`: the sensor previewer of thesis chapter 5 from the command line.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use serde_json::json;
+
+use udc_core::sensor::{
+    AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, PRESET_NAMES, RoiLight, SensorSettings,
+    SensorSpec, Strategy, flat_patch, run,
+};
+use udc_core::{Progress, SimError};
+use udc_io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
+use udc_io::numbers::json6 as r;
+use udc_io::sensor_report::{run_json, write_run_images};
+
+/// Arguments of `udc-studio sensor`: a run on a scene, or a check (`sensor flat-patch`).
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct SensorArgs {
+    /// A check of the noise model instead of a run on a scene.
+    #[command(subcommand)]
+    pub check: Option<SensorCheck>,
+    /// The HDR scene: a Radiance .hdr or an OpenEXR .exr (linear relative radiance).
+    #[arg(long, required = true)]
+    pub hdr: Option<PathBuf>,
+    /// Sensor preset: table54, nikon-z5, nexus-6p, bfs-u3-200s6c or bfs-u3-16s2m.
+    #[arg(long, default_value = "table54")]
+    pub sensor: String,
+    /// Exposure: `mean:F` (image mean at fraction F of the full well; Table 5.4: mean:0.05),
+    /// `pP:F` (the P-th percentile fills fraction F, e.g. p99.9:0.8) or `abs:E` (radiance 1 gives
+    /// E electrons per µm²).
+    #[arg(long, default_value = "mean:0.05")]
+    pub exposure: String,
+    /// ROI side in pixels (gain map, bin map, per-ROI SSIM).
+    #[arg(long, default_value_t = 128)]
+    pub roi: usize,
+    /// η of eq. 5.3 for the ROI gains.
+    #[arg(long, default_value_t = 2.0)]
+    pub eta: f64,
+    /// η of eq. 5.3 for the single-shot per-pixel gain (with --all-strategies).
+    #[arg(long, default_value_t = 4.0)]
+    pub eta_per_pixel: f64,
+    /// SNR threshold of the optimal-pitch analysis.
+    #[arg(long, default_value_t = 4.0)]
+    pub snr_t: f64,
+    /// Seed of the photon and read noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// How the vary-bin strategies combine a bin.
+    #[arg(long, value_enum, default_value_t = BinMode::Digital)]
+    pub bin_mode: BinMode,
+    /// Amplifier gain of additive bins of N pixels: `scaled` (g/N: no extra saturation, read
+    /// noise σ_post²/g²) or `same` (g: least read noise, the sum saturates N× sooner).
+    #[arg(long, value_enum, default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
+    pub additive_gain: AdditiveGain,
+    /// The light level eq. 5.3 sets an ROI's gain for: its brightest 2×2 snapshot block, the
+    /// 99th percentile of its blocks, or its mean.
+    #[arg(long, value_enum, default_value_t = RoiLight::Brightest)]
+    pub roi_light: RoiLight,
+    /// Also run the other baselines: maximum gain, alternating rows, per-pixel gain, 2×2 bins.
+    #[arg(long)]
+    pub all_strategies: bool,
+    /// Colour filter array: `none` (monochrome, on the scene's luminance) or `rggb` (a Bayer
+    /// mosaic of the RGB scene, same-colour binning, demosaiced; scores on the demosaiced
+    /// luminance and per channel).
+    #[arg(long, value_enum, default_value_t = Cfa::None)]
+    pub cfa: Cfa,
+    /// Scale the scene down (area average) so its longer side has at most this many pixels.
+    #[arg(long)]
+    pub max_side_px: Option<usize>,
+    /// Print one JSON object to stdout instead of a table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write the maps and tone-mapped captures (PNG), the captures (float EXR) and the scene as
+    /// simulated (half-float EXR) into this directory.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// A check of the sensor model, `udc-studio sensor <CHECK>`.
+#[derive(Debug, Subcommand)]
+pub enum SensorCheck {
+    /// Expose a flat patch at light E, read it at the gain of eq. 5.3 for E with η, and compare
+    /// the saturated fraction with the model's prediction (η = 2: ≈ 2.2 % per pixel).
+    FlatPatch(FlatPatchArgs),
+}
+
+/// Arguments of `udc-studio sensor flat-patch`.
+#[derive(Debug, Args)]
+pub struct FlatPatchArgs {
+    /// Light level of the patch, electrons per unit pixel (also the l̂ of eq. 5.3).
+    #[arg(long, value_name = "E")]
+    pub light: f64,
+    /// η of eq. 5.3.
+    #[arg(long, value_name = "H", default_value_t = 2.0)]
+    pub eta: f64,
+    /// Sensor preset: table54, nikon-z5, nexus-6p, bfs-u3-200s6c or bfs-u3-16s2m.
+    #[arg(long, default_value = "table54")]
+    pub sensor: String,
+    /// Bin side in unit pixels: 1, 2, 4 or 8.
+    #[arg(long, default_value_t = 1)]
+    pub bin: usize,
+    /// How a bin's pixels are combined.
+    #[arg(long, value_enum, default_value_t = BinMode::Digital)]
+    pub bin_mode: BinMode,
+    /// Amplifier gain of additive bins: `scaled` (g/N) or `same` (g).
+    #[arg(long, value_enum, default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
+    pub additive_gain: AdditiveGain,
+    /// Side of the square patch, pixels.
+    #[arg(long, default_value_t = 512)]
+    pub side_px: usize,
+    /// Seed of the photon and read noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Read at this pixel gain instead of eq. 5.3's gain for the light and η.
+    #[arg(long, value_name = "G")]
+    pub gain: Option<f64>,
+    /// Print one JSON object to stdout instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn named_sensor(name: &str) -> Result<SensorSpec> {
+    SensorSpec::named(name).with_context(|| {
+        format!(
+            "unknown sensor `{name}` (expected one of: {})",
+            PRESET_NAMES.join(", ")
+        )
+    })
+}
+
+/// Runs `udc-studio sensor flat-patch`.
+///
+/// # Errors
+/// Unknown sensors and bad values, naming the flag.
+pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
+    let sensor = named_sensor(&args.sensor)?;
+    let spec = FlatPatchSpec {
+        light_e: args.light,
+        eta: args.eta,
+        bin_px: args.bin,
+        bin_mode: args.bin_mode,
+        additive_gain: args.additive_gain,
+        side_px: args.side_px,
+        seed: args.seed,
+        gain: args.gain,
+    };
+    let flag_of = |field: &str| match field {
+        "light_e" => Some("--light"),
+        "eta" => Some("--eta"),
+        "bin_px" => Some("--bin"),
+        "side_px" => Some("--side-px"),
+        "gain" => Some("--gain"),
+        _ => None,
+    };
+    let res = flat_patch(&spec, &sensor, &Progress::new()).map_err(|e| match e {
+        SimError::InvalidField { field, message } => match flag_of(&field) {
+            Some(flag) => anyhow::anyhow!("{flag}: {message}"),
+            None => SimError::InvalidField { field, message }.into(),
+        },
+        e => e.into(),
+    })?;
+    let mode = if spec.bin_px == 1 {
+        "none".to_string()
+    } else if spec.bin_mode == BinMode::AnalogAdditive {
+        format!(
+            "{0}×{0} additive ({1} gain)",
+            spec.bin_px,
+            spec.additive_gain.label()
+        )
+    } else {
+        format!("{0}×{0} {1}", spec.bin_px, spec.bin_mode.label())
+    };
+    if args.json {
+        let v = json!({
+            "saturated_fraction": r(res.saturated_fraction),
+            "predicted": r(res.predicted),
+            "gaussian_tail": r(res.gaussian_tail),
+            "standard_error": r(res.standard_error),
+            "readouts": res.readouts,
+            "gain": r(res.gain),
+            "amplifier_gain": r(res.amplifier_gain),
+            "light_e": spec.light_e,
+            "eta": spec.eta,
+            "sensor": sensor.name,
+            "bin_px": spec.bin_px,
+            "bin_mode": spec.bin_mode.label(),
+            "additive_gain": spec.additive_gain.label(),
+            "side_px": spec.side_px,
+            "seed": spec.seed,
+            "gain_from": if spec.gain.is_some() { "--gain" } else { "eq. 5.3" },
+            "variance_e2": r(res.variance_e2),
+            "table51_variance_e2": r(res.table51_variance_e2),
+            "variance_standard_error_e2": r(res.variance_standard_error_e2),
+        });
+        // Through the sweep's sink when a sweep (or `reproduce table5.1`) runs this check.
+        crate::emit_json(&v)?;
+        return Ok(());
+    }
+    println!(
+        "flat patch {0}×{0} px at {1} e⁻ on {2}, η {3}: gain {4:.4} ({5}), binning {mode}",
+        spec.side_px,
+        spec.light_e,
+        sensor.name,
+        spec.eta,
+        res.gain,
+        if spec.gain.is_some() {
+            "--gain"
+        } else {
+            "eq. 5.3"
+        }
+    );
+    println!(
+        "saturated {:.3} % of pixels (± {:.3} % standard error, {} readouts); predicted {:.3} % \
+         (Poisson photons, Gaussian read noise, ADC top code); eq. 5.3's Gaussian 1 − Φ(η) = {:.3} %",
+        100.0 * res.saturated_fraction,
+        100.0 * res.standard_error,
+        res.readouts,
+        100.0 * res.predicted,
+        100.0 * res.gaussian_tail
+    );
+    println!(
+        "variance of the estimate {:.4} e⁻² (± {:.4}); Table 5.1: {:.4} e⁻²",
+        res.variance_e2, res.variance_standard_error_e2, res.table51_variance_e2
+    );
+    Ok(())
+}
+
+/// Parses `mean:F`, `pP:F` or `abs:E` (see [`SensorArgs::exposure`]).
+///
+/// # Errors
+/// A message naming what is wrong.
+pub fn parse_exposure(s: &str) -> Result<Exposure, String> {
+    let (kind, value) = s
+        .split_once(':')
+        .ok_or_else(|| format!("`{s}`: expected mean:F, pP:F or abs:E (e.g. mean:0.05)"))?;
+    let number = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("`{s}`: `{t}` is not a number"))
+    };
+    let kind = kind.trim().to_ascii_lowercase();
+    let e = match kind.as_str() {
+        "mean" => Exposure::MeanFraction(number(value)?),
+        "abs" => Exposure::ElectronsPerUm2(number(value)?),
+        k if k.starts_with('p') => Exposure::PercentileFill {
+            percentile: number(&k[1..])?,
+            fill: number(value)?,
+        },
+        _ => return Err(format!("`{s}`: expected mean:F, pP:F or abs:E")),
+    };
+    e.validate().map_err(|err| format!("`{s}`: {err}"))?;
+    Ok(e)
+}
+
+fn exposure_json(e: &Exposure) -> serde_json::Value {
+    match *e {
+        Exposure::MeanFraction(f) => json!({ "mean_fraction": f }),
+        Exposure::PercentileFill { percentile, fill } => {
+            json!({ "percentile": percentile, "fill": fill })
+        }
+        Exposure::ElectronsPerUm2(x) => json!({ "electrons_per_um2": x }),
+    }
+}
+
+fn exposure_text(e: &Exposure) -> String {
+    match *e {
+        Exposure::MeanFraction(f) => format!("mean at {} % of the full well", 100.0 * f),
+        Exposure::PercentileFill { percentile, fill } => {
+            format!(
+                "{percentile}th percentile at {} % of the full well",
+                100.0 * fill
+            )
+        }
+        Exposure::ElectronsPerUm2(x) => format!("{x} e⁻/µm² at radiance 1"),
+    }
+}
+
+/// Runs `udc-studio sensor`.
+///
+/// # Errors
+/// Unknown sensors, unreadable scenes, invalid settings, unwritable outputs.
+pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
+    if let Some(SensorCheck::FlatPatch(check)) = &args.check {
+        return flat_patch_cmd(check);
+    }
+    let Some(hdr) = &args.hdr else {
+        bail!("--hdr is required (or a check such as `sensor flat-patch`)");
+    };
+    let sensor = named_sensor(&args.sensor)?;
+    if args.max_side_px == Some(0) {
+        bail!("--max-side-px must be at least 1");
+    }
+    let exposure = parse_exposure(&args.exposure).map_err(|e| anyhow::anyhow!("--exposure {e}"))?;
+    let (mut scene, report) = load_hdr_with_report(hdr)?;
+    let full = scene.dim();
+    let settings = SensorSettings {
+        sensor,
+        exposure,
+        roi_px: args.roi,
+        eta: args.eta,
+        eta_per_pixel: args.eta_per_pixel,
+        snr_t: args.snr_t,
+        seed: args.seed,
+        bin_mode: args.bin_mode,
+        additive_gain: args.additive_gain,
+        roi_light: args.roi_light,
+        strategies: if args.all_strategies {
+            Strategy::all()
+        } else {
+            Strategy::table54()
+        },
+        cfa: args.cfa,
+        ..SensorSettings::default()
+    };
+    if let Some(m) = args.max_side_px {
+        scene = scene.downscaled(m);
+    }
+    let result = run(&scene, &settings, &Progress::new())?;
+    let mut outputs = Vec::new();
+    if let Some(dir) = &args.out {
+        outputs = write_run_images(dir, &result, settings.sensor.max_gain)?;
+        let p = dir.join("scene.exr");
+        write_scene_exr(&p, &scene, ExrPrecision::Half)?;
+        outputs.push(p);
+    }
+    let notes = report.notes();
+    let (rows, cols) = scene.dim();
+    if args.json {
+        let mut v = run_json(&result);
+        if let Some(obj) = v.as_object_mut() {
+            let s = &settings.sensor;
+            obj.insert("hdr".into(), json!(hdr.display().to_string()));
+            obj.insert("source_size_px".into(), json!([full.1, full.0]));
+            obj.insert(
+                "sensor".into(),
+                json!({
+                    "name": s.name, "unit_pixel_um": s.unit_pixel_um,
+                    "full_well_e": s.full_well_e, "sigma_pre_e": s.sigma_pre_e,
+                    "sigma_post_e": s.sigma_post_e, "max_gain": r(s.max_gain),
+                    "adc_bits": s.adc_bits, "black_level_fraction": s.black_level_fraction,
+                }),
+            );
+            obj.insert("exposure".into(), exposure_json(&settings.exposure));
+            obj.insert("eta".into(), json!(settings.eta));
+            obj.insert("snr_t".into(), json!(settings.snr_t));
+            obj.insert("seed".into(), json!(settings.seed));
+            obj.insert("gamma".into(), r(settings.gamma));
+            obj.insert("bin_mode".into(), json!(settings.bin_mode.label()));
+            obj.insert(
+                "additive_gain".into(),
+                json!(settings.additive_gain.label()),
+            );
+            obj.insert("roi_light".into(), json!(settings.roi_light.label()));
+            obj.insert("notes".into(), json!(notes));
+            obj.insert(
+                "outputs".into(),
+                json!(
+                    outputs
+                        .iter()
+                        .map(|p| p.display().to_string())
+                        .collect::<Vec<_>>()
+                ),
+            );
+        }
+        crate::emit_json(&v)?;
+        return Ok(());
+    }
+    let s = &settings.sensor;
+    println!(
+        "{} ({cols}×{rows}{}): sensor {} ({} µm, full well {} e⁻, σ_pre {} e⁻, σ_post {} e⁻, \
+         gain ≤ {:.1}, {}-bit)",
+        hdr.display(),
+        if (rows, cols) == full {
+            String::new()
+        } else {
+            format!(", from {}×{}", full.1, full.0)
+        },
+        s.name,
+        s.unit_pixel_um,
+        s.full_well_e,
+        s.sigma_pre_e,
+        s.sigma_post_e,
+        s.max_gain,
+        s.adc_bits
+    );
+    if settings.cfa != Cfa::None {
+        println!(
+            "colour: {} Bayer mosaic, same-colour binning, Malvar-He-Cutler demosaic; scores on \
+             the demosaiced luminance",
+            settings.cfa.label().to_uppercase()
+        );
+    }
+    let binning = match settings.bin_mode {
+        BinMode::AnalogAdditive => format!("additive ({} gain)", settings.additive_gain.label()),
+        m => m.label().to_string(),
+    };
+    println!(
+        "exposure: {} ({:.4} e⁻ per unit radiance); ROI {} px ({}×{}), gain from its {} light; \
+         η {:?}; SNR_t {:?}; {binning} binning; {:.0} ms",
+        exposure_text(&settings.exposure),
+        result.electrons_per_radiance,
+        settings.roi_px,
+        result.grid.cols,
+        result.grid.rows,
+        settings.roi_light.label(),
+        settings.eta,
+        settings.snr_t,
+        result.elapsed_ms
+    );
+    for n in &notes {
+        println!("note: {n}");
+    }
+    println!(
+        "{:<22} {:>10} {:>9} {:>9} {:>10} {:>10} {:>8} {:>13} {:>10}",
+        "strategy",
+        "worst SSIM",
+        "mean SSIM",
+        "PSNR (dB)",
+        "saturated",
+        "sat. ROIs",
+        "DR (dB)",
+        "gain",
+        "mean bin"
+    );
+    for st in &result.strategies {
+        let (lo, hi) = st
+            .gain_map
+            .iter()
+            .fold((f64::INFINITY, 0.0f64), |(a, b), g| (a.min(*g), b.max(*g)));
+        println!(
+            "{:<22} {:>10.4} {:>9.4} {:>9.2} {:>9.2}% {:>9.1}% {:>8.1} {:>13} {:>10.2}",
+            st.name,
+            st.worst_roi_ssim,
+            st.mean_ssim,
+            st.psnr_db,
+            100.0 * st.saturated_fraction,
+            100.0 * st.saturated_roi_fraction,
+            st.dynamic_range_db,
+            format!("{lo:.1}–{hi:.1}"),
+            st.bin_map.mean().unwrap_or(1.0)
+        );
+    }
+    print_channels(&result);
+    for p in &outputs {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// With a colour filter array, the per-channel scores under the table.
+fn print_channels(result: &udc_core::sensor::SensorRun) {
+    use udc_core::sensor::colour::CHANNEL_NAMES;
+    if result.colour_truth.is_none() {
+        return;
+    }
+    println!("per channel (worst ROI SSIM / PSNR dB):");
+    print!("{:<22}", "strategy");
+    for c in CHANNEL_NAMES {
+        print!(" {:>17}", c);
+    }
+    println!();
+    for st in &result.strategies {
+        let Some(colour) = &st.colour else { continue };
+        print!("{:<22}", st.name);
+        for ch in &colour.channels {
+            print!(
+                " {:>17}",
+                format!("{:.4} / {:.2}", ch.worst_roi_ssim, ch.psnr_db)
+            );
+        }
+        println!();
+    }
+}

@@ -1,0 +1,133 @@
+//! The design-rule check of a phase plate: every stretch between two height jumps (a fold ring,
+//! or a quantised height step) against the narrowest feature its writer can make.
+//!
+//! The pieces of [`super::plate::pieces`] are cut at lenslet edges too; where the height runs on
+//! across an edge without a jump, the two pieces are one feature and are measured together.
+
+use super::PhaseDesign;
+use super::geometry::Lenslets;
+use super::plate::{Piece, pieces};
+use crate::SimError;
+use crate::mask::drc::{DrcReport, Rules, Violation, ViolationKind};
+
+/// A height difference below this (µm) is no jump: the surface runs on.
+const CONTINUOUS_UM: f64 = 1e-9;
+
+/// One feature: a stretch of the plate between height jumps.
+#[derive(Debug, Clone, Copy)]
+struct Feature {
+    x0_um: f64,
+    x1_um: f64,
+}
+
+/// Checks the plate of `design` against `rules.phase_min_feature_um`. The report has the same
+/// shape as a display mask's: its smallest feature, and each violation with where it is (x in
+/// µm in the plate's frame, y 0) and, in words, its lenslet and radius.
+///
+/// # Errors
+/// As [`super::plate::pieces`]: a plan that does not fit, or a profile too finely cut.
+pub fn check_plate(design: &PhaseDesign, rules: &Rules) -> Result<DrcReport, SimError> {
+    let lenslets = Lenslets::new(design)?;
+    let features = features(design, &pieces(design, &lenslets)?);
+    let mut report = DrcReport::new(*rules);
+    let rule = rules.phase_min_feature_um;
+    for f in &features {
+        let width = f.x1_um - f.x0_um;
+        report.min_feature_um = Some(report.min_feature_um.map_or(width, |m| m.min(width)));
+        if width < rule - 1e-12 {
+            report.push(Violation {
+                kind: ViolationKind::MinFeature,
+                value: width,
+                at_um: [f.x0_um, 0.0],
+                place: place(&lenslets, f),
+            });
+        }
+    }
+    Ok(report)
+}
+
+/// The pieces joined where the height has no jump between them.
+fn features(design: &PhaseDesign, pieces: &[Piece]) -> Vec<Feature> {
+    let mut out: Vec<Feature> = Vec::with_capacity(pieces.len());
+    let mut last: Option<&Piece> = None;
+    for p in pieces.iter().filter(|p| p.x1_um > p.x0_um) {
+        let runs_on = last.is_some_and(|q| {
+            (q.x1_um - p.x0_um).abs() < 1e-9
+                && (q.height_um(design, p.x0_um) - p.height_um(design, p.x0_um)).abs()
+                    < CONTINUOUS_UM
+        });
+        match out.last_mut() {
+            Some(f) if runs_on => f.x1_um = p.x1_um,
+            _ => out.push(Feature {
+                x0_um: p.x0_um,
+                x1_um: p.x1_um,
+            }),
+        }
+        last = Some(p);
+    }
+    out
+}
+
+/// Where `f` is, in words: its lenslet, the radii it spans and on which side of the centre.
+fn place(lenslets: &Lenslets, f: &Feature) -> String {
+    let mid = 0.5 * (f.x0_um + f.x1_um);
+    let Some((l, u)) = lenslets.locate(mid) else {
+        return format!("x = {:.3} µm", f.x0_um);
+    };
+    let c = lenslets.centre_um(l);
+    let (r0, r1) = ((f.x0_um - c).abs(), (f.x1_um - c).abs());
+    let (inner, outer) = (r0.min(r1), r0.max(r1));
+    if outer > 0.5 * lenslets.pitch_um + 1e-9 {
+        let other = if u < 0.0 { l.saturating_sub(1) } else { l + 1 };
+        return format!(
+            "lenslets {}-{}, across their edge at x = {:.3} µm",
+            l.min(other),
+            l.max(other),
+            f.x0_um
+        );
+    }
+    let side = if f.x1_um <= c + 1e-9 {
+        "left of its centre"
+    } else if f.x0_um >= c - 1e-9 {
+        "right of its centre"
+    } else {
+        "across its centre"
+    };
+    format!("lenslet {l}, ring at r = {inner:.3}-{outer:.3} µm, {side}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_thesis_plate_breaks_a_half_micron_rule_near_the_lenslet_edges() {
+        let mut d = PhaseDesign::thesis(168.0, 1.0);
+        d.height_step_um = Some(0.2);
+        let r = check_plate(&d, &Rules::default()).unwrap();
+        let min = r.min_feature_um.unwrap();
+        assert!(min > 0.0 && min < 0.2, "{min}");
+        assert!(!r.is_clean());
+        let v = &r.violations[0];
+        assert_eq!(v.kind, ViolationKind::MinFeature);
+        assert!(v.place.starts_with("lenslet"), "{}", v.place);
+        // A rule of 0 is not checked.
+        let off = Rules {
+            phase_min_feature_um: 0.0,
+            ..Rules::default()
+        };
+        assert!(check_plate(&d, &off).unwrap().is_clean());
+    }
+
+    #[test]
+    fn pieces_without_a_jump_between_them_are_one_feature() {
+        let d = PhaseDesign::thesis(42.0, 1.0);
+        let lenslets = Lenslets::new(&d).unwrap();
+        let p = pieces(&d, &lenslets).unwrap();
+        let f = features(&d, &p);
+        assert!(f.len() <= p.len());
+        let span = |v: &[Feature]| v.iter().map(|f| f.x1_um - f.x0_um).sum::<f64>();
+        let pieces_span: f64 = p.iter().map(|p| p.x1_um - p.x0_um).sum();
+        assert!((span(&f) - pieces_span).abs() < 1e-6);
+    }
+}

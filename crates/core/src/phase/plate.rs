@@ -1,0 +1,178 @@
+//! The plate's profile as pieces: the stretches between consecutive height jumps, cut at the
+//! analytic level crossings of [`geometry::bands`]. What the vector exports (GDSII, STL) draw.
+
+use super::geometry::{self, Lenslets};
+use super::{PhaseDesign, Surface};
+use crate::SimError;
+
+/// Most flat or curved stretches between height jumps the profile may have (a design with a
+/// tiny step or fold under wide lenslets has billions).
+pub const MAX_PIECES: usize = 4_000_000;
+
+/// How the height varies over one stretch between consecutive jumps.
+#[derive(Debug, Clone, Copy)]
+pub enum Shape {
+    /// A quantised level: height `level × step`.
+    Flat {
+        /// Level index (0 = the plate's base).
+        level: u64,
+        /// Height of the level, µm.
+        height_um: f64,
+    },
+    /// The sag about `centre_um`, less the folds below it (`offset_um`), at most `cap_um`.
+    Curved {
+        /// Centre of the lenslet, µm in the plate's frame.
+        centre_um: f64,
+        /// Height removed by the folds below, µm.
+        offset_um: f64,
+        /// Largest height on the piece, µm.
+        cap_um: f64,
+    },
+}
+
+/// One stretch of the profile between consecutive height jumps (or lenslet edges).
+#[derive(Debug, Clone, Copy)]
+pub struct Piece {
+    /// Left end, µm in the plate's frame (array centred on x = 0).
+    pub x0_um: f64,
+    /// Right end, µm in the plate's frame.
+    pub x1_um: f64,
+    /// How the height varies between the ends.
+    pub shape: Shape,
+}
+
+impl Piece {
+    /// The height on this piece, continued to its ends (a jump's two sides are two pieces).
+    pub fn height_um(&self, design: &PhaseDesign, x_um: f64) -> f64 {
+        match self.shape {
+            Shape::Flat { height_um, .. } => height_um,
+            Shape::Curved {
+                centre_um,
+                offset_um,
+                cap_um,
+            } => (geometry::sag_um(design, x_um - centre_um) - offset_um).clamp(0.0, cap_um),
+        }
+    }
+}
+
+/// The profile cut at every height jump, left to right.
+///
+/// The jumps are the analytic crossings of [`geometry::bands`]: in integer level indices, a
+/// floored level j of wrap w ends where the sag reaches `w·d0 + (j+1)·step` and a wrap where it
+/// reaches `(w+1)·d0` (d0 the unrounded fold height); rounding to the nearest level jumps at
+/// `(K + ½)·step`. The radius is `sqrt(2(n−1)f·sag)`, so every level's ring has exactly the
+/// model's width, and each piece's level is the integer index of its ring, not a sampled height.
+pub fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, SimError> {
+    let pitch = lenslets.pitch_um;
+    let count = lenslets.count();
+    let half = pitch / 2.0;
+    let edge_sag = geometry::sag_um(design, half);
+    if !(geometry::sag_um(design, 1.0) > 0.0 && edge_sag.is_finite()) {
+        return Err(SimError::field(
+            "f_mla_um",
+            format!("the lens sag {edge_sag:?} µm at the lenslet edge cannot be cut into levels"),
+        ));
+    }
+    let estimate: f64 = lenslets
+        .fold_height_um
+        .iter()
+        .map(|&f| 2.0 * geometry::band_count_bound(design, f, half) + 1.0)
+        .sum();
+    if !(estimate <= MAX_PIECES as f64) {
+        let cause = match design.height_step_um {
+            Some(step) => format!("height_step_um = {step} µm"),
+            None => "the fold height".into(),
+        };
+        return Err(SimError::TooLarge(format!(
+            "the profile would have about {estimate:.0} separate levels or folds ({cause} under \
+             {edge_sag:.1} µm of lens sag), more than {MAX_PIECES}; use a coarser step"
+        )));
+    }
+    let mut out = Vec::with_capacity(estimate as usize);
+    let mut cached: Option<(f64, Vec<geometry::Band>)> = None;
+    for (l, &fold_um) in lenslets.fold_height_um.iter().enumerate() {
+        let c = lenslets.centre_um(l);
+        // Edges from one formula, so neighbouring lenslets share them bit for bit.
+        let left = (l as f64 - count as f64 / 2.0) * pitch;
+        let right = (l as f64 + 1.0 - count as f64 / 2.0) * pitch;
+        let bands = match &cached {
+            Some((f, b)) if *f == fold_um => b,
+            _ => {
+                &cached
+                    .insert((fold_um, geometry::bands(design, fold_um, half)))
+                    .1
+            }
+        };
+        let shape = |b: &geometry::Band| match (b.level, design.height_step_um) {
+            (Some(level), Some(step)) => Shape::Flat {
+                level,
+                height_um: level as f64 * step,
+            },
+            _ => Shape::Curved {
+                centre_um: c,
+                offset_um: b.wraps as f64 * fold_um,
+                cap_um: match design.surface {
+                    Surface::Folded => fold_um,
+                    Surface::Unfolded => f64::INFINITY,
+                },
+            },
+        };
+        // Left half outside in, the central ring across the centre, right half inside out.
+        let last = bands.len() - 1;
+        let mut spans: Vec<(f64, f64, &geometry::Band)> = Vec::with_capacity(2 * bands.len());
+        for (k, b) in bands.iter().enumerate().skip(1).rev() {
+            let x0 = if k == last { left } else { c - b.u1_um };
+            spans.push((x0, c - b.u0_um, b));
+        }
+        let (x0, x1) = if last == 0 {
+            (left, right)
+        } else {
+            (c - bands[0].u1_um, c + bands[0].u1_um)
+        };
+        spans.push((x0, x1, &bands[0]));
+        for (k, b) in bands.iter().enumerate().skip(1) {
+            let x1 = if k == last { right } else { c + b.u1_um };
+            spans.push((c + b.u0_um, x1, b));
+        }
+        for (x0, x1, b) in spans {
+            // Rounding could put a crossing on or past an edge; such a piece has no width.
+            let (x0, x1) = (x0.max(left), x1.min(right));
+            if x1 > x0 {
+                out.push(Piece {
+                    x0_um: x0,
+                    x1_um: x1,
+                    shape: shape(b),
+                });
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The narrowest stretch of the plate between two height jumps: the smallest feature a fab
+/// must write (the fold rings narrow towards each lenslet's edge, as `1/u`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NarrowestPiece {
+    /// Its width, µm.
+    pub width_um: f64,
+    /// Where it starts, µm in the plate's frame.
+    pub x0_um: f64,
+}
+
+/// The narrowest piece of the plate of `design` (its design-rule minimum feature).
+///
+/// # Errors
+/// As [`pieces`].
+pub fn narrowest_piece(
+    design: &PhaseDesign,
+    lenslets: &Lenslets,
+) -> Result<Option<NarrowestPiece>, SimError> {
+    Ok(pieces(design, lenslets)?
+        .iter()
+        .map(|p| NarrowestPiece {
+            width_um: p.x1_um - p.x0_um,
+            x0_um: p.x0_um,
+        })
+        .filter(|p| p.width_um > 0.0)
+        .min_by(|a, b| a.width_um.total_cmp(&b.width_um)))
+}

@@ -1,0 +1,293 @@
+//! A quick one-dimensional sweep of one number of a design ("sweep this parameter" in the
+//! studio): the values to try, a copy of the design with one field changed, and the number
+//! each copy scores. The same functions serve the studio's background job and the tests, so
+//! what the plot shows is what a test checks.
+
+use crate::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
+use crate::design::{Design, OpticsRecipe};
+use crate::{Progress, SimError};
+
+/// The design numbers a 1-D sweep can change: a closed set, so each one knows its unit, its
+/// range and how to write itself into a design.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SweepField {
+    /// Display pixel pitch, µm (`opening.pitch_um`).
+    PitchUm,
+    /// Seed of the random tiling (`tiling.seed`), a whole number.
+    Seed,
+    /// Opaque wiring gap around every pixel, µm (`tiling.wiring_gap_um`).
+    WiringGapUm,
+    /// Lens f-number (`optics.f_number`).
+    FNumber,
+    /// Lens focal length, mm (`optics.focal_length_mm`).
+    FocalLengthMm,
+    /// Sensor pixel pitch, µm (`optics.sensor_pixel_um`).
+    SensorPixelUm,
+}
+
+impl SweepField {
+    /// Every sweepable field.
+    pub const ALL: [SweepField; 6] = [
+        SweepField::PitchUm,
+        SweepField::Seed,
+        SweepField::WiringGapUm,
+        SweepField::FNumber,
+        SweepField::FocalLengthMm,
+        SweepField::SensorPixelUm,
+    ];
+
+    /// Its name for titles and axis labels, without the unit.
+    pub fn label(self) -> &'static str {
+        match self {
+            SweepField::PitchUm => "pitch",
+            SweepField::Seed => "tiling seed",
+            SweepField::WiringGapUm => "wiring gap",
+            SweepField::FNumber => "f-number",
+            SweepField::FocalLengthMm => "focal length",
+            SweepField::SensorPixelUm => "sensor pixel",
+        }
+    }
+
+    /// Its unit as labels show it ("" for pure numbers).
+    pub fn unit(self) -> &'static str {
+        match self {
+            SweepField::PitchUm | SweepField::WiringGapUm | SweepField::SensorPixelUm => "µm",
+            SweepField::FocalLengthMm => "mm",
+            SweepField::Seed | SweepField::FNumber => "",
+        }
+    }
+
+    /// The label with its unit: "pitch (µm)".
+    pub fn label_with_unit(self) -> String {
+        match self.unit() {
+            "" => self.label().to_string(),
+            u => format!("{} ({u})", self.label()),
+        }
+    }
+
+    /// Its path in the design file, as validation errors name it.
+    pub fn path(self) -> &'static str {
+        match self {
+            SweepField::PitchUm => "opening.pitch_um",
+            SweepField::Seed => "tiling.seed",
+            SweepField::WiringGapUm => "tiling.wiring_gap_um",
+            SweepField::FNumber => "optics.f_number",
+            SweepField::FocalLengthMm => "optics.focal_length_mm",
+            SweepField::SensorPixelUm => "optics.sensor_pixel_um",
+        }
+    }
+
+    /// Whether only whole numbers make sense (the seed).
+    pub fn is_integer(self) -> bool {
+        self == SweepField::Seed
+    }
+
+    /// The field's value in `design`.
+    pub fn get(self, design: &Design) -> f64 {
+        match self {
+            SweepField::PitchUm => design.opening.pitch_um,
+            SweepField::Seed => design.tiling.seed as f64,
+            SweepField::WiringGapUm => design.tiling.wiring_gap_um,
+            SweepField::FNumber => design.optics.f_number,
+            SweepField::FocalLengthMm => design.optics.focal_length_mm,
+            SweepField::SensorPixelUm => design.optics.sensor_pixel_um,
+        }
+    }
+
+    /// A copy of `design` with this field set to `value`. A changed lens number makes the
+    /// optics a custom recipe (as editing it by hand does). A seed that is not a whole
+    /// non-negative number is refused here, since the design stores it unsigned; every other
+    /// value is left to [`Design::validate`].
+    ///
+    /// # Errors
+    /// [`SimError::InvalidField`] for a negative or fractional seed.
+    pub fn apply(self, design: &Design, value: f64) -> Result<Design, SimError> {
+        let mut d = design.clone();
+        match self {
+            SweepField::PitchUm => d.opening.pitch_um = value,
+            SweepField::Seed => {
+                if !(value.is_finite() && value >= 0.0 && value.fract() == 0.0) {
+                    return Err(SimError::InvalidField {
+                        field: self.path().into(),
+                        message: format!("{value} is not a whole number of at least 0"),
+                    });
+                }
+                d.tiling.seed = value as u64;
+            }
+            SweepField::WiringGapUm => d.tiling.wiring_gap_um = value,
+            SweepField::FNumber => d.optics.f_number = value,
+            SweepField::FocalLengthMm => d.optics.focal_length_mm = value,
+            SweepField::SensorPixelUm => d.optics.sensor_pixel_um = value,
+        }
+        if d.optics != design.optics {
+            d.optics.recipe = OpticsRecipe::Custom;
+        }
+        Ok(d)
+    }
+
+    /// The range a sweep of this field starts with, around the `current` value: ±50 % with 9
+    /// steps; the seed takes the 9 seeds from the current one; a field at 0 (no wiring gap)
+    /// sweeps up to a span that means something for it.
+    pub fn default_range(self, current: f64) -> (f64, f64, usize) {
+        if self.is_integer() {
+            return (current, current + 8.0, 9);
+        }
+        if current == 0.0 {
+            let span = match self {
+                SweepField::WiringGapUm => 10.0,
+                _ => 1.0,
+            };
+            return (0.0, span, 9);
+        }
+        (0.5 * current, 1.5 * current, 9)
+    }
+}
+
+/// The number a 1-D sweep plots for each value.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum SweepMetric {
+    /// AUC of the radially-minimum MTF, mean over the channels (`auc_radial_min_mean`).
+    AucMean,
+    /// AUC of the radially-minimum MTF of one channel, by its index in the design.
+    AucChannel(usize),
+    /// Light transmittance ratio over the pupil.
+    Ltr,
+    /// Invertibility loss `L_inv`, pooled over the channels.
+    InvertibilityLoss,
+}
+
+impl SweepMetric {
+    /// The metrics a design offers: the mean AUC, each channel's AUC, LTR and `L_inv`.
+    pub fn all_for(design: &Design) -> Vec<SweepMetric> {
+        let mut out = vec![SweepMetric::AucMean];
+        out.extend((0..design.channels.len()).map(SweepMetric::AucChannel));
+        out.extend([SweepMetric::Ltr, SweepMetric::InvertibilityLoss]);
+        out
+    }
+
+    /// Its name for the combo box and the plot's axis, with the channel's name from `design`.
+    pub fn label(self, design: &Design) -> String {
+        match self {
+            SweepMetric::AucMean => "AUC min, mean of channels".into(),
+            SweepMetric::AucChannel(k) => format!(
+                "AUC min, {}",
+                design.channels.get(k).map_or("?", |c| c.name.as_str())
+            ),
+            SweepMetric::Ltr => "LTR".into(),
+            SweepMetric::InvertibilityLoss => "L_inv".into(),
+        }
+    }
+
+    /// Its value in an analysis (NaN for a channel the analysis lacks).
+    pub fn of(self, a: &Analysis) -> f64 {
+        match self {
+            SweepMetric::AucMean => {
+                a.channels.iter().map(|c| c.mtf.auc_radial_min).sum::<f64>()
+                    / a.channels.len().max(1) as f64
+            }
+            SweepMetric::AucChannel(k) => {
+                a.channels.get(k).map_or(f64::NAN, |c| c.mtf.auc_radial_min)
+            }
+            SweepMetric::Ltr => a.ltr,
+            SweepMetric::InvertibilityLoss => a.invertibility_loss,
+        }
+    }
+}
+
+/// `steps` values from `from` to `to`, both included (one value: `from`). For a whole-number
+/// field the values are rounded and repeats dropped, so a narrow seed range gives fewer
+/// points rather than the same seed twice.
+pub fn values(from: f64, to: f64, steps: usize, integer: bool) -> Vec<f64> {
+    let mut out: Vec<f64> = match steps {
+        0 => Vec::new(),
+        1 => vec![from],
+        n => (0..n)
+            .map(|i| from + (to - from) * i as f64 / (n - 1) as f64)
+            .collect(),
+    };
+    if integer {
+        for v in &mut out {
+            *v = v.round();
+        }
+        out.dedup();
+    }
+    out
+}
+
+/// What one value of a 1-D sweep gave.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FieldPoint {
+    /// The metric's value.
+    Value(f64),
+    /// The design with this value is invalid or cannot be simulated: the reason, for the note
+    /// under the plot (the plot leaves a gap).
+    Invalid(String),
+}
+
+/// Analyses a copy of `design` with `field` set to `value` and returns `metric`.
+///
+/// # Errors
+/// Only [`SimError::Cancelled`]: an invalid value is a [`FieldPoint::Invalid`], not an error,
+/// so the sweep carries on past it.
+pub fn evaluate(
+    design: &Design,
+    field: SweepField,
+    value: f64,
+    metric: SweepMetric,
+    quality: Quality,
+    progress: &Progress,
+) -> Result<FieldPoint, SimError> {
+    let options = AnalyzeOptions {
+        quality,
+        expected_psf: false,
+    };
+    let result = field
+        .apply(design, value)
+        .and_then(|d| analyze_with(&d, &options, progress));
+    match result {
+        Ok(a) => {
+            let v = metric.of(&a);
+            Ok(if v.is_finite() {
+                FieldPoint::Value(v)
+            } else {
+                FieldPoint::Invalid(format!("{} is not a finite number", metric.label(design)))
+            })
+        }
+        Err(SimError::Cancelled) => Err(SimError::Cancelled),
+        Err(e) => Ok(FieldPoint::Invalid(e.to_string())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_include_both_ends_and_round_for_whole_numbers() {
+        assert_eq!(values(1.0, 3.0, 5, false), vec![1.0, 1.5, 2.0, 2.5, 3.0]);
+        assert_eq!(values(2.0, 9.0, 1, false), vec![2.0]);
+        assert!(values(2.0, 9.0, 0, false).is_empty());
+        assert_eq!(values(0.0, 2.0, 5, true), vec![0.0, 1.0, 2.0]);
+    }
+
+    #[test]
+    fn apply_changes_one_field_and_refuses_bad_seeds() {
+        let d = Design::default_toled();
+        for f in SweepField::ALL {
+            let v = f.get(&d) + 1.0;
+            let changed = f.apply(&d, v).expect("a whole seed");
+            assert_eq!(f.get(&changed), v, "{f:?}");
+        }
+        assert!(SweepField::Seed.apply(&d, -1.0).is_err());
+        assert!(SweepField::Seed.apply(&d, 0.5).is_err());
+        let lens = SweepField::FNumber.apply(&d, 3.0).expect("any number");
+        assert_eq!(lens.optics.recipe, OpticsRecipe::Custom);
+    }
+
+    #[test]
+    fn default_ranges() {
+        assert_eq!(SweepField::PitchUm.default_range(100.0), (50.0, 150.0, 9));
+        assert_eq!(SweepField::Seed.default_range(3.0), (3.0, 11.0, 9));
+        assert_eq!(SweepField::WiringGapUm.default_range(0.0), (0.0, 10.0, 9));
+    }
+}

@@ -1,0 +1,322 @@
+//! DXF: closed LWPOLYLINEs in micrometres (`$INSUNITS` = µm, `$MEASUREMENT` = metric), drawing
+//! version R2000 (older versions have no LWPOLYLINE and the writer would drop them).
+//!
+//! References are expanded: every pixel's polygons are written (DXF blocks with mirrored inserts
+//! are poorly supported by CAM tools). The drawn layer is `L<layer>D<datatype>_<TONE>`, the pupil
+//! outline and the TEXT notes are on `NOTES`; the die frame, alignment marks and label (when
+//! asked for) on `FRAME`, `MARKS` and `LABEL`, the label a TEXT of its own height.
+//!
+//! The `dxf` crate writes table heads without a handle (group 5), which strict readers repair
+//! (ezdxf's `recover` counts one fix per table); [`TableHandles`] adds them while the file is
+//! written. `$EXTMIN`/`$EXTMAX` are the bounding box of the polylines (the notes' text lies
+//! above it and is not counted: a text's width depends on the reader's font).
+
+use std::fs::File;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+use dxf::entities::{Entity, EntityType, LwPolyline, Text};
+use dxf::enums::{AcadVersion, DrawingUnits, Units};
+use dxf::tables::Layer;
+use dxf::{Drawing, Handle, LwPolylineVertex, Point};
+
+use super::{
+    ExportOptions, FileCounts, FrameDrawing, LayerRole, for_each_flat_polygon, region_bbox_nm,
+};
+use crate::IoError;
+use udc_core::Progress;
+use udc_core::mask::{MaskError, MaskLayout, Tone};
+
+/// DXF drawings live in memory while they are written; beyond this, use GDSII.
+pub const MAX_DXF_POLYGONS: u64 = 500_000;
+
+const NOTES_LAYER: &str = "NOTES";
+
+/// The DXF layer of a frame role: its upper-case name (DXF layers are names, not numbers).
+fn role_layer(role: LayerRole) -> String {
+    role.as_str().to_uppercase()
+}
+
+fn layer_name(layer: i16, datatype: i16) -> String {
+    format!("L{layer}D{datatype}")
+}
+
+fn polyline(points_um: impl Iterator<Item = [f64; 2]>, layer: &str) -> Entity {
+    let mut p = LwPolyline {
+        vertices: points_um
+            .map(|[x, y]| LwPolylineVertex {
+                x,
+                y,
+                ..Default::default()
+            })
+            .collect(),
+        ..Default::default()
+    };
+    p.set_is_closed(true);
+    let mut e = Entity::new(EntityType::LwPolyline(p));
+    e.common.layer = layer.to_string();
+    e
+}
+
+/// Nanometres as micrometres: dividing (not multiplying by 1e-3) gives the double nearest the
+/// decimal, so a shortest round-trip writer prints 0.3, not 0.30000000000000004.
+fn um(p: &[i64; 2]) -> [f64; 2] {
+    [p[0] as f64 / 1000.0, p[1] as f64 / 1000.0]
+}
+
+/// Writes the DXF file.
+pub(super) fn write(
+    layout: &MaskLayout,
+    o: &ExportOptions,
+    notes: &[String],
+    frame: &FrameDrawing,
+    path: &Path,
+    progress: &Progress,
+) -> Result<FileCounts, IoError> {
+    let stats = layout.stats();
+    if stats.flat_polygons > MAX_DXF_POLYGONS {
+        return Err(MaskError::TooLarge(format!(
+            "{} polygons is more than a DXF file may hold here ({MAX_DXF_POLYGONS}); \
+             export GDSII, which references one cell per pixel",
+            stats.flat_polygons
+        ))
+        .into());
+    }
+    let mut drawing = Drawing::new();
+    drawing.header.version = AcadVersion::R2000;
+    drawing.header.default_drawing_units = Units::Microns;
+    drawing.header.drawing_units = DrawingUnits::Metric;
+    if o.deterministic {
+        fix_header_dates(&mut drawing);
+    }
+    let drawn = format!(
+        "{}_{}",
+        layer_name(o.layer, o.datatype),
+        o.spec.tone.as_str().to_uppercase()
+    );
+    let mut layers = vec![drawn.clone(), NOTES_LAYER.to_string()];
+    for role in [LayerRole::Frame, LayerRole::Marks] {
+        if frame.polygons.iter().any(|(r, _)| *r == role) {
+            layers.push(role_layer(role));
+        }
+    }
+    if frame.label.is_some() {
+        layers.push(role_layer(LayerRole::Label));
+    }
+    for name in layers {
+        drawing.add_layer(Layer {
+            name,
+            ..Default::default()
+        });
+    }
+    let mut counts = FileCounts::default();
+    // [min x, min y, max x, max y] of every polyline vertex, in nm (exact until written).
+    let mut ext = [i64::MAX, i64::MAX, i64::MIN, i64::MIN];
+    let mut extend = |poly: &[[i64; 2]]| {
+        for p in poly {
+            ext = [
+                ext[0].min(p[0]),
+                ext[1].min(p[1]),
+                ext[2].max(p[0]),
+                ext[3].max(p[1]),
+            ];
+        }
+    };
+    for_each_flat_polygon(layout, progress, |poly| {
+        extend(poly);
+        drawing.add_entity(polyline(poly.iter().map(um), &drawn));
+        counts.polygons += 1;
+        counts.vertices += poly.len() as u64;
+        Ok(())
+    })?;
+    if let Some(outline) = &layout.pupil_outline {
+        extend(&outline.points_nm);
+        drawing.add_entity(polyline(outline.points_nm.iter().map(um), NOTES_LAYER));
+    }
+    for (role, poly) in &frame.polygons {
+        extend(&poly.points_nm);
+        drawing.add_entity(polyline(poly.points_nm.iter().map(um), &role_layer(*role)));
+    }
+    if let Some(label) = &frame.label {
+        let [x, y] = um(&label.at_nm);
+        let text = Text {
+            location: Point::new(x, y, 0.0),
+            text_height: label.height_nm as f64 / 1000.0,
+            value: label.text.clone(),
+            ..Default::default()
+        };
+        let mut e = Entity::new(EntityType::Text(text));
+        e.common.layer = role_layer(LayerRole::Label);
+        drawing.add_entity(e);
+    }
+    let bbox = region_bbox_nm(layout);
+    for (k, note) in notes.iter().enumerate() {
+        let text = Text {
+            location: Point::new(
+                bbox[0] as f64 * 1e-3,
+                bbox[3] as f64 * 1e-3 + 10.0 * (notes.len() - k) as f64,
+                0.0,
+            ),
+            text_height: 5.0,
+            value: note.clone(),
+            ..Default::default()
+        };
+        let mut e = Entity::new(EntityType::Text(text));
+        e.common.layer = NOTES_LAYER.to_string();
+        drawing.add_entity(e);
+    }
+    if ext[0] <= ext[2] {
+        let ([x0, y0], [x1, y1]) = (um(&[ext[0], ext[1]]), um(&[ext[2], ext[3]]));
+        drawing.header.minimum_drawing_extents = Point::new(x0, y0, 0.0);
+        drawing.header.maximum_drawing_extents = Point::new(x1, y1, 0.0);
+    }
+    // The table heads' handles come after every handle the crate gave out, and `$HANDSEED`
+    // (written from `next_available_handle`) moves past them.
+    let first = drawing.header.next_available_handle.0;
+    drawing.header.next_available_handle = Handle(first + TABLE_HANDLES);
+    let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
+    let mut w = TableHandles::new(BufWriter::new(file), first);
+    drawing.save(&mut w).map_err(|e| IoError::Mask {
+        path: path.to_path_buf(),
+        message: format!("cannot write the DXF drawing: {e}"),
+    })?;
+    w.finish().map_err(|e| IoError::file("write", path, e))?;
+    counts.bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    Ok(counts)
+}
+
+/// The GDSII writer's fixed date (2000-01-01 00:00) for the header's creation and update
+/// times, and nil GUIDs: the crate fills them with the clock and random GUIDs, so two
+/// deterministic exports would otherwise differ.
+fn fix_header_dates(drawing: &mut Drawing) {
+    use chrono::TimeZone;
+    let utc = chrono::DateTime::<chrono::Utc>::from_timestamp(946_684_800, 0).unwrap_or_default();
+    // Local by its wall-clock reading, so the bytes do not depend on the machine's time zone.
+    let local = chrono::Local
+        .from_local_datetime(&utc.naive_utc())
+        .earliest()
+        .unwrap_or_else(|| utc.with_timezone(&chrono::Local));
+    let h = &mut drawing.header;
+    (h.creation_date, h.update_date) = (local, local);
+    (h.creation_date_universal, h.update_date_universal) = (utc, utc);
+    h.fingerprint_guid = Default::default();
+    h.version_guid = Default::default();
+}
+
+/// Handles reserved for table heads: R2000 has nine tables.
+const TABLE_HANDLES: u64 = 16;
+
+/// A writer that gives each `0/TABLE` head a handle (group 5) and owner (group 330 = 0) right
+/// after its `2/<name>` pair, as AutoCAD writes them.
+struct TableHandles<W: Write> {
+    inner: W,
+    /// The bytes of the line being written.
+    line: Vec<u8>,
+    /// Lines written so far: even lines are group codes, odd lines values.
+    lines: u64,
+    /// The group code of the current pair.
+    code: String,
+    /// The previous pair was `0/TABLE`.
+    after_table: bool,
+    /// The next handle to give, and the first one not to.
+    next: u64,
+    end: u64,
+}
+
+impl<W: Write> TableHandles<W> {
+    fn new(inner: W, first: u64) -> Self {
+        TableHandles {
+            inner,
+            line: Vec::new(),
+            lines: 0,
+            code: String::new(),
+            after_table: false,
+            next: first,
+            end: first + TABLE_HANDLES,
+        }
+    }
+
+    fn line_done(&mut self) -> std::io::Result<()> {
+        self.inner.write_all(&self.line)?;
+        let text = String::from_utf8_lossy(&self.line).trim().to_string();
+        self.line.clear();
+        self.lines += 1;
+        if self.lines % 2 == 1 {
+            self.code = text;
+            return Ok(());
+        }
+        let head = std::mem::replace(&mut self.after_table, false);
+        if self.code == "0" {
+            self.after_table = text == "TABLE";
+        } else if self.code == "2" && head && self.next < self.end {
+            write!(self.inner, "  5\r\n{:X}\r\n330\r\n0\r\n", self.next)?;
+            self.next += 1;
+        }
+        Ok(())
+    }
+
+    /// Writes what is left and flushes.
+    fn finish(mut self) -> std::io::Result<()> {
+        self.inner.write_all(&self.line)?;
+        self.inner.flush()
+    }
+}
+
+impl<W: Write> Write for TableHandles<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        for &b in buf {
+            self.line.push(b);
+            if b == b'\n' {
+                self.line_done()?;
+            }
+        }
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
+}
+
+/// What [`write`] would produce.
+pub(super) fn estimate(layout: &MaskLayout) -> FileCounts {
+    let s = layout.stats();
+    FileCounts {
+        polygons: s.flat_polygons,
+        vertices: s.flat_vertices,
+        references: 0,
+        arrays: 0,
+        // About 330 bytes of entity header per polyline and 45 per vertex.
+        bytes: 20_000 + 330 * s.flat_polygons + 45 * s.flat_vertices,
+    }
+}
+
+/// Reads closed LWPOLYLINEs on the layer `L<layer>D<datatype>` (any `_TONE` suffix) in µm, and
+/// every TEXT (plus a `TONE=` note derived from the layer's suffix).
+pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<super::Drawn, IoError> {
+    let bytes = crate::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
+    let drawing = Drawing::load(&mut std::io::Cursor::new(bytes)).map_err(|e| IoError::Mask {
+        path: path.to_path_buf(),
+        message: format!("not a readable DXF file: {e}"),
+    })?;
+    let name = layer_name(layer, datatype);
+    let mut polygons = Vec::new();
+    let mut texts = Vec::new();
+    for e in drawing.entities() {
+        let l = e.common.layer.as_str();
+        match &e.specific {
+            EntityType::LwPolyline(p) if l == name || l.starts_with(&format!("{name}_")) => {
+                if let Some(t) = l
+                    .strip_prefix(&format!("{name}_"))
+                    .and_then(|suffix| suffix.to_lowercase().parse::<Tone>().ok())
+                {
+                    texts.push(format!("TONE={}", t.as_str().to_uppercase()));
+                }
+                polygons.push(p.vertices.iter().map(|v| [v.x, v.y]).collect());
+            }
+            EntityType::Text(t) => texts.push(t.value.clone()),
+            _ => {}
+        }
+    }
+    Ok((polygons, texts))
+}

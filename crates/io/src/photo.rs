@@ -1,0 +1,314 @@
+//! Photos for capture-and-restore: read any PNG/JPEG/TIFF/HDR/EXR into three `[row, col]` planes
+//! (R, G, B) in `[0, 1]`, and write captures, restorations and difference images back out.
+//!
+//! Pixel values are taken as linear intensities, with no sRGB decoding (the thesis treats its
+//! 8-bit dataset the same way; see `core::restore`): 8-bit values are divided by 255, 16-bit by
+//! 65535, and float images (HDR, EXR) are clamped to `[0, 1]`. Grey images give three equal
+//! planes; alpha is dropped.
+//!
+//! Written files: 8-bit PNG (values clipped to `[0, 1]`, grey = round(255·v)), difference PNG
+//! (`|a − b|` times a stated gain, clipped), and 32-bit float EXR (values unscaled, unclipped).
+//! Every file is encoded in memory and written atomically, like the PSF exports.
+
+use std::path::{Path, PathBuf};
+
+use image::imageops::FilterType;
+use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Rgb, Rgb32FImage, RgbImage};
+use ndarray::Array2;
+
+use super::IoError;
+use super::export::{size_mismatch, write_image};
+
+/// The largest photo simulated, in pixels (after any downscale): 4096 × 4096. Each plane is
+/// held several times over as `f64` during a simulation.
+pub const MAX_PHOTO_PIXELS: u64 = 4096 * 4096;
+
+/// The largest image decoded at all (before any downscale), in pixels: 64 megapixels, so a
+/// decompression bomb is refused from its header instead of decoded.
+pub const MAX_DECODED_PIXELS: u64 = 64_000_000;
+
+/// The decoder's allocation cap: 64 megapixels of 16-bit RGBA fit, nothing much larger.
+const MAX_DECODE_BYTES: u64 = 600 * 1024 * 1024;
+
+/// Gain of difference images: `|restored − truth|` is multiplied by this before it is written,
+/// so an error of 0.05 (5 % of full scale) shows as 25 % grey.
+pub const DIFFERENCE_GAIN: f64 = 5.0;
+
+/// Loads a photo as three planes R, G, B in `[0, 1]` (see the module docs). With `max_side_px`,
+/// a photo whose longer side exceeds it is scaled down (triangle filter, aspect ratio kept) so
+/// that its longer side is `max_side_px`.
+///
+/// # Errors
+/// [`IoError::File`] when the file cannot be opened; [`IoError::Image`] when its format is not
+/// recognised or supported, it cannot be decoded, it is empty, or it is larger than
+/// [`MAX_PHOTO_PIXELS`] (after the downscale); `max_side_px = Some(0)` is an
+/// [`IoError::Image`] too.
+pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f64>>, IoError> {
+    let image_err = |message: String| IoError::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    if max_side_px == Some(0) {
+        return Err(image_err(
+            "the maximum side must be at least 1 pixel".into(),
+        ));
+    }
+    super::safe_file::check_regular(path, "read the photo")?;
+    let open = || {
+        ImageReader::open(path)
+            .map_err(|e| IoError::file("read the photo", path, e))?
+            // Trust the bytes, not the extension.
+            .with_guessed_format()
+            .map_err(|e| IoError::file("read the photo", path, e))
+    };
+    let reader = open()?;
+    let reader_format = reader.format();
+    if reader_format.is_none() {
+        return Err(image_err(
+            "not an image in a supported format (PNG, JPEG, TIFF, HDR or EXR)".into(),
+        ));
+    }
+    // The size from the header first, so an oversized photo is refused before it is decoded.
+    let (w, h) = reader
+        .into_dimensions()
+        .map_err(|e| image_err(format!("not a readable image: {e}")))?;
+    if w == 0 || h == 0 {
+        return Err(image_err(format!("the image is empty ({w}×{h} pixels)")));
+    }
+    if u64::from(w) * u64::from(h) > MAX_DECODED_PIXELS {
+        return Err(image_err(format!(
+            "the image is {w}×{h} pixels; at most {} megapixels are decoded, even to be scaled \
+             down (scale it down first)",
+            MAX_DECODED_PIXELS / 1_000_000
+        )));
+    }
+    let scale = max_side_px.map_or(1.0, |m| (f64::from(m) / f64::from(w.max(h))).min(1.0));
+    let pixels = (f64::from(w) * scale).round() * (f64::from(h) * scale).round();
+    if pixels > MAX_PHOTO_PIXELS as f64 {
+        return Err(image_err(format!(
+            "the image is {w}×{h} pixels; photos of at most {MAX_PHOTO_PIXELS} pixels are \
+             simulated (scale it down, e.g. with a maximum side)"
+        )));
+    }
+    if reader_format == Some(ImageFormat::Jpeg) {
+        check_jpeg_complete(path)?;
+    }
+    let mut reader = open()?;
+    let mut limits = image::Limits::default();
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    let img = reader
+        .decode()
+        .map_err(|e| image_err(format!("not a readable image: {e}")))?;
+    // Scale down in the decoded type first: a float copy of the full image is 4× its bytes.
+    let img = match max_side_px {
+        Some(m) if w.max(h) > m => img.resize(m, m, FilterType::Triangle),
+        _ => img,
+    };
+    Ok(planes_of(&img.to_rgb32f()))
+}
+
+/// A JPEG must end with its end-of-image marker: decoders fill a truncated file's missing rows
+/// with grey and call it a success.
+fn check_jpeg_complete(path: &Path) -> Result<(), IoError> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut f = std::fs::File::open(path).map_err(|e| IoError::file("read the photo", path, e))?;
+    let len = f
+        .seek(SeekFrom::End(0))
+        .map_err(|e| IoError::file("read the photo", path, e))?;
+    // Some writers pad after the marker; look at the last few hundred bytes.
+    let tail_len = len.min(512);
+    f.seek(SeekFrom::Start(len - tail_len))
+        .map_err(|e| IoError::file("read the photo", path, e))?;
+    let mut tail = Vec::with_capacity(tail_len as usize);
+    f.take(tail_len)
+        .read_to_end(&mut tail)
+        .map_err(|e| IoError::file("read the photo", path, e))?;
+    if tail.windows(2).any(|w| w == [0xFF, 0xD9]) {
+        Ok(())
+    } else {
+        Err(IoError::Image {
+            path: path.to_path_buf(),
+            message: "the JPEG is truncated (no end-of-image marker): the file is incomplete"
+                .into(),
+        })
+    }
+}
+
+/// The built-in test photo (public domain, in `assets/photos`): what the restore views and
+/// `phase restore` use when no photo was chosen.
+pub const BUILT_IN_PHOTO_PNG: &[u8] = include_bytes!("../../../assets/photos/astronaut_256.png");
+/// Its name for the screen.
+pub const BUILT_IN_PHOTO_NAME: &str = "astronaut (built in, 256 px)";
+
+/// The built-in photo's R, G, B planes.
+///
+/// # Errors
+/// [`IoError::Image`] if the embedded PNG does not decode (a broken build).
+pub fn built_in_photo() -> Result<Vec<Array2<f64>>, IoError> {
+    let img = image::load_from_memory(BUILT_IN_PHOTO_PNG).map_err(|e| IoError::Image {
+        path: PathBuf::from("assets/photos/astronaut_256.png"),
+        message: e.to_string(),
+    })?;
+    Ok(planes_of(&img.to_rgb32f()))
+}
+
+/// `planes` (1 grey or 3 R, G, B, all one size) scaled down so the longer side is at most
+/// `max_side_px` (triangle filter, aspect ratio kept, as [`load_photo`]); planes that fit are
+/// returned as they are. Used to fit the built-in photo to a smaller sensor.
+pub fn fit_max_side(planes: Vec<Array2<f64>>, max_side_px: usize) -> Vec<Array2<f64>> {
+    let Some((h, w)) = planes.first().map(Array2::dim) else {
+        return planes;
+    };
+    let (Ok(w32), Ok(h32), Ok(m)) = (
+        u32::try_from(w),
+        u32::try_from(h),
+        u32::try_from(max_side_px.max(1)),
+    ) else {
+        return planes;
+    };
+    if w.max(h) <= max_side_px || planes.iter().any(|p| p.dim() != (h, w)) {
+        return planes;
+    }
+    let refs: Vec<&Array2<f64>> = planes.iter().collect();
+    let Some(img) = Rgb32FImage::from_raw(w32, h32, interleave(&refs, |v| v as f32)) else {
+        return planes;
+    };
+    let small = DynamicImage::ImageRgb32F(img).resize(m, m, FilterType::Triangle);
+    planes_of(&small.to_rgb32f())
+}
+
+/// The R, G, B planes of a float image, clamped to `[0, 1]` (NaN → 0).
+pub fn planes_of(img: &Rgb32FImage) -> Vec<Array2<f64>> {
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    (0..3)
+        .map(|c| {
+            Array2::from_shape_fn((h, w), |(y, x)| {
+                let v = f64::from(img.get_pixel(x as u32, y as u32).0[c]);
+                if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) }
+            })
+        })
+        .collect()
+}
+
+/// Width and height of 1 or 3 equal-sized, non-empty planes.
+fn planes_size(path: &Path, planes: &[&Array2<f64>]) -> Result<(u32, u32), IoError> {
+    let bad = |message: String| IoError::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    let Some(first) = planes.first() else {
+        return Err(bad("no planes to write".into()));
+    };
+    if planes.len() != 1 && planes.len() != 3 {
+        return Err(bad(format!(
+            "{} planes; an image needs 1 (grey) or 3 (R, G, B)",
+            planes.len()
+        )));
+    }
+    if planes.iter().any(|p| p.dim() != first.dim()) {
+        return Err(bad("the planes differ in size".into()));
+    }
+    let (rows, cols) = first.dim();
+    if rows == 0 || cols == 0 {
+        return Err(bad(format!("cannot write an empty {rows}×{cols} image")));
+    }
+    let w = u32::try_from(cols).map_err(|_| bad("too wide for an image".into()))?;
+    let h = u32::try_from(rows).map_err(|_| bad("too tall for an image".into()))?;
+    Ok((w, h))
+}
+
+/// Interleaved RGB values of 1 (grey, repeated) or 3 planes, mapped through `f`.
+fn interleave<T>(planes: &[&Array2<f64>], f: impl Fn(f64) -> T) -> Vec<T> {
+    let [r, g, b] = match planes {
+        [grey] => [*grey, *grey, *grey],
+        [r, g, b] => [*r, *g, *b],
+        _ => return Vec::new(),
+    };
+    r.iter()
+        .zip(g.iter())
+        .zip(b.iter())
+        .flat_map(|((r, g), b)| [f(*r), f(*g), f(*b)])
+        .collect()
+}
+
+/// `round(255·v)` for `v` clipped to `[0, 1]`; NaN → 0.
+fn to_u8(v: f64) -> u8 {
+    if v.is_nan() {
+        0
+    } else {
+        (255.0 * v.clamp(0.0, 1.0)).round() as u8
+    }
+}
+
+/// Writes 1 (grey) or 3 (R, G, B) planes as an 8-bit RGB PNG, values clipped to `[0, 1]`.
+///
+/// # Errors
+/// [`IoError::Image`] for a wrong number of planes, planes of different sizes or empty ones, or
+/// an encoder failure; [`IoError::File`] when the file cannot be written.
+pub fn write_photo_png(path: &Path, planes: &[&Array2<f64>]) -> Result<(), IoError> {
+    let (w, h) = planes_size(path, planes)?;
+    let img: RgbImage = ImageBuffer::<Rgb<u8>, _>::from_raw(w, h, interleave(planes, to_u8))
+        .ok_or_else(|| size_mismatch(path))?;
+    write_image(path, DynamicImage::ImageRgb8(img), ImageFormat::Png)
+}
+
+/// Writes `|a − b| · gain` per plane as an 8-bit RGB PNG (clipped at full scale); use
+/// [`DIFFERENCE_GAIN`] unless there is a reason to state another gain.
+///
+/// # Errors
+/// As [`write_photo_png`], and when `a` and `b` differ in size or count, or `gain` is not a
+/// positive number.
+pub fn write_difference_png(
+    path: &Path,
+    a: &[&Array2<f64>],
+    b: &[&Array2<f64>],
+    gain: f64,
+) -> Result<(), IoError> {
+    let bad = |message: String| IoError::Image {
+        path: path.to_path_buf(),
+        message,
+    };
+    if !(gain.is_finite() && gain > 0.0) {
+        return Err(bad(format!(
+            "the difference gain must be a positive number (got {gain:?})"
+        )));
+    }
+    if a.len() != b.len() || a.iter().zip(b).any(|(x, y)| x.dim() != y.dim()) {
+        return Err(bad("the two images differ in size or channels".into()));
+    }
+    let diff: Vec<Array2<f64>> = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (*x - *y).mapv(|v| v.abs() * gain))
+        .collect();
+    let refs: Vec<&Array2<f64>> = diff.iter().collect();
+    write_photo_png(path, &refs)
+}
+
+/// Writes 1 (grey, as three equal channels) or 3 planes as a 32-bit float RGB EXR, unscaled.
+///
+/// # Errors
+/// As [`write_photo_png`].
+pub fn write_photo_exr(path: &Path, planes: &[&Array2<f64>]) -> Result<(), IoError> {
+    let (w, h) = planes_size(path, planes)?;
+    let img: Rgb32FImage =
+        ImageBuffer::<Rgb<f32>, _>::from_raw(w, h, interleave(planes, |v| v as f32))
+            .ok_or_else(|| size_mismatch(path))?;
+    write_image(path, DynamicImage::ImageRgb32F(img), ImageFormat::OpenExr)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn u8_levels_round_and_clip() {
+        assert_eq!(to_u8(0.0), 0);
+        assert_eq!(to_u8(1.0), 255);
+        assert_eq!(to_u8(2.0), 255);
+        assert_eq!(to_u8(-1.0), 0);
+        assert_eq!(to_u8(f64::NAN), 0);
+        assert_eq!(to_u8(0.5), 128);
+    }
+}

@@ -1,0 +1,187 @@
+//! What `udc-studio sensor` produces: the JSON of a run (a contract: field names are fixed, new
+//! fields may be added, none renamed) and its images.
+//!
+//! Images written by [`write_run_images`] (grey 8-bit PNG unless stated):
+//! - `truth.png`: the ground truth through the display tone curve; `truth.exr`: the exposed
+//!   scene, electrons per unit pixel (float EXR, channel `Y`);
+//! - per strategy, named by its name with `/` as `_` (e.g. `vary-gain_vary-bin`):
+//!   `…_capture.png` (tone-mapped), `…_capture.exr` (electrons, float `Y`), `…_gain.png` (gain
+//!   on a log scale: black = 1, white = the sensor's maximum), `…_bins.png` (bin side: black 1,
+//!   then 2, 4, white 8), `…_saturated.png` (white where saturated).
+//!
+//! With a colour filter array (`"cfa": "rggb"`) `truth.png` and `…_capture.png` are RGB (each
+//! channel through the tone curve), `truth.exr` and `…_capture.exr` stay the luminance (`Y`)
+//! the scores use, and `truth_rgb.exr` and `…_capture_rgb.exr` (float `R`, `G`, `B`) add the
+//! demosaiced capture and the scene's electrons per channel.
+
+use std::path::{Path, PathBuf};
+
+use ndarray::Array2;
+use serde_json::{Value, json};
+
+use super::IoError;
+use super::hdr::{ExrPrecision, write_exr};
+use super::numbers::json6 as r;
+use super::photo::write_photo_png;
+use udc_core::sensor::colour::CHANNEL_NAMES;
+use udc_core::sensor::{BIN_SIZES, SensorRun, StrategyResult};
+
+fn min_max_mean(a: &Array2<f64>) -> (f64, f64, f64) {
+    let (lo, hi) = a
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(*v), hi.max(*v))
+        });
+    (lo, hi, a.mean().unwrap_or(f64::NAN))
+}
+
+/// `{min, max, mean}` of a per-pixel gain map.
+pub fn gain_summary(gain: &Array2<f64>) -> Value {
+    let (lo, hi, mean) = min_max_mean(gain);
+    json!({ "min": r(lo), "max": r(hi), "mean": r(mean) })
+}
+
+/// `{min, max, mean, fractions: {"1": f, "2": f, "4": f, "8": f}}` of a per-pixel bin map
+/// (fractions of the pixels in bins of each side).
+pub fn bin_summary(bin: &Array2<f64>) -> Value {
+    let (lo, hi, mean) = min_max_mean(bin);
+    let n = bin.len().max(1) as f64;
+    let fractions: serde_json::Map<String, Value> = BIN_SIZES
+        .iter()
+        .map(|s| {
+            let count = bin.iter().filter(|v| **v == *s as f64).count();
+            (s.to_string(), r(count as f64 / n))
+        })
+        .collect();
+    json!({ "min": r(lo), "max": r(hi), "mean": r(mean), "fractions": fractions })
+}
+
+/// One element of `strategies`; with a colour filter array it also has `channels`:
+/// `{"R": {worst_roi_ssim, mean_ssim, psnr_db}, "G": …, "B": …}`.
+pub fn strategy_json(s: &StrategyResult) -> Value {
+    let roi: Vec<Vec<Value>> = s
+        .roi_ssim
+        .outer_iter()
+        .map(|row| row.iter().map(|v| r(*v)).collect())
+        .collect();
+    let mut v = json!({
+        "name": s.name,
+        "worst_roi_ssim": r(s.worst_roi_ssim),
+        "mean_ssim": r(s.mean_ssim),
+        "psnr_db": r(s.psnr_db),
+        "saturated_fraction": r(s.saturated_fraction),
+        "saturated_roi_fraction": r(s.saturated_roi_fraction),
+        "dynamic_range_db": r(s.dynamic_range_db),
+        "gain_map": gain_summary(&s.gain_map),
+        "bin_map": bin_summary(&s.bin_map),
+        "roi_ssim": roi,
+    });
+    if let (Some(colour), Some(obj)) = (&s.colour, v.as_object_mut()) {
+        let channels: serde_json::Map<String, Value> = CHANNEL_NAMES
+            .iter()
+            .zip(&colour.channels)
+            .map(|(name, c)| {
+                let scores = json!({
+                    "worst_roi_ssim": r(c.worst_roi_ssim),
+                    "mean_ssim": r(c.mean_ssim),
+                    "psnr_db": r(c.psnr_db),
+                });
+                ((*name).to_string(), scores)
+            })
+            .collect();
+        obj.insert("channels".into(), Value::Object(channels));
+    }
+    v
+}
+
+/// The run's numbers: image size, ROI grid, colour filter array (`cfa`: `none` or `rggb`;
+/// with one, `metrics` says the scores are on the demosaiced luminance), exposure, timing and
+/// `strategies`.
+pub fn run_json(run: &SensorRun) -> Value {
+    let (rows, cols) = run.electrons.dim();
+    let (_, max_e, mean_e) = min_max_mean(&run.electrons);
+    json!({
+        "image_size_px": [cols, rows],
+        "roi_px": run.roi_px,
+        "roi_grid": [run.grid.rows, run.grid.cols],
+        "electrons_per_radiance": r(run.electrons_per_radiance),
+        "electrons_mean": r(mean_e),
+        "electrons_max": r(max_e),
+        "elapsed_ms": (run.elapsed_ms * 1000.0).round() / 1000.0,
+        "cfa": run.cfa.label(),
+        "metrics": if run.colour_truth.is_some() {
+            "luminance of the demosaiced capture; channels per R, G, B"
+        } else {
+            "luminance"
+        },
+        "strategies": run.strategies.iter().map(strategy_json).collect::<Vec<_>>(),
+    })
+}
+
+/// The file stem of a strategy: its name with `/` as `_`.
+pub fn strategy_stem(name: &str) -> String {
+    name.replace('/', "_")
+}
+
+/// Writes the images listed in the module docs into `dir` (created if missing); `max_gain`
+/// scales the gain maps. Returns the paths written.
+///
+/// # Errors
+/// [`IoError::File`] when the folder or a file cannot be written; [`IoError::Image`] when an
+/// image cannot be encoded.
+pub fn write_run_images(
+    dir: &Path,
+    run: &SensorRun,
+    max_gain: f64,
+) -> Result<Vec<PathBuf>, IoError> {
+    std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
+    let mut written = Vec::new();
+    let mut png = |name: String, planes: &[&Array2<f64>]| -> Result<(), IoError> {
+        let p = dir.join(name);
+        write_photo_png(&p, planes)?;
+        written.push(p);
+        Ok(())
+    };
+    match &run.colour_truth {
+        Some(t) => png("truth.png".into(), &t.display_rgb.each_ref())?,
+        None => png("truth.png".into(), &[&run.truth_display])?,
+    }
+    let log_max = max_gain.max(1.0).ln();
+    for s in &run.strategies {
+        let stem = strategy_stem(&s.name);
+        match &s.colour {
+            Some(c) => png(format!("{stem}_capture.png"), &c.display_rgb.each_ref())?,
+            None => png(format!("{stem}_capture.png"), &[&s.display])?,
+        }
+        let gain = if log_max > 0.0 {
+            s.gain_map.mapv(|g| g.max(1.0).ln() / log_max)
+        } else {
+            s.gain_map.mapv(|_| 0.0)
+        };
+        png(format!("{stem}_gain.png"), &[&gain])?;
+        png(
+            format!("{stem}_bins.png"),
+            &[&s.bin_map.mapv(|b| b.max(1.0).log2() / 3.0)],
+        )?;
+        png(format!("{stem}_saturated.png"), &[&s.saturated])?;
+    }
+    let mut exrs = vec![(dir.join("truth.exr"), vec![&run.electrons])];
+    if let Some(t) = &run.colour_truth {
+        exrs.push((dir.join("truth_rgb.exr"), t.rgb_e.iter().collect()));
+    }
+    for s in &run.strategies {
+        let stem = strategy_stem(&s.name);
+        exrs.push((dir.join(format!("{stem}_capture.exr")), vec![&s.capture]));
+        if let Some(c) = &s.colour {
+            exrs.push((
+                dir.join(format!("{stem}_capture_rgb.exr")),
+                c.rgb_e.iter().collect(),
+            ));
+        }
+    }
+    for (p, planes) in exrs {
+        write_exr(&p, &planes, ExrPrecision::Float)?;
+        written.push(p);
+    }
+    Ok(written)
+}
