@@ -24,7 +24,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::{Opening, TilingMode};
 use udc_studio::core::{Analysis, Design, Progress};
 use udc_studio::io::presets::load_preset;

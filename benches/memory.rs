@@ -14,7 +14,7 @@ mod common;
 use std::path::PathBuf;
 use std::process::Command;
 
-use udc_studio::core::analyze::{AnalyzeOptions, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, analyze_with};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::{Design, Progress};
 use udc_studio::io::presets::load_preset;

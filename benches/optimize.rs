@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::optimize::{Objective, OptimizeSettings, optimize};
 use udc_studio::core::{Design, Progress};

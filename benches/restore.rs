@@ -20,7 +20,7 @@ use std::time::Duration;
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use image::imageops::FilterType;
 use ndarray::Array2;
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::restore::{
     CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreResult, RestoreSettings, simulate,
 };

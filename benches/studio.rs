@@ -7,7 +7,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use egui_kittest::Harness;
 use udc_studio::app::{AppDirs, Command, Payload, StudioApp, StudioOptions, Worker};
 use udc_studio::core::Design;
-use udc_studio::core::analyze::Quality;
+use udc_studio::core::analysis::analyze::Quality;
 
 fn harness() -> Harness<'static, StudioApp> {
     Harness::builder()

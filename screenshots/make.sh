@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's screenshots: renders the real studio headless with egui_kittest on
+# Regenerates the screenshots of the README and the book (docs/src): renders the real studio headless with egui_kittest on
 # wgpu (lavapipe, from Debian's mesa-vulkan-drivers) and saves them here.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -11,8 +11,8 @@
 //! - `app` (this crate, feature `gui`, on by default): the egui studio; the only code that
 //!   touches egui.
 //!
-//! The lower crates are re-exported under their layer's name, so `udc_studio::core::analyze` and
-//! `udc_core::analyze` are the same item.
+//! The lower crates are re-exported under their layer's name, so `udc_studio::core::analysis::analyze` and
+//! `udc_core::analysis::analyze` are the same item.
 
 #[cfg(feature = "gui")]
 pub mod app;

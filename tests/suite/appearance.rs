@@ -4,9 +4,9 @@
 
 use ndarray::Array2;
 use udc_studio::core::Progress;
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::appearance::{AppearanceSettings, DisplayQuality, appearance};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::{Design, Opening, Subpixel, Subpixels};
+use udc_studio::core::display::appearance::{AppearanceSettings, DisplayQuality, appearance};
 use udc_studio::io::presets::load_preset;
 
 use crate::common::run_cli as run;

@@ -2,7 +2,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use proptest::prelude::*;
-use udc_studio::core::analyze::analyze;
+use udc_studio::core::analysis::analyze::analyze;
 use udc_studio::core::design::{Design, Optics, Polygon, TilingMode};
 use udc_studio::core::{Progress, SimError};
 use udc_studio::io::design_file::{load_design, parse_design, save_design, to_json};
@@ -225,7 +225,7 @@ proptest! {
     #[test]
     fn hostile_numbers_are_refused_or_bounded(field in 0usize..12, v in hostile_f64()) {
         use udc_studio::core::design::{MAX_FFT_SIZE, MAX_PUPIL_PIXELS};
-        use udc_studio::core::sampling::plan;
+        use udc_studio::core::psf::sampling::plan;
         let mut d = Design::default_toled();
         match field {
             0 => d.opening.pitch_um = v,

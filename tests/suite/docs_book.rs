@@ -90,7 +90,7 @@ fn without_fragment(destination: &str) -> &str {
 }
 
 /// `path` with `.` and `..` folded away, so that two spellings of one file compare equal.
-fn normalise(path: &Path) -> PathBuf {
+fn normalize(path: &Path) -> PathBuf {
     let mut out = PathBuf::new();
     for component in path.components() {
         match component {
@@ -113,7 +113,7 @@ fn link_targets(file: &Path) -> Vec<(String, Option<PathBuf>)> {
         .filter(|d| is_relative(d))
         .map(|d| {
             let target = without_fragment(&d);
-            let resolved = (!target.is_empty()).then(|| normalise(&folder.join(target)));
+            let resolved = (!target.is_empty()).then(|| normalize(&folder.join(target)));
             (d, resolved)
         })
         .collect()
@@ -157,7 +157,7 @@ fn every_chapter_is_in_the_summary_and_every_entry_exists() {
     let chapters: BTreeSet<PathBuf> = markdown_files(&src)
         .into_iter()
         .filter(|f| *f != summary)
-        .map(|f| normalise(&f))
+        .map(|f| normalize(&f))
         .collect();
     let missing: Vec<String> = chapters.difference(&listed).map(|f| shown(f)).collect();
     let absent: Vec<String> = listed

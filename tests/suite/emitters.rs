@@ -5,7 +5,7 @@
 use udc_studio::core::Progress;
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
-use udc_studio::core::emitters::{auto_place, auto_place_cells, closed_cells};
+use udc_studio::core::display::emitters::{auto_place, auto_place_cells, closed_cells};
 use udc_studio::core::optimize::{OptimizeSettings, optimize};
 use udc_studio::io::design_file::{parse_design, to_json};
 use udc_studio::io::presets::load_preset;

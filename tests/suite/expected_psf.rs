@@ -4,7 +4,7 @@
 use crate::common::small_optics;
 use ndarray::Array2;
 use udc_studio::core::Progress;
-use udc_studio::core::analyze::{AnalyzeOptions, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, analyze_with};
 use udc_studio::core::design::{Channel, Design, TilingMode};
 
 fn l1(a: &Array2<f64>, b: &Array2<f64>) -> f64 {

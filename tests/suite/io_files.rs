@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use ndarray::{Array2, array};
 use udc_studio::core::design::TilingMode::{self, Random4, Repeat};
 use udc_studio::core::design::{Channel, Design, Opening, Optics};
-use udc_studio::core::sampling::fft_size;
+use udc_studio::core::psf::sampling::fft_size;
 use udc_studio::core::{Analysis, Progress, analyze};
 use udc_studio::io::IoError;
 use udc_studio::io::design_file::{load_design, parse_design, to_json};

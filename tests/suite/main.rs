@@ -16,6 +16,7 @@ mod corpus;
 mod denoise;
 mod denoise_cli;
 mod design_file;
+mod docs_book;
 mod drc_strict;
 mod drop;
 mod emitters;

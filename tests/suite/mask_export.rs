@@ -9,8 +9,8 @@ use std::process::Command;
 use rand::{Rng, SeedableRng};
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, Opening, TilingMode};
+use udc_studio::core::display::tiling::tile_orientation;
 use udc_studio::core::mask::{MaskLayout, MaskRegion, MaskSpec, Tone};
-use udc_studio::core::tiling::tile_orientation;
 use udc_studio::io::mask::{
     ExportOptions, GdsCells, ImportOptions, ImportWindow, MaskFormat, MaskReport, PngBits,
     estimate, export_mask, import_mask, plan, sidecar_path,

@@ -11,7 +11,7 @@ use udc_studio::app::commands::{Command, Tool};
 use udc_studio::app::panels::PanelCtx;
 use udc_studio::app::panels::editor::EditorPanel;
 use udc_studio::core::design::{Design, MAX_CELLS};
-use udc_studio::core::opening_ops::{
+use udc_studio::core::display::opening_ops::{
     Symmetry, clear, ellipse, flood_fill, from_text, invert, line, open_extent, open_fraction,
     paint, rect, resample, symmetric_cells, to_text,
 };

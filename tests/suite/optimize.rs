@@ -7,9 +7,9 @@ use crate::common;
 use std::ops::ControlFlow;
 
 use ndarray::Array2;
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::aperture::{CellMap, Display, Extent, effective_cells};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::{Design, TilingMode};
+use udc_studio::core::display::aperture::{CellMap, Display, Extent, effective_cells};
 use udc_studio::core::optimize::{
     DataSet, LossWeights, Objective, OptimizeSettings, Relaxation, binarise, optimize,
 };
@@ -48,7 +48,7 @@ fn cell_map_reproduces_the_rasterised_display() {
     let extent = Extent::Pupil {
         diameter_um: d.optics.pupil_diameter_um(),
     };
-    let field = udc_studio::core::aperture::rasterise(&display, extent, 8.0);
+    let field = udc_studio::core::display::aperture::rasterise(&display, extent, 8.0);
     let map = CellMap::new(&display, extent, 8.0);
     let flat: Vec<f64> = cells.iter().flatten().copied().collect();
     let values = map.apply(&flat);

@@ -9,7 +9,7 @@ use std::time::Duration;
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::{Command, LeftTab, StudioApp};
-use udc_studio::core::analyze::Quality;
+use udc_studio::core::analysis::analyze::Quality;
 
 #[test]
 fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {

@@ -4,11 +4,11 @@
 use crate::common::{aperture_of, open_design};
 use ndarray::Array2;
 use udc_studio::core::Progress;
-use udc_studio::core::analyze::analyze;
+use udc_studio::core::analysis::analyze::analyze;
+use udc_studio::core::analysis::mtf::dft2;
 use udc_studio::core::design::{Channel, Opening, Optics};
-use udc_studio::core::fft::full_intensity;
-use udc_studio::core::mtf::dft2;
-use udc_studio::core::sampling::fft_size;
+use udc_studio::core::psf::fft::full_intensity;
+use udc_studio::core::psf::sampling::fft_size;
 
 fn optics(f_number: f64, fine_um: f64) -> Optics {
     Optics {

@@ -2,12 +2,12 @@
 //! route's numbers to rounding on every kind of design, and the cost model picks every zoom
 //! kind somewhere (conventions.md §2, "PSF route").
 
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with_route};
-use udc_studio::core::aperture::{Display, Extent, effective_cells, rasterise};
-use udc_studio::core::pruned::zoom_kinds;
-use udc_studio::core::route::PsfRoute;
-use udc_studio::core::sampling::plan;
-use udc_studio::core::zoom::ZoomKind;
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
+use udc_studio::core::display::aperture::{Display, Extent, effective_cells, rasterise};
+use udc_studio::core::psf::pruned::zoom_kinds;
+use udc_studio::core::psf::route::PsfRoute;
+use udc_studio::core::psf::sampling::plan;
+use udc_studio::core::psf::zoom::ZoomKind;
 use udc_studio::core::{Analysis, Design, Progress};
 use udc_studio::io::presets::load_preset;
 
@@ -90,7 +90,7 @@ fn choices(design: &Design, quality: Quality) -> Vec<(PsfRoute, ZoomKind, ZoomKi
         .iter()
         .flatten()
         .map(|s| {
-            let route = udc_studio::core::route::choose(&field, s.fft_size, &s.binning);
+            let route = udc_studio::core::psf::route::choose(&field, s.fft_size, &s.binning);
             let (w, b) = zoom_kinds(&field, s.fft_size, &s.binning);
             (route, w, b)
         })

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::restore::capture::{READ_NOISE_E, expose};
 use udc_studio::core::restore::quality::{psnr_db, ssim};

@@ -9,7 +9,7 @@ use std::path::Path;
 use ndarray::Array2;
 use serde_json::Value;
 use udc_studio::core::Progress;
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::restore::capture::REFERENCE_LTR;
 use udc_studio::core::restore::denoise::ICCP21_SIGMA2;
 use udc_studio::core::restore::{

@@ -109,7 +109,7 @@ fn editor_mid_drawing() {
 #[test]
 fn optimizer_after_a_run() {
     use udc_studio::app::LeftTab;
-    use udc_studio::core::analyze::Quality;
+    use udc_studio::core::analysis::analyze::Quality;
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut()

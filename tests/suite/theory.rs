@@ -1,7 +1,7 @@
 //! The Fourier-optics presets against their closed-form patterns: theory and simulation agree
 //! on every teaching preset, and stop agreeing once the symmetry is broken.
 
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::theory::{ProfileKind, Theory, compare};
 use udc_studio::core::{Design, Progress};
 use udc_studio::io::design_file::to_json;

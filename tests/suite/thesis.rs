@@ -2,7 +2,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use udc_studio::core::Progress;
-use udc_studio::core::analyze::analyze;
+use udc_studio::core::analysis::analyze::analyze;
 use udc_studio::core::design::{Design, Opening, TilingMode};
 
 fn toled() -> Design {

@@ -12,7 +12,7 @@ use udc_studio::app::commands::{Command, Tool};
 use udc_studio::app::panels::numbers::NumbersPanel;
 use udc_studio::app::panels::views::{ViewTab, ViewsPanel};
 use udc_studio::app::panels::{PanelCtx, Pinned, Shown};
-use udc_studio::core::analyze::{AnalyzeOptions, Quality, analyze, analyze_with};
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze, analyze_with};
 use udc_studio::core::design::{Design, TilingMode};
 use udc_studio::core::{Analysis, Progress};
 use udc_studio::io::presets::load_preset;

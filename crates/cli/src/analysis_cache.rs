@@ -7,7 +7,7 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use anyhow::{Result, anyhow};
 
-use udc_core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::{Analysis, Design, Progress, SimError};
 
 /// Designs kept: a sweep's points walk its axes in order, so a handful covers the displays in

@@ -9,8 +9,8 @@ use ndarray::Array2;
 
 use super::DesignSelection;
 use udc_core::SimError;
-use udc_core::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_core::appearance::{AppearanceSettings, appearance, periodic_and_random};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::display::appearance::{AppearanceSettings, appearance, periodic_and_random};
 use udc_core::{Analysis, Progress};
 use udc_io::photo;
 

@@ -9,9 +9,9 @@ use ndarray::Array2;
 
 use super::DesignSelection;
 use udc_core::Progress;
-use udc_core::analyze::Quality;
-use udc_core::depth::{DepthSettings, depth_psfs};
-use udc_core::field::{FieldSettings, field_psfs};
+use udc_core::analysis::analyze::Quality;
+use udc_core::display::depth::{DepthSettings, depth_psfs};
+use udc_core::display::field::{FieldSettings, field_psfs};
 use udc_io::export::write_log_psf_png;
 
 /// Arguments of `udc-studio field`.
@@ -160,7 +160,7 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
                 }
                 other => other.into(),
             })?;
-            Some(udc_core::field_capture::field_capture(
+            Some(udc_core::display::field_capture::field_capture(
                 planes,
                 &r,
                 &cap,

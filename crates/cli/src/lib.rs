@@ -25,7 +25,7 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use clap::{Args, Parser, Subcommand};
 
-use udc_core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::design::{Design, OpticsRecipe, TilingMode};
 use udc_core::{Analysis, Progress};
 use udc_io::{export, presets, report};
@@ -320,7 +320,7 @@ fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
     };
     let progress = Progress::new();
     let mut analysis = analyze_with(&design, &options, &progress)?;
-    udc_core::advice::advise(&design, &mut analysis.warnings, &progress)?;
+    udc_core::analysis::advice::advise(&design, &mut analysis.warnings, &progress)?;
     if let Some(dir) = &args.out {
         export::write_analysis_outputs(dir, &analysis)?;
     }

@@ -8,7 +8,7 @@ use clap::{Args, ValueEnum};
 use serde_json::json;
 
 use super::DesignSelection;
-use udc_core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::optimize::{DataSet, LossWeights, OptimizeSettings, Relaxation, Start, optimize};
 use udc_core::{Analysis, Progress};
 use udc_io::{design_file, photo};

@@ -7,7 +7,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::SimError;
+use crate::SimError;
 
 /// The budget before the binary sets one: 4 GiB.
 pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 4 << 30;

@@ -5,7 +5,7 @@
 //! studio shows, capture, denoising and restoration, phase masks, the sensor model, the opening
 //! optimizer and the sweep engine. Nothing here knows about the GUI or files, and it starts no
 //! threads of its own (rayon's pool is used for data parallelism inside a call). One entry point
-//! per job, e.g. [`analyze::analyze`], shared by the studio, the CLI, the tests and the benches.
+//! per job, e.g. [`analyze()`], shared by the studio, the CLI, the tests and the benches.
 //!
 //! ## Conventions (written down once, here)
 //!
@@ -44,46 +44,24 @@
 #[doc = include_str!("../../../docs/src/conventions.md")]
 pub mod conventions {}
 
-pub mod advice;
-pub mod analyze;
-pub mod aperture;
-pub mod appearance;
+pub mod analysis;
 pub mod budget;
 pub mod denoise;
-pub mod depth;
-pub mod depth_capture;
 pub mod design;
-pub mod emitters;
+pub mod display;
 pub mod error;
-pub mod expected;
-pub mod fft;
-pub mod field;
-pub mod field_capture;
 pub mod mask;
-pub mod metrics;
-pub mod mtf;
-pub mod opening_ops;
 pub mod optimize;
 pub mod phase;
 pub mod progress;
-pub mod pruned;
-mod pruned_grid;
-mod pruned_rows;
 pub mod psf;
 pub mod reproduce;
-pub mod residual;
 pub mod restore;
-pub mod route;
-pub mod sampling;
-pub mod saturation;
 pub mod sensor;
 pub mod sweep;
 pub mod theory;
-pub mod tiling;
-pub mod warning;
-pub mod zoom;
 
-pub use analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};
+pub use analysis::analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};
 pub use design::Design;
 pub use error::SimError;
 pub use progress::Progress;

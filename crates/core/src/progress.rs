@@ -2,7 +2,7 @@
 
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 
-use super::SimError;
+use crate::SimError;
 
 /// A progress fraction in `[0, 1]` and a cancel flag. Cheap to poll from any thread.
 #[derive(Debug, Default)]

@@ -21,7 +21,7 @@ use ndarray::Array2;
 
 use super::IoError;
 use super::safe_file::write_atomic;
-use udc_core::analyze::{Analysis, ChannelAnalysis};
+use udc_core::analysis::analyze::{Analysis, ChannelAnalysis};
 
 /// Dynamic range of log-PSF images, in decades. A log-PSF image maps `log10(psf / peak)` linearly
 /// from `−LOG_PSF_FLOOR_DECADES` (grey 0, black) to 0 (the peak, white). Values more than this

@@ -1,4 +1,4 @@
-//! The denoising test set, `assets/testset/`: 512×512 open-licence photographs (see the README
+//! The denoising test set, `assets/testset/`: 512×512 open-licence photographs (see the book's reproducing chapter
 //! there), listed and loaded.
 //!
 //! Unlike the built-in photo it is not compiled into the binary (3 MB of PNGs that only tests,

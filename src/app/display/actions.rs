@@ -12,8 +12,8 @@ use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::job::{Job, JobError};
 use crate::app::workspace::{Shell, WorkspaceId};
 use crate::core::Design;
-use crate::core::analyze::Quality;
-use crate::core::opening_ops;
+use crate::core::analysis::analyze::Quality;
+use crate::core::display::opening_ops;
 use crate::io::{design_file, export, pattern, presets, report, spectral};
 
 impl DisplayWorkspace {

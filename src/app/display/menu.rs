@@ -3,7 +3,7 @@
 use super::DisplayWorkspace;
 use crate::app::commands::{self, Command, ExportKind};
 use crate::app::workspace::Shell;
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 use crate::io::presets;
 
 impl DisplayWorkspace {

@@ -24,7 +24,7 @@ use super::notice::Notice;
 use super::settings::AppDirs;
 use super::workspace::{Shell, Workspace, WorkspaceId, side_panel};
 use crate::core::Design;
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 use crate::io::{design_file, presets};
 pub use document::Document;
 use panels::{DisplayPreview, PanelCtx, Pinned, Shown};

@@ -7,8 +7,8 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
-use crate::core::advice::advise;
-use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::analysis::advice::advise;
+use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::{Analysis, Design, Progress, SimError};
 
 /// What a job produces, in order: the display preview, then the preview and full analyses.
@@ -171,7 +171,7 @@ fn worker_loop(
         };
         if design.validate().is_ok() {
             let (side, values, sample_um) =
-                crate::core::aperture::display_preview(&design, DISPLAY_PREVIEW_SIDE);
+                crate::core::display::aperture::display_preview(&design, DISPLAY_PREVIEW_SIDE);
             let payload = Payload::Display {
                 side,
                 values,

@@ -1,8 +1,8 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
-use udc_studio::core::aperture::{Display, Extent, Field, rasterise};
 use udc_studio::core::design::{Channel, Design, Opening, Optics, TilingMode};
+use udc_studio::core::display::aperture::{Display, Extent, Field, rasterise};
 
 /// A design with an open aperture (one fully open 8-µm cell per tile) and the given optics.
 pub fn open_design(optics: Optics, channels: Vec<Channel>) -> Design {
@@ -39,7 +39,7 @@ pub fn small_optics() -> Optics {
 
 /// The rasterised aperture of a design (display × pupil).
 pub fn aperture_of(design: &Design) -> Field {
-    let cells = udc_studio::core::aperture::effective_cells(&design.opening);
+    let cells = udc_studio::core::display::aperture::effective_cells(&design.opening);
     let display = Display::from_design(design, &cells);
     rasterise(
         &display,

@@ -10,7 +10,7 @@ use serde_json::Value;
 
 use crate::{Command, capture_json, parse::parse_from};
 use udc_core::Progress;
-use udc_core::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::sweep::hash::{point_hash, short_hash_of_digest};
 use udc_core::sweep::{ParamValue, Points, SweepJob, SweepSpec};
 

@@ -23,7 +23,7 @@ pub struct SweepArgs {
     /// Merge shard folders, or write Slurm scripts, instead of running.
     #[command(subcommand)]
     pub action: Option<SweepAction>,
-    /// The sweep spec (TOML, or JSON): job, base, axes, metrics, plots (see the README).
+    /// The sweep spec (TOML, or JSON): job, base, axes, metrics, plots (see docs/src/formats/sweep-spec.md).
     #[arg(required = true)]
     pub spec: Option<PathBuf>,
     /// The results folder: results.csv, results.parquet, sweep.json and plots/. A folder with

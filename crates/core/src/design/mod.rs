@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::SimError;
+use crate::SimError;
 
 mod subpixels;
 mod theory;

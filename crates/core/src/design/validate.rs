@@ -1,4 +1,4 @@
-//! Every design value checked against its documented range (the README's Limits table), the
+//! Every design value checked against its documented range (the Limits table of docs/src/command-line.md), the
 //! error naming the field by its path in the design file.
 
 use super::*;

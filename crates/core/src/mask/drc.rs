@@ -12,9 +12,9 @@
 //! Cells are binary at [`super::OPEN_THRESHOLD`], as on the mask.
 
 use super::OPEN_THRESHOLD;
-use crate::aperture::effective_cells;
 use crate::design::Design;
-use crate::tiling::{D4, orbit};
+use crate::display::aperture::effective_cells;
+use crate::display::tiling::{D4, orbit};
 
 /// A fab's rules (µm). A rule of 0 is not checked.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -9,7 +9,7 @@
 use super::polygons::{BinaryGrid, Ring, trace_polygons};
 use super::{MaskError, MaskSpec, Tone, binary_pattern};
 use crate::design::{Design, TilingMode};
-use crate::tiling::{D4, orbit, tile_orientation};
+use crate::display::tiling::{D4, orbit, tile_orientation};
 
 pub use super::region::MaskRegion;
 

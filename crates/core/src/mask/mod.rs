@@ -21,9 +21,9 @@ pub mod region;
 
 use thiserror::Error;
 
-use super::SimError;
-use super::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
-use super::design::Design;
+use crate::SimError;
+use crate::design::Design;
+use crate::display::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
 
 pub use frame::{FrameGeometry, FrameLabel, FramePart, FrameSpec, frame_geometry, label_text};
 pub use layout::{MaskLayout, MaskRegion, MaskStats, Placement, Polygon, TileRow};

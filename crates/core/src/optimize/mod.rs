@@ -14,12 +14,12 @@ pub mod spectra;
 use std::ops::ControlFlow;
 use std::time::Instant;
 
-use super::SimError;
-use super::analyze::Quality;
-use super::design::Design;
-use super::metrics::open_fraction;
-use super::progress::Progress;
-use super::sampling::plan;
+use crate::SimError;
+use crate::analysis::analyze::Quality;
+use crate::analysis::metrics::open_fraction;
+use crate::design::Design;
+use crate::progress::Progress;
+use crate::psf::sampling::plan;
 use adam::Adam;
 pub use data::DataSet;
 pub use model::Model;
@@ -97,7 +97,7 @@ pub struct OptimizeSettings {
     /// Where the logits start.
     pub start: Start,
     /// Preview doubles the fine spacing (a quarter of the FFT work), as in
-    /// [`crate::analyze::Quality`].
+    /// [`crate::analysis::analyze::Quality`].
     pub quality: Quality,
     /// Reserve room for three equal R, G, B emitters of at least this many µm² each in the
     /// opaque area (0 = no constraint); the result carries their placement.
@@ -263,7 +263,7 @@ pub struct Optimized {
     pub elapsed_ms: f64,
     /// Start and result at the run's own sampling: the scale of [`Optimized::history`].
     pub at_run_quality: Scores,
-    /// Start and result at full quality: the `L_inv` that [`crate::analyze::analyze_with`]
+    /// Start and result at full quality: the `L_inv` that [`crate::analysis::analyze::analyze_with`]
     /// reports (and the studio's numbers show) for each design. The epochs' losses are those of
     /// the mask before each step, and a preview run's are at another sampling, so a summary of
     /// the run must come from here, not from its last epoch.
@@ -362,7 +362,7 @@ impl<'a> Objective<'a> {
         result: &Design,
     ) -> Result<Scores, SimError> {
         let flat = |cells: Vec<Vec<f64>>| cells.into_iter().flatten().collect::<Vec<f64>>();
-        let start_cells = flat(super::aperture::effective_cells(&start.opening));
+        let start_cells = flat(crate::display::aperture::effective_cells(&start.opening));
         Ok(Scores {
             quality,
             // A start that lets no light through has no loss to compare with; the result has.

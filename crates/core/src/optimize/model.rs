@@ -10,10 +10,10 @@ use rustfft::num_complex::Complex64;
 
 use super::spectra::{Pool, Span, WindowDft, dft2_complex};
 use crate::SimError;
-use crate::aperture::{CellMap, Display, Extent};
+use crate::analysis::metrics::{INVERTIBILITY_EPSILON, INVERTIBILITY_FRACTION};
 use crate::design::Design;
-use crate::metrics::{INVERTIBILITY_EPSILON, INVERTIBILITY_FRACTION};
-use crate::sampling::{Binning, WavelengthSampling};
+use crate::display::aperture::{CellMap, Display, Extent};
+use crate::psf::sampling::{Binning, WavelengthSampling};
 
 /// One sampled wavelength of one channel.
 #[derive(Debug, Clone)]

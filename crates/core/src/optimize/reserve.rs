@@ -3,9 +3,9 @@
 //! binarised candidate without room is not kept: its least-wanted open cells (lowest relaxed
 //! transmittance) are closed one at a time until the auto-placement succeeds.
 
-use super::super::SimError;
-use super::super::design::{Opening, Subpixels};
-use super::super::emitters::auto_place;
+use crate::SimError;
+use crate::design::{Opening, Subpixels};
+use crate::display::emitters::auto_place;
 
 /// Closes the open cells of `cells` in order of increasing `relaxed` value until three emitters
 /// of `min_area_um2` fit; returns the cells and the placement.

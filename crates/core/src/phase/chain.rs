@@ -17,8 +17,8 @@ use rustfft::num_complex::{Complex32, Complex64};
 use super::czt::{Czt, CztWork};
 use super::geometry::{Lenslets, display_aperture_um, height_um};
 use super::{PhaseDesign, PhaseSampling, SamplingConvention, SimError};
-use crate::fft::{complex_plan_f32, quadratic_phase};
-use crate::sampling::{next_fast_size, next_fast_size_235};
+use crate::psf::fft::{complex_plan_f32, quadratic_phase};
+use crate::psf::sampling::{next_fast_size, next_fast_size_235};
 
 mod propagate;
 

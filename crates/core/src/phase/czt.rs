@@ -8,8 +8,8 @@ use std::f64::consts::PI;
 
 use rustfft::num_complex::{Complex32, Complex64};
 
-use crate::fft::{complex_plan, complex_plan_f32, quadratic_phase};
-use crate::sampling::next_fast_size_235;
+use crate::psf::fft::{complex_plan, complex_plan_f32, quadratic_phase};
+use crate::psf::sampling::next_fast_size_235;
 
 /// A prepared transform for one wavelength, input length and output window. Its FFTs run in
 /// single precision (the chirps are computed in double and rounded once): intensities keep

@@ -10,7 +10,7 @@ use super::{Lambda0, PhaseDesign, PhaseSampling, SimError, wavelength_grid_nm};
 use crate::Progress;
 use rustfft::num_complex::Complex64;
 
-use crate::fft::{complex_inverse_plan, complex_plan, real_plan};
+use crate::psf::fft::{complex_inverse_plan, complex_plan, real_plan};
 
 /// One-sided MTF of a 1-D sensor PSF: `|DFT|` of the PSF normalised to sum 1, at DC and the
 /// positive frequencies `k = 0 … P/2 − 1` (cycles per `P` pixels). Empty for a dark PSF.
@@ -116,7 +116,7 @@ pub fn optical_mtf(aperture: &[Complex64]) -> Vec<f64> {
     if n == 0 {
         return Vec::new();
     }
-    let m = crate::sampling::next_fast_size(2 * n);
+    let m = crate::psf::sampling::next_fast_size(2 * n);
     let mut buf = vec![Complex64::new(0.0, 0.0); m];
     buf[..n].copy_from_slice(aperture);
     complex_plan(m).process(&mut buf);

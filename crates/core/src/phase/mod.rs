@@ -47,7 +47,7 @@ pub mod psf;
 
 use serde::{Deserialize, Serialize};
 
-use super::SimError;
+use crate::SimError;
 
 pub use allocate::{Allocation, AllocationSettings, allocate, optimize_lambda0};
 pub use chain::{Chain, Incidence, MonoPsf, PhaseOptics, effective_pixel_um};

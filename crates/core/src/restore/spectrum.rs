@@ -13,7 +13,7 @@
 //! Spectra are half spectra (`Q/2 + 1` columns, real input) stored column by column
 //! (`data[kx · P + ky]`) so the column pass reads contiguous memory. The forward transform runs
 //! its row FFTs over the image's rows only and the inverse its row FFTs over the cropped rows only.
-//! Forward plans come from the crate-wide cache of [`crate::fft`]; inverse plans are cached
+//! Forward plans come from the crate-wide cache of [`crate::psf::fft`]; inverse plans are cached
 //! here the same way. Rows and columns run in parallel on rayon's pool; every value is computed by
 //! one thread in a fixed order, so results never depend on the thread count.
 
@@ -26,8 +26,8 @@ use realfft::{ComplexToReal, RealFftPlanner};
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
-use crate::fft::{complex_plan, real_plan};
-use crate::sampling::next_fast_size;
+use crate::psf::fft::{complex_plan, real_plan};
+use crate::psf::sampling::next_fast_size;
 
 struct InversePlans {
     real: RealFftPlanner<f64>,

@@ -3,7 +3,7 @@
 //! each copy scores. The same functions serve the studio's background job and the tests, so
 //! what the plot shows is what a test checks.
 
-use crate::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
+use crate::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
 use crate::design::{Design, OpticsRecipe};
 use crate::{Progress, SimError};
 

@@ -11,13 +11,13 @@
 mod orders;
 mod shapes;
 
-use super::SimError;
-use super::analyze::{Analysis, Quality};
-use super::design::Design;
-use super::mtf::Mtf;
-use super::sampling::{WavelengthSampling, plan};
+use crate::SimError;
+use crate::analysis::analyze::{Analysis, Quality};
+use crate::analysis::mtf::Mtf;
+use crate::design::Design;
+use crate::psf::sampling::{WavelengthSampling, plan};
 
-pub use super::design::Theory;
+pub use crate::design::Theory;
 pub use orders::{OrderEnergy, order_energies};
 
 /// What a comparison plots against position.

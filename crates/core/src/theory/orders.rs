@@ -5,10 +5,10 @@ use ndarray::Array2;
 use rustfft::num_complex::Complex64;
 
 use crate::SimError;
-use crate::aperture::effective_cells;
 use crate::design::Design;
-use crate::sampling::WavelengthSampling;
-use crate::tiling::orbit;
+use crate::display::aperture::effective_cells;
+use crate::display::tiling::orbit;
+use crate::psf::sampling::WavelengthSampling;
 
 use super::sinc;
 
@@ -32,7 +32,7 @@ const MIN_SPACING_PX: f64 = 3.0;
 /// sampled as `samp`, holding `energy_in_window` of the light) with the tile's Fourier series.
 ///
 /// # Errors
-/// [`SimError::Sampling`] when neighbouring orders are under [`MIN_SPACING_PX`] sensor pixels
+/// [`SimError::Sampling`] when neighbouring orders are under `MIN_SPACING_PX` sensor pixels
 /// apart (the tile is too large for its orders to be resolved).
 pub fn order_energies(
     design: &Design,

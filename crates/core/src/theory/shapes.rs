@@ -2,7 +2,7 @@
 //! integration over sensor pixels on the simulation's own fine samples.
 
 use super::{Theory, sinc};
-use crate::sampling::WavelengthSampling;
+use crate::psf::sampling::WavelengthSampling;
 
 /// The light per unit length along x (integrated over y, unit total) of a slit, double slit or
 /// rectangle at `x_um` from the axis; `lf_um2` is `λ f` in µm². Other shapes give 0.

@@ -23,8 +23,8 @@ use super::{ExportOptions, FileCounts, FrameDrawing, GdsCells, MaskLayers, regio
 use crate::IoError;
 use crate::fab::{OUTLINE_WIDTH_NM, gds_date, outline_paths};
 use udc_core::Progress;
+use udc_core::display::tiling::D4;
 use udc_core::mask::{MaskError, MaskLayout, Polygon};
-use udc_core::tiling::D4;
 
 /// GDSII counts rows and columns of an array in 16 bits.
 const MAX_ARRAY: i64 = 32767;

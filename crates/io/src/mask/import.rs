@@ -237,8 +237,8 @@ pub fn import_opening_on(
     layer: i16,
     datatype: i16,
 ) -> Result<Vec<Vec<f64>>, IoError> {
+    use udc_core::display::tiling::{D4, tile_orientation};
     use udc_core::mask::{MaskLayout, MaskRegion, MaskSpec};
-    use udc_core::tiling::{D4, tile_orientation};
     let png = is_png(path);
     let notes = if png {
         Some(super::png_read::read(path)?)

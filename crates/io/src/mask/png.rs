@@ -12,8 +12,8 @@ use png::{BitDepth, ColorType, Encoder, PixelDimensions, Unit};
 use super::{ExportOptions, FileCounts, PngBits, region_bbox_nm};
 use crate::IoError;
 use udc_core::Progress;
+use udc_core::display::tiling::D4;
 use udc_core::mask::{MaskError, MaskLayout};
-use udc_core::tiling::D4;
 
 /// Largest image written (pixels); coverage is accumulated in 16 bits per pixel.
 pub const MAX_PNG_PIXELS: u64 = 100_000_000;

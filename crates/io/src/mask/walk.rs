@@ -4,8 +4,8 @@
 use super::GdsCells;
 use crate::IoError;
 use udc_core::Progress;
+use udc_core::display::tiling::D4;
 use udc_core::mask::{MaskError, MaskLayout, Polygon, TileRow};
-use udc_core::tiling::D4;
 
 /// Vertex counts of the polygons in the pixel cells (one cell, or one per orientation used), as
 /// the GDSII and OASIS writers lay them out.

@@ -79,7 +79,7 @@ impl ParquetAppender {
         })
     }
 
-    /// Adds a row; every [`BATCH_ROWS`] rows become a record batch.
+    /// Adds a row; every `BATCH_ROWS` rows become a record batch.
     ///
     /// # Errors
     /// [`IoError::Table`] naming the file.

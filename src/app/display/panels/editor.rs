@@ -3,7 +3,7 @@
 //! A press–drag–release (or a click) is one committed edit: while the pointer is down the panel
 //! draws on a private draft of the cells and pushes nothing; on release it pushes a single
 //! [`Command::Edit`] through [`PanelCtx::edit`], so a whole stroke is one undo step. The drawing
-//! itself is [`crate::core::opening_ops`]; this file only maps the pointer to cells.
+//! itself is [`crate::core::display::opening_ops`]; this file only maps the pointer to cells.
 
 use egui::{
     Button, Color32, ColorImage, ComboBox, PointerButton, Pos2, Rect, Response, Role, Sense,
@@ -15,7 +15,7 @@ use super::PanelCtx;
 use super::editor_rules::{RuleMark, RulesOverlay};
 use crate::app::commands::{self, Command, Tool};
 use crate::core::design::{Design, MAX_CELLS};
-use crate::core::opening_ops::{self as ops, Symmetry};
+use crate::core::display::opening_ops::{self as ops, Symmetry};
 
 /// Space kept around the grid, in points.
 const MARGIN_PX: f32 = 4.0;

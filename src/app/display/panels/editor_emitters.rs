@@ -7,7 +7,7 @@ use egui::{Color32, Rect, Response, Ui, vec2};
 
 use super::PanelCtx;
 use crate::core::design::{Subpixel, SubpixelChecks, Subpixels};
-use crate::core::emitters::{auto_place, closed_cells};
+use crate::core::display::emitters::{auto_place, closed_cells};
 
 /// What the emitter brush paints.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

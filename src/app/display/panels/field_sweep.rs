@@ -11,7 +11,7 @@ use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, Points, VLine};
 use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
 use crate::core::Design;
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 use crate::core::sweep::field::{FieldPoint, SweepField, SweepMetric, evaluate, values};
 
 /// A run in flight: the job and the points it sends as they finish.

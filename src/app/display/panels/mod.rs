@@ -18,7 +18,7 @@ pub mod views;
 use std::sync::Arc;
 
 use crate::app::commands::{Command, Tool};
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 use crate::core::{Analysis, Design};
 
 /// A result on screen: the analysis and the design it was computed for.

@@ -3,7 +3,9 @@
 use super::PanelCtx;
 use crate::app::commands::Command;
 // The advice's limits are these fields' ranges: a fix the fields would clamp is no fix.
-use crate::core::advice::{MAX_FIX_WINDOW_PX, MIN_FIX_FINE_SAMPLE_UM, MIN_FIX_PUPIL_SAMPLE_UM};
+use crate::core::analysis::advice::{
+    MAX_FIX_WINDOW_PX, MIN_FIX_FINE_SAMPLE_UM, MIN_FIX_PUPIL_SAMPLE_UM,
+};
 use crate::core::design::{Channel, Design, OpticsRecipe};
 use crate::core::sweep::field::SweepField;
 

@@ -17,7 +17,7 @@ use crate::app::widgets::plot::{
     LegendEntry, Swatch, hidden_names, legend_ui, visible_width, with_nice_ticks,
 };
 use crate::core::Design;
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 use crate::core::optimize::{
     DataSet, EpochReport, OptimizeSettings, Optimized, Relaxation, Scores, Start, binarise,
     optimize,

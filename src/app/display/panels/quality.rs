@@ -4,7 +4,7 @@
 //! result's numbers says which of the two it is.
 
 use super::Shown;
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 
 /// A length in µm with up to two decimals (`1`, `0.5`, `2.25`).
 fn um(v: f64) -> String {

@@ -32,7 +32,7 @@ use self::plots::{
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
 use crate::app::widgets::colormap::Colormap;
-use crate::core::analyze::ChannelAnalysis;
+use crate::core::analysis::analyze::ChannelAnalysis;
 
 /// The tabs of the result views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -20,8 +20,8 @@ use crate::mask::{
     ExportOptions, FileCounts, FrameDrawing, GdsCells, LayerRole, MaskLayers, region_bbox_nm,
 };
 use udc_core::Progress;
+use udc_core::display::tiling::D4;
 use udc_core::mask::{MaskError, MaskLayout, Polygon};
-use udc_core::tiling::D4;
 
 /// A cell of the file and its implicit CELLNAME reference number (its index).
 struct Cells {

@@ -14,9 +14,9 @@ use crate::app::job::Job;
 use crate::app::notice::Notice;
 use crate::app::widgets::photo::{built_in, color_image};
 use crate::core::Progress;
-use crate::core::analyze::{AnalyzeOptions, Quality, analyze_with};
-use crate::core::appearance::{AppearanceSettings, DisplayQuality, appearance};
+use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::design::Design;
+use crate::core::display::appearance::{AppearanceSettings, DisplayQuality, appearance};
 use crate::io::presets;
 
 /// What a run depends on.
@@ -156,7 +156,7 @@ impl AppearanceView {
             move |p: &Progress| {
                 let photo = built_in()?;
                 let mut out = Vec::new();
-                for (label, d) in crate::core::appearance::periodic_and_random(&design) {
+                for (label, d) in crate::core::display::appearance::periodic_and_random(&design) {
                     let (q, r) =
                         appearance(&d, &photo.planes, &settings, p).map_err(|e| e.to_string())?;
                     out.push((label, q, r.planes));

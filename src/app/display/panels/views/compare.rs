@@ -8,7 +8,7 @@ use super::images::channel_color;
 use super::plots::{MtfFamilies, mtf_plot_ui};
 use crate::app::commands::Command;
 use crate::app::display::panels::{PanelCtx, Pinned, Shown};
-use crate::core::analyze::ChannelAnalysis;
+use crate::core::analysis::analyze::ChannelAnalysis;
 use crate::core::{Analysis, Design};
 
 fn display_name(name: &str) -> &str {
@@ -209,8 +209,8 @@ mod tests {
     use ndarray::Array2;
 
     use super::*;
-    use crate::core::analyze::Quality;
-    use crate::core::mtf::mtf_of;
+    use crate::core::analysis::analyze::Quality;
+    use crate::core::analysis::mtf::mtf_of;
 
     fn channel(name: &str, energy_in_window: f64) -> ChannelAnalysis {
         let mut psf = Array2::zeros((8, 8));

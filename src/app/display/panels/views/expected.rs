@@ -10,7 +10,7 @@ use super::textures::Slot;
 use super::{ViewsPanel, psf_grid};
 use crate::app::display::panels::Shown;
 use crate::app::widgets::colormap::Colormap;
-use crate::core::analyze::ChannelAnalysis;
+use crate::core::analysis::analyze::ChannelAnalysis;
 
 impl ViewsPanel {
     pub(super) fn expected_ui(

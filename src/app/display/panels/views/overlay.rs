@@ -4,7 +4,7 @@
 use super::images::{Grid, airy_radius_um, order_lattice, order_spacing_um};
 use super::plots::PsfOverlay;
 use crate::app::display::panels::Shown;
-use crate::core::analyze::ChannelAnalysis;
+use crate::core::analysis::analyze::ChannelAnalysis;
 
 /// Which reference marks are drawn over the PSF images.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -14,7 +14,7 @@ use crate::app::widgets::plot::{
     LegendEntry, Swatch, hidden_names, legend_ui, visible_width, with_nice_ticks,
 };
 use crate::core::Analysis;
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 
 /// Width reserved beside an image plot for its colour bar and tick labels.
 pub const COLORBAR_WIDTH: f32 = 78.0;
@@ -298,13 +298,15 @@ pub fn mtf_plot_ui(
     channel_color: impl Fn(&str) -> Color32,
 ) {
     let mut groups: Vec<Vec<(LegendEntry, MtfItem<'_>)>> = Vec::new();
-    let curve_item =
-        |values, ch: &crate::core::analyze::ChannelAnalysis, width, style| MtfItem::Curve {
-            values,
-            freqs: ch.mtf.freqs_cyc_per_px(),
-            width,
-            style,
-        };
+    let curve_item = |values,
+                      ch: &crate::core::analysis::analyze::ChannelAnalysis,
+                      width,
+                      style| MtfItem::Curve {
+        values,
+        freqs: ch.mtf.freqs_cyc_per_px(),
+        width,
+        style,
+    };
     for ch in &b.channels {
         let color = channel_color(&ch.name);
         let (m, name) = (&ch.mtf, &ch.name);

@@ -5,7 +5,7 @@ use std::collections::HashMap;
 
 use egui::{ColorImage, TextureHandle, TextureId, TextureOptions};
 
-use crate::core::analyze::Quality;
+use crate::core::analysis::analyze::Quality;
 
 /// Which image a texture holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -1,8 +1,8 @@
 //! The grid geometry of one pruned PSF transform (the pruned route): which rows and columns of
 //! the `M×M` grid the field occupies, which the sensor window reads, and the aliasing band.
 
-use super::aperture::Field;
-use super::sampling::Binning;
+use crate::display::aperture::Field;
+use crate::psf::sampling::Binning;
 
 /// The grid geometry of one pruned transform.
 pub(crate) struct Geometry {

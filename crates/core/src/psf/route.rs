@@ -1,23 +1,23 @@
 //! Which route computes a sensor-binned `|DFT_M(a)|²` (conventions.md §2, "PSF route"): the full
 //! FFT of every column, or the pruned route that computes only what the window and the aliasing
-//! measure read ([`super::pruned`]). Both give the same numbers to rounding; the cheaper one by
+//! measure read ([`crate::psf::pruned`]). Both give the same numbers to rounding; the cheaper one by
 //! an operation count runs.
 //!
 //! Cost model (complex multiply-adds; `fft(n) = n log2 n`, ×4 for sizes with a prime factor
-//! above 7, see [`super::zoom`]), with `R` nonzero rows, `C` field columns, `kw` the window's
+//! above 7, see [`crate::psf::zoom`]), with `R` nonzero rows, `C` field columns, `kw` the window's
 //! largest column, `B` band columns or rows (`|k| ≥ ⌈0.45 M⌉`):
 //! - full: `R·fft(M)/2 + (M/2 + 1)·(fft(M) + 3M) + 8M²` (row FFTs, every column FFT, then
 //!   every sample's intensity, sums, mirror and two table look-ups to bin it);
 //! - pruned: `R·fft(M)/2 + (kw + 1)·zoom(window rows) + (B/2 + C/2)·zoom(band rows) + 2·R·kept
 //!   + 2·window samples`, each `zoom` the cheapest of slice / chirp-z / matrix DFT.
 
-use super::SimError;
-use super::aperture::Field;
-use super::fft::{Binned, binned_intensity};
-use super::progress::Progress;
-use super::pruned::{binned_pruned, pruned_ops};
-use super::sampling::Binning;
-use super::zoom::fft_ops;
+use crate::SimError;
+use crate::display::aperture::Field;
+use crate::progress::Progress;
+use crate::psf::fft::{Binned, binned_intensity};
+use crate::psf::pruned::{binned_pruned, pruned_ops};
+use crate::psf::sampling::Binning;
+use crate::psf::zoom::fft_ops;
 
 /// How the Fraunhofer intensity is computed and binned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -15,7 +15,7 @@
 
 use std::fmt;
 
-use super::design::{Optics, OpticsRecipe};
+use crate::design::{Optics, OpticsRecipe};
 
 /// How much a warning matters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

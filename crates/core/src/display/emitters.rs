@@ -2,8 +2,8 @@
 //! Fig. 3.26): three equal-area rectangles, as large as the closed cells allow. The presets'
 //! placements and the optimizer's "reserve subpixels" constraint come from here.
 
-use super::aperture::effective_cells;
-use super::design::{Opening, Subpixel, Subpixels};
+use crate::design::{Opening, Subpixel, Subpixels};
+use crate::display::aperture::effective_cells;
 
 /// Grids larger than this per side are not auto-placed (the exhaustive rectangle search grows
 /// with N⁴); every thesis layout has 21 cells.

@@ -14,13 +14,13 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::analyze::{AnalyzeOptions, Quality, analyze_with};
-use super::aperture::{Display, Extent, effective_cells, rasterise};
-use super::design::{Design, OpticsRecipe};
-use super::fft::{bin_dense, complex_plan, signed};
-use super::residual::{Deblur, channel_residuals, mean};
-use super::sampling::{WavelengthSampling, plan};
-use super::{Progress, SimError};
+use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::analysis::residual::{Deblur, channel_residuals, mean};
+use crate::design::{Design, OpticsRecipe};
+use crate::display::aperture::{Display, Extent, effective_cells, rasterise};
+use crate::psf::fft::{bin_dense, complex_plan, signed};
+use crate::psf::sampling::{WavelengthSampling, plan};
+use crate::{Progress, SimError};
 
 /// Largest FFT side of the defocused PSF: it needs two dense complex `M×M` grids (512 MiB here),
 /// unlike the analysis, which folds a sparse field column by column.
@@ -67,7 +67,7 @@ impl Default for DepthSettings {
     fn default() -> Self {
         DepthSettings {
             object_distance_mm: 100.0,
-            nsr: super::restore::THESIS_NSR,
+            nsr: crate::restore::THESIS_NSR,
             quality: Quality::Preview,
         }
     }
@@ -273,7 +273,7 @@ pub fn defocused_psfs(
 
 /// `|DFT_M(a · exp(iπr²/(λ z1)))|²` binned to the window, and its total over the grid.
 fn defocused_intensity(
-    field: &super::aperture::Field,
+    field: &crate::display::aperture::Field,
     ws: &WavelengthSampling,
     delta_um: f64,
     z1_um: f64,

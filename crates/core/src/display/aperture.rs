@@ -5,8 +5,8 @@
 //! square, which is exact when cells are whole multiples of δ1 and aligned, as in the thesis
 //! recipe. The lens pupil is binary: a sample is inside when its centre is within `D/2`.
 
-use super::design::{Design, Opening, Polygon, TilingMode};
-use super::tiling::{D4, tile_orientation};
+use crate::design::{Design, Opening, Polygon, TilingMode};
+use crate::display::tiling::{D4, tile_orientation};
 
 /// One row of a field on the pupil grid, stored densely between its first and last nonzero
 /// samples.

@@ -7,17 +7,17 @@ use std::time::Instant;
 use ndarray::Array2;
 use rayon::prelude::*;
 
-use super::SimError;
-use super::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
-use super::design::{Design, Optics};
-use super::expected::expected_channel_psf;
-use super::metrics::{invertibility_loss, ltr, mean_lowest_h, open_fraction};
-use super::mtf::{Mtf, mtf_of};
-use super::progress::Progress;
-use super::psf::channel_psf_by;
-use super::route::PsfRoute;
-use super::sampling::{WavelengthSampling, plan};
-use super::warning::{SamplingWarning, WarningKind};
+use crate::SimError;
+use crate::analysis::expected::expected_channel_psf;
+use crate::analysis::metrics::{invertibility_loss, ltr, mean_lowest_h, open_fraction};
+use crate::analysis::mtf::{Mtf, mtf_of};
+use crate::analysis::warning::{SamplingWarning, WarningKind};
+use crate::design::{Design, Optics};
+use crate::display::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
+use crate::progress::Progress;
+use crate::psf::channel_psf_by;
+use crate::psf::route::PsfRoute;
+use crate::psf::sampling::{WavelengthSampling, plan};
 
 /// Full quality follows the design's sampling; preview doubles the fine spacing (halving every
 /// FFT) when the sensor pixel still holds a whole number of fine samples. Same physics.

@@ -1,9 +1,9 @@
 //! The sampling plan: FFT size per wavelength, fine spacing, sensor binning and the warnings
 //! conventions.md §2 asks for when the sampling is unsafe.
 
-use super::SimError;
-use super::design::{Design, MAX_FFT_SIZE};
-use super::warning::{SamplingWarning, WarningKind};
+use crate::SimError;
+use crate::analysis::warning::{SamplingWarning, WarningKind};
+use crate::design::{Design, MAX_FFT_SIZE};
 
 /// How fine samples are integrated into sensor pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

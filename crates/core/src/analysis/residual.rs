@@ -9,9 +9,9 @@
 
 use ndarray::Array2;
 
-use super::SimError;
-use super::restore::spectrum::{PadGrid, Padding, Spectrum};
-use super::restore::wiener::wiener;
+use crate::SimError;
+use crate::restore::spectrum::{PadGrid, Padding, Spectrum};
+use crate::restore::wiener::wiener;
 
 /// A Wiener filter built once from a reference PSF, to deblur other PSFs with it.
 #[derive(Debug, Clone)]

@@ -13,11 +13,11 @@ use realfft::{RealFftPlanner, RealToComplex};
 use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 
-use super::SimError;
-use super::aperture::Field;
-use super::progress::Progress;
-use super::sampling::Binning;
-use super::tiling::D4;
+use crate::SimError;
+use crate::display::aperture::Field;
+use crate::display::tiling::D4;
+use crate::progress::Progress;
+use crate::psf::sampling::Binning;
 
 struct Plans {
     real: RealFftPlanner<f64>,
@@ -463,7 +463,7 @@ pub fn bin_dense(fine: &Array2<f64>, binning: &Binning) -> Array2<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::aperture::SparseRow;
+    use crate::display::aperture::SparseRow;
 
     fn brute_dft_intensity(dense: &[Vec<f64>], ky: usize, kx: usize) -> f64 {
         let m = dense.len();

@@ -6,12 +6,12 @@
 
 use ndarray::Array2;
 
-use super::SimError;
-use super::depth::DepthResult;
-use super::restore::capture::{CaptureSettings, blur, expose};
-use super::restore::quality::{psnr_db_pooled, ssim};
-use super::restore::spectrum::{PadGrid, Padding};
-use super::restore::wiener::wiener;
+use crate::SimError;
+use crate::display::depth::DepthResult;
+use crate::restore::capture::{CaptureSettings, blur, expose};
+use crate::restore::quality::{psnr_db_pooled, ssim};
+use crate::restore::spectrum::{PadGrid, Padding};
+use crate::restore::wiener::wiener;
 
 /// One capture restored with the infinity PSF, and its scores against the photo.
 #[derive(Debug, Clone)]

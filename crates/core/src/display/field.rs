@@ -17,10 +17,10 @@
 
 use ndarray::Array2;
 
-use super::analyze::{AnalyzeOptions, Quality, analyze_with};
-use super::design::Design;
-use super::residual::{Deblur, channel_residuals, mean};
-use super::{Progress, SimError};
+use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::analysis::residual::{Deblur, channel_residuals, mean};
+use crate::design::Design;
+use crate::{Progress, SimError};
 
 /// Largest display-to-pupil distance accepted, mm.
 pub const MAX_DISPLAY_DISTANCE_MM: f64 = 100.0;
@@ -51,7 +51,7 @@ impl Default for FieldSettings {
             display_distance_mm: 1.0,
             max_field_deg: 30.0,
             grid: 3,
-            nsr: super::restore::THESIS_NSR,
+            nsr: crate::restore::THESIS_NSR,
             quality: Quality::Preview,
         }
     }

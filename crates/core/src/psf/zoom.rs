@@ -22,8 +22,8 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rustfft::Fft;
 use rustfft::num_complex::Complex64;
 
-use super::fft::{complex_inverse_plan, complex_plan};
-use super::sampling::next_fast_size_235;
+use crate::psf::fft::{complex_inverse_plan, complex_plan};
+use crate::psf::sampling::next_fast_size_235;
 
 /// How much slower rustfft runs a size with a prime factor above 7, per `n·log2 n`.
 pub const NON_SMOOTH_FACTOR: f64 = 4.0;

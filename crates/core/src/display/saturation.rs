@@ -15,12 +15,12 @@
 
 use ndarray::{Array2, Zip};
 
-use super::SimError;
-use super::restore::capture::{CaptureSettings, Light, blur, expose};
-use super::restore::quality::{psnr_db_pooled, ssim};
-use super::restore::spectrum::{PadGrid, Padding};
-use super::restore::wiener::wiener;
-use super::sensor::scene::percentile_of;
+use crate::SimError;
+use crate::restore::capture::{CaptureSettings, Light, blur, expose};
+use crate::restore::quality::{psnr_db_pooled, ssim};
+use crate::restore::spectrum::{PadGrid, Padding};
+use crate::restore::wiener::wiener;
+use crate::sensor::scene::percentile_of;
 
 /// A pixel counts as clipped at this share of the full well (noise reaches the clip before the
 /// mean does).
@@ -47,7 +47,7 @@ impl Default for SaturationSettings {
             clip_percent: 2.0,
             brackets: 3,
             step_ev: 2.0,
-            nsr: super::restore::THESIS_NSR,
+            nsr: crate::restore::THESIS_NSR,
             seed: 0,
         }
     }
@@ -182,7 +182,7 @@ pub fn saturation_study(
     let truth: Vec<Array2<f64>> = scene.iter().map(|p| p / level).collect();
     let blurred: Vec<Array2<f64>> = blurred.iter().map(|p| p / level).collect();
     let capture = CaptureSettings {
-        light: Light::ElectronsAtPeak(super::restore::capture::FULL_WELL_E),
+        light: Light::ElectronsAtPeak(crate::restore::capture::FULL_WELL_E),
         seed: settings.seed,
         ..CaptureSettings::default()
     };

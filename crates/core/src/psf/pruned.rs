@@ -1,5 +1,5 @@
 //! The pruned PSF route: `|DFT_M(a)|²` only where the sensor window and the aliasing measure
-//! read it, with the same numbers as the full route ([`super::fft::binned_intensity`]).
+//! read it, with the same numbers as the full route ([`crate::psf::fft::binned_intensity`]).
 //!
 //! 1. Spectra of the field's nonzero rows (real FFTs of length `M`, or two rows per complex zoom
 //!    when cheaper), keeping only the columns `kx` the window reads (`0 … kw`, negative columns
@@ -18,14 +18,14 @@
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::SimError;
-use super::aperture::Field;
-use super::fft::{Binned, check_fits};
-use super::progress::Progress;
-use super::pruned_grid::Geometry;
-use super::pruned_rows::{kept_row_spectra, row_pass_ops};
-use super::sampling::Binning;
-use super::zoom::{Zoom, ZoomKind, best_ops, cached, cheapest};
+use crate::SimError;
+use crate::display::aperture::Field;
+use crate::progress::Progress;
+use crate::psf::fft::{Binned, check_fits};
+use crate::psf::pruned_grid::Geometry;
+use crate::psf::pruned_rows::{kept_row_spectra, row_pass_ops};
+use crate::psf::sampling::Binning;
+use crate::psf::zoom::{Zoom, ZoomKind, best_ops, cached, cheapest};
 
 /// Columns gathered together from the row-major spectra (cache-friendly transposition).
 const BLOCK: usize = 16;

@@ -1,14 +1,26 @@
 //! Sensor PSFs per colour channel (conventions.md §2): per-wavelength Fraunhofer intensities,
 //! each normalised by its total energy, weighted by the channel's spectral weights, integrated
 //! over sensor pixels and normalised to sum 1 over the window.
+//!
+//! The sub-modules are the route to it: [`sampling`] plans each wavelength's grid, [`route`]
+//! chooses between the full FFT ([`fft`]) and the pruned transforms ([`pruned`]), and [`zoom`]
+//! (the chirp-z transform) samples a spectrum finely over a narrow band.
+
+pub mod fft;
+pub mod pruned;
+mod pruned_grid;
+mod pruned_rows;
+pub mod route;
+pub mod sampling;
+pub mod zoom;
 
 use ndarray::Array2;
 
-use super::SimError;
-use super::aperture::Field;
-use super::progress::Progress;
-use super::route::{PsfRoute, binned_by};
-use super::sampling::WavelengthSampling;
+use crate::SimError;
+use crate::display::aperture::Field;
+use crate::progress::Progress;
+use crate::psf::route::{PsfRoute, binned_by};
+use crate::psf::sampling::WavelengthSampling;
 
 /// The sensor PSF of one channel.
 #[derive(Debug, Clone)]

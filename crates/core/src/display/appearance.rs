@@ -15,11 +15,11 @@
 
 use ndarray::Array2;
 
-use super::SimError;
-use super::design::{Design, Subpixels, TilingMode};
-use super::emitters::auto_place;
-use super::progress::Progress;
-use super::tiling::tile_orientation;
+use crate::SimError;
+use crate::design::{Design, Subpixels, TilingMode};
+use crate::display::emitters::auto_place;
+use crate::display::tiling::tile_orientation;
+use crate::progress::Progress;
 
 /// Rec. 709 luminance weights of R, G, B.
 pub const LUMA: [f64; 3] = [0.2126, 0.7152, 0.0722];

@@ -7,7 +7,7 @@
 
 use std::collections::VecDeque;
 
-use super::design::MAX_CELLS;
+use crate::design::MAX_CELLS;
 
 /// Mirror symmetry applied while drawing: every touched cell is also set at its mirror images.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Default)]
@@ -352,7 +352,7 @@ pub fn from_text(text: &str) -> Result<Vec<Vec<f64>>, String> {
 /// Intensity transmittance of the opening, `Σv² / count` (the fraction of open cells for a
 /// binary grid); the same number the analysis reports. 0 for an empty grid.
 pub fn open_fraction(cells: &[Vec<f64>]) -> f64 {
-    super::metrics::open_fraction(cells)
+    crate::analysis::metrics::open_fraction(cells)
 }
 
 /// Bounding box `(r0, c0, r1, c1)` (inclusive) of the cells that transmit any light

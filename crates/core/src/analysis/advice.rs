@@ -20,11 +20,11 @@
 
 use std::collections::BTreeSet;
 
-use super::analyze::{AnalyzeOptions, Limits, Quality, analyze_within};
-use super::design::{Design, MAX_FFT_SIZE, Optics};
-use super::sampling::{fft_size, plan};
-use super::warning::{Fix, SamplingWarning, WarningKind, short_number};
-use super::{Progress, SimError};
+use crate::analysis::analyze::{AnalyzeOptions, Limits, Quality, analyze_within};
+use crate::analysis::warning::{Fix, SamplingWarning, WarningKind, short_number};
+use crate::design::{Design, MAX_FFT_SIZE, Optics};
+use crate::psf::sampling::{fft_size, plan};
+use crate::{Progress, SimError};
 
 /// Largest window a fix proposes, and the Optics panel's (its field clamps anything larger).
 pub const MAX_FIX_WINDOW_PX: usize = 2048;
@@ -347,7 +347,7 @@ pub fn advise(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analyze::analyze_with;
+    use crate::analysis::analyze::analyze_with;
     use crate::design::{Channel, Opening};
 
     fn thesis_slit() -> Design {
@@ -470,7 +470,10 @@ mod tests {
         let mut warnings = preview(&d);
         assert_eq!(warnings.len(), 1, "{warnings:?}");
         assert_eq!(warnings[0].kind, WarningKind::LightOutsideWindow);
-        assert_eq!(warnings[0].severity, crate::warning::Severity::Warning);
+        assert_eq!(
+            warnings[0].severity,
+            crate::analysis::warning::Severity::Warning
+        );
         advise(&d, &mut warnings, &Progress::new()).expect("advice");
         let fix = warnings[0].fix.clone().expect("a fix");
         assert!(fix.optics.window_px > 64, "{}", fix.summary());

@@ -4,7 +4,7 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-use super::design::TilingMode;
+use crate::design::TilingMode;
 
 /// An element of D4 in canonical form: `flipud^flip_ud ∘ fliplr^flip_lr ∘ transpose^transpose`
 /// (transpose first).

@@ -13,10 +13,10 @@
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::aperture::{Field, SparseRow};
-use super::fft::real_plan;
-use super::pruned_grid::Geometry;
-use super::zoom::{best_ops, cached, fft_ops};
+use crate::display::aperture::{Field, SparseRow};
+use crate::psf::fft::real_plan;
+use crate::psf::pruned_grid::Geometry;
+use crate::psf::zoom::{best_ops, cached, fft_ops};
 
 /// Modelled cost of the cheaper row pass, complex multiply-adds.
 pub(crate) fn row_pass_ops(field: &Field, g: &Geometry) -> f64 {

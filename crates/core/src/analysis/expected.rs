@@ -12,12 +12,12 @@
 
 use ndarray::Array2;
 
-use super::SimError;
-use super::aperture::{Display, Extent, pupil_sample_count, rasterise};
-use super::fft::{binned_intensity, binned_orbit_intensity};
-use super::progress::Progress;
-use super::sampling::WavelengthSampling;
-use super::tiling::orbit;
+use crate::SimError;
+use crate::display::aperture::{Display, Extent, pupil_sample_count, rasterise};
+use crate::display::tiling::orbit;
+use crate::progress::Progress;
+use crate::psf::fft::{binned_intensity, binned_orbit_intensity};
+use crate::psf::sampling::WavelengthSampling;
 
 /// The orbit's mean pattern `m̄`.
 pub fn mean_pattern(display: &Display) -> Vec<Vec<f64>> {
@@ -37,7 +37,7 @@ pub fn mean_pattern(display: &Display) -> Vec<Vec<f64>> {
 /// Expected sensor PSF of one channel (sums to 1), for the random tiling of `display`.
 ///
 /// # Errors
-/// As [`crate::fft::binned_intensity`].
+/// As [`crate::psf::fft::binned_intensity`].
 pub fn expected_channel_psf(
     display: &Display,
     pupil_diameter_um: f64,
@@ -49,11 +49,11 @@ pub fn expected_channel_psf(
     let mean = mean_pattern(display);
     let periodic_display = Display {
         cells: &mean,
-        mode: super::design::TilingMode::Repeat,
+        mode: crate::design::TilingMode::Repeat,
         ..display.clone()
     };
     let tile_display = Display {
-        mode: super::design::TilingMode::Repeat,
+        mode: crate::design::TilingMode::Repeat,
         ..display.clone()
     };
     let periodic = rasterise(
