@@ -10,8 +10,8 @@ use egui_kittest::kittest::Queryable;
 use udc_studio::app::{Command, LeftTab, StudioApp};
 use udc_studio::core::analysis::advice::advise;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::analysis::warning::{Severity, WarningKind};
 use udc_studio::core::design::{Optics, OpticsRecipe};
+use udc_studio::core::psf::warning::{Severity, WarningKind};
 use udc_studio::core::{Analysis, Design, Progress};
 use udc_studio::io::presets::{self, load_preset};
 

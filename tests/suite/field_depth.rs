@@ -4,10 +4,10 @@
 
 use udc_studio::core::Progress;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::display::depth::{
+use udc_studio::core::camera::depth::{
     DepthSettings, defocused_psfs, depth_psfs, image_distance_mm,
 };
-use udc_studio::core::display::field::{FieldSettings, field_psfs};
+use udc_studio::core::camera::field::{FieldSettings, field_psfs};
 use udc_studio::io::presets::load_preset;
 
 use crate::common::run_cli as run;
@@ -190,7 +190,7 @@ fn bad_field_and_depth_values_fail_with_one_line() {
 
 #[test]
 fn bracketing_restores_linearity_around_specular_highlights() {
-    use udc_studio::core::display::saturation::{SaturationSettings, saturation_study};
+    use udc_studio::core::camera::saturation::{SaturationSettings, saturation_study};
     let design = load_preset("l2inv-random").expect("preset");
     let options = AnalyzeOptions {
         quality: Quality::Preview,
@@ -285,7 +285,7 @@ fn a_near_object_restored_with_the_infinity_psf_keeps_its_quality_when_refocused
     // camera refocused on an object at 10 cm the PSF is the infinity PSF scaled by z2/f (+11 %
     // here), so the photo restores almost as well as one at infinity; left focused at infinity
     // the object is defocused and the same filter cannot restore it.
-    use udc_studio::core::display::depth_capture::depth_capture;
+    use udc_studio::core::camera::depth_capture::depth_capture;
     use udc_studio::core::restore::{CaptureSettings, Light};
     let design = load_preset("l2inv-random").unwrap();
     let settings = DepthSettings {

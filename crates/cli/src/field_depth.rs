@@ -10,8 +10,8 @@ use ndarray::Array2;
 use super::DesignSelection;
 use udc_core::Progress;
 use udc_core::analysis::analyze::Quality;
-use udc_core::display::depth::{DepthSettings, depth_psfs};
-use udc_core::display::field::{FieldSettings, field_psfs};
+use udc_core::camera::depth::{DepthSettings, depth_psfs};
+use udc_core::camera::field::{FieldSettings, field_psfs};
 use udc_io::export::write_log_psf_png;
 
 /// Arguments of `udc-studio field`.
@@ -160,7 +160,7 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
                 }
                 other => other.into(),
             })?;
-            Some(udc_core::display::field_capture::field_capture(
+            Some(udc_core::camera::field_capture::field_capture(
                 planes,
                 &r,
                 &cap,

@@ -9,7 +9,7 @@ use clap::Args;
 use super::DesignSelection;
 use udc_core::Progress;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_core::display::saturation::{SaturationSettings, saturation_study};
+use udc_core::camera::saturation::{SaturationSettings, saturation_study};
 use udc_io::hdr;
 use udc_io::photo::write_photo_png;
 
@@ -107,7 +107,7 @@ pub fn saturation_cmd(args: &SaturationArgs) -> Result<()> {
             written.push(path.display().to_string());
         }
     }
-    let run_json = |run: &udc_core::display::saturation::SaturationRun| {
+    let run_json = |run: &udc_core::camera::saturation::SaturationRun| {
         serde_json::json!({
             "psnr_db": run.psnr_db,
             "ssim": run.ssim,

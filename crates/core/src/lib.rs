@@ -46,6 +46,7 @@ pub mod conventions {}
 
 pub mod analysis;
 pub mod budget;
+pub mod camera;
 pub mod denoise;
 pub mod design;
 pub mod display;

@@ -5,7 +5,7 @@ use serde_json::{Value, json};
 
 use udc_core::Analysis;
 use udc_core::analysis::analyze::Quality;
-use udc_core::analysis::warning::{OpticsField, SamplingWarning};
+use udc_core::psf::warning::{OpticsField, SamplingWarning};
 
 /// Analysis reports keep 9 significant digits.
 fn r(v: f64) -> f64 {

@@ -21,9 +21,9 @@
 use std::collections::BTreeSet;
 
 use crate::analysis::analyze::{AnalyzeOptions, Limits, Quality, analyze_within};
-use crate::analysis::warning::{Fix, SamplingWarning, WarningKind, short_number};
 use crate::design::{Design, MAX_FFT_SIZE, Optics};
 use crate::psf::sampling::{fft_size, plan};
+use crate::psf::warning::{Fix, SamplingWarning, WarningKind, short_number};
 use crate::{Progress, SimError};
 
 /// Largest window a fix proposes, and the Optics panel's (its field clamps anything larger).
@@ -470,10 +470,7 @@ mod tests {
         let mut warnings = preview(&d);
         assert_eq!(warnings.len(), 1, "{warnings:?}");
         assert_eq!(warnings[0].kind, WarningKind::LightOutsideWindow);
-        assert_eq!(
-            warnings[0].severity,
-            crate::analysis::warning::Severity::Warning
-        );
+        assert_eq!(warnings[0].severity, crate::psf::warning::Severity::Warning);
         advise(&d, &mut warnings, &Progress::new()).expect("advice");
         let fix = warnings[0].fix.clone().expect("a fix");
         assert!(fix.optics.window_px > 64, "{}", fix.summary());

@@ -11,13 +11,13 @@ use crate::SimError;
 use crate::analysis::expected::expected_channel_psf;
 use crate::analysis::metrics::{invertibility_loss, ltr, mean_lowest_h, open_fraction};
 use crate::analysis::mtf::{Mtf, mtf_of};
-use crate::analysis::warning::{SamplingWarning, WarningKind};
 use crate::design::{Design, Optics};
 use crate::display::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
 use crate::progress::Progress;
 use crate::psf::channel_psf_by;
 use crate::psf::route::PsfRoute;
 use crate::psf::sampling::{WavelengthSampling, plan};
+use crate::psf::warning::{SamplingWarning, WarningKind};
 
 /// Full quality follows the design's sampling; preview doubles the fine spacing (halving every
 /// FFT) when the sensor pixel still holds a whole number of fine samples. Same physics.

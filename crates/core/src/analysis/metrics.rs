@@ -37,14 +37,9 @@ pub fn ltr(field_energy: f64, pupil_samples: f64) -> f64 {
     }
 }
 
-/// Intensity transmittance of one tile (the open fraction for binary cells).
-pub fn open_fraction(cells: &[Vec<f64>]) -> f64 {
-    let n: usize = cells.iter().map(Vec::len).sum();
-    if n == 0 {
-        return 0.0;
-    }
-    cells.iter().flatten().map(|v| v * v).sum::<f64>() / n as f64
-}
+/// Intensity transmittance of one tile (the open fraction for binary cells), defined with the
+/// opening it measures.
+pub use crate::display::opening_ops::open_fraction;
 
 #[cfg(test)]
 mod tests {

@@ -1,6 +1,6 @@
 //! The numbers of a design: [`analyze`] runs the PSF route per channel and measures it
-//! ([`mtf`], [`metrics`]: MTF, AUC, light transmittance, invertibility), [`warning`] and
-//! [`advice`] say when the sampling is unsafe and how to fix it, [`expected`] is the closed-form
+//! ([`mtf`], [`metrics`]: MTF, AUC, light transmittance, invertibility), [`advice`] finds the
+//! least costly fix for each sampling warning (`psf::warning`), [`expected`] is the closed-form
 //! PSF of a random tiling, and [`residual`] how far one PSF is from the kernel a restoration
 //! assumes.
 
@@ -10,4 +10,3 @@ pub mod expected;
 pub mod metrics;
 pub mod mtf;
 pub mod residual;
-pub mod warning;

@@ -352,7 +352,11 @@ pub fn from_text(text: &str) -> Result<Vec<Vec<f64>>, String> {
 /// Intensity transmittance of the opening, `Σv² / count` (the fraction of open cells for a
 /// binary grid); the same number the analysis reports. 0 for an empty grid.
 pub fn open_fraction(cells: &[Vec<f64>]) -> f64 {
-    crate::analysis::metrics::open_fraction(cells)
+    let n: usize = cells.iter().map(Vec::len).sum();
+    if n == 0 {
+        return 0.0;
+    }
+    cells.iter().flatten().map(|v| v * v).sum::<f64>() / n as f64
 }
 
 /// Bounding box `(r0, c0, r1, c1)` (inclusive) of the cells that transmit any light

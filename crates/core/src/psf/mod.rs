@@ -4,7 +4,8 @@
 //!
 //! The sub-modules are the route to it: [`sampling`] plans each wavelength's grid, [`route`]
 //! chooses between the full FFT ([`fft`]) and the pruned transforms ([`pruned`]), and [`zoom`]
-//! (the chirp-z transform) samples a spectrum finely over a narrow band.
+//! (the chirp-z transform) samples a spectrum finely over a narrow band; [`warning`] says when a
+//! sampling plan is unsafe.
 
 pub mod fft;
 pub mod pruned;
@@ -12,6 +13,7 @@ mod pruned_grid;
 mod pruned_rows;
 pub mod route;
 pub mod sampling;
+pub mod warning;
 pub mod zoom;
 
 use ndarray::Array2;

@@ -2,8 +2,8 @@
 //! conventions.md §2 asks for when the sampling is unsafe.
 
 use crate::SimError;
-use crate::analysis::warning::{SamplingWarning, WarningKind};
 use crate::design::{Design, MAX_FFT_SIZE};
+use crate::psf::warning::{SamplingWarning, WarningKind};
 
 /// How fine samples are integrated into sensor pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

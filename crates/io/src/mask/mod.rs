@@ -21,9 +21,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use udc_core::Progress;
-use udc_core::analysis::warning::SamplingWarning;
 use udc_core::design::Design;
 use udc_core::mask::{FrameSpec, MaskError, MaskLayout, MaskSpec, MaskStats, Tone, mask_ltr};
+use udc_core::psf::warning::SamplingWarning;
 
 use super::IoError;
 use super::fab::{LayerMap, MAX_BOUNDARY_VERTICES, Sidecars};

@@ -3,9 +3,9 @@
 
 use crate::IoError;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_core::analysis::warning::SamplingWarning;
 use udc_core::design::Design;
 use udc_core::mask::MaskError;
+use udc_core::psf::warning::SamplingWarning;
 use udc_core::{Progress, SimError};
 
 /// The design's sampling warnings (a full analysis, as `udc-studio analyze` runs it), or why

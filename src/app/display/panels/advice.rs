@@ -4,7 +4,7 @@
 use super::{PanelCtx, Shown};
 use crate::app::commands::Command;
 use crate::app::display::labels::in_ui_words;
-use crate::core::analysis::warning::Severity;
+use crate::core::psf::warning::Severity;
 
 /// Draws the shown result's warnings (yellow) and notes (grey); a fix's Apply button sets the
 /// advised optics as one undo step.

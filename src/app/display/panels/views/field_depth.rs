@@ -16,12 +16,12 @@ use crate::app::notice::Notice;
 use crate::app::widgets::colormap::Colormap;
 use crate::app::widgets::photo::color_image;
 use crate::core::Quality;
+use crate::core::camera::depth::{DepthResult, DepthSettings, depth_psfs};
+use crate::core::camera::depth_capture::{DepthCapture, depth_capture};
+use crate::core::camera::field::{FieldResult, FieldSettings, field_psfs};
+use crate::core::camera::field_capture::{FieldCapture, field_capture};
+use crate::core::camera::saturation::{SaturationResult, SaturationSettings, saturation_study};
 use crate::core::design::Design;
-use crate::core::display::depth::{DepthResult, DepthSettings, depth_psfs};
-use crate::core::display::depth_capture::{DepthCapture, depth_capture};
-use crate::core::display::field::{FieldResult, FieldSettings, field_psfs};
-use crate::core::display::field_capture::{FieldCapture, field_capture};
-use crate::core::display::saturation::{SaturationResult, SaturationSettings, saturation_study};
 
 /// Decades below the peak shown by the thumbnails.
 const FLOOR_DECADES: f64 = 4.0;
@@ -340,7 +340,7 @@ impl FieldDepthView {
                 let photo = |name: &str, caption: String, planes: &[Array2<f64>]| {
                     photo_tile(ctx, name, caption, planes)
                 };
-                let scores = |what: &str, run: &crate::core::display::saturation::SaturationRun| {
+                let scores = |what: &str, run: &crate::core::camera::saturation::SaturationRun| {
                     format!(
                         "{what}: PSNR {:.2} dB, SSIM {:.3}, {:.2} % clipped",
                         run.psnr_db,
@@ -432,7 +432,7 @@ impl FieldDepthView {
                         photo_tile(ctx, name, caption, planes)
                     };
                     let caption =
-                        |what: &str, d: &crate::core::display::depth_capture::DepthRestored| {
+                        |what: &str, d: &crate::core::camera::depth_capture::DepthRestored| {
                             format!("{what}: {:.2} dB, SSIM {:.3}", d.psnr_db, d.ssim)
                         };
                     self.rows.push(vec![

@@ -1,5 +1,5 @@
 //! A capture through field-dependent PSFs (thesis §3.7, Fig. 3.29): the photo spans the field
-//! grid of [`crate::display::field::field_psfs`] (its corner pixels at the corner field angles; row index
+//! grid of [`crate::camera::field::field_psfs`] (its corner pixels at the corner field angles; row index
 //! along `θy`, column along `θx`, as PSF arrays are `[row, col]` = `[y, x]`), and every pixel is
 //! blurred by the bilinear blend of the PSFs of the four grid points around it:
 //! `i_blur = Σ_k w_k(x, y) · (i_sharp ∗ k_k)`, the usual interpolated-PSF model of a slowly
@@ -9,7 +9,7 @@
 use ndarray::{Array2, Zip};
 
 use crate::SimError;
-use crate::display::field::FieldResult;
+use crate::camera::field::FieldResult;
 use crate::restore::capture::{CaptureSettings, blur, expose};
 use crate::restore::quality::{psnr_db_pooled, ssim};
 use crate::restore::spectrum::{PadGrid, Padding};

@@ -7,7 +7,7 @@
 use ndarray::Array2;
 
 use crate::SimError;
-use crate::display::depth::DepthResult;
+use crate::camera::depth::DepthResult;
 use crate::restore::capture::{CaptureSettings, blur, expose};
 use crate::restore::quality::{psnr_db_pooled, ssim};
 use crate::restore::spectrum::{PadGrid, Padding};
