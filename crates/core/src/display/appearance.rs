@@ -285,23 +285,33 @@ fn blur(img: &Array2<f64>, sigma: f64) -> Array2<f64> {
         .collect();
     let sum: f64 = kernel.iter().sum();
     kernel.iter_mut().for_each(|k| *k /= sum);
-    let pass = |src: &Array2<f64>, along_rows: bool| -> Array2<f64> {
-        Array2::from_shape_fn((h, w), |(r, c)| {
-            kernel
-                .iter()
-                .enumerate()
-                .map(|(i, k)| {
-                    let d = i as i64 - radius as i64;
-                    if along_rows {
-                        src[[r, (c as i64 + d).rem_euclid(w as i64) as usize]] * k
-                    } else {
-                        src[[(r as i64 + d).rem_euclid(h as i64) as usize, c]] * k
-                    }
-                })
-                .sum()
-        })
-    };
-    pass(&pass(img, true), false)
+    // Along rows, then along columns (a transposed pass): each output sample is a dot product
+    // over a contiguous, wrapped copy of its row, summed in the kernel's order.
+    let rows = blur_rows(img, &kernel, radius);
+    let cols = blur_rows(&rows.t().as_standard_layout().into_owned(), &kernel, radius);
+    cols.t().as_standard_layout().into_owned()
+}
+
+/// Circular convolution of every row with `kernel` (length `2·radius + 1`, centred).
+fn blur_rows(src: &Array2<f64>, kernel: &[f64], radius: usize) -> Array2<f64> {
+    use ndarray::Zip;
+    let w = src.ncols();
+    let mut out = Array2::zeros(src.dim());
+    Zip::from(out.rows_mut())
+        .and(src.rows())
+        .par_for_each(|mut out_row, row| {
+            let wrapped: Vec<f64> = (0..w + 2 * radius)
+                .map(|j| row[(j as i64 - radius as i64).rem_euclid(w as i64) as usize])
+                .collect();
+            for (c, o) in out_row.iter_mut().enumerate() {
+                *o = wrapped[c..c + kernel.len()]
+                    .iter()
+                    .zip(kernel)
+                    .map(|(x, k)| x * k)
+                    .sum();
+            }
+        });
+    out
 }
 
 /// Samples per eye σ below which binning stops: a Gaussian of σ = 2 samples is still well
@@ -451,4 +461,34 @@ pub fn appearance(
             sample_um: lay.cell_um * bin as f64,
         },
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The separable blur equals the direct wrapped 2-D sum it stands for, also when the kernel
+    /// is wider than the image and wraps more than once.
+    #[test]
+    fn blur_is_the_wrapped_gaussian_sum() {
+        let (h, w) = (7, 5);
+        let img = Array2::from_shape_fn((h, w), |(r, c)| ((r * 31 + c * 17) % 11) as f64 / 10.0);
+        for sigma in [0.6_f64, 1.7, 3.0] {
+            let radius = ((4.0 * sigma).ceil() as usize).min(h.max(w)) as i64;
+            let g = |d: i64| (-0.5 * (d as f64 / sigma).powi(2)).exp();
+            let norm: f64 = (-radius..=radius).map(g).sum();
+            let got = blur(&img, sigma);
+            for ((r, c), v) in got.indexed_iter() {
+                let mut want = 0.0;
+                for dr in -radius..=radius {
+                    for dc in -radius..=radius {
+                        let rr = (r as i64 + dr).rem_euclid(h as i64) as usize;
+                        let cc = (c as i64 + dc).rem_euclid(w as i64) as usize;
+                        want += img[[rr, cc]] * g(dr) * g(dc) / (norm * norm);
+                    }
+                }
+                assert!((v - want).abs() < 1e-12, "σ {sigma} at ({r}, {c}): {v} vs {want}");
+            }
+        }
+    }
 }
