@@ -313,6 +313,18 @@ fn restore_json(args: &[&str]) -> Value {
 fn phase_restore_json_is_the_contract_and_writes_images() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("run");
+    // The contract, not the physics: the centre 128² of the built-in photo keeps five runs quick.
+    let photo = dir.path().join("photo.png");
+    let crop = image::load_from_memory(udc_studio::io::photo::BUILT_IN_PHOTO_PNG)
+        .unwrap()
+        .crop_imm(64, 64, 128, 128);
+    crop.save(&photo).unwrap();
+    let photo = photo.to_str().unwrap();
+    let restore_json = |args: &[&str]| {
+        let mut all = vec!["--photo", photo];
+        all.extend_from_slice(args);
+        restore_json(&all)
+    };
     let v = restore_json(&[
         "--fold",
         "5",

@@ -9,7 +9,7 @@ use ndarray::Array2;
 use crate::SimError;
 use crate::camera::depth::DepthResult;
 use crate::restore::capture::{CaptureSettings, blur, expose};
-use crate::restore::quality::{psnr_db_pooled, ssim};
+use crate::restore::quality::{PlanesQuality, planes_quality};
 use crate::restore::spectrum::{PadGrid, Padding};
 use crate::restore::wiener::wiener;
 
@@ -81,17 +81,7 @@ pub fn depth_capture(
             let captured = expose(blurred.view(), capture, c)?.image;
             restored.push(wiener(&grid, captured.view(), &kernels[c], nsr)?);
         }
-        let pairs: Vec<_> = restored
-            .iter()
-            .zip(photo)
-            .map(|(a, b)| (a.view(), b.view()))
-            .collect();
-        let psnr_db = psnr_db_pooled(&pairs, 1.0)?;
-        let mut s = 0.0;
-        for (a, b) in &pairs {
-            s += ssim(*a, *b)?;
-        }
-        let ssim = s / n as f64;
+        let PlanesQuality { psnr_db, ssim } = planes_quality(&restored, photo)?;
         Ok(DepthRestored {
             restored,
             psnr_db,

@@ -11,7 +11,7 @@ use ndarray::{Array2, Zip};
 use crate::SimError;
 use crate::camera::field::FieldResult;
 use crate::restore::capture::{CaptureSettings, blur, expose};
-use crate::restore::quality::{psnr_db_pooled, ssim};
+use crate::restore::quality::planes_quality;
 use crate::restore::spectrum::{PadGrid, Padding};
 use crate::restore::wiener::wiener;
 
@@ -100,21 +100,10 @@ pub fn field_capture(
     };
     let restored_field = restore(&captured_field)?;
     let restored_invariant = restore(&captured_invariant)?;
-    let scores = |restored: &[Array2<f64>]| -> Result<(f64, f64), SimError> {
-        let pairs: Vec<_> = restored
-            .iter()
-            .zip(photo)
-            .map(|(a, b)| (a.view(), b.view()))
-            .collect();
-        let psnr = psnr_db_pooled(&pairs, 1.0)?;
-        let mut s = 0.0;
-        for (a, b) in &pairs {
-            s += ssim(*a, *b)?;
-        }
-        Ok((psnr, s / pairs.len() as f64))
-    };
-    let (psnr_db_field, ssim_field) = scores(&restored_field)?;
-    let (psnr_db_invariant, ssim_invariant) = scores(&restored_invariant)?;
+    let field = planes_quality(&restored_field, photo)?;
+    let invariant = planes_quality(&restored_invariant, photo)?;
+    let (psnr_db_field, ssim_field) = (field.psnr_db, field.ssim);
+    let (psnr_db_invariant, ssim_invariant) = (invariant.psnr_db, invariant.ssim);
     Ok(FieldCapture {
         restored_field,
         restored_invariant,

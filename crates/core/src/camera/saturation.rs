@@ -17,7 +17,7 @@ use ndarray::{Array2, Zip};
 
 use crate::SimError;
 use crate::restore::capture::{CaptureSettings, Light, blur, expose};
-use crate::restore::quality::{psnr_db_pooled, ssim};
+use crate::restore::quality::{PlanesQuality, planes_quality};
 use crate::restore::spectrum::{PadGrid, Padding};
 use crate::restore::wiener::wiener;
 use crate::sensor::scene::percentile_of;
@@ -261,19 +261,10 @@ fn score(
     let clip = |p: &Array2<f64>| p.mapv(|v| v.clamp(0.0, 1.0));
     let t: Vec<Array2<f64>> = truth.iter().map(clip).collect();
     let r: Vec<Array2<f64>> = restored.iter().map(clip).collect();
-    let pairs: Vec<_> = r
-        .iter()
-        .zip(&t)
-        .map(|(a, b)| (a.view(), b.view()))
-        .collect();
-    let psnr_db = psnr_db_pooled(&pairs, 1.0)?;
-    let mut s = 0.0;
-    for (a, b) in &pairs {
-        s += ssim(*a, *b)?;
-    }
+    let PlanesQuality { psnr_db, ssim } = planes_quality(&r, &t)?;
     Ok(SaturationRun {
         psnr_db,
-        ssim: s / pairs.len().max(1) as f64,
+        ssim,
         clipped_fraction,
         captured,
         restored,

@@ -487,7 +487,10 @@ mod tests {
                         want += img[[rr, cc]] * g(dr) * g(dc) / (norm * norm);
                     }
                 }
-                assert!((v - want).abs() < 1e-12, "σ {sigma} at ({r}, {c}): {v} vs {want}");
+                assert!(
+                    (v - want).abs() < 1e-12,
+                    "σ {sigma} at ({r}, {c}): {v} vs {want}"
+                );
             }
         }
     }

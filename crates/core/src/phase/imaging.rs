@@ -66,7 +66,7 @@ use crate::restore::capture::{FULL_WELL_E, READ_NOISE_E};
 use crate::restore::denoise::{
     ICCV23_CG_ITERATIONS, ICCV23_CG_TOLERANCE, ICCV23_LAMBDA, nearest_row,
 };
-use crate::restore::quality::{psnr_db_pooled, ssim};
+use crate::restore::quality::planes_quality;
 use crate::restore::{CgSettings, Denoise, DenoiseUsed, LinearBlur, Recipe, cg_with};
 
 mod setups;
@@ -475,17 +475,8 @@ pub fn scores(
     };
     let a: Vec<Array2<f64>> = test.iter().map(crop).collect();
     let b: Vec<Array2<f64>> = truth.iter().map(crop).collect();
-    let pairs: Vec<_> = a
-        .iter()
-        .zip(&b)
-        .map(|(x, y)| (x.view(), y.view()))
-        .collect();
-    let psnr = psnr_db_pooled(&pairs, 1.0)?;
-    let mut sum = 0.0;
-    for (x, y) in &pairs {
-        sum += ssim(*x, *y)?;
-    }
-    Ok((psnr, sum / pairs.len().max(1) as f64))
+    let q = planes_quality(&a, &b)?;
+    Ok((q.psnr_db, q.ssim))
 }
 
 /// Captures `scene` at `photons`, denoises it as `denoise` says ([`thesis_denoise`] is the

@@ -115,6 +115,36 @@ pub fn psnr_db_planes(
     psnr_db_pooled(&pairs, peak)
 }
 
+/// How close a restored image is to its ground truth, plane by plane (channels of a colour
+/// image): PSNR pooled over all planes at peak 1 ([`psnr_db_pooled`]) and SSIM averaged over
+/// them ([`ssim`]).
+///
+/// # Errors
+/// As [`psnr_db_planes`] and [`ssim`].
+pub fn planes_quality(
+    test: &[ndarray::Array2<f64>],
+    truth: &[ndarray::Array2<f64>],
+) -> Result<PlanesQuality, SimError> {
+    let psnr_db = psnr_db_planes(test, truth, 1.0)?;
+    let mut sum = 0.0;
+    for (a, b) in test.iter().zip(truth) {
+        sum += ssim(a.view(), b.view())?;
+    }
+    Ok(PlanesQuality {
+        psnr_db,
+        ssim: sum / test.len().max(1) as f64,
+    })
+}
+
+/// The scores of [`planes_quality`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanesQuality {
+    /// PSNR pooled over the planes, dB.
+    pub psnr_db: f64,
+    /// SSIM averaged over the planes.
+    pub ssim: f64,
+}
+
 /// The normalised Gaussian taps `w[t]`, `t = −radius … radius`.
 fn gaussian_taps() -> Vec<f64> {
     let r = SSIM_RADIUS_PX as f64;

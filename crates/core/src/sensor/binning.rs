@@ -4,7 +4,7 @@
 //! image's) edge, so an ROI of a side that is not a multiple of `n` ends in narrower bins. Every
 //! pixel of a bin carries the bin's estimate.
 
-use ndarray::{Array2, Axis};
+use ndarray::{Array2, ArrayViewMut2, Axis};
 use rayon::prelude::*;
 
 use super::noise::{Adc, BinRead, Frame, read_analog, read_pixel};
@@ -88,15 +88,56 @@ pub fn read_regions(
     additive: AdditiveGain,
     adc: &Adc,
 ) -> Readout {
-    assert_eq!(roi_gain.dim(), (grid.rows, grid.cols), "one gain per ROI");
-    assert_eq!(roi_bin.dim(), (grid.rows, grid.cols), "one bin per ROI");
-    assert_eq!(frame.charge_e.dim(), grid.dim, "a frame of the grid's size");
     let charge = frame.charge_e.as_standard_layout();
     let post = frame.post_noise_e.as_standard_layout();
     let (charge, post) = (
         charge.as_slice().unwrap_or_default(),
         post.as_slice().unwrap_or_default(),
     );
+    read_by_bands(frame, grid, roi_gain, roi_bin, |r, maps| {
+        let BandMaps {
+            mut est,
+            mut sat,
+            mut gain,
+            mut bin,
+        } = maps;
+        let band = Band {
+            est: est.as_slice_mut().unwrap_or_default(),
+            sat: sat.as_slice_mut().unwrap_or_default(),
+            gain: gain.as_slice_mut().unwrap_or_default(),
+            bin: bin.as_slice_mut().unwrap_or_default(),
+        };
+        let how = (mode, additive);
+        read_band(r, grid, (charge, post), roi_gain, roi_bin, how, adc, band);
+    })
+}
+
+/// One band of ROI rows of the four output maps, as 2-D views (`grid.roi_px` rows, or fewer at
+/// the bottom, by `grid.dim.1`), in the order of [`Readout`]'s fields.
+pub(crate) struct BandMaps<'a> {
+    pub est: ArrayViewMut2<'a, f64>,
+    pub sat: ArrayViewMut2<'a, f64>,
+    pub gain: ArrayViewMut2<'a, f64>,
+    pub bin: ArrayViewMut2<'a, f64>,
+}
+
+/// The frame of every region readout (monochrome here, Bayer in `cfa`): checks the maps'
+/// sizes, then fills the readout's four maps one band of ROI rows at a time in parallel,
+/// `read(r, maps)` writing ROI row `r`.
+///
+/// # Panics
+/// If `roi_gain` or `roi_bin` are not `grid.rows × grid.cols`, or the frame is not
+/// `grid.dim`.
+pub(crate) fn read_by_bands(
+    frame: &Frame,
+    grid: &RoiGrid,
+    roi_gain: &Array2<f64>,
+    roi_bin: &Array2<usize>,
+    read: impl Fn(usize, BandMaps<'_>) + Sync,
+) -> Readout {
+    assert_eq!(roi_gain.dim(), (grid.rows, grid.cols), "one gain per ROI");
+    assert_eq!(roi_bin.dim(), (grid.rows, grid.cols), "one bin per ROI");
+    assert_eq!(frame.charge_e.dim(), grid.dim, "a frame of the grid's size");
     let mut out: [Array2<f64>; 4] = std::array::from_fn(|_| Array2::zeros(grid.dim));
     let [est, sat, gain, bin] = &mut out;
     let band = grid.roi_px;
@@ -106,15 +147,16 @@ pub fn read_regions(
         .zip(gain.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
         .zip(bin.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
         .enumerate()
-        .for_each(|(r, (((mut e, mut s), mut g), mut b))| {
-            let band = Band {
-                est: e.as_slice_mut().unwrap_or_default(),
-                sat: s.as_slice_mut().unwrap_or_default(),
-                gain: g.as_slice_mut().unwrap_or_default(),
-                bin: b.as_slice_mut().unwrap_or_default(),
-            };
-            let how = (mode, additive);
-            read_band(r, grid, (charge, post), roi_gain, roi_bin, how, adc, band);
+        .for_each(|(r, (((est, sat), gain), bin))| {
+            read(
+                r,
+                BandMaps {
+                    est,
+                    sat,
+                    gain,
+                    bin,
+                },
+            );
         });
     let [estimate_e, saturated, gain, bin] = out;
     Readout {

@@ -33,7 +33,7 @@ use ndarray::{Array2, ArrayView2, Axis};
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 
-use super::binning::Readout;
+use super::binning::{BandMaps, Readout, read_by_bands};
 use super::gain::{SNAPSHOT_BLOCK_PX, Snapshot};
 use super::noise::{Adc, Frame, photons, read_analog, read_bin, read_pixel, row_rng, stream};
 use super::roi::RoiGrid;
@@ -133,81 +133,68 @@ pub fn read_regions(
     additive: AdditiveGain,
     adc: &Adc,
 ) -> Readout {
-    assert_eq!(roi_gain.dim(), (grid.rows, grid.cols), "one gain per ROI");
-    assert_eq!(roi_bin.dim(), (grid.rows, grid.cols), "one bin per ROI");
-    assert_eq!(frame.charge_e.dim(), grid.dim, "a frame of the grid's size");
-    let mut out: [Array2<f64>; 4] = std::array::from_fn(|_| Array2::zeros(grid.dim));
-    let [est, sat, gain, bin] = &mut out;
-    let band = grid.roi_px;
-    est.axis_chunks_iter_mut(Axis(0), band)
-        .into_par_iter()
-        .zip(sat.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
-        .zip(gain.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
-        .zip(bin.axis_chunks_iter_mut(Axis(0), band).into_par_iter())
-        .enumerate()
-        .for_each(|(r, (((mut e, mut s), mut g), mut b))| {
-            let rows = grid.row_range(r);
-            let y0 = rows.start;
-            let (mut charges, mut posts, mut sites) = (Vec::new(), Vec::new(), Vec::new());
-            for c in 0..grid.cols {
-                let cols = grid.col_range(c);
-                let (roi_g, n) = (roi_gain[[r, c]], roi_bin[[r, c]].max(1));
+    read_by_bands(frame, grid, roi_gain, roi_bin, |r, maps| {
+        let BandMaps {
+            est: mut e,
+            sat: mut s,
+            gain: mut g,
+            bin: mut b,
+        } = maps;
+
+        let rows = grid.row_range(r);
+        let y0 = rows.start;
+        let (mut charges, mut posts, mut sites) = (Vec::new(), Vec::new(), Vec::new());
+        for c in 0..grid.cols {
+            let cols = grid.col_range(c);
+            let (roi_g, n) = (roi_gain[[r, c]], roi_bin[[r, c]].max(1));
+            for y in rows.clone() {
+                for x in cols.clone() {
+                    g[[y - y0, x]] = roi_g;
+                    b[[y - y0, x]] = n as f64;
+                }
+            }
+            if n == 1 {
+                // Unbinned: each site on its own, as on the monochrome sensor.
                 for y in rows.clone() {
                     for x in cols.clone() {
-                        g[[y - y0, x]] = roi_g;
-                        b[[y - y0, x]] = n as f64;
+                        let rd = read_pixel(
+                            frame.charge_e[[y, x]],
+                            frame.post_noise_e[[y, x]],
+                            roi_g,
+                            adc,
+                        );
+                        e[[y - y0, x]] = rd.estimate_e;
+                        s[[y - y0, x]] = f64::from(u8::from(rd.saturated));
                     }
                 }
-                if n == 1 {
-                    // Unbinned: each site on its own, as on the monochrome sensor.
-                    for y in rows.clone() {
-                        for x in cols.clone() {
-                            let rd = read_pixel(
-                                frame.charge_e[[y, x]],
-                                frame.post_noise_e[[y, x]],
-                                roi_g,
-                                adc,
-                            );
-                            e[[y - y0, x]] = rd.estimate_e;
-                            s[[y - y0, x]] = f64::from(u8::from(rd.saturated));
-                        }
-                    }
+                continue;
+            }
+            for (py, px) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                let (Some(ys), Some(xs)) = (first_of_phase(&rows, py), first_of_phase(&cols, px))
+                else {
                     continue;
-                }
-                for (py, px) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                    let (Some(ys), Some(xs)) =
-                        (first_of_phase(&rows, py), first_of_phase(&cols, px))
-                    else {
-                        continue;
-                    };
-                    for by in (ys..rows.end).step_by(2 * n) {
-                        for bx in (xs..cols.end).step_by(2 * n) {
-                            sites.clear();
-                            charges.clear();
-                            posts.clear();
-                            for (y, x) in bin_sites((by, bx), n, rows.end, cols.end) {
-                                sites.push((y, x));
-                                charges.push(frame.charge_e[[y, x]]);
-                                posts.push(frame.post_noise_e[[y, x]]);
-                            }
-                            let amp = mode.amplifier_gain(roi_g, sites.len(), additive);
-                            let read = read_bin(mode, amp, &charges, &posts, adc);
-                            for (y, x) in &sites {
-                                e[[y - y0, *x]] = read.estimate_e;
-                                s[[y - y0, *x]] = f64::from(u8::from(read.saturated));
-                            }
+                };
+                for by in (ys..rows.end).step_by(2 * n) {
+                    for bx in (xs..cols.end).step_by(2 * n) {
+                        sites.clear();
+                        charges.clear();
+                        posts.clear();
+                        for (y, x) in bin_sites((by, bx), n, rows.end, cols.end) {
+                            sites.push((y, x));
+                            charges.push(frame.charge_e[[y, x]]);
+                            posts.push(frame.post_noise_e[[y, x]]);
+                        }
+                        let amp = mode.amplifier_gain(roi_g, sites.len(), additive);
+                        let read = read_bin(mode, amp, &charges, &posts, adc);
+                        for (y, x) in &sites {
+                            e[[y - y0, *x]] = read.estimate_e;
+                            s[[y - y0, *x]] = f64::from(u8::from(read.saturated));
                         }
                     }
                 }
             }
-        });
-    let [estimate_e, saturated, gain, bin] = out;
-    Readout {
-        estimate_e,
-        saturated,
-        gain,
-        bin,
-    }
+        }
+    })
 }
 
 /// The two-shot snapshot of a Bayer sensor: like [`super::gain::take_snapshot`] (its own
