@@ -30,7 +30,7 @@ pub use commands::{Command, ExportKind, Tool};
 pub use display::panels;
 pub use display::{DisplayWorkspace, Document, JobResult, LeftTab, Payload, Worker};
 pub use settings::{AppDirs, Settings};
-pub use workspace::{Shell, Workspace, WorkspaceId};
+pub use workspace::{DroppedKind, Shell, Workspace, WorkspaceId};
 
 use crate::core::Design;
 
@@ -386,13 +386,14 @@ impl StudioApp {
                 .collect()
         });
         for p in dropped {
+            let kind = DroppedKind::of(&p);
             let active = self.active;
             let shell = &mut self.shell;
             let mut order: Vec<&mut Box<dyn Workspace>> = self.workspaces.iter_mut().collect();
             order.sort_by_key(|w| w.id() != active);
             let taker = order
                 .into_iter()
-                .find_map(|w| w.open_dropped(&p, shell).then(|| w.id()));
+                .find_map(|w| w.open_dropped(&p, kind, shell).then(|| w.id()));
             match taker {
                 Some(id) => self.active = id,
                 None => self

@@ -60,8 +60,9 @@ pub trait Workspace: Any {
     fn edit_menu_ui(&mut self, _ui: &mut egui::Ui, _cmds: &mut Vec<Command>) {}
     /// Menus of its own, after Edit.
     fn menus_ui(&mut self, _ui: &mut egui::Ui, _cmds: &mut Vec<Command>) {}
-    /// Takes a file dropped on the window if it is one of its kinds; returns whether it did.
-    fn open_dropped(&mut self, _path: &Path, _shell: &mut Shell) -> bool {
+    /// Takes a file dropped on the window if it opens files of that kind (the shell decides the
+    /// kind once, [`DroppedKind::of`]); returns whether it did.
+    fn open_dropped(&mut self, _path: &Path, _kind: DroppedKind, _shell: &mut Shell) -> bool {
         false
     }
     /// Changes that are in no file yet (the unsaved-changes prompt asks before losing them).
@@ -258,4 +259,46 @@ pub fn three_panels<W>(
         });
     }
     egui::CentralPanel::default().show(ui, |ui| centre(ws, ui));
+}
+
+/// What a file dropped on the window is. The shell decides it once and offers the file to the
+/// workspaces (the active one first); each workspace names only the kinds it opens.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DroppedKind {
+    /// A sweep's results folder, or its `sweep.json` or `results.csv`.
+    SweepResults,
+    /// An HDR scene: Radiance `.hdr` or OpenEXR `.exr`.
+    HdrScene,
+    /// A design file (`.json`).
+    Design,
+    /// A photograph or a pattern: PNG, JPEG or TIFF.
+    Image,
+    /// A CSV table (a spectral response).
+    Table,
+    /// A photolithography mask: GDSII, OASIS or DXF.
+    Mask,
+    /// Anything else.
+    Unknown,
+}
+
+impl DroppedKind {
+    /// The kind of `path`, from its extension (a sweep's results by the `sweep.json` beside it).
+    pub fn of(path: &Path) -> DroppedKind {
+        use crate::io::sweep::manifest::{MANIFEST_FILE, results_dir};
+        if results_dir(path).is_some_and(|d| d.join(MANIFEST_FILE).exists()) {
+            return DroppedKind::SweepResults;
+        }
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "hdr" | "exr" => DroppedKind::HdrScene,
+            "json" => DroppedKind::Design,
+            "png" | "jpg" | "jpeg" | "tif" | "tiff" => DroppedKind::Image,
+            "csv" => DroppedKind::Table,
+            "gds" | "gds2" | "gdsii" | "oas" | "oasis" | "dxf" => DroppedKind::Mask,
+            _ => DroppedKind::Unknown,
+        }
+    }
 }

@@ -65,3 +65,52 @@ fn each_dropped_file_reaches_the_workspace_that_opens_it() {
     drop_file(&mut h, design);
     assert_eq!(h.state().workspace(), WorkspaceId::Display);
 }
+
+/// The shell decides a dropped file's kind once: by extension (any case), and a sweep's results
+/// by the `sweep.json` beside them, whatever their extension.
+#[test]
+fn a_dropped_file_has_one_kind() {
+    use udc_studio::app::DroppedKind as K;
+    let dir = tempfile::tempdir().unwrap();
+    let sweep = dir.path().join("sweep");
+    std::fs::create_dir_all(&sweep).unwrap();
+    std::fs::write(sweep.join("sweep.json"), "{}").unwrap();
+    for (name, kind) in [
+        ("scene.EXR", K::HdrScene),
+        ("scene.hdr", K::HdrScene),
+        ("design.json", K::Design),
+        ("photo.JPG", K::Image),
+        ("photo.tiff", K::Image),
+        ("response.csv", K::Table),
+        ("mask.gds", K::Mask),
+        ("mask.OAS", K::Mask),
+        ("mask.dxf", K::Mask),
+        ("notes.txt", K::Unknown),
+        ("no-extension", K::Unknown),
+    ] {
+        assert_eq!(K::of(&dir.path().join(name)), kind, "{name}");
+    }
+    // A sweep's folder and its files belong to the Sweep workspace, not to a CSV or JSON reader.
+    assert_eq!(K::of(&sweep), K::SweepResults);
+    assert_eq!(K::of(&sweep.join("sweep.json")), K::SweepResults);
+    assert_eq!(K::of(&sweep.join("results.csv")), K::SweepResults);
+}
+
+/// A file no workspace opens changes nothing and says so.
+#[test]
+fn a_file_no_workspace_opens_is_refused_in_the_status_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.step();
+    let before = h.state().workspace();
+    let notes = dir.path().join("notes.txt");
+    std::fs::write(&notes, "not a design").unwrap();
+    drop_file(&mut h, notes);
+    assert_eq!(h.state().workspace(), before);
+    let notice = h.state().status().cloned().expect("a status message");
+    assert!(notice.is_error(), "{notice:?}");
+    assert!(
+        notice.text.contains("no workspace opens") && notice.text.contains("notes.txt"),
+        "{notice:?}"
+    );
+}

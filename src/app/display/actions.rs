@@ -10,6 +10,7 @@ use super::panels::views::ViewTab;
 use crate::app::commands::{Command, ExportKind};
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::job::{Job, JobError};
+use crate::app::workspace::DroppedKind;
 use crate::app::workspace::{Shell, WorkspaceId};
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
@@ -400,27 +401,16 @@ impl DisplayWorkspace {
 
     /// A file dropped on the window: a design opens, an image or mask becomes the opening,
     /// a photo on the Restore view is its photo; HDR scenes are not ours.
-    pub(super) fn dropped_file(&mut self, p: &Path, shell: &mut Shell) -> bool {
-        let ext = p
-            .extension()
-            .map(|e| e.to_string_lossy().to_lowercase())
-            .unwrap_or_default();
-        let photo_ext = matches!(ext.as_str(), "png" | "jpg" | "jpeg");
-        // A sweep's results folder (or its sweep.json / results.csv) is the Sweep workspace's.
-        if crate::app::sweep::results_dir(p).is_some_and(|d| d.join("sweep.json").exists()) {
-            return false;
-        }
-        if ext == "json" {
-            self.apply_one(Command::OpenPath(p.to_path_buf()), false, shell);
-        } else if ext == "hdr" || ext == "exr" {
-            return false;
-        } else if photo_ext && self.panels.views.tab() == ViewTab::Restore {
-            self.panels
+    pub(super) fn dropped_file(&mut self, p: &Path, kind: DroppedKind, shell: &mut Shell) -> bool {
+        match kind {
+            DroppedKind::Design => self.apply_one(Command::OpenPath(p.to_path_buf()), false, shell),
+            DroppedKind::Image if self.panels.views.tab() == ViewTab::Restore => self
+                .panels
                 .views
                 .restore
-                .load_photo(p.to_path_buf(), &shell.ctx);
-        } else {
-            self.import_opening(p.to_path_buf());
+                .load_photo(p.to_path_buf(), &shell.ctx),
+            DroppedKind::Image | DroppedKind::Mask => self.import_opening(p.to_path_buf()),
+            _ => return false,
         }
         true
     }

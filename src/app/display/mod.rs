@@ -22,7 +22,7 @@ use super::dialogs::PendingDialog;
 use super::job::{Job, Writes};
 use super::notice::Notice;
 use super::settings::AppDirs;
-use super::workspace::{Shell, Workspace, WorkspaceId, side_panel};
+use super::workspace::{DroppedKind, Shell, Workspace, WorkspaceId, side_panel};
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
 use crate::io::{design_file, presets};
@@ -405,8 +405,8 @@ impl Workspace for DisplayWorkspace {
         self.extra_menus(ui, cmds);
     }
 
-    fn open_dropped(&mut self, path: &Path, shell: &mut Shell) -> bool {
-        self.dropped_file(path, shell)
+    fn open_dropped(&mut self, path: &Path, kind: DroppedKind, shell: &mut Shell) -> bool {
+        self.dropped_file(path, kind, shell)
     }
 
     fn is_dirty(&self) -> bool {

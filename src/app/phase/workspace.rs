@@ -1,6 +1,7 @@
 //! How the phase-mask workspace plugs into the studio's shell.
 
 use super::PhaseWorkspace;
+use crate::app::workspace::DroppedKind;
 
 impl crate::app::workspace::Workspace for PhaseWorkspace {
     fn id(&self) -> crate::app::WorkspaceId {
@@ -87,22 +88,19 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
 
     /// Photos go to the capture view, CSV files become the sensor response; anything else is
     /// left to the other workspaces (a design `.json` to the display, an HDR to the sensor).
-    fn open_dropped(&mut self, path: &std::path::Path, shell: &mut crate::app::Shell) -> bool {
-        // A sweep's results.csv is the Sweep workspace's, not a spectral response.
-        if crate::app::sweep::results_dir(path).is_some_and(|d| d.join("sweep.json").exists()) {
-            return false;
-        }
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_lowercase())
-            .unwrap_or_default();
-        match ext.as_str() {
-            "png" | "jpg" | "jpeg" | "tif" | "tiff" => {
+    fn open_dropped(
+        &mut self,
+        path: &std::path::Path,
+        kind: DroppedKind,
+        shell: &mut crate::app::Shell,
+    ) -> bool {
+        match kind {
+            DroppedKind::Image => {
                 self.view = super::PhaseView::Capture;
                 self.load_capture_photo(path.to_path_buf(), &shell.ctx);
                 true
             }
-            "csv" => {
+            DroppedKind::Table => {
                 self.load_response_from(path.to_path_buf(), &shell.ctx);
                 true
             }

@@ -3,6 +3,7 @@
 use super::SensorWorkspace;
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::notice::Notice;
+use crate::app::workspace::DroppedKind;
 
 impl crate::app::workspace::Workspace for SensorWorkspace {
     fn id(&self) -> crate::app::WorkspaceId {
@@ -90,12 +91,13 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
         false
     }
 
-    fn open_dropped(&mut self, path: &std::path::Path, shell: &mut crate::app::Shell) -> bool {
-        let ext = path
-            .extension()
-            .map(|e| e.to_string_lossy().to_lowercase())
-            .unwrap_or_default();
-        if ext == "hdr" || ext == "exr" {
+    fn open_dropped(
+        &mut self,
+        path: &std::path::Path,
+        kind: DroppedKind,
+        shell: &mut crate::app::Shell,
+    ) -> bool {
+        if kind == DroppedKind::HdrScene {
             self.load_scene(path.to_path_buf(), &shell.ctx);
             return true;
         }

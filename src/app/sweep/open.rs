@@ -1,7 +1,7 @@
 //! Reading a results folder, and rebuilding the design a row computed, both for jobs: the
 //! folder may hold a large table, and a design may come from a file.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use super::table::SweepTable;
 use crate::app::job::JobError;
@@ -10,21 +10,10 @@ use crate::core::Progress;
 use crate::core::sweep::SweepJob;
 use crate::io::design_choice::{DesignChoice, design_hash};
 use crate::io::error::IoError;
-use crate::io::sweep::manifest::{CSV_FILE, MANIFEST_FILE, read_manifest};
+use crate::io::sweep::manifest::{CSV_FILE, read_manifest};
 use crate::io::sweep::table::read_csv;
 
-/// The results folder a path names: the folder itself, or the folder of its `sweep.json` or
-/// `results.csv`; `None` for any other file.
-pub fn results_dir(path: &Path) -> Option<PathBuf> {
-    if path.is_dir() {
-        return Some(path.to_path_buf());
-    }
-    let name = path.file_name()?.to_string_lossy();
-    if name == MANIFEST_FILE || name == CSV_FILE {
-        return path.parent().map(Path::to_path_buf);
-    }
-    None
-}
+pub use crate::io::sweep::manifest::results_dir;
 
 /// Reads `dir`'s manifest and table, reporting the fraction of the manifest's rows read.
 ///

@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::SweepWorkspace;
 use crate::app::commands::Command;
-use crate::app::workspace::{Shell, Workspace, WorkspaceId, side_panel};
+use crate::app::workspace::{DroppedKind, Shell, Workspace, WorkspaceId, side_panel};
 
 impl Workspace for SweepWorkspace {
     fn id(&self) -> WorkspaceId {
@@ -105,8 +105,8 @@ impl Workspace for SweepWorkspace {
         false
     }
 
-    fn open_dropped(&mut self, path: &Path, shell: &mut Shell) -> bool {
-        if super::results_dir(path).is_some_and(|d| d.join("sweep.json").exists()) {
+    fn open_dropped(&mut self, path: &Path, kind: DroppedKind, shell: &mut Shell) -> bool {
+        if kind == DroppedKind::SweepResults {
             self.open_folder(path, shell.waker());
             return true;
         }

@@ -139,7 +139,7 @@ pub fn analyze(design: &Design, progress: &Progress) -> Result<Analysis, SimErro
 ///
 /// ```
 /// use udc_core::{Design, Progress};
-/// use udc_core::analyze::{AnalyzeOptions, Quality, analyze_with};
+/// use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 ///
 /// let design = Design::default_toled(); // the T-OLED pixel, 150 DPI, thesis optics
 /// let options = AnalyzeOptions { quality: Quality::Preview, expected_psf: false };

@@ -1,7 +1,7 @@
 //! `sweep.json` beside the results: the spec, the shard, the columns, the tool version and
 //! how the run went. `sweep merge` reads it to check that shards belong to one sweep.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
@@ -15,6 +15,19 @@ use udc_core::sweep::hash::short_hash;
 pub const MANIFEST_FILE: &str = "sweep.json";
 /// The results tables' names.
 pub const CSV_FILE: &str = "results.csv";
+
+/// The results folder a path names: the folder itself, or the folder of its `sweep.json` or
+/// `results.csv`; `None` for any other file.
+pub fn results_dir(path: &Path) -> Option<PathBuf> {
+    if path.is_dir() {
+        return Some(path.to_path_buf());
+    }
+    let name = path.file_name()?.to_string_lossy();
+    if name == MANIFEST_FILE || name == CSV_FILE {
+        return path.parent().map(Path::to_path_buf);
+    }
+    None
+}
 /// See [`CSV_FILE`].
 pub const PARQUET_FILE: &str = "results.parquet";
 /// Format tag of the manifest.
