@@ -117,6 +117,67 @@ impl<T: Send + 'static> Job<T> {
     }
 }
 
+/// The job a view keeps for one key (a design, a request): starting another replaces it, and
+/// dropping the old handle cancels it, so the newest asked key wins. Its result comes back with
+/// the key it was computed for.
+pub struct Keyed<K, T> {
+    slot: Option<(K, Job<T>)>,
+}
+
+impl<K, T> Default for Keyed<K, T> {
+    fn default() -> Self {
+        Keyed { slot: None }
+    }
+}
+
+impl<K, T: Send + 'static> Keyed<K, T> {
+    /// No job.
+    pub const fn idle() -> Self {
+        Keyed { slot: None }
+    }
+
+    /// Runs `job` for `key`, cancelling the one running before.
+    pub fn start(&mut self, key: K, job: Job<T>) {
+        self.slot = Some((key, job));
+    }
+
+    /// Whether a job is running.
+    pub fn is_running(&self) -> bool {
+        self.slot.is_some()
+    }
+
+    /// The key of the running job.
+    pub fn key(&self) -> Option<&K> {
+        self.slot.as_ref().map(|(k, _)| k)
+    }
+
+    /// The running job (for its progress and elapsed time).
+    pub fn job(&self) -> Option<&Job<T>> {
+        self.slot.as_ref().map(|(_, j)| j)
+    }
+
+    /// The running job and its key.
+    pub fn current(&self) -> Option<(&K, &Job<T>)> {
+        self.slot.as_ref().map(|(k, j)| (k, j))
+    }
+
+    /// Whether the running job is for a key `matches` accepts.
+    pub fn is_running_for(&self, matches: impl FnOnce(&K) -> bool) -> bool {
+        self.key().is_some_and(matches)
+    }
+
+    /// The finished job's key and result, once; `None` while it runs or when idle.
+    pub fn poll(&mut self) -> Option<(K, Result<T, JobError>)> {
+        let done = self.slot.as_ref().and_then(|(_, j)| j.poll())?;
+        self.slot.take().map(|(k, _)| (k, done))
+    }
+
+    /// Cancels the running job, if any.
+    pub fn stop(&mut self) {
+        self.slot = None;
+    }
+}
+
 impl<T> Drop for Job<T> {
     /// Nobody will read the result: stop the work instead of letting it burn the cores.
     fn drop(&mut self) {
@@ -185,6 +246,43 @@ mod tests {
         assert_eq!(wait(&failed), Err(JobError::Failed("bad size".into())));
         let sim = Job::spawn("test job", || {}, |_| Err::<(), _>(SimError::Cancelled));
         assert_eq!(wait(&sim), Err(JobError::Cancelled));
+    }
+
+    /// A newer key replaces the job in flight and cancels it; the result comes back once, with
+    /// the key it was computed for.
+    #[test]
+    fn the_newest_key_wins_and_the_old_job_is_cancelled() {
+        let (tx, rx) = std::sync::mpsc::channel();
+        let mut keyed: Keyed<u32, u32> = Keyed::idle();
+        keyed.start(
+            1,
+            Job::spawn(
+                "test job",
+                || {},
+                move |p: &Progress| {
+                    while !p.is_cancelled() {
+                        std::thread::sleep(Duration::from_millis(1));
+                    }
+                    let _ = tx.send("cancelled");
+                    Err::<u32, _>(JobError::Cancelled)
+                },
+            ),
+        );
+        assert!(keyed.is_running_for(|k| *k == 1));
+        keyed.start(2, Job::spawn("test job", || {}, |_| Ok::<_, JobError>(20)));
+        assert_eq!(rx.recv_timeout(Duration::from_secs(10)), Ok("cancelled"));
+        assert_eq!(keyed.key(), Some(&2));
+        let mut got = None;
+        for _ in 0..2000 {
+            got = keyed.poll();
+            if got.is_some() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        assert_eq!(got, Some((2, Ok(20))));
+        assert!(!keyed.is_running());
+        assert_eq!(keyed.poll(), None);
     }
 
     #[test]

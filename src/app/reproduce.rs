@@ -11,7 +11,7 @@ use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use crate::app::dialogs::{self, FileSpec};
-use crate::app::job::{Job, JobError};
+use crate::app::job::{Job, JobError, Keyed};
 use crate::app::notice::Notice;
 use crate::core::Progress;
 use crate::core::reproduce::ResultId;
@@ -40,7 +40,7 @@ pub struct ReproduceWindow {
     /// Where runs write: `<data dir>/reproduce/<id>`.
     out_root: Option<PathBuf>,
     native_dialogs: bool,
-    run: Option<(ResultId, Job<PathBuf>)>,
+    run: Keyed<ResultId, PathBuf>,
     dialog: Option<Job<Option<PathBuf>>>,
     report: Option<Report>,
     message: Option<Notice>,
@@ -58,7 +58,7 @@ impl ReproduceWindow {
             program: std::env::current_exe().ok(),
             out_root: data_dir.map(|d| d.join("reproduce")),
             native_dialogs,
-            run: None,
+            run: Keyed::idle(),
             dialog: None,
             report: None,
             message: None,
@@ -89,7 +89,7 @@ impl ReproduceWindow {
 
     /// Whether a run is going.
     pub fn is_running(&self) -> bool {
-        self.run.is_some()
+        self.run.is_running()
     }
 
     /// The report shown: its path and text.
@@ -123,15 +123,15 @@ impl ReproduceWindow {
             move || ctx.request_repaint()
         };
         self.message = None;
-        self.run = Some((
+        self.run.start(
             id,
             Job::spawn("reproduce", wake, move |p| quick_run(&program, id, &out, p)),
-        ));
+        );
     }
 
     /// Stops the run (its process is killed; a later run resumes what it finished).
     pub fn cancel(&mut self) {
-        if let Some((_, job)) = &self.run {
+        if let Some(job) = self.run.job() {
             job.cancel();
         }
     }
@@ -150,11 +150,8 @@ impl ReproduceWindow {
 
     /// Collects finished jobs.
     fn poll(&mut self) {
-        if let Some((id, job)) = &self.run
-            && let Some(done) = job.poll()
-        {
-            let (id, seconds) = (*id, job.elapsed().as_secs_f64());
-            self.run = None;
+        let seconds = self.run.job().map_or(0.0, |j| j.elapsed().as_secs_f64());
+        if let Some((id, done)) = self.run.poll() {
             match done {
                 Ok(report) => {
                     self.message = Some(Notice::info(format!(
@@ -262,7 +259,7 @@ impl ReproduceWindow {
                 ui.end_row();
             });
         ui.horizontal(|ui| {
-            if let Some((running, job)) = &self.run {
+            if let Some((running, job)) = self.run.current() {
                 ui.spinner();
                 ui.label(format!(
                     "{} running (quick), {:.0} s",

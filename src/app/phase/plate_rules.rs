@@ -2,7 +2,7 @@
 //! shows the narrowest ring or step and how many break the default rule before the user
 //! exports (the same check `udc-studio drc` and `phase export --strict` run).
 
-use crate::app::job::Job;
+use crate::app::job::{Job, Keyed};
 use crate::core::mask::drc::{DrcReport, Rules};
 use crate::core::phase::PhaseDesign;
 use crate::core::phase::drc::check_plate;
@@ -10,22 +10,19 @@ use crate::core::phase::drc::check_plate;
 /// The newest check and the one in flight, each with the design it is of.
 #[derive(Default)]
 pub(super) struct PlateRules {
-    running: Option<(PhaseDesign, Job<DrcReport>)>,
+    running: Keyed<PhaseDesign, DrcReport>,
     done: Option<(PhaseDesign, Result<DrcReport, String>)>,
 }
 
 impl PlateRules {
     /// Collects a finished check and starts one when `design` changed.
     pub(super) fn update(&mut self, ctx: &egui::Context, design: &PhaseDesign) {
-        if let Some((d, job)) = &self.running
-            && let Some(result) = job.poll()
-        {
-            self.done = Some((d.clone(), result.map_err(|e| e.to_string())));
-            self.running = None;
+        if let Some((d, result)) = self.running.poll() {
+            self.done = Some((d, result.map_err(|e| e.to_string())));
         }
         let known = |d: &PhaseDesign| d == design;
         if self.done.as_ref().is_some_and(|(d, _)| known(d))
-            || self.running.as_ref().is_some_and(|(d, _)| known(d))
+            || self.running.is_running_for(known)
             || design.validate().is_err()
         {
             return;
@@ -38,7 +35,7 @@ impl PlateRules {
         let job = Job::spawn("phase-plate rules", wake, move |_| {
             check_plate(&d, &Rules::default()).map_err(|e| e.to_string())
         });
-        self.running = Some((design.clone(), job));
+        self.running.start(design.clone(), job);
     }
 
     /// One line for the panel, and the hover text listing the first violations.

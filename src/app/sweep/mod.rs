@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use crate::app::commands::Command;
-use crate::app::job::{Job, JobError};
+use crate::app::job::{Job, JobError, Keyed};
 use crate::app::notice::Notice;
 use crate::app::workspace::{Shell, WorkspaceId};
 use crate::core::sweep::{PlotKind, PlotSpec};
@@ -39,10 +39,10 @@ pub struct CustomPlot {
 #[derive(Default)]
 pub struct SweepWorkspace {
     table: Option<Arc<SweepTable>>,
-    load: Option<(PathBuf, Job<SweepTable>)>,
+    load: Keyed<PathBuf, SweepTable>,
     dialog: Option<Job<Option<PathBuf>>>,
     view: Option<View>,
-    view_job: Option<(ViewRequest, Job<View>)>,
+    view_job: Keyed<ViewRequest, View>,
     /// The filter box's text (see [`table::Filter`]).
     pub filter: String,
     /// The table's sort order.
@@ -78,9 +78,9 @@ impl SweepWorkspace {
 
     /// Whether nothing is being read or computed and the view matches the controls.
     pub fn is_idle(&self) -> bool {
-        self.load.is_none()
+        !self.load.is_running()
             && self.opening.is_none()
-            && self.view_job.is_none()
+            && !self.view_job.is_running()
             && (self.table.is_none()
                 || self
                     .view
@@ -100,7 +100,7 @@ impl SweepWorkspace {
         };
         let d = dir.clone();
         let job = Job::spawn("sweep reader", wake, move |p| open::read_folder(&d, p));
-        self.load = Some((dir, job));
+        self.load.start(dir, job);
     }
 
     /// Rebuilds the design of row `index` (into the table's rows) on a job; once built, it
@@ -152,8 +152,7 @@ impl SweepWorkspace {
                 Err(e) => self.message = Some(Notice::error(e.to_string())),
             }
         }
-        if let Some(done) = self.load.as_ref().and_then(|(_, j)| j.poll()) {
-            let dir = self.load.take().map(|(d, _)| d).unwrap_or_default();
+        if let Some((dir, done)) = self.load.poll() {
             match done {
                 Ok(t) => {
                     self.message = Some(Notice::info(format!(
@@ -166,7 +165,7 @@ impl SweepWorkspace {
                     self.default_custom_plot(&t);
                     self.table = Some(Arc::new(t));
                     self.view = None;
-                    self.view_job = None;
+                    self.view_job.stop();
                     shell.settings.last_sweep = Some(dir);
                     shell.save_settings();
                 }
@@ -181,8 +180,7 @@ impl SweepWorkspace {
                 }
             }
         }
-        if let Some(done) = self.view_job.as_ref().and_then(|(_, j)| j.poll()) {
-            self.view_job = None;
+        if let Some((_, done)) = self.view_job.poll() {
             match done {
                 Ok(v) => self.view = Some(v),
                 Err(JobError::Cancelled) => {}
@@ -200,7 +198,7 @@ impl SweepWorkspace {
         };
         let request = self.request();
         let current = self.view.as_ref().is_some_and(|v| v.request == request);
-        let running = self.view_job.as_ref().is_some_and(|(r, _)| *r == request);
+        let running = self.view_job.is_running_for(|r| *r == request);
         if current || running {
             return;
         }
@@ -208,7 +206,7 @@ impl SweepWorkspace {
         let job = Job::spawn("sweep view", shell.waker(), move |p| {
             derive::derive(&table, r, p)
         });
-        self.view_job = Some((request, job));
+        self.view_job.start(request, job);
     }
 
     fn poll_opening(&mut self, shell: &mut Shell) {
@@ -296,7 +294,7 @@ impl SweepWorkspace {
 
     /// Cancels reading a folder; the table on screen stays.
     fn cancel_load(&mut self) {
-        if let Some((_, job)) = &self.load {
+        if let Some(job) = self.load.job() {
             job.cancel();
         }
     }

@@ -32,14 +32,14 @@ impl SweepWorkspace {
             if let Some(last) = shell.settings.last_sweep.clone()
                 && self.table.as_ref().is_none_or(|t| t.dir != last)
                 && ui
-                    .add_enabled(self.load.is_none(), egui::Button::new("Reopen last"))
+                    .add_enabled(!self.load.is_running(), egui::Button::new("Reopen last"))
                     .on_hover_text(last.display().to_string())
                     .clicked()
             {
                 self.open_folder(&last, shell.waker());
             }
         });
-        if let Some((dir, job)) = &self.load {
+        if let Some((dir, job)) = self.load.current() {
             let mut cancel = false;
             ui.horizontal(|ui| {
                 ui.spinner();
@@ -114,7 +114,7 @@ impl SweepWorkspace {
         };
         ui.horizontal(|ui| {
             ui.label(format!("{} shown / {} rows", view.rows.len(), t.rows.len()));
-            if self.view_job.is_some() {
+            if self.view_job.is_running() {
                 ui.spinner();
             }
         });

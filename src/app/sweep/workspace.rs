@@ -84,7 +84,7 @@ impl Workspace for SweepWorkspace {
         };
         if ui
             .add_enabled(
-                last.is_some() && self.load.is_none(),
+                last.is_some() && !self.load.is_running(),
                 egui::Button::new(label),
             )
             .clicked()

@@ -2,7 +2,7 @@
 //! 512-cell random design takes about 0.1 s, several frames' worth, so the UI thread only
 //! starts the check and draws its answer.
 
-use crate::app::job::Job;
+use crate::app::job::{Job, Keyed};
 use crate::core::design::{Design, Opening, Tiling};
 use crate::core::mask::drc::{DrcReport, Rules, check};
 
@@ -42,7 +42,7 @@ pub enum RulesState<'a> {
 #[derive(Default)]
 pub struct RulesCheck {
     /// The check in flight and what it checks.
-    running: Option<(Key, Job<DrcReport>)>,
+    running: Keyed<Key, DrcReport>,
     /// The newest answer and what it is of.
     done: Option<(Key, Result<DrcReport, String>)>,
 }
@@ -51,14 +51,11 @@ impl RulesCheck {
     /// Collects a finished check and starts one for `design` when its mask changed. Wakes
     /// `ctx` when a check finishes.
     pub fn update(&mut self, ctx: &egui::Context, design: &Design) {
-        if let Some((key, job)) = &self.running
-            && let Some(result) = job.poll()
-        {
-            self.done = Some((key.clone(), result.map_err(|e| e.to_string())));
-            self.running = None;
+        if let Some((key, result)) = self.running.poll() {
+            self.done = Some((key, result.map_err(|e| e.to_string())));
         }
         let answered = self.done.as_ref().is_some_and(|(k, _)| k.is_of(design));
-        let asked = self.running.as_ref().is_some_and(|(k, _)| k.is_of(design));
+        let asked = self.running.is_running_for(|k| k.is_of(design));
         if answered || asked {
             return;
         }
@@ -74,7 +71,7 @@ impl RulesCheck {
             (d.opening, d.tiling) = (opening, tiling);
             Ok::<_, String>(check(&d, &Rules::default()))
         });
-        self.running = Some((key, job));
+        self.running.start(key, job);
     }
 
     /// Where the check of `design` stands (as of the last [`RulesCheck::update`]).
@@ -88,6 +85,6 @@ impl RulesCheck {
 
     /// Whether a check is in flight.
     pub fn is_checking(&self) -> bool {
-        self.running.is_some()
+        self.running.is_running()
     }
 }

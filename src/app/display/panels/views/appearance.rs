@@ -10,7 +10,7 @@ use egui_plot::{Plot, PlotPoints, Points};
 use ndarray::Array2;
 
 use crate::app::display::panels::Shown;
-use crate::app::job::Job;
+use crate::app::job::{Job, Keyed};
 use crate::app::notice::Notice;
 use crate::app::widgets::photo::{built_in, color_image};
 use crate::core::Progress;
@@ -51,7 +51,7 @@ type Rendered = Vec<(String, DisplayQuality, [Array2<f64>; 3])>;
 pub struct AppearanceView {
     dpi: f64,
     viewing_distance_mm: f64,
-    job: Option<(Key, Job<Rendered>)>,
+    job: Keyed<Key, Rendered>,
     done_key: Option<Key>,
     rows: Vec<Row>,
     scatter_job: Option<Job<Vec<ScatterPoint>>>,
@@ -65,7 +65,7 @@ impl Default for AppearanceView {
         AppearanceView {
             dpi: s.dpi,
             viewing_distance_mm: s.viewing_distance_mm,
-            job: None,
+            job: Keyed::idle(),
             done_key: None,
             rows: Vec::new(),
             scatter_job: None,
@@ -91,7 +91,7 @@ impl AppearanceView {
 
     /// Whether a rendering or the scatter is being computed.
     pub fn is_running(&self) -> bool {
-        self.job.is_some() || self.scatter_job.is_some()
+        self.job.is_running() || self.scatter_job.is_some()
     }
 
     /// The scatter's points so far.
@@ -108,8 +108,7 @@ impl AppearanceView {
     }
 
     fn poll(&mut self, ctx: &egui::Context) {
-        if let Some(done) = self.job.as_ref().and_then(|(_, j)| j.poll()) {
-            let key = self.job.take().map(|(k, _)| k);
+        if let Some((key, done)) = self.job.poll() {
             match done {
                 Ok(rendered) => {
                     self.rows = rendered
@@ -136,7 +135,7 @@ impl AppearanceView {
                     self.message = Some(Notice::error(e.to_string()));
                 }
             }
-            self.done_key = key;
+            self.done_key = Some(key);
         }
         if let Some(done) = self.scatter_job.as_ref().and_then(Job::poll) {
             self.scatter_job = None;
@@ -164,7 +163,7 @@ impl AppearanceView {
                 Ok::<_, String>(out)
             },
         );
-        self.job = Some((key, job));
+        self.job.start(key, job);
     }
 
     fn start_scatter(&mut self, ctx: &egui::Context) {
@@ -243,7 +242,7 @@ impl AppearanceView {
             viewing_distance_mm: self.viewing_distance_mm,
         };
         let stale = self.done_key.as_ref() != Some(&key);
-        let running_this = self.job.as_ref().is_some_and(|(k, _)| *k == key);
+        let running_this = self.job.is_running_for(|k| *k == key);
         if stale && !running_this {
             self.start(key, shown.design.clone(), &egui_ctx);
         }

@@ -11,7 +11,7 @@ use ndarray::Array2;
 
 use super::images::log_image;
 use crate::app::display::panels::Shown;
-use crate::app::job::Job;
+use crate::app::job::{Job, Keyed};
 use crate::app::notice::Notice;
 use crate::app::widgets::colormap::Colormap;
 use crate::app::widgets::photo::color_image;
@@ -101,7 +101,7 @@ pub struct FieldDepthView {
     /// Also capture the built-in photo through the field's PSFs (patch-wise) and restore it
     /// with the centre PSF, beside the shift-invariant capture.
     capture_photo: bool,
-    job: Option<(Key, Job<Outcome>)>,
+    job: Keyed<Key, Outcome>,
     done_key: Option<Key>,
     rows: Vec<Vec<Tile>>,
     summary: String,
@@ -118,7 +118,7 @@ impl Default for FieldDepthView {
             clip_percent: 2.0,
             brackets: 3,
             capture_photo: false,
-            job: None,
+            job: Keyed::idle(),
             done_key: None,
             rows: Vec::new(),
             summary: String::new(),
@@ -161,7 +161,7 @@ impl FieldDepthView {
 
     /// Whether a run is in progress.
     pub fn is_running(&self) -> bool {
-        self.job.is_some()
+        self.job.is_running()
     }
 
     /// The one-line summary of the last result (tests read it).
@@ -251,15 +251,14 @@ impl FieldDepthView {
                 }
             },
         );
-        self.job = Some((key, job));
+        self.job.start(key, job);
     }
 
     fn poll(&mut self, ctx: &egui::Context) {
-        let Some(done) = self.job.as_ref().and_then(|(_, j)| j.poll()) else {
+        let Some((key, done)) = self.job.poll() else {
             return;
         };
-        let key = self.job.take().map(|(k, _)| k);
-        self.done_key = key;
+        self.done_key = Some(key);
         match done {
             Ok(outcome) => {
                 self.message = None;
@@ -519,11 +518,11 @@ impl FieldDepthView {
             }
         });
         let key = self.key(shown);
-        let running_this = self.job.as_ref().is_some_and(|(k, _)| *k == key);
+        let running_this = self.job.is_running_for(|k| *k == key);
         if self.done_key != Some(key) && !running_this {
             self.start(key, shown, &egui_ctx);
         }
-        if let Some((_, job)) = &self.job {
+        if let Some(job) = self.job.job() {
             let mut cancel = false;
             ui.horizontal(|ui| {
                 ui.add(
