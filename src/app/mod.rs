@@ -6,9 +6,11 @@
 //! workspace (which takes its finished jobs and draws its panels), and hands the frame's
 //! [`Command`]s to it, then the commands one workspace sent another ([`Shell::send`]).
 
+pub mod autosave;
 pub mod commands;
 pub mod dialogs;
 pub mod display;
+pub mod history;
 pub mod job;
 mod menu;
 pub mod notice;

@@ -2,11 +2,11 @@
 
 use crate::app::notice::Notice;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use super::DisplayWorkspace;
 use super::panels::Pinned;
 use super::panels::views::ViewTab;
+use crate::app::autosave::create_parent;
 use crate::app::commands::{Command, ExportKind};
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::job::{Job, JobError};
@@ -15,7 +15,7 @@ use crate::app::workspace::{Shell, WorkspaceId};
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
 use crate::core::display::opening_ops;
-use crate::io::{design_file, export, pattern, presets, report, spectral};
+use crate::io::{IoError, design_file, export, pattern, presets, report, spectral};
 
 impl DisplayWorkspace {
     fn needs_confirm(&mut self, c: &Command, confirmed: bool, shell: &mut Shell) -> bool {
@@ -359,44 +359,20 @@ impl DisplayWorkspace {
         }
     }
 
-    fn autosave_tick(&mut self, shell: &Shell) {
-        let changed = self.files.autosaved.as_ref() != Some(self.doc.design());
-        if !changed {
-            return;
+    fn autosave_tick(&mut self, shell: &mut Shell) {
+        let every = shell.autosave_every;
+        if let Some(e) = self
+            .files
+            .autosave
+            .tick(self.doc.design(), every, &self.egui_ctx)
+        {
+            shell.set_status(Notice::error(e));
         }
-        let due = self.files.last_autosave + shell.autosave_every;
-        let now = Instant::now();
-        if now < due {
-            self.egui_ctx.request_repaint_after(due - now);
-            return;
-        }
-        let Some(path) = self.files.autosave_path.clone() else {
-            return;
-        };
-        let design = self.doc.design().clone();
-        self.files.autosaved = Some(design.clone());
-        self.files.last_autosave = now;
-        let wake = self.wake();
-        self.files.writes.spawn(wake, move || {
-            if let Some(dir) = path.parent() {
-                std::fs::create_dir_all(dir).map_err(|e| format!("autosave failed: {e}"))?;
-            }
-            design_file::save_design(&path, &design)
-                .map(|()| String::new())
-                .map_err(|e| format!("autosave failed: {e}"))
-        });
     }
 
     /// Writes the autosave now (on exit).
     pub fn autosave_now_blocking(&mut self) {
-        if let Some(path) = &self.files.autosave_path {
-            if let Some(dir) = path.parent() {
-                let _ = std::fs::create_dir_all(dir);
-            }
-            if design_file::save_design(path, self.doc.design()).is_ok() {
-                self.files.autosaved = Some(self.doc.design().clone());
-            }
-        }
+        self.files.autosave.save_now_blocking(self.doc.design());
     }
 
     /// A file dropped on the window: a design opens, an image or mask becomes the opening,
@@ -414,4 +390,10 @@ impl DisplayWorkspace {
         }
         true
     }
+}
+
+/// The display design's autosave write.
+pub(super) fn write_autosave(path: &Path, design: &Design) -> Result<(), IoError> {
+    create_parent(path)?;
+    design_file::save_design(path, design)
 }

@@ -1,111 +1,84 @@
-//! The document: the design being edited, where it lives on disk, and its undo history.
-//! Undo points are recorded per committed edit (a whole drag is one edit), never per frame.
+//! The document: the design being edited, where it lives on disk, and its undo history (the
+//! studio's one [`History`]). Undo points are recorded per committed edit (a whole drag is one
+//! edit), never per frame.
 
 use std::path::PathBuf;
 
+use crate::app::history::{History, Snapshot};
 use crate::core::Design;
 
-/// Most undo steps kept (a 21×21 design is ~10 kB, so this is a few MB at most).
-const MAX_UNDO: usize = 200;
+impl Snapshot for Design {
+    fn same(&self, other: &Self) -> bool {
+        self == other
+    }
+}
 
-/// The design being edited in the display workspace, its file and its undo/redo history
-/// (at most 200 steps).
+/// The design being edited in the display workspace, its file and its undo/redo history.
 #[derive(Debug, Clone)]
 pub struct Document {
-    design: Design,
+    history: History<Design>,
     /// The file it was opened from or saved to.
     pub path: Option<PathBuf>,
-    /// The design as last opened, loaded or saved: the document is dirty when it differs.
-    saved: Design,
-    undo: Vec<Design>,
-    redo: Vec<Design>,
 }
 
 impl Document {
     /// A clean document (nothing to undo, not dirty) of `design`, whose file is `path` if any.
     pub fn new(design: Design, path: Option<PathBuf>) -> Self {
-        let saved = design.clone();
         Document {
-            design,
+            history: History::new(design),
             path,
-            saved,
-            undo: Vec::new(),
-            redo: Vec::new(),
         }
     }
 
     /// The design as currently edited.
     pub fn design(&self) -> &Design {
-        &self.design
+        self.history.current()
     }
 
     /// Applies a committed edit as one undo step. Returns whether anything changed.
     /// Emitters left on cells the edit opened are removed (they must sit on closed cells).
     pub fn edit(&mut self, mut design: Design) -> bool {
         design.reconcile_subpixels();
-        if design == self.design {
-            return false;
-        }
-        let before = std::mem::replace(&mut self.design, design);
-        self.undo.push(before);
-        if self.undo.len() > MAX_UNDO {
-            self.undo.remove(0);
-        }
-        self.redo.clear();
-        true
+        self.history.edit(design)
     }
 
     /// Whether there is an edit to undo.
     pub fn can_undo(&self) -> bool {
-        !self.undo.is_empty()
+        self.history.can_undo()
     }
 
     /// Whether there is an undone edit to redo.
     pub fn can_redo(&self) -> bool {
-        !self.redo.is_empty()
+        self.history.can_redo()
     }
 
     /// Steps back one edit. Returns false when there is nothing to undo.
     pub fn undo(&mut self) -> bool {
-        match self.undo.pop() {
-            Some(prev) => {
-                let now = std::mem::replace(&mut self.design, prev);
-                self.redo.push(now);
-                true
-            }
-            None => false,
-        }
+        self.history.undo()
     }
 
     /// Re-applies the edit last undone. Returns false when there is nothing to redo.
     pub fn redo(&mut self) -> bool {
-        match self.redo.pop() {
-            Some(next) => {
-                let now = std::mem::replace(&mut self.design, next);
-                self.undo.push(now);
-                true
-            }
-            None => false,
-        }
+        self.history.redo()
     }
 
     /// Replaces the whole document (open, new, preset), keeping the old design undoable so a
     /// mistaken open loses nothing.
-    pub fn replace(&mut self, design: Design, path: Option<PathBuf>) {
-        self.edit(design);
-        self.saved = self.design.clone();
+    pub fn replace(&mut self, mut design: Design, path: Option<PathBuf>) {
+        design.reconcile_subpixels();
+        self.history.replace(design);
         self.path = path;
     }
 
     /// Records that the current design is now on disk at `path`.
     pub fn mark_saved(&mut self, path: PathBuf) {
-        self.saved = self.design.clone();
+        self.history.mark_saved();
         self.path = Some(path);
     }
 
     /// Whether the design differs from what was last opened, loaded (a preset) or saved.
     pub fn is_dirty(&self) -> bool {
-        self.saved != self.design
+        self.history.is_dirty()
     }
 
     /// Title for the window: name, file and a star when unsaved.
@@ -117,7 +90,7 @@ impl Document {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_else(|| "unsaved".into());
         let star = if self.is_dirty() { " *" } else { "" };
-        format!("{} ({file}){star} — UDC Studio", self.design.name)
+        format!("{} ({file}){star} — UDC Studio", self.design().name)
     }
 }
 

@@ -15,8 +15,8 @@ mod worker;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::time::Instant;
 
+use super::autosave::Autosave;
 use super::commands::{Command, Tool};
 use super::dialogs::PendingDialog;
 use super::job::{Job, Writes};
@@ -65,12 +65,10 @@ struct Files {
     dialog: Option<PendingDialog>,
     load: Option<LoadJob>,
     writes: Writes,
-    last_autosave: Instant,
-    autosaved: Option<Design>,
+    /// The design kept beside the user's files (none in tests without a data directory).
+    autosave: Autosave<Design>,
     /// The wavelength step of a spectral response being loaded, in nm.
     spectral_step_nm: f64,
-    /// Where the design is autosaved (none in tests without a data directory).
-    autosave_path: Option<PathBuf>,
 }
 
 struct Panels {
@@ -134,10 +132,12 @@ impl DisplayWorkspace {
                 dialog: None,
                 load: None,
                 writes: Writes::default(),
-                last_autosave: Instant::now(),
-                autosaved: Some(design),
+                autosave: Autosave::new(
+                    shell.dirs.autosave_path(),
+                    Some(design),
+                    actions::write_autosave,
+                ),
                 spectral_step_nm: 30.0,
-                autosave_path: shell.dirs.autosave_path(),
             },
             egui_ctx: shell.ctx.clone(),
         };

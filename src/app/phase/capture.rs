@@ -260,7 +260,7 @@ impl PhaseWorkspace {
     /// that cannot be read leaves the current one in place.
     pub fn load_capture_photo(&mut self, path: PathBuf, ctx: &egui::Context) {
         let wake = ctx.clone();
-        let max_side = u32::try_from(self.design.camera.pixels).unwrap_or(u32::MAX);
+        let max_side = u32::try_from(self.history.current().camera.pixels).unwrap_or(u32::MAX);
         self.capture.photo_load = Some(Job::spawn(
             "photo reader",
             move || wake.request_repaint(),
@@ -313,17 +313,17 @@ impl PhaseWorkspace {
 
     /// The two setups of a run: this design through its optics, the bare T-OLED of its pitch.
     fn capture_setups(&self) -> Result<Vec<(PhaseDesign, PhaseOptics)>, SimError> {
-        self.design.validate()?;
+        self.history.current().validate()?;
         let bare = Setup::Bare {
-            pitch_um: self.design.pitch_um,
+            pitch_um: self.history.current().pitch_um,
         }
         .resolve(
-            &self.design,
+            self.history.current(),
             &crate::core::phase::PhaseSampling::for_quality(self.quality),
             &[],
             &Progress::new(),
         )?;
-        Ok(vec![(self.design.clone(), self.optics()), bare])
+        Ok(vec![(self.history.current().clone(), self.optics()), bare])
     }
 
     fn capture_key(&self) -> Option<RunKey> {
@@ -457,7 +457,7 @@ impl PhaseWorkspace {
         if self.capture.photo.is_none() && self.capture.photo_load.is_none() {
             match built_in() {
                 Ok(mut p) => {
-                    p.planes = photo::fit_max_side(p.planes, self.design.camera.pixels);
+                    p.planes = photo::fit_max_side(p.planes, self.history.current().camera.pixels);
                     self.set_capture_photo(p, ctx);
                 }
                 Err(e) => {

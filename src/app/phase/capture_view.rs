@@ -116,7 +116,7 @@ impl PhaseWorkspace {
                 .button("Open photo…")
                 .on_hover_text(format!(
                     "A PNG or JPEG, scaled to at most {} px (the sensor's width)",
-                    self.design.camera.pixels
+                    self.history.current().camera.pixels
                 ))
                 .clicked()
             {

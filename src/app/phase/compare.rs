@@ -192,7 +192,7 @@ impl PhaseWorkspace {
         let Some(photo) = self.capture.photo_arc() else {
             return fail(self, "no photo yet".into());
         };
-        if let Err(e) = self.design.validate() {
+        if let Err(e) = self.history.current().validate() {
             return fail(self, format!("cannot compare: {e}"));
         }
         let setups: Vec<Setup> = self
@@ -234,7 +234,7 @@ impl PhaseWorkspace {
             photons: photons.clone(),
             denoise: self.capture.denoise,
         };
-        let base = self.design.clone();
+        let base = self.history.current().clone();
         let seed = self.capture.seed;
         let denoise = self.capture.denoise;
         let (tx, rx) = channel();

@@ -163,10 +163,10 @@ impl ExportState {
 impl PhaseWorkspace {
     /// Writes the current design's plate to `path` on a background thread (no dialog).
     pub fn export_to(&mut self, format: HeightFormat, path: PathBuf, ctx: &egui::Context) {
-        match self.design.validate() {
+        match self.history.current().validate() {
             Ok(()) => self
                 .export
-                .start_write(format, self.design.clone(), path, ctx),
+                .start_write(format, self.history.current().clone(), path, ctx),
             Err(e) => self.export.message = Some(Notice::error(format!("cannot export: {e}"))),
         }
     }
@@ -212,14 +212,14 @@ impl PhaseWorkspace {
                         );
                         ui.end_row();
                     });
-                let valid = self.design.validate().is_ok();
-                self.export.rules.update(&ctx, &self.design);
-                self.export.rules.ui(ui, &self.design);
+                let valid = self.history.current().validate().is_ok();
+                self.export.rules.update(&ctx, self.history.current());
+                self.export.rules.ui(ui, self.history.current());
                 ui.horizontal_wrapped(|ui| {
                     for format in HeightFormat::ALL {
                         // GDSII writes one layer per height level: it needs a height step.
-                        let stepped =
-                            format != HeightFormat::Gds || self.design.height_step_um.is_some();
+                        let stepped = format != HeightFormat::Gds
+                            || self.history.current().height_step_um.is_some();
                         if ui
                             .add_enabled(
                                 valid && stepped && self.export.dialog.is_none(),
@@ -232,7 +232,8 @@ impl PhaseWorkspace {
                             })
                             .clicked()
                         {
-                            self.export.ask(format, self.design.clone(), &ctx);
+                            self.export
+                                .ask(format, self.history.current().clone(), &ctx);
                         }
                     }
                 });

@@ -11,8 +11,9 @@ use egui::{Align2, ColorImage, FontId, Sense, TextureHandle, TextureOptions, Ui,
 use ndarray::Array2;
 
 use super::views::gradient_bar;
-use super::{ChannelSet, PhaseWorkspace, Quality, same};
+use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{FileSpec, ask};
+use crate::app::history::Snapshot;
 use crate::app::job::{Job, JobError, Writes};
 use crate::app::widgets::colormap::Colormap;
 use crate::core::phase::{PhaseDesign, PhaseOptics, kernel_matrix};
@@ -155,7 +156,7 @@ impl PhaseWorkspace {
     /// Whether the shown matrix is of another design, optics or channel set than the current.
     pub fn kernels_are_stale(&self) -> bool {
         self.kernels.shown.as_ref().is_some_and(|s| {
-            !same(&s.design, &self.design)
+            !s.design.same(self.history.current())
                 || s.optics != self.optics()
                 || s.channels != self.channels
         })
@@ -167,7 +168,7 @@ impl PhaseWorkspace {
         if self.kernels.job.is_some() {
             return;
         }
-        if let Err(e) = self.design.validate() {
+        if let Err(e) = self.history.current().validate() {
             self.kernels.message = Some(Notice::error(format!(
                 "cannot compute the blur matrix: {e}"
             )));
@@ -186,7 +187,7 @@ impl PhaseWorkspace {
             self.kernels.message = Some(Notice::error("the channel set is empty"));
             return;
         };
-        let design = self.design.clone();
+        let design = self.history.current().clone();
         let quality = self.quality;
         let optics = self.optics();
         let (d, wake) = (design.clone(), ctx.clone());
@@ -320,8 +321,8 @@ impl PhaseWorkspace {
         let ctx = ui.ctx().clone();
         ui.add_space(8.0);
         ui.separator();
-        let p = self.design.camera.pixels;
-        let valid = self.design.validate().is_ok();
+        let p = self.history.current().camera.pixels;
+        let valid = self.history.current().validate().is_ok();
         let running = self.kernels.job.is_some();
         ui.horizontal_wrapped(|ui| {
             ui.strong("Blur matrix K (eq. 4.12)");

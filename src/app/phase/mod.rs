@@ -23,7 +23,6 @@ mod workspace;
 
 use crate::app::notice::Notice;
 pub use crate::core::Quality;
-use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -36,6 +35,8 @@ pub use kernels::ShownKernels;
 pub use optimizer::{OptimizerResult, ShownV};
 pub use response::CustomResponse;
 
+use crate::app::autosave::Autosave;
+use crate::app::history::{History, Snapshot};
 use crate::app::job::{Job, JobError};
 use crate::app::settings::AppDirs;
 use crate::core::SimError;
@@ -50,8 +51,6 @@ use optimizer::LongJob;
 
 /// Where the workspace keeps its design, inside the studio's data directory.
 pub const DESIGN_FILE: &str = "phase-design.json";
-/// Undo steps kept.
-const MAX_HISTORY: usize = 200;
 
 /// The colour channels the PSFs and the optimizer use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -128,10 +127,7 @@ struct Submitted {
 
 /// The workspace's state.
 pub struct PhaseWorkspace {
-    design: PhaseDesign,
-    committed: PhaseDesign,
-    undo: Vec<PhaseDesign>,
-    redo: Vec<PhaseDesign>,
+    history: History<PhaseDesign>,
     /// Preview only, or preview then the thesis sampling (also the V matrix's and optimizer's).
     pub quality: Quality,
     /// The colour channels the PSFs and the optimizer use.
@@ -160,11 +156,9 @@ pub struct PhaseWorkspace {
     opt_job: Option<LongJob<(VMatrix, Allocation)>>,
     optimized: Option<OptimizerResult>,
     opt_message: Option<Notice>,
-    design_path: Option<PathBuf>,
-    saved: PhaseDesign,
-    last_save: Instant,
+    /// `phase-design.json`, written a few seconds after a change.
+    autosave: Autosave<PhaseDesign>,
     autosave_every: Duration,
-    save_task: Option<Job<()>>,
     export: export::ExportState,
     response: response::ResponseState,
     kernels: kernels::KernelState,
@@ -172,9 +166,11 @@ pub struct PhaseWorkspace {
     compare: compare::CompareState,
 }
 
-/// Equal designs, NaN included (a NaN field must not look like a change every frame).
-fn same(a: &PhaseDesign, b: &PhaseDesign) -> bool {
-    a == b || format!("{a:?}") == format!("{b:?}")
+impl Snapshot for PhaseDesign {
+    /// Equal designs, NaN included (a NaN field must not look like a change every frame).
+    fn same(&self, other: &Self) -> bool {
+        self == other || format!("{self:?}") == format!("{other:?}")
+    }
 }
 
 /// Colour of a wavelength, blue at 400 nm through green to red at 700 nm (thesis Fig. 4.4).
@@ -191,11 +187,8 @@ impl PhaseWorkspace {
         PhaseWorkspace {
             // The profile starts at the lenslet beside the axis.
             selected_lenslet: lenslet_count(&design) / 2,
-            committed: design.clone(),
-            saved: design.clone(),
-            design,
-            undo: Vec::new(),
-            redo: Vec::new(),
+            autosave: Autosave::new(design_path, Some(design.clone()), persist::write_design),
+            history: History::new(design),
             quality: Quality::Full,
             channels: ChannelSet::Peaks,
             single_mask: false,
@@ -215,10 +208,7 @@ impl PhaseWorkspace {
             opt_job: None,
             optimized: None,
             opt_message: None,
-            design_path,
-            last_save: Instant::now(),
             autosave_every,
-            save_task: None,
             export: export::ExportState::new(native_dialogs),
             response: response::ResponseState::new(native_dialogs),
             kernels: kernels::KernelState::new(native_dialogs),
@@ -229,20 +219,18 @@ impl PhaseWorkspace {
 
     /// The design being edited.
     pub fn design(&self) -> &PhaseDesign {
-        &self.design
+        self.history.current()
     }
 
     /// Edits the design as the controls do: the change runs at once and becomes one undo step
     /// when no pointer button is held and no text field has focus.
     pub fn design_mut(&mut self) -> &mut PhaseDesign {
-        &mut self.design
+        self.history.current_mut()
     }
 
     /// Replaces the design as one undo step.
     pub fn set_design(&mut self, design: PhaseDesign) {
-        self.commit();
-        self.design = design;
-        self.commit();
+        self.history.edit(design);
     }
 
     /// The PSFs on screen, if any.
@@ -301,48 +289,22 @@ impl PhaseWorkspace {
 
     /// Whether there is a change to undo, including an edit not yet committed.
     pub fn can_undo(&self) -> bool {
-        !self.undo.is_empty() || !same(&self.design, &self.committed)
+        self.history.can_undo()
     }
 
     /// Whether there is an undone change to redo.
     pub fn can_redo(&self) -> bool {
-        !self.redo.is_empty()
-    }
-
-    /// Records the design as an undo step if it changed.
-    fn commit(&mut self) {
-        if same(&self.design, &self.committed) {
-            return;
-        }
-        let previous = std::mem::replace(&mut self.committed, self.design.clone());
-        self.undo.push(previous);
-        if self.undo.len() > MAX_HISTORY {
-            self.undo.remove(0);
-        }
-        self.redo.clear();
+        self.history.can_redo()
     }
 
     /// Steps back one parameter change.
     pub fn undo(&mut self) -> bool {
-        self.commit();
-        let Some(previous) = self.undo.pop() else {
-            return false;
-        };
-        self.redo
-            .push(std::mem::replace(&mut self.committed, previous));
-        self.design = self.committed.clone();
-        true
+        self.history.undo()
     }
 
     /// Redoes one undone change.
     pub fn redo(&mut self) -> bool {
-        self.commit();
-        let Some(next) = self.redo.pop() else {
-            return false;
-        };
-        self.undo.push(std::mem::replace(&mut self.committed, next));
-        self.design = self.committed.clone();
-        true
+        self.history.redo()
     }
 
     /// The channels of the chosen set (the spectral ones are made once).
@@ -381,7 +343,7 @@ impl PhaseWorkspace {
         self.poll_compare(ctx);
         let idle = !ctx.input(|i| i.pointer.any_down()) && !ctx.egui_wants_keyboard_input();
         if idle {
-            self.commit();
+            self.history.commit();
         }
         self.autosave_tick(ctx);
         if self.job.is_some()
@@ -392,7 +354,7 @@ impl PhaseWorkspace {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
         let unchanged = self.submitted.as_ref().is_some_and(|s| {
-            same(&s.design, &self.design)
+            s.design.same(self.history.current())
                 && s.channels == self.channels
                 && s.single_mask == self.single_mask
                 && s.angle_deg.to_bits() == self.angle_deg.to_bits()
@@ -402,7 +364,7 @@ impl PhaseWorkspace {
             return;
         }
         self.submitted = Some(Submitted {
-            design: self.design.clone(),
+            design: self.history.current().clone(),
             channels: self.channels,
             single_mask: self.single_mask,
             angle_deg: self.angle_deg,
@@ -412,7 +374,7 @@ impl PhaseWorkspace {
         self.generation += 1;
         // Dropping the running job cancels it.
         self.job = None;
-        if let Err(e) = self.design.validate() {
+        if let Err(e) = self.history.current().validate() {
             self.message = Some(Notice::error(e.to_string()));
             return;
         }

@@ -82,7 +82,7 @@ impl PhaseWorkspace {
         if self.v_job.is_some() {
             return;
         }
-        if let Err(e) = self.design.validate() {
+        if let Err(e) = self.history.current().validate() {
             self.opt_message = Some(Notice::error(e.to_string()));
             return;
         }
@@ -95,7 +95,7 @@ impl PhaseWorkspace {
         if self.opt_job.is_some() {
             return;
         }
-        if let Err(e) = self.design.validate() {
+        if let Err(e) = self.history.current().validate() {
             self.opt_message = Some(Notice::error(e.to_string()));
             return;
         }
@@ -121,7 +121,7 @@ impl PhaseWorkspace {
         + Send
         + 'static,
     ) -> LongJob<T> {
-        let design = self.design.clone();
+        let design = self.history.current().clone();
         let quality = self.quality;
         let (d, wake) = (design.clone(), ctx.clone());
         let job = Job::spawn(
@@ -213,7 +213,7 @@ impl PhaseWorkspace {
     /// Whether the optimizer's allocation fits the current design's lenslet count.
     pub fn can_apply(&self) -> bool {
         self.optimized.as_ref().is_some_and(|o| {
-            o.allocation.counts.iter().sum::<usize>() == lenslet_count(&self.design)
+            o.allocation.counts.iter().sum::<usize>() == lenslet_count(self.history.current())
         })
     }
 
@@ -225,7 +225,7 @@ impl PhaseWorkspace {
         let Some(o) = &self.optimized else {
             return false;
         };
-        let mut d = self.design.clone();
+        let mut d = self.history.current().clone();
         d.lambda0 = Lambda0::Counts {
             counts: o.allocation.counts.clone(),
         };

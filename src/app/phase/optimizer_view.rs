@@ -96,7 +96,7 @@ impl PhaseWorkspace {
             return;
         };
         ui.strong(format!("V ({} sampling)", v.quality.label()));
-        if without_plan(&v.design) != without_plan(&self.design) {
+        if without_plan(&v.design) != without_plan(self.history.current()) {
             ui.colored_label(
                 ui.visuals().warn_fg_color,
                 "computed for other parameters: compute again",
@@ -180,8 +180,10 @@ impl PhaseWorkspace {
         ui.label("Per lenslet, left to right:");
         lambda0_strip(ui, &a.lambda0_nm, None, 24.0);
         wavelength_legend(ui);
-        let current = if lenslet_count(&self.design) == total && self.design.validate().is_ok() {
-            lambda0_per_lenslet(&self.design)
+        let current = if lenslet_count(self.history.current()) == total
+            && self.history.current().validate().is_ok()
+        {
+            lambda0_per_lenslet(self.history.current())
                 .ok()
                 .map(|l| plan_invertibility(&a.a, &l))
         } else {

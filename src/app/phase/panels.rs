@@ -116,7 +116,7 @@ impl PhaseWorkspace {
 
     fn geometry_controls(&mut self, ui: &mut Ui) {
         let link = &mut self.link_focal;
-        let d = &mut self.design;
+        let d = self.history.current_mut();
         egui::Grid::new("phase_geometry")
             .num_columns(2)
             .show(ui, |ui| {
@@ -232,7 +232,7 @@ impl PhaseWorkspace {
         egui::CollapsingHeader::new("Camera")
             .id_salt("phase_camera")
             .show(ui, |ui| {
-                let c = &mut self.design.camera;
+                let c = &mut self.history.current_mut().camera;
                 egui::Grid::new("phase_camera_grid")
                     .num_columns(2)
                     .show(ui, |ui| {
@@ -254,8 +254,8 @@ impl PhaseWorkspace {
 
     fn plan_controls(&mut self, ui: &mut Ui) {
         ui.label("Folding wavelength λ0 per lenslet");
-        let n = lenslet_count(&self.design);
-        let kind = plan_kind(&self.design.lambda0);
+        let n = lenslet_count(self.history.current());
+        let kind = plan_kind(&self.history.current().lambda0);
         ui.horizontal_wrapped(|ui| {
             if ui
                 .selectable_label(kind == PlanKind::Fixed, "fixed")
@@ -263,14 +263,14 @@ impl PhaseWorkspace {
                 .clicked()
                 && kind != PlanKind::Fixed
             {
-                self.design.lambda0 = Lambda0::Fixed { nm: 530.0 };
+                self.history.current_mut().lambda0 = Lambda0::Fixed { nm: 530.0 };
             }
             if ui
                 .selectable_label(kind == PlanKind::Uniform, "uniform")
                 .on_hover_text("The 30 grid wavelengths 401-691 nm in equal counts")
                 .clicked()
             {
-                self.design.lambda0 = Lambda0::Uniform;
+                self.history.current_mut().lambda0 = Lambda0::Uniform;
             }
             let can = self.can_apply() || kind == PlanKind::Counts;
             if ui
@@ -284,7 +284,7 @@ impl PhaseWorkspace {
                 && kind != PlanKind::Counts
                 && let Some(o) = &self.optimized
             {
-                self.design.lambda0 = Lambda0::Counts {
+                self.history.current_mut().lambda0 = Lambda0::Counts {
                     counts: o.allocation.counts.clone(),
                 };
             }
@@ -294,12 +294,13 @@ impl PhaseWorkspace {
                 .clicked()
                 && kind != PlanKind::PerLenslet
             {
-                let nm = lambda0_per_lenslet(&self.design).unwrap_or_else(|_| vec![530.0; n]);
-                self.design.lambda0 = Lambda0::PerLenslet { nm };
+                let nm =
+                    lambda0_per_lenslet(self.history.current()).unwrap_or_else(|_| vec![530.0; n]);
+                self.history.current_mut().lambda0 = Lambda0::PerLenslet { nm };
             }
         });
         let selected = self.selected_lenslet.min(n.saturating_sub(1));
-        match &mut self.design.lambda0 {
+        match &mut self.history.current_mut().lambda0 {
             Lambda0::Fixed { nm } => {
                 ui.horizontal(|ui| {
                     ui.label("λ0");
@@ -338,7 +339,7 @@ impl PhaseWorkspace {
                 });
             }
         }
-        let fits = match &self.design.lambda0 {
+        let fits = match &self.history.current().lambda0 {
             Lambda0::Counts { counts } => counts.iter().sum::<usize>() == n,
             Lambda0::PerLenslet { nm } => nm.len() == n,
             _ => true,
@@ -352,7 +353,7 @@ impl PhaseWorkspace {
                 .on_hover_text("The lenslet count changed with the geometry")
                 .clicked()
         {
-            self.design.lambda0 = fit_plan(&self.design.lambda0, n);
+            self.history.current_mut().lambda0 = fit_plan(&self.history.current().lambda0, n);
         }
     }
 
@@ -411,8 +412,8 @@ impl PhaseWorkspace {
                 s.elapsed_ms
             ));
         }
-        let d = if self.design.validate().is_ok() {
-            self.design.clone()
+        let d = if self.history.current().validate().is_ok() {
+            self.history.current().clone()
         } else if let Some(s) = &self.shown {
             s.design.clone()
         } else {

@@ -3,11 +3,11 @@
 
 use crate::app::notice::Notice;
 use std::path::Path;
-use std::time::Instant;
 
-use super::{PhaseWorkspace, same};
-use crate::app::job::Job;
+use super::PhaseWorkspace;
+use crate::app::autosave::create_parent;
 use crate::core::phase::PhaseDesign;
+use crate::io::IoError;
 use crate::io::phase_design::{load_phase_design, save_phase_design};
 
 /// The design kept at `path`, or the thesis's and a message when it cannot be read.
@@ -40,54 +40,29 @@ pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<Notice>) 
 }
 
 impl PhaseWorkspace {
-    /// Saves the committed design now (on exit).
+    /// Saves the committed design now (on exit), when it is valid.
     pub fn save_now_blocking(&mut self) {
-        if let Some(path) = &self.design_path
-            && self.committed.validate().is_ok()
-            && write_design(path, &self.committed).is_ok()
-        {
-            self.saved = self.committed.clone();
+        let design = self.history.committed();
+        if design.validate().is_ok() {
+            self.autosave.save_now_blocking(design);
         }
     }
 
+    /// Autosaves the committed design (never half a drag, never an invalid design) a few
+    /// seconds after it changed.
     pub(super) fn autosave_tick(&mut self, ctx: &egui::Context) {
-        if let Some(done) = self.save_task.as_ref().and_then(Job::poll) {
-            self.save_task = None;
-            if let Err(e) = done {
-                self.message = Some(Notice::error(e.to_string()));
-            }
-        }
-        let Some(path) = self.design_path.clone() else {
-            return;
-        };
-        if self.save_task.is_some()
-            || same(&self.saved, &self.committed)
-            || self.committed.validate().is_err()
-        {
+        let design = self.history.committed();
+        if design.validate().is_err() {
             return;
         }
-        let due = self.last_save + self.autosave_every;
-        let now = Instant::now();
-        if now < due {
-            ctx.request_repaint_after(due - now);
-            return;
+        if let Some(e) = self.autosave.tick(design, self.autosave_every, ctx) {
+            self.message = Some(Notice::error(e));
         }
-        self.saved = self.committed.clone();
-        self.last_save = now;
-        let design = self.committed.clone();
-        let wake = ctx.clone();
-        self.save_task = Some(Job::spawn(
-            "phase autosave",
-            move || wake.request_repaint(),
-            move |_| write_design(&path, &design),
-        ));
     }
 }
 
-fn write_design(path: &std::path::Path, design: &PhaseDesign) -> Result<(), String> {
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    }
-    save_phase_design(path, design).map_err(|e| format!("cannot save the phase design: {e}"))
+/// Writes the phase design kept between runs.
+pub(super) fn write_design(path: &Path, design: &PhaseDesign) -> Result<(), IoError> {
+    create_parent(path)?;
+    save_phase_design(path, design)
 }

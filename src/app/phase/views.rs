@@ -169,8 +169,8 @@ impl PhaseWorkspace {
 
     /// The design to draw geometry from: the current one if valid, else the shown result's.
     fn drawable(&self) -> Option<PhaseDesign> {
-        if self.design.validate().is_ok() {
-            Some(self.design.clone())
+        if self.history.current().validate().is_ok() {
+            Some(self.history.current().clone())
         } else {
             self.shown.as_ref().map(|s| s.design.clone())
         }

@@ -3,25 +3,25 @@
 //! A zero-padded FFT puts the sensor samples at `λf/(M δ1)`, which differs per wavelength and
 //! needs M ≈ 10⁶; the chirp-z transform evaluates exactly the window's `W` samples at the spacing
 //! we choose with three FFTs of about `N + W` points, so every wavelength shares one sensor grid.
+//! The transform itself is the one in [`crate::psf::chirp_z`]; this module writes its chirps.
 
 use std::f64::consts::PI;
 
-use rustfft::num_complex::{Complex32, Complex64};
+use rustfft::num_complex::Complex64;
 
-use crate::psf::fft::{complex_plan, complex_plan_f32, quadratic_phase};
-use crate::psf::sampling::next_fast_size_235;
+use crate::psf::chirp_z::{ChirpWork, ChirpZ};
+use crate::psf::fft::quadratic_phase;
 
 /// A prepared transform for one wavelength, input length and output window. Its FFTs run in
 /// single precision (the chirps are computed in double and rounded once): intensities keep
 /// ~1e-6 of the peak, and the transform costs half as much.
 pub struct Czt {
-    n_out: usize,
-    size: usize,
-    /// `exp(−iα n²/2)` folded with the window's start frequency, per input sample.
-    input_chirp: Vec<Complex64>,
-    /// FFT of the convolution kernel `exp(+iα k²/2)`, k = −(N−1) … W−1, divided by `size`.
-    kernel_spectrum: Vec<Complex32>,
+    n_in: usize,
+    chirp: ChirpZ<f32>,
 }
+
+/// The reusable buffers of [`Czt::intensity`].
+pub type CztWork = ChirpWork<f32>;
 
 impl Czt {
     /// `|Σ_n a_n exp(−i 2π x_n u_m / (λ f))|²` for `x_n = x0 + n dx` (n < `n_in`) and
@@ -37,30 +37,17 @@ impl Czt {
     ) -> Self {
         let beta = 2.0 * PI / lambda_f_um2;
         let alpha = beta * dx_um * du_um;
-        let size = next_fast_size_235(n_in + n_out - 1);
         // exp(−iβ x_n u_m) = exp(−iβ(x0 u0 + x0 m du)) · exp(−iβ n dx u0) · exp(−iα n m), and
         // n m = (n² + m² − (m−n)²)/2.
         let input_chirp = quadratic_phase(-0.5 * alpha, -beta * dx_um * u0_um, 0, 1.0)
             .take(n_in)
             .collect();
-        let mut kernel = vec![Complex64::new(0.0, 0.0); size];
-        let chirp: Vec<Complex64> = quadratic_phase(0.5 * alpha, 0.0, 0, 1.0)
+        let kernel: Vec<Complex64> = quadratic_phase(0.5 * alpha, 0.0, 0, 1.0)
             .take(n_in.max(n_out))
             .collect();
-        kernel[..n_out].copy_from_slice(&chirp[..n_out]);
-        for k in 1..n_in {
-            kernel[size - k] = chirp[k];
-        }
-        complex_plan(size).process(&mut kernel);
-        let norm = 1.0 / size as f64;
         Czt {
-            n_out,
-            size,
-            input_chirp,
-            kernel_spectrum: kernel
-                .iter()
-                .map(|k| Complex32::new((k.re * norm) as f32, (k.im * norm) as f32))
-                .collect(),
+            n_in,
+            chirp: ChirpZ::new(input_chirp, n_out, |d| kernel[d.unsigned_abs() as usize]),
         }
     }
 
@@ -76,46 +63,14 @@ impl Czt {
     pub fn intensity_with(
         &self,
         work: &mut CztWork,
-        mut input: impl FnMut(usize) -> Complex64,
+        input: impl FnMut(usize) -> Complex64,
         out: &mut [f64],
     ) {
-        let forward = complex_plan_f32(self.size, false);
-        let inverse = complex_plan_f32(self.size, true);
-        let scratch_len = forward
-            .get_inplace_scratch_len()
-            .max(inverse.get_inplace_scratch_len());
-        let CztWork { padded, scratch } = work;
-        padded.clear();
-        padded.resize(self.size, Complex32::new(0.0, 0.0));
-        scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
-        for (n, (s, c)) in padded.iter_mut().zip(&self.input_chirp).enumerate() {
-            let v = input(n) * c;
-            *s = Complex32::new(v.re as f32, v.im as f32);
-        }
-        forward.process_with_scratch(padded, scratch);
-        for (s, k) in padded.iter_mut().zip(&self.kernel_spectrum) {
-            *s *= k;
-        }
-        inverse.process_with_scratch(padded, scratch);
-        for (o, s) in out.iter_mut().zip(padded.iter()).take(self.n_out) {
+        for (o, s) in out
+            .iter_mut()
+            .zip(self.chirp.convolve(self.n_in, input, work))
+        {
             *o = f64::from(s.norm_sqr());
-        }
-    }
-}
-
-/// The reusable buffers of [`Czt::intensity`].
-#[derive(Default)]
-pub struct CztWork {
-    padded: Vec<Complex32>,
-    scratch: Vec<Complex32>,
-}
-
-impl CztWork {
-    /// Empty buffers; they grow on first use.
-    pub const fn new() -> Self {
-        CztWork {
-            padded: Vec::new(),
-            scratch: Vec::new(),
         }
     }
 }

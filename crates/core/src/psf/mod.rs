@@ -7,6 +7,7 @@
 //! (the chirp-z transform) samples a spectrum finely over a narrow band; [`warning`] says when a
 //! sampling plan is unsafe.
 
+pub mod chirp_z;
 pub mod fft;
 pub mod pruned;
 mod pruned_grid;

@@ -22,8 +22,8 @@ use std::sync::{Arc, Mutex, OnceLock};
 use rustfft::Fft;
 use rustfft::num_complex::Complex64;
 
-use crate::psf::fft::{complex_inverse_plan, complex_plan};
-use crate::psf::sampling::next_fast_size_235;
+use crate::psf::chirp_z::{ChirpWork, ChirpZ, convolution_len};
+use crate::psf::fft::complex_plan;
 
 /// How much slower rustfft runs a size with a prime factor above 7, per `n·log2 n`.
 pub const NON_SMOOTH_FACTOR: f64 = 4.0;
@@ -71,11 +71,7 @@ fn unit(num: i128, den: i128) -> Complex64 {
 enum Imp {
     Slice(Arc<dyn Fft<f64>>),
     Chirp {
-        len: usize,
-        forward: Arc<dyn Fft<f64>>,
-        inverse: Arc<dyn Fft<f64>>,
-        pre: Vec<Complex64>,
-        kernel_hat: Vec<Complex64>,
+        chirp: ChirpZ<f64>,
         post: Vec<Complex64>,
     },
     Matrix(Vec<Complex64>),
@@ -95,11 +91,7 @@ pub struct Zoom {
 pub struct ZoomScratch {
     buf: Vec<Complex64>,
     fft: Vec<Complex64>,
-}
-
-/// The convolution length the chirp-z route would use.
-fn chirp_len(n_in: usize, n_out: usize) -> usize {
-    next_fast_size_235((n_in + n_out).saturating_sub(1).max(2))
+    chirp: ChirpWork<f64>,
 }
 
 /// Modelled cost of each kind, in complex multiply-adds.
@@ -107,7 +99,7 @@ pub fn zoom_ops(kind: ZoomKind, m: usize, n_in: usize, n_out: usize) -> f64 {
     match kind {
         ZoomKind::Slice => fft_ops(m) + (m + n_out) as f64,
         ZoomKind::Chirp => {
-            let l = chirp_len(n_in, n_out);
+            let l = convolution_len(n_in, n_out);
             2.0 * fft_ops(l) + (l + n_in + n_out) as f64
         }
         ZoomKind::Matrix => (n_in * n_out) as f64,
@@ -178,30 +170,17 @@ impl Zoom {
                 // n·k = n0 k0 + n0 j + i k0 + (i² + j² − (j − i)²)/2 with n = n0 + i, k = k0 + j:
                 // a convolution in i ↔ j between two chirps (the half-integer phases as
                 // exp(−πi q²/m) = unit(q², 2m)).
-                let len = chirp_len(n_in, n_out);
                 let pre = (0..n_in as i128)
                     .map(|i| unit(i * k0i, mi) * unit(i * i, 2 * mi))
                     .collect();
                 let post = (0..n_out as i128)
                     .map(|j| unit(n0i * (k0i + j), mi) * unit(j * j, 2 * mi))
                     .collect();
-                let mut kernel = vec![Complex64::new(0.0, 0.0); len];
-                let li = len as i128;
-                for d in -(n_in as i128 - 1)..n_out as i128 {
-                    kernel[d.rem_euclid(li) as usize] = unit(d * d, 2 * mi).conj();
-                }
-                let forward = complex_plan(len);
-                forward.process(&mut kernel);
-                let scale = 1.0 / len as f64;
-                kernel.iter_mut().for_each(|v| *v *= scale);
-                Imp::Chirp {
-                    len,
-                    forward,
-                    inverse: complex_inverse_plan(len),
-                    pre,
-                    kernel_hat: kernel,
-                    post,
-                }
+                let chirp = ChirpZ::new(pre, n_out, |d| {
+                    let d = i128::from(d);
+                    unit(d * d, 2 * mi).conj()
+                });
+                Imp::Chirp { chirp, post }
             }
         };
         Zoom {
@@ -232,22 +211,12 @@ impl Zoom {
     pub fn scratch(&self) -> ZoomScratch {
         let (buf, fft) = match &self.imp {
             Imp::Slice(p) => (self.m, p.get_inplace_scratch_len()),
-            Imp::Chirp {
-                len,
-                forward,
-                inverse,
-                ..
-            } => (
-                *len,
-                forward
-                    .get_inplace_scratch_len()
-                    .max(inverse.get_inplace_scratch_len()),
-            ),
-            Imp::Matrix(_) => (0, 0),
+            Imp::Chirp { .. } | Imp::Matrix(_) => (0, 0),
         };
         ZoomScratch {
             buf: vec![Complex64::new(0.0, 0.0); buf],
             fft: vec![Complex64::new(0.0, 0.0); fft],
+            chirp: ChirpWork::new(),
         }
     }
 
@@ -269,23 +238,9 @@ impl Zoom {
                     *o = s.buf[(self.k0 + j as i64).rem_euclid(m) as usize];
                 }
             }
-            Imp::Chirp {
-                len,
-                forward,
-                inverse,
-                pre,
-                kernel_hat,
-                post,
-            } => {
-                let buf = &mut s.buf[..*len];
-                buf.iter_mut().for_each(|v| *v = zero);
-                for ((b, x), p) in buf.iter_mut().zip(input).zip(pre) {
-                    *b = x * p;
-                }
-                forward.process_with_scratch(buf, &mut s.fft);
-                buf.iter_mut().zip(kernel_hat).for_each(|(b, k)| *b *= k);
-                inverse.process_with_scratch(buf, &mut s.fft);
-                for ((o, b), p) in out[..n_out].iter_mut().zip(buf.iter()).zip(post) {
+            Imp::Chirp { chirp, post } => {
+                let y = chirp.convolve(input.len(), |i| input[i], &mut s.chirp);
+                for ((o, b), p) in out[..n_out].iter_mut().zip(y).zip(post) {
                     *o = b * p;
                 }
             }
