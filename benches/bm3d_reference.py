@@ -1,5 +1,5 @@
 """The reference BM3D's time on the denoise bench's inputs (the `bm3d` package by BM3D's
-authors), for the README's speed ratio. Same photos and σ as benches/denoise.rs (its noise
+authors), for the speed ratio in docs/src/benchmarks.md. Same photos and σ as benches/denoise.rs (its noise
 differs: numpy's generator, not ChaCha; the time does not depend on the draw).
 
 usage: python3 benches/bm3d_reference.py   (prints one line per case: median of 3 runs;

@@ -6,8 +6,8 @@
 //! - `denoise/cbm3d/rgb-512`: the test set's astronaut (512×512, RGB), σ = 0.1. Goal ≤ 3 s.
 //!
 //! Each case prints its PSNR once. The reference implementation's time on the same inputs comes
-//! from `python3 benches/bm3d_reference.py` (the `bm3d` package); the README's benchmark table
-//! shows both. Run with `cargo bench --bench denoise -- --noplot`.
+//! from `python3 benches/bm3d_reference.py` (the `bm3d` package); the benchmark table of the
+//! book (`docs/src/benchmarks.md`) shows both. Run with `cargo bench --bench denoise -- --noplot`.
 
 use std::hint::black_box;
 use std::time::Duration;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Points per core-hour of each sweep job (one worker thread, release build), for the README's
-# paper plan. Prints a Markdown table. Usage: bash benches/sweep_plan.sh
+# Points per core-hour of each sweep job (one worker thread, release build), for the paper
+# plan in docs/src/benchmarks.md. Prints a Markdown table. Usage: bash benches/sweep_plan.sh
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"

@@ -12,8 +12,8 @@ use udc_studio::app::panels::PanelCtx;
 use udc_studio::app::panels::editor::EditorPanel;
 use udc_studio::core::design::{Design, MAX_CELLS};
 use udc_studio::core::display::opening_ops::{
-    Symmetry, clear, ellipse, flood_fill, from_text, invert, line, open_extent, open_fraction,
-    paint, rect, resample, symmetric_cells, to_text,
+    GridTextError, Symmetry, clear, ellipse, flood_fill, from_text, invert, line, open_extent,
+    open_fraction, paint, rect, resample, symmetric_cells, to_text,
 };
 
 fn closed(n: usize) -> Vec<Vec<f64>> {
@@ -174,19 +174,41 @@ fn text_round_trip() {
 fn text_errors_say_what_is_wrong() {
     let mut rows = vec!["#".repeat(21); 21];
     rows[2] = "#".repeat(20);
+    let e = from_text(&rows.join("\n")).unwrap_err();
     assert_eq!(
-        from_text(&rows.join("\n")).unwrap_err(),
-        "row 3 has 20 cells, expected 21"
+        e,
+        GridTextError::RowLength {
+            row: 3,
+            cells: 20,
+            expected: 21
+        }
     );
+    assert_eq!(e.to_string(), "row 3 has 20 cells, expected 21");
     let e = from_text("##\n#x").unwrap_err();
-    assert!(e.contains("row 2, column 2") && e.contains("'x'"), "{e}");
+    assert_eq!(
+        e,
+        GridTextError::Character {
+            row: 2,
+            column: 2,
+            found: 'x'
+        }
+    );
+    assert!(
+        e.to_string().contains("row 2, column 2") && e.to_string().contains("'x'"),
+        "{e}"
+    );
     let e = from_text("###\n###").unwrap_err();
-    assert!(e.contains("square"), "{e}");
-    assert!(from_text("").unwrap_err().contains("no rows"));
+    assert!(
+        matches!(e, GridTextError::NotSquare { rows: 2, cols: 3 }),
+        "{e}"
+    );
+    assert!(e.to_string().contains("square"), "{e}");
+    assert_eq!(from_text("").unwrap_err(), GridTextError::NoRows);
     let big = vec![".".repeat(MAX_CELLS + 1); MAX_CELLS + 1].join("\n");
     assert!(
         from_text(&big)
             .unwrap_err()
+            .to_string()
             .contains(&MAX_CELLS.to_string())
     );
     assert_eq!(

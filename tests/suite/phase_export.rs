@@ -554,7 +554,7 @@ fn phase_export_rejects_bad_parameters_without_writing() {
 }
 
 /// The thesis's 600-DPI plate (42 µm pitch, 58 lenslets, T = 1, 530 nm) with a 0.2 µm step: the
-/// file sizes stay small and the numbers are the ones the README quotes.
+/// file sizes stay small and the numbers are the ones docs/src/phase/export.md quotes.
 #[test]
 fn phase_export_thesis_600dpi_plate_stays_small() {
     let mut d = PhaseDesign::thesis(42.0, 1.0);

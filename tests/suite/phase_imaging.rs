@@ -205,8 +205,8 @@ fn bad_scenes_and_light_levels_are_refused() {
 /// (≈ 24 and 28 dB) it restores the double MLA better than the solver alone.
 /// Channels integrate the thesis's spectral response, as §4.4.1 does (with the three peak
 /// wavelengths alone, green sees exactly 530 nm and the fixed plate looks better than it is).
-/// Preview sampling and the built-in photo keep the test fast; the README's table is the
-/// measurement on four photos.
+/// Preview sampling and the built-in photo keep the test fast; the table in
+/// docs/src/reproduce.md is the measurement on four photos.
 #[test]
 fn the_double_mla_beats_the_bare_toled_at_every_light_level() {
     let photo = built_in_photo().unwrap();

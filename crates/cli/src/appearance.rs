@@ -8,7 +8,6 @@ use clap::Args;
 use ndarray::Array2;
 
 use super::DesignSelection;
-use udc_core::SimError;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::display::appearance::{AppearanceSettings, appearance, periodic_and_random};
 use udc_core::{Analysis, Progress};
@@ -46,19 +45,6 @@ pub struct AppearanceArgs {
     pub preview: bool,
 }
 
-/// A settings error names the flag as the user typed it.
-fn name_flag(e: SimError) -> anyhow::Error {
-    match e {
-        SimError::InvalidField { field, message }
-            if ["dpi", "viewing_distance_mm", "region_mm", "acuity_arcmin"]
-                .contains(&field.as_str()) =>
-        {
-            anyhow!("--{}: {message}", field.replace('_', "-"))
-        }
-        other => other.into(),
-    }
-}
-
 /// The camera's AUC: the radially-minimum AUC averaged over the colour channels.
 pub fn camera_auc(analysis: &Analysis) -> f64 {
     let n = analysis.channels.len().max(1) as f64;
@@ -82,14 +68,13 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
         acuity_arcmin: args.acuity_arcmin,
     };
     let design = args.selection.resolve()?;
-    settings.validate(design.opening.n()).map_err(name_flag)?;
+    settings.validate(design.opening.n())?;
     let image: Vec<Array2<f64>> = match &args.image {
         Some(path) => photo::load_photo(path, Some(4096))?,
         None => photo::built_in_photo()?,
     };
     let progress = Progress::new();
-    let (quality, rendering) =
-        appearance(&design, &image, &settings, &progress).map_err(name_flag)?;
+    let (quality, rendering) = appearance(&design, &image, &settings, &progress)?;
     let options = AnalyzeOptions {
         quality: if args.preview {
             Quality::Preview
@@ -112,7 +97,7 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
     // Fig. 3.27's pair: the same opening tiled periodically and randomly, rendered alike.
     let mut pair = Vec::new();
     for (label, d) in periodic_and_random(&design) {
-        let (q, rendering) = appearance(&d, &image, &settings, &progress).map_err(name_flag)?;
+        let (q, rendering) = appearance(&d, &image, &settings, &progress)?;
         if let Some(dir) = &args.out {
             let kind = if d.tiling.mode.is_random() {
                 "random"

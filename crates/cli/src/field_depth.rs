@@ -146,20 +146,14 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
         }
         None => None,
     };
-    let r = field_psfs(&design, &settings, &Progress::new())
-        .map_err(|e| anyhow::anyhow!(flag_message(e)))?;
+    let r = field_psfs(&design, &settings, &Progress::new())?;
     let capture = match &photo {
         Some(planes) => {
             let cap = udc_core::restore::CaptureSettings {
                 light: udc_core::restore::Light::SnrDb(args.snr_db),
                 ..udc_core::restore::CaptureSettings::default()
             };
-            cap.validate().map_err(|e| match e {
-                udc_core::SimError::InvalidField { message, .. } => {
-                    anyhow::anyhow!("--snr-db: {message}")
-                }
-                other => other.into(),
-            })?;
+            cap.validate()?;
             Some(udc_core::camera::field_capture::field_capture(
                 planes,
                 &r,
@@ -292,8 +286,7 @@ pub fn depth_cmd(args: &DepthArgs) -> Result<()> {
         nsr: args.nsr,
         quality: quality(args.full),
     };
-    let r = depth_psfs(&design, &settings, &Progress::new())
-        .map_err(|e| anyhow::anyhow!(flag_message(e)))?;
+    let r = depth_psfs(&design, &settings, &Progress::new())?;
     let mut written = Vec::new();
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir)?;
@@ -368,24 +361,4 @@ pub fn depth_cmd(args: &DepthArgs) -> Result<()> {
         println!("wrote {w}");
     }
     Ok(())
-}
-
-/// Core errors about a setting name the flag that sets it.
-fn flag_message(e: udc_core::SimError) -> String {
-    use udc_core::SimError;
-    match e {
-        SimError::InvalidField { field, message } => {
-            let flag = match field.as_str() {
-                "display_distance_mm" => "--display-distance-mm",
-                "max_field_deg" => "--max-field-deg",
-                "grid" => "--grid",
-                "nsr" => "--nsr",
-                "object_distance_mm" => "--object-distance-mm",
-                "focal_mm" => "--focal-mm",
-                other => return format!("field `{other}`: {message}"),
-            };
-            format!("{flag}: {message}")
-        }
-        other => other.to_string(),
-    }
 }

@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Result, anyhow, bail};
 use clap::Args;
 
+use udc_core::ValueError;
 use udc_core::design::{Design, MAX_CELLS, TilingMode};
 use udc_io::design_file::{load_design, save_design};
 use udc_io::mask::{import_opening_on, mask_notes, note_field, sidecar_path};
@@ -29,8 +30,11 @@ pub struct ImportArgs {
 }
 
 /// `L/D` as a GDSII layer and datatype, each 0–255.
-fn parse_layer(s: &str) -> Result<(i16, i16), String> {
-    let bad = || format!("`{s}`: give the layer as L/D, e.g. 1/0, each 0–255");
+fn parse_layer(s: &str) -> Result<(i16, i16), ValueError> {
+    let bad = || ValueError::Malformed {
+        value: s.to_string(),
+        expected: "a layer L/D, e.g. 1/0, each 0–255",
+    };
     let (l, d) = s.split_once('/').ok_or_else(bad)?;
     let l: i16 = l.trim().parse().map_err(|_| bad())?;
     let d: i16 = d.trim().parse().map_err(|_| bad())?;

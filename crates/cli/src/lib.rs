@@ -8,6 +8,7 @@ pub mod denoise_flags;
 pub mod drc;
 mod export_cmd;
 pub mod field_depth;
+pub mod flags;
 pub mod saturation;
 pub use export_cmd::ExportArgs;
 pub mod import;
@@ -241,40 +242,7 @@ pub(crate) fn capture_json(run: impl FnOnce() -> Result<()>) -> Result<serde_jso
 /// # Errors
 /// Any failure, as one message for stderr.
 pub fn run(command: Command) -> Result<()> {
-    run_command(command).map_err(name_flags)
-}
-
-/// Settings that only a flag sets, by the field name the core reports, and their flag.
-const FLAG_OF_FIELD: [(&str, &str); 15] = [
-    ("eta", "--eta"),
-    ("eta_per_pixel", "--eta-per-pixel"),
-    ("capture.light.snr_db", "--snr-db"),
-    ("capture.light.electrons_at_peak", "--light"),
-    ("capture.adc_bits", "--adc-bits"),
-    ("method.nsr", "--nsr"),
-    ("method.lambda", "--lambda"),
-    ("epochs", "--epochs"),
-    ("target_open_fraction", "--area"),
-    ("weights.area", "--weight-area"),
-    ("weights.inv", "--weight-inv"),
-    ("weights.data", "--weight-data"),
-    ("roi_px", "--roi"),
-    ("snr_t", "--snr-t"),
-    ("photo", "--image"),
-];
-
-/// A core error about a setting that only a flag sets names the flag, as the user typed it.
-fn name_flags(e: anyhow::Error) -> anyhow::Error {
-    match e.downcast::<udc_core::SimError>() {
-        Ok(udc_core::SimError::InvalidField { field, message }) => {
-            match FLAG_OF_FIELD.iter().find(|(f, _)| *f == field) {
-                Some((_, flag)) => anyhow::anyhow!("{flag}: {message}"),
-                None => udc_core::SimError::InvalidField { field, message }.into(),
-            }
-        }
-        Ok(other) => other.into(),
-        Err(e) => e,
-    }
+    run_command(command).map_err(flags::name_flags)
 }
 
 fn run_command(command: Command) -> Result<()> {

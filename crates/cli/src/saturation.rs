@@ -60,12 +60,7 @@ pub fn saturation_cmd(args: &SaturationArgs) -> Result<()> {
         nsr: args.nsr,
         seed: args.noise_seed,
     };
-    settings.validate().map_err(|e| match e {
-        udc_core::SimError::InvalidField { field, message } => {
-            anyhow::anyhow!("--{}: {message}", field.replace('_', "-"))
-        }
-        other => other.into(),
-    })?;
+    settings.validate()?;
     if args.max_side_px == Some(0) {
         bail!("--max-side-px: must be at least 1");
     }

@@ -10,7 +10,7 @@ use udc_core::sensor::{
     AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, PRESET_NAMES, RoiLight, SensorSettings,
     SensorSpec, Strategy, flat_patch, run,
 };
-use udc_core::{Progress, SimError};
+use udc_core::{Progress, ValueError};
 use udc_io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
 use udc_io::numbers::json6 as r;
 use udc_io::sensor_report::{run_json, write_run_images};
@@ -147,21 +147,7 @@ pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
         seed: args.seed,
         gain: args.gain,
     };
-    let flag_of = |field: &str| match field {
-        "light_e" => Some("--light"),
-        "eta" => Some("--eta"),
-        "bin_px" => Some("--bin"),
-        "side_px" => Some("--side-px"),
-        "gain" => Some("--gain"),
-        _ => None,
-    };
-    let res = flat_patch(&spec, &sensor, &Progress::new()).map_err(|e| match e {
-        SimError::InvalidField { field, message } => match flag_of(&field) {
-            Some(flag) => anyhow::anyhow!("{flag}: {message}"),
-            None => SimError::InvalidField { field, message }.into(),
-        },
-        e => e.into(),
-    })?;
+    let res = flat_patch(&spec, &sensor, &Progress::new())?;
     let mode = if spec.bin_px == 1 {
         "none".to_string()
     } else if spec.bin_mode == BinMode::AnalogAdditive {
@@ -232,14 +218,18 @@ pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
 ///
 /// # Errors
 /// A message naming what is wrong.
-pub fn parse_exposure(s: &str) -> Result<Exposure, String> {
+pub fn parse_exposure(s: &str) -> Result<Exposure, ValueError> {
+    let bad = |problem: String| ValueError::Unusable {
+        value: s.to_string(),
+        problem,
+    };
     let (kind, value) = s
         .split_once(':')
-        .ok_or_else(|| format!("`{s}`: expected mean:F, pP:F or abs:E (e.g. mean:0.05)"))?;
+        .ok_or_else(|| bad("expected mean:F, pP:F or abs:E (e.g. mean:0.05)".into()))?;
     let number = |t: &str| {
         t.trim()
             .parse::<f64>()
-            .map_err(|_| format!("`{s}`: `{t}` is not a number"))
+            .map_err(|_| bad(format!("`{t}` is not a number")))
     };
     let kind = kind.trim().to_ascii_lowercase();
     let e = match kind.as_str() {
@@ -249,9 +239,9 @@ pub fn parse_exposure(s: &str) -> Result<Exposure, String> {
             percentile: number(&k[1..])?,
             fill: number(value)?,
         },
-        _ => return Err(format!("`{s}`: expected mean:F, pP:F or abs:E")),
+        _ => return Err(bad("expected mean:F, pP:F or abs:E".into())),
     };
-    e.validate().map_err(|err| format!("`{s}`: {err}"))?;
+    e.validate().map_err(|err| bad(err.to_string()))?;
     Ok(e)
 }
 

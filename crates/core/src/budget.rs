@@ -7,7 +7,7 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use crate::SimError;
+use crate::{SimError, ValueError};
 
 /// The budget before the binary sets one: 4 GiB.
 pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 4 << 30;
@@ -66,7 +66,7 @@ pub fn format_bytes(bytes: u64) -> String {
 ///
 /// # Errors
 /// A message saying what a size looks like.
-pub fn parse_size(text: &str) -> Result<u64, String> {
+pub fn parse_size(text: &str) -> Result<u64, ValueError> {
     let t = text.trim();
     let upper = t.to_ascii_uppercase();
     let digits = upper.trim_end_matches(['B', 'I']);
@@ -81,14 +81,20 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
         Some('T') => 1 << 40,
         _ => 1,
     };
-    let bad = || format!("`{t}` is not a size (e.g. 2G, 512M or 1500000000)");
+    let bad = || ValueError::Malformed {
+        value: t.to_string(),
+        expected: "a size (e.g. 2G, 512M or 1500000000)",
+    };
     let v: f64 = number.trim().parse().map_err(|_| bad())?;
     if !(v.is_finite() && v > 0.0) {
         return Err(bad());
     }
     let bytes = v * scale as f64;
     if bytes > u64::MAX as f64 / 2.0 {
-        return Err(format!("`{t}` is more memory than any machine has"));
+        return Err(ValueError::Unusable {
+            value: t.to_string(),
+            problem: "more memory than any machine has".into(),
+        });
     }
     Ok(bytes as u64)
 }

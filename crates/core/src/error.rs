@@ -44,3 +44,36 @@ impl SimError {
         }
     }
 }
+
+/// A value typed on the command line, in a dialog or in a file that the studio cannot use (a
+/// size, a shard, a name from a closed set). The message names the value as given and says what
+/// would be accepted.
+#[derive(Debug, Error, Clone, PartialEq, Eq)]
+pub enum ValueError {
+    /// A name outside a closed set (a tiling, a tone, a region).
+    #[error("unknown {what} `{value}` (expected {expected})")]
+    UnknownName {
+        /// What the name names ("tiling").
+        what: &'static str,
+        /// The name as given.
+        value: String,
+        /// The accepted names.
+        expected: &'static str,
+    },
+    /// Text that does not have the form of the value.
+    #[error("`{value}` is not {expected}")]
+    Malformed {
+        /// The text as given.
+        value: String,
+        /// What it should be, with an example ("a size (e.g. 2G)").
+        expected: &'static str,
+    },
+    /// A well-formed value that cannot be used.
+    #[error("`{value}`: {problem}")]
+    Unusable {
+        /// The value as given.
+        value: String,
+        /// Why it cannot be used.
+        problem: String,
+    },
+}

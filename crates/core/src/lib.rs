@@ -64,5 +64,5 @@ pub mod theory;
 
 pub use analysis::analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};
 pub use design::Design;
-pub use error::SimError;
+pub use error::{SimError, ValueError};
 pub use progress::Progress;

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 
 use crate::error::IoError;
 use crate::{design_file, pattern, presets, spectral};
+use udc_core::ValueError;
 use udc_core::design::{Design, OpticsRecipe, TilingMode};
 
 /// The choice; `None` fields keep the design's own value.
@@ -102,11 +103,13 @@ impl DesignChoice {
     /// A value that does not parse, naming the parameter.
     pub fn from_params<'a>(
         params: impl IntoIterator<Item = (&'a str, &'a str)>,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, ValueError> {
         let mut c = DesignChoice::default();
-        let num = |name: &str, v: &str| -> Result<f64, String> {
-            v.parse::<f64>()
-                .map_err(|_| format!("{name} `{v}` is not a number"))
+        let num = |name: &str, v: &str| -> Result<f64, ValueError> {
+            v.parse::<f64>().map_err(|_| ValueError::Unusable {
+                value: v.to_string(),
+                problem: format!("{name} is not a number"),
+            })
         };
         for (name, v) in params {
             match name {
@@ -116,17 +119,21 @@ impl DesignChoice {
                 "pitch-um" => c.pitch_um = Some(num(name, v)?),
                 "tiling" => c.tiling = Some(v.parse()?),
                 "seed" => {
-                    c.seed = Some(
-                        v.parse()
-                            .map_err(|_| format!("seed `{v}` is not a whole number"))?,
-                    );
+                    c.seed = Some(v.parse().map_err(|_| ValueError::Unusable {
+                        value: v.to_string(),
+                        problem: "the seed is not a whole number".into(),
+                    })?);
                 }
                 "optics" => {
                     c.optics = Some(
                         OpticsRecipe::NAMED
                             .into_iter()
                             .find(|r| r.as_str() == v)
-                            .ok_or_else(|| format!("unknown optics recipe `{v}`"))?,
+                            .ok_or_else(|| ValueError::UnknownName {
+                                what: "optics recipe",
+                                value: v.to_string(),
+                                expected: "iccp21 or phone",
+                            })?,
                     );
                 }
                 "spectral" => c.spectral = Some(PathBuf::from(v)),

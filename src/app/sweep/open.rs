@@ -114,7 +114,8 @@ pub fn open_row(table: &SweepTable, index: usize) -> Result<OpenedDesign, String
             }
         })
         .collect();
-    let choice = DesignChoice::from_params(params.iter().map(|(k, v)| (k.as_str(), v.as_str())))?;
+    let choice = DesignChoice::from_params(params.iter().map(|(k, v)| (k.as_str(), v.as_str())))
+        .map_err(|e| e.to_string())?;
     let design = choice.resolve().map_err(|e| e.to_string())?;
     let hash_matches = design_hash(&design) == row.design_hash;
     Ok(OpenedDesign {

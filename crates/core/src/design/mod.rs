@@ -4,7 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::SimError;
+use crate::{SimError, ValueError};
 
 mod subpixels;
 mod theory;
@@ -118,12 +118,16 @@ impl TilingMode {
 }
 
 impl std::str::FromStr for TilingMode {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ValueError;
+    fn from_str(s: &str) -> Result<Self, ValueError> {
         TilingMode::ALL
             .into_iter()
             .find(|m| m.as_str() == s)
-            .ok_or_else(|| format!("unknown tiling `{s}` (expected repeat, random-d4 or random-4)"))
+            .ok_or_else(|| ValueError::UnknownName {
+                what: "tiling",
+                value: s.to_string(),
+                expected: "repeat, random-d4 or random-4",
+            })
     }
 }
 

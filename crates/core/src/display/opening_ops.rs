@@ -292,28 +292,77 @@ pub fn to_text(cells: &[Vec<f64>]) -> String {
         .join("\n")
 }
 
+/// Why text rows do not read as an opening grid (rows and columns counted from 1, blank lines
+/// not counted).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum GridTextError {
+    /// Nothing but blank lines.
+    #[error("no rows found: expected rows of '#' (open) and '.' (closed) cells")]
+    NoRows,
+    /// More rows or columns than the studio supports.
+    #[error(
+        "{rows} rows of {cols} cells is more than the {MAX_CELLS} cells per side the studio supports"
+    )]
+    TooLarge {
+        /// Rows given.
+        rows: usize,
+        /// Cells in the first row.
+        cols: usize,
+    },
+    /// A character that is not a cell.
+    #[error(
+        "row {row}, column {column}: unexpected character {found:?} \
+         (use '#' or '1' for open, '.' or '0' for closed)"
+    )]
+    Character {
+        /// Its row.
+        row: usize,
+        /// Its column.
+        column: usize,
+        /// The character.
+        found: char,
+    },
+    /// A row of another length than the first.
+    #[error("row {row} has {cells} cells, expected {expected}")]
+    RowLength {
+        /// The row.
+        row: usize,
+        /// Its cells.
+        cells: usize,
+        /// The first row's cells.
+        expected: usize,
+    },
+    /// As many rows as columns are needed.
+    #[error("the grid must be square: {rows} rows of {cols} cells (expected {cols} rows)")]
+    NotSquare {
+        /// Rows given.
+        rows: usize,
+        /// Cells per row.
+        cols: usize,
+    },
+}
+
 /// Reads a grid written as text rows: `#` or `1` open, `.` or `0` closed. Whitespace around each
 /// row and blank lines are ignored. Rows are counted from 1 (blank lines not counted).
 ///
 /// # Errors
-/// A message saying what is wrong when a character is not one of `#1.0`, when the rows differ in
-/// length, when the grid is not square, when there are no rows, or when it has more than
-/// [`MAX_CELLS`] cells per side.
-pub fn from_text(text: &str) -> Result<Vec<Vec<f64>>, String> {
+/// [`GridTextError`]: a character that is not one of `#1.0`, rows of different lengths, a grid
+/// that is not square, no rows, or more than [`MAX_CELLS`] cells per side.
+pub fn from_text(text: &str) -> Result<Vec<Vec<f64>>, GridTextError> {
     let rows: Vec<&str> = text
         .lines()
         .map(str::trim)
         .filter(|l| !l.is_empty())
         .collect();
     let Some(first) = rows.first() else {
-        return Err("no rows found: expected rows of '#' (open) and '.' (closed) cells".into());
+        return Err(GridTextError::NoRows);
     };
     let n = first.chars().count();
     if rows.len() > MAX_CELLS || n > MAX_CELLS {
-        return Err(format!(
-            "{} rows of {n} cells is more than the {MAX_CELLS} cells per side the studio supports",
-            rows.len()
-        ));
+        return Err(GridTextError::TooLarge {
+            rows: rows.len(),
+            cols: n,
+        });
     }
     let mut cells = Vec::with_capacity(rows.len());
     for (i, row) in rows.iter().enumerate() {
@@ -323,28 +372,27 @@ pub fn from_text(text: &str) -> Result<Vec<Vec<f64>>, String> {
             .map(|(j, ch)| match ch {
                 '#' | '1' => Ok(1.0),
                 '.' | '0' => Ok(0.0),
-                other => Err(format!(
-                    "row {}, column {}: unexpected character {other:?} \
-                     (use '#' or '1' for open, '.' or '0' for closed)",
-                    i + 1,
-                    j + 1
-                )),
+                found => Err(GridTextError::Character {
+                    row: i + 1,
+                    column: j + 1,
+                    found,
+                }),
             })
-            .collect::<Result<Vec<f64>, String>>()?;
+            .collect::<Result<Vec<f64>, GridTextError>>()?;
         if parsed.len() != n {
-            return Err(format!(
-                "row {} has {} cells, expected {n}",
-                i + 1,
-                parsed.len()
-            ));
+            return Err(GridTextError::RowLength {
+                row: i + 1,
+                cells: parsed.len(),
+                expected: n,
+            });
         }
         cells.push(parsed);
     }
     if cells.len() != n {
-        return Err(format!(
-            "the grid must be square: {} rows of {n} cells (expected {n} rows)",
-            cells.len()
-        ));
+        return Err(GridTextError::NotSquare {
+            rows: cells.len(),
+            cols: n,
+        });
     }
     Ok(cells)
 }
@@ -539,14 +587,14 @@ mod tests {
             vec![vec![1.0, 0.0], vec![0.0, 1.0]]
         );
         assert_eq!(
-            from_text("##\n#"),
+            from_text("##\n#").map_err(|e| e.to_string()),
             Err("row 2 has 1 cells, expected 2".to_string())
         );
-        assert!(from_text("#x\n##").is_err_and(|e| e.contains("row 1, column 2")));
-        assert!(from_text("##\n##\n##").is_err_and(|e| e.contains("square")));
-        assert!(from_text(" \n\n").is_err_and(|e| e.contains("no rows")));
+        assert!(from_text("#x\n##").is_err_and(|e| e.to_string().contains("row 1, column 2")));
+        assert!(from_text("##\n##\n##").is_err_and(|e| e.to_string().contains("square")));
+        assert!(from_text(" \n\n").is_err_and(|e| e.to_string().contains("no rows")));
         let huge = vec!["#".repeat(MAX_CELLS + 1); MAX_CELLS + 1].join("\n");
-        assert!(from_text(&huge).is_err_and(|e| e.contains("512")));
+        assert!(from_text(&huge).is_err_and(|e| e.to_string().contains("512")));
     }
 
     #[test]

@@ -21,9 +21,9 @@ pub mod region;
 
 use thiserror::Error;
 
-use crate::SimError;
 use crate::design::Design;
 use crate::display::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
+use crate::{SimError, ValueError};
 
 pub use frame::{FrameGeometry, FrameLabel, FramePart, FrameSpec, frame_geometry, label_text};
 pub use layout::{MaskLayout, MaskRegion, MaskStats, Placement, Polygon, TileRow};
@@ -68,12 +68,16 @@ impl Tone {
 }
 
 impl std::str::FromStr for Tone {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ValueError;
+    fn from_str(s: &str) -> Result<Self, ValueError> {
         match s {
             "open" => Ok(Tone::Open),
             "chrome" => Ok(Tone::Chrome),
-            other => Err(format!("unknown tone `{other}` (expected open or chrome)")),
+            other => Err(ValueError::UnknownName {
+                what: "tone",
+                value: other.to_string(),
+                expected: "open or chrome",
+            }),
         }
     }
 }

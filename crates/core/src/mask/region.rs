@@ -1,5 +1,7 @@
 //! Which pixels of the display a mask covers: one pixel, a block, or the lens pupil.
 
+use crate::ValueError;
+
 /// Which pixels a mask covers.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MaskRegion {
@@ -31,19 +33,26 @@ impl MaskRegion {
 }
 
 impl std::str::FromStr for MaskRegion {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ValueError;
+    fn from_str(s: &str) -> Result<Self, ValueError> {
         match s {
             "pixel" => return Ok(MaskRegion::PIXEL),
             "pupil" => return Ok(MaskRegion::Pupil),
             _ => {}
         }
-        let bad = || format!("unknown region `{s}` (expected pixel, pupil or WxH, e.g. 1080x2400)");
+        let bad = || ValueError::UnknownName {
+            what: "region",
+            value: s.to_string(),
+            expected: "pixel, pupil or WxH, e.g. 1080x2400",
+        };
         let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
         let cols: u32 = w.trim().parse().map_err(|_| bad())?;
         let rows: u32 = h.trim().parse().map_err(|_| bad())?;
         if cols == 0 || rows == 0 {
-            return Err(format!("region `{s}` is empty: W and H must be at least 1"));
+            return Err(ValueError::Unusable {
+                value: s.to_string(),
+                problem: "an empty region: W and H must be at least 1".into(),
+            });
         }
         Ok(MaskRegion::Block { cols, rows })
     }

@@ -2,7 +2,7 @@
 //! axis fastest), so a sweep of millions of points never holds them all; and shards of it.
 
 use super::spec::{ParamValue, SweepSpec, axis_values};
-use crate::SimError;
+use crate::{SimError, ValueError};
 
 /// The expanded axes of a spec; a point is one value per axis, found from its index.
 #[derive(Debug, Clone)]
@@ -150,27 +150,31 @@ impl Shard {
 ///
 /// # Errors
 /// One line saying what is wrong.
-pub fn parse_shard(s: &str) -> Result<Shard, String> {
+pub fn parse_shard(s: &str) -> Result<Shard, ValueError> {
+    let bad = |problem: String| ValueError::Unusable {
+        value: s.to_string(),
+        problem,
+    };
     let (i, n) = s
         .split_once('/')
-        .ok_or_else(|| format!("`{s}`: a shard is I/N, e.g. 0/4"))?;
+        .ok_or_else(|| bad("a shard is I/N, e.g. 0/4".into()))?;
     let index: u64 = i
         .trim()
         .parse()
-        .map_err(|_| format!("`{s}`: {i} is not a shard number"))?;
+        .map_err(|_| bad(format!("{i} is not a shard number")))?;
     let count: u64 = n
         .trim()
         .parse()
-        .map_err(|_| format!("`{s}`: {n} is not a shard count"))?;
+        .map_err(|_| bad(format!("{n} is not a shard count")))?;
     if count == 0 || index >= count {
-        return Err(format!("`{s}`: needs 0 ≤ I < N"));
+        return Err(bad("needs 0 ≤ I < N".into()));
     }
     Ok(Shard { index, count })
 }
 
 impl std::str::FromStr for Shard {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ValueError;
+    fn from_str(s: &str) -> Result<Self, ValueError> {
         parse_shard(s)
     }
 }

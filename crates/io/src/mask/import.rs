@@ -10,6 +10,7 @@ use std::path::Path;
 
 use super::{MaskFormat, dxf, gds, oasis, tone_of_notes};
 use crate::IoError;
+use udc_core::ValueError;
 use udc_core::mask::Tone;
 
 /// The cells to sample: `cols × rows` cells of `cell_um`, the top-left corner at
@@ -260,7 +261,7 @@ pub fn import_opening_on(
                 || err("the PNG states no REGION= note (not written by udc-studio)".into()),
             )?
             .parse()
-            .map_err(err)?;
+            .map_err(|e: ValueError| err(e.to_string()))?;
         if let Some(g) = note_field(lines, "GRID_NM").and_then(|g| g.parse().ok()) {
             spec.grid_nm = g;
         }

@@ -20,10 +20,10 @@ mod walk;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use udc_core::Progress;
 use udc_core::design::Design;
 use udc_core::mask::{FrameSpec, MaskError, MaskLayout, MaskSpec, MaskStats, Tone, mask_ltr};
 use udc_core::psf::warning::SamplingWarning;
+use udc_core::{Progress, ValueError};
 
 use super::IoError;
 use super::fab::{LayerMap, MAX_BOUNDARY_VERTICES, Sidecars};
@@ -101,8 +101,8 @@ impl MaskFormat {
 }
 
 impl std::str::FromStr for MaskFormat {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ValueError;
+    fn from_str(s: &str) -> Result<Self, ValueError> {
         MaskFormat::ALL
             .into_iter()
             .find(|f| {
@@ -110,8 +110,10 @@ impl std::str::FromStr for MaskFormat {
                     || (s == "gdsii" && *f == MaskFormat::Gds)
                     || (s == "oasis" && *f == MaskFormat::Oas)
             })
-            .ok_or_else(|| {
-                format!("unknown mask format `{s}` (expected gds, oas, dxf, svg or png)")
+            .ok_or_else(|| ValueError::UnknownName {
+                what: "mask format",
+                value: s.to_string(),
+                expected: "gds, oas, dxf, svg or png",
             })
     }
 }
@@ -129,14 +131,16 @@ pub enum GdsCells {
 }
 
 impl std::str::FromStr for GdsCells {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ValueError;
+    fn from_str(s: &str) -> Result<Self, ValueError> {
         match s {
             "strans" => Ok(GdsCells::Strans),
             "per-orientation" => Ok(GdsCells::PerOrientation),
-            other => Err(format!(
-                "unknown GDSII cell layout `{other}` (expected strans or per-orientation)"
-            )),
+            other => Err(ValueError::UnknownName {
+                what: "GDSII cell layout",
+                value: other.to_string(),
+                expected: "strans or per-orientation",
+            }),
         }
     }
 }
@@ -152,12 +156,16 @@ pub enum PngBits {
 }
 
 impl std::str::FromStr for PngBits {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ValueError;
+    fn from_str(s: &str) -> Result<Self, ValueError> {
         match s {
             "1" => Ok(PngBits::One),
             "8" => Ok(PngBits::Eight),
-            other => Err(format!("PNG bits must be 1 or 8 (got `{other}`)")),
+            other => Err(ValueError::UnknownName {
+                what: "PNG bit depth",
+                value: other.to_string(),
+                expected: "1 or 8",
+            }),
         }
     }
 }
