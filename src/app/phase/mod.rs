@@ -37,7 +37,7 @@ pub use response::CustomResponse;
 
 use crate::app::autosave::Autosave;
 use crate::app::history::{History, Snapshot};
-use crate::app::job::{Job, JobError};
+use crate::app::job::{Job, JobError, Keyed};
 use crate::app::settings::AppDirs;
 use crate::core::SimError;
 use crate::core::design::Channel;
@@ -106,14 +106,13 @@ pub struct ShownPsfs {
     pub elapsed_ms: f64,
 }
 
-struct PsfJob {
+/// What a PSF run was started for.
+struct PsfKey {
     generation: u64,
     quality: Quality,
     design: PhaseDesign,
     optics: PhaseOptics,
     channels: ChannelSet,
-    /// The PSFs and the milliseconds they took.
-    job: Job<(PhasePsfs, f64)>,
 }
 
 /// What the newest generation was started for (compared in place with the controls each frame).
@@ -148,7 +147,8 @@ pub struct PhaseWorkspace {
     spectral: Option<Result<Vec<Channel>, String>>,
     submitted: Option<Submitted>,
     generation: u64,
-    job: Option<PsfJob>,
+    /// The PSFs of the newest parameters and the milliseconds they took.
+    job: Keyed<PsfKey, (PhasePsfs, f64)>,
     shown: Option<ShownPsfs>,
     message: Option<Notice>,
     v_job: Option<LongJob<VMatrix>>,
@@ -200,7 +200,7 @@ impl PhaseWorkspace {
             spectral: None,
             submitted: None,
             generation: 0,
-            job: None,
+            job: Keyed::idle(),
             shown: None,
             message,
             v_job: None,
@@ -240,7 +240,7 @@ impl PhaseWorkspace {
 
     /// True once the PSFs of the newest parameters are on screen at the chosen quality.
     pub fn is_up_to_date(&self) -> bool {
-        self.job.is_none()
+        !self.job.is_running()
             && self
                 .shown
                 .as_ref()
@@ -346,7 +346,7 @@ impl PhaseWorkspace {
             self.history.commit();
         }
         self.autosave_tick(ctx);
-        if self.job.is_some()
+        if self.job.is_running()
             || self.v_job.is_some()
             || self.opt_job.is_some()
             || self.is_computing_kernels()
@@ -373,7 +373,7 @@ impl PhaseWorkspace {
         // Whatever happens next, results of older parameters are stale.
         self.generation += 1;
         // Dropping the running job cancels it.
-        self.job = None;
+        self.job.stop();
         if let Err(e) = self.history.current().validate() {
             self.message = Some(Notice::error(e.to_string()));
             return;
@@ -405,7 +405,7 @@ impl PhaseWorkspace {
                 return;
             }
         };
-        self.job = None;
+        self.job.stop();
         let optics = self.optics();
         let wake = ctx.clone();
         let d = design.clone();
@@ -426,28 +426,28 @@ impl PhaseWorkspace {
                 Ok::<_, SimError>((r, t0.elapsed().as_secs_f64() * 1e3))
             },
         );
-        self.job = Some(PsfJob {
-            generation: self.generation,
-            quality,
-            design,
-            optics,
-            channels: set,
+        self.job.start(
+            PsfKey {
+                generation: self.generation,
+                quality,
+                design,
+                optics,
+                channels: set,
+            },
             job,
-        });
+        );
     }
 
     /// Cancels the running PSF job; the last result stays.
     pub fn cancel_psfs(&mut self) {
-        if self.job.take().is_some() {
+        if self.job.is_running() {
+            self.job.stop();
             self.message = Some(Notice::info("PSF run cancelled; the last result stays"));
         }
     }
 
     fn take_psfs(&mut self, ctx: &egui::Context) {
-        let Some(done) = self.job.as_ref().and_then(|j| j.job.poll()) else {
-            return;
-        };
-        let Some(job) = self.job.take() else {
+        let Some((job, done)) = self.job.poll() else {
             return;
         };
         match done {

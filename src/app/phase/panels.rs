@@ -385,9 +385,9 @@ impl PhaseWorkspace {
     /// Right: geometry, light and sharpness numbers.
     pub fn numbers_ui(&mut self, ui: &mut Ui) {
         ui.heading("Numbers");
-        if let Some(j) = &self.job {
-            let p = j.job.fraction();
-            let label = match j.quality {
+        if let Some((key, j)) = self.job.current() {
+            let p = j.fraction();
+            let label = match key.quality {
                 Quality::Preview => "preview…",
                 Quality::Full => "full quality…",
             };

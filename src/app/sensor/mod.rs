@@ -20,7 +20,7 @@ use std::sync::Arc;
 use egui::TextureHandle;
 
 use crate::app::dialogs::PendingDialog;
-use crate::app::job::{Job, JobError};
+use crate::app::job::{Job, JobError, Keyed};
 use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
 
 use crate::io::hdr;
@@ -51,11 +51,11 @@ pub struct ShownRun {
     textures: images::RunTextures,
 }
 
-/// A run of one generation at one quality.
-struct SensorJob {
+/// What a sensor run was started for: the generation of the scene and settings, and the quality.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct RunKey {
     generation: u64,
     quality: Quality,
-    job: Job<SensorRun>,
 }
 
 /// Which picture the centre shows.
@@ -109,7 +109,7 @@ pub struct SensorWorkspace {
     /// The settings and scene of the newest generation.
     submitted: Option<(SensorSettings, usize)>,
     generation: u64,
-    job: Option<SensorJob>,
+    job: Keyed<RunKey, SensorRun>,
     shown: Option<ShownRun>,
     /// The picture the centre shows.
     pub view: SensorView,
@@ -144,7 +144,7 @@ impl Default for SensorWorkspace {
             absolute_e_per_um2: 100.0,
             submitted: None,
             generation: 0,
-            job: None,
+            job: Keyed::idle(),
             shown: None,
             view: SensorView::Maps,
             map_strategy: 3,
@@ -300,9 +300,7 @@ impl SensorWorkspace {
                 }
             }
         }
-        if let Some(done) = self.job.as_ref().and_then(|j| j.job.poll())
-            && let Some(job) = self.job.take()
-        {
+        if let Some((job, done)) = self.job.poll() {
             match done {
                 Ok(run) if job.generation == self.generation => {
                     let textures = images::RunTextures::new(ctx, &run, job.generation);
@@ -352,7 +350,7 @@ impl SensorWorkspace {
             return;
         };
         // Dropping the running job cancels it.
-        self.job = None;
+        self.job.stop();
         let settings = match quality {
             Quality::Preview => self
                 .settings
@@ -371,10 +369,12 @@ impl SensorWorkspace {
                 run(s, &settings, p)
             },
         );
-        self.job = Some(SensorJob {
-            generation: self.generation,
-            quality,
+        self.job.start(
+            RunKey {
+                generation: self.generation,
+                quality,
+            },
             job,
-        });
+        );
     }
 }

@@ -8,16 +8,16 @@ impl SensorWorkspace {
     /// Right: the Table 5.4-style numbers.
     pub fn numbers_ui(&mut self, ui: &mut Ui) {
         ui.heading("Numbers");
-        match (&self.job, &self.shown) {
-            (Some(j), _) => {
+        match (self.job.current(), &self.shown) {
+            (Some((key, j)), _) => {
                 ui.horizontal(|ui| {
                     ui.spinner();
-                    ui.label(match j.quality {
+                    ui.label(match key.quality {
                         Quality::Preview => "preview…",
                         Quality::Full => "full scene…",
                     });
                 });
-                ui.add(egui::ProgressBar::new(j.job.fraction()));
+                ui.add(egui::ProgressBar::new(j.fraction()));
             }
             (None, Some(s)) => {
                 ui.weak(format!(

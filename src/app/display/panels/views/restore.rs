@@ -12,7 +12,7 @@ use ndarray::Array2;
 
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::display::panels::{PanelCtx, Pinned, Shown};
-use crate::app::job::Job;
+use crate::app::job::{Job, Keyed};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::Analysis;
 use crate::core::restore::capture::REFERENCE_LTR;
@@ -55,12 +55,6 @@ struct Row {
     textures: Vec<(TextureHandle, String)>,
 }
 
-/// A run for the settings in `key`.
-struct RestoreJob {
-    key: Key,
-    job: Job<Vec<(String, RestoreResult)>>,
-}
-
 /// The Restore view's state: the photo, the light level and restoration method, the background
 /// run and its results for the current and the pinned design.
 pub struct RestoreView {
@@ -75,7 +69,8 @@ pub struct RestoreView {
     lambda: f64,
     seed: u64,
     denoise: Denoise,
-    job: Option<RestoreJob>,
+    /// The run for the newest settings (their key).
+    job: Keyed<Key, Vec<(String, RestoreResult)>>,
     done_key: Option<Key>,
     rows: Vec<Row>,
     message: Option<Notice>,
@@ -95,7 +90,7 @@ impl Default for RestoreView {
             lambda: CgSettings::default().lambda,
             seed: 0,
             denoise: Denoise::thesis(Recipe::Iccp21),
-            job: None,
+            job: Keyed::idle(),
             done_key: None,
             rows: Vec::new(),
             message: None,
@@ -116,7 +111,7 @@ impl RestoreView {
 
     /// Whether a photo is loading or a capture-and-restore run is in progress.
     pub fn is_running(&self) -> bool {
-        self.job.is_some() || self.photo_load.is_some()
+        self.job.is_running() || self.photo_load.is_some()
     }
 
     /// The denoiser before the deblurring.
@@ -189,8 +184,8 @@ impl RestoreView {
                 Err(e) => self.message = Some(Notice::error(format!("cannot open the photo: {e}"))),
             }
         }
-        if let Some(done) = self.job.as_ref().and_then(|j| j.job.poll()) {
-            let key = self.job.take().map(|j| j.key);
+        if let Some((key, done)) = self.job.poll() {
+            let key = Some(key);
             match done {
                 Ok(runs) => {
                     self.rows = runs
@@ -267,7 +262,7 @@ impl RestoreView {
             return;
         };
         // Dropping the running job cancels it.
-        self.job = None;
+        self.job.stop();
         let method = match self.method {
             MethodChoice::Wiener => Method::Wiener { nsr: self.nsr },
             MethodChoice::Cg => Method::Cg(CgSettings {
@@ -326,7 +321,7 @@ impl RestoreView {
                 Ok::<_, String>(out)
             },
         );
-        self.job = Some(RestoreJob { key, job });
+        self.job.start(key, job);
     }
 
     /// Draws the controls, the pictures and the numbers; starts a new run when the design, the
@@ -337,7 +332,7 @@ impl RestoreView {
         self.controls_ui(ui);
         let key = self.key(shown, ctx.pinned);
         let stale = self.done_key.as_ref() != Some(&key);
-        let running_this = self.job.as_ref().is_some_and(|j| j.key == key);
+        let running_this = self.job.is_running_for(|k| *k == key);
         if stale && !running_this && self.photo.is_some() {
             self.start(key, shown, ctx.pinned, &egui_ctx);
         }
@@ -367,8 +362,8 @@ impl RestoreView {
             }
             if self.is_running() {
                 ui.spinner();
-                if let Some(j) = &self.job {
-                    ui.weak(format!("{:.0} %", 100.0 * j.job.fraction()));
+                if let Some(j) = self.job.job() {
+                    ui.weak(format!("{:.0} %", 100.0 * j.fraction()));
                 }
             }
         });
