@@ -1,14 +1,16 @@
 //! One shape for every background computation and file task of the studio, so the UI thread
 //! only draws: [`Job::spawn`] runs a closure on its own named thread with a [`Progress`] it can
 //! report to and check for cancellation; the UI polls it once per frame; dropping the handle
-//! cancels it. Results arrive as `Result<T, JobError>`, one level deep.
+//! cancels it. Results arrive as `Result<T, JobError>`, one level deep. Two shapes build on it:
+//! [`Keyed`], the job a view keeps for its newest key, and [`Streaming`], a job whose parts
+//! arrive while it runs.
 //!
 //! The display workspace's live analysis is the one exception: [`super::Worker`] keeps a single
 //! thread that coalesces a stream of designs (newest wins) rather than running one job.
 
 use std::fmt;
 use std::sync::Arc;
-use std::sync::mpsc::{Receiver, TryRecvError, channel};
+use std::sync::mpsc::{Receiver, Sender, TryRecvError, channel};
 use std::time::{Duration, Instant};
 
 use super::notice::Notice;
@@ -178,6 +180,59 @@ impl<K, T: Send + 'static> Keyed<K, T> {
     }
 }
 
+/// A job whose results arrive part by part while it runs (a comparison's rows, each setup's
+/// capture), with the key it was started for. Its work gets a [`Sender`] for the parts; the UI
+/// takes the parts that [`Streaming::arrived`] each frame and the end once; dropping it cancels
+/// the job.
+pub struct Streaming<K, P> {
+    key: K,
+    job: Job<()>,
+    parts: Receiver<P>,
+}
+
+impl<K, P: Send + 'static> Streaming<K, P> {
+    /// Runs `work` on its own thread (as [`Job::spawn`]) for `key`; `work` sends each part as
+    /// soon as it is ready.
+    pub fn spawn<E: Into<JobError>>(
+        name: &'static str,
+        key: K,
+        wake: impl Fn() + Send + 'static,
+        work: impl FnOnce(&Progress, &Sender<P>) -> Result<(), E> + Send + 'static,
+    ) -> Self {
+        let (tx, parts) = channel();
+        let job = Job::spawn(name, wake, move |p| work(p, &tx));
+        Streaming { key, job, parts }
+    }
+
+    /// The key it was started for.
+    pub fn key(&self) -> &K {
+        &self.key
+    }
+
+    /// The job (for its progress and elapsed time).
+    pub fn job(&self) -> &Job<()> {
+        &self.job
+    }
+
+    /// The parts that arrived since the last call.
+    pub fn arrived(&self) -> Vec<P> {
+        self.parts.try_iter().collect()
+    }
+
+    /// How the job ended, once it has; `None` while it runs. The parts sent before the end are
+    /// all in [`Streaming::arrived`] by then.
+    pub fn ended(&self) -> Option<Result<(), JobError>> {
+        self.job.poll()
+    }
+
+    /// Stops the job and returns its key and the parts that arrived last.
+    pub fn stop(self) -> (K, Vec<P>) {
+        self.job.cancel();
+        let rest = self.arrived();
+        (self.key, rest)
+    }
+}
+
 impl<T> Drop for Job<T> {
     /// Nobody will read the result: stop the work instead of letting it burn the cores.
     fn drop(&mut self) {
@@ -331,5 +386,58 @@ mod tests {
         job.cancel();
         assert_eq!(wait(&job), Err(JobError::Cancelled));
         assert!((job.fraction() - 0.5).abs() < 1e-6);
+    }
+
+    /// Every part arrives, in order, before or right after the end; stopping cancels the work
+    /// and hands back the key and what arrived last.
+    #[test]
+    fn a_streaming_job_delivers_every_part_and_stops_on_request() {
+        let s: Streaming<&str, u32> = Streaming::spawn(
+            "test job",
+            "run",
+            || {},
+            |_, tx| {
+                for i in 0..5 {
+                    let _ = tx.send(i);
+                }
+                Ok::<_, JobError>(())
+            },
+        );
+        let mut parts = Vec::new();
+        let mut end = None;
+        for _ in 0..2000 {
+            parts.extend(s.arrived());
+            end = s.ended();
+            if end.is_some() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        parts.extend(s.arrived());
+        assert_eq!(end, Some(Ok(())));
+        assert_eq!(parts, vec![0, 1, 2, 3, 4]);
+        assert_eq!(*s.key(), "run");
+
+        let (tx_done, rx_done) = std::sync::mpsc::channel();
+        let (tx_sent, rx_sent) = std::sync::mpsc::channel();
+        let endless: Streaming<u8, u8> = Streaming::spawn(
+            "test job",
+            7,
+            || {},
+            move |p, tx| {
+                let _ = tx.send(1);
+                let _ = tx_sent.send(());
+                while !p.is_cancelled() {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+                let _ = tx_done.send(());
+                Err::<(), _>(JobError::Cancelled)
+            },
+        );
+        assert_eq!(rx_sent.recv_timeout(Duration::from_secs(10)), Ok(()));
+        let (key, rest) = endless.stop();
+        assert_eq!(key, 7);
+        assert_eq!(rest, vec![1]);
+        assert_eq!(rx_done.recv_timeout(Duration::from_secs(10)), Ok(()));
     }
 }

@@ -11,7 +11,6 @@
 use crate::app::notice::Notice;
 use std::ops::Range;
 use std::path::PathBuf;
-use std::sync::mpsc::{Receiver, Sender, channel};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -20,7 +19,7 @@ use ndarray::Array2;
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{PendingDialog, Purpose};
-use crate::app::job::{Job, JobError};
+use crate::app::job::{Job, JobError, Streaming};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::design::Channel;
 use crate::core::phase::imaging::{
@@ -105,13 +104,9 @@ struct Finished {
 /// The step under way: what it is and when it started (for the time left).
 type Step = Arc<Mutex<(String, Instant)>>;
 
-struct CaptureJob {
-    key: RunKey,
-    job: Job<()>,
-    /// Each setup's result as soon as it is ready (its index among the rows, the result).
-    finished: Receiver<(usize, Finished)>,
-    step: Step,
-}
+/// A capture in flight for its settings: each setup's result arrives as soon as it is ready (its
+/// index among the rows, the result).
+type CaptureJob = Streaming<RunKey, (usize, Finished)>;
 
 pub(super) struct CaptureState {
     native_dialogs: bool,
@@ -130,6 +125,8 @@ pub(super) struct CaptureState {
     operators: Vec<(OperatorKey, Arc<PhaseBlur>)>,
     operators_built: usize,
     job: Option<CaptureJob>,
+    /// The running capture's step.
+    step: Step,
     done_key: Option<RunKey>,
     rows: Vec<CaptureRow>,
     message: Option<Notice>,
@@ -151,6 +148,7 @@ impl CaptureState {
             operators: Vec::new(),
             operators_built: 0,
             job: None,
+            step: Arc::new(Mutex::new((String::new(), Instant::now()))),
             done_key: None,
             rows: Vec::new(),
             message: None,
@@ -286,7 +284,7 @@ impl PhaseWorkspace {
         if let Some(j) = self.capture.job.take() {
             self.capture.message = Some(Notice::info("capture cancelled; the last result stays"));
             // The same settings would start it again at once: wait for a change.
-            self.capture.done_key = Some(j.key);
+            self.capture.done_key = Some(j.stop().0);
         }
     }
 
@@ -377,33 +375,33 @@ impl PhaseWorkspace {
         };
         // Twice a second is enough for a progress bar and leaves the cores to the job.
         ctx.request_repaint_after(std::time::Duration::from_millis(500));
-        let arrived: Vec<(usize, Finished)> = job.finished.try_iter().collect();
+        let arrived = job.arrived();
         for (i, f) in arrived {
             self.show_finished(i, f, ctx);
         }
-        let Some(done) = self.capture.job.as_ref().and_then(|j| j.job.poll()) else {
+        let Some(done) = self.capture.job.as_ref().and_then(Streaming::ended) else {
             return;
         };
         let Some(job) = self.capture.job.take() else {
             return;
         };
-        let late: Vec<(usize, Finished)> = job.finished.try_iter().collect();
+        let late = job.arrived();
         for (i, f) in late {
             self.show_finished(i, f, ctx);
         }
         match done {
             Ok(()) => {
-                let seconds = job.job.elapsed().as_secs_f64();
+                let seconds = job.job().elapsed().as_secs_f64();
                 self.capture.message = Some(Notice::info(format!(
                     "captured and restored in {seconds:.1} s"
                 )));
-                self.capture.done_key = Some(job.key);
+                self.capture.done_key = Some(job.key().clone());
             }
             Err(JobError::Cancelled) => {}
             // Not retried until a setting changes.
             Err(e) => {
                 self.capture.message = Some(Notice::error(e.to_string()));
-                self.capture.done_key = Some(job.key);
+                self.capture.done_key = Some(job.key().clone());
             }
         }
     }
@@ -483,7 +481,7 @@ impl PhaseWorkspace {
         let Some(key) = key else {
             return;
         };
-        let running = self.capture.job.as_ref().map(|j| &j.key);
+        let running = self.capture.job.as_ref().map(Streaming::key);
         if self.capture.done_key.as_ref() == Some(&key) || running == Some(&key) {
             return;
         }
@@ -540,36 +538,33 @@ impl PhaseWorkspace {
         );
         let step: Step = Arc::new(Mutex::new((String::new(), Instant::now())));
         let (s, wake) = (step.clone(), ctx.clone());
-        let (tx, rx) = channel();
-        let job = Job::spawn(
+        let job = Streaming::spawn(
             "capture job",
+            key,
             move || wake.request_repaint(),
-            move |p| {
+            move |p, tx| {
                 let light = Light {
                     photons,
                     seed,
                     denoise,
                 };
-                run_setups(&jobs, &photo.planes, &light, p, &s, &tx)
+                run_setups(&jobs, &photo.planes, &light, p, &s, tx)
             },
         );
-        self.capture.job = Some(CaptureJob {
-            key,
-            job,
-            finished: rx,
-            step,
-        });
+        self.capture.job = Some(job);
+        self.capture.step = step;
     }
 
     /// The step under way, its fraction and the seconds it has run, while a capture runs.
     pub(super) fn capture_progress(&self) -> Option<(String, f32, f64)> {
         self.capture.job.as_ref().map(|j| {
-            let (step, since) = j
+            let (step, since) = self
+                .capture
                 .step
                 .lock()
                 .map(|s| (s.0.clone(), s.1.elapsed().as_secs_f64()))
                 .unwrap_or_default();
-            (step, j.job.fraction(), since)
+            (step, j.job().fraction(), since)
         })
     }
 

@@ -7,11 +7,10 @@
 
 use crate::app::notice::Notice;
 use std::path::PathBuf;
-use std::sync::mpsc::{Receiver, channel};
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{FileSpec, ask};
-use crate::app::job::{Job, JobError, Writes};
+use crate::app::job::{Job, JobError, Streaming, Writes};
 use crate::core::phase::imaging::{
     CompareRow, Setup, THESIS_PHOTONS, compare_setups, thesis_setups,
 };
@@ -70,13 +69,6 @@ pub struct CompareRun {
     pub denoise: crate::core::restore::Denoise,
 }
 
-/// A comparison in flight; its rows stream in as they finish.
-struct CompareJob {
-    run: CompareRun,
-    job: Job<()>,
-    rows: Receiver<CompareRow>,
-}
-
 pub(super) struct CompareState {
     native_dialogs: bool,
     /// The setups on offer (the thesis's) and which are ticked.
@@ -85,7 +77,8 @@ pub(super) struct CompareState {
     /// The thesis's light levels and which are ticked.
     levels: Vec<(f64, bool)>,
     pub(super) metric: CompareMetric,
-    job: Option<CompareJob>,
+    /// The comparison in flight, for its run; its rows stream in as they finish.
+    job: Option<Streaming<CompareRun, CompareRow>>,
     /// What the rows on screen were run for (also while they stream in).
     run: Option<CompareRun>,
     rows: Vec<CompareRow>,
@@ -237,13 +230,13 @@ impl PhaseWorkspace {
         let base = self.history.current().clone();
         let seed = self.capture.seed;
         let denoise = self.capture.denoise;
-        let (tx, rx) = channel();
         let wake = ctx.clone();
         let quality = self.quality;
-        let job = Job::spawn(
+        let job = Streaming::spawn(
             "comparison",
+            run.clone(),
             move || wake.request_repaint(),
-            move |p| {
+            move |p, tx| {
                 let photos = [photo.planes.clone()];
                 compare_setups(
                     &base,
@@ -263,21 +256,21 @@ impl PhaseWorkspace {
             },
         );
         self.compare.rows.clear();
-        self.compare.run = Some(run.clone());
+        self.compare.run = Some(run);
         self.compare.message = None;
-        self.compare.job = Some(CompareJob { run, job, rows: rx });
+        self.compare.job = Some(job);
     }
 
     /// Stops the comparison; the rows so far stay.
     pub fn cancel_compare(&mut self) {
         if let Some(j) = self.compare.job.take() {
-            j.job.cancel();
-            self.compare.rows.extend(j.rows.try_iter());
+            let (run, rest) = j.stop();
+            self.compare.rows.extend(rest);
             self.compare.message = Some(Notice::info(format!(
                 "cancelled after {} of {}",
                 self.compare.rows.len(),
                 crate::app::widgets::counted(
-                    (j.run.setups.len() * j.run.photons.len()) as f64,
+                    (run.setups.len() * run.photons.len()) as f64,
                     "run",
                     "runs"
                 )
@@ -290,9 +283,9 @@ impl PhaseWorkspace {
         self.compare.job.as_ref().map(|j| {
             (
                 self.compare.rows.len(),
-                j.run.setups.len() * j.run.photons.len(),
-                j.job.fraction(),
-                j.job.elapsed().as_secs_f64(),
+                j.key().setups.len() * j.key().photons.len(),
+                j.job().fraction(),
+                j.job().elapsed().as_secs_f64(),
             )
         })
     }
@@ -352,18 +345,18 @@ impl PhaseWorkspace {
         let Some(job) = &self.compare.job else {
             return;
         };
-        self.compare.rows.extend(job.rows.try_iter());
+        self.compare.rows.extend(job.arrived());
         ctx.request_repaint_after(std::time::Duration::from_millis(500));
-        let Some(done) = job.job.poll() else {
+        let Some(done) = job.ended() else {
             return;
         };
         let Some(job) = self.compare.job.take() else {
             return;
         };
-        self.compare.rows.extend(job.rows.try_iter());
+        self.compare.rows.extend(job.arrived());
         match done {
             Ok(()) => {
-                self.compare.elapsed_s = job.job.elapsed().as_secs_f64();
+                self.compare.elapsed_s = job.job().elapsed().as_secs_f64();
                 self.compare.message = Some(Notice::info(format!(
                     "{} in {:.0} s",
                     crate::app::widgets::counted(self.compare.rows.len() as f64, "run", "runs"),

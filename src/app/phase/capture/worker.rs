@@ -2,6 +2,7 @@
 //! capture and restoration, sent row by row.
 
 use super::*;
+use std::sync::mpsc::Sender;
 
 /// One setup for the worker: its row, its operator's key, the operator if kept.
 pub(super) struct SetupJob {
