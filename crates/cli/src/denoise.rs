@@ -51,9 +51,11 @@ pub struct DenoiseArgs {
 /// A bad σ², an unreadable, too small or mismatched image, an output of an unknown or different
 /// kind or in a folder that cannot take a file, or a failure of the denoiser.
 pub fn denoise_cmd(args: &DenoiseArgs) -> Result<()> {
-    if !(args.sigma2.is_finite() && args.sigma2 > 0.0) {
+    if !udc_core::denoise::sigma2_in_range(args.sigma2) {
         bail!(
-            "--sigma2: the noise variance must be a positive finite number (got {})",
+            "--sigma2: the noise variance must be a positive finite number at most {} (images \
+             are in [0, 1]; got {:?})",
+            udc_core::denoise::MAX_SIGMA2,
             args.sigma2
         );
     }

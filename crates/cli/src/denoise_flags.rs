@@ -38,8 +38,12 @@ impl DenoiseFlags {
                 "--denoise-sigma2 {s}: there is no denoiser to give it to with --denoise none"
             ),
             (DenoiseMethod::None, None) => Ok(Denoise::None),
-            (DenoiseMethod::Bm3d, Some(s)) if !(s.is_finite() && s > 0.0) => {
-                bail!("--denoise-sigma2 {s}: the noise variance must be a finite number > 0")
+            (DenoiseMethod::Bm3d, Some(s)) if !udc_core::denoise::sigma2_in_range(s) => {
+                bail!(
+                    "--denoise-sigma2 {s:?}: the noise variance must be a finite number > 0 and \
+                     at most {} (images are in [0, 1])",
+                    udc_core::denoise::MAX_SIGMA2
+                )
             }
             (DenoiseMethod::Bm3d, Some(s)) => Ok(Denoise::Bm3d {
                 sigma2: Sigma2::Fixed(s),
@@ -88,6 +92,7 @@ mod tests {
         for (f, needle) in [
             (flags(DenoiseMethod::Bm3d, Some(0.0)), "finite number > 0"),
             (flags(DenoiseMethod::Bm3d, Some(-0.01)), "finite number > 0"),
+            (flags(DenoiseMethod::Bm3d, Some(1e308)), "at most 1"),
             (
                 flags(DenoiseMethod::Bm3d, Some(f64::NAN)),
                 "finite number > 0",

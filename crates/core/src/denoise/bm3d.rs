@@ -188,11 +188,24 @@ pub fn bm3d_with(
     Ok(out)
 }
 
+/// The largest noise variance the denoiser takes: images are in [0, 1], so σ = 1 is noise as
+/// large as the whole range (the thesis's σ² are 1e-4 to 0.04).
+pub const MAX_SIGMA2: f64 = 1.0;
+
+/// Whether `sigma2` is a noise variance the denoiser takes: finite, above 0, at most
+/// [`MAX_SIGMA2`].
+pub fn sigma2_in_range(sigma2: f64) -> bool {
+    sigma2.is_finite() && sigma2 > 0.0 && sigma2 <= MAX_SIGMA2
+}
+
 fn validate(planes: &[Array2<f64>], sigma2: f64) -> Result<(usize, usize), SimError> {
-    if !(sigma2.is_finite() && sigma2 > 0.0) {
+    if !sigma2_in_range(sigma2) {
         return Err(SimError::field(
             "sigma2",
-            format!("the noise variance must be a finite number > 0 (got {sigma2:?})"),
+            format!(
+                "the noise variance must be a finite number > 0 and at most {MAX_SIGMA2} \
+                 (images are in [0, 1]; got {sigma2:?})"
+            ),
         ));
     }
     let Some(first) = planes.first() else {
@@ -781,5 +794,20 @@ mod tests {
             .fold((f64::INFINITY, 0f64), |(lo, hi), &v| (lo.min(v), hi.max(v)));
         assert!(hi - lo < 1e-5, "{lo} … {hi}");
         assert!(hi <= 0.3 + 1e-6 && lo > 0.3 * (1.0 - 1.8e-3), "{lo} … {hi}");
+    }
+
+    /// σ² outside (0, 1] is refused before any work, naming the field; 1 itself is taken.
+    #[test]
+    fn the_noise_variance_must_be_positive_and_at_most_one() {
+        let img = vec![Array2::from_elem((16, 16), 0.5)];
+        for bad in [0.0, -0.01, f64::NAN, f64::INFINITY, 1.5, 1e308] {
+            let e = validate(&img, bad).expect_err("refused");
+            assert!(
+                matches!(&e, SimError::InvalidField { field, .. } if field == "sigma2"),
+                "{bad}: {e}"
+            );
+        }
+        assert!(validate(&img, MAX_SIGMA2).is_ok());
+        assert!(validate(&img, 1e-4).is_ok());
     }
 }

@@ -140,11 +140,14 @@ impl Denoise {
         if let Denoise::Bm3d {
             sigma2: Sigma2::Fixed(s),
         } = self
-            && !(s.is_finite() && s > 0.0)
+            && !crate::denoise::sigma2_in_range(s)
         {
             return Err(SimError::field(
                 "denoise.sigma2",
-                format!("must be a finite number > 0 (got {s:?})"),
+                format!(
+                    "must be a finite number > 0 and at most {} (got {s:?})",
+                    crate::denoise::MAX_SIGMA2
+                ),
             ));
         }
         Ok(())
