@@ -227,6 +227,7 @@ fn bad_denoise_values_are_one_line_errors() {
         (vec!["--denoise-sigma2", "NaN"], "finite number > 0"),
         (vec!["--denoise-sigma2", "inf"], "finite number > 0"),
         (vec!["--denoise-sigma2", "1e308"], "at most 1"),
+        (vec!["--denoise-sigma2", "1e-300"], "at least 1e-12"),
         (
             vec!["--denoise", "none", "--denoise-sigma2", "0.002"],
             "--denoise none",

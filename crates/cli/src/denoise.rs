@@ -53,8 +53,9 @@ pub struct DenoiseArgs {
 pub fn denoise_cmd(args: &DenoiseArgs) -> Result<()> {
     if !udc_core::denoise::sigma2_in_range(args.sigma2) {
         bail!(
-            "--sigma2: the noise variance must be a positive finite number at most {} (images \
-             are in [0, 1]; got {:?})",
+            "--sigma2: the noise variance must be a positive finite number from {:e} to {} \
+             (images are in [0, 1]; got {:?})",
+            udc_core::denoise::MIN_SIGMA2,
             udc_core::denoise::MAX_SIGMA2,
             args.sigma2
         );

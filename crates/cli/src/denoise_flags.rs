@@ -40,8 +40,9 @@ impl DenoiseFlags {
             (DenoiseMethod::None, None) => Ok(Denoise::None),
             (DenoiseMethod::Bm3d, Some(s)) if !udc_core::denoise::sigma2_in_range(s) => {
                 bail!(
-                    "--denoise-sigma2 {s:?}: the noise variance must be a finite number > 0 and \
-                     at most {} (images are in [0, 1])",
+                    "--denoise-sigma2 {s:?}: the noise variance must be a finite number > 0, \
+                     at least {:e} and at most {} (images are in [0, 1])",
+                    udc_core::denoise::MIN_SIGMA2,
                     udc_core::denoise::MAX_SIGMA2
                 )
             }
@@ -93,6 +94,7 @@ mod tests {
             (flags(DenoiseMethod::Bm3d, Some(0.0)), "finite number > 0"),
             (flags(DenoiseMethod::Bm3d, Some(-0.01)), "finite number > 0"),
             (flags(DenoiseMethod::Bm3d, Some(1e308)), "at most 1"),
+            (flags(DenoiseMethod::Bm3d, Some(1e-300)), "at least 1e-12"),
             (
                 flags(DenoiseMethod::Bm3d, Some(f64::NAN)),
                 "finite number > 0",

@@ -192,10 +192,14 @@ pub fn bm3d_with(
 /// large as the whole range (the thesis's σ² are 1e-4 to 0.04).
 pub const MAX_SIGMA2: f64 = 1.0;
 
-/// Whether `sigma2` is a noise variance the denoiser takes: finite, above 0, at most
+/// The smallest: σ = 1e-6, far below a 16-bit step (1.5e-5); at 1e-300 the Wiener weights
+/// overflow and the output is silently black.
+pub const MIN_SIGMA2: f64 = 1e-12;
+
+/// Whether `sigma2` is a noise variance the denoiser takes: finite, from [`MIN_SIGMA2`] to
 /// [`MAX_SIGMA2`].
 pub fn sigma2_in_range(sigma2: f64) -> bool {
-    sigma2.is_finite() && sigma2 > 0.0 && sigma2 <= MAX_SIGMA2
+    sigma2.is_finite() && (MIN_SIGMA2..=MAX_SIGMA2).contains(&sigma2)
 }
 
 fn validate(planes: &[Array2<f64>], sigma2: f64) -> Result<(usize, usize), SimError> {
@@ -203,8 +207,8 @@ fn validate(planes: &[Array2<f64>], sigma2: f64) -> Result<(usize, usize), SimEr
         return Err(SimError::field(
             "sigma2",
             format!(
-                "the noise variance must be a finite number > 0 and at most {MAX_SIGMA2} \
-                 (images are in [0, 1]; got {sigma2:?})"
+                "the noise variance must be a finite number > 0, at least {MIN_SIGMA2:e} and at \
+                 most {MAX_SIGMA2} (images are in [0, 1]; got {sigma2:?})"
             ),
         ));
     }
@@ -796,11 +800,11 @@ mod tests {
         assert!(hi <= 0.3 + 1e-6 && lo > 0.3 * (1.0 - 1.8e-3), "{lo} … {hi}");
     }
 
-    /// σ² outside (0, 1] is refused before any work, naming the field; 1 itself is taken.
+    /// σ² outside [1e-12, 1] is refused before any work, naming the field; both ends are taken.
     #[test]
     fn the_noise_variance_must_be_positive_and_at_most_one() {
         let img = vec![Array2::from_elem((16, 16), 0.5)];
-        for bad in [0.0, -0.01, f64::NAN, f64::INFINITY, 1.5, 1e308] {
+        for bad in [0.0, -0.01, f64::NAN, f64::INFINITY, 1.5, 1e308, 1e-300] {
             let e = validate(&img, bad).expect_err("refused");
             assert!(
                 matches!(&e, SimError::InvalidField { field, .. } if field == "sigma2"),
@@ -808,6 +812,7 @@ mod tests {
             );
         }
         assert!(validate(&img, MAX_SIGMA2).is_ok());
+        assert!(validate(&img, MIN_SIGMA2).is_ok());
         assert!(validate(&img, 1e-4).is_ok());
     }
 }

@@ -13,5 +13,5 @@ mod bm3d;
 mod colour;
 mod transforms;
 
-pub use bm3d::{Bm3dProfile, MAX_SIGMA2, bm3d, bm3d_with, sigma2_in_range};
+pub use bm3d::{Bm3dProfile, MAX_SIGMA2, MIN_SIGMA2, bm3d, bm3d_with, sigma2_in_range};
 pub use transforms::BlockTransform;

@@ -145,7 +145,8 @@ impl Denoise {
             return Err(SimError::field(
                 "denoise.sigma2",
                 format!(
-                    "must be a finite number > 0 and at most {} (got {s:?})",
+                    "must be a finite number > 0, at least {:e} and at most {} (got {s:?})",
+                    crate::denoise::MIN_SIGMA2,
                     crate::denoise::MAX_SIGMA2
                 ),
             ));
