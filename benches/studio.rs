@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use egui_kittest::Harness;
-use udc_studio::app::{AppDirs, Command, Payload, StudioApp, StudioOptions, Worker};
+use udc_studio::app::{AppDirs, DisplayAction, Payload, StudioApp, StudioOptions, Worker};
 use udc_studio::core::Design;
 use udc_studio::core::analysis::analyze::Quality;
 
@@ -28,7 +28,7 @@ fn harness() -> Harness<'static, StudioApp> {
 fn frame_while_dragging(c: &mut Criterion) {
     let mut h = harness();
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     let start = Instant::now();
     while !h.state().is_up_to_date() && start.elapsed() < Duration::from_secs(30) {
         h.step();

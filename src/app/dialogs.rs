@@ -20,9 +20,57 @@ pub enum Purpose {
     /// An HDR scene for the sensor previewer (it polls its own dialog).
     Hdr,
     /// Where to write this export of the current result.
-    Export(super::commands::ExportKind),
+    Export(ExportKind),
     /// Where to write the photolithography mask, in this file format.
     Mask(crate::io::mask::MaskFormat),
+}
+
+/// What the display workspace can export from the result on screen, each a save dialog of
+/// its own (kept here, beside the dialog's purposes, so the dialogs need no workspace).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExportKind {
+    /// The sensor PSF as a float OpenEXR image (RGB for three channels, else the first channel).
+    PsfExr,
+    /// The sensor PSF as a 16-bit PNG, one file per colour channel.
+    PsfPng16,
+    /// The log-scaled PSF as an 8-bit PNG, one file per colour channel.
+    LogPsfPng,
+    /// The MTF table as CSV: horizontal and vertical slices, radial min and mean per channel.
+    MtfCsv,
+    /// The analysis numbers as JSON, the same object `analyze --json` prints.
+    NumbersJson,
+}
+
+impl ExportKind {
+    /// Every export, in the order of the File > Export menu.
+    pub const ALL: [ExportKind; 5] = [
+        ExportKind::PsfExr,
+        ExportKind::PsfPng16,
+        ExportKind::LogPsfPng,
+        ExportKind::MtfCsv,
+        ExportKind::NumbersJson,
+    ];
+
+    /// Menu entry text, ending in an ellipsis because it opens a save dialog.
+    pub fn label(self) -> &'static str {
+        match self {
+            ExportKind::PsfExr => "PSF (float EXR)…",
+            ExportKind::PsfPng16 => "PSF (16-bit PNG)…",
+            ExportKind::LogPsfPng => "log-PSF (PNG)…",
+            ExportKind::MtfCsv => "MTF (CSV)…",
+            ExportKind::NumbersJson => "Numbers (JSON)…",
+        }
+    }
+
+    /// File extension (without the dot) the save dialog suggests.
+    pub fn extension(self) -> &'static str {
+        match self {
+            ExportKind::PsfExr => "exr",
+            ExportKind::PsfPng16 | ExportKind::LogPsfPng => "png",
+            ExportKind::MtfCsv => "csv",
+            ExportKind::NumbersJson => "json",
+        }
+    }
 }
 
 /// What a native file dialog asks for.

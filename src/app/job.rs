@@ -2,8 +2,8 @@
 //! only draws: [`Job::spawn`] runs a closure on its own named thread with a [`Progress`] it can
 //! report to and check for cancellation; the UI polls it once per frame; dropping the handle
 //! cancels it. Results arrive as `Result<T, JobError>`, one level deep. Two shapes build on it:
-//! [`Keyed`], the job a view keeps for its newest key, and [`Streaming`], a job whose parts
-//! arrive while it runs.
+//! [`Keyed`], the job a view keeps for its newest key (its result comes back as a [`Finished`],
+//! with the key and how long it ran), and [`Streaming`], a job whose parts arrive while it runs.
 //!
 //! The display workspace's live analysis is the one exception: [`super::Worker`] keeps a single
 //! thread that coalesces a stream of designs (newest wins) rather than running one job.
@@ -51,6 +51,15 @@ impl From<SimError> for JobError {
 impl From<String> for JobError {
     fn from(e: String) -> Self {
         JobError::Failed(e)
+    }
+}
+
+impl From<super::error::StudioError> for JobError {
+    fn from(e: super::error::StudioError) -> Self {
+        match e {
+            super::error::StudioError::Sim(e) => e.into(),
+            e => JobError::Failed(e.to_string()),
+        }
     }
 }
 
@@ -119,6 +128,18 @@ impl<T: Send + 'static> Job<T> {
     }
 }
 
+/// A [`Keyed`] job that ended: what it was started for, how it ended and how long it ran.
+#[derive(Debug, PartialEq)]
+pub struct Finished<K, T> {
+    /// The key it was started for.
+    pub key: K,
+    /// Its value, or why there is none.
+    pub result: Result<T, JobError>,
+    /// How long it had run when its result was taken (the UI takes it within a frame of the
+    /// end, and "computed in 2.3 s" reads this).
+    pub elapsed: Duration,
+}
+
 /// The job a view keeps for one key (a design, a request): starting another replaces it, and
 /// dropping the old handle cancels it, so the newest asked key wins. Its result comes back with
 /// the key it was computed for.
@@ -170,8 +191,17 @@ impl<K, T: Send + 'static> Keyed<K, T> {
 
     /// The finished job's key and result, once; `None` while it runs or when idle.
     pub fn poll(&mut self) -> Option<(K, Result<T, JobError>)> {
-        let done = self.slot.as_ref().and_then(|(_, j)| j.poll())?;
-        self.slot.take().map(|(k, _)| (k, done))
+        self.finished().map(|f| (f.key, f.result))
+    }
+
+    /// The finished job, with how long it ran, once; `None` while it runs or when idle.
+    pub fn finished(&mut self) -> Option<Finished<K, T>> {
+        let result = self.slot.as_ref().and_then(|(_, j)| j.poll())?;
+        self.slot.take().map(|(key, job)| Finished {
+            key,
+            result,
+            elapsed: job.elapsed(),
+        })
     }
 
     /// Cancels the running job, if any.
@@ -338,6 +368,35 @@ mod tests {
         assert_eq!(got, Some((2, Ok(20))));
         assert!(!keyed.is_running());
         assert_eq!(keyed.poll(), None);
+    }
+
+    /// The time of a finished run stays readable after its handle is gone.
+    #[test]
+    fn a_finished_keyed_job_keeps_its_key_and_time() {
+        let mut keyed: Keyed<&str, u8> = Keyed::idle();
+        keyed.start(
+            "v",
+            Job::spawn(
+                "test job",
+                || {},
+                |_| {
+                    std::thread::sleep(Duration::from_millis(20));
+                    Ok::<_, JobError>(7)
+                },
+            ),
+        );
+        let mut done = None;
+        for _ in 0..2000 {
+            done = keyed.finished();
+            if done.is_some() {
+                break;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let done = done.expect("the job finished");
+        assert_eq!((done.key, done.result), ("v", Ok(7)));
+        assert!(done.elapsed >= Duration::from_millis(20));
+        assert!(keyed.finished().is_none());
     }
 
     #[test]

@@ -4,39 +4,37 @@
 use super::*;
 
 impl StudioApp {
-    pub(super) fn menu_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+    pub(super) fn menu_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<ShellCommand>) {
         let active = self.active;
         let labels = switch_labels(&self.workspaces);
         let shell = &mut self.shell;
-        let reproduce = &mut self.reproduce;
         let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == active) else {
             return;
         };
-        let mut switch = None;
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
-                ws.file_menu_ui(ui, shell, cmds);
+                ws.file_menu_ui(ui, shell);
                 ui.separator();
                 let quit = egui::Button::new("Quit")
                     .shortcut_text(ui.ctx().format_shortcut(&commands::QUIT));
                 if ui.add(quit).clicked() {
-                    cmds.push(Command::Quit);
+                    cmds.push(ShellCommand::Quit);
                 }
             });
             ui.menu_button("Edit", |ui| {
                 let undo = egui::Button::new("Undo")
                     .shortcut_text(ui.ctx().format_shortcut(&commands::UNDO));
                 if ui.add_enabled(ws.can_undo(), undo).clicked() {
-                    cmds.push(Command::Undo);
+                    cmds.push(ShellCommand::Undo);
                 }
                 let redo = egui::Button::new("Redo")
                     .shortcut_text(ui.ctx().format_shortcut(&commands::REDO));
                 if ui.add_enabled(ws.can_redo(), redo).clicked() {
-                    cmds.push(Command::Redo);
+                    cmds.push(ShellCommand::Redo);
                 }
-                ws.edit_menu_ui(ui, cmds);
+                ws.edit_menu_ui(ui);
             });
-            ws.menus_ui(ui, cmds);
+            ws.menus_ui(ui);
             ui.menu_button("View", |ui| {
                 let theme = if shell.settings.dark {
                     "Light theme"
@@ -44,14 +42,14 @@ impl StudioApp {
                     "Dark theme"
                 };
                 if ui.button(theme).clicked() {
-                    cmds.push(Command::ToggleTheme);
+                    cmds.push(ShellCommand::ToggleTheme);
                 }
                 let mut overlays = shell.settings.overlays;
                 if ui
                     .checkbox(&mut overlays, "Teaching overlays and hints")
                     .clicked()
                 {
-                    cmds.push(Command::ToggleOverlays);
+                    cmds.push(ShellCommand::ToggleOverlays);
                 }
                 let mut rules = shell.settings.design_rules;
                 if ui
@@ -63,7 +61,7 @@ impl StudioApp {
                     )
                     .clicked()
                 {
-                    cmds.push(Command::ToggleDesignRules);
+                    cmds.push(ShellCommand::ToggleDesignRules);
                 }
             });
             ui.menu_button("Help", |ui| {
@@ -76,8 +74,7 @@ impl StudioApp {
                     )
                     .clicked()
                 {
-                    reproduce.open = true;
-                    reproduce.select(reproduce.selected());
+                    cmds.push(ShellCommand::OpenReproduce);
                 }
                 ui.separator();
                 ui.label(egui::RichText::new(ws.label()).strong());
@@ -108,13 +105,10 @@ impl StudioApp {
                     .on_hover_text(about)
                     .clicked()
                 {
-                    switch = Some(id);
+                    cmds.push(ShellCommand::Show(id));
                 }
             }
         });
-        if let Some(id) = switch {
-            self.active = id;
-        }
     }
 }
 

@@ -2,14 +2,17 @@
 //!
 //! `StudioApp` is the shell: it owns the list of [`Workspace`]s (display layouts, phase masks,
 //! sensor previewer, sweep results), the menu bar, the status bar, the unsaved-changes prompt and
-//! the settings. Every frame it reads the keyboard shortcuts, draws the menus and the active
-//! workspace (which takes its finished jobs and draws its panels), and hands the frame's
-//! [`Command`]s to it, then the commands one workspace sent another ([`Shell::send`]).
+//! the settings. Every frame it reads its own shortcuts and lets the active workspace read its
+//! own, draws the menus, applies its own [`ShellCommand`]s (undo, theme, switch, quit…), draws
+//! the active workspace (which takes its finished jobs and draws its panels), then has the
+//! workspace carry out the actions it queued ([`Workspace::apply`]) and hands on the requests one
+//! workspace sent another ([`Shell::send`]).
 
 pub mod autosave;
 pub mod commands;
 pub mod dialogs;
 pub mod display;
+pub mod error;
 pub mod history;
 pub mod job;
 mod menu;
@@ -28,11 +31,15 @@ use std::time::Duration;
 
 use anyhow::Result;
 
-pub use commands::{Command, ExportKind, Tool};
+pub use commands::ShellCommand;
 pub use display::panels;
-pub use display::{DisplayWorkspace, Document, JobResult, LeftTab, Payload, Worker};
+pub use display::{
+    DisplayAction, DisplayWorkspace, Document, ExportKind, JobResult, LeftTab, Payload, Tool,
+    Worker,
+};
 pub use settings::{AppDirs, Settings};
-pub use workspace::{DroppedKind, Shell, Workspace, WorkspaceId};
+use workspace::Pending;
+pub use workspace::{DroppedKind, Request, Shell, Workspace, WorkspaceId};
 
 use crate::core::Design;
 
@@ -213,9 +220,21 @@ impl StudioApp {
         self.display().editor()
     }
 
-    /// Runs a command as if a menu item or shortcut had been used.
-    pub fn command(&mut self, command: Command) {
-        self.apply(vec![command]);
+    /// Runs a shell command as if its menu item or shortcut had been used.
+    pub fn command(&mut self, command: ShellCommand) {
+        self.apply(command);
+    }
+
+    /// Runs a display workspace's action as if its menu item, shortcut or button had been used.
+    pub fn act(&mut self, action: DisplayAction) {
+        let shell = &mut self.shell;
+        if let Some(ws) = self
+            .workspaces
+            .iter_mut()
+            .find_map(|w| w.as_any_mut().downcast_mut::<DisplayWorkspace>())
+        {
+            ws.act(action, shell);
+        }
     }
 
     /// The optimize panel (tests read its runs).
@@ -300,46 +319,44 @@ impl StudioApp {
 
     /// Reads a design file into the display workspace (as File > Open would).
     pub fn open_path(&mut self, path: PathBuf) {
-        self.command(Command::OpenPath(path));
+        self.act(DisplayAction::OpenPath(path));
     }
 
-    /// Applies the frame's commands in order: the shell's own, then the active workspace's.
-    fn apply(&mut self, cmds: Vec<Command>) {
-        for c in cmds {
-            match c {
-                Command::ToggleTheme => {
-                    self.shell.settings.dark = !self.shell.settings.dark;
-                    self.shell.ctx.set_visuals(if self.shell.settings.dark {
-                        egui::Visuals::dark()
-                    } else {
-                        egui::Visuals::light()
-                    });
-                    self.shell.save_settings();
-                }
-                Command::ToggleOverlays => {
-                    self.shell.settings.overlays = !self.shell.settings.overlays;
-                    self.shell.save_settings();
-                }
-                Command::ToggleDesignRules => {
-                    self.shell.settings.design_rules = !self.shell.settings.design_rules;
-                    self.shell.save_settings();
-                }
-                Command::Quit => self.quit(false),
-                c => {
-                    let active = self.active;
-                    let shell = &mut self.shell;
-                    if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == active) {
-                        ws.command(c, false, shell);
-                    }
-                }
+    /// Carries out one of the shell's own commands.
+    fn apply(&mut self, command: ShellCommand) {
+        match command {
+            ShellCommand::Undo => self.workspace_mut(self.active).undo(),
+            ShellCommand::Redo => self.workspace_mut(self.active).redo(),
+            ShellCommand::ToggleTheme => {
+                self.shell.settings.dark = !self.shell.settings.dark;
+                self.shell.ctx.set_visuals(if self.shell.settings.dark {
+                    egui::Visuals::dark()
+                } else {
+                    egui::Visuals::light()
+                });
+                self.shell.save_settings();
             }
+            ShellCommand::ToggleOverlays => {
+                self.shell.settings.overlays = !self.shell.settings.overlays;
+                self.shell.save_settings();
+            }
+            ShellCommand::ToggleDesignRules => {
+                self.shell.settings.design_rules = !self.shell.settings.design_rules;
+                self.shell.save_settings();
+            }
+            ShellCommand::Show(id) => self.active = id,
+            ShellCommand::OpenReproduce => {
+                self.reproduce.open = true;
+                self.reproduce.select(self.reproduce.selected());
+            }
+            ShellCommand::Quit => self.quit(false),
         }
     }
 
     /// Closes the window, first asking when a workspace has unsaved changes.
     fn quit(&mut self, confirmed: bool) {
         if !confirmed && let Some(ws) = self.workspaces.iter().find(|w| w.is_dirty()) {
-            self.shell.confirm = Some((ws.id(), Command::Quit));
+            self.shell.confirm = Some((ws.id(), Pending::Quit));
             return;
         }
         self.shell.quit_confirmed = true;
@@ -418,21 +435,19 @@ impl StudioApp {
 
     /// The unsaved-changes prompt.
     fn confirm_ui(&mut self, ctx: &egui::Context) {
-        let Some((id, pending)) = self.shell.confirm.clone() else {
+        let Some((id, pending)) = self.shell.confirm else {
             return;
         };
-        let what = match &pending {
-            Command::Quit => "quitting",
-            Command::New => "starting a new design",
-            Command::LoadPreset(_) => "loading the preset",
-            _ => "opening another design",
+        let what = match pending {
+            Pending::Quit => "quitting",
+            Pending::Action(leaving_for) => leaving_for,
         };
         let name = self.workspace_mut(id).document_name();
         let can_save = self.workspace_mut(id).can_save_in_place();
         let mut choice = None;
         egui::Modal::new(egui::Id::unique("unsaved-changes")).show(ctx, |ui| {
             ui.heading("Unsaved changes");
-            let kept = if matches!(pending, Command::Quit) {
+            let kept = if pending == Pending::Quit {
                 "The autosave brings them back at the next start, but they are in no file of \
                  yours."
             } else {
@@ -470,30 +485,27 @@ impl StudioApp {
         }
         if choice == UnsavedChoice::SaveAs {
             // The dialog answers later: the user repeats what they asked once the file exists.
-            let shell = &mut self.shell;
-            if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
-                ws.command(Command::SaveAs, true, shell);
-            }
+            self.with_workspace(id, |ws, shell| ws.save_as(shell));
             return;
         }
         if choice == UnsavedChoice::Save {
-            let shell = &mut self.shell;
-            if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
-                ws.command(Command::Save, true, shell);
-            }
+            self.with_workspace(id, |ws, shell| ws.save(shell));
             if self.workspace_mut(id).is_dirty() {
                 // Not saved (cancelled Save-as, or an error in the status bar): stay.
                 return;
             }
         }
         match pending {
-            Command::Quit => self.quit(true),
-            c => {
-                let shell = &mut self.shell;
-                if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
-                    ws.command(c, true, shell);
-                }
-            }
+            Pending::Quit => self.quit(true),
+            Pending::Action(_) => self.with_workspace(id, |ws, shell| ws.resume(shell)),
+        }
+    }
+
+    /// Runs `f` on workspace `id` with the shell lent to it.
+    fn with_workspace(&mut self, id: WorkspaceId, f: impl FnOnce(&mut dyn Workspace, &mut Shell)) {
+        let shell = &mut self.shell;
+        if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
+            f(ws.as_mut(), shell);
         }
     }
 
@@ -505,14 +517,15 @@ impl StudioApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Close);
         }
         let mut cmds = Vec::new();
-        commands::shortcuts(&ctx, &mut cmds);
+        commands::read_shortcuts(&ctx, &mut cmds);
+        self.workspace_mut(self.active).read_shortcuts(&ctx);
         egui::Panel::top("menu").show(ui, |ui| self.menu_ui(ui, &mut cmds));
+        for c in cmds {
+            self.apply(c);
+        }
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
         let active = self.active;
-        let shell = &mut self.shell;
-        if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == active) {
-            ws.ui(ui, shell, &mut cmds);
-        }
+        self.with_workspace(active, |ws, shell| ws.ui(ui, shell));
         if let Some(why) = crate::app::widgets::take_refused() {
             self.shell.set_status(Notice::error(why));
         }
@@ -520,12 +533,13 @@ impl StudioApp {
         self.close_request(&ctx);
         self.confirm_ui(&ctx);
         self.reproduce.ui(&ctx);
-        self.apply(cmds);
-        for (id, c) in std::mem::take(&mut self.shell.sent) {
-            let shell = &mut self.shell;
-            if let Some(ws) = self.workspaces.iter_mut().find(|w| w.id() == id) {
-                ws.command(c, false, shell);
-            }
+        // Each workspace carries out what it queued, even if a switch or a drop has just shown
+        // another.
+        for ws in &mut self.workspaces {
+            ws.apply(&mut self.shell);
+        }
+        for (id, request) in std::mem::take(&mut self.shell.sent) {
+            self.with_workspace(id, |ws, shell| ws.request(request, shell));
         }
         if let Some(id) = self.shell.switch_to.take() {
             self.active = id;

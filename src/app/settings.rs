@@ -4,6 +4,7 @@ use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
+use crate::io::IoError;
 use crate::io::safe_file::write_atomic;
 
 const MAX_RECENT: usize = 8;
@@ -90,16 +91,19 @@ impl Settings {
     ///
     /// # Errors
     /// When the data directory cannot be written.
-    pub fn save(&self, dirs: &AppDirs) -> Result<(), String> {
+    pub fn save(&self, dirs: &AppDirs) -> Result<(), IoError> {
         let Some(path) = dirs.settings_path() else {
             return Ok(());
         };
         if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir)
-                .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+            std::fs::create_dir_all(dir).map_err(|cause| IoError::File {
+                action: "create the settings folder",
+                path: dir.to_path_buf(),
+                cause,
+            })?;
         }
         let text = serde_json::to_string_pretty(self).unwrap_or_default();
-        write_atomic(&path, text.as_bytes()).map_err(|e| e.to_string())
+        write_atomic(&path, text.as_bytes())
     }
 
     /// Puts `path` first in the recent files, removing its older entry and the oldest beyond 8.

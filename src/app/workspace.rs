@@ -3,8 +3,9 @@
 //! A workspace (display layouts, phase masks, sensor previewer, sweep results) owns its
 //! document, panels, background jobs, undo history and autosave file. The shell
 //! ([`super::StudioApp`]) owns only the list of workspaces, the menu bar, the status bar, the
-//! unsaved-changes prompt and the settings; it draws the active workspace and routes menu and
-//! keyboard commands to it.
+//! unsaved-changes prompt and the settings; it applies its own commands (undo, theme, switch,
+//! quit), draws the active workspace, and has each workspace carry out the actions its own
+//! menus, shortcuts and panels queued.
 //! Adding a workspace is one folder under `app/`, one [`WorkspaceId`] and one line in
 //! [`super::StudioApp::new`].
 
@@ -12,9 +13,9 @@ use std::any::Any;
 use std::path::Path;
 use std::time::Duration;
 
-use super::commands::Command;
 use super::notice::Notice;
 use super::settings::{AppDirs, Settings};
+use crate::core::Design;
 
 /// The studio's workspaces: display layouts (chapter 3), phase masks (chapter 4), the sensor
 /// previewer (chapter 5) and a sweep's results (issue 19).
@@ -44,27 +45,37 @@ pub trait Workspace: Any {
     fn tour(&self) -> &'static [&'static str];
     /// Its keyboard shortcuts (keys, action), for the Help menu.
     fn shortcuts(&self) -> &'static [(&'static str, &'static str)];
+    /// Reads its own keyboard shortcuts into its queue while it is shown; called before
+    /// anything is drawn, right after the shell has read its own.
+    fn read_shortcuts(&mut self, _ctx: &egui::Context) {}
     /// Takes finished background work and draws its panels (side panels, then the centre) into
-    /// `ui`; panels push what they want done to `cmds`.
-    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell, cmds: &mut Vec<Command>);
-    /// Carries out a menu or keyboard command; commands it has no use for are ignored.
-    /// `confirmed` is set when the user already answered the unsaved-changes prompt.
-    fn command(&mut self, command: Command, confirmed: bool, shell: &mut Shell);
+    /// `ui`; panels queue what they want done in the workspace.
+    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell);
+    /// Carries out what its panels, menus and shortcuts queued this frame (the shell calls it
+    /// once per frame, after drawing).
+    fn apply(&mut self, _shell: &mut Shell) {}
+    /// Steps back one change (Edit ▸ Undo, Ctrl+Z).
+    fn undo(&mut self) {}
+    /// Re-applies the change last undone (Edit ▸ Redo, Ctrl+Shift+Z).
+    fn redo(&mut self) {}
     /// Whether Undo / Redo would change something.
     fn can_undo(&self) -> bool;
     /// See [`Workspace::can_undo`].
     fn can_redo(&self) -> bool;
     /// Its entries at the top of the File menu (the shell adds Quit).
-    fn file_menu_ui(&mut self, _ui: &mut egui::Ui, _shell: &Shell, _cmds: &mut Vec<Command>) {}
+    fn file_menu_ui(&mut self, _ui: &mut egui::Ui, _shell: &Shell) {}
     /// Its entries in the Edit menu, below Undo and Redo.
-    fn edit_menu_ui(&mut self, _ui: &mut egui::Ui, _cmds: &mut Vec<Command>) {}
+    fn edit_menu_ui(&mut self, _ui: &mut egui::Ui) {}
     /// Menus of its own, after Edit.
-    fn menus_ui(&mut self, _ui: &mut egui::Ui, _cmds: &mut Vec<Command>) {}
+    fn menus_ui(&mut self, _ui: &mut egui::Ui) {}
     /// Takes a file dropped on the window if it opens files of that kind (the shell decides the
     /// kind once, [`DroppedKind::of`]); returns whether it did.
     fn open_dropped(&mut self, _path: &Path, _kind: DroppedKind, _shell: &mut Shell) -> bool {
         false
     }
+    /// Carries out what another workspace asked of it ([`Shell::send`]); a request it has no
+    /// use for is ignored.
+    fn request(&mut self, _request: Request, _shell: &mut Shell) {}
     /// Changes that are in no file yet (the unsaved-changes prompt asks before losing them).
     fn is_dirty(&self) -> bool {
         false
@@ -73,6 +84,13 @@ pub trait Workspace: Any {
     fn can_save_in_place(&self) -> bool {
         false
     }
+    /// Saves to its file (the unsaved-changes prompt's Save).
+    fn save(&mut self, _shell: &mut Shell) {}
+    /// Asks for a file to save to (the prompt's Save as…, when there is no file yet).
+    fn save_as(&mut self, _shell: &mut Shell) {}
+    /// Carries out the action it held for the unsaved-changes prompt ([`Shell::confirm`]), now
+    /// that the user chose to go on.
+    fn resume(&mut self, _shell: &mut Shell) {}
     /// The document's name for the prompt and the window title.
     fn document_name(&self) -> String {
         self.label().to_string()
@@ -87,6 +105,29 @@ pub trait Workspace: Any {
     fn as_any(&self) -> &dyn Any;
     /// For the shell's typed accessors.
     fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+/// What one workspace asks of another through the shell ([`Shell::send`]).
+#[derive(Debug, Clone)]
+pub enum Request {
+    /// Open this design, built elsewhere (a sweep row's), as a new unsaved document of the
+    /// display workspace: one undo step there; it asks first if there are unsaved changes.
+    OpenDesign {
+        /// The design.
+        design: Box<Design>,
+        /// Where it came from ("point 3 of sweep `tiny`"), for the status bar.
+        what: String,
+    },
+}
+
+/// What waits for the answer of the unsaved-changes prompt.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Pending {
+    /// Closing the window.
+    Quit,
+    /// An action the workspace holds until the answer ([`Workspace::resume`]); what it leaves
+    /// the changes for, as the prompt asks it ("loading the preset").
+    Action(&'static str),
 }
 
 /// What the shell lends a workspace: where files live, the settings, and the status bar.
@@ -106,12 +147,12 @@ pub struct Shell {
     status_is_simulation_error: bool,
     /// A workspace asks to be shown (a dropped HDR file goes to the sensor previewer).
     pub(super) switch_to: Option<WorkspaceId>,
-    /// A command waiting for the unsaved-changes answer, and whose it is.
-    pub(super) confirm: Option<(WorkspaceId, Command)>,
+    /// What waits for the unsaved-changes answer, and whose changes the prompt is about.
+    pub(super) confirm: Option<(WorkspaceId, Pending)>,
     /// The user chose to quit: the window closes without asking again.
     pub(super) quit_confirmed: bool,
-    /// Commands a workspace sends to another (a sweep row's design to the display).
-    pub(super) sent: Vec<(WorkspaceId, Command)>,
+    /// Requests a workspace sends to another (a sweep row's design to the display).
+    pub(super) sent: Vec<(WorkspaceId, Request)>,
 }
 
 impl Shell {
@@ -168,10 +209,11 @@ impl Shell {
         }
     }
 
-    /// Asks the unsaved-changes question before `command` of workspace `id` runs; the
-    /// answer runs it again with `confirmed` set (or drops it).
-    pub fn confirm(&mut self, id: WorkspaceId, command: Command) {
-        self.confirm = Some((id, command));
+    /// Asks the unsaved-changes question of workspace `id` before an action it holds, which
+    /// would leave the changes for `leaving_for` ("loading the preset"); if the user goes on,
+    /// the shell calls its [`Workspace::resume`].
+    pub fn confirm(&mut self, id: WorkspaceId, leaving_for: &'static str) {
+        self.confirm = Some((id, Pending::Action(leaving_for)));
     }
 
     /// Shows workspace `id` at the end of the frame.
@@ -179,10 +221,10 @@ impl Shell {
         self.switch_to = Some(id);
     }
 
-    /// Hands `command` to workspace `id` at the end of the frame and shows that workspace
+    /// Hands `request` to workspace `id` at the end of the frame and shows that workspace
     /// (the Sweep workspace opens a row's design in the display's document, undoable there).
-    pub fn send(&mut self, id: WorkspaceId, command: Command) {
-        self.sent.push((id, command));
+    pub fn send(&mut self, id: WorkspaceId, request: Request) {
+        self.sent.push((id, request));
         self.switch_to = Some(id);
     }
 

@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use std::time::Duration;
 
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::{Command, LeftTab, StudioApp};
+use udc_studio::app::{DisplayAction, LeftTab, StudioApp};
 use udc_studio::core::analysis::advice::advise;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::{Optics, OpticsRecipe};
@@ -183,7 +183,7 @@ fn apply_sets_the_advised_optics_and_undo_restores_them() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_millis(200));
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(
         &mut h,
         "the result and its advice",

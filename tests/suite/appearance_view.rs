@@ -9,7 +9,7 @@ use std::time::Duration;
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::panels::views::ViewTab;
-use udc_studio::app::{Command, StudioApp};
+use udc_studio::app::{DisplayAction, StudioApp};
 
 #[test]
 fn the_appearance_view_shows_quality_beside_the_camera_auc() {
@@ -18,7 +18,7 @@ fn the_appearance_view_shows_quality_beside_the_camera_auc() {
     let shots = std::env::var_os("UDC_SCREENSHOTS_DIR").map(std::path::PathBuf::from);
     let mut h = common::studio(dir.path(), shots.is_some(), Duration::from_secs(600));
     h.state_mut()
-        .command(Command::LoadPreset("l2inv-repeat".into()));
+        .act(DisplayAction::LoadPreset("l2inv-repeat".into()));
     step_until(&mut h, "the result", StudioApp::is_up_to_date);
     h.state_mut().views().set_tab(ViewTab::Appearance);
     step_until(&mut h, "both renderings", |app| {

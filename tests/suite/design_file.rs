@@ -42,7 +42,7 @@ proptest! {
     #[test]
     fn any_valid_design_round_trips_exactly(d in arb_design()) {
         prop_assert!(d.validate().is_ok());
-        let back = parse_design(&to_json(&d)).map_err(TestCaseError::fail)?;
+        let back = parse_design(&to_json(&d)).map_err(|e| TestCaseError::fail(e.to_string()))?;
         prop_assert_eq!(back, d);
     }
 }
@@ -64,7 +64,9 @@ fn save_then_load_is_identity_and_leaves_no_temp_file() {
 }
 
 fn err_of(text: &str) -> String {
-    parse_design(text).expect_err("must be rejected")
+    parse_design(text)
+        .expect_err("must be rejected")
+        .to_string()
 }
 
 fn good() -> serde_json::Value {

@@ -58,7 +58,7 @@ fn an_emitter_on_an_open_cell_is_an_error_naming_the_cell() {
     let mut d = load_preset("toled-150dpi").expect("preset");
     // Column 10 is inside the T-OLED slit.
     d.subpixels.as_mut().expect("layer").cells[3][10] = Some(Subpixel::Green);
-    let err = parse_design(&to_json(&d)).expect_err("refused");
+    let err = parse_design(&to_json(&d)).expect_err("refused").to_string();
     assert!(err.contains("subpixels.cells[3][10]"), "{err}");
     assert!(err.contains("green") && err.contains("open cell"), "{err}");
 }
@@ -67,11 +67,13 @@ fn an_emitter_on_an_open_cell_is_an_error_naming_the_cell() {
 fn a_wrong_letter_or_size_is_refused() {
     let d = load_preset("toled-150dpi").expect("preset");
     let text = to_json(&d).replacen("RRRRRRRR.....GGGGGGGG", "RRRRRRRX.....GGGGGGGG", 1);
-    let err = parse_design(&text).expect_err("refused");
+    let err = parse_design(&text).expect_err("refused").to_string();
     assert!(err.contains("subpixels") && err.contains("'X'"), "{err}");
     let mut small = d.clone();
     small.subpixels = Some(Subpixels::empty(5));
-    let err = parse_design(&to_json(&small)).expect_err("refused");
+    let err = parse_design(&to_json(&small))
+        .expect_err("refused")
+        .to_string();
     assert!(
         err.contains("subpixels.cells") && err.contains("21×21"),
         "{err}"

@@ -3,16 +3,16 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use egui_kittest::Harness;
-use udc_studio::app::commands::{Command, Tool};
 use udc_studio::app::panels::PanelCtx;
 use udc_studio::app::panels::editor::EditorPanel;
 use udc_studio::app::panels::editor_emitters::EmitterBrush;
+use udc_studio::app::{DisplayAction, Tool};
 use udc_studio::core::design::{Design, Subpixel};
 
 struct State {
     panel: EditorPanel,
     design: Design,
-    commands: Vec<Command>,
+    actions: Vec<DisplayAction>,
 }
 
 fn harness() -> Harness<'static, State> {
@@ -22,7 +22,7 @@ fn harness() -> Harness<'static, State> {
     let state = State {
         panel,
         design: Design::default_toled(),
-        commands: Vec::new(),
+        actions: Vec::new(),
     };
     let mut h = Harness::builder()
         .with_size(egui::vec2(480.0, 760.0))
@@ -36,7 +36,7 @@ fn harness() -> Harness<'static, State> {
                     overlays: false,
                     design_rules: false,
                     tool: Tool::Paint,
-                    commands: &mut s.commands,
+                    actions: &mut s.actions,
                 };
                 s.panel.ui(ui, &mut ctx);
             },
@@ -61,10 +61,10 @@ fn painting_an_emitter_on_a_closed_cell_is_an_edit() {
     click(&mut h, 3, 2);
     let edits: Vec<&Design> = h
         .state()
-        .commands
+        .actions
         .iter()
         .filter_map(|c| match c {
-            Command::Edit(d) => Some(d.as_ref()),
+            DisplayAction::Edit(d) => Some(d.as_ref()),
             _ => None,
         })
         .collect();
@@ -82,9 +82,9 @@ fn painting_on_an_open_cell_is_refused_with_a_message() {
     click(&mut h, 3, 10);
     assert!(
         !h.state()
-            .commands
+            .actions
             .iter()
-            .any(|c| matches!(c, Command::Edit(_))),
+            .any(|c| matches!(c, DisplayAction::Edit(_))),
         "no edit"
     );
     let status = h.state().panel.emitters.status.clone().expect("a status");

@@ -10,7 +10,7 @@ use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::panels::views::ViewTab;
 use udc_studio::app::panels::views::field_depth::Study;
-use udc_studio::app::{Command, StudioApp};
+use udc_studio::app::{DisplayAction, StudioApp};
 
 /// Saves a picture of the studio when `UDC_SCREENSHOTS_DIR` is set (and a renderer exists).
 fn capture(h: &mut egui_kittest::Harness<'_, StudioApp>, name: &str) {
@@ -49,7 +49,7 @@ fn the_field_and_depth_view_shows_its_numbers() {
     let wgpu = std::env::var_os("UDC_SCREENSHOTS_DIR").is_some();
     let mut h = common::studio(dir.path(), wgpu, Duration::from_secs(600));
     h.state_mut()
-        .command(Command::LoadPreset("l2inv-random".into()));
+        .act(DisplayAction::LoadPreset("l2inv-random".into()));
     step_until(&mut h, "the design's result", StudioApp::is_up_to_date);
     h.state_mut().views().set_tab(ViewTab::FieldDepth);
     wait_for_result(&mut h, "the field grid");

@@ -14,6 +14,7 @@ use udc_studio::core::psf::sampling::fft_size;
 use udc_studio::core::{Analysis, Progress, analyze};
 use udc_studio::io::IoError;
 use udc_studio::io::design_file::{load_design, parse_design, to_json};
+use udc_studio::io::error::{PatternError, TableError};
 use udc_studio::io::export::{
     LOG_PSF_FLOOR_DECADES, write_analysis_outputs, write_log_psf_png, write_mtf_csv, write_psf_exr,
     write_psf_png16,
@@ -101,7 +102,19 @@ fn a_non_square_image_is_refused_with_its_size_and_path() {
         .save(&path)
         .unwrap();
     let err = load_pattern_png(&path).unwrap_err();
-    assert!(matches!(err, IoError::Image { .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            IoError::Pattern {
+                error: PatternError::NotSquare {
+                    width: 5,
+                    height: 3
+                },
+                ..
+            }
+        ),
+        "{err:?}"
+    );
     let msg = err.to_string();
     assert!(msg.contains("5×3") && msg.contains("square"), "{msg}");
     assert!(msg.contains(&path.display().to_string()), "{msg}");
@@ -116,7 +129,16 @@ fn a_corrupt_image_is_refused_with_its_path() {
     bytes.extend_from_slice(b"this is not a PNG chunk stream at all");
     std::fs::write(&path, bytes).unwrap();
     let err = load_pattern_png(&path).unwrap_err();
-    assert!(matches!(err, IoError::Image { .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            IoError::Pattern {
+                error: PatternError::Unreadable(_),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
     assert_names(&err, &path);
     let text = dir.path().join("notes.png");
     std::fs::write(&text, "just some text").unwrap();
@@ -226,6 +248,7 @@ fn channels_interpolate_the_table_linearly_and_sum_to_one() {
     assert!(
         channels_from_response(&resp, &[400.0])
             .unwrap_err()
+            .to_string()
             .contains("400")
     );
 }
@@ -235,7 +258,16 @@ fn bad_table(text: &str) -> String {
     let path = dir.path().join("bad.csv");
     std::fs::write(&path, text).unwrap();
     let err = load_response_csv(&path).unwrap_err();
-    assert!(matches!(err, IoError::Table { .. }), "{err:?}");
+    assert!(
+        matches!(
+            err,
+            IoError::Table {
+                error: TableError::Spectral(_),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
     let msg = err.to_string();
     assert!(msg.ends_with(&format!("(in {})", path.display())), "{msg}");
     msg
@@ -534,7 +566,7 @@ fn base_json() -> serde_json::Value {
 }
 
 fn parse_err(v: &serde_json::Value) -> String {
-    parse_design(&v.to_string()).unwrap_err()
+    parse_design(&v.to_string()).unwrap_err().to_string()
 }
 
 #[test]
@@ -576,7 +608,9 @@ fn malformed_designs_name_the_field() {
     );
 
     let text = to_json(&Design::default_toled());
-    let e = parse_design(&text[..text.len() / 2]).unwrap_err();
+    let e = parse_design(&text[..text.len() / 2])
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("EOF") && e.contains("line"), "{e}");
 
     // The unmodified base parses, so each error above comes from its one change.

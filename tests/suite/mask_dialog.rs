@@ -7,7 +7,7 @@ use crate::common;
 use std::time::Duration;
 
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::Command;
+use udc_studio::app::{DisplayAction, ShellCommand};
 use udc_studio::core::mask::Tone;
 use udc_studio::core::mask::drc::ViolationKind;
 use udc_studio::io::mask::{estimate, plan};
@@ -17,7 +17,7 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(3600));
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     h.step();
     h.get_by_label("File").click();
     h.step();
@@ -67,7 +67,7 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     h.step();
     let path = dir.path().join("pupil.gds");
     h.state_mut()
-        .command(Command::WriteMask(Some(path.clone())));
+        .act(DisplayAction::WriteMask(Some(path.clone())));
     common::step_until(&mut h, "the mask export", |app| {
         !app.mask_export().is_running()
     });
@@ -84,7 +84,7 @@ fn the_dialog_shows_the_design_rules_before_export() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(3600));
     h.state_mut()
-        .command(Command::LoadPreset("l2inv-random".into()));
+        .act(DisplayAction::LoadPreset("l2inv-random".into()));
     h.step();
     h.get_by_label("File").click();
     h.step();
@@ -111,7 +111,7 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(3600));
     h.state_mut()
-        .command(Command::LoadPreset("l2inv-random".into()));
+        .act(DisplayAction::LoadPreset("l2inv-random".into()));
     for _ in 0..3 {
         h.step();
     }
@@ -163,16 +163,16 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
     );
     // A clean design: no rings once its check is done.
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     common::step_until(&mut h, "the clean design's check", |app| {
         !app.editor().rules_checking()
     });
     assert!(h.state().editor().rule_marks().is_empty());
     assert!(h.query_by_label("design rules: clean").is_some());
     // Turned off again, the rings and the summary go.
-    h.state_mut().command(Command::ToggleDesignRules);
+    h.state_mut().command(ShellCommand::ToggleDesignRules);
     h.state_mut()
-        .command(Command::LoadPreset("l2inv-random".into()));
+        .act(DisplayAction::LoadPreset("l2inv-random".into()));
     for _ in 0..3 {
         h.step();
     }

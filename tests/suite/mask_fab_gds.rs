@@ -11,6 +11,7 @@ use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, Opening, TilingMode};
 use udc_studio::core::mask::{MaskRegion, MaskSpec};
 use udc_studio::core::phase::PhaseDesign;
+use udc_studio::io::error::LayerMapError;
 use udc_studio::io::fab::{LayerMap, MAX_XY_POINTS, outline_paths, sha256_hex};
 use udc_studio::io::mask::{ExportOptions, MaskFormat, MaskReport, export_mask};
 use udc_studio::io::phase_export::{GDS_NOTE_LAYER, HeightFormat, HeightParams, write_height};
@@ -270,8 +271,15 @@ fn fab_layer_map_moves_every_role() {
     assert_eq!(seen, want);
     let text = std::fs::read_to_string(dir.path().join("mapped.gds.layers.txt")).unwrap();
     assert!(text.contains("openings 10/3") && text.contains("outline 11/0"));
-    let bad = LayerMap::parse("openings 1\n").unwrap_err();
-    assert!(bad.contains("line 1"), "{bad}");
+    let bad = LayerMap::parse("# map\nopenings 1\n").unwrap_err();
+    assert_eq!(
+        bad,
+        LayerMapError::Line {
+            line: 2,
+            text: "openings 1".into()
+        }
+    );
+    assert!(bad.to_string().contains("line 2"), "{bad}");
     o.layer_map = Some(LayerMap::parse("vias 5/0\n").unwrap());
     let e = export_mask(&design("x", 1), &o, &path, &Progress::new()).unwrap_err();
     assert!(e.to_string().contains("vias"), "{e}");

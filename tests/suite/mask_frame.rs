@@ -354,11 +354,11 @@ fn cli_draws_the_frame_and_refuses_bad_sizes_with_a_clear_error() {
 #[test]
 fn the_dialog_turns_the_frame_on_and_the_export_draws_it() {
     use egui_kittest::kittest::Queryable;
-    use udc_studio::app::Command;
+    use udc_studio::app::DisplayAction;
     let dir = tempfile::tempdir().unwrap();
     let mut h = crate::common::studio(dir.path(), false, std::time::Duration::from_secs(3600));
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     h.step();
     h.get_by_label("File").click();
     h.step();
@@ -383,7 +383,7 @@ fn the_dialog_turns_the_frame_on_and_the_export_draws_it() {
     assert!(h.query_by_label("Mark size").is_none());
     let path = dir.path().join("framed.gds");
     h.state_mut()
-        .command(Command::WriteMask(Some(path.clone())));
+        .act(DisplayAction::WriteMask(Some(path.clone())));
     crate::common::step_until(&mut h, "the mask export", |app| {
         !app.mask_export().is_running()
     });

@@ -11,6 +11,7 @@ use std::process::Command;
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, TilingMode};
 use udc_studio::core::mask::{MaskRegion, MaskSpec, Tone};
+use udc_studio::io::error::{IoError, OasisError};
 use udc_studio::io::mask::{
     ExportOptions, GdsCells, ImportOptions, MaskFormat, MaskReport, export_mask, import_mask,
 };
@@ -402,6 +403,31 @@ fn oas_a_cblock_inside_a_cblock_is_refused() {
         cell_um: 1.0,
         ..ImportOptions::default()
     };
-    let e = import_mask(&path, &opts).unwrap_err().to_string();
-    assert!(e.contains("CBLOCK inside a CBLOCK"), "{e}");
+    let e = import_mask(&path, &opts).unwrap_err();
+    assert!(e.to_string().contains("CBLOCK inside a CBLOCK"), "{e}");
+    // The outer CBLOCK follows the 21-byte START; the inner one opens its inflated bytes.
+    let IoError::Oasis {
+        error: OasisError::Unreadable(record),
+        ..
+    } = &e
+    else {
+        panic!("{e:?}")
+    };
+    let OasisError::Record {
+        id: 34,
+        byte: 21,
+        error: inner,
+    } = &**record
+    else {
+        panic!("{record:?}")
+    };
+    let OasisError::Record {
+        id: 34,
+        byte: 0,
+        error: refused,
+    } = &**inner
+    else {
+        panic!("{inner:?}")
+    };
+    assert!(matches!(**refused, OasisError::NestedCblock), "{refused:?}");
 }

@@ -7,9 +7,9 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
-use udc_studio::app::commands::{Command, Tool};
 use udc_studio::app::panels::PanelCtx;
 use udc_studio::app::panels::editor::EditorPanel;
+use udc_studio::app::{DisplayAction, Tool};
 use udc_studio::core::design::{Design, MAX_CELLS};
 use udc_studio::core::display::opening_ops::{
     GridTextError, Symmetry, clear, ellipse, flood_fill, from_text, invert, line, open_extent,
@@ -318,7 +318,7 @@ struct State {
     panel: EditorPanel,
     design: Design,
     tool: Tool,
-    commands: Vec<Command>,
+    actions: Vec<DisplayAction>,
 }
 
 fn harness(tool: Tool, value: f64) -> Harness<'static, State> {
@@ -343,7 +343,7 @@ fn editor_harness(
         panel: EditorPanel::default(),
         design,
         tool,
-        commands: Vec::new(),
+        actions: Vec::new(),
     };
     builder.build_ui_state(
         |ui, s: &mut State| {
@@ -355,7 +355,7 @@ fn editor_harness(
                 overlays: false,
                 design_rules: false,
                 tool: s.tool,
-                commands: &mut s.commands,
+                actions: &mut s.actions,
             };
             s.panel.ui(ui, &mut ctx);
         },
@@ -369,8 +369,8 @@ fn at(h: &Harness<State>, r: usize, c: usize) -> Pos2 {
 
 /// The cells of the single edit pushed so far.
 fn single_edit(h: &Harness<State>) -> Vec<Vec<f64>> {
-    match h.state().commands.as_slice() {
-        [Command::Edit(d)] => d.opening.cells.clone(),
+    match h.state().actions.as_slice() {
+        [DisplayAction::Edit(d)] => d.opening.cells.clone(),
         other => panic!("expected one edit, got {other:?}"),
     }
 }
@@ -394,7 +394,7 @@ fn a_fast_drag_is_one_edit_without_gaps() {
     h.hover_at(at(&h, 2, 15));
     h.run();
     assert!(h.state().panel.is_drawing());
-    assert!(h.state().commands.is_empty(), "nothing is pushed mid-drag");
+    assert!(h.state().actions.is_empty(), "nothing is pushed mid-drag");
     h.drop_at(at(&h, 2, 15));
     h.run();
     let cells = single_edit(&h);
@@ -441,13 +441,10 @@ fn a_press_that_moves_in_its_first_frame_keeps_the_pressed_cell() {
     );
     // Once the document has the edit, the grid shows the document.
     h.state_mut().design.opening.cells = cells.clone();
-    h.state_mut().commands.clear();
+    h.state_mut().actions.clear();
     h.run();
     assert_eq!(h.state().panel.shown_cells(), Some(cells.as_slice()));
-    assert!(
-        h.state().commands.is_empty(),
-        "the stroke is committed once"
-    );
+    assert!(h.state().actions.is_empty(), "the stroke is committed once");
 }
 
 #[test]
@@ -509,15 +506,15 @@ fn buttons_push_commands() {
         h.run();
     }
     assert!(matches!(
-        h.state().commands.as_slice(),
+        h.state().actions.as_slice(),
         [
-            Command::SetTool(Tool::Ellipse),
-            Command::Invert,
-            Command::Clear,
-            Command::ImportPattern
+            DisplayAction::SetTool(Tool::Ellipse),
+            DisplayAction::Invert,
+            DisplayAction::Clear,
+            DisplayAction::ImportPattern
         ]
     ));
-    h.state_mut().commands.clear();
+    h.state_mut().actions.clear();
     h.get_by_role_and_label(egui::Role::SpinButton, "grid")
         .set_value_accesskit(42.0);
     h.run();

@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::{Command, LeftTab, StudioApp};
+use udc_studio::app::{DisplayAction, LeftTab, ShellCommand, StudioApp};
 use udc_studio::core::analysis::analyze::Quality;
 
 #[test]
@@ -16,7 +16,7 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
     let before = h.state().design().clone();
     let loss_before = h.state().shown().unwrap().analysis.invertibility_loss;
@@ -96,10 +96,10 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     assert_eq!(open, (0.3f64 * 441.0).round() as usize);
     assert_eq!(after.tiling, before.tiling, "geometry kept");
     assert_eq!(after.optics, before.optics);
-    h.state_mut().command(Command::Undo);
+    h.state_mut().command(ShellCommand::Undo);
     h.step();
     assert_eq!(h.state().design(), &before, "one undo restores the start");
-    h.state_mut().command(Command::Redo);
+    h.state_mut().command(ShellCommand::Redo);
     h.step();
     assert_eq!(h.state().design(), &after);
 }

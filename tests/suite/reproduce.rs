@@ -453,7 +453,7 @@ with = { bin-mode = ["additive", "average"], bin = [2, 2] }
         ]
     );
     let bad = |text: &str, needle: &str| {
-        let e = parse_spec(text, true).unwrap_err();
+        let e = parse_spec(text, true).unwrap_err().to_string();
         assert!(e.contains(needle), "{e}");
     };
     bad(

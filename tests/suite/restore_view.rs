@@ -9,7 +9,7 @@ use std::time::Duration;
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::panels::views::ViewTab;
-use udc_studio::app::{Command, StudioApp};
+use udc_studio::app::{DisplayAction, StudioApp};
 use udc_studio::core::design::TilingMode;
 
 #[test]
@@ -17,13 +17,13 @@ fn random_tiling_restores_better_than_the_pinned_periodic_toled() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
-    h.state_mut().command(Command::PinCompare);
+    h.state_mut().act(DisplayAction::PinCompare);
     step_until(&mut h, "the pinned design", |app| app.pinned().is_some());
     let mut d = h.state().design().clone();
     d.tiling.mode = TilingMode::RandomD4;
-    h.state_mut().command(Command::Edit(Box::new(d)));
+    h.state_mut().act(DisplayAction::Edit(Box::new(d)));
     step_until(&mut h, "the random-tiling result", StudioApp::is_up_to_date);
     h.state_mut().views().set_tab(ViewTab::Restore);
     step_until(&mut h, "both restorations", |app| {

@@ -228,7 +228,7 @@ fn presets_carry_the_thesis_numbers() {
 
 fn field_of(settings: &SensorSettings, scene: &Scene) -> String {
     match run(scene, settings, &Progress::new()) {
-        Err(SimError::InvalidField { field, .. }) => field,
+        Err(SimError::InvalidField { field, .. }) => field.to_string(),
         other => panic!("expected a field error, got {:?}", other.map(|_| ())),
     }
 }

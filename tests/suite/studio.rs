@@ -10,7 +10,7 @@ use crate::common::step_until;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::panels::views::ViewTab;
-use udc_studio::app::{Command, StudioApp};
+use udc_studio::app::{DisplayAction, ShellCommand, StudioApp};
 use udc_studio::core::design::TilingMode;
 
 fn harness(dir: &std::path::Path) -> Harness<'static, StudioApp> {
@@ -28,7 +28,7 @@ fn random_tiling_raises_the_auc_shown() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
     let before = auc_r(h.state());
     h.get_by_label("Tiling").click();
@@ -65,7 +65,7 @@ fn drawing_changes_the_design_and_undo_restores_it() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
     let before = h.state().design().clone();
     assert_eq!(before.opening.cells[2][1], 0.0);
@@ -104,7 +104,7 @@ fn a_quick_stroke_keeps_its_first_cell_and_does_not_blink() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
     let before = h.state().design().opening.cells.clone();
     assert!((1..=6).all(|c| before[3][c] == 0.0));
@@ -150,14 +150,14 @@ fn compare_names_the_pinned_and_the_edited_design_apart() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    h.state_mut().command(Command::PinCompare);
+    h.state_mut().act(DisplayAction::PinCompare);
     step_until(&mut h, "the pin", |app| app.pinned().is_some());
     let name = h.state().design().name.clone();
     let pinned_at = h.state().pinned().unwrap().pinned_at.clone();
     assert_eq!(pinned_at.len(), 5, "HH:MM, got {pinned_at}");
-    h.state_mut().command(Command::Invert);
+    h.state_mut().act(DisplayAction::Invert);
     step_until(&mut h, "the edited result", StudioApp::is_up_to_date);
     h.state_mut().views().set_tab(ViewTab::Compare);
     h.step();
@@ -180,7 +180,7 @@ fn a_corrupt_design_file_shows_an_error_and_keeps_the_design() {
     let mut h = harness(dir.path());
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
     let before = h.state().design().clone();
-    h.state_mut().command(Command::OpenPath(bad.clone()));
+    h.state_mut().act(DisplayAction::OpenPath(bad.clone()));
     step_until(&mut h, "the error", |a| {
         a.status().is_some_and(|n| n.is_error())
     });
@@ -202,7 +202,7 @@ fn the_design_is_autosaved_and_restored() {
     let mut d = h.state().design().clone();
     d.tiling.mode = TilingMode::Random4;
     d.tiling.seed = 99;
-    h.state_mut().command(Command::Edit(Box::new(d.clone())));
+    h.state_mut().act(DisplayAction::Edit(Box::new(d.clone())));
     step_until(&mut h, "the autosave", |_| {
         udc_studio::io::design_file::load_design(&dir.path().join("autosave.json"))
             .is_ok_and(|s| s.tiling.seed == 99)
@@ -224,16 +224,16 @@ fn unsaved_changes_are_confirmed_before_loading_another_design() {
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
     // A preset replaces an unedited design without asking.
     h.state_mut()
-        .command(Command::LoadPreset("poled-336um".into()));
+        .act(DisplayAction::LoadPreset("poled-336um".into()));
     h.step();
     assert!(h.query_by_label("Unsaved changes").is_none());
     assert_eq!(h.state().design().opening.n(), 42);
     // After an edit, it asks first; Cancel keeps the edit, Discard loads.
     let mut d = h.state().design().clone();
     d.tiling.seed = 1234;
-    h.state_mut().command(Command::Edit(Box::new(d.clone())));
+    h.state_mut().act(DisplayAction::Edit(Box::new(d.clone())));
     h.state_mut()
-        .command(Command::LoadPreset("open-aperture".into()));
+        .act(DisplayAction::LoadPreset("open-aperture".into()));
     h.step();
     h.step();
     assert!(
@@ -245,7 +245,7 @@ fn unsaved_changes_are_confirmed_before_loading_another_design() {
     h.step();
     assert_eq!(h.state().design(), &d);
     h.state_mut()
-        .command(Command::LoadPreset("open-aperture".into()));
+        .act(DisplayAction::LoadPreset("open-aperture".into()));
     h.step();
     h.step();
     h.get_by_label("Don't save").click();
@@ -253,7 +253,7 @@ fn unsaved_changes_are_confirmed_before_loading_another_design() {
     h.step();
     assert_eq!(h.state().design().opening.cells, vec![vec![1.0; 21]; 21]);
     // …and the discarded edit is still one undo away.
-    h.state_mut().command(Command::Undo);
+    h.state_mut().command(ShellCommand::Undo);
     assert_eq!(h.state().design(), &d);
 }
 
@@ -264,7 +264,7 @@ fn a_mask_imports_back_as_the_opening() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut()
-        .command(Command::LoadPreset("l2inv-random".into()));
+        .act(DisplayAction::LoadPreset("l2inv-random".into()));
     step_until(&mut h, "the first result", StudioApp::is_up_to_date);
     let exported = h.state().design().clone();
     let gds = dir.path().join("pixel.gds");
@@ -284,7 +284,7 @@ fn a_mask_imports_back_as_the_opening() {
     )
     .unwrap();
     // Clear the opening, then bring it back from the mask file.
-    h.state_mut().command(Command::Clear);
+    h.state_mut().act(DisplayAction::Clear);
     assert!(
         h.state()
             .design()
@@ -294,13 +294,13 @@ fn a_mask_imports_back_as_the_opening() {
             .flatten()
             .all(|v| *v == 0.0)
     );
-    h.state_mut().command(Command::ImportOpening(gds));
+    h.state_mut().act(DisplayAction::ImportOpening(gds));
     step_until(&mut h, "the import", |a| {
         a.status().is_some_and(|n| n.text == "opening imported")
     });
     assert_eq!(h.state().design().opening.cells, exported.opening.cells);
     // One undo step back to the cleared opening.
-    h.state_mut().command(Command::Undo);
+    h.state_mut().command(ShellCommand::Undo);
     assert!(
         h.state()
             .design()
@@ -391,7 +391,7 @@ fn a_typed_number_commits_once_on_enter() {
     h.run_steps(3);
     assert_eq!(h.state().design().tiling.wiring_gap_um, 12.0);
     assert_eq!(undo_depth(&mut h), undo_steps_before + 1, "one undo step");
-    h.state_mut().command(Command::Undo);
+    h.state_mut().command(ShellCommand::Undo);
     h.run_steps(2);
     assert_eq!(h.state().design(), &before);
     // Text that is not a number never reaches the design, and the status bar says why, in red.
@@ -418,11 +418,11 @@ fn undo_depth(h: &mut Harness<'static, StudioApp>) -> usize {
     let mut n = 0;
     let start = h.state().design().clone();
     while h.state().document().can_undo() {
-        h.state_mut().command(Command::Undo);
+        h.state_mut().command(ShellCommand::Undo);
         n += 1;
     }
     for _ in 0..n {
-        h.state_mut().command(Command::Redo);
+        h.state_mut().command(ShellCommand::Redo);
     }
     assert_eq!(h.state().design(), &start);
     n

@@ -6,6 +6,7 @@ use proptest::prelude::*;
 use udc_studio::core::sweep::hash::point_hash;
 use udc_studio::core::sweep::summary::{ParetoPoint, pareto_front};
 use udc_studio::core::sweep::{ParamValue, Points, Shard};
+use udc_studio::io::error::SpecError;
 use udc_studio::io::sweep::metrics::{matches, select_columns};
 use udc_studio::io::sweep::{flatten_metrics, parse_spec};
 
@@ -109,7 +110,7 @@ fn bad_specs_are_refused_naming_the_field() {
         ),
     ];
     for (text, field) in cases {
-        let err = parse_spec(text, true).expect_err(text);
+        let err = parse_spec(text, true).expect_err(text).to_string();
         assert!(
             err.contains(field),
             "{text:?}: `{err}` does not name {field}"
@@ -117,10 +118,17 @@ fn bad_specs_are_refused_naming_the_field() {
     }
     // TOML syntax errors give the line.
     let err = parse_spec("job = \"analyze\"\n[[axis]\n", true).unwrap_err();
-    assert!(err.contains("line 2"), "{err}");
-    // JSON works the same way.
+    assert!(matches!(err, SpecError::Toml(_)), "{err:?}");
+    assert!(err.to_string().contains("line 2"), "{err}");
+    // JSON works the same way; a well-formed spec that is no valid sweep is the core's error.
     let err = parse_spec(r#"{"job": "analyze", "axis": [{"param": "seed"}]}"#, false).unwrap_err();
-    assert!(err.contains("exactly one of"), "{err}");
+    assert!(matches!(err, SpecError::Invalid(_)), "{err:?}");
+    assert!(err.to_string().contains("exactly one of"), "{err}");
+    let err = parse_spec(r#"{"job": "analyze", "axis": [{"param": 7}]}"#, false).unwrap_err();
+    assert!(
+        matches!(&err, SpecError::JsonField { field, .. } if field == "axis[0].param"),
+        "{err:?}"
+    );
 }
 
 #[test]
@@ -131,7 +139,7 @@ fn too_many_points_are_refused_before_anything_runs() {
             "[[axis]]\nparam = \"p{k}\"\nrange = {{ start = 0, stop = 999999 }}\n"
         ));
     }
-    let err = parse_spec(&text, true).unwrap_err();
+    let err = parse_spec(&text, true).unwrap_err().to_string();
     assert!(err.contains("points"), "{err}");
 }
 
@@ -198,7 +206,15 @@ fn metrics_are_json_paths_with_named_list_items() {
     let cols = select_columns(&["runs.0.psnr_db".into(), "channels.*.auc".into()], &flat).unwrap();
     assert_eq!(cols, ["runs.0.psnr_db", "channels.R.auc", "channels.G.auc"]);
     let err = select_columns(&["auc".into()], &flat).unwrap_err();
-    assert!(err.contains("ltr"), "the error lists what exists: {err}");
+    assert!(
+        matches!(&err, SpecError::UnknownMetric { pattern, available }
+            if pattern == "auc" && available.len() == 4),
+        "{err:?}"
+    );
+    assert!(
+        err.to_string().contains("ltr"),
+        "the error lists what exists: {err}"
+    );
 }
 
 proptest! {

@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::sweep::table::{Column, Sort};
-use udc_studio::app::{Command, StudioApp, WorkspaceId};
+use udc_studio::app::{DisplayAction, StudioApp, WorkspaceId};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::sweep::field::{FieldPoint, SweepField, SweepMetric, values};
 use udc_studio::io::design_choice::design_hash;
@@ -161,11 +161,11 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut()
-        .command(Command::LoadPreset("toled-150dpi".into()));
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     h.step();
     let pitch = h.state().design().opening.pitch_um;
     h.state_mut()
-        .command(Command::SweepField(SweepField::PitchUm));
+        .act(DisplayAction::SweepField(SweepField::PitchUm));
     h.step();
     {
         let w = h.state().display().field_sweep();
@@ -186,7 +186,7 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     // A design change meanwhile does not disturb the run: it works on its copy.
     let mut d = h.state().design().clone();
     d.tiling.mode = TilingMode::RandomD4;
-    h.state_mut().command(Command::Edit(Box::new(d)));
+    h.state_mut().act(DisplayAction::Edit(Box::new(d)));
     common::step_until(&mut h, "the 1-D sweep", |app| {
         !app.display().field_sweep().is_running()
     });

@@ -8,10 +8,10 @@ use std::sync::Arc;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::commands::{Command, Tool};
 use udc_studio::app::panels::numbers::NumbersPanel;
 use udc_studio::app::panels::views::{ViewTab, ViewsPanel};
 use udc_studio::app::panels::{PanelCtx, Pinned, Shown};
+use udc_studio::app::{DisplayAction, Tool};
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze, analyze_with};
 use udc_studio::core::design::{Design, TilingMode};
 use udc_studio::core::{Analysis, Progress};
@@ -24,7 +24,7 @@ struct State {
     shown: Option<Shown>,
     pinned: Option<Pinned>,
     overlays: bool,
-    commands: Vec<Command>,
+    actions: Vec<DisplayAction>,
 }
 
 /// The 150-DPI T-OLED opening on small, fast optics, randomly tiled (so the expected PSF exists).
@@ -61,7 +61,7 @@ fn harness(state: State) -> Harness<'static, State> {
                 overlays: s.overlays,
                 design_rules: false,
                 tool: Tool::default(),
-                commands: &mut s.commands,
+                actions: &mut s.actions,
             };
             s.panel.ui(ui, &mut ctx);
         },
@@ -95,7 +95,7 @@ fn without_a_result_the_panel_says_it_is_computing() {
         shown: None,
         pinned: None,
         overlays: false,
-        commands: Vec::new(),
+        actions: Vec::new(),
     });
     h.step();
     assert!(h.query_by_label("computing…").is_some());
@@ -110,7 +110,7 @@ fn every_tab_draws_and_textures_are_built_once() {
         design,
         pinned: None,
         overlays: true,
-        commands: Vec::new(),
+        actions: Vec::new(),
     });
     h.step();
     for tab in ViewTab::ALL {
@@ -178,7 +178,7 @@ fn compare_tab_pins_and_shows_a_and_b() {
         design,
         pinned: None,
         overlays: false,
-        commands: Vec::new(),
+        actions: Vec::new(),
     });
     h.state_mut().panel.set_tab(ViewTab::Compare);
     h.step();
@@ -186,8 +186,8 @@ fn compare_tab_pins_and_shows_a_and_b() {
     h.get_by_label("Pin as A").click();
     h.step();
     assert!(matches!(
-        h.state().commands.as_slice(),
-        [Command::PinCompare]
+        h.state().actions.as_slice(),
+        [DisplayAction::PinCompare]
     ));
     // The shell answers the command by pinning the result.
     let s = h.state_mut();
@@ -239,7 +239,7 @@ fn the_theory_tab_agrees_on_a_slit_then_parts_when_it_is_broken() {
         design: design.clone(),
         pinned: None,
         overlays: false,
-        commands: Vec::new(),
+        actions: Vec::new(),
     });
     h.step();
     h.get_by_label("Theory").click();
@@ -284,7 +284,7 @@ struct NumbersState {
     panel: NumbersPanel,
     design: Design,
     shown: Shown,
-    commands: Vec<Command>,
+    actions: Vec<DisplayAction>,
 }
 
 /// The numbers say which result they are: a preview estimate, with "≈" on what the sampling
@@ -314,7 +314,7 @@ fn the_quality_label_follows_the_shown_result() {
                         overlays: false,
                         design_rules: false,
                         tool: Tool::default(),
-                        commands: &mut st.commands,
+                        actions: &mut st.actions,
                     };
                     st.panel.ui(ui, &mut ctx, None);
                 },
@@ -322,7 +322,7 @@ fn the_quality_label_follows_the_shown_result() {
                     panel: NumbersPanel,
                     design: design.clone(),
                     shown: s.clone(),
-                    commands: Vec::new(),
+                    actions: Vec::new(),
                 },
             );
         h.run();
@@ -354,7 +354,7 @@ fn the_quality_label_follows_the_shown_result() {
             design: design.clone(),
             pinned: Some(Pinned::now(s.design.clone(), s.analysis.clone())),
             overlays: false,
-            commands: Vec::new(),
+            actions: Vec::new(),
         });
         v.state_mut().panel.set_tab(ViewTab::Compare);
         v.step();

@@ -1,61 +1,72 @@
-//! The flag behind a setting. The core names a bad setting by its field (`SimError::InvalidField`,
-//! the path in the design or settings file); a setting that only a flag sets is reported to a
-//! command-line user by that flag instead, as they typed it. One table for every command, applied
-//! once, where [`crate::run`] returns.
+//! The flag behind a setting. The core names a bad setting by its [`Setting`]
+//! (`SimError::InvalidField`); a setting that only a flag sets is reported to a command-line user
+//! by that flag instead, as they typed it. One exhaustive `match`, applied once, where
+//! [`crate::run`] returns: a new setting does not compile until it says whether a flag sets it.
 
-use udc_core::SimError;
+use udc_core::{Field, Setting, SimError};
 
-/// Settings that only a flag sets, by the field name the core reports, and their flag.
-const FLAG_OF_FIELD: [(&str, &str); 32] = [
-    ("eta", "--eta"),
-    ("eta_per_pixel", "--eta-per-pixel"),
-    ("capture.light.snr_db", "--snr-db"),
-    ("capture.light.electrons_at_peak", "--light"),
-    ("capture.adc_bits", "--adc-bits"),
-    ("method.nsr", "--nsr"),
-    ("method.lambda", "--lambda"),
-    ("epochs", "--epochs"),
-    ("target_open_fraction", "--area"),
-    ("weights.area", "--weight-area"),
-    ("weights.inv", "--weight-inv"),
-    ("weights.data", "--weight-data"),
-    ("roi_px", "--roi"),
-    ("snr_t", "--snr-t"),
-    ("photo", "--image"),
-    ("display_distance_mm", "--display-distance-mm"),
-    ("max_field_deg", "--max-field-deg"),
-    ("grid", "--grid"),
-    ("nsr", "--nsr"),
-    ("object_distance_mm", "--object-distance-mm"),
-    ("focal_mm", "--focal-mm"),
-    ("light_e", "--light"),
-    ("bin_px", "--bin"),
-    ("side_px", "--side-px"),
-    ("gain", "--gain"),
-    ("clip_percent", "--clip-percent"),
-    ("brackets", "--brackets"),
-    ("step_ev", "--step-ev"),
-    ("dpi", "--dpi"),
-    ("viewing_distance_mm", "--viewing-distance-mm"),
-    ("region_mm", "--region-mm"),
-    ("acuity_arcmin", "--acuity-arcmin"),
-];
-
-/// The flag that sets `field`, if only a flag does.
-pub fn flag_of(field: &str) -> Option<&'static str> {
-    FLAG_OF_FIELD
-        .iter()
-        .find(|(f, _)| *f == field)
-        .map(|(_, flag)| *flag)
+/// The flag that sets `setting`, if only a flag does (a design file's fields are named by their
+/// path in the file).
+pub fn flag_of(setting: Setting) -> Option<&'static str> {
+    Some(match setting {
+        Setting::Eta => "--eta",
+        Setting::EtaPerPixel => "--eta-per-pixel",
+        Setting::CaptureSnrDb => "--snr-db",
+        Setting::CaptureElectronsAtPeak | Setting::LightE => "--light",
+        Setting::CaptureAdcBits => "--adc-bits",
+        Setting::MethodNsr | Setting::Nsr => "--nsr",
+        Setting::MethodLambda => "--lambda",
+        Setting::Epochs => "--epochs",
+        Setting::TargetOpenFraction => "--area",
+        Setting::WeightArea => "--weight-area",
+        Setting::WeightInv => "--weight-inv",
+        Setting::WeightData => "--weight-data",
+        Setting::RoiPx => "--roi",
+        Setting::SnrT => "--snr-t",
+        Setting::Photo => "--image",
+        Setting::DisplayDistanceMm => "--display-distance-mm",
+        Setting::MaxFieldDeg => "--max-field-deg",
+        Setting::Grid => "--grid",
+        Setting::ObjectDistanceMm => "--object-distance-mm",
+        Setting::FocalMm => "--focal-mm",
+        Setting::BinPx => "--bin",
+        Setting::SidePx => "--side-px",
+        Setting::Gain => "--gain",
+        Setting::ClipPercent => "--clip-percent",
+        Setting::Brackets => "--brackets",
+        Setting::StepEv => "--step-ev",
+        Setting::Dpi => "--dpi",
+        Setting::ViewingDistanceMm => "--viewing-distance-mm",
+        Setting::RegionMm => "--region-mm",
+        Setting::AcuityArcmin => "--acuity-arcmin",
+        Setting::OpticsWindowPx
+        | Setting::OpticsPupilSampleUm
+        | Setting::OpticsFineSampleUm
+        | Setting::OpticsSensorPixelUm
+        | Setting::OpticsFocalLengthMm
+        | Setting::OpticsFNumber
+        | Setting::OpticsAxisInPixelUm
+        | Setting::OpeningPitchUm
+        | Setting::OpeningCellUm
+        | Setting::OpeningCells
+        | Setting::OpeningPolygons
+        | Setting::TilingWiringGapUm
+        | Setting::TilingOriginOffsetCells
+        | Setting::TilingMode
+        | Setting::TilingSeed => return None,
+    })
 }
 
 /// A core error about a setting that only a flag sets names the flag; every other error is
 /// returned as it is.
 pub(crate) fn name_flags(e: anyhow::Error) -> anyhow::Error {
     match e.downcast::<SimError>() {
-        Ok(SimError::InvalidField { field, message }) => match flag_of(&field) {
+        Ok(SimError::InvalidField {
+            field: Field::Setting(setting),
+            message,
+        }) => match flag_of(setting) {
             Some(flag) => anyhow::anyhow!("{flag}: {message}"),
-            None => SimError::InvalidField { field, message }.into(),
+            None => SimError::field(setting, message).into(),
         },
         Ok(other) => other.into(),
         Err(e) => e,
@@ -68,10 +79,13 @@ mod tests {
 
     #[test]
     fn a_field_only_a_flag_sets_is_reported_by_its_flag() {
-        let e = name_flags(SimError::field("viewing_distance_mm", "must be above 0").into());
+        let e = name_flags(SimError::field(Setting::ViewingDistanceMm, "must be above 0").into());
         assert_eq!(e.to_string(), "--viewing-distance-mm: must be above 0");
-        let e = name_flags(SimError::field("opening.cells", "too many").into());
+        let e = name_flags(SimError::field(Setting::OpeningCells, "too many").into());
         assert_eq!(e.to_string(), "field `opening.cells`: too many");
+        // A path is not a setting, even where it spells one: only the core's typed key counts.
+        let e = name_flags(SimError::field("nsr", "must be ≥ 0").into());
+        assert_eq!(e.to_string(), "field `nsr`: must be ≥ 0");
         let e = name_flags(anyhow::anyhow!("not a core error"));
         assert_eq!(e.to_string(), "not a core error");
     }
@@ -91,11 +105,13 @@ mod tests {
         }
         let mut all = Vec::new();
         longs(&crate::Cli::command(), &mut all);
-        for (field, flag) in FLAG_OF_FIELD {
-            assert!(
-                all.iter().any(|l| l == flag),
-                "{field} → {flag}: no such flag"
-            );
+        for setting in Setting::ALL {
+            if let Some(flag) = flag_of(setting) {
+                assert!(
+                    all.iter().any(|l| l == flag),
+                    "{setting} → {flag}: no such flag"
+                );
+            }
         }
     }
 }

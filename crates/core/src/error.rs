@@ -2,14 +2,16 @@
 
 use thiserror::Error;
 
+use crate::setting::Field;
+
 /// Everything that can go wrong in a simulation. Messages name what was wrong and where.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SimError {
     /// A parameter is out of range; `field` is its path in the design file (or the setting's name).
     #[error("field `{field}`: {message}")]
     InvalidField {
-        /// Path of the offending parameter.
-        field: String,
+        /// The offending setting, or a path inside one.
+        field: Field,
         /// What is wrong with it.
         message: String,
     },
@@ -37,7 +39,7 @@ pub enum SimError {
 
 impl SimError {
     /// An [`SimError::InvalidField`] for `field` with `message`.
-    pub fn field(field: impl Into<String>, message: impl Into<String>) -> Self {
+    pub fn field(field: impl Into<Field>, message: impl Into<String>) -> Self {
         SimError::InvalidField {
             field: field.into(),
             message: message.into(),

@@ -59,6 +59,7 @@ pub mod psf;
 pub mod reproduce;
 pub mod restore;
 pub mod sensor;
+pub mod setting;
 pub mod sweep;
 pub mod theory;
 
@@ -66,3 +67,4 @@ pub use analysis::analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze
 pub use design::Design;
 pub use error::{SimError, ValueError};
 pub use progress::Progress;
+pub use setting::{Field, Setting};

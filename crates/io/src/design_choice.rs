@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use crate::error::IoError;
+use crate::error::{IoError, TableError};
 use crate::{design_file, pattern, presets, spectral};
 use udc_core::ValueError;
 use udc_core::design::{Design, OpticsRecipe, TilingMode};
@@ -79,17 +79,17 @@ impl DesignChoice {
             design.optics = o;
         }
         if let Some(path) = &self.spectral {
-            let table_err = |message: String| IoError::Table {
+            let table_err = |error: TableError| IoError::Table {
                 path: path.clone(),
-                message,
+                error,
             };
             let resp = spectral::load_response_csv(path)?;
             let lo = resp.wavelengths_nm.first().copied().unwrap_or(0.0);
             let hi = resp.wavelengths_nm.last().copied().unwrap_or(0.0);
             let samples = spectral::sample_grid(lo, hi, self.spectral_step_nm)
-                .map_err(|e| table_err(format!("--spectral-step-nm: {e}")))?;
-            design.channels =
-                spectral::channels_from_response(&resp, &samples).map_err(table_err)?;
+                .map_err(|e| table_err(TableError::SpectralStep(e)))?;
+            design.channels = spectral::channels_from_response(&resp, &samples)
+                .map_err(|e| table_err(TableError::Spectral(e)))?;
         }
         design.validate()?;
         Ok(design)

@@ -17,6 +17,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use super::IoError;
+use super::error::DesignFileError;
 use super::safe_file::read_text_bounded;
 use super::safe_file::write_atomic;
 use udc_core::design::Theory;
@@ -57,37 +58,38 @@ struct FileV1 {
 /// Parses and validates a design file's text.
 ///
 /// # Errors
-/// A message naming the field (its path) and the line for syntax, type, unknown-field and range
-/// errors. The caller adds the file path.
-pub fn parse_design(text: &str) -> Result<Design, String> {
-    let header: Header =
-        serde_json::from_str(text).map_err(|e| format!("not a design file: {e}"))?;
-    match header.format.as_deref() {
-        Some(FORMAT) => {}
-        Some(other) => {
-            return Err(format!(
-                "field `format`: expected \"{FORMAT}\", found \"{other}\""
-            ));
+/// A [`DesignFileError`] naming the field (its path) and the line for syntax, type,
+/// unknown-field and range errors. The caller adds the file path.
+pub fn parse_design(text: &str) -> Result<Design, DesignFileError> {
+    let header: Header = serde_json::from_str(text).map_err(DesignFileError::NotADesignFile)?;
+    match header.format {
+        Some(f) if f == FORMAT => {}
+        Some(found) => {
+            return Err(DesignFileError::WrongFormat {
+                expected: FORMAT,
+                found,
+            });
         }
-        None => return Err(format!("field `format` is missing (expected \"{FORMAT}\")")),
+        None => return Err(DesignFileError::MissingFormat { expected: FORMAT }),
     }
     match header.version {
         Some(VERSION) => {}
-        Some(v) => {
-            return Err(format!(
-                "field `version`: this studio reads version {VERSION}; the file is version {v}"
-            ));
+        Some(found) => {
+            return Err(DesignFileError::WrongVersion {
+                supported: VERSION,
+                found,
+            });
         }
-        None => return Err("field `version` is missing".into()),
+        None => return Err(DesignFileError::MissingVersion),
     }
     let de = &mut serde_json::Deserializer::from_str(text);
     let file: FileV1 = serde_path_to_error::deserialize(de).map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        if path == "." || path.is_empty() {
-            inner.to_string()
+        let field = e.path().to_string();
+        let error = e.into_inner();
+        if field == "." || field.is_empty() {
+            DesignFileError::Document(error)
         } else {
-            format!("field `{path}`: {inner}")
+            DesignFileError::Field { field, error }
         }
     })?;
     let design = Design {
@@ -100,7 +102,7 @@ pub fn parse_design(text: &str) -> Result<Design, String> {
         theory: file.theory,
         subpixels: file.subpixels,
     };
-    design.validate().map_err(|e| e.to_string())?;
+    design.validate()?;
     Ok(design)
 }
 
@@ -110,9 +112,9 @@ pub fn parse_design(text: &str) -> Result<Design, String> {
 /// [`IoError::File`] when it cannot be read, [`IoError::Design`] when it is not a valid design.
 pub fn load_design(path: &Path) -> Result<Design, IoError> {
     let text = read_design_text(path)?;
-    parse_design(&text).map_err(|message| IoError::Design {
+    parse_design(&text).map_err(|error| IoError::Design {
         path: path.to_path_buf(),
-        message,
+        error,
     })
 }
 

@@ -20,6 +20,7 @@ use image::{DynamicImage, GrayImage, ImageBuffer, ImageFormat, Luma, Rgb, Rgb32F
 use ndarray::Array2;
 
 use super::IoError;
+use super::error::TableError;
 use super::safe_file::write_atomic;
 use udc_core::analysis::analyze::{Analysis, ChannelAnalysis};
 
@@ -181,12 +182,10 @@ fn csv_field(s: &str) -> String {
 /// The MTF table as CSV text (see [`write_mtf_csv`]).
 ///
 /// # Errors
-/// When the analysis has no channel or its channels' MTFs have different numbers of rings.
-pub fn mtf_csv(analysis: &Analysis) -> Result<String, String> {
-    let first = analysis
-        .channels
-        .first()
-        .ok_or("the analysis has no channel")?;
+/// [`TableError::NoChannel`] when the analysis has no channel, [`TableError::MtfRings`] when its
+/// channels' MTFs have different numbers of rings.
+pub fn mtf_csv(analysis: &Analysis) -> Result<String, TableError> {
+    let first = analysis.channels.first().ok_or(TableError::NoChannel)?;
     let freqs = first.mtf.freqs_cyc_per_px();
     for ch in &analysis.channels {
         let m = &ch.mtf;
@@ -198,10 +197,11 @@ pub fn mtf_csv(analysis: &Analysis) -> Result<String, String> {
             m.radial_mean.len(),
         ] != [n; 4]
         {
-            return Err(format!(
-                "channel {}'s MTF does not have {n} rings like channel {}'s",
-                ch.name, first.name
-            ));
+            return Err(TableError::MtfRings {
+                channel: ch.name.clone(),
+                rings: n,
+                first: first.name.clone(),
+            });
         }
     }
     let mut out = String::from("freq_cyc_per_px");
@@ -239,9 +239,9 @@ pub fn mtf_csv(analysis: &Analysis) -> Result<String, String> {
 /// [`IoError::Table`] for an analysis without channels or with mismatched MTFs,
 /// [`IoError::File`] when the file cannot be written.
 pub fn write_mtf_csv(path: &Path, analysis: &Analysis) -> Result<(), IoError> {
-    let text = mtf_csv(analysis).map_err(|message| IoError::Table {
+    let text = mtf_csv(analysis).map_err(|error| IoError::Table {
         path: path.to_path_buf(),
-        message,
+        error,
     })?;
     write_atomic(path, text.as_bytes())
 }

@@ -8,6 +8,7 @@ use gds21::{GdsDateTime, GdsPath, GdsPoint};
 use sha2::{Digest, Sha256};
 
 use super::IoError;
+use super::error::LayerMapError;
 use super::safe_file::write_atomic;
 
 /// Most points one GDSII XY record carries. The record length is 16 bits, and many readers
@@ -123,8 +124,8 @@ impl LayerMap {
     /// `<properties>`).
     ///
     /// # Errors
-    /// A message naming the line (or entry) that does not parse.
-    pub fn parse(text: &str) -> Result<LayerMap, String> {
+    /// A [`LayerMapError`] naming the line (or entry) that does not parse.
+    pub fn parse(text: &str) -> Result<LayerMap, LayerMapError> {
         if text.trim_start().starts_with('<') {
             return Self::parse_lyp(text);
         }
@@ -134,12 +135,9 @@ impl LayerMap {
             if line.is_empty() {
                 continue;
             }
-            let bad = || {
-                format!(
-                    "layer map line {}: `{}`: expected `name layer/datatype` (e.g. `openings 1/0`)",
-                    k + 1,
-                    raw.trim()
-                )
+            let bad = || LayerMapError::Line {
+                line: k + 1,
+                text: raw.trim().to_string(),
             };
             let mut words = line.split_whitespace();
             let (Some(name), Some(spec), None) = (words.next(), words.next(), words.next()) else {
@@ -157,7 +155,7 @@ impl LayerMap {
 
     /// KLayout's layer properties: each `<properties>` names a layer by `<name>` and sources
     /// it as `<source>L/D@1</source>`.
-    fn parse_lyp(text: &str) -> Result<LayerMap, String> {
+    fn parse_lyp(text: &str) -> Result<LayerMap, LayerMapError> {
         let tag = |block: &str, t: &str| -> Option<String> {
             let open = format!("<{t}>");
             let a = block.find(&open)? + open.len();
@@ -168,11 +166,12 @@ impl LayerMap {
         for block in text.split("<properties>").skip(1) {
             let source = tag(block, "source").unwrap_or_default();
             let spec = source.split('@').next().unwrap_or("").trim();
-            let (layer, datatype) = parse_pair(spec)
-                .ok_or_else(|| format!("layer map (.lyp): source `{source}` is not `L/D@…`"))?;
+            let (layer, datatype) = parse_pair(spec).ok_or_else(|| LayerMapError::LypSource {
+                found: source.clone(),
+            })?;
             let name = tag(block, "name")
                 .filter(|n| !n.is_empty())
-                .ok_or_else(|| format!("layer map (.lyp): layer {layer}/{datatype} has no name"))?;
+                .ok_or(LayerMapError::LypUnnamed { layer, datatype })?;
             // A `.lyp` name may say more than the role ("openings (clear)"): the first word.
             let name = name.split_whitespace().next().unwrap_or("").to_string();
             entries.push(LayerEntry {

@@ -26,6 +26,7 @@ use image::{ImageFormat, ImageReader};
 use ndarray::Array2;
 
 use super::IoError;
+use super::error::HdrError;
 use super::photo::MAX_PHOTO_PIXELS;
 use super::safe_file::write_atomic;
 
@@ -74,7 +75,7 @@ impl HdrReport {
 /// Loads an HDR scene (see the module docs).
 ///
 /// # Errors
-/// [`IoError::File`] when the file cannot be read; [`IoError::Image`] naming the path for an
+/// [`IoError::File`] when the file cannot be read; [`IoError::Hdr`] naming the path for an
 /// unsupported extension, bytes that are not the format the extension says, a corrupt or
 /// truncated file, unsupported content (no RGB or Y channels, subsampled channels, DWA
 /// compression), an empty image or one over [`MAX_PHOTO_PIXELS`].
@@ -88,9 +89,9 @@ pub fn load_hdr(path: &Path) -> Result<Scene, IoError> {
 /// As [`load_hdr`].
 pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> {
     super::safe_file::check_regular(path, "read the HDR image")?;
-    let bad = |message: String| IoError::Image {
+    let bad = |error: HdrError| IoError::Hdr {
         path: path.to_path_buf(),
-        message,
+        error,
     };
     let ext = path
         .extension()
@@ -100,16 +101,7 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
     let exr = match ext.as_str() {
         "exr" => true,
         "hdr" | "pic" => false,
-        other => {
-            let shown = if other.is_empty() {
-                "no extension".to_string()
-            } else {
-                format!("`.{other}`")
-            };
-            return Err(bad(format!(
-                "unsupported HDR image ({shown}): expected a Radiance .hdr or an OpenEXR .exr file"
-            )));
-        }
+        _ => return Err(bad(HdrError::UnsupportedExtension { extension: ext })),
     };
     let bytes = super::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
     let (planes, channels) = if exr {
@@ -136,45 +128,43 @@ pub const SAMPLE_SCENE_NAME: &str = "StillLife (built-in sample)";
 /// Never for the shipped file; a message if it were corrupt.
 pub fn sample_scene() -> Result<Scene, IoError> {
     const SAMPLE_EXR: &[u8] = include_bytes!("../../../assets/hdr/StillLife_620x423.exr");
-    let (planes, _) = read_exr(SAMPLE_EXR).map_err(|message| IoError::Image {
+    let (planes, _) = read_exr(SAMPLE_EXR).map_err(|error| IoError::Hdr {
         path: SAMPLE_SCENE_NAME.into(),
-        message,
+        error,
     })?;
     let planes = repair(planes, &mut HdrReport::default());
     Ok(Scene { planes })
 }
 
-fn check_size(width: usize, height: usize) -> Result<(), String> {
+fn check_size(width: usize, height: usize) -> Result<(), HdrError> {
     if width == 0 || height == 0 {
-        return Err(format!("the image is empty ({width}×{height} pixels)"));
+        return Err(HdrError::Empty { width, height });
     }
     if (width as u64) * (height as u64) > MAX_PHOTO_PIXELS {
-        return Err(format!(
-            "the image is {width}×{height} pixels; at most {MAX_PHOTO_PIXELS} pixels are simulated"
-        ));
+        return Err(HdrError::TooLarge {
+            width,
+            height,
+            max_pixels: MAX_PHOTO_PIXELS,
+        });
     }
     Ok(())
 }
 
 /// The EXR's planes (`[row, col]`, f32 widened) and channel names.
-pub(super) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), String> {
+pub(super) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
     const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
     if bytes.len() < 4 || bytes[..4] != MAGIC {
-        return Err("not an OpenEXR file (its first bytes are not the EXR magic number)".into());
+        return Err(HdrError::NotExr);
     }
     let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), false)
-        .map_err(|e| format!("not a readable OpenEXR file: {e}"))?;
+        .map_err(HdrError::Exr)?;
     for header in &meta.headers {
         check_size(header.layer_size.0, header.layer_size.1)?;
         if matches!(
             header.compression,
             exr::compression::Compression::DWAA(_) | exr::compression::Compression::DWAB(_)
         ) {
-            return Err(format!(
-                "the OpenEXR file uses {} compression, which is not supported (re-save it with \
-                 ZIP or PIZ)",
-                header.compression
-            ));
+            return Err(HdrError::UnsupportedCompression(header.compression));
         }
     }
     let image = exr::prelude::read()
@@ -184,7 +174,7 @@ pub(super) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), 
         .all_layers()
         .all_attributes()
         .from_buffered(Cursor::new(bytes))
-        .map_err(|e| format!("not a readable OpenEXR file: {e}"))?;
+        .map_err(HdrError::Exr)?;
     for want in [&["R", "G", "B"][..], &["Y"][..]] {
         for layer in &image.layer_data {
             let list = &layer.channel_data.list;
@@ -199,44 +189,42 @@ pub(super) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), 
             let mut planes = Vec::with_capacity(found.len());
             for c in found {
                 if c.sampling.0 != 1 || c.sampling.1 != 1 {
-                    return Err(format!(
-                        "channel {} is subsampled ({}×{}), which is not supported",
-                        c.name, c.sampling.0, c.sampling.1
-                    ));
+                    return Err(HdrError::Subsampled {
+                        channel: c.name.to_string(),
+                        x: c.sampling.0,
+                        y: c.sampling.1,
+                    });
                 }
                 let values: Vec<f32> = c.sample_data.values_as_f32().collect();
-                let plane = Array2::from_shape_vec((h, w), values)
-                    .map_err(|_| format!("channel {} does not hold {w}×{h} samples", c.name))?;
+                let plane =
+                    Array2::from_shape_vec((h, w), values).map_err(|_| HdrError::ChannelSize {
+                        channel: c.name.to_string(),
+                        width: w,
+                        height: h,
+                    })?;
                 planes.push(plane);
             }
             return Ok((planes, want.iter().map(|s| s.to_string()).collect()));
         }
     }
-    let names: Vec<String> = image
-        .layer_data
-        .iter()
-        .flat_map(|l| l.channel_data.list.iter().map(|c| c.name.to_string()))
-        .collect();
-    Err(format!(
-        "the OpenEXR file has no R, G, B or Y channels (it has: {})",
-        names.join(", ")
-    ))
+    Err(HdrError::NoColourChannels {
+        found: image
+            .layer_data
+            .iter()
+            .flat_map(|l| l.channel_data.list.iter().map(|c| c.name.to_string()))
+            .collect(),
+    })
 }
 
 /// The Radiance file's R, G, B planes.
-fn read_radiance(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), String> {
+fn read_radiance(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
     if !bytes.starts_with(b"#?") {
-        return Err("not a Radiance HDR file (it does not start with the `#?` signature)".into());
+        return Err(HdrError::NotRadiance);
     }
     let reader = || ImageReader::with_format(Cursor::new(bytes), ImageFormat::Hdr);
-    let (w, h) = reader()
-        .into_dimensions()
-        .map_err(|e| format!("not a readable Radiance HDR file: {e}"))?;
+    let (w, h) = reader().into_dimensions().map_err(HdrError::Radiance)?;
     check_size(w as usize, h as usize)?;
-    let img = reader()
-        .decode()
-        .map_err(|e| format!("not a readable Radiance HDR file: {e}"))?
-        .to_rgb32f();
+    let img = reader().decode().map_err(HdrError::Radiance)?.to_rgb32f();
     let (w, h) = (img.width() as usize, img.height() as usize);
     let raw = img.into_raw();
     let planes = (0..3)

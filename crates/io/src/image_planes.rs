@@ -19,6 +19,7 @@ use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma, Rgb};
 use ndarray::Array2;
 
 use super::IoError;
+use super::error::PlanesError;
 use super::export::{size_mismatch, write_image};
 use super::hdr::{ExrPrecision, MAX_HDR_BYTES, read_exr, write_exr};
 use super::photo::MAX_PHOTO_PIXELS;
@@ -107,16 +108,16 @@ impl ImagePlanes {
 ///
 /// # Errors
 /// [`IoError::File`] / [`IoError::NotAFile`] / [`IoError::TooLarge`] when the file cannot be
-/// read; [`IoError::Image`] naming the path when it is not a PNG, TIFF or OpenEXR image, cannot be
-/// decoded, is empty, larger than [`MAX_PHOTO_PIXELS`], or holds a NaN or infinite sample.
+/// read; [`IoError::Planes`] naming the path when it is not a PNG, TIFF or OpenEXR image, cannot
+/// be decoded, is empty, larger than [`MAX_PHOTO_PIXELS`], or holds a NaN or infinite sample.
 pub fn read_planes(path: &Path) -> Result<ImagePlanes, IoError> {
-    let bad = |message: String| IoError::Image {
+    let bad = |error: PlanesError| IoError::Planes {
         path: path.to_path_buf(),
-        message,
+        error,
     };
     let bytes = super::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the image")?;
     let (planes, kind) = if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
-        let (planes, _) = read_exr(&bytes).map_err(bad)?;
+        let (planes, _) = read_exr(&bytes).map_err(|e| bad(PlanesError::Exr(e)))?;
         let planes = planes.into_iter().map(|p| p.mapv(f64::from)).collect();
         (planes, ImageKind::Exr)
     } else {
@@ -128,46 +129,43 @@ pub fn read_planes(path: &Path) -> Result<ImagePlanes, IoError> {
         .filter(|v| !v.is_finite())
         .count();
     if bad_samples > 0 {
-        return Err(bad(format!(
-            "{bad_samples} samples are NaN or infinite; every sample must be a finite number"
-        )));
+        return Err(bad(PlanesError::NonFinite {
+            samples: bad_samples,
+        }));
     }
     Ok(ImagePlanes { planes, kind })
 }
 
 /// Decodes PNG or TIFF bytes into 1 or 3 planes, sizes checked from the header first.
-fn decode_png_or_tiff(bytes: &[u8]) -> Result<(Vec<Array2<f64>>, ImageKind), String> {
+fn decode_png_or_tiff(bytes: &[u8]) -> Result<(Vec<Array2<f64>>, ImageKind), PlanesError> {
     let (format, kind) = match image::guess_format(bytes) {
         Ok(ImageFormat::Png) => (ImageFormat::Png, ImageKind::Png),
         Ok(ImageFormat::Tiff) => (ImageFormat::Tiff, ImageKind::Tiff),
-        Ok(other) => {
-            return Err(format!(
-                "a {other:?} image; only PNG, TIFF and OpenEXR images are read here"
-            ));
-        }
-        Err(_) => return Err("not an image (PNG, TIFF or OpenEXR)".into()),
+        Ok(other) => return Err(PlanesError::UnsupportedFormat(other)),
+        Err(_) => return Err(PlanesError::NotAnImage),
     };
-    let name = kind.name();
+    let unreadable = |error| PlanesError::Unreadable {
+        format: kind.name(),
+        error,
+    };
     let reader = || ImageReader::with_format(Cursor::new(bytes), format);
-    let (w, h) = reader()
-        .into_dimensions()
-        .map_err(|e| format!("not a readable {name} image: {e}"))?;
-    if w == 0 || h == 0 {
-        return Err(format!("the image is empty ({w}×{h} pixels)"));
+    let (width, height) = reader().into_dimensions().map_err(unreadable)?;
+    if width == 0 || height == 0 {
+        return Err(PlanesError::Empty { width, height });
     }
     // The photo reader's decode cap is higher because it can scale down; nothing here does.
-    if u64::from(w) * u64::from(h) > MAX_PHOTO_PIXELS {
-        return Err(format!(
-            "the image is {w}×{h} pixels; at most {MAX_PHOTO_PIXELS} pixels are read"
-        ));
+    if u64::from(width) * u64::from(height) > MAX_PHOTO_PIXELS {
+        return Err(PlanesError::TooLarge {
+            width,
+            height,
+            max_pixels: MAX_PHOTO_PIXELS,
+        });
     }
     let mut reader = reader();
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(MAX_DECODE_BYTES);
     reader.limits(limits);
-    let img = reader
-        .decode()
-        .map_err(|e| format!("not a readable {name} image: {e}"))?;
+    let img = reader.decode().map_err(unreadable)?;
     Ok((planes_of(&img), kind))
 }
 

@@ -10,6 +10,7 @@ use std::path::Path;
 use image::{DynamicImage, GrayImage, ImageFormat, ImageReader};
 
 use super::IoError;
+use super::error::PatternError;
 use super::safe_file::write_atomic;
 use udc_core::design::MAX_CELLS;
 
@@ -20,12 +21,12 @@ pub const OPEN_THRESHOLD: u8 = 127;
 /// Rows run top to bottom, as in [`udc_core::design::Opening::cells`].
 ///
 /// # Errors
-/// [`IoError::File`] when the file cannot be opened; [`IoError::Image`] when it cannot be decoded
-/// or is not a square image of 1 to [`MAX_CELLS`] pixels per side.
+/// [`IoError::File`] when the file cannot be opened; [`IoError::Pattern`] when it cannot be
+/// decoded or is not a square image of 1 to [`MAX_CELLS`] pixels per side.
 pub fn load_pattern_png(path: &Path) -> Result<Vec<Vec<f64>>, IoError> {
-    let image_err = |message: String| IoError::Image {
+    let pattern_err = |error: PatternError| IoError::Pattern {
         path: path.to_path_buf(),
-        message,
+        error,
     };
     super::safe_file::check_regular(path, "read the pattern")?;
     let open = || {
@@ -38,19 +39,20 @@ pub fn load_pattern_png(path: &Path) -> Result<Vec<Vec<f64>>, IoError> {
     // Check the size from the header first, so a huge image is refused before it is decoded.
     let (w, h) = open()?
         .into_dimensions()
-        .map_err(|e| image_err(format!("not a readable image: {e}")))?;
-    check_size(w, h).map_err(image_err)?;
+        .map_err(|e| pattern_err(PatternError::Unreadable(e)))?;
+    check_size(w, h).map_err(pattern_err)?;
     let img = open()?
         .decode()
-        .map_err(|e| image_err(format!("not a readable image: {e}")))?;
-    pattern_from_image(&img).map_err(image_err)
+        .map_err(|e| pattern_err(PatternError::Unreadable(e)))?;
+    pattern_from_image(&img).map_err(pattern_err)
 }
 
 /// The cells of a decoded image (see [`load_pattern_png`]).
 ///
 /// # Errors
-/// A message with the size found when the image is not square or larger than [`MAX_CELLS`].
-pub fn pattern_from_image(img: &DynamicImage) -> Result<Vec<Vec<f64>>, String> {
+/// A [`PatternError`] with the size found when the image is empty, not square or larger than
+/// [`MAX_CELLS`].
+pub fn pattern_from_image(img: &DynamicImage) -> Result<Vec<Vec<f64>>, PatternError> {
     check_size(img.width(), img.height())?;
     let luma = img.to_luma8();
     Ok(luma
@@ -62,21 +64,15 @@ pub fn pattern_from_image(img: &DynamicImage) -> Result<Vec<Vec<f64>>, String> {
         .collect())
 }
 
-fn check_size(width: u32, height: u32) -> Result<(), String> {
+fn check_size(width: u32, height: u32) -> Result<(), PatternError> {
     if width == 0 || height == 0 {
-        return Err(format!(
-            "the image is empty ({width}×{height} pixels); an opening needs at least 1×1 cells"
-        ));
+        return Err(PatternError::Empty { width, height });
     }
     if width != height {
-        return Err(format!(
-            "the image is {width}×{height} pixels; an opening must be square (one pixel per cell)"
-        ));
+        return Err(PatternError::NotSquare { width, height });
     }
     if width as usize > MAX_CELLS {
-        return Err(format!(
-            "the image is {width}×{height} pixels; openings have at most {MAX_CELLS}×{MAX_CELLS} cells"
-        ));
+        return Err(PatternError::TooLarge { width, height });
     }
     Ok(())
 }
@@ -151,12 +147,37 @@ mod tests {
     }
 
     #[test]
-    fn non_square_and_oversized_images_are_refused_with_their_size() {
+    fn non_square_empty_and_oversized_images_are_refused_with_their_size() {
         let e = pattern_from_image(&DynamicImage::new_luma8(4, 3)).unwrap_err();
-        assert!(e.contains("4×3"), "{e}");
+        assert!(
+            matches!(
+                e,
+                PatternError::NotSquare {
+                    width: 4,
+                    height: 3
+                }
+            ),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains("4×3"), "{e}");
+        let e = pattern_from_image(&DynamicImage::new_luma8(0, 0)).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                PatternError::Empty {
+                    width: 0,
+                    height: 0
+                }
+            ),
+            "{e:?}"
+        );
         let n = MAX_CELLS as u32 + 1;
         let e = pattern_from_image(&DynamicImage::new_luma8(n, n)).unwrap_err();
-        assert!(e.contains(&format!("{n}×{n}")), "{e}");
+        assert!(
+            matches!(e, PatternError::TooLarge { width, height } if (width, height) == (n, n)),
+            "{e:?}"
+        );
+        assert!(e.to_string().contains(&format!("{n}×{n}")), "{e}");
     }
 
     #[test]

@@ -9,6 +9,7 @@ use std::path::Path;
 
 use super::IoError;
 use super::design_file::read_design_text;
+use super::error::DesignFileError;
 use super::safe_file::write_atomic;
 use udc_core::phase::PhaseDesign;
 
@@ -24,14 +25,17 @@ pub struct LoadedPhaseDesign {
 /// Parses a phase design from JSON text and validates it.
 ///
 /// # Errors
-/// A message naming the field that is missing, mistyped or out of range.
-pub fn parse_phase_design(text: &str) -> Result<LoadedPhaseDesign, String> {
-    let value: serde_json::Value =
-        serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
+/// A [`DesignFileError`] naming the field that is missing, mistyped or out of range.
+pub fn parse_phase_design(text: &str) -> Result<LoadedPhaseDesign, DesignFileError> {
+    let value: serde_json::Value = serde_json::from_str(text).map_err(DesignFileError::NotJson)?;
     let has_sampling = value.get("sampling").is_some();
-    let design: PhaseDesign = serde_path_to_error::deserialize(value)
-        .map_err(|e| format!("field `{}`: {}", e.path(), e.inner()))?;
-    design.validate().map_err(|e| e.to_string())?;
+    // Unlike the display design's, a whole-document error still names its path (`.`).
+    let design: PhaseDesign =
+        serde_path_to_error::deserialize(value).map_err(|e| DesignFileError::Field {
+            field: e.path().to_string(),
+            error: e.into_inner(),
+        })?;
+    design.validate()?;
     let mut notes = Vec::new();
     if !has_sampling {
         notes.push(
@@ -50,9 +54,9 @@ pub fn parse_phase_design(text: &str) -> Result<LoadedPhaseDesign, String> {
 /// [`IoError::File`] when it cannot be read, [`IoError::Design`] when it is not a valid design.
 pub fn load_phase_design(path: &Path) -> Result<LoadedPhaseDesign, IoError> {
     let text = read_design_text(path)?;
-    parse_phase_design(&text).map_err(|message| IoError::Design {
+    parse_phase_design(&text).map_err(|error| IoError::Design {
         path: path.to_path_buf(),
-        message,
+        error,
     })
 }
 

@@ -85,9 +85,9 @@ pub fn load_preset(name: &str) -> Result<Design, IoError> {
         .iter()
         .find(|p| p.name == name)
         .ok_or_else(|| IoError::UnknownPreset(name.to_string()))?;
-    parse_design(preset.text).map_err(|message| IoError::Design {
+    parse_design(preset.text).map_err(|error| IoError::Design {
         path: format!("presets/{name}.json").into(),
-        message,
+        error,
     })
 }
 

@@ -13,6 +13,7 @@
 use std::path::Path;
 
 use super::IoError;
+use super::error::{SpectralError, TableError};
 use udc_core::design::{Channel, MAX_WAVELENGTHS};
 
 /// Spectral tables larger than this are refused before parsing (a 1 nm table is ~12 kB).
@@ -34,23 +35,24 @@ pub struct SpectralResponse {
 /// Reads a spectral response CSV.
 ///
 /// # Errors
-/// [`IoError::File`] when the file cannot be read; [`IoError::Table`] naming the line and column
-/// for a cell that is not a number, a NaN/infinite/negative value, a wavelength that does not
-/// increase, a wrong number of columns, or a table of fewer than 2 rows.
+/// [`IoError::File`] when the file cannot be read; [`IoError::Table`] (a [`SpectralError`])
+/// naming the line and column for a cell that is not a number, a NaN/infinite/negative value, a
+/// wavelength that does not increase, a wrong number of columns, or a table of fewer than 2
+/// rows.
 pub fn load_response_csv(path: &Path) -> Result<SpectralResponse, IoError> {
     let text =
         super::safe_file::read_text_bounded(path, MAX_TABLE_BYTES, "read the spectral table")?;
-    parse_response_csv(&text).map_err(|message| IoError::Table {
+    parse_response_csv(&text).map_err(|e| IoError::Table {
         path: path.to_path_buf(),
-        message,
+        error: TableError::Spectral(e),
     })
 }
 
 /// Parses the text of a spectral response CSV (see [`load_response_csv`]).
 ///
 /// # Errors
-/// A message naming the line (1-based) and column (1-based) of the first problem.
-pub fn parse_response_csv(text: &str) -> Result<SpectralResponse, String> {
+/// A [`SpectralError`] naming the line (1-based) and column (1-based) of the first problem.
+pub fn parse_response_csv(text: &str) -> Result<SpectralResponse, SpectralError> {
     let mut resp = SpectralResponse {
         wavelengths_nm: Vec::new(),
         r: Vec::new(),
@@ -61,45 +63,46 @@ pub fn parse_response_csv(text: &str) -> Result<SpectralResponse, String> {
     let mut order = [1usize, 2, 3];
     let mut first_content = true;
     for (i, raw) in text.lines().enumerate() {
-        let line_no = i + 1;
-        let line = raw.trim_start_matches('\u{feff}').trim();
-        if line.is_empty() || line.starts_with('#') {
+        let line = i + 1;
+        let content = raw.trim_start_matches('\u{feff}').trim();
+        if content.is_empty() || content.starts_with('#') {
             continue;
         }
-        let fields: Vec<&str> = line
+        let fields: Vec<&str> = content
             .split(',')
             .map(|f| f.trim().trim_matches('"').trim())
             .collect();
         if fields.len() != 4 {
-            return Err(format!(
-                "line {line_no}: expected 4 columns (wavelength_nm, r, g, b), found {}",
-                fields.len()
-            ));
+            return Err(SpectralError::ColumnCount {
+                line,
+                found: fields.len(),
+            });
         }
         let is_header = first_content && fields[0].parse::<f64>().is_err();
         first_content = false;
         if is_header {
-            order = header_order(&fields).map_err(|e| format!("line {line_no}: {e}"))?;
+            order = header_order(&fields, line)?;
             continue;
         }
         let mut values = [0.0; 4];
         for (col, (field, value)) in fields.iter().zip(values.iter_mut()).enumerate() {
-            *value =
-                number(field).map_err(|e| format!("line {line_no}, column {}: {e}", col + 1))?;
+            *value = number(field, line, col + 1)?;
         }
         let wavelength_nm = values[0];
         if wavelength_nm <= 0.0 {
-            return Err(format!(
-                "line {line_no}, column 1: wavelength {wavelength_nm} nm must be positive"
-            ));
+            return Err(SpectralError::WavelengthNotPositive {
+                line,
+                wavelength_nm,
+            });
         }
-        if let Some(&prev) = resp.wavelengths_nm.last()
-            && wavelength_nm <= prev
+        if let Some(&previous_nm) = resp.wavelengths_nm.last()
+            && wavelength_nm <= previous_nm
         {
-            return Err(format!(
-                "line {line_no}, column 1: wavelength {wavelength_nm} nm does not increase \
-                 (the row before has {prev} nm); rows must be sorted by wavelength"
-            ));
+            return Err(SpectralError::NotIncreasing {
+                line,
+                wavelength_nm,
+                previous_nm,
+            });
         }
         resp.wavelengths_nm.push(wavelength_nm);
         resp.r.push(values[order[0]]);
@@ -107,52 +110,56 @@ pub fn parse_response_csv(text: &str) -> Result<SpectralResponse, String> {
         resp.b.push(values[order[2]]);
     }
     if resp.wavelengths_nm.len() < 2 {
-        return Err(format!(
-            "the table has {} data row(s); at least 2 are needed to interpolate",
-            resp.wavelengths_nm.len()
-        ));
+        return Err(SpectralError::TooFewRows {
+            rows: resp.wavelengths_nm.len(),
+        });
     }
     Ok(resp)
 }
 
-/// A finite, non-negative number.
-fn number(field: &str) -> Result<f64, String> {
-    let v: f64 = field
-        .parse()
-        .map_err(|_| format!("`{field}` is not a number"))?;
+/// A finite, non-negative number: the cell at `line`, `column`.
+fn number(field: &str, line: usize, column: usize) -> Result<f64, SpectralError> {
+    let value = || field.to_string();
+    let v: f64 = field.parse().map_err(|_| SpectralError::NotANumber {
+        line,
+        column,
+        value: value(),
+    })?;
     if !v.is_finite() {
-        return Err(format!("`{field}` is not a finite number"));
+        return Err(SpectralError::NotFinite {
+            line,
+            column,
+            value: value(),
+        });
     }
     if v < 0.0 {
-        return Err(format!(
-            "`{field}` is negative; responses and wavelengths are ≥ 0"
-        ));
+        return Err(SpectralError::Negative {
+            line,
+            column,
+            value: value(),
+        });
     }
     Ok(v)
 }
 
-/// Which value column (1..=3) holds r, g and b, from the header's names.
-fn header_order(fields: &[&str]) -> Result<[usize; 3], String> {
+/// Which value column (1..=3) holds r, g and b, from the names of the header at `line`.
+fn header_order(fields: &[&str], line: usize) -> Result<[usize; 3], SpectralError> {
     let first = fields[0].to_ascii_lowercase();
     if !(first.starts_with("wavelength") || first.starts_with("lambda") || first == "nm") {
-        return Err(format!(
-            "column 1: header `{}` should name the wavelength (e.g. `wavelength_nm`)",
-            fields[0]
-        ));
+        return Err(SpectralError::WavelengthHeader {
+            line,
+            found: fields[0].to_string(),
+        });
     }
     let mut order = [0usize; 3];
-    for (slot, want) in order.iter_mut().zip(["r", "g", "b"]) {
+    for (slot, channel) in order.iter_mut().zip(["r", "g", "b"]) {
         let found: Vec<usize> = (1..4)
-            .filter(|&c| fields[c].eq_ignore_ascii_case(want))
+            .filter(|&c| fields[c].eq_ignore_ascii_case(channel))
             .collect();
         match found.as_slice() {
             [c] => *slot = *c,
-            [] => {
-                return Err(format!(
-                    "header has no `{want}` column (expected wavelength_nm,r,g,b)"
-                ));
-            }
-            _ => return Err(format!("header names the `{want}` column twice")),
+            [] => return Err(SpectralError::MissingChannel { line, channel }),
+            _ => return Err(SpectralError::DuplicateChannel { line, channel }),
         }
     }
     Ok(order)
@@ -188,27 +195,29 @@ impl SpectralResponse {
 /// positive number or the grid would exceed [`MAX_WAVELENGTHS`].
 ///
 /// # Errors
-/// A message naming the step and the smallest step that fits.
-pub fn sample_grid(lo_nm: f64, hi_nm: f64, step_nm: f64) -> Result<Vec<f64>, String> {
+/// A [`SpectralError`] naming the step (and, when it is too fine, the smallest step that fits).
+pub fn sample_grid(lo_nm: f64, hi_nm: f64, step_nm: f64) -> Result<Vec<f64>, SpectralError> {
     if !(step_nm.is_finite() && step_nm > 0.0) {
-        return Err(format!(
-            "the wavelength step must be a positive number of nm (got {step_nm:?})"
-        ));
+        return Err(SpectralError::StepNotPositive { step_nm });
     }
     let first = (lo_nm / step_nm).ceil() * step_nm;
     let count = ((hi_nm - first) / step_nm).floor() + 1.0;
     if !(count >= 1.0) {
-        return Err(format!(
-            "no multiple of {step_nm:?} nm lies in the table's {lo_nm}–{hi_nm} nm"
-        ));
+        return Err(SpectralError::NoStepInRange {
+            step_nm,
+            lo_nm,
+            hi_nm,
+        });
     }
     if count > MAX_WAVELENGTHS as f64 {
         let min_step = (hi_nm - lo_nm) / (MAX_WAVELENGTHS - 1) as f64;
-        return Err(format!(
-            "a step of {step_nm:?} nm gives {count:.0} wavelengths over {lo_nm}–{hi_nm} nm; at most \
-             {MAX_WAVELENGTHS} per channel are simulated: use a step of at least {:.1} nm",
-            (min_step * 10.0).ceil() / 10.0
-        ));
+        return Err(SpectralError::TooManySamples {
+            step_nm,
+            count,
+            lo_nm,
+            hi_nm,
+            min_step_nm: (min_step * 10.0).ceil() / 10.0,
+        });
     }
     Ok((0..count as usize)
         .map(|k| first + k as f64 * step_nm)
@@ -219,44 +228,42 @@ pub fn sample_grid(lo_nm: f64, hi_nm: f64, step_nm: f64) -> Result<Vec<f64>, Str
 /// response at that wavelength, normalised so a channel's weights sum to 1.
 ///
 /// # Errors
-/// When no wavelength is given, a wavelength is not finite or lies outside the table, or a
-/// channel's response is zero at every sample wavelength.
+/// A [`SpectralError`] when no wavelength is given, a wavelength is not finite or lies outside
+/// the table, or a channel's response is zero at every sample wavelength.
 pub fn channels_from_response(
     resp: &SpectralResponse,
     sample_wavelengths_nm: &[f64],
-) -> Result<Vec<Channel>, String> {
+) -> Result<Vec<Channel>, SpectralError> {
     if sample_wavelengths_nm.is_empty() {
-        return Err("no sample wavelengths given".into());
+        return Err(SpectralError::NoSamples);
     }
-    let (lo, hi) = match (resp.wavelengths_nm.first(), resp.wavelengths_nm.last()) {
+    let (lo_nm, hi_nm) = match (resp.wavelengths_nm.first(), resp.wavelengths_nm.last()) {
         (Some(lo), Some(hi)) => (*lo, *hi),
-        _ => return Err("the spectral table is empty".into()),
+        _ => return Err(SpectralError::EmptyTable),
     };
     resp.curves()
         .into_iter()
-        .map(|(name, values)| {
+        .map(|(channel, values)| {
             let weights = sample_wavelengths_nm
                 .iter()
-                .map(|&l| {
-                    if !l.is_finite() {
-                        return Err(format!(
-                            "sample wavelength {l} is not a finite number of nm"
-                        ));
+                .map(|&wavelength_nm| {
+                    if !wavelength_nm.is_finite() {
+                        return Err(SpectralError::SampleNotFinite { wavelength_nm });
                     }
-                    resp.interpolate(values, l).ok_or_else(|| {
-                        format!("sample wavelength {l:?} nm is outside the table ({lo}–{hi} nm)")
-                    })
+                    resp.interpolate(values, wavelength_nm)
+                        .ok_or(SpectralError::SampleOutside {
+                            wavelength_nm,
+                            lo_nm,
+                            hi_nm,
+                        })
                 })
-                .collect::<Result<Vec<f64>, String>>()?;
+                .collect::<Result<Vec<f64>, SpectralError>>()?;
             let sum: f64 = weights.iter().sum();
             if !(sum > 0.0) {
-                return Err(format!(
-                    "channel {name} has zero response at every sample wavelength; pick wavelengths \
-                     where it is sensitive"
-                ));
+                return Err(SpectralError::ZeroChannel { channel });
             }
             Ok(Channel {
-                name: name.into(),
+                name: channel.into(),
                 wavelengths_nm: sample_wavelengths_nm.to_vec(),
                 weights: weights.iter().map(|w| w / sum).collect(),
             })
@@ -294,17 +301,95 @@ mod tests {
     #[test]
     fn errors_name_line_and_column() {
         let e = parse_response_csv("wavelength_nm,r,g,b\n500,1,2,3\n510,1,x,3\n").unwrap_err();
-        assert_eq!(e, "line 3, column 3: `x` is not a number");
+        assert_eq!(e.to_string(), "line 3, column 3: `x` is not a number");
         let e = parse_response_csv("500,1,2,3\n510,1,NaN,3\n").unwrap_err();
-        assert!(e.starts_with("line 2, column 3"), "{e}");
+        assert!(e.to_string().starts_with("line 2, column 3"), "{e}");
         let e = parse_response_csv("500,1,2,3\n510,1,2,-3\n").unwrap_err();
-        assert!(e.starts_with("line 2, column 4"), "{e}");
+        assert!(e.to_string().starts_with("line 2, column 4"), "{e}");
         let e = parse_response_csv("500,1,2,3\n500,1,2,3\n").unwrap_err();
-        assert!(e.starts_with("line 2, column 1"), "{e}");
+        assert!(e.to_string().starts_with("line 2, column 1"), "{e}");
         let e = parse_response_csv("500,1,2\n").unwrap_err();
-        assert!(e.starts_with("line 1:"), "{e}");
+        assert!(e.to_string().starts_with("line 1:"), "{e}");
         let e = parse_response_csv("wavelength_nm,r,g,b\n500,1,2,3\n").unwrap_err();
-        assert!(e.contains("1 data row"), "{e}");
+        assert!(e.to_string().contains("1 data row"), "{e}");
+    }
+
+    #[test]
+    fn each_failure_mode_is_its_own_variant_with_its_position() {
+        let err = |text: &str| parse_response_csv(text).unwrap_err();
+        assert_eq!(
+            err("# comment\n\nwavelength_nm,r,g,b\n500,1,2,3\n510,1,x,3\n"),
+            SpectralError::NotANumber {
+                line: 5,
+                column: 3,
+                value: "x".into()
+            }
+        );
+        assert_eq!(
+            err("500,1,2,3\n510,1,inf,3\n"),
+            SpectralError::NotFinite {
+                line: 2,
+                column: 3,
+                value: "inf".into()
+            }
+        );
+        assert_eq!(
+            err("500,1,2,3\n490,1,2,3\n"),
+            SpectralError::NotIncreasing {
+                line: 2,
+                wavelength_nm: 490.0,
+                previous_nm: 500.0
+            }
+        );
+        assert_eq!(
+            err("freq,r,g,b\n500,1,2,3\n"),
+            SpectralError::WavelengthHeader {
+                line: 1,
+                found: "freq".into()
+            }
+        );
+        assert_eq!(
+            err("nm,r,r,b\n500,1,2,3\n"),
+            SpectralError::DuplicateChannel {
+                line: 1,
+                channel: "r"
+            }
+        );
+        assert_eq!(
+            err("nm,r,x,b\n500,1,2,3\n"),
+            SpectralError::MissingChannel {
+                line: 1,
+                channel: "g"
+            }
+        );
+        assert_eq!(err("500,1,2,3\n"), SpectralError::TooFewRows { rows: 1 });
+        // The header's messages keep their own "line N: column 1" form.
+        assert_eq!(
+            err("freq,r,g,b\n").to_string(),
+            "line 1: column 1: header `freq` should name the wavelength (e.g. `wavelength_nm`)"
+        );
+    }
+
+    #[test]
+    fn sample_grid_refusals_carry_the_step() {
+        assert_eq!(
+            sample_grid(400.0, 700.0, 0.0),
+            Err(SpectralError::StepNotPositive { step_nm: 0.0 })
+        );
+        assert!(matches!(
+            sample_grid(401.0, 402.0, 5.0),
+            Err(SpectralError::NoStepInRange { step_nm: 5.0, .. })
+        ));
+        let e = sample_grid(400.0, 700.0, 1.0).unwrap_err();
+        assert!(
+            matches!(e, SpectralError::TooManySamples { count, min_step_nm, .. }
+                if count == 301.0 && min_step_nm == 2.4),
+            "{e:?}"
+        );
+        assert!(
+            e.to_string().ends_with("use a step of at least 2.4 nm"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -326,17 +411,25 @@ mod tests {
         assert!(
             channels_from_response(&r, &[499.9])
                 .unwrap_err()
+                .to_string()
                 .contains("499.9")
         );
-        assert!(
-            channels_from_response(&r, &[520.1])
-                .unwrap_err()
-                .contains("outside")
+        assert_eq!(
+            channels_from_response(&r, &[520.1]),
+            Err(SpectralError::SampleOutside {
+                wavelength_nm: 520.1,
+                lo_nm: 500.0,
+                hi_nm: 520.0
+            })
         );
         assert!(channels_from_response(&r, &[f64::NAN]).is_err());
-        assert!(channels_from_response(&r, &[]).is_err());
+        assert_eq!(
+            channels_from_response(&r, &[]),
+            Err(SpectralError::NoSamples)
+        );
         // R is zero at 500 nm only.
         let e = channels_from_response(&r, &[500.0]).unwrap_err();
-        assert!(e.contains("channel R"), "{e}");
+        assert_eq!(e, SpectralError::ZeroChannel { channel: "R" });
+        assert!(e.to_string().contains("channel R"), "{e}");
     }
 }

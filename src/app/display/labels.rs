@@ -1,29 +1,75 @@
-//! The design's fields as the studio shows them: the simulation's messages name fields
+//! The settings as the studio shows them: the simulation's messages name a setting by its path
 //! (`optics.window_px`), the user knows the label and the tab it sits on.
 
-/// Each design field the simulation's messages name, and where the user finds it.
-const FIELDS: &[(&str, &str)] = &[
-    ("optics.window_px", "Optics > Window"),
-    ("optics.pupil_sample_um", "Optics > Pupil sampling δ1"),
-    ("optics.fine_sample_um", "Optics > Fine PSF spacing δ2"),
-    ("optics.sensor_pixel_um", "Optics > Sensor pixel"),
-    ("optics.focal_length_mm", "Optics > Focal length"),
-    ("optics.f_number", "Optics > f-number"),
-    ("optics.axis_in_pixel_um", "Optics > Axis in pixel"),
-    ("opening.pitch_um", "the pixel pitch"),
-    ("opening.cell_um", "the cell size (pitch / Opening > grid)"),
-    ("opening.cells", "the opening"),
-    ("opening.polygons", "the opening's polygons"),
-    ("tiling.wiring_gap_um", "Tiling > Wiring gap"),
-    ("tiling.origin_offset_cells", "Tiling > Axis on cell"),
-    ("tiling.mode", "Tiling > mode"),
-];
+use crate::core::Setting;
+
+/// Where the user finds `setting` in the studio, for the settings the Display workspace edits
+/// (one exhaustive `match`, as the CLI's flags: a new setting must say whether it has a label).
+pub fn label(setting: Setting) -> Option<&'static str> {
+    Some(match setting {
+        Setting::OpticsWindowPx => "Optics > Window",
+        Setting::OpticsPupilSampleUm => "Optics > Pupil sampling δ1",
+        Setting::OpticsFineSampleUm => "Optics > Fine PSF spacing δ2",
+        Setting::OpticsSensorPixelUm => "Optics > Sensor pixel",
+        Setting::OpticsFocalLengthMm => "Optics > Focal length",
+        Setting::OpticsFNumber => "Optics > f-number",
+        Setting::OpticsAxisInPixelUm => "Optics > Axis in pixel",
+        Setting::OpeningPitchUm => "the pixel pitch",
+        Setting::OpeningCellUm => "the cell size (pitch / Opening > grid)",
+        Setting::OpeningCells => "the opening",
+        Setting::OpeningPolygons => "the opening's polygons",
+        Setting::TilingWiringGapUm => "Tiling > Wiring gap",
+        Setting::TilingOriginOffsetCells => "Tiling > Axis on cell",
+        Setting::TilingMode => "Tiling > mode",
+        // Set by the other workspaces' own controls, whose messages name the setting as the
+        // settings files do.
+        Setting::TilingSeed
+        | Setting::CaptureSnrDb
+        | Setting::CaptureElectronsAtPeak
+        | Setting::CaptureAdcBits
+        | Setting::MethodNsr
+        | Setting::MethodLambda
+        | Setting::Epochs
+        | Setting::TargetOpenFraction
+        | Setting::WeightArea
+        | Setting::WeightInv
+        | Setting::WeightData
+        | Setting::Eta
+        | Setting::EtaPerPixel
+        | Setting::RoiPx
+        | Setting::SnrT
+        | Setting::LightE
+        | Setting::BinPx
+        | Setting::SidePx
+        | Setting::Gain
+        | Setting::ClipPercent
+        | Setting::Brackets
+        | Setting::StepEv
+        | Setting::Photo
+        | Setting::DisplayDistanceMm
+        | Setting::MaxFieldDeg
+        | Setting::Grid
+        | Setting::Nsr
+        | Setting::ObjectDistanceMm
+        | Setting::FocalMm
+        | Setting::Dpi
+        | Setting::ViewingDistanceMm
+        | Setting::RegionMm
+        | Setting::AcuityArcmin => return None,
+    })
+}
 
 /// `message` with every design field it names replaced by the label the studio shows, and its
 /// arrows in words the studio's font can draw.
 pub fn in_ui_words(message: &str) -> String {
     let mut out = message.to_string();
-    for (field, label) in FIELDS {
+    // Longest paths first, so that no path is replaced inside a longer one.
+    let mut labelled: Vec<(&str, &str)> = Setting::ALL
+        .into_iter()
+        .filter_map(|s| label(s).map(|l| (s.path(), l)))
+        .collect();
+    labelled.sort_by_key(|(path, _)| std::cmp::Reverse(path.len()));
+    for (field, label) in labelled {
         // Backquoted first, so `optics.window_px` does not keep its quotes around the label.
         out = out
             .replace(&format!("`{field}`"), label)

@@ -1,13 +1,14 @@
 //! The display workspace's menu entries: its files, its opening edits, presets and Compare.
 
 use super::DisplayWorkspace;
-use crate::app::commands::{self, Command, ExportKind};
+use super::action::{self, DisplayAction, ExportKind};
 use crate::app::workspace::Shell;
 use crate::core::analysis::analyze::Quality;
 use crate::io::presets;
 
 impl DisplayWorkspace {
-    pub(super) fn file_menu(&mut self, ui: &mut egui::Ui, shell: &Shell, cmds: &mut Vec<Command>) {
+    pub(super) fn file_menu(&mut self, ui: &mut egui::Ui, shell: &Shell) {
+        let actions = &mut self.queued;
         let item = |ui: &mut egui::Ui, label: &str, shortcut: Option<&egui::KeyboardShortcut>| {
             let mut b = egui::Button::new(label);
             if let Some(s) = shortcut {
@@ -15,11 +16,11 @@ impl DisplayWorkspace {
             }
             ui.add(b).clicked()
         };
-        if item(ui, "New", Some(&commands::NEW)) {
-            cmds.push(Command::New);
+        if item(ui, "New", Some(&action::NEW)) {
+            actions.push(DisplayAction::New);
         }
-        if item(ui, "Open…", Some(&commands::OPEN)) {
-            cmds.push(Command::Open);
+        if item(ui, "Open…", Some(&action::OPEN)) {
+            actions.push(DisplayAction::Open);
         }
         ui.menu_button("Open recent", |ui| {
             if shell.settings.recent.is_empty() {
@@ -27,22 +28,22 @@ impl DisplayWorkspace {
             }
             for p in &shell.settings.recent {
                 if ui.button(p.display().to_string()).clicked() {
-                    cmds.push(Command::OpenPath(p.clone()));
+                    actions.push(DisplayAction::OpenPath(p.clone()));
                 }
             }
         });
-        if item(ui, "Save", Some(&commands::SAVE)) {
-            cmds.push(Command::Save);
+        if item(ui, "Save", Some(&action::SAVE)) {
+            actions.push(DisplayAction::Save);
         }
-        if item(ui, "Save as…", Some(&commands::SAVE_AS)) {
-            cmds.push(Command::SaveAs);
+        if item(ui, "Save as…", Some(&action::SAVE_AS)) {
+            actions.push(DisplayAction::SaveAs);
         }
         ui.separator();
         if item(ui, "Import opening (image, GDSII, OASIS, DXF)…", None) {
-            cmds.push(Command::ImportPattern);
+            actions.push(DisplayAction::ImportPattern);
         }
         if item(ui, "Export mask…", None) {
-            cmds.push(Command::ExportMask);
+            actions.push(DisplayAction::ExportMask);
         }
         ui.menu_button("Export", |ui| {
             let full = self
@@ -55,33 +56,35 @@ impl DisplayWorkspace {
                     .add_enabled(full, egui::Button::new(kind.label()))
                     .clicked()
                 {
-                    cmds.push(Command::Export(kind));
+                    actions.push(DisplayAction::Export(kind));
                 }
             }
         });
     }
 
-    pub(super) fn edit_menu(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+    pub(super) fn edit_menu(&mut self, ui: &mut egui::Ui) {
+        let actions = &mut self.queued;
         ui.separator();
         if ui.button("Copy opening").clicked() {
-            cmds.push(Command::Copy);
+            actions.push(DisplayAction::Copy);
         }
         if ui.button("Invert opening (I)").clicked() {
-            cmds.push(Command::Invert);
+            actions.push(DisplayAction::Invert);
         }
         if ui.button("Clear opening (Del)").clicked() {
-            cmds.push(Command::Clear);
+            actions.push(DisplayAction::Clear);
         }
     }
 
-    pub(super) fn extra_menus(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
+    pub(super) fn extra_menus(&mut self, ui: &mut egui::Ui) {
+        let actions = &mut self.queued;
         ui.menu_button("Presets", |ui| {
             let list = presets::list();
             for group in presets::PresetGroup::ALL {
                 ui.menu_button(group.label(), |ui| {
                     for (name, _, desc) in list.iter().filter(|p| p.1 == group) {
                         if ui.button(*name).on_hover_text(desc).clicked() {
-                            cmds.push(Command::LoadPreset(name.to_string()));
+                            actions.push(DisplayAction::LoadPreset(name.to_string()));
                         }
                     }
                 });
@@ -89,15 +92,15 @@ impl DisplayWorkspace {
         });
         ui.menu_button("Compare", |ui| {
             let pin = egui::Button::new("Pin current design as A")
-                .shortcut_text(ui.ctx().format_shortcut(&commands::PIN));
+                .shortcut_text(ui.ctx().format_shortcut(&action::PIN));
             if ui.add(pin).clicked() {
-                cmds.push(Command::PinCompare);
+                actions.push(DisplayAction::PinCompare);
             }
             if ui
                 .add_enabled(self.results.pinned.is_some(), egui::Button::new("Clear A"))
                 .clicked()
             {
-                cmds.push(Command::ClearCompare);
+                actions.push(DisplayAction::ClearCompare);
             }
         });
     }

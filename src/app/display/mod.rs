@@ -3,10 +3,11 @@
 //!
 //! It owns the design document (undoable), the simulation [`Worker`], the results on screen,
 //! its panels and its files (open, save, import, export, autosave). Each frame it (1) takes
-//! finished results, (2) draws the panels, which push [`Command`]s, and (3) the shell applies
-//! those commands through [`Workspace::command`].
+//! finished results, (2) draws the panels, which queue [`DisplayAction`]s (as do its menus and
+//! shortcuts), and (3) carries those actions out when the shell calls [`Workspace::apply`].
 
-mod actions;
+pub mod action;
+mod apply;
 pub mod document;
 pub mod labels;
 mod menu;
@@ -17,15 +18,15 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::autosave::Autosave;
-use super::commands::{Command, Tool};
 use super::dialogs::PendingDialog;
 use super::job::{Job, Writes};
 use super::notice::Notice;
 use super::settings::AppDirs;
-use super::workspace::{DroppedKind, Shell, Workspace, WorkspaceId, side_panel};
+use super::workspace::{DroppedKind, Request, Shell, Workspace, WorkspaceId, side_panel};
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
 use crate::io::{design_file, presets};
+pub use action::{DisplayAction, ExportKind, Tool};
 pub use document::Document;
 use panels::{DisplayPreview, PanelCtx, Pinned, Shown};
 pub use worker::{JobResult, Payload, Worker};
@@ -92,6 +93,11 @@ pub struct DisplayWorkspace {
     left_tab: LeftTab,
     files: Files,
     egui_ctx: egui::Context,
+    /// What its panels, menus and shortcuts asked for this frame, carried out in
+    /// [`Workspace::apply`].
+    queued: Vec<DisplayAction>,
+    /// The action that waits for the unsaved-changes answer ([`Workspace::resume`]).
+    awaiting: Option<DisplayAction>,
 }
 
 impl DisplayWorkspace {
@@ -135,11 +141,13 @@ impl DisplayWorkspace {
                 autosave: Autosave::new(
                     shell.dirs.autosave_path(),
                     Some(design),
-                    actions::write_autosave,
+                    apply::write_autosave,
                 ),
                 spectral_step_nm: 30.0,
             },
             egui_ctx: shell.ctx.clone(),
+            queued: Vec::new(),
+            awaiting: None,
         };
         ws.submit();
         ws
@@ -233,6 +241,16 @@ impl DisplayWorkspace {
         self.worker.submit(self.doc.design().clone());
     }
 
+    /// Takes every finished job of the workspace, its panels' included; the panels only start
+    /// them (and draw their progress).
+    fn poll(&mut self, shell: &mut Shell) {
+        self.take_results(shell);
+        self.poll_files(shell);
+        self.panels.optimize.poll();
+        self.panels.field_sweep.poll();
+        self.panels.views.poll(&self.egui_ctx);
+    }
+
     /// Takes finished results; keeps the last good result when a job fails.
     fn take_results(&mut self, shell: &mut Shell) {
         for r in self.worker.poll() {
@@ -279,7 +297,7 @@ impl DisplayWorkspace {
         }
     }
 
-    fn left_ui(&mut self, ui: &mut egui::Ui, shell: &Shell, cmds: &mut Vec<Command>) {
+    fn left_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
         ui.horizontal(|ui| {
             for (tab, label) in [
                 (LeftTab::Opening, "Opening"),
@@ -293,7 +311,7 @@ impl DisplayWorkspace {
             }
         });
         ui.separator();
-        let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
+        let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, &mut self.queued);
         egui::ScrollArea::vertical().show(ui, |ui| match self.left_tab {
             LeftTab::Opening => self.panels.editor.ui(ui, &mut pctx),
             LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
@@ -354,17 +372,22 @@ impl Workspace for DisplayWorkspace {
         ]
     }
 
-    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell, cmds: &mut Vec<Command>) {
-        self.take_results(shell);
+    fn read_shortcuts(&mut self, ctx: &egui::Context) {
+        action::read_shortcuts(ctx, &mut self.queued);
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell) {
+        // Jobs are taken here, not in the panels: a tab that is not shown is not drawn.
+        self.poll(shell);
         let total = ui.available_width();
         // The pixel editor wants room; the numbers table fits in 240 px.
         side_panel(egui::Panel::left("design"), total, 0.3, 290.0, 440.0)
-            .show(ui, |ui| self.left_ui(ui, shell, cmds));
+            .show(ui, |ui| self.left_ui(ui, shell));
         let progress = self.worker.progress();
         // The AUC is what a designer watches while drawing: the numbers stay beside the views
         // at every width (the table is four columns so that it fits the narrowest panel).
         side_panel(egui::Panel::right("numbers"), total, 0.27, 270.0, 400.0).show(ui, |ui| {
-            let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
+            let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, &mut self.queued);
             ui.heading("Numbers");
             // Vertical only: warnings wrap at the panel's width, and the table fits it.
             egui::ScrollArea::vertical().show(ui, |ui| {
@@ -372,17 +395,32 @@ impl Workspace for DisplayWorkspace {
             });
         });
         egui::CentralPanel::default().show(ui, |ui| {
-            let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, cmds);
+            let mut pctx = panel_ctx(&self.doc, &self.results, shell, self.tool, &mut self.queued);
             self.panels.views.ui(ui, &mut pctx);
         });
         let ctx = ui.ctx().clone();
-        self.panels.mask_export.ui(&ctx, self.doc.design(), cmds);
+        self.panels
+            .mask_export
+            .ui(&ctx, self.doc.design(), &mut self.queued);
         self.panels.field_sweep.ui(&ctx);
-        self.poll_files(shell);
     }
 
-    fn command(&mut self, command: Command, confirmed: bool, shell: &mut Shell) {
-        self.apply_one(command, confirmed, shell);
+    fn apply(&mut self, shell: &mut Shell) {
+        for action in std::mem::take(&mut self.queued) {
+            self.act(action, shell);
+        }
+    }
+
+    fn undo(&mut self) {
+        if self.doc.undo() {
+            self.submit();
+        }
+    }
+
+    fn redo(&mut self) {
+        if self.doc.redo() {
+            self.submit();
+        }
     }
 
     fn can_undo(&self) -> bool {
@@ -393,20 +431,28 @@ impl Workspace for DisplayWorkspace {
         self.doc.can_redo()
     }
 
-    fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell, cmds: &mut Vec<Command>) {
-        self.file_menu(ui, shell, cmds);
+    fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
+        self.file_menu(ui, shell);
     }
 
-    fn edit_menu_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
-        self.edit_menu(ui, cmds);
+    fn edit_menu_ui(&mut self, ui: &mut egui::Ui) {
+        self.edit_menu(ui);
     }
 
-    fn menus_ui(&mut self, ui: &mut egui::Ui, cmds: &mut Vec<Command>) {
-        self.extra_menus(ui, cmds);
+    fn menus_ui(&mut self, ui: &mut egui::Ui) {
+        self.extra_menus(ui);
     }
 
     fn open_dropped(&mut self, path: &Path, kind: DroppedKind, shell: &mut Shell) -> bool {
         self.dropped_file(path, kind, shell)
+    }
+
+    fn request(&mut self, request: Request, shell: &mut Shell) {
+        match request {
+            Request::OpenDesign { design, what } => {
+                self.act(DisplayAction::OpenDesign { design, what }, shell);
+            }
+        }
     }
 
     fn is_dirty(&self) -> bool {
@@ -415,6 +461,20 @@ impl Workspace for DisplayWorkspace {
 
     fn can_save_in_place(&self) -> bool {
         self.doc.path.is_some()
+    }
+
+    fn save(&mut self, shell: &mut Shell) {
+        self.apply_one(DisplayAction::Save, true, shell);
+    }
+
+    fn save_as(&mut self, shell: &mut Shell) {
+        self.apply_one(DisplayAction::SaveAs, true, shell);
+    }
+
+    fn resume(&mut self, shell: &mut Shell) {
+        if let Some(action) = self.awaiting.take() {
+            self.apply_one(action, true, shell);
+        }
     }
 
     fn document_name(&self) -> String {
@@ -444,7 +504,7 @@ fn panel_ctx<'a>(
     results: &'a Results,
     shell: &Shell,
     tool: Tool,
-    commands: &'a mut Vec<Command>,
+    actions: &'a mut Vec<DisplayAction>,
 ) -> PanelCtx<'a> {
     PanelCtx {
         design: doc.design(),
@@ -454,7 +514,7 @@ fn panel_ctx<'a>(
         overlays: shell.settings.overlays,
         design_rules: shell.settings.design_rules,
         tool,
-        commands,
+        actions,
     }
 }
 

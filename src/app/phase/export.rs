@@ -10,7 +10,7 @@ use super::PhaseWorkspace;
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::job::{Job, Writes};
 use crate::core::phase::PhaseDesign;
-use crate::io::phase_export;
+use crate::io::{IoError, phase_export};
 
 pub use crate::io::phase_export::HeightFormat;
 
@@ -39,14 +39,14 @@ pub(super) struct ExportState {
 /// Writes one export; the message names the file and what was written.
 ///
 /// # Errors
-/// The writer's message.
+/// The writer's error, naming the file.
 pub fn write_height(
     format: HeightFormat,
     design: &PhaseDesign,
     path: &std::path::Path,
     p: &ExportParams,
-) -> Result<String, String> {
-    let summary = phase_export::write_height(format, design, path, p).map_err(|e| e.to_string())?;
+) -> Result<String, IoError> {
+    let summary = phase_export::write_height(format, design, path, p)?;
     Ok(format!(
         "exported {}: {}",
         path.display(),

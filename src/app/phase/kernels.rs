@@ -14,9 +14,10 @@ use super::views::gradient_bar;
 use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::history::Snapshot;
-use crate::app::job::{Job, JobError, Writes};
+use crate::app::job::{Finished, Job, JobError, Keyed, Writes};
 use crate::app::widgets::colormap::Colormap;
 use crate::core::phase::{PhaseDesign, PhaseOptics, kernel_matrix};
+use crate::io::IoError;
 
 /// Decades of the picture's log scale below the matrix's maximum.
 const DECADES: f64 = 6.0;
@@ -49,20 +50,20 @@ pub struct ShownKernels {
 /// A save dialog's answer: the chosen path, or `None` when cancelled.
 type FileDialog = Job<Option<PathBuf>>;
 
-struct KernelJob {
+/// What a blur matrix was started for.
+struct KernelKey {
     design: PhaseDesign,
     quality: Quality,
     optics: PhaseOptics,
     channels: ChannelSet,
     channel: usize,
     channel_name: String,
-    job: Job<Array2<f64>>,
 }
 
 pub(super) struct KernelState {
     native_dialogs: bool,
     channel: usize,
-    job: Option<KernelJob>,
+    job: Keyed<KernelKey, Array2<f64>>,
     shown: Option<ShownKernels>,
     /// The matrix being saved and the dialog asking where.
     dialog: Option<(Arc<Array2<f64>>, FileDialog)>,
@@ -75,7 +76,7 @@ impl KernelState {
         KernelState {
             native_dialogs,
             channel: 0,
-            job: None,
+            job: Keyed::idle(),
             shown: None,
             dialog: None,
             writes: Writes::default(),
@@ -87,9 +88,9 @@ impl KernelState {
 /// Writes the blur matrix as CSV; the message says what was saved.
 ///
 /// # Errors
-/// The writer's message.
-pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, String> {
-    crate::io::phase_export::write_kernels_csv(k, path).map_err(|e| e.to_string())?;
+/// The writer's error, naming the file.
+pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, IoError> {
+    crate::io::phase_export::write_kernels_csv(k, path)?;
     let (rows, cols) = k.dim();
     Ok(format!(
         "saved {}: {rows} rows (sensor pixels) × {cols} columns (directions)",
@@ -130,7 +131,7 @@ impl PhaseWorkspace {
 
     /// Whether the blur matrix is being computed.
     pub fn is_computing_kernels(&self) -> bool {
-        self.kernels.job.is_some()
+        self.kernels.job.is_running()
     }
 
     /// True while a blur-matrix CSV is being asked for or written.
@@ -165,7 +166,7 @@ impl PhaseWorkspace {
     /// Computes the blur matrix of the chosen channel for the current design, optics and
     /// quality, on a background thread.
     pub fn compute_kernels(&mut self, ctx: &egui::Context) {
-        if self.kernels.job.is_some() {
+        if self.kernels.job.is_running() {
             return;
         }
         if let Err(e) = self.history.current().validate() {
@@ -206,20 +207,21 @@ impl PhaseWorkspace {
             },
         );
         self.kernels.message = None;
-        self.kernels.job = Some(KernelJob {
+        let key = KernelKey {
             design,
             quality,
             optics,
             channels: self.channels,
             channel: index,
             channel_name,
-            job,
-        });
+        };
+        self.kernels.job.start(key, job);
     }
 
     /// Stops the blur matrix; the last result stays.
     pub fn cancel_kernels(&mut self) {
-        if self.kernels.job.take().is_some() {
+        if self.kernels.job.is_running() {
+            self.kernels.job.stop();
             self.kernels.message = Some(Notice::info("blur matrix cancelled"));
         }
     }
@@ -280,15 +282,17 @@ impl PhaseWorkspace {
         if let Some(report) = self.kernels.writes.poll() {
             self.kernels.message = Some(report);
         }
-        let Some(done) = self.kernels.job.as_ref().and_then(|j| j.job.poll()) else {
+        let Some(Finished {
+            key,
+            result,
+            elapsed,
+        }) = self.kernels.job.finished()
+        else {
             return;
         };
-        let Some(job) = self.kernels.job.take() else {
-            return;
-        };
-        match done {
+        match result {
             Ok(k) => {
-                let elapsed_s = job.job.elapsed().as_secs_f64();
+                let elapsed_s = elapsed.as_secs_f64();
                 let max = k.iter().copied().fold(0.0, f64::max);
                 let texture = ctx.load_texture(
                     "phase-kernels",
@@ -299,12 +303,12 @@ impl PhaseWorkspace {
                     "blur matrix computed in {elapsed_s:.1} s"
                 )));
                 self.kernels.shown = Some(ShownKernels {
-                    design: job.design,
-                    quality: job.quality,
-                    optics: job.optics,
-                    channels: job.channels,
-                    channel: job.channel,
-                    channel_name: job.channel_name,
+                    design: key.design,
+                    quality: key.quality,
+                    optics: key.optics,
+                    channels: key.channels,
+                    channel: key.channel,
+                    channel_name: key.channel_name,
                     k: Arc::new(k),
                     max,
                     elapsed_s,
@@ -323,7 +327,7 @@ impl PhaseWorkspace {
         ui.separator();
         let p = self.history.current().camera.pixels;
         let valid = self.history.current().validate().is_ok();
-        let running = self.kernels.job.is_some();
+        let running = self.kernels.job.is_running();
         ui.horizontal_wrapped(|ui| {
             ui.strong("Blur matrix K (eq. 4.12)");
             ui.label("channel");
@@ -356,16 +360,16 @@ impl PhaseWorkspace {
             }
         });
         let mut cancel = false;
-        if let Some(j) = &self.kernels.job {
+        if let Some((key, job)) = self.kernels.job.current() {
             ui.horizontal(|ui| {
                 ui.spinner();
                 ui.label(format!(
                     "blur matrix of {} over {} directions…",
-                    j.channel_name, j.design.camera.pixels
+                    key.channel_name, key.design.camera.pixels
                 ));
                 cancel = ui.button("Cancel").clicked();
             });
-            ui.add(egui::ProgressBar::new(j.job.fraction()).show_percentage());
+            ui.add(egui::ProgressBar::new(job.fraction()).show_percentage());
         }
         if cancel {
             self.cancel_kernels();

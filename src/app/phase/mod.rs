@@ -17,14 +17,14 @@ mod optimizer_view;
 mod panels;
 mod persist;
 mod plate_rules;
+mod psf;
 mod response;
 mod views;
 mod workspace;
 
 use crate::app::notice::Notice;
 pub use crate::core::Quality;
-use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use egui::Color32;
 
@@ -33,21 +33,18 @@ pub use compare::CompareRun;
 pub use export::HeightFormat;
 pub use kernels::ShownKernels;
 pub use optimizer::{OptimizerResult, ShownV};
+pub use psf::ShownPsfs;
 pub use response::CustomResponse;
 
 use crate::app::autosave::Autosave;
+use crate::app::error::StudioError;
 use crate::app::history::{History, Snapshot};
-use crate::app::job::{Job, JobError, Keyed};
 use crate::app::settings::AppDirs;
-use crate::core::SimError;
 use crate::core::design::Channel;
 use crate::core::phase::geometry::lenslet_count;
-use crate::core::phase::{
-    Allocation, Incidence, PhaseDesign, PhaseOptics, PhasePsfs, PhaseSampling, VMatrix, phase_psfs,
-    wavelength_grid_nm,
-};
+use crate::core::phase::{PhaseDesign, PhaseOptics, wavelength_grid_nm};
+use crate::io::error::SpectralError;
 use crate::io::spectral;
-use optimizer::LongJob;
 
 /// Where the workspace keeps its design, inside the studio's data directory.
 pub const DESIGN_FILE: &str = "phase-design.json";
@@ -88,42 +85,6 @@ pub enum PhaseView {
     Capture,
 }
 
-/// PSFs on screen, with what they were computed for.
-pub struct ShownPsfs {
-    /// Generation of the parameters they were computed for (older than the newest: stale).
-    pub generation: u64,
-    /// Preview or thesis sampling.
-    pub quality: Quality,
-    /// The design they were computed for.
-    pub design: PhaseDesign,
-    /// The optical chain: double MLA, or the single mask of Lemma 1.
-    pub optics: PhaseOptics,
-    /// The colour channels they were computed for.
-    pub channels: ChannelSet,
-    /// The channel PSFs through the design and through the bare T-OLED, with their MTFs.
-    pub psfs: Arc<PhasePsfs>,
-    /// How long the computation took, in milliseconds.
-    pub elapsed_ms: f64,
-}
-
-/// What a PSF run was started for.
-struct PsfKey {
-    generation: u64,
-    quality: Quality,
-    design: PhaseDesign,
-    optics: PhaseOptics,
-    channels: ChannelSet,
-}
-
-/// What the newest generation was started for (compared in place with the controls each frame).
-struct Submitted {
-    design: PhaseDesign,
-    channels: ChannelSet,
-    single_mask: bool,
-    angle_deg: f64,
-    target: Quality,
-}
-
 /// The workspace's state.
 pub struct PhaseWorkspace {
     history: History<PhaseDesign>,
@@ -144,18 +105,13 @@ pub struct PhaseWorkspace {
     /// Keep f_MLA equal to the pitch when the pitch is edited (the thesis's choice).
     pub link_focal: bool,
     selected_lenslet: usize,
-    spectral: Option<Result<Vec<Channel>, String>>,
-    submitted: Option<Submitted>,
-    generation: u64,
-    /// The PSFs of the newest parameters and the milliseconds they took.
-    job: Keyed<PsfKey, (PhasePsfs, f64)>,
-    shown: Option<ShownPsfs>,
+    /// The thesis response's channels on the grid, made the first time they are asked for.
+    spectral: Option<Result<Vec<Channel>, SpectralError>>,
+    /// The message line of the design and its PSFs (a refused value, a failed run or
+    /// autosave).
     message: Option<Notice>,
-    v_job: Option<LongJob<VMatrix>>,
-    v: Option<ShownV>,
-    opt_job: Option<LongJob<(VMatrix, Allocation)>>,
-    optimized: Option<OptimizerResult>,
-    opt_message: Option<Notice>,
+    psf: psf::PsfState,
+    optimizer: optimizer::OptimizerState,
     /// `phase-design.json`, written a few seconds after a change.
     autosave: Autosave<PhaseDesign>,
     autosave_every: Duration,
@@ -198,16 +154,9 @@ impl PhaseWorkspace {
             view: PhaseView::Psf,
             link_focal: true,
             spectral: None,
-            submitted: None,
-            generation: 0,
-            job: Keyed::idle(),
-            shown: None,
             message,
-            v_job: None,
-            v: None,
-            opt_job: None,
-            optimized: None,
-            opt_message: None,
+            psf: psf::PsfState::default(),
+            optimizer: optimizer::OptimizerState::default(),
             autosave_every,
             export: export::ExportState::new(native_dialogs),
             response: response::ResponseState::new(native_dialogs),
@@ -235,16 +184,17 @@ impl PhaseWorkspace {
 
     /// The PSFs on screen, if any.
     pub fn shown(&self) -> Option<&ShownPsfs> {
-        self.shown.as_ref()
+        self.psf.shown.as_ref()
     }
 
     /// True once the PSFs of the newest parameters are on screen at the chosen quality.
     pub fn is_up_to_date(&self) -> bool {
-        !self.job.is_running()
+        !self.psf.job.is_running()
             && self
+                .psf
                 .shown
                 .as_ref()
-                .is_some_and(|s| s.generation == self.generation && s.quality == self.quality)
+                .is_some_and(|s| s.generation == self.psf.generation && s.quality == self.quality)
     }
 
     /// The latest message about the design or its PSFs, and whether it is an error.
@@ -254,7 +204,7 @@ impl PhaseWorkspace {
 
     /// The latest message of the V matrix or the optimizer.
     pub fn optimizer_message(&self) -> Option<&Notice> {
-        self.opt_message.as_ref()
+        self.optimizer.message.as_ref()
     }
 
     /// The latest message of an export.
@@ -264,22 +214,22 @@ impl PhaseWorkspace {
 
     /// The computed V matrix on screen, if any.
     pub fn v(&self) -> Option<&ShownV> {
-        self.v.as_ref()
+        self.optimizer.v.as_ref()
     }
 
     /// The optimizer's last result, if any.
     pub fn optimized(&self) -> Option<&OptimizerResult> {
-        self.optimized.as_ref()
+        self.optimizer.optimized.as_ref()
     }
 
     /// Whether the λ0 optimizer is running.
     pub fn is_optimizing(&self) -> bool {
-        self.opt_job.is_some()
+        self.optimizer.opt_job.is_running()
     }
 
     /// Whether the V matrix is being computed.
     pub fn is_computing_v(&self) -> bool {
-        self.v_job.is_some()
+        self.optimizer.v_job.is_running()
     }
 
     /// Whether a height-profile export is being written.
@@ -308,10 +258,10 @@ impl PhaseWorkspace {
     }
 
     /// The channels of the chosen set (the spectral ones are made once).
-    fn channel_list(&mut self, set: ChannelSet) -> Result<Vec<Channel>, String> {
+    fn channel_list(&mut self, set: ChannelSet) -> Result<Vec<Channel>, StudioError> {
         match set {
             ChannelSet::Peaks => Ok(Channel::rgb_peaks()),
-            ChannelSet::Spectral => self
+            ChannelSet::Spectral => Ok(self
                 .spectral
                 .get_or_insert_with(|| {
                     spectral::channels_from_response(
@@ -319,7 +269,7 @@ impl PhaseWorkspace {
                         &wavelength_grid_nm(),
                     )
                 })
-                .clone(),
+                .clone()?),
             ChannelSet::Custom(serial) => self.response.channels(serial),
         }
     }
@@ -335,8 +285,8 @@ impl PhaseWorkspace {
     /// Takes finished jobs, commits idle edits, saves, and starts the runs the controls call for.
     pub fn poll(&mut self, ctx: &egui::Context) {
         self.export.poll(ctx);
-        self.take_psfs(ctx);
-        self.take_long_jobs(ctx);
+        self.poll_psfs(ctx);
+        self.poll_optimizer(ctx);
         self.poll_response(ctx);
         self.poll_kernels(ctx);
         self.poll_capture(ctx);
@@ -346,130 +296,13 @@ impl PhaseWorkspace {
             self.history.commit();
         }
         self.autosave_tick(ctx);
-        if self.job.is_running()
-            || self.v_job.is_some()
-            || self.opt_job.is_some()
+        if self.psf.job.is_running()
+            || self.optimizer.v_job.is_running()
+            || self.optimizer.opt_job.is_running()
             || self.is_computing_kernels()
         {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
-        let unchanged = self.submitted.as_ref().is_some_and(|s| {
-            s.design.same(self.history.current())
-                && s.channels == self.channels
-                && s.single_mask == self.single_mask
-                && s.angle_deg.to_bits() == self.angle_deg.to_bits()
-                && s.target == self.quality
-        });
-        if unchanged {
-            return;
-        }
-        self.submitted = Some(Submitted {
-            design: self.history.current().clone(),
-            channels: self.channels,
-            single_mask: self.single_mask,
-            angle_deg: self.angle_deg,
-            target: self.quality,
-        });
-        // Whatever happens next, results of older parameters are stale.
-        self.generation += 1;
-        // Dropping the running job cancels it.
-        self.job.stop();
-        if let Err(e) = self.history.current().validate() {
-            self.message = Some(Notice::error(e.to_string()));
-            return;
-        }
-        if !(self.angle_deg.is_finite() && self.angle_deg.abs() <= 80.0) {
-            self.message = Some(Notice::error(format!(
-                "the angle {} ° is outside -80 to 80 °",
-                self.angle_deg
-            )));
-            return;
-        }
-        if self.message.as_ref().is_some_and(Notice::is_error) {
-            self.message = None;
-        }
-        self.start(Quality::Preview, ctx);
-    }
-
-    fn start(&mut self, quality: Quality, ctx: &egui::Context) {
-        let Some(sub) = &self.submitted else {
-            return;
-        };
-        let design = sub.design.clone();
-        let set = sub.channels;
-        let angle = sub.angle_deg;
-        let channels = match self.channel_list(set) {
-            Ok(c) => c,
-            Err(e) => {
-                self.message = Some(Notice::error(format!("cannot make the channels: {e}")));
-                return;
-            }
-        };
-        self.job.stop();
-        let optics = self.optics();
-        let wake = ctx.clone();
-        let d = design.clone();
-        let job = Job::spawn(
-            "PSF job",
-            move || wake.request_repaint(),
-            move |p| {
-                let t0 = Instant::now();
-                let sampling = PhaseSampling::for_quality(quality);
-                let r = phase_psfs(
-                    &d,
-                    &sampling,
-                    &channels,
-                    optics,
-                    Incidence::AngleDeg(angle),
-                    p,
-                )?;
-                Ok::<_, SimError>((r, t0.elapsed().as_secs_f64() * 1e3))
-            },
-        );
-        self.job.start(
-            PsfKey {
-                generation: self.generation,
-                quality,
-                design,
-                optics,
-                channels: set,
-            },
-            job,
-        );
-    }
-
-    /// Cancels the running PSF job; the last result stays.
-    pub fn cancel_psfs(&mut self) {
-        if self.job.is_running() {
-            self.job.stop();
-            self.message = Some(Notice::info("PSF run cancelled; the last result stays"));
-        }
-    }
-
-    fn take_psfs(&mut self, ctx: &egui::Context) {
-        let Some((job, done)) = self.job.poll() else {
-            return;
-        };
-        match done {
-            Ok((psfs, ms)) if job.generation == self.generation => {
-                self.shown = Some(ShownPsfs {
-                    generation: job.generation,
-                    quality: job.quality,
-                    design: job.design,
-                    optics: job.optics,
-                    channels: job.channels,
-                    psfs: Arc::new(psfs),
-                    elapsed_ms: ms,
-                });
-                if self.message.as_ref().is_some_and(Notice::is_error) {
-                    self.message = None;
-                }
-                if job.quality == Quality::Preview && self.quality == Quality::Full {
-                    self.start(Quality::Full, ctx);
-                }
-            }
-            Ok(_) | Err(JobError::Cancelled) => {}
-            Err(e) => self.message = Some(Notice::error(e.to_string())),
-        }
+        self.resubmit_psfs(ctx);
     }
 }

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use egui::{ColorImage, TextureHandle, TextureOptions};
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
-use crate::app::job::{Job, JobError};
+use crate::app::job::{Finished, Job, JobError, Keyed};
 use crate::app::widgets::colormap::Colormap;
 use crate::core::phase::allocate::{channel_invertibility, plan_invertibility};
 use crate::core::phase::geometry::{lenslet_count, uniform_counts};
@@ -17,12 +17,26 @@ use crate::core::phase::{
 };
 use crate::core::{Progress, SimError};
 
-/// A V matrix or optimizer run in flight.
-pub(super) struct LongJob<T> {
-    pub(super) design: PhaseDesign,
-    pub(super) quality: Quality,
-    pub(super) channels: ChannelSet,
-    pub(super) job: Job<T>,
+/// What a V matrix or optimizer run was started for.
+pub(super) struct RunKey {
+    design: PhaseDesign,
+    quality: Quality,
+    channels: ChannelSet,
+}
+
+/// The V matrix and the λ0 optimizer: their runs, results and message line.
+#[derive(Default)]
+pub(super) struct OptimizerState {
+    /// The V matrix being computed.
+    pub(super) v_job: Keyed<RunKey, VMatrix>,
+    /// The V matrix on screen.
+    pub(super) v: Option<ShownV>,
+    /// The optimizer's run (V, then Algorithm 1).
+    pub(super) opt_job: Keyed<RunKey, (VMatrix, Allocation)>,
+    /// The optimizer's last result.
+    pub(super) optimized: Option<OptimizerResult>,
+    /// The latest message of either.
+    pub(super) message: Option<Notice>,
 }
 
 /// The V matrix on screen and its picture.
@@ -79,40 +93,44 @@ fn v_image(v: &VMatrix, max: f64) -> ColorImage {
 impl PhaseWorkspace {
     /// Computes V for the current design at the chosen quality, on a background thread.
     pub fn compute_v(&mut self, ctx: &egui::Context) {
-        if self.v_job.is_some() {
+        if self.optimizer.v_job.is_running() {
             return;
         }
         if let Err(e) = self.history.current().validate() {
-            self.opt_message = Some(Notice::error(e.to_string()));
+            self.optimizer.message = Some(Notice::error(e.to_string()));
             return;
         }
-        self.opt_message = None;
-        self.v_job = Some(self.spawn_long("V matrix job", ctx, v_matrix));
+        self.optimizer.message = None;
+        let (key, job) = self.spawn_long("V matrix job", ctx, v_matrix);
+        self.optimizer.v_job.start(key, job);
     }
 
     /// Runs the λ0 optimizer (V, then Algorithm 1) for the current design and channels.
     pub fn run_optimizer(&mut self, ctx: &egui::Context) {
-        if self.opt_job.is_some() {
+        if self.optimizer.opt_job.is_running() {
             return;
         }
         if let Err(e) = self.history.current().validate() {
-            self.opt_message = Some(Notice::error(e.to_string()));
+            self.optimizer.message = Some(Notice::error(e.to_string()));
             return;
         }
         let channels = match self.channel_list(self.channels) {
             Ok(c) => c,
             Err(e) => {
-                self.opt_message = Some(Notice::error(format!("cannot make the channels: {e}")));
+                self.optimizer.message =
+                    Some(Notice::error(format!("cannot make the channels: {e}")));
                 return;
             }
         };
-        self.opt_message = None;
-        self.opt_job = Some(self.spawn_long("optimizer", ctx, move |d, sampling, p| {
+        self.optimizer.message = None;
+        let (key, job) = self.spawn_long("optimizer", ctx, move |d, sampling, p| {
             optimize_lambda0(d, sampling, &channels, &AllocationSettings::default(), p)
-        }));
+        });
+        self.optimizer.opt_job.start(key, job);
     }
 
-    /// Runs `job` on the current design at the chosen quality on a background thread.
+    /// Runs `job` on the current design at the chosen quality on a background thread; the
+    /// key says what it runs for.
     fn spawn_long<T: Send + 'static>(
         &self,
         name: &'static str,
@@ -120,7 +138,7 @@ impl PhaseWorkspace {
         job: impl FnOnce(&PhaseDesign, &PhaseSampling, &Progress) -> Result<T, SimError>
         + Send
         + 'static,
-    ) -> LongJob<T> {
+    ) -> (RunKey, Job<T>) {
         let design = self.history.current().clone();
         let quality = self.quality;
         let (d, wake) = (design.clone(), ctx.clone());
@@ -129,26 +147,22 @@ impl PhaseWorkspace {
             move || wake.request_repaint(),
             move |p| job(&d, &PhaseSampling::for_quality(quality), p),
         );
-        LongJob {
+        let key = RunKey {
             design,
             quality,
             channels: self.channels,
-            job,
-        }
+        };
+        (key, job)
     }
 
     /// Stops the V matrix and the optimizer; their last results stay.
     pub fn cancel_long_jobs(&mut self) {
-        let mut any = false;
-        // Dropping a job cancels it.
-        if self.v_job.take().is_some() {
-            any = true;
-        }
-        if self.opt_job.take().is_some() {
-            any = true;
-        }
+        let any = self.optimizer.v_job.is_running() || self.optimizer.opt_job.is_running();
+        // Stopping drops the job, which cancels it.
+        self.optimizer.v_job.stop();
+        self.optimizer.opt_job.stop();
         if any {
-            self.opt_message = Some(Notice::info("cancelled"));
+            self.optimizer.message = Some(Notice::info("cancelled"));
         }
     }
 
@@ -160,7 +174,7 @@ impl PhaseWorkspace {
                 .fold(0.0, f64::max)
                 .max(1e-300);
         let texture = ctx.load_texture("phase-v", v_image(&v, max), TextureOptions::NEAREST);
-        self.v = Some(ShownV {
+        self.optimizer.v = Some(ShownV {
             design,
             quality,
             v: Arc::new(v),
@@ -169,35 +183,43 @@ impl PhaseWorkspace {
         });
     }
 
-    pub(super) fn take_long_jobs(&mut self, ctx: &egui::Context) {
-        if let Some(done) = self.v_job.as_ref().and_then(|j| j.job.poll())
-            && let Some(job) = self.v_job.take()
+    /// Takes a finished V matrix or optimizer run.
+    pub(super) fn poll_optimizer(&mut self, ctx: &egui::Context) {
+        if let Some(Finished {
+            key,
+            result,
+            elapsed,
+        }) = self.optimizer.v_job.finished()
         {
-            match done {
+            match result {
                 Ok(v) => {
-                    let s = job.job.elapsed().as_secs_f64();
-                    self.opt_message = Some(Notice::info(format!("V computed in {s:.1} s")));
-                    self.show_v(ctx, job.design, job.quality, v);
+                    let s = elapsed.as_secs_f64();
+                    self.optimizer.message = Some(Notice::info(format!("V computed in {s:.1} s")));
+                    self.show_v(ctx, key.design, key.quality, v);
                 }
                 Err(JobError::Cancelled) => {}
-                Err(e) => self.opt_message = Some(Notice::error(e.to_string())),
+                Err(e) => self.optimizer.message = Some(Notice::error(e.to_string())),
             }
         }
-        if let Some(done) = self.opt_job.as_ref().and_then(|j| j.job.poll())
-            && let Some(job) = self.opt_job.take()
+        if let Some(Finished {
+            key,
+            result,
+            elapsed,
+        }) = self.optimizer.opt_job.finished()
         {
-            match done {
+            match result {
                 Ok((v, allocation)) => {
-                    let n = lenslet_count(&job.design);
+                    let n = lenslet_count(&key.design);
                     let fixed_530 = plan_invertibility(&allocation.a, &vec![530.0; n]);
                     let uniform = channel_invertibility(&allocation.a, &uniform_counts(n));
-                    let elapsed_s = job.job.elapsed().as_secs_f64();
-                    self.opt_message = Some(Notice::info(format!("optimized in {elapsed_s:.1} s")));
-                    self.show_v(ctx, job.design.clone(), job.quality, v);
-                    self.optimized = Some(OptimizerResult {
-                        design: job.design,
-                        quality: job.quality,
-                        channels: job.channels,
+                    let elapsed_s = elapsed.as_secs_f64();
+                    self.optimizer.message =
+                        Some(Notice::info(format!("optimized in {elapsed_s:.1} s")));
+                    self.show_v(ctx, key.design.clone(), key.quality, v);
+                    self.optimizer.optimized = Some(OptimizerResult {
+                        design: key.design,
+                        quality: key.quality,
+                        channels: key.channels,
                         allocation,
                         fixed_530,
                         uniform,
@@ -205,14 +227,14 @@ impl PhaseWorkspace {
                     });
                 }
                 Err(JobError::Cancelled) => {}
-                Err(e) => self.opt_message = Some(Notice::error(e.to_string())),
+                Err(e) => self.optimizer.message = Some(Notice::error(e.to_string())),
             }
         }
     }
 
     /// Whether the optimizer's allocation fits the current design's lenslet count.
     pub fn can_apply(&self) -> bool {
-        self.optimized.as_ref().is_some_and(|o| {
+        self.optimizer.optimized.as_ref().is_some_and(|o| {
             o.allocation.counts.iter().sum::<usize>() == lenslet_count(self.history.current())
         })
     }
@@ -222,7 +244,7 @@ impl PhaseWorkspace {
         if !self.can_apply() {
             return false;
         }
-        let Some(o) = &self.optimized else {
+        let Some(o) = &self.optimizer.optimized else {
             return false;
         };
         let mut d = self.history.current().clone();

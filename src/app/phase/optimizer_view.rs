@@ -31,7 +31,7 @@ impl PhaseWorkspace {
              each grid wavelength so that every channel stays invertible.",
         );
         ui.horizontal_wrapped(|ui| {
-            let idle = self.v_job.is_none() && self.opt_job.is_none();
+            let idle = !self.optimizer.v_job.is_running() && !self.optimizer.opt_job.is_running();
             if ui
                 .add_enabled(idle, egui::Button::new("Compute V"))
                 .on_hover_text("900 propagations")
@@ -56,19 +56,21 @@ impl PhaseWorkspace {
             ));
         });
         let running = self
+            .optimizer
             .opt_job
-            .as_ref()
+            .job()
             .map(|j| {
                 (
-                    j.job.fraction(),
+                    j.fraction(),
                     "optimizer (V, then Algorithm 1)…",
-                    j.job.elapsed(),
+                    j.elapsed(),
                 )
             })
             .or_else(|| {
-                self.v_job
-                    .as_ref()
-                    .map(|j| (j.job.fraction(), "V matrix…", j.job.elapsed()))
+                self.optimizer
+                    .v_job
+                    .job()
+                    .map(|j| (j.fraction(), "V matrix…", j.elapsed()))
             });
         if let Some((f, what, elapsed)) = running {
             let mut cancel = false;
@@ -82,7 +84,7 @@ impl PhaseWorkspace {
                 self.cancel_long_jobs();
             }
         }
-        message_ui(ui, self.opt_message.as_ref());
+        message_ui(ui, self.optimizer.message.as_ref());
         ui.separator();
         ui.columns(2, |cols| {
             self.v_ui(&mut cols[0]);
@@ -91,7 +93,7 @@ impl PhaseWorkspace {
     }
 
     fn v_ui(&mut self, ui: &mut Ui) {
-        let Some(v) = &self.v else {
+        let Some(v) = &self.optimizer.v else {
             ui.label("V: not computed yet (Compute V, or Run optimizer).");
             return;
         };
@@ -143,7 +145,7 @@ impl PhaseWorkspace {
     }
 
     fn allocation_ui(&mut self, ui: &mut Ui) {
-        let Some(o) = &self.optimized else {
+        let Some(o) = &self.optimizer.optimized else {
             ui.label("No allocation yet: Run optimizer.");
             return;
         };

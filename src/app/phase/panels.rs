@@ -282,7 +282,7 @@ impl PhaseWorkspace {
                 .on_disabled_hover_text("Run the optimizer first (Optimizer view)")
                 .clicked()
                 && kind != PlanKind::Counts
-                && let Some(o) = &self.optimized
+                && let Some(o) = &self.optimizer.optimized
             {
                 self.history.current_mut().lambda0 = Lambda0::Counts {
                     counts: o.allocation.counts.clone(),
@@ -385,7 +385,7 @@ impl PhaseWorkspace {
     /// Right: geometry, light and sharpness numbers.
     pub fn numbers_ui(&mut self, ui: &mut Ui) {
         ui.heading("Numbers");
-        if let Some((key, j)) = self.job.current() {
+        if let Some((key, j)) = self.psf.job.current() {
             let p = j.fraction();
             let label = match key.quality {
                 Quality::Preview => "preview…",
@@ -401,7 +401,7 @@ impl PhaseWorkspace {
             if cancel {
                 self.cancel_psfs();
             }
-        } else if let Some(s) = &self.shown {
+        } else if let Some(s) = &self.psf.shown {
             ui.weak(format!(
                 "{} · {} · {:.0} ms",
                 s.quality.label(),
@@ -414,7 +414,7 @@ impl PhaseWorkspace {
         }
         let d = if self.history.current().validate().is_ok() {
             self.history.current().clone()
-        } else if let Some(s) = &self.shown {
+        } else if let Some(s) = &self.psf.shown {
             s.design.clone()
         } else {
             return;
@@ -454,7 +454,7 @@ impl PhaseWorkspace {
                 );
                 row(ui, "Tallest plate point", format!("{max_h:.3} µm"));
             });
-        let Some(s) = &self.shown else {
+        let Some(s) = &self.psf.shown else {
             ui.label("Computing the first PSFs…");
             return;
         };

@@ -2,7 +2,7 @@
 //! shows the narrowest ring or step and how many break the default rule before the user
 //! exports (the same check `udc-studio drc` and `phase export --strict` run).
 
-use crate::app::job::{Job, Keyed};
+use crate::app::job::{Job, JobError, Keyed};
 use crate::core::mask::drc::{DrcReport, Rules};
 use crate::core::phase::PhaseDesign;
 use crate::core::phase::drc::check_plate;
@@ -11,14 +11,14 @@ use crate::core::phase::drc::check_plate;
 #[derive(Default)]
 pub(super) struct PlateRules {
     running: Keyed<PhaseDesign, DrcReport>,
-    done: Option<(PhaseDesign, Result<DrcReport, String>)>,
+    done: Option<(PhaseDesign, Result<DrcReport, JobError>)>,
 }
 
 impl PlateRules {
     /// Collects a finished check and starts one when `design` changed.
     pub(super) fn update(&mut self, ctx: &egui::Context, design: &PhaseDesign) {
         if let Some((d, result)) = self.running.poll() {
-            self.done = Some((d, result.map_err(|e| e.to_string())));
+            self.done = Some((d, result));
         }
         let known = |d: &PhaseDesign| d == design;
         if self.done.as_ref().is_some_and(|(d, _)| known(d))
@@ -33,7 +33,7 @@ impl PlateRules {
         };
         let d = design.clone();
         let job = Job::spawn("phase-plate rules", wake, move |_| {
-            check_plate(&d, &Rules::default()).map_err(|e| e.to_string())
+            check_plate(&d, &Rules::default())
         });
         self.running.start(design.clone(), job);
     }

@@ -9,10 +9,12 @@ use egui::Ui;
 
 use super::{ChannelSet, PhaseWorkspace};
 use crate::app::dialogs::{FileSpec, ask};
+use crate::app::error::StudioError;
 use crate::app::job::Job;
 use crate::core::design::Channel;
 use crate::core::phase::wavelength_grid_nm;
-use crate::io::spectral;
+use crate::io::error::TableError;
+use crate::io::{IoError, spectral};
 
 /// A loaded response: its file and the channels it makes.
 pub struct CustomResponse {
@@ -45,10 +47,15 @@ pub(super) struct ResponseState {
 }
 
 /// Reads a response CSV and makes its channels on the phase wavelength grid.
-fn read_channels(path: &Path) -> Result<Vec<Channel>, String> {
-    let resp = spectral::load_response_csv(path).map_err(|e| e.to_string())?;
-    spectral::channels_from_response(&resp, &wavelength_grid_nm())
-        .map_err(|e| format!("{}: {e}", path.display()))
+///
+/// # Errors
+/// The table's error naming the file: unreadable, malformed, or giving no channels on the grid.
+fn read_channels(path: &Path) -> Result<Vec<Channel>, IoError> {
+    let resp = spectral::load_response_csv(path)?;
+    spectral::channels_from_response(&resp, &wavelength_grid_nm()).map_err(|e| IoError::Table {
+        path: path.to_path_buf(),
+        error: TableError::Spectral(e),
+    })
 }
 
 impl ResponseState {
@@ -64,10 +71,10 @@ impl ResponseState {
     }
 
     /// The channels of load `serial`, if it is the loaded one.
-    pub fn channels(&self, serial: u32) -> Result<Vec<Channel>, String> {
+    pub fn channels(&self, serial: u32) -> Result<Vec<Channel>, StudioError> {
         match &self.custom {
             Some(c) if c.serial == serial => Ok(c.channels.clone()),
-            _ => Err("the custom response is no longer loaded".into()),
+            _ => Err(StudioError::ResponseGone),
         }
     }
 }

@@ -172,7 +172,7 @@ impl PhaseWorkspace {
         if self.history.current().validate().is_ok() {
             Some(self.history.current().clone())
         } else {
-            self.shown.as_ref().map(|s| s.design.clone())
+            self.psf.shown.as_ref().map(|s| s.design.clone())
         }
     }
 
@@ -206,7 +206,7 @@ impl PhaseWorkspace {
                 "This direction is outside the field of view.",
             );
         }
-        let Some(s) = &self.shown else {
+        let Some(s) = &self.psf.shown else {
             ui.label("Computing the first PSFs…");
             return;
         };

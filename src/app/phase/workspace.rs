@@ -38,12 +38,7 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
         &[]
     }
 
-    fn ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        _shell: &mut crate::app::Shell,
-        _cmds: &mut Vec<crate::app::Command>,
-    ) {
+    fn ui(&mut self, ui: &mut egui::Ui, _shell: &mut crate::app::Shell) {
         // Jobs are taken here, not in a panel: a tab that is not shown is not drawn.
         let ctx = ui.ctx().clone();
         self.poll(&ctx);
@@ -56,22 +51,13 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
         );
     }
 
-    /// Undo and redo act on the phase parameters; the display's commands do not apply here.
-    fn command(
-        &mut self,
-        command: crate::app::Command,
-        _confirmed: bool,
-        _shell: &mut crate::app::Shell,
-    ) {
-        match command {
-            crate::app::Command::Undo => {
-                self.undo();
-            }
-            crate::app::Command::Redo => {
-                self.redo();
-            }
-            _ => {}
-        }
+    /// Undo and redo act on the phase parameters.
+    fn undo(&mut self) {
+        PhaseWorkspace::undo(self);
+    }
+
+    fn redo(&mut self) {
+        PhaseWorkspace::redo(self);
     }
 
     fn can_undo(&self) -> bool {

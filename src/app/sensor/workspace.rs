@@ -38,12 +38,7 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
         &[]
     }
 
-    fn ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        _shell: &mut crate::app::Shell,
-        _cmds: &mut Vec<crate::app::Command>,
-    ) {
+    fn ui(&mut self, ui: &mut egui::Ui, _shell: &mut crate::app::Shell) {
         // Jobs are taken here, not in a panel: a tab that is not shown is not drawn.
         let ctx = ui.ctx().clone();
         self.poll(&ctx);
@@ -56,12 +51,7 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
         );
     }
 
-    fn file_menu_ui(
-        &mut self,
-        ui: &mut egui::Ui,
-        shell: &crate::app::Shell,
-        _cmds: &mut Vec<crate::app::Command>,
-    ) {
+    fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &crate::app::Shell) {
         if ui
             .add_enabled(self.dialog.is_none(), egui::Button::new("Open HDR scene…"))
             .clicked()
@@ -75,14 +65,6 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
     }
 
     /// The previewer has no document to undo: its settings are the view.
-    fn command(
-        &mut self,
-        _command: crate::app::Command,
-        _confirmed: bool,
-        _shell: &mut crate::app::Shell,
-    ) {
-    }
-
     fn can_undo(&self) -> bool {
         false
     }

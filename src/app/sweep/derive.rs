@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use std::sync::Arc;
 
 use super::table::{Column, Filter, Sort, SweepTable};
+use crate::app::error::StudioError;
 use crate::core::Progress;
 use crate::core::sweep::summary::{ParetoPoint, SeriesSummary, pareto_front};
 use crate::core::sweep::{PlotKind, PlotSpec};
@@ -30,7 +31,7 @@ pub struct View {
     /// The shown rows, indices into the table's rows, in sort order.
     pub rows: Vec<usize>,
     /// Each plot with its data, or why it cannot be drawn (a column the table lacks).
-    pub plots: Vec<(PlotSpec, Result<PlotData, String>)>,
+    pub plots: Vec<(PlotSpec, Result<PlotData, StudioError>)>,
     /// The widest cell of each column over every row, in characters (errors capped at 60),
     /// so the table's columns do not change width as it scrolls or filters.
     pub widest: HashMap<Column, usize>,
@@ -116,8 +117,12 @@ fn word_labels(table: &SweepTable, rows: &[usize], name: &str, k: usize) -> Vec<
 ///
 /// # Errors
 /// A column the table lacks, by name.
-pub fn plot_data(table: &SweepTable, rows: &[usize], p: &PlotSpec) -> Result<PlotData, String> {
-    let missing = |n: &str| format!("the table has no column `{n}`");
+pub fn plot_data(
+    table: &SweepTable,
+    rows: &[usize],
+    p: &PlotSpec,
+) -> Result<PlotData, StudioError> {
+    let missing = |n: &str| StudioError::NoColumn(n.to_string());
     let x = table.column(&p.x).ok_or_else(|| missing(&p.x))?;
     let y = table.column(&p.y).ok_or_else(|| missing(&p.y))?;
     let group = match &p.group {

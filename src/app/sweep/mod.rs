@@ -13,10 +13,10 @@ mod workspace;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::app::commands::Command;
+use crate::app::error::StudioError;
 use crate::app::job::{Job, JobError, Keyed};
 use crate::app::notice::Notice;
-use crate::app::workspace::{Shell, WorkspaceId};
+use crate::app::workspace::{Request, Shell, WorkspaceId};
 use crate::core::sweep::{PlotKind, PlotSpec};
 use crate::io::sweep::plots::plots_for;
 use derive::{View, ViewRequest};
@@ -67,7 +67,12 @@ impl SweepWorkspace {
     /// The plots shown, with their data or why they cannot be drawn.
     pub fn plots(
         &self,
-    ) -> Option<&[(PlotSpec, Result<crate::io::sweep::plots::PlotData, String>)]> {
+    ) -> Option<
+        &[(
+            PlotSpec,
+            Result<crate::io::sweep::plots::PlotData, StudioError>,
+        )],
+    > {
         self.view.as_ref().map(|v| v.plots.as_slice())
     }
 
@@ -110,7 +115,7 @@ impl SweepWorkspace {
             return;
         };
         self.opening = Some(Job::spawn("design builder", wake, move |_| {
-            open::open_row(&table, index).map_err(JobError::Failed)
+            open::open_row(&table, index)
         }));
     }
 
@@ -238,7 +243,7 @@ impl SweepWorkspace {
                 }
                 shell.send(
                     WorkspaceId::Display,
-                    Command::OpenDesign {
+                    Request::OpenDesign {
                         design: Box::new(o.design),
                         what,
                     },

@@ -4,10 +4,11 @@
 use std::path::Path;
 
 use super::table::SweepTable;
+use crate::app::error::StudioError;
 use crate::app::job::JobError;
 use crate::core::Design;
-use crate::core::Progress;
 use crate::core::sweep::SweepJob;
+use crate::core::{Progress, SimError};
 use crate::io::design_choice::{DesignChoice, design_hash};
 use crate::io::error::IoError;
 use crate::io::sweep::manifest::{CSV_FILE, read_manifest};
@@ -31,10 +32,7 @@ pub fn read_folder(dir: &Path, progress: &Progress) -> Result<SweepTable, JobErr
             progress.set((rows.len() as f32 / expected).min(1.0));
             if progress.is_cancelled() {
                 // Any error stops the reader; the check below reports it as a cancellation.
-                return Err(IoError::Table {
-                    path: path.clone(),
-                    message: "cancelled".into(),
-                });
+                return Err(IoError::Invalid(SimError::Cancelled));
             }
         }
         Ok(())
@@ -88,19 +86,12 @@ pub fn row_params(table: &SweepTable, index: usize) -> Vec<(String, String)> {
 /// # Errors
 /// A sweep of another job (only display designs open), a row that is not there, or the
 /// design's own error (an unknown preset, a file gone).
-pub fn open_row(table: &SweepTable, index: usize) -> Result<OpenedDesign, String> {
+pub fn open_row(table: &SweepTable, index: usize) -> Result<OpenedDesign, StudioError> {
     let job = table.manifest.spec.job;
     if !matches!(job, SweepJob::Analyze | SweepJob::Restore) {
-        return Err(format!(
-            "this is a `{}` sweep: Open design is for display designs (analyze and restore \
-             sweeps)",
-            job.as_str()
-        ));
+        return Err(StudioError::NotDisplaySweep(job));
     }
-    let row = table
-        .rows
-        .get(index)
-        .ok_or_else(|| format!("no row {index} in the table"))?;
+    let row = table.rows.get(index).ok_or(StudioError::NoRow(index))?;
     let base = table.dir.parent().map(Path::to_path_buf);
     let params: Vec<(String, String)> = row_params(table, index)
         .into_iter()
@@ -114,9 +105,8 @@ pub fn open_row(table: &SweepTable, index: usize) -> Result<OpenedDesign, String
             }
         })
         .collect();
-    let choice = DesignChoice::from_params(params.iter().map(|(k, v)| (k.as_str(), v.as_str())))
-        .map_err(|e| e.to_string())?;
-    let design = choice.resolve().map_err(|e| e.to_string())?;
+    let choice = DesignChoice::from_params(params.iter().map(|(k, v)| (k.as_str(), v.as_str())))?;
+    let design = choice.resolve()?;
     let hash_matches = design_hash(&design) == row.design_hash;
     Ok(OpenedDesign {
         design,

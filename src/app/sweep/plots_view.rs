@@ -54,7 +54,7 @@ impl SweepWorkspace {
                 match data {
                     Ok(d) => plot_ui(ui, k, spec, d),
                     Err(e) => {
-                        ui.colored_label(ui.visuals().error_fg_color, e);
+                        ui.colored_label(ui.visuals().error_fg_color, e.to_string());
                     }
                 }
             }

@@ -4,7 +4,6 @@
 use std::path::Path;
 
 use super::SweepWorkspace;
-use crate::app::commands::Command;
 use crate::app::workspace::{DroppedKind, Shell, Workspace, WorkspaceId, side_panel};
 
 impl Workspace for SweepWorkspace {
@@ -44,7 +43,7 @@ impl Workspace for SweepWorkspace {
         &[]
     }
 
-    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell, _cmds: &mut Vec<Command>) {
+    fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell) {
         // Jobs are taken here, before drawing, so a finished read shows in this frame.
         self.poll(shell);
         let total = ui.available_width();
@@ -66,7 +65,7 @@ impl Workspace for SweepWorkspace {
         egui::CentralPanel::default().show(ui, |ui| self.table_ui(ui, shell));
     }
 
-    fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell, _cmds: &mut Vec<Command>) {
+    fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
         if ui
             .add_enabled(
                 self.dialog.is_none(),
@@ -95,8 +94,6 @@ impl Workspace for SweepWorkspace {
     }
 
     /// The results are read-only: nothing to undo.
-    fn command(&mut self, _command: Command, _confirmed: bool, _shell: &mut Shell) {}
-
     fn can_undo(&self) -> bool {
         false
     }

@@ -3,7 +3,7 @@
 use egui::{Color32, ColorImage};
 use ndarray::Array2;
 
-use crate::io::photo;
+use crate::io::{IoError, photo};
 
 /// A loaded photo: a name for the screen and one plane per channel in `[0, 1]`.
 pub struct Photo {
@@ -14,10 +14,10 @@ pub struct Photo {
 }
 
 /// The built-in photo, named for the screen.
-pub(crate) fn built_in() -> Result<Photo, String> {
+pub(crate) fn built_in() -> Result<Photo, IoError> {
     Ok(Photo {
         name: photo::BUILT_IN_PHOTO_NAME.into(),
-        planes: photo::built_in_photo().map_err(|e| e.to_string())?,
+        planes: photo::built_in_photo()?,
     })
 }
 

@@ -250,11 +250,11 @@ fn check(
     design: &Design,
     optics: &Optics,
     progress: &Progress,
-) -> Result<Result<Checked, String>, SimError> {
+) -> Result<Result<Checked, SimError>, SimError> {
     let d = with_optics(design, optics);
     let mut planned = Vec::new();
     if let Err(e) = plan(&d, optics.fine_sample_um, false, &mut planned) {
-        return Ok(Err(e.to_string()));
+        return Ok(Err(e));
     }
     let options = AnalyzeOptions {
         quality: Quality::Preview,
@@ -262,7 +262,7 @@ fn check(
     };
     match analyze_within(&d, &options, progress, &CHECKED) {
         Err(SimError::Cancelled) => Err(SimError::Cancelled),
-        Err(e) => Ok(Err(e.to_string())),
+        Err(e) => Ok(Err(e)),
         Ok((a, strict)) => Ok(Ok(Checked {
             // The plan's kinds come from full quality only: the preview's grids differ.
             reported: planned
@@ -293,7 +293,7 @@ pub fn advise(
     progress: &Progress,
 ) -> Result<(), SimError> {
     let present: BTreeSet<WarningKind> = warnings.iter().map(|w| w.kind).collect();
-    let mut checked: Vec<(Optics, Result<Checked, String>)> = Vec::new();
+    let mut checked: Vec<(Optics, Result<Checked, SimError>)> = Vec::new();
     for w in warnings.iter_mut() {
         let cands = candidates(w.kind, design);
         let mut reasons = Vec::new();

@@ -1,6 +1,7 @@
 //! The one entry point of chapter 3: a design in, every number and picture of it out.
 //! The studio, the CLI, the tests and the benches all call [`analyze`] / [`analyze_with`].
 
+use crate::Setting;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -247,7 +248,7 @@ fn analyze_routed(
     let energy = field.energy();
     if !(energy > 0.0) {
         return Err(SimError::field(
-            "opening.cells",
+            Setting::OpeningCells,
             "no light passes: every cell is closed",
         ));
     }

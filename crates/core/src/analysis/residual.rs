@@ -7,6 +7,7 @@
 //! unit impulse (the filter's own bias, `|K|²/(|K|² + nsr)`), so the residual is measured
 //! against that: `residual_rel = Σ (r_point − r_ref)² / Σ r_ref²`, exactly 0 for identical PSFs.
 
+use crate::Setting;
 use ndarray::Array2;
 
 use crate::SimError;
@@ -32,7 +33,7 @@ impl Deblur {
     pub fn new(reference: &Array2<f64>, nsr: f64) -> Result<Self, SimError> {
         if !(nsr.is_finite() && nsr >= 0.0) {
             return Err(SimError::field(
-                "nsr",
+                Setting::Nsr,
                 format!("must be a finite number ≥ 0 (got {nsr:?})"),
             ));
         }

@@ -10,6 +10,7 @@
 //! the pupil's rim) and a geometric blur of diameter `D·f/z1` on the sensor. The defocused PSF is
 //! the intensity of the FFT of that complex pupil, binned like every other PSF.
 
+use crate::Setting;
 use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
@@ -36,13 +37,13 @@ pub const MAX_OBJECT_DISTANCE_MM: f64 = 1.0e7;
 pub fn image_distance_mm(focal_mm: f64, object_mm: f64) -> Result<f64, SimError> {
     if !(focal_mm.is_finite() && focal_mm > 0.0) {
         return Err(SimError::field(
-            "focal_mm",
+            Setting::FocalMm,
             format!("must be a positive number of mm (got {focal_mm:?})"),
         ));
     }
     if !(object_mm.is_finite() && object_mm > focal_mm && object_mm <= MAX_OBJECT_DISTANCE_MM) {
         return Err(SimError::field(
-            "object_distance_mm",
+            Setting::ObjectDistanceMm,
             format!(
                 "must lie beyond the focal length ({focal_mm} mm) and within \
                  {MAX_OBJECT_DISTANCE_MM:e} mm (got {object_mm:?})"
@@ -145,7 +146,7 @@ pub fn depth_psfs(
     let z2 = image_distance_mm(op.focal_length_mm, z1)?;
     if !(settings.nsr.is_finite() && settings.nsr >= 0.0) {
         return Err(SimError::field(
-            "nsr",
+            Setting::Nsr,
             format!("must be a finite number ≥ 0 (got {:?})", settings.nsr),
         ));
     }

@@ -4,6 +4,7 @@
 //! kernel it calibrated at infinity; beside the photo captured and restored with the infinity
 //! PSF itself (the best this filter can do).
 
+use crate::Setting;
 use ndarray::Array2;
 
 use crate::SimError;
@@ -48,7 +49,7 @@ pub fn depth_capture(
     nsr: f64,
 ) -> Result<DepthCapture, SimError> {
     let Some(first) = photo.first() else {
-        return Err(SimError::field("photo", "has no planes"));
+        return Err(SimError::field(Setting::Photo, "has no planes"));
     };
     let dim = first.dim();
     let n = depth.infinity.len();
@@ -58,13 +59,13 @@ pub fn depth_capture(
         || depth.defocused.len() != n
     {
         return Err(SimError::field(
-            "photo",
+            Setting::Photo,
             format!("needs {n} planes of one size (got {})", photo.len()),
         ));
     }
     if !(nsr.is_finite() && nsr > 0.0) {
         return Err(SimError::field(
-            "nsr",
+            Setting::Nsr,
             format!("must be positive (got {nsr})"),
         ));
     }

@@ -15,6 +15,7 @@
 //! of physics). It goes through the tiling's registration (`origin_offset_cells`), so every PSF
 //! comes from the one analysis entry point.
 
+use crate::Setting;
 use ndarray::Array2;
 
 use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
@@ -66,20 +67,20 @@ impl FieldSettings {
         let z = self.display_distance_mm;
         if !(z.is_finite() && (0.0..=MAX_DISPLAY_DISTANCE_MM).contains(&z)) {
             return Err(SimError::field(
-                "display_distance_mm",
+                Setting::DisplayDistanceMm,
                 format!("must be between 0 and {MAX_DISPLAY_DISTANCE_MM} mm (got {z:?})"),
             ));
         }
         let t = self.max_field_deg;
         if !(t.is_finite() && t > 0.0 && t <= MAX_FIELD_DEG) {
             return Err(SimError::field(
-                "max_field_deg",
+                Setting::MaxFieldDeg,
                 format!("must be above 0 and at most {MAX_FIELD_DEG}° (got {t:?})"),
             ));
         }
         if !(2..=MAX_GRID).contains(&self.grid) {
             return Err(SimError::field(
-                "grid",
+                Setting::Grid,
                 format!(
                     "must be 2 to {MAX_GRID} points per side (got {})",
                     self.grid
@@ -88,7 +89,7 @@ impl FieldSettings {
         }
         if !(self.nsr.is_finite() && self.nsr >= 0.0) {
             return Err(SimError::field(
-                "nsr",
+                Setting::Nsr,
                 format!("must be a finite number ≥ 0 (got {:?})", self.nsr),
             ));
         }

@@ -6,6 +6,7 @@
 //! varying blur. The capture is exposed with §5's noise and restored with the centre PSF's Wiener
 //! filter, beside the same photo captured through the centre PSF everywhere.
 
+use crate::Setting;
 use ndarray::{Array2, Zip};
 
 use crate::SimError;
@@ -51,12 +52,12 @@ pub fn field_capture(
     nsr: f64,
 ) -> Result<FieldCapture, SimError> {
     let Some(first) = photo.first() else {
-        return Err(SimError::field("photo", "has no planes"));
+        return Err(SimError::field(Setting::Photo, "has no planes"));
     };
     let dim = first.dim();
     if photo.len() != field.centre.len() || photo.iter().any(|p| p.dim() != dim) {
         return Err(SimError::field(
-            "photo",
+            Setting::Photo,
             format!(
                 "needs {} planes of one size (got {})",
                 field.centre.len(),
@@ -66,7 +67,10 @@ pub fn field_capture(
     }
     let n = (field.points.len() as f64).sqrt().round() as usize;
     if n < 2 || n * n != field.points.len() {
-        return Err(SimError::field("grid", "the field grid is not square"));
+        return Err(SimError::field(
+            Setting::Grid,
+            "the field grid is not square",
+        ));
     }
     let kdim = field.centre[0].dim();
     let grid = PadGrid::new(dim, kdim, Padding::Double);

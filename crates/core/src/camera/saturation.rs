@@ -13,6 +13,7 @@
 //! the base exposure's full well) before PSNR and SSIM, because that is the picture a designer
 //! shows; ringing inside that range is what the scores see.
 
+use crate::Setting;
 use ndarray::{Array2, Zip};
 
 use crate::SimError;
@@ -62,26 +63,26 @@ impl SaturationSettings {
         let p = self.clip_percent;
         if !(p.is_finite() && p > 0.0 && p < 50.0) {
             return Err(SimError::field(
-                "clip_percent",
+                Setting::ClipPercent,
                 format!("must be above 0 and below 50 % (got {p:?})"),
             ));
         }
         if !(2..=9).contains(&self.brackets) {
             return Err(SimError::field(
-                "brackets",
+                Setting::Brackets,
                 format!("must be 2 to 9 exposures (got {})", self.brackets),
             ));
         }
         let s = self.step_ev;
         if !(s.is_finite() && s > 0.0 && s <= 6.0) {
             return Err(SimError::field(
-                "step_ev",
+                Setting::StepEv,
                 format!("must be above 0 and at most 6 stops (got {s:?})"),
             ));
         }
         if !(self.nsr.is_finite() && self.nsr >= 0.0) {
             return Err(SimError::field(
-                "nsr",
+                Setting::Nsr,
                 format!("must be a finite number ≥ 0 (got {:?})", self.nsr),
             ));
         }

@@ -2,8 +2,9 @@
 //! error naming the field by its path in the design file.
 
 use super::*;
+use crate::{Field, Setting};
 
-fn finite_positive(field: &str, v: f64) -> Result<(), SimError> {
+fn finite_positive(field: impl Into<Field>, v: f64) -> Result<(), SimError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
@@ -14,7 +15,7 @@ fn finite_positive(field: &str, v: f64) -> Result<(), SimError> {
     }
 }
 
-fn finite(field: &str, v: f64) -> Result<(), SimError> {
+fn finite(field: impl Into<Field>, v: f64) -> Result<(), SimError> {
     if v.is_finite() {
         Ok(())
     } else {
@@ -27,7 +28,7 @@ fn finite(field: &str, v: f64) -> Result<(), SimError> {
 
 /// `v` in `[lo, hi]` (both positive): the documented range of a length or ratio, so that no
 /// overflow or degenerate sampling reaches the simulation.
-fn within(field: &str, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), SimError> {
+fn within(field: impl Into<Field>, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), SimError> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {
@@ -45,18 +46,18 @@ impl Design {
     /// [`SimError::InvalidField`] for the first value out of range.
     pub fn validate(&self) -> Result<(), SimError> {
         let o = &self.opening;
-        finite_positive("opening.pitch_um", o.pitch_um)?;
-        within("opening.pitch_um", o.pitch_um, 0.0, 20_000.0, " µm")?;
+        finite_positive(Setting::OpeningPitchUm, o.pitch_um)?;
+        within(Setting::OpeningPitchUm, o.pitch_um, 0.0, 20_000.0, " µm")?;
         let n = o.cells.len();
         if n == 0 {
             return Err(SimError::field(
-                "opening.cells",
+                Setting::OpeningCells,
                 "must have at least one row",
             ));
         }
         if n > MAX_CELLS {
             return Err(SimError::field(
-                "opening.cells",
+                Setting::OpeningCells,
                 format!("{n} rows is more than the {MAX_CELLS} the studio supports"),
             ));
         }
@@ -102,7 +103,7 @@ impl Design {
         finite("tiling.origin_offset_cells[0]", t.origin_offset_cells[0])?;
         finite("tiling.origin_offset_cells[1]", t.origin_offset_cells[1])?;
         within(
-            "tiling.wiring_gap_um",
+            Setting::TilingWiringGapUm,
             t.wiring_gap_um,
             0.0,
             20_000.0,
@@ -110,7 +111,7 @@ impl Design {
         )?;
         if !(t.wiring_gap_um.is_finite() && t.wiring_gap_um >= 0.0) {
             return Err(SimError::field(
-                "tiling.wiring_gap_um",
+                Setting::TilingWiringGapUm,
                 format!(
                     "must be zero or a positive finite number of µm (got {:?})",
                     t.wiring_gap_um
@@ -118,35 +119,35 @@ impl Design {
             ));
         }
         let op = &self.optics;
-        finite_positive("optics.focal_length_mm", op.focal_length_mm)?;
-        finite_positive("optics.f_number", op.f_number)?;
-        finite_positive("optics.pupil_sample_um", op.pupil_sample_um)?;
-        finite_positive("optics.fine_sample_um", op.fine_sample_um)?;
-        finite_positive("optics.sensor_pixel_um", op.sensor_pixel_um)?;
+        finite_positive(Setting::OpticsFocalLengthMm, op.focal_length_mm)?;
+        finite_positive(Setting::OpticsFNumber, op.f_number)?;
+        finite_positive(Setting::OpticsPupilSampleUm, op.pupil_sample_um)?;
+        finite_positive(Setting::OpticsFineSampleUm, op.fine_sample_um)?;
+        finite_positive(Setting::OpticsSensorPixelUm, op.sensor_pixel_um)?;
         within(
-            "optics.focal_length_mm",
+            Setting::OpticsFocalLengthMm,
             op.focal_length_mm,
             0.1,
             1000.0,
             " mm",
         )?;
-        within("optics.f_number", op.f_number, 0.5, 64.0, "")?;
+        within(Setting::OpticsFNumber, op.f_number, 0.5, 64.0, "")?;
         within(
-            "optics.pupil_sample_um",
+            Setting::OpticsPupilSampleUm,
             op.pupil_sample_um,
             0.05,
             1000.0,
             " µm",
         )?;
         within(
-            "optics.fine_sample_um",
+            Setting::OpticsFineSampleUm,
             op.fine_sample_um,
             0.01,
             100.0,
             " µm",
         )?;
         within(
-            "optics.sensor_pixel_um",
+            Setting::OpticsSensorPixelUm,
             op.sensor_pixel_um,
             0.1,
             100.0,
@@ -154,7 +155,7 @@ impl Design {
         )?;
         if op.window_px < 2 || op.window_px > MAX_WINDOW_PX {
             return Err(SimError::field(
-                "optics.window_px",
+                Setting::OpticsWindowPx,
                 format!(
                     "must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {:?})",
                     op.window_px
@@ -178,7 +179,7 @@ impl Design {
             let min_pitch =
                 op.pupil_diameter_um() * (std::f64::consts::FRAC_PI_4 / MAX_PUPIL_PIXELS).sqrt();
             return Err(SimError::field(
-                "opening.pitch_um",
+                Setting::OpeningPitchUm,
                 format!(
                     "at {:?} µm the lens pupil ({:.2} mm) spans {:.2e} display pixels; at most \
                      {MAX_PUPIL_PIXELS:.0} are simulated: use a pitch of at least {:.1} µm",

@@ -13,6 +13,7 @@
 //!   region has no border;
 //! - luminance is Rec. 709: `0.2126 R + 0.7152 G + 0.0722 B`.
 
+use crate::Setting;
 use ndarray::Array2;
 
 use crate::SimError;
@@ -71,7 +72,7 @@ impl AppearanceSettings {
     /// # Errors
     /// [`SimError::InvalidField`] for the first value out of range.
     pub fn validate(&self, cells_per_pixel: usize) -> Result<(), SimError> {
-        let check = |field: &str, v: f64, lo: f64, hi: f64, unit: &str| {
+        let check = |field: Setting, v: f64, lo: f64, hi: f64, unit: &str| {
             if v.is_finite() && (lo..=hi).contains(&v) {
                 Ok(())
             } else {
@@ -81,20 +82,26 @@ impl AppearanceSettings {
                 ))
             }
         };
-        check("dpi", self.dpi, 10.0, 5000.0, " DPI")?;
+        check(Setting::Dpi, self.dpi, 10.0, 5000.0, " DPI")?;
         check(
-            "viewing_distance_mm",
+            Setting::ViewingDistanceMm,
             self.viewing_distance_mm,
             10.0,
             10_000.0,
             " mm",
         )?;
-        check("region_mm", self.region_mm, 0.1, 100.0, " mm")?;
-        check("acuity_arcmin", self.acuity_arcmin, 0.1, 10.0, " arcmin")?;
+        check(Setting::RegionMm, self.region_mm, 0.1, 100.0, " mm")?;
+        check(
+            Setting::AcuityArcmin,
+            self.acuity_arcmin,
+            0.1,
+            10.0,
+            " arcmin",
+        )?;
         let side = self.pixels_per_side() * cells_per_pixel;
         if side > MAX_RENDER_CELLS {
             return Err(SimError::field(
-                "region_mm",
+                Setting::RegionMm,
                 format!(
                     "{} mm at {} DPI with {cells_per_pixel} cells per pixel is {side} cells per \
                      side; at most {MAX_RENDER_CELLS} are rendered: use a smaller region or DPI",

@@ -11,6 +11,7 @@ pub mod model;
 pub mod reserve;
 pub mod spectra;
 
+use crate::{Field, Setting};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
@@ -142,7 +143,7 @@ impl OptimizeSettings {
                 ))
             }
         };
-        let non_negative = |name: &str, v: f64| {
+        let non_negative = |name: Field, v: f64| {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
@@ -151,23 +152,23 @@ impl OptimizeSettings {
         };
         if !(1..=100_000).contains(&self.epochs) {
             return Err(SimError::field(
-                "epochs",
+                Setting::Epochs,
                 format!("must be 1 … 100000, got {}", self.epochs),
             ));
         }
         let c = self.target_open_fraction;
         if !(c > 0.0 && c <= 1.0) {
             return Err(SimError::field(
-                "target_open_fraction",
+                Setting::TargetOpenFraction,
                 format!("must be in (0, 1], got {c}"),
             ));
         }
         for (name, w) in [
-            ("weights.area", self.weights.area),
-            ("weights.inv", self.weights.inv),
-            ("weights.data", self.weights.data),
+            (Setting::WeightArea, self.weights.area),
+            (Setting::WeightInv, self.weights.inv),
+            (Setting::WeightData, self.weights.data),
         ] {
-            non_negative(name, w)?;
+            non_negative(name.into(), w)?;
             // Losses are O(1); a weight past this only overflows the sum.
             if w > MAX_LOSS_WEIGHT {
                 return Err(SimError::field(
@@ -177,7 +178,7 @@ impl OptimizeSettings {
             }
         }
         positive("learning_rate", self.learning_rate)?;
-        non_negative("area_step", self.area_step)?;
+        non_negative("area_step".into(), self.area_step)?;
         for (name, b) in [("beta1", self.beta1), ("beta2", self.beta2)] {
             if !(0.0..1.0).contains(&b) {
                 return Err(SimError::field(name, format!("must be in [0, 1), got {b}")));
@@ -449,7 +450,7 @@ pub fn optimize(
     let cells = (n * n) as f64;
     if settings.target_open_fraction * cells < 1.0 {
         return Err(SimError::field(
-            "target_open_fraction",
+            Setting::TargetOpenFraction,
             format!(
                 "{:?} of the {n}×{n} cells opens none; at least {:.4} (one cell) is needed",
                 settings.target_open_fraction,

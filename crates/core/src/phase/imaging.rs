@@ -42,6 +42,7 @@
 //!   columns inside the field of view (eq. 4.13 for the design's κ; the bare T-OLED is scored on
 //!   the same columns as a double MLA of its pitch), every row.
 
+use crate::Setting;
 use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -263,7 +264,7 @@ fn check_scene(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<(), SimError> 
     let width = blur.channels.first().map_or(0, Array2::ncols);
     if scene.len() != blur.channels.len() {
         return Err(SimError::field(
-            "photo",
+            Setting::Photo,
             format!(
                 "has {} planes; the setup has {} channels",
                 scene.len(),
@@ -274,7 +275,7 @@ fn check_scene(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<(), SimError> 
     for plane in scene {
         if plane.ncols() != width || plane.nrows() < 8 {
             return Err(SimError::field(
-                "photo",
+                Setting::Photo,
                 format!(
                     "is {}×{} px; the operator was built for {width} columns and needs ≥ 8 rows",
                     plane.ncols(),
@@ -283,7 +284,7 @@ fn check_scene(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<(), SimError> 
             ));
         }
         if plane.iter().any(|v| !v.is_finite()) {
-            return Err(SimError::field("photo", "holds a non-finite value"));
+            return Err(SimError::field(Setting::Photo, "holds a non-finite value"));
         }
     }
     Ok(())

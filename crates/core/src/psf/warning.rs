@@ -13,6 +13,7 @@
 //! [`Severity::Note`]s, shown in grey with the same fix. With any other optics they are
 //! [`Severity::Warning`]s, and the other kinds always are.
 
+use crate::Setting;
 use std::fmt;
 
 use crate::design::{Optics, OpticsRecipe};
@@ -121,13 +122,18 @@ pub enum OpticsField {
 }
 
 impl OpticsField {
+    /// The design setting it is.
+    pub fn setting(self) -> Setting {
+        match self {
+            OpticsField::PupilSample => Setting::OpticsPupilSampleUm,
+            OpticsField::FineSample => Setting::OpticsFineSampleUm,
+            OpticsField::Window => Setting::OpticsWindowPx,
+        }
+    }
+
     /// The field's path in the design file (`optics.window_px`).
     pub fn path(self) -> &'static str {
-        match self {
-            OpticsField::PupilSample => "optics.pupil_sample_um",
-            OpticsField::FineSample => "optics.fine_sample_um",
-            OpticsField::Window => "optics.window_px",
-        }
+        self.setting().path()
     }
 
     /// Its short name in summaries ("δ1", "window").

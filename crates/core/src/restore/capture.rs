@@ -1,6 +1,7 @@
 //! The camera behind the display (conventions.md §5): blur, photon noise, read noise, full well and
 //! ADC, with the light level given as electrons or as an SNR.
 
+use crate::{Field, Setting};
 use ndarray::{Array2, ArrayView2};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -97,7 +98,7 @@ impl Default for CaptureSettings {
     }
 }
 
-fn positive(field: &str, v: f64) -> Result<(), SimError> {
+fn positive(field: impl Into<Field>, v: f64) -> Result<(), SimError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
@@ -115,11 +116,11 @@ impl CaptureSettings {
     /// [`SimError::InvalidField`] naming the first bad field (`capture.light`, …).
     pub fn validate(&self) -> Result<(), SimError> {
         match self.light {
-            Light::ElectronsAtPeak(l) => positive("capture.light.electrons_at_peak", l)?,
+            Light::ElectronsAtPeak(l) => positive(Setting::CaptureElectronsAtPeak, l)?,
             Light::SnrDb(db) => {
                 if !db.is_finite() {
                     return Err(SimError::field(
-                        "capture.light.snr_db",
+                        Setting::CaptureSnrDb,
                         format!("must be a finite number of dB (got {db:?})"),
                     ));
                 }
@@ -137,7 +138,7 @@ impl CaptureSettings {
             && !(1..=24).contains(&bits)
         {
             return Err(SimError::field(
-                "capture.adc_bits",
+                Setting::CaptureAdcBits,
                 format!("must be 1 … 24 bits (got {bits})"),
             ));
         }
@@ -147,8 +148,8 @@ impl CaptureSettings {
         let (lo, hi) = (1.0, 100.0 * self.full_well_e);
         if !(l.is_finite() && (lo..=hi).contains(&l)) {
             let field = match self.light {
-                Light::ElectronsAtPeak(_) => "capture.light.electrons_at_peak",
-                Light::SnrDb(_) => "capture.light.snr_db",
+                Light::ElectronsAtPeak(_) => Setting::CaptureElectronsAtPeak,
+                Light::SnrDb(_) => Setting::CaptureSnrDb,
             };
             return Err(SimError::field(
                 field,

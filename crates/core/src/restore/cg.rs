@@ -7,6 +7,7 @@
 //! Because every convolution is exactly linear, the result does not depend on the padding of the
 //! grid: [`super::Padding::Linear`] is the fast choice.
 
+use crate::Setting;
 use ndarray::{Array2, ArrayView2, Zip};
 use rayon::prelude::*;
 
@@ -48,7 +49,7 @@ impl CgSettings {
     pub fn validate(&self) -> Result<(), SimError> {
         if !(self.lambda.is_finite() && self.lambda >= 0.0) {
             return Err(SimError::field(
-                "method.lambda",
+                Setting::MethodLambda,
                 format!("must be a finite number ≥ 0 (got {:?})", self.lambda),
             ));
         }

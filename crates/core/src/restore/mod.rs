@@ -34,6 +34,7 @@ pub mod quality;
 pub mod spectrum;
 pub mod wiener;
 
+use crate::Setting;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
@@ -166,7 +167,7 @@ pub fn check(
     match settings.method {
         Method::Wiener { nsr } if !(nsr.is_finite() && nsr >= 0.0) => {
             return Err(SimError::field(
-                "method.nsr",
+                Setting::MethodNsr,
                 format!("must be a finite number ≥ 0 (got {nsr:?})"),
             ));
         }
@@ -180,13 +181,13 @@ pub fn check(
 /// Checks the photo; returns its size.
 fn validate_photo(photo: &[Array2<f64>]) -> Result<(usize, usize), SimError> {
     let Some(first) = photo.first() else {
-        return Err(SimError::field("photo", "has no channels"));
+        return Err(SimError::field(Setting::Photo, "has no channels"));
     };
     let dim = first.dim();
     let win = 2 * quality::SSIM_RADIUS_PX + 1;
     if dim.0 < win || dim.1 < win {
         return Err(SimError::field(
-            "photo",
+            Setting::Photo,
             format!(
                 "is {}×{} pixels; at least {win}×{win} are needed (the SSIM window)",
                 dim.0, dim.1

@@ -1,6 +1,7 @@
 //! Wiener deconvolution (conventions.md §5): `X = Y·K* / (|K|² + nsr)` on the zero-padded grid,
 //! cropped back and clipped at 0.
 
+use crate::Setting;
 use ndarray::{Array2, ArrayView2};
 
 use super::spectrum::{PadGrid, Spectrum};
@@ -23,7 +24,7 @@ pub fn wiener(
 ) -> Result<Array2<f64>, SimError> {
     if !(nsr.is_finite() && nsr >= 0.0) {
         return Err(SimError::field(
-            "method.nsr",
+            Setting::MethodNsr,
             format!("must be a finite number ≥ 0 (got {nsr:?})"),
         ));
     }

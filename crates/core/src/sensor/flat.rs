@@ -23,6 +23,7 @@
 //!   electrons `predicted` is a little above it (≈ 2.4 % at 400 e⁻ on Table 5.4's sensor) and
 //!   meets it as `l̂` grows.
 
+use crate::Setting;
 use ndarray::Array2;
 
 use super::noise::{Adc, expose_frame, stream};
@@ -86,19 +87,19 @@ impl FlatPatchSpec {
         let l = self.light_e;
         if !(l.is_finite() && (0.0..=FLAT_PATCH_MAX_LIGHT_E).contains(&l)) {
             return Err(SimError::field(
-                "light_e",
+                Setting::LightE,
                 format!("must be 0 … {FLAT_PATCH_MAX_LIGHT_E:e} electrons per pixel (got {l:?})"),
             ));
         }
         if !(self.eta.is_finite() && (0.0..=1e3).contains(&self.eta)) {
             return Err(SimError::field(
-                "eta",
+                Setting::Eta,
                 format!("must be 0 … 1000 (got {:?})", self.eta),
             ));
         }
         if !BIN_SIZES.contains(&self.bin_px) {
             return Err(SimError::field(
-                "bin_px",
+                Setting::BinPx,
                 format!("a bin is 1, 2, 4 or 8 pixels wide (got {})", self.bin_px),
             ));
         }
@@ -106,14 +107,14 @@ impl FlatPatchSpec {
             && !(g.is_finite() && g > 0.0 && g <= 1e6)
         {
             return Err(SimError::field(
-                "gain",
+                Setting::Gain,
                 format!("must be a finite gain in (0, 1e6] (got {g:?})"),
             ));
         }
         let (lo, hi) = FLAT_PATCH_SIDE_RANGE;
         if !(lo..=hi).contains(&self.side_px) || !self.side_px.is_multiple_of(self.bin_px) {
             return Err(SimError::field(
-                "side_px",
+                Setting::SidePx,
                 format!(
                     "must be {lo} … {hi} pixels and a multiple of the bin side {} (got {})",
                     self.bin_px, self.side_px

@@ -1,6 +1,7 @@
 //! What [`super::run`] simulates: the sensor, the exposure, the strategies and their knobs.
 
 use super::{Cfa, Exposure, SensorSpec};
+use crate::Setting;
 use crate::SimError;
 
 /// How the analog gain is chosen (§5.4).
@@ -294,11 +295,14 @@ impl SensorSettings {
         let (lo, hi) = ROI_PX_RANGE;
         if !(lo..=hi).contains(&self.roi_px) {
             return Err(SimError::field(
-                "roi_px",
+                Setting::RoiPx,
                 format!("must be {lo} … {hi} pixels (got {:?})", self.roi_px),
             ));
         }
-        for (field, v) in [("eta", self.eta), ("eta_per_pixel", self.eta_per_pixel)] {
+        for (field, v) in [
+            (Setting::Eta, self.eta),
+            (Setting::EtaPerPixel, self.eta_per_pixel),
+        ] {
             if !(v.is_finite() && (0.0..=1e3).contains(&v)) {
                 return Err(SimError::field(
                     field,
@@ -309,7 +313,7 @@ impl SensorSettings {
         // An SNR threshold below 0.01 or above 10⁶ asks for nothing or for the impossible.
         if !(self.snr_t.is_finite() && (0.01..=1e6).contains(&self.snr_t)) {
             return Err(SimError::field(
-                "snr_t",
+                Setting::SnrT,
                 format!("must be 0.01 … 1e6 (got {:?})", self.snr_t),
             ));
         }

@@ -3,6 +3,7 @@
 //! each copy scores. The same functions serve the studio's background job and the tests, so
 //! what the plot shows is what a test checks.
 
+use crate::Setting;
 use crate::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
 use crate::design::{Design, OpticsRecipe};
 use crate::{Progress, SimError};
@@ -65,16 +66,21 @@ impl SweepField {
         }
     }
 
+    /// The design setting it sweeps.
+    pub fn setting(self) -> Setting {
+        match self {
+            SweepField::PitchUm => Setting::OpeningPitchUm,
+            SweepField::Seed => Setting::TilingSeed,
+            SweepField::WiringGapUm => Setting::TilingWiringGapUm,
+            SweepField::FNumber => Setting::OpticsFNumber,
+            SweepField::FocalLengthMm => Setting::OpticsFocalLengthMm,
+            SweepField::SensorPixelUm => Setting::OpticsSensorPixelUm,
+        }
+    }
+
     /// Its path in the design file, as validation errors name it.
     pub fn path(self) -> &'static str {
-        match self {
-            SweepField::PitchUm => "opening.pitch_um",
-            SweepField::Seed => "tiling.seed",
-            SweepField::WiringGapUm => "tiling.wiring_gap_um",
-            SweepField::FNumber => "optics.f_number",
-            SweepField::FocalLengthMm => "optics.focal_length_mm",
-            SweepField::SensorPixelUm => "optics.sensor_pixel_um",
-        }
+        self.setting().path()
     }
 
     /// Whether only whole numbers make sense (the seed).
@@ -108,7 +114,7 @@ impl SweepField {
             SweepField::Seed => {
                 if !(value.is_finite() && value >= 0.0 && value.fract() == 0.0) {
                     return Err(SimError::InvalidField {
-                        field: self.path().into(),
+                        field: self.setting().into(),
                         message: format!("{value} is not a whole number of at least 0"),
                     });
                 }

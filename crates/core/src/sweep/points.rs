@@ -27,7 +27,7 @@ impl Points {
         for (i, a) in spec.axes.iter().enumerate() {
             values.push(
                 axis_values(a).map_err(|(f, message)| SimError::InvalidField {
-                    field: format!("axis[{i}]{f}"),
+                    field: format!("axis[{i}]{f}").into(),
                     message,
                 })?,
             );

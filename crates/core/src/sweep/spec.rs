@@ -283,7 +283,10 @@ impl SweepSpec {
     /// # Errors
     /// [`SimError::InvalidField`] naming the offending field (`axis[1].range.step`).
     pub fn validate(&self) -> Result<(), SimError> {
-        let bad = |field: String, message: String| SimError::InvalidField { field, message };
+        let bad = |field: String, message: String| SimError::InvalidField {
+            field: field.into(),
+            message,
+        };
         let name_ok = is_param_name;
         for (k, v) in &self.base {
             if !name_ok(k) {
@@ -298,7 +301,7 @@ impl SweepSpec {
                     "the sweep sets this itself".into(),
                 ));
             }
-            check_value(v).map_err(|m| bad(format!("base.{k}"), m))?;
+            check_value(v).map_err(|m| bad(format!("base.{k}"), m.to_string()))?;
         }
         let mut points: u64 = 1;
         for (i, axis) in self.axes.iter().enumerate() {
@@ -329,7 +332,7 @@ impl SweepSpec {
             }
             let len = axis_len(axis).map_err(|(f, m)| bad(field(&f), m))?;
             for (j, v) in axis.values.iter().flatten().enumerate() {
-                check_value(v).map_err(|m| bad(field(&format!(".values[{j}]")), m))?;
+                check_value(v).map_err(|m| bad(field(&format!(".values[{j}]")), m.to_string()))?;
             }
             self.validate_linked(i, len)?;
             points = points.saturating_mul(len as u64);
@@ -374,7 +377,7 @@ impl SweepSpec {
         for (name, values) in &axis.with {
             let field = format!("axis[{i}].with.{name}");
             let bad = |message: String| SimError::InvalidField {
-                field: field.clone(),
+                field: field.clone().into(),
                 message,
             };
             if !is_param_name(name) {
@@ -405,8 +408,8 @@ impl SweepSpec {
             }
             for (j, v) in values.iter().enumerate() {
                 check_value(v).map_err(|m| SimError::InvalidField {
-                    field: format!("{field}[{j}]"),
-                    message: m,
+                    field: format!("{field}[{j}]").into(),
+                    message: m.to_string(),
                 })?;
             }
         }
@@ -422,7 +425,7 @@ impl SweepSpec {
             return Ok(());
         };
         let bad = |f: &str, message: String| SimError::InvalidField {
-            field: format!("axis[{i}]{f}"),
+            field: format!("axis[{i}]{f}").into(),
             message,
         };
         let Some(values) = &axis.values else {
@@ -478,11 +481,22 @@ fn is_param_name(p: &str) -> bool {
         && !p.starts_with('-')
 }
 
-fn check_value(v: &ParamValue) -> Result<(), String> {
+/// Why a parameter value cannot be passed to a job.
+#[derive(Debug, thiserror::Error)]
+enum BadValue {
+    #[error("{0} is not a finite number")]
+    NotFinite(f64),
+    #[error("an empty value")]
+    Empty,
+    #[error("a value with a NUL byte")]
+    Nul,
+}
+
+fn check_value(v: &ParamValue) -> Result<(), BadValue> {
     match v {
-        ParamValue::Float(f) if !f.is_finite() => Err(format!("{f} is not a finite number")),
-        ParamValue::Text(s) if s.is_empty() => Err("an empty value".into()),
-        ParamValue::Text(s) if s.contains('\0') => Err("a value with a NUL byte".into()),
+        ParamValue::Float(f) if !f.is_finite() => Err(BadValue::NotFinite(*f)),
+        ParamValue::Text(s) if s.is_empty() => Err(BadValue::Empty),
+        ParamValue::Text(s) if s.contains('\0') => Err(BadValue::Nul),
         _ => Ok(()),
     }
 }

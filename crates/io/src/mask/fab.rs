@@ -6,6 +6,7 @@ use std::path::Path;
 use super::{ExportOptions, MaskFormat};
 use crate::IoError;
 use crate::design_file::to_json;
+use crate::error::ExportOptionsError;
 use crate::fab::{LayerEntry, LayerMap, Sidecars, derived_cell_name, sha256_hex, write_sidecars};
 use udc_core::design::Design;
 
@@ -150,9 +151,10 @@ impl ExportOptions {
     /// ([`FRAME_LAYER`], [`MARKS_LAYER`], [`LABEL_LAYER`]).
     ///
     /// # Errors
-    /// A message for a map entry that names no role, or a map that puts the openings on the
+    /// [`ExportOptionsError::UnknownRole`] for a map entry that names no role,
+    /// [`ExportOptionsError::SharedLayer`] for a map that puts the openings on the
     /// layer/datatype of another role this export writes.
-    pub fn mask_layers(&self) -> Result<MaskLayers, String> {
+    pub fn mask_layers(&self) -> Result<MaskLayers, ExportOptionsError> {
         let mut l = MaskLayers {
             openings: (self.layer, self.datatype),
             outline: (self.note_layer, 0),
@@ -165,12 +167,10 @@ impl ExportOptions {
         if let Some(map) = &self.layer_map {
             for e in &map.entries {
                 let Some(role) = LayerRole::ALL.into_iter().find(|r| r.as_str() == e.name) else {
-                    let names: Vec<&str> = LayerRole::ALL.iter().map(|r| r.as_str()).collect();
-                    return Err(format!(
-                        "layer map: unknown role `{}` (expected one of {})",
-                        e.name,
-                        names.join(", ")
-                    ));
+                    return Err(ExportOptionsError::UnknownRole {
+                        name: e.name.clone(),
+                        roles: LayerRole::ALL.iter().map(|r| r.as_str()).collect(),
+                    });
                 };
                 *l.of_mut(role) = (e.layer, e.datatype);
             }
@@ -182,13 +182,11 @@ impl ExportOptions {
             .into_iter()
             .find(|&r| r != LayerRole::Openings && l.of(r) == l.openings)
         {
-            return Err(format!(
-                "layer map: the openings ({}/{}) must be on their own layer/datatype (the {} \
-                 layer is the same)",
-                l.openings.0,
-                l.openings.1,
-                r.as_str()
-            ));
+            return Err(ExportOptionsError::SharedLayer {
+                layer: l.openings.0,
+                datatype: l.openings.1,
+                role: r.as_str(),
+            });
         }
         Ok(l)
     }
@@ -217,8 +215,8 @@ impl ExportOptions {
     /// `note_layer`, and the top cell named when none was given.
     ///
     /// # Errors
-    /// A message for a bad layer map.
-    pub fn resolved(&self, design: &Design) -> Result<ExportOptions, String> {
+    /// As [`ExportOptions::mask_layers`], for a bad layer map.
+    pub fn resolved(&self, design: &Design) -> Result<ExportOptions, ExportOptionsError> {
         let l = self.mask_layers()?;
         let mut o = self.clone();
         (o.layer, o.datatype) = l.openings;
@@ -270,9 +268,9 @@ pub(super) fn write_mask_sidecars(
     o: &ExportOptions,
     path: &Path,
 ) -> Result<Sidecars, IoError> {
-    let layers = o.mask_layers().map_err(|message| IoError::Mask {
+    let layers = o.mask_layers().map_err(|error| IoError::MaskOptions {
         path: path.to_path_buf(),
-        message,
+        error,
     })?;
     let map = layers.to_map(&o.written_roles());
     let spec = &o.spec;

@@ -290,9 +290,9 @@ pub(super) fn write(
     path: &Path,
     progress: &Progress,
 ) -> Result<FileCounts, IoError> {
-    let layers = o.mask_layers().map_err(|message| IoError::Mask {
+    let layers = o.mask_layers().map_err(|error| IoError::MaskOptions {
         path: path.to_path_buf(),
-        message,
+        error,
     })?;
     let lib = library(layout, o, &layers, notes, frame);
     let mut head = Vec::new();

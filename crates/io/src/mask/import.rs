@@ -10,6 +10,7 @@ use std::path::Path;
 
 use super::{MaskFormat, dxf, gds, oasis, tone_of_notes};
 use crate::IoError;
+use crate::error::MaskImportError;
 use udc_core::ValueError;
 use udc_core::mask::Tone;
 
@@ -73,12 +74,14 @@ pub const MAX_IMPORT_CELLS: usize = 64 << 20;
 /// Reads the mask at `path` (GDSII or DXF, by extension) into cells.
 ///
 /// # Errors
-/// [`IoError::File`] when unreadable, [`IoError::Mask`] when it is not a mask this reader
-/// understands, has nothing on the layer, or the window is empty or too large.
+/// [`IoError::File`] when unreadable; [`IoError::Mask`] or [`IoError::Oasis`] when it is not a
+/// mask this reader understands; [`IoError::MaskImport`] when the extension names no mask
+/// format, the cell size is not positive, nothing is on the layer, or the window is empty or
+/// too large.
 pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask, IoError> {
-    let err = |message: String| IoError::Mask {
+    let err = |error: MaskImportError| IoError::MaskImport {
         path: path.to_path_buf(),
-        message,
+        error,
     };
     let ext = path
         .extension()
@@ -89,14 +92,14 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
         "dxf" => MaskFormat::Dxf,
         "oas" | "oasis" => MaskFormat::Oas,
         other => {
-            return Err(err(format!(
-                "cannot read `.{other}` masks (expected .gds, .oas or .dxf)"
-            )));
+            return Err(err(MaskImportError::UnknownExtension {
+                extension: other.to_string(),
+            }));
         }
     };
     let s = options.cell_um;
     if !(s.is_finite() && s > 0.0) {
-        return Err(err(format!("the cell size must be positive (got {s} µm)")));
+        return Err(err(MaskImportError::CellSize { cell_um: s }));
     }
     let (polygons, texts) = match format {
         MaskFormat::Dxf => dxf::read(path, options.layer, options.datatype)?,
@@ -110,10 +113,10 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
         }
     };
     if polygons.is_empty() {
-        return Err(err(format!(
-            "no polygon on layer {}/{}",
-            options.layer, options.datatype
-        )));
+        return Err(err(MaskImportError::NoPolygon {
+            layer: options.layer,
+            datatype: options.datatype,
+        }));
     }
     let tone = options
         .tone
@@ -124,10 +127,11 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
         None => bounding_window(&polygons, s),
     };
     if window.cols == 0 || window.rows == 0 || window.cols * window.rows > MAX_IMPORT_CELLS {
-        return Err(err(format!(
-            "the window of {}×{} cells is empty or larger than {MAX_IMPORT_CELLS} cells",
-            window.cols, window.rows
-        )));
+        return Err(err(MaskImportError::Window {
+            cols: window.cols,
+            rows: window.rows,
+            max_cells: MAX_IMPORT_CELLS,
+        }));
     }
     let mut drawn = vec![vec![false; window.cols]; window.rows];
     for poly in &polygons {
@@ -230,8 +234,8 @@ pub fn import_opening(path: &Path, design: &udc_core::Design) -> Result<Vec<Vec<
 /// image pixel is at most half a cell).
 ///
 /// # Errors
-/// As [`import_mask`]; for a PNG, a missing pixel size or region, or a region that does not fit
-/// the image.
+/// As [`import_mask`]; for a PNG, [`IoError::MaskImport`] for a missing pixel size or region, or
+/// a region that does not fit the image.
 pub fn import_opening_on(
     path: &Path,
     design: &udc_core::Design,
@@ -246,9 +250,9 @@ pub fn import_opening_on(
     } else {
         None
     };
-    let err = |message: String| IoError::Mask {
+    let err = |error: MaskImportError| IoError::MaskImport {
         path: path.to_path_buf(),
-        message,
+        error,
     };
     let mut spec = MaskSpec {
         region: MaskRegion::PIXEL,
@@ -257,11 +261,9 @@ pub fn import_opening_on(
     if let Some(m) = &notes {
         let lines = m.notes.iter().map(String::as_str);
         spec.region = note_field(lines.clone(), "REGION")
-            .ok_or_else(
-                || err("the PNG states no REGION= note (not written by udc-studio)".into()),
-            )?
+            .ok_or_else(|| err(MaskImportError::NoRegionNote))?
             .parse()
-            .map_err(|e: ValueError| err(e.to_string()))?;
+            .map_err(|e: ValueError| err(MaskImportError::Region(e)))?;
         if let Some(g) = note_field(lines, "GRID_NM").and_then(|g| g.parse().ok()) {
             spec.grid_nm = g;
         }
@@ -317,11 +319,8 @@ fn is_png(path: &Path) -> bool {
 fn png_axis_pixel(
     m: &super::png_read::PngMask,
     layout: &udc_core::mask::MaskLayout,
-) -> Result<Vec<Vec<f64>>, String> {
-    let d_nm = m
-        .um_per_px
-        .ok_or("the PNG has no metric pHYs chunk, so its pixel size is unknown")?
-        * 1e3;
+) -> Result<Vec<Vec<f64>>, MaskImportError> {
+    let d_nm = m.um_per_px.ok_or(MaskImportError::NoPixelSize)? * 1e3;
     let tone = tone_of_notes(m.notes.iter().map(String::as_str)).unwrap_or(Tone::Open);
     let bbox = super::region_bbox_nm(layout);
     let [cx, cy] = layout.tile_corner_nm(0, 0);
@@ -335,12 +334,12 @@ fn png_axis_pixel(
             let px = ((x - bbox[0] as f64) / d_nm).floor();
             let py = ((bbox[3] as f64 - y) / d_nm).floor();
             if !(px >= 0.0 && py >= 0.0 && (px as usize) < m.width && (py as usize) < m.height) {
-                return Err(format!(
-                    "the {}×{} image does not cover the axis pixel at {} µm per pixel",
-                    m.width,
-                    m.height,
-                    d_nm / 1e3
-                ));
+                return Err(MaskImportError::AxisPixelOutside {
+                    width: m.width,
+                    height: m.height,
+                    // From `d_nm`, not `m.um_per_px`: the message shows the size as used.
+                    um_per_px: d_nm / 1e3,
+                });
             }
             let drawn = m.grey[py as usize * m.width + px as usize] >= 128;
             *cell = f64::from(u8::from(drawn != (tone == Tone::Chrome)));

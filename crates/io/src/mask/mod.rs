@@ -26,6 +26,7 @@ use udc_core::psf::warning::SamplingWarning;
 use udc_core::{Progress, ValueError};
 
 use super::IoError;
+use super::error::ExportOptionsError;
 use super::fab::{LayerMap, MAX_BOUNDARY_VERTICES, Sidecars};
 
 /// Largest mask file read back (GDSII or DXF): masks of whole displays are tens of MB.
@@ -228,8 +229,8 @@ impl ExportOptions {
     /// Checks the options that do not depend on the design.
     ///
     /// # Errors
-    /// A message naming the bad option.
-    pub fn validate(&self) -> Result<(), String> {
+    /// An [`ExportOptionsError`] naming the bad option.
+    pub fn validate(&self) -> Result<(), ExportOptionsError> {
         let name = self.top_cell.as_deref().unwrap_or("UDC_MASK");
         if name.is_empty()
             || name.len() > 32
@@ -237,32 +238,30 @@ impl ExportOptions {
                 .chars()
                 .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '$'))
         {
-            return Err(format!(
-                "top cell name `{name}`: use 1 to 32 letters, digits, `_`, `-` or `$`"
-            ));
+            return Err(ExportOptionsError::TopCellName {
+                name: name.to_string(),
+            });
         }
-        for (what, v) in [
+        for (option, value) in [
             ("layer", self.layer),
             ("datatype", self.datatype),
             ("note layer", self.note_layer),
         ] {
-            if !(0..=255).contains(&v) {
-                return Err(format!("{what} must be between 0 and 255 (got {v:?})"));
+            if !(0..=255).contains(&value) {
+                return Err(ExportOptionsError::OutOfRange { option, value });
             }
         }
         if self.note_layer == self.layer {
-            return Err(format!(
-                "the note layer ({}) must differ from the drawing layer",
-                self.note_layer
-            ));
+            return Err(ExportOptionsError::NoteLayerIsDrawingLayer {
+                layer: self.note_layer,
+            });
         }
-        self.frame.validate()?;
+        self.frame.validate().map_err(ExportOptionsError::Frame)?;
         self.mask_layers()?;
         if !(self.um_per_px.is_finite() && self.um_per_px > 0.0) {
-            return Err(format!(
-                "µm per pixel must be a positive number (got {:?})",
-                self.um_per_px
-            ));
+            return Err(ExportOptionsError::UmPerPx {
+                um_per_px: self.um_per_px,
+            });
         }
         Ok(())
     }
@@ -402,7 +401,10 @@ pub fn sidecar_path(path: &Path) -> PathBuf {
 /// # Errors
 /// A message for bad options or a design that cannot be laid out.
 pub fn plan(design: &Design, options: &ExportOptions) -> Result<MaskLayout, MaskError> {
-    options.validate().map_err(MaskError::Invalid)?;
+    // The core's mask error holds the options' complaint as text.
+    options
+        .validate()
+        .map_err(|e| MaskError::Invalid(e.to_string()))?;
     let mut spec = options.spec.clone();
     if options.format == MaskFormat::Gds {
         // Many GDSII readers keep records within 32 kB: split boundaries before they exceed it.
@@ -435,7 +437,9 @@ pub fn export_mask(
     progress: &Progress,
 ) -> Result<MaskReport, IoError> {
     let start = Instant::now();
-    let options = &options.resolved(design).map_err(MaskError::Invalid)?;
+    let options = &options
+        .resolved(design)
+        .map_err(|e| MaskError::Invalid(e.to_string()))?;
     let layout = plan(design, options)?;
     let notes = notes(design, &layout, options, path);
     let frame = frame_drawing(&layout, options, &design.name)?;

@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::table::TableSchema;
-use crate::error::IoError;
+use crate::error::{IoError, SpecError};
 use crate::safe_file::{read_text_bounded, write_atomic};
 use udc_core::sweep::SweepSpec;
 use udc_core::sweep::hash::short_hash;
@@ -79,9 +79,9 @@ pub fn spec_hash(spec: &SweepSpec) -> String {
 /// # Errors
 /// [`IoError::File`].
 pub fn write_manifest(dir: &Path, m: &Manifest) -> Result<(), IoError> {
-    let text = serde_json::to_string_pretty(m).map_err(|e| IoError::Design {
+    let text = serde_json::to_string_pretty(m).map_err(|e| IoError::Spec {
         path: dir.join(MANIFEST_FILE),
-        message: e.to_string(),
+        error: SpecError::ManifestJson(e),
     })?;
     write_atomic(&dir.join(MANIFEST_FILE), text.as_bytes())
 }
@@ -95,12 +95,15 @@ pub fn read_manifest(dir: &Path) -> Result<Manifest, IoError> {
     let text = read_text_bounded(&path, 10_000_000, "sweep manifest")?;
     let m: Manifest = serde_json::from_str(&text).map_err(|e| IoError::Spec {
         path: path.clone(),
-        message: format!("not a sweep manifest: {e}"),
+        error: SpecError::NotAManifest(e),
     })?;
     if m.format != FORMAT {
         return Err(IoError::Spec {
             path,
-            message: format!("format `{}` is not `{FORMAT}`", m.format),
+            error: SpecError::ManifestFormat {
+                found: m.format,
+                expected: FORMAT,
+            },
         });
     }
     Ok(m)

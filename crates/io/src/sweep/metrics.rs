@@ -4,6 +4,8 @@
 
 use serde_json::Value;
 
+use crate::error::SpecError;
+
 /// Every numeric scalar of `value`, with its path; lists of numbers (curves) are left out.
 pub fn flatten_metrics(value: &Value) -> Vec<(String, f64)> {
     let mut out = Vec::new();
@@ -54,8 +56,11 @@ pub fn matches(pattern: &str, path: &str) -> bool {
 /// patterns, in pattern order, then in the output's order.
 ///
 /// # Errors
-/// A pattern that matches nothing, with the metrics that exist.
-pub fn select_columns(patterns: &[String], flat: &[(String, f64)]) -> Result<Vec<String>, String> {
+/// [`SpecError::UnknownMetric`] for a pattern that matches nothing, with the metrics that exist.
+pub fn select_columns(
+    patterns: &[String],
+    flat: &[(String, f64)],
+) -> Result<Vec<String>, SpecError> {
     let mut out: Vec<String> = Vec::new();
     for p in patterns {
         let mut any = false;
@@ -68,11 +73,10 @@ pub fn select_columns(patterns: &[String], flat: &[(String, f64)]) -> Result<Vec
             }
         }
         if !any {
-            let names: Vec<&str> = flat.iter().map(|(n, _)| n.as_str()).collect();
-            return Err(format!(
-                "metric `{p}` is not in the job's output; it has: {}",
-                names.join(", ")
-            ));
+            return Err(SpecError::UnknownMetric {
+                pattern: p.clone(),
+                available: flat.iter().map(|(n, _)| n.clone()).collect(),
+            });
         }
     }
     Ok(out)

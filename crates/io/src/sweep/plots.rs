@@ -9,7 +9,7 @@ use plotters::prelude::*;
 
 use super::manifest::{CSV_FILE, Manifest};
 use super::table::{ColumnKind, TableSchema, read_csv};
-use crate::error::IoError;
+use crate::error::{IoError, PlotError, TableError};
 use udc_core::sweep::summary::{ParetoPoint, SeriesSummary, pareto_front};
 use udc_core::sweep::{PlotKind, PlotSpec, SweepJob};
 
@@ -124,17 +124,12 @@ pub fn plot_data(dir: &Path, m: &Manifest, p: &PlotSpec) -> Result<PlotData, IoE
     let path = dir.join(CSV_FILE);
     let missing = |name: &str| IoError::Table {
         path: path.clone(),
-        message: format!(
-            "plot `{}`: no column `{name}` (axes: {}; metrics: {})",
-            plot_stem(p),
-            m.schema
-                .params
-                .iter()
-                .map(|(n, _)| n.as_str())
-                .collect::<Vec<_>>()
-                .join(", "),
-            m.schema.metrics.join(", ")
-        ),
+        error: TableError::MissingColumn {
+            plot: plot_stem(p),
+            column: name.to_string(),
+            axes: m.schema.params.iter().map(|(n, _)| n.clone()).collect(),
+            metrics: m.schema.metrics.clone(),
+        },
     };
     let x = column(&m.schema, &p.x).ok_or_else(|| missing(&p.x))?;
     let y = column(&m.schema, &p.y).ok_or_else(|| missing(&p.y))?;
@@ -261,35 +256,35 @@ pub fn write_plot(
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        draw(&root, p, data, title).map_err(|e| plot_error(&svg_path, &e))?;
+        draw(&root, p, data, title).map_err(|e| plot_error(&svg_path, e))?;
         root.present()
-            .map_err(|e| plot_error(&svg_path, &e.to_string()))?;
+            .map_err(|e| plot_error(&svg_path, PlotError::Draw(e.to_string())))?;
     }
     crate::safe_file::write_atomic(&svg_path, svg.as_bytes())?;
     let png_path = plots_dir.join(format!("{stem}.png"));
     let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(&root, p, data, title).map_err(|e| plot_error(&png_path, &e))?;
+        draw(&root, p, data, title).map_err(|e| plot_error(&png_path, e))?;
         root.present()
-            .map_err(|e| plot_error(&png_path, &e.to_string()))?;
+            .map_err(|e| plot_error(&png_path, PlotError::Draw(e.to_string())))?;
     }
     let img = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb)
-        .ok_or_else(|| plot_error(&png_path, "buffer size"))?;
+        .ok_or_else(|| plot_error(&png_path, PlotError::BufferSize))?;
     let mut bytes = Vec::new();
     img.write_to(
         &mut std::io::Cursor::new(&mut bytes),
         image::ImageFormat::Png,
     )
-    .map_err(|e| plot_error(&png_path, &e.to_string()))?;
+    .map_err(|e| plot_error(&png_path, PlotError::Encode(e)))?;
     crate::safe_file::write_atomic(&png_path, &bytes)?;
     Ok(vec![svg_path, png_path])
 }
 
-fn plot_error(path: &Path, message: &str) -> IoError {
-    IoError::Image {
+fn plot_error(path: &Path, error: PlotError) -> IoError {
+    IoError::Plot {
         path: path.to_path_buf(),
-        message: format!("cannot draw the plot: {message}"),
+        error,
     }
 }
 
@@ -344,8 +339,9 @@ fn draw<DB: DrawingBackend>(
     p: &PlotSpec,
     data: &PlotData,
     title: &str,
-) -> Result<(), String> {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+) -> Result<(), PlotError> {
+    // plotters' error type depends on the backend, so its text is what is kept.
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::Draw(e.to_string());
     root.fill(&WHITE).map_err(e)?;
     match data {
         PlotData::Series { summary, x_labels } => {

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::error::IoError;
+use crate::error::{IoError, SpecError};
 use crate::safe_file::read_text_bounded;
 use udc_core::sweep::SweepSpec;
 
@@ -20,51 +20,40 @@ pub fn load_spec(path: &Path) -> Result<SweepSpec, IoError> {
     let toml = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
-    parse_spec(&text, toml).map_err(|message| IoError::Spec {
+    parse_spec(&text, toml).map_err(|error| IoError::Spec {
         path: path.to_path_buf(),
-        message,
+        error,
     })
 }
 
 /// Parses and validates spec text, TOML or JSON.
 ///
 /// # Errors
-/// One line saying what is wrong and where.
-pub fn parse_spec(text: &str, toml: bool) -> Result<SweepSpec, String> {
+/// A [`SpecError`]: what is wrong and where (the field's path; in TOML the line).
+pub fn parse_spec(text: &str, toml: bool) -> Result<SweepSpec, SpecError> {
     let spec: SweepSpec = if toml {
-        let de = toml::Deserializer::parse(text).map_err(|e| one_line(&e.to_string()))?;
+        let de = toml::Deserializer::parse(text).map_err(|e| SpecError::Toml(Box::new(e)))?;
         serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = one_line(&e.into_inner().to_string());
-            if path == "." {
-                inner
+            let field = e.path().to_string();
+            let error = Box::new(e.into_inner());
+            if field == "." {
+                SpecError::Toml(error)
             } else {
-                format!("{path}: {inner}")
+                SpecError::TomlField { field, error }
             }
         })?
     } else {
         let de = &mut serde_json::Deserializer::from_str(text);
         serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner().to_string();
-            if path == "." {
-                inner
+            let field = e.path().to_string();
+            let error = e.into_inner();
+            if field == "." {
+                SpecError::Json(error)
             } else {
-                format!("{path}: {inner}")
+                SpecError::JsonField { field, error }
             }
         })?
     };
-    spec.validate().map_err(|e| e.to_string())?;
+    spec.validate()?;
     Ok(spec)
-}
-
-/// TOML's errors draw the offending line with a caret over several lines: keep the headline
-/// and the line number.
-fn one_line(text: &str) -> String {
-    let lines: Vec<&str> = text
-        .lines()
-        .map(str::trim)
-        .filter(|l| !l.is_empty() && !l.starts_with('|') && !l.chars().all(|c| c == '^'))
-        .collect();
-    lines.join(" ")
 }

@@ -8,7 +8,7 @@ use std::fs::{File, OpenOptions};
 use std::io::{BufReader, Read, Seek, SeekFrom};
 use std::path::{Path, PathBuf};
 
-use crate::error::IoError;
+use crate::error::{IoError, TableError};
 
 /// The column type of an axis parameter, from its values.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -104,31 +104,43 @@ impl Row {
         out
     }
 
-    fn from_record(rec: &csv::StringRecord, schema: &TableSchema) -> Result<Row, String> {
+    /// The row of a CSV record at `line` of the file.
+    fn from_record(
+        rec: &csv::StringRecord,
+        schema: &TableSchema,
+        line: usize,
+    ) -> Result<Row, TableError> {
         let n = schema.params.len();
         let m = schema.metrics.len();
-        if rec.len() != 2 + n + m + 3 {
-            return Err(format!(
-                "{} fields where the header has {}",
-                rec.len(),
-                2 + n + m + 3
-            ));
+        let expected = 2 + n + m + 3;
+        if rec.len() != expected {
+            return Err(TableError::FieldCount {
+                line,
+                found: rec.len(),
+                expected,
+            });
         }
         let field = |i: usize| rec.get(i).unwrap_or_default();
         let point = field(0)
             .parse::<u64>()
-            .map_err(|_| format!("`{}` is not a point index", field(0)))?;
+            .map_err(|_| TableError::PointIndex {
+                line,
+                value: field(0).to_string(),
+            })?;
         let metrics = (0..m)
             .map(|k| {
                 let s = field(2 + n + k);
                 if s.is_empty() {
                     Ok(f64::NAN)
                 } else {
-                    s.parse::<f64>()
-                        .map_err(|_| format!("`{s}` is not a number ({})", schema.metrics[k]))
+                    s.parse::<f64>().map_err(|_| TableError::Metric {
+                        line,
+                        value: s.to_string(),
+                        metric: schema.metrics[k].clone(),
+                    })
                 }
             })
-            .collect::<Result<Vec<f64>, String>>()?;
+            .collect::<Result<Vec<f64>, TableError>>()?;
         Ok(Row {
             point,
             hash: field(1).to_string(),
@@ -172,7 +184,7 @@ impl CsvAppender {
             writer
                 .write_record(schema.header())
                 .and_then(|()| writer.flush().map_err(csv::Error::from))
-                .map_err(|e| table_error(path, &e.to_string()))?;
+                .map_err(|e| table_error(path, TableError::Csv(e)))?;
         }
         Ok(CsvAppender {
             path: path.to_path_buf(),
@@ -188,14 +200,14 @@ impl CsvAppender {
         self.writer
             .write_record(row.record())
             .and_then(|()| self.writer.flush().map_err(csv::Error::from))
-            .map_err(|e| table_error(&self.path, &e.to_string()))
+            .map_err(|e| table_error(&self.path, TableError::Csv(e)))
     }
 }
 
-fn table_error(path: &Path, message: &str) -> IoError {
+fn table_error(path: &Path, error: TableError) -> IoError {
     IoError::Table {
         path: path.to_path_buf(),
-        message: message.to_string(),
+        error,
     }
 }
 
@@ -235,24 +247,24 @@ pub fn read_csv(
         .from_reader(reader);
     let header: Vec<String> = csv
         .headers()
-        .map_err(|e| table_error(path, &e.to_string()))?
+        .map_err(|e| table_error(path, TableError::Csv(e)))?
         .iter()
         .map(str::to_string)
         .collect();
-    if schema.header() != header {
+    let expected = schema.header();
+    if expected != header {
         return Err(table_error(
             path,
-            &format!(
-                "its columns ({}) are not this sweep's ({}); write to a new --out folder",
-                header.join(","),
-                schema.header().join(",")
-            ),
+            TableError::Columns {
+                found: header,
+                expected,
+            },
         ));
     }
     for (i, rec) in csv.records().enumerate() {
-        let rec = rec.map_err(|e| table_error(path, &e.to_string()))?;
-        let row = Row::from_record(&rec, schema)
-            .map_err(|m| table_error(path, &format!("line {}: {m}", i + 2)))?;
+        let rec = rec.map_err(|e| table_error(path, TableError::Csv(e)))?;
+        // Line 1 is the header.
+        let row = Row::from_record(&rec, schema, i + 2).map_err(|e| table_error(path, e))?;
         each(row)?;
     }
     Ok(())
@@ -291,10 +303,10 @@ pub fn write_csv(path: &Path, schema: &TableSchema, rows: &[Row]) -> Result<(), 
             .has_headers(false)
             .from_writer(file);
         w.write_record(schema.header())
-            .map_err(|e| table_error(path, &e.to_string()))?;
+            .map_err(|e| table_error(path, TableError::Csv(e)))?;
         for r in rows {
             w.write_record(r.record())
-                .map_err(|e| table_error(path, &e.to_string()))?;
+                .map_err(|e| table_error(path, TableError::Csv(e)))?;
         }
         w.flush().map_err(|e| IoError::file("write", path, e))?;
     }

@@ -16,7 +16,7 @@ use parquet::basic::Compression;
 use parquet::file::properties::WriterProperties;
 
 use super::table::{ColumnKind, Row, TableSchema};
-use crate::error::IoError;
+use crate::error::{IoError, TableError};
 use crate::safe_file::TempFile;
 
 /// Rows per record batch: a few hundred kB of columns in memory at most.
@@ -68,7 +68,7 @@ impl ParquetAppender {
             .set_compression(Compression::SNAPPY)
             .build();
         let writer = ArrowWriter::try_new(file, arrow.clone(), Some(props))
-            .map_err(|e| parquet_error(path, &e.to_string()))?;
+            .map_err(|e| parquet_error(path, TableError::Parquet(e)))?;
         Ok(ParquetAppender {
             path: path.to_path_buf(),
             temp: Some(temp),
@@ -96,10 +96,10 @@ impl ParquetAppender {
             return Ok(());
         }
         let batch = to_batch(&self.pending, &self.schema, self.arrow.clone())
-            .map_err(|e| parquet_error(&self.path, &e))?;
+            .map_err(|e| parquet_error(&self.path, e))?;
         if let Some(w) = self.writer.as_mut() {
             w.write(&batch)
-                .map_err(|e| parquet_error(&self.path, &e.to_string()))?;
+                .map_err(|e| parquet_error(&self.path, TableError::Parquet(e)))?;
         }
         self.pending.clear();
         Ok(())
@@ -113,7 +113,7 @@ impl ParquetAppender {
         self.write_pending()?;
         if let Some(w) = self.writer.take() {
             w.close()
-                .map_err(|e| parquet_error(&self.path, &e.to_string()))?;
+                .map_err(|e| parquet_error(&self.path, TableError::Parquet(e)))?;
         }
         match self.temp.take() {
             Some(t) => t.persist(),
@@ -122,14 +122,18 @@ impl ParquetAppender {
     }
 }
 
-fn parquet_error(path: &Path, message: &str) -> IoError {
+fn parquet_error(path: &Path, error: TableError) -> IoError {
     IoError::Table {
         path: path.to_path_buf(),
-        message: format!("Parquet: {message}"),
+        error,
     }
 }
 
-fn to_batch(rows: &[Row], schema: &TableSchema, arrow: Arc<Schema>) -> Result<RecordBatch, String> {
+fn to_batch(
+    rows: &[Row],
+    schema: &TableSchema,
+    arrow: Arc<Schema>,
+) -> Result<RecordBatch, TableError> {
     let mut columns: Vec<ArrayRef> = Vec::new();
     let mut point = UInt64Builder::with_capacity(rows.len());
     let mut hash = StringBuilder::new();
@@ -146,9 +150,10 @@ fn to_batch(rows: &[Row], schema: &TableSchema, arrow: Arc<Schema>) -> Result<Re
                 let mut b = Int64Builder::with_capacity(rows.len());
                 for r in rows {
                     let t = text(r);
-                    let v = t
-                        .parse::<i64>()
-                        .map_err(|_| format!("{name}: `{t}` is not a whole number"))?;
+                    let v = t.parse::<i64>().map_err(|_| TableError::NotWholeNumber {
+                        column: name.clone(),
+                        value: t.clone(),
+                    })?;
                     b.append_value(v);
                 }
                 columns.push(Arc::new(b.finish()));
@@ -157,9 +162,10 @@ fn to_batch(rows: &[Row], schema: &TableSchema, arrow: Arc<Schema>) -> Result<Re
                 let mut b = Float64Builder::with_capacity(rows.len());
                 for r in rows {
                     let t = text(r);
-                    let v = t
-                        .parse::<f64>()
-                        .map_err(|_| format!("{name}: `{t}` is not a number"))?;
+                    let v = t.parse::<f64>().map_err(|_| TableError::NotNumber {
+                        column: name.clone(),
+                        value: t.clone(),
+                    })?;
                     b.append_value(v);
                 }
                 columns.push(Arc::new(b.finish()));
@@ -195,5 +201,5 @@ fn to_batch(rows: &[Row], schema: &TableSchema, arrow: Arc<Schema>) -> Result<Re
         }
         columns.push(Arc::new(b.finish()));
     }
-    RecordBatch::try_new(arrow, columns).map_err(|e| e.to_string())
+    RecordBatch::try_new(arrow, columns).map_err(TableError::Arrow)
 }

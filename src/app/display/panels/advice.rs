@@ -2,7 +2,7 @@
 //! Apply button of its advice.
 
 use super::{PanelCtx, Shown};
-use crate::app::commands::Command;
+use crate::app::display::action::DisplayAction;
 use crate::app::display::labels::in_ui_words;
 use crate::core::psf::warning::Severity;
 
@@ -32,7 +32,8 @@ pub fn warnings_ui(ui: &mut egui::Ui, ctx: &mut PanelCtx, shown: &Shown) {
                     ))
                     .on_disabled_hover_text("The optics changed: wait for their result");
                 if apply.clicked() {
-                    ctx.commands.push(Command::SetOptics(fix.optics.clone()));
+                    ctx.actions
+                        .push(DisplayAction::SetOptics(fix.optics.clone()));
                 }
                 ui.weak(in_ui_words(&fix.summary()));
             });

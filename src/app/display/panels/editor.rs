@@ -13,7 +13,7 @@ use egui::{
 
 use super::PanelCtx;
 use super::editor_rules::{RuleMark, RulesOverlay};
-use crate::app::commands::{self, Command, Tool};
+use crate::app::display::action::{self, DisplayAction, Tool};
 use crate::core::design::{Design, MAX_CELLS};
 use crate::core::display::opening_ops::{self as ops, Symmetry};
 
@@ -281,7 +281,7 @@ impl EditorPanel {
                  one image pixel per cell (the pitch in µm is kept)",
             );
             if import.clicked() {
-                ctx.commands.push(Command::ImportPattern);
+                ctx.actions.push(DisplayAction::ImportPattern);
             }
         });
     }
@@ -489,23 +489,23 @@ fn tools_ui(ui: &mut Ui, ctx: &mut PanelCtx) {
                 .on_hover_text(tip)
                 .clicked()
             {
-                ctx.commands.push(Command::SetTool(tool));
+                ctx.actions.push(DisplayAction::SetTool(tool));
             }
         }
         ui.separator();
         let invert = format!(
             "Invert ({}): swap open and closed cells (transmittance t becomes 1 − t)",
-            ui.ctx().format_shortcut(&commands::INVERT)
+            ui.ctx().format_shortcut(&action::INVERT)
         );
         if ui.button("Invert").on_hover_text(invert).clicked() {
-            ctx.commands.push(Command::Invert);
+            ctx.actions.push(DisplayAction::Invert);
         }
         let clear = format!(
             "Clear ({}): close every cell",
-            ui.ctx().format_shortcut(&commands::CLEAR)
+            ui.ctx().format_shortcut(&action::CLEAR)
         );
         if ui.button("Clear").on_hover_text(clear).clicked() {
-            ctx.commands.push(Command::Clear);
+            ctx.actions.push(DisplayAction::Clear);
         }
     });
 }

@@ -8,6 +8,7 @@ use std::sync::mpsc::{Receiver, channel};
 use egui::Color32;
 use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, Points, VLine};
 
+use crate::app::display::action::DisplayAction;
 use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
 use crate::core::Design;
@@ -173,7 +174,7 @@ impl FieldSweepWindow {
     }
 
     /// Takes the points that finished, and the run's end.
-    fn poll(&mut self) {
+    pub fn poll(&mut self) {
         let Some(run) = &self.run else {
             return;
         };
@@ -218,7 +219,6 @@ impl FieldSweepWindow {
         if !self.open {
             return;
         }
-        self.poll();
         if ctx.input_mut(|i| i.consume_key(egui::Modifiers::NONE, egui::Key::Escape)) {
             self.close();
             return;
@@ -373,11 +373,7 @@ impl FieldSweepWindow {
 }
 
 /// The number field's right-click menu: "Sweep this parameter…" opens the window for `field`.
-pub fn sweep_menu(
-    response: &egui::Response,
-    field: SweepField,
-    commands: &mut Vec<crate::app::commands::Command>,
-) {
+pub fn sweep_menu(response: &egui::Response, field: SweepField, actions: &mut Vec<DisplayAction>) {
     response.context_menu(|ui| {
         if ui
             .button("Sweep this parameter…")
@@ -387,7 +383,7 @@ pub fn sweep_menu(
             ))
             .clicked()
         {
-            commands.push(crate::app::commands::Command::SweepField(field));
+            actions.push(DisplayAction::SweepField(field));
             ui.close();
         }
     });

@@ -8,11 +8,11 @@ use std::time::Duration;
 use egui::{Color32, ColorImage, Stroke, TextureHandle, TextureOptions};
 
 use super::rules_check::{RulesCheck, RulesState};
-use crate::app::commands::Command;
-use crate::app::job::Job;
+use crate::app::display::action::DisplayAction;
+use crate::app::job::{Job, JobError};
 use crate::core::design::Design;
 use crate::core::mask::drc::{DrcReport, ViolationKind};
-use crate::core::mask::{BinaryGrid, MaskRegion, MaskStats, Tone};
+use crate::core::mask::{BinaryGrid, MaskError, MaskRegion, MaskStats, Tone};
 use crate::io::IoError;
 use crate::io::mask::{
     ExportOptions, FileCounts, GdsCells, MaskFormat, PngBits, estimate, export_mask, human_bytes,
@@ -31,7 +31,7 @@ enum RegionChoice {
 struct Preview {
     design: Design,
     options: ExportOptions,
-    result: Result<PreviewData, String>,
+    result: Result<PreviewData, MaskError>,
 }
 
 struct PreviewData {
@@ -56,7 +56,7 @@ pub struct MaskExportDialog {
     /// The export running on its own thread: the report's lines.
     job: Option<Job<Vec<String>>>,
     /// The last export's report (or error), shown in the dialog.
-    last: Option<Result<Vec<String>, String>>,
+    last: Option<Result<Vec<String>, JobError>>,
     /// The design-rule check at the default rules (`udc-studio drc` checks others), run in
     /// the background while the dialog is open.
     rules: RulesCheck,
@@ -125,10 +125,9 @@ impl MaskExportDialog {
     }
 
     /// The finished export's report (or error), once.
-    pub fn poll(&mut self) -> Option<Result<Vec<String>, String>> {
-        let done = self.job.as_ref()?.poll()?;
+    pub fn poll(&mut self) -> Option<Result<Vec<String>, JobError>> {
+        let result = self.job.as_ref()?.poll()?;
         self.job = None;
-        let result = done.map_err(|e| e.to_string());
         self.last = Some(result.clone());
         Some(result)
     }
@@ -154,35 +153,33 @@ impl MaskExportDialog {
         if fresh {
             return;
         }
-        let result = plan(design, &self.options)
-            .map_err(|e| e.to_string())
-            .map(|layout| {
-                let unit = layout.pitch_nm as f32;
-                let outlines = layout
-                    .base_polygons
-                    .iter()
-                    .map(|p| {
-                        p.points_nm
-                            .iter()
-                            .map(|q| [q[0] as f32 / unit, -q[1] as f32 / unit])
-                            .collect()
-                    })
-                    .collect();
-                PreviewData {
-                    stats: layout.stats(),
-                    // Resolved: the derived top cell name's length is part of the size.
-                    counts: estimate(
-                        &layout,
-                        &self
-                            .options
-                            .resolved(design)
-                            .unwrap_or(self.options.clone()),
-                    ),
-                    drawn: layout.drawn.clone(),
-                    outlines,
-                    pitch_um: design.opening.pitch_um,
-                }
-            });
+        let result = plan(design, &self.options).map(|layout| {
+            let unit = layout.pitch_nm as f32;
+            let outlines = layout
+                .base_polygons
+                .iter()
+                .map(|p| {
+                    p.points_nm
+                        .iter()
+                        .map(|q| [q[0] as f32 / unit, -q[1] as f32 / unit])
+                        .collect()
+                })
+                .collect();
+            PreviewData {
+                stats: layout.stats(),
+                // Resolved: the derived top cell name's length is part of the size.
+                counts: estimate(
+                    &layout,
+                    &self
+                        .options
+                        .resolved(design)
+                        .unwrap_or(self.options.clone()),
+                ),
+                drawn: layout.drawn.clone(),
+                outlines,
+                pitch_um: design.opening.pitch_um,
+            }
+        });
         if let Ok(data) = &result {
             let image = drawn_image(&data.drawn);
             match &mut self.texture {
@@ -200,8 +197,8 @@ impl MaskExportDialog {
         });
     }
 
-    /// Draws the dialog when open; pushes [`Command::WriteMask`] when the user exports.
-    pub fn ui(&mut self, ctx: &egui::Context, design: &Design, commands: &mut Vec<Command>) {
+    /// Draws the dialog when open; queues [`DisplayAction::WriteMask`] when the user exports.
+    pub fn ui(&mut self, ctx: &egui::Context, design: &Design, actions: &mut Vec<DisplayAction>) {
         if !self.open {
             return;
         }
@@ -221,7 +218,7 @@ impl MaskExportDialog {
                     ui.vertical(|ui| self.preview_ui(ui, design));
                 });
                 ui.separator();
-                self.actions_ui(ui, commands);
+                self.actions_ui(ui, actions);
             });
         self.open = open;
         if self.job.is_some() {
@@ -292,7 +289,7 @@ impl MaskExportDialog {
         let data = match &preview.result {
             Ok(d) => d,
             Err(e) => {
-                ui.colored_label(ui.visuals().error_fg_color, e);
+                ui.colored_label(ui.visuals().error_fg_color, e.to_string());
                 return;
             }
         };
@@ -375,7 +372,7 @@ impl MaskExportDialog {
         }
     }
 
-    fn actions_ui(&mut self, ui: &mut egui::Ui, commands: &mut Vec<Command>) {
+    fn actions_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<DisplayAction>) {
         let ok = self.preview.as_ref().is_some_and(|p| p.result.is_ok());
         ui.horizontal(|ui| {
             if let Some(job) = &self.job {
@@ -393,7 +390,7 @@ impl MaskExportDialog {
                 .on_hover_text("Choose a file; the design is saved beside it as .design.json")
                 .clicked()
             {
-                commands.push(Command::WriteMask(None));
+                actions.push(DisplayAction::WriteMask(None));
             }
             if ui.button("Close").clicked() {
                 self.open = false;
@@ -406,7 +403,7 @@ impl MaskExportDialog {
                 }
             }
             Some(Err(e)) => {
-                ui.colored_label(ui.visuals().error_fg_color, e);
+                ui.colored_label(ui.visuals().error_fg_color, e.to_string());
             }
             None => {}
         }

@@ -1,5 +1,5 @@
 //! The studio's panels. Each is a self-contained struct; it reads the document and the shown
-//! result through [`PanelCtx`] and changes things only by pushing [`Command`]s.
+//! result through [`PanelCtx`] and changes things only by queueing [`DisplayAction`]s.
 
 pub mod advice;
 pub mod editor;
@@ -17,7 +17,7 @@ pub mod views;
 
 use std::sync::Arc;
 
-use crate::app::commands::{Command, Tool};
+use super::action::{DisplayAction, Tool};
 use crate::core::analysis::analyze::Quality;
 use crate::core::{Analysis, Design};
 
@@ -87,15 +87,15 @@ pub struct PanelCtx<'a> {
     pub design_rules: bool,
     /// The editor's current tool (also set by shortcuts).
     pub tool: Tool,
-    /// Where the panel queues what it wants done; applied after the frame's UI.
-    pub commands: &'a mut Vec<Command>,
+    /// Where the panel queues what it wants done; carried out after the frame's UI.
+    pub actions: &'a mut Vec<DisplayAction>,
 }
 
 impl PanelCtx<'_> {
     /// Pushes a committed edit of the design.
     pub fn edit(&mut self, design: Design) {
         if &design != self.design {
-            self.commands.push(Command::Edit(Box::new(design)));
+            self.actions.push(DisplayAction::Edit(Box::new(design)));
         }
     }
 }

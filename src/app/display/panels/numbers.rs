@@ -1,7 +1,7 @@
 //! The numbers of the shown result, with units, and the sampling warnings.
 
 use super::PanelCtx;
-use crate::app::commands::Command;
+use crate::app::display::action::DisplayAction;
 
 /// The Numbers panel: progress, open fraction, LTR, invertibility loss, per-channel MTF areas
 /// and the sampling warnings of the shown result.
@@ -32,7 +32,7 @@ impl NumbersPanel {
                 )
                 .clicked()
             {
-                ctx.commands.push(Command::PinCompare);
+                ctx.actions.push(DisplayAction::PinCompare);
             }
         });
         let Some(shown) = ctx.shown else {

@@ -12,6 +12,7 @@ use egui::{Color32, Ui};
 use egui_plot::{Line, Plot, PlotPoints, Points};
 
 use super::PanelCtx;
+use crate::app::error::StudioError;
 use crate::app::job::{Job, JobError};
 use crate::app::widgets::plot::{
     LegendEntry, Swatch, hidden_names, legend_ui, visible_width, with_nice_ticks,
@@ -74,17 +75,19 @@ impl Default for OptimizePanel {
 /// view shows how the opening generalises.
 const TRAINING_PHOTO: &[u8] = include_bytes!("../../../../assets/photos/coffee_256.png");
 
-fn training_data(channels: usize) -> Result<DataSet, String> {
-    let img = image::load_from_memory(TRAINING_PHOTO).map_err(|e| e.to_string())?;
+fn training_data(channels: usize) -> Result<DataSet, StudioError> {
+    let img = image::load_from_memory(TRAINING_PHOTO).map_err(|e| crate::io::IoError::Image {
+        path: "assets/photos/coffee_256.png".into(),
+        message: e.to_string(),
+    })?;
     let planes = crate::io::photo::planes_of(&img.to_rgb32f());
     if channels != planes.len() {
-        return Err(format!(
-            "the data loss needs {} colour channels (the training photo's); this design has \
-             {channels}: untick the data loss",
-            planes.len()
-        ));
+        return Err(StudioError::TrainingChannels {
+            photo: planes.len(),
+            design: channels,
+        });
     }
-    DataSet::new(&[planes], channels, 256).map_err(|e| e.to_string())
+    Ok(DataSet::new(&[planes], channels, 256)?)
 }
 
 impl OptimizePanel {
@@ -118,7 +121,7 @@ impl OptimizePanel {
             match training_data(design.channels.len()) {
                 Ok(d) => Some(d),
                 Err(e) => {
-                    self.message = Some(Notice::error(e));
+                    self.message = Some(Notice::error(e.to_string()));
                     return;
                 }
             }
@@ -207,10 +210,9 @@ impl OptimizePanel {
         true
     }
 
-    /// Draws the settings, Run/Stop/Cancel, the live loss plot and the result to apply or discard,
-    /// and picks up the run's epochs and its end.
+    /// Draws the settings, Run/Stop/Cancel, the live loss plot and the result to apply or discard
+    /// (the workspace picks up the run's epochs and its end, [`OptimizePanel::poll`]).
     pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
-        self.poll();
         ui.label(
             "Finds a pixel opening whose blur is easy to invert (thesis §3.4.2), under this \
              design's pitch, tiling (its seed stays fixed) and optics.",

@@ -2,7 +2,7 @@
 //! 512-cell random design takes about 0.1 s, several frames' worth, so the UI thread only
 //! starts the check and draws its answer.
 
-use crate::app::job::{Job, Keyed};
+use crate::app::job::{Job, JobError, Keyed};
 use crate::core::design::{Design, Opening, Tiling};
 use crate::core::mask::drc::{DrcReport, Rules, check};
 
@@ -34,7 +34,7 @@ pub enum RulesState<'a> {
     /// Done: the report of the current design.
     Done(&'a DrcReport),
     /// The job stopped without a report; why.
-    Failed(&'a str),
+    Failed(&'a JobError),
 }
 
 /// One panel's background design-rule check, at the default rules (`udc-studio drc` checks a
@@ -44,7 +44,7 @@ pub struct RulesCheck {
     /// The check in flight and what it checks.
     running: Keyed<Key, DrcReport>,
     /// The newest answer and what it is of.
-    done: Option<(Key, Result<DrcReport, String>)>,
+    done: Option<(Key, Result<DrcReport, JobError>)>,
 }
 
 impl RulesCheck {
@@ -52,7 +52,7 @@ impl RulesCheck {
     /// `ctx` when a check finishes.
     pub fn update(&mut self, ctx: &egui::Context, design: &Design) {
         if let Some((key, result)) = self.running.poll() {
-            self.done = Some((key, result.map_err(|e| e.to_string())));
+            self.done = Some((key, result));
         }
         let answered = self.done.as_ref().is_some_and(|(k, _)| k.is_of(design));
         let asked = self.running.is_running_for(|k| k.is_of(design));
@@ -69,7 +69,7 @@ impl RulesCheck {
         let job = Job::spawn("design-rule check", wake, move |_| {
             let mut d = Design::default_toled();
             (d.opening, d.tiling) = (opening, tiling);
-            Ok::<_, String>(check(&d, &Rules::default()))
+            Ok::<_, JobError>(check(&d, &Rules::default()))
         });
         self.running.start(key, job);
     }

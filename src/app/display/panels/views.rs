@@ -169,6 +169,14 @@ impl ViewsPanel {
         self.textures.builds()
     }
 
+    /// Takes the views' finished jobs, shown or not (the workspace calls it once per frame:
+    /// a tab that is not drawn must not hold its result back).
+    pub fn poll(&mut self, ctx: &egui::Context) {
+        self.restore.poll(ctx);
+        self.field_depth.poll(ctx);
+        self.appearance.poll(ctx);
+    }
+
     /// Draws the tabs and the selected view of `ctx.shown`; pushes `PinCompare`/`ClearCompare`.
     pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PanelCtx) {
         ui.horizontal_wrapped(|ui| {

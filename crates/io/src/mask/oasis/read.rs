@@ -10,6 +10,7 @@ use std::path::Path;
 
 use super::encode::{MAGIC, record};
 use crate::IoError;
+use crate::error::OasisError;
 use crate::mask::gds::{Affine, Flat};
 
 /// Most placements and repeated shapes one file may expand to.
@@ -104,21 +105,21 @@ struct Bytes<'a> {
     pos: usize,
 }
 
-type R<T> = Result<T, String>;
+type R<T> = Result<T, OasisError>;
 
 impl Bytes<'_> {
     fn byte(&mut self) -> R<u8> {
         let b = *self
             .data
             .get(self.pos)
-            .ok_or_else(|| format!("the file ends inside a record (byte {})", self.pos))?;
+            .ok_or(OasisError::EndsInRecord { byte: self.pos })?;
         self.pos += 1;
         Ok(b)
     }
     fn take(&mut self, n: u64) -> R<&[u8]> {
-        let n = usize::try_from(n).map_err(|_| "a length does not fit memory".to_string())?;
+        let n = usize::try_from(n).map_err(|_| OasisError::LengthTooLarge)?;
         let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len());
-        let end = end.ok_or_else(|| format!("a length of {n} bytes runs past the end"))?;
+        let end = end.ok_or(OasisError::PastEnd { bytes: n })?;
         let s = &self.data[self.pos..end];
         self.pos = end;
         Ok(s)
@@ -130,16 +131,16 @@ impl Bytes<'_> {
             v |= u64::from(b & 0x7f)
                 .checked_shl(shift)
                 .filter(|x| x >> shift == u64::from(b & 0x7f))
-                .ok_or_else(|| "an integer overflows 64 bits".to_string())?;
+                .ok_or(OasisError::Overflow64)?;
             if b & 0x80 == 0 {
                 return Ok(v);
             }
         }
-        Err("an integer overflows 64 bits".into())
+        Err(OasisError::Overflow64)
     }
     fn tagged(&mut self, low_bits: u32) -> R<(i64, u64)> {
         let v = self.u()?;
-        let m = i64::try_from(v >> low_bits).map_err(|_| "an integer overflows".to_string())?;
+        let m = i64::try_from(v >> low_bits).map_err(|_| OasisError::Overflow)?;
         Ok((m, v & ((1 << low_bits) - 1)))
     }
     fn s(&mut self) -> R<i64> {
@@ -163,10 +164,16 @@ impl Bytes<'_> {
             4 => self.u()? as f64 / self.u()? as f64,
             5 => -(self.u()? as f64) / self.u()? as f64,
             6 => f64::from(f32::from_le_bytes(
-                self.take(4)?.try_into().map_err(|_| "short real")?,
+                self.take(4)?
+                    .try_into()
+                    .map_err(|_| OasisError::ShortReal)?,
             )),
-            7 => f64::from_le_bytes(self.take(8)?.try_into().map_err(|_| "short real")?),
-            t => return Err(format!("unknown real type {t}")),
+            7 => f64::from_le_bytes(
+                self.take(8)?
+                    .try_into()
+                    .map_err(|_| OasisError::ShortReal)?,
+            ),
+            t => return Err(OasisError::UnknownReal(t)),
         })
     }
     fn delta(&mut self, low_bits: u32) -> R<[i64; 2]> {
@@ -174,10 +181,7 @@ impl Bytes<'_> {
         Ok(octant(m, dir))
     }
     fn gdelta(&mut self) -> R<[i64; 2]> {
-        let first = *self
-            .data
-            .get(self.pos)
-            .ok_or("the file ends inside a g-delta")?;
+        let first = *self.data.get(self.pos).ok_or(OasisError::EndsInGDelta)?;
         if first & 1 == 0 {
             let (m, bits) = self.tagged(4)?;
             Ok(octant(m, bits >> 1))
@@ -197,7 +201,7 @@ impl Bytes<'_> {
                 self.u()?;
                 self.u()?;
             }
-            t => return Err(format!("unknown interval type {t}")),
+            t => return Err(OasisError::UnknownInterval(t)),
         }
         Ok(())
     }
@@ -207,9 +211,7 @@ impl State {
     fn count(&mut self, n: usize) -> R<()> {
         self.expanded += n;
         if self.expanded > MAX_EXPANDED {
-            return Err(format!(
-                "more than {MAX_EXPANDED} shapes and placements to expand; import a smaller mask"
-            ));
+            return Err(OasisError::TooManyShapes { max: MAX_EXPANDED });
         }
         Ok(())
     }
@@ -263,7 +265,7 @@ impl State {
                     pts.push(last);
                 }
             }
-            t => return Err(format!("unknown point-list type {t}")),
+            t => return Err(OasisError::UnknownPointList(t)),
         }
         Ok(pts)
     }
@@ -333,7 +335,7 @@ impl State {
                     out.push(at);
                 }
             }
-            t => return Err(format!("unknown repetition type {t}")),
+            t => return Err(OasisError::UnknownRepetition(t)),
         }
         self.modal.repetition = out.clone();
         Ok(out)
@@ -349,10 +351,7 @@ impl State {
     }
 
     fn cell(&mut self) -> R<&mut CellData> {
-        let key = self
-            .current
-            .clone()
-            .ok_or_else(|| "an element comes before any CELL record".to_string())?;
+        let key = self.current.clone().ok_or(OasisError::ElementOutsideCell)?;
         Ok(self.cells.entry(key).or_default())
     }
 
@@ -360,8 +359,11 @@ impl State {
         while b.pos < b.data.len() && !self.ended {
             let at = b.pos;
             let id = b.u()?;
-            self.record(b, id)
-                .map_err(|e| format!("record {id} at byte {at}: {e}"))?;
+            self.record(b, id).map_err(|e| OasisError::Record {
+                id,
+                byte: at,
+                error: Box::new(e),
+            })?;
         }
         Ok(())
     }
@@ -378,7 +380,9 @@ impl State {
                 b.string()?;
                 self.unit_per_um = b.real()?;
                 if !(self.unit_per_um.is_finite() && self.unit_per_um > 0.0) {
-                    return Err(format!("the unit {} is not positive", self.unit_per_um));
+                    return Err(OasisError::UnitNotPositive {
+                        unit: self.unit_per_um,
+                    });
                 }
                 if b.u()? == 0 {
                     for _ in 0..12 {
@@ -452,7 +456,7 @@ impl State {
                             10..=12 => {
                                 b.string()?;
                             }
-                            t => return Err(format!("unknown property value type {t}")),
+                            t => return Err(OasisError::UnknownPropertyValue(t)),
                         }
                     }
                 }
@@ -494,22 +498,22 @@ impl State {
                 let kind = b.u()?;
                 let (full, packed) = (b.u()?, b.u()?);
                 if kind != 0 {
-                    return Err(format!("unknown CBLOCK compression {kind}"));
+                    return Err(OasisError::UnknownCompression(kind));
                 }
                 if full > MAX_CBLOCK_BYTES {
-                    return Err(format!("a CBLOCK of {full} bytes is too large"));
+                    return Err(OasisError::CblockTooLarge { bytes: full });
                 }
                 // SEMI P39 forbids a CBLOCK inside a CBLOCK; refusing it also bounds the
                 // recursion a crafted file could ask for.
                 if self.in_cblock {
-                    return Err("a CBLOCK inside a CBLOCK".into());
+                    return Err(OasisError::NestedCblock);
                 }
                 // Deflate expands at most about 1032×: a claim beyond that is not reserved.
                 let mut data = Vec::with_capacity(full.min(packed.saturating_mul(1032)) as usize);
                 flate2::read::DeflateDecoder::new(b.take(packed)?)
                     .take(full)
                     .read_to_end(&mut data)
-                    .map_err(|e| format!("a CBLOCK does not inflate: {e}"))?;
+                    .map_err(OasisError::Inflate)?;
                 self.in_cblock = true;
                 let inner = self.records(&mut Bytes {
                     data: &data,
@@ -518,7 +522,7 @@ impl State {
                 self.in_cblock = false;
                 inner?;
             }
-            other => return Err(format!("unknown record type {other}")),
+            other => return Err(OasisError::UnknownRecord(other)),
         }
         Ok(())
     }
@@ -537,7 +541,7 @@ impl State {
             .modal
             .placement_cell
             .clone()
-            .ok_or("a PLACEMENT names no cell")?;
+            .ok_or(OasisError::PlacementWithoutCell)?;
         let (mut mag, mut angle_deg) = (1.0, 0.0);
         if transform {
             if info & 0x04 != 0 {
@@ -595,7 +599,7 @@ impl State {
             Some(TextRef::Inline(s)) => s,
             // Text strings may be defined after use (tables at the END); resolved later.
             Some(TextRef::Num(n)) => format!("\u{0}{n}"),
-            None => return Err("a TEXT has no string".into()),
+            None => return Err(OasisError::TextWithoutString),
         };
         self.cell()?.texts.push(s);
         Ok(())
@@ -690,11 +694,11 @@ impl State {
             return Ok(());
         }
         if let Some(kind) = unsupported {
-            return Err(format!(
-                "{kind} records on layer {}/{} are not supported; convert them to polygons \
-                 (e.g. in KLayout) first",
-                self.want.0, self.want.1
-            ));
+            return Err(OasisError::Unsupported {
+                kind,
+                layer: self.want.0,
+                datatype: self.want.1,
+            });
         }
         self.count(offsets.len())?;
         if let Some(pts) = shape {
@@ -715,14 +719,14 @@ fn named(b: &mut Bytes, explicit: bool, next: &mut u64) -> R<(u64, String)> {
 
 /// Reads an OASIS file and expands its top cell (the one no other cell places).
 pub(crate) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoError> {
-    let err = |message: String| IoError::Mask {
+    let err = |error: OasisError| IoError::Oasis {
         path: path.to_path_buf(),
-        message,
+        error,
     };
     let bytes =
         crate::safe_file::read_bounded(path, super::super::MAX_MASK_BYTES, "read the mask")?;
     let Some(body) = bytes.strip_prefix(MAGIC) else {
-        return Err(err("not an OASIS file (no %SEMI-OASIS header)".into()));
+        return Err(err(OasisError::NotOasis));
     };
     let mut state = State {
         unit_per_um: 1000.0,
@@ -741,9 +745,9 @@ pub(crate) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
     };
     state
         .records(&mut Bytes { data: body, pos: 0 })
-        .map_err(|e| err(format!("not a readable OASIS file: {e}")))?;
+        .map_err(|e| err(OasisError::Unreadable(Box::new(e))))?;
     if !state.ended {
-        return Err(err("not a complete OASIS file: it has no END record".into()));
+        return Err(err(OasisError::NoEnd));
     }
     flatten(state).map_err(err)
 }
@@ -773,11 +777,7 @@ fn flatten(s: State) -> R<Flat> {
         .filter(|n| !referenced.contains(n))
         .collect();
     let [top] = tops.as_slice() else {
-        return Err(format!(
-            "expected one top cell, found {} ({})",
-            tops.len(),
-            tops.join(", ")
-        ));
+        return Err(OasisError::TopCells { found: tops });
     };
     let scale = 1.0 / s.unit_per_um;
     let mut flat = Flat {
@@ -787,11 +787,11 @@ fn flatten(s: State) -> R<Flat> {
     let mut stack = vec![(top.clone(), Affine::IDENTITY, 0usize)];
     while let Some((name, tf, depth)) = stack.pop() {
         if depth > 32 {
-            return Err("placements nest deeper than 32 levels".into());
+            return Err(OasisError::TooDeep);
         }
         let cell = by_name
             .get(&name)
-            .ok_or_else(|| format!("a placement of a missing cell `{name}`"))?;
+            .ok_or_else(|| OasisError::MissingCell { name: name.clone() })?;
         for (pts, offsets) in &cell.polygons {
             for o in offsets {
                 flat.polygons_um.push(

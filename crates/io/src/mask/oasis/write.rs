@@ -205,9 +205,9 @@ pub(crate) fn write(
     path: &Path,
     progress: &Progress,
 ) -> Result<FileCounts, IoError> {
-    let layers: MaskLayers = o.mask_layers().map_err(|message| IoError::Mask {
+    let layers: MaskLayers = o.mask_layers().map_err(|error| IoError::MaskOptions {
         path: path.to_path_buf(),
-        message,
+        error,
     })?;
     let cells = cells(layout, o);
     let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;

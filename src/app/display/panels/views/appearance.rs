@@ -10,7 +10,7 @@ use egui_plot::{Plot, PlotPoints, Points};
 use ndarray::Array2;
 
 use crate::app::display::panels::Shown;
-use crate::app::job::{Job, Keyed};
+use crate::app::job::{Job, JobError, Keyed};
 use crate::app::notice::Notice;
 use crate::app::widgets::photo::{built_in, color_image};
 use crate::core::Progress;
@@ -107,7 +107,8 @@ impl AppearanceView {
         }
     }
 
-    fn poll(&mut self, ctx: &egui::Context) {
+    /// Takes a finished run.
+    pub(super) fn poll(&mut self, ctx: &egui::Context) {
         if let Some((key, done)) = self.job.poll() {
             match done {
                 Ok(rendered) => {
@@ -156,11 +157,10 @@ impl AppearanceView {
                 let photo = built_in()?;
                 let mut out = Vec::new();
                 for (label, d) in crate::core::display::appearance::periodic_and_random(&design) {
-                    let (q, r) =
-                        appearance(&d, &photo.planes, &settings, p).map_err(|e| e.to_string())?;
+                    let (q, r) = appearance(&d, &photo.planes, &settings, p)?;
                     out.push((label, q, r.planes));
                 }
-                Ok::<_, String>(out)
+                Ok::<_, JobError>(out)
             },
         );
         self.job.start(key, job);
@@ -183,19 +183,19 @@ impl AppearanceView {
                     .iter()
                     .filter(|pr| pr.group == presets::PresetGroup::Thesis)
                 {
-                    let d = presets::load_preset(preset.name).map_err(|e| e.to_string())?;
+                    let d = presets::load_preset(preset.name)?;
                     // Layouts without room for emitters (the open aperture) have no display.
                     let Ok((q, _)) = appearance(&d, &grey, &settings, p) else {
                         continue;
                     };
-                    let a = analyze_with(&d, &options, p).map_err(|e| e.to_string())?;
+                    let a = analyze_with(&d, &options, p)?;
                     out.push(ScatterPoint {
                         name: preset.name.into(),
                         camera_auc: camera_auc(&a),
                         nonuniformity: q.nonuniformity,
                     });
                 }
-                Ok::<_, String>(out)
+                Ok::<_, JobError>(out)
             },
         ));
     }
@@ -204,7 +204,6 @@ impl AppearanceView {
     /// when the design or a setting changed.
     pub fn ui(&mut self, ui: &mut Ui, shown: &Shown) {
         let egui_ctx = ui.ctx().clone();
-        self.poll(&egui_ctx);
         ui.horizontal_wrapped(|ui| {
             ui.label("Display:");
             ui.add(

@@ -6,7 +6,7 @@ use egui::{Color32, RichText, Ui};
 use super::ViewsPanel;
 use super::images::channel_color;
 use super::plots::{MtfFamilies, mtf_plot_ui};
-use crate::app::commands::Command;
+use crate::app::display::action::DisplayAction;
 use crate::app::display::panels::{PanelCtx, Pinned, Shown};
 use crate::core::analysis::analyze::ChannelAnalysis;
 use crate::core::{Analysis, Design};
@@ -59,10 +59,10 @@ impl ViewsPanel {
                 .on_hover_text("Ctrl+P: keep the current design's full-quality result as A")
                 .clicked()
             {
-                ctx.commands.push(Command::PinCompare);
+                ctx.actions.push(DisplayAction::PinCompare);
             }
             if ctx.pinned.is_some() && ui.button("Clear A").clicked() {
-                ctx.commands.push(Command::ClearCompare);
+                ctx.actions.push(DisplayAction::ClearCompare);
             }
         });
         let Some(pinned) = ctx.pinned else {

@@ -254,7 +254,8 @@ impl FieldDepthView {
         self.job.start(key, job);
     }
 
-    fn poll(&mut self, ctx: &egui::Context) {
+    /// Takes a finished run.
+    pub(super) fn poll(&mut self, ctx: &egui::Context) {
         let Some((key, done)) = self.job.poll() else {
             return;
         };
@@ -464,7 +465,6 @@ impl FieldDepthView {
     /// Draws the controls and the pictures; starts a run when the design or a setting changed.
     pub fn ui(&mut self, ui: &mut Ui, shown: &Shown) {
         let egui_ctx = ui.ctx().clone();
-        self.poll(&egui_ctx);
         // Keep to the visible part of the panel: a parent that scrolls sideways would otherwise
         // let the thumbnail rows and the controls run past its edge.
         let visible = ui.clip_rect().right() - ui.cursor().left();

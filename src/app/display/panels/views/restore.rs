@@ -158,13 +158,8 @@ impl RestoreView {
         self.photo_id += 1;
     }
 
-    fn poll(&mut self, ctx: &egui::Context) {
-        if self.photo.is_none() && self.photo_load.is_none() {
-            match built_in() {
-                Ok(p) => self.set_photo(p, ctx),
-                Err(e) => self.message = Some(Notice::error(format!("the built-in photo: {e}"))),
-            }
-        }
+    /// Takes an answered dialog, a read photo and a finished run.
+    pub(super) fn poll(&mut self, ctx: &egui::Context) {
         if let Some(answer) = self.dialog.as_ref().and_then(PendingDialog::poll) {
             self.dialog = None;
             match answer {
@@ -328,7 +323,13 @@ impl RestoreView {
     /// pinned design, the photo or a setting changed.
     pub fn ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &mut PanelCtx) {
         let egui_ctx = ui.ctx().clone();
-        self.poll(&egui_ctx);
+        // The built-in photo is decoded the first time the view is shown, not at start-up.
+        if self.photo.is_none() && self.photo_load.is_none() {
+            match built_in() {
+                Ok(p) => self.set_photo(p, &egui_ctx),
+                Err(e) => self.message = Some(Notice::error(format!("the built-in photo: {e}"))),
+            }
+        }
         self.controls_ui(ui);
         let key = self.key(shown, ctx.pinned);
         let stale = self.done_key.as_ref() != Some(&key);

@@ -9,8 +9,8 @@ use egui_plot::{Corner, Legend, Line, LineStyle, MarkerShape, Plot, Points};
 use super::images::channel_color;
 use crate::app::display::panels::Shown;
 use crate::app::widgets::plot::with_nice_ticks;
-use crate::core::Quality;
 use crate::core::theory::{ProfileKind, Theory, TheoryComparison, compare};
+use crate::core::{Quality, SimError};
 
 /// Deviation under which theory and simulation are said to agree (2 % of the peak).
 const AGREE: f64 = 0.02;
@@ -28,7 +28,7 @@ struct Key {
 /// The Theory view's state (view state: never undone).
 #[derive(Default)]
 pub struct TheoryView {
-    cached: Option<(Key, Result<TheoryComparison, String>)>,
+    cached: Option<(Key, Result<TheoryComparison, SimError>)>,
     /// Profile on a log scale (the side lobes and the halo show).
     pub log: bool,
 }
@@ -44,8 +44,7 @@ impl TheoryView {
         };
         if self.cached.as_ref().map(|c| c.0) != Some(key) {
             // A few thousand closed-form values: cheap enough for the UI thread, once per result.
-            let result = compare(&shown.design, theory, &shown.analysis, channel)
-                .map_err(|e| crate::app::display::labels::in_ui_words(&e.to_string()));
+            let result = compare(&shown.design, theory, &shown.analysis, channel);
             self.cached = Some((key, result));
         }
         let Some((_, result)) = &self.cached else {
@@ -66,7 +65,8 @@ impl TheoryView {
         ui.label(&formula);
         let c = match result {
             Ok(c) => c,
-            Err(message) => {
+            Err(e) => {
+                let message = crate::app::display::labels::in_ui_words(&e.to_string());
                 ui.colored_label(
                     ui.visuals().warn_fg_color,
                     format!("No comparison: {message}."),

@@ -1,13 +1,13 @@
-//! Applying the display workspace's commands, its file tasks and autosave.
+//! Carrying out the display workspace's actions, its file tasks and autosave.
 
 use crate::app::notice::Notice;
 use std::path::{Path, PathBuf};
 
 use super::DisplayWorkspace;
+use super::action::{DisplayAction, ExportKind};
 use super::panels::Pinned;
 use super::panels::views::ViewTab;
 use crate::app::autosave::create_parent;
-use crate::app::commands::{Command, ExportKind};
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::job::{Job, JobError};
 use crate::app::workspace::DroppedKind;
@@ -18,12 +18,21 @@ use crate::core::display::opening_ops;
 use crate::io::{IoError, design_file, export, pattern, presets, report, spectral};
 
 impl DisplayWorkspace {
-    fn needs_confirm(&mut self, c: &Command, confirmed: bool, shell: &mut Shell) -> bool {
+    /// Whether `a` must wait for the unsaved-changes answer; it is then held until
+    /// [`crate::app::Workspace::resume`].
+    fn needs_confirm(&mut self, a: &DisplayAction, confirmed: bool, shell: &mut Shell) -> bool {
         if !confirmed && self.doc.is_dirty() {
-            shell.confirm(WorkspaceId::Display, c.clone());
+            shell.confirm(WorkspaceId::Display, a.leaving_for());
+            self.awaiting = Some(a.clone());
             return true;
         }
         false
+    }
+
+    /// Carries out `action` as if its menu item, shortcut or button had been used (asking
+    /// first, where it would lose unsaved changes).
+    pub fn act(&mut self, action: DisplayAction, shell: &mut Shell) {
+        self.apply_one(action, false, shell);
     }
 
     fn edit_design(&mut self, d: Design) {
@@ -59,48 +68,39 @@ impl DisplayWorkspace {
         move || ctx.request_repaint()
     }
 
-    pub(super) fn apply_one(&mut self, c: Command, confirmed: bool, shell: &mut Shell) {
+    pub(super) fn apply_one(&mut self, c: DisplayAction, confirmed: bool, shell: &mut Shell) {
         match c {
-            Command::Edit(d) => self.edit_design(*d),
-            Command::SetOptics(optics) => {
+            DisplayAction::Edit(d) => self.edit_design(*d),
+            DisplayAction::SetOptics(optics) => {
                 let mut d = self.doc.design().clone();
                 d.optics = optics;
                 self.edit_design(d);
                 shell.set_status(Notice::info("optics changed as advised (Ctrl+Z undoes it)"));
             }
-            Command::Undo => {
-                if self.doc.undo() {
-                    self.submit();
-                }
-            }
-            Command::Redo => {
-                if self.doc.redo() {
-                    self.submit();
-                }
-            }
-            Command::New | Command::LoadPreset(_) if self.needs_confirm(&c, confirmed, shell) => {}
-            Command::New => self.load_preset(presets::DEFAULT_PRESET, shell),
-            Command::LoadPreset(name) => self.load_preset(&name, shell),
-            Command::Open if self.needs_confirm(&c, confirmed, shell) => {}
-            Command::Open => self.ask(Purpose::Open, None, shell),
-            Command::OpenPath(_) if self.needs_confirm(&c, confirmed, shell) => {}
-            Command::OpenPath(p) => self.open_path(p),
-            Command::OpenDesign { .. } if self.needs_confirm(&c, confirmed, shell) => {}
-            Command::OpenDesign { design, what } => {
+            DisplayAction::New | DisplayAction::LoadPreset(_)
+                if self.needs_confirm(&c, confirmed, shell) => {}
+            DisplayAction::New => self.load_preset(presets::DEFAULT_PRESET, shell),
+            DisplayAction::LoadPreset(name) => self.load_preset(&name, shell),
+            DisplayAction::Open if self.needs_confirm(&c, confirmed, shell) => {}
+            DisplayAction::Open => self.ask(Purpose::Open, None, shell),
+            DisplayAction::OpenPath(_) if self.needs_confirm(&c, confirmed, shell) => {}
+            DisplayAction::OpenPath(p) => self.open_path(p),
+            DisplayAction::OpenDesign { .. } if self.needs_confirm(&c, confirmed, shell) => {}
+            DisplayAction::OpenDesign { design, what } => {
                 // Like a preset: a new document with no file (Save asks where), one undo step.
                 self.doc.replace(*design, None);
                 self.submit();
                 shell.set_status(Notice::info(format!("opened {what} (Ctrl+Z goes back)")));
             }
-            Command::SweepField(field) => {
+            DisplayAction::SweepField(field) => {
                 let design = self.doc.design().clone();
                 self.panels.field_sweep.open(field, design);
             }
-            Command::Save => match self.doc.path.clone() {
+            DisplayAction::Save => match self.doc.path.clone() {
                 Some(p) => self.save_to(p, shell),
-                None => self.apply_one(Command::SaveAs, confirmed, shell),
+                None => self.apply_one(DisplayAction::SaveAs, confirmed, shell),
             },
-            Command::SaveAs => {
+            DisplayAction::SaveAs => {
                 let name = self
                     .doc
                     .path
@@ -109,36 +109,36 @@ impl DisplayWorkspace {
                     .map(|n| n.to_string_lossy().into_owned());
                 self.ask(Purpose::SaveAs, name, shell);
             }
-            Command::ImportPattern => self.ask(Purpose::ImportPattern, None, shell),
-            Command::ImportOpening(p) => self.import_opening(p),
-            Command::LoadSpectral(step) => {
+            DisplayAction::ImportPattern => self.ask(Purpose::ImportPattern, None, shell),
+            DisplayAction::ImportOpening(p) => self.import_opening(p),
+            DisplayAction::LoadSpectral(step) => {
                 self.files.spectral_step_nm = step;
                 self.ask(Purpose::Spectral, None, shell);
             }
-            Command::Export(kind) => self.ask(Purpose::Export(kind), None, shell),
-            Command::ExportMask => self.panels.mask_export.open(),
-            Command::WriteMask(None) => {
+            DisplayAction::Export(kind) => self.ask(Purpose::Export(kind), None, shell),
+            DisplayAction::ExportMask => self.panels.mask_export.open(),
+            DisplayAction::WriteMask(None) => {
                 let format = self.panels.mask_export.options().format;
                 self.ask(Purpose::Mask(format), None, shell);
             }
-            Command::WriteMask(Some(path)) => {
+            DisplayAction::WriteMask(Some(path)) => {
                 let wake = self.wake();
                 let design = self.doc.design().clone();
                 self.panels.mask_export.start(&design, path, wake);
             }
-            Command::SetTool(t) => self.tool = t,
-            Command::Invert => self.edit_cells(|c| opening_ops::invert(c)),
-            Command::Clear => self.edit_cells(|c| opening_ops::clear(c)),
-            Command::Copy => {
+            DisplayAction::SetTool(t) => self.tool = t,
+            DisplayAction::Invert => self.edit_cells(|c| opening_ops::invert(c)),
+            DisplayAction::Clear => self.edit_cells(|c| opening_ops::clear(c)),
+            DisplayAction::Copy => {
                 self.egui_ctx
                     .copy_text(opening_ops::to_text(&self.doc.design().opening.cells));
                 shell.set_status(Notice::info("opening copied as text (# open, . closed)"));
             }
-            Command::Paste(text) => match opening_ops::from_text(&text) {
+            DisplayAction::Paste(text) => match opening_ops::from_text(&text) {
                 Ok(cells) => self.edit_cells(|c| *c = cells),
                 Err(e) => shell.set_status(Notice::error(format!("cannot paste an opening: {e}"))),
             },
-            Command::Reroll => {
+            DisplayAction::Reroll => {
                 let mut d = self.doc.design().clone();
                 d.tiling.seed = rand::random::<u32>() as u64;
                 if !d.tiling.mode.is_random() {
@@ -146,16 +146,11 @@ impl DisplayWorkspace {
                 }
                 self.edit_design(d);
             }
-            Command::PinCompare => self.pin(shell),
-            Command::ClearCompare => {
+            DisplayAction::PinCompare => self.pin(shell),
+            DisplayAction::ClearCompare => {
                 self.results.pinned = None;
                 self.results.pin_requested = false;
             }
-            // The shell's own commands.
-            Command::ToggleTheme
-            | Command::ToggleOverlays
-            | Command::ToggleDesignRules
-            | Command::Quit => {}
         }
     }
 
@@ -320,7 +315,7 @@ impl DisplayWorkspace {
         }
         match self.panels.mask_export.poll() {
             Some(Ok(lines)) => shell.set_status(Notice::info(lines.join("; "))),
-            Some(Err(e)) => shell.set_status(Notice::error(e)),
+            Some(Err(e)) => shell.set_status(Notice::error(e.to_string())),
             None => {}
         }
         self.autosave_tick(shell);
@@ -331,7 +326,7 @@ impl DisplayWorkspace {
             Purpose::Open => self.open_path(path),
             Purpose::SaveAs => self.save_to(path, shell),
             Purpose::Export(kind) => self.export_to(kind, path, shell),
-            Purpose::Mask(_) => self.apply_one(Command::WriteMask(Some(path)), true, shell),
+            Purpose::Mask(_) => self.apply_one(DisplayAction::WriteMask(Some(path)), true, shell),
             Purpose::ImportPattern => self.import_opening(path),
             // The Restore view and the sensor previewer ask and answer their own dialogs.
             Purpose::Photo | Purpose::Hdr => {}
@@ -379,7 +374,9 @@ impl DisplayWorkspace {
     /// a photo on the Restore view is its photo; HDR scenes are not ours.
     pub(super) fn dropped_file(&mut self, p: &Path, kind: DroppedKind, shell: &mut Shell) -> bool {
         match kind {
-            DroppedKind::Design => self.apply_one(Command::OpenPath(p.to_path_buf()), false, shell),
+            DroppedKind::Design => {
+                self.apply_one(DisplayAction::OpenPath(p.to_path_buf()), false, shell)
+            }
             DroppedKind::Image if self.panels.views.tab() == ViewTab::Restore => self
                 .panels
                 .views
