@@ -73,31 +73,52 @@ impl FrameSpec {
     /// Checks every size (enabled or not, so a bad value never waits for its checkbox).
     ///
     /// # Errors
-    /// A message naming the bad field.
-    pub fn validate(&self) -> Result<(), String> {
-        for (name, v) in [
+    /// A [`FrameError`] naming the bad size.
+    pub fn validate(&self) -> Result<(), FrameError> {
+        for (what, value) in [
             ("frame margin (µm)", self.margin_um),
             ("frame width (µm)", self.frame_width_um),
             ("mark size (µm)", self.mark_size_um),
             ("mark arm width (µm)", self.mark_arm_width_um),
             ("label height (µm)", self.label_height_um),
         ] {
-            if !(v.is_finite() && v > 0.0 && v <= MAX_FRAME_LENGTH_UM) {
-                return Err(format!(
-                    "{name} must be a number above 0 and at most {MAX_FRAME_LENGTH_UM} (got {})",
-                    short(v)
-                ));
+            if !(value.is_finite() && value > 0.0 && value <= MAX_FRAME_LENGTH_UM) {
+                return Err(FrameError::OutOfRange { what, value });
             }
         }
         if self.mark_arm_width_um >= self.mark_size_um {
-            return Err(format!(
-                "mark arm width (µm) must be smaller than the mark size ({} >= {})",
-                short(self.mark_arm_width_um),
-                short(self.mark_size_um)
-            ));
+            return Err(FrameError::ArmNotThinner {
+                arm_um: self.mark_arm_width_um,
+                size_um: self.mark_size_um,
+            });
         }
         Ok(())
     }
+}
+
+/// Why a die frame cannot be drawn.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FrameError {
+    /// A size that is not a number above 0 and at most [`MAX_FRAME_LENGTH_UM`].
+    #[error("{what} must be a number above 0 and at most {MAX_FRAME_LENGTH_UM} (got {})", short(*.value))]
+    OutOfRange {
+        /// The size as the dialog labels it, with its unit ("frame width (µm)").
+        what: &'static str,
+        /// The value given, µm.
+        value: f64,
+    },
+    /// A mark whose arms are as wide as the mark: no cross is left.
+    #[error(
+        "mark arm width (µm) must be smaller than the mark size ({} >= {})",
+        short(*.arm_um),
+        short(*.size_um)
+    )]
+    ArmNotThinner {
+        /// The arm width, µm.
+        arm_um: f64,
+        /// The mark size, µm.
+        size_um: f64,
+    },
 }
 
 /// A value as a user typed it, short even for 1e308.
@@ -180,7 +201,7 @@ fn cross(x: i64, y: i64, a: i64, w: i64) -> Polygon {
 /// max y]`), every coordinate a multiple of `grid_nm`. `label` is the label's text.
 ///
 /// # Errors
-/// [`MaskError::Invalid`] for a bad spec or grid, [`MaskError::TooLarge`] when a coordinate
+/// [`MaskError::Frame`] for a bad spec, [`MaskError::Invalid`] for a bad grid, [`MaskError::TooLarge`] when a coordinate
 /// leaves GDSII's 32-bit range.
 pub fn frame_geometry(
     spec: &FrameSpec,
@@ -188,7 +209,7 @@ pub fn frame_geometry(
     grid_nm: i64,
     label: &str,
 ) -> Result<FrameGeometry, MaskError> {
-    spec.validate().map_err(MaskError::Invalid)?;
+    spec.validate()?;
     if grid_nm <= 0 {
         return Err(MaskError::Invalid(format!(
             "the grid must be positive (got {grid_nm} nm)"
@@ -367,7 +388,7 @@ mod tests {
                 "label height",
             ),
         ] {
-            let e = spec.validate().unwrap_err();
+            let e = spec.validate().unwrap_err().to_string();
             assert!(e.contains(needle), "{e}");
             assert!(e.len() < 120, "{e}");
         }

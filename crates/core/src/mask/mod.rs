@@ -25,7 +25,9 @@ use crate::design::Design;
 use crate::display::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
 use crate::{SimError, ValueError};
 
-pub use frame::{FrameGeometry, FrameLabel, FramePart, FrameSpec, frame_geometry, label_text};
+pub use frame::{
+    FrameError, FrameGeometry, FrameLabel, FramePart, FrameSpec, frame_geometry, label_text,
+};
 pub use layout::{MaskLayout, MaskRegion, MaskStats, Placement, Polygon, TileRow};
 pub use polygons::{BinaryGrid, Ring, trace_polygons};
 
@@ -120,6 +122,9 @@ pub enum MaskError {
     /// A bad setting (e.g. a zero grid or an empty region); the message says which.
     #[error("{0}")]
     Invalid(String),
+    /// A die frame that cannot be drawn.
+    #[error(transparent)]
+    Frame(#[from] FrameError),
     /// Too many tiles, or coordinates beyond GDSII's 32-bit range.
     #[error("region too large: {0}")]
     TooLarge(String),

@@ -216,8 +216,8 @@ pub enum ExportOptionsError {
         layer: i16,
     },
     /// A die frame that cannot be drawn (the core's words, naming the setting).
-    #[error("{0}")]
-    Frame(String),
+    #[error(transparent)]
+    Frame(#[from] udc_core::mask::FrameError),
     /// A layer map entry that names no role.
     #[error("layer map: unknown role `{name}` (expected one of {})", .roles.join(", "))]
     UnknownRole {
