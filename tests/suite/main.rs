@@ -12,6 +12,7 @@ mod cli_optimize;
 mod cli_phase;
 mod cli_restore;
 mod cli_sensor;
+mod cli_units;
 mod corpus;
 mod denoise;
 mod denoise_cli;

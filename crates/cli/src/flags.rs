@@ -59,7 +59,7 @@ pub fn flag_of(setting: Setting) -> Option<&'static str> {
 
 /// A core error about a setting that only a flag sets names the flag; every other error is
 /// returned as it is.
-pub(crate) fn name_flags(e: anyhow::Error) -> anyhow::Error {
+pub fn name_flags(e: anyhow::Error) -> anyhow::Error {
     match e.downcast::<SimError>() {
         Ok(SimError::InvalidField {
             field: Field::Setting(setting),
@@ -70,48 +70,5 @@ pub(crate) fn name_flags(e: anyhow::Error) -> anyhow::Error {
         },
         Ok(other) => other.into(),
         Err(e) => e,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_field_only_a_flag_sets_is_reported_by_its_flag() {
-        let e = name_flags(SimError::field(Setting::ViewingDistanceMm, "must be above 0").into());
-        assert_eq!(e.to_string(), "--viewing-distance-mm: must be above 0");
-        let e = name_flags(SimError::field(Setting::OpeningCells, "too many").into());
-        assert_eq!(e.to_string(), "field `opening.cells`: too many");
-        // A path is not a setting, even where it spells one: only the core's typed key counts.
-        let e = name_flags(SimError::field("nsr", "must be ≥ 0").into());
-        assert_eq!(e.to_string(), "field `nsr`: must be ≥ 0");
-        let e = name_flags(anyhow::anyhow!("not a core error"));
-        assert_eq!(e.to_string(), "not a core error");
-    }
-
-    #[test]
-    fn every_flag_in_the_table_exists_on_some_command() {
-        use clap::CommandFactory;
-        fn longs(c: &clap::Command, out: &mut Vec<String>) {
-            out.extend(
-                c.get_arguments()
-                    .filter_map(|a| a.get_long())
-                    .map(|l| format!("--{l}")),
-            );
-            for sub in c.get_subcommands() {
-                longs(sub, out);
-            }
-        }
-        let mut all = Vec::new();
-        longs(&crate::Cli::command(), &mut all);
-        for setting in Setting::ALL {
-            if let Some(flag) = flag_of(setting) {
-                assert!(
-                    all.iter().any(|l| l == flag),
-                    "{setting} → {flag}: no such flag"
-                );
-            }
-        }
     }
 }

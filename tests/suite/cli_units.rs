@@ -1,0 +1,92 @@
+//! The CLI crate's own pieces: the flag behind a core setting (`cli::flags`) and the denoise
+//! flags' resolution (`cli::denoise_flags`). They live in the suite so that the CLI crate needs
+//! no unit-test binary of its own (a second compilation of the whole crate).
+
+use udc_studio::cli::denoise_flags::{DenoiseFlags, DenoiseMethod};
+use udc_studio::cli::flags::{flag_of, name_flags};
+use udc_studio::core::restore::{Denoise, Recipe, Sigma2};
+use udc_studio::core::{Setting, SimError};
+
+#[test]
+fn a_field_only_a_flag_sets_is_reported_by_its_flag() {
+    let e = name_flags(SimError::field(Setting::ViewingDistanceMm, "must be above 0").into());
+    assert_eq!(e.to_string(), "--viewing-distance-mm: must be above 0");
+    let e = name_flags(SimError::field(Setting::OpeningCells, "too many").into());
+    assert_eq!(e.to_string(), "field `opening.cells`: too many");
+    // A path is not a setting, even where it spells one: only the core's typed key counts.
+    let e = name_flags(SimError::field("nsr", "must be ≥ 0").into());
+    assert_eq!(e.to_string(), "field `nsr`: must be ≥ 0");
+    let e = name_flags(anyhow::anyhow!("not a core error"));
+    assert_eq!(e.to_string(), "not a core error");
+}
+
+#[test]
+fn every_flag_in_the_table_exists_on_some_command() {
+    use clap::CommandFactory;
+    fn longs(c: &clap::Command, out: &mut Vec<String>) {
+        out.extend(
+            c.get_arguments()
+                .filter_map(|a| a.get_long())
+                .map(|l| format!("--{l}")),
+        );
+        for sub in c.get_subcommands() {
+            longs(sub, out);
+        }
+    }
+    let mut all = Vec::new();
+    longs(&udc_studio::cli::Cli::command(), &mut all);
+    for setting in Setting::ALL {
+        if let Some(flag) = flag_of(setting) {
+            assert!(
+                all.iter().any(|l| l == flag),
+                "{setting} → {flag}: no such flag"
+            );
+        }
+    }
+}
+
+fn flags(denoise: DenoiseMethod, sigma2: Option<f64>) -> DenoiseFlags {
+    DenoiseFlags {
+        denoise,
+        denoise_sigma2: sigma2,
+    }
+}
+
+#[test]
+fn the_default_is_the_recipes_table_and_an_override_is_fixed() {
+    let d = flags(DenoiseMethod::Bm3d, None).resolve(Recipe::Iccv23);
+    assert_eq!(d.ok(), Some(Denoise::thesis(Recipe::Iccv23)));
+    let d = flags(DenoiseMethod::Bm3d, Some(0.003)).resolve(Recipe::Iccp21);
+    assert_eq!(
+        d.ok(),
+        Some(Denoise::Bm3d {
+            sigma2: Sigma2::Fixed(0.003)
+        })
+    );
+    let d = flags(DenoiseMethod::None, None).resolve(Recipe::Iccp21);
+    assert_eq!(d.ok(), Some(Denoise::None));
+}
+
+#[test]
+fn bad_values_are_one_line_errors() {
+    for (f, needle) in [
+        (flags(DenoiseMethod::Bm3d, Some(0.0)), "finite number > 0"),
+        (flags(DenoiseMethod::Bm3d, Some(-0.01)), "finite number > 0"),
+        (flags(DenoiseMethod::Bm3d, Some(1e308)), "at most 1"),
+        (flags(DenoiseMethod::Bm3d, Some(1e-300)), "at least 1e-12"),
+        (
+            flags(DenoiseMethod::Bm3d, Some(f64::NAN)),
+            "finite number > 0",
+        ),
+        (flags(DenoiseMethod::None, Some(0.002)), "--denoise none"),
+    ] {
+        let msg = f
+            .resolve(Recipe::Iccp21)
+            .err()
+            .map(|e| format!("{e:#}"))
+            .unwrap_or_default();
+        assert!(msg.contains(needle), "{msg}");
+        assert!(msg.contains("--denoise-sigma2"), "{msg}");
+        assert!(!msg.contains('\n'), "{msg}");
+    }
+}
