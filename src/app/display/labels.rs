@@ -62,14 +62,18 @@ pub fn label(setting: Setting) -> Option<&'static str> {
 /// `message` with every design field it names replaced by the label the studio shows, and its
 /// arrows in words the studio's font can draw.
 pub fn in_ui_words(message: &str) -> String {
+    // Longest paths first, so that no path is replaced inside a longer one; built once, since
+    // messages are put into words while drawing.
+    static LABELLED: std::sync::LazyLock<Vec<(&str, &str)>> = std::sync::LazyLock::new(|| {
+        let mut labelled: Vec<(&str, &str)> = Setting::ALL
+            .into_iter()
+            .filter_map(|s| label(s).map(|l| (s.path(), l)))
+            .collect();
+        labelled.sort_by_key(|(path, _)| std::cmp::Reverse(path.len()));
+        labelled
+    });
     let mut out = message.to_string();
-    // Longest paths first, so that no path is replaced inside a longer one.
-    let mut labelled: Vec<(&str, &str)> = Setting::ALL
-        .into_iter()
-        .filter_map(|s| label(s).map(|l| (s.path(), l)))
-        .collect();
-    labelled.sort_by_key(|(path, _)| std::cmp::Reverse(path.len()));
-    for (field, label) in labelled {
+    for &(field, label) in LABELLED.iter() {
         // Backquoted first, so `optics.window_px` does not keep its quotes around the label.
         out = out
             .replace(&format!("`{field}`"), label)
