@@ -1,0 +1,63 @@
+//! Running a core job from Python: the GIL released, Ctrl-C honoured, panics contained.
+//!
+//! The job runs on a scoped worker thread. The calling thread gives up the GIL (so other
+//! Python threads run, and several `analyze` calls proceed in parallel) and wakes every
+//! [`POLL`] to take it back just long enough to ask Python whether a signal arrived. A
+//! `KeyboardInterrupt` cancels the job's [`Progress`], waits for the job to stop at its next
+//! check, and is raised in the caller. A panic in the job becomes a `RuntimeError`, never an
+//! abort of the interpreter.
+
+use std::time::Duration;
+
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use udc_core::Progress;
+
+/// How often a waiting call checks for Ctrl-C.
+const POLL: Duration = Duration::from_millis(50);
+
+/// Runs `job` off the GIL and returns its value, or the Python error it or a signal produced.
+///
+/// # Errors
+/// The job's own error (already a Python exception), `KeyboardInterrupt` on Ctrl-C, or
+/// `RuntimeError` if the job panicked.
+pub fn run<T, F>(py: Python<'_>, job: F) -> PyResult<T>
+where
+    T: Send,
+    F: FnOnce(&Progress) -> PyResult<T> + Send,
+{
+    let progress = Progress::new();
+    let progress = &progress;
+    py.detach(move || {
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(move || job(progress));
+            let mut interrupt = None;
+            while !worker.is_finished() {
+                std::thread::park_timeout(POLL);
+                if interrupt.is_none()
+                    && let Err(e) = Python::attach(|py| py.check_signals())
+                {
+                    progress.cancel();
+                    interrupt = Some(e);
+                }
+            }
+            let outcome = worker.join();
+            match (interrupt, outcome) {
+                (Some(signal), _) => Err(signal),
+                (None, Ok(result)) => result,
+                (None, Err(panic)) => Err(PyRuntimeError::new_err(format!(
+                    "internal error in udc_studio: {}",
+                    panic_text(&panic)
+                ))),
+            }
+        })
+    })
+}
+
+fn panic_text(panic: &Box<dyn std::any::Any + Send>) -> String {
+    panic
+        .downcast_ref::<&str>()
+        .map(|s| (*s).to_string())
+        .or_else(|| panic.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic".to_string())
+}

@@ -1,0 +1,24 @@
+//! `udc_studio._native`: the compiled half of the Python package `udc_studio`.
+//!
+//! The functions here take and return plain values (design JSON text, numpy arrays, dicts); the
+//! package's Python half (`python/udc_studio/`) wraps them in the documented API. Every
+//! computation runs with the GIL released on a worker thread that Ctrl-C cancels
+//! ([`cancel::run`]); every core or file error becomes a Python exception with the CLI's
+//! one-line message ([`errors`]).
+
+use pyo3::prelude::*;
+
+mod analysis;
+mod cancel;
+mod design;
+mod errors;
+mod restore;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    design::register(m)?;
+    analysis::register(m)?;
+    restore::register(m)?;
+    Ok(())
+}

@@ -1,0 +1,232 @@
+//! `denoise` and `restore`: BM3D on an array, and a photo captured through a display and
+//! restored, with the same settings and defaults as `udc-studio denoise` and `restore`.
+//!
+//! Images are float arrays in [0, 1], `H × W` (grey) or `H × W × C`; results come back in the
+//! layout they came in.
+
+use ndarray::{Array2, Array3, ArrayViewD, Axis, Ix2, Ix3};
+use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::restore::capture::REFERENCE_LTR;
+use udc_core::restore::{
+    CaptureSettings, CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreSettings, Sigma2,
+    simulate,
+};
+use udc_io::restore_report;
+
+use crate::{cancel, design, errors};
+
+/// Whether an image came as one grey plane or as channels last.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Layout {
+    Grey,
+    ChannelsLast,
+}
+
+/// An image array as the core's planes.
+fn planes_of(image: &ArrayViewD<'_, f64>, what: &str) -> PyResult<(Vec<Array2<f64>>, Layout)> {
+    if let Ok(grey) = image.view().into_dimensionality::<Ix2>() {
+        return Ok((vec![grey.to_owned()], Layout::Grey));
+    }
+    if let Ok(cube) = image.view().into_dimensionality::<Ix3>()
+        && (1..=4).contains(&cube.len_of(Axis(2)))
+    {
+        let planes = cube.axis_iter(Axis(2)).map(|p| p.to_owned()).collect();
+        return Ok((planes, Layout::ChannelsLast));
+    }
+    Err(errors::value(format!(
+        "{what}: expected an H×W grey or H×W×C colour array (C from 1 to 4), got shape {:?}",
+        image.shape()
+    )))
+}
+
+/// Planes back into the layout the caller used.
+fn array_of<'py>(
+    py: Python<'py>,
+    mut planes: Vec<Array2<f64>>,
+    layout: Layout,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    if layout == Layout::Grey && planes.len() == 1 {
+        // The one plane moves into numpy without a copy.
+        let plane = planes.pop().unwrap_or_default();
+        return Ok(plane.into_dyn().into_pyarray(py));
+    }
+    let views: Vec<_> = planes.iter().map(|p| p.view()).collect();
+    let cube: Array3<f64> =
+        ndarray::stack(Axis(2), &views).map_err(|e| errors::value(format!("image planes: {e}")))?;
+    Ok(cube.into_dyn().into_pyarray(py))
+}
+
+/// BM3D (CBM3D for three channels) of an image with noise variance `sigma2` on its [0, 1] scale.
+#[pyfunction]
+fn denoise<'py>(
+    py: Python<'py>,
+    image: PyReadonlyArrayDyn<'py, f64>,
+    sigma2: f64,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let (planes, layout) = planes_of(&image.as_array(), "image")?;
+    let out = cancel::run(py, |progress| {
+        udc_core::denoise::bm3d(&planes, sigma2, progress).map_err(|e| errors::sim(&e))
+    })?;
+    array_of(py, out, layout)
+}
+
+/// The denoiser of a restoration: `"bm3d"` (the thesis's σ² table unless `sigma2` is given) or
+/// `"none"`, as `--denoise` and `--denoise-sigma2`.
+fn denoise_setting(method: &str, sigma2: Option<f64>) -> PyResult<Denoise> {
+    let setting = match (method, sigma2) {
+        ("none", None) => Denoise::None,
+        ("none", Some(s)) => {
+            return Err(errors::value(format!(
+                "denoise_sigma2 {s}: there is no denoiser to give it to with denoise=\"none\""
+            )));
+        }
+        // The display openings are chapter 3's: its σ² table.
+        ("bm3d", None) => Denoise::thesis(Recipe::Iccp21),
+        ("bm3d", Some(s)) => Denoise::Bm3d {
+            sigma2: Sigma2::Fixed(s),
+        },
+        (other, _) => {
+            return Err(errors::value(format!(
+                "denoise: expected \"bm3d\" or \"none\" (got {other:?})"
+            )));
+        }
+    };
+    setting.validate().map_err(|e| errors::sim(&e))?;
+    Ok(setting)
+}
+
+/// The restoration algorithm: `"wiener"` with `nsr`, or `"cg"` with `lambda_` and `iterations`.
+fn method_setting(
+    name: &str,
+    nsr: Option<f64>,
+    lambda: Option<f64>,
+    iterations: Option<usize>,
+) -> PyResult<(Method, Padding)> {
+    let cg = CgSettings::default();
+    match name {
+        "wiener" => Ok((
+            Method::Wiener {
+                nsr: nsr.unwrap_or(udc_core::restore::THESIS_NSR),
+            },
+            Padding::Double,
+        )),
+        // Conjugate gradients do not depend on the padding: the smallest grid, as the CLI.
+        "cg" => Ok((
+            Method::Cg(CgSettings {
+                lambda: lambda.unwrap_or(cg.lambda),
+                iterations: iterations.unwrap_or(cg.iterations),
+                ..cg
+            }),
+            Padding::Linear,
+        )),
+        other => Err(errors::value(format!(
+            "method: expected \"wiener\" or \"cg\" (got {other:?})"
+        ))),
+    }
+}
+
+/// Captures `image` through the design at one light level and restores it (denoise, then
+/// deblur). Exactly one of `light_e` and `snr_db` is given.
+#[pyfunction]
+#[pyo3(signature = (
+    design_json, image, *, light_e = None, snr_db = None, denoise = "bm3d",
+    denoise_sigma2 = None, method = "wiener", nsr = None, lambda_ = None, iterations = None,
+    adc_bits = None, noise_seed = 0
+))]
+#[allow(clippy::too_many_arguments)]
+fn restore<'py>(
+    py: Python<'py>,
+    design_json: &str,
+    image: PyReadonlyArrayDyn<'py, f64>,
+    light_e: Option<f64>,
+    snr_db: Option<f64>,
+    denoise: &str,
+    denoise_sigma2: Option<f64>,
+    method: &str,
+    nsr: Option<f64>,
+    lambda_: Option<f64>,
+    iterations: Option<usize>,
+    adc_bits: Option<u32>,
+    noise_seed: u64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let design = design::parse(design_json)?;
+    let (photo, layout) = planes_of(&image.as_array(), "image")?;
+    let light = match (light_e, snr_db) {
+        (Some(e), None) => Light::ElectronsAtPeak(e),
+        (None, Some(s)) => Light::SnrDb(s),
+        _ => {
+            return Err(errors::value(
+                "give exactly one light level: light_e (electrons at white) or snr_db",
+            ));
+        }
+    };
+    let (method, padding) = method_setting(method, nsr, lambda_, iterations)?;
+    let settings = |ltr_relative: f64| RestoreSettings {
+        capture: CaptureSettings {
+            light,
+            adc_bits,
+            ltr_relative,
+            seed: noise_seed,
+            ..CaptureSettings::default()
+        },
+        method,
+        padding,
+        denoise: denoise_setting(denoise, denoise_sigma2).unwrap_or(Denoise::None),
+    };
+    denoise_setting(denoise, denoise_sigma2)?;
+    // The photo and the settings are checked before the analysis, which is the slow part.
+    udc_core::restore::check(&photo, &settings(1.0)).map_err(|e| errors::sim(&e))?;
+    let (result, names) = cancel::run(py, |progress| {
+        let options = AnalyzeOptions {
+            quality: Quality::Full,
+            expected_psf: false,
+        };
+        let analysis = analyze_with(&design, &options, progress).map_err(|e| errors::sim(&e))?;
+        if photo.len() != analysis.channels.len() {
+            return Err(errors::value(format!(
+                "the design has {} channels but the image has {}; restore needs one image \
+                 channel per design channel",
+                analysis.channels.len(),
+                photo.len()
+            )));
+        }
+        let psfs: Vec<&Array2<f64>> = analysis.channels.iter().map(|c| &c.psf).collect();
+        let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
+        let result = simulate(
+            &photo,
+            &psfs,
+            &settings(analysis.ltr / REFERENCE_LTR),
+            progress,
+        )
+        .map_err(|e| errors::sim(&e))?;
+        Ok((result, names))
+    })?;
+    let out = PyDict::new(py);
+    out.set_item(
+        "json",
+        serde_json::to_string(&restore_report::run_json(&result, &names, &[]))
+            .map_err(|e| errors::value(e.to_string()))?,
+    )?;
+    out.set_item("psnr_db", result.psnr_db)?;
+    out.set_item("ssim", result.ssim)?;
+    out.set_item("captured_psnr_db", result.captured_psnr_db)?;
+    out.set_item("denoised_psnr_db", result.denoised_psnr_db)?;
+    out.set_item("denoise_sigma2", result.denoise.sigma2)?;
+    out.set_item("light_e", result.light_e)?;
+    out.set_item("snr_db", result.snr_db)?;
+    out.set_item("captured", array_of(py, result.captured, layout)?)?;
+    if !result.denoised.is_empty() {
+        out.set_item("denoised", array_of(py, result.denoised, layout)?)?;
+    }
+    out.set_item("restored", array_of(py, result.restored, layout)?)?;
+    Ok(out)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(denoise, m)?)?;
+    m.add_function(wrap_pyfunction!(restore, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,335 @@
+"""UDC Studio's simulation core from Python.
+
+The same core as the ``udc-studio`` command line and the studio: display designs for
+under-display cameras, their PSFs and MTFs, captures restored with the thesis's pipeline
+(BM3D, then Wiener), and the BM3D denoiser on its own.
+
+>>> import udc_studio as udc
+>>> design = udc.Design.from_preset("toled-150dpi")
+>>> result = udc.analyze(design, quality="preview")
+>>> result.psf.shape[0]                        # one PSF per colour channel
+3
+
+Every computation releases the GIL (call it from several threads at once) and stops on
+Ctrl-C with ``KeyboardInterrupt``. Bad parameters raise ``ValueError`` and unreadable files
+``OSError``, with the one-line messages of the command line.
+
+Units are in the names: ``pitch_um`` is micrometres, ``light_e`` electrons, ``psnr_db``
+decibels, frequencies are cycles per sensor pixel.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _native
+
+__version__: str = _native.__version__
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+__all__ = [
+    "Analysis",
+    "Design",
+    "Restoration",
+    "analyze",
+    "denoise",
+    "presets",
+    "restore",
+]
+
+
+def presets() -> List[Tuple[str, str, str]]:
+    """The built-in designs: ``(name, group, one-line description)``, as ``udc-studio presets``."""
+    return list(_native.presets())
+
+
+class Design:
+    """A display design: one pixel's opening, its tiling, the camera optics and the channels.
+
+    A ``Design`` is immutable: :meth:`with_` returns a modified copy. It holds the design file's
+    JSON document, so :meth:`save` writes exactly what the studio and the CLI read.
+    """
+
+    __slots__ = ("_json", "_doc")
+
+    def __init__(self, text: str) -> None:
+        """A design from design-file JSON text (validated; ``ValueError`` names a bad field)."""
+        self._json: str = _native.check_design_json(text)
+        self._doc: Dict[str, Any] = json.loads(self._json)
+
+    @classmethod
+    def from_preset(cls, name: str) -> "Design":
+        """A built-in design by name (see :func:`presets`)."""
+        return cls(_native.preset_json(name))
+
+    @classmethod
+    def load(cls, path: PathLike) -> "Design":
+        """A design file (``.json``) as the studio saves it."""
+        return cls(_native.load_design_json(os.fspath(path)))
+
+    def save(self, path: PathLike) -> None:
+        """Writes the design file (atomically: a crash never leaves half a file)."""
+        _native.save_design_json(os.fspath(path), self._json)
+
+    def to_json(self) -> str:
+        """The design file's text."""
+        return self._json
+
+    # The fields, read-only.
+    @property
+    def name(self) -> str:
+        """The design's short name."""
+        return str(self._doc.get("name", ""))
+
+    @property
+    def description(self) -> str:
+        """Free text: what the design is and where it comes from."""
+        return str(self._doc.get("description", ""))
+
+    @property
+    def pitch_um(self) -> float:
+        """The display pixel pitch, µm."""
+        return float(self._doc["opening"]["pitch_um"])
+
+    @property
+    def dpi(self) -> float:
+        """Display pixels per inch (25 400 / ``pitch_um``)."""
+        return 25400.0 / self.pitch_um
+
+    @property
+    def cells(self) -> np.ndarray:
+        """The opening as an N × N float array of amplitude transmittance in [0, 1]."""
+        return _native.cells(self._json)
+
+    @property
+    def opening(self) -> np.ndarray:
+        """The opening as an N × N bool array: ``True`` where a cell lets light through."""
+        return self.cells > 0.0
+
+    @property
+    def tiling(self) -> str:
+        """``"repeat"``, ``"random-d4"`` or ``"random-4"``."""
+        return str(self._doc["tiling"]["mode"])
+
+    @property
+    def seed(self) -> int:
+        """The seed of the random orientations (ignored by ``"repeat"``)."""
+        return int(self._doc["tiling"].get("seed", 0))
+
+    @property
+    def optics(self) -> Dict[str, Any]:
+        """The camera optics and sampling, as the design file's ``optics`` object (a copy)."""
+        return json.loads(json.dumps(self._doc["optics"]))
+
+    @property
+    def channels(self) -> List[str]:
+        """The colour channels' names, in order."""
+        return [str(c.get("name", "")) for c in self._doc.get("channels", [])]
+
+    def with_(
+        self,
+        *,
+        name: Optional[str] = None,
+        pitch_um: Optional[float] = None,
+        opening: Optional[np.ndarray] = None,
+        tiling: Optional[str] = None,
+        seed: Optional[int] = None,
+        optics: Optional[Dict[str, Any]] = None,
+    ) -> "Design":
+        """A copy with the given fields changed (``optics`` merges into the current optics).
+
+        ``opening`` is an N × N bool array (open cells) or float array (amplitude in [0, 1]).
+        The result is validated as a design file is: ``ValueError`` names the bad field.
+        """
+        doc = json.loads(self._json)
+        if name is not None:
+            doc["name"] = name
+        if pitch_um is not None:
+            doc["opening"]["pitch_um"] = _number(pitch_um, "pitch_um")
+        if tiling is not None:
+            doc["tiling"]["mode"] = tiling
+        if seed is not None:
+            doc["tiling"]["seed"] = seed
+        if optics is not None:
+            doc["optics"].update(optics)
+        text = json.dumps(doc)
+        if opening is not None:
+            cells = np.asarray(opening)
+            if cells.ndim != 2:
+                raise ValueError(f"opening: expected an N×N array, got shape {cells.shape}")
+            text = _native.with_cells(text, np.ascontiguousarray(cells, dtype=np.float64))
+        return Design(text)
+
+    def __repr__(self) -> str:
+        return (
+            f"Design({self.name!r}, pitch {self.pitch_um:g} µm ({self.dpi:.0f} DPI), "
+            f"{self.cells.shape[0]}×{self.cells.shape[1]} cells, tiling {self.tiling})"
+        )
+
+    def __eq__(self, other: object) -> bool:
+        return isinstance(other, Design) and other._json == self._json
+
+    def __hash__(self) -> int:
+        return hash(self._json)
+
+
+def _number(value: Any, what: str) -> float:
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{what}: expected a number (got {value!r})") from None
+
+
+def _design(design: Union[Design, str]) -> Design:
+    """A design or a preset name."""
+    return design if isinstance(design, Design) else Design.from_preset(design)
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """What ``udc-studio analyze`` computes for a design, with its arrays.
+
+    Arrays are per channel along their first axis, in :attr:`channels` order.
+    """
+
+    channels: List[str]
+    wavelength_nm: np.ndarray
+    """The channels' peak wavelengths, nm."""
+    psf: np.ndarray
+    """Channels × H × W, each summing to its share of light inside the sensor window."""
+    mtf: np.ndarray
+    """Channels × H × W, the 2-D MTF with zero frequency at the centre."""
+    freq_cyc_per_px: np.ndarray
+    """The radial frequencies of :attr:`radial_min`, cycles per sensor pixel."""
+    radial_min: np.ndarray
+    """Channels × n: the radially-minimum MTF (the thesis's eq. 3.8)."""
+    radial_mean: np.ndarray
+    """Channels × n: the radially-averaged MTF."""
+    auc: np.ndarray
+    """Per channel, the area under :attr:`radial_min` (the thesis's AUC)."""
+    invertibility: np.ndarray
+    """Per channel, the invertibility score."""
+    energy_in_window: np.ndarray
+    """Per channel, the share of the light inside the sensor window."""
+    ltr: float
+    """Light transmittance ratio over the pupil."""
+    open_fraction: float
+    """Open area fraction of one tile."""
+    invertibility_loss: float
+    """L_inv pooled over the channels (the thesis's eq. 3.9)."""
+    warnings: List[str]
+    """Sampling and energy warnings, as the CLI prints them."""
+    window_px: int
+    """Side of the square sensor window, sensor pixels."""
+    sensor_pixel_um: float
+    """Sensor pixel pitch, µm."""
+    elapsed_ms: float
+    """Wall-clock time of the analysis, ms."""
+    _json: str = field(repr=False)
+
+    def to_json(self) -> str:
+        """The object ``udc-studio analyze --json`` prints for the same design and quality."""
+        return self._json
+
+
+def analyze(design: Union[Design, str], quality: str = "full") -> Analysis:
+    """Analyses a design (or a preset name): PSF, MTF, AUC, LTR, invertibility, warnings.
+
+    ``quality="preview"`` doubles the fine sampling where the sensor pixel allows it, as the
+    studio does while you draw: faster, the same physics.
+    """
+    raw = _native.analyze(_design(design).to_json(), quality)
+    raw["_json"] = raw.pop("json")
+    return Analysis(**raw)
+
+
+def denoise(image: np.ndarray, sigma2: float) -> np.ndarray:
+    """BM3D (CBM3D for an H × W × 3 colour image) with noise variance ``sigma2``.
+
+    ``image`` is H × W (grey) or H × W × C, values on a [0, 1] scale; the result has its shape.
+    """
+    return _native.denoise(_float_image(image), float(sigma2))
+
+
+@dataclass(frozen=True)
+class Restoration:
+    """One capture through a design and its restoration (``udc-studio restore``'s run)."""
+
+    captured: np.ndarray
+    """The simulated capture, on the photo's scale and in its layout."""
+    denoised: Optional[np.ndarray]
+    """The denoised capture the deblurring started from; ``None`` with ``denoise="none"``."""
+    restored: np.ndarray
+    """The restored image."""
+    psnr_db: float
+    """PSNR of the restored image against the photo, dB (MSE pooled over channels)."""
+    ssim: float
+    """Mean SSIM over the channels."""
+    captured_psnr_db: float
+    denoised_psnr_db: Optional[float]
+    denoise_sigma2: Optional[float]
+    """The σ² BM3D got, on the capture's scale."""
+    light_e: float
+    """Electrons at a white pixel behind the reference display."""
+    snr_db: float
+    """The SNR at that pixel, dB."""
+    _json: str = field(repr=False)
+
+    def to_json(self) -> str:
+        """The run's object in ``udc-studio restore --json``."""
+        return self._json
+
+
+def restore(
+    design: Union[Design, str],
+    image: np.ndarray,
+    *,
+    light_e: Optional[float] = None,
+    snr_db: Optional[float] = None,
+    denoise: str = "bm3d",
+    denoise_sigma2: Optional[float] = None,
+    method: str = "wiener",
+    nsr: Optional[float] = None,
+    lambda_: Optional[float] = None,
+    iterations: Optional[int] = None,
+    adc_bits: Optional[int] = None,
+    noise_seed: int = 0,
+) -> Restoration:
+    """Captures ``image`` through the design at one light level and restores it.
+
+    Give the light as ``light_e`` (electrons at a white pixel behind the reference T-OLED) or
+    ``snr_db``. ``denoise="bm3d"`` runs the thesis's denoiser first with its σ² for the light
+    level (``denoise_sigma2`` overrides it); ``"none"`` deblurs the capture as it is.
+    ``method`` is ``"wiener"`` (``nsr``) or ``"cg"`` (``lambda_``, ``iterations``). Defaults
+    are the CLI's.
+    """
+    raw = _native.restore(
+        _design(design).to_json(),
+        _float_image(image),
+        light_e=light_e,
+        snr_db=snr_db,
+        denoise=denoise,
+        denoise_sigma2=denoise_sigma2,
+        method=method,
+        nsr=nsr,
+        lambda_=lambda_,
+        iterations=iterations,
+        adc_bits=adc_bits,
+        noise_seed=noise_seed,
+    )
+    raw["_json"] = raw.pop("json")
+    raw.setdefault("denoised", None)
+    return Restoration(**raw)
+
+
+def _float_image(image: Any) -> np.ndarray:
+    a = np.asarray(image)
+    if a.dtype.kind not in "fiub":
+        raise ValueError(f"image: expected a numeric array (got dtype {a.dtype})")
+    return np.ascontiguousarray(a, dtype=np.float64)
