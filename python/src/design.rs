@@ -7,6 +7,7 @@ use ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use udc_core::Design;
+use udc_core::design::TilingMode;
 use udc_io::{design_file, presets as builtin};
 
 use crate::errors;
@@ -60,7 +61,8 @@ fn cells<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyArray2<f64>>
     Ok(grid.into_pyarray(py))
 }
 
-/// The design with its opening's cells replaced (validated as a design file's would be).
+/// The design with its opening's cells replaced (validated as a design file's would be);
+/// emitters on cells that are now open are removed.
 #[pyfunction]
 fn with_cells(text: &str, cells: PyReadonlyArray2<'_, f64>) -> PyResult<String> {
     let mut design = parse(text)?;
@@ -70,6 +72,40 @@ fn with_cells(text: &str, cells: PyReadonlyArray2<'_, f64>) -> PyResult<String> 
         .into_iter()
         .map(|row| row.to_vec())
         .collect();
+    // Drawn cells replace any polygons, and the emitters keep to the closed cells, as when the
+    // opening is edited in the studio.
+    design.opening.polygons.clear();
+    design.reconcile_subpixels();
+    design.validate().map_err(|e| errors::sim(&e))?;
+    Ok(design_file::to_json(&design))
+}
+
+/// The design with some of its scalar fields changed, validated by the core (its messages name
+/// the field, as the CLI's do).
+#[pyfunction]
+#[pyo3(signature = (text, *, name = None, pitch_um = None, tiling = None, seed = None))]
+fn with_fields(
+    text: &str,
+    name: Option<String>,
+    pitch_um: Option<f64>,
+    tiling: Option<&str>,
+    seed: Option<u64>,
+) -> PyResult<String> {
+    let mut design = parse(text)?;
+    if let Some(name) = name {
+        design.name = name;
+    }
+    if let Some(pitch_um) = pitch_um {
+        design.opening.pitch_um = pitch_um;
+    }
+    if let Some(tiling) = tiling {
+        design.tiling.mode = tiling
+            .parse::<TilingMode>()
+            .map_err(|e| errors::value(e.to_string()))?;
+    }
+    if let Some(seed) = seed {
+        design.tiling.seed = seed;
+    }
     design.validate().map_err(|e| errors::sim(&e))?;
     Ok(design_file::to_json(&design))
 }
@@ -87,5 +123,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check_design_json, m)?)?;
     m.add_function(wrap_pyfunction!(cells, m)?)?;
     m.add_function(wrap_pyfunction!(with_cells, m)?)?;
+    m.add_function(wrap_pyfunction!(with_fields, m)?)?;
     Ok(())
 }

@@ -4,6 +4,8 @@
 //! Images are float arrays in [0, 1], `H × W` (grey) or `H × W × C`; results come back in the
 //! layout they came in.
 
+use std::path::PathBuf;
+
 use ndarray::{Array2, Array3, ArrayViewD, Axis, Ix2, Ix3};
 use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
@@ -71,6 +73,19 @@ fn denoise<'py>(
         udc_core::denoise::bm3d(&planes, sigma2, progress).map_err(|e| errors::sim(&e))
     })?;
     array_of(py, out, layout)
+}
+
+/// A photo as the CLI's `restore --image` reads it: H × W × 3 (R, G, B) in [0, 1], scaled down
+/// so its longer side is at most `max_side_px` when given.
+#[pyfunction]
+#[pyo3(signature = (path, max_side_px = None))]
+fn load_photo(
+    py: Python<'_>,
+    path: PathBuf,
+    max_side_px: Option<u32>,
+) -> PyResult<Bound<'_, PyArrayDyn<f64>>> {
+    let planes = udc_io::photo::load_photo(&path, max_side_px).map_err(|e| errors::io(&e))?;
+    array_of(py, planes, Layout::ChannelsLast)
 }
 
 /// The denoiser of a restoration: `"bm3d"` (the thesis's σ² table unless `sigma2` is given) or
@@ -227,6 +242,7 @@ fn restore<'py>(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(denoise, m)?)?;
+    m.add_function(wrap_pyfunction!(load_photo, m)?)?;
     m.add_function(wrap_pyfunction!(restore, m)?)?;
     Ok(())
 }

@@ -39,6 +39,7 @@ __all__ = [
     "Restoration",
     "analyze",
     "denoise",
+    "load_photo",
     "presets",
     "restore",
 ]
@@ -144,21 +145,26 @@ class Design:
     ) -> "Design":
         """A copy with the given fields changed (``optics`` merges into the current optics).
 
-        ``opening`` is an N × N bool array (open cells) or float array (amplitude in [0, 1]).
+        ``opening`` is an N × N bool array (open cells) or float array (amplitude in [0, 1]);
+        it replaces any polygons, and emitters on cells that are now open are removed.
         The result is validated as a design file is: ``ValueError`` names the bad field.
         """
-        doc = json.loads(self._json)
-        if name is not None:
-            doc["name"] = name
-        if pitch_um is not None:
-            doc["opening"]["pitch_um"] = _number(pitch_um, "pitch_um")
-        if tiling is not None:
-            doc["tiling"]["mode"] = tiling
-        if seed is not None:
-            doc["tiling"]["seed"] = seed
+        text = _native.with_fields(
+            self._json,
+            name=name,
+            pitch_um=None if pitch_um is None else _number(pitch_um, "pitch_um"),
+            tiling=tiling,
+            seed=seed,
+        )
         if optics is not None:
+            doc = json.loads(text)
             doc["optics"].update(optics)
-        text = json.dumps(doc)
+            try:
+                text = json.dumps(doc, allow_nan=False)
+            except ValueError:
+                raise ValueError(
+                    f"optics: every value must be a finite number or text (got {optics!r})"
+                ) from None
         if opening is not None:
             cells = np.asarray(opening)
             if cells.ndim != 2:
@@ -202,7 +208,7 @@ class Analysis:
     wavelength_nm: np.ndarray
     """The channels' peak wavelengths, nm."""
     psf: np.ndarray
-    """Channels × H × W, each summing to its share of light inside the sensor window."""
+    """Channels × H × W over the sensor window, each summing to 1 (see :attr:`energy_in_window`)."""
     mtf: np.ndarray
     """Channels × H × W, the 2-D MTF with zero frequency at the centre."""
     freq_cyc_per_px: np.ndarray
@@ -247,6 +253,15 @@ def analyze(design: Union[Design, str], quality: str = "full") -> Analysis:
     raw = _native.analyze(_design(design).to_json(), quality)
     raw["_json"] = raw.pop("json")
     return Analysis(**raw)
+
+
+def load_photo(path: PathLike, max_side_px: Optional[int] = None) -> np.ndarray:
+    """A photo as ``udc-studio restore --image`` reads it: H × W × 3 (R, G, B) in [0, 1].
+
+    With ``max_side_px`` the photo is scaled down so its longer side is at most that many
+    pixels (``--max-side-px``). PNG, JPEG, TIFF, Radiance HDR and OpenEXR.
+    """
+    return _native.load_photo(os.fspath(path), max_side_px)
 
 
 def denoise(image: np.ndarray, sigma2: float) -> np.ndarray:

@@ -1,0 +1,126 @@
+"""`denoise`, `restore` and `load_photo`: the CLI's runs, the denoiser's gain, bad input."""
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import udc_studio as udc
+from conftest import REPO, run_cli
+
+PHOTO = REPO / "assets" / "testset" / "coffee.png"
+
+
+def psnr_db(a, b):
+    return 10 * math.log10(1.0 / float(np.mean((a - b) ** 2)))
+
+
+def smooth_image(shape, seed=0):
+    rng = np.random.default_rng(seed)
+    y, x = np.mgrid[0 : shape[0], 0 : shape[1]] / max(shape)
+    base = 0.5 + 0.3 * np.sin(6 * x) * np.cos(4 * y)
+    if len(shape) == 3:
+        base = np.stack([base * (0.8 + 0.1 * c) for c in range(shape[2])], axis=-1)
+    return base, rng
+
+
+@pytest.mark.parametrize("shape", [(64, 80), (64, 64, 3)])
+def test_denoise_removes_most_of_the_noise_and_keeps_the_layout(shape):
+    clean, rng = smooth_image(shape)
+    sigma = 0.05
+    noisy = clean + rng.normal(0, sigma, clean.shape)
+    out = udc.denoise(noisy, sigma**2)
+    assert out.shape == noisy.shape and out.dtype == np.float64
+    assert psnr_db(out, clean) > psnr_db(noisy, clean) + 6
+
+
+def test_restore_is_the_clis_run(cli, tmp_path):
+    photo = udc.load_photo(PHOTO, max_side_px=96)
+    assert photo.shape[2] == 3 and photo.dtype == np.float64 and 0 <= photo.min() <= photo.max() <= 1
+    ours = udc.restore("toled-150dpi", photo, snr_db=28)
+    theirs = run_cli(
+        cli, "restore", "--preset", "toled-150dpi", "--image", str(PHOTO),
+        "--max-side-px", "96", "--snr-db", "28", "--json",
+    )
+    assert theirs.returncode == 0, theirs.stderr
+    run = json.loads(theirs.stdout)["runs"][0]
+    mine = json.loads(ours.to_json())
+    for r in (run, mine):
+        r.pop("elapsed_ms", None)
+    assert mine == run
+    assert ours.restored.shape == photo.shape and ours.denoised is not None
+    assert ours.psnr_db == pytest.approx(psnr_db(ours.restored, photo), abs=1e-9)
+
+
+def test_the_denoiser_lifts_the_restoration_in_low_light():
+    # At 24 dB on a 128-pixel photo BM3D adds about 1.5 dB (the thesis's gain grows with size).
+    photo = udc.load_photo(PHOTO, max_side_px=128)
+    plain = udc.restore("toled-150dpi", photo, snr_db=24, denoise="none")
+    denoised = udc.restore("toled-150dpi", photo, snr_db=24)
+    assert plain.denoised is None and plain.denoise_sigma2 is None
+    assert denoised.psnr_db > plain.psnr_db + 1.0
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        (lambda: udc.denoise(np.zeros((0, 0)), 0.01), "planes"),
+        (lambda: udc.denoise(np.zeros((16, 16)), float("nan")), "sigma2"),
+        (lambda: udc.denoise(np.zeros((16, 16)), 0.0), "sigma2"),
+        (lambda: udc.denoise(np.zeros((4, 4, 4, 4)), 0.01), "H×W"),
+        (lambda: udc.denoise(np.full((16, 16), np.nan), 0.01), "finite"),
+        (lambda: udc.denoise(np.array([["a"]]), 0.01), "numeric"),
+        (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3))), "exactly one light"),
+        (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), light_e=-5), "light"),
+        (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise="nlm"), "bm3d"),
+        (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, method="lucy"), "wiener"),
+        (
+            lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise="none", denoise_sigma2=0.01),
+            "no denoiser",
+        ),
+        (lambda: udc.restore("toled-150dpi", np.zeros((32, 32)), snr_db=28), "channels"),
+    ],
+)
+def test_bad_input_raises_value_error(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_unreadable_photos_raise_os_error(tmp_path):
+    not_an_image = tmp_path / "notes.png"
+    not_an_image.write_text("hello")
+    with pytest.raises(OSError, match="notes.png"):
+        udc.load_photo(not_an_image)
+    with pytest.raises(OSError):
+        udc.load_photo(tmp_path / "missing.png")
+
+
+def test_ctrl_c_cancels_a_long_call(tmp_path):
+    script = textwrap.dedent(
+        """
+        import numpy as np, sys, udc_studio as udc
+        image = np.random.default_rng(0).random((1536, 1536, 3))
+        print("started", flush=True)
+        udc.denoise(image, 0.01)
+        print("finished", flush=True)
+        """
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, env=os.environ.copy(), cwd=tmp_path,
+    )
+    assert proc.stdout.readline().strip() == "started"
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert "KeyboardInterrupt" in err
+    assert "finished" not in out
+    assert proc.returncode != 0
