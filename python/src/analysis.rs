@@ -12,7 +12,7 @@ use udc_io::report;
 use crate::{cancel, design, errors};
 
 /// The quality names Python passes, as the closed set the core uses.
-fn quality(name: &str) -> PyResult<Quality> {
+pub fn quality(name: &str) -> PyResult<Quality> {
     match name {
         "full" => Ok(Quality::Full),
         "preview" => Ok(Quality::Preview),

@@ -28,16 +28,30 @@ where
 {
     let progress = Progress::new();
     let progress = &progress;
+    wait(py, move || job(progress), || progress.cancel())
+}
+
+/// Runs `job` off the GIL on a worker thread; on Ctrl-C calls `stop` (which asks the job to
+/// end early), waits for the job, and raises the `KeyboardInterrupt`.
+///
+/// # Errors
+/// As [`run`].
+pub fn wait<T, F, S>(py: Python<'_>, job: F, stop: S) -> PyResult<T>
+where
+    T: Send,
+    F: FnOnce() -> PyResult<T> + Send,
+    S: Fn() + Send,
+{
     py.detach(move || {
         std::thread::scope(|scope| {
-            let worker = scope.spawn(move || job(progress));
+            let worker = scope.spawn(job);
             let mut interrupt = None;
             while !worker.is_finished() {
                 std::thread::park_timeout(POLL);
                 if interrupt.is_none()
                     && let Err(e) = Python::attach(|py| py.check_signals())
                 {
-                    progress.cancel();
+                    stop();
                     interrupt = Some(e);
                 }
             }

@@ -10,15 +10,21 @@ use pyo3::prelude::*;
 
 mod analysis;
 mod cancel;
+mod commands;
 mod design;
 mod errors;
 mod restore;
+mod theory;
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // As the command line: jobs estimated to need more than half the memory are refused.
+    udc_core::budget::set_max_memory_bytes(udc_io::system::default_max_memory_bytes());
     design::register(m)?;
     analysis::register(m)?;
     restore::register(m)?;
+    theory::register(m)?;
+    commands::register(m)?;
     Ok(())
 }

@@ -27,7 +27,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _native
+from . import _native, phase, sensor
 
 __version__: str = _native.__version__
 
@@ -42,6 +42,12 @@ __all__ = [
     "load_photo",
     "presets",
     "restore",
+    "phase",
+    "sensor",
+    "sweep",
+    "theory",
+    "MtfComparison",
+    "TheoryComparison",
 ]
 
 
@@ -255,6 +261,53 @@ def analyze(design: Union[Design, str], quality: str = "full") -> Analysis:
     return Analysis(**raw)
 
 
+@dataclass(frozen=True)
+class MtfComparison:
+    """The simulated MTF along x beside the aperture's closed-form MTF times the pixel's."""
+
+    freq_cyc_per_px: np.ndarray
+    """Frequencies, cycles per sensor pixel (0 … 0.5)."""
+    simulated: np.ndarray
+    predicted: np.ndarray
+    deviation: float
+    """Largest |simulated − predicted| (MTF(0) = 1)."""
+
+
+@dataclass(frozen=True)
+class TheoryComparison:
+    """The Theory view: one channel's simulated pattern beside the textbook's formula.
+
+    Slits and rectangles compare the PSF summed over rows (light per column), a circle the
+    PSF's axis row (Airy), a tiling the light in each diffraction order.
+    """
+
+    theory: str
+    """``"single slit"``, ``"double slit"``, ``"rectangle"``, ``"circle"`` or the grating."""
+    formula: str
+    """The formula with this channel's numbers, as the Theory view prints it."""
+    kind: str
+    """What the values are (the plot's y axis)."""
+    x_um: np.ndarray
+    """Positions on the sensor, µm from the optical axis."""
+    simulated: np.ndarray
+    predicted: np.ndarray
+    deviation: float
+    """Largest |simulated − predicted| relative to the largest predicted value."""
+    note: Optional[str]
+    mtf: Optional[MtfComparison]
+
+
+def theory(design: Union[Design, str], channel: int = 0, quality: str = "full") -> TheoryComparison:
+    """Channel ``channel`` of the design beside its closed-form Fraunhofer pattern.
+
+    The teaching presets (``fourier-slit``, ``fourier-circle``, …) name their shape; any other
+    design is compared with the diffraction orders of its tiling.
+    """
+    raw = _native.theory(_design(design).to_json(), channel, quality)
+    mtf = raw.pop("mtf")
+    return TheoryComparison(mtf=None if mtf is None else MtfComparison(**mtf), **raw)
+
+
 def load_photo(path: PathLike, max_side_px: Optional[int] = None) -> np.ndarray:
     """A photo as ``udc-studio restore --image`` reads it: H × W × 3 (R, G, B) in [0, 1].
 
@@ -348,3 +401,35 @@ def _float_image(image: Any) -> np.ndarray:
     if a.dtype.kind not in "fiub":
         raise ValueError(f"image: expected a numeric array (got dtype {a.dtype})")
     return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def sweep(spec: PathLike, out: PathLike, threads: Optional[int] = None) -> Any:
+    """Runs a sweep spec (TOML, as ``udc-studio sweep SPEC --out OUT``) and returns its table.
+
+    A folder that already holds part of the sweep is resumed; Ctrl-C stops after the points in
+    flight and keeps them. The table is ``OUT/results.csv``: a pandas ``DataFrame`` when pandas
+    is installed, otherwise a dict of column name → numpy array (numbers) or list (text).
+    """
+    _native.sweep(os.fspath(spec), os.fspath(out), threads)
+    return _read_table(os.path.join(os.fspath(out), "results.csv"))
+
+
+def _read_table(path: str) -> Any:
+    try:
+        import pandas  # noqa: PLC0415 - optional
+    except ImportError:
+        pandas = None
+    if pandas is not None:
+        return pandas.read_csv(path)
+    import csv  # noqa: PLC0415
+
+    with open(path, newline="", encoding="utf-8") as f:
+        rows = list(csv.DictReader(f))
+    columns: Dict[str, Any] = {}
+    for name in rows[0].keys() if rows else []:
+        values = [row[name] for row in rows]
+        try:
+            columns[name] = np.array([float(v) if v != "" else np.nan for v in values])
+        except ValueError:
+            columns[name] = values
+    return columns

@@ -237,6 +237,28 @@ pub(crate) fn capture_json(run: impl FnOnce() -> Result<()>) -> Result<serde_jso
     value.ok_or_else(|| anyhow::anyhow!("the command printed no JSON"))
 }
 
+/// Runs one headless command given as its words (`["phase", "psf", "--mask", "double-mla"]`),
+/// as `udc-studio WORDS --json` would, and returns the object it prints. The Python package's
+/// `phase` and `sensor` calls go through here, so they take the command's parameters, give its
+/// messages and return its JSON.
+///
+/// # Errors
+/// A usage error (one line, as the command line prints it), or the command's own error.
+pub fn run_json(words: &[String]) -> Result<serde_json::Value> {
+    let argv: Vec<String> = std::iter::once("udc-studio".to_string())
+        .chain(words.iter().cloned())
+        .chain(std::iter::once("--json".to_string()))
+        .collect();
+    let cli = parse::parse_from(&argv).map_err(|e| match e {
+        parse::CliParseError::Display(help) => anyhow::anyhow!("{help}"),
+        parse::CliParseError::Usage(line) => anyhow::anyhow!(line),
+    })?;
+    match cli.command {
+        Some(Command::Studio { .. }) | None => bail!("the studio is not a headless command"),
+        Some(command) => capture_json(|| run(command)),
+    }
+}
+
 /// Runs a headless command.
 ///
 /// # Errors

@@ -169,6 +169,7 @@ pub fn reproduce(
             threads,
             quiet: quiet || !std::io::stderr().is_terminal(),
             plots: part.plots,
+            stop: None,
         };
         let summary = crate::sweep::run_sweep(&spec, &dir, &options)
             .with_context(|| format!("{} ({})", id.as_str(), part.file))?;

@@ -87,6 +87,7 @@ pub fn sweep_cmd(args: &SweepArgs) -> Result<()> {
                 threads: args.threads,
                 quiet: args.quiet,
                 plots: !args.no_plots,
+                stop: None,
             };
             run_sweep(&spec, out, &options).map(|_| ())
         }

@@ -33,6 +33,9 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Draw the plots when done (whole sweeps only).
     pub plots: bool,
+    /// A flag that stops the run as Ctrl-C does (finished points kept), for callers that
+    /// catch the signal themselves: the Python package's `KeyboardInterrupt`.
+    pub stop: Option<Arc<AtomicBool>>,
 }
 
 /// How a run went.
@@ -247,7 +250,10 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let skipped = AtomicU64::new(0);
-    let stop = Arc::new(AtomicBool::new(false));
+    let stop = opts
+        .stop
+        .clone()
+        .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
     let _deferred = udc_io::safe_file::defer_signal_to(stop.clone());
     let (tx, rx) = std::sync::mpsc::sync_channel::<Row>(256);
 

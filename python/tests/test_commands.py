@@ -1,0 +1,74 @@
+"""`phase`, `sensor` and `sweep`: the commands' parameters, messages and JSON, in-process."""
+
+import json
+
+import numpy as np
+import pytest
+
+import udc_studio as udc
+from conftest import REPO, run_cli
+
+HDR = REPO / "assets" / "hdr" / "Desk_322x437.exr"
+
+
+def without_time(value):
+    if isinstance(value, dict):
+        return {k: without_time(v) for k, v in value.items() if k != "elapsed_ms"}
+    if isinstance(value, list):
+        return [without_time(v) for v in value]
+    return value
+
+
+def test_phase_psf_is_the_clis(cli):
+    ours = udc.phase.psf(preview=True, angle_deg=5.0)
+    theirs = run_cli(cli, "phase", "psf", "--preview", "--angle-deg", "5.0", "--json")
+    assert theirs.returncode == 0, theirs.stderr
+    assert without_time(ours) == without_time(json.loads(theirs.stdout))
+    # The double MLA gathers more light than the bare T-OLED (thesis §4.4).
+    assert all(c["energy_vs_toled"] > 1.0 for c in ours["channels"])
+    assert np.asarray(ours["channels"][0]["psf"]).ndim == 1
+
+
+def test_sensor_simulate_is_the_clis_and_picks_a_strategy(cli):
+    ours = udc.sensor.simulate(HDR, max_side_px=128)
+    theirs = run_cli(cli, "sensor", "--hdr", str(HDR), "--max-side-px", "128", "--json")
+    assert without_time(ours) == without_time(json.loads(theirs.stdout))
+    one = udc.sensor.simulate(HDR, strategy="vary-gain/vary-bin", max_side_px=128)
+    assert [s["name"] for s in one["strategies"]] == ["vary-gain/vary-bin"]
+    every = {s["name"]: s for s in ours["strategies"]}
+    assert one["strategies"][0] == every["vary-gain/vary-bin"]
+
+
+def test_bad_flags_raise_the_command_lines_messages(tmp_path):
+    with pytest.raises(ValueError, match="--snr-db"):
+        udc.phase.restore(snr_db=float("nan"))
+    with pytest.raises(ValueError, match="unexpected argument '--colour'"):
+        udc.phase.psf(colour="red")
+    with pytest.raises(ValueError, match="strategy: unknown"):
+        udc.sensor.simulate(HDR, strategy="free-lunch", max_side_px=64)
+    with pytest.raises(OSError, match="missing.exr"):
+        udc.sensor.simulate(tmp_path / "missing.exr")
+
+
+def test_a_sweep_returns_its_table_and_resumes(tmp_path):
+    spec = tmp_path / "seeds.toml"
+    spec.write_text(
+        'name = "seeds"\njob = "analyze"\n'
+        'base = { preset = "l2inv-random", preview = true }\n'
+        'metrics = ["auc_radial_min_mean", "ltr"]\n'
+        '[[axis]]\nparam = "seed"\nrange = { start = 0, stop = 2 }\n'
+    )
+    out = tmp_path / "out"
+    table = udc.sweep(spec, out)
+    # Rows are written as points finish (in parallel): any order.
+    seeds = list(np.asarray(table["seed"], dtype=float))
+    assert sorted(seeds) == [0.0, 1.0, 2.0]
+    auc = np.asarray(table["auc_radial_min_mean"], dtype=float)
+    for seed, value in zip(seeds, auc):
+        design = udc.Design.from_preset("l2inv-random").with_(seed=int(seed))
+        assert value == pytest.approx(udc.analyze(design, quality="preview").auc.mean(), abs=1e-6)
+    # A second run finds every point done and computes nothing.
+    summary = udc._native.sweep(str(spec), str(out), None)
+    assert (summary["computed"], summary["skipped"], summary["complete"]) == (0, 3, True)
+    again = udc.sweep(spec, out)
+    assert sorted(np.asarray(again["seed"], dtype=float)) == sorted(seeds)
