@@ -38,6 +38,7 @@ fn bench(c: &mut Criterion) {
         threads: Some(2),
         quiet: true,
         plots: false,
+        stop: None,
     };
     for (id, preset) in [
         ("toled-150dpi-seeds", "toled-150dpi"),
