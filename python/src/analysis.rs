@@ -1,6 +1,8 @@
 //! `analyze`: the same analysis, advice and JSON as `udc-studio analyze --json`, with the
 //! arrays behind the numbers as numpy arrays.
 
+use std::time::Instant;
+
 use ndarray::{Array1, Array2, Array3, Axis};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
@@ -36,12 +38,17 @@ fn analyze<'py>(
         // As the CLI without `--out`: the expected PSF is only written to files.
         expected_psf: false,
     };
-    let analysis = cancel::run(py, |progress| {
+    let (analysis, call_ms) = cancel::run(py, |progress| {
+        let t0 = Instant::now();
         let mut a = analyze_with(&design, &options, progress).map_err(|e| errors::sim(&e))?;
         advice::advise(&design, &mut a.warnings, progress).map_err(|e| errors::sim(&e))?;
-        Ok(a)
+        Ok((a, t0.elapsed().as_secs_f64() * 1e3))
     })?;
-    to_dict(py, analysis)
+    let out = to_dict(py, analysis)?;
+    // The whole call inside Rust (analysis and advice), what the Python call is measured
+    // against (benches/python_peers.py).
+    out.set_item("call_ms", call_ms)?;
+    Ok(out)
 }
 
 fn to_dict(py: Python<'_>, a: Analysis) -> PyResult<Bound<'_, PyDict>> {

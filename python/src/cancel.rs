@@ -1,12 +1,14 @@
 //! Running a core job from Python: the GIL released, Ctrl-C honoured, panics contained.
 //!
 //! The job runs on a scoped worker thread. The calling thread gives up the GIL (so other
-//! Python threads run, and several `analyze` calls proceed in parallel) and wakes every
-//! [`POLL`] to take it back just long enough to ask Python whether a signal arrived. A
+//! Python threads run, and several `analyze` calls proceed in parallel) and waits for the
+//! job's result, waking every [`POLL`] to take the GIL back just long enough to ask Python
+//! whether a signal arrived. A
 //! `KeyboardInterrupt` cancels the job's [`Progress`], waits for the job to stop at its next
 //! check, and is raised in the caller. A panic in the job becomes a `RuntimeError`, never an
 //! abort of the interpreter.
 
+use std::sync::mpsc::RecvTimeoutError;
 use std::time::Duration;
 
 use pyo3::exceptions::PyRuntimeError;
@@ -44,25 +46,37 @@ where
 {
     py.detach(move || {
         std::thread::scope(|scope| {
-            let worker = scope.spawn(job);
+            // The result comes back through a channel, so the caller wakes the moment the job
+            // ends (not at its next poll); a panicking job drops the sender instead.
+            let (done, result) = std::sync::mpsc::sync_channel(1);
+            let worker = scope.spawn(move || {
+                let _ = done.send(job());
+            });
             let mut interrupt = None;
-            while !worker.is_finished() {
-                std::thread::park_timeout(POLL);
+            let outcome = loop {
+                match result.recv_timeout(POLL) {
+                    Ok(value) => break Some(value),
+                    Err(RecvTimeoutError::Disconnected) => break None,
+                    Err(RecvTimeoutError::Timeout) => {}
+                }
                 if interrupt.is_none()
                     && let Err(e) = Python::attach(|py| py.check_signals())
                 {
                     stop();
                     interrupt = Some(e);
                 }
-            }
-            let outcome = worker.join();
-            match (interrupt, outcome) {
-                (Some(signal), _) => Err(signal),
-                (None, Ok(result)) => result,
-                (None, Err(panic)) => Err(PyRuntimeError::new_err(format!(
+            };
+            let joined = worker.join();
+            match (interrupt, outcome, joined) {
+                (Some(signal), _, _) => Err(signal),
+                (None, Some(value), _) => value,
+                (None, None, Err(panic)) => Err(PyRuntimeError::new_err(format!(
                     "internal error in udc_studio: {}",
                     panic_text(&panic)
                 ))),
+                (None, None, Ok(())) => Err(PyRuntimeError::new_err(
+                    "internal error in udc_studio: the job ended without a result",
+                )),
             }
         })
     })

@@ -242,7 +242,10 @@ class Analysis:
     sensor_pixel_um: float
     """Sensor pixel pitch, µm."""
     elapsed_ms: float
-    """Wall-clock time of the analysis, ms."""
+    """Wall-clock time of the analysis, ms (as ``udc-studio analyze --json`` reports it)."""
+    call_ms: float
+    """Wall-clock time of the whole call inside Rust (the analysis and the advice on its
+    warnings), ms."""
     _json: str = field(repr=False)
 
     def to_json(self) -> str:

@@ -19,7 +19,13 @@ fn repo() -> &'static std::path::Path {
 }
 
 /// The source folders of the workspace's crates, lowest layer first.
-const CRATE_SOURCES: [&str; 4] = ["crates/core/src", "crates/io/src", "crates/cli/src", "src"];
+const CRATE_SOURCES: [&str; 5] = [
+    "crates/core/src",
+    "crates/io/src",
+    "crates/cli/src",
+    "python/src",
+    "src",
+];
 
 /// What a headless build must not link: the window, GPU and dialog stack.
 const GUI_CRATES: [&str; 7] = [
@@ -67,8 +73,8 @@ fn locked_closure(root: &str) -> std::collections::BTreeSet<String> {
 }
 
 #[test]
-fn the_core_io_and_cli_crates_link_no_gui() {
-    for krate in ["udc-core", "udc-io", "udc-cli"] {
+fn the_core_io_and_cli_crates_and_the_python_module_link_no_gui() {
+    for krate in ["udc-core", "udc-io", "udc-cli", "udc-studio-python"] {
         let closure = locked_closure(krate);
         assert!(
             closure.contains("ndarray"),
