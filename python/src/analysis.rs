@@ -26,11 +26,12 @@ pub fn quality(name: &str) -> PyResult<Quality> {
 
 /// Analyses a design (its JSON text); the dict holds the arrays and the CLI's JSON text.
 #[pyfunction]
-#[pyo3(signature = (design_json, quality_name = "full"))]
+#[pyo3(signature = (design_json, quality_name = "full", advice = true))]
 fn analyze<'py>(
     py: Python<'py>,
     design_json: &str,
     quality_name: &str,
+    advice: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let design = design::parse(design_json)?;
     let options = AnalyzeOptions {
@@ -41,7 +42,11 @@ fn analyze<'py>(
     let (analysis, call_ms) = cancel::run(py, |progress| {
         let t0 = Instant::now();
         let mut a = analyze_with(&design, &options, progress).map_err(|e| errors::sim(&e))?;
-        advice::advise(&design, &mut a.warnings, progress).map_err(|e| errors::sim(&e))?;
+        // The advice checks each warning's fix with a further (preview) analysis: as the CLI
+        // does by default; a caller analysing many designs can skip it.
+        if advice {
+            advice::advise(&design, &mut a.warnings, progress).map_err(|e| errors::sim(&e))?;
+        }
         Ok((a, t0.elapsed().as_secs_f64() * 1e3))
     })?;
     let out = to_dict(py, analysis)?;

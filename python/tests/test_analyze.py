@@ -86,6 +86,14 @@ def test_four_threads_at_once_give_the_sequential_results():
         assert without_time(together[name].to_json()) == without_time(alone[name].to_json())
 
 
+def test_without_advice_the_warnings_stay_and_carry_no_fix():
+    advised = json.loads(udc.analyze("toled-150dpi", quality="preview").to_json())
+    plain = udc.analyze("toled-150dpi", quality="preview", advice=False)
+    assert plain.warnings == [a["message"] for a in advised["advice"]]
+    assert any(a["fix"] for a in advised["advice"])
+    assert all(a["fix"] is None for a in json.loads(plain.to_json())["advice"])
+
+
 def test_bad_quality_raises():
     with pytest.raises(ValueError, match='"full" or "preview"'):
         udc.analyze("toled-150dpi", quality="best")

@@ -244,8 +244,8 @@ class Analysis:
     elapsed_ms: float
     """Wall-clock time of the analysis, ms (as ``udc-studio analyze --json`` reports it)."""
     call_ms: float
-    """Wall-clock time of the whole call inside Rust (the analysis and the advice on its
-    warnings), ms."""
+    """Wall-clock time of the whole call inside Rust (the analysis and, unless skipped, the
+    advice on its warnings), ms."""
     _json: str = field(repr=False)
 
     def to_json(self) -> str:
@@ -253,13 +253,16 @@ class Analysis:
         return self._json
 
 
-def analyze(design: Union[Design, str], quality: str = "full") -> Analysis:
+def analyze(design: Union[Design, str], quality: str = "full", advice: bool = True) -> Analysis:
     """Analyses a design (or a preset name): PSF, MTF, AUC, LTR, invertibility, warnings.
 
     ``quality="preview"`` doubles the fine sampling where the sensor pixel allows it, as the
-    studio does while you draw: faster, the same physics.
+    studio does while you draw: faster, coarser near the Nyquist frequency. With ``advice``
+    (the default, as ``udc-studio analyze``) each warning's fix is checked by a further preview
+    analysis, which can cost more than the analysis itself; ``advice=False`` skips it (the
+    warnings stay, without fixes, and :meth:`Analysis.to_json` then differs from the CLI's).
     """
-    raw = _native.analyze(_design(design).to_json(), quality)
+    raw = _native.analyze(_design(design).to_json(), quality, advice)
     raw["_json"] = raw.pop("json")
     return Analysis(**raw)
 
