@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use udc_core::Progress;
 use udc_core::sweep::Shard;
 use udc_io::IoError;
 
@@ -29,14 +30,18 @@ fn error(e: &anyhow::Error) -> PyErr {
     }
 }
 
-/// Runs `udc-studio WORDS --json` in-process and returns the JSON text it prints. The
-/// commands do not poll for cancellation: Ctrl-C is raised when the command ends.
+/// Runs `udc-studio WORDS --json` in-process and returns the JSON text it prints; Ctrl-C
+/// cancels the command's long steps (the phase propagations, the sensor simulation).
 #[pyfunction]
 fn run_json(py: Python<'_>, words: Vec<String>) -> PyResult<String> {
+    let progress = Arc::new(Progress::new());
     let value = cancel::wait(
         py,
-        || udc_cli::run_json(&words).map_err(|e| error(&e)),
-        || {},
+        || {
+            udc_cli::cancel::with_cancel(progress.clone(), || udc_cli::run_json(&words))
+                .map_err(|e| error(&e))
+        },
+        || progress.cancel(),
     )?;
     serde_json::to_string(&value).map_err(|e| PyValueError::new_err(e.to_string()))
 }

@@ -1,6 +1,12 @@
 """`phase`, `sensor` and `sweep`: the commands' parameters, messages and JSON, in-process."""
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
 
 import numpy as np
 import pytest
@@ -72,3 +78,25 @@ def test_a_sweep_returns_its_table_and_resumes(tmp_path):
     assert (summary["computed"], summary["skipped"], summary["complete"]) == (0, 3, True)
     again = udc.sweep(spec, out)
     assert sorted(np.asarray(again["seed"], dtype=float)) == sorted(seeds)
+
+
+def test_ctrl_c_cancels_a_phase_command(tmp_path):
+    # The V matrix's 900 propagations take seconds; Ctrl-C stops them at the next check.
+    script = textwrap.dedent(
+        """
+        import udc_studio as udc
+        print("started", flush=True)
+        udc.phase.invertibility()
+        print("finished", flush=True)
+        """
+    )
+    proc = subprocess.Popen(
+        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, env=os.environ.copy(), cwd=tmp_path,
+    )
+    assert proc.stdout.readline().strip() == "started"
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    assert "KeyboardInterrupt" in err
+    assert "finished" not in out

@@ -3,6 +3,7 @@
 
 pub mod analysis_cache;
 pub mod appearance;
+pub mod cancel;
 pub mod denoise;
 pub mod denoise_flags;
 pub mod drc;
@@ -519,7 +520,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
     let mut runs = Vec::new();
     for (light, stem) in lights {
         let settings = settings_for(light, ltr_relative);
-        let result = simulate(&photo, &psfs, &settings, &Progress::new())?;
+        let result = simulate(&photo, &psfs, &settings, &cancel::progress())?;
         let outputs = match &args.out {
             Some(dir) => restore_report::write_run_images(dir, &stem, &photo, &result)?,
             None => Vec::new(),

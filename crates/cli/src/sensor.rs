@@ -6,11 +6,11 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use serde_json::json;
 
+use udc_core::ValueError;
 use udc_core::sensor::{
     AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, PRESET_NAMES, RoiLight, SensorSettings,
     SensorSpec, Strategy, flat_patch, run,
 };
-use udc_core::{Progress, ValueError};
 use udc_io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
 use udc_io::numbers::json6 as r;
 use udc_io::sensor_report::{run_json, write_run_images};
@@ -147,7 +147,7 @@ pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
         seed: args.seed,
         gain: args.gain,
     };
-    let res = flat_patch(&spec, &sensor, &Progress::new())?;
+    let res = flat_patch(&spec, &sensor, &crate::cancel::progress())?;
     let mode = if spec.bin_px == 1 {
         "none".to_string()
     } else if spec.bin_mode == BinMode::AnalogAdditive {
@@ -308,7 +308,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
     if let Some(m) = args.max_side_px {
         scene = scene.downscaled(m);
     }
-    let result = run(&scene, &settings, &Progress::new())?;
+    let result = run(&scene, &settings, &crate::cancel::progress())?;
     let mut outputs = Vec::new();
     if let Some(dir) = &args.out {
         outputs = write_run_images(dir, &result, settings.sensor.max_gain)?;

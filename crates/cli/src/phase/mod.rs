@@ -2,7 +2,6 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::time::Duration;
 
 use anyhow::{Context, Result, bail};
@@ -259,7 +258,7 @@ fn grid_channels(spectral: Option<&Path>) -> Result<Vec<Channel>> {
 
 /// Runs `job` while a thread reports its progress on stderr (only on a terminal).
 fn with_progress<T>(label: &str, job: impl FnOnce(&Progress) -> T) -> T {
-    let progress = Arc::new(Progress::new());
+    let progress = crate::cancel::progress();
     let show = std::io::stderr().is_terminal() && !crate::in_sweep();
     let (done_tx, done_rx) = std::sync::mpsc::channel::<()>();
     let reporter = show.then(|| {
