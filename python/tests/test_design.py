@@ -46,6 +46,11 @@ def test_with_changes_a_copy_and_validates():
         d.with_(opening=np.full((21, 21), 2.0))
     with pytest.raises(ValueError, match="N×N"):
         d.with_(opening=np.ones(21))
+    for seed in (-1, 2**64, 1.5, "3"):
+        with pytest.raises(ValueError, match="seed"):
+            d.with_(seed=seed)
+    with pytest.raises(ValueError, match="pitch_um"):
+        d.with_(pitch_um="wide")
 
 
 def test_a_saved_design_reads_back_and_the_cli_analyses_it_the_same(tmp_path, cli):

@@ -155,12 +155,16 @@ class Design:
         it replaces any polygons, and emitters on cells that are now open are removed.
         The result is validated as a design file is: ``ValueError`` names the bad field.
         """
+        if seed is not None and (
+            isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not 0 <= seed < 2**64
+        ):
+            raise ValueError(f"seed: expected a whole number from 0 to 2^64 − 1 (got {seed!r})")
         text = _native.with_fields(
             self._json,
             name=name,
             pitch_um=None if pitch_um is None else _number(pitch_um, "pitch_um"),
             tiling=tiling,
-            seed=seed,
+            seed=None if seed is None else int(seed),
         )
         if optics is not None:
             doc = json.loads(text)
