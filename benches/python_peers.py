@@ -30,16 +30,12 @@ The last line printed is one JSON object.
 from __future__ import annotations
 
 import argparse
-import atexit
 import json
 import os
 import platform
-import shutil
 import statistics
 import subprocess
 import sys
-import sysconfig
-import tempfile
 import time
 from pathlib import Path
 
@@ -130,23 +126,14 @@ def import_udc_studio():
         return udc_studio, "installed"
     except ImportError:
         pass
-    target = Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
-    native = Path(os.environ.get("UDC_NATIVE_LIB", target / "debug" / "lib_native.so"))
-    if not native.is_file():
-        sys.exit(
-            f"{native} is missing: build it with `cargo build -p udc-studio-python` "
-            "or install the package with `pip install ./python`"
-        )
-    stage = Path(tempfile.mkdtemp(prefix="udc-studio-py-"))
-    atexit.register(shutil.rmtree, stage, ignore_errors=True)
-    package = stage / "udc_studio"
-    package.mkdir()
-    for source in (REPO / "python" / "udc_studio").iterdir():
-        if source.suffix in (".py", ".pyi") or source.name == "py.typed":
-            (package / source.name).symlink_to(source)
-    suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
-    shutil.copy(native, package / f"_native{suffix}")
-    sys.path.insert(0, str(stage))
+    sys.path.insert(0, str(REPO / "python"))
+    from stage import stage  # the tests' staging (python/stage.py)
+
+    sys.path.pop(0)
+    try:
+        native = stage()
+    except RuntimeError as e:
+        sys.exit(str(e))
     import udc_studio
 
     return udc_studio, f"staged from {native}"

@@ -9,42 +9,23 @@ The CLI is ``target/debug/udc-studio`` (or ``$UDC_CLI``).
 from __future__ import annotations
 
 import os
-import shutil
+import signal
 import subprocess
 import sys
-import sysconfig
-import tempfile
+import time
 from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[2]
-TARGET = Path(os.environ.get("CARGO_TARGET_DIR", REPO / "target"))
+# The staging module sits in python/, which must not stay on the path: its udc_studio folder
+# (without the native module) would shadow the staged or installed package.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from stage import REPO, TARGET, stage  # noqa: E402
 
-
-def _stage() -> None:
-    native = Path(os.environ.get("UDC_NATIVE_LIB", TARGET / "debug" / "lib_native.so"))
-    if not native.is_file():
-        raise RuntimeError(
-            f"{native} is missing: build it with `cargo build -p udc-studio-python` "
-            "or install the package with `pip install ./python`"
-        )
-    stage = Path(tempfile.mkdtemp(prefix="udc-studio-py-"))
-    package = stage / "udc_studio"
-    package.mkdir()
-    for source in (REPO / "python" / "udc_studio").iterdir():
-        if source.suffix in (".py", ".pyi") or source.name == "py.typed":
-            (package / source.name).symlink_to(source)
-    suffix = sysconfig.get_config_var("EXT_SUFFIX") or ".so"
-    shutil.copy(native, package / f"_native{suffix}")
-    sys.path.insert(0, str(stage))
-    os.environ["PYTHONPATH"] = os.pathsep.join(
-        [str(stage), *filter(None, [os.environ.get("PYTHONPATH")])]
-    )
-
+sys.path.pop(0)
 
 if os.environ.get("UDC_TEST_INSTALLED") != "1":
-    _stage()
+    stage()
 
 
 @pytest.fixture(scope="session")
@@ -59,3 +40,19 @@ def cli() -> Path:
 def run_cli(cli: Path, *args: str) -> subprocess.CompletedProcess:
     """Runs the CLI and returns the finished process (stdout and stderr as text)."""
     return subprocess.run([str(cli), *args], capture_output=True, text=True, check=False)
+
+
+def interrupted(script: str, cwd: Path) -> subprocess.CompletedProcess:
+    """Runs a Python script that prints "started" before a long call, sends it Ctrl-C half a
+    second later, and returns the finished process (stdout and stderr as text). The script runs
+    in ``cwd`` so that ``python/udc_studio`` (without its native module) does not shadow the
+    staged package."""
+    proc = subprocess.Popen(
+        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+        text=True, env=os.environ.copy(), cwd=cwd,
+    )
+    assert proc.stdout.readline().strip() == "started"
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGINT)
+    out, err = proc.communicate(timeout=120)
+    return subprocess.CompletedProcess(proc.args, proc.returncode, "started\n" + out, err)

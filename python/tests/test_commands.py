@@ -1,18 +1,13 @@
 """`phase`, `sensor` and `sweep`: the commands' parameters, messages and JSON, in-process."""
 
 import json
-import os
-import signal
-import subprocess
-import sys
 import textwrap
-import time
 
 import numpy as np
 import pytest
 
 import udc_studio as udc
-from conftest import REPO, run_cli
+from conftest import REPO, interrupted, run_cli
 
 HDR = REPO / "assets" / "hdr" / "Desk_322x437.exr"
 
@@ -90,13 +85,7 @@ def test_ctrl_c_cancels_a_phase_command(tmp_path):
         print("finished", flush=True)
         """
     )
-    proc = subprocess.Popen(
-        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-        text=True, env=os.environ.copy(), cwd=tmp_path,
-    )
-    assert proc.stdout.readline().strip() == "started"
-    time.sleep(0.5)
-    proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=120)
-    assert "KeyboardInterrupt" in err
-    assert "finished" not in out
+    done = interrupted(script, tmp_path)
+    assert "KeyboardInterrupt" in done.stderr
+    assert "finished" not in done.stdout
+    assert done.returncode != 0

@@ -2,19 +2,13 @@
 
 import json
 import math
-import os
-import signal
-import subprocess
-import sys
 import textwrap
-import time
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 import udc_studio as udc
-from conftest import REPO, run_cli
+from conftest import REPO, interrupted, run_cli
 
 PHOTO = REPO / "assets" / "testset" / "coffee.png"
 
@@ -113,14 +107,7 @@ def test_ctrl_c_cancels_a_long_call(tmp_path):
         print("finished", flush=True)
         """
     )
-    proc = subprocess.Popen(
-        [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-        text=True, env=os.environ.copy(), cwd=tmp_path,
-    )
-    assert proc.stdout.readline().strip() == "started"
-    time.sleep(0.5)
-    proc.send_signal(signal.SIGINT)
-    out, err = proc.communicate(timeout=120)
-    assert "KeyboardInterrupt" in err
-    assert "finished" not in out
-    assert proc.returncode != 0
+    done = interrupted(script, tmp_path)
+    assert "KeyboardInterrupt" in done.stderr
+    assert "finished" not in done.stdout
+    assert done.returncode != 0
