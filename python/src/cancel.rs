@@ -3,10 +3,9 @@
 //! The job runs on a scoped worker thread. The calling thread gives up the GIL (so other
 //! Python threads run, and several `analyze` calls proceed in parallel) and waits for the
 //! job's result, waking every [`POLL`] to take the GIL back just long enough to ask Python
-//! whether a signal arrived. A
-//! `KeyboardInterrupt` cancels the job's [`Progress`], waits for the job to stop at its next
-//! check, and is raised in the caller. A panic in the job becomes a `RuntimeError`, never an
-//! abort of the interpreter.
+//! whether a signal arrived. A `KeyboardInterrupt` cancels the job's [`Progress`], waits for
+//! the job to stop at its next check, and is raised in the caller. A panic in the job becomes a
+//! `RuntimeError`, never an abort of the interpreter.
 
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::Duration;

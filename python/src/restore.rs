@@ -179,6 +179,7 @@ fn restore<'py>(
         }
     };
     let (method, padding) = method_setting(method, nsr, lambda_, iterations)?;
+    let denoise = denoise_setting(denoise, denoise_sigma2)?;
     let settings = |ltr_relative: f64| RestoreSettings {
         capture: CaptureSettings {
             light,
@@ -189,9 +190,8 @@ fn restore<'py>(
         },
         method,
         padding,
-        denoise: denoise_setting(denoise, denoise_sigma2).unwrap_or(Denoise::None),
+        denoise,
     };
-    denoise_setting(denoise, denoise_sigma2)?;
     // The photo and the settings are checked before the analysis, which is the slow part.
     udc_core::restore::check(&photo, &settings(1.0)).map_err(|e| errors::sim(&e))?;
     let (result, names) = cancel::run(py, |progress| {
