@@ -7,7 +7,7 @@ use ndarray::{Array1, Array2, Array3, Axis};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use udc_core::analysis::advice;
+use udc_core::analysis::advice::{self, AdviceScope};
 use udc_core::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
 use udc_io::report;
 
@@ -26,13 +26,24 @@ pub fn quality(name: &str) -> PyResult<Quality> {
 
 /// Analyses a design (its JSON text); the dict holds the arrays and the CLI's JSON text.
 #[pyfunction]
-#[pyo3(signature = (design_json, quality_name = "full", advice = true))]
+#[pyo3(signature = (design_json, quality_name = "full", advice = "warnings"))]
 fn analyze<'py>(
     py: Python<'py>,
     design_json: &str,
     quality_name: &str,
-    advice: bool,
+    advice: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // Which warnings get a fix, each checked by a further analysis (`--advice` is "all").
+    let scope = match advice {
+        "warnings" => Some(AdviceScope::Warnings),
+        "all" => Some(AdviceScope::All),
+        "none" => None,
+        other => {
+            return Err(errors::value(format!(
+                "advice: expected \"warnings\", \"all\" or \"none\" (got {other:?})"
+            )));
+        }
+    };
     let design = design::parse(design_json)?;
     let options = AnalyzeOptions {
         quality: quality(quality_name)?,
@@ -42,10 +53,9 @@ fn analyze<'py>(
     let (analysis, call_ms) = cancel::run(py, |progress| {
         let t0 = Instant::now();
         let mut a = analyze_with(&design, &options, progress).map_err(|e| errors::sim(&e))?;
-        // The advice checks each warning's fix with a further (preview) analysis: as the CLI
-        // does by default; a caller analysing many designs can skip it.
-        if advice {
-            advice::advise(&design, &mut a.warnings, progress).map_err(|e| errors::sim(&e))?;
+        if let Some(scope) = scope {
+            advice::advise_in(&design, &mut a.warnings, scope, progress)
+                .map_err(|e| errors::sim(&e))?;
         }
         Ok((a, t0.elapsed().as_secs_f64() * 1e3))
     })?;

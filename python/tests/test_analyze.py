@@ -86,12 +86,22 @@ def test_four_threads_at_once_give_the_sequential_results():
         assert without_time(together[name].to_json()) == without_time(alone[name].to_json())
 
 
-def test_without_advice_the_warnings_stay_and_carry_no_fix():
-    advised = json.loads(udc.analyze("toled-150dpi", quality="preview").to_json())
-    plain = udc.analyze("toled-150dpi", quality="preview", advice=False)
-    assert plain.warnings == [a["message"] for a in advised["advice"]]
-    assert any(a["fix"] for a in advised["advice"])
-    assert all(a["fix"] is None for a in json.loads(plain.to_json())["advice"])
+def test_notes_get_a_checked_fix_only_when_asked(cli):
+    # toled-150dpi raises a note (light outside the window), not a warning.
+    default = json.loads(udc.analyze("toled-150dpi", quality="preview").to_json())
+    every = udc.analyze("toled-150dpi", quality="preview", advice="all")
+    none = udc.analyze("toled-150dpi", quality="preview", advice="none")
+    assert [a["severity"] for a in default["advice"]] == ["note"]
+    assert default["advice"][0]["fix"] is None
+    assert json.loads(every.to_json())["advice"][0]["fix"]["set"] == {
+        "optics.pupil_sample_um": 4.0,
+        "optics.window_px": 588,
+    }
+    assert without_time(none.to_json()) == without_time(json.dumps(default))
+    theirs = run_cli(cli, "analyze", "--preset", "toled-150dpi", "--preview", "--advice", "--json")
+    assert without_time(every.to_json()) == without_time(theirs.stdout)
+    with pytest.raises(ValueError, match="advice"):
+        udc.analyze("toled-150dpi", advice="some")
 
 
 def test_bad_quality_raises():

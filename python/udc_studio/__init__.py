@@ -257,14 +257,17 @@ class Analysis:
         return self._json
 
 
-def analyze(design: Union[Design, str], quality: str = "full", advice: bool = True) -> Analysis:
+def analyze(
+    design: Union[Design, str], quality: str = "full", advice: str = "warnings"
+) -> Analysis:
     """Analyses a design (or a preset name): PSF, MTF, AUC, LTR, invertibility, warnings.
 
     ``quality="preview"`` doubles the fine sampling where the sensor pixel allows it, as the
-    studio does while you draw: faster, coarser near the Nyquist frequency. With ``advice``
-    (the default, as ``udc-studio analyze``) each warning's fix is checked by a further preview
-    analysis, which can cost more than the analysis itself; ``advice=False`` skips it (the
-    warnings stay, without fixes, and :meth:`Analysis.to_json` then differs from the CLI's).
+    studio does while you draw: faster, coarser near the Nyquist frequency.
+
+    ``advice`` says which warnings get a fix, each checked by a further analysis:
+    ``"warnings"`` (the default, as ``udc-studio analyze``), ``"all"`` (notes too, as
+    ``--advice``) or ``"none"``. :meth:`Analysis.to_json` equals the CLI's for the same choice.
     """
     raw = _native.analyze(_design(design).to_json(), quality, advice)
     raw["_json"] = raw.pop("json")

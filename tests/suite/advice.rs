@@ -150,7 +150,14 @@ fn no_preset_opens_with_a_warning() {
 
 #[test]
 fn the_cli_prints_each_warning_with_its_advice() {
-    let (ok, stdout, stderr) = run_cli(&["analyze", "--preset", "toled-150dpi"]);
+    // Without --advice a note is printed without a checked fix (that check is a further
+    // analysis); warnings always get theirs.
+    let (ok, stdout, stderr) = run_cli(&["analyze", "--preset", "toled-150dpi", "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(v["advice"][0]["severity"], "note");
+    assert!(v["advice"][0]["fix"].is_null(), "{stdout}");
+    let (ok, stdout, stderr) = run_cli(&["analyze", "--preset", "toled-150dpi", "--advice"]);
     assert!(ok, "{stderr}");
     assert!(
         stdout.contains(
@@ -162,7 +169,8 @@ fn the_cli_prints_each_warning_with_its_advice() {
         stdout.contains("  advice: set optics.pupil_sample_um = 4, optics.window_px = 588"),
         "{stdout}"
     );
-    let (ok, stdout, stderr) = run_cli(&["analyze", "--preset", "toled-150dpi", "--json"]);
+    let (ok, stdout, stderr) =
+        run_cli(&["analyze", "--preset", "toled-150dpi", "--advice", "--json"]);
     assert!(ok, "{stderr}");
     let v: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
     let warnings = v["warnings"].as_array().unwrap();

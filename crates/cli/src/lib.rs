@@ -153,6 +153,10 @@ pub struct AnalyzeArgs {
     /// Interactive preview quality (coarser sampling, same physics).
     #[arg(long)]
     pub preview: bool,
+    /// Also look for a fix for each note (a documented property of the thesis recipe), not
+    /// only for each warning; every fix is checked by a further analysis.
+    #[arg(long)]
+    pub advice: bool,
 }
 
 impl DesignSelection {
@@ -300,6 +304,8 @@ fn run_command(command: Command) -> Result<()> {
 }
 
 fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
+    use udc_core::analysis::advice::AdviceScope;
+
     let design = args.selection.resolve()?;
     let options = AnalyzeOptions {
         quality: if args.preview {
@@ -311,7 +317,14 @@ fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
     };
     let progress = Progress::new();
     let mut analysis = analyze_with(&design, &options, &progress)?;
-    udc_core::analysis::advice::advise(&design, &mut analysis.warnings, &progress)?;
+    // A fix is checked by a further analysis: the CLI pays for it where the numbers are off
+    // (warnings), and for the notes only when asked.
+    let scope = if args.advice {
+        AdviceScope::All
+    } else {
+        AdviceScope::Warnings
+    };
+    udc_core::analysis::advice::advise_in(&design, &mut analysis.warnings, scope, &progress)?;
     if let Some(dir) = &args.out {
         export::write_analysis_outputs(dir, &analysis)?;
     }

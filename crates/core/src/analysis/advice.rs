@@ -23,7 +23,7 @@ use std::collections::BTreeSet;
 use crate::analysis::analyze::{AnalyzeOptions, Limits, Quality, analyze_within};
 use crate::design::{Design, MAX_FFT_SIZE, Optics};
 use crate::psf::sampling::{fft_size, plan};
-use crate::psf::warning::{Fix, SamplingWarning, WarningKind, short_number};
+use crate::psf::warning::{Fix, SamplingWarning, Severity, WarningKind, short_number};
 use crate::{Progress, SimError};
 
 /// Largest window a fix proposes, and the Optics panel's (its field clamps anything larger).
@@ -280,21 +280,52 @@ fn check(
     }
 }
 
-/// Finds a [`Fix`] for every warning of `design`'s analysis (see the module docs); a warning
-/// without one gets the reason appended to its message. Several warnings often share a
-/// candidate, which is then analysed once.
+/// Which warnings [`advise_in`] looks for fixes for: each fix is checked by a further
+/// analysis, which can cost more than the analysis that raised the warning.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AdviceScope {
+    /// Only [`Severity::Warning`]s, the sampling that misrepresents the design (the CLI's
+    /// default: a note is a documented property of the recipe, shown as it is).
+    Warnings,
+    /// Notes too (the studio, which offers an Apply button on each; the CLI's `--advice`).
+    All,
+}
+
+impl AdviceScope {
+    fn covers(self, severity: Severity) -> bool {
+        self == AdviceScope::All || severity == Severity::Warning
+    }
+}
+
+/// Finds a [`Fix`] for every warning and note of `design`'s analysis: [`advise_in`] with
+/// [`AdviceScope::All`].
 ///
 /// # Errors
-/// [`SimError::Cancelled`] when `progress` was cancelled; nothing else (a candidate that cannot
-/// be analysed is a reason, not an error).
+/// As [`advise_in`].
 pub fn advise(
     design: &Design,
     warnings: &mut [SamplingWarning],
     progress: &Progress,
 ) -> Result<(), SimError> {
+    advise_in(design, warnings, AdviceScope::All, progress)
+}
+
+/// Finds a [`Fix`] for every warning of `design`'s analysis within `scope` (see the module
+/// docs); a warning without one gets the reason appended to its message, one outside the scope
+/// is left as it is. Several warnings often share a candidate, which is then analysed once.
+///
+/// # Errors
+/// [`SimError::Cancelled`] when `progress` was cancelled; nothing else (a candidate that cannot
+/// be analysed is a reason, not an error).
+pub fn advise_in(
+    design: &Design,
+    warnings: &mut [SamplingWarning],
+    scope: AdviceScope,
+    progress: &Progress,
+) -> Result<(), SimError> {
     let present: BTreeSet<WarningKind> = warnings.iter().map(|w| w.kind).collect();
     let mut checked: Vec<(Optics, Result<Checked, SimError>)> = Vec::new();
-    for w in warnings.iter_mut() {
+    for w in warnings.iter_mut().filter(|w| scope.covers(w.severity)) {
         let cands = candidates(w.kind, design);
         let mut reasons = Vec::new();
         for o in cands.optics {
