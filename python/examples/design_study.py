@@ -174,8 +174,14 @@ def main(argv: list[str] | None = None) -> int:
              for mode in modes for seed in range(args.seeds)]
     print(f"{base!r}: {len(jobs)} analyses at {quality} quality\n")
     # Each analysis releases the GIL, so threads run them in parallel.
-    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+    # Ctrl-C reaches only the main thread: drop the queued analyses instead of waiting for them.
+    pool = ThreadPoolExecutor(max_workers=args.jobs)
+    try:
         results = list(pool.map(lambda job: analyze(*job, quality), jobs))
+    except KeyboardInterrupt:
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown()
 
     periodic, randoms = results[0], results[1:]
     by_mode = {mode: [r for r in randoms if r.tiling == mode] for mode in modes}

@@ -55,9 +55,12 @@ fn array_of<'py>(
         let plane = planes.pop().unwrap_or_default();
         return Ok(plane.into_dyn().into_pyarray(py));
     }
-    let views: Vec<_> = planes.iter().map(|p| p.view()).collect();
-    let cube: Array3<f64> =
-        ndarray::stack(Axis(2), &views).map_err(|e| errors::value(format!("image planes: {e}")))?;
+    let (h, w) = planes.first().map_or((0, 0), Array2::dim);
+    if planes.iter().any(|p| p.dim() != (h, w)) {
+        return Err(errors::value("image planes of different sizes"));
+    }
+    // Built row-major (C order), as numpy and image libraries expect H × W × C.
+    let cube = Array3::from_shape_fn((h, w, planes.len()), |(y, x, c)| planes[c][[y, x]]);
     Ok(cube.into_dyn().into_pyarray(py))
 }
 
@@ -84,7 +87,16 @@ fn load_photo(
     path: PathBuf,
     max_side_px: Option<u32>,
 ) -> PyResult<Bound<'_, PyArrayDyn<f64>>> {
-    let planes = udc_io::photo::load_photo(&path, max_side_px).map_err(|e| errors::io(&e))?;
+    if max_side_px == Some(0) {
+        return Err(errors::value(
+            "max_side_px: must be at least 1 pixel (got 0)",
+        ));
+    }
+    let planes = cancel::wait(
+        py,
+        || udc_io::photo::load_photo(&path, max_side_px).map_err(|e| errors::io(&e)),
+        || {},
+    )?;
     array_of(py, planes, Layout::ChannelsLast)
 }
 
@@ -194,20 +206,20 @@ fn restore<'py>(
     };
     // The photo and the settings are checked before the analysis, which is the slow part.
     udc_core::restore::check(&photo, &settings(1.0)).map_err(|e| errors::sim(&e))?;
+    if photo.len() != design.channels.len() {
+        return Err(errors::value(format!(
+            "the design has {} channels but the image has {}; restore needs one image channel \
+             per design channel",
+            design.channels.len(),
+            photo.len()
+        )));
+    }
     let (result, names) = cancel::run(py, |progress| {
         let options = AnalyzeOptions {
             quality: Quality::Full,
             expected_psf: false,
         };
         let analysis = analyze_with(&design, &options, progress).map_err(|e| errors::sim(&e))?;
-        if photo.len() != analysis.channels.len() {
-            return Err(errors::value(format!(
-                "the design has {} channels but the image has {}; restore needs one image \
-                 channel per design channel",
-                analysis.channels.len(),
-                photo.len()
-            )));
-        }
         let psfs: Vec<&Array2<f64>> = analysis.channels.iter().map(|c| &c.psf).collect();
         let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
         let result = simulate(

@@ -1,8 +1,9 @@
 """Finds the package under test and the CLI it is compared with.
 
-An installed ``udc_studio`` (``pip install ./python``) is used as it is. Otherwise the package
-is staged from this checkout: the Python sources of ``python/udc_studio`` beside the native
-module that ``cargo build`` wrote (``target/debug/lib_native.so``, or ``$UDC_NATIVE_LIB``).
+The package is staged from this checkout (``python/stage.py``): the Python sources of
+``python/udc_studio`` beside the native module that ``cargo build`` wrote
+(``target/debug/lib_native.so``, or ``$UDC_NATIVE_LIB``). With ``UDC_TEST_INSTALLED=1`` the
+installed package (``pip install ./python``) is tested instead.
 The CLI is ``target/debug/udc-studio`` (or ``$UDC_CLI``).
 """
 
@@ -44,7 +45,8 @@ def run_cli(cli: Path, *args: str) -> subprocess.CompletedProcess:
 
 def interrupted(script: str, cwd: Path) -> subprocess.CompletedProcess:
     """Runs a Python script that prints "started" before a long call, sends it Ctrl-C half a
-    second later, and returns the finished process (stdout and stderr as text). The script runs
+    second later, and returns the finished process (stdout and stderr as text, and
+    ``seconds_to_stop``, from the signal to the process's end). The script runs
     in ``cwd`` so that ``python/udc_studio`` (without its native module) does not shadow the
     staged package."""
     proc = subprocess.Popen(
@@ -53,6 +55,11 @@ def interrupted(script: str, cwd: Path) -> subprocess.CompletedProcess:
     )
     assert proc.stdout.readline().strip() == "started"
     time.sleep(0.5)
+    sent = time.monotonic()
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=120)
-    return subprocess.CompletedProcess(proc.args, proc.returncode, "started\n" + out, err)
+    done = subprocess.CompletedProcess(proc.args, proc.returncode, "started\n" + out, err)
+    # How long the call took to stop: Python raises a pending KeyboardInterrupt only when the
+    # call returns, so a call that ignored Ctrl-C would run to its end first.
+    done.seconds_to_stop = time.monotonic() - sent
+    return done

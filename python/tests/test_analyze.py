@@ -104,6 +104,11 @@ def test_notes_get_a_checked_fix_only_when_asked(cli):
         udc.analyze("toled-150dpi", advice="some")
 
 
+def test_results_compare_by_identity():
+    a = udc.analyze("fourier-slit", quality="preview", advice="none")
+    assert a == a and a != udc.analyze("fourier-slit", quality="preview", advice="none")
+
+
 def test_bad_quality_raises():
     with pytest.raises(ValueError, match='"full" or "preview"'):
         udc.analyze("toled-150dpi", quality="best")

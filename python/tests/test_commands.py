@@ -30,6 +30,28 @@ def test_phase_psf_is_the_clis(cli):
     assert np.asarray(ours["channels"][0]["psf"]).ndim == 1
 
 
+@pytest.mark.parametrize(
+    "command, call",
+    [
+        (["phase", "invertibility", "--preview"], lambda: udc.phase.invertibility(preview=True)),
+        (["phase", "optimize", "--preview"], None),
+    ],
+)
+def test_the_phase_matrix_and_allocation_are_the_clis(cli, tmp_path, command, call):
+    if call is None:
+        # optimize writes the optimized design: each run its own file.
+        command = command + ["--out", str(tmp_path / "cli.json")]
+        call = lambda: udc.phase.optimize(preview=np.True_, out=tmp_path / "py.json")  # noqa: E731
+    theirs = run_cli(cli, *command, "--json")
+    assert theirs.returncode == 0, theirs.stderr
+    assert without_time(call()) == without_time(json.loads(theirs.stdout))
+
+
+def test_numpy_scalars_are_flag_values(cli):
+    ours = udc.phase.psf(preview=np.True_, angle_deg=np.float64(5.0))
+    assert without_time(ours) == without_time(udc.phase.psf(preview=True, angle_deg=5.0))
+
+
 def test_sensor_simulate_is_the_clis_and_picks_a_strategy(cli):
     ours = udc.sensor.simulate(HDR, max_side_px=128)
     theirs = run_cli(cli, "sensor", "--hdr", str(HDR), "--max-side-px", "128", "--json")
@@ -89,3 +111,5 @@ def test_ctrl_c_cancels_a_phase_command(tmp_path):
     assert "KeyboardInterrupt" in done.stderr
     assert "finished" not in done.stdout
     assert done.returncode != 0
+    # The 900 propagations take about 5 s; cancelled, they stop at the next one.
+    assert done.seconds_to_stop < 1.5, done.seconds_to_stop

@@ -34,6 +34,9 @@ def test_with_changes_a_copy_and_validates():
     e = d.with_(tiling="random-d4", seed=7, pitch_um=84.0, optics={"window_px": 128})
     assert (e.tiling, e.seed, e.pitch_um, e.optics["window_px"]) == ("random-d4", 7, 84.0, 128)
     assert (d.tiling, d.seed, d.pitch_um) == ("repeat", 0, 168.0)
+    # Optics edited away from the thesis recipe are the design's own (the crop warns).
+    assert e.optics["recipe"] == "custom" and d.optics["recipe"] == "iccp21"
+    assert d.with_(optics={"recipe": "iccp21", "window_px": 294}).optics["recipe"] == "iccp21"
     closed = np.zeros((21, 21), dtype=bool)
     closed[10, :] = True
     f = d.with_(opening=closed)

@@ -71,7 +71,7 @@ def test_the_denoiser_lifts_the_restoration_in_low_light():
         (lambda: udc.denoise(np.zeros((16, 16)), 0.0), "sigma2"),
         (lambda: udc.denoise(np.zeros((4, 4, 4, 4)), 0.01), "H×W"),
         (lambda: udc.denoise(np.full((16, 16), np.nan), 0.01), "finite"),
-        (lambda: udc.denoise(np.array([["a"]]), 0.01), "numeric"),
+        (lambda: udc.denoise(np.array([["a"]]), 0.01), "unsigned integer pixels"),
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3))), "exactly one light"),
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), light_e=-5), "light"),
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise="nlm"), "bm3d"),
@@ -88,6 +88,29 @@ def test_bad_input_raises_value_error(call, message):
         call()
 
 
+def test_integer_pixels_are_scaled_and_results_are_row_major():
+    clean, rng = smooth_image((32, 40, 3))
+    pixels = np.round(np.clip(clean + rng.normal(0, 0.04, clean.shape), 0, 1) * 255).astype(np.uint8)
+    from_bytes = udc.denoise(pixels, 0.04**2)
+    from_floats = udc.denoise(pixels / 255.0, 0.04**2)
+    np.testing.assert_array_equal(from_bytes, from_floats)
+    assert from_bytes.flags.c_contiguous
+    photo = udc.load_photo(PHOTO, max_side_px=64)
+    assert photo.flags.c_contiguous
+    with pytest.raises(ValueError, match="unsigned integer"):
+        udc.denoise(np.zeros((16, 16), dtype=np.int32), 0.01)
+
+
+def test_whole_number_parameters_are_checked():
+    with pytest.raises(ValueError, match="max_side_px"):
+        udc.load_photo(PHOTO, max_side_px=0)
+    image = np.zeros((32, 32, 3))
+    for kwargs, name in [({"noise_seed": -1}, "noise_seed"), ({"iterations": 0}, "iterations"),
+                         ({"adc_bits": -12}, "adc_bits")]:
+        with pytest.raises(ValueError, match=name):
+            udc.restore("toled-150dpi", image, snr_db=28, **kwargs)
+
+
 def test_unreadable_photos_raise_os_error(tmp_path):
     not_an_image = tmp_path / "notes.png"
     not_an_image.write_text("hello")
@@ -101,7 +124,7 @@ def test_ctrl_c_cancels_a_long_call(tmp_path):
     script = textwrap.dedent(
         """
         import numpy as np, sys, udc_studio as udc
-        image = np.random.default_rng(0).random((1536, 1536, 3))
+        image = np.random.default_rng(0).random((2048, 2048, 3))
         print("started", flush=True)
         udc.denoise(image, 0.01)
         print("finished", flush=True)
@@ -111,3 +134,5 @@ def test_ctrl_c_cancels_a_long_call(tmp_path):
     assert "KeyboardInterrupt" in done.stderr
     assert "finished" not in done.stdout
     assert done.returncode != 0
+    # The whole call takes well over 10 s on 2 cores; cancelled, it stops at its next check.
+    assert done.seconds_to_stop < 5.0, done.seconds_to_stop

@@ -16,20 +16,26 @@ def stub_functions():
     return {node.name: node for node in tree.body if isinstance(node, ast.FunctionDef)}
 
 
+#: A parameter without a default (distinct from a default of None).
+REQUIRED = "<required>"
+
+
 def parameters(node):
     args = node.args
     positional = args.posonlyargs + args.args
     defaults = [None] * (len(positional) - len(args.defaults)) + args.defaults
     out = [(a.arg, "positional", d) for a, d in zip(positional, defaults)]
     out += [(a.arg, "keyword", d) for a, d in zip(args.kwonlyargs, args.kw_defaults)]
-    return [(name, kind, None if d is None else ast.literal_eval(d)) for name, kind, d in out]
+    return [
+        (name, kind, REQUIRED if d is None else ast.literal_eval(d)) for name, kind, d in out
+    ]
 
 
 def runtime_parameters(function):
     out = []
     for p in inspect.signature(function).parameters.values():
         kind = "keyword" if p.kind is p.KEYWORD_ONLY else "positional"
-        default = None if p.default is p.empty else p.default
+        default = REQUIRED if p.default is p.empty else p.default
         out.append((p.name, kind, default))
     return out
 

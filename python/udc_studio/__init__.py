@@ -152,7 +152,9 @@ class Design:
         """A copy with the given fields changed (``optics`` merges into the current optics).
 
         ``opening`` is an N × N bool array (open cells) or float array (amplitude in [0, 1]);
-        it replaces any polygons, and emitters on cells that are now open are removed.
+        it replaces any polygons; emitters on cells that are now open are removed (all of them
+        when N changes). Edited ``optics`` leave their named recipe (``"custom"``) unless
+        ``recipe`` is among them.
         The result is validated as a design file is: ``ValueError`` names the bad field.
         """
         if seed is not None and (
@@ -168,7 +170,12 @@ class Design:
         )
         if optics is not None:
             doc = json.loads(text)
+            changed = {k: v for k, v in optics.items() if doc["optics"].get(k) != v}
             doc["optics"].update(optics)
+            # Values edited away from a named recipe are the design's own (as in the studio):
+            # the thesis recipe's crop is then a warning with a fix, not a note.
+            if changed and "recipe" not in optics:
+                doc["optics"]["recipe"] = "custom"
             try:
                 text = json.dumps(doc, allow_nan=False)
             except ValueError:
@@ -207,7 +214,7 @@ def _design(design: Union[Design, str]) -> Design:
     return design if isinstance(design, Design) else Design.from_preset(design)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Analysis:
     """What ``udc-studio analyze`` computes for a design, with its arrays.
 
@@ -274,7 +281,7 @@ def analyze(
     return Analysis(**raw)
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class MtfComparison:
     """The simulated MTF along x beside the aperture's closed-form MTF times the pixel's."""
 
@@ -286,7 +293,7 @@ class MtfComparison:
     """Largest |simulated − predicted| (MTF(0) = 1)."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class TheoryComparison:
     """The Theory view: one channel's simulated pattern beside the textbook's formula.
 
@@ -316,7 +323,7 @@ def theory(design: Union[Design, str], channel: int = 0, quality: str = "full") 
     The teaching presets (``fourier-slit``, ``fourier-circle``, …) name their shape; any other
     design is compared with the diffraction orders of its tiling.
     """
-    raw = _native.theory(_design(design).to_json(), channel, quality)
+    raw = _native.theory(_design(design).to_json(), _whole(channel, "channel"), quality)
     mtf = raw.pop("mtf")
     return TheoryComparison(mtf=None if mtf is None else MtfComparison(**mtf), **raw)
 
@@ -327,7 +334,7 @@ def load_photo(path: PathLike, max_side_px: Optional[int] = None) -> np.ndarray:
     With ``max_side_px`` the photo is scaled down so its longer side is at most that many
     pixels (``--max-side-px``). PNG, JPEG, TIFF, Radiance HDR and OpenEXR.
     """
-    return _native.load_photo(os.fspath(path), max_side_px)
+    return _native.load_photo(os.fspath(path), _whole(max_side_px, "max_side_px", least=1))
 
 
 def denoise(image: np.ndarray, sigma2: float) -> np.ndarray:
@@ -338,7 +345,7 @@ def denoise(image: np.ndarray, sigma2: float) -> np.ndarray:
     return _native.denoise(_float_image(image), float(sigma2))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Restoration:
     """One capture through a design and its restoration (``udc-studio restore``'s run)."""
 
@@ -400,9 +407,9 @@ def restore(
         method=method,
         nsr=nsr,
         lambda_=lambda_,
-        iterations=iterations,
-        adc_bits=adc_bits,
-        noise_seed=noise_seed,
+        iterations=_whole(iterations, "iterations", least=1),
+        adc_bits=_whole(adc_bits, "adc_bits", least=1),
+        noise_seed=_whole(noise_seed, "noise_seed"),
     )
     raw["_json"] = raw.pop("json")
     raw.setdefault("denoised", None)
@@ -410,10 +417,28 @@ def restore(
 
 
 def _float_image(image: Any) -> np.ndarray:
+    """An image on the [0, 1] scale: floats as they are, unsigned integers (8- or 16-bit
+    pixels) divided by their largest value, as the CLI reads PNG and TIFF files."""
     a = np.asarray(image)
-    if a.dtype.kind not in "fiub":
-        raise ValueError(f"image: expected a numeric array (got dtype {a.dtype})")
+    if a.dtype.kind == "u":
+        return np.ascontiguousarray(a, dtype=np.float64) / float(np.iinfo(a.dtype).max)
+    if a.dtype.kind == "b":
+        return np.ascontiguousarray(a, dtype=np.float64)
+    if a.dtype.kind != "f":
+        raise ValueError(
+            f"image: expected floats on a [0, 1] scale or unsigned integer pixels "
+            f"(got dtype {a.dtype})"
+        )
     return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def _whole(value: Any, what: str, least: int = 0) -> Optional[int]:
+    """A whole-number parameter, or ``None``; ``ValueError`` naming it otherwise."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < least:
+        raise ValueError(f"{what}: expected a whole number ≥ {least} (got {value!r})")
+    return int(value)
 
 
 def sweep(spec: PathLike, out: PathLike, threads: Optional[int] = None) -> Any:
@@ -423,7 +448,7 @@ def sweep(spec: PathLike, out: PathLike, threads: Optional[int] = None) -> Any:
     flight and keeps them. The table is ``OUT/results.csv``: a pandas ``DataFrame`` when pandas
     is installed, otherwise a dict of column name → numpy array (numbers) or list (text).
     """
-    _native.sweep(os.fspath(spec), os.fspath(out), threads)
+    _native.sweep(os.fspath(spec), os.fspath(out), _whole(threads, "threads", least=1))
     return _read_table(os.path.join(os.fspath(out), "results.csv"))
 
 

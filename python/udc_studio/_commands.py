@@ -6,6 +6,8 @@ import json
 import os
 from typing import Any, Dict, List, Mapping
 
+import numpy as np
+
 from . import _native
 
 #: What a flag's value may be: a number, text, a path, a switch, or a list for a flag given
@@ -21,6 +23,8 @@ def words(command: List[str], flags: Mapping[str, FlagValue]) -> List[str]:
     out = list(command)
     for key, value in flags.items():
         flag = "--" + key.rstrip("_").replace("_", "-")
+        if isinstance(value, np.bool_):
+            value = bool(value)
         if value is None or value is False:
             continue
         if value is True:
@@ -34,8 +38,11 @@ def words(command: List[str], flags: Mapping[str, FlagValue]) -> List[str]:
 def _text(value: FlagValue) -> str:
     if isinstance(value, os.PathLike):
         return os.fspath(value)
-    if isinstance(value, float):
-        return repr(value)
+    # numpy's scalars print as `np.float64(28.0)`: the plain number is the flag's value.
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    if isinstance(value, np.integer):
+        return str(int(value))
     return str(value)
 
 

@@ -141,7 +141,7 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
             })).collect::<Vec<_>>(),
             "outputs": outputs,
         });
-        println!("{}", serde_json::to_string(&out)?);
+        crate::emit_json(&out)?;
     } else {
         println!(
             "{}: {} display pixels per side at {} DPI, seen from {} mm (eye FWHM {:.1} µm)",

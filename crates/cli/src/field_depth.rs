@@ -228,7 +228,7 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
             })),
             "outputs": written,
         });
-        println!("{}", serde_json::to_string(&out)?);
+        crate::emit_json(&out)?;
         return Ok(());
     }
     println!(
@@ -332,7 +332,7 @@ pub fn depth_cmd(args: &DepthArgs) -> Result<()> {
             "channels": r.channels,
             "outputs": written,
         });
-        println!("{}", serde_json::to_string(&out)?);
+        crate::emit_json(&out)?;
         return Ok(());
     }
     println!(

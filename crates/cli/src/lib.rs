@@ -329,10 +329,7 @@ fn analyze_cmd(args: &AnalyzeArgs) -> Result<()> {
         export::write_analysis_outputs(dir, &analysis)?;
     }
     if args.json {
-        println!(
-            "{}",
-            serde_json::to_string(&report::analysis_json(&analysis))?
-        );
+        emit_json(&report::analysis_json(&analysis))?;
     } else {
         print_table(&design, &analysis);
     }

@@ -180,25 +180,22 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
             })
             .collect();
         let channels: Vec<&str> = before.channels.iter().map(|c| c.name.as_str()).collect();
-        println!(
-            "{}",
-            serde_json::to_string(&json!({
-                "design": design.name,
-                "out": args.out.display().to_string(),
-                "epochs": result.history.len(),
-                "channels": channels,
-                "auc_before": aucs(&before),
-                "auc_after": aucs(&after),
-                "open_fraction_before": before.open_fraction,
-                "open_fraction_after": after.open_fraction,
-                "ltr_before": before.ltr,
-                "ltr_after": after.ltr,
-                "invertibility_loss_before": before.invertibility_loss,
-                "invertibility_loss_after": after.invertibility_loss,
-                "elapsed_ms": result.elapsed_ms,
-                "history": history,
-            }))?
-        );
+        crate::emit_json(&json!({
+            "design": design.name,
+            "out": args.out.display().to_string(),
+            "epochs": result.history.len(),
+            "channels": channels,
+            "auc_before": aucs(&before),
+            "auc_after": aucs(&after),
+            "open_fraction_before": before.open_fraction,
+            "open_fraction_after": after.open_fraction,
+            "ltr_before": before.ltr,
+            "ltr_after": after.ltr,
+            "invertibility_loss_before": before.invertibility_loss,
+            "invertibility_loss_after": after.invertibility_loss,
+            "elapsed_ms": result.elapsed_ms,
+            "history": history,
+        }))?;
     } else {
         println!(
             "optimized {} epochs in {:.1} s -> {}",

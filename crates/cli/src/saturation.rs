@@ -123,7 +123,7 @@ pub fn saturation_cmd(args: &SaturationArgs) -> Result<()> {
             "psnr_gain_db": r.bracketed.psnr_db - r.clipped.psnr_db,
             "outputs": written,
         });
-        println!("{}", serde_json::to_string(&out)?);
+        crate::emit_json(&out)?;
         return Ok(());
     }
     println!(

@@ -365,10 +365,9 @@ fn invertibility_cmd(m: &MaskArgs) -> Result<()> {
             v.v.iter()
                 .map(|row| row.iter().map(|&x| r(x)).collect())
                 .collect();
-        println!(
-            "{}",
-            json!({ "lambda_nm": v.lambda_nm, "lambda0_nm": v.lambda0_nm, "v": rows })
-        );
+        crate::emit_json(
+            &json!({ "lambda_nm": v.lambda_nm, "lambda0_nm": v.lambda0_nm, "v": rows }),
+        )?;
     } else {
         println!("V: invertibility (sum of the one-sided MTF) per λ0 (rows) and λ (columns), nm");
         print!("λ0\\λ ");
@@ -416,20 +415,17 @@ fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
     }
     let three = |v: [f64; 3]| v.iter().map(|&x| r(x)).collect::<Vec<_>>();
     if a.mask.json {
-        println!(
-            "{}",
-            json!({
-                "lenslets": lenslets,
-                "counts": alloc.counts,
-                "lambda0_nm": alloc.lambda0_nm,
-                "channel_invertibility": three(alloc.channel_invertibility),
-                "fixed_530_invertibility": three(fixed_inv),
-                "uniform_invertibility": three(uniform_inv),
-                "x": alloc.x.iter().map(|&x| r(x)).collect::<Vec<_>>(),
-                "final_t": alloc.final_t,
-                "steps_per_stage": alloc.steps_per_stage,
-            })
-        );
+        crate::emit_json(&json!({
+            "lenslets": lenslets,
+            "counts": alloc.counts,
+            "lambda0_nm": alloc.lambda0_nm,
+            "channel_invertibility": three(alloc.channel_invertibility),
+            "fixed_530_invertibility": three(fixed_inv),
+            "uniform_invertibility": three(uniform_inv),
+            "x": alloc.x.iter().map(|&x| r(x)).collect::<Vec<_>>(),
+            "final_t": alloc.final_t,
+            "steps_per_stage": alloc.steps_per_stage,
+        }))?;
     } else {
         println!(
             "{lenslets} lenslets, pitch {} µm, T = {}; counts per λ0 (nm):",
@@ -525,7 +521,7 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
         }
     }
     if a.mask.json {
-        println!("{}", serde_json::to_string(&report)?);
+        crate::emit_json(&report)?;
     } else {
         println!("{}", serde_json::to_string_pretty(&report)?);
     }

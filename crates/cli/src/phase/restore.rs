@@ -239,10 +239,9 @@ fn compare_cmd(
         }));
     }
     if a.mask.json {
-        println!(
-            "{}",
-            json!({"sampling": base.sampling.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "denoise": denoise_summary(denoise, &a.photons), "setups": summary})
-        );
+        crate::emit_json(
+            &json!({"sampling": base.sampling.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "denoise": denoise_summary(denoise, &a.photons), "setups": summary}),
+        )?;
     } else {
         print!("{:<42} {:>6}", "setup (mean over photos)", "LTR");
         for n in &a.photons {
