@@ -40,7 +40,8 @@ pub struct AppearanceArgs {
     /// Write the eye-blurred rendering (appearance.png) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Camera AUC at preview quality (coarser sampling, same physics).
+    /// Camera AUC at preview quality (twice the fine PSF spacing: faster, and biased high for
+    /// the thesis recipe; compare designs at full quality).
     #[arg(long)]
     pub preview: bool,
 }

@@ -150,7 +150,8 @@ pub struct AnalyzeArgs {
     /// Also write the PSFs (EXR, 16-bit PNG), log-PSFs (PNG) and mtf.csv into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Interactive preview quality (coarser sampling, same physics).
+    /// Interactive preview quality: twice the fine PSF spacing, faster, and its AUC reads high
+    /// (15–19 % for the open aperture with the thesis recipe); compare designs at full quality.
     #[arg(long)]
     pub preview: bool,
     /// Also look for a fix for each note (a documented property of the thesis recipe), not
