@@ -43,12 +43,17 @@ def run_cli(cli: Path, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run([str(cli), *args], capture_output=True, text=True, check=False)
 
 
-def interrupted(script: str, cwd: Path) -> subprocess.CompletedProcess:
-    """Runs a Python script that prints "started" before a long call, sends it Ctrl-C half a
-    second later, and returns the finished process (stdout and stderr as text, and
-    ``seconds_to_stop``, from the signal to the process's end). The script runs
-    in ``cwd`` so that ``python/udc_studio`` (without its native module) does not shadow the
-    staged package."""
+def assert_ctrl_c_stops(call: str, cwd: Path, within_s: float) -> None:
+    """Runs ``call`` (Python code using ``udc``) in a child process, sends it Ctrl-C half a
+    second after it starts, and asserts that it raised ``KeyboardInterrupt`` without finishing,
+    within ``within_s`` seconds of the signal. Python raises a pending interrupt anyway once the
+    call returns, so only the time tells a cancelled call from one that ran to its end. The
+    child runs in ``cwd`` so that ``python/udc_studio`` (without its native module) does not
+    shadow the staged package."""
+    script = "\n".join(
+        ["import numpy as np", "import udc_studio as udc", 'print("started", flush=True)',
+         call, 'print("finished", flush=True)']
+    )
     proc = subprocess.Popen(
         [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
         text=True, env=os.environ.copy(), cwd=cwd,
@@ -58,8 +63,7 @@ def interrupted(script: str, cwd: Path) -> subprocess.CompletedProcess:
     sent = time.monotonic()
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=120)
-    done = subprocess.CompletedProcess(proc.args, proc.returncode, "started\n" + out, err)
-    # How long the call took to stop: Python raises a pending KeyboardInterrupt only when the
-    # call returns, so a call that ignored Ctrl-C would run to its end first.
-    done.seconds_to_stop = time.monotonic() - sent
-    return done
+    seconds_to_stop = time.monotonic() - sent
+    assert "KeyboardInterrupt" in err
+    assert "finished" not in out and proc.returncode != 0
+    assert seconds_to_stop < within_s, seconds_to_stop

@@ -1,13 +1,12 @@
 """`phase`, `sensor` and `sweep`: the commands' parameters, messages and JSON, in-process."""
 
 import json
-import textwrap
 
 import numpy as np
 import pytest
 
 import udc_studio as udc
-from conftest import REPO, interrupted, run_cli
+from conftest import REPO, assert_ctrl_c_stops, run_cli
 
 HDR = REPO / "assets" / "hdr" / "Desk_322x437.exr"
 
@@ -98,18 +97,5 @@ def test_a_sweep_returns_its_table_and_resumes(tmp_path):
 
 
 def test_ctrl_c_cancels_a_phase_command(tmp_path):
-    # The V matrix's 900 propagations take seconds; Ctrl-C stops them at the next check.
-    script = textwrap.dedent(
-        """
-        import udc_studio as udc
-        print("started", flush=True)
-        udc.phase.invertibility()
-        print("finished", flush=True)
-        """
-    )
-    done = interrupted(script, tmp_path)
-    assert "KeyboardInterrupt" in done.stderr
-    assert "finished" not in done.stdout
-    assert done.returncode != 0
-    # The 900 propagations take about 5 s; cancelled, they stop at the next one.
-    assert done.seconds_to_stop < 1.5, done.seconds_to_stop
+    # The V matrix's 900 propagations take about 5 s; cancelled, they stop at the next one.
+    assert_ctrl_c_stops("udc.phase.invertibility()", tmp_path, within_s=1.5)
