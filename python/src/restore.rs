@@ -6,15 +6,16 @@
 
 use std::path::PathBuf;
 
+use clap::ValueEnum;
 use ndarray::{Array2, Array3, ArrayViewD, Axis, Ix2, Ix3};
 use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use udc_cli::denoise_flags::{DenoiseFlags, DenoiseMethod};
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::restore::capture::REFERENCE_LTR;
 use udc_core::restore::{
-    CaptureSettings, CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreSettings, Sigma2,
-    simulate,
+    CaptureSettings, CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreSettings, simulate,
 };
 use udc_io::restore_report;
 
@@ -100,29 +101,20 @@ fn load_photo(
     array_of(py, planes, Layout::ChannelsLast)
 }
 
-/// The denoiser of a restoration: `"bm3d"` (the thesis's σ² table unless `sigma2` is given) or
-/// `"none"`, as `--denoise` and `--denoise-sigma2`.
+/// The denoiser of a restoration: `"bm3d"` (chapter 3's σ² table unless `sigma2` is given) or
+/// `"none"`, resolved as `restore --denoise … --denoise-sigma2 …` resolves them.
 fn denoise_setting(method: &str, sigma2: Option<f64>) -> PyResult<Denoise> {
-    let setting = match (method, sigma2) {
-        ("none", None) => Denoise::None,
-        ("none", Some(s)) => {
-            return Err(errors::value(format!(
-                "denoise_sigma2 {s}: there is no denoiser to give it to with denoise=\"none\""
-            )));
-        }
-        // The display openings are chapter 3's: its σ² table.
-        ("bm3d", None) => Denoise::thesis(Recipe::Iccp21),
-        ("bm3d", Some(s)) => Denoise::Bm3d {
-            sigma2: Sigma2::Fixed(s),
-        },
-        (other, _) => {
-            return Err(errors::value(format!(
-                "denoise: expected \"bm3d\" or \"none\" (got {other:?})"
-            )));
-        }
-    };
-    setting.validate().map_err(|e| errors::sim(&e))?;
-    Ok(setting)
+    let denoise = DenoiseMethod::from_str(method, false).map_err(|_| {
+        errors::value(format!(
+            "denoise: expected \"bm3d\" or \"none\" (got {method:?})"
+        ))
+    })?;
+    DenoiseFlags {
+        denoise,
+        denoise_sigma2: sigma2,
+    }
+    .resolve(Recipe::Iccp21)
+    .map_err(|e| errors::value(format!("{e:#}")))
 }
 
 /// The restoration algorithm: `"wiener"` with `nsr`, or `"cg"` with `lambda_` and `iterations`.
