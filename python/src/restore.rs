@@ -30,6 +30,13 @@ enum Layout {
 
 /// An image array as the core's planes.
 fn planes_of(image: &ArrayViewD<'_, f64>, what: &str) -> PyResult<(Vec<Array2<f64>>, Layout)> {
+    // The planes are a copy: an image beyond the memory budget is refused before it is made.
+    udc_core::budget::check(
+        &format!("copying a {:?} image", image.shape()),
+        (image.len() * std::mem::size_of::<f64>()) as u64,
+        "pass a smaller image",
+    )
+    .map_err(|e| errors::sim(&e))?;
     if let Ok(grey) = image.view().into_dimensionality::<Ix2>() {
         return Ok((vec![grey.to_owned()], Layout::Grey));
     }

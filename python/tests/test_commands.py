@@ -62,8 +62,8 @@ def test_sensor_simulate_is_the_clis_and_picks_a_strategy(cli):
 
 
 def test_bad_flags_raise_the_command_lines_messages(tmp_path):
-    with pytest.raises(ValueError, match="--snr-db"):
-        udc.phase.restore(snr_db=float("nan"))
+    with pytest.raises(ValueError, match="--photons NaN: must be 10"):
+        udc.phase.restore(photons=float("nan"))
     with pytest.raises(ValueError, match="unexpected argument '--colour'"):
         udc.phase.psf(colour="red")
     with pytest.raises(ValueError, match="strategy: unknown"):

@@ -3,7 +3,7 @@ allocation of folding wavelengths.
 
 Each function runs the ``udc-studio phase`` command of its name in-process and returns the
 object its ``--json`` prints. Keyword arguments are the command's flags with ``_`` for ``-``
-(``snr_db=28`` is ``--snr-db 28``, ``preview=True`` is ``--preview``, a list repeats a flag);
+(``angle_deg=5`` is ``--angle-deg 5``, ``preview=True`` is ``--preview``, a list repeats a flag);
 ``udc-studio phase psf --help`` lists them, with units and defaults. Arrays in the result
 (a channel's ``psf``) are lists: ``numpy.asarray`` them.
 
@@ -39,5 +39,5 @@ def optimize(**flags: FlagValue) -> Dict[str, Any]:
 
 def restore(**flags: FlagValue) -> Dict[str, Any]:
     """A photo captured through the masks and restored: PSNR and SSIM per light level
-    (``phase restore``; ``image=PATH``, ``snr_db=[...]``, ``denoise="bm3d"``)."""
+    (``phase restore``; ``photo=PATH``, ``photons=[...]``, ``denoise="bm3d"``)."""
     return run(["phase", "restore"], flags)
