@@ -248,7 +248,7 @@ proptest! {
             let across = op.pupil_diameter_um() / d.opening.pitch_um;
             prop_assert!(std::f64::consts::FRAC_PI_4 * across * across <= MAX_PUPIL_PIXELS);
             let mut warnings = Vec::new();
-            if let Ok(p) = plan(&d, op.fine_sample_um, false, &mut warnings) {
+            if let Ok(p) = plan(&d, op.fine_sample_um, &mut warnings) {
                 for s in p.iter().flatten() {
                     prop_assert!(s.fft_size <= MAX_FFT_SIZE, "{}", s.fft_size);
                     prop_assert!(s.fine_um.is_finite() && s.fine_um > 0.0);

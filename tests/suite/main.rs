@@ -45,6 +45,7 @@ mod phase_export;
 mod phase_imaging;
 mod phase_panel;
 mod physics;
+mod preview;
 mod psf_route;
 mod reproduce;
 mod reproduce_view;

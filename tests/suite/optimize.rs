@@ -242,8 +242,9 @@ fn area_schedule_follows_physics_md() {
     assert_eq!(s.area_target(149), 0.2);
 }
 
-/// From all-open with `L_inv` only, the run lands on the target open fraction and beats the
-/// T-OLED pixel of the same open fraction on AUC, under the same random tiling.
+/// From all-open with `L_inv` only, the run (at the studio's default preview sampling) lands on
+/// the target open fraction and beats the T-OLED pixel of the same open fraction on AUC and, at
+/// full quality, on `L_inv`, under the same random tiling: the end is never worse.
 #[test]
 fn optimized_opening_beats_toled_at_the_same_open_fraction() {
     let toled_d = small(toled(TilingMode::RandomD4));
@@ -252,6 +253,7 @@ fn optimized_opening_beats_toled_at_the_same_open_fraction() {
         epochs: 80,
         target_open_fraction: target,
         area_every_epochs: 3,
+        quality: Quality::Preview,
         ..Default::default()
     };
     let mut epochs_seen = 0;
@@ -293,6 +295,7 @@ fn optimized_opening_beats_toled_at_the_same_open_fraction() {
         );
     }
     assert!(after.invertibility_loss < before.invertibility_loss);
+    assert!((out.at_full_quality.result.loss_inv - after.invertibility_loss).abs() < 1e-9);
     // Straight-through: the loss the run reports is that of a buildable (binary) pattern.
     assert!(
         (last.loss_inv - after.invertibility_loss).abs() < 0.02,
@@ -356,9 +359,14 @@ fn a_runs_scores_are_the_analysis_of_its_start_and_its_result() {
         assert!((scores.result.open_fraction - result.open_fraction).abs() < 1e-12);
         assert!((s.open_fraction - start.open_fraction).abs() < 1e-12);
     }
-    // The two samplings disagree, which is why the summary names its own.
+    // The two samplings agree (tests/suite/preview.rs; at this f/5 they are one sampling).
+    let (full, run) = (
+        out.at_full_quality.result.loss_inv,
+        out.at_run_quality.result.loss_inv,
+    );
     assert!(
-        (out.at_full_quality.result.loss_inv - out.at_run_quality.result.loss_inv).abs() > 1e-6
+        (full - run).abs() <= 0.1 * full.abs() + 5e-4,
+        "{full} vs {run}"
     );
     // The last epoch's loss is of another pattern than the result's.
     let last = out.history.last().unwrap();

@@ -291,7 +291,10 @@ struct NumbersState {
 /// changes, until the full-quality result replaces it; the Compare tab says it of B too.
 #[test]
 fn the_quality_label_follows_the_shown_result() {
-    let (design, _) = small_result();
+    let (mut design, _) = small_result();
+    // Fine enough for the preview to double δ2 (at δ2 = 1 µm it is full quality's sampling).
+    design.optics.fine_sample_um = 0.25;
+    assert!(Quality::Preview.doubles_spacing(&design));
     for quality in [Quality::Preview, Quality::Full] {
         let options = AnalyzeOptions {
             quality,
@@ -328,11 +331,11 @@ fn the_quality_label_follows_the_shown_result() {
         h.run();
         let said =
             |h: &Harness<'_, NumbersState>, text: &str| h.query_by_label_contains(text).is_some();
-        // The spacing is the result's own: about 2 µm in a preview, 1 µm at full quality.
+        // The spacing is the result's own: 0.5 µm in a preview, 0.25 µm at full quality.
         let spacing = if preview {
-            "(δ2 = 1.99 µm)"
+            "(δ2 = 0.5 µm)"
         } else {
-            "(δ2 = 1 µm)"
+            "(δ2 = 0.25 µm)"
         };
         assert_eq!(
             said(&h, &format!("Preview estimate {spacing}")),

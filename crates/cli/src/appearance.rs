@@ -40,8 +40,8 @@ pub struct AppearanceArgs {
     /// Write the eye-blurred rendering (appearance.png) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Camera AUC at preview quality (twice the fine PSF spacing: faster, and biased high for
-    /// the thesis recipe; compare designs at full quality).
+    /// Camera AUC at preview quality (twice the fine PSF spacing where that keeps the AUC within
+    /// 3 %, full quality otherwise).
     #[arg(long)]
     pub preview: bool,
 }

@@ -56,7 +56,8 @@ pub struct OptimizeArgs {
     /// Where the cells start.
     #[arg(long, value_enum, default_value_t = StartArg::AllOpen)]
     pub start: StartArg,
-    /// Optimize on the preview sampling (twice the fine spacing: about 4× faster).
+    /// Optimize on the preview sampling (twice the fine spacing, about 4× faster, where that
+    /// agrees with full quality; full quality otherwise).
     #[arg(long)]
     pub preview: bool,
     /// Reserve room for three equal R, G, B emitters of at least this many µm² each in the

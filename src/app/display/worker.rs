@@ -1,5 +1,6 @@
-//! The simulation worker: a named thread that takes the newest job, computes a fast preview and
-//! then full quality (with the advice for its sampling warnings), and wakes the UI. A newer job
+//! The simulation worker: a named thread that takes the newest job, computes a fast preview
+//! (where the design's sampling allows a cheaper one that agrees, see `Quality`) and then full
+//! quality (with the advice for its sampling warnings), and wakes the UI. A newer job
 //! cancels the running one (generation numbers tell stale results apart). The UI thread never
 //! calls the simulation.
 
@@ -182,7 +183,13 @@ fn worker_loop(
                 return;
             }
         }
-        for quality in [Quality::Preview, Quality::Full] {
+        // A preview that keeps the design's sampling is the full-quality computation: run it once.
+        let qualities: &[Quality] = if Quality::Preview.doubles_spacing(&design) {
+            &[Quality::Preview, Quality::Full]
+        } else {
+            &[Quality::Full]
+        };
+        for &quality in qualities {
             let options = AnalyzeOptions {
                 quality,
                 expected_psf: true,

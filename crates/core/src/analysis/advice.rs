@@ -78,7 +78,7 @@ fn largest_fft(design: &Design, pupil_sample_um: f64, fine_sample_um: f64) -> (u
 pub fn grid_window_px(design: &Design, optics: &Optics) -> Option<usize> {
     let mut ignored = Vec::new();
     let d = with_optics(design, optics);
-    let p = plan(&d, optics.fine_sample_um, false, &mut ignored).ok()?;
+    let p = plan(&d, optics.fine_sample_um, &mut ignored).ok()?;
     let px = p
         .iter()
         .flatten()
@@ -253,7 +253,7 @@ fn check(
 ) -> Result<Result<Checked, SimError>, SimError> {
     let d = with_optics(design, optics);
     let mut planned = Vec::new();
-    if let Err(e) = plan(&d, optics.fine_sample_um, false, &mut planned) {
+    if let Err(e) = plan(&d, optics.fine_sample_um, &mut planned) {
         return Ok(Err(e));
     }
     let options = AnalyzeOptions {

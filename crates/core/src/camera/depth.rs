@@ -20,7 +20,7 @@ use crate::analysis::residual::{Deblur, channel_residuals, mean};
 use crate::design::{Design, OpticsRecipe};
 use crate::display::aperture::{Display, Extent, effective_cells, rasterise};
 use crate::psf::fft::{bin_dense, complex_plan, signed};
-use crate::psf::sampling::{WavelengthSampling, plan};
+use crate::psf::sampling::WavelengthSampling;
 use crate::{Progress, SimError};
 
 /// Largest FFT side of the defocused PSF: it needs two dense complex `M×M` grids (512 MiB here),
@@ -218,12 +218,7 @@ pub fn defocused_psfs(
 ) -> Result<(Vec<Array2<f64>>, Vec<f64>), SimError> {
     let op = &design.optics;
     let mut warnings = Vec::new();
-    let samplings = plan(
-        design,
-        quality.fine_sample_um(op),
-        quality == Quality::Preview,
-        &mut warnings,
-    )?;
+    let samplings = quality.plan(design, &mut warnings)?;
     let cells = effective_cells(&design.opening);
     let display = Display::from_design(design, &cells);
     let d_um = op.pupil_diameter_um();

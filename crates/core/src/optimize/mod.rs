@@ -20,7 +20,6 @@ use crate::analysis::analyze::Quality;
 use crate::analysis::metrics::open_fraction;
 use crate::design::Design;
 use crate::progress::Progress;
-use crate::psf::sampling::plan;
 use adam::Adam;
 pub use data::DataSet;
 pub use model::Model;
@@ -327,9 +326,8 @@ impl<'a> Objective<'a> {
         data: Option<&'a DataSet>,
     ) -> Result<Self, SimError> {
         design.validate()?;
-        let fine_um = quality.fine_sample_um(&design.optics);
         let mut warnings = Vec::new();
-        let samplings = plan(design, fine_um, quality == Quality::Preview, &mut warnings)?;
+        let samplings = quality.plan(design, &mut warnings)?;
         Ok(Objective {
             model: Model::new(design, &samplings)?,
             data,

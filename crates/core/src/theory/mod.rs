@@ -12,10 +12,10 @@ mod orders;
 mod shapes;
 
 use crate::SimError;
-use crate::analysis::analyze::{Analysis, Quality};
+use crate::analysis::analyze::Analysis;
 use crate::analysis::mtf::Mtf;
 use crate::design::Design;
-use crate::psf::sampling::{WavelengthSampling, plan};
+use crate::psf::sampling::WavelengthSampling;
 
 pub use crate::design::Theory;
 pub use orders::{OrderEnergy, order_energies};
@@ -93,8 +93,7 @@ pub fn compare(
         .get(channel)
         .ok_or_else(|| SimError::Sampling(format!("no channel {channel}")))?;
     let (psf, energy_in_window) = (&ch.psf, ch.energy_in_window);
-    let fine = quality.fine_sample_um(&design.optics);
-    let samplings = plan(design, fine, quality == Quality::Preview, &mut Vec::new())?;
+    let samplings = quality.plan(design, &mut Vec::new())?;
     let samp = samplings
         .get(channel)
         .ok_or_else(|| SimError::Sampling(format!("no channel {channel}")))?;

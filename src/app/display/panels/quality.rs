@@ -1,7 +1,7 @@
-//! Which numbers are on screen: every edit shows a quick preview first (twice the fine PSF
-//! spacing δ2) and the full-quality result after it, and the two can differ a lot (`L_inv`
-//! −0.348 in preview, −0.128 at full quality on one design), so every place that shows a
-//! result's numbers says which of the two it is.
+//! Which numbers are on screen: where the design's f-number allows it, an edit shows a quick
+//! preview first (twice the fine PSF spacing δ2, within 3 % of full quality's AUC) and the
+//! full-quality result after it; every place that shows a result's numbers says which of the
+//! two it is.
 
 use super::Shown;
 use crate::core::analysis::analyze::Quality;
@@ -18,14 +18,15 @@ pub fn badge_text(shown: &Shown) -> (String, String) {
     // Every channel of one result shares the quality; the first one's spacing stands for all.
     let fine = a.channels.first().map(|c| c.fine_um);
     let spacing = fine.map_or_else(String::new, |f| format!(" (δ2 = {} µm)", um(f)));
-    let full_um = Quality::Full.fine_sample_um(&shown.design.optics);
+    let full_um = Quality::Full.fine_sample_um(&shown.design);
     match shown.quality {
         Quality::Preview => (
             format!("Preview estimate{spacing}: full quality follows"),
             format!(
-                "A quick first result at twice the fine PSF spacing δ2. The numbers marked ≈ \
-                 (AUC, L_inv, light in the window) can still move when the full-quality result \
-                 (δ2 = {} µm) arrives, a few seconds later.",
+                "A quick first result at twice the fine PSF spacing δ2, taken only where this \
+                 f-number oversamples the PSF enough for the AUC to stay within 3 % of full \
+                 quality's. The numbers marked ≈ (AUC, L_inv, light in the window) can still move \
+                 a little when the full-quality result (δ2 = {} µm) arrives.",
                 um(full_um)
             ),
         ),
