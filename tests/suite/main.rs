@@ -27,6 +27,7 @@ mod field_depth;
 mod field_depth_view;
 mod io_files;
 mod layouts;
+mod limits;
 mod mask_dialog;
 mod mask_drc;
 mod mask_emitters;

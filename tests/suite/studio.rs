@@ -457,3 +457,45 @@ fn the_help_menu_tours_every_workspace() {
         h.run_steps(2);
     }
 }
+
+/// After an edit the worker sends the full-quality numbers first and the same result with the
+/// advice for its warnings after (each advice is a further analysis); at f/2.5 it sends no
+/// preview, which would repeat the full-quality computation.
+#[test]
+fn the_worker_sends_the_numbers_before_the_advice_and_no_repeated_preview() {
+    use udc_studio::app::{Payload, Worker};
+    use udc_studio::core::Quality;
+    let mut worker = Worker::spawn(|| {});
+    // The thesis recipe: its grey notes get advice.
+    let design = udc_studio::io::presets::load_preset("toled-150dpi").expect("preset");
+    let generation = worker.submit(design);
+    let mut seen = Vec::new();
+    while let Some(r) = worker.wait(Duration::from_secs(60)) {
+        if r.generation != generation {
+            continue;
+        }
+        if let Payload::Analysis {
+            quality,
+            advised,
+            result,
+        } = r.payload
+        {
+            let a = result.expect("analysis");
+            let fixes = a.warnings.iter().filter(|w| w.fix.is_some()).count();
+            seen.push((quality, advised, a.warnings.len(), fixes));
+            if advised {
+                break;
+            }
+        }
+    }
+    assert_eq!(seen.len(), 2, "{seen:?}");
+    let (first, last) = (seen[0], seen[1]);
+    assert_eq!(
+        (first.0, first.1, first.3),
+        (Quality::Full, false, 0),
+        "{seen:?}"
+    );
+    assert_eq!((last.0, last.1), (Quality::Full, true), "{seen:?}");
+    assert_eq!(first.2, last.2, "the same warnings");
+    assert!(last.3 > 0, "advice arrives with the last: {seen:?}");
+}

@@ -42,6 +42,9 @@ pub struct Results {
     pub pinned: Option<Pinned>,
     /// Pin the next full-quality result of the current generation.
     pin_requested: bool,
+    /// Whether the shown result's warnings carry their advice (the full-quality result comes
+    /// first without it).
+    advised: bool,
 }
 
 /// The tabs of the left panel.
@@ -179,6 +182,7 @@ impl DisplayWorkspace {
             .shown
             .as_ref()
             .is_some_and(|s| s.generation == self.worker.generation() && s.quality == Quality::Full)
+            && self.results.advised
             && self.files.load.is_none()
     }
 
@@ -272,8 +276,13 @@ impl DisplayWorkspace {
                         pupil_diameter_um,
                     });
                 }
-                Payload::Analysis { quality, result } => match result {
+                Payload::Analysis {
+                    quality,
+                    advised,
+                    result,
+                } => match result {
                     Ok(a) => {
+                        self.results.advised = advised;
                         let shown = Shown {
                             generation: r.generation,
                             quality,

@@ -12,7 +12,8 @@ use crate::core::analysis::advice::advise;
 use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::{Analysis, Design, Progress, SimError};
 
-/// What a job produces, in order: the display preview, then the preview and full analyses.
+/// What a job produces, in order: the display preview, then the preview (where one agrees with
+/// full quality) and the full analyses.
 pub enum Payload {
     /// The rasterised display around the pupil, for the tiling preview (sent first, only for a
     /// valid design).
@@ -26,10 +27,14 @@ pub enum Payload {
         /// Diameter of the lens pupil, in µm.
         pupil_diameter_um: f64,
     },
-    /// One analysis of the design: the fast preview, then the full quality.
+    /// One analysis of the design: the fast preview, then the full quality, then the full
+    /// quality again with the advice for its warnings (each advice is a further analysis, so
+    /// the numbers come first).
     Analysis {
         /// Whether this is the fast preview or the full-quality result.
         quality: Quality,
+        /// Whether the warnings carry their advice (the last payload of a job).
+        advised: bool,
         /// The analysis, or why it failed (a failed preview ends the job).
         result: Result<Analysis, SimError>,
     },
@@ -195,8 +200,20 @@ fn worker_loop(
                 expected_psf: true,
             };
             let mut result = analyze_with(&design, &options, &progress);
-            // Advice analyses candidates of its own: only for the result that stays on screen.
-            if quality == Quality::Full
+            // Advice analyses candidates of its own: only for the result that stays on screen,
+            // and after its numbers are on screen.
+            let advise_after =
+                quality == Quality::Full && result.as_ref().is_ok_and(|a| !a.warnings.is_empty());
+            if advise_after
+                && !send(Payload::Analysis {
+                    quality,
+                    advised: false,
+                    result: result.clone(),
+                })
+            {
+                return;
+            }
+            if advise_after
                 && let Ok(a) = &mut result
                 && let Err(e) = advise(&design, &mut a.warnings, &progress)
             {
@@ -205,7 +222,12 @@ fn worker_loop(
             let cancelled = matches!(result, Err(SimError::Cancelled));
             if !cancelled {
                 let failed = result.is_err();
-                if !send(Payload::Analysis { quality, result }) {
+                let advised = quality == Quality::Full;
+                if !send(Payload::Analysis {
+                    quality,
+                    advised,
+                    result,
+                }) {
                     return;
                 }
                 if failed {
