@@ -91,6 +91,31 @@ fn bad_input_gives_one_line_and_a_failure_code() {
     assert!(!ok && stderr.contains("hexagonal"));
 }
 
+/// `presets --json` is the scripts' form: every preset once, with its group and description.
+#[test]
+fn presets_json_lists_every_preset_with_its_group_and_description() {
+    let (ok, stdout, stderr) = run(&["presets", "--json"]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
+    let rows = v["presets"].as_array().expect("a presets array");
+    let names: Vec<&str> = rows.iter().filter_map(|r| r["name"].as_str()).collect();
+    let want: Vec<&str> = udc_studio::io::presets::PRESETS
+        .iter()
+        .map(|p| p.name)
+        .collect();
+    assert_eq!(names, want);
+    for r in rows {
+        let group = r["group"].as_str().unwrap_or("");
+        assert!(["thesis", "fourier-optics"].contains(&group), "{r}");
+        assert!(!r["description"].as_str().unwrap_or("").is_empty(), "{r}");
+    }
+    let slit = rows
+        .iter()
+        .find(|r| r["name"] == "fourier-slit")
+        .expect("slit");
+    assert_eq!(slit["group"], "fourier-optics");
+}
+
 #[test]
 fn presets_lists_every_named_preset() {
     let (ok, stdout, _) = run(&["presets"]);

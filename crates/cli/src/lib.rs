@@ -51,6 +51,15 @@ pub struct Cli {
     pub max_memory: Option<u64>,
 }
 
+/// `udc-studio presets`.
+#[derive(Debug, clap::Args)]
+pub struct PresetsArgs {
+    /// Print one JSON object, `{"presets": [{"name", "group", "description"}]}` (`group`:
+    /// `thesis` or `fourier-optics`), the stable form for scripts.
+    #[arg(long)]
+    pub json: bool,
+}
+
 /// A command of `udc-studio`: the studio or one of the headless commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
@@ -61,8 +70,9 @@ pub enum Command {
     },
     /// Analyse a design: PSF, MTF, AUC, LTR and invertibility per channel.
     Analyze(AnalyzeArgs),
-    /// List the built-in presets with one-line descriptions.
-    Presets,
+    /// List the built-in presets with one-line descriptions: a listing for people, grouped
+    /// under headings that may change; scripts use `--json`.
+    Presets(PresetsArgs),
     /// Write a photolithography mask of the design: GDSII, OASIS, DXF, SVG or PNG.
     Export(ExportArgs),
     /// Check a display mask against a fab's design rules: smallest opening and gap, corner
@@ -278,8 +288,17 @@ pub fn run(command: Command) -> Result<()> {
 
 fn run_command(command: Command) -> Result<()> {
     match command {
-        Command::Presets => {
+        Command::Presets(args) => {
             let list = presets::list();
+            if args.json {
+                let rows: Vec<_> = list
+                    .iter()
+                    .map(|(name, group, description)| {
+                        serde_json::json!({"name": name, "group": group, "description": description})
+                    })
+                    .collect();
+                return emit_json(&serde_json::json!({ "presets": rows }));
+            }
             for group in presets::PresetGroup::ALL {
                 println!("{}:", group.label());
                 for (name, _, desc) in list.iter().filter(|p| p.1 == group) {

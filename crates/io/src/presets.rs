@@ -6,7 +6,8 @@ use super::design_file::parse_design;
 use udc_core::Design;
 
 /// Which shelf of the Presets menu a preset sits on.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum PresetGroup {
     /// The designs of the thesis (chapter 3), whose numbers the tests reproduce.
     Thesis,
