@@ -39,6 +39,7 @@ fn bench(c: &mut Criterion) {
         quiet: true,
         plots: false,
         stop: None,
+        hold_after_points: None,
     };
     for (id, preset) in [
         ("toled-150dpi-seeds", "toled-150dpi"),

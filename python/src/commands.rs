@@ -64,6 +64,7 @@ fn sweep<'py>(
         quiet: true,
         plots: true,
         stop: Some(stop.clone()),
+        hold_after_points: None,
     };
     let summary = cancel::wait(
         py,

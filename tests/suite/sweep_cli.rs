@@ -402,6 +402,8 @@ fn ctrl_c_keeps_every_finished_point_and_a_rerun_completes() {
     )
     .unwrap();
     let out = dir.path().join("o");
+    // The run holds after 6 new points (the first, computed for the columns, and 5 more) until
+    // the signal: it is interrupted midway however fast the machine.
     let child = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
         .args([
             "sweep",
@@ -411,13 +413,14 @@ fn ctrl_c_keeps_every_finished_point_and_a_rerun_completes() {
             "--threads",
             "2",
         ])
+        .env("UDC_SWEEP_HOLD_AFTER_POINTS", "5")
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    // Interrupt once a few points are in the journal.
+    // Interrupt once the held points are in the journal (a header and 6 rows).
     let csv = out.join("results.csv");
     let t0 = std::time::Instant::now();
-    while std::fs::read_to_string(&csv).map_or(0, |t| t.lines().count()) < 4 {
+    while std::fs::read_to_string(&csv).map_or(0, |t| t.lines().count()) < 7 {
         assert!(t0.elapsed().as_secs() < 120, "no rows after 2 minutes");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
@@ -429,19 +432,11 @@ fn ctrl_c_keeps_every_finished_point_and_a_rerun_completes() {
     let output = child.wait_with_output().unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     let (_, kept) = rows(&out);
-    if output.status.success() {
-        // The sweep finished before the signal landed: nothing to check but the table.
-        assert_eq!(kept.len(), 60);
-    } else {
-        assert!(stderr.contains("interrupted"), "{stderr}");
-        assert!(
-            kept.len() >= 3 && kept.len() < 60,
-            "{} rows kept",
-            kept.len()
-        );
-        // The Parquet file was finished too, with the same rows.
-        check_parquet_equals_csv(&out);
-    }
+    assert!(!output.status.success(), "the held run cannot finish");
+    assert!(stderr.contains("interrupted"), "{stderr}");
+    assert_eq!(kept.len(), 6, "every finished point kept, no more");
+    // The Parquet file was finished too, with the same rows.
+    check_parquet_equals_csv(&out);
     let (ok, _, err) = sweep(&[
         spec.to_str().unwrap(),
         "--out",

@@ -170,6 +170,7 @@ pub fn reproduce(
             quiet: quiet || !std::io::stderr().is_terminal(),
             plots: part.plots,
             stop: None,
+            hold_after_points: None,
         };
         let summary = crate::sweep::run_sweep(&spec, &dir, &options)
             .with_context(|| format!("{} ({})", id.as_str(), part.file))?;

@@ -88,6 +88,9 @@ pub fn sweep_cmd(args: &SweepArgs) -> Result<()> {
                 quiet: args.quiet,
                 plots: !args.no_plots,
                 stop: None,
+                hold_after_points: std::env::var(run::HOLD_AFTER_POINTS_ENV)
+                    .ok()
+                    .and_then(|v| v.parse().ok()),
             };
             run_sweep(&spec, out, &options).map(|_| ())
         }

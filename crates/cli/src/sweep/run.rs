@@ -36,7 +36,14 @@ pub struct RunOptions {
     /// A flag that stops the run as Ctrl-C does (finished points kept), for callers that
     /// catch the signal themselves: the Python package's `KeyboardInterrupt`.
     pub stop: Option<Arc<AtomicBool>>,
+    /// Compute this many new points, then hold every worker until the run is stopped: a run
+    /// that is certain to be interrupted midway, however fast the machine (the interruption
+    /// tests; the command line sets it from `UDC_SWEEP_HOLD_AFTER_POINTS`).
+    pub hold_after_points: Option<u64>,
 }
+
+/// The environment variable that sets [`RunOptions::hold_after_points`] for the command line.
+pub const HOLD_AFTER_POINTS_ENV: &str = "UDC_SWEEP_HOLD_AFTER_POINTS";
 
 /// How a run went.
 #[derive(Debug, Clone)]
@@ -250,6 +257,7 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
         .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
     let skipped = AtomicU64::new(0);
+    let started_points = AtomicU64::new(0);
     let stop = opts
         .stop
         .clone()
@@ -311,7 +319,17 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
                             }
                             return Ok(());
                         }
-                        Ok(hash) => compute_row(spec, &points, i, hash, &metrics).0,
+                        Ok(hash) => {
+                            if let Some(hold) = opts.hold_after_points
+                                && started_points.fetch_add(1, Ordering::SeqCst) >= hold
+                            {
+                                while !stop.load(Ordering::SeqCst) {
+                                    std::thread::sleep(std::time::Duration::from_millis(10));
+                                }
+                                return Err(());
+                            }
+                            compute_row(spec, &points, i, hash, &metrics).0
+                        }
                         // An unreadable input file: a failed point with its message.
                         Err(e) => Row::failed(
                             i,
