@@ -459,3 +459,70 @@ fn the_command_line_definition_is_consistent() {
     use clap::CommandFactory;
     udc_studio::cli::Cli::command().debug_assert();
 }
+
+/// `kill -9` at 20 moments spread over a run (seeded, from before the first point to after the
+/// last): every restart resumes from what the journal holds, and the final table equals an
+/// uninterrupted run's, row for row.
+#[test]
+fn a_sweep_killed_at_twenty_moments_resumes_to_the_uninterrupted_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("k.toml");
+    std::fs::write(
+        &spec,
+        "job = \"analyze\"\nmetrics = [\"auc_radial_min_mean\", \"ltr\"]\n[base]\n\
+         preset = \"toled-150dpi\"\ntiling = \"random-d4\"\n[[axis]]\nparam = \"seed\"\n\
+         range = { start = 0, stop = 29 }\n",
+    )
+    .unwrap();
+    let whole = dir.path().join("whole");
+    let (ok, _, err) = sweep(&[
+        spec.to_str().unwrap(),
+        "--out",
+        whole.to_str().unwrap(),
+        "--quiet",
+        "--no-plots",
+    ]);
+    assert!(ok, "{err}");
+    let (header, want) = rows(&whole);
+    assert_eq!(want.len(), 30);
+
+    let out = dir.path().join("killed");
+    let mut state = 0x9e37_79b9_7f4a_7c15u64;
+    let mut killed_midway = 0;
+    for _ in 0..20 {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        let after_ms = (state >> 33) % 400;
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_udc-studio"))
+            .args(["sweep", spec.to_str().unwrap(), "--out"])
+            .arg(&out)
+            .args(["--quiet", "--no-plots", "--threads", "2"])
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(std::time::Duration::from_millis(after_ms));
+        if child.try_wait().unwrap().is_none() {
+            killed_midway += 1;
+        }
+        // SIGKILL: no handler runs, the journal is cut wherever the write was.
+        let _ = child.kill();
+        let _ = child.wait();
+    }
+    assert!(
+        killed_midway >= 10,
+        "only {killed_midway} kills landed midway"
+    );
+    let (ok, _, err) = sweep(&[
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--no-plots",
+    ]);
+    assert!(ok, "{err}");
+    let (got_header, got) = rows(&out);
+    assert_eq!(got_header, header);
+    assert_eq!(got, want, "the resumed table equals the uninterrupted one");
+    check_parquet_equals_csv(&out);
+}
