@@ -243,6 +243,53 @@ fn shards_merge_into_the_local_table_and_gaps_are_named() {
         err.contains("3 of 8 points are missing (points 1, 4, 7)"),
         "{err}"
     );
+    // A shard given twice holds the same results: each point once.
+    let (ok, _, err) = sweep(&[
+        "merge",
+        &shard_dirs[0],
+        &shard_dirs[1],
+        &shard_dirs[0],
+        &shard_dirs[2],
+        "--out",
+        merged.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(rows(&merged), rows(&local));
+    // A copy of shard 0 whose point 3 has another result, and a row cut halfway at its end.
+    let copy = dir.path().join("s0-changed");
+    std::fs::create_dir_all(&copy).unwrap();
+    for entry in std::fs::read_dir(&shard_dirs[0]).unwrap() {
+        let p = entry.unwrap().path();
+        if p.is_file() {
+            std::fs::copy(&p, copy.join(p.file_name().unwrap())).unwrap();
+        }
+    }
+    let csv = copy.join("results.csv");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut changed: String = text
+        .lines()
+        .map(|l| match l.strip_prefix("3,") {
+            Some(rest) => format!("3,{}{}\n", "0".repeat(32), &rest[32..]),
+            None => format!("{l}\n"),
+        })
+        .collect();
+    changed.push_str("6,abc");
+    std::fs::write(&csv, changed).unwrap();
+    let (ok, _, err) = sweep(&[
+        "merge",
+        copy.to_str().unwrap(),
+        &shard_dirs[0],
+        &shard_dirs[1],
+        &shard_dirs[2],
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("point 3 has two different results") && err.lines().count() == 1,
+        "{err}"
+    );
 }
 
 #[test]
