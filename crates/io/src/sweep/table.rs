@@ -223,12 +223,7 @@ pub fn read_csv(
     repair: bool,
     mut each: impl FnMut(Row) -> Result<(), IoError>,
 ) -> Result<(), IoError> {
-    let file = File::open(path).map_err(|e| IoError::file("read the results table", path, e))?;
-    let len = file
-        .metadata()
-        .map_err(|e| IoError::file("read the results table", path, e))?
-        .len();
-    let complete = complete_length(&file, len).map_err(|e| IoError::file("read", path, e))?;
+    let (file, len, complete) = open_complete(path)?;
     if repair && complete < len {
         let f = OpenOptions::new()
             .write(true)
@@ -248,6 +243,17 @@ pub fn read_csv(
         each(row)?;
     }
     Ok(())
+}
+
+/// The file, its length and the length up to its last newline (what a cut last row leaves).
+fn open_complete(path: &Path) -> Result<(File, u64, u64), IoError> {
+    let file = File::open(path).map_err(|e| IoError::file("read the results table", path, e))?;
+    let len = file
+        .metadata()
+        .map_err(|e| IoError::file("read the results table", path, e))?
+        .len();
+    let complete = complete_length(&file, len).map_err(|e| IoError::file("read", path, e))?;
+    Ok((file, len, complete))
 }
 
 /// A reader of the first `complete` bytes of `file` whose header is `schema`'s.
@@ -302,12 +308,7 @@ pub fn index_csv(
     schema: &TableSchema,
     mut each: impl FnMut(RowIndex, Row) -> Result<(), IoError>,
 ) -> Result<(), IoError> {
-    let file = File::open(path).map_err(|e| IoError::file("read the results table", path, e))?;
-    let len = file
-        .metadata()
-        .map_err(|e| IoError::file("read the results table", path, e))?
-        .len();
-    let complete = complete_length(&file, len).map_err(|e| IoError::file("read", path, e))?;
+    let (file, _, complete) = open_complete(path)?;
     if complete == 0 {
         return Ok(());
     }
