@@ -25,6 +25,7 @@ mod emitters_editor;
 mod expected_psf;
 mod field_depth;
 mod field_depth_view;
+mod fuzz;
 mod io_files;
 mod layouts;
 mod limits;

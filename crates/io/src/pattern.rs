@@ -41,6 +41,17 @@ pub fn load_pattern_png(path: &Path) -> Result<Vec<Vec<f64>>, IoError> {
         .into_dimensions()
         .map_err(|e| pattern_err(PatternError::Unreadable(e)))?;
     check_size(w, h).map_err(pattern_err)?;
+    // That was an EXR's display window; the decoder allocates its data window.
+    if open()?.format() == Some(ImageFormat::OpenExr)
+        && let Some((dw, dh)) = super::photo::exr_data_window(path)
+        && (dw > MAX_CELLS || dh > MAX_CELLS)
+    {
+        let side = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+        return Err(pattern_err(PatternError::TooLarge {
+            width: side(dw),
+            height: side(dh),
+        }));
+    }
     let img = open()?
         .decode()
         .map_err(|e| pattern_err(PatternError::Unreadable(e)))?;

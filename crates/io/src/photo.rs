@@ -90,6 +90,15 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
              simulated (scale it down, e.g. with a maximum side)"
         )));
     }
+    if reader_format == Some(ImageFormat::OpenExr)
+        && let Some((dw, dh)) = exr_data_window(path)
+        && dw as u64 * dh as u64 > MAX_DECODED_PIXELS
+    {
+        return Err(image_err(format!(
+            "the image's data window is {dw}×{dh} pixels; at most {} megapixels are decoded",
+            MAX_DECODED_PIXELS / 1_000_000
+        )));
+    }
     if reader_format == Some(ImageFormat::Jpeg) {
         check_jpeg_complete(path)?;
     }
@@ -106,6 +115,17 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
         _ => img,
     };
     Ok(planes_of(&img.to_rgb32f()))
+}
+
+/// The largest data window of an OpenEXR file, `(width, height)`; `None` when its header does
+/// not read (the decoder then says why). The `image` crate sizes an EXR by its display window
+/// but decodes the data window, which a file may make far larger than it says.
+pub(crate) fn exr_data_window(path: &Path) -> Option<(usize, usize)> {
+    let meta = exr::meta::MetaData::read_from_file(path, false).ok()?;
+    meta.headers
+        .iter()
+        .map(|h| (h.layer_size.0, h.layer_size.1))
+        .max_by_key(|&(w, h)| w as u64 * h as u64)
 }
 
 /// A JPEG must end with its end-of-image marker: decoders fill a truncated file's missing rows

@@ -351,14 +351,22 @@ impl PhaseDesign {
         // The lenslet count must be known before counts and per-lenslet lists can be checked.
         let lenslets = geometry::lenslet_count(self);
         match &self.lambda0 {
-            Lambda0::Counts { counts } if counts.iter().sum::<usize>() != lenslets => {
-                Err(SimError::field(
-                    "lambda0.counts",
-                    format!(
-                        "sum to {}, but this design has {lenslets} lenslets",
-                        counts.iter().sum::<usize>()
-                    ),
-                ))
+            Lambda0::Counts { counts } => {
+                // A count from a file can be near usize::MAX: add up without overflowing.
+                match counts.iter().try_fold(0usize, |sum, c| sum.checked_add(*c)) {
+                    Some(total) if total == lenslets => Ok(()),
+                    Some(total) => Err(SimError::field(
+                        "lambda0.counts",
+                        format!("sum to {total}, but this design has {lenslets} lenslets"),
+                    )),
+                    None => Err(SimError::field(
+                        "lambda0.counts",
+                        format!(
+                            "sum to more than {}, but this design has {lenslets} lenslets",
+                            usize::MAX
+                        ),
+                    )),
+                }
             }
             Lambda0::PerLenslet { nm } if nm.len() != lenslets => Err(SimError::field(
                 "lambda0.nm",

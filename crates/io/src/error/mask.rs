@@ -81,6 +81,15 @@ pub enum OasisError {
         /// The most expanded.
         max: usize,
     },
+    /// A hierarchy whose expansion would keep more than an import may hold.
+    #[error(
+        "its placements expand to more than {max_mib} MiB of polygons and cell instances; \
+         import a smaller mask"
+    )]
+    ExpandsTooLarge {
+        /// The most an import may keep, in MiB.
+        max_mib: usize,
+    },
     /// A point list of an unknown type.
     #[error("unknown point-list type {0}")]
     UnknownPointList(u64),

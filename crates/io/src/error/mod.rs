@@ -31,7 +31,7 @@ pub use table::{SpectralError, TableError};
 #[derive(Debug, Error)]
 pub enum IoError {
     /// A design file (display or phase) that is not valid JSON or not a valid design.
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Design {
         /// The design file.
         path: PathBuf,
@@ -41,7 +41,7 @@ pub enum IoError {
     /// An image that cannot be encoded, or a photo that cannot be decoded or used, in words
     /// composed where it happened (the image readers with a format of their own have their own
     /// variants: [`IoError::Pattern`], [`IoError::Planes`], [`IoError::Hdr`]).
-    #[error("{message} (in {})", path.display())]
+    #[error("{} (in {})", one_line(message), path.display())]
     Image {
         /// The image file.
         path: PathBuf,
@@ -49,7 +49,7 @@ pub enum IoError {
         message: String,
     },
     /// An image opening that cannot be decoded or is not a usable grid of cells.
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Pattern {
         /// The image file.
         path: PathBuf,
@@ -57,7 +57,7 @@ pub enum IoError {
         error: PatternError,
     },
     /// An image read as its planes (PNG, TIFF, OpenEXR) that cannot be decoded or used.
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Planes {
         /// The image file.
         path: PathBuf,
@@ -65,7 +65,7 @@ pub enum IoError {
         error: PlanesError,
     },
     /// An HDR scene (Radiance or OpenEXR) that cannot be read.
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Hdr {
         /// The HDR file (or the built-in sample's name).
         path: PathBuf,
@@ -73,7 +73,7 @@ pub enum IoError {
         error: HdrError,
     },
     /// A sweep plot that cannot be drawn or encoded.
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Plot {
         /// The plot file.
         path: PathBuf,
@@ -81,7 +81,7 @@ pub enum IoError {
         error: PlotError,
     },
     /// A sweep spec (TOML or JSON) or manifest that cannot be parsed or is not a valid sweep.
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Spec {
         /// The spec file.
         path: PathBuf,
@@ -90,7 +90,7 @@ pub enum IoError {
     },
     /// A table that cannot be parsed (a spectral response, a sweep's results) or written
     /// (`mtf.csv`, a sweep's results).
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Table {
         /// The table file.
         path: PathBuf,
@@ -114,7 +114,7 @@ pub enum IoError {
     Invalid(#[from] SimError),
     /// A mask file that cannot be read or written as a mask, in words composed where it
     /// happened (GDSII, DXF and PNG masks; OASIS and the import have their own variants).
-    #[error("{message} (in {})", path.display())]
+    #[error("{} (in {})", one_line(message), path.display())]
     Mask {
         /// The mask file.
         path: PathBuf,
@@ -122,7 +122,7 @@ pub enum IoError {
         message: String,
     },
     /// An OASIS mask that cannot be read.
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     Oasis {
         /// The mask file.
         path: PathBuf,
@@ -130,7 +130,7 @@ pub enum IoError {
         error: OasisError,
     },
     /// A mask that cannot be read back into cells (`udc-studio import`, the studio's import).
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     MaskImport {
         /// The mask file.
         path: PathBuf,
@@ -138,7 +138,7 @@ pub enum IoError {
         error: MaskImportError,
     },
     /// Export options whose layers cannot be written (met while writing the mask at `path`).
-    #[error("{error} (in {})", path.display())]
+    #[error("{} (in {})", one_line(error), path.display())]
     MaskOptions {
         /// The mask file being written.
         path: PathBuf,
@@ -181,6 +181,19 @@ pub enum IoError {
         /// Byte offset of the first invalid UTF-8 byte.
         offset: usize,
     },
+}
+
+/// A message as one line, as the command line and the studio show it: the text trimmed, and a
+/// line break inside it escaped (`\n`, `\r`). Such breaks come from the file itself, echoed by
+/// a parser or decoder (a JSON key, a header, an image format name), or end a decoder's message.
+fn one_line(text: impl std::fmt::Display) -> String {
+    let text = text.to_string();
+    let text = text.trim();
+    if text.contains(['\n', '\r']) {
+        text.replace('\r', "\\r").replace('\n', "\\n")
+    } else {
+        text.to_string()
+    }
 }
 
 impl IoError {

@@ -295,10 +295,25 @@ pub(super) fn estimate(layout: &MaskLayout) -> FileCounts {
 /// every TEXT (plus a `TONE=` note derived from the layer's suffix).
 pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<super::Drawn, IoError> {
     let bytes = crate::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
-    let drawing = Drawing::load(&mut std::io::Cursor::new(bytes)).map_err(|e| IoError::Mask {
+    let unreadable = |why: String| IoError::Mask {
         path: path.to_path_buf(),
-        message: format!("not a readable DXF file: {e}"),
-    })?;
+        message: format!("not a readable DXF file: {why}"),
+    };
+    // The dxf crate panics on some values it cannot represent (a Julian date past chrono's
+    // range in `$TDCREATE`, say): for the import that is a file it cannot read. It parses the
+    // bytes it owns, so nothing it leaves half-built outlives the panic.
+    let loaded = std::panic::catch_unwind(move || Drawing::load(&mut std::io::Cursor::new(bytes)));
+    let drawing = match loaded {
+        Ok(drawing) => drawing.map_err(|e| unreadable(e.to_string()))?,
+        Err(panic) => {
+            let why = panic
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a value is out of range".into());
+            return Err(unreadable(why));
+        }
+    };
     let name = layer_name(layer, datatype);
     let mut polygons = Vec::new();
     let mut texts = Vec::new();

@@ -19,6 +19,7 @@ use gds21::{
     GdsStructRef, GdsTextElem, GdsUnits,
 };
 
+use super::flat_size::{self, CellSize, FlatSizeError};
 use super::{ExportOptions, FileCounts, FrameDrawing, GdsCells, MaskLayers, region_bbox_nm};
 use crate::IoError;
 use crate::fab::{OUTLINE_WIDTH_NM, gds_date, outline_paths};
@@ -465,6 +466,11 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
         message,
     };
     let bytes = crate::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
+    if let Some(at) = empty_string_record(&bytes) {
+        return Err(err(format!(
+            "not a readable GDSII file: the string record at byte {at} is empty"
+        )));
+    }
     let lib = GdsLibrary::from_bytes(&bytes)
         .map_err(|e| err(format!("not a readable GDSII file: {e}")))?;
     let scale = lib.units.db_unit() * 1e6;
@@ -493,12 +499,25 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
     };
     let by_name: std::collections::HashMap<&str, &GdsStruct> =
         lib.structs.iter().map(|s| (s.name.as_str(), s)).collect();
+    check_flat_size(&lib.structs, top, layer, datatype).map_err(err)?;
     let mut flat = Flat {
         polygons_um: Vec::new(),
         texts: Vec::new(),
     };
     let mut stack = vec![(*top, Affine::IDENTITY, 0usize)];
+    // Everything the expansion keeps counts, single references as arrays: nested a dozen
+    // levels deep, a few references per cell would otherwise expand to billions.
     let mut expanded = 0usize;
+    let mut count = |n: usize| {
+        expanded = expanded.saturating_add(n);
+        if expanded > MAX_EXPANDED {
+            return Err(err(format!(
+                "more than {MAX_EXPANDED} cell instances, polygons and notes to expand; import a \
+                 smaller mask"
+            )));
+        }
+        Ok(())
+    };
     while let Some((s, tf, depth)) = stack.pop() {
         if depth > 32 {
             return Err(err("references nest deeper than 32 levels".into()));
@@ -506,6 +525,7 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
         for e in &s.elems {
             match e {
                 GdsElement::GdsBoundary(b) if b.layer == layer && b.datatype == datatype => {
+                    count(1)?;
                     let mut pts: Vec<[f64; 2]> =
                         b.xy.iter()
                             .map(|p| tf.apply([f64::from(p.x), f64::from(p.y)]))
@@ -516,11 +536,15 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
                     }
                     flat.polygons_um.push(pts);
                 }
-                GdsElement::GdsTextElem(t) => flat.texts.push(t.string.clone()),
+                GdsElement::GdsTextElem(t) => {
+                    count(1)?;
+                    flat.texts.push(t.string.clone());
+                }
                 GdsElement::GdsStructRef(r) => {
                     let child = by_name
                         .get(r.name.as_str())
                         .ok_or_else(|| err(format!("reference to a missing cell `{}`", r.name)))?;
+                    count(1)?;
                     let xy = [f64::from(r.xy.x), f64::from(r.xy.y)];
                     stack.push((child, tf.then_ref(r.strans.as_ref(), xy), depth + 1));
                 }
@@ -528,13 +552,10 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
                     let child = by_name
                         .get(a.name.as_str())
                         .ok_or_else(|| err(format!("reference to a missing cell `{}`", a.name)))?;
-                    expanded += usize::from(a.cols.max(1).unsigned_abs())
-                        * usize::from(a.rows.max(1).unsigned_abs());
-                    if expanded > MAX_EXPANDED {
-                        return Err(err(format!(
-                            "more than {MAX_EXPANDED} cell instances to expand; import a smaller mask"
-                        )));
-                    }
+                    count(
+                        usize::from(a.cols.max(1).unsigned_abs())
+                            * usize::from(a.rows.max(1).unsigned_abs()),
+                    )?;
                     for xy in array_positions(a) {
                         stack.push((child, tf.then_ref(a.strans.as_ref(), xy), depth + 1));
                     }
@@ -546,7 +567,83 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
     Ok(flat)
 }
 
-/// Most cell instances an import expands.
+/// Refuses a hierarchy whose expansion would not fit [`flat_size::MAX_FLAT_BYTES`], before
+/// any of it is expanded.
+fn check_flat_size(
+    structs: &[GdsStruct],
+    top: &GdsStruct,
+    layer: i16,
+    datatype: i16,
+) -> Result<(), String> {
+    let index: std::collections::HashMap<&str, usize> = structs
+        .iter()
+        .enumerate()
+        .map(|(i, s)| (s.name.as_str(), i))
+        .collect();
+    let child = |name: &str| {
+        index
+            .get(name)
+            .copied()
+            .ok_or_else(|| format!("reference to a missing cell `{name}`"))
+    };
+    let mut cells = Vec::with_capacity(structs.len());
+    for s in structs {
+        let mut size = CellSize {
+            own_bytes: 0,
+            children: Vec::new(),
+        };
+        for e in &s.elems {
+            let own = match e {
+                GdsElement::GdsBoundary(b) if b.layer == layer && b.datatype == datatype => {
+                    flat_size::polygon_bytes(b.xy.len())
+                }
+                GdsElement::GdsTextElem(t) => flat_size::text_bytes(t.string.len()),
+                GdsElement::GdsStructRef(r) => {
+                    size.children.push((child(&r.name)?, 1));
+                    0
+                }
+                GdsElement::GdsArrayRef(a) => {
+                    let instances = usize::from(a.cols.max(1).unsigned_abs())
+                        * usize::from(a.rows.max(1).unsigned_abs());
+                    size.children.push((child(&a.name)?, instances));
+                    0
+                }
+                _ => 0,
+            };
+            size.own_bytes = size.own_bytes.saturating_add(own);
+        }
+        cells.push(size);
+    }
+    match flat_size::flattened_bytes(&cells, child(&top.name)?) {
+        Ok(_) => Ok(()),
+        Err(FlatSizeError::TooDeep) => Err("references nest deeper than 32 levels".into()),
+        Err(FlatSizeError::TooLarge) => Err(format!(
+            "its references expand to more than {} MiB of polygons and cell instances; import \
+             a smaller mask",
+            flat_size::MAX_FLAT_BYTES >> 20
+        )),
+    }
+}
+
+/// The offset of the first string record without data, following the record lengths as gds21
+/// reads them: gds21 takes the last byte of every string and panics on an empty one.
+fn empty_string_record(bytes: &[u8]) -> Option<usize> {
+    const STRING_DATA: u8 = 0x06;
+    let mut at = 0;
+    while let Some(header) = bytes.get(at..at + 4) {
+        let len = usize::from(u16::from_be_bytes([header[0], header[1]]));
+        if len < 4 || len % 2 != 0 || header[2] == ENDLIB {
+            return None;
+        }
+        if header[3] == STRING_DATA && len == 4 {
+            return Some(at);
+        }
+        at += len;
+    }
+    None
+}
+
+/// Most cell instances, polygons and notes an import expands.
 const MAX_EXPANDED: usize = 20_000_000;
 
 /// Where the instances of an array reference go: `origin + i·column step + j·row step`, the

@@ -71,6 +71,10 @@ pub struct ImportedMask {
 /// Largest grid an import produces (cells).
 pub const MAX_IMPORT_CELLS: usize = 64 << 20;
 
+/// Most cell and edge visits the sampling of one import makes: every cell of the largest grid
+/// drawn 16 times over.
+const MAX_SAMPLING_WORK: usize = 16 * MAX_IMPORT_CELLS;
+
 /// Reads the mask at `path` (GDSII or DXF, by extension) into cells.
 ///
 /// # Errors
@@ -126,12 +130,33 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
         Some(w) => w,
         None => bounding_window(&polygons, s),
     };
-    if window.cols == 0 || window.rows == 0 || window.cols * window.rows > MAX_IMPORT_CELLS {
+    // A vertex far out or at ±∞ (DXF reads `inf`) sizes the bounding window at up to
+    // usize::MAX cells a side: the product must not overflow.
+    let cells = window.cols.checked_mul(window.rows);
+    if window.cols == 0 || window.rows == 0 || cells.is_none_or(|n| n > MAX_IMPORT_CELLS) {
         return Err(err(MaskImportError::Window {
             cols: window.cols,
             rows: window.rows,
             max_cells: MAX_IMPORT_CELLS,
         }));
+    }
+    // Sampling visits, for each polygon, its rows times its edges and the cells across it:
+    // a few hundred polygons piled on one wide window would take hours.
+    let work = polygons
+        .iter()
+        .map(|poly| sampling_work(poly, &window, s))
+        .fold(0usize, usize::saturating_add);
+    if work > MAX_SAMPLING_WORK {
+        return Err(IoError::Mask {
+            path: path.to_path_buf(),
+            message: format!(
+                "the {} polygons overlap too much to sample on {}×{} cells (more than \
+                 {MAX_SAMPLING_WORK} cell and edge visits); import a smaller window",
+                polygons.len(),
+                window.cols,
+                window.rows
+            ),
+        });
     }
     let mut drawn = vec![vec![false; window.cols]; window.rows];
     for poly in &polygons {
@@ -179,20 +204,43 @@ fn bounding_window(polygons: &[Vec<[f64; 2]>], cell_um: f64) -> ImportWindow {
     }
 }
 
+/// The rows whose centre y = top − (r + ½)s lies within the polygon's span, `r0..r1`.
+fn row_range(poly: &[[f64; 2]], w: &ImportWindow, s: f64) -> (usize, usize) {
+    let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in poly {
+        y_lo = y_lo.min(p[1]);
+        y_hi = y_hi.max(p[1]);
+    }
+    let r0 = ((w.top_um - y_hi) / s - 0.5).floor().max(0.0) as usize;
+    let r1 = (((w.top_um - y_lo) / s - 0.5).ceil().max(0.0) as usize).min(w.rows);
+    (r0, r1)
+}
+
+/// What [`sample_polygon`] visits for `poly`: its rows, times its edges and the cells across
+/// its x-span.
+fn sampling_work(poly: &[[f64; 2]], w: &ImportWindow, s: f64) -> usize {
+    if poly.len() < 3 {
+        return 0;
+    }
+    let (r0, r1) = row_range(poly, w, s);
+    let (mut x_lo, mut x_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in poly {
+        x_lo = x_lo.min(p[0]);
+        x_hi = x_hi.max(p[0]);
+    }
+    let c0 = ((x_lo - w.left_um) / s - 0.5).ceil().max(0.0) as usize;
+    let c1 = (((x_hi - w.left_um) / s - 0.5).ceil().max(0.0) as usize).min(w.cols);
+    r1.saturating_sub(r0)
+        .saturating_mul(poly.len().saturating_add(c1.saturating_sub(c0)))
+}
+
 /// Marks the cells whose centres lie inside `poly` (even-odd rule).
 fn sample_polygon(poly: &[[f64; 2]], w: &ImportWindow, s: f64, drawn: &mut [Vec<bool>]) {
     let n = poly.len();
     if n < 3 {
         return;
     }
-    let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for p in poly {
-        y_lo = y_lo.min(p[1]);
-        y_hi = y_hi.max(p[1]);
-    }
-    // Rows whose centre y = top − (r + ½)s lies within the polygon's span.
-    let r0 = ((w.top_um - y_hi) / s - 0.5).floor().max(0.0) as usize;
-    let r1 = (((w.top_um - y_lo) / s - 0.5).ceil().max(0.0) as usize).min(w.rows);
+    let (r0, r1) = row_range(poly, w, s);
     let mut xs = Vec::new();
     for (r, row) in drawn.iter_mut().enumerate().take(r1).skip(r0) {
         let y = w.top_um - (r as f64 + 0.5) * s;

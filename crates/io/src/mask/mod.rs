@@ -7,6 +7,7 @@
 
 mod dxf;
 mod fab;
+mod flat_size;
 mod frame;
 mod gds;
 mod import;

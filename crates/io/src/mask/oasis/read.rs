@@ -11,6 +11,7 @@ use std::path::Path;
 use super::encode::{MAGIC, record};
 use crate::IoError;
 use crate::error::OasisError;
+use crate::mask::flat_size::{self, CellSize, FlatSizeError};
 use crate::mask::gds::{Affine, Flat};
 
 /// Most placements and repeated shapes one file may expand to.
@@ -209,7 +210,8 @@ impl Bytes<'_> {
 
 impl State {
     fn count(&mut self, n: usize) -> R<()> {
-        self.expanded += n;
+        // A repetition may claim u64::MAX instances: the total saturates instead of wrapping.
+        self.expanded = self.expanded.saturating_add(n);
         if self.expanded > MAX_EXPANDED {
             return Err(OasisError::TooManyShapes { max: MAX_EXPANDED });
         }
@@ -228,11 +230,7 @@ impl State {
                 let mut horizontal = kind == 0;
                 for _ in 0..n {
                     let d = b.s()?;
-                    last = if horizontal {
-                        [last[0] + d, last[1]]
-                    } else {
-                        [last[0], last[1] + d]
-                    };
+                    last = add(last, if horizontal { [d, 0] } else { [0, d] })?;
                     pts.push(last);
                     horizontal = !horizontal;
                 }
@@ -252,7 +250,7 @@ impl State {
                         3 => b.delta(3)?,
                         _ => b.gdelta()?,
                     };
-                    last = [last[0] + d[0], last[1] + d[1]];
+                    last = add(last, d)?;
                     pts.push(last);
                 }
             }
@@ -260,8 +258,8 @@ impl State {
                 let mut step = [0i64, 0i64];
                 for _ in 0..n {
                     let d = b.gdelta()?;
-                    step = [step[0] + d[0], step[1] + d[1]];
-                    last = [last[0] + step[0], last[1] + step[1]];
+                    step = add(step, d)?;
+                    last = add(last, step)?;
                     pts.push(last);
                 }
             }
@@ -281,9 +279,10 @@ impl State {
         let grid2 = |nx: u64, ny: u64, vx: [i64; 2], vy: [i64; 2], out: &mut Vec<[i64; 2]>| {
             for j in 0..ny as i64 {
                 for i in 0..nx as i64 {
-                    out.push([i * vx[0] + j * vy[0], i * vx[1] + j * vy[1]]);
+                    out.push(add(times(vx, i)?, times(vy, j)?)?);
                 }
             }
+            Ok::<(), OasisError>(())
         };
         let size = |n: u64, this: &mut State| this.count(usize::try_from(n).unwrap_or(usize::MAX));
         match kind {
@@ -291,14 +290,14 @@ impl State {
                 let (nx, ny) = (dims(b)?, dims(b)?);
                 size(nx.saturating_mul(ny), self)?;
                 let (sx, sy) = (b.u()? as i64, b.u()? as i64);
-                grid2(nx, ny, [sx, 0], [0, sy], &mut out);
+                grid2(nx, ny, [sx, 0], [0, sy], &mut out)?;
             }
             2 | 3 => {
                 let n = dims(b)?;
                 size(n, self)?;
                 let s = b.u()? as i64;
                 let v = if kind == 2 { [s, 0] } else { [0, s] };
-                grid2(n, 1, v, [0, 0], &mut out);
+                grid2(n, 1, v, [0, 0], &mut out)?;
             }
             4..=7 => {
                 let n = dims(b)?;
@@ -307,7 +306,10 @@ impl State {
                 let mut at = 0i64;
                 out.push([0, 0]);
                 for _ in 1..n {
-                    at += b.u()? as i64 * grid;
+                    let step = (b.u()? as i64).checked_mul(grid);
+                    at = step
+                        .and_then(|s| at.checked_add(s))
+                        .ok_or(OasisError::Overflow)?;
                     out.push(if kind <= 5 { [at, 0] } else { [0, at] });
                 }
             }
@@ -315,13 +317,13 @@ impl State {
                 let (nx, ny) = (dims(b)?, dims(b)?);
                 size(nx.saturating_mul(ny), self)?;
                 let (vx, vy) = (b.gdelta()?, b.gdelta()?);
-                grid2(nx, ny, vx, vy, &mut out);
+                grid2(nx, ny, vx, vy, &mut out)?;
             }
             9 => {
                 let n = dims(b)?;
                 size(n, self)?;
                 let v = b.gdelta()?;
-                grid2(n, 1, v, [0, 0], &mut out);
+                grid2(n, 1, v, [0, 0], &mut out)?;
             }
             10 | 11 => {
                 let n = dims(b)?;
@@ -331,7 +333,7 @@ impl State {
                 out.push(at);
                 for _ in 1..n {
                     let d = b.gdelta()?;
-                    at = [at[0] + d[0] * grid, at[1] + d[1] * grid];
+                    at = add(at, times(d, grid)?)?;
                     out.push(at);
                 }
             }
@@ -341,13 +343,13 @@ impl State {
         Ok(out)
     }
 
-    fn xy(&self, modal: [i64; 2], x: Option<i64>, y: Option<i64>) -> [i64; 2] {
+    fn xy(&self, modal: [i64; 2], x: Option<i64>, y: Option<i64>) -> R<[i64; 2]> {
         let pick = |m: i64, v: Option<i64>| match v {
-            Some(v) if self.modal.relative => m + v,
-            Some(v) => v,
-            None => m,
+            Some(v) if self.modal.relative => m.checked_add(v).ok_or(OasisError::Overflow),
+            Some(v) => Ok(v),
+            None => Ok(m),
         };
-        [pick(modal[0], x), pick(modal[1], y)]
+        Ok([pick(modal[0], x)?, pick(modal[1], y)?])
     }
 
     fn cell(&mut self) -> R<&mut CellData> {
@@ -508,9 +510,12 @@ impl State {
                 if self.in_cblock {
                     return Err(OasisError::NestedCblock);
                 }
-                // Deflate expands at most about 1032×: a claim beyond that is not reserved.
-                let mut data = Vec::with_capacity(full.min(packed.saturating_mul(1032)) as usize);
-                flate2::read::DeflateDecoder::new(b.take(packed)?)
+                // The packed bytes first: a claimed length is only trusted once the file has
+                // that many bytes. Deflate expands at most about 1032×: no more is reserved.
+                let packed = b.take(packed)?;
+                let reserve = full.min((packed.len() as u64).saturating_mul(1032));
+                let mut data = Vec::with_capacity(reserve as usize);
+                flate2::read::DeflateDecoder::new(packed)
                     .take(full)
                     .read_to_end(&mut data)
                     .map_err(OasisError::Inflate)?;
@@ -555,7 +560,7 @@ impl State {
         }
         let x = if info & 0x20 != 0 { Some(b.s()?) } else { None };
         let y = if info & 0x10 != 0 { Some(b.s()?) } else { None };
-        let at = self.xy(self.modal.placement_xy, x, y);
+        let at = self.xy(self.modal.placement_xy, x, y)?;
         self.modal.placement_xy = at;
         let offsets = if info & 0x08 != 0 {
             self.repetition(b)?
@@ -591,7 +596,7 @@ impl State {
         }
         let x = if info & 0x10 != 0 { Some(b.s()?) } else { None };
         let y = if info & 0x08 != 0 { Some(b.s()?) } else { None };
-        self.modal.text_xy = self.xy(self.modal.text_xy, x, y);
+        self.modal.text_xy = self.xy(self.modal.text_xy, x, y)?;
         if info & 0x04 != 0 {
             self.repetition(b)?;
         }
@@ -683,7 +688,7 @@ impl State {
         }
         let x = if info & 0x10 != 0 { Some(b.s()?) } else { None };
         let y = if info & 0x08 != 0 { Some(b.s()?) } else { None };
-        let at = self.xy(self.modal.geometry_xy, x, y);
+        let at = self.xy(self.modal.geometry_xy, x, y)?;
         self.modal.geometry_xy = at;
         let offsets = if info & 0x04 != 0 {
             self.repetition(b)?
@@ -702,18 +707,31 @@ impl State {
         }
         self.count(offsets.len())?;
         if let Some(pts) = shape {
-            let pts = pts.iter().map(|p| [p[0] + at[0], p[1] + at[1]]).collect();
+            let pts = pts.iter().map(|p| add(*p, at)).collect::<R<_>>()?;
             self.cell()?.polygons.push((pts, offsets));
         }
         Ok(())
     }
 }
 
+/// `a + b`: coordinates and offsets come from the file, so a sum past i64 is an error, not a
+/// panic (or, in a release build, a wrapped coordinate).
+fn add(a: [i64; 2], b: [i64; 2]) -> R<[i64; 2]> {
+    let sum = |x: i64, y: i64| x.checked_add(y).ok_or(OasisError::Overflow);
+    Ok([sum(a[0], b[0])?, sum(a[1], b[1])?])
+}
+
+/// `k · v`, an error past i64 as [`add`].
+fn times(v: [i64; 2], k: i64) -> R<[i64; 2]> {
+    let product = |x: i64| x.checked_mul(k).ok_or(OasisError::Overflow);
+    Ok([product(v[0])?, product(v[1])?])
+}
+
 /// A name record's string and reference number: explicit, or the next implicit one.
 fn named(b: &mut Bytes, explicit: bool, next: &mut u64) -> R<(u64, String)> {
     let s = b.string()?;
     let n = if explicit { b.u()? } else { *next };
-    *next = n + 1;
+    *next = n.saturating_add(1);
     Ok((n, s))
 }
 
@@ -763,60 +781,86 @@ fn flatten(s: State) -> R<Flat> {
             CellKey::Name(n) => n.clone(),
         }
     };
-    let by_name: HashMap<String, &CellData> =
-        s.order.iter().map(|k| (canon(k), &s.cells[k])).collect();
-    let referenced: HashSet<String> = s
-        .cells
-        .values()
-        .flat_map(|c| c.placements.iter().map(|p| canon(&p.cell)))
-        .collect();
-    let tops: Vec<String> = s
-        .order
+    let names: Vec<String> = s.order.iter().map(canon).collect();
+    let cells: Vec<&CellData> = s.order.iter().map(|k| &s.cells[k]).collect();
+    let index: HashMap<&str, usize> = names
         .iter()
-        .map(canon)
-        .filter(|n| !referenced.contains(n))
+        .enumerate()
+        .map(|(i, n)| (n.as_str(), i))
         .collect();
-    let [top] = tops.as_slice() else {
-        return Err(OasisError::TopCells { found: tops });
+    let place = |k: &CellKey| -> R<usize> {
+        let name = canon(k);
+        index
+            .get(name.as_str())
+            .copied()
+            .ok_or(OasisError::MissingCell { name })
     };
+    let text = |t: &String| -> String {
+        match t.strip_prefix('\u{0}').and_then(|n| n.parse::<u64>().ok()) {
+            Some(n) => s.textstrings.get(&n).cloned().unwrap_or_default(),
+            None => t.clone(),
+        }
+    };
+    // Each placement's cell, resolved once: the expansion below pushes indices, not names.
+    let placed: Vec<Vec<usize>> = cells
+        .iter()
+        .map(|c| c.placements.iter().map(|p| place(&p.cell)).collect())
+        .collect::<R<_>>()?;
+    let referenced: HashSet<usize> = placed.iter().flatten().copied().collect();
+    let tops: Vec<usize> = (0..cells.len())
+        .filter(|i| !referenced.contains(i))
+        .collect();
+    let &[top] = tops.as_slice() else {
+        return Err(OasisError::TopCells {
+            found: tops.iter().map(|&i| names[i].clone()).collect(),
+        });
+    };
+    let sizes: Vec<CellSize> = cells
+        .iter()
+        .zip(&placed)
+        .map(|(c, placed)| CellSize {
+            own_bytes: c
+                .polygons
+                .iter()
+                .map(|(pts, o)| flat_size::polygon_bytes(pts.len()).saturating_mul(o.len()))
+                .chain(c.texts.iter().map(|t| flat_size::text_bytes(text(t).len())))
+                .fold(0, usize::saturating_add),
+            children: placed
+                .iter()
+                .zip(&c.placements)
+                .map(|(&i, p)| (i, p.offsets.len()))
+                .collect(),
+        })
+        .collect();
+    flat_size::flattened_bytes(&sizes, top).map_err(|e| match e {
+        FlatSizeError::TooDeep => OasisError::TooDeep,
+        FlatSizeError::TooLarge => OasisError::ExpandsTooLarge {
+            max_mib: flat_size::MAX_FLAT_BYTES >> 20,
+        },
+    })?;
     let scale = 1.0 / s.unit_per_um;
     let mut flat = Flat {
         polygons_um: Vec::new(),
         texts: Vec::new(),
     };
-    let mut stack = vec![(top.clone(), Affine::IDENTITY, 0usize)];
-    while let Some((name, tf, depth)) = stack.pop() {
-        if depth > 32 {
-            return Err(OasisError::TooDeep);
-        }
-        let cell = by_name
-            .get(&name)
-            .ok_or_else(|| OasisError::MissingCell { name: name.clone() })?;
+    let mut stack = vec![(top, Affine::IDENTITY)];
+    while let Some((at, tf)) = stack.pop() {
+        let cell = cells[at];
         for (pts, offsets) in &cell.polygons {
             for o in offsets {
                 flat.polygons_um.push(
                     pts.iter()
-                        .map(|p| tf.apply([(p[0] + o[0]) as f64, (p[1] + o[1]) as f64]))
+                        .map(|p| tf.apply([p[0] as f64 + o[0] as f64, p[1] as f64 + o[1] as f64]))
                         .map(|p| [p[0] * scale, p[1] * scale])
                         .collect(),
                 );
             }
         }
-        for t in &cell.texts {
-            let text = match t.strip_prefix('\u{0}').and_then(|n| n.parse::<u64>().ok()) {
-                Some(n) => s.textstrings.get(&n).cloned().unwrap_or_default(),
-                None => t.clone(),
-            };
-            flat.texts.push(text);
-        }
-        for p in &cell.placements {
+        flat.texts.extend(cell.texts.iter().map(text));
+        for (p, &child) in cell.placements.iter().zip(&placed[at]) {
             for o in &p.offsets {
-                let at = [(p.at[0] + o[0]) as f64, (p.at[1] + o[1]) as f64];
-                stack.push((
-                    canon(&p.cell),
-                    tf.then(p.flip, p.mag, p.angle_deg, at),
-                    depth + 1,
-                ));
+                let at = [p.at[0] as f64 + o[0] as f64, p.at[1] as f64 + o[1] as f64];
+                stack.push((child, tf.then(p.flip, p.mag, p.angle_deg, at)));
             }
         }
     }
