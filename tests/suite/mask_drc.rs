@@ -107,22 +107,33 @@ fn the_phase_plate_reports_its_narrowest_ring() {
     // The fold rings thin out towards each lenslet's edge: the thesis plate's narrowest is
     // under 200 nm, a feature for e-beam, not contact lithography.
     assert!(narrowest > 0.0 && narrowest < 0.2, "{narrowest}");
-    // In core: the narrowest of the plate's pieces, positive, and where the rings are thinnest,
-    // near a lenslet's edge (away from its centre by more than a third of the pitch).
+    // The same feature the design-rule check measures.
+    let drc_min = v["drc"]["report"]["min_feature_um"].as_f64().unwrap();
+    assert!(
+        (narrowest - drc_min).abs() <= 1e-5 * drc_min,
+        "{narrowest} vs {drc_min}"
+    );
+    // In core: the narrowest of the plate's features (pieces joined where the height runs on
+    // across a lenslet edge), positive, and where the rings are thinnest, near a lenslet's edge
+    // (away from its centre by more than a third of the pitch).
     let mut d = udc_studio::core::phase::PhaseDesign::thesis(168.0, 1.0);
     d.height_step_um = Some(0.2);
     let lenslets = udc_studio::core::phase::geometry::Lenslets::new(&d).unwrap();
     let pieces = udc_studio::core::phase::plate::pieces(&d, &lenslets).unwrap();
-    let min = pieces
+    let features = udc_studio::core::phase::plate::features(&d, &pieces);
+    assert!(
+        features.len() < pieces.len(),
+        "some pieces run on across an edge"
+    );
+    let min = features
         .iter()
-        .map(|p| p.x1_um - p.x0_um)
-        .filter(|w| *w > 0.0)
+        .map(|f| f.width_um())
         .fold(f64::INFINITY, f64::min);
-    let n = udc_studio::core::phase::plate::narrowest_piece(&d, &lenslets)
+    let n = udc_studio::core::phase::plate::narrowest_feature(&d, &lenslets)
         .unwrap()
         .unwrap();
-    assert_eq!(n.width_um, min);
-    let (l, _) = lenslets.locate(n.x0_um + 0.5 * n.width_um).unwrap();
+    assert_eq!(n.width_um(), min);
+    let (l, _) = lenslets.locate(n.x0_um + 0.5 * n.width_um()).unwrap();
     let from_centre = (n.x0_um - lenslets.centre_um(l)).abs();
     assert!(
         from_centre > d.pitch_um / 3.0,

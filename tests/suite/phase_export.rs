@@ -1,6 +1,7 @@
 //! Phase-plate height exports (thesis §4.6) read back with independent readers (the `png`,
-//! `image`, `gds21` and `stl_io` crates) and compared with the model's own profile,
-//! `geometry::profile_um`, sampled densely here.
+//! `image`, `gds21` and `stl_io` crates) and compared with the fabricated plate,
+//! `plate::profile_um`, sampled densely here; that plate is the model's own profile,
+//! `geometry::profile_um`, but for the part-rings at its two outer edges.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::collections::HashMap;
@@ -8,7 +9,7 @@ use std::path::Path;
 
 use gds21::{GdsElement, GdsLibrary};
 use udc_studio::core::phase::geometry::{self, Lenslets};
-use udc_studio::core::phase::{HeightRounding, Lambda0, PhaseDesign, Surface};
+use udc_studio::core::phase::{HeightRounding, Lambda0, PhaseDesign, Surface, plate};
 use udc_studio::io::phase_export::{
     HeightFormat, height_csv_text, write_height_csv, write_height_gds, write_height_png,
     write_height_stl,
@@ -38,7 +39,7 @@ fn dense(d: &PhaseDesign, dx: f64) -> (Vec<f64>, Vec<f64>) {
     let xs: Vec<f64> = (0..n)
         .map(|i| -span / 2.0 + (i as f64 + 0.5) * dx)
         .collect();
-    let hs = geometry::profile_um(d, &xs).unwrap();
+    let hs = plate::profile_um(d, &xs).unwrap();
     (xs, hs)
 }
 
@@ -68,7 +69,7 @@ fn phase_export_csv_round_trips_the_profile_and_lenslets() {
     assert_eq!(s.samples, Some(xs.len()));
     assert_eq!(s.kind, HeightFormat::Csv);
     let parsed: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
-    let expected = geometry::profile_um(&d, &parsed).unwrap();
+    let expected = plate::profile_um(&d, &parsed).unwrap();
     let mut seen = vec![false; lenslets.count()];
     for ((r, &x), (&want_x, &h)) in rows.iter().zip(&parsed).zip(xs.iter().zip(&expected)) {
         assert_eq!(r.len(), 4);
@@ -151,7 +152,7 @@ fn phase_export_png_levels_are_the_quantised_heights() {
     assert_eq!(s.um_per_level, Some(0.2));
     assert_eq!(s.pixel_um, Some(0.5));
     assert_eq!(s.levels, Some(6));
-    let heights = geometry::profile_um(&d, &xs).unwrap();
+    let heights = plate::profile_um(&d, &xs).unwrap();
     for row in values.chunks(w) {
         assert_eq!(row, &values[..w], "rows are identical");
     }
@@ -180,7 +181,7 @@ fn phase_export_png_without_step_is_within_half_a_level() {
     let img = img.into_luma16();
     let xs = sample_xs(&d, 0.25);
     assert_eq!(img.width() as usize, xs.len());
-    let heights = geometry::profile_um(&d, &xs).unwrap();
+    let heights = plate::profile_um(&d, &xs).unwrap();
     for y in 0..img.height() {
         for (i, &hgt) in heights.iter().enumerate() {
             let v = f64::from(img.get_pixel(i as u32, y).0[0]);
@@ -210,6 +211,7 @@ fn phase_export_png_refuses_oversized_images() {
     assert!(!path.exists());
 }
 
+#[derive(Debug)]
 struct Rect {
     layer: i16,
     x0: i32,
@@ -667,7 +669,29 @@ fn analytic_runs(d: &PhaseDesign) -> Vec<(f64, f64, i64)> {
             push(c + radius(sag), x1, level);
         }
     }
+    // The fabricated plate: a part-ring at either outer edge narrower than the run inside it
+    // is that run, continued to the edge.
+    let width = |r: &(f64, f64, i64)| r.1 - r.0;
+    if runs.len() > 2 && width(&runs[0]) < width(&runs[1]) {
+        let x0 = runs.remove(0).0;
+        runs[0].0 = x0;
+    }
+    let n = runs.len();
+    if n > 2 && width(&runs[n - 1]) < width(&runs[n - 2]) {
+        let x1 = runs.pop().map_or(0.0, |r| r.1);
+        runs[n - 2].1 = x1;
+    }
     runs
+}
+
+/// The level of the fabricated plate at `x`: [`floor_level_at`], but in the runs at the two
+/// outer edges, which may carry an edge part-ring continued from inside (`analytic_runs`).
+fn plate_level_at(d: &PhaseDesign, runs: &[(f64, f64, i64)], x: f64) -> i64 {
+    match (runs.first(), runs.last()) {
+        (Some(first), _) if x < first.1 => first.2,
+        (_, Some(last)) if x >= last.0 => last.2,
+        _ => floor_level_at(d, x),
+    }
 }
 
 /// The level the floor rule gives at `x`, straight from `floor(mod(sag, d0) / s)`.
@@ -755,8 +779,14 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         assert_eq!(levels_of(&want), (0..=top).collect());
         // The analytic rings are what the floor formula says inside them (a quarter in from each
         // end: a ring merged across a lenslet edge has the edge at its middle).
-        for r in &want {
-            for t in [0.25, 0.75] {
+        for (k, r) in want.iter().enumerate() {
+            // An edge run's outer quarter may be the part-ring it continues over.
+            let ts: &[f64] = match k {
+                0 => &[0.75],
+                k if k + 1 == want.len() => &[0.25],
+                _ => &[0.25, 0.75],
+            };
+            for t in ts {
                 assert_eq!(floor_level_at(&d, r.0 + t * (r.1 - r.0)), r.2, "{r:?}");
             }
         }
@@ -801,7 +831,7 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
             let level = udc_studio::io::numbers::snap_decimals(k as f64 * STEP, 9);
             assert_eq!(h, level, "x = {x}: {h} is not exactly a level");
             assert!(h < D0, "x = {x}: {h} µm is above the fold height {D0}");
-            assert_eq!(k, floor_level_at(&d, x), "x = {x}: level {k}");
+            assert_eq!(k, plate_level_at(&d, &want, x), "x = {x}: level {k}");
         }
         let csv_runs = sampled_runs(&xs, &csv_levels, sample);
         assert_eq!(levels_of(&csv_runs), (0..=top).collect());
@@ -1002,14 +1032,129 @@ fn phase_export_floor_edge_cases_of_the_top_level() {
     let dir = tempfile::tempdir().unwrap();
     let s = write_height_gds(&d, &dir.path().join("flat.gds"), 10.0).unwrap();
     assert_eq!((s.levels, s.rectangles), (Some(1), Some(0)));
-    // Unfolded, floored: floor(sag / s)·s, never above the sag.
+    // Unfolded, floored: floor(sag / s)·s, never above the sag (the model's profile; the
+    // fabricated plate's outer edges are tested in `the_plate_edge_is_never_narrower_...`).
     let mut u = small(Some(0.2));
     u.surface = Surface::Unfolded;
-    let (xs, hs) = dense(&u, 0.01);
+    let (xs, _) = dense(&u, 0.01);
+    let hs = geometry::profile_um(&u, &xs).unwrap();
     let lenslets = Lenslets::new(&u).unwrap();
     for (&x, &h) in xs.iter().zip(&hs) {
         let (_, du) = lenslets.locate(x).unwrap();
         let sag = geometry::sag_um(&u, du);
         assert_eq!(h, (sag / 0.2).floor() * 0.2, "x = {x}");
+    }
+}
+
+/// Pitches of 600, 300 and 150 DPI, folds T = 1, 2 and 5, three folding-wavelength plans and
+/// three ways of stepping the height.
+fn edge_setups() -> Vec<PhaseDesign> {
+    let mut out = Vec::new();
+    for pitch in [42.0, 84.0, 168.0] {
+        for fold in [1.0, 2.0, 5.0] {
+            for lambda0 in [
+                Lambda0::Fixed { nm: 530.0 },
+                Lambda0::Fixed { nm: 600.0 },
+                Lambda0::Uniform,
+            ] {
+                for (step, rounding) in [
+                    (None, HeightRounding::Floor),
+                    (Some(0.2), HeightRounding::Floor),
+                    (Some(0.2), HeightRounding::Nearest),
+                ] {
+                    let mut d = PhaseDesign::thesis(pitch, fold);
+                    d.lambda0 = lambda0.clone();
+                    d.height_step_um = step;
+                    d.height_rounding = rounding;
+                    out.push(d);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The plate's outer edges never make a feature narrower than the plate makes inside: with the
+/// rule set to the narrowest feature away from the two edges, the plate passes its own design-
+/// rule check, for every pitch × fold × λ0 plan × step. The model's profile would not: for a
+/// 600-DPI plate at 0.2-µm steps and λ0 = 600 nm its edge part-rings are 76 nm wide against
+/// 152 nm inside.
+#[test]
+fn the_plate_edge_is_never_narrower_than_the_plate_inside() {
+    use udc_studio::core::mask::drc::Rules;
+    use udc_studio::core::phase::drc::check_plate;
+    let mut merged = 0;
+    for d in edge_setups() {
+        let lenslets = Lenslets::new(&d).unwrap();
+        let pieces = plate::pieces(&d, &lenslets).unwrap();
+        let width = |p: &plate::Piece| p.x1_um - p.x0_um;
+        let inside = pieces[1..pieces.len() - 1]
+            .iter()
+            .map(width)
+            .fold(f64::INFINITY, f64::min);
+        let rules = Rules {
+            phase_min_feature_um: inside,
+            ..Rules::default()
+        };
+        let report = check_plate(&d, &rules).unwrap();
+        let what = format!(
+            "pitch {} µm, T = {}, {:?}, step {:?} {:?}",
+            d.pitch_um, d.fold, d.lambda0, d.height_step_um, d.height_rounding
+        );
+        assert!(report.is_clean(), "{what}: {:?}", report.violations.first());
+        // Where the model's part-ring was a sliver, the plate differs from the model over it
+        // and only there: within the outermost piece at each edge.
+        let span = lenslets.span_um();
+        let xs: Vec<f64> = (0..40_000)
+            .map(|i| -span / 2.0 + (i as f64 + 0.5) * span / 40_000.0)
+            .collect();
+        let model = geometry::profile_um(&d, &xs).unwrap();
+        let fabricated = plate::profile_um(&d, &xs).unwrap();
+        let (first, last) = (&pieces[0], &pieces[pieces.len() - 1]);
+        let mut differs = false;
+        for ((&x, m), f) in xs.iter().zip(&model).zip(&fabricated) {
+            if (m - f).abs() > 1e-9 {
+                differs = true;
+                assert!(
+                    x < first.x1_um || x >= last.x0_um,
+                    "{what}: the plate leaves the model at x = {x} µm, inside the array"
+                );
+            }
+        }
+        merged += usize::from(differs);
+    }
+    assert!(
+        merged > 0,
+        "no setup had an edge sliver: the test would not see one"
+    );
+}
+
+/// The example: `phase export --format gds --fold 1 --height-step-um 0.2 --lambda0
+/// fixed:600` drew 76-nm slivers at the plate's two outer edges; the GDSII now has none.
+#[test]
+fn the_600_dpi_plate_at_600_nm_has_no_edge_sliver_in_its_gds() {
+    let mut d = PhaseDesign::thesis(42.0, 1.0);
+    d.lambda0 = Lambda0::Fixed { nm: 600.0 };
+    d.height_step_um = Some(0.2);
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("plate.gds");
+    write_height_gds(&d, &path, 1000.0).unwrap();
+    let (_, rects) = read_gds_rects(&path);
+    let half_span_nm = Lenslets::new(&d).unwrap().span_um() * 500.0;
+    let at_edge: Vec<&Rect> = rects
+        .iter()
+        .filter(|r| {
+            (r.x0 as f64 + half_span_nm).abs() < 1.0 || (r.x1 as f64 - half_span_nm).abs() < 1.0
+        })
+        .collect();
+    assert!(
+        !at_edge.is_empty(),
+        "the outermost rectangles reach the edges"
+    );
+    for r in at_edge {
+        assert!(
+            r.x1 - r.x0 > 152,
+            "{r:?} at the edge is narrower than the rings inside"
+        );
     }
 }

@@ -493,12 +493,12 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
     let mut report = serde_json::to_value(&summary)?;
     let lenslets = udc_core::phase::geometry::Lenslets::new(&design)?;
     if let (Some(n), Some(obj)) = (
-        udc_core::phase::plate::narrowest_piece(&design, &lenslets)?,
+        udc_core::phase::plate::narrowest_feature(&design, &lenslets)?,
         report.as_object_mut(),
     ) {
         obj.insert(
             "narrowest_feature_um".into(),
-            serde_json::json!(udc_io::numbers::round_sig(n.width_um, 6)),
+            serde_json::json!(udc_io::numbers::round_sig(n.width_um(), 6)),
         );
         obj.insert(
             "narrowest_feature_at_um".into(),

@@ -1,24 +1,13 @@
 //! The design-rule check of a phase plate: every stretch between two height jumps (a fold ring,
 //! or a quantised height step) against the narrowest feature its writer can make.
-//!
-//! The pieces of [`super::plate::pieces`] are cut at lenslet edges too; where the height runs on
-//! across an edge without a jump, the two pieces are one feature and are measured together.
+//! The features are [`super::plate::features`]: pieces joined where the height runs on across
+//! a lenslet edge.
 
 use super::PhaseDesign;
 use super::geometry::Lenslets;
-use super::plate::{Piece, pieces};
+use super::plate::{Feature, features, pieces};
 use crate::SimError;
 use crate::mask::drc::{DrcReport, Rules, Violation, ViolationKind};
-
-/// A height difference below this (µm) is no jump: the surface runs on.
-const CONTINUOUS_UM: f64 = 1e-9;
-
-/// One feature: a stretch of the plate between height jumps.
-#[derive(Debug, Clone, Copy)]
-struct Feature {
-    x0_um: f64,
-    x1_um: f64,
-}
 
 /// Checks the plate of `design` against `rules.phase_min_feature_um`. The report has the same
 /// shape as a display mask's: its smallest feature, and each violation with where it is (x in
@@ -32,7 +21,7 @@ pub fn check_plate(design: &PhaseDesign, rules: &Rules) -> Result<DrcReport, Sim
     let mut report = DrcReport::new(*rules);
     let rule = rules.phase_min_feature_um;
     for f in &features {
-        let width = f.x1_um - f.x0_um;
+        let width = f.width_um();
         report.min_feature_um = Some(report.min_feature_um.map_or(width, |m| m.min(width)));
         if width < rule - 1e-12 {
             report.push(Violation {
@@ -44,28 +33,6 @@ pub fn check_plate(design: &PhaseDesign, rules: &Rules) -> Result<DrcReport, Sim
         }
     }
     Ok(report)
-}
-
-/// The pieces joined where the height has no jump between them.
-fn features(design: &PhaseDesign, pieces: &[Piece]) -> Vec<Feature> {
-    let mut out: Vec<Feature> = Vec::with_capacity(pieces.len());
-    let mut last: Option<&Piece> = None;
-    for p in pieces.iter().filter(|p| p.x1_um > p.x0_um) {
-        let runs_on = last.is_some_and(|q| {
-            (q.x1_um - p.x0_um).abs() < 1e-9
-                && (q.height_um(design, p.x0_um) - p.height_um(design, p.x0_um)).abs()
-                    < CONTINUOUS_UM
-        });
-        match out.last_mut() {
-            Some(f) if runs_on => f.x1_um = p.x1_um,
-            _ => out.push(Feature {
-                x0_um: p.x0_um,
-                x1_um: p.x1_um,
-            }),
-        }
-        last = Some(p);
-    }
-    out
 }
 
 /// Where `f` is, in words: its lenslet, the radii it spans and on which side of the centre.

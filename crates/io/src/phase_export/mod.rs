@@ -17,10 +17,13 @@
 //!   integer level indices ([`geometry::bands`]), so every flat level and vertical wall sits where
 //!   the model puts it. Only the curved parts of an unquantised STL are sampled (chords every
 //!   `sample_um` at most).
+//! - Every file writes the fabricated plate of [`plate::pieces`]: the model's profile, except
+//!   that a part-ring at either outer edge of the array narrower than the ring inside it is
+//!   drawn as that ring continued to the edge (no writer can make the sliver).
 //! - Lengths are micrometres throughout; GDSII coordinates are whole nanometres.
 //!
 //! One file per format (`csv`, `png`, `gds`, `stl`); `pieces` cuts the profile at its exact jumps
-//! for the two vector formats.
+//! for the two vector formats, and the sampled formats read their heights off the same pieces.
 
 use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
@@ -35,7 +38,7 @@ use super::IoError;
 use super::safe_file::{TempFile, write_atomic};
 use udc_core::mask::MaskError;
 use udc_core::phase::geometry::{self, Lenslets};
-use udc_core::phase::{HeightRounding, PhaseDesign, Surface};
+use udc_core::phase::{HeightRounding, PhaseDesign, Surface, plate};
 
 /// Finest x sample of the CSV, PNG and STL: the GDSII database unit, 1 nm.
 pub const MIN_SAMPLE_UM: f64 = 0.001;
@@ -246,7 +249,7 @@ struct Samples {
     height_um: Vec<f64>,
 }
 
-/// Samples the profile, refusing more than `max` samples before allocating them.
+/// Samples the fabricated plate, refusing more than `max` samples before allocating them.
 fn sample_profile(
     design: &PhaseDesign,
     lenslets: &Lenslets,
@@ -274,9 +277,12 @@ fn sample_profile(
             )
         })
         .collect();
+    // The fabricated plate, as the vector exports draw it (its outer edges differ from the
+    // model's profile: `plate::pieces`).
+    let pieces = plate::pieces(design, lenslets)?;
     let height_um = x_um
         .iter()
-        .map(|&x| lenslets.height_at(design, x))
+        .map(|&x| plate::height_on(design, &pieces, x))
         .collect();
     Ok(Samples { x_um, height_um })
 }
