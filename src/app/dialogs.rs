@@ -169,7 +169,9 @@ impl Purpose {
             Purpose::SaveAs => FileSpec::save(
                 "Save design as",
                 ("UDC design", &["json"]),
-                file_name.unwrap_or_else(|| "design.json".into()),
+                // `.udc.json`: the desktop's MIME database maps it to the studio by name (plain
+                // `.json` designs open as well; assets/desktop/udc-studio.xml).
+                file_name.unwrap_or_else(|| "design.udc.json".into()),
             ),
             Purpose::Export(kind) => FileSpec::save(
                 "Export",

@@ -14,6 +14,7 @@ pub mod dialogs;
 pub mod display;
 pub mod error;
 pub mod history;
+pub mod icon;
 pub mod job;
 mod menu;
 pub mod notice;
@@ -63,11 +64,15 @@ pub struct StudioOptions {
 /// # Errors
 /// When no window can be created (no display).
 pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
+    let mut viewport = egui::ViewportBuilder::default()
+        .with_title("UDC Studio")
+        .with_inner_size([1440.0, 900.0])
+        .with_min_inner_size([900.0, 600.0]);
+    if let Some(icon) = icon::window_icon() {
+        viewport = viewport.with_icon(icon);
+    }
     let options = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title("UDC Studio")
-            .with_inner_size([1440.0, 900.0])
-            .with_min_inner_size([900.0, 600.0]),
+        viewport,
         ..Default::default()
     };
     let studio = StudioOptions {

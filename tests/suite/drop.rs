@@ -79,6 +79,7 @@ fn a_dropped_file_has_one_kind() {
         ("scene.EXR", K::HdrScene),
         ("scene.hdr", K::HdrScene),
         ("design.json", K::Design),
+        ("design.udc.json", K::Design),
         ("photo.JPG", K::Image),
         ("photo.tiff", K::Image),
         ("response.csv", K::Table),

@@ -233,7 +233,7 @@ fn fab_checksum_manifest_and_layer_map_are_written_beside_every_format() {
         assert_eq!(m["format"], format.as_str());
         assert_eq!(m["design"]["name"], "sidecars");
         assert_eq!(m["sha256"], sha256_hex(&bytes));
-        assert_eq!(m["tool_version"], env!("CARGO_PKG_VERSION"));
+        assert_eq!(m["tool_version"], udc_studio::io::TOOL_VERSION);
         assert_eq!(m["layer_map"][0]["name"], "openings");
         if matches!(format, MaskFormat::Gds | MaskFormat::Oas) {
             let layers = r.fab_files.layers.clone().unwrap();

@@ -14,6 +14,7 @@ pub mod saturation;
 pub use export_cmd::ExportArgs;
 pub mod import;
 pub mod optimize;
+pub mod packaging;
 pub mod phase;
 pub mod sensor;
 
@@ -32,11 +33,13 @@ use udc_core::design::{Design, OpticsRecipe, TilingMode};
 use udc_core::{Analysis, Progress};
 use udc_io::{export, presets, report};
 
+pub use udc_io::TOOL_VERSION;
+
 /// The command line: an optional headless command and the global options.
 #[derive(Debug, Parser)]
 #[command(
     name = "udc-studio",
-    version,
+    version = TOOL_VERSION,
     about = "Design studio for under-display cameras"
 )]
 pub struct Cli {
@@ -116,6 +119,22 @@ pub enum Command {
     /// specs in presets/reproduce/ run in-process, then report.md, results.csv and plots with
     /// the thesis's numbers beside ours and its claims checked (`--quick`: ≈ 2 min each).
     Reproduce(reproduce::ReproduceArgs),
+    /// Print the shell completion script for bash, zsh or fish to stdout.
+    ///
+    /// Install it where the shell looks for completions (the package installs them already),
+    /// then open a new shell:
+    ///
+    /// bash: `udc-studio completions bash > ~/.local/share/bash-completion/completions/udc-studio`
+    ///
+    /// zsh: `udc-studio completions zsh > ~/.zfunc/_udc-studio`, with `fpath+=~/.zfunc` before
+    /// `compinit` in ~/.zshrc
+    ///
+    /// fish: `udc-studio completions fish > ~/.config/fish/completions/udc-studio.fish`
+    Completions(packaging::CompletionsArgs),
+    /// Write the man pages (packaging): `udc-studio.1` and one page per subcommand,
+    /// `udc-studio-phase-psf.1`, into a directory.
+    #[command(hide = true)]
+    Manpages(packaging::ManpagesArgs),
 }
 
 /// How a command picks its design: a file, or a preset, then overrides.
@@ -322,6 +341,8 @@ fn run_command(command: Command) -> Result<()> {
         Command::Appearance(args) => appearance::appearance_cmd(&args),
         Command::Sweep(args) => sweep::sweep_cmd(&args),
         Command::Reproduce(args) => reproduce::reproduce_cmd(&args),
+        Command::Completions(args) => packaging::completions_cmd(&args),
+        Command::Manpages(args) => packaging::manpages_cmd(&args),
         Command::Studio { .. } => bail!("the studio is not a headless command"),
     }
 }

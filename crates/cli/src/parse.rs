@@ -8,6 +8,13 @@ fn negative_numbers(cmd: clap::Command) -> clap::Command {
         .mut_subcommands(negative_numbers)
 }
 
+/// The command tree the command line is parsed with, and that `completions` and `manpages`
+/// describe.
+pub(crate) fn command() -> clap::Command {
+    use clap::CommandFactory;
+    negative_numbers(Cli::command())
+}
+
 /// Parses the command line. Negative numbers are values, so `--snr-db -1000` reaches the check
 /// that says what is wrong with it; a usage error is one line (`--help` prints the rest).
 ///
@@ -15,10 +22,8 @@ fn negative_numbers(cmd: clap::Command) -> clap::Command {
 /// Help and version requests as clap's own "errors" (print them and exit 0); anything else as
 /// one line for stderr.
 pub fn parse() -> Result<Cli, CliParseError> {
-    use clap::{CommandFactory, FromArgMatches};
-    let matches = negative_numbers(Cli::command())
-        .try_get_matches()
-        .map_err(CliParseError::from)?;
+    use clap::FromArgMatches;
+    let matches = command().try_get_matches().map_err(CliParseError::from)?;
     Cli::from_arg_matches(&matches).map_err(CliParseError::from)
 }
 
@@ -27,8 +32,8 @@ pub fn parse() -> Result<Cli, CliParseError> {
 /// # Errors
 /// As [`parse`].
 pub fn parse_from(words: &[String]) -> Result<Cli, CliParseError> {
-    use clap::{CommandFactory, FromArgMatches};
-    let matches = negative_numbers(Cli::command())
+    use clap::FromArgMatches;
+    let matches = command()
         .try_get_matches_from(words)
         .map_err(CliParseError::from)?;
     Cli::from_arg_matches(&matches).map_err(CliParseError::from)

@@ -259,7 +259,7 @@ pub fn write_sidecars(
     manifest.insert("file".into(), file_name.into());
     manifest.insert("sha256".into(), hash.into());
     manifest.insert("tool".into(), "udc-studio".into());
-    manifest.insert("tool_version".into(), env!("CARGO_PKG_VERSION").into());
+    manifest.insert("tool_version".into(), crate::TOOL_VERSION.into());
     let mut layers_path = None;
     if let Some((map, header)) = layers {
         let p = beside(path, ".layers.txt");

@@ -12,6 +12,26 @@ pub fn source_tree() -> &'static Path {
     manifest.ancestors().nth(2).unwrap_or(manifest)
 }
 
+/// The version that names this build: the package version and the commit it was built from,
+/// `0.1.0 (commit 1a2b3c4d5e6f)`, with `-dirty` after the hash when tracked files differed
+/// from it and `unknown` outside a git checkout (see crates/io/build.rs). `--version` prints it
+/// and every `tool_version` the commands and exports write carries it.
+pub const TOOL_VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("UDC_GIT_COMMIT"),
+    ")"
+);
+
+/// Where a package installs the data a binary reads from disk (the test set, the reproduce
+/// specs): `<prefix>/share/udc-studio` beside `<prefix>/bin`, so `/usr/bin/udc-studio` looks in
+/// `/usr/share/udc-studio`. `None` when the running binary's path is unknown.
+#[must_use]
+pub fn installed_data_dir() -> Option<std::path::PathBuf> {
+    let exe = std::env::current_exe().ok()?;
+    Some(exe.parent()?.parent()?.join("share").join("udc-studio"))
+}
+
 pub mod bin_study_csv;
 pub mod design_choice;
 pub mod design_file;

@@ -4,7 +4,8 @@
 //! Unlike the built-in photo it is not compiled into the binary (3 MB of PNGs that only tests,
 //! benches and studies read), so it is looked for on disk: next to the running binary (and up to
 //! three folders above it, which covers `target/{debug,release}[/deps]` in a checkout), then
-//! under the working directory, then in the source tree the binary was built from.
+//! where a package installs it (`/usr/share/udc-studio` for `/usr/bin/udc-studio`), then under
+//! the working directory, then in the source tree the binary was built from.
 
 use std::path::{Path, PathBuf};
 
@@ -31,6 +32,9 @@ fn candidate_dirs() -> Vec<PathBuf> {
                 .take(4)
                 .map(|d| d.join(TESTSET_SUBDIR)),
         );
+    }
+    if let Some(share) = crate::installed_data_dir() {
+        dirs.push(share.join(TESTSET_SUBDIR));
     }
     if let Ok(cwd) = std::env::current_dir() {
         dirs.push(cwd.join(TESTSET_SUBDIR));

@@ -16,8 +16,8 @@ pub const SPEC_DIR: &str = "presets/reproduce";
 pub const QUICK_SIDE_PX: u32 = 256;
 
 /// The repository the specs and their input files are in: the working directory or one above
-/// it (a user in the checkout), the running binary's folders (`target/release`), or the source
-/// tree it was built from.
+/// it (a user in the checkout), the running binary's folders (`target/release`), where a package
+/// installs them (`/usr/share/udc-studio`), or the source tree it was built from.
 ///
 /// # Errors
 /// None of them holds `presets/reproduce/<spec>`.
@@ -29,6 +29,7 @@ pub fn repo_root(first_spec: &str) -> Result<PathBuf> {
     if let Ok(exe) = std::env::current_exe() {
         candidates.extend(exe.ancestors().skip(1).take(4).map(Path::to_path_buf));
     }
+    candidates.extend(udc_io::installed_data_dir());
     candidates.push(udc_io::source_tree().to_path_buf());
     candidates
         .iter()

@@ -235,7 +235,7 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
         points: count,
         shard: [shard.index, shard.count],
         schema: schema.clone(),
-        tool_version: env!("CARGO_PKG_VERSION").into(),
+        tool_version: crate::TOOL_VERSION.into(),
         rows: done.len() as u64,
         failed: failed_before,
         complete: false,

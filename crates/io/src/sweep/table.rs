@@ -84,7 +84,7 @@ impl Row {
             metrics: vec![f64::NAN; metrics],
             design_hash: String::new(),
             error: error.replace(['\n', '\r'], " "),
-            tool_version: env!("CARGO_PKG_VERSION").to_string(),
+            tool_version: crate::TOOL_VERSION.to_string(),
         }
     }
 
