@@ -14,8 +14,10 @@ PRESETS = [name for name, _, _ in udc.presets()]
 
 
 def without_time(text):
+    # The time, and the build the command line names in what it prints (`tool_version`).
     report = json.loads(text)
     report.pop("elapsed_ms")
+    report.pop("tool_version", None)
     return report
 
 

@@ -39,6 +39,7 @@ mod mask_fab;
 mod mask_fab_gds;
 mod mask_frame;
 mod mask_geometry;
+mod mask_integrity;
 mod mask_oas;
 mod opening_ops;
 mod optimize;

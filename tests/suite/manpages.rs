@@ -74,6 +74,12 @@ fn the_version_names_the_commit_and_is_the_tool_version_outputs_carry() {
         println!("note: no git checkout or no git: only the form of the commit was checked");
     }
 
+    // A printed JSON object carries it too.
+    let (ok, stdout, stderr) = run_cli(&["presets", "--json"]);
+    assert!(ok, "{stderr}");
+    let printed: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    assert_eq!(printed["tool_version"], version);
+
     // A sweep's rows and manifest carry the same string.
     let dir = tempfile::tempdir().unwrap();
     let spec = dir.path().join("one.toml");

@@ -8,7 +8,7 @@ use clap::Args;
 use udc_core::ValueError;
 use udc_core::design::{Design, MAX_CELLS, TilingMode};
 use udc_io::design_file::{load_design, save_design};
-use udc_io::mask::{import_opening_on, mask_notes, note_field, sidecar_path};
+use udc_io::mask::{ChecksumCheck, import_opening_on, mask_notes, note_field, sidecar_path};
 
 /// Arguments of `udc-studio import`.
 #[derive(Debug, Args)]
@@ -27,6 +27,10 @@ pub struct ImportArgs {
     /// The design file to write.
     #[arg(long)]
     pub out: PathBuf,
+    /// Read the mask even when it does not match the checksum its export wrote beside it
+    /// (`<mask>.sha256` or `<mask>.manifest.json`): by default such a file is refused.
+    #[arg(long)]
+    pub ignore_checksum: bool,
 }
 
 /// `L/D` as a GDSII layer and datatype, each 0–255.
@@ -73,8 +77,17 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
     }
     udc_io::safe_file::check_not_an_input(&args.out, &[path.as_path()])?;
     let (layer, datatype) = args.layer;
+    // First: the notes below are read from the file, and a damaged one could misstate them.
+    if !args.ignore_checksum && ext != "png" {
+        udc_io::mask::verify_checksum(path)?;
+    }
     let design = template(path, layer, datatype, args)?;
-    let cells = import_opening_on(path, &design, layer, datatype)?;
+    let checksum = if args.ignore_checksum {
+        ChecksumCheck::Ignore
+    } else {
+        ChecksumCheck::Verify
+    };
+    let cells = import_opening_on(path, &design, layer, datatype, checksum)?;
     let mut design = design;
     design.opening.cells = cells;
     design.reconcile_subpixels();

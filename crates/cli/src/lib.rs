@@ -253,7 +253,14 @@ pub(crate) fn emit_json(v: &serde_json::Value) -> Result<()> {
         }
     });
     if !captured {
-        println!("{}", serde_json::to_string(v)?);
+        // Printed objects name the build that made them; a sweep's captured ones do not (its
+        // rows carry `tool_version` in their own column).
+        let mut v = v.clone();
+        if let Some(obj) = v.as_object_mut() {
+            obj.entry("tool_version")
+                .or_insert_with(|| TOOL_VERSION.into());
+        }
+        println!("{}", serde_json::to_string(&v)?);
     }
     Ok(())
 }

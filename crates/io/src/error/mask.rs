@@ -90,6 +90,25 @@ pub enum OasisError {
         /// The most an import may keep, in MiB.
         max_mib: usize,
     },
+    /// The END record does not end the file (or sits in a CBLOCK): the file is damaged.
+    #[error("the file is damaged: its END record does not end the file")]
+    EndNotLast,
+    /// An END record's validation scheme other than none, CRC-32 or checksum-32.
+    #[error("unknown validation scheme {0} in the END record")]
+    UnknownValidation(u64),
+    /// The END record's signature does not match the file's bytes: damaged or altered.
+    #[error(
+        "the file is damaged: its {scheme} validation signature is {stored:08x}, its bytes give \
+         {computed:08x}"
+    )]
+    ValidationMismatch {
+        /// `CRC-32` or `checksum-32`.
+        scheme: &'static str,
+        /// The signature in the file.
+        stored: u32,
+        /// The signature of the file's bytes.
+        computed: u32,
+    },
     /// A point list of an unknown type.
     #[error("unknown point-list type {0}")]
     UnknownPointList(u64),
@@ -150,6 +169,29 @@ pub enum OasisError {
 /// Why a mask cannot be read back into cells.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum MaskImportError {
+    /// The file's SHA-256 is not the one its export wrote beside it.
+    #[error(
+        "the file does not match its checksum in {} (SHA-256 {}… stated, {}… found): it was \
+         changed or damaged after export; import it anyway with --ignore-checksum",
+        .sidecar.display(), &.expected[..12], &.found[..12]
+    )]
+    ChecksumMismatch {
+        /// The `.sha256` or `.manifest.json` that states the checksum.
+        sidecar: std::path::PathBuf,
+        /// The SHA-256 it states, hex.
+        expected: String,
+        /// The file's SHA-256, hex.
+        found: String,
+    },
+    /// A `.sha256` or manifest beside the mask that states no SHA-256.
+    #[error(
+        "{} beside the mask states no SHA-256; import it anyway with --ignore-checksum",
+        .sidecar.display()
+    )]
+    UnreadableChecksum {
+        /// The sidecar.
+        sidecar: std::path::PathBuf,
+    },
     /// An extension that names no mask format this reader reads.
     #[error("cannot read `.{extension}` masks (expected .gds, .oas or .dxf)")]
     UnknownExtension {

@@ -41,6 +41,19 @@ pub struct ImportOptions {
     pub window: Option<ImportWindow>,
     /// The tone; by default the one the file's notes state, else open.
     pub tone: Option<Tone>,
+    /// Whether the file is checked against the checksum its export wrote beside it.
+    pub checksum: ChecksumCheck,
+}
+
+/// Whether an import checks a mask against the checksum its export wrote beside it
+/// (`<file>.sha256`, or the `sha256` of `<file>.manifest.json`) when there is one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ChecksumCheck {
+    /// Refuse a file whose SHA-256 is not the one stated (the default).
+    #[default]
+    Verify,
+    /// Read the file whatever its sidecar says (`--ignore-checksum`).
+    Ignore,
 }
 
 impl Default for ImportOptions {
@@ -51,6 +64,7 @@ impl Default for ImportOptions {
             datatype: 0,
             window: None,
             tone: None,
+            checksum: ChecksumCheck::Verify,
         }
     }
 }
@@ -104,6 +118,9 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
     let s = options.cell_um;
     if !(s.is_finite() && s > 0.0) {
         return Err(err(MaskImportError::CellSize { cell_um: s }));
+    }
+    if options.checksum == ChecksumCheck::Verify {
+        super::integrity::verify_checksum(path)?;
     }
     let (polygons, texts) = match format {
         MaskFormat::Dxf => dxf::read(path, options.layer, options.datatype)?,
@@ -272,7 +289,7 @@ fn sample_polygon(poly: &[[f64; 2]], w: &ImportWindow, s: f64, drawn: &mut [Vec<
 /// # Errors
 /// As [`import_mask`], and [`IoError::MaskLayout`] when the design cannot be laid out.
 pub fn import_opening(path: &Path, design: &udc_core::Design) -> Result<Vec<Vec<f64>>, IoError> {
-    import_opening_on(path, design, 1, 0)
+    import_opening_on(path, design, 1, 0, ChecksumCheck::Verify)
 }
 
 /// As [`import_opening`], reading the polygons of GDSII `layer`/`datatype` (DXF: the layer
@@ -289,6 +306,7 @@ pub fn import_opening_on(
     design: &udc_core::Design,
     layer: i16,
     datatype: i16,
+    checksum: ChecksumCheck,
 ) -> Result<Vec<Vec<f64>>, IoError> {
     use udc_core::display::tiling::{D4, tile_orientation};
     use udc_core::mask::{MaskLayout, MaskRegion, MaskSpec};
@@ -340,6 +358,7 @@ pub fn import_opening_on(
                         cols: n,
                         rows: n,
                     }),
+                    checksum,
                     ..ImportOptions::default()
                 },
             )?

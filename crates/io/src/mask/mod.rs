@@ -11,6 +11,7 @@ mod flat_size;
 mod frame;
 mod gds;
 mod import;
+mod integrity;
 mod oasis;
 mod png;
 mod png_read;
@@ -38,9 +39,10 @@ use super::safe_file::{TempFile, write_atomic};
 pub use fab::{FRAME_LAYER, LABEL_LAYER, LayerRole, MARKS_LAYER, MaskLayers, design_hash};
 pub use frame::{FrameDrawing, frame_drawing, label_date};
 pub use import::{
-    ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening, import_opening_on,
-    mask_notes, note_field,
+    ChecksumCheck, ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening,
+    import_opening_on, mask_notes, note_field,
 };
+pub use integrity::verify_checksum;
 pub use walk::region_bbox_nm;
 use walk::{cell_vertex_counts, for_each_flat_polygon};
 

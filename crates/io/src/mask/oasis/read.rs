@@ -45,6 +45,45 @@ struct CellData {
     placements: Vec<Placed>,
 }
 
+/// An END record's validation (SEMI P39 §14.4): scheme 1 is the CRC-32 of ISO 3309 (zlib's),
+/// scheme 2 the sum of the bytes modulo 2^32, each over every byte of the file before the
+/// signature, the magic included; the signature is stored least significant byte first.
+#[derive(Debug, Clone, Copy)]
+struct Validation {
+    /// Scheme 2 (checksum-32) rather than 1 (CRC-32).
+    checksum: bool,
+    /// Where the signature starts, in the bytes after the magic.
+    covers: usize,
+    /// The signature the file carries.
+    stored: u32,
+}
+
+impl Validation {
+    /// Checks the signature over `file` (the whole file, magic included).
+    fn check(&self, file: &[u8]) -> R<()> {
+        let covered = &file[..(MAGIC.len() + self.covers).min(file.len())];
+        let computed = if self.checksum {
+            covered
+                .iter()
+                .fold(0u32, |sum, &b| sum.wrapping_add(u32::from(b)))
+        } else {
+            crc32fast::hash(covered)
+        };
+        if computed == self.stored {
+            return Ok(());
+        }
+        Err(OasisError::ValidationMismatch {
+            scheme: if self.checksum {
+                "checksum-32"
+            } else {
+                "CRC-32"
+            },
+            stored: self.stored,
+            computed,
+        })
+    }
+}
+
 /// The modal variables (SEMI P39 §10), reset at each CELL record.
 #[derive(Default)]
 struct Modal {
@@ -82,6 +121,12 @@ struct State {
     modal: Modal,
     expanded: usize,
     ended: bool,
+    /// The END record's validation signature, when it has one.
+    validation: Option<Validation>,
+    /// START's offset flag was 1: the table offsets are in the END record.
+    offsets_in_end: bool,
+    /// Where the outer stream's END record ends, in the bytes after the magic.
+    end_at: Option<usize>,
     in_cblock: bool,
     want: (u64, u64),
 }
@@ -126,18 +171,25 @@ impl Bytes<'_> {
         Ok(s)
     }
     fn u(&mut self) -> R<u64> {
+        // Any number of bytes: a writer may pad with zero continuation bytes (KLayout writes
+        // its END record's padding length as 0x80 0x80 … 0x00); only set bits past the 64th
+        // overflow.
         let mut v = 0u64;
-        for shift in (0..64).step_by(7) {
+        let mut shift = 0u32;
+        loop {
             let b = self.byte()?;
-            v |= u64::from(b & 0x7f)
-                .checked_shl(shift)
-                .filter(|x| x >> shift == u64::from(b & 0x7f))
-                .ok_or(OasisError::Overflow64)?;
+            let payload = u64::from(b & 0x7f);
+            if payload != 0 {
+                v |= payload
+                    .checked_shl(shift)
+                    .filter(|x| shift < 64 && x >> shift == payload)
+                    .ok_or(OasisError::Overflow64)?;
+            }
             if b & 0x80 == 0 {
                 return Ok(v);
             }
+            shift = shift.saturating_add(7);
         }
-        Err(OasisError::Overflow64)
     }
     fn tagged(&mut self, low_bits: u32) -> R<(i64, u64)> {
         let v = self.u()?;
@@ -386,13 +438,45 @@ impl State {
                         unit: self.unit_per_um,
                     });
                 }
+                // Offset flag 0: the table offsets follow here; 1: they are in the END record.
                 if b.u()? == 0 {
                     for _ in 0..12 {
                         b.u()?;
                     }
+                } else {
+                    self.offsets_in_end = true;
                 }
             }
-            END => self.ended = true,
+            END => {
+                // The table offsets when START deferred them here, padding, then the validation
+                // scheme and its signature (SEMI P39 §14.4). The signature covers every byte of
+                // the file before it, so only the outer stream's END can carry one.
+                if self.offsets_in_end {
+                    for _ in 0..12 {
+                        b.u()?;
+                    }
+                }
+                b.string()?;
+                let scheme = b.u()?;
+                let signature_at = b.pos;
+                let signature = match scheme {
+                    0 => None,
+                    1 | 2 => {
+                        let s = b.take(4)?;
+                        Some(u32::from_le_bytes([s[0], s[1], s[2], s[3]]))
+                    }
+                    other => return Err(OasisError::UnknownValidation(other)),
+                };
+                if !self.in_cblock {
+                    self.validation = signature.map(|stored| Validation {
+                        checksum: scheme == 2,
+                        covers: signature_at,
+                        stored,
+                    });
+                    self.end_at = Some(b.pos);
+                }
+                self.ended = true;
+            }
             CELLNAME_IMPLICIT | CELLNAME => {
                 let (n, name) = named(b, id == CELLNAME, &mut self.next_cellname)?;
                 self.cellnames.insert(n, name);
@@ -758,6 +842,9 @@ pub(crate) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
         modal: Modal::default(),
         expanded: 0,
         ended: false,
+        validation: None,
+        offsets_in_end: false,
+        end_at: None,
         in_cblock: false,
         want: (layer.max(0) as u64, datatype.max(0) as u64),
     };
@@ -766,6 +853,15 @@ pub(crate) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
         .map_err(|e| err(OasisError::Unreadable(Box::new(e))))?;
     if !state.ended {
         return Err(err(OasisError::NoEnd));
+    }
+    // Before anything is expanded: a damaged file is never read as a different design. The END
+    // record is the file's last 256 bytes (SEMI P39 §14.4): one that ends elsewhere was found
+    // by a misread (a damaged header can turn its validation off), so it is refused too.
+    if state.end_at != Some(body.len()) {
+        return Err(err(OasisError::EndNotLast));
+    }
+    if let Some(v) = &state.validation {
+        v.check(&bytes).map_err(err)?;
     }
     flatten(state).map_err(err)
 }
