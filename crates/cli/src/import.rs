@@ -82,12 +82,8 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
         udc_io::mask::verify_checksum(path)?;
     }
     let design = template(path, layer, datatype, args)?;
-    let checksum = if args.ignore_checksum {
-        ChecksumCheck::Ignore
-    } else {
-        ChecksumCheck::Verify
-    };
-    let cells = import_opening_on(path, &design, layer, datatype, checksum)?;
+    // Checked above (or waived): the import need not hash the file a second time.
+    let cells = import_opening_on(path, &design, layer, datatype, ChecksumCheck::Ignore)?;
     let mut design = design;
     design.opening.cells = cells;
     design.reconcile_subpixels();
