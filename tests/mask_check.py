@@ -8,8 +8,15 @@ really holds, with gdstk (GDSII) and ezdxf (DXF), and prints one JSON object.
     mask_check.py klayout FILE LAYER DATATYPE [OTHER_FILE]
     mask_check.py klayout-convert IN OUT
     mask_check.py oas-validate FILE
+    mask_check.py klayout-drc FILE DECK.lydrc
+    mask_check.py klayout-drc-batch LIST.json   ([[FILE, DECK], ...]: a list of answers)
     mask_check.py gds-layers FILE
     mask_check.py dxf-layers FILE
+
+`klayout-drc` runs the checks a `.lydrc` deck the export wrote names (its `input`, `width`
+and `space` lines) with KLayout's own Region checks on the file, and reports each output's
+edge pairs: their count and distances (µm), and for the corner check the distinct points where
+features touch.
 
 For GDSII the top cell is flattened by gdstk (references, arrays, reflections and rotations
 applied by gdstk, not by the studio), and the optional POINTS.json ([[x_um, y_um], ...]) is
@@ -215,6 +222,46 @@ def layers_dxf(path):
     return {"layer_table": [l.dxf.name for l in doc.layers], "layers": layers, "texts": texts}
 
 
+def klayout_drc(path, deck_path):
+    import re
+    import xml.etree.ElementTree as ET
+
+    import klayout.db as db
+
+    text = ET.parse(deck_path).getroot().find("text").text
+    ly = db.Layout()
+    ly.read(path)
+    source = re.search(r"drawn = input\((\d+), (\d+)\)(\.merged)?", text)
+    layer, datatype = int(source.group(1)), int(source.group(2))
+    region = db.Region(ly.top_cell().begin_shapes_rec(ly.layer(layer, datatype)))
+    if source.group(3):
+        region = region.merged()
+    dbu = ly.dbu
+    out = {}
+    check = re.compile(
+        r'drawn\.(width|space)\(([0-9.e+-]+)\.um, (projection|euclidian)\)\.output\("(\w+)"'
+    )
+    for kind, value, metric, name in check.findall(text):
+        d = int(round(float(value) / dbu))
+        m = db.Metrics.Projection if metric == "projection" else db.Metrics.Euclidian
+        pairs = (region.width_check if kind == "width" else region.space_check)(d, False, m)
+        found = list(pairs.each())
+        entry = {
+            "count": len(found),
+            "distances_um": sorted(round(ep.distance() * dbu, 6) for ep in found),
+        }
+        if name == "corner_contact":
+            points = set()
+            for ep in found:
+                a, b = ep.first, ep.second
+                for p in (a.p1, a.p2):
+                    if p in (b.p1, b.p2):
+                        points.add((p.x, p.y))
+            entry["points"] = len(points)
+        out[name] = entry
+    return out
+
+
 def main(argv):
     if len(argv) >= 5 and argv[1] == "gds":
         out = check_gds(argv[2], int(argv[3]), int(argv[4]), argv[5] if len(argv) > 5 else None)
@@ -226,6 +273,11 @@ def main(argv):
         out = audit_dxf(argv[2])
     elif len(argv) in (5, 6) and argv[1] == "klayout":
         out = check_klayout(argv[2], int(argv[3]), int(argv[4]), argv[5] if len(argv) > 5 else None)
+    elif len(argv) == 4 and argv[1] == "klayout-drc":
+        out = klayout_drc(argv[2], argv[3])
+    elif len(argv) == 3 and argv[1] == "klayout-drc-batch":
+        with open(argv[2]) as f:
+            out = [klayout_drc(path, deck) for path, deck in json.load(f)]
     elif len(argv) == 4 and argv[1] == "klayout-convert":
         out = klayout_convert(argv[2], argv[3])
     elif len(argv) == 3 and argv[1] == "oas-validate":

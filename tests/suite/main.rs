@@ -41,6 +41,7 @@ mod mask_frame;
 mod mask_geometry;
 mod mask_integrity;
 mod mask_oas;
+mod mask_written_drc;
 mod opening_ops;
 mod optimize;
 mod optimize_panel;

@@ -101,9 +101,20 @@ fn the_dialog_shows_the_design_rules_before_export() {
     // the same numbers `udc-studio drc` reports.
     let r = udc_studio::core::mask::drc::check(h.state().design(), &Default::default());
     assert_eq!(r.corner_contacts, 8);
-    assert!(h.query_by_label("8 corner contacts").is_some());
-    assert!(h.query_by_label("smallest opening 8.00 µm").is_some());
-    assert!(h.query_by_label("smallest chrome gap 8.00 µm").is_some());
+    // The pixel as tiled, then the file to be written (the one pixel on the optical axis, its
+    // cut openings left out): the same widths, and the same 8 contacts inside the opening.
+    let contacts = h.query_all_by_label("8 corner contacts").count();
+    assert_eq!(contacts, 2);
+    assert_eq!(h.query_all_by_label("smallest opening 8.00 µm").count(), 2);
+    assert_eq!(
+        h.query_all_by_label("smallest chrome gap 8.00 µm").count(),
+        2
+    );
+    assert!(
+        h.query_by_label_contains("Written file: design rules")
+            .is_some(),
+        "the written file's check"
+    );
 }
 
 #[test]

@@ -6,7 +6,7 @@ use std::process::Command;
 
 use udc_studio::core::Progress;
 use udc_studio::core::design::{SubpixelChecks, TilingMode};
-use udc_studio::core::mask::{MaskRegion, MaskSpec};
+use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec};
 use udc_studio::io::mask::{ExportOptions, MaskFormat, export_mask};
 use udc_studio::io::presets::load_preset;
 
@@ -32,6 +32,7 @@ fn emitters_are_exported_on_their_own_gds_layers() {
             format: MaskFormat::Gds,
             spec: MaskSpec {
                 region: MaskRegion::Block { cols: 3, rows: 2 },
+                border: BorderPolicy::Cut,
                 ..MaskSpec::default()
             },
             deterministic: true,
@@ -76,6 +77,7 @@ fn emitter_layers_follow_the_layer_map_and_oasis_draws_them_like_gds() {
         format,
         spec: MaskSpec {
             region: MaskRegion::Block { cols: 4, rows: 3 },
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         layer_map: Some(map.clone()),

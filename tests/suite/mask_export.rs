@@ -10,7 +10,7 @@ use rand::{Rng, SeedableRng};
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, Opening, TilingMode};
 use udc_studio::core::display::tiling::tile_orientation;
-use udc_studio::core::mask::{MaskLayout, MaskRegion, MaskSpec, Tone};
+use udc_studio::core::mask::{BorderPolicy, MaskLayout, MaskRegion, MaskSpec, Tone};
 use udc_studio::io::mask::{
     ExportOptions, GdsCells, ImportOptions, ImportWindow, MaskFormat, MaskReport, PngBits,
     estimate, export_mask, import_mask, plan, sidecar_path,
@@ -53,6 +53,7 @@ fn options(format: MaskFormat, region: MaskRegion, tone: Tone) -> ExportOptions 
         spec: MaskSpec {
             region,
             tone,
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         // Fixed timestamps: reruns write the same bytes.
@@ -113,6 +114,7 @@ fn expected_cells(d: &Design, cols: u32, rows: u32) -> (Vec<Vec<f64>>, usize) {
 fn block_window(d: &Design, cols: u32, rows: u32) -> ImportWindow {
     let spec = MaskSpec {
         region: MaskRegion::Block { cols, rows },
+        border: BorderPolicy::Cut,
         ..MaskSpec::default()
     };
     let layout = MaskLayout::new(d, &spec).unwrap();

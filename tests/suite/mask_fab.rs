@@ -9,7 +9,7 @@ use std::process::Command;
 
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, Opening, TilingMode};
-use udc_studio::core::mask::{MaskRegion, MaskSpec, Tone};
+use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec, Tone};
 use udc_studio::core::phase::PhaseDesign;
 use udc_studio::io::mask::{ExportOptions, MaskFormat, export_mask, sidecar_path};
 use udc_studio::io::phase_export::height_csv_text;
@@ -65,6 +65,7 @@ fn options(format: MaskFormat, region: MaskRegion, tone: Tone) -> ExportOptions 
         spec: MaskSpec {
             region,
             tone,
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         ..ExportOptions::default()

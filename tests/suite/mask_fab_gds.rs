@@ -9,7 +9,7 @@ use std::path::Path;
 use gds21::{GdsElement, GdsLibrary};
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, Opening, TilingMode};
-use udc_studio::core::mask::{MaskRegion, MaskSpec};
+use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec};
 use udc_studio::core::phase::PhaseDesign;
 use udc_studio::io::error::LayerMapError;
 use udc_studio::io::fab::{LayerMap, MAX_XY_POINTS, outline_paths, sha256_hex};
@@ -42,6 +42,7 @@ fn options(format: MaskFormat, region: MaskRegion) -> ExportOptions {
         format,
         spec: MaskSpec {
             region,
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         deterministic: true,

@@ -10,7 +10,7 @@ use std::process::Command;
 use serde_json::Value;
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, Opening, TilingMode};
-use udc_studio::core::mask::{FrameSpec, MaskRegion, MaskSpec};
+use udc_studio::core::mask::{BorderPolicy, FrameSpec, MaskRegion, MaskSpec};
 use udc_studio::io::fab::LayerMap;
 use udc_studio::io::mask::{
     ExportOptions, MaskFormat, MaskReport, export_mask, plan, region_bbox_nm,
@@ -64,6 +64,7 @@ fn options(format: MaskFormat, frame: FrameSpec) -> ExportOptions {
         spec: MaskSpec {
             region: MaskRegion::Block { cols: 3, rows: 2 },
             grid_nm: 5,
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         deterministic: true,

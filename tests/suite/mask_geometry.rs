@@ -5,8 +5,8 @@
 use proptest::prelude::*;
 use udc_studio::core::design::{Design, Opening, TilingMode};
 use udc_studio::core::mask::{
-    BinaryGrid, MAX_VERTICES, MaskError, MaskLayout, MaskRegion, MaskSpec, Ring, Tone,
-    trace_polygons,
+    BinaryGrid, BorderPolicy, MAX_VERTICES, MaskError, MaskLayout, MaskRegion, MaskSpec, Ring,
+    Tone, trace_polygons,
 };
 
 /// Scanline rasterisation of rings at cell centres, counting how many rings cover each cell.
@@ -167,6 +167,7 @@ fn tones_split_each_period_square_exactly() {
         let spec = |tone| MaskSpec {
             region,
             tone,
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         };
         let open = MaskLayout::new(&d, &spec(Tone::Open)).unwrap().stats();
@@ -193,6 +194,7 @@ fn the_pupil_region_covers_the_pupil_and_no_more() {
     d.tiling.mode = TilingMode::RandomD4;
     let spec = MaskSpec {
         region: MaskRegion::Pupil,
+        border: BorderPolicy::Cut,
         ..MaskSpec::default()
     };
     let l = MaskLayout::new(&d, &spec).unwrap();
@@ -233,6 +235,7 @@ fn bad_layouts_are_refused_with_a_reason() {
             cols: 30_000,
             rows: 10,
         },
+        border: BorderPolicy::Cut,
         ..MaskSpec::default()
     };
     let e = MaskLayout::new(&design(vec![vec![1.0; 3]; 3], 168.0, 0.0), &huge).unwrap_err();
@@ -240,6 +243,7 @@ fn bad_layouts_are_refused_with_a_reason() {
     assert!(e.to_string().contains("32-bit"), "{e}");
     let coarse = MaskSpec {
         grid_nm: 20_000,
+        border: BorderPolicy::Cut,
         ..MaskSpec::default()
     };
     let e = MaskLayout::new(&design(vec![vec![1.0; 3]; 3], 30.0, 0.0), &coarse).unwrap_err();

@@ -10,7 +10,7 @@ use std::process::Command;
 
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, TilingMode};
-use udc_studio::core::mask::{MaskRegion, MaskSpec, Tone};
+use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec, Tone};
 use udc_studio::io::error::{IoError, OasisError};
 use udc_studio::io::mask::{
     ExportOptions, GdsCells, ImportOptions, MaskFormat, MaskReport, export_mask, import_mask,
@@ -51,6 +51,7 @@ fn export(
         spec: MaskSpec {
             region,
             tone,
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         deterministic: true,
@@ -137,6 +138,7 @@ fn oas_per_orientation_cells_and_reflections_agree() {
         gds_cells: GdsCells::PerOrientation,
         spec: MaskSpec {
             region: MaskRegion::Block { cols: 12, rows: 9 },
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         deterministic: true,
@@ -338,6 +340,7 @@ fn oas_frame_marks_and_label_match_gds() {
         format,
         spec: MaskSpec {
             region: MaskRegion::Block { cols: 5, rows: 3 },
+            border: BorderPolicy::Cut,
             ..MaskSpec::default()
         },
         frame: FrameSpec {

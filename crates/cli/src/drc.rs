@@ -7,8 +7,11 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 
 use super::DesignSelection;
+use udc_core::Progress;
+use udc_core::mask::Tone;
 use udc_core::mask::drc::{DrcReport, Rules, ViolationKind, check};
 use udc_core::phase::drc::check_plate;
+use udc_io::mask::{ChecksumCheck, check_file};
 use udc_io::phase_design::{is_phase_design_file, load_phase_design};
 
 /// The rules to check against: a file, then flags over it.
@@ -39,10 +42,25 @@ pub struct RuleArgs {
 /// Arguments of `udc-studio drc`.
 #[derive(Debug, Args)]
 pub struct DrcArgs {
-    /// The design to check: a display design (or preset), or a phase design file
-    /// (phase_design.json, as `phase optimize --out` writes), told apart by its content.
+    /// What to check: a display design (or preset), a phase design file (phase_design.json,
+    /// as `phase optimize --out` writes), told apart by its content, or a mask file (.gds,
+    /// .oas, .dxf): the polygons it holds on one layer.
     #[command(flatten)]
     pub selection: DesignSelection,
+    /// Mask files: the layer checked.
+    #[arg(long, default_value_t = 1)]
+    pub layer: i16,
+    /// Mask files: the datatype checked.
+    #[arg(long, default_value_t = 0)]
+    pub datatype: i16,
+    /// Mask files: what the polygons are, `open` or `chrome` [default: the file's TONE note,
+    /// else open].
+    #[arg(long)]
+    pub tone: Option<Tone>,
+    /// Mask files: check even when the file's SHA-256 (the `.sha256` or manifest beside it)
+    /// does not match.
+    #[arg(long)]
+    pub ignore_checksum: bool,
     /// The rules.
     #[command(flatten)]
     pub rules: RuleArgs,
@@ -173,9 +191,17 @@ pub fn strict_error(report: &DrcReport) -> anyhow::Error {
 /// Runs `udc-studio drc`.
 ///
 /// # Errors
-/// A bad design or rules file, bad rule values, or (with `--strict`) any violation.
+/// A bad design, mask or rules file, bad rule values, or (with `--strict`) any violation.
 pub fn drc_cmd(args: &DrcArgs) -> Result<()> {
     let rules = args.rules.resolve()?;
+    let mask_flags =
+        args.tone.is_some() || args.ignore_checksum || args.layer != 1 || args.datatype != 0;
+    if let Some(path) = mask_file(&args.selection)? {
+        return mask_file_cmd(args, path, &rules);
+    }
+    if mask_flags {
+        bail!("--layer, --datatype, --tone and --ignore-checksum apply to mask files only");
+    }
     let (name, report, checked) = match phase_file(&args.selection)? {
         Some(path) => {
             let loaded = load_phase_design(path)?;
@@ -198,13 +224,89 @@ pub fn drc_cmd(args: &DrcArgs) -> Result<()> {
             "clean": report.is_clean(),
             "report": report,
         });
-        println!("{v}");
+        crate::emit_json(&v)?;
     } else {
         match checked {
             Checked::Display => println!("{name}: design-rule check"),
             Checked::Phase => println!("{name}: design-rule check of the phase plate"),
         }
         for line in report_lines(&report, checked) {
+            println!("{line}");
+        }
+    }
+    if args.strict && !report.is_clean() {
+        bail!("{} design-rule violations (--strict)", report.total());
+    }
+    Ok(())
+}
+
+/// The selection's file when it is a mask file (by extension); display-only options are
+/// refused with it.
+fn mask_file(selection: &DesignSelection) -> Result<Option<&Path>> {
+    let Some(path) = selection.design.as_deref() else {
+        return Ok(None);
+    };
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    if !matches!(
+        ext.as_str(),
+        "gds" | "gdsii" | "gds2" | "oas" | "oasis" | "dxf"
+    ) {
+        return Ok(None);
+    }
+    if selection.pattern.is_some()
+        || selection.pitch_um.is_some()
+        || selection.tiling.is_some()
+        || selection.seed.is_some()
+        || selection.optics.is_some()
+        || selection.spectral.is_some()
+    {
+        bail!(
+            "{} is a mask file: --pattern, --pitch-um, --tiling, --seed, --optics and \
+             --spectral apply to designs only",
+            path.display()
+        );
+    }
+    Ok(Some(path))
+}
+
+/// `udc-studio drc FILE.gds|.oas|.dxf`: the check of the polygons the file holds.
+fn mask_file_cmd(args: &DrcArgs, path: &Path, rules: &Rules) -> Result<()> {
+    let checksum = if args.ignore_checksum {
+        ChecksumCheck::Ignore
+    } else {
+        ChecksumCheck::Verify
+    };
+    let (report, tone) = check_file(
+        path,
+        (args.layer, args.datatype),
+        args.tone,
+        rules,
+        checksum,
+        &Progress::new(),
+    )?;
+    let name = path.display().to_string();
+    if args.json {
+        let v = serde_json::json!({
+            "file": name,
+            "kind": "mask-file",
+            "layer": args.layer,
+            "datatype": args.datatype,
+            "tone": tone.as_str(),
+            "clean": report.is_clean(),
+            "report": report,
+        });
+        crate::emit_json(&v)?;
+    } else {
+        println!(
+            "{name}: design-rule check of layer {}/{} ({})",
+            args.layer,
+            args.datatype,
+            tone.meaning()
+        );
+        for line in report_lines(&report, Checked::Display) {
             println!("{line}");
         }
     }

@@ -9,7 +9,8 @@ use clap::Args;
 use super::DesignSelection;
 use super::drc::{Checked, RuleArgs, report_lines, strict_error};
 use udc_core::Progress;
-use udc_core::mask::{FrameSpec, MaskRegion, MaskSpec, Tone};
+use udc_core::mask::{BorderPolicy, FrameSpec, MaskRegion, MaskSpec, Tone};
+use udc_io::IoError;
 use udc_io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask};
 
 /// Arguments of `udc-studio export`.
@@ -28,6 +29,14 @@ pub struct ExportArgs {
     /// What the polygons are: `open` (drawn = clear) or `chrome` (drawn = dark, gap included).
     #[arg(long, default_value = "open")]
     pub tone: Tone,
+    /// What happens to an opening the region's edge cuts: `margin` (left out; with chrome
+    /// drawn, the region framed in chrome), `drop` (left out), `extend` (drawn whole past the
+    /// edge; open tone) or `cut` (cut at the edge, as a pixel cell the fab arrays needs).
+    #[arg(long, default_value = "margin")]
+    pub border: BorderPolicy,
+    /// Width of the chrome frame `--border margin` draws around a chrome-drawn region, µm.
+    #[arg(long, default_value_t = udc_core::mask::border::DEFAULT_MARGIN_UM, allow_negative_numbers = true)]
+    pub margin_um: f64,
     /// Output file; the design is written beside it as `<FILE>.design.json`.
     #[arg(long)]
     pub out: PathBuf,
@@ -67,9 +76,14 @@ pub struct ExportArgs {
     /// The design rules checked before writing (as `udc-studio drc`).
     #[command(flatten)]
     pub rules: RuleArgs,
-    /// Refuse to write the mask when it breaks a design rule (else they are warnings).
+    /// Refuse to write the mask when its written geometry breaks a design rule (else they are
+    /// warnings).
     #[arg(long)]
     pub strict: bool,
+    /// Also write a KLayout DRC deck (`.lydrc`) with these rules, so a fab runs the checks
+    /// this export ran.
+    #[arg(long)]
+    pub write_drc_deck: Option<PathBuf>,
     /// Draw a die frame around the region, on layer `frame` (default 10/0; not in PNG).
     #[arg(long)]
     pub frame: bool,
@@ -118,20 +132,15 @@ impl ExportArgs {
 /// Runs `udc-studio export`.
 pub(super) fn export_cmd(args: &ExportArgs) -> Result<()> {
     let design = args.selection.resolve()?;
-    // Checked first: a strict export that fails leaves nothing behind.
-    let drc = udc_core::mask::drc::check(&design, &args.rules.resolve()?);
-    if args.strict && !drc.is_clean() {
-        for line in report_lines(&drc, Checked::Display) {
-            println!("{line}");
-        }
-        return Err(strict_error(&drc));
-    }
+    let rules = args.rules.resolve()?;
     let options = ExportOptions {
         format: args.format,
         spec: MaskSpec {
             region: args.region,
             tone: args.tone,
             grid_nm: args.grid_nm,
+            border: args.border,
+            margin_um: args.margin_um,
             ..MaskSpec::default()
         },
         layer: args.layer,
@@ -146,20 +155,45 @@ pub(super) fn export_cmd(args: &ExportArgs) -> Result<()> {
         frame: args.frame(),
         // Set from the design when the export resolves its options.
         emitters: false,
+        rules,
+        strict: args.strict,
     };
     udc_io::safe_file::check_not_an_input(&args.out, &args.selection.input_files())?;
-    let report = export_mask(&design, &options, &args.out, &Progress::new())?;
+    if let Some(deck) = &args.write_drc_deck {
+        udc_io::safe_file::check_not_an_input(deck, &args.selection.input_files())?;
+    }
+    let report = match export_mask(&design, &options, &args.out, &Progress::new()) {
+        Ok(r) => r,
+        Err(IoError::RulesBroken { report, scope }) => {
+            println!("{scope}");
+            for line in report_lines(&report, Checked::Display) {
+                println!("{line}");
+            }
+            return Err(strict_error(&report));
+        }
+        Err(e) => return Err(e.into()),
+    };
     for line in report.lines() {
         println!("{line}");
     }
-    if !drc.is_clean() {
+    let drc = &report.drc;
+    if drc.report.is_clean() {
+        println!("{}: no violation", drc.scope_line());
+    } else {
         println!(
-            "warning: {} design-rule violations (--strict refuses them):",
-            drc.total()
+            "warning: {} design-rule violations (--strict refuses them); {}:",
+            drc.report.total(),
+            drc.scope_line()
         );
-        for line in report_lines(&drc, Checked::Display) {
+        for line in report_lines(&drc.report, Checked::Display) {
             println!("warning: {line}");
         }
+    }
+    if let Some(deck) = &args.write_drc_deck {
+        let layers = report.options.mask_layers()?;
+        let text = udc_io::mask::drc_deck(&rules, layers.openings, args.tone, &design.name);
+        udc_io::safe_file::write_atomic(deck, text.as_bytes())?;
+        println!("DRC deck: {}", deck.display());
     }
     Ok(())
 }

@@ -178,6 +178,19 @@ fn os_cause(e: std::io::Error) -> std::io::Error {
     }
 }
 
+/// Opens a temp file [`TempFile::beside`] reserved, for writing, without creating it: once
+/// the signal handler has removed it (Ctrl-C), a writer that comes later fails instead of
+/// leaving a new `.part` file behind.
+///
+/// # Errors
+/// The file is gone or cannot be written.
+pub fn open_reserved(path: &Path) -> std::io::Result<std::fs::File> {
+    std::fs::OpenOptions::new()
+        .write(true)
+        .truncate(true)
+        .open(path)
+}
+
 impl TempFile {
     /// Reserves a unique temp file in `target`'s directory.
     ///

@@ -6,10 +6,13 @@
 //! as in the simulation (`aperture.rs`). Tile `(tx, ty)` (tile `(0, 0)` holds the optical axis,
 //! `ty` grows downwards) has its corner at `origin + (tx·period, −ty·period)`.
 
+pub mod border;
+
 use super::polygons::{BinaryGrid, Ring, trace_polygons};
 use super::{MaskError, MaskSpec, Tone, binary_pattern};
 use crate::design::{Design, TilingMode};
 use crate::display::tiling::{D4, orbit, tile_orientation};
+use border::BorderEdit;
 
 pub use super::region::MaskRegion;
 
@@ -126,17 +129,22 @@ pub struct MaskLayout {
     pub bounds_nm: Vec<i64>,
     /// Top-left corner of tile (0, 0).
     pub origin_nm: [i64; 2],
-    /// The region's tiles, as runs along tile rows.
+    /// The region's tiles, as runs along tile rows sorted by row.
+    pub region_rows: Vec<TileRow>,
+    /// The tiles drawn by reference: the region's, less those the border policy redraws
+    /// ([`BorderEdit::replaced`]).
     pub rows: Vec<TileRow>,
-    /// Total tiles in `rows`.
+    /// Total tiles in the region.
     pub tiles: u64,
+    /// What the border policy drew instead of, or beside, the referenced tiles.
+    pub border: BorderEdit,
     /// Tiling mode; with the seed it picks each tile's orientation as the simulation does.
     pub mode: TilingMode,
     /// Seed of the random tile orientations.
     pub seed: u64,
     /// Drawn cells of the identity orientation (the openings, or their complement for chrome).
     pub drawn: BinaryGrid,
-    /// Orientations used by at least one tile, in `D4::all()` order.
+    /// Orientations used by at least one referenced tile, in `D4::all()` order.
     pub orientations: Vec<D4>,
     /// The drawn polygons of the identity orientation, corner frame.
     pub base_polygons: Vec<Polygon>,
@@ -203,7 +211,7 @@ impl MaskLayout {
             snap((oy + 0.5) * cell_um * 1e3, grid),
         ];
         let drawn = match spec.tone {
-            Tone::Open => pattern,
+            Tone::Open => pattern.clone(),
             Tone::Chrome => pattern.inverted(),
         };
         let pupil_diameter_um = design.optics.pupil_diameter_um();
@@ -215,8 +223,10 @@ impl MaskLayout {
             period_nm,
             bounds_nm,
             origin_nm,
+            region_rows: Vec::new(),
             rows: Vec::new(),
             tiles: 0,
+            border: BorderEdit::default(),
             mode: design.tiling.mode,
             seed: design.tiling.seed,
             drawn,
@@ -238,16 +248,31 @@ impl MaskLayout {
             pupil_outline: None,
             pupil_diameter_um,
         };
-        layout.rows = layout.region_rows()?;
-        layout.tiles = layout.rows.iter().map(|r| u64::from(r.count)).sum();
+        layout.region_rows = layout.region_rows()?;
+        layout.tiles = layout.region_rows.iter().map(|r| u64::from(r.count)).sum();
         layout.check_extent()?;
-        layout.orientations = layout.used_orientations();
         layout.base_polygons = layout.polygons(D4::IDENTITY);
         if spec.tone == Tone::Chrome && period_nm > pitch_nm {
             let (p, q) = (pitch_nm, period_nm);
             layout.gap_polygon = Some(Polygon {
                 points_nm: vec![[0, -q], [q, -q], [q, 0], [p, 0], [p, -p], [0, -p]],
             });
+        }
+        layout.border = border::edit(
+            &layout,
+            &layout.region_rows,
+            &pattern,
+            spec.border,
+            spec.margin_um,
+        )?;
+        layout.rows = without(&layout.region_rows, &layout.border.replaced);
+        layout.orientations = layout.used_orientations(&layout.rows);
+        if layout.rows.is_empty() && layout.border.polygons().next().is_none() {
+            return Err(MaskError::Invalid(format!(
+                "the border policy `{}` left nothing to draw: every opening of the region \
+                 crosses its edge; export a larger region or use --border cut",
+                spec.border.as_str()
+            )));
         }
         if spec.region == MaskRegion::Pupil {
             layout.pupil_outline = Some(layout.outline());
@@ -410,12 +435,15 @@ impl MaskLayout {
     fn check_extent(&self) -> Result<(), MaskError> {
         let limit = i64::from(i32::MAX);
         let mut worst = 0i64;
-        for r in &self.rows {
+        for r in &self.region_rows {
             let a = self.tile_corner_nm(r.tx0, r.ty);
             let b = self.tile_corner_nm(r.tx0 + i64::from(r.count), r.ty + 1);
             worst = worst.max(a[0].abs()).max(a[1].abs());
             worst = worst.max(b[0].abs()).max(b[1].abs());
         }
+        // Completed openings reach a pixel beyond the region, a chrome margin its width.
+        let beyond = self.period_nm as f64 + self.spec.margin_um.clamp(0.0, 1e7) * 1e3;
+        worst = worst.saturating_add(beyond as i64);
         if self.spec.region == MaskRegion::Pupil {
             worst = worst.max((self.pupil_diameter_um * 500.0).ceil() as i64);
         }
@@ -430,15 +458,15 @@ impl MaskLayout {
         Ok(())
     }
 
-    /// The orientations some tile of the region uses (stops early once the orbit is complete).
-    fn used_orientations(&self) -> Vec<D4> {
+    /// The orientations some tile of `rows` uses (stops early once the orbit is complete).
+    fn used_orientations(&self, rows: &[TileRow]) -> Vec<D4> {
         let all = orbit(self.mode);
         let mut seen = [false; 8];
         let index = |g: D4| {
             usize::from(g.transpose) | usize::from(g.flip_lr) << 1 | usize::from(g.flip_ud) << 2
         };
         let mut found = 0;
-        'rows: for r in &self.rows {
+        'rows: for r in rows {
             for tx in r.tx0..r.tx0 + i64::from(r.count) {
                 let i = index(self.orientation(tx, r.ty));
                 if !seen[i] {
@@ -495,19 +523,67 @@ impl MaskLayout {
             .map(|p| p.points_nm.len())
             .sum::<usize>()
             + 6 * gap;
-        let t = self.tiles as f64;
+        let edit = &self.border;
+        let replaced = edit.replaced.len() as u64;
+        let referenced = self.tiles - replaced;
+        let area = |ps: &[Polygon]| ps.iter().map(Polygon::area_um2).sum::<f64>();
+        let (inside_um2, outside_um2) = (area(&edit.inside), area(&edit.outside));
+        let inside_drawn_um2 = referenced as f64 * tile_drawn_um2 + inside_um2;
+        let region_um2 = self.tiles as f64 * tile_um2;
+        let open_area_um2 = match self.spec.tone {
+            Tone::Open => referenced as f64 * tile_open_um2 + inside_um2,
+            Tone::Chrome => region_um2 - inside_drawn_um2,
+        };
+        let extra = edit.polygons().count() as u64;
+        let extra_vertices = edit
+            .polygons()
+            .map(|p| p.points_nm.len() as u64)
+            .sum::<u64>();
         MaskStats {
             tiles: self.tiles,
-            orientations: self.orientations.len(),
+            orientations: self.used_orientations(&self.region_rows).len(),
             polygons_per_tile,
             vertices_per_tile,
-            flat_polygons: self.tiles * polygons_per_tile as u64,
-            flat_vertices: self.tiles * vertices_per_tile as u64,
-            drawn_area_um2: t * tile_drawn_um2,
-            open_area_um2: t * tile_open_um2,
-            region_area_um2: t * tile_um2,
+            flat_polygons: referenced * polygons_per_tile as u64 + extra,
+            flat_vertices: referenced * vertices_per_tile as u64 + extra_vertices,
+            drawn_area_um2: inside_drawn_um2 + outside_um2,
+            open_area_um2,
+            region_area_um2: region_um2,
         }
     }
+}
+
+/// `rows` less the tiles `(tx, ty)` of `gone` (sorted by row, then column): runs split around
+/// them, emptied rows left out.
+fn without(rows: &[TileRow], gone: &[(i64, i64)]) -> Vec<TileRow> {
+    if gone.is_empty() {
+        return rows.to_vec();
+    }
+    let mut out = Vec::new();
+    for r in rows {
+        let lo = gone.partition_point(|&(_, ty)| ty < r.ty);
+        let hi = gone.partition_point(|&(_, ty)| ty <= r.ty);
+        let mut from = r.tx0;
+        let end = r.tx0 + i64::from(r.count);
+        for &(tx, _) in &gone[lo..hi] {
+            if tx > from {
+                out.push(TileRow {
+                    ty: r.ty,
+                    tx0: from,
+                    count: (tx - from) as u32,
+                });
+            }
+            from = from.max(tx + 1);
+        }
+        if end > from {
+            out.push(TileRow {
+                ty: r.ty,
+                tx0: from,
+                count: (end - from) as u32,
+            });
+        }
+    }
+    out
 }
 
 /// The reference transform of D4 element `g` for tiles of side `pitch_nm` (corner frame).

@@ -15,6 +15,7 @@
 
 pub mod drc;
 pub mod frame;
+pub mod geometry_drc;
 pub mod layout;
 pub mod polygons;
 pub mod region;
@@ -25,9 +26,11 @@ use crate::design::Design;
 use crate::display::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
 use crate::{SimError, ValueError};
 
+pub use border::{BorderCounts, BorderEdit, BorderPolicy};
 pub use frame::{
     FrameError, FrameGeometry, FrameLabel, FramePart, FrameSpec, frame_geometry, label_text,
 };
+pub use layout::border;
 pub use layout::{MaskLayout, MaskRegion, MaskStats, Placement, Polygon, TileRow};
 pub use polygons::{BinaryGrid, Ring, trace_polygons};
 
@@ -95,6 +98,11 @@ pub struct MaskSpec {
     pub grid_nm: u32,
     /// Polygons with more vertices are split (GDSII allows [`MAX_VERTICES`]).
     pub max_vertices: usize,
+    /// What happens to the openings the region's edge cuts.
+    pub border: BorderPolicy,
+    /// Width of the chrome frame [`BorderPolicy::Margin`] draws around a chrome-drawn region,
+    /// µm.
+    pub margin_um: f64,
 }
 
 impl Default for MaskSpec {
@@ -104,6 +112,8 @@ impl Default for MaskSpec {
             tone: Tone::Open,
             grid_nm: 1,
             max_vertices: MAX_VERTICES,
+            border: BorderPolicy::default(),
+            margin_um: border::DEFAULT_MARGIN_UM,
         }
     }
 }

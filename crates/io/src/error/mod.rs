@@ -148,6 +148,17 @@ pub enum IoError {
     /// A design or options that cannot be laid out as a mask (or a cancelled export).
     #[error(transparent)]
     MaskLayout(#[from] MaskError),
+    /// A strict export whose written geometry breaks a design rule.
+    #[error(
+        "{} design-rule violations in the geometry to be written (--strict): nothing written",
+        report.total()
+    )]
+    RulesBroken {
+        /// The findings, to list the violations.
+        report: Box<udc_core::mask::drc::DrcReport>,
+        /// What was checked, in words.
+        scope: String,
+    },
     /// A preset name that is not built in (the name as given).
     #[error("unknown preset `{0}` (run `udc-studio presets` for the list)")]
     UnknownPreset(String),

@@ -11,7 +11,6 @@
 //! written. `$EXTMIN`/`$EXTMAX` are the bounding box of the polylines (the notes' text lies
 //! above it and is not counted: a text's width depends on the reader's font).
 
-use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
@@ -174,7 +173,8 @@ pub(super) fn write(
     // (written from `next_available_handle`) moves past them.
     let first = drawing.header.next_available_handle.0;
     drawing.header.next_available_handle = Handle(first + TABLE_HANDLES);
-    let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
+    let file =
+        crate::safe_file::open_reserved(path).map_err(|e| IoError::file("create", path, e))?;
     let mut w = TableHandles::new(BufWriter::new(file), first);
     drawing.save(&mut w).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),

@@ -10,7 +10,6 @@
 //! writer below: `gds21` writes the library up to the top cell's `ENDSTR`, which is cut off, the
 //! references are appended record by record, then `ENDSTR` and `ENDLIB` close the file.
 
-use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
@@ -133,7 +132,10 @@ fn library(
     // Database unit 1 nm = 1e-3 user units (1 µm), 1e-9 m.
     lib.units = GdsUnits::new(1e-3, 1e-9);
     let pixel_cell_name = format!("{top}_PIXEL");
+    // A region its border policy redrew whole references no pixel cell: none is defined.
+    let referenced = !layout.rows.is_empty();
     match o.gds_cells {
+        _ if !referenced => {}
         GdsCells::Strans => lib.structs.push(pixel_cell(
             pixel_cell_name.clone(),
             layout,
@@ -181,6 +183,12 @@ fn library(
         let (l, d) = layers.of(*role);
         top_cell.elems.push(boundary(poly, l, d));
     }
+    // What the border policy redrew: flat, on the drawn layer.
+    for poly in layout.border.polygons() {
+        top_cell
+            .elems
+            .push(boundary(poly, layers.openings.0, layers.openings.1));
+    }
     if let Some(label) = &frame.label {
         // Within i32: the frame's geometry checked its extent.
         top_cell.elems.push(GdsElement::GdsTextElem(GdsTextElem {
@@ -191,7 +199,7 @@ fn library(
             ..Default::default()
         }));
     }
-    if let Some(gap) = &layout.gap_polygon {
+    if let Some(gap) = layout.gap_polygon.as_ref().filter(|_| referenced) {
         let name = format!("{top}_GAP");
         lib.structs.push(cell(
             name.clone(),
@@ -310,7 +318,8 @@ pub(super) fn write(
         });
     }
     head.truncate(head.len() - tail.len());
-    let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
+    let file =
+        crate::safe_file::open_reserved(path).map_err(|e| IoError::file("create", path, e))?;
     let mut w = BufWriter::with_capacity(1 << 20, file);
     let io = |e| IoError::file("write", path, e);
     w.write_all(&head).map_err(io)?;
@@ -362,8 +371,14 @@ pub(super) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
     let stats = layout.stats();
     let cells: Vec<usize> = super::cell_vertex_counts(layout, o.gds_cells);
     let gap = u64::from(layout.gap_polygon.is_some());
-    let polygons = cells.len() as u64 + gap;
-    let vertices = cells.iter().sum::<usize>() as u64 + 6 * gap;
+    let border = layout.border.polygons().count() as u64;
+    let border_vertices: u64 = layout
+        .border
+        .polygons()
+        .map(|p| p.points_nm.len() as u64)
+        .sum();
+    let polygons = cells.len() as u64 + gap + border;
+    let vertices = cells.iter().sum::<usize>() as u64 + 6 * gap + border_vertices;
     let placed = arrays(layout, "", [0, 0]);
     let singles = placed
         .iter()

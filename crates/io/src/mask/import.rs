@@ -322,6 +322,8 @@ pub fn import_opening_on(
     };
     let mut spec = MaskSpec {
         region: MaskRegion::PIXEL,
+        // The registration only: no border to work out.
+        border: udc_core::mask::BorderPolicy::Cut,
         ..MaskSpec::default()
     };
     if let Some(m) = &notes {
@@ -389,7 +391,14 @@ fn png_axis_pixel(
 ) -> Result<Vec<Vec<f64>>, MaskImportError> {
     let d_nm = m.um_per_px.ok_or(MaskImportError::NoPixelSize)? * 1e3;
     let tone = tone_of_notes(m.notes.iter().map(String::as_str)).unwrap_or(Tone::Open);
-    let bbox = super::region_bbox_nm(layout);
+    let corner = note_field(m.notes.iter().map(String::as_str), "IMAGE_TOP_LEFT_NM")
+        .and_then(|v| v.split_once(','))
+        .and_then(|(x, y)| Some([x.parse::<i64>().ok()?, y.parse::<i64>().ok()?]));
+    // Files from before the note: the image starts at the region's corner.
+    let bbox = match corner {
+        Some([x, y]) => [x, 0, 0, y],
+        None => super::region_bbox_nm(layout),
+    };
     let [cx, cy] = layout.tile_corner_nm(0, 0);
     let b = &layout.bounds_nm;
     let mut cells = vec![vec![0.0; layout.n]; layout.n];

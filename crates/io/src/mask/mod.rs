@@ -5,6 +5,7 @@
 //! the origin). Every file states its tone (`TONE=OPEN: DRAWN = OPEN (CLEAR)` or the chrome
 //! equivalent) in a note, and the design is written beside it as `<file>.design.json`.
 
+mod deck;
 mod dxf;
 mod fab;
 mod flat_size;
@@ -15,6 +16,7 @@ mod integrity;
 mod oasis;
 mod png;
 mod png_read;
+mod rules;
 mod sampling;
 mod svg;
 mod walk;
@@ -23,6 +25,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use udc_core::design::Design;
+use udc_core::mask::BorderCounts;
+use udc_core::mask::drc::Rules;
 use udc_core::mask::{FrameSpec, MaskError, MaskLayout, MaskSpec, MaskStats, Tone, mask_ltr};
 use udc_core::psf::warning::SamplingWarning;
 use udc_core::{Progress, ValueError};
@@ -36,6 +40,7 @@ pub const MAX_MASK_BYTES: u64 = 1024 * 1024 * 1024;
 use super::design_file::to_json;
 use super::safe_file::{TempFile, write_atomic};
 
+pub use deck::drc_deck;
 pub use fab::{FRAME_LAYER, LABEL_LAYER, LayerRole, MARKS_LAYER, MaskLayers, design_hash};
 pub use frame::{FrameDrawing, frame_drawing, label_date};
 pub use import::{
@@ -43,6 +48,7 @@ pub use import::{
     import_opening_on, mask_notes, note_field,
 };
 pub use integrity::verify_checksum;
+pub use rules::{CheckScope, RulesCheck, check_file, check_written};
 pub use walk::region_bbox_nm;
 use walk::{cell_vertex_counts, for_each_flat_polygon};
 
@@ -206,6 +212,10 @@ pub struct ExportOptions {
     /// Whether the design has a subpixel (emitter) layer to write on the emitter roles' layers
     /// (set by `ExportOptions::resolved` from the design).
     pub emitters: bool,
+    /// The design rules the written geometry is checked against before it is written.
+    pub rules: Rules,
+    /// Write nothing when the written geometry breaks a rule.
+    pub strict: bool,
 }
 
 impl Default for ExportOptions {
@@ -224,6 +234,8 @@ impl Default for ExportOptions {
             deterministic: false,
             frame: FrameSpec::default(),
             emitters: false,
+            rules: Rules::default(),
+            strict: false,
         }
     }
 }
@@ -298,6 +310,10 @@ pub struct MaskReport {
     pub options: ExportOptions,
     /// Counts and areas of the laid-out region.
     pub stats: MaskStats,
+    /// The design-rule check of the written geometry.
+    pub drc: RulesCheck,
+    /// What the border policy did with the openings the region's edge cuts.
+    pub border: BorderCounts,
     /// What the file holds.
     pub counts: FileCounts,
     /// Light transmittance ratio of the thresholded display over the lens pupil (0–1).
@@ -367,6 +383,7 @@ impl MaskReport {
                 s.open_fraction(),
                 self.ltr
             ),
+            self.border.line(o.spec.border),
         ]
         .into_iter()
         .chain(frame::report_line(o))
@@ -446,6 +463,14 @@ pub fn export_mask(
     let layout = plan(design, options)?;
     let notes = notes(design, &layout, options, path);
     let frame = frame_drawing(&layout, options, &design.name)?;
+    // Checked before anything is written: a strict export that fails leaves nothing behind.
+    let drc = check_written(design, &layout, options, &frame, progress)?;
+    if options.strict && !drc.report.is_clean() {
+        return Err(IoError::RulesBroken {
+            scope: drc.scope_line(),
+            report: Box::new(drc.report),
+        });
+    }
     // Dropped on any error (or a cancel), the temp file goes with it.
     let temp = TempFile::beside(path)?;
     // After the temp file (an unwritable path fails before a second of analysis), before the
@@ -471,6 +496,8 @@ pub fn export_mask(
         fab_files,
         options: options.clone(),
         stats: layout.stats(),
+        drc,
+        border: layout.border.counts,
         counts,
         ltr: mask_ltr(design),
         pitch_nm: layout.pitch_nm,
@@ -529,6 +556,12 @@ fn notes(design: &Design, layout: &MaskLayout, o: &ExportOptions, path: &Path) -
                     .unwrap_or_default()
                     .to_string_lossy()
             )
+        ),
+        format!(
+            "BORDER={} MARGIN_UM={}: {}",
+            o.spec.border.as_str().to_uppercase(),
+            o.spec.margin_um,
+            o.spec.border.meaning().to_uppercase()
         ),
     ]
 }

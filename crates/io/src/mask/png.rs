@@ -3,7 +3,6 @@
 //! 8-bit pixels hold the drawn fraction of their area; 1-bit pixels are drawn when at least half
 //! is. The physical pixel size is in the `pHYs` chunk, the tone and notes in `tEXt` chunks.
 
-use std::fs::File;
 use std::io::BufWriter;
 use std::path::Path;
 
@@ -107,7 +106,10 @@ pub(super) fn write(
         progress,
     )?;
     let data = pixels(&cov, w as usize, o.png_bits);
-    encode(path, (w as u32, h as u32), o, notes, &data)?;
+    // Where the image sits: a border drawn past the region moves its corner off the region's.
+    let mut notes = notes.to_vec();
+    notes.push(format!("IMAGE_TOP_LEFT_NM={},{}", bbox[0], bbox[3]));
+    encode(path, (w as u32, h as u32), o, &notes, &data)?;
     let bytes = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     let s = layout.stats();
     Ok(FileCounts {
@@ -155,6 +157,17 @@ fn coverage(
             }
         }
     }
+    // What the border policy redrew, as the non-overlapping rectangles of its union.
+    let border = layout.border.polygons().map(|p| p.points_nm.as_slice());
+    for rect in udc_core::mask::geometry_drc::union_rectangles(border) {
+        let px = [
+            (rect[0] - bbox[0]) as f64 / d,
+            (bbox[3] - rect[3]) as f64 / d,
+            (rect[2] - bbox[0]) as f64 / d,
+            (bbox[3] - rect[1]) as f64 / d,
+        ];
+        add_rect(&mut cov, width, height, px);
+    }
     Ok(cov)
 }
 
@@ -189,7 +202,8 @@ fn encode(
         path: path.to_path_buf(),
         message: format!("cannot encode the PNG: {e}"),
     };
-    let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
+    let file =
+        crate::safe_file::open_reserved(path).map_err(|e| IoError::file("create", path, e))?;
     let mut enc = Encoder::new(BufWriter::new(file), w, h);
     enc.set_color(ColorType::Grayscale);
     enc.set_depth(match o.png_bits {

@@ -6,7 +6,6 @@
 //! `<text id="label">`; the view box then grows to hold them. Written as a stream, tile row by
 //! tile row.
 
-use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
@@ -64,7 +63,8 @@ pub(super) fn write(
         ))
         .into());
     }
-    let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
+    let file =
+        crate::safe_file::open_reserved(path).map_err(|e| IoError::file("create", path, e))?;
     let mut w = BufWriter::with_capacity(1 << 20, file);
     let io = |e| IoError::file("write", path, e);
     let [x0, y0, mut x1, mut y1] = frame.extent_nm;

@@ -28,7 +28,7 @@ pub(super) fn cell_vertex_counts(layout: &MaskLayout, cells: GdsCells) -> Vec<us
 /// The bounding box of the region's tiles, mask frame: `[min_x, min_y, max_x, max_y]` (nm).
 pub fn region_bbox_nm(layout: &MaskLayout) -> [i64; 4] {
     let mut b = [i64::MAX, i64::MAX, i64::MIN, i64::MIN];
-    for r in &layout.rows {
+    for r in &layout.region_rows {
         let a = layout.tile_corner_nm(r.tx0, r.ty);
         let z = layout.tile_corner_nm(r.tx0 + i64::from(r.count), r.ty + 1);
         b = [
@@ -38,7 +38,8 @@ pub fn region_bbox_nm(layout: &MaskLayout) -> [i64; 4] {
             b[3].max(a[1]),
         ];
     }
-    if let Some(o) = &layout.pupil_outline {
+    let beyond = layout.border.outside.iter();
+    for o in layout.pupil_outline.iter().chain(beyond) {
         for p in &o.points_nm {
             b = [
                 b[0].min(p[0]),
@@ -81,6 +82,9 @@ pub(super) fn for_each_flat_polygon(
                 f(&buf)?;
             }
         }
+    }
+    for poly in layout.border.polygons() {
+        f(&poly.points_nm)?;
     }
     Ok(())
 }

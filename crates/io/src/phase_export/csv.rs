@@ -74,7 +74,7 @@ pub fn write_height_csv(
 pub fn write_kernels_csv(k: &ndarray::Array2<f64>, path: &Path) -> Result<(), IoError> {
     let fail = |e| IoError::file("write", path, e);
     let temp = TempFile::beside(path)?;
-    let file = File::create(temp.path()).map_err(fail)?;
+    let file = crate::safe_file::open_reserved(temp.path()).map_err(fail)?;
     let mut w = std::io::BufWriter::new(file);
     for row in k.rows() {
         for (j, v) in row.iter().enumerate() {

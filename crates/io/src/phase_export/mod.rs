@@ -25,7 +25,6 @@
 //! One file per format (`csv`, `png`, `gds`, `stl`); `pieces` cuts the profile at its exact jumps
 //! for the two vector formats, and the sampled formats read their heights off the same pieces.
 
-use std::fs::File;
 use std::io::{Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 

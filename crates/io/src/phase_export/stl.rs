@@ -235,7 +235,7 @@ pub fn write_height_stl(
 fn write_stl_file(path: &Path, tris: &[Triangle]) -> Result<(), IoError> {
     let temp = TempFile::beside(path)?;
     let io = |e| IoError::file("write", path, e);
-    let mut file = File::create(temp.path()).map_err(io)?;
+    let mut file = crate::safe_file::open_reserved(temp.path()).map_err(io)?;
     stl_io::write_stl(&mut file, tris.iter()).map_err(io)?;
     // stl_io writes a blank header; the units go in it afterwards.
     let mut header = [0u8; 80];

@@ -408,7 +408,8 @@ impl CsvWriter {
     /// [`IoError::File`] or [`IoError::Table`] naming `path`.
     pub fn create(path: &Path, schema: &TableSchema) -> Result<Self, IoError> {
         let temp = crate::safe_file::TempFile::beside(path)?;
-        let file = File::create(temp.path()).map_err(|e| IoError::file("write", path, e))?;
+        let file = crate::safe_file::open_reserved(temp.path())
+            .map_err(|e| IoError::file("write", path, e))?;
         let mut writer = csv::WriterBuilder::new()
             .has_headers(false)
             .from_writer(std::io::BufWriter::new(file));

@@ -61,8 +61,8 @@ impl ParquetAppender {
     /// [`IoError::File`] or [`IoError::Table`] naming `path`.
     pub fn create(path: &Path, schema: &TableSchema) -> Result<Self, IoError> {
         let temp = TempFile::beside(path)?;
-        let file =
-            File::create(temp.path()).map_err(|e| IoError::file("write the results", path, e))?;
+        let file = crate::safe_file::open_reserved(temp.path())
+            .map_err(|e| IoError::file("write the results", path, e))?;
         let arrow = arrow_schema(schema);
         let props = WriterProperties::builder()
             .set_compression(Compression::SNAPPY)

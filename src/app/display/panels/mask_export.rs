@@ -8,11 +8,12 @@ use std::time::Duration;
 use egui::{Color32, ColorImage, Stroke, TextureHandle, TextureOptions};
 
 use super::rules_check::{RulesCheck, RulesState};
+use super::written_check::{WrittenCheck, WrittenState};
 use crate::app::display::action::DisplayAction;
 use crate::app::job::{Job, JobError};
 use crate::core::design::Design;
 use crate::core::mask::drc::{DrcReport, ViolationKind};
-use crate::core::mask::{BinaryGrid, MaskError, MaskRegion, MaskStats, Tone};
+use crate::core::mask::{BinaryGrid, BorderPolicy, MaskError, MaskRegion, MaskStats, Tone};
 use crate::io::IoError;
 use crate::io::mask::{
     ExportOptions, FileCounts, GdsCells, MaskFormat, PngBits, estimate, export_mask, human_bytes,
@@ -60,6 +61,8 @@ pub struct MaskExportDialog {
     /// The design-rule check at the default rules (`udc-studio drc` checks others), run in
     /// the background while the dialog is open.
     rules: RulesCheck,
+    /// The same rules on the geometry the file would hold, in the background.
+    written: WrittenCheck,
 }
 
 impl Default for MaskExportDialog {
@@ -74,6 +77,7 @@ impl Default for MaskExportDialog {
             job: None,
             last: None,
             rules: RulesCheck::default(),
+            written: WrittenCheck::default(),
         }
     }
 }
@@ -96,7 +100,7 @@ impl MaskExportDialog {
 
     /// Whether the design-rule check of the dialog is still running.
     pub fn rules_checking(&self) -> bool {
-        self.rules.is_checking()
+        self.rules.is_checking() || self.written.is_checking()
     }
 
     /// Whether a mask export is being written in the background.
@@ -204,6 +208,7 @@ impl MaskExportDialog {
         }
         self.refresh(ctx, design);
         self.rules.update(ctx, design);
+        self.written.update(ctx, design, &self.options);
         let mut open = self.open;
         egui::Window::new("Export mask")
             .open(&mut open)
@@ -256,6 +261,25 @@ impl MaskExportDialog {
                 ui.vertical(|ui| {
                     for t in Tone::ALL {
                         ui.radio_value(&mut o.spec.tone, t, t.meaning());
+                    }
+                });
+                ui.end_row();
+                ui.label("Border");
+                ui.vertical(|ui| {
+                    for b in BorderPolicy::ALL {
+                        ui.radio_value(&mut o.spec.border, b, border_label(b))
+                            .on_hover_text(b.meaning());
+                    }
+                    if o.spec.border == BorderPolicy::Margin && o.spec.tone == Tone::Chrome {
+                        ui.horizontal(|ui| {
+                            ui.label("Chrome margin");
+                            ui.add(
+                                crate::app::widgets::number(&mut o.spec.margin_um)
+                                    .range(0.1..=10_000.0)
+                                    .speed(1.0)
+                                    .suffix(" µm"),
+                            );
+                        });
                     }
                 });
                 ui.end_row();
@@ -362,12 +386,26 @@ impl MaskExportDialog {
                 row("Open fraction", format!("{:.4}", s.open_fraction()));
             });
         match rules {
-            RulesState::Done(r) => drc_ui(ui, r),
+            RulesState::Done(r) => {
+                drc_ui(ui, r, "Pixel, tiled");
+            }
             RulesState::Checking => {
                 ui.weak("Design rules: checking…");
             }
             RulesState::Failed(e) => {
                 ui.colored_label(ui.visuals().error_fg_color, format!("Design rules: {e}"));
+            }
+        }
+        match self.written.state(design, &self.options) {
+            WrittenState::Done(check) => {
+                let resp = drc_ui(ui, &check.report, "Written file");
+                resp.on_hover_text(check.scope_line());
+            }
+            WrittenState::Checking(f) => {
+                ui.weak(format!("Written file: checking… {:.0} %", 100.0 * f));
+            }
+            WrittenState::Failed(e) => {
+                ui.colored_label(ui.visuals().error_fg_color, format!("Written file: {e}"));
             }
         }
     }
@@ -505,14 +543,25 @@ fn format_options_ui(ui: &mut egui::Ui, o: &mut ExportOptions) {
 }
 
 /// Drawn cells in blue on a dark background, one texel per cell.
-/// The design-rule summary: the smallest opening and gap, the corner contacts, each in the
-/// warning colour when it breaks the default rules.
-fn drc_ui(ui: &mut egui::Ui, r: &DrcReport) {
-    ui.label(format!(
-        "Design rules ({} µm features and gaps, no corner contacts)",
-        r.rules.min_feature_um
-    ))
-    .on_hover_text("udc-studio drc checks other rules, from a fab's rules file");
+/// The name of a border policy in the dialog.
+fn border_label(b: BorderPolicy) -> &'static str {
+    match b {
+        BorderPolicy::Margin => "Leave cut openings out, frame chrome",
+        BorderPolicy::Drop => "Leave cut openings out",
+        BorderPolicy::Extend => "Draw cut openings whole",
+        BorderPolicy::Cut => "Cut at the edge (a cell to array)",
+    }
+}
+
+/// The design-rule summary under `title`: the smallest opening and gap, the corner contacts,
+/// each in the warning colour when it breaks the default rules. Returns the title's response.
+fn drc_ui(ui: &mut egui::Ui, r: &DrcReport, title: &str) -> egui::Response {
+    let head = ui
+        .strong(format!(
+            "{title}: design rules ({} µm features and gaps, no corner contacts)",
+            r.rules.min_feature_um
+        ))
+        .on_hover_text("udc-studio drc checks other rules, from a fab's rules file");
     let line = |ui: &mut egui::Ui, bad: bool, text: String, kind: ViolationKind| {
         let places: Vec<&str> = r
             .violations
@@ -555,6 +604,7 @@ fn drc_ui(ui: &mut egui::Ui, r: &DrcReport) {
         ),
         ViolationKind::CornerContact,
     );
+    head
 }
 
 fn drawn_image(drawn: &BinaryGrid) -> ColorImage {

@@ -14,6 +14,7 @@ pub mod quality;
 pub mod rules_check;
 pub mod tiling;
 pub mod views;
+pub mod written_check;
 
 use std::sync::Arc;
 

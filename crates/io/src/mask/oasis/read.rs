@@ -830,6 +830,22 @@ pub(crate) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
     let Some(body) = bytes.strip_prefix(MAGIC) else {
         return Err(err(OasisError::NotOasis));
     };
+    // A signed END record in its place (the last 256 bytes: record id, padding, scheme,
+    // signature) is checked before any record is parsed: a damaged byte is reported as damage,
+    // not as whatever a parser makes of it. Anything else is judged after the parse.
+    if body.len() >= 256 && u64::from(body[body.len() - 256]) == record::END {
+        let scheme = body[body.len() - 5];
+        if scheme == 1 || scheme == 2 {
+            let s = &body[body.len() - 4..];
+            Validation {
+                checksum: scheme == 2,
+                covers: body.len() - 4,
+                stored: u32::from_le_bytes([s[0], s[1], s[2], s[3]]),
+            }
+            .check(&bytes)
+            .map_err(err)?;
+        }
+    }
     let mut state = State {
         unit_per_um: 1000.0,
         cellnames: HashMap::new(),

@@ -6,7 +6,6 @@
 //! with a regular repetition. Coordinates are integers in database units (1 nm); the END
 //! record carries a CRC-32, so a truncated or altered file is detected by any reader.
 
-use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
@@ -42,7 +41,10 @@ fn cells(layout: &MaskLayout, o: &ExportOptions) -> Cells {
     let top = o.top_cell_name();
     let mut names = Vec::new();
     let mut per_orientation = [(0, 0, false, [0, 0]); 8];
+    // A region its border policy redrew whole references no pixel cell: none is defined.
+    let referenced = !layout.rows.is_empty();
     match o.gds_cells {
+        _ if !referenced => {}
         GdsCells::Strans => {
             names.push(format!("{top}_PIXEL"));
             for g in D4::all() {
@@ -60,7 +62,7 @@ fn cells(layout: &MaskLayout, o: &ExportOptions) -> Cells {
             }
         }
     }
-    let gap = layout.gap_polygon.as_ref().map(|_| {
+    let gap = layout.gap_polygon.as_ref().filter(|_| referenced).map(|_| {
         names.push(format!("{top}_GAP"));
         names.len() as u64 - 1
     });
@@ -210,7 +212,8 @@ pub(crate) fn write(
         error,
     })?;
     let cells = cells(layout, o);
-    let file = File::create(path).map_err(|e| IoError::file("create", path, e))?;
+    let file =
+        crate::safe_file::open_reserved(path).map_err(|e| IoError::file("create", path, e))?;
     let mut w = Sink::new(BufWriter::with_capacity(1 << 20, file));
     let io = io_err(path);
     let mut buf = Vec::new();
@@ -270,6 +273,7 @@ pub(crate) fn write(
         }
     };
     match o.gds_cells {
+        _ if layout.rows.is_empty() => {}
         GdsCells::Strans => {
             put_u(&mut buf, record::CELL_REF);
             put_u(&mut buf, 0);
@@ -369,8 +373,14 @@ pub(crate) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
     let stats = layout.stats();
     let polys: Vec<usize> = crate::mask::walk::cell_vertex_counts(layout, o.gds_cells);
     let gap = u64::from(layout.gap_polygon.is_some());
-    let polygons = polys.len() as u64 + gap;
-    let vertices = polys.iter().sum::<usize>() as u64 + 6 * gap;
+    let border = layout.border.polygons().count() as u64;
+    let border_vertices: u64 = layout
+        .border
+        .polygons()
+        .map(|p| p.points_nm.len() as u64)
+        .sum();
+    let polygons = polys.len() as u64 + gap + border;
+    let vertices = polys.iter().sum::<usize>() as u64 + 6 * gap + border_vertices;
     let rows = layout.rows.len() as u64;
     let (arrays, references, placed_bytes) = if layout.mode.is_random() {
         let per_row = (stats.orientations as u64).min(8);
