@@ -15,7 +15,7 @@ use udc_studio::core::design::Design;
 use udc_studio::core::mask::drc::{Rules, ViolationKind};
 use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec, Tone};
 use udc_studio::io::mask::{
-    ChecksumCheck, ExportOptions, MaskFormat, check_file, drc_deck, export_mask,
+    CheckScope, ChecksumCheck, ExportOptions, MaskFormat, check_file, drc_deck, export_mask,
 };
 use udc_studio::io::presets::{PRESETS, load_preset};
 
@@ -308,4 +308,34 @@ fn a_chrome_margin_frames_the_region_and_extend_is_refused_for_chrome() {
     assert!(err.unwrap_err().to_string().contains("chrome"));
     let err = export_mask(&d, &o(BorderPolicy::Margin, -1.0), &path, &Progress::new());
     assert!(err.unwrap_err().to_string().contains("margin"));
+}
+
+#[test]
+fn a_display_sized_export_is_checked_as_a_design_and_says_so() {
+    let d = load_preset("toled-150dpi").unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let o = |cols| ExportOptions {
+        format: MaskFormat::Oas,
+        spec: MaskSpec {
+            region: MaskRegion::Block { cols, rows: 600 },
+            ..MaskSpec::default()
+        },
+        ..ExportOptions::default()
+    };
+    // 600 × 600 pixels of one 4-vertex slit: 1.44 M vertices, checked as written.
+    let small = export_mask(&d, &o(600), &dir.path().join("s.oas"), &Progress::new()).unwrap();
+    assert_eq!(small.drc.scope, CheckScope::Written);
+    // 1000 × 600: 2.4 M, past the export's flat check: the design is checked, and named.
+    let big = export_mask(&d, &o(1000), &dir.path().join("b.oas"), &Progress::new()).unwrap();
+    assert_eq!(
+        big.drc.scope,
+        CheckScope::DesignOnly {
+            vertices: 2_400_000
+        }
+    );
+    assert!(big.drc.scope_line().contains("on the design only"));
+    assert_eq!(
+        big.drc.report.min_feature_um,
+        small.drc.report.min_feature_um
+    );
 }

@@ -48,7 +48,7 @@ pub use import::{
     import_opening_on, mask_notes, note_field,
 };
 pub use integrity::verify_checksum;
-pub use rules::{CheckScope, RulesCheck, check_file, check_written};
+pub use rules::{CheckScope, MAX_EXPORT_CHECK_VERTICES, RulesCheck, check_file, check_written};
 pub use walk::region_bbox_nm;
 use walk::{cell_vertex_counts, for_each_flat_polygon};
 

@@ -16,13 +16,18 @@ use udc_core::mask::drc::{DrcReport, Rules, check};
 use udc_core::mask::geometry_drc::{DrawnGeometry, GeometryDrcError, MAX_CHECK_VERTICES};
 use udc_core::mask::{MaskError, MaskLayout, Tone};
 
+/// The most flattened vertices an export checks as written (about a second); a larger region
+/// (a whole display) is checked as a design, so the export stays as fast as its writer.
+/// `udc-studio drc FILE` takes up to [`MAX_CHECK_VERTICES`].
+pub const MAX_EXPORT_CHECK_VERTICES: u64 = 2_000_000;
+
 /// What a check covered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum CheckScope {
     /// The written geometry, every polygon of the drawn layer.
     Written,
     /// The design only (a pixel beside its tiled neighbours): the written geometry has more
-    /// vertices than one flat check takes.
+    /// vertices than an export checks flat ([`MAX_EXPORT_CHECK_VERTICES`]).
     DesignOnly {
         /// Vertices of the written geometry, flattened.
         vertices: u64,
@@ -45,7 +50,8 @@ impl RulesCheck {
             CheckScope::Written => "design rules checked on the written geometry".into(),
             CheckScope::DesignOnly { vertices } => format!(
                 "design rules checked on the design only: the written geometry ({vertices} \
-                 vertices flattened) is more than the {MAX_CHECK_VERTICES} one flat check takes"
+                 vertices flattened) is more than the {MAX_EXPORT_CHECK_VERTICES} an export \
+                 checks flat (`udc-studio drc FILE` takes {MAX_CHECK_VERTICES})"
             ),
         }
     }
@@ -70,7 +76,7 @@ pub fn check_written(
     progress: &Progress,
 ) -> Result<RulesCheck, IoError> {
     let flat = layout.stats().flat_vertices;
-    if flat > MAX_CHECK_VERTICES as u64 {
+    if flat > MAX_EXPORT_CHECK_VERTICES {
         return Ok(RulesCheck {
             report: check(design, &o.rules),
             scope: CheckScope::DesignOnly { vertices: flat },
