@@ -11,7 +11,7 @@ use udc_core::Progress;
 use udc_core::mask::Tone;
 use udc_core::mask::drc::{DrcReport, Rules, ViolationKind, check};
 use udc_core::phase::drc::check_plate;
-use udc_io::mask::{ChecksumCheck, check_file};
+use udc_io::mask::{ChecksumCheck, MaskFormat, check_file};
 use udc_io::phase_design::{is_phase_design_file, load_phase_design};
 
 /// The rules to check against: a file, then flags over it.
@@ -246,13 +246,9 @@ fn mask_file(selection: &DesignSelection) -> Result<Option<&Path>> {
     let Some(path) = selection.design.as_deref() else {
         return Ok(None);
     };
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
     if !matches!(
-        ext.as_str(),
-        "gds" | "gdsii" | "gds2" | "oas" | "oasis" | "dxf"
+        MaskFormat::of_path(path),
+        Some(MaskFormat::Gds | MaskFormat::Oas | MaskFormat::Dxf)
     ) {
         return Ok(None);
     }

@@ -371,12 +371,7 @@ pub(super) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
     let stats = layout.stats();
     let cells: Vec<usize> = super::cell_vertex_counts(layout, o.gds_cells);
     let gap = u64::from(layout.gap_polygon.is_some());
-    let border = layout.border.polygons().count() as u64;
-    let border_vertices: u64 = layout
-        .border
-        .polygons()
-        .map(|p| p.points_nm.len() as u64)
-        .sum();
+    let (border, border_vertices) = layout.border.size();
     let polygons = cells.len() as u64 + gap + border;
     let vertices = cells.iter().sum::<usize>() as u64 + 6 * gap + border_vertices;
     let placed = arrays(layout, "", [0, 0]);

@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use super::{MaskFormat, dxf, gds, oasis, tone_of_notes};
+use super::{Drawn, MaskFormat, dxf, gds, oasis, tone_of_notes};
 use crate::IoError;
 use crate::error::MaskImportError;
 use udc_core::ValueError;
@@ -101,20 +101,7 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
         path: path.to_path_buf(),
         error,
     };
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
-    let format = match ext.as_str() {
-        "gds" | "gdsii" | "gds2" => MaskFormat::Gds,
-        "dxf" => MaskFormat::Dxf,
-        "oas" | "oasis" => MaskFormat::Oas,
-        other => {
-            return Err(err(MaskImportError::UnknownExtension {
-                extension: other.to_string(),
-            }));
-        }
-    };
+    vector_format(path)?;
     let s = options.cell_um;
     if !(s.is_finite() && s > 0.0) {
         return Err(err(MaskImportError::CellSize { cell_um: s }));
@@ -122,17 +109,7 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
     if options.checksum == ChecksumCheck::Verify {
         super::integrity::verify_checksum(path)?;
     }
-    let (polygons, texts) = match format {
-        MaskFormat::Dxf => dxf::read(path, options.layer, options.datatype)?,
-        MaskFormat::Oas => {
-            let flat = oasis::read(path, options.layer, options.datatype)?;
-            (flat.polygons_um, flat.texts)
-        }
-        _ => {
-            let flat = gds::read(path, options.layer, options.datatype)?;
-            (flat.polygons_um, flat.texts)
-        }
-    };
+    let (polygons, texts) = read_drawn(path, options.layer, options.datatype)?;
     if polygons.is_empty() {
         return Err(err(MaskImportError::NoPolygon {
             layer: options.layer,
@@ -192,6 +169,44 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
         window,
         tone,
         polygons: polygons.len(),
+    })
+}
+
+/// The vector format (GDSII, OASIS or DXF) `path`'s extension names.
+///
+/// # Errors
+/// [`MaskImportError::UnknownExtension`] for any other.
+pub(super) fn vector_format(path: &Path) -> Result<MaskFormat, IoError> {
+    match MaskFormat::of_path(path) {
+        Some(f @ (MaskFormat::Gds | MaskFormat::Oas | MaskFormat::Dxf)) => Ok(f),
+        _ => Err(IoError::MaskImport {
+            path: path.to_path_buf(),
+            error: MaskImportError::UnknownExtension {
+                extension: path
+                    .extension()
+                    .map(|e| e.to_string_lossy().to_lowercase())
+                    .unwrap_or_default(),
+            },
+        }),
+    }
+}
+
+/// The polygons on `layer`/`datatype` (µm, references expanded) and every text of a GDSII,
+/// OASIS or DXF file.
+///
+/// # Errors
+/// As [`vector_format`], and the readers' errors.
+pub(super) fn read_drawn(path: &Path, layer: i16, datatype: i16) -> Result<Drawn, IoError> {
+    Ok(match vector_format(path)? {
+        MaskFormat::Dxf => dxf::read(path, layer, datatype)?,
+        MaskFormat::Oas => {
+            let flat = oasis::read(path, layer, datatype)?;
+            (flat.polygons_um, flat.texts)
+        }
+        _ => {
+            let flat = gds::read(path, layer, datatype)?;
+            (flat.polygons_um, flat.texts)
+        }
     })
 }
 

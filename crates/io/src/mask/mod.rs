@@ -108,6 +108,16 @@ impl MaskFormat {
     pub fn extension(self) -> &'static str {
         self.as_str()
     }
+
+    /// The format a file's extension names (`gds`, `gdsii`, `gds2`, `oas`, `oasis`, `dxf`,
+    /// `svg`, `png`, any case), the one spelling the readers and commands share.
+    pub fn of_path(path: &Path) -> Option<MaskFormat> {
+        let ext = path.extension()?.to_string_lossy().to_lowercase();
+        match ext.as_str() {
+            "gds2" => Some(MaskFormat::Gds),
+            other => other.parse().ok(),
+        }
+    }
 }
 
 impl std::str::FromStr for MaskFormat {

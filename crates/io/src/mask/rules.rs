@@ -6,9 +6,7 @@
 
 use std::path::Path;
 
-use super::{
-    ChecksumCheck, ExportOptions, FrameDrawing, MaskFormat, dxf, for_each_flat_polygon, gds, oasis,
-};
+use super::{ChecksumCheck, ExportOptions, FrameDrawing, MaskFormat, for_each_flat_polygon};
 use crate::IoError;
 use udc_core::Progress;
 use udc_core::design::Design;
@@ -116,32 +114,11 @@ pub fn check_file(
     checksum: ChecksumCheck,
     progress: &Progress,
 ) -> Result<(DrcReport, Tone), IoError> {
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_lowercase())
-        .unwrap_or_default();
+    super::import::vector_format(path)?;
     if checksum == ChecksumCheck::Verify {
         super::integrity::verify_checksum(path)?;
     }
-    let (polygons, texts) = match ext.as_str() {
-        "gds" | "gdsii" | "gds2" => {
-            let f = gds::read(path, layer, datatype)?;
-            (f.polygons_um, f.texts)
-        }
-        "oas" | "oasis" => {
-            let f = oasis::read(path, layer, datatype)?;
-            (f.polygons_um, f.texts)
-        }
-        "dxf" => dxf::read(path, layer, datatype)?,
-        other => {
-            return Err(IoError::MaskImport {
-                path: path.to_path_buf(),
-                error: crate::error::MaskImportError::UnknownExtension {
-                    extension: other.to_string(),
-                },
-            });
-        }
-    };
+    let (polygons, texts) = super::import::read_drawn(path, layer, datatype)?;
     if polygons.is_empty() {
         return Err(IoError::MaskImport {
             path: path.to_path_buf(),

@@ -161,6 +161,12 @@ impl BorderEdit {
     pub fn polygons(&self) -> impl Iterator<Item = &Polygon> {
         self.inside.iter().chain(&self.outside)
     }
+
+    /// How many polygons and vertices the edit draws.
+    pub fn size(&self) -> (u64, u64) {
+        self.polygons()
+            .fold((0, 0), |(n, v), p| (n + 1, v + p.points_nm.len() as u64))
+    }
 }
 
 /// A disjoint-set forest over cell indices.

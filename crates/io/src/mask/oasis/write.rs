@@ -373,12 +373,7 @@ pub(crate) fn estimate(layout: &MaskLayout, o: &ExportOptions) -> FileCounts {
     let stats = layout.stats();
     let polys: Vec<usize> = crate::mask::walk::cell_vertex_counts(layout, o.gds_cells);
     let gap = u64::from(layout.gap_polygon.is_some());
-    let border = layout.border.polygons().count() as u64;
-    let border_vertices: u64 = layout
-        .border
-        .polygons()
-        .map(|p| p.points_nm.len() as u64)
-        .sum();
+    let (border, border_vertices) = layout.border.size();
     let polygons = polys.len() as u64 + gap + border;
     let vertices = polys.iter().sum::<usize>() as u64 + 6 * gap + border_vertices;
     let rows = layout.rows.len() as u64;
