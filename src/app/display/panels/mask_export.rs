@@ -210,18 +210,26 @@ impl MaskExportDialog {
         self.rules.update(ctx, design);
         self.written.update(ctx, design, &self.options);
         let mut open = self.open;
+        // On a short screen the options and checks scroll; Export and Close stay in view.
+        let room = (ctx.content_rect().height() - 170.0).max(160.0);
         egui::Window::new("Export mask")
             .open(&mut open)
             .collapsible(false)
             .resizable(false)
             .default_width(560.0)
             .show(ctx, |ui| {
-                ui.horizontal_top(|ui| {
-                    ui.vertical(|ui| self.options_ui(ui));
-                    // Space, not a separator: a vertical separator grows to the window's height.
-                    ui.add_space(16.0);
-                    ui.vertical(|ui| self.preview_ui(ui, design));
-                });
+                egui::ScrollArea::vertical()
+                    .max_height(room)
+                    .auto_shrink([true, true])
+                    .show(ui, |ui| {
+                        ui.horizontal_top(|ui| {
+                            ui.vertical(|ui| self.options_ui(ui));
+                            // Space, not a separator: a vertical separator grows to the
+                            // window's height.
+                            ui.add_space(16.0);
+                            ui.vertical(|ui| self.preview_ui(ui, design));
+                        });
+                    });
                 ui.separator();
                 self.actions_ui(ui, actions);
             });
