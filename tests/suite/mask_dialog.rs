@@ -28,6 +28,10 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
         h.step();
     }
     assert!(h.state().mask_export().is_open());
+    // The preview is laid out off the UI thread.
+    common::step_until(&mut h, "the dialog's preview", |app| {
+        !app.mask_export().previewing()
+    });
     // One T-OLED pixel: the slit is one rectangle of 40 × 168 µm.
     assert!(
         h.query_by_label("1 in 1 orientation").is_some(),
@@ -46,6 +50,9 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     h.get_by_label("drawn = chrome (dark)").click();
     h.step();
     h.step();
+    common::step_until(&mut h, "the pupil's preview", |app| {
+        !app.mask_export().previewing()
+    });
     assert_eq!(h.state().mask_export().options().spec.tone, Tone::Chrome);
     assert!(
         h.query_by_label("496 in 1 orientation").is_some(),

@@ -34,7 +34,8 @@ pub struct ExportArgs {
     /// edge; open tone) or `cut` (cut at the edge, as a pixel cell the fab arrays needs).
     #[arg(long, default_value = "margin")]
     pub border: BorderPolicy,
-    /// Width of the chrome frame `--border margin` draws around a chrome-drawn region, µm.
+    /// Width of the chrome frame `--border margin` draws around a chrome-drawn region, µm (at
+    /// least one grid step, at most 10 000).
     #[arg(long, default_value_t = udc_core::mask::border::DEFAULT_MARGIN_UM, allow_negative_numbers = true)]
     pub margin_um: f64,
     /// Output file; the design is written beside it as `<FILE>.design.json`.

@@ -180,6 +180,8 @@ impl MaskLayout {
             return Err(MaskError::Invalid("the grid must be at least 1 nm".into()));
         }
         let grid = i64::from(spec.grid_nm);
+        // Before the extent check, which counts the margin in.
+        border::margin_nm(spec.border, spec.tone, spec.margin_um, grid)?;
         let pattern = binary_pattern(design);
         if pattern.count_open() == 0 {
             return Err(MaskError::EmptyPattern);
@@ -442,7 +444,13 @@ impl MaskLayout {
             worst = worst.max(b[0].abs()).max(b[1].abs());
         }
         // Completed openings reach a pixel beyond the region, a chrome margin its width.
-        let beyond = self.period_nm as f64 + self.spec.margin_um.clamp(0.0, 1e7) * 1e3;
+        let margin_nm = border::margin_nm(
+            self.spec.border,
+            self.spec.tone,
+            self.spec.margin_um,
+            self.grid_nm,
+        )?;
+        let beyond = self.period_nm as f64 + margin_nm.unwrap_or(0) as f64;
         worst = worst.saturating_add(beyond as i64);
         if self.spec.region == MaskRegion::Pupil {
             worst = worst.max((self.pupil_diameter_um * 500.0).ceil() as i64);

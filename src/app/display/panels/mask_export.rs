@@ -7,18 +7,16 @@ use std::time::Duration;
 
 use egui::{Color32, ColorImage, Stroke, TextureHandle, TextureOptions};
 
+use super::mask_preview::MaskPreview;
 use super::rules_check::{RulesCheck, RulesState};
 use super::written_check::{WrittenCheck, WrittenState};
 use crate::app::display::action::DisplayAction;
 use crate::app::job::{Job, JobError};
 use crate::core::design::Design;
 use crate::core::mask::drc::{DrcReport, ViolationKind};
-use crate::core::mask::{BinaryGrid, BorderPolicy, MaskError, MaskRegion, MaskStats, Tone};
+use crate::core::mask::{BinaryGrid, BorderPolicy, MaskRegion, Tone};
 use crate::io::IoError;
-use crate::io::mask::{
-    ExportOptions, FileCounts, GdsCells, MaskFormat, PngBits, estimate, export_mask, human_bytes,
-    plan,
-};
+use crate::io::mask::{ExportOptions, GdsCells, MaskFormat, PngBits, export_mask, human_bytes};
 
 /// What the region picker shows (the block size is kept while another choice is active).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,31 +26,14 @@ enum RegionChoice {
     Block,
 }
 
-/// The preview of the current design and options.
-struct Preview {
-    design: Design,
-    options: ExportOptions,
-    result: Result<PreviewData, MaskError>,
-}
-
-struct PreviewData {
-    stats: MaskStats,
-    counts: FileCounts,
-    /// One pixel's drawn cells (identity orientation) and its polygons in tile units
-    /// (x right, y down, `[0, 1]²`).
-    drawn: BinaryGrid,
-    outlines: Vec<Vec<[f32; 2]>>,
-    /// The tile's pitch, µm, to place the violations on the preview.
-    pitch_um: f64,
-}
-
 /// The dialog's state, kept while it is closed.
 pub struct MaskExportDialog {
     open: bool,
     options: ExportOptions,
     region: RegionChoice,
     block: [u32; 2],
-    preview: Option<Preview>,
+    /// One pixel's drawing and the file's statistics, laid out in the background.
+    preview: MaskPreview,
     texture: Option<TextureHandle>,
     /// The export running on its own thread: the report's lines.
     job: Option<Job<Vec<String>>>,
@@ -72,7 +53,7 @@ impl Default for MaskExportDialog {
             options: ExportOptions::default(),
             region: RegionChoice::Pixel,
             block: [1080, 2400],
-            preview: None,
+            preview: MaskPreview::default(),
             texture: None,
             job: None,
             last: None,
@@ -101,6 +82,11 @@ impl MaskExportDialog {
     /// Whether the design-rule check of the dialog is still running.
     pub fn rules_checking(&self) -> bool {
         self.rules.is_checking() || self.written.is_checking()
+    }
+
+    /// Whether the preview of the current options is still being laid out.
+    pub fn previewing(&self) -> bool {
+        self.preview.is_computing()
     }
 
     /// Whether a mask export is being written in the background.
@@ -147,58 +133,21 @@ impl MaskExportDialog {
         }
     }
 
-    /// Recomputes the preview when the design or an option changed (not every frame).
+    /// Starts the preview of the current options when they changed, and shows its drawing once
+    /// it arrives.
     fn refresh(&mut self, ctx: &egui::Context, design: &Design) {
         self.options.spec.region = self.region();
-        let fresh = self
-            .preview
-            .as_ref()
-            .is_some_and(|p| &p.design == design && p.options == self.options);
-        if fresh {
+        let Some(drawn) = self.preview.update(ctx, design, &self.options) else {
             return;
-        }
-        let result = plan(design, &self.options).map(|layout| {
-            let unit = layout.pitch_nm as f32;
-            let outlines = layout
-                .base_polygons
-                .iter()
-                .map(|p| {
-                    p.points_nm
-                        .iter()
-                        .map(|q| [q[0] as f32 / unit, -q[1] as f32 / unit])
-                        .collect()
-                })
-                .collect();
-            PreviewData {
-                stats: layout.stats(),
-                // Resolved: the derived top cell name's length is part of the size.
-                counts: estimate(
-                    &layout,
-                    &self
-                        .options
-                        .resolved(design)
-                        .unwrap_or(self.options.clone()),
-                ),
-                drawn: layout.drawn.clone(),
-                outlines,
-                pitch_um: design.opening.pitch_um,
-            }
-        });
-        if let Ok(data) = &result {
-            let image = drawn_image(&data.drawn);
-            match &mut self.texture {
-                Some(t) => t.set(image, TextureOptions::NEAREST),
-                None => {
-                    self.texture =
-                        Some(ctx.load_texture("mask-preview", image, TextureOptions::NEAREST));
-                }
+        };
+        let image = drawn_image(drawn);
+        match &mut self.texture {
+            Some(t) => t.set(image, TextureOptions::NEAREST),
+            None => {
+                self.texture =
+                    Some(ctx.load_texture("mask-preview", image, TextureOptions::NEAREST));
             }
         }
-        self.preview = Some(Preview {
-            design: design.clone(),
-            options: self.options.clone(),
-            result,
-        });
     }
 
     /// Draws the dialog when open; queues [`DisplayAction::WriteMask`] when the user exports.
@@ -283,7 +232,7 @@ impl MaskExportDialog {
                             ui.label("Chrome margin");
                             ui.add(
                                 crate::app::widgets::number(&mut o.spec.margin_um)
-                                    .range(0.1..=10_000.0)
+                                    .range(0.1..=crate::core::mask::border::MAX_MARGIN_UM)
                                     .speed(1.0)
                                     .suffix(" µm"),
                             );
@@ -315,12 +264,17 @@ impl MaskExportDialog {
     }
 
     fn preview_ui(&self, ui: &mut egui::Ui, design: &Design) {
-        let Some(preview) = &self.preview else {
-            return;
-        };
-        let data = match &preview.result {
-            Ok(d) => d,
-            Err(e) => {
+        let data = match self.preview.latest() {
+            None => {
+                ui.weak("Laying out the mask…");
+                return;
+            }
+            Some(Ok(Ok(d))) => d,
+            Some(Ok(Err(e))) => {
+                ui.colored_label(ui.visuals().error_fg_color, e.to_string());
+                return;
+            }
+            Some(Err(e)) => {
                 ui.colored_label(ui.visuals().error_fg_color, e.to_string());
                 return;
             }
@@ -355,6 +309,9 @@ impl MaskExportDialog {
             }
         }
         ui.weak("One pixel: drawn cells, polygon outlines, rule violations (red)");
+        if !self.preview.is_current(design, &self.options) {
+            ui.weak("Updating for the new options…");
+        }
         let s = &data.stats;
         let c = &data.counts;
         egui::Grid::new("mask-stats")
@@ -419,7 +376,9 @@ impl MaskExportDialog {
     }
 
     fn actions_ui(&mut self, ui: &mut egui::Ui, actions: &mut Vec<DisplayAction>) {
-        let ok = self.preview.as_ref().is_some_and(|p| p.result.is_ok());
+        // The export lays the mask out again on its own task; the button waits only for a
+        // layout the options can make.
+        let ok = matches!(self.preview.latest(), Some(Ok(Ok(_))));
         ui.horizontal(|ui| {
             if let Some(job) = &self.job {
                 ui.add(

@@ -7,6 +7,7 @@ pub mod editor_emitters;
 pub mod editor_rules;
 pub mod field_sweep;
 pub mod mask_export;
+pub mod mask_preview;
 pub mod numbers;
 pub mod optics;
 pub mod optimize;

@@ -252,11 +252,7 @@ pub fn edit(
                 .into(),
         ));
     }
-    if policy == BorderPolicy::Margin && !(margin_um.is_finite() && margin_um > 0.0) {
-        return Err(MaskError::Invalid(format!(
-            "the chrome margin must be a positive width in µm (got {margin_um})"
-        )));
-    }
+    let margin = margin_nm(policy, tone, margin_um, layout.grid_nm)?;
     let mut out = BorderEdit::default();
     if policy == BorderPolicy::Cut {
         return Ok(out);
@@ -274,12 +270,44 @@ pub fn edit(
         }
         cut_openings(layout, region, clear, &border, policy, &mut out);
     }
-    if policy == BorderPolicy::Margin && tone == Tone::Chrome {
-        let m = (margin_um * 1e3 / layout.grid_nm as f64).round() as i64 * layout.grid_nm;
-        out.outside
-            .extend(margin(layout, region, &border, m.max(layout.grid_nm)));
+    if let Some(m) = margin {
+        out.outside.extend(self::margin(layout, region, &border, m));
     }
     Ok(out)
+}
+
+/// The widest chrome margin, µm: a centimetre, wider than any die.
+pub const MAX_MARGIN_UM: f64 = 10_000.0;
+
+/// The chrome margin's width on the `grid_nm` grid, nm, when `policy` and `tone` draw one.
+///
+/// # Errors
+/// [`MaskError::Invalid`] for a width that is not a number, not positive, wider than
+/// [`MAX_MARGIN_UM`] or narrower than half a grid step (it would vanish on the grid).
+pub fn margin_nm(
+    policy: BorderPolicy,
+    tone: Tone,
+    margin_um: f64,
+    grid_nm: i64,
+) -> Result<Option<i64>, MaskError> {
+    if policy != BorderPolicy::Margin {
+        return Ok(None);
+    }
+    if !(margin_um.is_finite() && margin_um > 0.0 && margin_um <= MAX_MARGIN_UM) {
+        return Err(MaskError::Invalid(format!(
+            "the chrome margin must be a width of more than 0 and at most {MAX_MARGIN_UM} µm \
+             (got {margin_um:?})"
+        )));
+    }
+    let steps = (margin_um * 1e3 / grid_nm as f64).round();
+    if steps < 1.0 {
+        return Err(MaskError::Invalid(format!(
+            "the chrome margin of {margin_um:?} µm is less than the {grid_nm}-nm grid; give at \
+             least {} µm",
+            grid_nm as f64 * 1e-3
+        )));
+    }
+    Ok((tone == Tone::Chrome).then_some(steps as i64 * grid_nm))
 }
 
 /// Finds the openings the border cuts and drops or completes them.
@@ -536,6 +564,34 @@ fn margin(layout: &MaskLayout, region: &[TileRow], border: &[(i64, i64)], m: i64
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_margin_is_a_width_between_one_grid_step_and_a_centimetre() {
+        let m = |policy, tone, um, grid| margin_nm(policy, tone, um, grid);
+        let (margin, chrome) = (BorderPolicy::Margin, Tone::Chrome);
+        assert_eq!(m(margin, chrome, 20.0, 1).ok(), Some(Some(20_000)));
+        assert_eq!(m(margin, chrome, 0.0124, 5).ok(), Some(Some(10)));
+        // Drawn with chrome only; other policies ignore the width.
+        assert_eq!(m(margin, Tone::Open, 20.0, 1).ok(), Some(None));
+        assert_eq!(m(BorderPolicy::Cut, chrome, f64::NAN, 1).ok(), Some(None));
+        let text = |um: f64| match m(margin, chrome, um, 1) {
+            Err(MaskError::Invalid(t)) => t,
+            other => panic!("{um}: {other:?}"),
+        };
+        // Quoted as given, not as some clamped value.
+        assert!(
+            text(1e308).contains("at most 10000 µm (got 1e308)"),
+            "{}",
+            text(1e308)
+        );
+        assert!(text(-1.0).contains("(got -1.0)"));
+        assert!(text(f64::NAN).contains("(got NaN)"));
+        let tiny = text(1e-300);
+        assert!(
+            tiny.contains("less than the 1-nm grid") && tiny.contains("0.001 µm"),
+            "{tiny}"
+        );
+    }
 
     #[test]
     fn border_tiles_of_a_block_are_its_outer_ring() {
