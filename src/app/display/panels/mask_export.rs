@@ -44,6 +44,8 @@ pub struct MaskExportDialog {
     rules: RulesCheck,
     /// The same rules on the geometry the file would hold, in the background.
     written: WrittenCheck,
+    /// The window's place and size on the last frame.
+    last_rect: Option<egui::Rect>,
 }
 
 impl Default for MaskExportDialog {
@@ -59,6 +61,7 @@ impl Default for MaskExportDialog {
             last: None,
             rules: RulesCheck::default(),
             written: WrittenCheck::default(),
+            last_rect: None,
         }
     }
 }
@@ -140,6 +143,7 @@ impl MaskExportDialog {
         let Some(drawn) = self.preview.update(ctx, design, &self.options) else {
             return;
         };
+
         let image = drawn_image(drawn);
         match &mut self.texture {
             Some(t) => t.set(image, TextureOptions::NEAREST),
@@ -161,7 +165,7 @@ impl MaskExportDialog {
         let mut open = self.open;
         // On a short screen the options and checks scroll; Export and Close stay in view.
         let room = (ctx.content_rect().height() - 170.0).max(160.0);
-        egui::Window::new("Export mask")
+        let shown = egui::Window::new("Export mask")
             .open(&mut open)
             .collapsible(false)
             .resizable(false)
@@ -182,6 +186,14 @@ impl MaskExportDialog {
                 ui.separator();
                 self.actions_ui(ui, actions);
             });
+        // The preview and the checks arrive from their jobs and change the window's height;
+        // egui sizes a window from the frame before, so a frame whose size changed is followed
+        // by one more (without it the buttons stayed undrawn until the next input).
+        let rect = shown.map(|s| s.response.rect);
+        if rect != self.last_rect {
+            self.last_rect = rect;
+            ctx.request_repaint();
+        }
         self.open = open;
         if self.job.is_some() {
             // The progress bar moves while the export runs; nothing else needs repainting.
