@@ -1,9 +1,10 @@
 //! One shape for every background computation and file task of the studio, so the UI thread
 //! only draws: [`Job::spawn`] runs a closure on its own named thread with a [`Progress`] it can
 //! report to and check for cancellation; the UI polls it once per frame; dropping the handle
-//! cancels it. Results arrive as `Result<T, JobError>`, one level deep. Two shapes build on it:
+//! cancels it. Results arrive as `Result<T, JobError>`, one level deep. Shapes built on it:
 //! [`Keyed`], the job a view keeps for its newest key (its result comes back as a [`Finished`],
-//! with the key and how long it ran), and [`Streaming`], a job whose parts arrive while it runs.
+//! with the key and how long it ran); [`Answered`], a `Keyed` job and the newest answer it gave;
+//! and [`Streaming`], a job whose parts arrive while it runs.
 //!
 //! The display workspace's live analysis is the one exception: [`super::Worker`] keeps a single
 //! thread that coalesces a stream of designs (newest wins) rather than running one job.
@@ -210,6 +211,71 @@ impl<K, T: Send + 'static> Keyed<K, T> {
     }
 }
 
+/// A [`Keyed`] job and the newest answer it gave: the shape of a panel part that shows the
+/// answer for its current key (the design, the options) and starts a job whenever the key
+/// changes, the newest key winning. The last answer stays until a newer one arrives, so a view
+/// can keep showing it, marked stale, while the next is computed.
+pub struct Answered<K, T> {
+    running: Keyed<K, T>,
+    done: Option<(K, Result<T, JobError>)>,
+}
+
+impl<K, T> Default for Answered<K, T> {
+    fn default() -> Self {
+        Answered {
+            running: Keyed::default(),
+            done: None,
+        }
+    }
+}
+
+impl<K, T: Send + 'static> Answered<K, T> {
+    /// Collects a finished job (a cancelled one, replaced by a newer key, keeps the last
+    /// answer); then, unless the answer or the job in flight is for a key `is_now` accepts,
+    /// starts `spawn(&key)` for `key()`. Returns whether an answer arrived this call.
+    pub fn update(
+        &mut self,
+        is_now: impl Fn(&K) -> bool,
+        key: impl FnOnce() -> K,
+        spawn: impl FnOnce(&K) -> Job<T>,
+    ) -> bool {
+        let mut arrived = false;
+        if let Some((k, result)) = self.running.poll()
+            && !matches!(result, Err(JobError::Cancelled))
+        {
+            self.done = Some((k, result));
+            arrived = true;
+        }
+        let answered = self.done.as_ref().is_some_and(|(k, _)| is_now(k));
+        if !answered && !self.running.is_running_for(&is_now) {
+            let key = key();
+            let job = spawn(&key);
+            self.running.start(key, job);
+        }
+        arrived
+    }
+
+    /// The newest answer and the key it is for (maybe an earlier one than the current).
+    pub fn answer(&self) -> Option<(&K, &Result<T, JobError>)> {
+        self.done.as_ref().map(|(k, r)| (k, r))
+    }
+
+    /// The answer, when it is for a key `is_now` accepts.
+    pub fn answer_for(&self, is_now: impl FnOnce(&K) -> bool) -> Option<&Result<T, JobError>> {
+        self.answer().filter(|(k, _)| is_now(k)).map(|(_, r)| r)
+    }
+
+    /// The job in flight, if any (for its progress).
+    pub fn job(&self) -> Option<&Job<T>> {
+        self.running.job()
+    }
+
+    /// Whether a job is in flight.
+    pub fn is_running(&self) -> bool {
+        self.running.is_running()
+    }
+}
+
 /// A job whose results arrive part by part while it runs (a comparison's rows, each setup's
 /// capture), with the key it was started for. Its work gets a [`Sender`] for the parts; the UI
 /// takes the parts that [`Streaming::arrived`] each frame and the end once; dropping it cancels
@@ -331,6 +397,75 @@ mod tests {
         assert_eq!(wait(&failed), Err(JobError::Failed("bad size".into())));
         let sim = Job::spawn("test job", || {}, |_| Err::<(), _>(SimError::Cancelled));
         assert_eq!(wait(&sim), Err(JobError::Cancelled));
+    }
+
+    /// Asks `a` for `key` (a job computing `key × 10` when one starts) until it answers; the
+    /// number of jobs started is added to `spawned`.
+    fn answer_of(a: &mut Answered<u32, u32>, key: u32, spawned: &mut u32) -> bool {
+        a.update(
+            |k| *k == key,
+            || key,
+            |k| {
+                *spawned += 1;
+                let v = *k * 10;
+                Job::spawn("test job", || {}, move |_| Ok::<_, JobError>(v))
+            },
+        )
+    }
+
+    fn settle(a: &mut Answered<u32, u32>, key: u32, spawned: &mut u32) {
+        for _ in 0..2000 {
+            if answer_of(a, key, spawned) && a.answer_for(|k| *k == key).is_some() {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        panic!("no answer in 10 s");
+    }
+
+    /// An answer is kept per key: the same key starts no second job, a new key starts one while
+    /// the old answer stays readable (but not as the new key's), and a job cancelled by a newer
+    /// key never becomes the answer.
+    #[test]
+    fn answered_keeps_the_last_answer_until_the_new_key_has_its_own() {
+        let mut a: Answered<u32, u32> = Answered::default();
+        let mut spawned = 0;
+        settle(&mut a, 1, &mut spawned);
+        assert_eq!(a.answer_for(|k| *k == 1), Some(&Ok(10)));
+        assert!(!answer_of(&mut a, 1, &mut spawned), "answered: nothing new");
+        assert_eq!(spawned, 1, "one job for one key");
+        // Key 2: a job starts, and key 1's answer is still there (not as key 2's).
+        answer_of(&mut a, 2, &mut spawned);
+        assert_eq!(spawned, 2);
+        assert!(a.answer().is_some());
+        settle(&mut a, 2, &mut spawned);
+        assert_eq!(a.answer(), Some((&2, &Ok(20))));
+        assert_eq!(a.answer_for(|k| *k == 1), None);
+        // A job that ends cancelled is asked again, not taken as the answer.
+        let mut b: Answered<u32, u32> = Answered::default();
+        b.update(
+            |k| *k == 7,
+            || 7,
+            |_| {
+                Job::spawn(
+                    "test job",
+                    || {},
+                    |p: &Progress| {
+                        while !p.is_cancelled() {
+                            std::thread::sleep(Duration::from_millis(1));
+                        }
+                        Err::<u32, _>(JobError::Cancelled)
+                    },
+                )
+            },
+        );
+        if let Some(job) = b.job() {
+            job.cancel();
+        }
+        let mut again = 0;
+        settle(&mut b, 7, &mut again);
+        assert_eq!(b.answer(), Some((&7, &Ok(70))));
+        assert_eq!(again, 1, "asked once more after the cancel");
     }
 
     /// A newer key replaces the job in flight and cancels it; the result comes back once, with

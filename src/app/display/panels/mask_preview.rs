@@ -4,7 +4,8 @@
 //! spend on every option it changes. The dialog keeps drawing the last preview until the new one
 //! arrives.
 
-use crate::app::job::{Job, JobError, Keyed};
+use crate::app::job::{Answered, Job, JobError};
+use crate::core::Progress;
 use crate::core::design::Design;
 use crate::core::mask::{BinaryGrid, MaskError, MaskStats};
 use crate::io::mask::{ExportOptions, FileCounts, estimate, plan};
@@ -23,11 +24,47 @@ pub struct PreviewData {
     pub pitch_um: f64,
 }
 
-/// What the preview was computed for.
+/// What the dialog's background parts (the preview, the written-file check) read: the design
+/// and the export's options.
 #[derive(Debug, Clone, PartialEq)]
-struct Key {
+pub struct ExportKey {
     design: Design,
     options: ExportOptions,
+}
+
+impl ExportKey {
+    /// Whether this is `design` under `options`.
+    pub fn is_of(&self, design: &Design, options: &ExportOptions) -> bool {
+        &self.design == design && &self.options == options
+    }
+}
+
+/// Asks `answered` for `design` under `options`: unless its answer or its job in flight is for
+/// them, a job named `name` runs `work` on copies (replacing, and so cancelling, the one in
+/// flight) and wakes `ctx` when done. Returns whether an answer arrived.
+pub fn ask<T: Send + 'static>(
+    answered: &mut Answered<ExportKey, T>,
+    ctx: &egui::Context,
+    (design, options): (&Design, &ExportOptions),
+    name: &'static str,
+    work: impl FnOnce(&Design, &ExportOptions, &Progress) -> Result<T, JobError> + Send + 'static,
+) -> bool {
+    answered.update(
+        |k| k.is_of(design, options),
+        || ExportKey {
+            design: design.clone(),
+            options: options.clone(),
+        },
+        |key| {
+            let (d, o) = (key.design.clone(), key.options.clone());
+            let ctx = ctx.clone();
+            Job::spawn(
+                name,
+                move || ctx.request_repaint(),
+                move |p| work(&d, &o, p),
+            )
+        },
+    )
 }
 
 /// A layout the options cannot make is an answer the dialog shows, not a failed job.
@@ -36,8 +73,8 @@ type Answer = Result<PreviewData, MaskError>;
 /// The dialog's preview and the job computing the next one.
 #[derive(Default)]
 pub struct MaskPreview {
-    running: Keyed<Key, Answer>,
-    done: Option<(Key, Result<Answer, JobError>)>,
+    /// The layout in flight, and the newest preview with what it is of.
+    previews: Answered<ExportKey, Answer>,
 }
 
 /// Lays out `design` as `options` say and gathers what the preview draws.
@@ -74,33 +111,17 @@ impl MaskPreview {
         design: &Design,
         options: &ExportOptions,
     ) -> Option<&BinaryGrid> {
-        let mut arrived = false;
-        if let Some((key, result)) = self.running.poll() {
-            // A cancelled preview (replaced by a newer one) keeps the last one on screen.
-            if !matches!(result, Err(JobError::Cancelled)) {
-                self.done = Some((key, result));
-                arrived = true;
-            }
-        }
-        let is_now = |k: &Key| &k.design == design && &k.options == options;
-        let answered = self.done.as_ref().is_some_and(|(k, _)| is_now(k));
-        if !answered && !self.running.is_running_for(is_now) {
-            let key = Key {
-                design: design.clone(),
-                options: options.clone(),
-            };
-            let (d, o) = (key.design.clone(), key.options.clone());
-            let wake = {
-                let ctx = ctx.clone();
-                move || ctx.request_repaint()
-            };
-            let job = Job::spawn("mask preview", wake, move |p| {
+        let arrived = ask(
+            &mut self.previews,
+            ctx,
+            (design, options),
+            "mask preview",
+            |d, o, p| {
                 p.check()?;
-                Ok::<_, JobError>(compute(&d, &o))
-            });
-            self.running.start(key, job);
-        }
-        match &self.done {
+                Ok(compute(d, o))
+            },
+        );
+        match self.previews.answer() {
             Some((_, Ok(Ok(data)))) if arrived => Some(&data.drawn),
             _ => None,
         }
@@ -109,18 +130,18 @@ impl MaskPreview {
     /// The last preview (of the current options, or of earlier ones while the new one is laid
     /// out), `None` before the first arrives.
     pub fn latest(&self) -> Option<&Result<Answer, JobError>> {
-        self.done.as_ref().map(|(_, r)| r)
+        self.previews.answer().map(|(_, r)| r)
     }
 
     /// Whether the shown preview is for `design` under `options`.
     pub fn is_current(&self, design: &Design, options: &ExportOptions) -> bool {
-        self.done
-            .as_ref()
-            .is_some_and(|(k, _)| &k.design == design && &k.options == options)
+        self.previews
+            .answer_for(|k| k.is_of(design, options))
+            .is_some()
     }
 
     /// Whether a preview is being laid out.
     pub fn is_computing(&self) -> bool {
-        self.running.is_running()
+        self.previews.is_running()
     }
 }

@@ -2,7 +2,7 @@
 //! 512-cell random design takes about 0.1 s, several frames' worth, so the UI thread only
 //! starts the check and draws its answer.
 
-use crate::app::job::{Job, JobError, Keyed};
+use crate::app::job::{Answered, Job, JobError};
 use crate::core::design::{Design, Opening, Tiling};
 use crate::core::mask::drc::{DrcReport, Rules, check};
 
@@ -41,50 +41,45 @@ pub enum RulesState<'a> {
 /// fab's own).
 #[derive(Default)]
 pub struct RulesCheck {
-    /// The check in flight and what it checks.
-    running: Keyed<Key, DrcReport>,
-    /// The newest answer and what it is of.
-    done: Option<(Key, Result<DrcReport, JobError>)>,
+    /// The check in flight, and the newest answer with what it is of.
+    checks: Answered<Key, DrcReport>,
 }
 
 impl RulesCheck {
     /// Collects a finished check and starts one for `design` when its mask changed. Wakes
     /// `ctx` when a check finishes.
     pub fn update(&mut self, ctx: &egui::Context, design: &Design) {
-        if let Some((key, result)) = self.running.poll() {
-            self.done = Some((key, result));
-        }
-        let answered = self.done.as_ref().is_some_and(|(k, _)| k.is_of(design));
-        let asked = self.running.is_running_for(|k| k.is_of(design));
-        if answered || asked {
-            return;
-        }
         // A newer design replaces the check in flight (dropping it asks it to stop).
-        let key = Key::of(design);
-        let (opening, tiling) = (key.opening.clone(), key.tiling.clone());
-        let wake = {
-            let ctx = ctx.clone();
-            move || ctx.request_repaint()
-        };
-        let job = Job::spawn("design-rule check", wake, move |_| {
-            let mut d = Design::default_toled();
-            (d.opening, d.tiling) = (opening, tiling);
-            Ok::<_, JobError>(check(&d, &Rules::default()))
-        });
-        self.running.start(key, job);
+        self.checks.update(
+            |k| k.is_of(design),
+            || Key::of(design),
+            |key| {
+                let (opening, tiling) = (key.opening.clone(), key.tiling.clone());
+                let ctx = ctx.clone();
+                Job::spawn(
+                    "design-rule check",
+                    move || ctx.request_repaint(),
+                    move |_| {
+                        let mut d = Design::default_toled();
+                        (d.opening, d.tiling) = (opening, tiling);
+                        Ok::<_, JobError>(check(&d, &Rules::default()))
+                    },
+                )
+            },
+        );
     }
 
     /// Where the check of `design` stands (as of the last [`RulesCheck::update`]).
     pub fn state(&self, design: &Design) -> RulesState<'_> {
-        match &self.done {
-            Some((k, Ok(report))) if k.is_of(design) => RulesState::Done(report),
-            Some((k, Err(e))) if k.is_of(design) => RulesState::Failed(e),
-            _ => RulesState::Checking,
+        match self.checks.answer_for(|k| k.is_of(design)) {
+            Some(Ok(report)) => RulesState::Done(report),
+            Some(Err(e)) => RulesState::Failed(e),
+            None => RulesState::Checking,
         }
     }
 
     /// Whether a check is in flight.
     pub fn is_checking(&self) -> bool {
-        self.running.is_running()
+        self.checks.is_running()
     }
 }

@@ -3,17 +3,11 @@
 //! `udc-studio drc FILE` run. A whole pupil of a random design takes a second or more, so the UI
 //! thread only starts the check and draws its answer.
 
-use crate::app::job::{Job, JobError, Keyed};
+use super::mask_preview::{ExportKey, ask};
+use crate::app::job::{Answered, Job, JobError};
 use crate::core::Progress;
 use crate::core::design::Design;
 use crate::io::mask::{ExportOptions, RulesCheck, check_written, frame_drawing, plan};
-
-/// What the check reads: the design and the export's options.
-#[derive(Debug, Clone, PartialEq)]
-struct Key {
-    design: Design,
-    options: ExportOptions,
-}
 
 /// Where the check of the file to be written stands.
 #[derive(Debug, Clone, Copy)]
@@ -29,8 +23,8 @@ pub enum WrittenState<'a> {
 /// The dialog's background check of the written geometry.
 #[derive(Default)]
 pub struct WrittenCheck {
-    running: Keyed<Key, RulesCheck>,
-    done: Option<(Key, Result<RulesCheck, JobError>)>,
+    /// The check in flight, and the newest answer with what it is of.
+    checks: Answered<ExportKey, RulesCheck>,
 }
 
 /// Lays out `design` as `options` say and checks what would be written.
@@ -51,41 +45,26 @@ pub fn check_export(
 impl WrittenCheck {
     /// Collects a finished check and starts one when the design or the options changed.
     pub fn update(&mut self, ctx: &egui::Context, design: &Design, options: &ExportOptions) {
-        if let Some((key, result)) = self.running.poll() {
-            self.done = Some((key, result));
-        }
-        let is_now = |k: &Key| &k.design == design && &k.options == options;
-        let answered = self.done.as_ref().is_some_and(|(k, _)| is_now(k));
-        if answered || self.running.is_running_for(is_now) {
-            return;
-        }
-        let key = Key {
-            design: design.clone(),
-            options: options.clone(),
-        };
-        let (d, o) = (key.design.clone(), key.options.clone());
-        let wake = {
-            let ctx = ctx.clone();
-            move || ctx.request_repaint()
-        };
-        // A newer key replaces the check in flight (dropping it asks it to stop).
-        let job = Job::spawn("written-mask check", wake, move |p| check_export(&d, &o, p));
-        self.running.start(key, job);
+        ask(
+            &mut self.checks,
+            ctx,
+            (design, options),
+            "written-mask check",
+            check_export,
+        );
     }
 
     /// Where the check of `design` under `options` stands.
     pub fn state(&self, design: &Design, options: &ExportOptions) -> WrittenState<'_> {
-        match &self.done {
-            Some((k, result)) if &k.design == design && &k.options == options => match result {
-                Ok(check) => WrittenState::Done(check),
-                Err(e) => WrittenState::Failed(e),
-            },
-            _ => WrittenState::Checking(self.running.job().map_or(0.0, Job::fraction)),
+        match self.checks.answer_for(|k| k.is_of(design, options)) {
+            Some(Ok(check)) => WrittenState::Done(check),
+            Some(Err(e)) => WrittenState::Failed(e),
+            None => WrittenState::Checking(self.checks.job().map_or(0.0, Job::fraction)),
         }
     }
 
     /// Whether a check is in flight.
     pub fn is_checking(&self) -> bool {
-        self.running.is_running()
+        self.checks.is_running()
     }
 }
