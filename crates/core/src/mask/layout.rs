@@ -542,11 +542,7 @@ impl MaskLayout {
             Tone::Open => referenced as f64 * tile_open_um2 + inside_um2,
             Tone::Chrome => region_um2 - inside_drawn_um2,
         };
-        let extra = edit.polygons().count() as u64;
-        let extra_vertices = edit
-            .polygons()
-            .map(|p| p.points_nm.len() as u64)
-            .sum::<u64>();
+        let (extra, extra_vertices) = edit.size();
         MaskStats {
             tiles: self.tiles,
             orientations: self.used_orientations(&self.region_rows).len(),
