@@ -180,6 +180,11 @@ fn restore<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let design = design::parse(design_json)?;
     let (photo, layout) = planes_of(&image.as_array(), "image")?;
+    // In f32, as `udc-studio restore` holds a photo: the same run gives the same numbers.
+    let photo: Vec<Array2<f32>> = photo.into_iter().map(|p| p.mapv(|v| v as f32)).collect();
+    let widen = |planes: Vec<Array2<f32>>| -> Vec<Array2<f64>> {
+        planes.into_iter().map(|p| p.mapv(f64::from)).collect()
+    };
     let light = match (light_e, snr_db) {
         (Some(e), None) => Light::ElectronsAtPeak(e),
         (None, Some(s)) => Light::SnrDb(s),
@@ -243,11 +248,11 @@ fn restore<'py>(
     out.set_item("denoise_sigma2", result.denoise.sigma2)?;
     out.set_item("light_e", result.light_e)?;
     out.set_item("snr_db", result.snr_db)?;
-    out.set_item("captured", array_of(py, result.captured, layout)?)?;
+    out.set_item("captured", array_of(py, widen(result.captured), layout)?)?;
     if !result.denoised.is_empty() {
-        out.set_item("denoised", array_of(py, result.denoised, layout)?)?;
+        out.set_item("denoised", array_of(py, widen(result.denoised), layout)?)?;
     }
-    out.set_item("restored", array_of(py, result.restored, layout)?)?;
+    out.set_item("restored", array_of(py, widen(result.restored), layout)?)?;
     Ok(out)
 }
 

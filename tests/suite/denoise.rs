@@ -202,7 +202,7 @@ fn bad_input_is_refused_with_the_field_named() {
             "sigma2"
         );
     }
-    assert_eq!(field(bm3d(&[], 0.01, &p).unwrap_err()), "planes");
+    assert_eq!(field(bm3d::<f64>(&[], 0.01, &p).unwrap_err()), "planes");
     let small = Array2::from_elem((7, 30), 0.5);
     assert_eq!(field(bm3d(&[small], 0.01, &p).unwrap_err()), "planes[0]");
     let mut nan = img.clone();

@@ -652,7 +652,7 @@ fn reader(kind: &str) -> Reader {
             import_mask(p, &ImportOptions::default()).map(drop)
         }),
         "maskpng" => Arc::new(|p: &Path| import_opening(p, mask_design()).map(drop)),
-        "photo" => Arc::new(|p: &Path| load_photo(p, None).map(drop)),
+        "photo" => Arc::new(|p: &Path| load_photo::<f64>(p, None).map(drop)),
         "hdr" => Arc::new(|p: &Path| load_hdr_with_report(p).map(drop)),
         "planes" => Arc::new(|p: &Path| read_planes(p).map(drop)),
         "pattern" => Arc::new(|p: &Path| load_pattern_png(p).map(drop)),

@@ -668,12 +668,12 @@ fn a_truncated_jpeg_is_refused_and_the_whole_one_loads() {
         .expect("encode");
     let whole = dir.path().join("whole.jpg");
     std::fs::write(&whole, &bytes).expect("write");
-    let planes = load_photo(&whole, None).expect("a complete JPEG loads");
+    let planes = load_photo::<f64>(&whole, None).expect("a complete JPEG loads");
     assert_eq!(planes[0].dim(), (48, 64));
     // Cut before the last rows: decoders would fill them with grey and report success.
     let cut = dir.path().join("cut.jpg");
     std::fs::write(&cut, &bytes[..bytes.len() * 2 / 3]).expect("write");
-    let err = load_photo(&cut, None).expect_err("a truncated JPEG is refused");
+    let err = load_photo::<f64>(&cut, None).expect_err("a truncated JPEG is refused");
     let text = err.to_string();
     assert!(text.contains("truncated"), "{text}");
     assert_names(&err, &cut);

@@ -34,7 +34,7 @@ fn gaussian_psf(size: usize, sigma_px: f64) -> Array2<f64> {
 }
 
 fn astronaut(max_side_px: Option<u32>) -> Vec<Array2<f64>> {
-    load_photo(Path::new(ASTRONAUT), max_side_px).expect("the committed photo loads")
+    load_photo::<f64>(Path::new(ASTRONAUT), max_side_px).expect("the committed photo loads")
 }
 
 /// The deblurring alone (no denoiser): these tests check the blur, the noise and Wiener or CG.
@@ -147,12 +147,13 @@ fn the_blur_keeps_the_mean_and_puts_the_psf_centre_on_the_pixel() {
         } else {
             0.0
         };
-        assert!((v - want).abs() < 1e-12, "({y},{x}) {v} vs {want}");
+        // The convolution keeps its row spectra in f32: exact to about 1e-7.
+        assert!((v - want).abs() < 1e-6, "({y},{x}) {v} vs {want}");
     }
     let flat = &r.captured[1];
     for y in 4..44 {
         for x in 4..60 {
-            assert!((flat[[y, x]] - 0.7).abs() < 1e-12);
+            assert!((flat[[y, x]] - 0.7).abs() < 1e-6);
         }
     }
     // At the border the light from outside the photo is missing (zero padding).
@@ -202,20 +203,20 @@ fn the_full_well_clips_and_the_light_scales_with_the_ltr() {
         ltr_relative: 3.0,
         ..CaptureSettings::default()
     };
-    let c = expose(flat.view(), &s, 0).expect("valid");
+    let c = expose::<f64>(flat.view(), &s, 0).expect("valid");
     assert_eq!(c.saturated_fraction, 1.0);
     for v in &c.image {
         assert!((v * 30_000.0 - 15_506.0).abs() < 1e-9, "{}", v * 30_000.0);
     }
     let half = Array2::from_elem((32, 32), 0.4);
-    let c = expose(half.view(), &s, 0).expect("valid");
+    let c = expose::<f64>(half.view(), &s, 0).expect("valid");
     assert_eq!(c.saturated_fraction, 0.0);
     // Noiseless, the same settings give exactly x back below the full well.
     let ideal = CaptureSettings {
         noise: false,
         ..s.clone()
     };
-    let c = expose(half.view(), &ideal, 0).expect("valid");
+    let c = expose::<f64>(half.view(), &ideal, 0).expect("valid");
     assert!(c.image.iter().all(|v| (v - 0.4).abs() < 1e-12));
 }
 
@@ -433,19 +434,21 @@ fn unreadable_photos_are_errors_naming_the_path() {
     let text = temp_file(&dir, "notes.txt", b"just some text, no image here\n");
     let fake_png = temp_file(&dir, "notes.png", b"just some text, no image here\n");
     for path in [&missing, &corrupt, &text, &fake_png] {
-        let err = load_photo(path, None).expect_err("must fail");
+        let err = load_photo::<f64>(path, None).expect_err("must fail");
         let msg = err.to_string();
         assert!(msg.contains(&path.display().to_string()), "{msg}");
     }
     assert!(matches!(
-        load_photo(&missing, None),
+        load_photo::<f64>(&missing, None),
         Err(IoError::File { .. })
     ));
     assert!(matches!(
-        load_photo(&corrupt, None),
+        load_photo::<f64>(&corrupt, None),
         Err(IoError::Image { .. })
     ));
-    let msg = load_photo(&text, None).expect_err("text").to_string();
+    let msg = load_photo::<f64>(&text, None)
+        .expect_err("text")
+        .to_string();
     assert!(msg.contains("supported format"), "{msg}");
 }
 
@@ -456,20 +459,20 @@ fn photos_load_as_three_planes_and_write_back() {
     let grey = image::GrayImage::from_fn(40, 30, |x, y| image::Luma([((x * 6 + y) % 256) as u8]));
     let grey_path = dir.path().join("grey.png");
     grey.save(&grey_path).expect("save");
-    let planes = load_photo(&grey_path, None).expect("loads");
+    let planes = load_photo::<f64>(&grey_path, None).expect("loads");
     assert_eq!(planes.len(), 3);
     assert_eq!(planes[0].dim(), (30, 40));
     assert_eq!(planes[0], planes[2]);
     assert!((planes[1][[2, 5]] - 32.0 / 255.0).abs() < 1e-6);
     // Downscaled: the longer side becomes 20, the aspect ratio stays.
-    let small = load_photo(&grey_path, Some(20)).expect("loads");
+    let small = load_photo::<f64>(&grey_path, Some(20)).expect("loads");
     assert_eq!(small[0].dim(), (15, 20));
     // 8-bit PNG round trip of the colour photo: within half a grey level.
     let photo = astronaut(Some(48));
     let refs: Vec<&Array2<f64>> = photo.iter().collect();
     let png = dir.path().join("out.png");
     write_photo_png(&png, &refs).expect("writes");
-    let back = load_photo(&png, None).expect("reads");
+    let back = load_photo::<f64>(&png, None).expect("reads");
     for (a, b) in photo.iter().zip(&back) {
         assert!(
             a.iter()
@@ -566,7 +569,7 @@ fn psnr_orders_toled_repeat_below_random_below_optimized() {
     toled.tiling.mode = TilingMode::Random4;
     let random = restore_scores(&toled, snr_db);
     let thesis = restore_scores(&load_preset("l2inv-random").expect("preset"), snr_db);
-    let coffee = load_photo(
+    let coffee = load_photo::<f64>(
         &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/photos/coffee_256.png"),
         None,
     )
@@ -597,4 +600,71 @@ fn psnr_orders_toled_repeat_below_random_below_optimized() {
     );
     assert!(random.0 < ours.0, "random {random:?} vs ours {ours:?}");
     assert!(repeat.1 < random.1 && random.1 < thesis.1 && random.1 < ours.1);
+}
+
+/// `simulate_with` hands the capture, then the denoised capture, over the moment each is done
+/// (the planes `simulate` keeps) and keeps neither itself; an error from the hand-over stops
+/// the run and is returned.
+#[test]
+fn the_intermediate_planes_are_handed_over_in_order_and_not_kept() {
+    use udc_studio::core::restore::{Intermediate, simulate_with};
+    let photo = astronaut(Some(48));
+    let psf = gaussian_psf(9, 1.5);
+    let psfs = [&psf, &psf, &psf];
+    let s = thesis_settings(Light::SnrDb(32.0), Method::default());
+    let kept = run(&photo, &psfs, &s);
+    let mut seen = Vec::new();
+    let streamed = simulate_with(&photo, &psfs, &s, &Progress::new(), |stage, planes| {
+        let want = match stage {
+            Intermediate::Captured => &kept.captured,
+            Intermediate::Denoised => &kept.denoised,
+        };
+        assert_eq!(planes, &want[..], "{stage:?}");
+        seen.push(stage);
+        Ok::<(), SimError>(())
+    })
+    .unwrap();
+    assert_eq!(seen, [Intermediate::Captured, Intermediate::Denoised]);
+    assert!(streamed.captured.is_empty() && streamed.denoised.is_empty());
+    assert_eq!(streamed.restored, kept.restored);
+    assert_eq!(streamed.psnr_db, kept.psnr_db);
+    assert_eq!(streamed.denoised_psnr_db, kept.denoised_psnr_db);
+    // A failed hand-over (a full disk, say) ends the run with that error, before the denoiser.
+    let mut calls = 0;
+    let err = simulate_with(&photo, &psfs, &s, &Progress::new(), |_, _| {
+        calls += 1;
+        Err(SimError::Cancelled)
+    });
+    assert!(matches!(err, Err(SimError::Cancelled)));
+    assert_eq!(calls, 1);
+}
+
+/// A photo held in f32 (what the CLI loads, so a camera-size photo fits in memory) restores to
+/// the same numbers as in f64, within the f32 storage's rounding.
+#[test]
+fn f32_planes_restore_like_f64_planes() {
+    let photo = astronaut(Some(64));
+    let photo32: Vec<Array2<f32>> = photo.iter().map(|p| p.mapv(|v| v as f32)).collect();
+    let psf = gaussian_psf(11, 2.0);
+    let psfs = [&psf, &psf, &psf];
+    for s in [
+        thesis_settings(Light::SnrDb(28.0), Method::default()),
+        settings(Light::SnrDb(36.0), true, Method::default()),
+    ] {
+        let a = run(&photo, &psfs, &s);
+        let b = simulate(&photo32, &psfs, &s, &Progress::new()).unwrap();
+        assert!(
+            (a.psnr_db - b.psnr_db).abs() < 1e-3,
+            "{} vs {}",
+            a.psnr_db,
+            b.psnr_db
+        );
+        assert!((a.ssim - b.ssim).abs() < 1e-5, "{} vs {}", a.ssim, b.ssim);
+        assert!((a.captured_psnr_db - b.captured_psnr_db).abs() < 1e-3);
+        for (x, y) in a.restored.iter().zip(&b.restored) {
+            for (u, v) in x.iter().zip(y) {
+                assert!((u - f64::from(*v)).abs() < 1e-3, "{u} vs {v}");
+            }
+        }
+    }
 }

@@ -32,7 +32,7 @@ const ASTRONAUT: &str = concat!(
 );
 
 fn restore_through(preset: &str, snr_db: f64, denoise: Denoise, noise: bool) -> RestoreResult {
-    let photo = load_photo(Path::new(ASTRONAUT), None).unwrap();
+    let photo = load_photo::<f64>(Path::new(ASTRONAUT), None).unwrap();
     let design = load_preset(preset).unwrap();
     let options = AnalyzeOptions {
         quality: Quality::Full,
@@ -94,7 +94,7 @@ fn bm3d_before_wiener_beats_wiener_alone_on_a_noisy_photo() {
 /// divided by `L·ltr_relative`: BM3D must get σ² / ltr_relative², at the nearest row.
 #[test]
 fn the_chapter_3_sigma2_reaches_bm3d_on_our_scale() {
-    let photo = load_photo(Path::new(ASTRONAUT), Some(32)).unwrap();
+    let photo = load_photo::<f64>(Path::new(ASTRONAUT), Some(32)).unwrap();
     let mut psf = Array2::zeros((5, 5));
     psf[[2, 2]] = 0.5;
     psf[[2, 1]] = 0.25;
@@ -136,7 +136,7 @@ fn the_chapter_3_sigma2_reaches_bm3d_on_our_scale() {
 
 #[test]
 fn a_bad_sigma2_names_its_field_before_anything_runs() {
-    let photo = load_photo(Path::new(ASTRONAUT), Some(32)).unwrap();
+    let photo = load_photo::<f64>(Path::new(ASTRONAUT), Some(32)).unwrap();
     let psf = Array2::from_elem((3, 3), 1.0 / 9.0);
     for bad in [0.0, -1e-3, f64::NAN, f64::INFINITY] {
         let s = RestoreSettings {
@@ -153,7 +153,7 @@ fn a_bad_sigma2_names_its_field_before_anything_runs() {
 /// Progress reaches 1 and cancelling stops the job (the denoiser included).
 #[test]
 fn progress_ends_at_one_and_cancel_stops_the_denoiser() {
-    let photo = load_photo(Path::new(ASTRONAUT), Some(64)).unwrap();
+    let photo = load_photo::<f64>(Path::new(ASTRONAUT), Some(64)).unwrap();
     let psf = Array2::from_elem((3, 3), 1.0 / 9.0);
     let p = Progress::new();
     simulate(&photo, &[&psf, &psf, &psf], &RestoreSettings::default(), &p).unwrap();

@@ -24,7 +24,7 @@ fn every_reader(path: &Path) -> Vec<(&'static str, Result<(), IoError>)> {
         ("design", load_design(path).map(|_| ())),
         ("phase design", load_phase_design(path).map(|_| ())),
         ("spectral", load_response_csv(path).map(|_| ())),
-        ("photo", load_photo(path, Some(64)).map(|_| ())),
+        ("photo", load_photo::<f64>(path, Some(64)).map(|_| ())),
         ("pattern", load_pattern_png(path).map(|_| ())),
         ("hdr", load_hdr(path).map(|_| ())),
     ]

@@ -496,12 +496,13 @@ pub struct RestoreArgs {
 fn restore_cmd(args: &RestoreArgs) -> Result<()> {
     use udc_core::restore::capture::REFERENCE_LTR;
     use udc_core::restore::{
-        CaptureSettings, CgSettings, Light, Method, Padding, RestoreSettings, simulate,
+        CaptureSettings, CgSettings, Light, Method, Padding, RestoreSettings, simulate_with,
     };
     use udc_io::{photo, restore_report};
 
     let design = args.selection.resolve()?;
-    let photo = photo::load_photo(&args.image, args.max_side_px)?;
+    // f32 planes: a 16-megapixel photo's stages then fit in well under a gigabyte.
+    let photo = photo::load_photo::<f32>(&args.image, args.max_side_px)?;
     // The display openings are chapter 3's: its σ² table.
     let denoise = args.denoise.resolve(udc_core::restore::Recipe::Iccp21)?;
     let method = match args.method {
@@ -581,11 +582,30 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
     let mut runs = Vec::new();
     for (light, stem) in lights {
         let settings = settings_for(light, ltr_relative);
-        let result = simulate(&photo, &psfs, &settings, &cancel::progress())?;
-        let outputs = match &args.out {
-            Some(dir) => restore_report::write_run_images(dir, &stem, &photo, &result)?,
-            None => Vec::new(),
-        };
+        // The capture and the denoised capture are written the moment they are done, and let go.
+        let mut outputs = Vec::new();
+        let result = simulate_with(
+            &photo,
+            &psfs,
+            &settings,
+            &cancel::progress(),
+            |stage, planes| -> Result<()> {
+                if let Some(dir) = &args.out {
+                    outputs.extend(restore_report::write_stage_images(
+                        dir, &stem, stage, planes,
+                    )?);
+                }
+                Ok(())
+            },
+        )?;
+        if let Some(dir) = &args.out {
+            outputs.extend(restore_report::write_restored_images(
+                dir,
+                &stem,
+                &photo,
+                &result.restored,
+            )?);
+        }
         if args.json {
             runs.push(restore_report::run_json(&result, &names, &outputs));
         } else {

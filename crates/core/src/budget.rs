@@ -12,10 +12,24 @@ use crate::{SimError, ValueError};
 /// The budget before the binary sets one: 4 GiB.
 pub const DEFAULT_MAX_MEMORY_BYTES: u64 = 4 << 30;
 
-/// Peak working bytes per photo pixel of one capture and restoration (R, G, B planes, the
-/// padded FFT grids, kernel spectra, capture, restoration and scores; measured: 88 MB for a
-/// 512 × 512 photo, 40 MB for 256 × 256).
-pub const RESTORE_BYTES_PER_PIXEL: u64 = 256;
+/// Photo-sized samples (in the photo's type, `f32` or `f64`) a capture and restoration holds per
+/// pixel at most when it hands its intermediate planes over as they are done
+/// (`restore::simulate_with`): the photo, the denoised capture and the restoration, R, G and B
+/// (the denoiser's two `f32` working planes take the place of the last two while it runs).
+pub const RESTORE_SAMPLES_PER_PIXEL: u64 = 9;
+
+/// The same when the capture and the denoised capture are kept too (`restore::simulate`).
+pub const RESTORE_KEPT_SAMPLES_PER_PIXEL: u64 = 15;
+
+/// What a restoration holds besides its planes: the row spectra of one strip of columns
+/// (`restore::spectrum::STRIP_BYTES`), the kernel's row spectra, the denoiser's per-thread
+/// caches and the program itself.
+pub const RESTORE_FIXED_BYTES: u64 = 192 << 20;
+
+/// Peak working bytes per photo pixel of a restoration by conjugate gradients, which keep the
+/// kernel's and the iterate's whole padded spectra in `f64` (measured: 88 MB for a 512 × 512
+/// photo, 40 MB for 256 × 256).
+pub const RESTORE_CG_BYTES_PER_PIXEL: u64 = 256;
 
 /// Peak working bytes per scene pixel of the sensor simulation (four strategies' captures,
 /// maps and scores; measured: 234 MB for a 1240 × 846 scene).

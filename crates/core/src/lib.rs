@@ -58,6 +58,7 @@ pub mod progress;
 pub mod psf;
 pub mod reproduce;
 pub mod restore;
+pub mod sample;
 pub mod sensor;
 pub mod setting;
 pub mod sweep;
@@ -67,4 +68,5 @@ pub use analysis::analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze
 pub use design::Design;
 pub use error::{SimError, ValueError};
 pub use progress::Progress;
+pub use sample::Sample;
 pub use setting::{Field, Setting};

@@ -18,6 +18,7 @@ use ndarray::Array2;
 
 use super::IoError;
 use super::export::{size_mismatch, write_image};
+use udc_core::Sample;
 
 /// The largest photo simulated, in pixels (after any downscale): 4096 × 4096. Each plane is
 /// held several times over as `f64` during a simulation.
@@ -43,7 +44,10 @@ pub const DIFFERENCE_GAIN: f64 = 5.0;
 /// recognised or supported, it cannot be decoded, it is empty, or it is larger than
 /// [`MAX_PHOTO_PIXELS`] (after the downscale); `max_side_px = Some(0)` is an
 /// [`IoError::Image`] too.
-pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f64>>, IoError> {
+pub fn load_photo<T: Sample>(
+    path: &Path,
+    max_side_px: Option<u32>,
+) -> Result<Vec<Array2<T>>, IoError> {
     let image_err = |message: String| IoError::Image {
         path: path.to_path_buf(),
         message,
@@ -114,7 +118,35 @@ pub fn load_photo(path: &Path, max_side_px: Option<u32>) -> Result<Vec<Array2<f6
         Some(m) if w.max(h) > m => img.resize(m, m, FilterType::Triangle),
         _ => img,
     };
-    Ok(planes_of(&img.to_rgb32f()))
+    Ok(planes_of_image(&img))
+}
+
+/// Rows converted to float at a time by [`planes_of_image`].
+const CONVERT_ROWS: u32 = 256;
+
+/// The R, G, B planes of a decoded image, converted a band of rows at a time, so that a
+/// camera-size photo is never held as a whole float copy besides its planes.
+fn planes_of_image<T: Sample>(img: &DynamicImage) -> Vec<Array2<T>> {
+    let (w, h) = (img.width(), img.height());
+    let mut planes = vec![Array2::<T>::default((h as usize, w as usize)); 3];
+    for y0 in (0..h).step_by(CONVERT_ROWS as usize) {
+        let band = img.crop_imm(0, y0, w, CONVERT_ROWS.min(h - y0)).to_rgb32f();
+        for (x, y, px) in band.enumerate_pixels() {
+            for (plane, v) in planes.iter_mut().zip(px.0) {
+                plane[[(y0 + y) as usize, x as usize]] = T::from_f64(unit(v));
+            }
+        }
+    }
+    planes
+}
+
+/// A float sample clamped to `[0, 1]`, NaN → 0.
+fn unit(v: f32) -> f64 {
+    if v.is_nan() {
+        0.0
+    } else {
+        f64::from(v).clamp(0.0, 1.0)
+    }
 }
 
 /// The largest data window of an OpenEXR file, `(width, height)`; `None` when its header does
@@ -204,15 +236,14 @@ pub fn planes_of(img: &Rgb32FImage) -> Vec<Array2<f64>> {
     (0..3)
         .map(|c| {
             Array2::from_shape_fn((h, w), |(y, x)| {
-                let v = f64::from(img.get_pixel(x as u32, y as u32).0[c]);
-                if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) }
+                unit(img.get_pixel(x as u32, y as u32).0[c])
             })
         })
         .collect()
 }
 
 /// Width and height of 1 or 3 equal-sized, non-empty planes.
-fn planes_size(path: &Path, planes: &[&Array2<f64>]) -> Result<(u32, u32), IoError> {
+fn planes_size<T>(path: &Path, planes: &[&Array2<T>]) -> Result<(u32, u32), IoError> {
     let bad = |message: String| IoError::Image {
         path: path.to_path_buf(),
         message,
@@ -239,17 +270,25 @@ fn planes_size(path: &Path, planes: &[&Array2<f64>]) -> Result<(u32, u32), IoErr
 }
 
 /// Interleaved RGB values of 1 (grey, repeated) or 3 planes, mapped through `f`.
-fn interleave<T>(planes: &[&Array2<f64>], f: impl Fn(f64) -> T) -> Vec<T> {
-    let [r, g, b] = match planes {
-        [grey] => [*grey, *grey, *grey],
-        [r, g, b] => [*r, *g, *b],
-        _ => return Vec::new(),
+fn interleave<S: Sample, T>(planes: &[&Array2<S>], f: impl Fn(f64) -> T) -> Vec<T> {
+    let [r, g, b] = match rgb(planes) {
+        Some(p) => p,
+        None => return Vec::new(),
     };
     r.iter()
         .zip(g.iter())
         .zip(b.iter())
-        .flat_map(|((r, g), b)| [f(*r), f(*g), f(*b)])
+        .flat_map(|((r, g), b)| [f((*r).into()), f((*g).into()), f((*b).into())])
         .collect()
+}
+
+/// The R, G, B planes of 1 (grey, repeated) or 3 planes.
+fn rgb<'a, S>(planes: &[&'a Array2<S>]) -> Option<[&'a Array2<S>; 3]> {
+    match planes {
+        [grey] => Some([*grey, *grey, *grey]),
+        [r, g, b] => Some([*r, *g, *b]),
+        _ => None,
+    }
 }
 
 /// `round(255·v)` for `v` clipped to `[0, 1]`; NaN → 0.
@@ -266,7 +305,7 @@ fn to_u8(v: f64) -> u8 {
 /// # Errors
 /// [`IoError::Image`] for a wrong number of planes, planes of different sizes or empty ones, or
 /// an encoder failure; [`IoError::File`] when the file cannot be written.
-pub fn write_photo_png(path: &Path, planes: &[&Array2<f64>]) -> Result<(), IoError> {
+pub fn write_photo_png<T: Sample>(path: &Path, planes: &[&Array2<T>]) -> Result<(), IoError> {
     let (w, h) = planes_size(path, planes)?;
     let img: RgbImage = ImageBuffer::<Rgb<u8>, _>::from_raw(w, h, interleave(planes, to_u8))
         .ok_or_else(|| size_mismatch(path))?;
@@ -279,10 +318,10 @@ pub fn write_photo_png(path: &Path, planes: &[&Array2<f64>]) -> Result<(), IoErr
 /// # Errors
 /// As [`write_photo_png`], and when `a` and `b` differ in size or count, or `gain` is not a
 /// positive number.
-pub fn write_difference_png(
+pub fn write_difference_png<A: Sample, B: Sample>(
     path: &Path,
-    a: &[&Array2<f64>],
-    b: &[&Array2<f64>],
+    a: &[&Array2<A>],
+    b: &[&Array2<B>],
     gain: f64,
 ) -> Result<(), IoError> {
     let bad = |message: String| IoError::Image {
@@ -297,25 +336,55 @@ pub fn write_difference_png(
     if a.len() != b.len() || a.iter().zip(b).any(|(x, y)| x.dim() != y.dim()) {
         return Err(bad("the two images differ in size or channels".into()));
     }
-    let diff: Vec<Array2<f64>> = a
-        .iter()
-        .zip(b)
-        .map(|(x, y)| (*x - *y).mapv(|v| v.abs() * gain))
-        .collect();
-    let refs: Vec<&Array2<f64>> = diff.iter().collect();
-    write_photo_png(path, &refs)
+    let (w, h) = planes_size(path, a)?;
+    let (Some(a), Some(b)) = (rgb(a), rgb(b)) else {
+        return Err(bad("the images need 1 or 3 planes".into()));
+    };
+    // Pixel by pixel, so no difference planes are held besides the 8-bit image.
+    let mut bytes = Vec::with_capacity(3 * w as usize * h as usize);
+    for (y, x) in ndarray::indices(a[0].dim()) {
+        for (pa, pb) in a.iter().zip(&b) {
+            let d: f64 = pa[[y, x]].into() - pb[[y, x]].into();
+            bytes.push(to_u8(d.abs() * gain));
+        }
+    }
+    let img: RgbImage =
+        ImageBuffer::<Rgb<u8>, _>::from_raw(w, h, bytes).ok_or_else(|| size_mismatch(path))?;
+    write_image(path, DynamicImage::ImageRgb8(img), ImageFormat::Png)
 }
 
 /// Writes 1 (grey, as three equal channels) or 3 planes as a 32-bit float RGB EXR, unscaled.
 ///
 /// # Errors
 /// As [`write_photo_png`].
-pub fn write_photo_exr(path: &Path, planes: &[&Array2<f64>]) -> Result<(), IoError> {
-    let (w, h) = planes_size(path, planes)?;
-    let img: Rgb32FImage =
-        ImageBuffer::<Rgb<f32>, _>::from_raw(w, h, interleave(planes, |v| v as f32))
-            .ok_or_else(|| size_mismatch(path))?;
-    write_image(path, DynamicImage::ImageRgb32F(img), ImageFormat::OpenExr)
+pub fn write_photo_exr<T: Sample>(path: &Path, planes: &[&Array2<T>]) -> Result<(), IoError> {
+    use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage};
+    planes_size(path, planes)?;
+    let Some([r, g, b]) = rgb(planes) else {
+        return Err(IoError::Image {
+            path: path.to_path_buf(),
+            message: "an image needs 1 or 3 planes".into(),
+        });
+    };
+    let (h, w) = r.dim();
+    let f = |p: &Array2<T>, x: usize, y: usize| -> f32 { p[[y, x]].into() as f32 };
+    // Written as the pixels are read, through a temp file, so that a camera-size image is not
+    // first copied into an interleaved buffer and an encoded one (24 bytes a pixel).
+    let image = Image::from_channels(
+        (w, h),
+        SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| (f(r, x, y), f(g, x, y), f(b, x, y))),
+    );
+    let temp = super::safe_file::TempFile::beside(path)?;
+    let file = super::safe_file::open_reserved(temp.path())
+        .map_err(|e| IoError::file("write", path, e))?;
+    image
+        .write()
+        .to_buffered(std::io::BufWriter::new(file))
+        .map_err(|e| IoError::Image {
+            path: path.to_path_buf(),
+            message: format!("cannot encode the OpenExr image: {e}"),
+        })?;
+    temp.persist()
 }
 
 #[cfg(test)]

@@ -9,8 +9,9 @@ use serde_json::{Value, json};
 use super::IoError;
 use super::numbers::json6 as r;
 use super::photo::{DIFFERENCE_GAIN, write_difference_png, write_photo_exr, write_photo_png};
+use udc_core::Sample;
 use udc_core::phase::imaging::CompareRow;
-use udc_core::restore::{DenoiseUsed, RestoreResult};
+use udc_core::restore::{DenoiseUsed, Intermediate, RestoreResult};
 
 /// `{"method": "bm3d"|"none", "sigma2": σ² BM3D got on the capture's scale (white ≈ 1) or null,
 /// "sigma2_source": "iccp21"|"iccv23"|"override"|null}` of one run.
@@ -24,7 +25,11 @@ pub fn denoise_json(used: &DenoiseUsed) -> Value {
 
 /// One element of `runs`: the light level and the scores, pooled and per channel (named
 /// `channel_names[c]`, or by index when a name is missing). `outputs` are the files written.
-pub fn run_json(result: &RestoreResult, channel_names: &[String], outputs: &[PathBuf]) -> Value {
+pub fn run_json<T>(
+    result: &RestoreResult<T>,
+    channel_names: &[String],
+    outputs: &[PathBuf],
+) -> Value {
     let channels: Vec<Value> = result
         .channels
         .iter()
@@ -64,20 +69,19 @@ pub fn run_json(result: &RestoreResult, channel_names: &[String], outputs: &[Pat
 }
 
 /// Writes one run's images into `dir` (created if needed), each name starting with `stem`:
-/// `{stem}_captured.png`, `{stem}_denoised.png` (only when a denoiser ran),
-/// `{stem}_restored.png` (8-bit, clipped to `[0, 1]`), `{stem}_difference.png`
-/// (`|restored − truth|` × [`DIFFERENCE_GAIN`]) and `{stem}_captured.exr`,
-/// `{stem}_denoised.exr`, `{stem}_restored.exr` (float, unclipped). Returns the paths in that
-/// order.
+/// `{stem}_captured.png` and `.exr`, `{stem}_denoised.png` and `.exr` (only when a denoiser
+/// ran), `{stem}_restored.png` and `.exr`, and `{stem}_difference.png` (`|restored − truth|` ×
+/// [`DIFFERENCE_GAIN`]). PNGs are 8-bit, clipped to `[0, 1]`; EXRs are float, unclipped.
+/// Returns the paths in that order.
 ///
 /// # Errors
 /// [`IoError::File`] when the folder or a file cannot be written; [`IoError::Image`] when the
 /// planes cannot be encoded. Files written before the error stay.
-pub fn write_run_images(
+pub fn write_run_images<T: Sample>(
     dir: &Path,
     stem: &str,
-    truth: &[Array2<f64>],
-    result: &RestoreResult,
+    truth: &[Array2<T>],
+    result: &RestoreResult<T>,
 ) -> Result<Vec<PathBuf>, IoError> {
     write_capture_images(
         dir,
@@ -93,57 +97,84 @@ pub fn write_run_images(
 
 /// The planes of one capture and its restoration; `denoised` is empty when no denoiser ran.
 #[derive(Debug, Clone, Copy)]
-pub struct CaptureImages<'a> {
+pub struct CaptureImages<'a, T = f64> {
     /// The capture per channel.
-    pub captured: &'a [Array2<f64>],
+    pub captured: &'a [Array2<T>],
     /// The denoised capture per channel, or empty.
-    pub denoised: &'a [Array2<f64>],
+    pub denoised: &'a [Array2<T>],
     /// The restoration per channel.
-    pub restored: &'a [Array2<f64>],
+    pub restored: &'a [Array2<T>],
 }
 
 /// [`write_run_images`] for any capture and restoration of `truth` (the phase masks' too).
 ///
 /// # Errors
 /// As [`write_run_images`].
-pub fn write_capture_images(
+pub fn write_capture_images<T: Sample>(
     dir: &Path,
     stem: &str,
-    truth: &[Array2<f64>],
-    images: &CaptureImages<'_>,
+    truth: &[Array2<T>],
+    images: &CaptureImages<'_, T>,
+) -> Result<Vec<PathBuf>, IoError> {
+    let mut written = write_stage_images(dir, stem, Intermediate::Captured, images.captured)?;
+    if !images.denoised.is_empty() {
+        written.extend(write_stage_images(
+            dir,
+            stem,
+            Intermediate::Denoised,
+            images.denoised,
+        )?);
+    }
+    written.extend(write_restored_images(dir, stem, truth, images.restored)?);
+    Ok(written)
+}
+
+/// Writes an intermediate stage's planes as `{stem}_captured` or `{stem}_denoised`, `.png`
+/// and `.exr`, into `dir` (created if needed): what `restore --out` writes the moment
+/// `restore::simulate_with` hands the planes over. Returns the paths.
+///
+/// # Errors
+/// As [`write_run_images`].
+pub fn write_stage_images<T: Sample>(
+    dir: &Path,
+    stem: &str,
+    stage: Intermediate,
+    planes: &[Array2<T>],
 ) -> Result<Vec<PathBuf>, IoError> {
     std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
-    let captured: Vec<&Array2<f64>> = images.captured.iter().collect();
-    let denoised: Vec<&Array2<f64>> = images.denoised.iter().collect();
-    let restored: Vec<&Array2<f64>> = images.restored.iter().collect();
-    let truth: Vec<&Array2<f64>> = truth.iter().collect();
-    let mut written = Vec::new();
-    let path = dir.join(format!("{stem}_captured.png"));
-    write_photo_png(&path, &captured)?;
-    written.push(path);
-    if !denoised.is_empty() {
-        let path = dir.join(format!("{stem}_denoised.png"));
-        write_photo_png(&path, &denoised)?;
-        written.push(path);
-    }
-    let path = dir.join(format!("{stem}_restored.png"));
-    write_photo_png(&path, &restored)?;
-    written.push(path);
-    let path = dir.join(format!("{stem}_difference.png"));
-    write_difference_png(&path, &restored, &truth, DIFFERENCE_GAIN)?;
-    written.push(path);
-    let path = dir.join(format!("{stem}_captured.exr"));
-    write_photo_exr(&path, &captured)?;
-    written.push(path);
-    if !denoised.is_empty() {
-        let path = dir.join(format!("{stem}_denoised.exr"));
-        write_photo_exr(&path, &denoised)?;
-        written.push(path);
-    }
-    let path = dir.join(format!("{stem}_restored.exr"));
-    write_photo_exr(&path, &restored)?;
-    written.push(path);
-    Ok(written)
+    let name = match stage {
+        Intermediate::Captured => "captured",
+        Intermediate::Denoised => "denoised",
+    };
+    let planes: Vec<&Array2<T>> = planes.iter().collect();
+    let png = dir.join(format!("{stem}_{name}.png"));
+    write_photo_png(&png, &planes)?;
+    let exr = dir.join(format!("{stem}_{name}.exr"));
+    write_photo_exr(&exr, &planes)?;
+    Ok(vec![png, exr])
+}
+
+/// Writes the restoration as `{stem}_restored.png` and `.exr` and its difference from `truth`
+/// as `{stem}_difference.png` into `dir` (created if needed). Returns the paths.
+///
+/// # Errors
+/// As [`write_run_images`].
+pub fn write_restored_images<T: Sample>(
+    dir: &Path,
+    stem: &str,
+    truth: &[Array2<T>],
+    restored: &[Array2<T>],
+) -> Result<Vec<PathBuf>, IoError> {
+    std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
+    let restored: Vec<&Array2<T>> = restored.iter().collect();
+    let truth: Vec<&Array2<T>> = truth.iter().collect();
+    let png = dir.join(format!("{stem}_restored.png"));
+    write_photo_png(&png, &restored)?;
+    let exr = dir.join(format!("{stem}_restored.exr"));
+    write_photo_exr(&exr, &restored)?;
+    let difference = dir.join(format!("{stem}_difference.png"));
+    write_difference_png(&difference, &restored, &truth, DIFFERENCE_GAIN)?;
+    Ok(vec![png, exr, difference])
 }
 
 /// The rows of a phase-mask setup comparison as CSV (`phase restore --compare --out` and the

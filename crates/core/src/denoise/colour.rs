@@ -6,6 +6,8 @@
 
 use ndarray::Array2;
 
+use crate::Sample;
+
 /// Rows: luminance (mean of R, G, B) and two chrominances.
 const FORWARD: [[f64; 3]; 3] = [
     [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
@@ -26,54 +28,65 @@ pub struct Stretch {
     range: [f64; 3],
 }
 
-/// R, G, B → stretched opponent channels (as f32 row-major planes), the stretch, and each
-/// channel's noise standard deviation for an RGB noise variance `sigma2`.
-pub fn to_opponent(rgb: &[Array2<f64>], sigma2: f64) -> (Vec<Vec<f32>>, Stretch, [f64; 3]) {
-    let opp: Vec<Vec<f64>> = FORWARD
-        .iter()
-        .map(|a| {
-            rgb[0]
-                .iter()
-                .zip(rgb[1].iter())
-                .zip(rgb[2].iter())
-                .map(|((r, g), b)| a[0] * r + a[1] * g + a[2] * b)
-                .collect()
-        })
-        .collect();
+/// R, G, B → stretched opponent channels (as `f32` row-major planes; `f32` input planes are
+/// converted in place), the stretch, and each channel's noise standard deviation for an RGB
+/// noise variance `sigma2`.
+pub fn to_opponent<T: Sample>(
+    rgb: Vec<Array2<T>>,
+    sigma2: f64,
+) -> (Vec<Vec<f32>>, Stretch, [f64; 3]) {
+    let mut planes: Vec<Vec<f32>> = rgb.into_iter().map(T::plane_into_f32).collect();
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    if let [r, g, b] = &mut planes[..] {
+        for ((r, g), b) in r.iter_mut().zip(g.iter_mut()).zip(b.iter_mut()) {
+            let v = [f64::from(*r), f64::from(*g), f64::from(*b)];
+            let o = FORWARD.map(|a| a[0] * v[0] + a[1] * v[1] + a[2] * v[2]);
+            for c in 0..3 {
+                lo[c] = lo[c].min(o[c]);
+                hi[c] = hi[c].max(o[c]);
+            }
+            (*r, *g, *b) = (o[0] as f32, o[1] as f32, o[2] as f32);
+        }
+    }
     let mut stretch = Stretch {
         min: [0.0; 3],
         range: [1.0; 3],
     };
     let mut sigma = [0.0; 3];
-    let mut out = Vec::with_capacity(3);
-    for c in 0..3 {
-        let (lo, hi) = opp[c]
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &v| {
-                (lo.min(v), hi.max(v))
-            });
+    for (c, plane) in planes.iter_mut().enumerate() {
         // A flat channel (a grey image's chrominance) keeps its scale.
-        let range = if hi > lo { hi - lo } else { 1.0 };
-        stretch.min[c] = lo;
+        let range = if hi[c] > lo[c] { hi[c] - lo[c] } else { 1.0 };
+        stretch.min[c] = lo[c];
         stretch.range[c] = range;
         let norm2: f64 = FORWARD[c].iter().map(|a| a * a).sum();
         sigma[c] = (sigma2 * norm2).sqrt() / range;
-        out.push(opp[c].iter().map(|v| ((v - lo) / range) as f32).collect());
+        for v in plane.iter_mut() {
+            *v = ((f64::from(*v) - lo[c]) / range) as f32;
+        }
     }
-    (out, stretch, sigma)
+    (planes, stretch, sigma)
 }
 
-/// Stretched opponent channels → R, G, B planes of `dim`.
-pub fn from_opponent(opp: &[Vec<f32>], stretch: &Stretch, dim: (usize, usize)) -> Vec<Array2<f64>> {
-    (0..3)
-        .map(|c| {
-            let b = INVERSE[c];
-            Array2::from_shape_fn(dim, |(y, x)| {
-                let i = y * dim.1 + x;
-                (0..3)
-                    .map(|k| b[k] * (opp[k][i] as f64 * stretch.range[k] + stretch.min[k]))
-                    .sum()
-            })
+/// Stretched opponent channels → R, G, B planes of `dim` (in place for `f32`).
+pub fn from_opponent<T: Sample>(
+    mut opp: Vec<Vec<f32>>,
+    stretch: &Stretch,
+    dim: (usize, usize),
+) -> Vec<Array2<T>> {
+    if let [a, b, c] = &mut opp[..] {
+        for ((a, b), c) in a.iter_mut().zip(b.iter_mut()).zip(c.iter_mut()) {
+            let o = [*a, *b, *c];
+            let v: [f64; 3] =
+                std::array::from_fn(|k| f64::from(o[k]) * stretch.range[k] + stretch.min[k]);
+            let rgb = INVERSE.map(|m| m[0] * v[0] + m[1] * v[1] + m[2] * v[2]);
+            (*a, *b, *c) = (rgb[0] as f32, rgb[1] as f32, rgb[2] as f32);
+        }
+    }
+    opp.into_iter()
+        .map(|plane| {
+            Array2::from_shape_vec(dim, T::vec_from_f32(plane))
+                .unwrap_or_else(|_| Array2::default(dim))
         })
         .collect()
 }
@@ -94,8 +107,8 @@ mod tests {
         let rgb: Vec<Array2<f64>> = (0..3)
             .map(|c| Array2::from_shape_fn(dim, |(y, x)| (y * 5 + x + c * 7) as f64 / 40.0))
             .collect();
-        let (opp, stretch, _) = to_opponent(&rgb, 0.01);
-        let back = from_opponent(&opp, &stretch, dim);
+        let (opp, stretch, _) = to_opponent(rgb.clone(), 0.01);
+        let back: Vec<Array2<f64>> = from_opponent(opp, &stretch, dim);
         for (a, b) in rgb.iter().zip(&back) {
             for (x, y) in a.iter().zip(b) {
                 assert!((x - y).abs() < 1e-5);

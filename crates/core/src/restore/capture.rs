@@ -9,7 +9,7 @@ use rand_distr::{Distribution, Normal, Poisson};
 use rayon::prelude::*;
 
 use super::spectrum::{PadGrid, Spectrum};
-use crate::SimError;
+use crate::{Sample, SimError};
 
 /// Read noise of the thesis's phone camera, electrons RMS (§3.5).
 pub const READ_NOISE_E: f64 = 4.87;
@@ -186,9 +186,9 @@ pub fn blur(grid: &PadGrid, sharp: ArrayView2<'_, f64>, kernel: &Spectrum) -> Ar
 
 /// One captured channel.
 #[derive(Debug, Clone)]
-pub struct Captured {
+pub struct Captured<T = f64> {
     /// The capture on the ground truth's scale (electrons / `L·ltr_relative`).
-    pub image: Array2<f64>,
+    pub image: Array2<T>,
     /// Fraction of pixels at the full well.
     pub saturated_fraction: f64,
 }
@@ -199,11 +199,11 @@ pub struct Captured {
 ///
 /// # Errors
 /// [`SimError::InvalidField`] for bad settings.
-pub fn expose(
-    blurred: ArrayView2<'_, f64>,
+pub fn expose<T: Sample>(
+    blurred: ArrayView2<'_, T>,
     settings: &CaptureSettings,
     channel: usize,
-) -> Result<Captured, SimError> {
+) -> Result<Captured<T>, SimError> {
     settings.validate()?;
     let e = settings.electrons_per_unit();
     let full = settings.full_well_e;
@@ -213,7 +213,7 @@ pub fn expose(
     let step_e = settings
         .adc_bits
         .map_or(1.0, |bits| full / f64::from((1u32 << bits) - 1));
-    let mut out = Array2::<f64>::zeros((h, w));
+    let mut out = Array2::<T>::default((h, w));
     let saturated: usize = out
         .axis_iter_mut(ndarray::Axis(0))
         .into_par_iter()
@@ -224,7 +224,7 @@ pub fn expose(
             let mut saturated = 0usize;
             for (o, x) in out_row.iter_mut().zip(in_row.iter()) {
                 // Round-off of the FFT blur can leave tiny negatives where the scene is black.
-                let mean_e = (x * e).max(0.0);
+                let mean_e = ((*x).into() * e).max(0.0);
                 let electrons = if settings.noise {
                     let photons = match Poisson::new(mean_e) {
                         Ok(p) => p.sample(&mut rng),
@@ -240,7 +240,7 @@ pub fn expose(
                 if electrons >= full {
                     saturated += 1;
                 }
-                *o = electrons / e;
+                *o = T::from_f64(electrons / e);
             }
             saturated
         })

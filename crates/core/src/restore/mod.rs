@@ -11,6 +11,14 @@
 //! least squares ([`cg`]), and everything is scored against the sharp plane with PSNR and SSIM
 //! ([`quality`]).
 //!
+//! **Memory.** Channels are captured and deblurred one after another (each spreads its
+//! transforms over the pool); the convolutions hold the row spectra of one strip of columns,
+//! never a whole padded spectrum ([`spectrum::PadGrid::convolve`]); the denoiser takes over the
+//! capture's planes. Planes are held in the photo's type: `f64`, or `f32` for camera-size photos
+//! (the CLI's choice). [`simulate_with`] hands the capture and the denoised capture to its caller
+//! as soon as each is done and lets them go, so a 4096 × 4096 photo holds its own planes, the
+//! denoised ones and the restoration at most: 9 samples a pixel ([`crate::budget`]).
+//!
 //! **Photos are linear intensities in `[0, 1]`**, `[row, col]`, one plane per channel, exactly as
 //! the thesis feeds its 8-bit dataset to the simulation: no sRGB decoding. A pixel of value 1
 //! collects `L · ltr_relative` electrons (see [`capture::CaptureSettings`]); captures and
@@ -34,18 +42,15 @@ pub mod quality;
 pub mod spectrum;
 pub mod wiener;
 
-use crate::Setting;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use crate::{Sample, Setting};
 use std::time::Instant;
 
-use ndarray::{Array2, ArrayView2};
-use rayon::prelude::*;
+use ndarray::Array2;
 
 pub use capture::{CaptureSettings, Light};
 pub use cg::{CgReport, CgSettings, LinearBlur, cg_with};
 pub use denoise::{Denoise, DenoiseUsed, Recipe, Sigma2};
-use spectrum::Spectrum;
-pub use spectrum::{PadGrid, Padding};
+pub use spectrum::{KernelRows, PadGrid, Padding};
 pub use wiener::THESIS_NSR;
 
 use crate::{Progress, SimError};
@@ -113,18 +118,20 @@ pub struct ChannelResult {
     pub cg: Option<CgReport>,
 }
 
-/// The result of [`simulate`].
+/// The result of [`simulate`], its planes in the photo's sample type.
 #[derive(Debug, Clone)]
-pub struct RestoreResult {
-    /// Per channel, on the ground truth's scale.
-    pub captured: Vec<Array2<f64>>,
+pub struct RestoreResult<T = f64> {
+    /// Per channel, on the ground truth's scale (empty from [`simulate_with`], which hands it
+    /// over instead).
+    pub captured: Vec<Array2<T>>,
     /// The denoised capture per channel, what the deblurring started from; **empty** when
-    /// [`Denoise::None`] (then the deblurring started from `captured`).
-    pub denoised: Vec<Array2<f64>>,
+    /// [`Denoise::None`] (then the deblurring started from `captured`), and from
+    /// [`simulate_with`].
+    pub denoised: Vec<Array2<T>>,
     /// The denoising this run did, with the σ² BM3D got on the capture's scale.
     pub denoise: DenoiseUsed,
     /// Restoration per channel, on the ground truth's scale.
-    pub restored: Vec<Array2<f64>>,
+    pub restored: Vec<Array2<T>>,
     /// The scores of each channel.
     pub channels: Vec<ChannelResult>,
     /// PSNR with the MSE pooled over all channels.
@@ -152,18 +159,13 @@ pub struct RestoreResult {
 ///
 /// # Errors
 /// [`SimError::InvalidField`] naming the first bad input.
-pub fn check(
-    photo: &[Array2<f64>],
+pub fn check<T: Sample>(
+    photo: &[Array2<T>],
     settings: &RestoreSettings,
 ) -> Result<(usize, usize), SimError> {
     let dim = validate_photo(photo)?;
     settings.capture.validate()?;
-    let pixels = (dim.0 * dim.1) as u64;
-    crate::budget::check(
-        &format!("capturing and restoring a {}×{} photo", dim.1, dim.0),
-        pixels.saturating_mul(crate::budget::RESTORE_BYTES_PER_PIXEL),
-        "scale the photo down (a smaller maximum side)",
-    )?;
+    check_memory::<T>(dim, settings, crate::budget::RESTORE_SAMPLES_PER_PIXEL)?;
     match settings.method {
         Method::Wiener { nsr } if !(nsr.is_finite() && nsr >= 0.0) => {
             return Err(SimError::field(
@@ -178,8 +180,29 @@ pub fn check(
     Ok(dim)
 }
 
+/// Refuses a run over the memory budget: `samples` photo-sized samples per pixel (the photo's
+/// type), or conjugate gradients' `f64` spectra.
+fn check_memory<T: Sample>(
+    dim: (usize, usize),
+    settings: &RestoreSettings,
+    samples: u64,
+) -> Result<(), SimError> {
+    use crate::budget::{RESTORE_CG_BYTES_PER_PIXEL, RESTORE_FIXED_BYTES};
+    let per_pixel = match settings.method {
+        Method::Wiener { .. } => samples * std::mem::size_of::<T>() as u64,
+        Method::Cg(_) => RESTORE_CG_BYTES_PER_PIXEL,
+    };
+    crate::budget::check(
+        &format!("capturing and restoring a {}×{} photo", dim.1, dim.0),
+        ((dim.0 * dim.1) as u64)
+            .saturating_mul(per_pixel)
+            .saturating_add(RESTORE_FIXED_BYTES),
+        "scale the photo down (a smaller maximum side)",
+    )
+}
+
 /// Checks the photo; returns its size.
-fn validate_photo(photo: &[Array2<f64>]) -> Result<(usize, usize), SimError> {
+fn validate_photo<T: Sample>(photo: &[Array2<T>]) -> Result<(usize, usize), SimError> {
     let Some(first) = photo.first() else {
         return Err(SimError::field(Setting::Photo, "has no channels"));
     };
@@ -201,7 +224,11 @@ fn validate_photo(photo: &[Array2<f64>]) -> Result<(usize, usize), SimError> {
                 format!("is {:?}, channel 0 is {dim:?}", plane.dim()),
             ));
         }
-        if let Some(v) = plane.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
+        if let Some(v) = plane
+            .iter()
+            .map(|v| (*v).into())
+            .find(|v: &f64| !(v.is_finite() && *v >= 0.0))
+        {
             return Err(SimError::field(
                 format!("photo[{c}]"),
                 format!("holds {v}; intensities must be finite and ≥ 0"),
@@ -236,53 +263,32 @@ fn validate_psfs(psfs: &[&Array2<f64>], channels: usize) -> Result<(), SimError>
     Ok(())
 }
 
-/// One channel after the exposure.
-struct Exposed {
-    /// The capture on the ground truth's scale.
-    image: Array2<f64>,
-    saturated_fraction: f64,
-    /// The blur's kernel spectrum, kept for the deblurring when both run on the same grid.
-    kernel: Option<Spectrum>,
-}
-
-/// One channel's blur and exposure. The blur runs on the linear grid, where it is already exact.
-fn expose_channel(
-    c: usize,
-    truth: &Array2<f64>,
-    psf: &Array2<f64>,
-    grids: (&PadGrid, &PadGrid),
-    settings: &RestoreSettings,
-    progress: &Progress,
-) -> Result<Exposed, SimError> {
-    let (blur_grid, grid) = grids;
-    let psf = psf / psf.sum();
-    let blur_kernel = blur_grid.forward_kernel(&psf);
-    let blurred = capture::blur(blur_grid, truth.view(), &blur_kernel);
-    progress.check()?;
-    let shot = capture::expose(blurred.view(), &settings.capture, c)?;
-    Ok(Exposed {
-        image: shot.image,
-        saturated_fraction: shot.saturated_fraction,
-        kernel: (grid == blur_grid).then_some(blur_kernel),
-    })
-}
-
 /// One channel's deblurring on `grid` (the settings' padding), from `input` (the denoised
-/// capture, or the capture itself), reusing the blur's kernel spectrum when given.
-fn deblur_channel(
-    input: &Array2<f64>,
+/// capture, or the capture itself), reusing the blur's kernel rows when they are on `grid`.
+fn deblur_channel<T: Sample>(
+    input: &Array2<T>,
     psf: &Array2<f64>,
-    kernel: Option<Spectrum>,
+    kernel: Option<KernelRows>,
     grid: &PadGrid,
     method: Method,
     progress: &Progress,
-) -> Result<(Array2<f64>, Option<CgReport>), SimError> {
-    let kernel = kernel.unwrap_or_else(|| grid.forward_kernel(&(psf / psf.sum())));
+) -> Result<(Array2<T>, Option<CgReport>), SimError> {
+    let psf = psf / psf.sum();
     match method {
-        Method::Wiener { nsr } => Ok((wiener::wiener(grid, input.view(), &kernel, nsr)?, None)),
+        Method::Wiener { nsr } => {
+            let kernel = kernel.unwrap_or_else(|| grid.kernel_rows(&psf));
+            Ok((
+                wiener::wiener_streamed(grid, input.view(), &kernel, nsr)?,
+                None,
+            ))
+        }
         Method::Cg(cg_settings) => {
+            // Conjugate gradients apply the blur 2 × iterations times: they keep the whole
+            // kernel spectrum and work in f64 (their budget says so).
+            let kernel = grid.forward_kernel(&psf);
+            let input = input.mapv(Into::<f64>::into);
             let (x, r) = cg::cg(grid, input.view(), &kernel, &cg_settings, progress)?;
-            Ok((x, Some(r)))
+            Ok((x.mapv(T::from_f64), Some(r)))
         }
     }
 }
@@ -304,7 +310,8 @@ fn progress_shares(settings: &RestoreSettings) -> [f32; 3] {
 }
 
 /// Captures `photo` through the display whose per-channel sensor PSFs are `psfs` and restores
-/// it; see the module docs for the conventions.
+/// it; see the module docs for the conventions. The planes may be `f64` or `f32` (a
+/// camera-size photo: [`simulate_with`] is the route that also holds no intermediate planes).
 ///
 /// ```
 /// use ndarray::Array2;
@@ -327,14 +334,55 @@ fn progress_shares(settings: &RestoreSettings) -> [f32; 3] {
 /// # Errors
 /// [`SimError::InvalidField`] naming the field for an empty or mismatched photo (`photo`,
 /// `photo[c]`), bad PSFs (`psfs`, `psfs[c]`), bad capture settings (`capture.…`), method
-/// parameters (`method.…`) or σ² (`denoise.sigma2`); [`SimError::TooLarge`] when the denoiser
+/// parameters (`method.…`) or σ² (`denoise.sigma2`); [`SimError::TooLarge`] when the run
 /// would exceed the memory budget; [`SimError::Cancelled`] when `progress` was cancelled.
-pub fn simulate(
-    photo: &[Array2<f64>],
+pub fn simulate<T: Sample>(
+    photo: &[Array2<T>],
     psfs: &[&Array2<f64>],
     settings: &RestoreSettings,
     progress: &Progress,
-) -> Result<RestoreResult, SimError> {
+) -> Result<RestoreResult<T>, SimError> {
+    // This route also keeps the capture and the denoised capture.
+    let dim = check(photo, settings)?;
+    check_memory::<T>(dim, settings, crate::budget::RESTORE_KEPT_SAMPLES_PER_PIXEL)?;
+    let mut captured = Vec::new();
+    let mut denoised = Vec::new();
+    let mut result = simulate_with(photo, psfs, settings, progress, |which, planes| {
+        match which {
+            Intermediate::Captured => captured = planes.to_vec(),
+            Intermediate::Denoised => denoised = planes.to_vec(),
+        }
+        Ok::<(), SimError>(())
+    })?;
+    result.captured = captured;
+    result.denoised = denoised;
+    Ok(result)
+}
+
+/// The planes [`simulate_with`] hands over as soon as they are complete.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Intermediate {
+    /// The capture per channel, on the ground truth's scale.
+    Captured,
+    /// The denoised capture per channel (only when a denoiser runs).
+    Denoised,
+}
+
+/// [`simulate`] that gives each intermediate result to `keep` the moment it is complete and
+/// then lets it go: the result's `captured` and `denoised` are empty. So a caller that writes
+/// them out (the CLI's `--out`) never holds the photo's four stages at once: a 4096 × 4096
+/// colour photo in `f32` runs in about 40 bytes a pixel ([`crate::budget`]). An error `keep`
+/// returns stops the run and is returned.
+///
+/// # Errors
+/// As [`simulate`], and whatever `keep` returns.
+pub fn simulate_with<T: Sample, E: From<SimError>>(
+    photo: &[Array2<T>],
+    psfs: &[&Array2<f64>],
+    settings: &RestoreSettings,
+    progress: &Progress,
+    mut keep: impl FnMut(Intermediate, &[Array2<T>]) -> Result<(), E>,
+) -> Result<RestoreResult<T>, E> {
     let start = Instant::now();
     let dim = check(photo, settings)?;
     validate_psfs(psfs, photo.len())?;
@@ -345,107 +393,89 @@ pub fn simulate(
         .fold((1, 1), |(h, w), p| (h.max(p.nrows()), w.max(p.ncols())));
     let grid = PadGrid::new(dim, kernel_dim, settings.padding);
     let blur_grid = PadGrid::new(dim, kernel_dim, Padding::Linear);
-    let [expose_share, denoise_share, _] = progress_shares(settings);
+    let [expose_share, denoise_share, deblur_share] = progress_shares(settings);
     let cap = &settings.capture;
     let snr_db = cap.light.snr_db(cap.read_noise_e);
     let denoise = settings.denoise.applied(snr_db, cap.ltr_relative);
-    let channels_done = AtomicUsize::new(0);
-    let per_channel = |start: f32, share: f32| {
-        let d = channels_done.fetch_add(1, Ordering::Relaxed) + 1;
-        progress.set(start + share * d as f32 / photo.len() as f32);
+    let n = photo.len();
+    let channel_done = |start: f32, share: f32, c: usize| {
+        progress.set(start + share * (c + 1) as f32 / n as f32);
     };
-    // Exposure: channels side by side; each also spreads its FFT rows and columns over the pool.
-    let exposed: Vec<Exposed> = photo
-        .par_iter()
-        .zip(psfs.par_iter())
-        .enumerate()
-        .map(|(c, (truth, psf))| {
-            let e = expose_channel(c, truth, psf, (&blur_grid, &grid), settings, progress)?;
-            per_channel(0.0, expose_share);
-            Ok(e)
-        })
-        .collect::<Result<_, SimError>>()?;
-    progress.check()?;
-    let mut captured = Vec::with_capacity(photo.len());
-    let mut saturated = Vec::with_capacity(photo.len());
-    let mut kernels = Vec::with_capacity(photo.len());
-    for e in exposed {
-        captured.push(e.image);
-        saturated.push(e.saturated_fraction);
-        kernels.push(e.kernel);
+    // Exposure, channel by channel: each spreads its transforms over the pool, and only one
+    // channel's are in memory at a time. The blur runs on the linear grid, where it is exact.
+    let mut captured = Vec::with_capacity(n);
+    let mut saturated = Vec::with_capacity(n);
+    let mut kernels = Vec::with_capacity(n);
+    for (c, (truth, psf)) in photo.iter().zip(psfs).enumerate() {
+        let kernel = blur_grid.kernel_rows(&(*psf / psf.sum()));
+        let blurred = blur_grid.convolve(truth.view(), &kernel, |y, k| y * k);
+        progress.check()?;
+        let shot = capture::expose(blurred.view(), cap, c)?;
+        captured.push(shot.image);
+        saturated.push(shot.saturated_fraction);
+        kernels.push((grid == blur_grid).then_some(kernel));
+        channel_done(0.0, expose_share, c);
     }
+    let captured_psnr_db = captured
+        .iter()
+        .zip(photo)
+        .map(|(a, b)| quality::psnr_db(a.view(), b.view(), 1.0))
+        .collect::<Result<Vec<f64>, SimError>>()?;
+    let pooled_captured = quality::psnr_db_planes(&captured, photo, 1.0)?;
+    keep(Intermediate::Captured, &captured)?;
+    progress.check()?;
     // Denoising sees every channel at once: CBM3D groups blocks on the luminance.
-    let denoised = match denoise.sigma2 {
-        None => Vec::new(),
+    let (inputs, denoised_psnr_db, pooled_denoised) = match denoise.sigma2 {
+        None => (captured, vec![None; n], None),
         Some(sigma2) => {
-            let _span = progress.span(expose_share, expose_share + denoise_share);
-            crate::denoise::bm3d(&captured, sigma2, progress)?
+            let denoised = {
+                let _span = progress.span(expose_share, expose_share + denoise_share);
+                crate::denoise::bm3d_owned(captured, sigma2, progress)?
+            };
+            let each = denoised
+                .iter()
+                .zip(photo)
+                .map(|(a, b)| quality::psnr_db(a.view(), b.view(), 1.0).map(Some))
+                .collect::<Result<Vec<Option<f64>>, SimError>>()?;
+            let pooled = quality::psnr_db_planes(&denoised, photo, 1.0)?;
+            keep(Intermediate::Denoised, &denoised)?;
+            (denoised, each, Some(pooled))
         }
     };
     progress.check()?;
-    let inputs = if denoised.is_empty() {
-        &captured
-    } else {
-        &denoised
-    };
     let deblur_start = expose_share + denoise_share;
-    channels_done.store(0, Ordering::Relaxed);
-    // Deblurring and scores: channels side by side again.
-    let deblurred: Vec<(Array2<f64>, ChannelResult)> = inputs
-        .par_iter()
-        .zip(psfs.par_iter())
-        .zip(kernels.into_par_iter())
-        .enumerate()
-        .map(|(c, ((input, psf), kernel))| {
-            let (x, cg) = deblur_channel(input, psf, kernel, &grid, settings.method, progress)?;
-            let truth = photo[c].view();
-            let numbers = ChannelResult {
-                psnr_db: quality::psnr_db(x.view(), truth, 1.0)?,
-                ssim: quality::ssim(x.view(), truth)?,
-                captured_psnr_db: quality::psnr_db(captured[c].view(), truth, 1.0)?,
-                denoised_psnr_db: denoised
-                    .get(c)
-                    .map(|d| quality::psnr_db(d.view(), truth, 1.0))
-                    .transpose()?,
-                saturated_fraction: saturated[c],
-                cg,
-            };
-            per_channel(deblur_start, 1.0 - deblur_start);
-            Ok((x, numbers))
-        })
-        .collect::<Result<_, SimError>>()?;
-    progress.check()?;
-    let (restored, channels): (Vec<Array2<f64>>, Vec<ChannelResult>) =
-        deblurred.into_iter().unzip();
-    fn pairs<'a>(
-        planes: &'a [Array2<f64>],
-        truth: &'a [Array2<f64>],
-    ) -> Vec<(ArrayView2<'a, f64>, ArrayView2<'a, f64>)> {
-        planes
-            .iter()
-            .zip(truth)
-            .map(|(a, b)| (a.view(), b.view()))
-            .collect()
+    // Deblurring and scores, channel by channel; each input goes once its channel is done.
+    let mut restored = Vec::with_capacity(n);
+    let mut channels = Vec::with_capacity(n);
+    for (c, (input, kernel)) in inputs.into_iter().zip(kernels).enumerate() {
+        let (x, cg) = deblur_channel(&input, psfs[c], kernel, &grid, settings.method, progress)?;
+        drop(input);
+        let truth = photo[c].view();
+        channels.push(ChannelResult {
+            psnr_db: quality::psnr_db(x.view(), truth, 1.0)?,
+            ssim: quality::ssim(x.view(), truth)?,
+            captured_psnr_db: captured_psnr_db[c],
+            denoised_psnr_db: denoised_psnr_db[c],
+            saturated_fraction: saturated[c],
+            cg,
+        });
+        restored.push(x);
+        channel_done(deblur_start, deblur_share, c);
+        progress.check()?;
     }
-    let psnr_db = quality::psnr_db_pooled(&pairs(&restored, photo), 1.0)?;
-    let captured_psnr_db = quality::psnr_db_pooled(&pairs(&captured, photo), 1.0)?;
-    let denoised_psnr_db = if denoised.is_empty() {
-        None
-    } else {
-        Some(quality::psnr_db_pooled(&pairs(&denoised, photo), 1.0)?)
-    };
+    let psnr_db = quality::psnr_db_planes(&restored, photo, 1.0)?;
     let ssim = channels.iter().map(|c| c.ssim).sum::<f64>() / channels.len() as f64;
     progress.set(1.0);
     Ok(RestoreResult {
-        captured,
-        denoised,
+        captured: Vec::new(),
+        denoised: Vec::new(),
         denoise,
         restored,
         channels,
         psnr_db,
         ssim,
-        captured_psnr_db,
-        denoised_psnr_db,
+        captured_psnr_db: pooled_captured,
+        denoised_psnr_db: pooled_denoised,
         light_e: cap.light.electrons(cap.read_noise_e),
         snr_db,
         electrons_per_unit: cap.electrons_per_unit(),

@@ -11,7 +11,7 @@
 use ndarray::ArrayView2;
 use rayon::prelude::*;
 
-use crate::SimError;
+use crate::{Sample, SimError};
 
 /// Gaussian σ of the SSIM window, pixels.
 pub const SSIM_SIGMA_PX: f64 = 1.5;
@@ -22,7 +22,10 @@ pub const SSIM_K1: f64 = 0.01;
 /// SSIM's `K2` (see `SSIM_K1`).
 pub const SSIM_K2: f64 = 0.03;
 
-fn same_size(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> Result<(), SimError> {
+fn same_size<A: Sample, B: Sample>(
+    a: ArrayView2<'_, A>,
+    b: ArrayView2<'_, B>,
+) -> Result<(), SimError> {
     if a.dim() != b.dim() {
         return Err(SimError::field(
             "image",
@@ -36,7 +39,7 @@ fn same_size(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> Result<(), SimEr
 }
 
 /// `Σ (a − b)²` and the number of pixels.
-fn squared_error(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> (f64, usize) {
+fn squared_error<A: Sample, B: Sample>(a: ArrayView2<'_, A>, b: ArrayView2<'_, B>) -> (f64, usize) {
     let rows: Vec<f64> = a
         .outer_iter()
         .into_par_iter()
@@ -44,7 +47,10 @@ fn squared_error(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> (f64, usize)
         .map(|(ra, rb)| {
             ra.iter()
                 .zip(rb.iter())
-                .map(|(x, y)| (x - y) * (x - y))
+                .map(|(x, y)| {
+                    let d = (*x).into() - (*y).into();
+                    d * d
+                })
                 .sum()
         })
         .collect();
@@ -64,7 +70,11 @@ fn psnr_of(sse: f64, n: usize, peak: f64) -> f64 {
 ///
 /// # Errors
 /// [`SimError::InvalidField`] (`image`) for images of different sizes or empty ones.
-pub fn psnr_db(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>, peak: f64) -> Result<f64, SimError> {
+pub fn psnr_db<A: Sample, B: Sample>(
+    a: ArrayView2<'_, A>,
+    b: ArrayView2<'_, B>,
+    peak: f64,
+) -> Result<f64, SimError> {
     same_size(a, b)?;
     let (sse, n) = squared_error(a, b);
     Ok(psnr_of(sse, n, peak))
@@ -74,8 +84,8 @@ pub fn psnr_db(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>, peak: f64) -> Res
 ///
 /// # Errors
 /// As [`psnr_db`], and for no pairs at all.
-pub fn psnr_db_pooled(
-    pairs: &[(ArrayView2<'_, f64>, ArrayView2<'_, f64>)],
+pub fn psnr_db_pooled<A: Sample, B: Sample>(
+    pairs: &[(ArrayView2<'_, A>, ArrayView2<'_, B>)],
     peak: f64,
 ) -> Result<f64, SimError> {
     if pairs.is_empty() {
@@ -96,9 +106,9 @@ pub fn psnr_db_pooled(
 ///
 /// # Errors
 /// As [`psnr_db_pooled`], and for different numbers of planes.
-pub fn psnr_db_planes(
-    test: &[ndarray::Array2<f64>],
-    truth: &[ndarray::Array2<f64>],
+pub fn psnr_db_planes<A: Sample, B: Sample>(
+    test: &[ndarray::Array2<A>],
+    truth: &[ndarray::Array2<B>],
     peak: f64,
 ) -> Result<f64, SimError> {
     if test.len() != truth.len() {
@@ -121,9 +131,9 @@ pub fn psnr_db_planes(
 ///
 /// # Errors
 /// As [`psnr_db_planes`] and [`ssim`].
-pub fn planes_quality(
-    test: &[ndarray::Array2<f64>],
-    truth: &[ndarray::Array2<f64>],
+pub fn planes_quality<A: Sample, B: Sample>(
+    test: &[ndarray::Array2<A>],
+    truth: &[ndarray::Array2<B>],
 ) -> Result<PlanesQuality, SimError> {
     let psnr_db = psnr_db_planes(test, truth, 1.0)?;
     let mut sum = 0.0;
@@ -163,7 +173,10 @@ fn gaussian_taps() -> Vec<f64> {
 /// # Errors
 /// [`SimError::InvalidField`] (`image`) for images of different sizes or smaller than the
 /// 11×11 window.
-pub fn ssim(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> Result<f64, SimError> {
+pub fn ssim<A: Sample, B: Sample>(
+    a: ArrayView2<'_, A>,
+    b: ArrayView2<'_, B>,
+) -> Result<f64, SimError> {
     same_size(a, b)?;
     let (h, w) = a.dim();
     let win = 2 * SSIM_RADIUS_PX + 1;
@@ -194,8 +207,9 @@ pub fn ssim(a: ArrayView2<'_, f64>, b: ArrayView2<'_, f64>) -> Result<f64, SimEr
             for r in 0..rows_in {
                 let (ra, rb) = (a.row(i0 + r), b.row(i0 + r));
                 for (k, (x, y)) in ra.iter().zip(rb.iter()).enumerate() {
-                    src[0][k] = *x;
-                    src[1][k] = *y;
+                    let (x, y): (f64, f64) = ((*x).into(), (*y).into());
+                    src[0][k] = x;
+                    src[1][k] = y;
                     src[2][k] = x * x;
                     src[3][k] = y * y;
                     src[4][k] = x * y;

@@ -4,8 +4,10 @@
 use crate::Setting;
 use ndarray::{Array2, ArrayView2};
 
-use super::spectrum::{PadGrid, Spectrum};
-use crate::SimError;
+use rustfft::num_complex::Complex64;
+
+use super::spectrum::{KernelRows, PadGrid, Spectrum};
+use crate::{Sample, SimError};
 
 /// The noise-to-signal ratio of the thesis's Wiener filter.
 pub const THESIS_NSR: f64 = 0.00371;
@@ -22,24 +24,50 @@ pub fn wiener(
     kernel: &Spectrum,
     nsr: f64,
 ) -> Result<Array2<f64>, SimError> {
-    if !(nsr.is_finite() && nsr >= 0.0) {
-        return Err(SimError::field(
-            Setting::MethodNsr,
-            format!("must be a finite number ≥ 0 (got {nsr:?})"),
-        ));
-    }
-    let mut x = grid.filter(captured, |i, y| {
-        let k = kernel.data[i];
-        let denom = k.norm_sqr() + nsr;
-        // nsr = 0 with a zero of K: that frequency is lost, leave it at 0 rather than divide.
-        if denom > 0.0 {
-            y * k.conj() / denom
-        } else {
-            y * 0.0
-        }
-    });
+    check_nsr(nsr)?;
+    let mut x = grid.filter(captured, |i, y| filtered(y, kernel.data[i], nsr));
     x.mapv_inplace(|v| v.max(0.0));
     Ok(x)
+}
+
+/// [`wiener`] by [`PadGrid::convolve`]: the same restoration of a plane held in `f32` or
+/// `f64`, without the whole padded spectra (what `restore::simulate` uses, so that a
+/// camera-size photo fits in memory).
+///
+/// # Errors
+/// As [`wiener`].
+pub fn wiener_streamed<T: Sample>(
+    grid: &PadGrid,
+    captured: ArrayView2<'_, T>,
+    kernel: &KernelRows,
+    nsr: f64,
+) -> Result<Array2<T>, SimError> {
+    check_nsr(nsr)?;
+    let mut x = grid.convolve(captured, kernel, |y, k| filtered(y, k, nsr));
+    x.mapv_inplace(|v| if v > T::default() { v } else { T::default() });
+    Ok(x)
+}
+
+fn check_nsr(nsr: f64) -> Result<(), SimError> {
+    if nsr.is_finite() && nsr >= 0.0 {
+        Ok(())
+    } else {
+        Err(SimError::field(
+            Setting::MethodNsr,
+            format!("must be a finite number ≥ 0 (got {nsr:?})"),
+        ))
+    }
+}
+
+/// One frequency of the Wiener filter: `Y·K* / (|K|² + nsr)`.
+fn filtered(y: Complex64, k: Complex64, nsr: f64) -> Complex64 {
+    let denom = k.norm_sqr() + nsr;
+    // nsr = 0 with a zero of K: that frequency is lost, leave it at 0 rather than divide.
+    if denom > 0.0 {
+        y * k.conj() / denom
+    } else {
+        y * 0.0
+    }
 }
 
 #[cfg(test)]
@@ -62,6 +90,24 @@ mod tests {
         let x = wiener(&grid, image.view(), &k, 0.25).expect("valid nsr");
         for (a, b) in x.iter().zip(image.iter()) {
             assert!((a - b / 1.25).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn the_streamed_filter_equals_the_whole_grid_route() {
+        let image = Array2::from_shape_fn((37, 53), |(y, x)| ((y * 31 + x * 7) % 13) as f64 / 13.0);
+        let psf = Array2::from_shape_fn((9, 7), |(y, x)| 1.0 / (1.0 + (y * 7 + x) as f64));
+        for padding in [Padding::Linear, Padding::Double] {
+            let grid = PadGrid::new(image.dim(), psf.dim(), padding);
+            let whole = wiener(&grid, image.view(), &grid.forward_kernel(&psf), 0.01).unwrap();
+            let rows = grid.kernel_rows(&psf);
+            let f64_plane = wiener_streamed(&grid, image.view(), &rows, 0.01).unwrap();
+            let f32_plane =
+                wiener_streamed(&grid, image.mapv(|v| v as f32).view(), &rows, 0.01).unwrap();
+            for ((a, b), c) in whole.iter().zip(&f64_plane).zip(&f32_plane) {
+                assert!((a - b).abs() < 1e-5, "{padding:?}: {a} vs {b}");
+                assert!((a - f64::from(*c)).abs() < 1e-5, "{padding:?}: {a} vs {c}");
+            }
         }
     }
 
