@@ -43,9 +43,11 @@ pub mod spectrum;
 pub mod wiener;
 
 use crate::{Sample, Setting};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use ndarray::Array2;
+use rayon::prelude::*;
 
 pub use capture::{CaptureSettings, Light};
 pub use cg::{CgReport, CgSettings, LinearBlur, cg_with};
@@ -200,6 +202,12 @@ fn check_memory<T: Sample>(
         "scale the photo down (a smaller maximum side)",
     )
 }
+
+/// Photos up to this many pixels (2 megapixels) have their channels captured and deblurred side
+/// by side, which keeps both cores busy through each transform's serial steps; larger ones one
+/// channel after another, so that one channel's transforms are in memory at a time (the budget
+/// counts one strip: [`crate::budget::RESTORE_FIXED_BYTES`]).
+const SIDE_BY_SIDE_MAX_PIXELS: usize = 1 << 21;
 
 /// Checks the photo; returns its size.
 fn validate_photo<T: Sample>(photo: &[Array2<T>]) -> Result<(usize, usize), SimError> {
@@ -398,23 +406,37 @@ pub fn simulate_with<T: Sample, E: From<SimError>>(
     let snr_db = cap.light.snr_db(cap.read_noise_e);
     let denoise = settings.denoise.applied(snr_db, cap.ltr_relative);
     let n = photo.len();
-    let channel_done = |start: f32, share: f32, c: usize| {
-        progress.set(start + share * (c + 1) as f32 / n as f32);
+    let side_by_side = dim.0 * dim.1 <= SIDE_BY_SIDE_MAX_PIXELS;
+    let channels_done = AtomicUsize::new(0);
+    let channel_done = |start: f32, share: f32| {
+        let d = channels_done.fetch_add(1, Ordering::Relaxed) + 1;
+        progress.set(start + share * d as f32 / n as f32);
     };
-    // Exposure, channel by channel: each spreads its transforms over the pool, and only one
-    // channel's are in memory at a time. The blur runs on the linear grid, where it is exact.
+    // Exposure. The blur runs on the linear grid, where it is exact.
+    let expose_one = |c: usize| {
+        let psf = psfs[c];
+        let kernel = blur_grid.kernel_rows(&(psf / psf.sum()));
+        let blurred = blur_grid.convolve(photo[c].view(), &kernel, |y, k| y * k);
+        progress.check()?;
+        let shot = capture::expose(blurred.view(), cap, c)?;
+        channel_done(0.0, expose_share);
+        Ok((shot, (grid == blur_grid).then_some(kernel)))
+    };
+    let exposed: Vec<_> = if side_by_side {
+        (0..n)
+            .into_par_iter()
+            .map(expose_one)
+            .collect::<Result<_, SimError>>()?
+    } else {
+        (0..n).map(expose_one).collect::<Result<_, SimError>>()?
+    };
     let mut captured = Vec::with_capacity(n);
     let mut saturated = Vec::with_capacity(n);
     let mut kernels = Vec::with_capacity(n);
-    for (c, (truth, psf)) in photo.iter().zip(psfs).enumerate() {
-        let kernel = blur_grid.kernel_rows(&(*psf / psf.sum()));
-        let blurred = blur_grid.convolve(truth.view(), &kernel, |y, k| y * k);
-        progress.check()?;
-        let shot = capture::expose(blurred.view(), cap, c)?;
+    for (shot, kernel) in exposed {
         captured.push(shot.image);
         saturated.push(shot.saturated_fraction);
-        kernels.push((grid == blur_grid).then_some(kernel));
-        channel_done(0.0, expose_share, c);
+        kernels.push(kernel);
     }
     let captured_psnr_db = captured
         .iter()
@@ -444,25 +466,34 @@ pub fn simulate_with<T: Sample, E: From<SimError>>(
     };
     progress.check()?;
     let deblur_start = expose_share + denoise_share;
-    // Deblurring and scores, channel by channel; each input goes once its channel is done.
-    let mut restored = Vec::with_capacity(n);
-    let mut channels = Vec::with_capacity(n);
-    for (c, (input, kernel)) in inputs.into_iter().zip(kernels).enumerate() {
+    channels_done.store(0, Ordering::Relaxed);
+    // Deblurring and scores; each input goes once its channel is done.
+    let deblur_one = |(c, (input, kernel)): (usize, (Array2<T>, Option<KernelRows>))| {
         let (x, cg) = deblur_channel(&input, psfs[c], kernel, &grid, settings.method, progress)?;
         drop(input);
         let truth = photo[c].view();
-        channels.push(ChannelResult {
+        let numbers = ChannelResult {
             psnr_db: quality::psnr_db(x.view(), truth, 1.0)?,
             ssim: quality::ssim(x.view(), truth)?,
             captured_psnr_db: captured_psnr_db[c],
             denoised_psnr_db: denoised_psnr_db[c],
             saturated_fraction: saturated[c],
             cg,
-        });
-        restored.push(x);
-        channel_done(deblur_start, deblur_share, c);
+        };
+        channel_done(deblur_start, deblur_share);
         progress.check()?;
-    }
+        Ok((x, numbers))
+    };
+    let work = inputs.into_iter().zip(kernels).enumerate();
+    let deblurred: Vec<_> = if side_by_side {
+        let work: Vec<_> = work.collect();
+        work.into_par_iter()
+            .map(deblur_one)
+            .collect::<Result<_, SimError>>()?
+    } else {
+        work.map(deblur_one).collect::<Result<_, SimError>>()?
+    };
+    let (restored, channels): (Vec<Array2<T>>, Vec<ChannelResult>) = deblurred.into_iter().unzip();
     let psnr_db = quality::psnr_db_planes(&restored, photo, 1.0)?;
     let ssim = channels.iter().map(|c| c.ssim).sum::<f64>() / channels.len() as f64;
     progress.set(1.0);
