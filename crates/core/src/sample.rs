@@ -48,10 +48,14 @@ impl Sample for f32 {
         } else {
             plane.as_standard_layout().into_owned()
         };
+        let len = plane.len();
         let (v, offset) = plane.into_raw_vec_and_offset();
-        match offset {
-            Some(0) | None => v,
-            Some(o) => v[o..].to_vec(),
+        // An owned plane cut from a larger one keeps the larger one's buffer: take its part.
+        let start = offset.unwrap_or(0);
+        if start == 0 && v.len() == len {
+            v
+        } else {
+            v[start..start + len].to_vec()
         }
     }
 }
@@ -74,5 +78,9 @@ mod tests {
             vec![0., 3., 1., 4., 2., 5.]
         );
         assert_eq!(f64::vec_from_f32(vec![0.5, 2.0]), vec![0.5, 2.0]);
+        // The middle row of a 3 × 3 plane, cut in place: its buffer still holds all nine.
+        let mut cut = Array2::from_shape_fn((3, 3), |(y, x)| (y * 3 + x) as f32);
+        cut.slice_axis_inplace(ndarray::Axis(0), ndarray::Slice::from(1..2));
+        assert_eq!(f32::plane_into_f32(cut), vec![3., 4., 5.]);
     }
 }

@@ -169,13 +169,7 @@ pub fn check<T: Sample>(
     settings.capture.validate()?;
     check_memory::<T>(dim, settings, crate::budget::RESTORE_SAMPLES_PER_PIXEL)?;
     match settings.method {
-        Method::Wiener { nsr } if !(nsr.is_finite() && nsr >= 0.0) => {
-            return Err(SimError::field(
-                Setting::MethodNsr,
-                format!("must be a finite number ≥ 0 (got {nsr:?})"),
-            ));
-        }
-        Method::Wiener { .. } => {}
+        Method::Wiener { nsr } => wiener::check_nsr(nsr)?,
         Method::Cg(cg) => cg.validate()?,
     }
     settings.denoise.validate()?;

@@ -48,7 +48,8 @@ pub fn wiener_streamed<T: Sample>(
     Ok(x)
 }
 
-fn check_nsr(nsr: f64) -> Result<(), SimError> {
+/// Refuses a noise-to-signal ratio that is not a finite number ≥ 0.
+pub(crate) fn check_nsr(nsr: f64) -> Result<(), SimError> {
     if nsr.is_finite() && nsr >= 0.0 {
         Ok(())
     } else {
