@@ -9,12 +9,12 @@ benches/photo_memory.py [BINARY] [SIZE ...]; the default binary is target/releas
 and the default sizes 2048 and 4096.
 """
 import os
-import re
 import struct
-import subprocess
 import sys
 import tempfile
 import zlib
+
+from peak_memory import measure
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 args = sys.argv[1:]
@@ -50,17 +50,9 @@ with tempfile.TemporaryDirectory() as tmp:
         photo = os.path.join(tmp, f"photo{n}.png")
         write_png(photo, n)
         out = os.path.join(tmp, f"out{n}")
-        run = subprocess.run(
-            ["/usr/bin/time", "-v", binary, "restore", "--image", photo, "--out", out,
-             "--snr-db", "28", "--max-memory", "4G", "--json"],
-            capture_output=True, text=True,
-        )
-        if run.returncode != 0:
-            sys.exit(run.stderr)
-        peak_kb = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)",
-                                run.stderr).group(1))
-        wall = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\): ([\d:.]+)",
-                         run.stderr).group(1)
+        peak_kb, wall = measure(
+            [binary, "restore", "--image", photo, "--out", out, "--snr-db", "28",
+             "--max-memory", "4G", "--json"])
         written = len(os.listdir(out))
         print(f"restore of a {n} x {n} photo: peak {peak_kb / 1024:.0f} MiB "
               f"({peak_kb * 1024 / (n * n):.0f} bytes per pixel), wall {wall}, "

@@ -25,10 +25,11 @@ fn budget_named(stderr: &str) -> Option<u64> {
 fn a_job_beyond_an_address_space_cap_is_refused_before_it_starts() {
     let dir = tempfile::tempdir().expect("temp dir");
     let path = dir.path().join("scene.hdr");
-    // 2048 × 2048: the sensor simulation estimates 224 B per pixel, about 0.94 GB, which half
-    // of this machine's memory admits and the cap does not.
-    let img = image::Rgb32FImage::from_fn(2048, 2048, |x, y| {
-        let v = 0.05 + (x as f32 / 2048.0) * (y as f32 / 2048.0);
+    // 3072 × 3072: the sensor simulation estimates 52 B per pixel, about 0.49 GB, which half
+    // of this machine's memory admits and the cap's budget does not; loading it fits the cap.
+    const SIDE: u32 = 3072;
+    let img = image::Rgb32FImage::from_fn(SIDE, SIDE, |x, y| {
+        let v = 0.05 + (x as f32 / SIDE as f32) * (y as f32 / SIDE as f32);
         image::Rgb([v, v, v])
     });
     image::DynamicImage::ImageRgb32F(img)

@@ -70,7 +70,12 @@ fn per_pixel_gain_on_a_flat_patch_saturates_as_its_mechanism_predicts() {
             .saturated
             .rows()
             .into_iter()
-            .flat_map(|row| row.iter().skip(1).copied().collect::<Vec<_>>())
+            .flat_map(|row| {
+                row.iter()
+                    .skip(1)
+                    .map(|s| f64::from(*s))
+                    .collect::<Vec<_>>()
+            })
             .collect();
         (
             chained.iter().sum::<f64>() / chained.len() as f64,
@@ -94,14 +99,12 @@ fn per_pixel_gain_on_a_flat_patch_saturates_as_its_mechanism_predicts() {
 }
 
 /// Per ROI, whether any pixel of `map` is set, recounted here independently of the core.
-fn rois_with_any(run: &SensorRun, map: &Array2<f64>) -> f64 {
+fn rois_with_any(run: &SensorRun, map: &Array2<bool>) -> f64 {
     let g = &run.grid;
     let mut hit = 0;
     for r in 0..g.rows {
         for c in 0..g.cols {
-            let any = g
-                .row_range(r)
-                .any(|y| g.col_range(c).any(|x| map[[y, x]] != 0.0));
+            let any = g.row_range(r).any(|y| g.col_range(c).any(|x| map[[y, x]]));
             hit += usize::from(any);
         }
     }

@@ -8,12 +8,12 @@ use serde_json::json;
 
 use udc_core::ValueError;
 use udc_core::sensor::{
-    AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, PRESET_NAMES, RoiLight, SensorSettings,
-    SensorSpec, Strategy, flat_patch, run,
+    AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, Held, PRESET_NAMES, RoiLight, Scene,
+    SensorSettings, SensorSpec, Strategy, StrategyResult, check_budget, flat_patch, run_with,
 };
 use udc_io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
 use udc_io::numbers::json6 as r;
-use udc_io::sensor_report::{run_json, write_run_images};
+use udc_io::sensor_report::{strategy_json, write_strategy_images, write_truth_images};
 
 /// Arguments of `udc-studio sensor`: a run on a scene, or a check (`sensor flat-patch`).
 #[derive(Debug, Args)]
@@ -308,18 +308,48 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
     if let Some(m) = args.max_side_px {
         scene = scene.downscaled(m);
     }
-    let result = run(&scene, &settings, &crate::cancel::progress())?;
+    let (rows, cols) = scene.dim();
     let mut outputs = Vec::new();
     if let Some(dir) = &args.out {
-        outputs = write_run_images(dir, &result, settings.sensor.max_gain)?;
+        // The budget first, so a refused run writes nothing.
+        let planes_beside = match settings.cfa {
+            Cfa::None => 0,
+            Cfa::Rggb => scene.planes.len(),
+        };
+        check_budget((rows, cols), planes_beside, &settings, Held::HandedOver)?;
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create the output folder {}", dir.display()))?;
         let p = dir.join("scene.exr");
         write_scene_exr(&p, &scene, ExrPrecision::Half)?;
         outputs.push(p);
     }
+    // A monochrome run needs only the luminance: hand the run that plane and let the RGB go.
+    if settings.cfa == Cfa::None && scene.planes.len() != 1 {
+        scene = Scene {
+            planes: vec![scene.luminance()],
+        };
+    }
+    let max_gain = settings.sensor.max_gain;
+    // Each strategy's images are written as it finishes, and only its numbers are kept.
+    let keep = |s: StrategyResult| -> Result<Kept> {
+        if let Some(dir) = &args.out {
+            outputs.extend(write_strategy_images(dir, &s, max_gain)?);
+        }
+        Ok(Kept::of(&s))
+    };
+    let result = run_with(
+        scene,
+        &settings,
+        &crate::cancel::progress(),
+        Held::HandedOver,
+        keep,
+    )?;
+    if let Some(dir) = &args.out {
+        outputs.extend(write_truth_images(dir, &result)?);
+    }
     let notes = report.notes();
-    let (rows, cols) = scene.dim();
     if args.json {
-        let mut v = run_json(&result);
+        let mut v = udc_io::sensor_report::run_json(&result, |k: &Kept| k.json.clone());
         if let Some(obj) = v.as_object_mut() {
             let s = &settings.sensor;
             obj.insert("hdr".into(), json!(hdr.display().to_string()));
@@ -416,11 +446,32 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         "mean bin"
     );
     for st in &result.strategies {
+        println!("{}", st.line);
+    }
+    print_channels(&result);
+    for p in &outputs {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// What the command keeps of a strategy once its images are written: its JSON and its lines of
+/// the text table.
+struct Kept {
+    json: serde_json::Value,
+    line: String,
+    channels: Option<String>,
+}
+
+impl Kept {
+    fn of(st: &StrategyResult) -> Kept {
         let (lo, hi) = st
             .gain_map
             .iter()
-            .fold((f64::INFINITY, 0.0f64), |(a, b), g| (a.min(*g), b.max(*g)));
-        println!(
+            .fold((f32::INFINITY, 0.0f32), |(a, b), g| (a.min(*g), b.max(*g)));
+        let mean_bin =
+            st.bin_map.iter().map(|b| f64::from(*b)).sum::<f64>() / st.bin_map.len().max(1) as f64;
+        let line = format!(
             "{:<22} {:>10.4} {:>9.4} {:>9.2} {:>9.2}% {:>9.1}% {:>8.1} {:>13} {:>10.2}",
             st.name,
             st.worst_roi_ssim,
@@ -430,18 +481,28 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
             100.0 * st.saturated_roi_fraction,
             st.dynamic_range_db,
             format!("{lo:.1}–{hi:.1}"),
-            st.bin_map.mean().unwrap_or(1.0)
+            mean_bin
         );
+        let channels = st.colour.as_ref().map(|colour| {
+            let mut text = format!("{:<22}", st.name);
+            for ch in &colour.channels {
+                text += &format!(
+                    " {:>17}",
+                    format!("{:.4} / {:.2}", ch.worst_roi_ssim, ch.psnr_db)
+                );
+            }
+            text
+        });
+        Kept {
+            json: strategy_json(st),
+            line,
+            channels,
+        }
     }
-    print_channels(&result);
-    for p in &outputs {
-        println!("wrote {}", p.display());
-    }
-    Ok(())
 }
 
 /// With a colour filter array, the per-channel scores under the table.
-fn print_channels(result: &udc_core::sensor::SensorRun) {
+fn print_channels(result: &udc_core::sensor::SensorRun<Kept>) {
     use udc_core::sensor::colour::CHANNEL_NAMES;
     if result.colour_truth.is_none() {
         return;
@@ -452,15 +513,7 @@ fn print_channels(result: &udc_core::sensor::SensorRun) {
         print!(" {:>17}", c);
     }
     println!();
-    for st in &result.strategies {
-        let Some(colour) = &st.colour else { continue };
-        print!("{:<22}", st.name);
-        for ch in &colour.channels {
-            print!(
-                " {:>17}",
-                format!("{:.4} / {:.2}", ch.worst_roi_ssim, ch.psnr_db)
-            );
-        }
-        println!();
+    for line in result.strategies.iter().filter_map(|k| k.channels.as_ref()) {
+        println!("{line}");
     }
 }

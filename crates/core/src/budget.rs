@@ -31,10 +31,6 @@ pub const RESTORE_FIXED_BYTES: u64 = 192 << 20;
 /// photo, 40 MB for 256 × 256).
 pub const RESTORE_CG_BYTES_PER_PIXEL: u64 = 256;
 
-/// Peak working bytes per scene pixel of the sensor simulation (four strategies' captures,
-/// maps and scores; measured: 234 MB for a 1240 × 846 scene).
-pub const SENSOR_BYTES_PER_PIXEL: u64 = 224;
-
 static MAX_MEMORY_BYTES: AtomicU64 = AtomicU64::new(DEFAULT_MAX_MEMORY_BYTES);
 
 /// Sets the budget (bytes; at least 1 MiB).

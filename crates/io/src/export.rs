@@ -13,7 +13,6 @@
 //! Every file is encoded in memory and written through a temp file and a rename, so an
 //! interrupted export never leaves half an image behind.
 
-use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 use image::{DynamicImage, GrayImage, ImageBuffer, ImageFormat, Luma, Rgb, Rgb32FImage};
@@ -21,7 +20,7 @@ use ndarray::Array2;
 
 use super::IoError;
 use super::error::TableError;
-use super::safe_file::write_atomic;
+use super::safe_file::{TempFile, open_reserved, write_atomic};
 use udc_core::analysis::analyze::{Analysis, ChannelAnalysis};
 
 /// Dynamic range of log-PSF images, in decades. A log-PSF image maps `log10(psf / peak)` linearly
@@ -65,19 +64,23 @@ fn image_size(path: &Path, psf: &Array2<f64>) -> Result<(u32, u32), IoError> {
     Ok((w, h))
 }
 
-/// Encodes an image in memory and writes it atomically.
+/// Encodes an image straight into a temp file beside `path` (no encoded copy in memory) and
+/// moves it into place.
 pub(super) fn write_image(
     path: &Path,
     img: DynamicImage,
     format: ImageFormat,
 ) -> Result<(), IoError> {
-    let mut bytes = Vec::new();
-    img.write_to(Cursor::new(&mut bytes), format)
-        .map_err(|e| IoError::Image {
-            path: path.to_path_buf(),
-            message: format!("cannot encode the {format:?} image: {e}"),
-        })?;
-    write_atomic(path, &bytes)
+    let temp = TempFile::beside(path)?;
+    let file = open_reserved(temp.path()).map_err(|e| IoError::file("write", path, e))?;
+    let mut out = std::io::BufWriter::new(file);
+    img.write_to(&mut out, format).map_err(|e| IoError::Image {
+        path: path.to_path_buf(),
+        message: format!("cannot encode the {format:?} image: {e}"),
+    })?;
+    out.into_inner()
+        .map_err(|e| IoError::file("write", path, e.into_error()))?;
+    temp.persist()
 }
 
 pub(super) fn size_mismatch(path: &Path) -> IoError {

@@ -19,8 +19,8 @@ use std::io::Cursor;
 use std::path::Path;
 
 use exr::prelude::{
-    AnyChannel, AnyChannels, Encoding, FlatSamples, Image, Layer, LayerAttributes, ReadChannels,
-    ReadLayers, WritableImage, f16,
+    AnyChannel, Encoding, FlatSamples, Image, Layer, LayerAttributes, ReadChannels, ReadLayers,
+    SpecificChannels, Vec2, WritableImage, f16,
 };
 use image::{ImageFormat, ImageReader};
 use ndarray::Array2;
@@ -28,7 +28,6 @@ use ndarray::Array2;
 use super::IoError;
 use super::error::HdrError;
 use super::photo::MAX_PHOTO_PIXELS;
-use super::safe_file::write_atomic;
 
 /// Largest HDR file read: a 4096² RGBA float EXR, uncompressed, is 268 MB.
 pub const MAX_HDR_BYTES: u64 = 512 * 1024 * 1024;
@@ -103,11 +102,14 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
         "hdr" | "pic" => false,
         _ => return Err(bad(HdrError::UnsupportedExtension { extension: ext })),
     };
-    let bytes = super::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
-    let (planes, channels) = if exr {
-        read_exr(&bytes).map_err(bad)?
-    } else {
-        read_radiance(&bytes).map_err(bad)?
+    let (planes, channels) = {
+        // The file's bytes go before the planes are widened to f64.
+        let bytes = super::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
+        if exr {
+            read_exr(&bytes).map_err(bad)?
+        } else {
+            read_radiance(&bytes).map_err(bad)?
+        }
     };
     let mut report = HdrReport {
         format: if exr { "OpenEXR" } else { "Radiance" }.into(),
@@ -224,7 +226,7 @@ fn read_radiance(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrErr
     let reader = || ImageReader::with_format(Cursor::new(bytes), ImageFormat::Hdr);
     let (w, h) = reader().into_dimensions().map_err(HdrError::Radiance)?;
     check_size(w as usize, h as usize)?;
-    let img = reader().decode().map_err(HdrError::Radiance)?.to_rgb32f();
+    let img = reader().decode().map_err(HdrError::Radiance)?.into_rgb32f();
     let (w, h) = (img.width() as usize, img.height() as usize);
     let raw = img.into_raw();
     let planes = (0..3)
@@ -271,15 +273,9 @@ pub enum ExrPrecision {
     Float,
 }
 
-fn samples(plane: &Array2<f64>, precision: ExrPrecision) -> FlatSamples {
-    match precision {
-        ExrPrecision::Half => FlatSamples::F16(plane.iter().map(|v| f16::from_f64(*v)).collect()),
-        ExrPrecision::Float => FlatSamples::F32(plane.iter().map(|v| *v as f32).collect()),
-    }
-}
-
 /// Writes planes as a ZIP-compressed scan-line EXR: three planes as `R`, `G`, `B`, one as `Y`
-/// (luminance). Values unscaled; written atomically.
+/// (luminance). Values unscaled; written atomically, encoded as the pixels are read (no copy of
+/// the samples or of the encoded file in memory).
 ///
 /// # Errors
 /// [`IoError::Image`] for a wrong number of planes, planes of different or empty sizes, or an
@@ -293,36 +289,66 @@ pub fn write_exr(
         path: path.to_path_buf(),
         message,
     };
-    let names: &[&str] = match planes.len() {
-        1 => &["Y"],
-        3 => &["R", "G", "B"],
-        n => {
-            return Err(bad(format!(
-                "{n} planes; an EXR is written from 1 (Y) or 3 (R, G, B)"
-            )));
-        }
-    };
+    if planes.len() != 1 && planes.len() != 3 {
+        return Err(bad(format!(
+            "{} planes; an EXR is written from 1 (Y) or 3 (R, G, B)",
+            planes.len()
+        )));
+    }
     let (h, w) = planes[0].dim();
     if h == 0 || w == 0 || planes.iter().any(|p| p.dim() != (h, w)) {
         return Err(bad("the planes are empty or differ in size".into()));
     }
-    let list = names
-        .iter()
-        .zip(planes)
-        .map(|(n, p)| AnyChannel::new(*n, samples(p, precision)))
-        .collect();
-    let layer = Layer::new(
-        (w, h),
-        LayerAttributes::default(),
-        Encoding::SMALL_LOSSLESS,
-        AnyChannels::sort(list),
-    );
-    let mut bytes = Vec::new();
-    Image::from_layer(layer)
-        .write()
-        .to_buffered(Cursor::new(&mut bytes))
-        .map_err(|e| bad(format!("cannot encode the EXR image: {e}")))?;
-    write_atomic(path, &bytes)
+    let temp = super::safe_file::TempFile::beside(path)?;
+    let file = super::safe_file::open_reserved(temp.path())
+        .map_err(|e| IoError::file("write", path, e))?;
+    let out = std::io::BufWriter::new(file);
+    let at = |p: &Array2<f64>, Vec2(x, y): Vec2<usize>| p[[y, x]];
+    let half = |v: f64| f16::from_f64(v);
+    // f64 to f32 is the precision asked for.
+    #[allow(clippy::cast_possible_truncation)]
+    let single = |v: f64| v as f32;
+    macro_rules! encode {
+        ($channels:expr) => {
+            Image::from_layer(Layer::new(
+                (w, h),
+                LayerAttributes::default(),
+                Encoding::SMALL_LOSSLESS,
+                $channels,
+            ))
+            .write()
+            .to_buffered(out)
+        };
+    }
+    let written = match (planes, precision) {
+        ([y], ExrPrecision::Half) => encode!(
+            SpecificChannels::build()
+                .with_channel("Y")
+                .with_pixel_fn(|p| (half(at(y, p)),))
+        ),
+        ([y], ExrPrecision::Float) => encode!(
+            SpecificChannels::build()
+                .with_channel("Y")
+                .with_pixel_fn(|p| (single(at(y, p)),))
+        ),
+        ([r, g, b], ExrPrecision::Half) => encode!(SpecificChannels::rgb(|p| (
+            half(at(r, p)),
+            half(at(g, p)),
+            half(at(b, p))
+        ))),
+        ([r, g, b], ExrPrecision::Float) => encode!(SpecificChannels::rgb(|p| (
+            single(at(r, p)),
+            single(at(g, p)),
+            single(at(b, p))
+        ))),
+        _ => {
+            return Err(bad(
+                "an EXR is written from 1 (Y) or 3 (R, G, B) planes".into()
+            ));
+        }
+    };
+    written.map_err(|e| bad(format!("cannot encode the EXR image: {e}")))?;
+    temp.persist()
 }
 
 /// Writes a scene (three planes R, G, B or one Y) as EXR; see [`write_exr`].

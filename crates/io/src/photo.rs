@@ -13,7 +13,10 @@
 use std::path::{Path, PathBuf};
 
 use image::imageops::FilterType;
-use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Rgb, Rgb32FImage, RgbImage};
+use image::{
+    DynamicImage, GrayImage, ImageBuffer, ImageFormat, ImageReader, Luma, Rgb, Rgb32FImage,
+    RgbImage,
+};
 use ndarray::Array2;
 
 use super::IoError;
@@ -310,6 +313,23 @@ pub fn write_photo_png<T: Sample>(path: &Path, planes: &[&Array2<T>]) -> Result<
     let img: RgbImage = ImageBuffer::<Rgb<u8>, _>::from_raw(w, h, interleave(planes, to_u8))
         .ok_or_else(|| size_mismatch(path))?;
     write_image(path, DynamicImage::ImageRgb8(img), ImageFormat::Png)
+}
+
+/// Writes a map as a grey 8-bit PNG, each value through `value` and clipped to `[0, 1]`: the
+/// picture of a map of any type, without a float copy of it.
+///
+/// # Errors
+/// As [`write_photo_png`].
+pub fn write_map_png<T: Copy>(
+    path: &Path,
+    map: &Array2<T>,
+    value: impl Fn(T) -> f64,
+) -> Result<(), IoError> {
+    let (w, h) = planes_size(path, &[map])?;
+    let bytes = map.iter().map(|v| to_u8(value(*v))).collect();
+    let img: GrayImage =
+        ImageBuffer::<Luma<u8>, _>::from_raw(w, h, bytes).ok_or_else(|| size_mismatch(path))?;
+    write_image(path, DynamicImage::ImageLuma8(img), ImageFormat::Png)
 }
 
 /// Writes `|a − b| · gain` per plane as an 8-bit RGB PNG (clipped at full scale); use

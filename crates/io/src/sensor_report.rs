@@ -1,7 +1,8 @@
 //! What `udc-studio sensor` produces: the JSON of a run (a contract: field names are fixed, new
 //! fields may be added, none renamed) and its images.
 //!
-//! Images written by [`write_run_images`] (grey 8-bit PNG unless stated):
+//! Images written by [`write_truth_images`] and [`write_strategy_images`] (grey 8-bit PNG
+//! unless stated):
 //! - `truth.png`: the ground truth through the display tone curve; `truth.exr`: the exposed
 //!   scene, electrons per unit pixel (float EXR, channel `Y`);
 //! - per strategy, named by its name with `/` as `_` (e.g. `vary-gain_vary-bin`):
@@ -22,36 +23,39 @@ use serde_json::{Value, json};
 use super::IoError;
 use super::hdr::{ExrPrecision, write_exr};
 use super::numbers::json6 as r;
-use super::photo::write_photo_png;
+use super::photo::{write_map_png, write_photo_png};
 use udc_core::sensor::colour::CHANNEL_NAMES;
 use udc_core::sensor::{BIN_SIZES, SensorRun, StrategyResult};
 
-fn min_max_mean(a: &Array2<f64>) -> (f64, f64, f64) {
-    let (lo, hi) = a
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(*v), hi.max(*v))
-        });
-    (lo, hi, a.mean().unwrap_or(f64::NAN))
+fn min_max_mean<T: Copy + Into<f64>>(a: &Array2<T>) -> (f64, f64, f64) {
+    let (lo, hi, sum) = a.iter().fold(
+        (f64::INFINITY, f64::NEG_INFINITY, 0.0),
+        |(lo, hi, sum), v| {
+            let v: f64 = (*v).into();
+            (lo.min(v), hi.max(v), sum + v)
+        },
+    );
+    (lo, hi, sum / a.len() as f64)
 }
 
 /// `{min, max, mean}` of a per-pixel gain map.
-pub fn gain_summary(gain: &Array2<f64>) -> Value {
+pub fn gain_summary(gain: &Array2<f32>) -> Value {
     let (lo, hi, mean) = min_max_mean(gain);
     json!({ "min": r(lo), "max": r(hi), "mean": r(mean) })
 }
 
 /// `{min, max, mean, fractions: {"1": f, "2": f, "4": f, "8": f}}` of a per-pixel bin map
 /// (fractions of the pixels in bins of each side).
-pub fn bin_summary(bin: &Array2<f64>) -> Value {
+pub fn bin_summary(bin: &Array2<u8>) -> Value {
     let (lo, hi, mean) = min_max_mean(bin);
+    let mut counts = [0usize; 256];
+    for b in bin {
+        counts[usize::from(*b)] += 1;
+    }
     let n = bin.len().max(1) as f64;
     let fractions: serde_json::Map<String, Value> = BIN_SIZES
         .iter()
-        .map(|s| {
-            let count = bin.iter().filter(|v| **v == *s as f64).count();
-            (s.to_string(), r(count as f64 / n))
-        })
+        .map(|s| (s.to_string(), r(counts[*s] as f64 / n)))
         .collect();
     json!({ "min": r(lo), "max": r(hi), "mean": r(mean), "fractions": fractions })
 }
@@ -96,8 +100,9 @@ pub fn strategy_json(s: &StrategyResult) -> Value {
 
 /// The run's numbers: image size, ROI grid, colour filter array (`cfa`: `none` or `rggb`;
 /// with one, `metrics` says the scores are on the demosaiced luminance), exposure, timing and
-/// `strategies`.
-pub fn run_json(run: &SensorRun) -> Value {
+/// `strategies`, each from what the run kept of it through `strategy` (for a kept run,
+/// [`strategy_json`]).
+pub fn run_json<S>(run: &SensorRun<S>, strategy: impl Fn(&S) -> Value) -> Value {
     let (rows, cols) = run.electrons.dim();
     let (_, max_e, mean_e) = min_max_mean(&run.electrons);
     json!({
@@ -114,7 +119,7 @@ pub fn run_json(run: &SensorRun) -> Value {
         } else {
             "luminance"
         },
-        "strategies": run.strategies.iter().map(strategy_json).collect::<Vec<_>>(),
+        "strategies": run.strategies.iter().map(strategy).collect::<Vec<_>>(),
     })
 }
 
@@ -123,64 +128,73 @@ pub fn strategy_stem(name: &str) -> String {
     name.replace('/', "_")
 }
 
-/// Writes the images listed in the module docs into `dir` (created if missing); `max_gain`
-/// scales the gain maps. Returns the paths written.
+/// Writes the ground truth's images listed in the module docs into `dir` (created if
+/// missing). Returns the paths written.
 ///
 /// # Errors
 /// [`IoError::File`] when the folder or a file cannot be written; [`IoError::Image`] when an
 /// image cannot be encoded.
-pub fn write_run_images(
+pub fn write_truth_images<S>(dir: &Path, run: &SensorRun<S>) -> Result<Vec<PathBuf>, IoError> {
+    std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
+    let tone = run.tone;
+    let mut written = vec![dir.join("truth.png")];
+    match &run.colour_truth {
+        Some(t) => write_photo_png(&written[0], &t.display_rgb(&tone).each_ref())?,
+        None => write_map_png(&written[0], &run.electrons, |v| tone.value(v))?,
+    }
+    let p = dir.join("truth.exr");
+    write_exr(&p, &[&run.electrons], ExrPrecision::Float)?;
+    written.push(p);
+    if let Some(t) = &run.colour_truth {
+        let p = dir.join("truth_rgb.exr");
+        write_exr(&p, &t.rgb_e.each_ref(), ExrPrecision::Float)?;
+        written.push(p);
+    }
+    Ok(written)
+}
+
+/// Writes one strategy's images listed in the module docs into `dir` (created if missing);
+/// `max_gain` scales the gain map. Returns the paths written.
+///
+/// # Errors
+/// As [`write_truth_images`].
+pub fn write_strategy_images(
     dir: &Path,
-    run: &SensorRun,
+    s: &StrategyResult,
     max_gain: f64,
 ) -> Result<Vec<PathBuf>, IoError> {
     std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
+    let stem = strategy_stem(&s.name);
+    let path = |suffix: &str| dir.join(format!("{stem}_{suffix}"));
     let mut written = Vec::new();
-    let mut png = |name: String, planes: &[&Array2<f64>]| -> Result<(), IoError> {
-        let p = dir.join(name);
-        write_photo_png(&p, planes)?;
-        written.push(p);
-        Ok(())
-    };
-    match &run.colour_truth {
-        Some(t) => png("truth.png".into(), &t.display_rgb.each_ref())?,
-        None => png("truth.png".into(), &[&run.truth_display])?,
+    let p = path("capture.png");
+    match &s.colour {
+        Some(c) => write_photo_png(&p, &c.display_rgb(&s.tone).each_ref())?,
+        None => write_map_png(&p, &s.capture, |v| s.tone.value(v))?,
     }
+    written.push(p);
     let log_max = max_gain.max(1.0).ln();
-    for s in &run.strategies {
-        let stem = strategy_stem(&s.name);
-        match &s.colour {
-            Some(c) => png(format!("{stem}_capture.png"), &c.display_rgb.each_ref())?,
-            None => png(format!("{stem}_capture.png"), &[&s.display])?,
-        }
-        let gain = if log_max > 0.0 {
-            s.gain_map.mapv(|g| g.max(1.0).ln() / log_max)
+    let p = path("gain.png");
+    write_map_png(&p, &s.gain_map, |g| {
+        if log_max > 0.0 {
+            f64::from(g).max(1.0).ln() / log_max
         } else {
-            s.gain_map.mapv(|_| 0.0)
-        };
-        png(format!("{stem}_gain.png"), &[&gain])?;
-        png(
-            format!("{stem}_bins.png"),
-            &[&s.bin_map.mapv(|b| b.max(1.0).log2() / 3.0)],
-        )?;
-        png(format!("{stem}_saturated.png"), &[&s.saturated])?;
-    }
-    let mut exrs = vec![(dir.join("truth.exr"), vec![&run.electrons])];
-    if let Some(t) = &run.colour_truth {
-        exrs.push((dir.join("truth_rgb.exr"), t.rgb_e.iter().collect()));
-    }
-    for s in &run.strategies {
-        let stem = strategy_stem(&s.name);
-        exrs.push((dir.join(format!("{stem}_capture.exr")), vec![&s.capture]));
-        if let Some(c) = &s.colour {
-            exrs.push((
-                dir.join(format!("{stem}_capture_rgb.exr")),
-                c.rgb_e.iter().collect(),
-            ));
+            0.0
         }
-    }
-    for (p, planes) in exrs {
-        write_exr(&p, &planes, ExrPrecision::Float)?;
+    })?;
+    written.push(p);
+    let p = path("bins.png");
+    write_map_png(&p, &s.bin_map, |b| f64::from(b.max(1)).log2() / 3.0)?;
+    written.push(p);
+    let p = path("saturated.png");
+    write_map_png(&p, &s.saturated, |v| f64::from(u8::from(v)))?;
+    written.push(p);
+    let p = path("capture.exr");
+    write_exr(&p, &[&s.capture], ExrPrecision::Float)?;
+    written.push(p);
+    if let Some(c) = &s.colour {
+        let p = path("capture_rgb.exr");
+        write_exr(&p, &c.rgb_e.each_ref(), ExrPrecision::Float)?;
         written.push(p);
     }
     Ok(written)

@@ -2,26 +2,9 @@
 //! shows (RGB on a Bayer sensor, grey otherwise) and the per-channel scores.
 
 use egui::Ui;
-use ndarray::Array2;
 
 use crate::core::sensor::colour::CHANNEL_NAMES;
-use crate::core::sensor::{Cfa, SensorRun, StrategyResult};
-
-/// The display planes of a strategy's capture: R, G, B on a colour sensor, else its luminance.
-pub fn display_planes(s: &StrategyResult) -> Vec<&Array2<f64>> {
-    match &s.colour {
-        Some(c) => c.display_rgb.iter().collect(),
-        None => vec![&s.display],
-    }
-}
-
-/// The display planes of the run's ground truth (see [`display_planes`]).
-pub fn truth_planes(run: &SensorRun) -> Vec<&Array2<f64>> {
-    match &run.colour_truth {
-        Some(t) => t.display_rgb.iter().collect(),
-        None => vec![&run.truth_display],
-    }
-}
+use crate::core::sensor::{Cfa, SensorRun};
 
 /// A row of the settings grid: the colour filter array.
 pub fn cfa_row_ui(ui: &mut Ui, cfa: &mut Cfa) {

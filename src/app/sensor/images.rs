@@ -34,7 +34,7 @@ pub fn gain_color(g: f64, max_gain: f64) -> Color32 {
     Colormap::Viridis.color(t as f32)
 }
 
-pub fn image_of(a: &Array2<f64>, color: impl Fn(f64) -> Color32) -> ColorImage {
+pub fn image_of<T: Copy>(a: &Array2<T>, color: impl Fn(T) -> Color32) -> ColorImage {
     let (h, w) = a.dim();
     ColorImage::new([w, h], a.iter().map(|v| color(*v)).collect())
 }
@@ -45,7 +45,7 @@ pub fn grey(v: f64) -> Color32 {
 }
 
 /// The colour of pixel `(y, x)` of one (grey) or three (R, G, B) display planes in `[0, 1]`.
-fn pixel(planes: &[&Array2<f64>], y: usize, x: usize) -> Color32 {
+fn pixel(planes: &[Array2<f64>], y: usize, x: usize) -> Color32 {
     let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
     match planes {
         [r, g, b] => Color32::from_rgb(byte(r[[y, x]]), byte(g[[y, x]]), byte(b[[y, x]])),
@@ -55,7 +55,7 @@ fn pixel(planes: &[&Array2<f64>], y: usize, x: usize) -> Color32 {
 }
 
 /// One (grey) or three (R, G, B) display planes as an image.
-pub fn display_image(planes: &[&Array2<f64>]) -> ColorImage {
+pub fn display_image(planes: &[Array2<f64>]) -> ColorImage {
     let (h, w) = planes.first().map_or((0, 0), |p| p.dim());
     let pixels = (0..h)
         .flat_map(|y| (0..w).map(move |x| (y, x)))
@@ -66,7 +66,7 @@ pub fn display_image(planes: &[&Array2<f64>]) -> ColorImage {
 
 /// `a` left of column `split`, `b` from it on (the split-slider comparison); each one (grey)
 /// or three (R, G, B) display planes of one size.
-pub fn split_image(a: &[&Array2<f64>], b: &[&Array2<f64>], split_col: usize) -> ColorImage {
+pub fn split_image(a: &[Array2<f64>], b: &[Array2<f64>], split_col: usize) -> ColorImage {
     let (h, w) = a.first().map_or((0, 0), |p| p.dim());
     let mut pixels = Vec::with_capacity(h * w);
     for y in 0..h {
@@ -96,12 +96,12 @@ impl RunTextures {
             .strategies
             .iter()
             .flat_map(|s| s.gain_map.iter())
-            .fold(1.0f64, |m, g| m.max(*g));
+            .fold(1.0f64, |m, g| m.max(f64::from(*g)));
         let up =
             |name: String, img: ColorImage| ctx.load_texture(name, img, TextureOptions::NEAREST);
         let truth = up(
             format!("sensor-{generation}-truth"),
-            display_image(&super::colour::truth_planes(run)),
+            display_image(&run.truth_display_planes()),
         );
         let strategies = run
             .strategies
@@ -111,20 +111,20 @@ impl RunTextures {
                 [
                     up(
                         format!("sensor-{generation}-{i}-capture"),
-                        display_image(&super::colour::display_planes(s)),
+                        display_image(&s.display_planes()),
                     ),
                     up(
                         format!("sensor-{generation}-{i}-gain"),
-                        image_of(&s.gain_map, |g| gain_color(g, max_gain)),
+                        image_of(&s.gain_map, |g| gain_color(f64::from(g), max_gain)),
                     ),
                     up(
                         format!("sensor-{generation}-{i}-bin"),
-                        image_of(&s.bin_map, bin_color),
+                        image_of(&s.bin_map, |b| bin_color(f64::from(b))),
                     ),
                     up(
                         format!("sensor-{generation}-{i}-saturated"),
                         image_of(&s.saturated, |v| {
-                            if v > 0.5 {
+                            if v {
                                 Color32::from_rgb(255, 40, 40)
                             } else {
                                 Color32::from_gray(20)

@@ -13,11 +13,11 @@ use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, pitch};
 /// A zoomable picture in pixel coordinates (x right, y up with row 0 at the top), a hover
 /// readout of `values`, and the ROI grid.
 #[allow(clippy::too_many_arguments)]
-fn picture(
+fn picture<T: Copy + Into<f64>>(
     ui: &mut Ui,
     id: &str,
     texture: &TextureHandle,
-    values: &Array2<f64>,
+    values: &Array2<T>,
     value_name: &str,
     roi_px: Option<usize>,
     link: Id,
@@ -33,7 +33,7 @@ fn picture(
         if col < 0.0 || row < 0.0 || col >= w as f64 || row >= h as f64 {
             return None;
         }
-        let v = values[[row as usize, col as usize]];
+        let v: f64 = values[[row as usize, col as usize]].into();
         Some(format!("row {row}, col {col}\n{value_name} = {v:.4}"))
     };
     Plot::new(id)
@@ -312,7 +312,7 @@ impl SensorWorkspace {
         let link = ui.make_persistent_id("sensor-maps");
         let avail = ui.available_width();
         let side = ((avail - 24.0) / 2.0).max(120.0);
-        let (h, w) = run.truth_display.dim();
+        let (h, w) = run.electrons.dim();
         let size = vec2(side, side * h as f32 / w.max(1) as f32);
         // The scale the textures were drawn with (shared by all strategies), not recomputed per frame.
         let max_gain = shown.textures.max_gain;
@@ -329,8 +329,8 @@ impl SensorWorkspace {
                         ui,
                         "truth",
                         &shown.textures.truth,
-                        &run.truth_display,
-                        "display",
+                        &run.electrons,
+                        "light, e⁻",
                         roi,
                         link,
                         size,
@@ -338,7 +338,14 @@ impl SensorWorkspace {
                 });
                 cell(ui, &format!("Capture: {}", s.name), &mut |ui| {
                     picture(
-                        ui, "capture", &tex[0], &s.display, "display", roi, link, size,
+                        ui,
+                        "capture",
+                        &tex[0],
+                        &s.capture,
+                        "estimate, e⁻",
+                        roi,
+                        link,
+                        size,
                     );
                 });
             });
@@ -423,7 +430,7 @@ impl SensorWorkspace {
         ));
         let roi = self.roi_grid.then_some(run.roi_px);
         let link = ui.make_persistent_id("sensor-compare");
-        let (h, w) = a.display.dim();
+        let (h, w) = a.capture.dim();
         match self.compare_mode {
             CompareMode::SideBySide => {
                 let side = ((ui.available_width() - 24.0) / 2.0).max(120.0);
@@ -435,19 +442,15 @@ impl SensorWorkspace {
                     return;
                 };
                 ui.horizontal(|ui| {
-                    picture(ui, "cmp-a", &ta[0], &a.display, "A", roi, link, size);
-                    picture(ui, "cmp-b", &tb[0], &b.display, "B", roi, link, size);
+                    picture(ui, "cmp-a", &ta[0], &a.capture, "A, e⁻", roi, link, size);
+                    picture(ui, "cmp-b", &tb[0], &b.capture, "B, e⁻", roi, link, size);
                 });
             }
             CompareMode::Split => {
                 let split_col = ((self.split * w as f32) as usize).min(w);
                 let key = (shown.generation, shown.quality, ia, ib, split_col as u32);
                 if self.split_texture.as_ref().is_none_or(|(k, _)| *k != key) {
-                    let img = split_image(
-                        &super::colour::display_planes(a),
-                        &super::colour::display_planes(b),
-                        split_col,
-                    );
+                    let img = split_image(&a.display_planes(), &b.display_planes(), split_col);
                     let tex =
                         ui.ctx()
                             .load_texture("sensor-split", img, egui::TextureOptions::NEAREST);
@@ -459,7 +462,7 @@ impl SensorWorkspace {
                     (side * h as f32 / w.max(1) as f32).min(ui.available_height()),
                 );
                 if let Some((_, tex)) = &self.split_texture {
-                    picture(ui, "cmp-split", tex, &a.display, "A", roi, link, size);
+                    picture(ui, "cmp-split", tex, &a.capture, "A, e⁻", roi, link, size);
                 }
             }
         }

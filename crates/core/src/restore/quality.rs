@@ -57,7 +57,8 @@ fn squared_error<A: Sample, B: Sample>(a: ArrayView2<'_, A>, b: ArrayView2<'_, B
     (rows.iter().sum(), a.len())
 }
 
-fn psnr_of(sse: f64, n: usize, peak: f64) -> f64 {
+/// `10 log10(peak² / MSE)` of a sum of squared errors over `n` pixels; `+∞` when it is 0.
+pub(crate) fn psnr_of(sse: f64, n: usize, peak: f64) -> f64 {
     let mse = sse / n as f64;
     if mse == 0.0 {
         f64::INFINITY

@@ -64,12 +64,34 @@ pub fn read_sigma_e(
 pub struct Readout {
     /// `l̂` per unit pixel, electrons.
     pub estimate_e: Array2<f64>,
-    /// 1 where the pixel's (or its bin's) code hit the top, else 0.
-    pub saturated: Array2<f64>,
+    /// Whether the pixel's (or its bin's) code hit the top.
+    pub saturated: Array2<bool>,
     /// The pixel gain `g` (additive bins are read at the `ĝ` of their [`AdditiveGain`]).
-    pub gain: Array2<f64>,
-    /// Side of the bin that holds the pixel.
-    pub bin: Array2<f64>,
+    pub gain: Array2<f32>,
+    /// Side of the bin that holds the pixel, unit pixels (one of [`super::BIN_SIZES`]).
+    pub bin: Array2<u8>,
+}
+
+impl Readout {
+    /// The fraction of pixels that saturated.
+    pub fn saturated_fraction(&self) -> f64 {
+        fraction_true(&self.saturated)
+    }
+}
+
+/// The fraction of `true` in `map` (0 for an empty one).
+pub fn fraction_true(map: &Array2<bool>) -> f64 {
+    let count: usize = map
+        .axis_iter(Axis(0))
+        .into_par_iter()
+        .map(|row| row.iter().filter(|s| **s).count())
+        .sum();
+    count as f64 / map.len().max(1) as f64
+}
+
+/// A bin side as the bin map stores it (sides are at most 8; validated with the settings).
+pub(crate) fn bin_side(n: usize) -> u8 {
+    u8::try_from(n).unwrap_or(u8::MAX)
 }
 
 /// Reads `frame` ROI by ROI: ROI `(r, c)` at pixel gain `roi_gain[[r, c]]` in bins of
@@ -116,9 +138,9 @@ pub fn read_regions(
 /// the bottom, by `grid.dim.1`), in the order of [`Readout`]'s fields.
 pub(crate) struct BandMaps<'a> {
     pub est: ArrayViewMut2<'a, f64>,
-    pub sat: ArrayViewMut2<'a, f64>,
-    pub gain: ArrayViewMut2<'a, f64>,
-    pub bin: ArrayViewMut2<'a, f64>,
+    pub sat: ArrayViewMut2<'a, bool>,
+    pub gain: ArrayViewMut2<'a, f32>,
+    pub bin: ArrayViewMut2<'a, u8>,
 }
 
 /// The frame of every region readout (monochrome here, Bayer in `cfa`): checks the maps'
@@ -138,8 +160,10 @@ pub(crate) fn read_by_bands(
     assert_eq!(roi_gain.dim(), (grid.rows, grid.cols), "one gain per ROI");
     assert_eq!(roi_bin.dim(), (grid.rows, grid.cols), "one bin per ROI");
     assert_eq!(frame.charge_e.dim(), grid.dim, "a frame of the grid's size");
-    let mut out: [Array2<f64>; 4] = std::array::from_fn(|_| Array2::zeros(grid.dim));
-    let [est, sat, gain, bin] = &mut out;
+    let mut est = Array2::<f64>::zeros(grid.dim);
+    let mut sat = Array2::from_elem(grid.dim, false);
+    let mut gain = Array2::<f32>::zeros(grid.dim);
+    let mut bin = Array2::<u8>::zeros(grid.dim);
     let band = grid.roi_px;
     est.axis_chunks_iter_mut(Axis(0), band)
         .into_par_iter()
@@ -158,10 +182,9 @@ pub(crate) fn read_by_bands(
                 },
             );
         });
-    let [estimate_e, saturated, gain, bin] = out;
     Readout {
-        estimate_e,
-        saturated,
+        estimate_e: est,
+        saturated: sat,
         gain,
         bin,
     }
@@ -170,9 +193,9 @@ pub(crate) fn read_by_bands(
 /// One band of ROI rows of the four output maps, row-major, `grid.dim.1` wide.
 struct Band<'a> {
     est: &'a mut [f64],
-    sat: &'a mut [f64],
-    gain: &'a mut [f64],
-    bin: &'a mut [f64],
+    sat: &'a mut [bool],
+    gain: &'a mut [f32],
+    bin: &'a mut [u8],
 }
 
 /// Reads ROI row `r` into `out` (see [`read_regions`]).
@@ -196,8 +219,8 @@ fn read_band(
         let n = roi_bin[[r, c]].max(1);
         for y in rows.clone() {
             let o = (y - y0) * w;
-            out.gain[o + cols.start..o + cols.end].fill(g);
-            out.bin[o + cols.start..o + cols.end].fill(n as f64);
+            out.gain[o + cols.start..o + cols.end].fill(g as f32);
+            out.bin[o + cols.start..o + cols.end].fill(bin_side(n));
         }
         if n == 1 {
             for y in rows.clone() {
@@ -205,7 +228,7 @@ fn read_band(
                 for x in cols.clone() {
                     let read = read_pixel(charge[i + x], post[i + x], g, adc);
                     out.est[o + x] = read.estimate_e;
-                    out.sat[o + x] = f64::from(u8::from(read.saturated));
+                    out.sat[o + x] = read.saturated;
                 }
             }
             continue;
@@ -239,7 +262,7 @@ fn read_band(
                 for y in ys.clone() {
                     let o = (y - y0) * w;
                     out.est[o + xs.start..o + xs.end].fill(read.estimate_e);
-                    out.sat[o + xs.start..o + xs.end].fill(f64::from(u8::from(read.saturated)));
+                    out.sat[o + xs.start..o + xs.end].fill(read.saturated);
                 }
             }
         }

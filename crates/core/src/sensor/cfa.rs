@@ -33,7 +33,7 @@ use ndarray::{Array2, ArrayView2, Axis};
 use rand_distr::{Distribution, StandardNormal};
 use rayon::prelude::*;
 
-use super::binning::{BandMaps, Readout, read_by_bands};
+use super::binning::{BandMaps, Readout, bin_side, read_by_bands};
 use super::gain::{SNAPSHOT_BLOCK_PX, Snapshot};
 use super::noise::{Adc, Frame, photons, read_analog, read_bin, read_pixel, row_rng, stream};
 use super::roi::RoiGrid;
@@ -149,8 +149,8 @@ pub fn read_regions(
             let (roi_g, n) = (roi_gain[[r, c]], roi_bin[[r, c]].max(1));
             for y in rows.clone() {
                 for x in cols.clone() {
-                    g[[y - y0, x]] = roi_g;
-                    b[[y - y0, x]] = n as f64;
+                    g[[y - y0, x]] = roi_g as f32;
+                    b[[y - y0, x]] = bin_side(n);
                 }
             }
             if n == 1 {
@@ -164,7 +164,7 @@ pub fn read_regions(
                             adc,
                         );
                         e[[y - y0, x]] = rd.estimate_e;
-                        s[[y - y0, x]] = f64::from(u8::from(rd.saturated));
+                        s[[y - y0, x]] = rd.saturated;
                     }
                 }
                 continue;
@@ -188,7 +188,7 @@ pub fn read_regions(
                         let read = read_bin(mode, amp, &charges, &posts, adc);
                         for (y, x) in &sites {
                             e[[y - y0, *x]] = read.estimate_e;
-                            s[[y - y0, *x]] = f64::from(u8::from(read.saturated));
+                            s[[y - y0, *x]] = read.saturated;
                         }
                     }
                 }

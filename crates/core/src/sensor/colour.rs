@@ -33,10 +33,13 @@ use crate::SimError;
 /// Channel names in plane order.
 pub const CHANNEL_NAMES: [&str; 3] = ["R", "G", "B"];
 
-/// Working bytes per scene pixel that a colour run adds to a monochrome one with four
-/// strategies: the truth's RGB electrons, displays and mosaic (7 planes), and per strategy its
-/// mosaic, demosaiced RGB and RGB displays (7 planes each), of 8 bytes.
-pub const EXTRA_BYTES_PER_PIXEL: u64 = (7 + 4 * 7) * 8;
+/// Working bytes per scene pixel that a colour run adds to a monochrome one: the truth's RGB
+/// electrons and mosaic (4 planes of 8 bytes); [`KEPT_BYTES_PER_PIXEL`] per strategy kept.
+pub const EXTRA_BYTES_PER_PIXEL: u64 = 4 * 8;
+
+/// What a kept strategy's colour capture adds per scene pixel: its mosaic and demosaiced RGB
+/// (4 planes of 8 bytes).
+pub const KEPT_BYTES_PER_PIXEL: u64 = 4 * 8;
 
 /// One channel's scores, as [`super::StrategyResult`]'s for luminance.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,10 +57,15 @@ pub struct ChannelScores {
 pub struct ColourTruth {
     /// Expected electrons per site under each filter, `[R, G, B]` (noise-free, not clipped).
     pub rgb_e: [Array2<f64>; 3],
-    /// `rgb_e` through the tone curve, `[0, 1]`.
-    pub display_rgb: [Array2<f64>; 3],
     /// The expected electrons of the RGGB mosaic: what the sensor is exposed to.
     pub mosaic_e: Array2<f64>,
+}
+
+impl ColourTruth {
+    /// `rgb_e` through the tone curve, `[0, 1]`.
+    pub fn display_rgb(&self, tone: &ToneCurve) -> [Array2<f64>; 3] {
+        self.rgb_e.each_ref().map(|p| tone.apply(p))
+    }
 }
 
 /// One strategy's colour capture.
@@ -67,10 +75,15 @@ pub struct ColourCapture {
     pub mosaic_e: Array2<f64>,
     /// The demosaiced capture, `[R, G, B]`, electrons.
     pub rgb_e: [Array2<f64>; 3],
-    /// `rgb_e` through the tone curve, `[0, 1]`.
-    pub display_rgb: [Array2<f64>; 3],
     /// Scores of each channel against the truth's, `[R, G, B]`.
     pub channels: [ChannelScores; 3],
+}
+
+impl ColourCapture {
+    /// `rgb_e` through the tone curve, `[0, 1]`.
+    pub fn display_rgb(&self, tone: &ToneCurve) -> [Array2<f64>; 3] {
+        self.rgb_e.each_ref().map(|p| tone.apply(p))
+    }
 }
 
 /// The expected electrons of a colour run: `[R, G, B]` planes of `scene` times
@@ -88,18 +101,6 @@ pub(super) fn expose(
     };
     let mosaic = cfa::mosaic([&rgb[0], &rgb[1], &rgb[2]]);
     (rgb, mosaic)
-}
-
-/// The truth of a colour run from [`expose`]'s planes.
-pub(super) fn truth(
-    (rgb_e, mosaic_e): ([Array2<f64>; 3], Array2<f64>),
-    tone: &ToneCurve,
-) -> ColourTruth {
-    ColourTruth {
-        display_rgb: [0, 1, 2].map(|c| tone.apply(&rgb_e[c])),
-        rgb_e,
-        mosaic_e,
-    }
 }
 
 /// The luminance of three planes.
@@ -133,14 +134,13 @@ pub(super) fn develop(
         return Ok((readout, None));
     };
     let rgb_e = demosaic_rggb(&readout.estimate_e);
-    let display_rgb = [0, 1, 2].map(|c| tone.apply(&rgb_e[c]));
     let mut channels = [ChannelScores {
         worst_roi_ssim: 0.0,
         mean_ssim: 0.0,
         psnr_db: 0.0,
     }; 3];
     for (c, out) in channels.iter_mut().enumerate() {
-        let s = metrics::score(&display_rgb[c], &truth.display_rgb[c], grid)?;
+        let s = metrics::score(&rgb_e[c], &truth.rgb_e[c], tone, grid)?;
         *out = ChannelScores {
             worst_roi_ssim: s.worst_roi_ssim,
             mean_ssim: s.mean_ssim,
@@ -153,7 +153,6 @@ pub(super) fn develop(
         Some(ColourCapture {
             mosaic_e,
             rgb_e,
-            display_rgb,
             channels,
         }),
     ))

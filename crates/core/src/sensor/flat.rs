@@ -255,7 +255,8 @@ pub fn flat_patch(
     let side = spec.side_px;
     crate::budget::check(
         &format!("a {side}×{side} flat patch"),
-        ((side * side) as u64).saturating_mul(crate::budget::SENSOR_BYTES_PER_PIXEL),
+        ((side * side) as u64)
+            .saturating_mul(super::FIXED_BYTES_PER_PIXEL + super::STRATEGY_BYTES_PER_PIXEL),
         "use a smaller patch",
     )?;
     progress.set(0.0);
@@ -307,7 +308,7 @@ pub fn flat_patch(
     Ok(FlatPatch {
         gain: g,
         amplifier_gain,
-        saturated_fraction: readout.saturated.mean().unwrap_or(0.0),
+        saturated_fraction: readout.saturated_fraction(),
         predicted,
         gaussian_tail: upper_tail(spec.eta),
         readouts,

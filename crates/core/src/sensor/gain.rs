@@ -174,8 +174,9 @@ pub fn read_per_pixel_interleaved(
     let stride = stride.max(1);
     let adc = Adc::of(sensor);
     let dim = frame.charge_e.dim();
-    let mut out: [Array2<f64>; 3] = std::array::from_fn(|_| Array2::zeros(dim));
-    let [est, sat, gain] = &mut out;
+    let mut est = Array2::<f64>::zeros(dim);
+    let mut sat = Array2::from_elem(dim, false);
+    let mut gain = Array2::<f32>::zeros(dim);
     est.axis_iter_mut(Axis(0))
         .into_par_iter()
         .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
@@ -188,8 +189,8 @@ pub fn read_per_pixel_interleaved(
                 let g = next_gain[x % stride];
                 let r = read_pixel(c_row[x], p_row[x], g, &adc);
                 e_row[x] = r.estimate_e;
-                s_row[x] = if r.saturated { 1.0 } else { 0.0 };
-                g_row[x] = g;
+                s_row[x] = r.saturated;
+                g_row[x] = g as f32;
                 next_gain[x % stride] = if r.saturated {
                     1.0
                 } else {
@@ -197,10 +198,9 @@ pub fn read_per_pixel_interleaved(
                 };
             }
         });
-    let [estimate_e, saturated, gain] = out;
     Readout {
-        estimate_e,
-        saturated,
+        estimate_e: est,
+        saturated: sat,
         bin: Array2::ones(dim),
         gain,
     }
@@ -248,7 +248,7 @@ pub fn read_alternating_row_groups(
         })
         .collect();
     let mut est = Array2::<f64>::zeros(dim);
-    let mut sat = Array2::<f64>::zeros(dim);
+    let mut sat = Array2::from_elem(dim, false);
     est.axis_iter_mut(Axis(0))
         .into_par_iter()
         .zip(sat.axis_iter_mut(Axis(0)).into_par_iter())
@@ -275,13 +275,13 @@ pub fn read_alternating_row_groups(
                     (own_e[x], own_s[x])
                 };
                 e_row[x] = value;
-                s_row[x] = if saturated { 1.0 } else { 0.0 };
+                s_row[x] = saturated;
             }
         });
     Readout {
         estimate_e: est,
         saturated: sat,
-        gain: Array2::from_shape_fn(dim, |(y, _)| row_gain(y)),
+        gain: Array2::from_shape_fn(dim, |(y, _)| row_gain(y) as f32),
         bin: Array2::ones(dim),
     }
 }

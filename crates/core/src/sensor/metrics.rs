@@ -2,12 +2,12 @@
 //! over the image, SSIM per ROI (worst and mean), both after the tone curve. SSIM and PSNR are
 //! [`crate::restore::quality`]'s.
 
-use ndarray::{Array2, ArrayView2, Axis, Slice};
+use ndarray::{Array2, Axis, Slice};
 use rayon::prelude::*;
 
 use super::roi::RoiGrid;
 use crate::SimError;
-use crate::restore::quality::{SSIM_RADIUS_PX, psnr_db, ssim};
+use crate::restore::quality::{SSIM_RADIUS_PX, psnr_of, ssim};
 
 /// The SSIM window's side: the smallest image (and ROI) that can be scored.
 pub const SSIM_WINDOW_PX: usize = 2 * SSIM_RADIUS_PX + 1;
@@ -65,53 +65,123 @@ pub struct Scores {
     pub psnr_db: f64,
 }
 
-fn crop<'a>(
-    a: &'a Array2<f64>,
+/// `tone` over the `rows × cols` crop of `image_e`.
+fn toned_crop(
+    image_e: &Array2<f64>,
+    tone: &ToneCurve,
     rows: std::ops::Range<usize>,
     cols: std::ops::Range<usize>,
-) -> ArrayView2<'a, f64> {
-    a.slice_axis(Axis(0), Slice::from(rows))
+) -> Array2<f64> {
+    image_e
+        .slice_axis(Axis(0), Slice::from(rows))
         .slice_axis_move(Axis(1), Slice::from(cols))
+        .mapv(|v| tone.value(v))
 }
 
-/// Scores a tone-mapped capture against the tone-mapped truth over the ROIs of `grid`.
+/// Scores a capture against the truth, both in electrons, through the tone curve `tone`,
+/// over the ROIs of `grid`. The tone-mapped images are made an ROI at a time, never whole; the
+/// SSIMs are those of the whole tone-mapped images bit for bit, the PSNR to rounding (its
+/// squared errors are summed ROI by ROI).
 ///
 /// # Errors
 /// [`SimError::InvalidField`] (`image`) when the sizes differ or are smaller than the SSIM
 /// window.
 pub fn score(
-    display: &Array2<f64>,
-    truth: &Array2<f64>,
+    capture_e: &Array2<f64>,
+    truth_e: &Array2<f64>,
+    tone: &ToneCurve,
     grid: &RoiGrid,
 ) -> Result<Scores, SimError> {
-    let (h, w) = truth.dim();
-    let per_roi: Vec<Result<(f64, f64), SimError>> = (0..grid.rows * grid.cols)
+    let (h, w) = truth_e.dim();
+    if capture_e.dim() != (h, w) {
+        return Err(SimError::field(
+            "image",
+            format!(
+                "the capture is {:?} pixels, the truth {:?}",
+                capture_e.dim(),
+                (h, w)
+            ),
+        ));
+    }
+    let per_roi: Vec<Result<(f64, f64, f64), SimError>> = (0..grid.rows * grid.cols)
         .into_par_iter()
         .map(|k| {
             let (r, c) = (k / grid.cols, k % grid.cols);
             let (rows, cols) = (grid.row_range(r), grid.col_range(c));
             let area = (rows.len() * cols.len()) as f64;
-            let rows = RoiGrid::widened(rows, SSIM_WINDOW_PX, h);
-            let cols = RoiGrid::widened(cols, SSIM_WINDOW_PX, w);
-            let s = ssim(
-                crop(display, rows.clone(), cols.clone()),
-                crop(truth, rows, cols),
-            )?;
-            Ok((s, area))
+            let wide_rows = RoiGrid::widened(rows.clone(), SSIM_WINDOW_PX, h);
+            let wide_cols = RoiGrid::widened(cols.clone(), SSIM_WINDOW_PX, w);
+            let (y0, x0) = (wide_rows.start, wide_cols.start);
+            let a = toned_crop(capture_e, tone, wide_rows.clone(), wide_cols.clone());
+            let b = toned_crop(truth_e, tone, wide_rows, wide_cols);
+            let s = ssim(a.view(), b.view())?;
+            // The squared error over the ROI itself (the widened crop may reach into others).
+            let mut sse = 0.0;
+            for y in rows {
+                for x in cols.clone() {
+                    let d = a[[y - y0, x - x0]] - b[[y - y0, x - x0]];
+                    sse += d * d;
+                }
+            }
+            Ok((s, area, sse))
         })
         .collect();
     let mut roi_ssim = Array2::<f64>::zeros((grid.rows, grid.cols));
-    let (mut weighted, mut total) = (0.0, 0.0);
+    let (mut weighted, mut total, mut sse) = (0.0, 0.0, 0.0);
     for (k, r) in per_roi.into_iter().enumerate() {
-        let (s, area) = r?;
+        let (s, area, e) = r?;
         roi_ssim[[k / grid.cols, k % grid.cols]] = s;
         weighted += s * area;
         total += area;
+        sse += e;
     }
     Ok(Scores {
         worst_roi_ssim: roi_ssim.iter().copied().fold(f64::INFINITY, f64::min),
         mean_ssim: weighted / total.max(1.0),
         roi_ssim,
-        psnr_db: psnr_db(display.view(), truth.view(), 1.0)?,
+        psnr_db: psnr_of(sse, h * w, 1.0),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::restore::quality::psnr_db;
+
+    /// The ROI-at-a-time scores equal those of the whole tone-mapped images: SSIM per ROI bit
+    /// for bit, PSNR to rounding.
+    #[test]
+    fn scores_equal_those_of_the_whole_toned_images() {
+        let truth = Array2::from_shape_fn((70, 90), |(y, x)| 50.0 + (x * y % 37) as f64 * 9.0);
+        let capture = truth.mapv(|v| v * 1.07 - 3.0 + (v * 13.0).sin() * 8.0);
+        let tone = ToneCurve {
+            scale: 0.05 / truth.mean().unwrap_or(1.0),
+            gamma: 0.3125,
+        };
+        let grid = RoiGrid::new(truth.dim(), 32);
+        let s = score(&capture, &truth, &tone, &grid).expect("same size");
+        let (d, t) = (tone.apply(&capture), tone.apply(&truth));
+        let whole = psnr_db(d.view(), t.view(), 1.0).expect("same size");
+        assert!(
+            (s.psnr_db - whole).abs() < 1e-12 * whole,
+            "{} vs {whole}",
+            s.psnr_db
+        );
+        for r in 0..grid.rows {
+            for c in 0..grid.cols {
+                let rows = RoiGrid::widened(grid.row_range(r), SSIM_WINDOW_PX, 70);
+                let cols = RoiGrid::widened(grid.col_range(c), SSIM_WINDOW_PX, 90);
+                let crop = |a: &Array2<f64>| {
+                    a.slice_axis(Axis(0), Slice::from(rows.clone()))
+                        .slice_axis_move(Axis(1), Slice::from(cols.clone()))
+                        .to_owned()
+                };
+                let whole = ssim(crop(&d).view(), crop(&t).view()).expect("big enough");
+                assert_eq!(s.roi_ssim[[r, c]], whole, "ROI ({r}, {c})");
+            }
+        }
+        assert!(s.worst_roi_ssim < 1.0 && s.worst_roi_ssim > 0.0);
+        let bad = Array2::<f64>::zeros((70, 89));
+        assert!(score(&bad, &truth, &tone, &grid).is_err());
+    }
 }

@@ -49,7 +49,7 @@ pub mod settings;
 pub mod spec;
 pub mod study;
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::borrow::Cow;
 use std::time::Instant;
 
 use ndarray::{Array2, Axis};
@@ -84,24 +84,24 @@ pub struct StrategyResult {
     pub strategy: Strategy,
     /// The estimate `l̂`, electrons per unit pixel (the scale of [`SensorRun::electrons`]).
     pub capture: Array2<f64>,
-    /// The capture through the tone curve, `[0, 1]`.
-    pub display: Array2<f64>,
+    /// The run's tone curve ([`SensorRun::tone`]), which [`StrategyResult::display`] applies.
+    pub tone: ToneCurve,
     /// Pixel gain per pixel (1 where constant; additive bins are read at the `ĝ` of
     /// [`SensorSettings::additive_gain`]).
-    pub gain_map: Array2<f64>,
-    /// Bin side per pixel: 1, 2, 4 or 8.
-    pub bin_map: Array2<f64>,
-    /// 1 where a pixel (or its bin) saturated, else 0.
-    pub saturated: Array2<f64>,
+    pub gain_map: Array2<f32>,
+    /// Bin side per pixel, unit pixels: 1, 2, 4 or 8.
+    pub bin_map: Array2<u8>,
+    /// Whether a pixel (or its bin) saturated.
+    pub saturated: Array2<bool>,
     /// SSIM per ROI, `[roi row, roi col]`.
     pub roi_ssim: Array2<f64>,
     /// Lowest ROI SSIM, the metric of Table 5.4.
     pub worst_roi_ssim: f64,
     /// Area-weighted mean of `roi_ssim`.
     pub mean_ssim: f64,
-    /// PSNR of `display` against [`SensorRun::truth_display`], peak 1.
+    /// PSNR of [`StrategyResult::display`] against [`SensorRun::truth_display`], peak 1.
     pub psnr_db: f64,
-    /// Fraction of pixels that saturated (the mean of `saturated`).
+    /// Fraction of pixels that saturated (of `saturated`).
     pub saturated_fraction: f64,
     /// Fraction of the ROIs (each counted once) with at least one saturated pixel.
     pub saturated_roi_fraction: f64,
@@ -113,15 +113,29 @@ pub struct StrategyResult {
     pub colour: Option<ColourCapture>,
 }
 
-/// The result of [`run`].
+impl StrategyResult {
+    /// The capture through the tone curve, `[0, 1]`.
+    pub fn display(&self) -> Array2<f64> {
+        self.tone.apply(&self.capture)
+    }
+
+    /// What a picture of the capture shows: its R, G, B through the tone curve on a colour
+    /// sensor, else [`StrategyResult::display`].
+    pub fn display_planes(&self) -> Vec<Array2<f64>> {
+        match &self.colour {
+            Some(c) => c.display_rgb(&self.tone).into(),
+            None => vec![self.display()],
+        }
+    }
+}
+
+/// The result of [`run`] (and of [`run_with`], whose strategies are what its hand-over kept).
 #[derive(Debug, Clone)]
-pub struct SensorRun {
-    /// The tone-mapped ground truth, `[0, 1]`.
-    pub truth_display: Array2<f64>,
+pub struct SensorRun<S = StrategyResult> {
     /// The exposed scene: expected electrons per unit pixel (noise-free, not clipped).
     pub electrons: Array2<f64>,
     /// One result per strategy, in the order asked for.
-    pub strategies: Vec<StrategyResult>,
+    pub strategies: Vec<S>,
     /// Side of the square ROIs, unit pixels.
     pub roi_px: usize,
     /// The ROI grid (`rows × cols` ROIs).
@@ -136,9 +150,98 @@ pub struct SensorRun {
     pub elapsed_ms: f64,
     /// The colour filter array simulated.
     pub cfa: Cfa,
-    /// With a colour filter array: the scene's RGB electrons, their display and their mosaic
-    /// (then `electrons` and `truth_display` are their luminance).
+    /// With a colour filter array: the scene's RGB electrons and their mosaic (then
+    /// `electrons` is their luminance).
     pub colour_truth: Option<ColourTruth>,
+}
+
+impl<S> SensorRun<S> {
+    /// The tone-mapped ground truth, `[0, 1]`: the tone curve over [`SensorRun::electrons`].
+    pub fn truth_display(&self) -> Array2<f64> {
+        self.tone.apply(&self.electrons)
+    }
+
+    /// What a picture of the ground truth shows: its R, G, B through the tone curve on a
+    /// colour sensor, else [`SensorRun::truth_display`].
+    pub fn truth_display_planes(&self) -> Vec<Array2<f64>> {
+        match &self.colour_truth {
+            Some(t) => t.display_rgb(&self.tone).into(),
+            None => vec![self.truth_display()],
+        }
+    }
+}
+
+/// How much of a run [`peak_bytes`] counts on being held at once.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Held {
+    /// Every strategy's capture and maps, to the end ([`run`]).
+    Kept,
+    /// One strategy at a time, handed over and let go ([`run_with`] with a hand-over that
+    /// keeps only numbers), with room for the hand-over to write its images.
+    HandedOver,
+}
+
+/// Working bytes per scene pixel of a run, without its strategies and its scene: the exposed
+/// scene (8), one exposure's draws (16) and a second exposure's or a readout's working rows (8).
+pub const FIXED_BYTES_PER_PIXEL: u64 = 32;
+
+/// Bytes per scene pixel of one strategy's capture and maps: estimate (8), gain (4), bin (1)
+/// and saturation (1).
+pub const STRATEGY_BYTES_PER_PIXEL: u64 = 14;
+
+/// What a hand-over may use per scene pixel while it writes a strategy's images (an 8-bit
+/// grey picture and the encoders' buffers; the EXR is encoded as it is read).
+pub const HANDOVER_BYTES_PER_PIXEL: u64 = 6;
+
+/// The estimated peak working memory of a run on a scene of `dim`, bytes: `scene_planes`
+/// planes of the scene held beside the run (none when the run takes over a monochrome scene),
+/// [`FIXED_BYTES_PER_PIXEL`], and the strategies held (all of them, or one and
+/// [`HANDOVER_BYTES_PER_PIXEL`]), with a colour sensor's extra planes.
+pub fn peak_bytes(
+    dim: (usize, usize),
+    scene_planes: usize,
+    settings: &SensorSettings,
+    held: Held,
+) -> u64 {
+    let colour = colour::is_colour(settings.cfa);
+    let strategy = STRATEGY_BYTES_PER_PIXEL
+        + if colour {
+            colour::KEPT_BYTES_PER_PIXEL
+        } else {
+            0
+        };
+    let strategies = match held {
+        Held::Kept => settings.strategies.len() as u64 * strategy,
+        Held::HandedOver => strategy + HANDOVER_BYTES_PER_PIXEL,
+    };
+    let per_pixel = 8 * scene_planes as u64
+        + FIXED_BYTES_PER_PIXEL
+        + strategies
+        + if colour {
+            colour::EXTRA_BYTES_PER_PIXEL
+        } else {
+            0
+        };
+    ((dim.0 * dim.1) as u64).saturating_mul(per_pixel)
+}
+
+/// Refuses a run whose [`peak_bytes`] the memory budget cannot hold, with the one-line budget
+/// message; [`run_with`] calls it first, and a caller that writes files before the run can too.
+///
+/// # Errors
+/// [`SimError::TooLarge`] above the budget.
+pub fn check_budget(
+    dim: (usize, usize),
+    scene_planes: usize,
+    settings: &SensorSettings,
+    held: Held,
+) -> Result<(), SimError> {
+    let (rows, cols) = dim;
+    crate::budget::check(
+        &format!("simulating the sensor on a {cols}×{rows} scene"),
+        peak_bytes(dim, scene_planes, settings, held),
+        "use a smaller scene or crop it",
+    )
 }
 
 /// Reads the capture `frame` with one strategy.
@@ -209,16 +312,16 @@ fn dynamic_range_db(readout: &Readout, settings: &SensorSettings) -> f64 {
         .zip(readout.bin.axis_iter(Axis(0)).into_par_iter())
         .map(|(g_row, b_row)| {
             let mut acc = (f64::INFINITY, f64::INFINITY);
-            let mut last = (f64::NAN, f64::NAN);
+            let mut last = None;
             for (g, b) in g_row.iter().zip(b_row.iter()) {
-                if (*g, *b) == last {
+                if last == Some((*g, *b)) {
                     continue;
                 }
-                last = (*g, *b);
-                let pixels = (*b as usize).pow(2);
+                last = Some((*g, *b));
+                let (g, pixels) = (f64::from(*g), usize::from(*b).pow(2));
                 let (mode, additive) = (settings.bin_mode, settings.additive_gain);
-                let sigma = binning::read_sigma_e(mode, additive, sensor, *g, pixels);
-                acc = (acc.0.min(*g), acc.1.min(sigma));
+                let sigma = binning::read_sigma_e(mode, additive, sensor, g, pixels);
+                acc = (acc.0.min(g), acc.1.min(sigma));
             }
             acc
         })
@@ -248,35 +351,69 @@ fn dynamic_range_db(readout: &Readout, settings: &SensorSettings) -> f64 {
 /// ```
 ///
 /// # Errors
-/// [`SimError::InvalidField`] naming the field for bad settings (`roi_px`,
-/// `sensor.full_well_e`, `exposure.fill`, `strategies[i].bin`, …) or a bad scene (`scene`,
-/// `scene.planes[c]`: empty, smaller than 11×11, mismatched, negative or non-finite, black);
-/// [`SimError::Cancelled`] when `progress` was cancelled.
+/// As [`run_with`].
 pub fn run(
     scene: &Scene,
     settings: &SensorSettings,
     progress: &Progress,
 ) -> Result<SensorRun, SimError> {
+    run_with(scene, settings, progress, Held::Kept, Ok::<_, SimError>)
+}
+
+/// [`run`], handing each strategy's result to `keep` the moment it is scored and keeping what
+/// `keep` returns. Strategies run one after another (each spreads its rows over the pool), so
+/// a hand-over that writes the images and keeps only numbers holds one strategy at a time:
+/// say so with `held` = [`Held::HandedOver`], and the budget counts one. An owned `scene` of
+/// a monochrome run becomes the exposed scene in place, without a copy.
+///
+/// ```
+/// use ndarray::Array2;
+/// use udc_core::{Progress, SimError};
+/// use udc_core::sensor::{Held, Scene, SensorSettings, run_with};
+///
+/// let plane = Array2::from_shape_fn((64, 96), |(_, x)| if x < 48 { 0.01 } else { 1.0 });
+/// let scene = Scene { planes: vec![plane] };
+/// let settings = SensorSettings { roi_px: 32, ..SensorSettings::default() };
+/// // Keep each strategy's name and worst ROI SSIM; its capture and maps are let go.
+/// let r = run_with(scene, &settings, &Progress::new(), Held::HandedOver, |s| {
+///     Ok::<_, SimError>((s.name, s.worst_roi_ssim))
+/// })?;
+/// assert_eq!(r.strategies.len(), 4);
+/// assert!(r.strategies[3].1 > r.strategies[0].1);
+/// # Ok::<(), SimError>(())
+/// ```
+///
+/// # Errors
+/// [`SimError::InvalidField`] naming the field for bad settings (`roi_px`,
+/// `sensor.full_well_e`, `exposure.fill`, `strategies[i].bin`, …) or a bad scene (`scene`,
+/// `scene.planes[c]`: empty, smaller than 11×11, mismatched, negative or non-finite, black);
+/// [`SimError::TooLarge`] above the memory budget ([`peak_bytes`]); [`SimError::Cancelled`]
+/// when `progress` was cancelled; and whatever `keep` returns.
+pub fn run_with<'a, S, E: From<SimError>>(
+    scene: impl Into<Cow<'a, Scene>>,
+    settings: &SensorSettings,
+    progress: &Progress,
+    held: Held,
+    mut keep: impl FnMut(StrategyResult) -> Result<S, E>,
+) -> Result<SensorRun<S>, E> {
     let start = Instant::now();
+    let scene: Cow<'a, Scene> = scene.into();
     settings.validate()?;
     scene.validate(metrics::SSIM_WINDOW_PX)?;
     let (rows, cols) = scene.dim();
-    crate::budget::check(
-        &format!("simulating the sensor on a {cols}×{rows} scene"),
-        ((rows * cols) as u64).saturating_mul(
-            crate::budget::SENSOR_BYTES_PER_PIXEL
-                + if colour::is_colour(settings.cfa) {
-                    colour::EXTRA_BYTES_PER_PIXEL
-                } else {
-                    0
-                },
-        ),
-        "use a smaller scene or crop it",
-    )?;
+    let is_colour = colour::is_colour(settings.cfa);
+    let scene_planes = match &scene {
+        Cow::Owned(_) if !is_colour => 0,
+        s => s.planes.len(),
+    };
+    check_budget((rows, cols), scene_planes, settings, held)?;
     progress.set(0.0);
     progress.check()?;
     let sensor = &settings.sensor;
-    let mut electrons = scene.luminance();
+    let (mut electrons, scene) = match scene {
+        Cow::Owned(s) if !is_colour => (s.into_luminance(), None),
+        s => (s.luminance(), Some(s)),
+    };
     let electrons_per_radiance = settings
         .exposure
         .electrons_per_radiance(&electrons, sensor)?;
@@ -286,7 +423,8 @@ pub fn run(
         return Err(SimError::field(
             "scene",
             format!("exposes to a mean of {mean_e} electrons; nothing to simulate"),
-        ));
+        )
+        .into());
     }
     let tone = ToneCurve {
         scale: settings.display_mean / mean_e,
@@ -295,11 +433,17 @@ pub fn run(
     let grid = RoiGrid::new(electrons.dim(), settings.roi_px);
     let steps = settings.strategies.len() as f32 + 2.0;
     // A colour sensor is exposed to the mosaic of the RGB scene (see `colour`).
-    let colour_scene =
-        colour::is_colour(settings.cfa).then(|| colour::expose(scene, electrons_per_radiance));
-    let sensed = colour_scene
+    let colour_truth = match (is_colour, &scene) {
+        (true, Some(scene)) => {
+            let (rgb_e, mosaic_e) = colour::expose(scene, electrons_per_radiance);
+            Some(ColourTruth { rgb_e, mosaic_e })
+        }
+        _ => None,
+    };
+    drop(scene);
+    let sensed = colour_truth
         .as_ref()
-        .map_or(electrons.view(), |(_, m)| m.view());
+        .map_or(electrons.view(), |t| t.mosaic_e.view());
     let frame = noise::expose_frame(sensed, sensor, settings.seed, noise::stream::CAPTURE);
     progress.set(1.0 / steps);
     progress.check()?;
@@ -311,48 +455,39 @@ pub fn run(
         Cfa::None => gain::take_snapshot(electrons.view(), sensor, &grid, settings.seed),
         Cfa::Rggb => cfa::take_snapshot(sensed, sensor, &grid, settings.seed),
     });
-    let truth_display = tone.apply(&electrons);
-    let colour_truth = colour_scene.map(|planes| colour::truth(planes, &tone));
     progress.set(2.0 / steps);
-    // Strategies side by side; each also spreads its rows over the pool.
-    let done = AtomicUsize::new(0);
-    let strategies = settings
-        .strategies
-        .par_iter()
-        .map(|strategy| {
-            progress.check()?;
-            let readout = read_strategy(strategy, &frame, snapshot.as_ref(), &grid, settings);
-            let (readout, colour) = colour::develop(readout, colour_truth.as_ref(), &tone, &grid)?;
-            let display = tone.apply(&readout.estimate_e);
-            let scores = metrics::score(&display, &truth_display, &grid)?;
-            let saturated_fraction = readout.saturated.mean().unwrap_or(0.0);
-            let saturated_roi_fraction = grid.fraction_with_any(&readout.saturated);
-            let dynamic_range_db = dynamic_range_db(&readout, settings);
-            let d = done.fetch_add(1, Ordering::Relaxed) as f32 + 3.0;
-            progress.set(d / steps);
-            Ok(StrategyResult {
-                name: strategy.name(),
-                strategy: *strategy,
-                capture: readout.estimate_e,
-                display,
-                gain_map: readout.gain,
-                bin_map: readout.bin,
-                saturated: readout.saturated,
-                roi_ssim: scores.roi_ssim,
-                worst_roi_ssim: scores.worst_roi_ssim,
-                mean_ssim: scores.mean_ssim,
-                psnr_db: scores.psnr_db,
-                saturated_fraction,
-                saturated_roi_fraction,
-                dynamic_range_db,
-                colour,
-            })
-        })
-        .collect::<Result<Vec<_>, SimError>>()?;
+    let mut strategies = Vec::with_capacity(settings.strategies.len());
+    for (i, strategy) in settings.strategies.iter().enumerate() {
+        progress.check()?;
+        let readout = read_strategy(strategy, &frame, snapshot.as_ref(), &grid, settings);
+        let (readout, colour) = colour::develop(readout, colour_truth.as_ref(), &tone, &grid)?;
+        let scores = metrics::score(&readout.estimate_e, &electrons, &tone, &grid)?;
+        let saturated_fraction = readout.saturated_fraction();
+        let saturated_roi_fraction = grid.fraction_with_any(&readout.saturated);
+        let dynamic_range_db = dynamic_range_db(&readout, settings);
+        let result = StrategyResult {
+            name: strategy.name(),
+            strategy: *strategy,
+            capture: readout.estimate_e,
+            tone,
+            gain_map: readout.gain,
+            bin_map: readout.bin,
+            saturated: readout.saturated,
+            roi_ssim: scores.roi_ssim,
+            worst_roi_ssim: scores.worst_roi_ssim,
+            mean_ssim: scores.mean_ssim,
+            psnr_db: scores.psnr_db,
+            saturated_fraction,
+            saturated_roi_fraction,
+            dynamic_range_db,
+            colour,
+        };
+        strategies.push(keep(result)?);
+        progress.set((i as f32 + 3.0) / steps);
+    }
     progress.check()?;
     progress.set(1.0);
     Ok(SensorRun {
-        truth_display,
         electrons,
         strategies,
         roi_px: settings.roi_px,

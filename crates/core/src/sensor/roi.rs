@@ -44,11 +44,11 @@ impl RoiGrid {
     }
 
     /// The fraction of ROIs, each counted once whatever its size, in which `map` (of `dim`) has
-    /// any non-zero pixel; 0 for an empty grid.
+    /// any `true` pixel; 0 for an empty grid.
     ///
     /// # Panics
     /// If `map` is not `dim`.
-    pub fn fraction_with_any(&self, map: &ndarray::Array2<f64>) -> f64 {
+    pub fn fraction_with_any(&self, map: &ndarray::Array2<bool>) -> f64 {
         assert_eq!(map.dim(), self.dim, "a map of the grid's size");
         let count = self.rows * self.cols;
         let hit = (0..count)
@@ -56,7 +56,7 @@ impl RoiGrid {
                 let (r, c) = (k / self.cols, k % self.cols);
                 self.row_range(r).any(|y| {
                     let row = map.row(y);
-                    self.col_range(c).any(|x| row[x] != 0.0)
+                    self.col_range(c).any(|x| row[x])
                 })
             })
             .count();

@@ -20,6 +20,20 @@ pub struct Scene {
     pub planes: Vec<Array2<f64>>,
 }
 
+/// A scene a run borrows ([`super::run`]).
+impl<'a> From<&'a Scene> for std::borrow::Cow<'a, Scene> {
+    fn from(scene: &'a Scene) -> Self {
+        std::borrow::Cow::Borrowed(scene)
+    }
+}
+
+/// A scene a run takes over ([`super::run_with`]).
+impl From<Scene> for std::borrow::Cow<'_, Scene> {
+    fn from(scene: Scene) -> Self {
+        std::borrow::Cow::Owned(scene)
+    }
+}
+
 impl Scene {
     /// `(rows, cols)` of the first plane, `(0, 0)` without planes.
     pub fn dim(&self) -> (usize, usize) {
@@ -57,6 +71,16 @@ impl Scene {
                 out / n
             }
         }
+    }
+
+    /// [`Scene::luminance`], taking over the plane of a one-plane scene instead of copying it.
+    pub fn into_luminance(mut self) -> Array2<f64> {
+        if self.planes.len() == 1
+            && let Some(plane) = self.planes.pop()
+        {
+            return plane;
+        }
+        self.luminance()
     }
 
     /// The scene scaled down so that its longer side is at most `max_side_px` (at least 1),

@@ -237,8 +237,9 @@ pub fn bin_study(
                 &adc,
             );
             // Display in the units of the truth: electrons back to relative luminance.
-            let display = tone.apply(&readout.estimate_e.mapv(|v| v / scale));
-            let scores = metrics::score(&display, &truth_display, &grid)?;
+            let capture = readout.estimate_e.mapv(|v| v / scale);
+            let scores = metrics::score(&capture, region, &tone, &grid)?;
+            let display = tone.apply(&capture);
             let d = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             progress.set(d as f32 / total);
             Ok(StudyCapture {
@@ -250,7 +251,7 @@ pub fn bin_study(
                 display,
                 ssim: scores.worst_roi_ssim,
                 psnr_db: scores.psnr_db,
-                saturated_fraction: readout.saturated.mean().unwrap_or(0.0),
+                saturated_fraction: readout.saturated_fraction(),
             })
         })
         .collect::<Result<Vec<_>, SimError>>()?;
