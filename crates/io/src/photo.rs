@@ -14,8 +14,7 @@ use std::path::{Path, PathBuf};
 
 use image::imageops::FilterType;
 use image::{
-    DynamicImage, GrayImage, ImageBuffer, ImageFormat, ImageReader, Luma, Rgb, Rgb32FImage,
-    RgbImage,
+    DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma, Rgb, Rgb32FImage, RgbImage,
 };
 use ndarray::Array2;
 
@@ -315,21 +314,38 @@ pub fn write_photo_png<T: Sample>(path: &Path, planes: &[&Array2<T>]) -> Result<
     write_image(path, DynamicImage::ImageRgb8(img), ImageFormat::Png)
 }
 
-/// Writes a map as a grey 8-bit PNG, each value through `value` and clipped to `[0, 1]`: the
-/// picture of a map of any type, without a float copy of it.
+/// Writes one map as a grey or three as an RGB 8-bit PNG, each value through `value` and
+/// clipped to `[0, 1]`: the picture of maps of any type, without a float copy of them.
 ///
 /// # Errors
 /// As [`write_photo_png`].
 pub fn write_map_png<T: Copy>(
     path: &Path,
-    map: &Array2<T>,
+    maps: &[&Array2<T>],
     value: impl Fn(T) -> f64,
 ) -> Result<(), IoError> {
-    let (w, h) = planes_size(path, &[map])?;
-    let bytes = map.iter().map(|v| to_u8(value(*v))).collect();
-    let img: GrayImage =
-        ImageBuffer::<Luma<u8>, _>::from_raw(w, h, bytes).ok_or_else(|| size_mismatch(path))?;
-    write_image(path, DynamicImage::ImageLuma8(img), ImageFormat::Png)
+    let (w, h) = planes_size(path, maps)?;
+    let img = match maps {
+        [grey] => {
+            let bytes = grey.iter().map(|v| to_u8(value(*v))).collect();
+            ImageBuffer::<Luma<u8>, _>::from_raw(w, h, bytes).map(DynamicImage::ImageLuma8)
+        }
+        [r, g, b] => {
+            let bytes = r
+                .iter()
+                .zip(g.iter())
+                .zip(b.iter())
+                .flat_map(|((r, g), b)| [r, g, b].map(|v| to_u8(value(*v))))
+                .collect();
+            ImageBuffer::<Rgb<u8>, _>::from_raw(w, h, bytes).map(DynamicImage::ImageRgb8)
+        }
+        _ => None,
+    };
+    write_image(
+        path,
+        img.ok_or_else(|| size_mismatch(path))?,
+        ImageFormat::Png,
+    )
 }
 
 /// Writes `|a − b| · gain` per plane as an 8-bit RGB PNG (clipped at full scale); use

@@ -23,7 +23,7 @@ use serde_json::{Value, json};
 use super::IoError;
 use super::hdr::{ExrPrecision, write_exr};
 use super::numbers::json6 as r;
-use super::photo::{write_map_png, write_photo_png};
+use super::photo::write_map_png;
 use udc_core::sensor::colour::CHANNEL_NAMES;
 use udc_core::sensor::{BIN_SIZES, SensorRun, StrategyResult};
 
@@ -138,10 +138,11 @@ pub fn write_truth_images<S>(dir: &Path, run: &SensorRun<S>) -> Result<Vec<PathB
     std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
     let tone = run.tone;
     let mut written = vec![dir.join("truth.png")];
-    match &run.colour_truth {
-        Some(t) => write_photo_png(&written[0], &t.display_rgb(&tone).each_ref())?,
-        None => write_map_png(&written[0], &run.electrons, |v| tone.value(v))?,
-    }
+    let planes = match &run.colour_truth {
+        Some(t) => t.rgb_e.iter().collect(),
+        None => vec![&run.electrons],
+    };
+    write_map_png(&written[0], &planes, |v| tone.value(v))?;
     let p = dir.join("truth.exr");
     write_exr(&p, &[&run.electrons], ExrPrecision::Float)?;
     written.push(p);
@@ -168,14 +169,15 @@ pub fn write_strategy_images(
     let path = |suffix: &str| dir.join(format!("{stem}_{suffix}"));
     let mut written = Vec::new();
     let p = path("capture.png");
-    match &s.colour {
-        Some(c) => write_photo_png(&p, &c.display_rgb(&s.tone).each_ref())?,
-        None => write_map_png(&p, &s.capture, |v| s.tone.value(v))?,
-    }
+    let planes = match &s.colour {
+        Some(c) => c.rgb_e.iter().collect(),
+        None => vec![&s.capture],
+    };
+    write_map_png(&p, &planes, |v| s.tone.value(v))?;
     written.push(p);
     let log_max = max_gain.max(1.0).ln();
     let p = path("gain.png");
-    write_map_png(&p, &s.gain_map, |g| {
+    write_map_png(&p, &[&s.gain_map], |g| {
         if log_max > 0.0 {
             f64::from(g).max(1.0).ln() / log_max
         } else {
@@ -184,10 +186,10 @@ pub fn write_strategy_images(
     })?;
     written.push(p);
     let p = path("bins.png");
-    write_map_png(&p, &s.bin_map, |b| f64::from(b.max(1)).log2() / 3.0)?;
+    write_map_png(&p, &[&s.bin_map], |b| f64::from(b.max(1)).log2() / 3.0)?;
     written.push(p);
     let p = path("saturated.png");
-    write_map_png(&p, &s.saturated, |v| f64::from(u8::from(v)))?;
+    write_map_png(&p, &[&s.saturated], |v| f64::from(u8::from(v)))?;
     written.push(p);
     let p = path("capture.exr");
     write_exr(&p, &[&s.capture], ExrPrecision::Float)?;
