@@ -118,7 +118,7 @@ fn denoise_setting(method: &str, sigma2: Option<f64>) -> PyResult<Denoise> {
     })?;
     DenoiseFlags {
         denoise,
-        denoise_sigma2: sigma2,
+        denoise_sigma2: sigma2.map(udc_cli::denoise_flags::Sigma2Arg::Value),
     }
     .resolve(Recipe::Iccp21)
     .map_err(|e| errors::value(format!("{e:#}")))

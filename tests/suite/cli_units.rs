@@ -2,7 +2,7 @@
 //! flags' resolution (`cli::denoise_flags`). They live in the suite so that the CLI crate needs
 //! no unit-test binary of its own (a second compilation of the whole crate).
 
-use udc_studio::cli::denoise_flags::{DenoiseFlags, DenoiseMethod};
+use udc_studio::cli::denoise_flags::{DenoiseFlags, DenoiseMethod, Sigma2Arg};
 use udc_studio::cli::flags::{flag_of, name_flags};
 use udc_studio::core::restore::{Denoise, Recipe, Sigma2};
 use udc_studio::core::{Setting, SimError};
@@ -48,7 +48,7 @@ fn every_flag_in_the_table_exists_on_some_command() {
 fn flags(denoise: DenoiseMethod, sigma2: Option<f64>) -> DenoiseFlags {
     DenoiseFlags {
         denoise,
-        denoise_sigma2: sigma2,
+        denoise_sigma2: sigma2.map(Sigma2Arg::Value),
     }
 }
 
@@ -65,6 +65,33 @@ fn the_default_is_the_recipes_table_and_an_override_is_fixed() {
     );
     let d = flags(DenoiseMethod::None, None).resolve(Recipe::Iccp21);
     assert_eq!(d.ok(), Some(Denoise::None));
+}
+
+/// `--denoise-sigma2` reads `matched` (any case) or a number, and nothing else.
+#[test]
+fn sigma2_reads_matched_or_a_number() {
+    assert_eq!("matched".parse(), Ok(Sigma2Arg::Matched));
+    assert_eq!("MATCHED".parse(), Ok(Sigma2Arg::Matched));
+    assert_eq!("0.002".parse(), Ok(Sigma2Arg::Value(0.002)));
+    let bad: Result<Sigma2Arg, _> = "match".parse();
+    assert!(bad.is_err_and(|e| e.contains("neither `matched` nor a number")));
+    let d = DenoiseFlags {
+        denoise: DenoiseMethod::Bm3d,
+        denoise_sigma2: Some(Sigma2Arg::Matched),
+    }
+    .resolve(Recipe::Iccv23);
+    assert_eq!(
+        d.ok(),
+        Some(Denoise::Bm3d {
+            sigma2: Sigma2::Matched
+        })
+    );
+    let none = DenoiseFlags {
+        denoise: DenoiseMethod::None,
+        denoise_sigma2: Some(Sigma2Arg::Matched),
+    }
+    .resolve(Recipe::Iccv23);
+    assert!(none.is_err(), "matched σ² with no denoiser");
 }
 
 #[test]

@@ -86,6 +86,43 @@ fn every_shipped_spec_is_a_valid_sweep_and_belongs_to_a_result() {
     }
 }
 
+/// A part that varies a shipped spec (Table 4.1's `display-matched`) runs a spec the job accepts
+/// point by point, with its parameter set everywhere and its axes cut.
+#[test]
+fn every_part_as_it_runs_is_a_spec_the_job_accepts() {
+    use udc_studio::cli::reproduce::prepare::{prepared_spec, repo_root};
+    use udc_studio::core::sweep::ParamValue;
+    let root = repo_root("table4.1.toml").unwrap();
+    for id in ResultId::ALL {
+        for part in id.parts() {
+            let spec = prepared_spec(&root, id, part, None).unwrap();
+            let points = udc_studio::cli::sweep::check_points(&spec);
+            assert!(points.is_ok(), "{} {}: {points:?}", id.as_str(), part.name);
+        }
+    }
+    let matched = ResultId::Table4_1
+        .parts()
+        .iter()
+        .find(|p| p.name == "display-matched")
+        .unwrap();
+    let spec = prepared_spec(&root, ResultId::Table4_1, matched, None).unwrap();
+    assert_eq!(
+        spec.base.get("denoise-sigma2"),
+        Some(&ParamValue::Text("matched".into()))
+    );
+    for axis in &spec.axes {
+        assert!(!axis.with.contains_key("denoise-sigma2"), "{}", axis.param);
+    }
+    let displays = spec.axes.iter().find(|a| a.param == "display").unwrap();
+    let names: Vec<String> = displays
+        .values
+        .iter()
+        .flatten()
+        .map(|v| v.to_arg())
+        .collect();
+    assert_eq!(names, ["POLED", "Yang et al."]);
+}
+
 #[test]
 fn specs_read_the_whole_test_set() {
     let testset: Vec<String> = udc_studio::io::testset::testset_photos()
@@ -345,12 +382,6 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
     };
     let toled = runs([21.0, 22.0, 23.0, 24.0], 0.238);
     let ours = runs([26.0, 27.5, 28.5, 30.0], 0.476);
-    let phase = table(
-        "phase",
-        &["setup", "photo"],
-        &pm,
-        &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)],
-    );
     let mut rows: Vec<(Vec<&str>, Vec<f64>)> = Vec::new();
     for (d, base) in [
         ("POLED", 24.0),
@@ -365,13 +396,26 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
         .iter()
         .map(|(p, m)| (p.as_slice(), m.as_slice()))
         .collect();
-    let display = table(
-        "display",
-        &["display", "photons", "image"],
-        &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
-        &rows_ref,
+    let phase_table = || {
+        table(
+            "phase",
+            &["setup", "photo"],
+            &pm,
+            &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)],
+        )
+    };
+    let display_table = |part: &'static str, rows: &[(&[&str], &[f64])]| {
+        table(
+            part,
+            &["display", "photons", "image"],
+            &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
+            rows,
+        )
+    };
+    let o = reduce(
+        ResultId::Table4_1,
+        &[phase_table(), display_table("display", &rows_ref)],
     );
-    let o = reduce(ResultId::Table4_1, &[phase, display]);
     let row = |n: &str| o.rows.iter().find(|r| r.setup == n).unwrap();
     let psnr = |n: &str| {
         row(n)
@@ -395,23 +439,57 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
     assert!(claim("Yang et al.: PSNR within").pass);
     // Ours is 28.0 against 28.01; P-OLED 25.5 against 26.22: both within 2.5 dB.
     assert!(claim("Ours: PSNR within").pass);
+    // The display-matched part adds its own rows beside the thesis's and leaves the claims,
+    // which hold the thesis's recipe, alone.
+    let mut matched_rows: Vec<(Vec<&str>, Vec<f64>)> = Vec::new();
+    for (d, base, ltr) in [("POLED", 25.0, 0.083), ("Yang et al.", 32.0, 0.226)] {
+        for (k, n) in ["250", "650", "1600", "10000"].iter().enumerate() {
+            matched_rows.push((vec![d, n, "a"], vec![base + k as f64, 0.8, ltr]));
+        }
+    }
+    let matched_ref: Vec<(&[&str], &[f64])> = matched_rows
+        .iter()
+        .map(|(p, m)| (p.as_slice(), m.as_slice()))
+        .collect();
+    let with_matched = reduce(
+        ResultId::Table4_1,
+        &[
+            phase_table(),
+            display_table("display", &rows_ref),
+            display_table("display-matched", &matched_ref),
+        ],
+    );
+    let m = with_matched
+        .rows
+        .iter()
+        .find(|r| r.setup == "POLED, σ² matched")
+        .unwrap();
+    let m_psnr = m.values.iter().find(|v| v.name == "psnr_db").unwrap();
+    assert!((m_psnr.ours.unwrap() - 26.5).abs() < 1e-9, "{m_psnr:?}");
+    assert_eq!(m_psnr.thesis, Some(26.22));
+    assert!(
+        m.note.contains("+0.28 dB") && m.note.contains("12×"),
+        "{}",
+        m.note
+    );
+    assert!(
+        with_matched
+            .rows
+            .iter()
+            .any(|r| r.setup == "Yang et al., σ² matched")
+    );
+    assert_eq!(with_matched.rows.len(), o.rows.len() + 2);
+    assert_eq!(with_matched.claims, o.claims);
+    assert_eq!(ResultId::Table4_1.parts().len(), 3);
+    assert_eq!(
+        ResultId::Fig4_14.parts().len(),
+        2,
+        "Fig. 4.14 has no matched part"
+    );
     // Fig. 4.14 from the same tables: P-OLED 24 against ours 26 at 250 photons is 2 dB, not ~10.
     let f = reduce(
         ResultId::Fig4_14,
-        &[
-            table(
-                "phase",
-                &["setup", "photo"],
-                &pm,
-                &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)],
-            ),
-            table(
-                "display",
-                &["display", "photons", "image"],
-                &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
-                &rows_ref,
-            ),
-        ],
+        &[phase_table(), display_table("display", &rows_ref)],
     );
     let gap = f
         .claims

@@ -357,3 +357,31 @@ fn restore_json_at(args: &[&str], max_side_px: u32) -> Value {
     assert!(ok, "{all:?}: {stderr}");
     serde_json::from_str(stdout.trim()).expect("one JSON object")
 }
+
+/// `--denoise-sigma2 matched` hands BM3D the capture's own variance at white, (e + σ_read²)/e²
+/// with e the electrons a white pixel collects behind this display, and on a dim capture that
+/// beats the table's σ² (made for a display that passes all the light, conventions.md §5).
+#[test]
+fn a_matched_sigma2_is_the_captures_white_variance_and_helps_a_dim_capture() {
+    let table = restore_json(&["--light", "15"]);
+    let matched = restore_json(&["--light", "15", "--denoise-sigma2", "matched"]);
+    let e = matched["runs"][0]["electrons_per_unit"].as_f64().unwrap();
+    let run = &matched["runs"][0];
+    assert_eq!(run["denoise"]["sigma2_source"], "matched");
+    let want = (e + 4.87 * 4.87) / (e * e);
+    let got = run["denoise"]["sigma2"].as_f64().unwrap();
+    assert!((got - want).abs() < 1e-5 * want, "{got} vs {want}");
+    let table_sigma2 = table["runs"][0]["denoise"]["sigma2"].as_f64().unwrap();
+    assert!(
+        got > 5.0 * table_sigma2,
+        "{got} vs the table's {table_sigma2}"
+    );
+    let (p_matched, p_table) = (
+        run["psnr_db"].as_f64().unwrap(),
+        table["runs"][0]["psnr_db"].as_f64().unwrap(),
+    );
+    assert!(
+        p_matched > p_table + 1.0,
+        "matched {p_matched} dB vs table {p_table} dB"
+    );
+}

@@ -103,6 +103,26 @@ fn the_view_shows_captured_denoised_and_restored_and_denoise_switches_off() {
         );
     }
     assert!(h.query_by_label_contains("(thesis)").is_some());
+    // "matched" hands BM3D the capture's own variance at white, shown with its value.
+    h.get_by_label_contains("(matched)").click_accesskit();
+    h.step();
+    let matched = Denoise::Bm3d {
+        sigma2: udc_studio::core::restore::Sigma2::Matched,
+    };
+    assert_eq!(h.state().restore_view().denoise(), matched);
+    step_until(&mut h, "the run with a matched σ²", |app| {
+        done(app)
+            && app
+                .restore_view()
+                .current()
+                .is_some_and(|r| r.denoise.setting == matched)
+    });
+    let m = h.state().restore_view().current().unwrap().clone();
+    let e = m.electrons_per_unit;
+    let want = (e + 4.87 * 4.87) / (e * e);
+    let got = m.denoise.sigma2.unwrap();
+    assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+    assert_ne!(Some(got), with.denoise.sigma2);
     h.get_by_label("none").click_accesskit();
     h.step();
     assert_eq!(h.state().restore_view().denoise(), Denoise::None);

@@ -15,6 +15,37 @@ pub enum DenoiseMethod {
     None,
 }
 
+/// A `--denoise-sigma2` value: `matched` or a number.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Sigma2Arg {
+    /// The capture's own noise variance at white (`matched`).
+    Matched,
+    /// A σ² on the capture's scale.
+    Value(f64),
+}
+
+impl std::str::FromStr for Sigma2Arg {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s.eq_ignore_ascii_case("matched") {
+            return Ok(Sigma2Arg::Matched);
+        }
+        s.trim().parse::<f64>().map(Sigma2Arg::Value).map_err(|_| {
+            format!("{s:?} is neither `matched` nor a number (a noise variance such as 0.002)")
+        })
+    }
+}
+
+impl std::fmt::Display for Sigma2Arg {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Sigma2Arg::Matched => f.write_str("matched"),
+            Sigma2Arg::Value(v) => write!(f, "{v}"),
+        }
+    }
+}
+
 /// The denoising flags of a restoration command.
 #[derive(Debug, Clone, Args)]
 pub struct DenoiseFlags {
@@ -22,9 +53,11 @@ pub struct DenoiseFlags {
     #[arg(long, value_enum, default_value_t = DenoiseMethod::Bm3d)]
     pub denoise: DenoiseMethod,
     /// BM3D's noise variance σ² on the capture's scale (white ≈ 1), instead of the thesis's
-    /// table at each light level. Must be finite and > 0.
-    #[arg(long, value_name = "S", allow_negative_numbers = true)]
-    pub denoise_sigma2: Option<f64>,
+    /// table at each light level: a number (finite, > 0), or `matched` for the capture's own
+    /// variance at white, (e + σ_read²)/e² with e the electrons a white pixel collects through
+    /// this display (the table is that variance with no display in front).
+    #[arg(long, value_name = "S|matched", allow_negative_numbers = true)]
+    pub denoise_sigma2: Option<Sigma2Arg>,
 }
 
 impl DenoiseFlags {
@@ -38,7 +71,12 @@ impl DenoiseFlags {
                 "--denoise-sigma2 {s}: there is no denoiser to give it to with --denoise none"
             ),
             (DenoiseMethod::None, None) => Ok(Denoise::None),
-            (DenoiseMethod::Bm3d, Some(s)) if !udc_core::denoise::sigma2_in_range(s) => {
+            (DenoiseMethod::Bm3d, Some(Sigma2Arg::Matched)) => Ok(Denoise::Bm3d {
+                sigma2: Sigma2::Matched,
+            }),
+            (DenoiseMethod::Bm3d, Some(Sigma2Arg::Value(s)))
+                if !udc_core::denoise::sigma2_in_range(s) =>
+            {
                 bail!(
                     "--denoise-sigma2 {s:?}: the noise variance must be a finite number > 0, \
                      at least {:e} and at most {} (images are in [0, 1])",
@@ -46,7 +84,7 @@ impl DenoiseFlags {
                     udc_core::denoise::MAX_SIGMA2
                 )
             }
-            (DenoiseMethod::Bm3d, Some(s)) => Ok(Denoise::Bm3d {
+            (DenoiseMethod::Bm3d, Some(Sigma2Arg::Value(s))) => Ok(Denoise::Bm3d {
                 sigma2: Sigma2::Fixed(s),
             }),
             (DenoiseMethod::Bm3d, None) => Ok(Denoise::thesis(recipe)),

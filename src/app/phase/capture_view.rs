@@ -164,11 +164,11 @@ impl PhaseWorkspace {
             self.set_capture_channels(set);
             ui.separator();
             let mut denoise = self.capture_denoise();
-            let thesis = crate::core::restore::Sigma2::Thesis(Recipe::Iccv23).resolve(
-                crate::core::phase::imaging::photons_snr_db(self.capture_photons()),
-                1.0,
-            );
-            denoise_ui(ui, &mut denoise, Recipe::Iccv23, thesis);
+            // The setup's LTR is known once its operator is built; the table's σ² needs none.
+            let noise =
+                crate::core::phase::imaging::capture_noise(self.capture_photons(), f64::NAN);
+            let thesis = crate::core::restore::Sigma2::Thesis(Recipe::Iccv23).resolve(&noise);
+            denoise_ui(ui, &mut denoise, Recipe::Iccv23, thesis, None);
             self.set_capture_denoise(denoise);
         });
         ui.horizontal_wrapped(|ui| {

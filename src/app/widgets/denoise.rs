@@ -1,5 +1,5 @@
 //! The Denoise control of the restoration views: BM3D or none, and BM3D's σ² from the thesis's
-//! table (conventions.md §5) or typed in.
+//! table (conventions.md §5), matched to the capture's noise, or typed in.
 
 use egui::Ui;
 
@@ -10,8 +10,15 @@ const SIGMA2_RANGE: std::ops::RangeInclusive<f64> = 1e-6..=1.0;
 
 /// Draws the control on one wrapped line and edits `denoise`. `thesis_sigma2` is the σ² the
 /// thesis's `recipe` gives at the current light level, on the capture's scale (shown on the
-/// "thesis" choice and taken as the override's starting value).
-pub fn denoise_ui(ui: &mut Ui, denoise: &mut Denoise, recipe: Recipe, thesis_sigma2: f64) {
+/// "thesis" choice and taken as the override's starting value); `matched_sigma2` the capture's
+/// own variance at white, when the view knows it.
+pub fn denoise_ui(
+    ui: &mut Ui,
+    denoise: &mut Denoise,
+    recipe: Recipe,
+    thesis_sigma2: f64,
+    matched_sigma2: Option<f64>,
+) {
     ui.label("Denoise:");
     let on = matches!(denoise, Denoise::Bm3d { .. });
     if ui
@@ -47,11 +54,28 @@ pub fn denoise_ui(ui: &mut Ui, denoise: &mut Denoise, recipe: Recipe, thesis_sig
     {
         *sigma2 = Sigma2::Thesis(recipe);
     }
+    let matched = matches!(sigma2, Sigma2::Matched);
+    let matched_text = match matched_sigma2.filter(|s| s.is_finite()) {
+        Some(s) => format!("σ² {s:.2e} (matched)"),
+        None => "matched".to_string(),
+    };
     if ui
-        .selectable_label(!thesis, "override")
+        .selectable_label(matched, matched_text)
+        .on_hover_text(
+            "The capture's own noise variance at a white pixel, (e + σ_read²)/e² for the e \
+             electrons white collects through this display. The thesis's table is that variance \
+             with no display in front, so it understates a dim display's noise",
+        )
+        .clicked()
+    {
+        *sigma2 = Sigma2::Matched;
+    }
+    let fixed = matches!(sigma2, Sigma2::Fixed(_));
+    if ui
+        .selectable_label(fixed, "override")
         .on_hover_text("Give BM3D your own noise variance σ² (on the capture's scale)")
         .clicked()
-        && thesis
+        && !fixed
     {
         *sigma2 = Sigma2::Fixed(thesis_sigma2);
     }

@@ -271,15 +271,27 @@ fn compare_cmd(
     Ok(())
 }
 
-/// The compare JSON's `"denoise"`: the method and, per light level, the σ² BM3D got (the same
-/// in every setup: phase captures all read ≈ 1 at white).
+/// The compare JSON's `"denoise"`: the method and, per light level, the σ² BM3D got. A table
+/// or fixed σ² is the same in every setup (phase captures all read ≈ 1 at white); a matched σ²
+/// follows each setup's LTR, so it is `null` here and given per run in `setups`.
 fn denoise_summary(denoise: udc_core::restore::Denoise, photons: &[f64]) -> Value {
+    use udc_core::restore::{Denoise, Sigma2};
+    let matched = matches!(
+        denoise,
+        Denoise::Bm3d {
+            sigma2: Sigma2::Matched
+        }
+    );
     let per_level: Vec<Value> = photons
         .iter()
         .map(|&n| {
-            let used = denoise.applied(udc_core::phase::imaging::photons_snr_db(n), 1.0);
-            json!({"photons": n, "sigma2": used.sigma2.map_or(Value::Null, r)})
+            let used = denoise
+                .applied(&udc_core::phase::imaging::capture_noise(n, 1.0))
+                .ok()
+                .and_then(|u| u.sigma2)
+                .filter(|_| !matched);
+            json!({"photons": n, "sigma2": used.map_or(Value::Null, r)})
         })
         .collect();
-    json!({"method": denoise.method_name(), "runs": per_level})
+    json!({"method": denoise.method_name(), "sigma2_source": if matched { Value::from("matched") } else { Value::Null }, "runs": per_level})
 }

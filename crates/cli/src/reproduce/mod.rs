@@ -5,9 +5,10 @@
 
 pub use udc_core::reproduce as catalog;
 pub mod outcome;
-mod prepare;
+pub mod prepare;
 mod reduce_display;
 mod reduce_phase;
+mod reduce_plate;
 mod reduce_sensor;
 pub mod report;
 pub mod thesis;
@@ -250,15 +251,15 @@ pub fn reduce(id: ResultId, tables: &[SweepTable]) -> Outcome {
         ResultId::Fig3_8 => part("display").map_or_else(missing, reduce_display::fig3_8),
         ResultId::Fig3_9 => part("display").map_or_else(missing, reduce_display::fig3_9),
         ResultId::Table4_1 => match (part("phase"), part("display")) {
-            (Some(p), Some(d)) => reduce_phase::table4_1(p, d),
+            (Some(p), Some(d)) => reduce_phase::table4_1(p, d, part("display-matched")),
             _ => missing(),
         },
         ResultId::Fig4_14 => match (part("phase"), part("display")) {
             (Some(p), Some(d)) => reduce_phase::fig4_14(p, d),
             _ => missing(),
         },
-        ResultId::Table4_2 => part("phase").map_or_else(missing, reduce_phase::table4_2),
-        ResultId::Fig4_10 => part("phase").map_or_else(missing, reduce_phase::fig4_10),
+        ResultId::Table4_2 => part("phase").map_or_else(missing, reduce_plate::table4_2),
+        ResultId::Fig4_10 => part("phase").map_or_else(missing, reduce_plate::fig4_10),
         ResultId::Table5_1 => part("sensor").map_or_else(missing, reduce_sensor::table5_1),
         ResultId::Table5_4 => part("sensor").map_or_else(missing, reduce_sensor::table5_4),
     }

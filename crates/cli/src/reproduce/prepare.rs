@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, anyhow, bail};
 
-use super::catalog::{Part, ResultId};
+use super::catalog::{Part, QuickPlan, ResultId};
 use udc_core::sweep::{ParamValue, SweepSpec};
 use udc_io::sweep::spec_file::load_spec;
 
@@ -71,6 +71,11 @@ pub fn prepared_spec(
     } else {
         crate::sweep::inputs_under(&spec, root)
     };
+    if part.variant != NO_CHANGE {
+        trim(&mut spec, &part.variant)
+            .with_context(|| format!("{} ({}), part {}", id.as_str(), part.file, part.name))?;
+        spec.name = format!("{} ({})", spec.name, part.name);
+    }
     if let Some(dir) = quick {
         quicken(&mut spec, part, dir)
             .with_context(|| format!("{} ({}), quick plan", id.as_str(), part.file))?;
@@ -80,10 +85,47 @@ pub fn prepared_spec(
     Ok(spec)
 }
 
+/// A plan that changes nothing.
+const NO_CHANGE: QuickPlan = QuickPlan {
+    keep: &[],
+    set: &[],
+    photos: &[],
+};
+
 /// Applies a part's quick plan: the kept axis values, the base overrides, and small copies of
 /// the photos it names.
 fn quicken(spec: &mut SweepSpec, part: &Part, photo_dir: &Path) -> Result<()> {
     let plan = &part.quick;
+    trim(spec, plan)?;
+    if let Some(photo_param) = part.inputs.filter(|_| !plan.photos.is_empty()) {
+        let Some(axis) = spec.axes.iter_mut().find(|a| a.param == photo_param) else {
+            bail!("the spec has no photo axis `{photo_param}`");
+        };
+        let photos: Vec<String> = axis
+            .values
+            .iter()
+            .flatten()
+            .filter_map(|v| match v {
+                ParamValue::Text(t) => Some(t.clone()),
+                _ => None,
+            })
+            .collect();
+        let picked = pick_photos(&photos, plan.photos);
+        if picked.is_empty() {
+            bail!("the photo axis `{photo_param}` lists no photos");
+        }
+        let mut small = Vec::new();
+        for p in picked {
+            small.push(ParamValue::Text(small_copy(Path::new(&p), photo_dir)?));
+        }
+        axis.values = Some(small);
+    }
+    Ok(())
+}
+
+/// Cuts the axes a plan names to the values it keeps and sets its base parameters. A value set
+/// holds everywhere: an axis that linked its own values to that parameter no longer does.
+fn trim(spec: &mut SweepSpec, plan: &QuickPlan) -> Result<()> {
     for (param, keep) in plan.keep {
         let Some(axis) = spec.axes.iter_mut().find(|a| a.param == *param) else {
             bail!("the spec has no axis `{param}`");
@@ -115,30 +157,10 @@ fn quicken(spec: &mut SweepSpec, part: &Part, photo_dir: &Path) -> Result<()> {
         }
     }
     for (param, value) in plan.set {
+        for axis in &mut spec.axes {
+            axis.with.remove(*param);
+        }
         spec.base.insert((*param).to_string(), value.to_param());
-    }
-    if let Some(photo_param) = part.inputs.filter(|_| !plan.photos.is_empty()) {
-        let Some(axis) = spec.axes.iter_mut().find(|a| a.param == photo_param) else {
-            bail!("the spec has no photo axis `{photo_param}`");
-        };
-        let photos: Vec<String> = axis
-            .values
-            .iter()
-            .flatten()
-            .filter_map(|v| match v {
-                ParamValue::Text(t) => Some(t.clone()),
-                _ => None,
-            })
-            .collect();
-        let picked = pick_photos(&photos, plan.photos);
-        if picked.is_empty() {
-            bail!("the photo axis `{photo_param}` lists no photos");
-        }
-        let mut small = Vec::new();
-        for p in picked {
-            small.push(ParamValue::Text(small_copy(Path::new(&p), photo_dir)?));
-        }
-        axis.values = Some(small);
     }
     Ok(())
 }

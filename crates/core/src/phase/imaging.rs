@@ -97,6 +97,18 @@ pub fn photons_snr_db(photons: f64) -> f64 {
     snr_db_of(photons, READ_NOISE_E)
 }
 
+/// The light level and noise of a capture at `photons` through a setup of `ltr`, as the
+/// denoiser's σ² needs them. Phase captures are on chapter 4's scale, so no LTR conversion
+/// (`ltr_relative` 1); a white pixel collects `photons · ltr` electrons.
+pub fn capture_noise(photons: f64, ltr: f64) -> crate::restore::CaptureNoise {
+    crate::restore::CaptureNoise {
+        snr_db: photons_snr_db(photons),
+        ltr_relative: 1.0,
+        white_e: photons * ltr,
+        read_noise_e: READ_NOISE_E,
+    }
+}
+
 /// The imaging operator of one setup on a scene `width` columns wide.
 #[derive(Debug, Clone)]
 pub struct PhaseBlur {
@@ -402,8 +414,7 @@ pub fn restore(
     check_scene(blur, captured)?;
     check_photons(photons)?;
     denoise.validate()?;
-    // Phase captures are on chapter 4's scale: no LTR conversion (ltr_relative 1).
-    let used = denoise.applied(photons_snr_db(photons), 1.0);
+    let used = denoise.applied(&capture_noise(photons, blur.ltr))?;
     // BM3D's share of the time: ≈ 1 s for a 512² colour image against a few hundred ms of CG.
     let deblur_start = if used.sigma2.is_some() { 0.7 } else { 0.0 };
     let denoised = match used.sigma2 {

@@ -17,8 +17,16 @@
 //! ([`Sigma2::Fixed`]) is on our scale, the one BM3D sees and the captured images are written on.
 //! Handing chapter 3's σ² to a capture on our scale unconverted would make BM3D over- or
 //! under-smooth by `r²` (a display passing twice the reference's light: 4×).
+//!
+//! **Matched σ².** [`Sigma2::Matched`] gives BM3D the variance this capture really has at a white
+//! pixel, `(e + σ_read²)/e²` for `e` electrons at white (Poisson plus read noise, on the scale
+//! where white reads 1). Chapter 4's table is that variance for a display that passes all the
+//! light (`e = L`: 0.0040, 0.0016, 0.00063, 0.00025, 0.00010 at 24 … 40 dB against the table's
+//! 0.005, 0.002, 0.0005, 0.00025, 0.0001), so the table understates the noise of a display
+//! passing `LTR` of the light by `1/LTR`: 2× for the double MLA, 4× for the T-OLED, 12× for the
+//! P-OLED (conventions.md §5).
 
-use super::capture::THESIS_SNR_DB;
+use super::capture::{CaptureSettings, THESIS_SNR_DB};
 use crate::SimError;
 
 /// Chapter 3's σ² (ICCP 2021) at SNR 24 / 28 / 32 / 36 / 40 dB ([`THESIS_SNR_DB`]), on the
@@ -85,20 +93,59 @@ pub fn nearest_row(snr_db: f64) -> usize {
 pub enum Sigma2 {
     /// The recipe's table at the light level, converted to the capture's scale.
     Thesis(Recipe),
+    /// The capture's own noise variance at a white pixel (module docs), whatever the light
+    /// level and the display.
+    Matched,
     /// A σ² on the capture's own scale (white ≈ 1), as BM3D gets it.
     Fixed(f64),
 }
 
+/// What BM3D's σ² can depend on: the light level and the noise of the capture it is given.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CaptureNoise {
+    /// SNR in dB of a white pixel behind the reference display: picks the thesis table's row.
+    pub snr_db: f64,
+    /// Light through this display relative to the reference display's (chapter 3's scale).
+    pub ltr_relative: f64,
+    /// Electrons a white pixel of this capture collects, e⁻.
+    pub white_e: f64,
+    /// Read noise, e⁻ rms.
+    pub read_noise_e: f64,
+}
+
+impl CaptureNoise {
+    /// The light level and noise of a display capture taken with `cap`.
+    pub fn of(cap: &CaptureSettings) -> Self {
+        CaptureNoise {
+            snr_db: cap.light.snr_db(cap.read_noise_e),
+            ltr_relative: cap.ltr_relative,
+            white_e: cap.electrons_per_unit(),
+            read_noise_e: cap.read_noise_e,
+        }
+    }
+
+    /// The capture's noise variance at a white pixel, on the scale where white reads 1:
+    /// `(e + σ_read²)/e²` (Poisson and read noise; 12-bit quantisation adds 5e-9 and is left out).
+    /// `NaN` for a capture that collects no light.
+    pub fn white_variance(&self) -> f64 {
+        let e = self.white_e;
+        if !(e > 0.0) {
+            return f64::NAN;
+        }
+        (e + self.read_noise_e * self.read_noise_e) / (e * e)
+    }
+}
+
 impl Sigma2 {
-    /// The σ² on the scale of a capture that reads ≈ 1 at white, for the light level `snr_db`
-    /// (SNR of a white pixel behind the reference display) and a display passing
-    /// `ltr_relative` times the reference's light (module docs).
-    pub fn resolve(self, snr_db: f64, ltr_relative: f64) -> f64 {
+    /// The σ² on the scale of a capture that reads ≈ 1 at white, for the capture `at` (module
+    /// docs): chapter 3's table is divided by `ltr_relative²`, chapter 4's applies as it stands.
+    pub fn resolve(self, at: &CaptureNoise) -> f64 {
         match self {
             Sigma2::Thesis(Recipe::Iccp21) => {
-                Recipe::Iccp21.sigma2(snr_db) / (ltr_relative * ltr_relative)
+                Recipe::Iccp21.sigma2(at.snr_db) / (at.ltr_relative * at.ltr_relative)
             }
-            Sigma2::Thesis(Recipe::Iccv23) => Recipe::Iccv23.sigma2(snr_db),
+            Sigma2::Thesis(Recipe::Iccv23) => Recipe::Iccv23.sigma2(at.snr_db),
+            Sigma2::Matched => at.white_variance(),
             Sigma2::Fixed(s) => s,
         }
     }
@@ -154,16 +201,35 @@ impl Denoise {
         Ok(())
     }
 
-    /// What this setting does at a light level: `None`, or the σ² BM3D gets on a capture that
-    /// reads ≈ 1 at white (see [`Sigma2::resolve`]).
-    pub fn applied(self, snr_db: f64, ltr_relative: f64) -> DenoiseUsed {
-        DenoiseUsed {
+    /// What this setting does for the capture `at`: `None`, or the σ² BM3D gets on a capture
+    /// that reads ≈ 1 at white (see [`Sigma2::resolve`]).
+    ///
+    /// # Errors
+    /// [`SimError::InvalidField`] (`denoise.sigma2`) when the σ² is not a usable variance: a
+    /// matched σ² for a capture that collects no light, or one outside BM3D's range.
+    pub fn applied(self, at: &CaptureNoise) -> Result<DenoiseUsed, SimError> {
+        let sigma2 = match self {
+            Denoise::None => None,
+            Denoise::Bm3d { sigma2 } => {
+                let s = sigma2.resolve(at);
+                if !crate::denoise::sigma2_in_range(s) {
+                    return Err(SimError::field(
+                        "denoise.sigma2",
+                        format!(
+                            "{s:?} for this capture ({:.3} e⁻ at white) is outside {:e} … {}",
+                            at.white_e,
+                            crate::denoise::MIN_SIGMA2,
+                            crate::denoise::MAX_SIGMA2
+                        ),
+                    ));
+                }
+                Some(s)
+            }
+        };
+        Ok(DenoiseUsed {
             setting: self,
-            sigma2: match self {
-                Denoise::None => None,
-                Denoise::Bm3d { sigma2 } => Some(sigma2.resolve(snr_db, ltr_relative)),
-            },
-        }
+            sigma2,
+        })
     }
 }
 
@@ -177,13 +243,17 @@ pub struct DenoiseUsed {
 }
 
 impl DenoiseUsed {
-    /// Where σ² came from: the recipe's name, `"override"`, or `None` when not denoised.
+    /// Where σ² came from: the recipe's name, `"matched"`, `"override"`, or `None` when not
+    /// denoised.
     pub fn source(&self) -> Option<&'static str> {
         match self.setting {
             Denoise::None => None,
             Denoise::Bm3d {
                 sigma2: Sigma2::Thesis(r),
             } => Some(r.name()),
+            Denoise::Bm3d {
+                sigma2: Sigma2::Matched,
+            } => Some("matched"),
             Denoise::Bm3d {
                 sigma2: Sigma2::Fixed(_),
             } => Some("override"),
@@ -216,13 +286,58 @@ mod tests {
         assert_eq!(nearest_row(f64::NAN), 0);
     }
 
+    fn at(snr_db: f64, ltr_relative: f64) -> CaptureNoise {
+        CaptureNoise {
+            snr_db,
+            ltr_relative,
+            white_e: 100.0,
+            read_noise_e: 4.87,
+        }
+    }
+
     #[test]
     fn chapter_3_sigma2_is_converted_to_our_scale_and_chapter_4_is_not() {
-        let s = Sigma2::Thesis(Recipe::Iccp21).resolve(28.0, 2.0);
+        let s = Sigma2::Thesis(Recipe::Iccp21).resolve(&at(28.0, 2.0));
         assert!((s - 0.002 / 4.0).abs() < 1e-15, "{s}");
-        let s = Sigma2::Thesis(Recipe::Iccv23).resolve(32.0, 2.0);
+        let s = Sigma2::Thesis(Recipe::Iccv23).resolve(&at(32.0, 2.0));
         assert_eq!(s, 0.0005);
-        assert_eq!(Sigma2::Fixed(0.003).resolve(24.0, 3.0), 0.003);
+        assert_eq!(Sigma2::Fixed(0.003).resolve(&at(24.0, 3.0)), 0.003);
+    }
+
+    /// The matched σ² is the variance of Poisson(e) + N(0, σ_read²) divided by e², whatever the
+    /// table says; chapter 4's table is that variance with all the light (e = L at each level).
+    #[test]
+    fn matched_sigma2_is_the_captures_white_variance() {
+        let mut a = at(24.0, 1.0);
+        for e in [20.0, 273.0, 10_024.0] {
+            a.white_e = e;
+            let want = (e + 4.87 * 4.87) / (e * e);
+            let got = Sigma2::Matched.resolve(&a);
+            assert!((got - want).abs() <= 1e-15 * want, "{e}: {got} vs {want}");
+        }
+        // Halving the light doubles the photon part: the table cannot follow a display's LTR.
+        a.white_e = 200.0;
+        let bright = Sigma2::Matched.resolve(&a);
+        a.white_e = 100.0;
+        assert!(Sigma2::Matched.resolve(&a) > 1.9 * bright);
+        for (row, table) in ICCV23_SIGMA2.iter().enumerate() {
+            let l = super::super::capture::Light::SnrDb(THESIS_SNR_DB[row]).electrons(4.87);
+            let open = CaptureNoise {
+                white_e: l,
+                ..at(THESIS_SNR_DB[row], 1.0)
+            };
+            let ratio = Sigma2::Matched.resolve(&open) / table;
+            assert!((0.75..=1.3).contains(&ratio), "row {row}: {ratio}");
+        }
+        a.white_e = 0.0;
+        let dark = Denoise::Bm3d {
+            sigma2: Sigma2::Matched,
+        }
+        .applied(&a);
+        assert!(
+            dark.is_err_and(|e| e.to_string().contains("denoise.sigma2")),
+            "a capture without light has no matched σ²"
+        );
     }
 
     #[test]

@@ -51,7 +51,7 @@ use rayon::prelude::*;
 
 pub use capture::{CaptureSettings, Light};
 pub use cg::{CgReport, CgSettings, LinearBlur, cg_with};
-pub use denoise::{Denoise, DenoiseUsed, Recipe, Sigma2};
+pub use denoise::{CaptureNoise, Denoise, DenoiseUsed, Recipe, Sigma2};
 pub use spectrum::{KernelRows, PadGrid, Padding};
 pub use wiener::THESIS_NSR;
 
@@ -397,8 +397,9 @@ pub fn simulate_with<T: Sample, E: From<SimError>>(
     let blur_grid = PadGrid::new(dim, kernel_dim, Padding::Linear);
     let [expose_share, denoise_share, deblur_share] = progress_shares(settings);
     let cap = &settings.capture;
-    let snr_db = cap.light.snr_db(cap.read_noise_e);
-    let denoise = settings.denoise.applied(snr_db, cap.ltr_relative);
+    let noise = CaptureNoise::of(cap);
+    let snr_db = noise.snr_db;
+    let denoise = settings.denoise.applied(&noise)?;
     let n = photo.len();
     let side_by_side = dim.0 * dim.1 <= SIDE_BY_SIDE_MAX_PIXELS;
     let channels_done = AtomicUsize::new(0);

@@ -416,8 +416,21 @@ impl RestoreView {
             let ltr_relative = self.current().map_or(1.0, |r| {
                 r.electrons_per_unit / r.light_e.max(f64::MIN_POSITIVE)
             });
-            let thesis = Sigma2::Thesis(Recipe::Iccp21).resolve(self.snr_db, ltr_relative);
-            crate::app::widgets::denoise::denoise_ui(ui, &mut self.denoise, Recipe::Iccp21, thesis);
+            let noise = crate::core::restore::CaptureNoise {
+                snr_db: self.snr_db,
+                ltr_relative,
+                white_e: self.current().map_or(f64::NAN, |r| r.electrons_per_unit),
+                read_noise_e: crate::core::restore::capture::READ_NOISE_E,
+            };
+            let thesis = Sigma2::Thesis(Recipe::Iccp21).resolve(&noise);
+            let matched = self.current().map(|_| noise.white_variance());
+            crate::app::widgets::denoise::denoise_ui(
+                ui,
+                &mut self.denoise,
+                Recipe::Iccp21,
+                thesis,
+                matched,
+            );
         });
     }
 
