@@ -216,7 +216,8 @@ impl Denoise {
                     return Err(SimError::field(
                         "denoise.sigma2",
                         format!(
-                            "{s:?} for this capture ({:.3} e⁻ at white) is outside {:e} … {}",
+                            "{s:.4} for this capture ({:.3} e⁻ at white) is outside {:e} … {}: \
+                             give more light or a σ² of your own",
                             at.white_e,
                             crate::denoise::MIN_SIGMA2,
                             crate::denoise::MAX_SIGMA2
