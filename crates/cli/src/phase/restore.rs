@@ -285,11 +285,10 @@ fn denoise_summary(denoise: udc_core::restore::Denoise, photons: &[f64]) -> Valu
     let per_level: Vec<Value> = photons
         .iter()
         .map(|&n| {
-            let used = denoise
-                .applied(&udc_core::phase::imaging::capture_noise(n, 1.0))
-                .ok()
-                .and_then(|u| u.sigma2)
-                .filter(|_| !matched);
+            // The table's σ² needs no LTR; a matched one has none to give here.
+            let used = (!matched)
+                .then(|| denoise.applied(&udc_core::phase::imaging::capture_noise(n, 1.0)))
+                .and_then(|u| u.ok()?.sigma2);
             json!({"photons": n, "sigma2": used.map_or(Value::Null, r)})
         })
         .collect();

@@ -64,7 +64,7 @@ pub struct ColourTruth {
 impl ColourTruth {
     /// `rgb_e` through the tone curve, `[0, 1]`.
     pub fn display_rgb(&self, tone: &ToneCurve) -> [Array2<f64>; 3] {
-        self.rgb_e.each_ref().map(|p| tone.apply(p))
+        tone.apply_rgb(&self.rgb_e)
     }
 }
 
@@ -82,7 +82,7 @@ pub struct ColourCapture {
 impl ColourCapture {
     /// `rgb_e` through the tone curve, `[0, 1]`.
     pub fn display_rgb(&self, tone: &ToneCurve) -> [Array2<f64>; 3] {
-        self.rgb_e.each_ref().map(|p| tone.apply(p))
+        tone.apply_rgb(&self.rgb_e)
     }
 }
 

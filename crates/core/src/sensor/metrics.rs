@@ -36,6 +36,11 @@ impl ToneCurve {
         }
     }
 
+    /// The curve applied to each of three planes (`[R, G, B]` electrons).
+    pub fn apply_rgb(&self, rgb_e: &[Array2<f64>; 3]) -> [Array2<f64>; 3] {
+        rgb_e.each_ref().map(|p| self.apply(p))
+    }
+
     /// The curve applied to every pixel (rows in parallel).
     pub fn apply(&self, image_e: &Array2<f64>) -> Array2<f64> {
         let mut out = Array2::<f64>::zeros(image_e.dim());
