@@ -17,7 +17,7 @@ use udc_studio::app::{StudioApp, WorkspaceId};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::imaging::{
-    Setup, capture_and_restore, compare_setups, phase_blur, thesis_denoise,
+    Setup, capture_and_restore, compare_setups, phase_blur, thesis_denoise, unpassed_mse,
 };
 use udc_studio::core::phase::{PhaseDesign, PhaseOptics, PhaseSampling};
 use udc_studio::core::restore::Denoise;
@@ -73,6 +73,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
             let blur = phase_blur(&design, &sampling, &peaks, optics, PIXELS, &p).unwrap();
             (
                 blur.ltr,
+                unpassed_mse(&blur, &truth).unwrap(),
                 capture_and_restore(&blur, &truth, photons, 0, thesis_denoise(), &p).unwrap(),
             )
         })
@@ -82,8 +83,14 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[0].optics, PhaseOptics::DoubleMla);
         assert_eq!(rows[1].optics, PhaseOptics::Toled);
-        for (row, (ltr, run)) in rows.iter().zip(expected(photons)) {
+        for (row, (ltr, unpassed, run)) in rows.iter().zip(expected(photons)) {
             assert_eq!(row.run.photons, photons);
+            assert!(
+                (row.unpassed_mse - unpassed).abs() < 1e-15,
+                "{}: unpassed {} vs the core's {unpassed}",
+                row.label,
+                row.unpassed_mse
+            );
             assert!(
                 (row.ltr - ltr).abs() < 1e-12,
                 "{}: LTR {} vs {ltr}",
@@ -112,6 +119,14 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
     };
     let bright = check(&h, 1600.0);
     assert_eq!(h.query_all_by_label_contains("restored PSNR").count(), 2);
+    // A row names unpassed frequencies exactly when its setup has some (on this 64-pixel
+    // sensor the T-OLED's diffraction orders fall off the sensor, so neither has: the
+    // 1024-pixel screenshot test sees the T-OLED's).
+    let rows = h.state().phase_ref().capture_rows();
+    assert_eq!(
+        h.query_all_by_label_contains("passes < 1 % of").count(),
+        rows.iter().filter(|r| r.unpassed_mse > 0.0).count()
+    );
     // Each setup's row shows the capture, the BM3D-denoised capture and the restoration.
     for kind in ["captured", "denoised (BM3D)", "restored"] {
         assert_eq!(

@@ -8,7 +8,7 @@ use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::imaging::{
     Lambda0Plan, LensletOrder, Setup, capture, capture_and_restore, field_of_view_columns,
-    phase_blur, restore, scores, thesis_denoise,
+    phase_blur, restore, scores, thesis_denoise, unpassed_frequencies, unpassed_mse,
 };
 use udc_studio::core::phase::{
     Chain, Incidence, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, PhaseOptics, PhaseSampling,
@@ -90,6 +90,91 @@ fn the_scored_field_is_where_the_double_mla_passes_half_the_light() {
             assert!(*e < 0.5, "direction {j} (r = {r:.2}): {e}");
         }
     }
+}
+
+/// The bare T-OLED passes no light where the shift `λ f ν` in its pupil falls between one slit
+/// and the next (`a·p < λ f ν < (1 − a)·p`: the slit grating's autocorrelation is zero there),
+/// and passes the frequencies whose shift is near a multiple of the pitch; a photo's content at
+/// the unpassed frequencies is what `unpassed_mse` counts, and a setup without such a band
+/// (here: a single open aperture, the T-OLED's grating removed) counts nothing.
+#[test]
+fn the_toled_passes_no_light_between_its_slits_and_the_photo_loses_exactly_that() {
+    let d = design(1.0);
+    let width = 256;
+    let lambda_um = 0.53;
+    let blur = phase_blur(
+        &d,
+        &PhaseSampling::preview(),
+        &[Channel::peak("G", lambda_um * 1000.0)],
+        PhaseOptics::Toled,
+        width,
+        &Progress::new(),
+    )
+    .unwrap();
+    let unpassed = &unpassed_frequencies(&blur)[0];
+    assert_eq!(unpassed.len(), width / 2 + 1);
+    // The pupil shift of frequency k (cycles per row of `width` sensor pixels, each the
+    // 2.03 µm the thesis sampling bins to).
+    let pixel_um = udc_studio::core::phase::effective_pixel_um(&d);
+    let shift_um =
+        |k: usize| lambda_um * d.camera.focal_length_um() * k as f64 / (width as f64 * pixel_um);
+    let (slit, pitch) = (d.open_ratio * d.pitch_um, d.pitch_um);
+    let mut inside = 0;
+    // The first two periods of the grating's autocorrelation: far below Nyquist, where the
+    // pixel grid folds no other shift onto these.
+    for (k, &u) in unpassed
+        .iter()
+        .enumerate()
+        .take_while(|(k, _)| shift_um(*k) < 2.0 * pitch)
+    {
+        let s = shift_um(k) % pitch;
+        if s > slit + 2.0 && s < pitch - slit - 2.0 {
+            assert!(
+                u,
+                "k = {k} (shift {s:.1} µm) lies between the slits but passes"
+            );
+            inside += 1;
+        }
+        if s < slit / 2.0 || s > pitch - slit / 2.0 {
+            assert!(
+                !u,
+                "k = {k} (shift {s:.1} µm) is near a slit but counts as unpassed"
+            );
+        }
+    }
+    assert!(inside >= 6, "only {inside} frequencies between the slits");
+    // Two cosines along the rows: one at an unpassed frequency, one at a passed one. Only the
+    // first counts, with its mean square a²/2.
+    let k_lost = unpassed.iter().position(|&u| u).unwrap();
+    let k_kept = 9;
+    assert!(!unpassed[k_kept]);
+    let (a_lost, a_kept) = (0.2, 0.15);
+    let plane = Array2::from_shape_fn((16, width), |(_, x)| {
+        let t = 2.0 * std::f64::consts::PI * x as f64 / width as f64;
+        0.5 + a_lost * (k_lost as f64 * t).cos() + a_kept * (k_kept as f64 * t).cos()
+    });
+    let mse = unpassed_mse(&blur, std::slice::from_ref(&plane)).unwrap();
+    assert!(
+        (mse - a_lost * a_lost / 2.0).abs() < 1e-12,
+        "{mse} against {}",
+        a_lost * a_lost / 2.0
+    );
+    // Without the grating (open ratio 1) every frequency the lens passes gets through.
+    let open = PhaseDesign {
+        open_ratio: 1.0,
+        ..design(1.0)
+    };
+    let open_blur = phase_blur(
+        &open,
+        &PhaseSampling::preview(),
+        &[Channel::peak("G", lambda_um * 1000.0)],
+        PhaseOptics::Toled,
+        width,
+        &Progress::new(),
+    )
+    .unwrap();
+    assert!(unpassed_frequencies(&open_blur)[0].iter().all(|u| !u));
+    assert_eq!(unpassed_mse(&open_blur, &[plane]).unwrap(), 0.0);
 }
 
 fn scene(width: usize) -> Vec<Array2<f64>> {

@@ -500,6 +500,68 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
     assert!(gap.measured.contains("+2.00 dB"), "{}", gap.measured);
 }
 
+/// The T-OLED's row says how much of our photos lies where it passes no light and how its
+/// PSNR at 10 000 photons follows that over the photos; a setup that passes every frequency
+/// (the double MLA: `unpassed_mse` 0) says nothing of it.
+#[test]
+fn table4_1_ties_the_toleds_psnr_to_what_the_photos_hold_where_it_passes_no_light() {
+    let pm = [
+        "runs.0.psnr_db",
+        "runs.0.ssim",
+        "runs.0.photons",
+        "runs.1.psnr_db",
+        "runs.1.ssim",
+        "runs.1.photons",
+        "runs.2.psnr_db",
+        "runs.2.ssim",
+        "runs.2.photons",
+        "runs.3.psnr_db",
+        "runs.3.ssim",
+        "runs.3.photons",
+        "ltr",
+        "unpassed_mse",
+    ];
+    // Photos whose unpassed content scores 17, 20 and 26 dB; the T-OLED restores each 1 dB
+    // above that at 10 000 photons.
+    let point = |bright_db: f64, unpassed_db: f64| -> Vec<f64> {
+        let mut v = Vec::new();
+        for (k, n) in [250.0, 650.0, 1600.0, 10_000.0].iter().enumerate() {
+            let p = if k == 3 { bright_db } else { bright_db - 4.0 };
+            v.extend([p, 0.5, *n]);
+        }
+        v.extend([0.24, 10f64.powf(-unpassed_db / 10.0)]);
+        v
+    };
+    let toled: Vec<Vec<f64>> = [17.0, 20.0, 26.0]
+        .iter()
+        .map(|u| point(u + 1.0, *u))
+        .collect();
+    let mut ours = point(28.0, 0.0);
+    *ours.last_mut().unwrap() = 0.0;
+    let rows: Vec<(&[&str], &[f64])> = vec![
+        (&["TOLED", "a"], &toled[0]),
+        (&["TOLED", "b"], &toled[1]),
+        (&["TOLED", "c"], &toled[2]),
+        (&["Ours", "a"], &ours),
+    ];
+    let phase = table("phase", &["setup", "photo"], &pm, &rows);
+    let display = table(
+        "display",
+        &["display", "photons", "image"],
+        &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
+        &[(&["POLED", "250", "a"], &[20.0, 0.5, 0.083])],
+    );
+    let o = reduce(ResultId::Table4_1, &[phase, display]);
+    let note = |n: &str| o.rows.iter().find(|r| r.setup == n).unwrap().note.clone();
+    let t = note("TOLED");
+    assert!(
+        t.contains("score 21.00 dB") && t.contains("restores to 22.00 dB"),
+        "{t}"
+    );
+    assert!(t.contains("r = 1.00 over 3 photos"), "{t}");
+    assert!(!note("Ours").contains("passes < 1 %"), "{}", note("Ours"));
+}
+
 #[test]
 fn sweep_parameters_can_follow_an_axis_and_an_axis_can_only_name_its_points() {
     use udc_studio::io::sweep::parse_spec;

@@ -284,6 +284,20 @@ fn phase_capture_and_compare() {
     let rows = h.state().phase_ref().capture_rows();
     assert_eq!(rows.len(), 2);
     assert!(rows[0].ltr > 1.5 * rows[1].ltr);
+    // The bare T-OLED's slits pass no light at some horizontal frequencies (on the whole
+    // 1024-pixel sensor its diffraction orders are all there); the double MLA (here T = 1, its
+    // plate wrapping many times) passes nearly all of them. Each row with such frequencies
+    // says what the photo keeps without them.
+    assert!(
+        rows[1].unpassed_mse > 10.0 * rows[0].unpassed_mse,
+        "T-OLED {}, double MLA {}",
+        rows[1].unpassed_mse,
+        rows[0].unpassed_mse
+    );
+    assert_eq!(
+        h.query_all_by_label_contains("passes < 1 % of").count(),
+        rows.iter().filter(|r| r.unpassed_mse > 0.0).count()
+    );
     capture(&mut h, "phase-capture");
     // Bare T-OLED, T = 1 fixed and uniform, T = 5 fixed and uniform (no optimizer run); the
     // test alone compares three of them (a row per setup and light level either way).

@@ -68,6 +68,10 @@ pub struct CaptureRow {
     pub fov_deg: f64,
     /// Columns the scores are taken on (the field of view).
     pub valid: Range<usize>,
+    /// The mean square of the photo's content at the horizontal frequencies the setup passes
+    /// < 1 % of ([`unpassed_mse`](crate::core::phase::imaging::unpassed_mse)); 0 when it passes
+    /// them all.
+    pub unpassed_mse: f64,
     /// The capture, the denoised capture, the restoration and their PSNR and SSIM.
     pub run: RestoreRun,
     textures: RowTextures,
@@ -97,6 +101,7 @@ struct Finished {
     blur: Arc<PhaseBlur>,
     built: bool,
     fov_deg: f64,
+    unpassed_mse: f64,
     run: RestoreRun,
     images: RowImages,
 }
@@ -434,6 +439,7 @@ impl PhaseWorkspace {
             ltr: f.blur.ltr,
             fov_deg: f.fov_deg,
             valid: f.blur.valid.clone(),
+            unpassed_mse: f.unpassed_mse,
             run: f.run,
             textures: RowTextures {
                 captured: tex("captured", captured),

@@ -101,6 +101,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
         runs.push(run);
     }
     let valid = blur.valid.clone();
+    let unpassed_mse = udc_core::phase::imaging::unpassed_mse(&blur, &photo)?;
     if a.mask.json {
         crate::emit_json(&json!({
             "setup": setup,
@@ -112,6 +113,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             "ltr": r(blur.ltr),
             "fov_deg": r(design.fov_deg()),
             "valid_columns": [valid.start, valid.end],
+            "unpassed_mse": r(unpassed_mse),
             "denoise": {"method": denoise.method_name()},
             "runs": runs.iter().map(|x| json!({
                 "photons": x.photons,
@@ -133,6 +135,12 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             valid.start,
             valid.end
         );
+        if unpassed_mse > 0.0 {
+            println!(
+                "the photo without the frequencies this setup passes < 1 % of: {:.2} dB",
+                -10.0 * unpassed_mse.log10()
+            );
+        }
         println!(
             "{:>10}  {:>9}  {:>6}  {:>12}  {:>12}",
             "photons", "PSNR dB", "SSIM", "capture dB", "denoised dB"

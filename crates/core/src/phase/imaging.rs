@@ -71,7 +71,9 @@ use crate::restore::quality::planes_quality;
 use crate::restore::{CgSettings, Denoise, DenoiseUsed, LinearBlur, Recipe, cg_with};
 
 mod setups;
+mod unpassed;
 pub use setups::{CompareRow, Lambda0Plan, LensletOrder, Setup, compare_setups, thesis_setups};
+pub use unpassed::{UNPASSED_MTF, unpassed_frequencies, unpassed_mse};
 
 /// The light levels the thesis names (photons on an open display aperture per pixel).
 pub const THESIS_PHOTONS: [f64; 4] = [250.0, 650.0, 1600.0, 10_000.0];
@@ -125,6 +127,9 @@ pub struct PhaseBlur {
     /// Green (middle channel) column energies before the polariser: the light of each direction
     /// that reaches the scene's sensor columns.
     pub green_column_energy: Vec<f64>,
+    /// Per channel, the PSF of the axis direction over the whole sensor (every pixel, not only
+    /// the scene's columns): the setup's MTF, which the scene's window would truncate.
+    pub axis_psf: Vec<Vec<f64>>,
     /// The optics the operator was computed for (double MLA or bare T-OLED).
     pub optics: PhaseOptics,
 }
@@ -188,13 +193,16 @@ pub fn phase_blur(
             .sum()
     };
     let done = AtomicUsize::new(0);
-    // Per direction: each channel's column and its total transmission.
-    let columns: Vec<(Vec<Vec<f64>>, Vec<f64>)> = (0..width)
+    let axis = width / 2;
+    // Per direction: each channel's column, its total transmission and, for the axis direction
+    // alone, its PSF over the whole sensor.
+    let columns: Vec<Column> = (0..width)
         .into_par_iter()
         .map(|j| {
-            let incidence = Incidence::Pixel(j as i64 - (width / 2) as i64);
+            let incidence = Incidence::Pixel(j as i64 - axis as i64);
             let mut cols = vec![vec![0.0; width]; channels.len()];
             let mut transmission = vec![0.0; channels.len()];
+            let mut whole = vec![vec![0.0; if j == axis { pixels } else { 0 }]; channels.len()];
             for &l in &wavelengths {
                 progress.check()?;
                 let psf = chain.mono(optics, chain.heights_um(), l, incidence);
@@ -204,16 +212,19 @@ pub fn phase_blur(
                         for (v, s) in cols[c].iter_mut().zip(&psf.sensor[first..first + width]) {
                             *v += w * s;
                         }
+                        for (v, s) in whole[c].iter_mut().zip(&psf.sensor) {
+                            *v += w * s;
+                        }
                         transmission[c] += w * psf.total_energy;
                     }
                 }
             }
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress.set(n as f32 / width as f32);
-            Ok((cols, transmission))
+            Ok((cols, transmission, whole))
         })
         .collect::<Result<_, SimError>>()?;
-    let axis = width / 2;
+    let mut columns = columns;
     let ltr = columns[axis].1.iter().sum::<f64>() / channels.len() as f64;
     let green = channels.len() / 2;
     let mats = (0..channels.len())
@@ -226,11 +237,17 @@ pub fn phase_blur(
         valid: field_of_view_columns(design, width),
         green_column_energy: columns
             .iter()
-            .map(|(cols, _)| cols[green].iter().sum::<f64>() / polariser)
+            .map(|(cols, _, _)| cols[green].iter().sum::<f64>() / polariser)
             .collect(),
+        axis_psf: std::mem::take(&mut columns[axis].2),
         optics,
     })
 }
+
+/// One direction of the operator: each channel's column on the scene's pixels, each channel's
+/// total transmission, and (the axis direction only, else empty) each channel's PSF over the
+/// whole sensor.
+type Column = (Vec<Vec<f64>>, Vec<f64>, Vec<Vec<f64>>);
 
 /// One channel's `A = K / LTR` acting on image rows, with its normal matrix precomputed.
 struct RowBlur {

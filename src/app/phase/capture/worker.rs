@@ -84,12 +84,14 @@ pub(super) fn run_setups(
             progress,
         )?;
         let images = run_images(&run, truth);
+        let unpassed_mse = crate::core::phase::imaging::unpassed_mse(&blur, truth)?;
         let finished = Finished {
             label,
             key: key.clone(),
             blur,
             built,
             fov_deg: key.design.fov_deg(),
+            unpassed_mse,
             run,
             images,
         };
