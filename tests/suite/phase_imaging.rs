@@ -102,15 +102,18 @@ fn the_toled_passes_no_light_between_its_slits_and_the_photo_loses_exactly_that(
     let d = design(1.0);
     let width = 256;
     let lambda_um = 0.53;
-    let blur = phase_blur(
-        &d,
-        &PhaseSampling::preview(),
-        &[Channel::peak("G", lambda_um * 1000.0)],
-        PhaseOptics::Toled,
-        width,
-        &Progress::new(),
-    )
-    .unwrap();
+    let toled = |d: &PhaseDesign| {
+        phase_blur(
+            d,
+            &PhaseSampling::preview(),
+            &[Channel::peak("G", lambda_um * 1000.0)],
+            PhaseOptics::Toled,
+            width,
+            &Progress::new(),
+        )
+        .unwrap()
+    };
+    let blur = toled(&d);
     let unpassed = &unpassed_frequencies(&blur)[0];
     assert_eq!(unpassed.len(), width / 2 + 1);
     // The pupil shift of frequency k (cycles per row of `width` sensor pixels, each the
@@ -164,15 +167,7 @@ fn the_toled_passes_no_light_between_its_slits_and_the_photo_loses_exactly_that(
         open_ratio: 1.0,
         ..design(1.0)
     };
-    let open_blur = phase_blur(
-        &open,
-        &PhaseSampling::preview(),
-        &[Channel::peak("G", lambda_um * 1000.0)],
-        PhaseOptics::Toled,
-        width,
-        &Progress::new(),
-    )
-    .unwrap();
+    let open_blur = toled(&open);
     assert!(unpassed_frequencies(&open_blur)[0].iter().all(|u| !u));
     assert_eq!(unpassed_mse(&open_blur, &[plane]).unwrap(), 0.0);
 }

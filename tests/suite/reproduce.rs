@@ -355,23 +355,26 @@ fn table4_2_reports_a_shuffling_cost_above_one_percent_as_a_failure_with_its_siz
     );
 }
 
+/// The metric columns of a `phase restore` sweep over four light levels.
+const PHASE_METRICS: [&str; 13] = [
+    "runs.0.psnr_db",
+    "runs.0.ssim",
+    "runs.0.photons",
+    "runs.1.psnr_db",
+    "runs.1.ssim",
+    "runs.1.photons",
+    "runs.2.psnr_db",
+    "runs.2.ssim",
+    "runs.2.photons",
+    "runs.3.psnr_db",
+    "runs.3.ssim",
+    "runs.3.photons",
+    "ltr",
+];
+
 #[test]
 fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
-    let pm = [
-        "runs.0.psnr_db",
-        "runs.0.ssim",
-        "runs.0.photons",
-        "runs.1.psnr_db",
-        "runs.1.ssim",
-        "runs.1.photons",
-        "runs.2.psnr_db",
-        "runs.2.ssim",
-        "runs.2.photons",
-        "runs.3.psnr_db",
-        "runs.3.ssim",
-        "runs.3.photons",
-        "ltr",
-    ];
+    let pm = PHASE_METRICS;
     let runs = |p: [f64; 4], ltr: f64| -> Vec<f64> {
         let mut v = Vec::new();
         for (k, n) in [250.0, 650.0, 1600.0, 10_000.0].iter().enumerate() {
@@ -505,22 +508,11 @@ fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
 /// (the double MLA: `unpassed_mse` 0) says nothing of it.
 #[test]
 fn table4_1_ties_the_toleds_psnr_to_what_the_photos_hold_where_it_passes_no_light() {
-    let pm = [
-        "runs.0.psnr_db",
-        "runs.0.ssim",
-        "runs.0.photons",
-        "runs.1.psnr_db",
-        "runs.1.ssim",
-        "runs.1.photons",
-        "runs.2.psnr_db",
-        "runs.2.ssim",
-        "runs.2.photons",
-        "runs.3.psnr_db",
-        "runs.3.ssim",
-        "runs.3.photons",
-        "ltr",
-        "unpassed_mse",
-    ];
+    let pm: Vec<&str> = PHASE_METRICS
+        .iter()
+        .copied()
+        .chain(["unpassed_mse"])
+        .collect();
     // Photos whose unpassed content scores 17, 20 and 26 dB; the T-OLED restores each 1 dB
     // above that at 10 000 photons.
     let point = |bright_db: f64, unpassed_db: f64| -> Vec<f64> {

@@ -394,18 +394,18 @@ fn capture_row_ui(ui: &mut Ui, row: &CaptureRow, side: f32) {
              {denoised}CG λ {:.3}) at {:.0} photons per pixel",
             row.ltr, row.fov_deg, r.psnr_db, r.ssim, r.captured_psnr_db, r.cg.lambda, r.photons
         ));
-        if row.unpassed_mse > 0.0 {
-            ui.label(format!(
-                "photo without the frequencies this setup passes < 1 % of: {:.2} dB",
-                -10.0 * row.unpassed_mse.log10()
-            ))
-            .on_hover_text(
-                "The slits pass no light at some horizontal frequencies (about 45 … 110 sensor \
-                 pixels per cycle at 600 DPI): no capture carries the photo there, so the \
-                 restoration's PSNR stays near this number however much light there is.",
-            );
-        }
     });
+    if row.unpassed_mse > 0.0 {
+        ui.label(format!(
+            "The photo without the frequencies this setup passes < 1 % of: {:.2} dB",
+            -10.0 * row.unpassed_mse.log10()
+        ))
+        .on_hover_text(
+            "The slits pass no light at some horizontal frequencies (about 45 … 110 sensor \
+             pixels per cycle at 600 DPI): no capture carries the photo there, so the \
+             restoration's PSNR stays near this number however much light there is.",
+        );
+    }
     let width = r.captured.first().map_or(1, ndarray::Array2::ncols).max(1) as f32;
     let valid = Some((row.valid.start as f32 / width, row.valid.end as f32 / width));
     let t = row.textures();
