@@ -108,17 +108,33 @@ fn load_photo(
     array_of(py, planes, Layout::ChannelsLast)
 }
 
+/// `denoise_sigma2` as Python gives it: a number, or `"matched"` (the capture's own noise).
+#[derive(FromPyObject)]
+enum Sigma2Py {
+    Value(f64),
+    Text(String),
+}
+
 /// The denoiser of a restoration: `"bm3d"` (chapter 3's σ² table unless `sigma2` is given) or
 /// `"none"`, resolved as `restore --denoise … --denoise-sigma2 …` resolves them.
-fn denoise_setting(method: &str, sigma2: Option<f64>) -> PyResult<Denoise> {
+fn denoise_setting(method: &str, sigma2: Option<Sigma2Py>) -> PyResult<Denoise> {
+    use udc_cli::denoise_flags::Sigma2Arg;
     let denoise = DenoiseMethod::from_str(method, false).map_err(|_| {
         errors::value(format!(
             "denoise: expected \"bm3d\" or \"none\" (got {method:?})"
         ))
     })?;
+    let denoise_sigma2 = match sigma2 {
+        None => None,
+        Some(Sigma2Py::Value(v)) => Some(Sigma2Arg::Value(v)),
+        Some(Sigma2Py::Text(t)) => Some(
+            t.parse::<Sigma2Arg>()
+                .map_err(|e| errors::value(format!("denoise_sigma2: {e}")))?,
+        ),
+    };
     DenoiseFlags {
         denoise,
-        denoise_sigma2: sigma2.map(udc_cli::denoise_flags::Sigma2Arg::Value),
+        denoise_sigma2,
     }
     .resolve(Recipe::Iccp21)
     .map_err(|e| errors::value(format!("{e:#}")))
@@ -170,7 +186,7 @@ fn restore<'py>(
     light_e: Option<f64>,
     snr_db: Option<f64>,
     denoise: &str,
-    denoise_sigma2: Option<f64>,
+    denoise_sigma2: Option<Sigma2Py>,
     method: &str,
     nsr: Option<f64>,
     lambda_: Option<f64>,

@@ -53,6 +53,24 @@ def test_restore_is_the_clis_run(cli, tmp_path):
     assert ours.psnr_db == pytest.approx(psnr_db(ours.restored, photo), abs=1e-9)
 
 
+def test_a_matched_sigma2_is_the_clis(cli):
+    photo = udc.load_photo(PHOTO, max_side_px=64)
+    ours = udc.restore("toled-150dpi", photo, snr_db=24, denoise_sigma2="matched")
+    theirs = run_cli(
+        cli, "restore", "--preset", "toled-150dpi", "--image", str(PHOTO),
+        "--max-side-px", "64", "--snr-db", "24", "--denoise-sigma2", "matched", "--json",
+    )
+    assert theirs.returncode == 0, theirs.stderr
+    run = json.loads(theirs.stdout)["runs"][0]
+    mine = json.loads(ours.to_json())
+    for r in (run, mine):
+        r.pop("elapsed_ms", None)
+    assert mine == run
+    assert mine["denoise"]["sigma2_source"] == "matched"
+    # The capture's own variance, not the table's 0.005 for 24 dB.
+    assert ours.denoise_sigma2 != pytest.approx(0.005)
+
+
 def test_the_denoiser_lifts_the_restoration_in_low_light():
     # At 24 dB on a 128-pixel photo BM3D adds about 1.5 dB (the thesis's gain grows with size).
     photo = udc.load_photo(PHOTO, max_side_px=128)
@@ -80,6 +98,10 @@ def test_the_denoiser_lifts_the_restoration_in_low_light():
             "no denoiser",
         ),
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32)), snr_db=28), "channels"),
+        (
+            lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2="match"),
+            "neither `matched` nor a number",
+        ),
     ],
 )
 def test_bad_input_raises_value_error(call, message):

@@ -382,7 +382,7 @@ def restore(
     light_e: Optional[float] = None,
     snr_db: Optional[float] = None,
     denoise: str = "bm3d",
-    denoise_sigma2: Optional[float] = None,
+    denoise_sigma2: Union[float, str, None] = None,
     method: str = "wiener",
     nsr: Optional[float] = None,
     lambda_: Optional[float] = None,
@@ -394,7 +394,9 @@ def restore(
 
     Give the light as ``light_e`` (electrons at a white pixel behind the reference T-OLED) or
     ``snr_db``. ``denoise="bm3d"`` runs the thesis's denoiser first with its σ² for the light
-    level (``denoise_sigma2`` overrides it); ``"none"`` deblurs the capture as it is.
+    level (``denoise_sigma2`` overrides it: a variance on the capture's scale, or ``"matched"``
+    for the capture's own variance at white, ``(e + 4.87²)/e²`` for the ``e`` electrons a white
+    pixel collects); ``"none"`` deblurs the capture as it is.
     ``method`` is ``"wiener"`` (``nsr``) or ``"cg"`` (``lambda_``, ``iterations``). Defaults
     are the CLI's.
     """
