@@ -4,7 +4,7 @@ The public API is ``udc_studio`` itself; these are the plain functions it wraps.
 (``tests/test_stubs.py``) checks every name and parameter here against the module.
 """
 
-from typing import Any, Dict, List, Optional, Tuple
+from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
@@ -39,7 +39,7 @@ def restore(
     light_e: Optional[float] = None,
     snr_db: Optional[float] = None,
     denoise: str = "bm3d",
-    denoise_sigma2: Optional[float] = None,
+    denoise_sigma2: Union[float, str, None] = None,
     method: str = "wiener",
     nsr: Optional[float] = None,
     lambda_: Optional[float] = None,
