@@ -35,20 +35,24 @@ def test_denoise_removes_most_of_the_noise_and_keeps_the_layout(shape):
     assert psnr_db(out, clean) > psnr_db(noisy, clean) + 6
 
 
-def test_restore_is_the_clis_run(cli, tmp_path):
-    photo = udc.load_photo(PHOTO, max_side_px=96)
-    assert photo.shape[2] == 3 and photo.dtype == np.float64 and 0 <= photo.min() <= photo.max() <= 1
-    ours = udc.restore("toled-150dpi", photo, snr_db=28)
-    theirs = run_cli(
-        cli, "restore", "--preset", "toled-150dpi", "--image", str(PHOTO),
-        "--max-side-px", "96", "--snr-db", "28", "--json",
-    )
+def assert_the_clis_run(cli, ours, *flags):
+    """`ours` is the run `udc-studio restore` prints for PHOTO on toled-150dpi with `flags`
+    (timings aside); returns its JSON object."""
+    theirs = run_cli(cli, "restore", "--preset", "toled-150dpi", "--image", str(PHOTO), *flags, "--json")
     assert theirs.returncode == 0, theirs.stderr
     run = json.loads(theirs.stdout)["runs"][0]
     mine = json.loads(ours.to_json())
     for r in (run, mine):
         r.pop("elapsed_ms", None)
     assert mine == run
+    return mine
+
+
+def test_restore_is_the_clis_run(cli, tmp_path):
+    photo = udc.load_photo(PHOTO, max_side_px=96)
+    assert photo.shape[2] == 3 and photo.dtype == np.float64 and 0 <= photo.min() <= photo.max() <= 1
+    ours = udc.restore("toled-150dpi", photo, snr_db=28)
+    assert_the_clis_run(cli, ours, "--max-side-px", "96", "--snr-db", "28")
     assert ours.restored.shape == photo.shape and ours.denoised is not None
     assert ours.psnr_db == pytest.approx(psnr_db(ours.restored, photo), abs=1e-9)
 
@@ -56,16 +60,9 @@ def test_restore_is_the_clis_run(cli, tmp_path):
 def test_a_matched_sigma2_is_the_clis(cli):
     photo = udc.load_photo(PHOTO, max_side_px=64)
     ours = udc.restore("toled-150dpi", photo, snr_db=24, denoise_sigma2="matched")
-    theirs = run_cli(
-        cli, "restore", "--preset", "toled-150dpi", "--image", str(PHOTO),
-        "--max-side-px", "64", "--snr-db", "24", "--denoise-sigma2", "matched", "--json",
+    mine = assert_the_clis_run(
+        cli, ours, "--max-side-px", "64", "--snr-db", "24", "--denoise-sigma2", "matched"
     )
-    assert theirs.returncode == 0, theirs.stderr
-    run = json.loads(theirs.stdout)["runs"][0]
-    mine = json.loads(ours.to_json())
-    for r in (run, mine):
-        r.pop("elapsed_ms", None)
-    assert mine == run
     assert mine["denoise"]["sigma2_source"] == "matched"
     # The capture's own variance, not the table's 0.005 for 24 dB.
     assert ours.denoise_sigma2 != pytest.approx(0.005)

@@ -4,6 +4,7 @@
 
 use super::outcome::{Claim, Curves, Outcome, ReportRow, SweepTable, Value, fmt, fmt_signed};
 use super::thesis::{self, ThesisRow};
+use udc_io::sweep::table::Row;
 
 /// The light levels of Table 4.1 and Fig. 4.14, photons on an open display per pixel.
 pub const PHOTONS: [f64; 4] = [250.0, 650.0, 1600.0, 10_000.0];
@@ -16,16 +17,19 @@ const MAX_RUNS: usize = 8;
 fn phase_at(t: &SweepTable, filter: &[(&str, &str)], photons: f64, metric: &str) -> Option<f64> {
     let vals: Vec<f64> = t
         .matching(filter)
-        .filter_map(|r| {
-            (0..MAX_RUNS).find_map(|i| {
-                let n = t.metric(r, &format!("runs.{i}.photons"))?;
-                ((n - photons).abs() < 0.5)
-                    .then(|| t.metric(r, &format!("runs.{i}.{metric}")))
-                    .flatten()
-            })
-        })
+        .filter_map(|r| run_metric(t, r, photons, metric))
         .collect();
     (!vals.is_empty()).then(|| vals.iter().sum::<f64>() / vals.len() as f64)
+}
+
+/// One `phase restore` point's metric (`psnr_db`, `ssim`) at `photons`.
+fn run_metric(t: &SweepTable, row: &Row, photons: f64, metric: &str) -> Option<f64> {
+    (0..MAX_RUNS).find_map(|i| {
+        let n = t.metric(row, &format!("runs.{i}.photons"))?;
+        ((n - photons).abs() < 0.5)
+            .then(|| t.metric(row, &format!("runs.{i}.{metric}")))
+            .flatten()
+    })
 }
 
 /// The mean of per-level means: every light level weighs the same, as in Table 4.1.
@@ -152,12 +156,7 @@ fn unpassed_sentence(phase: &SweepTable, setup: &str) -> Option<String> {
         .filter_map(|r| {
             let mse = phase.metric(r, "unpassed_mse").filter(|m| *m > 0.0)?;
             let unpassed = -10.0 * mse.log10();
-            let bright = (0..MAX_RUNS).find_map(|i| {
-                let n = phase.metric(r, &format!("runs.{i}.photons"))?;
-                ((n - PHOTONS[3]).abs() < 0.5)
-                    .then(|| phase.metric(r, &format!("runs.{i}.psnr_db")))
-                    .flatten()
-            })?;
+            let bright = run_metric(phase, r, PHOTONS[3], "psnr_db")?;
             Some((unpassed, bright))
         })
         .collect();

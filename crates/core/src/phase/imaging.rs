@@ -196,7 +196,7 @@ pub fn phase_blur(
     let axis = width / 2;
     // Per direction: each channel's column, its total transmission and, for the axis direction
     // alone, its PSF over the whole sensor.
-    let columns: Vec<Column> = (0..width)
+    let mut columns: Vec<Column> = (0..width)
         .into_par_iter()
         .map(|j| {
             let incidence = Incidence::Pixel(j as i64 - axis as i64);
@@ -224,7 +224,6 @@ pub fn phase_blur(
             Ok((cols, transmission, whole))
         })
         .collect::<Result<_, SimError>>()?;
-    let mut columns = columns;
     let ltr = columns[axis].1.iter().sum::<f64>() / channels.len() as f64;
     let green = channels.len() / 2;
     let mats = (0..channels.len())
