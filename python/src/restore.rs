@@ -108,29 +108,29 @@ fn load_photo(
     array_of(py, planes, Layout::ChannelsLast)
 }
 
-/// `denoise_sigma2` as Python gives it: a number, or `"matched"` (the capture's own noise).
-#[derive(FromPyObject)]
-enum Sigma2Py {
-    Value(f64),
-    Text(String),
-}
-
 /// The denoiser of a restoration: `"bm3d"` (chapter 3's σ² table unless `sigma2` is given) or
 /// `"none"`, resolved as `restore --denoise … --denoise-sigma2 …` resolves them.
-fn denoise_setting(method: &str, sigma2: Option<Sigma2Py>) -> PyResult<Denoise> {
+fn denoise_setting(method: &str, sigma2: Option<&Bound<'_, PyAny>>) -> PyResult<Denoise> {
     use udc_cli::denoise_flags::Sigma2Arg;
     let denoise = DenoiseMethod::from_str(method, false).map_err(|_| {
         errors::value(format!(
             "denoise: expected \"bm3d\" or \"none\" (got {method:?})"
         ))
     })?;
+    // A number, or `"matched"` for the capture's own noise; anything else says so in one line.
     let denoise_sigma2 = match sigma2 {
         None => None,
-        Some(Sigma2Py::Value(v)) => Some(Sigma2Arg::Value(v)),
-        Some(Sigma2Py::Text(t)) => Some(
+        Some(v) => Some(if let Ok(x) = v.extract::<f64>() {
+            Sigma2Arg::Value(x)
+        } else if let Ok(t) = v.extract::<String>() {
             t.parse::<Sigma2Arg>()
-                .map_err(|e| errors::value(format!("denoise_sigma2: {e}")))?,
-        ),
+                .map_err(|e| errors::value(format!("denoise_sigma2: {e}")))?
+        } else {
+            return Err(errors::value(format!(
+                "denoise_sigma2: expected a number or \"matched\" (got {})",
+                v.get_type().name()?
+            )));
+        }),
     };
     DenoiseFlags {
         denoise,
@@ -186,7 +186,7 @@ fn restore<'py>(
     light_e: Option<f64>,
     snr_db: Option<f64>,
     denoise: &str,
-    denoise_sigma2: Option<Sigma2Py>,
+    denoise_sigma2: Option<Bound<'py, PyAny>>,
     method: &str,
     nsr: Option<f64>,
     lambda_: Option<f64>,
@@ -211,7 +211,7 @@ fn restore<'py>(
         }
     };
     let (method, padding) = method_setting(method, nsr, lambda_, iterations)?;
-    let denoise = denoise_setting(denoise, denoise_sigma2)?;
+    let denoise = denoise_setting(denoise, denoise_sigma2.as_ref())?;
     let settings = |ltr_relative: f64| RestoreSettings {
         capture: CaptureSettings {
             light,

@@ -99,6 +99,10 @@ def test_the_denoiser_lifts_the_restoration_in_low_light():
             lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2="match"),
             "neither `matched` nor a number",
         ),
+        (
+            lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2=b"x"),
+            "expected a number or \"matched\"",
+        ),
     ],
 )
 def test_bad_input_raises_value_error(call, message):

@@ -28,7 +28,7 @@ impl std::str::FromStr for Sigma2Arg {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        if s.eq_ignore_ascii_case("matched") {
+        if s.trim().eq_ignore_ascii_case("matched") {
             return Ok(Sigma2Arg::Matched);
         }
         s.trim().parse::<f64>().map(Sigma2Arg::Value).map_err(|_| {
