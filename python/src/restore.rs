@@ -111,7 +111,7 @@ fn load_photo(
 /// The denoiser of a restoration: `"bm3d"` (chapter 3's σ² table unless `sigma2` is given) or
 /// `"none"`, resolved as `restore --denoise … --denoise-sigma2 …` resolves them.
 fn denoise_setting(method: &str, sigma2: Option<&Bound<'_, PyAny>>) -> PyResult<Denoise> {
-    use udc_cli::denoise_flags::Sigma2Arg;
+    use udc_cli::denoise_flags::{Caller, Sigma2Arg};
     let denoise = DenoiseMethod::from_str(method, false).map_err(|_| {
         errors::value(format!(
             "denoise: expected \"bm3d\" or \"none\" (got {method:?})"
@@ -136,7 +136,7 @@ fn denoise_setting(method: &str, sigma2: Option<&Bound<'_, PyAny>>) -> PyResult<
         denoise,
         denoise_sigma2,
     }
-    .resolve(Recipe::Iccp21)
+    .resolve_for(Recipe::Iccp21, Caller::Python)
     .map_err(|e| errors::value(format!("{e:#}")))
 }
 

@@ -92,7 +92,11 @@ def test_the_denoiser_lifts_the_restoration_in_low_light():
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, method="lucy"), "wiener"),
         (
             lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise="none", denoise_sigma2=0.01),
-            "no denoiser",
+            r'^denoise_sigma2=0.01: there is no denoiser to give it to with denoise="none"$',
+        ),
+        (
+            lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2=-1),
+            r"^denoise_sigma2=-1.0: the noise variance must be a finite number > 0",
         ),
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32)), snr_db=28), "channels"),
         (

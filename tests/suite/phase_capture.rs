@@ -263,6 +263,26 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     )
     .unwrap();
     assert_eq!(rows, expected, "the studio's rows are the core's");
+    // Each row carries its setup's unpassed content of the photo, as the core measures it.
+    for setup in &setups[..2] {
+        let p = Progress::new();
+        let (design, optics) = setup
+            .resolve(&d, &PhaseSampling::preview(), &[], &p)
+            .unwrap();
+        let blur = phase_blur(
+            &design,
+            &PhaseSampling::preview(),
+            &Channel::rgb_peaks(),
+            optics,
+            PIXELS,
+            &p,
+        )
+        .unwrap();
+        let want = unpassed_mse(&blur, &photo()).unwrap();
+        for row in rows.iter().filter(|r| &r.setup == setup) {
+            assert_eq!(row.unpassed_mse, want, "{}", row.label);
+        }
+    }
     let notice = h.state().phase_ref().compare_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("4 runs"), "{msg}");
@@ -271,6 +291,15 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
         h.query_all_by_label(&setups[1].label()).count() >= 2,
         "a table row"
     );
+    // Its last column is the PSNR of the photo without what each setup passes < 1 % of, or
+    // "-" for a setup that passes every frequency.
+    assert!(h.query_by_label("unpassed (dB)").is_some(), "the column");
+    for row in &rows {
+        if row.unpassed_mse > 0.0 {
+            let cell = format!("{:.2}", -10.0 * row.unpassed_mse.log10());
+            assert!(h.query_by_label(&cell).is_some(), "{}: {cell}", row.label);
+        }
+    }
     let path = dir.path().join("compare.csv");
     let ctx = h.ctx.clone();
     h.state_mut()
@@ -281,15 +310,23 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     });
     let text = std::fs::read_to_string(&path).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(lines[0], "setup,ltr,photo,photons,psnr_db,ssim");
+    assert_eq!(
+        lines[0],
+        "setup,ltr,photo,photons,psnr_db,ssim,unpassed_mse"
+    );
     assert_eq!(lines.len(), 5);
     for (line, row) in lines[1..].iter().zip(&rows) {
         assert!(line.starts_with(&format!("\"{}\",", row.label)), "{line}");
-        let fields: Vec<&str> = line.rsplitn(4, ',').collect();
-        let psnr: f64 = fields[1].parse().unwrap();
-        let ssim: f64 = fields[0].parse().unwrap();
-        let photons: f64 = fields[2].parse().unwrap();
-        assert_eq!((photons, psnr, ssim), (row.photons, row.psnr_db, row.ssim));
+        let fields: Vec<f64> = line
+            .rsplitn(5, ',')
+            .take(4)
+            .map(|f| f.parse().unwrap())
+            .collect();
+        assert_eq!(
+            fields,
+            [row.unpassed_mse, row.ssim, row.psnr_db, row.photons],
+            "{line}"
+        );
     }
 }
 

@@ -60,15 +60,50 @@ pub struct DenoiseFlags {
     pub denoise_sigma2: Option<Sigma2Arg>,
 }
 
+/// Who gave the settings, so that a refusal names them as that caller spells them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Caller {
+    /// The command line: `--denoise-sigma2 0.002`, `--denoise none`.
+    Cli,
+    /// The Python package's keyword arguments: `denoise_sigma2=0.002`, `denoise="none"`.
+    Python,
+}
+
+impl Caller {
+    fn sigma2(self, s: impl std::fmt::Display) -> String {
+        match self {
+            Caller::Cli => format!("--denoise-sigma2 {s}"),
+            Caller::Python => format!("denoise_sigma2={s}"),
+        }
+    }
+
+    fn no_denoiser(self) -> &'static str {
+        match self {
+            Caller::Cli => "--denoise none",
+            Caller::Python => "denoise=\"none\"",
+        }
+    }
+}
+
 impl DenoiseFlags {
     /// The setting, with `recipe`'s σ² table unless `--denoise-sigma2` overrides it.
     ///
     /// # Errors
     /// A σ² that is not finite and > 0, or one given with `--denoise none`.
     pub fn resolve(&self, recipe: Recipe) -> Result<Denoise> {
+        self.resolve_for(recipe, Caller::Cli)
+    }
+
+    /// [`DenoiseFlags::resolve`], with refusals naming the settings as `caller` spells them.
+    ///
+    /// # Errors
+    /// As [`DenoiseFlags::resolve`].
+    pub fn resolve_for(&self, recipe: Recipe, caller: Caller) -> Result<Denoise> {
         match (self.denoise, self.denoise_sigma2) {
             (DenoiseMethod::None, Some(s)) => bail!(
-                "--denoise-sigma2 {s}: there is no denoiser to give it to with --denoise none"
+                "{}: there is no denoiser to give it to with {}",
+                caller.sigma2(s),
+                caller.no_denoiser()
             ),
             (DenoiseMethod::None, None) => Ok(Denoise::None),
             (DenoiseMethod::Bm3d, Some(Sigma2Arg::Matched)) => Ok(Denoise::Bm3d {
@@ -78,8 +113,9 @@ impl DenoiseFlags {
                 if !udc_core::denoise::sigma2_in_range(s) =>
             {
                 bail!(
-                    "--denoise-sigma2 {s:?}: the noise variance must be a finite number > 0, \
+                    "{}: the noise variance must be a finite number > 0, \
                      at least {:e} and at most {} (images are in [0, 1])",
+                    caller.sigma2(format!("{s:?}")),
                     udc_core::denoise::MIN_SIGMA2,
                     udc_core::denoise::MAX_SIGMA2
                 )

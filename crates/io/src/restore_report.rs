@@ -181,17 +181,18 @@ pub fn write_restored_images<T: Sample>(
 /// studio's "Save CSV…"): one line per setup, photo and light level, full precision.
 pub fn compare_csv(rows: &[CompareRow], photo_names: &[String]) -> String {
     let quote = |s: &str| format!("\"{}\"", s.replace('"', "\"\""));
-    let mut text = String::from("setup,ltr,photo,photons,psnr_db,ssim\n");
+    let mut text = String::from("setup,ltr,photo,photons,psnr_db,ssim,unpassed_mse\n");
     for r in rows {
         let photo = photo_names.get(r.photo).map_or("", String::as_str);
         text.push_str(&format!(
-            "{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{}\n",
             quote(&r.label),
             r.ltr,
             quote(photo),
             r.photons,
             r.psnr_db,
-            r.ssim
+            r.ssim,
+            r.unpassed_mse
         ));
     }
     text

@@ -243,6 +243,7 @@ fn compare_cmd(
             "ltr": r(mine.first().map_or(0.0, |x| x.ltr)),
             "psnr_db": r(mean(&|x| x.psnr_db, &mine)),
             "ssim": r(mean(&|x| x.ssim, &mine)),
+            "unpassed_mse": r(mean(&|x| x.unpassed_mse, &mine)),
             "runs": per_level,
         }));
     }
@@ -255,7 +256,7 @@ fn compare_cmd(
         for n in &a.photons {
             print!(" {:>13}", format!("{n} ph"));
         }
-        println!(" {:>13}", "mean");
+        println!(" {:>13} {:>9}", "mean", "unpassed");
         for s in &summary {
             print!(
                 "{:<42} {:>6.3}",
@@ -269,10 +270,16 @@ fn compare_cmd(
                     run["ssim"].as_f64().unwrap_or(f64::NAN)
                 );
             }
+            // The PSNR of the photos without what this setup passes < 1 % of, dB.
+            let unpassed = s["unpassed_mse"]
+                .as_f64()
+                .filter(|m| *m > 0.0)
+                .map_or_else(|| "-".to_string(), |m| format!("{:.2}", -10.0 * m.log10()));
             println!(
-                " {:>6.2} {:>6.3}",
+                " {:>6.2} {:>6.3} {:>9}",
                 s["psnr_db"].as_f64().unwrap_or(f64::NAN),
-                s["ssim"].as_f64().unwrap_or(f64::NAN)
+                s["ssim"].as_f64().unwrap_or(f64::NAN),
+                unpassed
             );
         }
     }

@@ -223,6 +223,9 @@ pub struct CompareRow {
     pub ssim: f64,
     /// PSNR of the denoised capture on the field of view; `None` without a denoiser.
     pub denoised_psnr_db: Option<f64>,
+    /// The photo's mean squared content at the frequencies this setup passes < 1 % of
+    /// ([`super::unpassed_mse`]): the same at every light level.
+    pub unpassed_mse: f64,
 }
 
 /// Runs every setup on every photo at every light level (Fig. 4.6, Tables 4.1–4.2, Fig. 4.10):
@@ -261,6 +264,7 @@ pub fn compare_setups(
             let Some((_, blur)) = blurs.iter().find(|(w, _)| *w == width) else {
                 continue;
             };
+            let unpassed_mse = super::unpassed_mse(blur, photo)?;
             for &n in photons {
                 progress.check()?;
                 let run = capture_and_restore(blur, photo, n, seed, denoise, progress)?;
@@ -273,6 +277,7 @@ pub fn compare_setups(
                     psnr_db: run.psnr_db,
                     ssim: run.ssim,
                     denoised_psnr_db: run.denoised_psnr_db,
+                    unpassed_mse,
                 });
             }
         }
