@@ -77,12 +77,17 @@ pub fn studio(
 }
 
 /// Steps the UI until `done` holds (the worker runs on its own thread); fails after 300 s (a hang guard, not a timing check: CI shares 2 cores between tests).
+///
+/// The pause between frames grows from 2 to 100 ms: a quick job is seen at once, and while a
+/// long one runs the test's frames (a large UI laid out at 100 frames a second took a tenth of
+/// the CPU of the phase comparison's test) leave the cores to the workers.
 pub fn step_until(
     h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>,
     what: &str,
     done: impl Fn(&udc_studio::app::StudioApp) -> bool,
 ) {
     let start = std::time::Instant::now();
+    let mut pause = std::time::Duration::from_millis(2);
     loop {
         h.step();
         if done(h.state()) {
@@ -93,7 +98,8 @@ pub fn step_until(
             start.elapsed() < std::time::Duration::from_secs(300),
             "timed out waiting for {what}"
         );
-        std::thread::sleep(std::time::Duration::from_millis(10));
+        std::thread::sleep(pause);
+        pause = (pause * 2).min(std::time::Duration::from_millis(100));
     }
 }
 
