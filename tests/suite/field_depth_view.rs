@@ -28,6 +28,8 @@ fn capture(h: &mut egui_kittest::Harness<'_, StudioApp>, name: &str) {
 
 fn wait_for_result(h: &mut egui_kittest::Harness<'_, StudioApp>, what: &str) {
     let start = Instant::now();
+    // As common::step_until: a growing pause leaves the cores to the worker.
+    let mut pause = Duration::from_millis(2);
     loop {
         h.step();
         let v = &h.state_mut().views().field_depth;
@@ -39,7 +41,8 @@ fn wait_for_result(h: &mut egui_kittest::Harness<'_, StudioApp>, what: &str) {
             start.elapsed() < Duration::from_secs(90),
             "timed out waiting for {what}"
         );
-        std::thread::sleep(Duration::from_millis(10));
+        std::thread::sleep(pause);
+        pause = (pause * 2).min(Duration::from_millis(100));
     }
 }
 
