@@ -339,15 +339,16 @@ fn blur_rows_direct(src: &Array2<f64>, kernel: &[f64], radius: usize) -> Array2<
 /// kernel is real, so two rows share one complex transform (one as the real part, the other as
 /// the imaginary part) and come back apart. Equal to the direct sum to rounding (~1e-15).
 fn blur_rows_fft(src: &Array2<f64>, kernel: &[f64], radius: usize) -> Array2<f64> {
-    use crate::psf::fft::{complex_inverse_plan, complex_plan};
     use rayon::prelude::*;
     use rustfft::num_complex::Complex64;
     let (h, w) = src.dim();
     if w == 0 {
         return src.clone();
     }
-    let forward = complex_plan(w);
-    let inverse = complex_inverse_plan(w);
+    // Its own planner: the display layer does not reach into the PSF route's plan cache.
+    let mut planner = rustfft::FftPlanner::new();
+    let forward = planner.plan_fft_forward(w);
+    let inverse = planner.plan_fft_inverse(w);
     let mut folded = vec![Complex64::new(0.0, 0.0); w];
     for (i, k) in kernel.iter().enumerate() {
         folded[(i as i64 - radius as i64).rem_euclid(w as i64) as usize].re += k;
