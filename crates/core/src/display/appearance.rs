@@ -537,7 +537,8 @@ mod tests {
     use super::*;
 
     /// The transform's rows equal the direct sum's, for an odd number of rows (the last one
-    /// without a partner), a kernel that wraps the row several times, and one that does not.
+    /// without a partner) and kernels 1.4 to 10 times the row's length (wrapping it once and
+    /// several times), one of them asymmetric so a convolution would not pass for a correlation.
     #[test]
     fn the_transform_blurs_rows_as_the_direct_sum_does() {
         let img = Array2::from_shape_fn((9, 40), |(r, c)| ((r * 37 + c * 13) % 17) as f64 / 16.0);
