@@ -3,7 +3,6 @@
 
 use proptest::prelude::*;
 use rustfft::num_complex::Complex64;
-use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::allocate::{barrier_gradient, channel_invertibility};
 use udc_studio::core::phase::geometry::lenslet_count;
@@ -12,6 +11,7 @@ use udc_studio::core::phase::{
     PhaseSampling, SamplingConvention, Surface, invertibility_score, optical_mtf, optimize_lambda0,
     phase_psfs, v_matrix_on, wavelength_grid_nm,
 };
+use udc_studio::core::{Progress, SimError};
 use udc_studio::io::spectral::{channels_from_response, thesis_response};
 
 fn thesis(pitch_um: f64, fold: f64) -> PhaseDesign {
@@ -526,4 +526,54 @@ fn a_floored_plate_is_no_taller_than_its_top_level() {
     d.height_step_um = None;
     let fold = 0.53 / 0.515;
     assert!((lenslets.max_height_um(&d) - fold).abs() < 1e-12);
+}
+
+/// Many directions at one wavelength through one plate (what the imaging operator sends) give
+/// each direction's PSF exactly as one call per direction does: the plate's transmission formed
+/// once is the one each call would form. A cancelled run stops.
+#[test]
+fn directions_through_one_plate_equal_one_call_per_direction() {
+    let mut design = thesis(42.0, 5.0);
+    // Every lenslet its own λ0, so no lenslet's transmission repeats its neighbour's.
+    design.lambda0 = Lambda0::Uniform;
+    let sampling = PhaseSampling::preview();
+    let chain = Chain::new(&design, &sampling).unwrap();
+    let incidences: Vec<Incidence> = [-300, -40, 0, 7, 511]
+        .into_iter()
+        .map(Incidence::Pixel)
+        .collect();
+    for optics in [PhaseOptics::DoubleMla, PhaseOptics::Toled] {
+        for wavelength in [471.0, 611.0] {
+            let many = chain
+                .mono_directions(
+                    optics,
+                    chain.heights_um(),
+                    wavelength,
+                    &incidences,
+                    &Progress::new(),
+                )
+                .unwrap();
+            assert_eq!(many.len(), incidences.len());
+            for (psf, &incidence) in many.iter().zip(&incidences) {
+                let one = chain.mono(optics, chain.heights_um(), wavelength, incidence);
+                assert_eq!(psf, &one, "{optics:?} {wavelength} nm {incidence:?}");
+                assert!(one.window_energy > 0.0);
+            }
+            // Directions differ: a PSF repeated for every direction would pass the loop above
+            // only if `mono` ignored the direction too.
+            assert_ne!(many[1].sensor, many[3].sensor);
+        }
+    }
+    let cancelled = Progress::new();
+    cancelled.cancel();
+    let err = chain
+        .mono_directions(
+            PhaseOptics::DoubleMla,
+            chain.heights_um(),
+            530.0,
+            &incidences,
+            &cancelled,
+        )
+        .unwrap_err();
+    assert!(matches!(err, SimError::Cancelled), "{err}");
 }

@@ -12,11 +12,14 @@ use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::sync::{Arc, Mutex};
 
+use rayon::prelude::*;
+
 use rustfft::num_complex::{Complex32, Complex64};
 
 use super::czt::{Czt, CztWork};
 use super::geometry::{Lenslets, display_aperture_um, height_um};
 use super::{PhaseDesign, PhaseSampling, SamplingConvention, SimError};
+use crate::Progress;
 use crate::psf::fft::{complex_plan_f32, quadratic_phase};
 use crate::psf::sampling::{next_fast_size, next_fast_size_235};
 
@@ -443,7 +446,7 @@ impl Chain {
         heights_um: &[f64],
         wavelength_nm: f64,
     ) -> Result<Vec<Complex64>, SimError> {
-        let k_n1 = 2.0 * PI / (wavelength_nm * 1e-3) * (self.design.refractive_index - 1.0);
+        let k_n1 = self.k_n1(wavelength_nm);
         let (start, end) = self.lens_range;
         let amplitude = |i: usize| self.slits[i] * self.lens_rect[i];
         match optics {
@@ -471,10 +474,65 @@ impl Chain {
         wavelength_nm: f64,
         incidence: Incidence,
     ) -> MonoPsf {
+        self.mono_with(optics, heights_um, None, wavelength_nm, incidence)
+    }
+
+    /// [`Chain::mono`] for many directions at one wavelength, in parallel, in the order of
+    /// `incidences`. The plate's transmission (an exponential per sample, as costly as an FFT)
+    /// is formed once for them all; each PSF equals `mono`'s to the bit.
+    ///
+    /// # Errors
+    /// [`SimError::Cancelled`] when `progress` is cancelled.
+    pub fn mono_directions(
+        &self,
+        optics: PhaseOptics,
+        heights_um: &[f64],
+        wavelength_nm: f64,
+        incidences: &[Incidence],
+        progress: &Progress,
+    ) -> Result<Vec<MonoPsf>, SimError> {
+        let plate = match optics {
+            PhaseOptics::DoubleMla => {
+                let mut plate = Vec::new();
+                self.transmission(heights_um, self.k_n1(wavelength_nm), &mut plate);
+                Some(plate)
+            }
+            PhaseOptics::Toled | PhaseOptics::SingleMask => None,
+        };
+        incidences
+            .par_iter()
+            .map(|&incidence| {
+                progress.check()?;
+                Ok(self.mono_with(
+                    optics,
+                    heights_um,
+                    plate.as_deref(),
+                    wavelength_nm,
+                    incidence,
+                ))
+            })
+            .collect()
+    }
+
+    /// `k (n − 1)` at this wavelength: the plate's phase per µm of height.
+    fn k_n1(&self, wavelength_nm: f64) -> f64 {
+        2.0 * PI / (wavelength_nm * 1e-3) * (self.design.refractive_index - 1.0)
+    }
+
+    /// [`Chain::mono`], with the double MLA's plate transmission given (`plate`, from
+    /// [`Chain::transmission`] at this wavelength) or formed here (`None`).
+    fn mono_with(
+        &self,
+        optics: PhaseOptics,
+        heights_um: &[f64],
+        plate: Option<&[Complex64]>,
+        wavelength_nm: f64,
+        incidence: Incidence,
+    ) -> MonoPsf {
         let lambda = wavelength_nm * 1e-3;
         let k = 2.0 * PI / lambda;
         let k_sin = k * incidence.sin_theta(&self.design);
-        let k_n1 = k * (self.design.refractive_index - 1.0);
+        let k_n1 = self.k_n1(wavelength_nm);
         let (start, end) = self.lens_range;
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
@@ -486,18 +544,22 @@ impl Chain {
         WORK.with(|cell| {
             let work = &mut *cell.borrow_mut();
             let Work {
-                plate,
+                plate: own_plate,
                 field,
+                scratch,
                 czt: czt_work,
-                ..
-            } = match optics {
-                PhaseOptics::DoubleMla => {
-                    self.transmission(heights_um, k_n1, &mut work.plate);
-                    self.relay(work, lambda, k_sin);
-                    work
+            } = work;
+            let plate: &[Complex64] = match (optics, plate) {
+                (PhaseOptics::DoubleMla, Some(given)) => given,
+                (PhaseOptics::DoubleMla, None) => {
+                    self.transmission(heights_um, k_n1, own_plate);
+                    own_plate
                 }
-                PhaseOptics::Toled | PhaseOptics::SingleMask => work,
+                (PhaseOptics::Toled | PhaseOptics::SingleMask, _) => &[],
             };
+            if optics == PhaseOptics::DoubleMla {
+                self.relay(plate, field, scratch, lambda, k_sin);
+            }
             // The field on the main-lens opening, fed to the Fraunhofer transform as it is
             // formed; one closure per optics keeps the loop free of branches.
             let one = Complex64::new(1.0, 0.0);

@@ -44,7 +44,6 @@
 
 use crate::Setting;
 use std::ops::Range;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 use ndarray::{Array2, Axis};
 use rand::SeedableRng;
@@ -192,22 +191,35 @@ pub fn phase_blur(
             .map(|(_, w)| w / sum)
             .sum()
     };
-    let done = AtomicUsize::new(0);
     let axis = width / 2;
+    let incidences: Vec<Incidence> = (0..width)
+        .map(|j| Incidence::Pixel(j as i64 - axis as i64))
+        .collect();
     // Per direction: each channel's column, its total transmission and, for the axis direction
-    // alone, its PSF over the whole sensor.
+    // alone, its PSF over the whole sensor. Wavelength by wavelength, all directions at once, so
+    // the plate's transmission is formed once per wavelength; each column still sums its
+    // wavelengths in ascending order.
     let mut columns: Vec<Column> = (0..width)
-        .into_par_iter()
         .map(|j| {
-            let incidence = Incidence::Pixel(j as i64 - axis as i64);
-            let mut cols = vec![vec![0.0; width]; channels.len()];
-            let mut transmission = vec![0.0; channels.len()];
-            let mut whole = vec![vec![0.0; if j == axis { pixels } else { 0 }]; channels.len()];
-            for &l in &wavelengths {
-                progress.check()?;
-                let psf = chain.mono(optics, chain.heights_um(), l, incidence);
-                for (c, ch) in channels.iter().enumerate() {
-                    let w = weight(ch, l) * polariser;
+            let whole = if j == axis { pixels } else { 0 };
+            (
+                vec![vec![0.0; width]; channels.len()],
+                vec![0.0; channels.len()],
+                vec![vec![0.0; whole]; channels.len()],
+            )
+        })
+        .collect();
+    for (done, &l) in wavelengths.iter().enumerate() {
+        let psfs = chain.mono_directions(optics, chain.heights_um(), l, &incidences, progress)?;
+        let weights: Vec<f64> = channels
+            .iter()
+            .map(|ch| weight(ch, l) * polariser)
+            .collect();
+        columns
+            .par_iter_mut()
+            .zip(&psfs)
+            .for_each(|((cols, transmission, whole), psf)| {
+                for (c, &w) in weights.iter().enumerate() {
                     if w > 0.0 {
                         for (v, s) in cols[c].iter_mut().zip(&psf.sensor[first..first + width]) {
                             *v += w * s;
@@ -218,12 +230,9 @@ pub fn phase_blur(
                         transmission[c] += w * psf.total_energy;
                     }
                 }
-            }
-            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-            progress.set(n as f32 / width as f32);
-            Ok((cols, transmission, whole))
-        })
-        .collect::<Result<_, SimError>>()?;
+            });
+        progress.set((done + 1) as f32 / wavelengths.len() as f32);
+    }
     let ltr = columns[axis].1.iter().sum::<f64>() / channels.len() as f64;
     let green = channels.len() / 2;
     let mats = (0..channels.len())

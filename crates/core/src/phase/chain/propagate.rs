@@ -153,8 +153,15 @@ impl Chain {
     }
 
     /// MLA 1 → Fresnel → display → Fresnel: the double MLA's field just before MLA 2, in
-    /// `work.field` (samples `0..n` are the chain's). `work.plate` holds the transmission.
-    pub(super) fn relay(&self, work: &mut Work, wavelength_um: f64, k_sin: f64) {
+    /// `field` (samples `0..n` are the chain's), for the plate's transmission `plate`.
+    pub(super) fn relay(
+        &self,
+        plate: &[Complex64],
+        field: &mut Vec<Complex32>,
+        scratch: &mut Vec<Complex32>,
+        wavelength_um: f64,
+        k_sin: f64,
+    ) {
         let h = self.transfer(wavelength_um);
         let len = h.len();
         let forward = complex_plan_f32(len, false);
@@ -162,12 +169,6 @@ impl Chain {
         let scratch_len = forward
             .get_inplace_scratch_len()
             .max(inverse.get_inplace_scratch_len());
-        let Work {
-            plate,
-            field,
-            scratch,
-            ..
-        } = work;
         field.resize(len, Complex32::new(0.0, 0.0));
         scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
         let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
