@@ -67,6 +67,9 @@ def test_sensor_simulate_is_the_clis_and_picks_a_strategy(cli):
 def test_bad_flags_raise_the_command_lines_messages(tmp_path):
     with pytest.raises(ValueError, match="--photons NaN: must be 10"):
         udc.phase.restore(photons=float("nan"))
+    for bad in (float("nan"), float("inf"), -1.0):
+        with pytest.raises(ValueError, match=r"--denoise-sigma2 .*: the noise variance must be a finite number > 0"):
+            udc.phase.restore(preview=True, photons=650, denoise_sigma2=bad)
     with pytest.raises(ValueError, match="unexpected argument '--colour'"):
         udc.phase.psf(colour="red")
     with pytest.raises(ValueError, match="strategy: unknown"):

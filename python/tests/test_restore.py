@@ -98,6 +98,14 @@ def test_the_denoiser_lifts_the_restoration_in_low_light():
             lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2=-1),
             r"^denoise_sigma2=-1.0: the noise variance must be a finite number > 0",
         ),
+        (
+            lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2=float("nan")),
+            r"^denoise_sigma2=NaN: the noise variance must be a finite number > 0",
+        ),
+        (
+            lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2=float("inf")),
+            r"^denoise_sigma2=inf: the noise variance must be a finite number > 0",
+        ),
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32)), snr_db=28), "channels"),
         (
             lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2="match"),
