@@ -1,4 +1,4 @@
-//! The layering: one crate per layer (core → io → cli → studio), the compiler refusing an arrow
+//! The layering: one crate per layer (fft → core → io → cli → studio), the compiler refusing an arrow
 //! back up; these tests add what the compiler does not see: no GUI crate below the studio, no
 //! file access in the core, and no import cycle between sibling modules inside a crate.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
@@ -19,7 +19,8 @@ fn repo() -> &'static std::path::Path {
 }
 
 /// The source folders of the workspace's crates, lowest layer first.
-const CRATE_SOURCES: [&str; 5] = [
+const CRATE_SOURCES: [&str; 6] = [
+    "crates/fft/src",
     "crates/core/src",
     "crates/io/src",
     "crates/cli/src",
@@ -105,8 +106,11 @@ fn the_core_io_and_cli_crates_and_the_python_module_link_no_gui() {
 
 #[test]
 fn core_reads_no_files() {
+    // The core and the FFT plans below it.
     let mut files = Vec::new();
-    rust_files(&repo().join(CRATE_SOURCES[0]), &mut files);
+    for src in &CRATE_SOURCES[..2] {
+        rust_files(&repo().join(src), &mut files);
+    }
     assert!(files.len() > 5);
     for f in files {
         let text = std::fs::read_to_string(&f).expect("read");
@@ -190,7 +194,8 @@ fn paths_named(module: &[String], text: &str) -> Vec<Vec<String>> {
 
 #[test]
 fn sibling_modules_do_not_import_each_other_in_a_cycle() {
-    for crate_src in CRATE_SOURCES {
+    // The FFT crate is one file: it has no sibling modules.
+    for crate_src in &CRATE_SOURCES[1..] {
         no_sibling_cycle(&repo().join(crate_src));
     }
 }
@@ -250,5 +255,28 @@ fn no_sibling_cycle(src: &std::path::Path) {
     for v in edges.keys() {
         let cycle = visit(v, &edges, &mut Vec::new(), &mut done);
         assert!(cycle.is_none(), "import cycle between siblings: {cycle:?}");
+    }
+}
+
+/// Only `udc-fft` plans transforms: rustfft's planners are generic, so a planner in another
+/// crate compiles every FFT algorithm again there (docs/src/budgets.md).
+#[test]
+fn fft_plans_are_made_only_in_the_fft_crate() {
+    let mut files = Vec::new();
+    for src in &CRATE_SOURCES[1..] {
+        rust_files(&repo().join(src), &mut files);
+    }
+    rust_files(&repo().join("tests"), &mut files);
+    rust_files(&repo().join("benches"), &mut files);
+    assert!(files.len() > 50);
+    // Spelled in pieces, so this file does not name what it looks for.
+    let banned = ["Fft", "Planner"].concat();
+    for f in files {
+        let text = std::fs::read_to_string(&f).expect("read");
+        assert!(
+            !text.contains(&banned),
+            "{} makes its own FFT planner; use udc_fft's plans",
+            f.display()
+        );
     }
 }

@@ -23,6 +23,7 @@ mod drop;
 mod emitters;
 mod emitters_editor;
 mod expected_psf;
+mod fft_plans;
 mod field_depth;
 mod field_depth_view;
 mod fuzz;

@@ -7,7 +7,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use crate::psf::fft::complex_plan;
+use udc_fft::complex_plan;
 
 /// Unnormalised 2-D DFT of a real array (DC at `[0, 0]`).
 pub fn dft2(a: &Array2<f64>) -> Array2<Complex64> {

@@ -19,9 +19,10 @@ use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::analysis::residual::{Deblur, channel_residuals, mean};
 use crate::design::{Design, OpticsRecipe};
 use crate::display::aperture::{Display, Extent, effective_cells, rasterise};
-use crate::psf::fft::{bin_dense, complex_plan, signed};
+use crate::psf::fft::{bin_dense, signed};
 use crate::psf::sampling::WavelengthSampling;
 use crate::{Progress, SimError};
+use udc_fft::complex_plan;
 
 /// Largest FFT side of the defocused PSF: it needs two dense complex `M×M` grids (512 MiB here),
 /// unlike the analysis, which folds a sparse field column by column.

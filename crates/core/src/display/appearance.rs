@@ -345,10 +345,8 @@ fn blur_rows_fft(src: &Array2<f64>, kernel: &[f64], radius: usize) -> Array2<f64
     if w == 0 {
         return src.clone();
     }
-    // Its own planner: the display layer does not reach into the PSF route's plan cache.
-    let mut planner = rustfft::FftPlanner::new();
-    let forward = planner.plan_fft_forward(w);
-    let inverse = planner.plan_fft_inverse(w);
+    let forward = udc_fft::complex_plan(w);
+    let inverse = udc_fft::complex_inverse_plan(w);
     let mut folded = vec![Complex64::new(0.0, 0.0); w];
     for (i, k) in kernel.iter().enumerate() {
         folded[(i as i64 - radius as i64).rem_euclid(w as i64) as usize].re += k;

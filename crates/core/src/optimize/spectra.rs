@@ -15,7 +15,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use crate::psf::fft::{complex_inverse_plan, complex_plan};
+use udc_fft::{complex_inverse_plan, complex_plan};
 
 const ZERO: Complex64 = Complex64::new(0.0, 0.0);
 

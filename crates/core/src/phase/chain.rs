@@ -20,8 +20,9 @@ use super::czt::{Czt, CztWork};
 use super::geometry::{Lenslets, display_aperture_um, height_um};
 use super::{PhaseDesign, PhaseSampling, SamplingConvention, SimError};
 use crate::Progress;
-use crate::psf::fft::{complex_plan_f32, quadratic_phase};
+use crate::psf::fft::quadratic_phase;
 use crate::psf::sampling::{next_fast_size, next_fast_size_235};
+use udc_fft::complex_plan_f32;
 
 mod propagate;
 

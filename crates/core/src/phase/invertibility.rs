@@ -10,7 +10,7 @@ use super::{Lambda0, PhaseDesign, PhaseSampling, SimError, wavelength_grid_nm};
 use crate::Progress;
 use rustfft::num_complex::Complex64;
 
-use crate::psf::fft::{complex_inverse_plan, complex_plan, real_plan};
+use udc_fft::{complex_inverse_plan, complex_plan, real_plan};
 
 /// One-sided MTF of a 1-D sensor PSF: `|DFT|` of the PSF normalised to sum 1, at DC and the
 /// positive frequencies `k = 0 … P/2 − 1` (cycles per `P` pixels). Empty for a dark PSF.

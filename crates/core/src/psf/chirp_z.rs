@@ -15,8 +15,8 @@ use std::sync::Arc;
 use rustfft::num_complex::{Complex, Complex64};
 use rustfft::{Fft, FftNum};
 
-use crate::psf::fft::{complex_inverse_plan, complex_plan, complex_plan_f32};
 use crate::psf::sampling::next_fast_size_235;
+use udc_fft::{complex_inverse_plan, complex_plan, complex_plan_f32};
 
 /// The precision a [`ChirpZ`] runs its FFTs in (`f64` or `f32`); inputs and chirps stay `f64`.
 pub trait Precision: FftNum {

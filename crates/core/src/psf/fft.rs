@@ -2,98 +2,19 @@
 //! real-input FFTs over the field's nonzero rows only, then complex FFTs over the `M/2 + 1`
 //! non-redundant columns, mirroring the rest through `|A(−u)| = |A(u)|`. Columns are streamed
 //! into the consumer (binning or a dense array), so a large grid never sits in memory twice.
-//! Plans are cached process-wide; rows and columns run in parallel on rayon's pool.
-
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
+//! Plans come from `udc-fft`'s process-wide cache; rows and columns run in parallel on rayon's
+//! pool.
 
 use ndarray::Array2;
 use rayon::prelude::*;
-use realfft::{RealFftPlanner, RealToComplex};
 use rustfft::num_complex::Complex64;
-use rustfft::{Fft, FftPlanner};
+use udc_fft::{complex_plan, real_plan};
 
 use crate::SimError;
 use crate::display::aperture::Field;
 use crate::display::tiling::D4;
 use crate::progress::Progress;
 use crate::psf::sampling::Binning;
-
-struct Plans {
-    real: RealFftPlanner<f64>,
-    complex: FftPlanner<f64>,
-    real_cache: HashMap<usize, Arc<dyn RealToComplex<f64>>>,
-    complex_cache: HashMap<usize, Arc<dyn Fft<f64>>>,
-    inverse_cache: HashMap<usize, Arc<dyn Fft<f64>>>,
-}
-
-fn plans() -> &'static Mutex<Plans> {
-    static PLANS: OnceLock<Mutex<Plans>> = OnceLock::new();
-    PLANS.get_or_init(|| {
-        Mutex::new(Plans {
-            real: RealFftPlanner::new(),
-            complex: FftPlanner::new(),
-            real_cache: HashMap::new(),
-            complex_cache: HashMap::new(),
-            inverse_cache: HashMap::new(),
-        })
-    })
-}
-
-/// A cached real-to-complex plan of length `n`.
-pub fn real_plan(n: usize) -> Arc<dyn RealToComplex<f64>> {
-    let mut p = plans().lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(plan) = p.real_cache.get(&n) {
-        return plan.clone();
-    }
-    let plan = p.real.plan_fft_forward(n);
-    p.real_cache.insert(n, plan.clone());
-    plan
-}
-
-/// A cached forward complex plan of length `n`.
-pub fn complex_plan(n: usize) -> Arc<dyn Fft<f64>> {
-    let mut p = plans().lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(plan) = p.complex_cache.get(&n) {
-        return plan.clone();
-    }
-    let plan = p.complex.plan_fft_forward(n);
-    p.complex_cache.insert(n, plan.clone());
-    plan
-}
-
-/// A cached inverse complex plan of length `n` (unnormalised, as rustfft's).
-pub fn complex_inverse_plan(n: usize) -> Arc<dyn Fft<f64>> {
-    let mut p = plans().lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(plan) = p.inverse_cache.get(&n) {
-        return plan.clone();
-    }
-    let plan = p.complex.plan_fft_inverse(n);
-    p.inverse_cache.insert(n, plan.clone());
-    plan
-}
-
-/// A cached single-precision complex plan of length `n`, forward or inverse (unnormalised).
-/// The phase-mask relay runs its Fresnel steps in f32: twice the throughput, and its fields
-/// need ~1e-6 relative accuracy, not 1e-15.
-pub fn complex_plan_f32(n: usize, inverse: bool) -> Arc<dyn Fft<f32>> {
-    type Plans32 = (FftPlanner<f32>, HashMap<(usize, bool), Arc<dyn Fft<f32>>>);
-    static PLANS32: OnceLock<Mutex<Plans32>> = OnceLock::new();
-    let mut p = PLANS32
-        .get_or_init(|| Mutex::new((FftPlanner::new(), HashMap::new())))
-        .lock()
-        .unwrap_or_else(|e| e.into_inner());
-    if let Some(plan) = p.1.get(&(n, inverse)) {
-        return plan.clone();
-    }
-    let plan = if inverse {
-        p.0.plan_fft_inverse(n)
-    } else {
-        p.0.plan_fft_forward(n)
-    };
-    p.1.insert((n, inverse), plan.clone());
-    plan
-}
 
 /// Checks that `field` fits an `m×m` grid centred on the axis.
 pub(crate) fn check_fits(field: &Field, m: usize) -> Result<(), SimError> {

@@ -14,9 +14,9 @@ use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
 use crate::display::aperture::{Field, SparseRow};
-use crate::psf::fft::real_plan;
 use crate::psf::pruned_grid::Geometry;
 use crate::psf::zoom::{best_ops, cached, fft_ops};
+use udc_fft::real_plan;
 
 /// Modelled cost of the cheaper row pass, complex multiply-adds.
 pub(crate) fn row_pass_ops(field: &Field, g: &Geometry) -> f64 {

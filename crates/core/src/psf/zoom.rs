@@ -23,7 +23,7 @@ use rustfft::Fft;
 use rustfft::num_complex::Complex64;
 
 use crate::psf::chirp_z::{ChirpWork, ChirpZ, convolution_len};
-use crate::psf::fft::complex_plan;
+use udc_fft::complex_plan;
 
 /// How much slower rustfft runs a size with a prime factor above 7, per `n·log2 n`.
 pub const NON_SMOOTH_FACTOR: f64 = 4.0;

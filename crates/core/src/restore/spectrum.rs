@@ -17,59 +17,13 @@
 //! here the same way. Rows and columns run in parallel on rayon's pool; every value is computed by
 //! one thread in a fixed order, so results never depend on the thread count.
 
-use std::collections::HashMap;
-use std::sync::{Arc, Mutex, OnceLock};
-
 use ndarray::{Array2, ArrayView2, Axis};
 use rayon::prelude::*;
-use realfft::{ComplexToReal, RealFftPlanner};
 use rustfft::num_complex::{Complex32, Complex64};
-use rustfft::{Fft, FftPlanner};
+use udc_fft::{Fft, complex_inverse_plan, complex_plan, real_inverse_plan, real_plan};
 
 use crate::Sample;
-use crate::psf::fft::{complex_plan, real_plan};
 use crate::psf::sampling::next_fast_size;
-
-struct InversePlans {
-    real: RealFftPlanner<f64>,
-    complex: FftPlanner<f64>,
-    real_cache: HashMap<usize, Arc<dyn ComplexToReal<f64>>>,
-    complex_cache: HashMap<usize, Arc<dyn Fft<f64>>>,
-}
-
-fn inverse_plans() -> &'static Mutex<InversePlans> {
-    static PLANS: OnceLock<Mutex<InversePlans>> = OnceLock::new();
-    PLANS.get_or_init(|| {
-        Mutex::new(InversePlans {
-            real: RealFftPlanner::new(),
-            complex: FftPlanner::new(),
-            real_cache: HashMap::new(),
-            complex_cache: HashMap::new(),
-        })
-    })
-}
-
-/// A cached complex-to-real (inverse, unnormalised) plan of length `n`.
-fn real_inverse_plan(n: usize) -> Arc<dyn ComplexToReal<f64>> {
-    let mut p = inverse_plans().lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(plan) = p.real_cache.get(&n) {
-        return plan.clone();
-    }
-    let plan = p.real.plan_fft_inverse(n);
-    p.real_cache.insert(n, plan.clone());
-    plan
-}
-
-/// A cached inverse (unnormalised) complex plan of length `n`.
-fn complex_inverse_plan(n: usize) -> Arc<dyn Fft<f64>> {
-    let mut p = inverse_plans().lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(plan) = p.complex_cache.get(&n) {
-        return plan.clone();
-    }
-    let plan = p.complex.plan_fft_inverse(n);
-    p.complex_cache.insert(n, plan.clone());
-    plan
-}
 
 /// How far the grid extends beyond the image. The blur is exactly linear on either grid; only
 /// Wiener's output near the borders changes, because the filter wraps around the grid.

@@ -13,7 +13,6 @@
 //! 18.6 dB at 10 000 photons, against 16.8 dB here).
 
 use ndarray::Array2;
-use realfft::RealFftPlanner;
 
 use super::PhaseBlur;
 use crate::SimError;
@@ -88,11 +87,11 @@ pub fn unpassed_mse(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<f64, SimE
 }
 
 /// `|FFT(row)|²` for the frequencies `0 … len/2`, one plan for every row of a length.
-struct RowSpectrum(std::sync::Arc<dyn realfft::RealToComplex<f64>>);
+struct RowSpectrum(std::sync::Arc<dyn udc_fft::RealToComplex<f64>>);
 
 impl RowSpectrum {
     fn new(len: usize) -> Self {
-        RowSpectrum(RealFftPlanner::<f64>::new().plan_fft_forward(len))
+        RowSpectrum(udc_fft::real_plan(len))
     }
 
     fn power(&self, row: &[f64]) -> Vec<f64> {
