@@ -534,7 +534,7 @@ fn a_floored_plate_is_no_taller_than_its_top_level() {
 #[test]
 fn directions_through_one_plate_equal_one_call_per_direction() {
     let mut design = thesis(42.0, 5.0);
-    // Every lenslet its own λ0, so no lenslet's transmission repeats its neighbour's.
+    // λ0 spread over 400–700 nm: the plate's transmission differs from lenslet to lenslet.
     design.lambda0 = Lambda0::Uniform;
     let sampling = PhaseSampling::preview();
     let chain = Chain::new(&design, &sampling).unwrap();

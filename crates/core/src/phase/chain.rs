@@ -10,6 +10,7 @@
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use rayon::prelude::*;
@@ -479,8 +480,9 @@ impl Chain {
     }
 
     /// [`Chain::mono`] for many directions at one wavelength, in parallel, in the order of
-    /// `incidences`. The plate's transmission (an exponential per sample, as costly as an FFT)
-    /// is formed once for them all; each PSF equals `mono`'s to the bit.
+    /// `incidences`. Through the double MLA the plate's transmission (an exponential per
+    /// sample, as costly as an FFT) is formed once for them all; each PSF equals `mono`'s to the
+    /// bit. `progress` moves as the directions finish.
     ///
     /// # Errors
     /// [`SimError::Cancelled`] when `progress` is cancelled.
@@ -500,17 +502,21 @@ impl Chain {
             }
             PhaseOptics::Toled | PhaseOptics::SingleMask => None,
         };
+        let finished = AtomicUsize::new(0);
         incidences
             .par_iter()
             .map(|&incidence| {
                 progress.check()?;
-                Ok(self.mono_with(
+                let psf = self.mono_with(
                     optics,
                     heights_um,
                     plate.as_deref(),
                     wavelength_nm,
                     incidence,
-                ))
+                );
+                let n = finished.fetch_add(1, Ordering::Relaxed) + 1;
+                progress.set(n as f32 / incidences.len() as f32);
+                Ok(psf)
             })
             .collect()
     }

@@ -209,8 +209,13 @@ pub fn phase_blur(
             )
         })
         .collect();
+    let share = |i: usize| i as f32 / wavelengths.len() as f32;
     for (done, &l) in wavelengths.iter().enumerate() {
-        let psfs = chain.mono_directions(optics, chain.heights_um(), l, &incidences, progress)?;
+        let psfs = {
+            // Each wavelength's directions fill its share of the bar as they finish.
+            let _span = progress.span(share(done), share(done + 1));
+            chain.mono_directions(optics, chain.heights_um(), l, &incidences, progress)?
+        };
         let weights: Vec<f64> = channels
             .iter()
             .map(|ch| weight(ch, l) * polariser)
@@ -231,7 +236,7 @@ pub fn phase_blur(
                     }
                 }
             });
-        progress.set((done + 1) as f32 / wavelengths.len() as f32);
+        progress.set(share(done + 1));
     }
     let ltr = columns[axis].1.iter().sum::<f64>() / channels.len() as f64;
     let green = channels.len() / 2;
