@@ -15,7 +15,11 @@ Score = sum of |rfft| of the normalised 1024-pixel PSF over DC and 511 positive 
 `--literal` runs one (λ0, λ) pair on the thesis's full M-sample grid instead, for checking the
 wrap-free grid (slow: ~3 s per propagation).
 
+`--no-padding` runs the Fresnel steps on the chain's own length (they then wrap), to measure
+what a smaller grid would move.
+
 Usage: python3 benches/phase_numpy.py [--pitch-um 42] [--fold 1] [--rows 30] [--preview]
+       [--no-padding]
 The last line printed is JSON: {"seconds", "propagations", "v", ...}.
 """
 import argparse
@@ -42,8 +46,9 @@ def next_fast_size_235(m):
 
 
 class Chain:
-    def __init__(self, pitch_um, fold, dx_um=0.015, fine=FINE):
+    def __init__(self, pitch_um, fold, dx_um=0.015, fine=FINE, pad=True):
         self.pitch, self.fold, self.dx, self.fine = pitch_um, fold, dx_um, fine
+        self.pad = pad
         self.d3 = D3_UM * FINE / fine
         self.n_index, self.f_mla = 1.515, pitch_um
         self.focal_um, self.pixels = 4670.0, 1024
@@ -85,6 +90,10 @@ class Chain:
     def fresnel_len(self, lam_um):
         # The same wrap-free length as the Rust chain (the next 2·3·5-smooth even size), so both
         # solve the same discrete problem; `--literal` measures what the truncation costs.
+        # `--no-padding` wraps at the chain's own length instead, to measure what a smaller grid
+        # would move.
+        if not self.pad:
+            return next_fast_size_235(self.n)
         return next_fast_size_235(math.ceil(self.n + lam_um * self.f_mla / self.dx ** 2))
 
     def czt_kernel(self, lam_um):
@@ -166,9 +175,11 @@ def main():
     ap.add_argument("--rows", type=int, default=30, help="rows of V (lambda0 values) to compute")
     ap.add_argument("--preview", action="store_true")
     ap.add_argument("--literal", nargs=2, type=float, metavar=("LAMBDA0_NM", "LAMBDA_NM"))
+    ap.add_argument("--no-padding", action="store_true",
+                    help="Fresnel steps on the chain's own length (wraps; for comparison)")
     args = ap.parse_args()
     dx, fine = (0.06, 7) if args.preview else (0.015, 14)
-    chain = Chain(args.pitch_um, args.fold, dx, fine)
+    chain = Chain(args.pitch_um, args.fold, dx, fine, pad=not args.no_padding)
     if args.literal:
         l0, lam = args.literal
         h = chain.heights(l0)
