@@ -90,8 +90,6 @@ class Chain:
     def fresnel_len(self, lam_um):
         # The same wrap-free length as the Rust chain (the next 2·3·5-smooth even size), so both
         # solve the same discrete problem; `--literal` measures what the truncation costs.
-        # `--no-padding` wraps at the chain's own length instead, to measure what a smaller grid
-        # would move.
         if not self.pad:
             return next_fast_size_235(self.n)
         return next_fast_size_235(math.ceil(self.n + lam_um * self.f_mla / self.dx ** 2))
