@@ -51,6 +51,7 @@ mod phase_capture;
 mod phase_export;
 mod phase_imaging;
 mod phase_panel;
+mod phase_period;
 mod physics;
 mod preview;
 mod psf_route;

@@ -19,12 +19,13 @@ use rustfft::num_complex::{Complex32, Complex64};
 
 use super::czt::{Czt, CztWork};
 use super::geometry::{Lenslets, display_aperture_um, height_um};
-use super::{PhaseDesign, PhaseSampling, SamplingConvention, SimError};
+use super::{PhaseDesign, PhaseSampling, Relay, SamplingConvention, SimError};
 use crate::Progress;
 use crate::psf::fft::quadratic_phase;
 use crate::psf::sampling::{next_fast_size, next_fast_size_235};
 use udc_fft::complex_plan_f32;
 
+mod periodic;
 mod propagate;
 
 /// Largest display-plane grid the chain accepts (2²⁴ samples ≈ 270 MB per complex field).
@@ -127,7 +128,8 @@ pub struct Chain {
     /// Thesis convention: (first sample, samples per lenslet, lenslets) of the lenslet cells.
     cells: Option<(usize, usize, usize)>,
     transfer: Mutex<HashMap<u64, Arc<Vec<Complex32>>>>,
-    czt: Mutex<HashMap<u64, Arc<Czt>>>,
+    /// Chirp-z transforms by (wavelength bits, input samples).
+    czt: Mutex<HashMap<(u64, usize), Arc<Czt>>>,
 }
 
 thread_local! {
@@ -476,7 +478,12 @@ impl Chain {
         wavelength_nm: f64,
         incidence: Incidence,
     ) -> MonoPsf {
-        self.mono_with(optics, heights_um, None, wavelength_nm, incidence)
+        match self.period(optics, heights_um) {
+            Some(period) => {
+                self.mono_periodic(period, optics, heights_um, None, wavelength_nm, incidence)
+            }
+            None => self.mono_with(optics, heights_um, None, wavelength_nm, incidence),
+        }
     }
 
     /// [`Chain::mono`] for many directions at one wavelength, in parallel, in the order of
@@ -502,18 +509,29 @@ impl Chain {
             }
             PhaseOptics::Toled | PhaseOptics::SingleMask => None,
         };
+        let period = self.period(optics, heights_um);
         let finished = AtomicUsize::new(0);
         incidences
             .par_iter()
             .map(|&incidence| {
                 progress.check()?;
-                let psf = self.mono_with(
-                    optics,
-                    heights_um,
-                    plate.as_deref(),
-                    wavelength_nm,
-                    incidence,
-                );
+                let psf = match period {
+                    Some(period) => self.mono_periodic(
+                        period,
+                        optics,
+                        heights_um,
+                        plate.as_deref(),
+                        wavelength_nm,
+                        incidence,
+                    ),
+                    None => self.mono_with(
+                        optics,
+                        heights_um,
+                        plate.as_deref(),
+                        wavelength_nm,
+                        incidence,
+                    ),
+                };
                 let n = finished.fetch_add(1, Ordering::Relaxed) + 1;
                 progress.set(n as f32 / incidences.len() as f32);
                 Ok(psf)
@@ -546,7 +564,7 @@ impl Chain {
         let mut intensity = vec![0.0; cam.pixels * fine];
         // The window is the sensor, not the image point: the double MLA moves light to the
         // opposite side of the axis, which a window that followed f·sinθ would cut off.
-        let czt = self.czt_for(lambda);
+        let czt = self.czt_for(lambda, end - start);
         let mut total = 0.0;
         WORK.with(|cell| {
             let work = &mut *cell.borrow_mut();
@@ -619,7 +637,14 @@ impl Chain {
                 ),
             }
         });
-        debug_assert!(end >= start);
+        self.finish(&intensity, total, lambda, incidence)
+    }
+
+    /// The sensor PSF from the fine intensities of the chirp-z transform and the energy on the
+    /// main-lens opening `Σ|U|²` (in samples).
+    fn finish(&self, intensity: &[f64], total: f64, lambda: f64, incidence: Incidence) -> MonoPsf {
+        let cam = &self.design.camera;
+        let fine = self.sampling.fine_per_pixel;
         let dx = self.dx_um;
         let aperture = cam.aperture_um();
         let total_energy = total * dx / aperture;

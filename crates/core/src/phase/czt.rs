@@ -7,7 +7,7 @@
 
 use std::f64::consts::PI;
 
-use rustfft::num_complex::Complex64;
+use rustfft::num_complex::{Complex32, Complex64};
 
 use crate::psf::chirp_z::{ChirpWork, ChirpZ};
 use crate::psf::fft::quadratic_phase;
@@ -56,6 +56,19 @@ impl Czt {
     /// reused between calls.
     pub fn intensity(&self, input: &[Complex64], work: &mut CztWork, out: &mut [f64]) {
         self.intensity_with(work, |n| input[n], out);
+    }
+
+    /// The transform of the first `n` inputs (`n ≤ n_in`; the rest taken as zero), up to
+    /// phase factors that depend on the output sample alone and not on `n`: the transforms of
+    /// parts of one input can therefore be added with phases of their own before the intensity
+    /// is taken.
+    pub fn partial_with<'w>(
+        &self,
+        work: &'w mut CztWork,
+        n: usize,
+        input: impl FnMut(usize) -> Complex64,
+    ) -> &'w [Complex32] {
+        self.chirp.convolve(n.min(self.n_in), input, work)
     }
 
     /// [`Czt::intensity`] of the input `input(0), input(1), … input(n_in − 1)`, called once each

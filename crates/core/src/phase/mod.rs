@@ -126,6 +126,25 @@ pub struct PhaseSampling {
     pub display_sample_um: f64,
     /// Fine sensor samples per sensor pixel (conventions.md §7: 14).
     pub fine_per_pixel: usize,
+    /// How the double MLA's relay is computed; files written before it existed read as
+    /// [`Relay::WholeDisplay`].
+    #[serde(default)]
+    pub relay: Relay,
+}
+
+/// How the chain propagates through MLA 1, the display and MLA 2 (conventions.md §7).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum Relay {
+    /// The thesis's: the whole display on one wrap-free Fresnel grid, so the edges of the
+    /// lenslet array diffract as they do in the thesis code (its V reproduces to ~2e-5).
+    #[default]
+    WholeDisplay,
+    /// One lenslet period with the direction's Bloch phase, as if the array were infinite: the
+    /// same fields where the display's edges do not reach (V within 1e-3 of
+    /// [`Relay::WholeDisplay`]), at a small fraction of the cost. Only for a plate whose lenslets
+    /// are all alike under the thesis convention; any other falls back to the whole display.
+    LensletPeriod,
 }
 
 impl PhaseSampling {
@@ -142,6 +161,7 @@ impl PhaseSampling {
         PhaseSampling {
             display_sample_um: 0.015,
             fine_per_pixel: 14,
+            relay: Relay::WholeDisplay,
         }
     }
 
@@ -151,6 +171,7 @@ impl PhaseSampling {
         PhaseSampling {
             display_sample_um: 0.06,
             fine_per_pixel: 7,
+            relay: Relay::WholeDisplay,
         }
     }
 }

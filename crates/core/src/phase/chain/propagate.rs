@@ -50,17 +50,18 @@ impl Chain {
 
     /// The transform onto the sensor window (the whole sensor) for one wavelength, cached: every
     /// direction and every λ0 at that wavelength shares it.
-    pub(super) fn czt_for(&self, wavelength_um: f64) -> Arc<Czt> {
-        let key = wavelength_um.to_bits();
+    /// `n_in` is the number of input samples from the opening's first: all of them, or one
+    /// lenslet period.
+    pub(super) fn czt_for(&self, wavelength_um: f64, n_in: usize) -> Arc<Czt> {
+        let key = (wavelength_um.to_bits(), n_in);
         if let Some(c) = self.czt.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
             return c.clone();
         }
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
         let (u0, du) = self.sensor_samples(wavelength_um);
-        let (start, end) = self.lens_range;
         let czt = Arc::new(Czt::new(
-            end - start,
+            n_in,
             cam.pixels * fine,
             self.dx_um,
             u0,

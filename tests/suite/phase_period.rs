@@ -1,0 +1,135 @@
+//! The lenslet-period relay ([`Relay::LensletPeriod`]) against the whole display
+//! (conventions.md §7): the same PSFs where the array's edges do not reach, the same V to a
+//! few 1e-5, the same λ0 allocation, and the whole display wherever the lenslets differ.
+
+use udc_studio::core::Progress;
+use udc_studio::core::phase::{
+    AllocationSettings, Chain, Incidence, Lambda0, MonoPsf, PhaseDesign, PhaseOptics,
+    PhaseSampling, Relay, optimize_lambda0, v_matrix,
+};
+use udc_studio::io::spectral::{channels_from_response, thesis_response};
+
+fn with_relay(mut s: PhaseSampling, relay: Relay) -> PhaseSampling {
+    s.relay = relay;
+    s
+}
+
+/// The largest difference of two PSFs over the sensor, as a fraction of the first one's peak.
+fn worst_difference(a: &MonoPsf, b: &MonoPsf) -> f64 {
+    let peak = a.sensor.iter().copied().fold(0.0, f64::max);
+    let worst = a
+        .sensor
+        .iter()
+        .zip(&b.sensor)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    worst / peak
+}
+
+/// The bare T-OLED's field on the opening is periodic exactly, so the period's two chirp-z
+/// transforms and their geometric series give its PSF to the single-precision transform's
+/// rounding; the double MLA differs by the light the array's two ends diffract: a few 1e-5 of
+/// the peak where most light passes, 1e-3 at a direction where 97 % is lost. Energies follow.
+#[test]
+fn the_lenslet_period_gives_the_whole_displays_psfs() {
+    let design = PhaseDesign::thesis(42.0, 5.0);
+    let base = PhaseSampling::thesis();
+    let whole = Chain::new(&design, &with_relay(base.clone(), Relay::WholeDisplay)).unwrap();
+    let period = Chain::new(&design, &with_relay(base, Relay::LensletPeriod)).unwrap();
+    for l in [401.0, 531.0, 691.0] {
+        for j in [0i64, 37, -128, 400] {
+            let at = Incidence::Pixel(j);
+            let a = whole.mono(PhaseOptics::Toled, &[], l, at);
+            let b = period.mono(PhaseOptics::Toled, &[], l, at);
+            assert!(worst_difference(&a, &b) < 1e-6, "T-OLED {l} nm, {j}");
+            assert!((a.total_energy - b.total_energy).abs() < 1e-9);
+            let a = whole.mono(PhaseOptics::DoubleMla, whole.heights_um(), l, at);
+            let b = period.mono(PhaseOptics::DoubleMla, period.heights_um(), l, at);
+            let d = worst_difference(&a, &b);
+            let bound = if j == 400 { 1e-3 } else { 5e-5 };
+            assert!(d < bound, "double MLA {l} nm, {j}: {d:e}");
+            let e = (a.window_energy - b.window_energy).abs() / a.window_energy;
+            assert!(e < 10.0 * bound, "window energy {l} nm, {j}: {e:e}");
+            // Not the same computation: the period's field is not the whole display's.
+            assert_ne!(a.sensor, b.sensor);
+        }
+    }
+}
+
+/// Lenslets with different plates (λ0 spread over 400–700 nm) have no period: the route falls
+/// back to the whole display, bit for bit.
+#[test]
+fn a_plate_without_a_period_takes_the_whole_display() {
+    let mut design = PhaseDesign::thesis(42.0, 5.0);
+    design.lambda0 = Lambda0::Uniform;
+    let base = PhaseSampling::preview();
+    let whole = Chain::new(&design, &with_relay(base.clone(), Relay::WholeDisplay)).unwrap();
+    let period = Chain::new(&design, &with_relay(base, Relay::LensletPeriod)).unwrap();
+    let incidences = [Incidence::Pixel(0), Incidence::Pixel(-90)];
+    let a = whole
+        .mono_directions(
+            PhaseOptics::DoubleMla,
+            whole.heights_um(),
+            531.0,
+            &incidences,
+            &Progress::new(),
+        )
+        .unwrap();
+    let b = period
+        .mono_directions(
+            PhaseOptics::DoubleMla,
+            period.heights_um(),
+            531.0,
+            &incidences,
+            &Progress::new(),
+        )
+        .unwrap();
+    assert_eq!(a, b);
+}
+
+/// V over the 30 × 30 grid at the thesis sampling (T = 1) agrees entry by entry to 1e-3 (the
+/// worst entries are λ0 = 401 nm at the longest wavelengths, whose light the plate spreads
+/// widest and the array's ends diffract most), and the λ0 allocation made from it is the same:
+/// the faster V changes no design.
+#[test]
+fn the_lenslet_period_keeps_v_and_the_allocation() {
+    let design = PhaseDesign::thesis(42.0, 1.0);
+    let base = PhaseSampling::thesis();
+    let whole_sampling = with_relay(base.clone(), Relay::WholeDisplay);
+    let period_sampling = with_relay(base, Relay::LensletPeriod);
+    let a = v_matrix(&design, &whole_sampling, &Progress::new()).unwrap();
+    let b = v_matrix(&design, &period_sampling, &Progress::new()).unwrap();
+    let mut worst = 0.0f64;
+    for (ra, rb) in a.v.iter().zip(&b.v) {
+        for (x, y) in ra.iter().zip(rb) {
+            worst = worst.max((x - y).abs() / x.abs());
+        }
+    }
+    eprintln!("V: worst relative difference {worst:e}");
+    assert!(worst < 1.5e-3, "{worst:e}");
+    assert!(worst > 0.0);
+    let channels = channels_from_response(
+        &thesis_response(),
+        &udc_studio::core::phase::wavelength_grid_nm(),
+    )
+    .unwrap();
+    let settings = AllocationSettings::default();
+    let (_, wa) = optimize_lambda0(
+        &design,
+        &whole_sampling,
+        &channels,
+        &settings,
+        &Progress::new(),
+    )
+    .unwrap();
+    let (_, pa) = optimize_lambda0(
+        &design,
+        &period_sampling,
+        &channels,
+        &settings,
+        &Progress::new(),
+    )
+    .unwrap();
+    eprintln!("counts {:?}", wa.counts);
+    assert_eq!(wa.counts, pa.counts);
+}
