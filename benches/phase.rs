@@ -4,8 +4,10 @@
 //! whole 30 × 30 V matrix (900 propagations) timed once — too long for criterion's ten samples.
 //! V's wall time and values go to `<target>/udc-bench/phase.json` for benches/report.sh, which
 //! compares them with benches/phase_numpy.py (goals: ≤ 100 ms per PSF, V ≤ 30 s on 2 cores and
-//! ≥ 3× faster than numpy; issue 12: V ≤ 3 s). Also one capture + restore and the blur matrix
-//! of all 1024 directions ([`imaging`]). Run with `cargo bench --bench phase -- --noplot`.
+//! ≥ 3× faster than numpy; issue 12: V ≤ 3 s; issue 30: V ≤ 1 s through the lenslet period).
+//! Also one capture + restore, the blur matrix of all 1024 directions ([`imaging`]) and the
+//! spectral operator of a 256- and a 512-pixel photo ([`spectral_operator`]). Run with
+//! `cargo bench --bench phase -- --noplot`.
 
 mod common;
 
@@ -16,7 +18,7 @@ use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Channel;
 use udc_studio::core::phase::{
-    Chain, Incidence, PhaseDesign, PhaseOptics, PhaseSampling, phase_psfs, v_matrix,
+    Chain, Incidence, PhaseDesign, PhaseOptics, PhaseSampling, Relay, phase_psfs, v_matrix,
 };
 
 /// The capture + restoration of a 512×512 photo at one light level through a prepared operator
@@ -87,23 +89,83 @@ fn imaging() {
 
 fn full_v() {
     let design = PhaseDesign::thesis(42.0, 1.0);
-    let start = Instant::now();
-    let v = v_matrix(&design, &PhaseSampling::thesis(), &Progress::new());
-    let seconds = start.elapsed().as_secs_f64();
+    let timed = |relay: Relay| {
+        let start = Instant::now();
+        let v = v_matrix(
+            &design,
+            &PhaseSampling::thesis().with_relay(relay),
+            &Progress::new(),
+        );
+        (start.elapsed().as_secs_f64(), v)
+    };
+    let (seconds, v) = timed(Relay::WholeDisplay);
     let Ok(v) = v else {
         eprintln!("V failed: {v:?}");
         return;
     };
+    let (period_seconds, vp) = timed(Relay::LensletPeriod);
+    let worst = vp.map_or(f64::NAN, |vp| {
+        v.v.iter()
+            .flatten()
+            .zip(vp.v.iter().flatten())
+            .map(|(a, b)| ((a - b) / a).abs())
+            .fold(0.0, f64::max)
+    });
+    let threads = rayon::current_num_threads();
     println!(
-        "V, 900 propagations, pitch 42 µm, T = 1: {seconds:.1} s on {} threads",
-        rayon::current_num_threads()
+        "V, 900 propagations, pitch 42 µm, T = 1, on {threads} threads: {seconds:.2} s through the \
+         whole display, {period_seconds:.2} s through the lenslet period (entries within \
+         {worst:.1e})"
     );
     let text = format!(
-        "{{\"seconds\": {seconds:.3}, \"threads\": {}, \"v\": {:?}}}\n",
-        rayon::current_num_threads(),
+        "{{\"seconds\": {seconds:.3}, \"lenslet_period_seconds\": {period_seconds:.3}, \
+         \"lenslet_period_worst\": {worst:e}, \"threads\": {threads}, \"v\": {:?}}}\n",
         v.v
     );
     common::write_figures("phase.json", &text);
+}
+
+/// The spectral capture operator (30 wavelengths of the thesis response, every direction of
+/// the scene) of the fixed-530-nm plate at T = 5 for a 256- and a 512-pixel photo, thesis
+/// sampling, through the lenslet period (goals ≤ 3 s and ≤ 10 s), and the 256-pixel one
+/// through the whole display for comparison; timed once each, written to `phase-operator.json`.
+fn spectral_operator() {
+    use udc_studio::core::phase::imaging::phase_blur;
+    use udc_studio::core::phase::wavelength_grid_nm;
+    use udc_studio::io::spectral::{channels_from_response, thesis_response};
+    let design = PhaseDesign::thesis(42.0, 5.0);
+    let Ok(channels) = channels_from_response(&thesis_response(), &wavelength_grid_nm()) else {
+        eprintln!("no thesis response");
+        return;
+    };
+    let timed = |width: usize, relay: Relay| {
+        let start = Instant::now();
+        let blur = phase_blur(
+            &design,
+            &PhaseSampling::thesis().with_relay(relay),
+            &channels,
+            PhaseOptics::DoubleMla,
+            width,
+            &Progress::new(),
+        );
+        blur.map(|_| start.elapsed().as_secs_f64())
+            .unwrap_or(f64::NAN)
+    };
+    let p256 = timed(256, Relay::LensletPeriod);
+    let p512 = timed(512, Relay::LensletPeriod);
+    let w256 = timed(256, Relay::WholeDisplay);
+    println!(
+        "spectral operator, 30 wavelengths: 256 px {p256:.2} s and 512 px {p512:.2} s through \
+         the lenslet period; 256 px {w256:.1} s through the whole display"
+    );
+    common::write_figures(
+        "phase-operator.json",
+        &format!(
+            "{{\"period_256_seconds\": {p256:.3}, \"period_512_seconds\": {p512:.3}, \
+             \"whole_256_seconds\": {w256:.3}, \"threads\": {}}}\n",
+            rayon::current_num_threads()
+        ),
+    );
 }
 
 fn bench_phase(c: &mut Criterion) {
@@ -148,6 +210,7 @@ fn bench_phase(c: &mut Criterion) {
     }
     group.finish();
     full_v();
+    spectral_operator();
     imaging();
 }
 

@@ -5,7 +5,7 @@
 use serde_json::Value;
 use udc_studio::core::Progress;
 use udc_studio::core::phase::{
-    PhaseDesign, PhaseSampling, invertibility_score, v_matrix_on, wavelength_grid_nm,
+    PhaseDesign, PhaseSampling, Relay, invertibility_score, v_matrix_on, wavelength_grid_nm,
 };
 
 use crate::common::run_cli as run;
@@ -103,36 +103,63 @@ fn psf_off_axis_follows_the_image_point_and_the_field_of_view() {
 }
 
 #[test]
-fn invertibility_json_is_the_30_by_30_v_matrix() {
-    let v = json_of(&[
+fn invertibility_json_is_the_30_by_30_v_matrix_through_either_relay() {
+    let args = [
         "phase",
         "invertibility",
         "--pitch-um",
         "84",
         "--preview",
         "--json",
-    ]);
+    ];
     let grid = wavelength_grid_nm();
-    assert_eq!(floats(&v["lambda_nm"]), grid);
-    assert_eq!(floats(&v["lambda0_nm"]), grid);
-    let rows: Vec<Vec<f64>> = v["v"].as_array().unwrap().iter().map(floats).collect();
-    assert_eq!(rows.len(), 30);
-    assert!(rows.iter().all(|r| r.len() == 30));
-    // Rows are λ0 and columns λ: spot-check against the core.
-    let core = v_matrix_on(
-        &PhaseDesign::thesis(84.0, 1.0),
-        &PhaseSampling::preview(),
-        &[grid[3], grid[20]],
-        &[grid[5], grid[20]],
-        &Progress::new(),
-    )
-    .unwrap();
-    for (a, j) in [3, 20].iter().enumerate() {
-        for (b, k) in [5, 20].iter().enumerate() {
-            let want = core.v[a][b];
-            assert!((rows[*j][*k] - want).abs() < 1e-4 * want, "V[{j}][{k}]");
+    let rows_of = |v: &Value| -> Vec<Vec<f64>> {
+        assert_eq!(floats(&v["lambda_nm"]), grid);
+        assert_eq!(floats(&v["lambda0_nm"]), grid);
+        let rows: Vec<Vec<f64>> = v["v"].as_array().unwrap().iter().map(floats).collect();
+        assert_eq!(rows.len(), 30);
+        assert!(rows.iter().all(|r| r.len() == 30));
+        rows
+    };
+    // The default relay is the lenslet period; `--relay whole-display` is the thesis code's.
+    let period = rows_of(&json_of(&args));
+    let whole = rows_of(&json_of(
+        &[&args[..], &["--relay", "whole-display"]].concat(),
+    ));
+    // Rows are λ0 and columns λ: spot-check each against the core.
+    for (rows, relay) in [
+        (&period, Relay::LensletPeriod),
+        (&whole, Relay::WholeDisplay),
+    ] {
+        let core = v_matrix_on(
+            &PhaseDesign::thesis(84.0, 1.0),
+            &PhaseSampling::preview().with_relay(relay),
+            &[grid[3], grid[20]],
+            &[grid[5], grid[20]],
+            &Progress::new(),
+        )
+        .unwrap();
+        for (a, j) in [3, 20].iter().enumerate() {
+            for (b, k) in [5, 20].iter().enumerate() {
+                let want = core.v[a][b];
+                assert!(
+                    (rows[*j][*k] - want).abs() < 1e-5 * want,
+                    "{relay:?} V[{j}][{k}]"
+                );
+            }
         }
     }
+    // Not the same computation, and the same V to a few 1e-3 at 300 DPI (the array reaches
+    // 1.2 lenslets beyond the main lens, as at 600 DPI).
+    assert_ne!(period, whole);
+    let worst = period
+        .iter()
+        .flatten()
+        .zip(whole.iter().flatten())
+        .map(|(p, w)| ((p - w) / w).abs())
+        .fold(0.0, f64::max);
+    eprintln!("V at 84 µm, preview: worst relative difference {worst:e}");
+    assert!(worst < 3e-3, "{worst:e}");
 }
 
 #[test]
@@ -181,6 +208,10 @@ fn bad_phase_arguments_are_one_line_errors() {
         (vec!["phase", "psf", "--lambda0", "fixed:abc"], "--lambda0"),
         (vec!["phase", "psf", "--lambda0", "fixed:5000"], "--lambda0"),
         (vec!["phase", "psf", "--angle-deg", "95"], "--angle-deg"),
+        (
+            vec!["phase", "invertibility", "--relay", "sideways"],
+            "--relay",
+        ),
         (
             vec![
                 "phase",

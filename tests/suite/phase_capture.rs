@@ -62,7 +62,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
         PIXELS,
         "the built-in photo fits the sensor"
     );
-    let sampling = PhaseSampling::preview();
+    let sampling = PhaseSampling::for_quality(Quality::Preview);
     let peaks = Channel::rgb_peaks();
     let p = Progress::new();
     let bare = Setup::Bare { pitch_um: 42.0 }
@@ -190,7 +190,11 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
         2,
         "the pictures stay"
     );
-    // A full-quality run over 64 directions × the spectral grid takes long enough to cancel.
+    // A full-quality run over 64 directions × the spectral grid of a λ0 plan (no lenslet
+    // period: the whole display) takes long enough to cancel.
+    let mut plan = h.state().phase_ref().design().clone();
+    plan.lambda0 = udc_studio::core::phase::Lambda0::Uniform;
+    h.state_mut().phase().set_design(plan);
     h.state_mut().phase().quality = Quality::Full;
     h.state_mut()
         .phase()
@@ -250,7 +254,7 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     let mut expected = Vec::new();
     compare_setups(
         &d,
-        &PhaseSampling::preview(),
+        &PhaseSampling::for_quality(Quality::Preview),
         &setups[..2],
         &[],
         &Channel::rgb_peaks(),
@@ -267,11 +271,11 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     for setup in &setups[..2] {
         let p = Progress::new();
         let (design, optics) = setup
-            .resolve(&d, &PhaseSampling::preview(), &[], &p)
+            .resolve(&d, &PhaseSampling::for_quality(Quality::Preview), &[], &p)
             .unwrap();
         let blur = phase_blur(
             &design,
-            &PhaseSampling::preview(),
+            &PhaseSampling::for_quality(Quality::Preview),
             &Channel::rgb_peaks(),
             optics,
             PIXELS,

@@ -55,7 +55,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
     let psfs = shown.psfs.clone();
     let direct = phase_psfs(
         &d,
-        &PhaseSampling::thesis(),
+        &PhaseSampling::for_quality(Quality::Full),
         &Channel::rgb_peaks(),
         PhaseOptics::DoubleMla,
         Incidence::AngleDeg(0.0),
@@ -466,7 +466,7 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
     );
     let direct = kernel_matrix(
         &d,
-        &PhaseSampling::preview(),
+        &PhaseSampling::for_quality(Quality::Preview),
         &Channel::rgb_peaks()[1],
         PhaseOptics::DoubleMla,
         &Progress::new(),

@@ -133,3 +133,64 @@ fn the_lenslet_period_keeps_v_and_the_allocation() {
     eprintln!("counts {:?}", wa.counts);
     assert_eq!(wa.counts, pa.counts);
 }
+
+/// An operator's window of sensor pixels: through the lenslet period the transform evaluates
+/// only those pixels' samples, to the single-precision rounding of the whole sensor's; through
+/// the whole display the PSF is the whole sensor's, cut. Pixels outside read zero; a window
+/// beyond the sensor is an error.
+#[test]
+fn a_window_of_pixels_is_the_whole_sensors_psf_there() {
+    let design = PhaseDesign::thesis(42.0, 5.0);
+    let incidences = [
+        Incidence::Pixel(0),
+        Incidence::Pixel(-60),
+        Incidence::Pixel(90),
+    ];
+    let window = 384..640;
+    for relay in [Relay::LensletPeriod, Relay::WholeDisplay] {
+        let chain = Chain::new(&design, &PhaseSampling::preview().with_relay(relay)).unwrap();
+        let p = Progress::new();
+        let heights = chain.heights_um();
+        let all = chain
+            .mono_directions(PhaseOptics::DoubleMla, heights, 531.0, &incidences, &p)
+            .unwrap();
+        let cut = chain
+            .mono_directions_on(
+                PhaseOptics::DoubleMla,
+                heights,
+                531.0,
+                &incidences,
+                window.clone(),
+                &p,
+            )
+            .unwrap();
+        for (a, b) in all.iter().zip(&cut) {
+            let peak = a.sensor.iter().copied().fold(0.0, f64::max);
+            for (k, (x, y)) in a.sensor.iter().zip(&b.sensor).enumerate() {
+                if window.contains(&k) {
+                    assert!(
+                        (x - y).abs() < 1e-6 * peak,
+                        "{relay:?} pixel {k}: {x} vs {y}"
+                    );
+                } else {
+                    assert_eq!(*y, 0.0);
+                }
+            }
+            let inside: f64 = a.sensor[window.clone()].iter().sum();
+            assert!((b.window_energy - inside).abs() < 1e-6 * inside);
+            assert!(b.window_energy < a.window_energy);
+            assert_eq!(a.total_energy, b.total_energy);
+        }
+        let err = chain
+            .mono_directions_on(
+                PhaseOptics::DoubleMla,
+                heights,
+                531.0,
+                &incidences,
+                1000..1100,
+                &p,
+            )
+            .unwrap_err();
+        assert!(err.to_string().contains("1000..1100"), "{err}");
+    }
+}

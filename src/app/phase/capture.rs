@@ -33,6 +33,10 @@ use crate::io::photo;
 mod worker;
 use worker::{Light, SetupJob, run_setups};
 
+/// The widest photo whose spectral operator, through the lenslet period, needs no quick look
+/// through the peak wavelengths first (256 columns: about 1 s on 2 cores, docs/src/benchmarks.md).
+const SPECTRAL_WITHOUT_QUICK_LOOK: usize = 256;
+
 /// Operators kept (each is `width² × channels` numbers: 1.5 MB for a 256 px photo).
 const KEPT_OPERATORS: usize = 6;
 
@@ -505,10 +509,19 @@ impl PhaseWorkspace {
                 .find(|(c, _)| c == k)
                 .map(|(_, b)| b.clone())
         };
-        // Spectral operators take ~10× the peaks' time: when one must be built, a quick look
-        // through the peak wavelengths comes first (as the PSFs' preview, then full).
+        // A spectral operator through the whole display (a λ0 plan) takes ~10× the peaks' time:
+        // when one must be built, a quick look through the peak wavelengths comes first (as the
+        // PSFs' preview, then full). Through the lenslet period a photo up to
+        // SPECTRAL_WITHOUT_QUICK_LOOK columns wide is itself quick.
         let mut passes = vec![self.capture.channels];
-        let building = key.operators.iter().any(|k| cached(self, k).is_none());
+        let quick = |k: &OperatorKey| {
+            k.width <= SPECTRAL_WITHOUT_QUICK_LOOK
+                && (k.optics == PhaseOptics::Toled || k.design.has_lenslet_period())
+        };
+        let building = key
+            .operators
+            .iter()
+            .any(|k| cached(self, k).is_none() && !quick(k));
         if building && self.capture.channels != ChannelSet::Peaks {
             passes.insert(0, ChannelSet::Peaks);
         }

@@ -16,7 +16,7 @@ use udc_core::phase::allocate::{channel_invertibility, channel_matrix};
 use udc_core::phase::geometry::{lambda0_per_lenslet, lenslet_count, uniform_counts};
 use udc_core::phase::{
     AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, PhaseDesign, PhaseOptics,
-    PhaseSampling, SamplingConvention, Surface, kernel_matrix, optimize_lambda0, phase_psfs,
+    PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix, optimize_lambda0, phase_psfs,
     v_matrix, wavelength_grid_nm,
 };
 use udc_io::numbers::json6 as r;
@@ -166,6 +166,11 @@ pub struct MaskArgs {
     /// Coarse sampling (60 nm at the display, 7 samples per pixel) for quick looks.
     #[arg(long)]
     pub preview: bool,
+    /// The relay through MLA 1, the display and MLA 2: `lenslet-period` (one lenslet with the
+    /// direction's Bloch phase, for plates whose lenslets are all alike; V within 1e-3 of the
+    /// whole display, many times faster) or `whole-display` (the thesis code's, every plate).
+    #[arg(long, value_enum, default_value_t = Relay::LensletPeriod)]
+    pub relay: Relay,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -240,11 +245,12 @@ fn design_of(m: &MaskArgs) -> Result<PhaseDesign> {
 }
 
 fn sampling_of(m: &MaskArgs) -> PhaseSampling {
-    if m.preview {
+    let grid = if m.preview {
         PhaseSampling::preview()
     } else {
         PhaseSampling::thesis()
-    }
+    };
+    grid.with_relay(m.relay)
 }
 
 fn grid_channels(spectral: Option<&Path>) -> Result<Vec<Channel>> {

@@ -107,6 +107,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             "setup": setup,
             "label": setup.label(),
             "sampling": design.sampling.name(),
+            "relay": sampling.relay.name(),
             "channels": if a.peaks { "peaks" } else { "spectral" },
             "photo": photo_name,
             "width_px": width,
@@ -249,7 +250,7 @@ fn compare_cmd(
     }
     if a.mask.json {
         crate::emit_json(
-            &json!({"sampling": base.sampling.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "denoise": denoise_summary(denoise, &a.photons), "setups": summary}),
+            &json!({"sampling": base.sampling.name(), "relay": sampling.relay.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "denoise": denoise_summary(denoise, &a.photons), "setups": summary}),
         )?;
     } else {
         print!("{:<42} {:>6}", "setup (mean over photos)", "LTR");

@@ -10,6 +10,7 @@
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
+use std::ops::Range;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
@@ -109,6 +110,21 @@ pub struct MonoPsf {
     pub image_pixel: i64,
 }
 
+impl MonoPsf {
+    /// Zeroes the sensor outside `pixels` and sums the window again.
+    fn keep(&mut self, pixels: Range<usize>) {
+        for (k, s) in self.sensor.iter_mut().enumerate() {
+            if !pixels.contains(&k) {
+                *s = 0.0;
+            }
+        }
+        self.window_energy = self.sensor.iter().sum();
+    }
+}
+
+/// A cached chirp-z transform's key: wavelength bits, input samples, first and end sensor pixel.
+type CztKey = (u64, usize, usize, usize);
+
 /// The sampled geometry of one design, shared by every wavelength and direction.
 pub struct Chain {
     design: PhaseDesign,
@@ -128,8 +144,7 @@ pub struct Chain {
     /// Thesis convention: (first sample, samples per lenslet, lenslets) of the lenslet cells.
     cells: Option<(usize, usize, usize)>,
     transfer: Mutex<HashMap<u64, Arc<Vec<Complex32>>>>,
-    /// Chirp-z transforms by (wavelength bits, input samples).
-    czt: Mutex<HashMap<(u64, usize), Arc<Czt>>>,
+    czt: Mutex<HashMap<CztKey, Arc<Czt>>>,
 }
 
 thread_local! {
@@ -479,9 +494,15 @@ impl Chain {
         incidence: Incidence,
     ) -> MonoPsf {
         match self.period(optics, heights_um) {
-            Some(period) => {
-                self.mono_periodic(period, optics, heights_um, None, wavelength_nm, incidence)
-            }
+            Some(period) => self.mono_periodic(
+                period,
+                optics,
+                heights_um,
+                None,
+                wavelength_nm,
+                incidence,
+                0..self.design.camera.pixels,
+            ),
             None => self.mono_with(optics, heights_um, None, wavelength_nm, incidence),
         }
     }
@@ -501,6 +522,34 @@ impl Chain {
         incidences: &[Incidence],
         progress: &Progress,
     ) -> Result<Vec<MonoPsf>, SimError> {
+        let all = 0..self.design.camera.pixels;
+        self.mono_directions_on(optics, heights_um, wavelength_nm, incidences, all, progress)
+    }
+
+    /// [`Chain::mono_directions`] over the sensor pixels `pixels` alone (an imaging operator's
+    /// scene columns): the other pixels read zero and `window_energy` sums these. The lenslet
+    /// period's transform then evaluates only these pixels' samples; the whole display's
+    /// computes all of them either way.
+    ///
+    /// # Errors
+    /// [`SimError::Cancelled`] when `progress` is cancelled; [`SimError::Sampling`] for pixels
+    /// beyond the sensor.
+    pub fn mono_directions_on(
+        &self,
+        optics: PhaseOptics,
+        heights_um: &[f64],
+        wavelength_nm: f64,
+        incidences: &[Incidence],
+        pixels: Range<usize>,
+        progress: &Progress,
+    ) -> Result<Vec<MonoPsf>, SimError> {
+        let sensor = self.design.camera.pixels;
+        if pixels.start >= pixels.end || pixels.end > sensor {
+            return Err(SimError::Sampling(format!(
+                "pixels {}..{} are not a window of the {sensor}-pixel sensor",
+                pixels.start, pixels.end
+            )));
+        }
         let plate = match optics {
             PhaseOptics::DoubleMla => {
                 let mut plate = Vec::new();
@@ -523,14 +572,19 @@ impl Chain {
                         plate.as_deref(),
                         wavelength_nm,
                         incidence,
+                        pixels.clone(),
                     ),
-                    None => self.mono_with(
-                        optics,
-                        heights_um,
-                        plate.as_deref(),
-                        wavelength_nm,
-                        incidence,
-                    ),
+                    None => {
+                        let mut psf = self.mono_with(
+                            optics,
+                            heights_um,
+                            plate.as_deref(),
+                            wavelength_nm,
+                            incidence,
+                        );
+                        psf.keep(pixels.clone());
+                        psf
+                    }
                 };
                 let n = finished.fetch_add(1, Ordering::Relaxed) + 1;
                 progress.set(n as f32 / incidences.len() as f32);
@@ -564,7 +618,7 @@ impl Chain {
         let mut intensity = vec![0.0; cam.pixels * fine];
         // The window is the sensor, not the image point: the double MLA moves light to the
         // opposite side of the axis, which a window that followed f·sinθ would cut off.
-        let czt = self.czt_for(lambda, end - start);
+        let czt = self.czt_for(lambda, end - start, 0..cam.pixels);
         let mut total = 0.0;
         WORK.with(|cell| {
             let work = &mut *cell.borrow_mut();
@@ -637,12 +691,20 @@ impl Chain {
                 ),
             }
         });
-        self.finish(&intensity, total, lambda, incidence)
+        self.finish(&intensity, 0, total, lambda, incidence)
     }
 
-    /// The sensor PSF from the fine intensities of the chirp-z transform and the energy on the
-    /// main-lens opening `Σ|U|²` (in samples).
-    fn finish(&self, intensity: &[f64], total: f64, lambda: f64, incidence: Incidence) -> MonoPsf {
+    /// The sensor PSF from the fine intensities of the chirp-z transform, which start at sensor
+    /// pixel `first_pixel` (the pixels outside read zero), and the energy on the main-lens
+    /// opening `Σ|U|²` (in samples).
+    fn finish(
+        &self,
+        intensity: &[f64],
+        first_pixel: usize,
+        total: f64,
+        lambda: f64,
+        incidence: Incidence,
+    ) -> MonoPsf {
         let cam = &self.design.camera;
         let fine = self.sampling.fine_per_pixel;
         let dx = self.dx_um;
@@ -652,10 +714,13 @@ impl Chain {
         // |E(u)|² = |Σ U dx e^{…}|² / (λf); energy per fine sample multiplies by du.
         let (_, du) = self.sensor_samples(lambda);
         let scale = dx * dx / (lambda * cam.focal_length_um()) * du / aperture;
-        let sensor: Vec<f64> = intensity
-            .chunks_exact(fine)
-            .map(|c| c.iter().sum::<f64>() * scale)
-            .collect();
+        let mut sensor = vec![0.0; cam.pixels];
+        for (s, c) in sensor[first_pixel..]
+            .iter_mut()
+            .zip(intensity.chunks_exact(fine))
+        {
+            *s = c.iter().sum::<f64>() * scale;
+        }
         MonoPsf {
             window_energy: sensor.iter().sum(),
             sensor,

@@ -211,10 +211,16 @@ pub fn phase_blur(
         .collect();
     let share = |i: usize| i as f32 / wavelengths.len() as f32;
     for (done, &l) in wavelengths.iter().enumerate() {
-        let psfs = {
+        let (psfs, axis_psf) = {
             // Each wavelength's directions fill its share of the bar as they finish.
             let _span = progress.span(share(done), share(done + 1));
-            chain.mono_directions(optics, chain.heights_um(), l, &incidences, progress)?
+            // Only the scene's columns of each PSF enter K (the lenslet period then transforms
+            // only their samples); the axis direction's whole-sensor PSF is the MTF's.
+            let heights = chain.heights_um();
+            let window = first..first + width;
+            let psfs =
+                chain.mono_directions_on(optics, heights, l, &incidences, window, progress)?;
+            (psfs, chain.mono(optics, heights, l, incidences[axis]))
         };
         let weights: Vec<f64> = channels
             .iter()
@@ -229,7 +235,7 @@ pub fn phase_blur(
                         for (v, s) in cols[c].iter_mut().zip(&psf.sensor[first..first + width]) {
                             *v += w * s;
                         }
-                        for (v, s) in whole[c].iter_mut().zip(&psf.sensor) {
+                        for (v, s) in whole[c].iter_mut().zip(&axis_psf.sensor) {
                             *v += w * s;
                         }
                         transmission[c] += w * psf.total_energy;

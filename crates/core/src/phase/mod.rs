@@ -147,13 +147,31 @@ pub enum Relay {
     LensletPeriod,
 }
 
+impl Relay {
+    /// The CLI's and the reports' spelling.
+    pub fn name(self) -> &'static str {
+        match self {
+            Relay::WholeDisplay => "whole-display",
+            Relay::LensletPeriod => "lenslet-period",
+        }
+    }
+}
+
 impl PhaseSampling {
-    /// The live preview's sampling or the thesis's, by quality.
+    /// The studio's sampling by quality: the live preview's or the thesis's grid, both through
+    /// the lenslet period where the plate has one (V within 1e-3 of the whole display, the same
+    /// allocations; [`Relay`]).
     pub fn for_quality(quality: crate::Quality) -> Self {
-        match quality {
+        let grid = match quality {
             crate::Quality::Preview => PhaseSampling::preview(),
             crate::Quality::Full => PhaseSampling::thesis(),
-        }
+        };
+        grid.with_relay(Relay::LensletPeriod)
+    }
+
+    /// This sampling through `relay`.
+    pub fn with_relay(self, relay: Relay) -> Self {
+        PhaseSampling { relay, ..self }
     }
 
     /// The thesis sampling: 15 nm at the display, 14 fine samples per pixel.
@@ -298,6 +316,13 @@ impl PhaseDesign {
     /// κ = f_MLA / opening (eq. 4.13's design choice; 4.2 in the thesis).
     pub fn kappa(&self) -> f64 {
         self.f_mla_um / (self.pitch_um * self.open_ratio)
+    }
+
+    /// Whether the plate repeats from lenslet to lenslet, so that a sampling with
+    /// [`Relay::LensletPeriod`] takes the fast route: one λ0 for every lenslet under the thesis
+    /// convention (the centred one does not place lenslets on whole samples).
+    pub fn has_lenslet_period(&self) -> bool {
+        matches!(self.lambda0, Lambda0::Fixed { .. }) && self.sampling == SamplingConvention::Thesis
     }
 
     /// Full field of view, eq. 4.13: `2 atan(1 / (2κ))`, in degrees.

@@ -50,8 +50,9 @@ impl Chain {
         alike.then_some(Period { first, len })
     }
 
-    /// [`Chain::mono`] by the lenslet-period route; `plate` is the double MLA's transmission when
-    /// the caller has formed it.
+    /// [`Chain::mono`] by the lenslet-period route over the sensor pixels `pixels` (the rest read
+    /// zero); `plate` is the double MLA's transmission when the caller has formed it.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn mono_periodic(
         &self,
         period: Period,
@@ -60,6 +61,7 @@ impl Chain {
         plate: Option<&[Complex64]>,
         wavelength_nm: f64,
         incidence: Incidence,
+        pixels: Range<usize>,
     ) -> MonoPsf {
         let Period { first, len } = period;
         let lambda = wavelength_nm * 1e-3;
@@ -95,36 +97,46 @@ impl Chain {
         let energy = |v: &[Complex64]| v.iter().map(|a| a.norm_sqr()).sum::<f64>();
         let total = periods as f64 * energy(&field) + energy(&field[..rest]);
 
-        let czt = self.czt_for(lambda, len);
+        let czt = self.czt_for(lambda, len, pixels.clone());
         let (u0, du) = self.sensor_samples(lambda);
+        let fine = self.sampling.fine_per_pixel;
+        let u0 = u0 + (pixels.start * fine) as f64 * du;
         let beta_dx = 2.0 * PI / (lambda * self.design.camera.focal_length_um()) * self.dx_um;
         let c = periods as f64;
-        let mut intensity = vec![0.0; self.design.camera.pixels * self.sampling.fine_per_pixel];
+        let mut intensity = vec![0.0; pixels.len() * fine];
         WORK.with(|work| {
             let work = &mut *work.borrow_mut();
             let whole: Vec<Complex32> = czt.partial_with(&mut work.czt, len, |t| field[t]).to_vec();
             let part = czt.partial_with(&mut work.czt, rest, |t| field[t]);
-            for (m, (out, (w, r))) in intensity.iter_mut().zip(whole.iter().zip(part)).enumerate() {
-                // Z's phase over one period, reduced to (−π, π]: the series is 2π-periodic in it.
-                let psi = k_sin * self.dx_um - beta_dx * (u0 + m as f64 * du);
-                let mut phi = (psi * len as f64).rem_euclid(2.0 * PI);
-                if phi > PI {
-                    phi -= 2.0 * PI;
-                }
-                let half = 0.5 * phi;
-                let dirichlet = if half.sin().abs() < 1e-12 {
-                    c
+            // Z's phase over one period falls by the same step from sample to sample, so
+            // exp(iφ/2) and exp(iCφ/2) advance by a rotation (re-anchored exactly every 64),
+            // not an exponential each. Σ_{c<C} e^{icφ} = e^{i(C−1)φ/2}·sin(Cφ/2)/sin(φ/2) holds
+            // for every φ, so φ need not be reduced.
+            let phi0 = len as f64 * (k_sin * self.dx_um - beta_dx * u0);
+            let dphi = len as f64 * beta_dx * du;
+            let half = quadratic_phase(0.0, -0.5 * dphi, 0, 1.0)
+                .map(|v| v * Complex64::from_polar(1.0, (0.5 * phi0).rem_euclid(2.0 * PI)));
+            let c_half = quadratic_phase(0.0, -0.5 * c * dphi, 0, 1.0)
+                .map(|v| v * Complex64::from_polar(1.0, (0.5 * c * phi0).rem_euclid(2.0 * PI)));
+            for (((out, (w, r)), a), b) in intensity
+                .iter_mut()
+                .zip(whole.iter().zip(part))
+                .zip(half)
+                .zip(c_half)
+            {
+                // sin(Cφ/2)/sin(φ/2), or its limit ±C where sin(φ/2) vanishes.
+                let dirichlet = if a.im.abs() < 1e-9 {
+                    c * b.re / a.re
                 } else {
-                    (c * half).sin() / half.sin()
+                    b.im / a.im
                 };
-                let series = Complex64::from_polar(dirichlet, (c - 1.0) * half);
-                let after = Complex64::from_polar(1.0, c * phi);
+                let series = b * a.conj() * dirichlet;
                 let w = Complex64::new(f64::from(w.re), f64::from(w.im));
                 let r = Complex64::new(f64::from(r.re), f64::from(r.im));
-                *out = (w * series + r * after).norm_sqr();
+                *out = (w * series + r * b * b).norm_sqr();
             }
         });
-        self.finish(&intensity, total, lambda, incidence)
+        self.finish(&intensity, pixels.start, total, lambda, incidence)
     }
 
     /// MLA 1 → Fresnel → display → Fresnel over one lenslet period: `p` is the plate's

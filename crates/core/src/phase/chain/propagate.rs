@@ -48,12 +48,16 @@ impl Chain {
         h
     }
 
-    /// The transform onto the sensor window (the whole sensor) for one wavelength, cached: every
-    /// direction and every λ0 at that wavelength shares it.
-    /// `n_in` is the number of input samples from the opening's first: all of them, or one
-    /// lenslet period.
-    pub(super) fn czt_for(&self, wavelength_um: f64, n_in: usize) -> Arc<Czt> {
-        let key = (wavelength_um.to_bits(), n_in);
+    /// The transform onto the sensor pixels `pixels` for one wavelength, cached: every direction
+    /// and every λ0 at that wavelength shares it. `n_in` is the number of input samples from the
+    /// opening's first: all of them, or one lenslet period.
+    pub(super) fn czt_for(
+        &self,
+        wavelength_um: f64,
+        n_in: usize,
+        pixels: Range<usize>,
+    ) -> Arc<Czt> {
+        let key = (wavelength_um.to_bits(), n_in, pixels.start, pixels.end);
         if let Some(c) = self.czt.lock().unwrap_or_else(|e| e.into_inner()).get(&key) {
             return c.clone();
         }
@@ -62,9 +66,9 @@ impl Chain {
         let (u0, du) = self.sensor_samples(wavelength_um);
         let czt = Arc::new(Czt::new(
             n_in,
-            cam.pixels * fine,
+            pixels.len() * fine,
             self.dx_um,
-            u0,
+            u0 + (pixels.start * fine) as f64 * du,
             du,
             wavelength_um * cam.focal_length_um(),
         ));
