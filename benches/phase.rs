@@ -191,9 +191,14 @@ fn bench_phase(c: &mut Criterion) {
         })
     });
     let channels = Channel::rgb_peaks();
+    // The thesis code's relay, and the lenslet period the studio's update goes through.
     for (name, sampling) in [
         ("rgb-vs-toled/thesis", PhaseSampling::thesis()),
         ("rgb-vs-toled/preview", PhaseSampling::preview()),
+        (
+            "rgb-vs-toled/thesis-lenslet-period",
+            PhaseSampling::thesis().with_relay(Relay::LensletPeriod),
+        ),
     ] {
         group.bench_function(name, |b| {
             b.iter(|| {

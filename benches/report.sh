@@ -152,6 +152,7 @@ rows.append(
 time_row("phase/psf-530nm/thesis", 100)
 time_row("phase/rgb-vs-toled/thesis")
 time_row("phase/rgb-vs-toled/preview")
+time_row("phase/rgb-vs-toled/thesis-lenslet-period")
 phase = load(os.path.join(bench, "phase.json")) or {}
 phase_np = load(os.path.join(bench, "phase-numpy.json")) or {}
 v_s, np_s = phase.get("seconds"), phase_np.get("seconds")

@@ -194,3 +194,48 @@ fn a_window_of_pixels_is_the_whole_sensors_psf_there() {
         assert!(err.to_string().contains("1000..1100"), "{err}");
     }
 }
+
+/// The relay a design goes through, as the CLI's JSON and the studio's quick look name it,
+/// is the one the chain takes: the lenslet period for the bare T-OLED and any plate with one
+/// λ0 under the thesis convention, the whole display otherwise.
+#[test]
+fn the_relay_named_is_the_relay_taken() {
+    let fast = PhaseSampling::preview().with_relay(Relay::LensletPeriod);
+    let slow = PhaseSampling::preview();
+    let mut one = PhaseDesign::thesis(42.0, 5.0);
+    let mut counts = vec![0; udc_studio::core::phase::GRID_LEN];
+    counts[13] = 58;
+    one.lambda0 = Lambda0::Counts { counts };
+    let mut plan = PhaseDesign::thesis(42.0, 5.0);
+    plan.lambda0 = Lambda0::Uniform;
+    let mut centred = PhaseDesign::thesis(42.0, 5.0);
+    centred.sampling = udc_studio::core::phase::SamplingConvention::Centred;
+    let mla = PhaseOptics::DoubleMla;
+    for (design, optics, named) in [
+        (&one, mla, Relay::LensletPeriod),
+        (&one, PhaseOptics::Toled, Relay::LensletPeriod),
+        (&plan, mla, Relay::WholeDisplay),
+        (&plan, PhaseOptics::Toled, Relay::LensletPeriod),
+        (&centred, mla, Relay::WholeDisplay),
+    ] {
+        assert_eq!(
+            fast.relay_for(design, optics),
+            named,
+            "{:?}",
+            design.lambda0
+        );
+        assert_eq!(slow.relay_for(design, optics), Relay::WholeDisplay);
+        // The route taken: through the lenslet period the PSF is not the whole display's.
+        let heights = |s: &PhaseSampling| Chain::new(design, s).unwrap();
+        let (a, b) = (heights(&fast), heights(&slow));
+        let at = Incidence::Pixel(20);
+        let pa = a.mono(optics, a.heights_um(), 531.0, at);
+        let pb = b.mono(optics, b.heights_um(), 531.0, at);
+        assert_eq!(
+            pa == pb,
+            named == Relay::WholeDisplay,
+            "{:?} {optics:?}",
+            design.lambda0
+        );
+    }
+}

@@ -25,7 +25,7 @@ use crate::core::design::Channel;
 use crate::core::phase::imaging::{
     PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur, thesis_denoise,
 };
-use crate::core::phase::{PhaseDesign, PhaseOptics};
+use crate::core::phase::{PhaseDesign, PhaseOptics, PhaseSampling, Relay};
 use crate::core::restore::Denoise;
 use crate::core::{Progress, SimError};
 use crate::io::photo;
@@ -515,8 +515,9 @@ impl PhaseWorkspace {
         // SPECTRAL_WITHOUT_QUICK_LOOK columns wide is itself quick.
         let mut passes = vec![self.capture.channels];
         let quick = |k: &OperatorKey| {
+            let sampling = PhaseSampling::for_quality(k.quality);
             k.width <= SPECTRAL_WITHOUT_QUICK_LOOK
-                && (k.optics == PhaseOptics::Toled || k.design.has_lenslet_period())
+                && sampling.relay_for(&k.design, k.optics) == Relay::LensletPeriod
         };
         let building = key
             .operators

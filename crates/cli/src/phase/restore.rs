@@ -107,7 +107,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             "setup": setup,
             "label": setup.label(),
             "sampling": design.sampling.name(),
-            "relay": sampling.relay.name(),
+            "relay": sampling.relay_for(&design, optics).name(),
             "channels": if a.peaks { "peaks" } else { "spectral" },
             "photo": photo_name,
             "width_px": width,

@@ -174,6 +174,19 @@ impl PhaseSampling {
         PhaseSampling { relay, ..self }
     }
 
+    /// The relay `design` actually goes through with this sampling: the lenslet period only
+    /// where it applies (the bare T-OLED, or a plate with one λ0, under the thesis convention).
+    pub fn relay_for(&self, design: &PhaseDesign, optics: PhaseOptics) -> Relay {
+        let periodic = match optics {
+            PhaseOptics::Toled => design.sampling == SamplingConvention::Thesis,
+            PhaseOptics::DoubleMla | PhaseOptics::SingleMask => design.has_lenslet_period(),
+        };
+        match self.relay {
+            Relay::LensletPeriod if periodic => Relay::LensletPeriod,
+            Relay::LensletPeriod | Relay::WholeDisplay => Relay::WholeDisplay,
+        }
+    }
+
     /// The thesis sampling: 15 nm at the display, 14 fine samples per pixel.
     pub fn thesis() -> Self {
         PhaseSampling {
@@ -319,10 +332,17 @@ impl PhaseDesign {
     }
 
     /// Whether the plate repeats from lenslet to lenslet, so that a sampling with
-    /// [`Relay::LensletPeriod`] takes the fast route: one λ0 for every lenslet under the thesis
-    /// convention (the centred one does not place lenslets on whole samples).
+    /// [`Relay::LensletPeriod`] takes the fast route: one λ0 for every lenslet (a fixed λ0, or
+    /// a plan that names one) under the thesis convention (the centred one does not place
+    /// lenslets on whole samples).
     pub fn has_lenslet_period(&self) -> bool {
-        matches!(self.lambda0, Lambda0::Fixed { .. }) && self.sampling == SamplingConvention::Thesis
+        let one_lambda0 = match &self.lambda0 {
+            Lambda0::Fixed { .. } => true,
+            Lambda0::Uniform => false,
+            Lambda0::Counts { counts } => counts.iter().filter(|&&c| c > 0).count() <= 1,
+            Lambda0::PerLenslet { nm } => nm.windows(2).all(|w| w[0] == w[1]),
+        };
+        one_lambda0 && self.sampling == SamplingConvention::Thesis
     }
 
     /// Full field of view, eq. 4.13: `2 atan(1 / (2κ))`, in degrees.
