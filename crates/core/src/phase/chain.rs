@@ -6,7 +6,9 @@
 //! runs on a grid wide enough that its periodic wrap-around never reaches the lit region: the
 //! thesis pads the display to `M = 2⌊λf/(2δ δ3)⌋` ≈ 10⁶ samples, which is wrap-free too, so both
 //! give the same fields (to ~1e-6 of the peak; the tails of the band-limited kernel are all that
-//! differ) at a quarter of the cost.
+//! differ) at a quarter of the cost. A sampling with [`Relay::LensletPeriod`] sends a plate
+//! whose lenslets are all alike through one lenslet instead (the `periodic` module): the same
+//! fields but for the light the array's ends diffract, many times faster.
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
