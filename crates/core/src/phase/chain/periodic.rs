@@ -114,10 +114,10 @@ impl Chain {
             // for every φ, so φ need not be reduced.
             let phi0 = len as f64 * (k_sin * self.dx_um - beta_dx * u0);
             let dphi = len as f64 * beta_dx * du;
-            let half = quadratic_phase(0.0, -0.5 * dphi, 0, 1.0)
-                .map(|v| v * Complex64::from_polar(1.0, (0.5 * phi0).rem_euclid(2.0 * PI)));
-            let c_half = quadratic_phase(0.0, -0.5 * c * dphi, 0, 1.0)
-                .map(|v| v * Complex64::from_polar(1.0, (0.5 * c * phi0).rem_euclid(2.0 * PI)));
+            let half0 = Complex64::from_polar(1.0, (0.5 * phi0).rem_euclid(2.0 * PI));
+            let c_half0 = Complex64::from_polar(1.0, (0.5 * c * phi0).rem_euclid(2.0 * PI));
+            let half = quadratic_phase(0.0, -0.5 * dphi, 0, 1.0).map(|v| v * half0);
+            let c_half = quadratic_phase(0.0, -0.5 * c * dphi, 0, 1.0).map(|v| v * c_half0);
             for (((out, (w, r)), a), b) in intensity
                 .iter_mut()
                 .zip(whole.iter().zip(part))
