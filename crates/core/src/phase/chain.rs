@@ -124,6 +124,14 @@ impl MonoPsf {
     }
 }
 
+/// The double MLA's plate at one wavelength, formed once for many directions.
+struct Formed {
+    /// Its transmission on the chain's samples.
+    plate: Vec<Complex64>,
+    /// Its spectrum on the wrapped grid ([`Chain::plate_spectrum`]) where the relay wraps.
+    spectrum: Option<Vec<Complex32>>,
+}
+
 /// A cached chirp-z transform's key: wavelength bits, input samples, first and end sensor pixel.
 type CztKey = (u64, usize, usize, usize);
 
@@ -159,6 +167,9 @@ thread_local! {
 struct Work {
     /// The plate's transmission on the chain's samples.
     plate: Vec<Complex64>,
+    /// Its spectrum on the wrapped grid, and the direction's Bloch-shifted transfer function.
+    spectrum: Vec<Complex32>,
+    transfer: Vec<Complex32>,
     /// The padded Fresnel field (single precision: the relay keeps ~1e-8 relative accuracy in
     /// V and doubles the FFTs' throughput) and its FFT scratch.
     field: Vec<Complex32>,
@@ -171,6 +182,8 @@ impl Work {
     const fn new() -> Self {
         Work {
             plate: Vec::new(),
+            spectrum: Vec::new(),
+            transfer: Vec::new(),
             field: Vec::new(),
             scratch: Vec::new(),
             czt: CztWork::new(),
@@ -552,15 +565,20 @@ impl Chain {
                 pixels.start, pixels.end
             )));
         }
-        let plate = match optics {
+        let period = self.period(optics, heights_um);
+        let formed = match optics {
             PhaseOptics::DoubleMla => {
                 let mut plate = Vec::new();
                 self.transmission(heights_um, self.k_n1(wavelength_nm), &mut plate);
-                Some(plate)
+                let spectrum = (period.is_none() && self.wraps()).then(|| {
+                    let mut spectrum = Vec::new();
+                    self.plate_spectrum(&plate, wavelength_nm * 1e-3, &mut spectrum);
+                    spectrum
+                });
+                Some(Formed { plate, spectrum })
             }
             PhaseOptics::Toled | PhaseOptics::SingleMask => None,
         };
-        let period = self.period(optics, heights_um);
         let finished = AtomicUsize::new(0);
         incidences
             .par_iter()
@@ -571,7 +589,7 @@ impl Chain {
                         period,
                         optics,
                         heights_um,
-                        plate.as_deref(),
+                        formed.as_ref().map(|f| f.plate.as_slice()),
                         wavelength_nm,
                         incidence,
                         pixels.clone(),
@@ -580,7 +598,7 @@ impl Chain {
                         let mut psf = self.mono_with(
                             optics,
                             heights_um,
-                            plate.as_deref(),
+                            formed.as_ref(),
                             wavelength_nm,
                             incidence,
                         );
@@ -600,13 +618,13 @@ impl Chain {
         2.0 * PI / (wavelength_nm * 1e-3) * (self.design.refractive_index - 1.0)
     }
 
-    /// [`Chain::mono`], with the double MLA's plate transmission given (`plate`, from
-    /// [`Chain::transmission`] at this wavelength) or formed here (`None`).
+    /// [`Chain::mono`], with the double MLA's plate given (`formed`, at this wavelength) or
+    /// formed here (`None`).
     fn mono_with(
         &self,
         optics: PhaseOptics,
         heights_um: &[f64],
-        plate: Option<&[Complex64]>,
+        formed: Option<&Formed>,
         wavelength_nm: f64,
         incidence: Incidence,
     ) -> MonoPsf {
@@ -626,19 +644,33 @@ impl Chain {
             let work = &mut *cell.borrow_mut();
             let Work {
                 plate: own_plate,
+                spectrum: own_spectrum,
+                transfer,
                 field,
                 scratch,
                 czt: czt_work,
             } = work;
-            let plate: &[Complex64] = match (optics, plate) {
-                (PhaseOptics::DoubleMla, Some(given)) => given,
+            let plate: &[Complex64] = match (optics, formed) {
+                (PhaseOptics::DoubleMla, Some(given)) => &given.plate,
                 (PhaseOptics::DoubleMla, None) => {
                     self.transmission(heights_um, k_n1, own_plate);
                     own_plate
                 }
                 (PhaseOptics::Toled | PhaseOptics::SingleMask, _) => &[],
             };
-            if optics == PhaseOptics::DoubleMla {
+            // The wrapped grid carries the tilt as a Bloch shift of the transfer function, so
+            // the plate's spectrum serves every direction and the tilt is applied at the end.
+            let bloch = optics == PhaseOptics::DoubleMla && self.wraps();
+            if bloch {
+                let spectrum: &[Complex32] = match formed.and_then(|f| f.spectrum.as_deref()) {
+                    Some(given) => given,
+                    None => {
+                        self.plate_spectrum(plate, lambda, own_spectrum);
+                        own_spectrum
+                    }
+                };
+                self.relay_bloch(spectrum, transfer, field, scratch, lambda, k_sin);
+            } else if optics == PhaseOptics::DoubleMla {
                 self.relay(plate, field, scratch, lambda, k_sin);
             }
             // The field on the main-lens opening, fed to the Fraunhofer transform as it is
@@ -662,6 +694,7 @@ impl Chain {
                         let v = Complex64::new(f64::from(f.re), f64::from(f.im))
                             * plate[i]
                             * self.lens_rect[i];
+                        let v = if bloch { tilted(v) } else { v };
                         *total += v.norm_sqr();
                         v
                     },

@@ -140,10 +140,17 @@ pub enum Relay {
     /// lenslet array diffract as they do in the thesis code (its V reproduces to ~2e-5).
     #[default]
     WholeDisplay,
+    /// The whole display on a grid of its own width, whose wrap-around stands in for the light
+    /// the array's ends diffract beyond it (the display repeated, as the lenslet period repeats
+    /// one lenslet): every plate, PSFs within ~1e-5 of [`Relay::WholeDisplay`]'s peak where
+    /// most light passes, about 1.6× faster. Under the thesis convention and for the double MLA
+    /// only (the other optics have no Fresnel step to wrap).
+    WrappedDisplay,
     /// One lenslet period with the direction's Bloch phase, as if the array were infinite: the
     /// same fields where the display's edges do not reach (V within 1e-3 of
     /// [`Relay::WholeDisplay`]), at a small fraction of the cost. Only for a plate whose lenslets
-    /// are all alike under the thesis convention; any other falls back to the whole display.
+    /// are all alike under the thesis convention; a λ0 plan falls back to
+    /// [`Relay::WrappedDisplay`], the centred convention to the whole display.
     LensletPeriod,
 }
 
@@ -152,6 +159,7 @@ impl Relay {
     pub fn name(self) -> &'static str {
         match self {
             Relay::WholeDisplay => "whole-display",
+            Relay::WrappedDisplay => "wrapped-display",
             Relay::LensletPeriod => "lenslet-period",
         }
     }
@@ -175,15 +183,21 @@ impl PhaseSampling {
     }
 
     /// The relay `design` actually goes through with this sampling: the lenslet period only
-    /// where it applies (the bare T-OLED, or a plate with one λ0, under the thesis convention).
+    /// where it applies (the bare T-OLED, or a plate with one λ0, under the thesis convention),
+    /// the wrapped display only for the double MLA under the thesis convention.
     pub fn relay_for(&self, design: &PhaseDesign, optics: PhaseOptics) -> Relay {
+        let thesis = design.sampling == SamplingConvention::Thesis;
         let periodic = match optics {
-            PhaseOptics::Toled => design.sampling == SamplingConvention::Thesis,
+            PhaseOptics::Toled => thesis,
             PhaseOptics::DoubleMla | PhaseOptics::SingleMask => design.has_lenslet_period(),
         };
+        let wraps = thesis && optics == PhaseOptics::DoubleMla;
         match self.relay {
             Relay::LensletPeriod if periodic => Relay::LensletPeriod,
-            Relay::LensletPeriod | Relay::WholeDisplay => Relay::WholeDisplay,
+            Relay::LensletPeriod | Relay::WrappedDisplay if wraps => Relay::WrappedDisplay,
+            Relay::LensletPeriod | Relay::WrappedDisplay | Relay::WholeDisplay => {
+                Relay::WholeDisplay
+            }
         }
     }
 

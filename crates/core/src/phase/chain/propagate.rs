@@ -8,16 +8,50 @@ impl Chain {
     /// Samples of the Fresnel grid at this wavelength. The thesis convention pads the chain by
     /// the paraxial kernel's full reach `λz/δ` (its largest lateral shift `λ z f_max` on both
     /// sides, f_max = 1/(2δ)), so the periodic transform is a linear convolution where it
-    /// matters; the centred convention keeps its two-pitch margins.
+    /// matters; [`Relay::WrappedDisplay`] (and a λ0 plan under [`Relay::LensletPeriod`]) drops
+    /// that padding and lets the chain's samples wrap; the centred convention keeps its
+    /// two-pitch margins.
     pub(super) fn fresnel_len(&self, wavelength_um: f64) -> usize {
         match self.design.sampling {
             SamplingConvention::Centred => self.n,
+            SamplingConvention::Thesis if self.wraps() => next_fast_size_235(self.n),
             SamplingConvention::Thesis => {
                 let reach = wavelength_um * self.design.f_mla_um / (self.dx_um * self.dx_um);
                 let raw = (self.n as f64 + reach).ceil().min(MAX_GRID_SAMPLES as f64);
                 next_fast_size_235(raw as usize)
             }
         }
+    }
+
+    /// Whether the double MLA's relay runs on the wrapped grid ([`Relay::WrappedDisplay`], and
+    /// a λ0 plan under [`Relay::LensletPeriod`]): the thesis convention only.
+    pub(super) fn wraps(&self) -> bool {
+        self.design.sampling == SamplingConvention::Thesis
+            && matches!(
+                self.sampling.relay,
+                Relay::WrappedDisplay | Relay::LensletPeriod
+            )
+    }
+
+    /// The FFT of `plate · display_rect` on the wrapped grid at this wavelength (zeros beyond
+    /// the chain's samples), in `out`: the input spectrum of every direction's Bloch relay.
+    pub(super) fn plate_spectrum(
+        &self,
+        plate: &[Complex64],
+        wavelength_um: f64,
+        out: &mut Vec<Complex32>,
+    ) {
+        let len = self.fresnel_len(wavelength_um);
+        let forward = complex_plan_f32(len, false);
+        out.clear();
+        out.extend(
+            plate
+                .iter()
+                .zip(&self.display_rect)
+                .map(|(p, r)| Complex32::new((p.re * r) as f32, (p.im * r) as f32)),
+        );
+        out.resize(len, Complex32::new(0.0, 0.0));
+        forward.process(out);
     }
 
     pub(super) fn transfer(&self, wavelength_um: f64) -> Arc<Vec<Complex32>> {
@@ -155,6 +189,59 @@ impl Chain {
             }
             t
         })
+    }
+
+    /// [`Chain::relay`] on the wrapped grid as a Bloch problem: the field is `exp(i k sinθ x)`
+    /// times a function with the grid's period, whose Fresnel steps multiply its spectrum by
+    /// the transfer function at `ν + sinθ/λ` (wrapped into the band, as
+    /// [`Chain::relay_period`] does for one lenslet). `spectrum` is the plate's
+    /// ([`Chain::plate_spectrum`]); the result in `field` lacks the tilt.
+    pub(super) fn relay_bloch(
+        &self,
+        spectrum: &[Complex32],
+        transfer: &mut Vec<Complex32>,
+        field: &mut Vec<Complex32>,
+        scratch: &mut Vec<Complex32>,
+        wavelength_um: f64,
+        k_sin: f64,
+    ) {
+        let len = spectrum.len();
+        let forward = complex_plan_f32(len, false);
+        let inverse = complex_plan_f32(len, true);
+        let scratch_len = forward
+            .get_inplace_scratch_len()
+            .max(inverse.get_inplace_scratch_len());
+        scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
+        // Bin n holds ν δ = n/len + s (s = ν0 δ), taken in [−1/2, 1/2): the phase
+        // −πλz(ν)² = a2 (m + s·len)² with m = n below the wrap and n − len above it; its
+        // constant part a2 (s·len)² is common to every sample and drops out.
+        let dx = self.dx_um;
+        let s = k_sin * dx / (2.0 * PI);
+        let lf = len as f64;
+        let a2 = -PI * wavelength_um * self.design.f_mla_um / (dx * dx * lf * lf);
+        let a1 = 2.0 * a2 * s * lf;
+        let split = (((0.5 - s) * lf).ceil().max(0.0) as usize).min(len);
+        let norm = 1.0 / lf;
+        let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
+        transfer.clear();
+        transfer.extend(
+            quadratic_phase(a2, a1, 0, norm)
+                .take(split)
+                .chain(quadratic_phase(a2, a1, split as i64 - len as i64, norm).take(len - split))
+                .map(to32),
+        );
+        field.clear();
+        field.extend(spectrum.iter().zip(transfer.iter()).map(|(a, h)| a * h));
+        inverse.process_with_scratch(field, scratch);
+        // Beyond the chain's samples the display is open (ones), so only these change.
+        for (f, s) in field.iter_mut().zip(&self.slits) {
+            *f *= *s as f32;
+        }
+        forward.process_with_scratch(field, scratch);
+        for (f, t) in field.iter_mut().zip(transfer.iter()) {
+            *f *= t;
+        }
+        inverse.process_with_scratch(field, scratch);
     }
 
     /// MLA 1 → Fresnel → display → Fresnel: the double MLA's field just before MLA 2, in
