@@ -130,9 +130,26 @@ fn full_v() {
 /// sampling, through the lenslet period (goals ≤ 3 s and ≤ 10 s), and the 256-pixel one
 /// through the whole display for comparison; then the thesis's optimized plan at T = 5 (26 λ0s
 /// over 58 lenslets, no lenslet period) for a 256-pixel photo through the wrapped and the whole
-/// display. Timed once each, written to `phase-operator.json`.
+/// display; and the bare T-OLED's 256-pixel operator through the whole display, which is the
+/// opening's chirp-z transform alone: the floor of any relay that transforms the whole opening
+/// per direction and wavelength. Timed once each, written to `phase-operator.json`.
+/// The thesis's "Ours" at T = 5 from `base`: Algorithm 1's allocation for the thesis response
+/// (26 λ0s over 58 lenslets), a plate with no lenslet period.
+fn optimized_plan(base: &PhaseDesign) -> Result<PhaseDesign, String> {
+    use udc_studio::core::phase::imaging::{Lambda0Plan, Setup};
+    use udc_studio::core::phase::wavelength_grid_nm;
+    use udc_studio::io::spectral::{channels_from_response, thesis_response};
+    let channels = channels_from_response(&thesis_response(), &wavelength_grid_nm())
+        .map_err(|e| e.to_string())?;
+    let sampling = PhaseSampling::thesis().with_relay(Relay::LensletPeriod);
+    Setup::mla(42.0, 5.0, Lambda0Plan::Optimized)
+        .resolve(base, &sampling, &channels, &Progress::new())
+        .map(|(design, _)| design)
+        .map_err(|e| e.to_string())
+}
+
 fn spectral_operator() {
-    use udc_studio::core::phase::imaging::{Lambda0Plan, Setup, phase_blur};
+    use udc_studio::core::phase::imaging::phase_blur;
     use udc_studio::core::phase::wavelength_grid_nm;
     use udc_studio::io::spectral::{channels_from_response, thesis_response};
     let design = PhaseDesign::thesis(42.0, 5.0);
@@ -140,31 +157,28 @@ fn spectral_operator() {
         eprintln!("no thesis response");
         return;
     };
-    let timed = |design: &PhaseDesign, width: usize, relay: Relay| {
+    let timed_through = |design: &PhaseDesign, optics, width: usize, relay: Relay| {
         let start = Instant::now();
         let blur = phase_blur(
             design,
             &PhaseSampling::thesis().with_relay(relay),
             &channels,
-            PhaseOptics::DoubleMla,
+            optics,
             width,
             &Progress::new(),
         );
         blur.map(|_| start.elapsed().as_secs_f64())
             .unwrap_or(f64::NAN)
     };
+    let timed = |design: &PhaseDesign, width: usize, relay: Relay| {
+        timed_through(design, PhaseOptics::DoubleMla, width, relay)
+    };
     let p256 = timed(&design, 256, Relay::LensletPeriod);
     let p512 = timed(&design, 512, Relay::LensletPeriod);
     let w256 = timed(&design, 256, Relay::WholeDisplay);
-    let sampling = PhaseSampling::thesis().with_relay(Relay::LensletPeriod);
-    let optimized = Setup::mla(42.0, 5.0, Lambda0Plan::Optimized).resolve(
-        &design,
-        &sampling,
-        &channels,
-        &Progress::new(),
-    );
-    let (plan_wrapped, plan_whole) = match optimized {
-        Ok((plan, _)) => (
+    let toled = timed_through(&design, PhaseOptics::Toled, 256, Relay::WholeDisplay);
+    let (plan_wrapped, plan_whole) = match optimized_plan(&design) {
+        Ok(plan) => (
             timed(&plan, 256, Relay::LensletPeriod),
             timed(&plan, 256, Relay::WholeDisplay),
         ),
@@ -177,14 +191,15 @@ fn spectral_operator() {
         "spectral operator, 30 wavelengths: 256 px {p256:.2} s and 512 px {p512:.2} s through \
          the lenslet period; 256 px {w256:.1} s through the whole display; the optimized plan, \
          256 px: {plan_wrapped:.1} s through the wrapped display, {plan_whole:.1} s through the \
-         whole display"
+         whole display; the bare T-OLED's opening transforms alone, 256 px: {toled:.1} s"
     );
     common::write_figures(
         "phase-operator.json",
         &format!(
             "{{\"period_256_seconds\": {p256:.3}, \"period_512_seconds\": {p512:.3}, \
              \"whole_256_seconds\": {w256:.3}, \"plan_wrapped_256_seconds\": {plan_wrapped:.3}, \
-             \"plan_whole_256_seconds\": {plan_whole:.3}, \"threads\": {}}}\n",
+             \"plan_whole_256_seconds\": {plan_whole:.3}, \"toled_whole_256_seconds\": {toled:.3}, \
+             \"threads\": {}}}\n",
             rayon::current_num_threads()
         ),
     );
@@ -234,6 +249,31 @@ fn bench_phase(c: &mut Criterion) {
                 ))
             })
         });
+    }
+    // A λ0 plan has no lenslet period: the thesis code's relay against the wrapped display
+    // that the studio's update takes for it.
+    match optimized_plan(&PhaseDesign::thesis(42.0, 5.0)) {
+        Ok(plan) => {
+            for (name, relay) in [
+                ("rgb-vs-toled/optimized-plan", Relay::WholeDisplay),
+                ("rgb-vs-toled/optimized-plan-wrapped", Relay::LensletPeriod),
+            ] {
+                let sampling = PhaseSampling::thesis().with_relay(relay);
+                group.bench_function(name, |b| {
+                    b.iter(|| {
+                        black_box(phase_psfs(
+                            &plan,
+                            &sampling,
+                            &channels,
+                            PhaseOptics::DoubleMla,
+                            Incidence::Pixel(0),
+                            &Progress::new(),
+                        ))
+                    })
+                });
+            }
+        }
+        Err(e) => eprintln!("no optimized plan: {e}"),
     }
     group.finish();
     full_v();

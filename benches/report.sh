@@ -153,6 +153,8 @@ time_row("phase/psf-530nm/thesis", 100)
 time_row("phase/rgb-vs-toled/thesis")
 time_row("phase/rgb-vs-toled/preview")
 time_row("phase/rgb-vs-toled/thesis-lenslet-period")
+time_row("phase/rgb-vs-toled/optimized-plan")
+time_row("phase/rgb-vs-toled/optimized-plan-wrapped")
 phase = load(os.path.join(bench, "phase.json")) or {}
 phase_np = load(os.path.join(bench, "phase-numpy.json")) or {}
 v_s, np_s = phase.get("seconds"), phase_np.get("seconds")
@@ -172,6 +174,11 @@ for width, goal in ((256, 3), (512, 10)):
         o_s, " s", f"≤ {goal} s", None if o_s is None else o_s <= goal)
 row("the same 256-px operator through the whole display", operator.get("whole_256_seconds"),
     " s", "—", None)
+row("the optimized λ0 plan's 256-px operator (T = 5, no lenslet period), wrapped display, one run",
+    operator.get("plan_wrapped_256_seconds"), " s", "—", None)
+row("the same through the whole display", operator.get("plan_whole_256_seconds"), " s", "—", None)
+row("the bare T-OLED's 256-px operator through the whole display (the opening's transforms alone)",
+    operator.get("toled_whole_256_seconds"), " s", "—", None)
 imaging = load(os.path.join(bench, "phase-imaging.json")) or {}
 b_s, r_s = imaging.get("blur_seconds"), imaging.get("restore_seconds")
 row("phase blur matrix, 1024 directions × R, G, B, thesis sampling, one run", b_s, " s", "≤ 20 s",

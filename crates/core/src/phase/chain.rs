@@ -8,7 +8,10 @@
 //! give the same fields (to ~1e-6 of the peak; the tails of the band-limited kernel are all that
 //! differ) at a quarter of the cost. A sampling with [`Relay::LensletPeriod`] sends a plate
 //! whose lenslets are all alike through one lenslet instead (the `periodic` module): the same
-//! fields but for the light the array's ends diffract, many times faster.
+//! fields but for the light the array's ends diffract, many times faster. Any other plate, and
+//! every plate under [`Relay::WrappedDisplay`], goes through the whole display on a grid of
+//! its own width with the direction's Bloch phase (`Chain::relay_bloch`): the same
+//! approximation, the display repeated instead of one lenslet.
 
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -130,6 +133,9 @@ struct Formed {
     plate: Vec<Complex64>,
     /// Its spectrum on the wrapped grid ([`Chain::plate_spectrum`]) where the relay wraps.
     spectrum: Option<Vec<Complex32>>,
+    /// The opening's factors that do not depend on the direction ([`Chain::opening`]), where
+    /// the relay is not the lenslet period's.
+    opening: Option<Vec<Complex32>>,
 }
 
 /// A cached chirp-z transform's key: wavelength bits, input samples, first and end sensor pixel.
@@ -167,6 +173,8 @@ thread_local! {
 struct Work {
     /// The plate's transmission on the chain's samples.
     plate: Vec<Complex64>,
+    /// The opening's direction-free factors ([`Chain::opening`]).
+    opening: Vec<Complex32>,
     /// Its spectrum on the wrapped grid, and the direction's Bloch-shifted transfer function.
     spectrum: Vec<Complex32>,
     transfer: Vec<Complex32>,
@@ -182,6 +190,7 @@ impl Work {
     const fn new() -> Self {
         Work {
             plate: Vec::new(),
+            opening: Vec::new(),
             spectrum: Vec::new(),
             transfer: Vec::new(),
             field: Vec::new(),
@@ -570,12 +579,22 @@ impl Chain {
             PhaseOptics::DoubleMla => {
                 let mut plate = Vec::new();
                 self.transmission(heights_um, self.k_n1(wavelength_nm), &mut plate);
+                let lambda = wavelength_nm * 1e-3;
                 let spectrum = (period.is_none() && self.wraps()).then(|| {
                     let mut spectrum = Vec::new();
-                    self.plate_spectrum(&plate, wavelength_nm * 1e-3, &mut spectrum);
+                    self.plate_spectrum(&plate, lambda, &mut spectrum);
                     spectrum
                 });
-                Some(Formed { plate, spectrum })
+                let opening = period.is_none().then(|| {
+                    let mut opening = Vec::new();
+                    self.opening(&plate, &self.whole_sensor_czt(lambda), &mut opening);
+                    opening
+                });
+                Some(Formed {
+                    plate,
+                    spectrum,
+                    opening,
+                })
             }
             PhaseOptics::Toled | PhaseOptics::SingleMask => None,
         };
@@ -638,12 +657,13 @@ impl Chain {
         let mut intensity = vec![0.0; cam.pixels * fine];
         // The window is the sensor, not the image point: the double MLA moves light to the
         // opposite side of the axis, which a window that followed f·sinθ would cut off.
-        let czt = self.czt_for(lambda, end - start, 0..cam.pixels);
+        let czt = self.whole_sensor_czt(lambda);
         let mut total = 0.0;
         WORK.with(|cell| {
             let work = &mut *cell.borrow_mut();
             let Work {
                 plate: own_plate,
+                opening: own_opening,
                 spectrum: own_spectrum,
                 transfer,
                 field,
@@ -686,20 +706,31 @@ impl Chain {
             };
             let total = &mut total;
             match optics {
-                PhaseOptics::DoubleMla => czt.intensity_with(
-                    czt_work,
-                    |j| {
-                        let i = start + j;
-                        let f = field[i];
-                        let v = Complex64::new(f64::from(f.re), f64::from(f.im))
-                            * plate[i]
-                            * self.lens_rect[i];
-                        let v = if bloch { tilted(v) } else { v };
-                        *total += v.norm_sqr();
-                        v
-                    },
-                    &mut intensity,
-                ),
+                PhaseOptics::DoubleMla => {
+                    let opening: &[Complex32] = match formed.and_then(|f| f.opening.as_deref()) {
+                        Some(given) => given,
+                        None => {
+                            self.opening(plate, &czt, own_opening);
+                            own_opening
+                        }
+                    };
+                    let field = &field[start..end];
+                    czt.intensity_filled(
+                        czt_work,
+                        |input| {
+                            if bloch {
+                                self.tilted_product(input, field, opening, start, k_sin);
+                            } else {
+                                for ((v, f), g) in input.iter_mut().zip(field).zip(opening) {
+                                    *v = f * g;
+                                }
+                            }
+                            // The tilt and the chirp have modulus 1.
+                            *total = input.iter().map(|v| f64::from(v.norm_sqr())).sum();
+                        },
+                        &mut intensity,
+                    );
+                }
                 PhaseOptics::Toled => czt.intensity_with(
                     czt_work,
                     |j| {

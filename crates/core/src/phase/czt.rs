@@ -71,6 +71,27 @@ impl Czt {
         self.chirp.convolve(n.min(self.n_in), input, work)
     }
 
+    /// The chirp each input sample is multiplied by before the convolution (length `n_in`).
+    pub fn input_chirp(&self) -> &[Complex64] {
+        self.chirp.pre()
+    }
+
+    /// [`Czt::intensity`] of an input that `fill` writes already multiplied by
+    /// [`Czt::input_chirp`], in single precision, all `n_in` samples.
+    pub fn intensity_filled(
+        &self,
+        work: &mut CztWork,
+        fill: impl FnOnce(&mut [Complex32]),
+        out: &mut [f64],
+    ) {
+        for (o, s) in out
+            .iter_mut()
+            .zip(self.chirp.convolve_filled(self.n_in, fill, work))
+        {
+            *o = f64::from(s.norm_sqr());
+        }
+    }
+
     /// [`Czt::intensity`] of the input `input(0), input(1), … input(n_in − 1)`, called once each
     /// in order: a caller forms its field in the same pass.
     pub fn intensity_with(

@@ -114,6 +114,62 @@ impl Chain {
         czt
     }
 
+    /// The Fraunhofer transform of the whole opening onto the whole sensor at this wavelength.
+    pub(super) fn whole_sensor_czt(&self, wavelength_um: f64) -> Arc<Czt> {
+        let (start, end) = self.lens_range;
+        self.czt_for(wavelength_um, end - start, 0..self.design.camera.pixels)
+    }
+
+    /// The double MLA's opening factors that every direction shares: MLA 2's transmission
+    /// `plate`, the main lens's opening and `czt`'s input chirp, on the opening's samples, in
+    /// `out` (single precision, as the transform takes them).
+    pub(super) fn opening(&self, plate: &[Complex64], czt: &Czt, out: &mut Vec<Complex32>) {
+        let (start, end) = self.lens_range;
+        out.clear();
+        out.extend(
+            plate[start..end]
+                .iter()
+                .zip(&self.lens_rect[start..end])
+                .zip(czt.input_chirp())
+                .map(|((p, r), c)| {
+                    let v = p * *r * c;
+                    Complex32::new(v.re as f32, v.im as f32)
+                }),
+        );
+    }
+
+    /// `out[n] = field[n] · opening[n] · exp(i k sinθ x)` at samples `from + n`: the tilt from
+    /// one exact exponential per block of 256 times a table of the block's steps, so each
+    /// sample costs two single-precision products that the compiler can vectorise.
+    pub(super) fn tilted_product(
+        &self,
+        out: &mut [Complex32],
+        field: &[Complex32],
+        opening: &[Complex32],
+        from: usize,
+        k_sin: f64,
+    ) {
+        const BLOCK: usize = 256;
+        let cis = |phase: f64| {
+            let v = Complex64::from_polar(1.0, phase.rem_euclid(2.0 * PI));
+            Complex32::new(v.re as f32, v.im as f32)
+        };
+        let steps: Vec<Complex32> = (0..BLOCK)
+            .map(|k| cis(k_sin * self.dx_um * k as f64))
+            .collect();
+        for (b, ((out, field), opening)) in out
+            .chunks_mut(BLOCK)
+            .zip(field.chunks(BLOCK))
+            .zip(opening.chunks(BLOCK))
+            .enumerate()
+        {
+            let anchor = cis(k_sin * self.x_um(from + b * BLOCK));
+            for (((v, f), g), s) in out.iter_mut().zip(field).zip(opening).zip(&steps) {
+                *v = f * g * (anchor * s);
+            }
+        }
+    }
+
     /// The first fine sensor sample and the spacing, in µm from the axis, at this wavelength.
     ///
     /// Thesis: the `M`-point FFT's own bins, `u = k·λf/(Mδ)` with `M = 2⌊λf/(2δ δ3)⌋`, indices
@@ -213,25 +269,50 @@ impl Chain {
             .max(inverse.get_inplace_scratch_len());
         scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
         // Bin n holds ν δ = n/len + s (s = ν0 δ), taken in [−1/2, 1/2): the phase
-        // −πλz(ν)² = a2 (m + s·len)² with m = n below the wrap and n − len above it; its
-        // constant part a2 (s·len)² is common to every sample and drops out.
+        // −πλz ν² = a2 (m + s·len)² with m = n below the wrap and n − len above it; its
+        // constant part a2 (s·len)² is common to every sample and drops out. The rest is the
+        // untilted transfer function (cached, wrapped at len/2) times the ramp exp(i a1 m),
+        // but for the bins between len/2 and the tilted wrap, which are taken exactly.
         let dx = self.dx_um;
         let s = k_sin * dx / (2.0 * PI);
         let lf = len as f64;
         let a2 = -PI * wavelength_um * self.design.f_mla_um / (dx * dx * lf * lf);
         let a1 = 2.0 * a2 * s * lf;
+        let half = len / 2;
         let split = (((0.5 - s) * lf).ceil().max(0.0) as usize).min(len);
-        let norm = 1.0 / lf;
+        let untilted = self.transfer(wavelength_um);
+        let cis = |phase: f64| Complex64::from_polar(1.0, phase.rem_euclid(2.0 * PI));
         let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
-        transfer.clear();
-        transfer.extend(
-            quadratic_phase(a2, a1, 0, norm)
-                .take(split)
-                .chain(quadratic_phase(a2, a1, split as i64 - len as i64, norm).take(len - split))
-                .map(to32),
-        );
-        field.clear();
-        field.extend(spectrum.iter().zip(transfer.iter()).map(|(a, h)| a * h));
+        const BLOCK: usize = 256;
+        let steps: Vec<Complex32> = (0..BLOCK).map(|k| to32(cis(a1 * k as f64))).collect();
+        // exp(i a1 (n − len)) = exp(i a1 n)·exp(−i a1 len) above len/2.
+        let above = cis(-a1 * lf);
+        let zero = Complex32::new(0.0, 0.0);
+        transfer.resize(len, zero);
+        field.resize(len, zero);
+        for (b, ((out, f), (h, p))) in transfer
+            .chunks_mut(BLOCK)
+            .zip(field.chunks_mut(BLOCK))
+            .zip(untilted.chunks(BLOCK).zip(spectrum.chunks(BLOCK)))
+            .enumerate()
+        {
+            let n0 = b * BLOCK;
+            let anchor = cis(a1 * n0 as f64);
+            let anchor = to32(if n0 >= half { anchor * above } else { anchor });
+            for (((t, f), h), (p, step)) in out.iter_mut().zip(f).zip(h).zip(p.iter().zip(&steps)) {
+                *t = h * (anchor * step);
+                *f = p * *t;
+            }
+        }
+        // A block that straddles len/2 took the lower ramp throughout: its upper part, and the
+        // bins the tilt moves across the wrap, are formed exactly.
+        let from = (half / BLOCK * BLOCK).min(split);
+        let to = (half + BLOCK).max(split).min(len);
+        for (n, t) in transfer.iter_mut().enumerate().take(to).skip(from) {
+            let m = if n < split { n as f64 } else { n as f64 - lf };
+            *t = to32(cis(a2 * m * m + a1 * m) / lf);
+            field[n] = spectrum[n] * *t;
+        }
         inverse.process_with_scratch(field, scratch);
         // Beyond the chain's samples the display is open (ones), so only these change.
         for (f, s) in field.iter_mut().zip(&self.slits) {
