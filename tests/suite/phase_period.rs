@@ -290,3 +290,50 @@ fn the_relay_named_is_the_relay_taken() {
         );
     }
 }
+
+/// What a restoration consumes: the spectral operator of the thesis's optimized plan (here at
+/// preview sampling, 48 columns) through the wrapped display is the whole display's to a small
+/// fraction of its largest entry, channel by channel, and its LTR agrees.
+#[test]
+fn the_wrapped_display_gives_the_whole_displays_operator() {
+    use udc_studio::core::phase::imaging::phase_blur;
+    let mut design = PhaseDesign::thesis(42.0, 5.0);
+    let counts = vec![
+        0, 1, 1, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 3, 3, 4, 7, 7, 3, 2, 2, 2, 7,
+    ];
+    design.lambda0 = Lambda0::Counts { counts };
+    let channels = channels_from_response(
+        &thesis_response(),
+        &udc_studio::core::phase::wavelength_grid_nm(),
+    )
+    .unwrap();
+    let blur = |relay: Relay| {
+        phase_blur(
+            &design,
+            &PhaseSampling::preview().with_relay(relay),
+            &channels,
+            PhaseOptics::DoubleMla,
+            48,
+            &Progress::new(),
+        )
+        .unwrap()
+    };
+    let (whole, wrapped) = (blur(Relay::WholeDisplay), blur(Relay::LensletPeriod));
+    let mut worst = 0.0f64;
+    for (a, b) in whole.channels.iter().zip(&wrapped.channels) {
+        let peak = a.iter().copied().fold(0.0, f64::max);
+        let d = a
+            .iter()
+            .zip(b)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        worst = worst.max(d / peak);
+    }
+    eprintln!(
+        "operator: worst {worst:e} of the largest entry; LTR {} against {}",
+        wrapped.ltr, whole.ltr
+    );
+    assert!(worst < 2e-5, "{worst:e}");
+    assert!(worst > 0.0);
+    assert!((whole.ltr - wrapped.ltr).abs() < 5e-4 * whole.ltr);
+}

@@ -169,7 +169,7 @@ pub struct MaskArgs {
     /// The relay through MLA 1, the display and MLA 2: `lenslet-period` (one lenslet with the
     /// direction's Bloch phase, for plates whose lenslets are all alike; V within 1e-3 of the
     /// whole display, many times faster; a λ0 plan takes `wrapped-display`), `wrapped-display`
-    /// (the whole display on a grid of its own width, every plate, about 1.6× faster) or
+    /// (the whole display on a grid of its own width, every plate, about 2× faster) or
     /// `whole-display` (the thesis code's, every plate).
     #[arg(long, value_enum, default_value_t = Relay::LensletPeriod)]
     pub relay: Relay,

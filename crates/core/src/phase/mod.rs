@@ -142,15 +142,16 @@ pub enum Relay {
     WholeDisplay,
     /// The whole display on a grid of its own width, whose wrap-around stands in for the light
     /// the array's ends diffract beyond it (the display repeated, as the lenslet period repeats
-    /// one lenslet): every plate, PSFs within ~1e-5 of [`Relay::WholeDisplay`]'s peak where
-    /// most light passes, about 1.6× faster. Under the thesis convention and for the double MLA
-    /// only (the other optics have no Fresnel step to wrap).
+    /// one lenslet), taken with the direction's Bloch phase: every plate, PSFs within 1e-5 of
+    /// the whole display's peak where most light passes, a λ0 plan's spectral operator
+    /// about 2× faster. Under the thesis convention and for the double MLA only (the other
+    /// optics have no Fresnel step to wrap).
     WrappedDisplay,
     /// One lenslet period with the direction's Bloch phase, as if the array were infinite: the
     /// same fields where the display's edges do not reach (V within 1e-3 of
-    /// [`Relay::WholeDisplay`]), at a small fraction of the cost. Only for a plate whose lenslets
+    /// the whole display), at a small fraction of the cost. Only for a plate whose lenslets
     /// are all alike under the thesis convention; a λ0 plan falls back to
-    /// [`Relay::WrappedDisplay`], the centred convention to the whole display.
+    /// the wrapped display, the centred convention to the whole display.
     LensletPeriod,
 }
 
