@@ -4,6 +4,36 @@
 
 use super::*;
 
+use rustfft::Fft;
+
+/// Samples of a single-precision phase ramp per exactly computed anchor: its table of steps
+/// ([`ramp_steps`]) keeps the rounding at a few 1e-7 and each sample one product.
+const RAMP_BLOCK: usize = 256;
+
+/// `exp(i·phase)` in single precision, the phase reduced mod 2π in double first.
+fn cis32(phase: f64) -> Complex32 {
+    let v = Complex64::from_polar(1.0, phase.rem_euclid(2.0 * PI));
+    Complex32::new(v.re as f32, v.im as f32)
+}
+
+/// `exp(i·k·phase_per_sample)` for `k < RAMP_BLOCK`: a ramp's steps from its block's anchor.
+fn ramp_steps(phase_per_sample: f64) -> Vec<Complex32> {
+    (0..RAMP_BLOCK)
+        .map(|k| cis32(phase_per_sample * k as f64))
+        .collect()
+}
+
+/// Forward and inverse single-precision plans of `len` points, with `scratch` grown for both.
+fn plans_f32(len: usize, scratch: &mut Vec<Complex32>) -> (Arc<dyn Fft<f32>>, Arc<dyn Fft<f32>>) {
+    let forward = complex_plan_f32(len, false);
+    let inverse = complex_plan_f32(len, true);
+    let scratch_len = forward
+        .get_inplace_scratch_len()
+        .max(inverse.get_inplace_scratch_len());
+    scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
+    (forward, inverse)
+}
+
 impl Chain {
     /// Samples of the Fresnel grid at this wavelength. The thesis convention pads the chain by
     /// the paraxial kernel's full reach `λz/δ` (its largest lateral shift `λ z f_max` on both
@@ -149,21 +179,14 @@ impl Chain {
         from: usize,
         k_sin: f64,
     ) {
-        const BLOCK: usize = 256;
-        let cis = |phase: f64| {
-            let v = Complex64::from_polar(1.0, phase.rem_euclid(2.0 * PI));
-            Complex32::new(v.re as f32, v.im as f32)
-        };
-        let steps: Vec<Complex32> = (0..BLOCK)
-            .map(|k| cis(k_sin * self.dx_um * k as f64))
-            .collect();
+        let steps = ramp_steps(k_sin * self.dx_um);
         for (b, ((out, field), opening)) in out
-            .chunks_mut(BLOCK)
-            .zip(field.chunks(BLOCK))
-            .zip(opening.chunks(BLOCK))
+            .chunks_mut(RAMP_BLOCK)
+            .zip(field.chunks(RAMP_BLOCK))
+            .zip(opening.chunks(RAMP_BLOCK))
             .enumerate()
         {
-            let anchor = cis(k_sin * self.x_um(from + b * BLOCK));
+            let anchor = cis32(k_sin * self.x_um(from + b * RAMP_BLOCK));
             for (((v, f), g), s) in out.iter_mut().zip(field).zip(opening).zip(&steps) {
                 *v = f * g * (anchor * s);
             }
@@ -262,12 +285,7 @@ impl Chain {
         k_sin: f64,
     ) {
         let len = spectrum.len();
-        let forward = complex_plan_f32(len, false);
-        let inverse = complex_plan_f32(len, true);
-        let scratch_len = forward
-            .get_inplace_scratch_len()
-            .max(inverse.get_inplace_scratch_len());
-        scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
+        let (forward, inverse) = plans_f32(len, scratch);
         // Bin n holds ν δ = n/len + s (s = ν0 δ), taken in [−1/2, 1/2): the phase
         // −πλz ν² = a2 (m + s·len)² with m = n below the wrap and n − len above it; its
         // constant part a2 (s·len)² is common to every sample and drops out. The rest is the
@@ -283,20 +301,19 @@ impl Chain {
         let untilted = self.transfer(wavelength_um);
         let cis = |phase: f64| Complex64::from_polar(1.0, phase.rem_euclid(2.0 * PI));
         let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
-        const BLOCK: usize = 256;
-        let steps: Vec<Complex32> = (0..BLOCK).map(|k| to32(cis(a1 * k as f64))).collect();
+        let steps = ramp_steps(a1);
         // exp(i a1 (n − len)) = exp(i a1 n)·exp(−i a1 len) above len/2.
         let above = cis(-a1 * lf);
         let zero = Complex32::new(0.0, 0.0);
         transfer.resize(len, zero);
         field.resize(len, zero);
         for (b, ((out, f), (h, p))) in transfer
-            .chunks_mut(BLOCK)
-            .zip(field.chunks_mut(BLOCK))
-            .zip(untilted.chunks(BLOCK).zip(spectrum.chunks(BLOCK)))
+            .chunks_mut(RAMP_BLOCK)
+            .zip(field.chunks_mut(RAMP_BLOCK))
+            .zip(untilted.chunks(RAMP_BLOCK).zip(spectrum.chunks(RAMP_BLOCK)))
             .enumerate()
         {
-            let n0 = b * BLOCK;
+            let n0 = b * RAMP_BLOCK;
             let anchor = cis(a1 * n0 as f64);
             let anchor = to32(if n0 >= half { anchor * above } else { anchor });
             for (((t, f), h), (p, step)) in out.iter_mut().zip(f).zip(h).zip(p.iter().zip(&steps)) {
@@ -306,20 +323,32 @@ impl Chain {
         }
         // A block that straddles len/2 took the lower ramp throughout: its upper part, and the
         // bins the tilt moves across the wrap, are formed exactly.
-        let from = (half / BLOCK * BLOCK).min(split);
-        let to = (half + BLOCK).max(split).min(len);
+        let from = (half / RAMP_BLOCK * RAMP_BLOCK).min(split);
+        let to = (half + RAMP_BLOCK).max(split).min(len);
         for (n, t) in transfer.iter_mut().enumerate().take(to).skip(from) {
             let m = if n < split { n as f64 } else { n as f64 - lf };
             *t = to32(cis(a2 * m * m + a1 * m) / lf);
             field[n] = spectrum[n] * *t;
         }
         inverse.process_with_scratch(field, scratch);
+        self.slits_then_fresnel(field, transfer, (&forward, &inverse), scratch);
+    }
+
+    /// The display's slits on the field at the display, then the Fresnel step to MLA 2 with
+    /// `transfer`: how both relays end.
+    fn slits_then_fresnel(
+        &self,
+        field: &mut [Complex32],
+        transfer: &[Complex32],
+        (forward, inverse): (&Arc<dyn Fft<f32>>, &Arc<dyn Fft<f32>>),
+        scratch: &mut [Complex32],
+    ) {
         // Beyond the chain's samples the display is open (ones), so only these change.
         for (f, s) in field.iter_mut().zip(&self.slits) {
             *f *= *s as f32;
         }
         forward.process_with_scratch(field, scratch);
-        for (f, t) in field.iter_mut().zip(transfer.iter()) {
+        for (f, t) in field.iter_mut().zip(transfer) {
             *f *= t;
         }
         inverse.process_with_scratch(field, scratch);
@@ -337,13 +366,8 @@ impl Chain {
     ) {
         let h = self.transfer(wavelength_um);
         let len = h.len();
-        let forward = complex_plan_f32(len, false);
-        let inverse = complex_plan_f32(len, true);
-        let scratch_len = forward
-            .get_inplace_scratch_len()
-            .max(inverse.get_inplace_scratch_len());
+        let (forward, inverse) = plans_f32(len, scratch);
         field.resize(len, Complex32::new(0.0, 0.0));
-        scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
         let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
         let lit = field.iter_mut().zip(plate.iter().zip(&self.display_rect));
         if k_sin == 0.0 {
@@ -361,14 +385,6 @@ impl Chain {
             *f *= t;
         }
         inverse.process_with_scratch(field, scratch);
-        // Beyond the chain's samples the display is open (ones), so only these change.
-        for (f, s) in field.iter_mut().zip(&self.slits) {
-            *f *= *s as f32;
-        }
-        forward.process_with_scratch(field, scratch);
-        for (f, t) in field.iter_mut().zip(h.iter()) {
-            *f *= t;
-        }
-        inverse.process_with_scratch(field, scratch);
+        self.slits_then_fresnel(field, &h, (&forward, &inverse), scratch);
     }
 }
