@@ -81,7 +81,7 @@ fn bench_restore(c: &mut Criterion) {
     };
     wiener.capture.light = Light::SnrDb(28.0);
     let bm3d = RestoreSettings {
-        denoise: Denoise::thesis(Recipe::Iccp21),
+        denoise: Denoise::authors_table(Recipe::Iccp21),
         padding: Padding::Linear,
         ..wiener.clone()
     };

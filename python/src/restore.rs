@@ -108,7 +108,7 @@ fn load_photo(
     array_of(py, planes, Layout::ChannelsLast)
 }
 
-/// The denoiser of a restoration: `"bm3d"` (chapter 3's σ² table unless `sigma2` is given) or
+/// The denoiser of a restoration: `"bm3d"` (the capture's own noise unless `sigma2` is given) or
 /// `"none"`, resolved as `restore --denoise … --denoise-sigma2 …` resolves them.
 fn denoise_setting(method: &str, sigma2: Option<&Bound<'_, PyAny>>) -> PyResult<Denoise> {
     use udc_cli::denoise_flags::{Caller, Sigma2Arg};
@@ -117,7 +117,8 @@ fn denoise_setting(method: &str, sigma2: Option<&Bound<'_, PyAny>>) -> PyResult<
             "denoise: expected \"bm3d\" or \"none\" (got {method:?})"
         ))
     })?;
-    // A number, or `"matched"` for the capture's own noise; anything else says so in one line.
+    // A number, `"matched"` for the capture's own noise or `"table"` for the authors' table;
+    // anything else says so in one line.
     let denoise_sigma2 = match sigma2 {
         None => None,
         Some(v) => Some(if let Ok(x) = v.extract::<f64>() {
@@ -127,7 +128,7 @@ fn denoise_setting(method: &str, sigma2: Option<&Bound<'_, PyAny>>) -> PyResult<
                 .map_err(|e| errors::value(format!("denoise_sigma2: {e}")))?
         } else {
             return Err(errors::value(format!(
-                "denoise_sigma2: expected a number or \"matched\" (got {})",
+                "denoise_sigma2: expected a number, \"matched\" or \"table\" (got {})",
                 v.get_type().name()?
             )));
         }),
@@ -234,7 +235,7 @@ fn restore<'py>(
             photo.len()
         )));
     }
-    let (result, names) = cancel::run(py, |progress| {
+    let (result, names, light_warning) = cancel::run(py, |progress| {
         let options = AnalyzeOptions {
             quality: Quality::Full,
             expected_psf: false,
@@ -249,8 +250,16 @@ fn restore<'py>(
             progress,
         )
         .map_err(|e| errors::sim(&e))?;
-        Ok((result, names))
+        let light_warning = udc_core::restore::light::capture_light_warning(&analysis);
+        Ok((result, names, light_warning))
     })?;
+    // A window that drops light makes the capture too clean (conventions §5): a UserWarning,
+    // as `restore` prints one line.
+    if let Some(w) = light_warning {
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+        let text = std::ffi::CString::new(w).map_err(|e| errors::value(e.to_string()))?;
+        PyErr::warn(py, category.as_any(), &text, 1)?;
+    }
     let out = PyDict::new(py);
     out.set_item(
         "json",

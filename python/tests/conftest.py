@@ -43,16 +43,22 @@ def run_cli(cli: Path, *args: str) -> subprocess.CompletedProcess:
     return subprocess.run([str(cli), *args], capture_output=True, text=True, check=False)
 
 
-def assert_ctrl_c_stops(call: str, cwd: Path, within_s: float) -> None:
-    """Runs ``call`` (Python code using ``udc``) in a child process, sends it Ctrl-C half a
-    second after it starts, and asserts that it raised ``KeyboardInterrupt`` without finishing,
-    within ``within_s`` seconds of the signal. Python raises a pending interrupt anyway once the
-    call returns, so only the time tells a cancelled call from one that ran to its end. The
-    child runs in ``cwd`` so that ``python/udc_studio`` (without its native module) does not
-    shadow the staged package."""
+def assert_ctrl_c_stops(call: str, cwd: Path, within_s: float, setup: str = "") -> None:
+    """Runs ``setup`` once, then ``call`` (Python code using ``udc``) over and over in a child
+    process, sends it Ctrl-C half a second after the calls start, and asserts that it raised
+    ``KeyboardInterrupt`` within ``within_s`` seconds of the signal. The loop means the work cannot finish before the
+    signal however fast the machine; Python raises a pending interrupt anyway once a call
+    returns, so ``within_s`` must be shorter than one call on the test machine for the time to
+    tell a cancelled call from one that ran to its end.
+
+    The child sets its own SIGINT disposition: started from a shell that ignores SIGINT
+    (``nohup … &``, cron, some CI runners) it would inherit the ignored signal, and Python
+    installs no handler for a signal ignored at start. It runs in ``cwd`` so that
+    ``python/udc_studio`` (without its native module) does not shadow the staged package."""
     script = "\n".join(
-        ["import numpy as np", "import udc_studio as udc", 'print("started", flush=True)',
-         call, 'print("finished", flush=True)']
+        ["import signal", "signal.signal(signal.SIGINT, signal.default_int_handler)",
+         "import numpy as np", "import udc_studio as udc", setup, 'print("started", flush=True)',
+         "for _ in range(1000):", f"    {call}", 'print("finished", flush=True)']
     )
     proc = subprocess.Popen(
         [sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
@@ -64,6 +70,6 @@ def assert_ctrl_c_stops(call: str, cwd: Path, within_s: float) -> None:
     proc.send_signal(signal.SIGINT)
     out, err = proc.communicate(timeout=120)
     seconds_to_stop = time.monotonic() - sent
-    assert "KeyboardInterrupt" in err
+    assert "KeyboardInterrupt" in err, err
     assert "finished" not in out and proc.returncode != 0
     assert seconds_to_stop < within_s, seconds_to_stop

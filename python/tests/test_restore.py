@@ -57,15 +57,30 @@ def test_restore_is_the_clis_run(cli, tmp_path):
     assert ours.psnr_db == pytest.approx(psnr_db(ours.restored, photo), abs=1e-9)
 
 
-def test_a_matched_sigma2_is_the_clis(cli):
+def test_a_matched_sigma2_is_the_default_and_the_clis(cli):
     photo = udc.load_photo(PHOTO, max_side_px=64)
-    ours = udc.restore("toled-150dpi", photo, snr_db=24, denoise_sigma2="matched")
-    mine = assert_the_clis_run(
-        cli, ours, "--max-side-px", "64", "--snr-db", "24", "--denoise-sigma2", "matched"
-    )
+    ours = udc.restore("toled-150dpi", photo, snr_db=24)
+    mine = assert_the_clis_run(cli, ours, "--max-side-px", "64", "--snr-db", "24")
     assert mine["denoise"]["sigma2_source"] == "matched"
-    # The capture's own variance, not the table's 0.005 for 24 dB.
-    assert ours.denoise_sigma2 != pytest.approx(0.005)
+    # The capture's own variance at white: Poisson, read noise and whole electrons (the JSON
+    # rounds to 9 digits).
+    e = mine["electrons_per_unit"]
+    assert ours.denoise_sigma2 == pytest.approx(1 / e + 4.87**2 / e**2 + 1 / (12 * e**2), rel=1e-8)
+    explicit = udc.restore("toled-150dpi", photo, snr_db=24, denoise_sigma2="matched")
+    assert explicit.denoise_sigma2 == ours.denoise_sigma2
+
+
+def test_the_authors_table_is_the_clis(cli):
+    photo = udc.load_photo(PHOTO, max_side_px=64)
+    ours = udc.restore("toled-150dpi", photo, snr_db=24, denoise_sigma2="table")
+    mine = assert_the_clis_run(
+        cli, ours, "--max-side-px", "64", "--snr-db", "24", "--denoise-sigma2", "table"
+    )
+    assert mine["denoise"]["sigma2_source"] == "iccp21"
+    # Chapter 3's 0.005 for 24 dB, on our scale (divided by the square of the LTR relative to
+    # the reference display).
+    r = mine["electrons_per_unit"] / mine["light_e"]
+    assert ours.denoise_sigma2 == pytest.approx(0.005 / r**2, rel=1e-8)
 
 
 def test_the_denoiser_lifts_the_restoration_in_low_light():
@@ -109,11 +124,11 @@ def test_the_denoiser_lifts_the_restoration_in_low_light():
         (lambda: udc.restore("toled-150dpi", np.zeros((32, 32)), snr_db=28), "channels"),
         (
             lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2="match"),
-            "neither `matched` nor a number",
+            "neither `matched`, `table` nor a number",
         ),
         (
             lambda: udc.restore("toled-150dpi", np.zeros((32, 32, 3)), snr_db=28, denoise_sigma2=b"x"),
-            "expected a number or \"matched\"",
+            "expected a number, \"matched\" or \"table\"",
         ),
     ],
 )
@@ -156,6 +171,8 @@ def test_unreadable_photos_raise_os_error(tmp_path):
 
 def test_ctrl_c_cancels_a_long_call(tmp_path):
     # CBM3D of a 2048² colour image takes about 14 s on 2 cores; cancelled, it stops at its
-    # next check.
-    image = "np.random.default_rng(0).random((2048, 2048, 3))"
-    assert_ctrl_c_stops(f"udc.denoise({image}, 0.01)", tmp_path, within_s=5.0)
+    # next check (the image is made once, before the loop of calls).
+    assert_ctrl_c_stops(
+        "udc.denoise(image, 0.01)", tmp_path, within_s=5.0,
+        setup="image = np.random.default_rng(0).random((2048, 2048, 3))",
+    )

@@ -393,10 +393,12 @@ def restore(
     """Captures ``image`` through the design at one light level and restores it.
 
     Give the light as ``light_e`` (electrons at a white pixel behind the reference T-OLED) or
-    ``snr_db``. ``denoise="bm3d"`` runs the thesis's denoiser first with its σ² for the light
-    level (``denoise_sigma2`` overrides it: a variance on the capture's scale, or ``"matched"``
-    for the capture's own variance at white, ``(e + 4.87²)/e²`` for the ``e`` electrons a white
-    pixel collects); ``"none"`` deblurs the capture as it is.
+    ``snr_db``. ``denoise="bm3d"`` runs the thesis's denoiser first, told the capture's own
+    noise variance at white, ``1/e + 4.87²/e² + q²/12`` for the ``e`` electrons a white pixel
+    collects and the ADC step ``q`` (``denoise_sigma2="matched"``, the default);
+    ``denoise_sigma2="table"`` gives it the authors' chapter-3 table for the light level instead,
+    and a number a variance of your own on the capture's scale. ``"none"`` deblurs the capture
+    as it is.
     ``method`` is ``"wiener"`` (``nsr``) or ``"cg"`` (``lambda_``, ``iterations``). Defaults
     are the CLI's.
     """

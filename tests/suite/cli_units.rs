@@ -53,9 +53,22 @@ fn flags(denoise: DenoiseMethod, sigma2: Option<f64>) -> DenoiseFlags {
 }
 
 #[test]
-fn the_default_is_the_recipes_table_and_an_override_is_fixed() {
+fn the_default_is_matched_table_names_the_recipe_and_an_override_is_fixed() {
     let d = flags(DenoiseMethod::Bm3d, None).resolve(Recipe::Iccv23);
-    assert_eq!(d.ok(), Some(Denoise::thesis(Recipe::Iccv23)));
+    assert_eq!(
+        d.ok(),
+        Some(Denoise::Bm3d {
+            sigma2: Sigma2::Matched
+        })
+    );
+    for recipe in [Recipe::Iccp21, Recipe::Iccv23] {
+        let d = DenoiseFlags {
+            denoise: DenoiseMethod::Bm3d,
+            denoise_sigma2: Some(Sigma2Arg::Table),
+        }
+        .resolve(recipe);
+        assert_eq!(d.ok(), Some(Denoise::authors_table(recipe)));
+    }
     let d = flags(DenoiseMethod::Bm3d, Some(0.003)).resolve(Recipe::Iccp21);
     assert_eq!(
         d.ok(),
@@ -67,14 +80,15 @@ fn the_default_is_the_recipes_table_and_an_override_is_fixed() {
     assert_eq!(d.ok(), Some(Denoise::None));
 }
 
-/// `--denoise-sigma2` reads `matched` (any case) or a number, and nothing else.
+/// `--denoise-sigma2` reads `matched` or `table` (any case) or a number, and nothing else.
 #[test]
-fn sigma2_reads_matched_or_a_number() {
+fn sigma2_reads_matched_table_or_a_number() {
     assert_eq!("matched".parse(), Ok(Sigma2Arg::Matched));
     assert_eq!("MATCHED".parse(), Ok(Sigma2Arg::Matched));
+    assert_eq!("Table".parse(), Ok(Sigma2Arg::Table));
     assert_eq!("0.002".parse(), Ok(Sigma2Arg::Value(0.002)));
     let bad: Result<Sigma2Arg, _> = "match".parse();
-    assert!(bad.is_err_and(|e| e.contains("neither `matched` nor a number")));
+    assert!(bad.is_err_and(|e| e.contains("neither `matched`, `table` nor a number")));
     let d = DenoiseFlags {
         denoise: DenoiseMethod::Bm3d,
         denoise_sigma2: Some(Sigma2Arg::Matched),

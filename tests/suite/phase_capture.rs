@@ -334,18 +334,23 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     }
 }
 
-/// The Denoise control: BM3D by default (the thesis's chapter 4), "none" drops the denoised
-/// picture and restores with the solver alone, "override" hands BM3D another σ².
+/// The Denoise control: BM3D told each capture's own noise by default, "none" drops the
+/// denoised picture and restores with the solver alone, "override" hands BM3D another σ².
 #[test]
 fn the_denoise_control_switches_bm3d_off_and_overrides_sigma2() {
     let dir = tempfile::tempdir().unwrap();
     let (mut h, _) = capture_studio(dir.path());
     wait_capture(&mut h, "the first capture");
     assert_eq!(h.state().phase_ref().capture_denoise(), thesis_denoise());
-    let with = h.state().phase_ref().capture_rows()[1].run.clone();
-    assert_eq!(with.denoise.sigma2, Some(0.0005), "1600 photons ≈ 32 dB");
-    // The thesis's σ² at the light level is on the control.
-    assert!(h.query_by_label("σ² 5.00e-4 (thesis)").is_some());
+    let row = &h.state().phase_ref().capture_rows()[1];
+    let (with, ltr) = (row.run.clone(), row.ltr);
+    // The bare T-OLED's capture at 1600 photons: Poisson, read noise and the 12-bit ADC at white.
+    let e = 1600.0 * ltr;
+    let want = 1.0 / e + 4.87 * 4.87 / (e * e) + 1.0 / (12.0 * 4095.0 * 4095.0);
+    let got = with.denoise.sigma2.unwrap();
+    assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+    // The authors' σ² at the light level is on the control.
+    assert!(h.query_by_label("σ² 5.00e-4 (authors' table)").is_some());
     h.get_by_label("none").click_accesskit();
     h.step();
     assert_eq!(h.state().phase_ref().capture_denoise(), Denoise::None);
@@ -369,5 +374,5 @@ fn the_denoise_control_switches_bm3d_off_and_overrides_sigma2() {
     else {
         panic!("override keeps BM3D with a fixed σ²");
     };
-    assert_eq!(s, 0.0005, "the override starts at the thesis's value");
+    assert_eq!(s, 0.0005, "the override starts at the authors' value");
 }

@@ -51,10 +51,10 @@ fn settings(light: Light, noise: bool, method: Method) -> RestoreSettings {
     }
 }
 
-/// The thesis's pipeline: BM3D with chapter 3's σ², then the deblurring.
+/// The thesis's pipeline with the authors' σ² table of chapter 3, then the deblurring.
 fn thesis_settings(light: Light, method: Method) -> RestoreSettings {
     RestoreSettings {
-        denoise: Denoise::thesis(Recipe::Iccp21),
+        denoise: Denoise::authors_table(Recipe::Iccp21),
         ..settings(light, true, method)
     }
 }

@@ -62,7 +62,7 @@ fn restore_through(preset: &str, snr_db: f64, denoise: Denoise, noise: bool) -> 
 fn bm3d_before_wiener_beats_wiener_alone_on_a_noisy_photo() {
     let preset = "l2inv-random";
     for snr_db in [24.0, 28.0] {
-        let with = restore_through(preset, snr_db, Denoise::thesis(Recipe::Iccp21), true);
+        let with = restore_through(preset, snr_db, Denoise::default(), true);
         let without = restore_through(preset, snr_db, Denoise::None, true);
         let clean = restore_through(preset, snr_db, Denoise::None, false);
         assert!(
@@ -90,8 +90,9 @@ fn bm3d_before_wiener_beats_wiener_alone_on_a_noisy_photo() {
     }
 }
 
-/// Chapter 3's σ² is stated on the capture gain-normalised at the reference display, ours is
-/// divided by `L·ltr_relative`: BM3D must get σ² / ltr_relative², at the nearest row.
+/// Chapter 3's σ² (the authors' table) is stated on the capture gain-normalised at the reference
+/// display, ours is divided by `L·ltr_relative`: BM3D must get σ² / ltr_relative², at the
+/// nearest row.
 #[test]
 fn the_chapter_3_sigma2_reaches_bm3d_on_our_scale() {
     let photo = load_photo::<f64>(Path::new(ASTRONAUT), Some(32)).unwrap();
@@ -107,6 +108,7 @@ fn the_chapter_3_sigma2_reaches_bm3d_on_our_scale() {
                 ltr_relative,
                 ..CaptureSettings::default()
             },
+            denoise: Denoise::authors_table(Recipe::Iccp21),
             ..RestoreSettings::default()
         };
         let r = simulate(&photo, &psfs, &s, &Progress::new()).unwrap();
@@ -116,7 +118,7 @@ fn the_chapter_3_sigma2_reaches_bm3d_on_our_scale() {
             (got - want).abs() < 1e-15,
             "{snr_db} dB ×{ltr_relative}: {got} vs {want}"
         );
-        assert_eq!(r.denoise.setting, Denoise::thesis(Recipe::Iccp21));
+        assert_eq!(r.denoise.setting, Denoise::authors_table(Recipe::Iccp21));
         assert_eq!(r.denoise.source(), Some("iccp21"));
     }
     // A fixed σ² goes to BM3D as it is, and changes the result.
@@ -132,6 +134,86 @@ fn the_chapter_3_sigma2_reaches_bm3d_on_our_scale() {
     assert_eq!(b.denoise.sigma2, Some(0.02));
     assert_ne!(a.denoised, b.denoised);
     assert_ne!(a.psnr_db, b.psnr_db);
+}
+
+/// conventions.md §5: by default BM3D is told the variance at white of the capture it denoises,
+/// `1/e + σ_read²/e² + q²/12` with `e = L·LTR` the electrons a white pixel collects and `q` the
+/// ADC step on the gained scale, for displays of three LTRs at three light levels, with and
+/// without a 12-bit ADC; the phase model's captures (12-bit, `q = 1/4095`) take conventions.md's
+/// `1/(L·LTR) + σ_read²/(L·LTR)² + 1/(12·4095²)`.
+#[test]
+fn the_default_sigma2_is_each_captures_own_noise() {
+    use udc_studio::core::phase::imaging::capture_noise;
+    let photo = load_photo::<f64>(Path::new(ASTRONAUT), Some(32)).unwrap();
+    let psf = Array2::from_elem((3, 3), 1.0 / 9.0);
+    // T-OLED at 150 DPI (the reference), P-OLED (8.3 % against 23.8 %), a bright optimized
+    // opening.
+    for ltr_relative in [1.0, 0.083 / REFERENCE_LTR, 1.9] {
+        for snr_db in [24.0, 32.0, 40.0] {
+            for adc_bits in [None, Some(12)] {
+                let s = RestoreSettings {
+                    capture: CaptureSettings {
+                        light: Light::SnrDb(snr_db),
+                        ltr_relative,
+                        adc_bits,
+                        ..CaptureSettings::default()
+                    },
+                    ..RestoreSettings::default()
+                };
+                let r = simulate(&photo, &[&psf, &psf, &psf], &s, &Progress::new()).unwrap();
+                let l = Light::SnrDb(snr_db).electrons(4.87);
+                let e = l * ltr_relative;
+                let q_e = adc_bits.map_or(1.0, |b| 15_506.0 / f64::from((1u32 << b) - 1));
+                let want = 1.0 / e + 4.87 * 4.87 / (e * e) + (q_e / e).powi(2) / 12.0;
+                let got = r.denoise.sigma2.unwrap();
+                assert!(
+                    (got - want).abs() <= 1e-12 * want,
+                    "×{ltr_relative} at {snr_db} dB, {adc_bits:?}: {got} vs {want}"
+                );
+                assert_eq!(r.denoise.source(), Some("matched"));
+            }
+        }
+    }
+    for ltr in [0.238, 0.476, 0.083] {
+        for photons in [250.0, 1600.0, 10_000.0] {
+            let e = photons * ltr;
+            let want = 1.0 / e + 4.87 * 4.87 / (e * e) + 1.0 / (12.0 * 4095.0 * 4095.0);
+            let got = Sigma2::default().resolve(&capture_noise(photons, ltr));
+            assert!((got - want).abs() <= 1e-12 * want, "{ltr} {photons}: {got}");
+        }
+    }
+}
+
+/// The authors' table stays one setting away and gives today's numbers: the same σ² as the
+/// table value given by hand, so the same restoration, bit for bit.
+#[test]
+fn the_authors_table_is_the_table_given_by_hand() {
+    let photo = load_photo::<f64>(Path::new(ASTRONAUT), Some(48)).unwrap();
+    let psf = Array2::from_elem((3, 3), 1.0 / 9.0);
+    for (snr_db, ltr_relative, row) in [(24.0, 1.0, 0), (32.0, 0.35, 2), (40.0, 1.9, 4)] {
+        let capture = CaptureSettings {
+            light: Light::SnrDb(snr_db),
+            ltr_relative,
+            ..CaptureSettings::default()
+        };
+        let table = RestoreSettings {
+            capture: capture.clone(),
+            denoise: Denoise::authors_table(Recipe::Iccp21),
+            ..RestoreSettings::default()
+        };
+        let by_hand = RestoreSettings {
+            capture,
+            denoise: Denoise::Bm3d {
+                sigma2: Sigma2::Fixed(ICCP21_SIGMA2[row] / (ltr_relative * ltr_relative)),
+            },
+            ..RestoreSettings::default()
+        };
+        let a = simulate(&photo, &[&psf, &psf, &psf], &table, &Progress::new()).unwrap();
+        let b = simulate(&photo, &[&psf, &psf, &psf], &by_hand, &Progress::new()).unwrap();
+        assert_eq!(a.denoise.sigma2, b.denoise.sigma2);
+        assert_eq!(a.restored, b.restored, "{snr_db} dB");
+        assert_eq!(a.psnr_db, b.psnr_db);
+    }
 }
 
 #[test]

@@ -89,10 +89,7 @@ fn the_view_shows_captured_denoised_and_restored_and_denoise_switches_off() {
         !v.is_running() && v.current().is_some()
     };
     step_until(&mut h, "the built-in photo restored", done);
-    assert_eq!(
-        h.state().restore_view().denoise(),
-        Denoise::thesis(Recipe::Iccp21)
-    );
+    assert_eq!(h.state().restore_view().denoise(), Denoise::default());
     let with = h.state().restore_view().current().unwrap().clone();
     assert_eq!(with.denoised.len(), 3);
     for kind in ["captured", "denoised (BM3D)", "restored"] {
@@ -102,27 +99,34 @@ fn the_view_shows_captured_denoised_and_restored_and_denoise_switches_off() {
             "one {kind} picture"
         );
     }
-    assert!(h.query_by_label_contains("(thesis)").is_some());
-    // "matched" hands BM3D the capture's own variance at white, shown with its value.
-    h.get_by_label_contains("(matched)").click_accesskit();
-    h.step();
+    assert!(h.query_by_label_contains("(authors' table)").is_some());
+    // The default, "matched", hands BM3D the capture's own variance at white, shown with its
+    // value; the authors' table is one click away.
     let matched = Denoise::Bm3d {
         sigma2: udc_studio::core::restore::Sigma2::Matched,
     };
     assert_eq!(h.state().restore_view().denoise(), matched);
-    step_until(&mut h, "the run with a matched σ²", |app| {
+    assert_eq!(with.denoise.setting, matched);
+    // Poisson, read noise and the rounding to whole electrons, at white.
+    let e = with.electrons_per_unit;
+    let want = 1.0 / e + 4.87 * 4.87 / (e * e) + 1.0 / (12.0 * e * e);
+    let got = with.denoise.sigma2.unwrap();
+    assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+    h.get_by_label_contains("(authors' table)")
+        .click_accesskit();
+    h.step();
+    let table = Denoise::authors_table(Recipe::Iccp21);
+    assert_eq!(h.state().restore_view().denoise(), table);
+    step_until(&mut h, "the run with the authors' σ²", |app| {
         done(app)
             && app
                 .restore_view()
                 .current()
-                .is_some_and(|r| r.denoise.setting == matched)
+                .is_some_and(|r| r.denoise.setting == table)
     });
-    let m = h.state().restore_view().current().unwrap().clone();
-    let e = m.electrons_per_unit;
-    let want = (e + 4.87 * 4.87) / (e * e);
-    let got = m.denoise.sigma2.unwrap();
-    assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
-    assert_ne!(Some(got), with.denoise.sigma2);
+    let t = h.state().restore_view().current().unwrap().clone();
+    assert_ne!(t.denoise.sigma2, with.denoise.sigma2);
+    assert_eq!(t.captured, with.captured);
     h.get_by_label("none").click_accesskit();
     h.step();
     assert_eq!(h.state().restore_view().denoise(), Denoise::None);

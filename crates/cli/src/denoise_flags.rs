@@ -9,17 +9,19 @@ use udc_core::restore::{Denoise, DenoiseUsed, Recipe, Sigma2};
 /// The denoiser before the deblurring.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum DenoiseMethod {
-    /// BM3D (CBM3D on colour photos), with the thesis's σ² at the light level (the default).
+    /// BM3D (CBM3D on colour photos), told the capture's own noise (the default).
     Bm3d,
     /// No denoiser: deblur the raw capture.
     None,
 }
 
-/// A `--denoise-sigma2` value: `matched` or a number.
+/// A `--denoise-sigma2` value: `matched`, `table` or a number.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Sigma2Arg {
-    /// The capture's own noise variance at white (`matched`).
+    /// The capture's own noise variance at white (`matched`, the default).
     Matched,
+    /// The authors' table at the light level (`table`), for comparisons with their code.
+    Table,
     /// A σ² on the capture's scale.
     Value(f64),
 }
@@ -31,8 +33,13 @@ impl std::str::FromStr for Sigma2Arg {
         if s.trim().eq_ignore_ascii_case("matched") {
             return Ok(Sigma2Arg::Matched);
         }
+        if s.trim().eq_ignore_ascii_case("table") {
+            return Ok(Sigma2Arg::Table);
+        }
         s.trim().parse::<f64>().map(Sigma2Arg::Value).map_err(|_| {
-            format!("{s:?} is neither `matched` nor a number (a noise variance such as 0.002)")
+            format!(
+                "{s:?} is neither `matched`, `table` nor a number (a noise variance such as 0.002)"
+            )
         })
     }
 }
@@ -41,6 +48,7 @@ impl std::fmt::Display for Sigma2Arg {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Sigma2Arg::Matched => f.write_str("matched"),
+            Sigma2Arg::Table => f.write_str("table"),
             Sigma2Arg::Value(v) => write!(f, "{v}"),
         }
     }
@@ -52,11 +60,11 @@ pub struct DenoiseFlags {
     /// Denoise the capture before deblurring: `bm3d` (the thesis, CBM3D for colour) or `none`.
     #[arg(long, value_enum, default_value_t = DenoiseMethod::Bm3d)]
     pub denoise: DenoiseMethod,
-    /// BM3D's noise variance σ² on the capture's scale (white ≈ 1), instead of the thesis's
-    /// table at each light level: a number (finite, > 0), or `matched` for the capture's own
-    /// variance at white, (e + σ_read²)/e² with e the electrons a white pixel collects through
-    /// this display (the table is that variance with no display in front).
-    #[arg(long, value_name = "S|matched", allow_negative_numbers = true)]
+    /// BM3D's noise variance σ² on the capture's scale (white ≈ 1). By default (`matched`) the
+    /// capture's own variance at white, 1/e + σ_read²/e² + q²/12 with e the electrons a white
+    /// pixel collects through this display and q the ADC step; `table` for the authors' table at
+    /// each light level (that variance with no display in front), or a number (finite, > 0).
+    #[arg(long, value_name = "matched|table|S", allow_negative_numbers = true)]
     pub denoise_sigma2: Option<Sigma2Arg>,
 }
 
@@ -86,7 +94,8 @@ impl Caller {
 }
 
 impl DenoiseFlags {
-    /// The setting, with `recipe`'s σ² table unless `--denoise-sigma2` overrides it.
+    /// The setting: BM3D told the capture's own noise unless `--denoise-sigma2` says otherwise
+    /// (`table` is `recipe`'s).
     ///
     /// # Errors
     /// A σ² that is not finite and > 0, or one given with `--denoise none`.
@@ -106,9 +115,10 @@ impl DenoiseFlags {
                 caller.no_denoiser()
             ),
             (DenoiseMethod::None, None) => Ok(Denoise::None),
-            (DenoiseMethod::Bm3d, Some(Sigma2Arg::Matched)) => Ok(Denoise::Bm3d {
+            (DenoiseMethod::Bm3d, Some(Sigma2Arg::Matched) | None) => Ok(Denoise::Bm3d {
                 sigma2: Sigma2::Matched,
             }),
+            (DenoiseMethod::Bm3d, Some(Sigma2Arg::Table)) => Ok(Denoise::authors_table(recipe)),
             (DenoiseMethod::Bm3d, Some(Sigma2Arg::Value(s)))
                 if !udc_core::denoise::sigma2_in_range(s) =>
             {
@@ -123,12 +133,12 @@ impl DenoiseFlags {
             (DenoiseMethod::Bm3d, Some(Sigma2Arg::Value(s))) => Ok(Denoise::Bm3d {
                 sigma2: Sigma2::Fixed(s),
             }),
-            (DenoiseMethod::Bm3d, None) => Ok(Denoise::thesis(recipe)),
         }
     }
 }
 
-/// The run's denoising as a short text for tables: `BM3D σ² 0.002 (iccp21)` or `no denoiser`.
+/// The run's denoising as a short text for tables: `BM3D σ² 2.000e-3 (matched)`, `… (iccp21)`
+/// for the authors' table, or `no denoiser`.
 pub fn denoise_text(used: &DenoiseUsed) -> String {
     match (used.sigma2, used.source()) {
         (Some(s), Some(source)) => format!("BM3D σ² {s:.3e} ({source})"),

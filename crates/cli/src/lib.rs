@@ -559,6 +559,8 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
     }
     let ltr_relative = analysis.ltr / REFERENCE_LTR;
     let (rows, cols) = photo.first().map_or((0, 0), ndarray::Array2::dim);
+    // Light the window drops is not physical: said in one line, with the fix (conventions §5).
+    let light_warning = udc_core::restore::light::capture_light_warning(&analysis);
     if !args.json {
         println!(
             "{}: LTR {:.4} ({:.3}× the reference T-OLED's {REFERENCE_LTR:.4}); photo {} ({cols}×{rows})",
@@ -573,6 +575,9 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
         );
         for w in &analysis.warnings {
             println!("{}: {w}", w.severity.as_str());
+        }
+        if let Some(w) = &light_warning {
+            println!("warning: {w}");
         }
         println!(
             "light (e⁻)  SNR (dB)  PSNR (dB)  SSIM     capture PSNR  denoised PSNR  per channel \
@@ -651,6 +656,16 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
                 "tolerance": cg.tolerance
             }),
         };
+        // The share of each channel's light its PSF window holds (conventions §5).
+        let held: Vec<f64> = analysis
+            .channels
+            .iter()
+            .map(|c| udc_io::numbers::round_sig(c.energy_in_window, 9))
+            .collect();
+        let warnings: Vec<&str> = udc_io::report::warning_messages(&analysis.warnings)
+            .into_iter()
+            .chain(light_warning.as_deref())
+            .collect();
         let out = serde_json::json!({
             "design": design.name,
             "image": args.image.display().to_string(),
@@ -660,7 +675,9 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             "method": method_json,
             "denoise": {"method": denoise.method_name()},
             "noise_seed": args.noise_seed,
-            "warnings": udc_io::report::warning_messages(&analysis.warnings),
+            "energy_in_window": held,
+            "energy_in_window_min": held.iter().copied().fold(f64::INFINITY, f64::min),
+            "warnings": warnings,
             "runs": runs,
         });
         emit_json(&out)?;

@@ -10,10 +10,14 @@ studio's area-weighted rasterisation loses light on every cell edge (measured: L
 0.227 at δ1 = cell, 0.183 at δ1 = cell / 2). `--pitch-um` alone keeps the preset's δ1, so a sweep
 over pitch needs a design per pitch whose δ1 is its cell:
 
-- `fig3.9/base-<dpi>dpi.json`: the iccp21 camera with δ1 = pitch / 42 (the tile origin where the
-  presets put it: 12 of 42 cells, 6 of 21); every opening of Fig. 3.9 is a 42×42 pattern
-  (`../patterns/*-42.png`: the 21×21 openings upsampled 2×, P-OLED's own 42×42), so one base
-  design per DPI serves them all through `--pattern`;
+- `fig3.9/base-<dpi>dpi.json`: the iccp21 camera with δ1 = pitch / 84, two pupil samples per
+  cell, and the tile origin a quarter cell past where the presets put it (12.25 of 42 cells), so
+  that every cell edge falls on a sample edge and no light is lost to partly covered samples;
+  the PSF window is the whole FFT grid at 470 nm (λf/δ1 in 2-µm pixels), so that a capture keeps
+  at least 97 % of the light every layout scatters (conventions.md §5: with one sample per cell
+  and the 294-pixel window a P-OLED at 300 DPI kept 45 %). Every opening of Fig. 3.9 is a 42×42
+  pattern (`../patterns/*-42.png`: the 21×21 openings upsampled 2×, P-OLED's own 42×42), so one
+  base design per DPI serves them all through `--pattern`;
 - `ch4-*-600dpi.json`: Table 4.1's 2-D layouts at 600 DPI with the chapter-4 camera
   (f = 4.67 mm, F/2, 2 µm pixels), δ1 = 1 µm = the cell.
 """
@@ -72,7 +76,7 @@ def write_png(path, cells):
     img.save(path)
 
 
-def iccp21(delta1):
+def iccp21(delta1, window_px=294):
     return {
         "recipe": "custom",
         "focal_length_mm": 10.0,
@@ -80,9 +84,15 @@ def iccp21(delta1):
         "pupil_sample_um": delta1,
         "fine_sample_um": 0.5,
         "sensor_pixel_um": 2.0,
-        "window_px": 294,
+        "window_px": window_px,
         "axis_in_pixel_um": [0.25, 0.25],
     }
+
+
+# Fig. 3.9's pupil samples per cell, and the shortest wavelength (nm) whose FFT grid the window
+# fills.
+FIG_3_9_SAMPLES_PER_CELL = 2
+FIG_3_9_SHORTEST_NM = 470.0
 
 
 def chapter4(delta1):
@@ -110,27 +120,32 @@ def fig3_9():
     base = preset("toled-150dpi")
     for dpi in FIG_3_9_DPI:
         pitch = round(25400.0 / dpi, 4)
-        delta1 = round(pitch / 42, 6)
+        delta1 = round(pitch / (42 * FIG_3_9_SAMPLES_PER_CELL), 6)
+        # The grid at the shortest wavelength spans λf/δ1 on the sensor: 2-µm pixels, even.
+        grid_px = FIG_3_9_SHORTEST_NM * 1e-3 * 10_000.0 / delta1 / 2.0
+        window = 2 * round(grid_px / 2)
         d = {
             "format": base["format"],
             "version": base["version"],
             "name": f"Fig. 3.9 base, {dpi} DPI",
             "description": (
                 f"The base of Fig. 3.9's {dpi}-DPI points: pitch {pitch} µm in 42×42 cells of "
-                f"{delta1:.4g} µm, sampled one pupil sample per cell (δ1 = {delta1:.4g} µm) so "
-                "that neither under-sampling nor the edges of partly covered samples change the "
-                "opening; otherwise the iccp21 camera (f = 10 mm, f/2.5, 2 µm pixels, 294-pixel "
-                "window). Its opening (the T-OLED slit, upsampled 2×) is replaced by each "
-                "layout's 42×42 pattern (`--pattern`); written by designs/make.py"
+                f"{2 * delta1:.4g} µm, sampled two pupil samples per cell (δ1 = {delta1:.4g} µm) "
+                "with the tile origin on a sample edge, so that neither under-sampling nor "
+                "partly covered samples change the opening; the iccp21 camera (f = 10 mm, "
+                f"f/2.5, 2 µm pixels) with a {window}-pixel window, the whole FFT grid at 470 nm, "
+                "so that a capture keeps at least 97 % of the light of every layout. Its opening "
+                "(the T-OLED slit, upsampled 2×) is replaced by each layout's 42×42 pattern "
+                "(`--pattern`); written by designs/make.py"
             ),
             "opening": {"pitch_um": pitch, "cells": text_rows(upsample(cells_of(base), 2))},
             "tiling": {
                 "mode": "repeat",
                 "seed": 0,
-                "origin_offset_cells": [12.0, 12.0],
+                "origin_offset_cells": [12.25, 12.25],
                 "wiring_gap_um": 0.0,
             },
-            "optics": iccp21(delta1),
+            "optics": iccp21(delta1, window),
             "channels": base["channels"],
         }
         write_json(HERE / "fig3.9" / f"base-{dpi}dpi.json", d)

@@ -1,5 +1,5 @@
-//! The Denoise control of the restoration views: BM3D or none, and BM3D's σ² from the thesis's
-//! table (conventions.md §5), matched to the capture's noise, or typed in.
+//! The Denoise control of the restoration views: BM3D or none, and BM3D's σ² matched to the
+//! capture's noise (the default), from the authors' table (conventions.md §5), or typed in.
 
 use egui::Ui;
 
@@ -9,9 +9,9 @@ use crate::core::restore::{Denoise, Recipe, Sigma2};
 const SIGMA2_RANGE: std::ops::RangeInclusive<f64> = 1e-6..=1.0;
 
 /// Draws the control on one wrapped line and edits `denoise`. `thesis_sigma2` is the σ² the
-/// thesis's `recipe` gives at the current light level, on the capture's scale (shown on the
-/// "thesis" choice and taken as the override's starting value); `matched_sigma2` the capture's
-/// own variance at white, when the view knows it.
+/// authors' table of `recipe` gives at the current light level, on the capture's scale (shown on
+/// the "authors' table" choice and taken as the override's starting value); `matched_sigma2`
+/// the capture's own variance at white, when the view knows it.
 pub fn denoise_ui(
     ui: &mut Ui,
     denoise: &mut Denoise,
@@ -30,7 +30,7 @@ pub fn denoise_ui(
         .clicked()
         && !on
     {
-        *denoise = Denoise::thesis(recipe);
+        *denoise = Denoise::default();
     }
     if ui
         .selectable_label(!on, "none")
@@ -42,33 +42,33 @@ pub fn denoise_ui(
     let Denoise::Bm3d { sigma2 } = denoise else {
         return;
     };
+    let matched = matches!(sigma2, Sigma2::Matched);
+    let matched_text = match matched_sigma2.filter(|s| s.is_finite()) {
+        Some(s) => format!("σ² {s:.2e} (matched)"),
+        None => "σ² matched".to_string(),
+    };
+    if ui
+        .selectable_label(matched, matched_text)
+        .on_hover_text(
+            "The default: the capture's own noise variance at a white pixel, 1/e + σ_read²/e² + \
+             q²/12 for the e electrons white collects through this display and the ADC step q",
+        )
+        .clicked()
+    {
+        *sigma2 = Sigma2::Matched;
+    }
     let thesis = matches!(sigma2, Sigma2::Thesis(_));
     if ui
-        .selectable_label(thesis, format!("σ² {thesis_sigma2:.2e} (thesis)"))
+        .selectable_label(thesis, format!("σ² {thesis_sigma2:.2e} (authors' table)"))
         .on_hover_text(format!(
-            "The thesis's σ² for this light level ({} table, nearest of 24/28/32/36/40 dB), on \
-             the capture's scale where white reads 1",
+            "The authors' σ² for this light level ({} table, nearest of 24/28/32/36/40 dB), on \
+             the capture's scale where white reads 1: the variance with no display in front, so \
+             it understates a dim display's noise. For comparisons with their code",
             recipe.name()
         ))
         .clicked()
     {
         *sigma2 = Sigma2::Thesis(recipe);
-    }
-    let matched = matches!(sigma2, Sigma2::Matched);
-    let matched_text = match matched_sigma2.filter(|s| s.is_finite()) {
-        Some(s) => format!("σ² {s:.2e} (matched)"),
-        None => "matched".to_string(),
-    };
-    if ui
-        .selectable_label(matched, matched_text)
-        .on_hover_text(
-            "The capture's own noise variance at a white pixel, (e + σ_read²)/e² for the e \
-             electrons white collects through this display. The thesis's table is that variance \
-             with no display in front, so it understates a dim display's noise",
-        )
-        .clicked()
-    {
-        *sigma2 = Sigma2::Matched;
     }
     let fixed = matches!(sigma2, Sigma2::Fixed(_));
     if ui

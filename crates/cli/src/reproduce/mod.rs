@@ -251,7 +251,7 @@ pub fn reduce(id: ResultId, tables: &[SweepTable]) -> Outcome {
         ResultId::Fig3_8 => part("display").map_or_else(missing, reduce_display::fig3_8),
         ResultId::Fig3_9 => part("display").map_or_else(missing, reduce_display::fig3_9),
         ResultId::Table4_1 => match (part("phase"), part("display")) {
-            (Some(p), Some(d)) => reduce_phase::table4_1(p, d, part("display-matched")),
+            (Some(p), Some(d)) => reduce_phase::table4_1(p, d, part("display-table")),
             _ => missing(),
         },
         ResultId::Fig4_14 => match (part("phase"), part("display")) {

@@ -209,14 +209,14 @@ fn table41_note(name: &str, model: Model, d_psnr: Option<f64>, unpassed: Option<
     }
 }
 
-/// The 2-D layouts of the `display-matched` part: BM3D given each capture's own noise.
-const MATCHED: [&str; 2] = ["POLED", "Yang et al."];
+/// The 2-D layouts of the `display-table` part: BM3D given the authors' σ² table.
+const TABLE: [&str; 2] = ["POLED", "Yang et al."];
 /// Their curves' names.
-const MATCHED_LABELS: [&str; 2] = ["POLED, σ² matched", "Yang et al., σ² matched"];
+const TABLE_LABELS: [&str; 2] = ["POLED, authors' σ²", "Yang et al., authors' σ²"];
 
-/// Table 4.1 from the `phase` and `display` parts, and the `display-matched` part's rows beside
+/// Table 4.1 from the `phase` and `display` parts, and the `display-table` part's rows beside
 /// them when it ran.
-pub fn table4_1(phase: &SweepTable, display: &SweepTable, matched: Option<&SweepTable>) -> Outcome {
+pub fn table4_1(phase: &SweepTable, display: &SweepTable, table: Option<&SweepTable>) -> Outcome {
     let mut out = Outcome::default();
     let thesis_row =
         |name: &str| -> Option<&ThesisRow> { thesis::TABLE_4_1.iter().find(|r| r.setup == name) };
@@ -244,19 +244,19 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable, matched: Option<&Sweep
             ),
         ));
     }
-    for (name, table) in matched.into_iter().flat_map(|m| MATCHED.map(|n| (n, m))) {
+    for (name, table) in table.into_iter().flat_map(|m| TABLE.map(|n| (n, m))) {
         let l = levels(phase, table, Model::Display, name);
-        let label = format!("{name}, σ² matched");
-        lines.push((MATCHED_LABELS[usize::from(name != "POLED")], l.psnr.clone()));
+        let label = format!("{name}, authors' σ²");
+        lines.push((TABLE_LABELS[usize::from(name != "POLED")], l.psnr.clone()));
         let th = thesis_row(name);
         let size = over_levels(&l.psnr)
             .zip(th.and_then(|r| r.psnr_db))
             .map_or_else(|| "—".into(), |(a, b)| format!("{:+.2} dB", a - b));
         let note = format!(
-            "{size} from the thesis: the {name} row with BM3D given each capture's own variance \
-             at white, (e + σ_read²)/e² for the e = photons × LTR electrons a white pixel \
-             collects, instead of chapter 4's table (the same variance with no display in \
-             front, which a display passing {:.1} % of the light has {:.0}× of)",
+            "{size} from the thesis: the {name} row with BM3D given the authors' σ² table \
+             (chapter 4's, the variance at white of a display that passes all the light) instead \
+             of this capture's own, which a display passing {:.1} % of the light has {:.0}× of: \
+             BM3D leaves most of the noise in",
             l.ltr.map_or(f64::NAN, |v| 100.0 * v),
             l.ltr.map_or(f64::NAN, |v| 1.0 / v)
         );
@@ -338,8 +338,10 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable, matched: Option<&Sweep
          `phase restore` (the 1-D model of chapter 4, thesis sampling); POLED, Yang et al. (the \
          chapter-3 optimized random layout, preset l2inv-random, at 600 DPI) and the 2-D T-OLED \
          are `restore` with the chapter-4 camera (f = 4.67 mm, F/2, 2 µm pixels, a 294-pixel \
-         PSF window) and restoration (BM3D with chapter 4's σ², CG with a gradient prior, 150 \
-         iterations). P-OLED's 8.3 % LTR is an amplitude transmittance of 0.59 on its openings \
+         PSF window) and restoration (CG with a gradient prior, 150 iterations, λ from chapter \
+         4's table). Every row's BM3D is told its capture's own noise variance at white, \
+         1/(L·LTR) + σ_read²/(L·LTR)² + q²/12 (conventions.md §5); the authors' σ² table is the \
+         same variance with no display in front. P-OLED's 8.3 % LTR is an amplitude transmittance of 0.59 on its openings \
          (the polyimide substrate), without its colour shift. Each number is the mean over the \
          four light levels of the mean over the photos.",
         thesis::TABLE_4_1_SOURCE

@@ -15,8 +15,11 @@ pub use theory::Theory;
 
 /// Largest opening grid the studio accepts (cells per side).
 pub const MAX_CELLS: usize = 512;
-/// Largest FFT size per side the studio accepts (a 16k² f64 grid is already ~2 GB).
-pub const MAX_FFT_SIZE: usize = 8192;
+/// Largest FFT size per side the studio accepts. The PSF routes hold the pupil's nonzero rows
+/// and half the columns, never the whole grid: the 300-DPI design of Fig. 3.9 (two pupil
+/// samples per 2-µm cell, a 12 102-sample grid at 610 nm) peaks at 1.3 GB; a whole 16k² complex
+/// grid would be 4 GB.
+pub const MAX_FFT_SIZE: usize = 12288;
 /// Display pixels the lens pupil may span: the rasteriser's time and memory grow with them
 /// (2.5 × 10⁵ take a few seconds; a real display at ≥ 20 µm pitch behind a 4 mm pupil has
 /// 3 × 10⁴). Finer pitches are refused before anything is allocated.

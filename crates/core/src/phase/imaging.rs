@@ -23,13 +23,14 @@
 //!   §5: "inversely proportional to the LTR of each setup"), and the 12-bit ADC is the thesis's
 //!   `floor(y·4095)/4095` on that scale, clipped at 0 (not at 1: white plus noise keeps its
 //!   value, as the thesis's model).
-//! - **Denoising** ([`Denoise`], conventions.md §5). By default the thesis's chapter 4: BM3D on
-//!   the captured colour image, all channels together (CBM3D), with
-//!   [`ICCV23_SIGMA2`](crate::restore::denoise::ICCV23_SIGMA2) at the
-//!   light level's row. Captures are already on chapter 4's scale (white ≈ 1), so σ² needs no
-//!   conversion. The row is the one nearest the SNR `20 log10(N/√(N + 4.87²))` of `N`:
-//!   250 / 650 / 1600 / 4000 / 10 000 photons give 23.6 / 28.0 / 32.0 / 36.0 / 40.0 dB, the rows
-//!   24 … 40 dB.
+//! - **Denoising** ([`Denoise`], conventions.md §5). By default BM3D on the captured colour
+//!   image, all channels together (CBM3D), told the capture's own noise variance at white,
+//!   `1/(N·LTR) + σ_read²/(N·LTR)² + 1/(12·4095²)` ([`capture_noise`]). The authors' table
+//!   [`ICCV23_SIGMA2`](crate::restore::denoise::ICCV23_SIGMA2) stays as
+//!   [`Denoise::authors_table`]: captures are already on chapter 4's scale (white ≈ 1), so it
+//!   needs no conversion, and its row (like λ's) is the one nearest the SNR
+//!   `20 log10(N/√(N + 4.87²))` of `N`: 250 / 650 / 1600 / 4000 / 10 000 photons give
+//!   23.6 / 28.0 / 32.0 / 36.0 / 40.0 dB, the rows 24 … 40 dB.
 //! - **Restoration.** Conjugate gradients on `min ‖A x − y‖² + λ ‖∇x‖²` with `A = K / LTR`, the
 //!   display workspace's solver ([`crate::restore::cg_with`]), per colour channel. After
 //!   BM3D, the thesis's λ per row ([`ICCV23_LAMBDA`]), 150 iterations, tolerance 1e-6. Without a
@@ -67,7 +68,7 @@ use crate::restore::denoise::{
     ICCV23_CG_ITERATIONS, ICCV23_CG_TOLERANCE, ICCV23_LAMBDA, nearest_row,
 };
 use crate::restore::quality::planes_quality;
-use crate::restore::{CgSettings, Denoise, DenoiseUsed, LinearBlur, Recipe, cg_with};
+use crate::restore::{CgSettings, Denoise, DenoiseUsed, LinearBlur, cg_with};
 
 mod setups;
 mod unpassed;
@@ -85,10 +86,10 @@ pub const LAMBDA_SCALE: f64 = 30.0;
 /// Iterations of the solver without a denoiser (it usually stops earlier on its tolerance).
 pub const CG_ITERATIONS: usize = 80;
 
-/// The thesis's denoising for the phase masks (chapter 4): BM3D with
-/// [`ICCV23_SIGMA2`](crate::restore::denoise::ICCV23_SIGMA2).
+/// The denoising of the phase masks' captures (chapter 4): BM3D told each capture's own noise
+/// ([`Sigma2::Matched`](crate::restore::Sigma2::Matched), conventions.md §5).
 pub fn thesis_denoise() -> Denoise {
-    Denoise::thesis(Recipe::Iccv23)
+    Denoise::default()
 }
 
 /// The SNR in dB that picks a light level's row of the thesis tables: that of `photons` with the
@@ -107,6 +108,7 @@ pub fn capture_noise(photons: f64, ltr: f64) -> crate::restore::CaptureNoise {
         ltr_relative: 1.0,
         white_e: photons * ltr,
         read_noise_e: READ_NOISE_E,
+        adc_step: 1.0 / f64::from((1u32 << ADC_BITS) - 1),
     }
 }
 

@@ -168,6 +168,13 @@ impl CaptureSettings {
     pub fn electrons_per_unit(&self) -> f64 {
         self.light.electrons(self.read_noise_e) * self.ltr_relative
     }
+
+    /// The step a noisy capture is rounded to, in electrons: the ADC's (full well over
+    /// `2^bits − 1` levels), or one electron without an ADC.
+    pub fn adc_step_e(&self) -> f64 {
+        self.adc_bits
+            .map_or(1.0, |bits| self.full_well_e / f64::from((1u32 << bits) - 1))
+    }
 }
 
 /// The ChaCha8 stream of one image row of one channel: rows draw independently, so the noise is
@@ -210,9 +217,7 @@ pub fn expose<T: Sample>(
     let (h, w) = blurred.dim();
     let read = Normal::new(0.0, settings.read_noise_e)
         .map_err(|err| SimError::field("capture.read_noise_e", err.to_string()))?;
-    let step_e = settings
-        .adc_bits
-        .map_or(1.0, |bits| full / f64::from((1u32 << bits) - 1));
+    let step_e = settings.adc_step_e();
     let mut out = Array2::<T>::default((h, w));
     let saturated: usize = out
         .axis_iter_mut(ndarray::Axis(0))

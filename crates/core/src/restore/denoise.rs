@@ -18,13 +18,17 @@
 //! Handing chapter 3's σ² to a capture on our scale unconverted would make BM3D over- or
 //! under-smooth by `r²` (a display passing twice the reference's light: 4×).
 //!
-//! **Matched σ².** [`Sigma2::Matched`] gives BM3D the variance this capture really has at a white
-//! pixel, `(e + σ_read²)/e²` for `e` electrons at white (Poisson plus read noise, on the scale
-//! where white reads 1). Chapter 4's table is that variance for a display that passes all the
-//! light (`e = L`: 0.0040, 0.0016, 0.00063, 0.00025, 0.00010 at 24 … 40 dB against the table's
-//! 0.005, 0.002, 0.0005, 0.00025, 0.0001), so the table understates the noise of a display
-//! passing `LTR` of the light by `1/LTR`: 2× for the double MLA, 4× for the T-OLED, 12× for the
-//! P-OLED (conventions.md §5).
+//! **Matched σ², the default.** [`Sigma2::Matched`] gives BM3D the variance this capture really
+//! has at a white pixel, `1/e + σ_read²/e² + q²/12` for `e` electrons at white and an ADC step
+//! `q` (Poisson, read noise and quantisation, on the scale where white reads 1; chapter 4's
+//! 12-bit capture has `q = 1/4095`, so `e = L·LTR` gives conventions.md §5's
+//! `1/(L·LTR) + σ_read²/(L·LTR)² + 1/(12·4095²)`). The authors' tables ([`Sigma2::Thesis`],
+//! "the authors' table" in the CLI and the studio) stay for comparisons with their code:
+//! chapter 4's is that variance for a display that passes all the light (`e = L`: 0.0040,
+//! 0.0016, 0.00063, 0.00025, 0.00010 at 24 … 40 dB against the table's 0.005, 0.002, 0.0005,
+//! 0.00025, 0.0001), so it understates the noise of a display passing `LTR` of the light by
+//! `1/LTR`: 2× for the double MLA, 4× for the T-OLED, 12× for the P-OLED, and BM3D told the
+//! table leaves most of that noise in.
 
 use super::capture::{CaptureSettings, THESIS_SNR_DB};
 use crate::SimError;
@@ -89,12 +93,13 @@ pub fn nearest_row(snr_db: f64) -> usize {
 }
 
 /// Where the σ² handed to BM3D comes from.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Sigma2 {
-    /// The recipe's table at the light level, converted to the capture's scale.
+    /// The authors' table of the recipe at the light level, converted to the capture's scale.
     Thesis(Recipe),
     /// The capture's own noise variance at a white pixel (module docs), whatever the light
-    /// level and the display.
+    /// level and the display: the default.
+    #[default]
     Matched,
     /// A σ² on the capture's own scale (white ≈ 1), as BM3D gets it.
     Fixed(f64),
@@ -111,28 +116,36 @@ pub struct CaptureNoise {
     pub white_e: f64,
     /// Read noise, e⁻ rms.
     pub read_noise_e: f64,
+    /// The ADC's step on the capture's scale (white reads 1); 0 for an unquantised capture.
+    pub adc_step: f64,
 }
 
 impl CaptureNoise {
     /// The light level and noise of a display capture taken with `cap`.
     pub fn of(cap: &CaptureSettings) -> Self {
+        let white_e = cap.electrons_per_unit();
         CaptureNoise {
             snr_db: cap.light.snr_db(cap.read_noise_e),
             ltr_relative: cap.ltr_relative,
-            white_e: cap.electrons_per_unit(),
+            white_e,
             read_noise_e: cap.read_noise_e,
+            adc_step: if cap.noise {
+                cap.adc_step_e() / white_e
+            } else {
+                0.0
+            },
         }
     }
 
     /// The capture's noise variance at a white pixel, on the scale where white reads 1:
-    /// `(e + σ_read²)/e²` (Poisson and read noise; 12-bit quantisation adds 5e-9 and is left out).
-    /// `NaN` for a capture that collects no light.
+    /// `1/e + σ_read²/e² + q²/12` (Poisson, read noise and the ADC's step `q`). `NaN` for a
+    /// capture that collects no light.
     pub fn white_variance(&self) -> f64 {
         let e = self.white_e;
         if !(e > 0.0) {
             return f64::NAN;
         }
-        (e + self.read_noise_e * self.read_noise_e) / (e * e)
+        (e + self.read_noise_e * self.read_noise_e) / (e * e) + self.adc_step * self.adc_step / 12.0
     }
 }
 
@@ -151,7 +164,8 @@ impl Sigma2 {
     }
 }
 
-/// The denoising step between the capture and the deblurring: a closed set.
+/// The denoising step between the capture and the deblurring: a closed set. The default is
+/// BM3D told the capture's own noise ([`Sigma2::Matched`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Denoise {
     /// Deblur the capture as it is.
@@ -163,9 +177,17 @@ pub enum Denoise {
     },
 }
 
+impl Default for Denoise {
+    fn default() -> Self {
+        Denoise::Bm3d {
+            sigma2: Sigma2::Matched,
+        }
+    }
+}
+
 impl Denoise {
-    /// The thesis's step for `recipe`: BM3D with the recipe's σ² table.
-    pub fn thesis(recipe: Recipe) -> Self {
+    /// BM3D with the authors' σ² table of `recipe`, for comparisons with their code.
+    pub fn authors_table(recipe: Recipe) -> Self {
         Denoise::Bm3d {
             sigma2: Sigma2::Thesis(recipe),
         }
@@ -293,6 +315,7 @@ mod tests {
             ltr_relative,
             white_e: 100.0,
             read_noise_e: 4.87,
+            adc_step: 0.0,
         }
     }
 
@@ -355,6 +378,6 @@ mod tests {
             assert!(msg.contains("denoise.sigma2"), "{bad}: {msg}");
         }
         assert!(Denoise::None.validate().is_ok());
-        assert!(Denoise::thesis(Recipe::Iccp21).validate().is_ok());
+        assert!(Denoise::authors_table(Recipe::Iccp21).validate().is_ok());
     }
 }

@@ -38,6 +38,7 @@
 pub mod capture;
 pub mod cg;
 pub mod denoise;
+pub mod light;
 pub mod quality;
 pub mod spectrum;
 pub mod wiener;
@@ -76,7 +77,7 @@ impl Default for Method {
 }
 
 /// Everything [`simulate`] needs besides the photo and the PSFs.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Default)]
 pub struct RestoreSettings {
     /// Sensor, light level and noise of the capture.
     pub capture: CaptureSettings,
@@ -86,21 +87,11 @@ pub struct RestoreSettings {
     /// [`Padding::Linear`] is the smallest grid on which the blur is exactly linear, faster, and
     /// changes Wiener's output only near the borders and conjugate gradients' not at all.
     pub padding: Padding,
-    /// The denoising between capture and deblurring: by default the thesis's chapter 3, BM3D
-    /// with [`denoise::ICCP21_SIGMA2`] at the light level. [`Denoise::None`] deblurs the raw
-    /// capture (the Wiener or CG step alone).
+    /// The denoising between capture and deblurring: by default BM3D told the capture's own
+    /// noise variance at white ([`Sigma2::Matched`]); the authors' chapter-3 table
+    /// [`denoise::ICCP21_SIGMA2`] is [`Denoise::authors_table`]. [`Denoise::None`] deblurs the
+    /// raw capture (the Wiener or CG step alone).
     pub denoise: Denoise,
-}
-
-impl Default for RestoreSettings {
-    fn default() -> Self {
-        RestoreSettings {
-            capture: CaptureSettings::default(),
-            method: Method::default(),
-            padding: Padding::default(),
-            denoise: Denoise::thesis(Recipe::Iccp21),
-        }
-    }
 }
 
 /// Numbers of one channel.

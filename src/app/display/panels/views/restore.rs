@@ -89,7 +89,7 @@ impl Default for RestoreView {
             nsr: THESIS_NSR,
             lambda: CgSettings::default().lambda,
             seed: 0,
-            denoise: Denoise::thesis(Recipe::Iccp21),
+            denoise: Denoise::default(),
             job: Keyed::idle(),
             done_key: None,
             rows: Vec::new(),
@@ -338,6 +338,11 @@ impl RestoreView {
             self.start(key, shown, ctx.pinned, &egui_ctx);
         }
         crate::app::widgets::message_ui(ui, self.message.as_ref());
+        // A window that drops light makes a capture too clean (conventions §5): say so here,
+        // where the capture is shown, with the fix.
+        if let Some(w) = crate::core::restore::light::capture_light_warning(&shown.analysis) {
+            ui.colored_label(ui.visuals().warn_fg_color, w);
+        }
         if ctx.pinned.is_none() {
             ui.weak("Pin a design as A (Compare menu) to see both on the same photo and light.");
         }
@@ -416,11 +421,14 @@ impl RestoreView {
             let ltr_relative = self.current().map_or(1.0, |r| {
                 r.electrons_per_unit / r.light_e.max(f64::MIN_POSITIVE)
             });
+            let white_e = self.current().map_or(f64::NAN, |r| r.electrons_per_unit);
             let noise = crate::core::restore::CaptureNoise {
                 snr_db: self.snr_db,
                 ltr_relative,
-                white_e: self.current().map_or(f64::NAN, |r| r.electrons_per_unit),
+                white_e,
                 read_noise_e: crate::core::restore::capture::READ_NOISE_E,
+                // The view's captures round to whole electrons (no ADC).
+                adc_step: crate::core::restore::CaptureSettings::default().adc_step_e() / white_e,
             };
             let thesis = Sigma2::Thesis(Recipe::Iccp21).resolve(&noise);
             let matched = self.current().map(|_| noise.white_variance());
