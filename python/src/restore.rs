@@ -250,7 +250,7 @@ fn restore<'py>(
             progress,
         )
         .map_err(|e| errors::sim(&e))?;
-        let light_warning = udc_core::restore::light::capture_light_warning(&analysis);
+        let light_warning = udc_core::analysis::light::capture_light_warning(&analysis);
         Ok((result, names, light_warning))
     })?;
     // A window that drops light makes the capture too clean (conventions §5): a UserWarning,

@@ -7,6 +7,7 @@ mod advice;
 mod appearance;
 mod appearance_view;
 mod architecture;
+mod capture_light;
 mod cli;
 mod cli_optimize;
 mod cli_phase;

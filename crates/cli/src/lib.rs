@@ -560,7 +560,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
     let ltr_relative = analysis.ltr / REFERENCE_LTR;
     let (rows, cols) = photo.first().map_or((0, 0), ndarray::Array2::dim);
     // Light the window drops is not physical: said in one line, with the fix (conventions §5).
-    let light_warning = udc_core::restore::light::capture_light_warning(&analysis);
+    let light_warning = udc_core::analysis::light::capture_light_warning(&analysis);
     if !args.json {
         println!(
             "{}: LTR {:.4} ({:.3}× the reference T-OLED's {REFERENCE_LTR:.4}); photo {} ({cols}×{rows})",
@@ -677,6 +677,15 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             "noise_seed": args.noise_seed,
             "energy_in_window": held,
             "energy_in_window_min": held.iter().copied().fold(f64::INFINITY, f64::min),
+            "psf_share_in_frame_min": udc_io::numbers::round_sig(
+                udc_core::restore::light::least_share_in_frame(&psfs, (rows, cols)),
+                9
+            ),
+            "auc_radial_min_mean": udc_io::numbers::round_sig(
+                analysis.channels.iter().map(|c| c.mtf.auc_radial_min).sum::<f64>()
+                    / analysis.channels.len().max(1) as f64,
+                9
+            ),
             "warnings": warnings,
             "runs": runs,
         });

@@ -407,9 +407,17 @@ mod tests {
             (c.optics[1].pupil_sample_um, c.optics[1].window_px),
             (2.0, 1175)
         );
-        // δ1 = 1 µm would need 12200-point FFTs at 610 nm.
-        assert_eq!(c.optics.len(), 2, "{c:?}");
-        assert!(c.limits[0].contains("12200²"), "{:?}", c.limits);
+        // δ1 = 1 µm needs 12200-point FFTs at 610 nm, within the limit.
+        assert_eq!(
+            (c.optics[2].pupil_sample_um, c.optics[2].window_px),
+            (1.0, 2048)
+        );
+        assert_eq!(c.optics.len(), 3, "{c:?}");
+        assert!(
+            c.limits.iter().all(|l| !l.contains("12200²")),
+            "{:?}",
+            c.limits
+        );
         // A smaller window is first enlarged up to the grid, δ1 untouched.
         let mut small = d.clone();
         small.optics.window_px = 200;

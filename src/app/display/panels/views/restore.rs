@@ -340,7 +340,7 @@ impl RestoreView {
         crate::app::widgets::message_ui(ui, self.message.as_ref());
         // A window that drops light makes a capture too clean (conventions §5): say so here,
         // where the capture is shown, with the fix.
-        if let Some(w) = crate::core::restore::light::capture_light_warning(&shown.analysis) {
+        if let Some(w) = crate::core::analysis::light::capture_light_warning(&shown.analysis) {
             ui.colored_label(ui.visuals().warn_fg_color, w);
         }
         if ctx.pinned.is_none() {
