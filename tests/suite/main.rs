@@ -48,6 +48,7 @@ mod opening_ops;
 mod optimize;
 mod optimize_panel;
 mod phase;
+mod phase_boundary;
 mod phase_capture;
 mod phase_export;
 mod phase_imaging;

@@ -107,6 +107,24 @@ fn every_part_as_it_runs_is_a_spec_the_job_accepts() {
             }
         }
     }
+    // The thesis's geometry sets the phase rows' scene width and boundary, everywhere, and
+    // leaves every other part as it is.
+    use udc_studio::core::reproduce::Geometry;
+    for id in [ResultId::Table4_1, ResultId::Fig4_14] {
+        let (ours, thesis) = (id.parts_for(Geometry::Ours), id.parts_for(Geometry::Thesis));
+        assert_eq!(ours.len(), thesis.len());
+        for (a, b) in ours.iter().zip(thesis) {
+            let spec = prepared_spec(&root, id, b, None).unwrap();
+            assert!(udc_studio::cli::sweep::check_points(&spec).is_ok());
+            if b.name == "phase" {
+                assert_eq!(spec.base["scene-px"].to_arg(), "1024");
+                assert_eq!(spec.base["full-boundary"].to_arg(), "true");
+            } else {
+                assert_eq!(a, b);
+            }
+        }
+    }
+    assert!(!ResultId::Fig3_9.has_geometry(Geometry::Thesis));
     let table = ResultId::Table4_1
         .parts()
         .iter()

@@ -118,6 +118,39 @@ const TABLE_4_1_PHASE: Part = Part {
     },
 };
 
+/// The geometry of the phase model's photos: ours (each photo as it is, its own width of
+/// directions on as many sensor pixels, restored on the same columns) or the thesis's (§4.4.1:
+/// every photo scaled to the sensor's 1024 columns, restored with a 'full' boundary, that is on
+/// twice as many columns, and cropped back).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Geometry {
+    /// Each photo its own width, a closed world.
+    #[default]
+    Ours,
+    /// Thesis §4.4.1: 1024 columns, 'full' boundary.
+    Thesis,
+}
+
+/// The thesis's geometry as sweep parameters of `phase restore`.
+const THESIS_GEOMETRY: &[(&str, QuickValue)] = &[
+    ("scene-px", QuickValue::Number(1024.0)),
+    ("full-boundary", QuickValue::Switch(true)),
+];
+
+/// Table 4.1's and Fig. 4.14's phase-model rows in the thesis's geometry.
+const TABLE_4_1_PHASE_THESIS_GEOMETRY: Part = Part {
+    name: "phase",
+    file: "table4.1.toml",
+    inputs: Some("photo"),
+    plots: false,
+    variant: QuickPlan {
+        keep: &[],
+        set: THESIS_GEOMETRY,
+        photos: &[],
+    },
+    quick: TABLE_4_1_PHASE.quick,
+};
+
 /// Table 4.1's and Fig. 4.14's 2-D layouts.
 const TABLE_4_1_DISPLAY: Part = Part {
     name: "display",
@@ -276,6 +309,27 @@ impl ResultId {
             ResultId::Fig4_14 => ("≈ 1 min", "≈ 3 h"),
             ResultId::Table5_1 => ("≈ 2 s", "≈ 10 s"),
             ResultId::Table5_4 => ("≈ 5 s", "≈ 30 s"),
+        }
+    }
+
+    /// Whether `geometry` changes this result (the thesis's geometry is the phase model's).
+    pub fn has_geometry(self, geometry: Geometry) -> bool {
+        geometry == Geometry::Ours || matches!(self, ResultId::Table4_1 | ResultId::Fig4_14)
+    }
+
+    /// Its sweeps in `geometry` (the phase rows of Table 4.1 and Fig. 4.14 change; every other
+    /// part is the same in both).
+    pub fn parts_for(self, geometry: Geometry) -> &'static [Part] {
+        match (self, geometry) {
+            (ResultId::Table4_1, Geometry::Thesis) => &[
+                TABLE_4_1_PHASE_THESIS_GEOMETRY,
+                TABLE_4_1_DISPLAY,
+                TABLE_4_1_DISPLAY_TABLE,
+            ],
+            (ResultId::Fig4_14, Geometry::Thesis) => {
+                &[TABLE_4_1_PHASE_THESIS_GEOMETRY, TABLE_4_1_DISPLAY]
+            }
+            _ => self.parts(),
         }
     }
 

@@ -232,6 +232,40 @@ pub fn fit_max_side(planes: Vec<Array2<f64>>, max_side_px: usize) -> Vec<Array2<
     planes_of(&small.to_rgb32f())
 }
 
+/// `planes` (1 grey or 3 R, G, B, all one size) scaled, up or down, so that they are exactly
+/// `width_px` columns wide (triangle filter, aspect ratio kept, at least one row): the phase
+/// model's scene as wide as its sensor (thesis §4.4.1). Planes already that wide are returned
+/// as they are.
+pub fn scale_to_width(planes: Vec<Array2<f64>>, width_px: usize) -> Vec<Array2<f64>> {
+    let Some((h, w)) = planes.first().map(Array2::dim) else {
+        return planes;
+    };
+    let rows = ((h as f64 * width_px as f64 / w.max(1) as f64).round() as usize).max(1);
+    let (Ok(w32), Ok(h32), Ok(nw), Ok(nh)) = (
+        u32::try_from(w),
+        u32::try_from(h),
+        u32::try_from(width_px.max(1)),
+        u32::try_from(rows),
+    ) else {
+        return planes;
+    };
+    if w == width_px || planes.iter().any(|p| p.dim() != (h, w)) {
+        return planes;
+    }
+    let refs: Vec<&Array2<f64>> = planes.iter().collect();
+    let Some(img) = Rgb32FImage::from_raw(w32, h32, interleave(&refs, |v| v as f32)) else {
+        return planes;
+    };
+    let scaled = DynamicImage::ImageRgb32F(img).resize_exact(nw, nh, FilterType::Triangle);
+    let out = planes_of(&scaled.to_rgb32f());
+    if refs.len() == 1 {
+        // A grey photo stays one plane.
+        out.into_iter().take(1).collect()
+    } else {
+        out
+    }
+}
+
 /// The R, G, B planes of a float image, clamped to `[0, 1]` (NaN → 0).
 pub fn planes_of(img: &Rgb32FImage) -> Vec<Array2<f64>> {
     let (w, h) = (img.width() as usize, img.height() as usize);

@@ -7,7 +7,7 @@
 use std::sync::{Arc, Mutex, OnceLock};
 
 use udc_core::design::Channel;
-use udc_core::phase::imaging::{PhaseBlur, Setup, phase_blur};
+use udc_core::phase::imaging::{PhaseBlur, Setup, phase_blur_full};
 use udc_core::phase::{PhaseDesign, PhaseOptics, PhaseSampling};
 use udc_core::{Progress, SimError};
 
@@ -83,21 +83,22 @@ pub fn resolve_shared(
     })
 }
 
-/// [`phase_blur`], shared with every earlier call on the same design, sampling, channels,
-/// optics and width (keyed as [`resolve_shared`]).
+/// [`phase_blur_full`], shared with every earlier call on the same design, sampling, channels,
+/// optics, width and margin (keyed as [`resolve_shared`]).
 ///
 /// # Errors
-/// As [`phase_blur`].
+/// As [`phase_blur_full`].
 pub fn blur_shared(
     design: &PhaseDesign,
     sampling: &PhaseSampling,
     channels: &[Channel],
     optics: PhaseOptics,
     width: usize,
+    margin: usize,
     progress: &Progress,
 ) -> Result<PhaseBlur, SimError> {
-    let key = format!("{design:?}|{sampling:?}|{channels:?}|{optics:?}|{width}");
+    let key = format!("{design:?}|{sampling:?}|{channels:?}|{optics:?}|{width}|{margin}");
     BLURS.get(key, || {
-        phase_blur(design, sampling, channels, optics, width, progress)
+        phase_blur_full(design, sampling, channels, optics, width, margin, progress)
     })
 }

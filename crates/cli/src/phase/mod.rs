@@ -89,6 +89,16 @@ pub struct RestoreArgs {
     /// the thesis's spectral response over 401:10:691 nm.
     #[arg(long)]
     pub peaks: bool,
+    /// Scale every photo, up or down, to this many columns (aspect kept), at most the sensor's
+    /// pixels: 1024 is thesis §4.4.1's scene, as wide as the sensor. Default: the photo as it
+    /// is, scaled down to the sensor if wider.
+    #[arg(long)]
+    pub scene_px: Option<usize>,
+    /// Restore with thesis §4.4.1's 'full' boundary: the solver also estimates half the scene's
+    /// width of directions beyond each edge (whose light the capture would hold had the scene
+    /// gone on), then crops them off. The capture itself sees the scene alone.
+    #[arg(long)]
+    pub full_boundary: bool,
     /// The denoiser before the solver: `--denoise bm3d` (default) is the thesis's chapter 4
     /// (σ² and λ per light level, 150 iterations); `--denoise none` keeps λ = 30/(N·LTR).
     #[command(flatten)]

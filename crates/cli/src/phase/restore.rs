@@ -57,7 +57,21 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             quantize_um: a.quantize_um.or(base.height_step_um),
         }
     };
-    let mut photos = restore_photos(&a.photo, base.camera.pixels)?;
+    let pixels = base.camera.pixels;
+    if let Some(n) = a.scene_px
+        && !(8..=pixels).contains(&n)
+    {
+        bail!("--scene-px {n}: must be 8 … {pixels} columns (the sensor's pixels)");
+    }
+    let mut photos = restore_photos(&a.photo, pixels)?;
+    if let Some(n) = a.scene_px {
+        for (_, planes) in &mut photos {
+            *planes = udc_io::photo::scale_to_width(std::mem::take(planes), n);
+        }
+    }
+    if a.full_boundary && a.compare {
+        bail!("--full-boundary: not with --compare (one setup at a time)");
+    }
     if a.compare {
         return compare_cmd(a, denoise, &base, &sampling, &photos);
     }
@@ -66,6 +80,9 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
     }
     let (photo_name, photo) = photos.remove(0);
     let width = photo.first().map_or(0, ndarray::Array2::ncols);
+    // Thesis §4.4.1's 'full' boundary: as many directions again beyond the scene, half on each
+    // side (its estimate is 2048 columns for a 1024-column capture).
+    let margin = if a.full_boundary { width / 2 } else { 0 };
     let grid = grid_channels(None)?;
     let channels = if a.peaks {
         Channel::rgb_peaks()
@@ -77,7 +94,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
         super::design_cache::resolve_shared(&setup, &base, &sampling, &grid, p)
     })?;
     let blur = with_progress("blur matrix", |p| {
-        super::design_cache::blur_shared(&design, &sampling, &channels, optics, width, p)
+        super::design_cache::blur_shared(&design, &sampling, &channels, optics, width, margin, p)
     })?;
     let mut runs = Vec::new();
     let mut written = Vec::new();
@@ -111,6 +128,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
             "channels": if a.peaks { "peaks" } else { "spectral" },
             "photo": photo_name,
             "width_px": width,
+            "boundary": if margin > 0 { "full" } else { "scene" },
             "ltr": r(blur.ltr),
             "fov_deg": r(design.fov_deg()),
             "valid_columns": [valid.start, valid.end],
@@ -129,12 +147,20 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
         }))?;
     } else {
         println!(
-            "{}: LTR {:.3}, FoV {:.1}°, scored on columns {}..{} of {width}",
+            "{}: LTR {:.3}, FoV {:.1}°, scored on columns {}..{} of {width}{}",
             setup.label(),
             blur.ltr,
             design.fov_deg(),
             valid.start,
-            valid.end
+            valid.end,
+            if margin > 0 {
+                format!(
+                    " (restored over {} columns and cropped)",
+                    width + 2 * margin
+                )
+            } else {
+                String::new()
+            }
         );
         if unpassed_mse > 0.0 {
             println!(

@@ -50,6 +50,12 @@ pub struct ReproduceArgs {
     /// Print one JSON object (`{"id", "rows": [...], "claims": [...]}`) instead of the summary.
     #[arg(long)]
     pub json: bool,
+    /// Table 4.1 and Fig. 4.14 only: the phase model's photos in the thesis's geometry (§4.4.1):
+    /// scaled to the sensor's 1024 columns and restored with a 'full' boundary (twice as many
+    /// columns, cropped back). A cluster-sized run: about 6 h on 2 cores for the whole test set;
+    /// `udc-studio sweep slurm` runs its phase sweep as a job array.
+    #[arg(long)]
+    pub thesis_geometry: bool,
 }
 
 /// Runs `udc-studio reproduce …`.
@@ -67,8 +73,26 @@ pub fn reproduce_cmd(args: &ReproduceArgs) -> Result<()> {
             ResultId::ALL.map(ResultId::as_str).join(", ")
         );
     };
-    let out = args.out.clone().unwrap_or_else(|| id.default_out());
-    let run = reproduce(id, args.quick, &out, args.threads, args.json)?;
+    let geometry = if args.thesis_geometry {
+        catalog::Geometry::Thesis
+    } else {
+        catalog::Geometry::Ours
+    };
+    if !id.has_geometry(geometry) {
+        anyhow::bail!(
+            "--thesis-geometry: {} has no phase-model photos (it applies to table4.1 and fig4.14)",
+            id.as_str()
+        );
+    }
+    let out = args.out.clone().unwrap_or_else(|| {
+        let d = id.default_out();
+        if geometry == catalog::Geometry::Thesis {
+            d.with_file_name(format!("{}-thesis-geometry", id.as_str()))
+        } else {
+            d
+        }
+    });
+    let run = reproduce(id, geometry, args.quick, &out, args.threads, args.json)?;
     if args.json {
         crate::emit_json(&report::json_of(&run.info, &run.outcome, &run.report))?;
     } else {
@@ -125,13 +149,14 @@ pub struct Reproduction {
 /// A missing spec or photo, a sweep that cannot run, unwritable results.
 pub fn reproduce(
     id: ResultId,
+    geometry: catalog::Geometry,
     quick: bool,
     out: &Path,
     threads: Option<usize>,
     quiet: bool,
 ) -> Result<Reproduction> {
     let started = Instant::now();
-    let parts = id.parts();
+    let parts = id.parts_for(geometry);
     let first = parts.first().map_or("", |p| p.file);
     let root = prepare::repo_root(first)?;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
@@ -192,7 +217,18 @@ pub fn reproduce(
         info.sweeps.push(rel);
         tables.push(table);
     }
-    let outcome = reduce(id, &tables);
+    let mut outcome = reduce(id, &tables);
+    if geometry == catalog::Geometry::Thesis {
+        outcome.notes.insert(
+            0,
+            "The thesis's geometry (§4.4.1, `--thesis-geometry`): the phase model's photos scaled \
+             to the sensor's 1024 columns (1024 directions), captured as they are and restored \
+             with a 'full' boundary: the solver also estimates 512 columns beyond each edge \
+             (2048 in all) and the result is cropped back to the capture's 1024, then scored on \
+             the field of view. The 2-D rows are as in our geometry."
+                .into(),
+        );
+    }
     std::fs::create_dir_all(&plots_dir)
         .with_context(|| format!("cannot create {}", plots_dir.display()))?;
     for c in &outcome.curves {

@@ -68,7 +68,7 @@ use crate::restore::denoise::{
     ICCV23_CG_ITERATIONS, ICCV23_CG_TOLERANCE, ICCV23_LAMBDA, nearest_row,
 };
 use crate::restore::quality::planes_quality;
-use crate::restore::{CgSettings, Denoise, DenoiseUsed, LinearBlur, cg_with};
+use crate::restore::{CgSettings, Denoise, DenoiseUsed, LinearBlur, cg_from, cg_with};
 
 mod setups;
 mod unpassed;
@@ -115,8 +115,13 @@ pub fn capture_noise(photons: f64, ltr: f64) -> crate::restore::CaptureNoise {
 /// The imaging operator of one setup on a scene `width` columns wide.
 #[derive(Debug, Clone)]
 pub struct PhaseBlur {
-    /// Per channel, `[sensor pixel, direction]`, both `width` long (absolute energies).
+    /// Per channel, `[sensor pixel, direction]` (absolute energies): `width` sensor pixels by
+    /// `width + 2·margin` directions, the scene's `width` in the middle.
     pub channels: Vec<Array2<f64>>,
+    /// Directions on each side of the scene that the restoration solves for too (thesis
+    /// §4.4.1's 'full' boundary: the estimate reaches beyond the sensor, then is cropped); 0 for
+    /// a closed world where the scene is all there is.
+    pub margin: usize,
     /// Name of each channel, in the order of `channels`.
     pub channel_names: Vec<String>,
     /// Light transmittance ratio: the mean over channels of the light that leaves the main-lens
@@ -133,6 +138,20 @@ pub struct PhaseBlur {
     pub axis_psf: Vec<Vec<f64>>,
     /// The optics the operator was computed for (double MLA or bare T-OLED).
     pub optics: PhaseOptics,
+}
+
+impl PhaseBlur {
+    /// The scene's width: its columns, the sensor pixels it is seen on.
+    pub fn width(&self) -> usize {
+        self.channels.first().map_or(0, Array2::nrows)
+    }
+
+    /// Channel `c`'s operator on the scene's own directions: `width × width`.
+    pub fn scene_operator(&self, c: usize) -> ndarray::ArrayView2<'_, f64> {
+        let k = &self.channels[c];
+        let w = self.width();
+        k.slice_axis(Axis(1), ndarray::Slice::from(self.margin..self.margin + w))
+    }
 }
 
 /// Columns of a `width`-wide scene inside the field of view of eq. 4.13 for `design`'s κ.
@@ -158,7 +177,35 @@ pub fn phase_blur(
     width: usize,
     progress: &Progress,
 ) -> Result<PhaseBlur, SimError> {
+    phase_blur_full(design, sampling, channels, optics, width, 0, progress)
+}
+
+/// [`phase_blur`] with `margin` more directions on each side of the scene, whose light the
+/// scene's `width` sensor pixels also receive: the restoration then solves for them too and
+/// crops them off (thesis §4.4.1's 'full' boundary). `margin` 0 is [`phase_blur`].
+///
+/// # Errors
+/// As [`phase_blur`], and a margin that reaches directions beyond ±90°.
+pub fn phase_blur_full(
+    design: &PhaseDesign,
+    sampling: &PhaseSampling,
+    channels: &[Channel],
+    optics: PhaseOptics,
+    width: usize,
+    margin: usize,
+    progress: &Progress,
+) -> Result<PhaseBlur, SimError> {
     let pixels = design.camera.pixels;
+    let reach = (width / 2 + margin) as f64 * design.camera.pixel_um;
+    if !(reach < design.camera.focal_length_um()) {
+        return Err(SimError::field(
+            "margin",
+            format!(
+                "{margin} directions beyond a {width}-column scene reach past 90° (at most {})",
+                (design.camera.focal_length_um() / design.camera.pixel_um) as usize - width / 2
+            ),
+        ));
+    }
     if width < 8 || width > pixels {
         return Err(SimError::field(
             "width",
@@ -193,15 +240,17 @@ pub fn phase_blur(
             .map(|(_, w)| w / sum)
             .sum()
     };
-    let axis = width / 2;
-    let incidences: Vec<Incidence> = (0..width)
+    // Directions are numbered from the left margin; the scene's axis is `margin + width / 2`.
+    let directions = width + 2 * margin;
+    let axis = margin + width / 2;
+    let incidences: Vec<Incidence> = (0..directions)
         .map(|j| Incidence::Pixel(j as i64 - axis as i64))
         .collect();
     // Per direction: each channel's column, its total transmission and, for the axis direction
     // alone, its PSF over the whole sensor. Wavelength by wavelength, all directions at once, so
     // the plate's transmission is formed once per wavelength; each column still sums its
     // wavelengths in ascending order.
-    let mut columns: Vec<Column> = (0..width)
+    let mut columns: Vec<Column> = (0..directions)
         .map(|j| {
             let whole = if j == axis { pixels } else { 0 };
             (
@@ -249,14 +298,15 @@ pub fn phase_blur(
     let ltr = columns[axis].1.iter().sum::<f64>() / channels.len() as f64;
     let green = channels.len() / 2;
     let mats = (0..channels.len())
-        .map(|c| Array2::from_shape_fn((width, width), |(i, j)| columns[j].0[c][i]))
+        .map(|c| Array2::from_shape_fn((width, directions), |(i, j)| columns[j].0[c][i]))
         .collect();
     Ok(PhaseBlur {
         channels: mats,
+        margin,
         channel_names: channels.iter().map(|c| c.name.clone()).collect(),
         ltr,
         valid: field_of_view_columns(design, width),
-        green_column_energy: columns
+        green_column_energy: columns[margin..margin + width]
             .iter()
             .map(|(cols, _, _)| cols[green].iter().sum::<f64>() / polariser)
             .collect(),
@@ -311,7 +361,7 @@ impl LinearBlur for RowBlur {
 }
 
 fn check_scene(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<(), SimError> {
-    let width = blur.channels.first().map_or(0, Array2::ncols);
+    let width = blur.width();
     if scene.len() != blur.channels.len() {
         return Err(SimError::field(
             Setting::Photo,
@@ -379,8 +429,9 @@ pub fn capture(
         .iter()
         .zip(scene)
         .enumerate()
-        .map(|(c, (k, plane))| {
-            let mean = RowBlur::right(plane, &k.t().to_owned());
+        .map(|(c, (_, plane))| {
+            // The scene is what there is: its own directions, none from the margin.
+            let mean = RowBlur::right(plane, &blur.scene_operator(c).t().to_owned());
             let mut out = Array2::zeros(mean.dim());
             out.axis_iter_mut(Axis(0))
                 .into_par_iter()
@@ -473,7 +524,21 @@ pub fn restore(
     let mut restored = Vec::with_capacity(blur.channels.len());
     for (c, (k, y)) in blur.channels.iter().zip(inputs).enumerate() {
         let op = RowBlur::new(k, blur.ltr);
-        restored.push(cg_with(&op, y.view(), &settings, progress)?.0);
+        let x = if blur.margin == 0 {
+            cg_with(&op, y.view(), &settings, progress)?.0
+        } else {
+            // The 'full' boundary: start from the capture with its edge columns carried into
+            // the margins, solve on the wider support, keep the scene's columns.
+            let m = blur.margin;
+            let w = y.ncols();
+            let start = Array2::from_shape_fn((y.nrows(), w + 2 * m), |(r, j)| {
+                y[[r, j.saturating_sub(m).min(w - 1)]]
+            });
+            let wide = cg_from(&op, y.view(), start, &settings, progress)?.0;
+            wide.slice_axis(Axis(1), ndarray::Slice::from(m..m + w))
+                .to_owned()
+        };
+        restored.push(x);
         progress.set(deblur_start + (1.0 - deblur_start) * (c + 1) as f32 / n);
     }
     Ok(Restoration {

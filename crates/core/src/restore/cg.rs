@@ -203,6 +203,22 @@ pub fn cg_with<B: LinearBlur>(
     settings: &CgSettings,
     progress: &Progress,
 ) -> Result<(Array2<f64>, CgReport), SimError> {
+    cg_from(blur, captured, captured.to_owned(), settings, progress)
+}
+
+/// [`cg_with`] started from `start` instead of the capture: for an `A` whose unknown is larger
+/// than its capture (a 'full' boundary, where the estimate reaches beyond the sensor), `start`
+/// has the unknown's shape.
+///
+/// # Errors
+/// As [`cg_with`].
+pub fn cg_from<B: LinearBlur>(
+    blur: &B,
+    captured: ArrayView2<'_, f64>,
+    start: Array2<f64>,
+    settings: &CgSettings,
+    progress: &Progress,
+) -> Result<(Array2<f64>, CgReport), SimError> {
     settings.validate()?;
     let CgSettings {
         lambda,
@@ -214,7 +230,7 @@ pub fn cg_with<B: LinearBlur>(
     let b = op.adjoint(&y);
     let yy = dot(&y, &y);
     let b_norm = dot(&b, &b).sqrt();
-    let mut x = y.clone();
+    let mut x = start;
     let mut r = &b - &op.apply(&x);
     // f(x) = xᵀMx − 2bᵀx + yᵀy and Mx = b − r, so f = yᵀy − bᵀx − rᵀx: no extra convolution.
     let objective = |x: &Array2<f64>, r: &Array2<f64>| yy - dot(&b, x) - dot(r, x);

@@ -51,7 +51,7 @@ use ndarray::Array2;
 use rayon::prelude::*;
 
 pub use capture::{CaptureSettings, Light};
-pub use cg::{CgReport, CgSettings, LinearBlur, cg_with};
+pub use cg::{CgReport, CgSettings, LinearBlur, cg_from, cg_with};
 pub use denoise::{CaptureNoise, Denoise, DenoiseUsed, Recipe, Sigma2};
 pub use spectrum::{KernelRows, PadGrid, Padding};
 pub use wiener::THESIS_NSR;

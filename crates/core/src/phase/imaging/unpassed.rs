@@ -27,7 +27,7 @@ pub const UNPASSED_MTF: f64 = 0.01;
 /// at `k / width` cycles per pixel. The whole PSF, not the scene's window of it: a narrow
 /// window cuts the T-OLED's diffraction orders and would hide the zeros they make.
 pub fn unpassed_frequencies(blur: &PhaseBlur) -> Vec<Vec<bool>> {
-    let width = blur.channels.first().map_or(0, Array2::ncols);
+    let width = blur.width();
     blur.axis_psf
         .iter()
         .map(|psf| {
