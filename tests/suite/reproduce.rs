@@ -60,9 +60,11 @@ fn every_shipped_spec_is_a_valid_sweep_and_belongs_to_a_result() {
         .collect();
     files.sort();
     assert!(files.len() >= 8, "{files:?}");
+    use udc_studio::core::reproduce::Geometry;
     let used: Vec<&str> = ResultId::ALL
         .iter()
-        .flat_map(|id| id.parts().iter().map(|p| p.file))
+        .flat_map(|id| [Geometry::Ours, Geometry::Thesis].map(|g| id.parts_for(g)))
+        .flat_map(|parts| parts.iter().map(|p| p.file))
         .collect();
     for id in ResultId::ALL {
         assert!(

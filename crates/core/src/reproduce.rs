@@ -131,23 +131,14 @@ pub enum Geometry {
     Thesis,
 }
 
-/// The thesis's geometry as sweep parameters of `phase restore`.
-const THESIS_GEOMETRY: &[(&str, QuickValue)] = &[
-    ("scene-px", QuickValue::Number(1024.0)),
-    ("full-boundary", QuickValue::Switch(true)),
-];
-
-/// Table 4.1's and Fig. 4.14's phase-model rows in the thesis's geometry.
+/// Table 4.1's and Fig. 4.14's phase-model rows in the thesis's geometry (its own spec, which
+/// `sweep slurm` runs on a cluster as it stands).
 const TABLE_4_1_PHASE_THESIS_GEOMETRY: Part = Part {
     name: "phase",
-    file: "table4.1.toml",
+    file: "table4.1.thesis-geometry.toml",
     inputs: Some("photo"),
     plots: false,
-    variant: QuickPlan {
-        keep: &[],
-        set: THESIS_GEOMETRY,
-        photos: &[],
-    },
+    variant: NO_QUICK_CHANGE,
     quick: TABLE_4_1_PHASE.quick,
 };
 

@@ -284,6 +284,7 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable, table: Option<&SweepTa
     }
     let get = |n: &str| means.iter().find(|m| m.0 == n).and_then(|m| m.1);
     let (toled, poled, ours, yang) = (get("TOLED"), get("POLED"), get("Ours"), get("Yang et al."));
+    let order_holds = matches!((ours, poled, toled), (Some(o), Some(p), Some(t)) if o > p && p > t);
     out.claims.push(Claim {
         claim: "with the denoiser: double MLA (ours) > P-OLED > T-OLED in PSNR (thesis 28.01 > \
                 26.22 > 22.42 dB)"
@@ -294,9 +295,8 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable, table: Option<&SweepTa
             fmt(poled, 2),
             fmt(toled, 2)
         ),
-        pass: matches!((ours, poled, toled), (Some(o), Some(p), Some(t)) if o > p && p > t),
-        why: "P-OLED's 8.3 % LTR costs it most at low light, the T-OLED's slits at every light"
-            .into(),
+        pass: order_holds,
+        why: order_why(order_holds, ours, poled, toled),
     });
     let margin = ours.zip(toled).map(|(o, t)| o - t);
     out.claims.push(Claim {
@@ -347,6 +347,40 @@ pub fn table4_1(phase: &SweepTable, display: &SweepTable, table: Option<&SweepTa
         thesis::TABLE_4_1_SOURCE
     ));
     out
+}
+
+/// Why Table 4.1's order holds, or the measurement that breaks it: the phase model's two rows
+/// share an offset from the thesis that the 2-D P-OLED row does not.
+fn order_why(holds: bool, ours: Option<f64>, poled: Option<f64>, toled: Option<f64>) -> String {
+    let reason = "P-OLED's 8.3 % LTR costs it most at low light, the T-OLED's slits at every light";
+    let thesis = |name: &str| {
+        thesis::TABLE_4_1
+            .iter()
+            .find(|r| r.setup == name)
+            .and_then(|r| r.psnr_db)
+    };
+    let offset = |v: Option<f64>, name: &str| Some(v? - thesis(name)?);
+    let (Some(d_ours), Some(d_toled), Some(d_poled), Some(p)) = (
+        offset(ours, "Ours"),
+        offset(toled, "TOLED"),
+        offset(poled, "POLED"),
+        poled,
+    ) else {
+        return reason.into();
+    };
+    if holds {
+        return reason.into();
+    }
+    let phase_offset = (d_ours + d_toled) / 2.0;
+    let shifted = ours.map_or(f64::NAN, |o| o - phase_offset);
+    format!(
+        "{reason}; here the order breaks on the phase model's common offset: ours {d_ours:+.2} dB \
+         and the T-OLED {d_toled:+.2} dB from the thesis (one 1-D model, the same photos and \
+         restoration), the P-OLED {d_poled:+.2} dB (the 2-D display model); without the phase \
+         rows' mean offset ({phase_offset:+.2} dB) ours would read {shifted:.2} dB, {} the \
+         P-OLED's {p:.2}",
+        if shifted > p { "above" } else { "below" }
+    )
 }
 
 /// Fig. 4.14 from the same parts as Table 4.1, per light level.
