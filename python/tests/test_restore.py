@@ -2,6 +2,7 @@
 
 import json
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -65,7 +66,7 @@ def test_a_matched_sigma2_is_the_default_and_the_clis(cli):
     # The capture's own variance at white: Poisson, read noise and whole electrons (the JSON
     # rounds to 9 digits).
     e = mine["electrons_per_unit"]
-    assert ours.denoise_sigma2 == pytest.approx(1 / e + 4.87**2 / e**2 + 1 / (12 * e**2), rel=1e-8)
+    assert ours.denoise_sigma2 == pytest.approx(1 / e + 4.87**2 / e**2 + 1 / (12 * e**2), rel=1e-6)
     explicit = udc.restore("toled-150dpi", photo, snr_db=24, denoise_sigma2="matched")
     assert explicit.denoise_sigma2 == ours.denoise_sigma2
 
@@ -80,7 +81,7 @@ def test_the_authors_table_is_the_clis(cli):
     # Chapter 3's 0.005 for 24 dB, on our scale (divided by the square of the LTR relative to
     # the reference display).
     r = mine["electrons_per_unit"] / mine["light_e"]
-    assert ours.denoise_sigma2 == pytest.approx(0.005 / r**2, rel=1e-8)
+    assert ours.denoise_sigma2 == pytest.approx(0.005 / r**2, rel=1e-6)
 
 
 def test_the_denoiser_lifts_the_restoration_in_low_light():
@@ -176,3 +177,21 @@ def test_ctrl_c_cancels_a_long_call(tmp_path):
         "udc.denoise(image, 0.01)", tmp_path, within_s=5.0,
         setup="image = np.random.default_rng(0).random((2048, 2048, 3))",
     )
+
+
+def test_a_window_that_drops_light_warns_once():
+    # Fig. 3.9's 80-DPI base with the P-OLED pattern and the thesis's 294-pixel window: about
+    # 3 % of the red light falls outside (conventions.md §5); the shipped 622-pixel window holds it.
+    from PIL import Image
+
+    base = REPO / "presets" / "reproduce" / "designs" / "fig3.9" / "base-80dpi.json"
+    cells = np.asarray(Image.open(REPO / "presets" / "reproduce" / "patterns" / "poled-42.png")) > 127
+    photo = udc.load_photo(PHOTO, max_side_px=32)
+    narrow = udc.Design.load(base).with_(opening=cells, optics={"window_px": 294})
+    with pytest.warns(UserWarning, match=r"^capture: the 294-pixel PSF window holds .* % in R") as caught:
+        udc.restore(narrow, photo, snr_db=32, denoise="none")
+    assert len(caught) == 1
+    shipped = udc.Design.load(base).with_(opening=cells)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        udc.restore(shipped, photo, snr_db=32, denoise="none")
