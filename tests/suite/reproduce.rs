@@ -672,3 +672,75 @@ with = { bin-mode = ["additive", "average"], bin = [2, 2] }
     };
     assert!((gain("mean") / gain("sum") - 4.0).abs() < 1e-4);
 }
+
+/// A failing claim of Table 4.1 or Fig. 4.14 carries the measurement that explains it: the order
+/// broken by the phase rows' common offset (with the order it would have without), an absolute
+/// row against the span its photos alone give, the P-OLED's gap at 250 photons with the offset
+/// taken out.
+#[test]
+fn table4_1_and_fig4_14_failures_carry_their_measurements() {
+    let runs = |p: [f64; 4], ltr: f64| -> Vec<f64> {
+        let mut v = Vec::new();
+        for (k, n) in [250.0, 650.0, 1600.0, 10_000.0].iter().enumerate() {
+            v.extend([p[k], 0.6, *n]);
+        }
+        v.push(ltr);
+        v
+    };
+    // The phase rows 5 dB under the thesis (22.42, 28.01), the P-OLED on it (26.22).
+    let toled = runs([16.0, 17.0, 18.0, 18.68], 0.238);
+    let ours = runs([21.0, 22.5, 23.5, 25.04], 0.476);
+    let phase = table(
+        "phase",
+        &["setup", "photo"],
+        &PHASE_METRICS,
+        &[(&["TOLED", "a"], &toled), (&["Ours", "a"], &ours)],
+    );
+    let mut rows: Vec<(Vec<&str>, Vec<f64>)> = Vec::new();
+    for (d, base) in [("POLED", 24.72), ("Yang et al.", 27.0)] {
+        for (k, n) in ["250", "650", "1600", "10000"].iter().enumerate() {
+            // Two photos 6 dB apart.
+            rows.push((vec![d, n, "a"], vec![base + k as f64 - 3.0, 0.7, 0.1]));
+            rows.push((vec![d, n, "b"], vec![base + k as f64 + 3.0, 0.7, 0.1]));
+        }
+    }
+    let rows_ref: Vec<(&[&str], &[f64])> = rows
+        .iter()
+        .map(|(p, m)| (p.as_slice(), m.as_slice()))
+        .collect();
+    let display = table(
+        "display",
+        &["display", "photons", "image"],
+        &["runs.0.psnr_db", "runs.0.ssim", "ltr"],
+        &rows_ref,
+    );
+    let o = reduce(ResultId::Table4_1, &[phase.clone(), display.clone()]);
+    let claim = |o: &udc_studio::cli::reproduce::Outcome, needle: &str| {
+        o.claims
+            .iter()
+            .find(|c| c.claim.contains(needle))
+            .unwrap()
+            .clone()
+    };
+    let order = claim(&o, "ours) > P-OLED > T-OLED");
+    assert!(!order.pass);
+    assert!(order.why.contains("common offset"), "{}", order.why);
+    assert!(order.why.contains("-5.00 dB"), "{}", order.why);
+    assert!(
+        order.why.contains("above the P-OLED's 26.22"),
+        "{}",
+        order.why
+    );
+    let yang = claim(&o, "Yang et al.: PSNR within");
+    assert!(!yang.pass);
+    assert!(
+        yang.why.contains("our 2 photos alone span") && yang.why.contains("(6.0 dB, more than"),
+        "{}",
+        yang.why
+    );
+    let f = reduce(ResultId::Fig4_14, &[phase, display]);
+    let gap = claim(&f, "POLED is worse than ours");
+    assert!(!gap.pass, "{gap:?}");
+    // The phase offset (−5 dB) against the P-OLED's (0): 5 dB back on the gap.
+    assert!(gap.why.contains("takes 5.0 dB off the gap"), "{}", gap.why);
+}
