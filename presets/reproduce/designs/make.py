@@ -112,6 +112,8 @@ def fig3_9():
     patterns = {
         "toled": ("toled-150dpi", 2),
         "poled": ("poled-336um", 1),
+        "l2-repeat": ("l2-repeat", 2),
+        "l2-random": ("l2-random", 2),
         "l2inv-repeat": ("l2inv-repeat", 2),
         "l2inv-random": ("l2inv-random", 2),
     }
