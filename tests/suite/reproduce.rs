@@ -403,17 +403,20 @@ const PHASE_METRICS: [&str; 13] = [
     "ltr",
 ];
 
+/// One `phase restore` point's metrics (`PHASE_METRICS`): PSNR `p` at the four light levels,
+/// SSIM 0.6, and the LTR.
+fn runs(p: [f64; 4], ltr: f64) -> Vec<f64> {
+    let mut v = Vec::new();
+    for (k, n) in [250.0, 650.0, 1600.0, 10_000.0].iter().enumerate() {
+        v.extend([p[k], 0.6, *n]);
+    }
+    v.push(ltr);
+    v
+}
+
 #[test]
 fn table4_1_checks_the_order_the_margin_and_the_absolute_values() {
     let pm = PHASE_METRICS;
-    let runs = |p: [f64; 4], ltr: f64| -> Vec<f64> {
-        let mut v = Vec::new();
-        for (k, n) in [250.0, 650.0, 1600.0, 10_000.0].iter().enumerate() {
-            v.extend([p[k], 0.6, *n]);
-        }
-        v.push(ltr);
-        v
-    };
     let toled = runs([21.0, 22.0, 23.0, 24.0], 0.238);
     let ours = runs([26.0, 27.5, 28.5, 30.0], 0.476);
     let mut rows: Vec<(Vec<&str>, Vec<f64>)> = Vec::new();
@@ -679,14 +682,6 @@ with = { bin-mode = ["additive", "average"], bin = [2, 2] }
 /// taken out.
 #[test]
 fn table4_1_and_fig4_14_failures_carry_their_measurements() {
-    let runs = |p: [f64; 4], ltr: f64| -> Vec<f64> {
-        let mut v = Vec::new();
-        for (k, n) in [250.0, 650.0, 1600.0, 10_000.0].iter().enumerate() {
-            v.extend([p[k], 0.6, *n]);
-        }
-        v.push(ltr);
-        v
-    };
     // The phase rows 5 dB under the thesis (22.42, 28.01), the P-OLED on it (26.22).
     let toled = runs([16.0, 17.0, 18.0, 18.68], 0.238);
     let ours = runs([21.0, 22.5, 23.5, 25.04], 0.476);
