@@ -82,9 +82,6 @@ pub struct Part {
     /// Whether the sweep's own plots are drawn (a phase part whose light levels are runs
     /// within a point has none worth drawing; the result draws its curves instead).
     pub plots: bool,
-    /// How this part changes its spec in every run, quick or full (a variant of a shipped spec:
-    /// a parameter `set` here replaces the spec's value everywhere, axes' `with` included).
-    pub variant: QuickPlan,
     /// The quick plan.
     pub quick: QuickPlan,
 }
@@ -110,7 +107,6 @@ const TABLE_4_1_PHASE: Part = Part {
     file: "table4.1.toml",
     inputs: Some("photo"),
     plots: false,
-    variant: NO_QUICK_CHANGE,
     quick: QuickPlan {
         keep: &[],
         set: &[PREVIEW],
@@ -138,7 +134,6 @@ const TABLE_4_1_PHASE_THESIS_GEOMETRY: Part = Part {
     file: "table4.1.thesis-geometry.toml",
     inputs: Some("photo"),
     plots: false,
-    variant: NO_QUICK_CHANGE,
     quick: TABLE_4_1_PHASE.quick,
 };
 
@@ -148,7 +143,6 @@ const TABLE_4_1_DISPLAY: Part = Part {
     file: "table4.1.display.toml",
     inputs: Some("image"),
     plots: true,
-    variant: NO_QUICK_CHANGE,
     quick: QuickPlan {
         // The 2-D T-OLED is a cross-check, not a thesis row.
         keep: &[("display", &["POLED", "Yang et al."])],
@@ -164,7 +158,6 @@ const TABLE_4_1_DISPLAY_TABLE: Part = Part {
     file: "table4.1.display-table.toml",
     inputs: Some("image"),
     plots: false,
-    variant: NO_QUICK_CHANGE,
     quick: QuickPlan {
         keep: &[],
         set: &[],
@@ -332,7 +325,6 @@ impl ResultId {
                 file: "fig3.8.toml",
                 inputs: Some("image"),
                 plots: true,
-                variant: NO_QUICK_CHANGE,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[],
@@ -344,7 +336,6 @@ impl ResultId {
                 file: "fig3.9.toml",
                 inputs: Some("image"),
                 plots: true,
-                variant: NO_QUICK_CHANGE,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[],
@@ -358,7 +349,6 @@ impl ResultId {
                 file: "table4.2.toml",
                 inputs: Some("photo"),
                 plots: true,
-                variant: NO_QUICK_CHANGE,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[PREVIEW],
@@ -370,7 +360,6 @@ impl ResultId {
                 file: "fig4.10.toml",
                 inputs: Some("photo"),
                 plots: true,
-                variant: NO_QUICK_CHANGE,
                 quick: QuickPlan {
                     // The densest and the sparsest pitch (605 and 151 DPI): each claim still
                     // has a pitch on both sides of 300 DPI, in half the time of all four.
@@ -384,7 +373,6 @@ impl ResultId {
                 file: "table5.1.toml",
                 inputs: None,
                 plots: true,
-                variant: NO_QUICK_CHANGE,
                 quick: QuickPlan {
                     keep: &[],
                     set: &[("side-px", QuickValue::Number(256.0))],
@@ -396,7 +384,6 @@ impl ResultId {
                 file: "table5.4.toml",
                 inputs: Some("hdr"),
                 plots: true,
-                variant: NO_QUICK_CHANGE,
                 quick: QuickPlan {
                     keep: &[("seed", &["0"])],
                     ..NO_QUICK_CHANGE

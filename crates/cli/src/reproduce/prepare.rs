@@ -71,11 +71,6 @@ pub fn prepared_spec(
     } else {
         crate::sweep::inputs_under(&spec, root)
     };
-    if part.variant != NO_CHANGE {
-        trim(&mut spec, &part.variant)
-            .with_context(|| format!("{} ({}), part {}", id.as_str(), part.file, part.name))?;
-        spec.name = format!("{} ({})", spec.name, part.name);
-    }
     if let Some(dir) = quick {
         quicken(&mut spec, part, dir)
             .with_context(|| format!("{} ({}), quick plan", id.as_str(), part.file))?;
@@ -84,13 +79,6 @@ pub fn prepared_spec(
     spec.validate()?;
     Ok(spec)
 }
-
-/// A plan that changes nothing.
-const NO_CHANGE: QuickPlan = QuickPlan {
-    keep: &[],
-    set: &[],
-    photos: &[],
-};
 
 /// Applies a part's quick plan: the kept axis values, the base overrides, and small copies of
 /// the photos it names.
