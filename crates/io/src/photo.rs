@@ -224,11 +224,10 @@ pub fn fit_max_side(planes: Vec<Array2<f64>>, max_side_px: usize) -> Vec<Array2<
     if w.max(h) <= max_side_px || planes.iter().any(|p| p.dim() != (h, w)) {
         return planes;
     }
-    let refs: Vec<&Array2<f64>> = planes.iter().collect();
-    let Some(img) = Rgb32FImage::from_raw(w32, h32, interleave(&refs, |v| v as f32)) else {
+    let Some(img) = float_image(&planes, (w32, h32)) else {
         return planes;
     };
-    let small = DynamicImage::ImageRgb32F(img).resize(m, m, FilterType::Triangle);
+    let small = img.resize(m, m, FilterType::Triangle);
     planes_of(&small.to_rgb32f())
 }
 
@@ -252,18 +251,25 @@ pub fn scale_to_width(planes: Vec<Array2<f64>>, width_px: usize) -> Vec<Array2<f
     if w == width_px || planes.iter().any(|p| p.dim() != (h, w)) {
         return planes;
     }
-    let refs: Vec<&Array2<f64>> = planes.iter().collect();
-    let Some(img) = Rgb32FImage::from_raw(w32, h32, interleave(&refs, |v| v as f32)) else {
+    let Some(img) = float_image(&planes, (w32, h32)) else {
         return planes;
     };
-    let scaled = DynamicImage::ImageRgb32F(img).resize_exact(nw, nh, FilterType::Triangle);
+    let scaled = img.resize_exact(nw, nh, FilterType::Triangle);
     let out = planes_of(&scaled.to_rgb32f());
-    if refs.len() == 1 {
+    if planes.len() == 1 {
         // A grey photo stays one plane.
         out.into_iter().take(1).collect()
     } else {
         out
     }
+}
+
+/// `planes` (1 grey or 3 R, G, B) of `size` (width, height) as a float RGB image, for the
+/// resizers; `None` when they do not make one.
+fn float_image(planes: &[Array2<f64>], size: (u32, u32)) -> Option<DynamicImage> {
+    let refs: Vec<&Array2<f64>> = planes.iter().collect();
+    Rgb32FImage::from_raw(size.0, size.1, interleave(&refs, |v| v as f32))
+        .map(DynamicImage::ImageRgb32F)
 }
 
 /// The R, G, B planes of a float image, clamped to `[0, 1]` (NaN → 0).

@@ -478,17 +478,19 @@ fn photo_span(
     })
 }
 
+/// Table 4.1's PSNR for a row of the thesis.
+fn thesis_psnr(name: &str) -> Option<f64> {
+    thesis::TABLE_4_1
+        .iter()
+        .find(|r| r.setup == name)
+        .and_then(|r| r.psnr_db)
+}
+
 /// Why Table 4.1's order holds, or the measurement that breaks it: the phase model's two rows
 /// share an offset from the thesis that the 2-D P-OLED row does not.
 fn order_why(holds: bool, ours: Option<f64>, poled: Option<f64>, toled: Option<f64>) -> String {
     let reason = "P-OLED's 8.3 % LTR costs it most at low light, the T-OLED's slits at every light";
-    let thesis = |name: &str| {
-        thesis::TABLE_4_1
-            .iter()
-            .find(|r| r.setup == name)
-            .and_then(|r| r.psnr_db)
-    };
-    let offset = |v: Option<f64>, name: &str| Some(v? - thesis(name)?);
+    let offset = |v: Option<f64>, name: &str| Some(v? - thesis_psnr(name)?);
     let (Some(d_ours), Some(d_toled), Some(d_poled), Some(p)) = (
         offset(ours, "Ours"),
         offset(toled, "TOLED"),
@@ -523,13 +525,7 @@ fn gap_why(
 ) -> String {
     let reason = "P-OLED collects 8.3 % of the light, a sixth of ours, and at 250 photons its \
                   capture is mostly noise";
-    let thesis = |name: &str| {
-        thesis::TABLE_4_1
-            .iter()
-            .find(|r| r.setup == name)
-            .and_then(|r| r.psnr_db)
-    };
-    let offset = |l: Option<&Levels>, name: &str| Some(over_levels(&l?.psnr)? - thesis(name)?);
+    let offset = |l: Option<&Levels>, name: &str| Some(over_levels(&l?.psnr)? - thesis_psnr(name)?);
     match (gap, offset(ours, "Ours"), offset(poled, "POLED")) {
         (Some(g), Some(d_ours), Some(d_poled))
             if (g - thesis::FIG_4_14_POLED_GAP_250_DB).abs() > tolerance =>

@@ -421,15 +421,12 @@ impl RestoreView {
             let ltr_relative = self.current().map_or(1.0, |r| {
                 r.electrons_per_unit / r.light_e.max(f64::MIN_POSITIVE)
             });
-            let white_e = self.current().map_or(f64::NAN, |r| r.electrons_per_unit);
-            let noise = crate::core::restore::CaptureNoise {
-                snr_db: self.snr_db,
+            // The capture the view runs (`start`): its light, this display's LTR, no ADC.
+            let noise = crate::core::restore::CaptureNoise::of(&CaptureSettings {
+                light: Light::SnrDb(self.snr_db),
                 ltr_relative,
-                white_e,
-                read_noise_e: crate::core::restore::capture::READ_NOISE_E,
-                // The view's captures round to whole electrons (no ADC).
-                adc_step: crate::core::restore::CaptureSettings::default().adc_step_e() / white_e,
-            };
+                ..CaptureSettings::default()
+            });
             let thesis = Sigma2::Thesis(Recipe::Iccp21).resolve(&noise);
             let matched = self.current().map(|_| noise.white_variance());
             crate::app::widgets::denoise::denoise_ui(
