@@ -233,7 +233,13 @@ impl Denoise {
         let sigma2 = match self {
             Denoise::None => None,
             Denoise::Bm3d { sigma2 } => {
-                let s = sigma2.resolve(at);
+                let mut s = sigma2.resolve(at);
+                // Below about 25 electrons at white a capture's own variance passes 1, the top
+                // of BM3D's range (images in [0, 1]): the capture is noise, and the largest σ²
+                // BM3D takes is the matched one's nearest. The run reports the σ² it got.
+                if sigma2 == Sigma2::Matched && s > crate::denoise::MAX_SIGMA2 {
+                    s = crate::denoise::MAX_SIGMA2;
+                }
                 if !crate::denoise::sigma2_in_range(s) {
                     return Err(SimError::field(
                         "denoise.sigma2",
@@ -353,6 +359,12 @@ mod tests {
             let ratio = Sigma2::Matched.resolve(&open) / table;
             assert!((0.75..=1.3).contains(&ratio), "row {row}: {ratio}");
         }
+        // A capture darker than about 25 e⁻ at white has a variance above BM3D's range: BM3D
+        // gets the range's top, not a refusal.
+        a.white_e = 3.0;
+        assert!(Sigma2::Matched.resolve(&a) > crate::denoise::MAX_SIGMA2);
+        let used = Denoise::default().applied(&a).unwrap();
+        assert_eq!(used.sigma2, Some(crate::denoise::MAX_SIGMA2));
         a.white_e = 0.0;
         let dark = Denoise::Bm3d {
             sigma2: Sigma2::Matched,
