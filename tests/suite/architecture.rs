@@ -104,6 +104,20 @@ fn the_core_io_and_cli_crates_and_the_python_module_link_no_gui() {
     }
 }
 
+/// The command line is a front end: the core and the file formats name their closed sets
+/// (strum) and the CLI offers them to clap, so a library user builds no argument parser.
+#[test]
+fn the_core_and_io_link_no_argument_parser() {
+    for krate in ["udc-core", "udc-io"] {
+        let closure = locked_closure(krate);
+        assert!(closure.contains("strum"), "{krate}: {closure:?}");
+        for parser in ["clap", "clap_builder", "clap_derive"] {
+            assert!(!closure.contains(parser), "{krate} depends on {parser}");
+        }
+    }
+    assert!(locked_closure("udc-cli").contains("clap"));
+}
+
 #[test]
 fn core_reads_no_files() {
     // The core and the FFT plans below it.

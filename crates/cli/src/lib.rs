@@ -4,6 +4,7 @@
 pub mod analysis_cache;
 pub mod appearance;
 pub mod cancel;
+mod choice;
 pub mod denoise;
 pub mod denoise_flags;
 pub mod drc;
@@ -158,7 +159,7 @@ pub struct DesignSelection {
     #[arg(long)]
     pub seed: Option<u64>,
     /// Optics recipe: iccp21 (the thesis) or phone.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = crate::choice::choice_of(&OpticsRecipe::NAMED))]
     pub optics: Option<OpticsRecipe>,
     /// Spectral response CSV (wavelength_nm, r, g, b): channels become weighted sums of
     /// wavelengths sampled every `--spectral-step-nm`.

@@ -49,15 +49,15 @@ pub struct SensorArgs {
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
     /// How the vary-bin strategies combine a bin.
-    #[arg(long, value_enum, default_value_t = BinMode::Digital)]
+    #[arg(long, value_parser = crate::choice::choice::<BinMode>(), default_value_t = BinMode::Digital)]
     pub bin_mode: BinMode,
     /// Amplifier gain of additive bins of N pixels: `scaled` (g/N: no extra saturation, read
     /// noise σ_post²/g²) or `same` (g: least read noise, the sum saturates N× sooner).
-    #[arg(long, value_enum, default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
+    #[arg(long, value_parser = crate::choice::choice::<AdditiveGain>(), default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
     pub additive_gain: AdditiveGain,
     /// The light level eq. 5.3 sets an ROI's gain for: its brightest 2×2 snapshot block, the
     /// 99th percentile of its blocks, or its mean.
-    #[arg(long, value_enum, default_value_t = RoiLight::Brightest)]
+    #[arg(long, value_parser = crate::choice::choice::<RoiLight>(), default_value_t = RoiLight::Brightest)]
     pub roi_light: RoiLight,
     /// Also run the other baselines: maximum gain, alternating rows, per-pixel gain, 2×2 bins.
     #[arg(long)]
@@ -65,7 +65,7 @@ pub struct SensorArgs {
     /// Colour filter array: `none` (monochrome, on the scene's luminance) or `rggb` (a Bayer
     /// mosaic of the RGB scene, same-colour binning, demosaiced; scores on the demosaiced
     /// luminance and per channel).
-    #[arg(long, value_enum, default_value_t = Cfa::None)]
+    #[arg(long, value_parser = crate::choice::choice::<Cfa>(), default_value_t = Cfa::None)]
     pub cfa: Cfa,
     /// Scale the scene down (area average) so its longer side has at most this many pixels.
     #[arg(long)]
@@ -103,10 +103,10 @@ pub struct FlatPatchArgs {
     #[arg(long, default_value_t = 1)]
     pub bin: usize,
     /// How a bin's pixels are combined.
-    #[arg(long, value_enum, default_value_t = BinMode::Digital)]
+    #[arg(long, value_parser = crate::choice::choice::<BinMode>(), default_value_t = BinMode::Digital)]
     pub bin_mode: BinMode,
     /// Amplifier gain of additive bins: `scaled` (g/N) or `same` (g).
-    #[arg(long, value_enum, default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
+    #[arg(long, value_parser = crate::choice::choice::<AdditiveGain>(), default_value_t = AdditiveGain::Scaled, visible_alias = "gain-policy")]
     pub additive_gain: AdditiveGain,
     /// Side of the square patch, pixels.
     #[arg(long, default_value_t = 512)]

@@ -6,31 +6,43 @@ use std::path::PathBuf;
 use crate::sweep::ParamValue;
 
 /// A thesis result.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Hash,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum ResultId {
     /// Fig. 3.8: six display layouts at five light levels.
-    #[value(name = "fig3.8")]
+    #[strum(serialize = "fig3.8")]
     Fig3_8,
     /// Fig. 3.9: pixel density.
-    #[value(name = "fig3.9")]
+    #[strum(serialize = "fig3.9")]
     Fig3_9,
     /// Table 4.1: the double MLA against other OLED displays.
-    #[value(name = "table4.1")]
+    #[strum(serialize = "table4.1")]
     Table4_1,
     /// Table 4.2: the order of the folding wavelengths.
-    #[value(name = "table4.2")]
+    #[strum(serialize = "table4.2")]
     Table4_2,
     /// Fig. 4.10: pitch and height quantisation of the phase masks.
-    #[value(name = "fig4.10")]
+    #[strum(serialize = "fig4.10")]
     Fig4_10,
     /// Fig. 4.14: the displays of Table 4.1 over light levels.
-    #[value(name = "fig4.14")]
+    #[strum(serialize = "fig4.14")]
     Fig4_14,
     /// Table 5.1: the binning modes' variances.
-    #[value(name = "table5.1")]
+    #[strum(serialize = "table5.1")]
     Table5_1,
     /// Table 5.4: the sensor strategies' worst-ROI SSIM.
-    #[value(name = "table5.4")]
+    #[strum(serialize = "table5.4")]
     Table5_4,
 }
 
@@ -180,16 +192,7 @@ impl ResultId {
 
     /// The ID on the command line (`fig3.8`).
     pub fn as_str(self) -> &'static str {
-        match self {
-            ResultId::Fig3_8 => "fig3.8",
-            ResultId::Fig3_9 => "fig3.9",
-            ResultId::Table4_1 => "table4.1",
-            ResultId::Table4_2 => "table4.2",
-            ResultId::Fig4_10 => "fig4.10",
-            ResultId::Fig4_14 => "fig4.14",
-            ResultId::Table5_1 => "table5.1",
-            ResultId::Table5_4 => "table5.4",
-        }
+        self.into()
     }
 
     /// The result's title.

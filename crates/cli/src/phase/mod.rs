@@ -121,7 +121,7 @@ pub struct ExportArgs {
     #[arg(long)]
     pub unfolded: bool,
     /// The file format; `--out FILE` names the file.
-    #[arg(long, value_enum)]
+    #[arg(long, value_parser = crate::choice::choice::<HeightFormat>())]
     pub format: HeightFormat,
     /// Sample spacing along x in µm (CSV, PNG pixel size, STL chord length).
     #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
@@ -168,10 +168,10 @@ pub struct MaskArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub height_step_um: Option<f64>,
     /// How `--height-step-um` quantises heights.
-    #[arg(long, value_enum, default_value_t = HeightRounding::Floor)]
+    #[arg(long, value_parser = crate::choice::choice::<HeightRounding>(), default_value_t = HeightRounding::Floor)]
     pub height_rounding: HeightRounding,
     /// Sampling convention: `thesis` (the thesis code's, its numbers reproduce) or `centred`.
-    #[arg(long, value_enum, default_value_t = SamplingConvention::Thesis)]
+    #[arg(long, value_parser = crate::choice::choice::<SamplingConvention>(), default_value_t = SamplingConvention::Thesis)]
     pub sampling: SamplingConvention,
     /// Coarse sampling (60 nm at the display, 7 samples per pixel) for quick looks.
     #[arg(long)]
@@ -181,7 +181,7 @@ pub struct MaskArgs {
     /// whole display, many times faster; a λ0 plan takes `wrapped-display`), `wrapped-display`
     /// (the whole display on a grid of its own width, every plate, about 2× faster) or
     /// `whole-display` (the thesis code's, every plate).
-    #[arg(long, value_enum, default_value_t = Relay::LensletPeriod)]
+    #[arg(long, value_parser = crate::choice::choice::<Relay>(), default_value_t = Relay::LensletPeriod)]
     pub relay: Relay,
     /// Print one JSON object instead of a table.
     #[arg(long)]

@@ -31,7 +31,7 @@ use udc_core::sweep::Shard;
 #[derive(Debug, Args)]
 pub struct ReproduceArgs {
     /// The result to reproduce (see `--list`).
-    #[arg(value_enum, required_unless_present = "list", value_name = "ID")]
+    #[arg(value_parser = crate::choice::choice::<ResultId>(), required_unless_present = "list", value_name = "ID")]
     pub id: Option<ResultId>,
     /// List the results: ID, title, what each runs, the thesis numbers it checks, its cost.
     #[arg(long, conflicts_with_all = ["quick", "out"])]

@@ -180,7 +180,21 @@ pub struct Optics {
 }
 
 /// Where a design's optics came from: a named recipe, or edited values.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    Serialize,
+    Deserialize,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 #[serde(rename_all = "lowercase")]
 pub enum OpticsRecipe {
     /// The thesis recipe: f = 10 mm, f/2.5, δ1 = 8 µm, δ2 = 0.5 µm, 2-µm pixels, 294-px window.
@@ -189,7 +203,6 @@ pub enum OpticsRecipe {
     Phone,
     /// Values edited away from any recipe.
     #[default]
-    #[value(skip)]
     Custom,
 }
 
@@ -199,11 +212,7 @@ impl OpticsRecipe {
 
     /// The name used in design files and on the command line.
     pub fn as_str(self) -> &'static str {
-        match self {
-            OpticsRecipe::Iccp21 => "iccp21",
-            OpticsRecipe::Phone => "phone",
-            OpticsRecipe::Custom => "custom",
-        }
+        self.into()
     }
 
     /// One line for a tooltip.

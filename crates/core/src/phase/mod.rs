@@ -133,7 +133,21 @@ pub struct PhaseSampling {
 }
 
 /// How the chain propagates through MLA 1, the display and MLA 2 (conventions.md §7).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    Serialize,
+    Deserialize,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 #[serde(rename_all = "kebab-case")]
 pub enum Relay {
     /// The thesis's: the whole display on one wrap-free Fresnel grid, so the edges of the
@@ -158,11 +172,7 @@ pub enum Relay {
 impl Relay {
     /// The CLI's and the reports' spelling.
     pub fn name(self) -> &'static str {
-        match self {
-            Relay::WholeDisplay => "whole-display",
-            Relay::WrappedDisplay => "wrapped-display",
-            Relay::LensletPeriod => "lenslet-period",
-        }
+        self.into()
     }
 }
 
@@ -224,7 +234,21 @@ impl PhaseSampling {
 
 /// Where the chain's samples sit relative to the optics (conventions.md §7). The thesis's numbers
 /// (Tables 4.1–4.2, its V matrices and λ0 allocations) depend on it.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    Serialize,
+    Deserialize,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 #[serde(rename_all = "kebab-case")]
 pub enum SamplingConvention {
     /// The thesis code's: the sensor is 1024 pixels of 14 Fraunhofer samples of
@@ -246,16 +270,27 @@ impl SamplingConvention {
 
     /// The CLI's and the design file's spelling.
     pub fn name(self) -> &'static str {
-        match self {
-            SamplingConvention::Thesis => "thesis",
-            SamplingConvention::Centred => "centred",
-        }
+        self.into()
     }
 }
 
 /// How a fabrication step quantises the folded profile (conventions.md §7, "Phase plate
 /// quantisation").
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    Serialize,
+    Deserialize,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 #[serde(rename_all = "kebab-case")]
 pub enum HeightRounding {
     /// `floor(h / step) · step`, as the authors' code: every height stays below the fold height.

@@ -40,14 +40,26 @@ use super::roi::RoiGrid;
 use super::{AdditiveGain, BinMode, SensorSpec};
 
 /// The sensor's colour filter array.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum Cfa {
     /// No filters: a monochrome sensor that sees the scene's luminance (`none`).
     #[default]
-    #[value(name = "none")]
+    #[strum(serialize = "none")]
     None,
     /// An RGGB Bayer mosaic with same-colour binning and a demosaic (`rggb`).
-    #[value(name = "rggb")]
+    #[strum(serialize = "rggb")]
     Rggb,
 }
 
@@ -57,10 +69,7 @@ impl Cfa {
 
     /// The name the CLI takes and reports print.
     pub fn label(self) -> &'static str {
-        match self {
-            Cfa::None => "none",
-            Cfa::Rggb => "rggb",
-        }
+        self.into()
     }
 }
 

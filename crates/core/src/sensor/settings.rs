@@ -60,14 +60,26 @@ impl BinStrategy {
 }
 
 /// How a bin's pixels are combined (Table 5.1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum BinMode {
     /// Analog sum of the N pixels' charge, read once at the amplifier gain `ĝ` that
     /// [`AdditiveGain`] chooses: `g/N` (the default) or `g` (conventions.md §8).
-    #[value(name = "additive")]
+    #[strum(serialize = "additive")]
     AnalogAdditive,
     /// Analog average of the N pixels, read once at gain `g`.
-    #[value(name = "average")]
+    #[strum(serialize = "average")]
     AnalogAverage,
     /// Every pixel read at gain `g`, the N readouts averaged: the best of the three when the
     /// gain is free (§5.5.2), and what the thesis's best results use.
@@ -78,11 +90,7 @@ pub enum BinMode {
 impl BinMode {
     /// The short name shown in the studio and in reports.
     pub fn label(self) -> &'static str {
-        match self {
-            BinMode::AnalogAdditive => "additive",
-            BinMode::AnalogAverage => "average",
-            BinMode::Digital => "digital",
-        }
+        self.into()
     }
 
     /// The amplifier gain a bin of `pixels` pixels is read at when the pixel gain is `gain`:
@@ -98,58 +106,75 @@ impl BinMode {
 
 /// The amplifier gain `ĝ` of an analog additive bin of N pixels whose pixel gain is `g`. The
 /// thesis compares both (Fig. 5.4b, §5.6); Table 5.1's read-noise term is `σ_post²/(N² ĝ²)`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum AdditiveGain {
     /// `ĝ = g/N`: the N-pixel sum fills the ADC at the same light per pixel as one pixel at `g`
     /// (no extra saturation); its read noise `σ_post²/g²` is then average binning's, N× digital
     /// binning's (§5.5.2).
     #[default]
-    #[value(name = "scaled")]
+    #[strum(serialize = "scaled")]
     Scaled,
     /// `ĝ = g`, the gain of the other modes: the least read noise, `σ_post²/(N² g²)`, N× below
     /// digital binning's, but the sum saturates at `l_wc/(N g)` electrons per pixel, N× sooner.
-    #[value(name = "same")]
+    #[strum(serialize = "same")]
     Same,
 }
 
 impl AdditiveGain {
     /// The short name shown in the studio and in reports (`scaled`, `same`).
     pub fn label(self) -> &'static str {
-        match self {
-            AdditiveGain::Scaled => "scaled",
-            AdditiveGain::Same => "same",
-        }
+        self.into()
     }
 }
 
 /// Which statistic of an ROI's base-gain snapshot is the light level `l̂` that eq. 5.3 turns into
 /// the ROI's gain. The thesis says only that the gain comes from the snapshot's light level.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    strum::VariantArray,
+    strum::IntoStaticStr,
+    strum::EnumMessage,
+    strum::Display,
+)]
+#[strum(serialize_all = "kebab-case")]
 pub enum RoiLight {
     /// The brightest 2×2 block of the ROI: eq. 5.3 then bounds the saturation of the ROI's
     /// brightest pixels by its tail probability, the thesis's intent ("saturates with a small
     /// probability").
     #[default]
-    #[value(name = "brightest")]
+    #[strum(serialize = "brightest")]
     Brightest,
     /// The 99th percentile (nearest rank) of the ROI's 2×2 blocks: a higher gain for the rest,
     /// at the cost of the brightest 1 % of the ROI, which may saturate.
-    #[value(name = "p99")]
+    #[strum(serialize = "p99")]
     P99,
     /// The mean of the ROI: the gain for its typical pixel; whatever is brighter than the mean
     /// by more than `η√l̂` saturates.
-    #[value(name = "mean")]
+    #[strum(serialize = "mean")]
     Mean,
 }
 
 impl RoiLight {
     /// The short name shown in the studio and in reports (`brightest`, `p99`, `mean`).
     pub fn label(self) -> &'static str {
-        match self {
-            RoiLight::Brightest => "brightest",
-            RoiLight::P99 => "p99",
-            RoiLight::Mean => "mean",
-        }
+        self.into()
     }
 }
 
