@@ -2,8 +2,6 @@
 //! pin button work, and nothing is re-uploaded while nothing changes.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use crate::common;
-
 use std::sync::Arc;
 
 use egui_kittest::Harness;
@@ -13,7 +11,7 @@ use udc_studio::app::panels::views::{ViewTab, ViewsPanel};
 use udc_studio::app::panels::{PanelCtx, Pinned, Shown};
 use udc_studio::app::{DisplayAction, Tool};
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze, analyze_with};
-use udc_studio::core::design::{Design, TilingMode};
+use udc_studio::core::design::{Design, Optics, OpticsRecipe, TilingMode};
 use udc_studio::core::{Analysis, Progress};
 use udc_studio::io::presets::load_preset;
 
@@ -30,8 +28,17 @@ struct State {
 /// The 150-DPI T-OLED opening on small, fast optics, randomly tiled (so the expected PSF exists).
 fn small_result() -> (Design, Analysis) {
     let mut design = load_preset("toled-150dpi").expect("preset");
-    design.optics = common::small_optics();
-    design.optics.window_px = 64;
+    // Small, fast optics: f/5 at 8-µm pupil samples (250 across), 2 fine samples a pixel.
+    design.optics = Optics {
+        recipe: OpticsRecipe::Custom,
+        focal_length_mm: 10.0,
+        f_number: 5.0,
+        pupil_sample_um: 8.0,
+        fine_sample_um: 1.0,
+        sensor_pixel_um: 2.0,
+        window_px: 64,
+        axis_in_pixel_um: [0.5, 0.5],
+    };
     design.tiling.mode = TilingMode::RandomD4;
     let analysis = analyze(&design, &Progress::new()).expect("analysis");
     (design, analysis)

@@ -3,16 +3,16 @@
 
 use crate::common::{aperture_of, open_design};
 use ndarray::Array2;
-use udc_studio::core::Progress;
-use udc_studio::core::analysis::analyze::analyze;
-use udc_studio::core::analysis::mtf::dft2;
-use udc_studio::core::design::{Channel, Opening, Optics};
-use udc_studio::core::psf::fft::full_intensity;
-use udc_studio::core::psf::sampling::fft_size;
+use udc_core::Progress;
+use udc_core::analysis::analyze::analyze;
+use udc_core::analysis::mtf::dft2;
+use udc_core::design::{Channel, Opening, Optics};
+use udc_core::psf::fft::full_intensity;
+use udc_core::psf::sampling::fft_size;
 
 fn optics(f_number: f64, fine_um: f64) -> Optics {
     Optics {
-        recipe: udc_studio::core::design::OpticsRecipe::Custom,
+        recipe: udc_core::design::OpticsRecipe::Custom,
         focal_length_mm: 10.0,
         f_number,
         pupil_sample_um: 8.0,
@@ -24,7 +24,7 @@ fn optics(f_number: f64, fine_um: f64) -> Optics {
 }
 
 /// Fine PSF of a design at one wavelength, centred, with its fine spacing in µm.
-fn fine_psf(design: &udc_studio::core::Design, wavelength_nm: f64) -> (Array2<f64>, f64) {
+fn fine_psf(design: &udc_core::Design, wavelength_nm: f64) -> (Array2<f64>, f64) {
     let o = &design.optics;
     let m = fft_size(
         wavelength_nm,

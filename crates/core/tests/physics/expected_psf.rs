@@ -3,9 +3,9 @@
 
 use crate::common::small_optics;
 use ndarray::Array2;
-use udc_studio::core::Progress;
-use udc_studio::core::analysis::analyze::{AnalyzeOptions, analyze_with};
-use udc_studio::core::design::{Channel, Design, TilingMode};
+use udc_core::Progress;
+use udc_core::analysis::analyze::{AnalyzeOptions, analyze_with};
+use udc_core::design::{Channel, Design, TilingMode};
 
 fn l1(a: &Array2<f64>, b: &Array2<f64>) -> f64 {
     (a - b).iter().map(|v| v.abs()).sum::<f64>() / b.iter().map(|v| v.abs()).sum::<f64>()

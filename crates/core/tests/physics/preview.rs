@@ -5,10 +5,10 @@
 //! it doubles the spacing both are run and compared.
 
 use rayon::prelude::*;
-use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::design::TilingMode;
-use udc_studio::core::{Analysis, Design, Progress};
-use udc_studio::io::presets::{PRESETS, load_preset};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::design::TilingMode;
+use udc_core::{Analysis, Design, Progress};
+use udc_io::presets::{PRESETS, load_preset};
 
 /// Per-channel AUC tolerance, relative.
 const AUC_TOLERANCE: f64 = 0.03;

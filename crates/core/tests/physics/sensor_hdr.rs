@@ -5,12 +5,12 @@
 use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
-use udc_studio::core::sensor::scene::percentile_of;
-use udc_studio::core::sensor::{Exposure, Scene, SensorSpec};
-use udc_studio::io::hdr::{ExrPrecision, load_hdr, load_hdr_with_report, write_exr};
+use udc_core::sensor::scene::percentile_of;
+use udc_core::sensor::{Exposure, Scene, SensorSpec};
+use udc_io::hdr::{ExrPrecision, load_hdr, load_hdr_with_report, write_exr};
 
 const STILL_LIFE: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
     "/assets/hdr/StillLife_620x423.exr"
 );
 

@@ -3,8 +3,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use proptest::prelude::*;
-use udc_studio::core::design::{Design, Opening, TilingMode};
-use udc_studio::core::mask::{
+use udc_core::design::{Design, Opening, TilingMode};
+use udc_core::mask::{
     BinaryGrid, BorderPolicy, MAX_VERTICES, MaskError, MaskLayout, MaskRegion, MaskSpec, Ring,
     Tone, trace_polygons,
 };

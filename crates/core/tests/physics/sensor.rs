@@ -6,16 +6,16 @@
 use std::path::Path;
 
 use ndarray::Array2;
-use udc_studio::core::sensor::gain::ratio_db;
-use udc_studio::core::sensor::{
+use udc_core::sensor::gain::ratio_db;
+use udc_core::sensor::{
     BinStrategy, GainStrategy, Held, PRESET_NAMES, PREVIEW_MAX_SIDE_PX, Scene, SensorSettings,
     SensorSpec, Strategy, peak_bytes, run, run_with,
 };
-use udc_studio::core::{Progress, SimError};
-use udc_studio::io::hdr::load_hdr;
+use udc_core::{Progress, SimError};
+use udc_io::hdr::load_hdr;
 
 const STILL_LIFE: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
     "/assets/hdr/StillLife_620x423.exr"
 );
 
@@ -348,7 +348,7 @@ fn bad_settings_and_scenes_name_their_field() {
         ),
         (
             SensorSettings {
-                exposure: udc_studio::core::sensor::Exposure::PercentileFill {
+                exposure: udc_core::sensor::Exposure::PercentileFill {
                     percentile: 99.9,
                     fill: 0.0,
                 },

@@ -1,13 +1,13 @@
 //! The Fourier-optics presets against their closed-form patterns: theory and simulation agree
 //! on every teaching preset, and stop agreeing once the symmetry is broken.
 
-use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::theory::{ProfileKind, Theory, compare};
-use udc_studio::core::{Design, Progress};
-use udc_studio::io::design_file::to_json;
-use udc_studio::io::presets::{PRESETS, PresetGroup, load_preset};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::theory::{ProfileKind, Theory, compare};
+use udc_core::{Design, Progress};
+use udc_io::design_file::to_json;
+use udc_io::presets::{PRESETS, PresetGroup, load_preset};
 
-fn full(d: &Design) -> udc_studio::core::Analysis {
+fn full(d: &Design) -> udc_core::Analysis {
     let options = AnalyzeOptions {
         quality: Quality::Full,
         expected_psf: false,
@@ -137,7 +137,7 @@ fn a_random_tiling_keeps_only_the_mean_tile_in_its_orders() {
     assert!((cp.predicted[zero] - cr.predicted[zero]).abs() < 1e-12);
     assert!(cr.predicted[zero + 1] < 0.7 * cp.predicted[zero + 1]);
     // The simulation agrees: the first order's sharp peak (its brightest pixel) drops...
-    let peak = |a: &udc_studio::core::Analysis, x_um: f64| {
+    let peak = |a: &udc_core::Analysis, x_um: f64| {
         let psf = &a.channels[1].psf;
         let w = psf.nrows();
         let j = (w / 2) as f64 + ((x_um + 0.25) / 2.0).floor();

@@ -5,21 +5,21 @@
 use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
-use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::design::TilingMode;
-use udc_studio::core::restore::capture::{READ_NOISE_E, expose};
-use udc_studio::core::restore::quality::{psnr_db, ssim};
-use udc_studio::core::restore::{
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::design::TilingMode;
+use udc_core::restore::capture::{READ_NOISE_E, expose};
+use udc_core::restore::quality::{psnr_db, ssim};
+use udc_core::restore::{
     CaptureSettings, CgSettings, Denoise, Light, Method, Recipe, RestoreResult, RestoreSettings,
     THESIS_NSR, simulate,
 };
-use udc_studio::core::{Progress, SimError};
-use udc_studio::io::IoError;
-use udc_studio::io::photo::{load_photo, write_difference_png, write_photo_exr, write_photo_png};
-use udc_studio::io::presets::load_preset;
+use udc_core::{Progress, SimError};
+use udc_io::IoError;
+use udc_io::photo::{load_photo, write_difference_png, write_photo_exr, write_photo_png};
+use udc_io::presets::load_preset;
 
 const ASTRONAUT: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
     "/assets/photos/astronaut_256.png"
 );
 
@@ -390,7 +390,7 @@ fn bad_inputs_name_their_field() {
     assert_eq!(err(&photo, &all, &s), "capture.ltr_relative");
     let mut s = ok;
     s.denoise = Denoise::Bm3d {
-        sigma2: udc_studio::core::restore::Sigma2::Fixed(-1.0),
+        sigma2: udc_core::restore::Sigma2::Fixed(-1.0),
     };
     assert_eq!(err(&photo, &all, &s), "denoise.sigma2");
 }
@@ -521,7 +521,7 @@ fn random_tiling_restores_the_toled_better_than_repeat() {
         let a = analyze_with(&design, &options, &Progress::new()).expect("analyse");
         let psfs: Vec<&Array2<f64>> = a.channels.iter().map(|c| &c.psf).collect();
         let mut s = thesis_settings(Light::SnrDb(28.0), Method::default());
-        s.capture.ltr_relative = a.ltr / udc_studio::core::restore::capture::REFERENCE_LTR;
+        s.capture.ltr_relative = a.ltr / udc_core::restore::capture::REFERENCE_LTR;
         let r = run(&photo, &psfs, &s);
         scores.push((r.psnr_db, r.ssim));
     }
@@ -540,7 +540,7 @@ fn random_tiling_restores_the_toled_better_than_repeat() {
 
 /// PSNR and SSIM of the committed photo through `design` at `snr_db`: the thesis's pipeline,
 /// BM3D then Wiener with the thesis nsr.
-fn restore_scores(design: &udc_studio::core::Design, snr_db: f64) -> (f64, f64) {
+fn restore_scores(design: &udc_core::Design, snr_db: f64) -> (f64, f64) {
     let photo = astronaut(None);
     let options = AnalyzeOptions {
         quality: Quality::Full,
@@ -549,7 +549,7 @@ fn restore_scores(design: &udc_studio::core::Design, snr_db: f64) -> (f64, f64) 
     let a = analyze_with(design, &options, &Progress::new()).expect("analyse");
     let psfs: Vec<&Array2<f64>> = a.channels.iter().map(|c| &c.psf).collect();
     let mut s = thesis_settings(Light::SnrDb(snr_db), Method::default());
-    s.capture.ltr_relative = a.ltr / udc_studio::core::restore::capture::REFERENCE_LTR;
+    s.capture.ltr_relative = a.ltr / udc_core::restore::capture::REFERENCE_LTR;
     let r = run(&photo, &psfs, &s);
     (r.psnr_db, r.ssim)
 }
@@ -561,7 +561,7 @@ fn restore_scores(design: &udc_studio::core::Design, snr_db: f64) -> (f64, f64) 
 #[test]
 fn psnr_orders_toled_repeat_below_random_below_optimized() {
     use std::ops::ControlFlow;
-    use udc_studio::core::optimize::{DataSet, OptimizeSettings, optimize};
+    use udc_core::optimize::{DataSet, OptimizeSettings, optimize};
     let snr_db = 36.0;
     let mut toled = load_preset("toled-150dpi").expect("preset");
     toled.tiling.mode = TilingMode::Repeat;
@@ -570,7 +570,8 @@ fn psnr_orders_toled_repeat_below_random_below_optimized() {
     let random = restore_scores(&toled, snr_db);
     let thesis = restore_scores(&load_preset("l2inv-random").expect("preset"), snr_db);
     let coffee = load_photo::<f64>(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/photos/coffee_256.png"),
+        &Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .join("assets/photos/coffee_256.png"),
         None,
     )
     .expect("training photo");
@@ -607,7 +608,7 @@ fn psnr_orders_toled_repeat_below_random_below_optimized() {
 /// the run and is returned.
 #[test]
 fn the_intermediate_planes_are_handed_over_in_order_and_not_kept() {
-    use udc_studio::core::restore::{Intermediate, simulate_with};
+    use udc_core::restore::{Intermediate, simulate_with};
     let photo = astronaut(Some(48));
     let psf = gaussian_psf(9, 1.5);
     let psfs = [&psf, &psf, &psf];

@@ -4,8 +4,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use proptest::prelude::*;
-use udc_studio::core::sensor::SensorSpec;
-use udc_studio::core::sensor::pitch::{
+use udc_core::sensor::SensorSpec;
+use udc_core::sensor::pitch::{
     contrast_noise, cutoff_cyc_per_um, noise_sigma_e, nyquist_cyc_per_um, optimal_bin,
     optimal_pitch_curve, optimal_pitch_um,
 };

@@ -2,13 +2,13 @@
 //! (thesis §3.7, Fig. 3.26).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use udc_studio::core::Progress;
-use udc_studio::core::design::TilingMode;
-use udc_studio::core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
-use udc_studio::core::display::emitters::{auto_place, auto_place_cells, closed_cells};
-use udc_studio::core::optimize::{OptimizeSettings, optimize};
-use udc_studio::io::design_file::{parse_design, to_json};
-use udc_studio::io::presets::load_preset;
+use udc_core::Progress;
+use udc_core::design::TilingMode;
+use udc_core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
+use udc_core::display::emitters::{auto_place, auto_place_cells, closed_cells};
+use udc_core::optimize::{OptimizeSettings, optimize};
+use udc_io::design_file::{parse_design, to_json};
+use udc_io::presets::load_preset;
 
 /// The presets that carry an emitter layer: T-OLED, P-OLED and the two proposed layouts.
 const WITH_SUBPIXELS: [&str; 5] = [

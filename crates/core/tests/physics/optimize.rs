@@ -7,14 +7,14 @@ use crate::common;
 use std::ops::ControlFlow;
 
 use ndarray::Array2;
-use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::design::{Design, TilingMode};
-use udc_studio::core::display::aperture::{CellMap, Display, Extent, effective_cells};
-use udc_studio::core::optimize::{
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::design::{Design, TilingMode};
+use udc_core::display::aperture::{CellMap, Display, Extent, effective_cells};
+use udc_core::optimize::{
     DataSet, LossWeights, Objective, OptimizeSettings, Relaxation, binarise, optimize,
 };
-use udc_studio::core::{Progress, SimError};
-use udc_studio::io::presets;
+use udc_core::{Progress, SimError};
+use udc_io::presets;
 
 fn toled(tiling: TilingMode) -> Design {
     let mut d = presets::load_preset("toled-150dpi").unwrap();
@@ -48,7 +48,7 @@ fn cell_map_reproduces_the_rasterised_display() {
     let extent = Extent::Pupil {
         diameter_um: d.optics.pupil_diameter_um(),
     };
-    let field = udc_studio::core::display::aperture::rasterise(&display, extent, 8.0);
+    let field = udc_core::display::aperture::rasterise(&display, extent, 8.0);
     let map = CellMap::new(&display, extent, 8.0);
     let flat: Vec<f64> = cells.iter().flatten().copied().collect();
     let values = map.apply(&flat);
@@ -359,7 +359,7 @@ fn a_runs_scores_are_the_analysis_of_its_start_and_its_result() {
         assert!((scores.result.open_fraction - result.open_fraction).abs() < 1e-12);
         assert!((s.open_fraction - start.open_fraction).abs() < 1e-12);
     }
-    // The two samplings agree (tests/suite/preview.rs; at this f/5 they are one sampling).
+    // The two samplings agree (crates/core/tests/physics/preview.rs; at this f/5 they are one sampling).
     let (full, run) = (
         out.at_full_quality.result.loss_inv,
         out.at_run_quality.result.loss_inv,

@@ -6,18 +6,18 @@
 use std::path::Path;
 
 use ndarray::Array2;
-use udc_studio::core::Progress;
-use udc_studio::core::sensor::flat::predicted_saturation;
-use udc_studio::core::sensor::gain::{gain_for_light, read_per_pixel};
-use udc_studio::core::sensor::noise::expose_frame;
-use udc_studio::core::sensor::{
+use udc_core::Progress;
+use udc_core::sensor::flat::predicted_saturation;
+use udc_core::sensor::gain::{gain_for_light, read_per_pixel};
+use udc_core::sensor::noise::expose_frame;
+use udc_core::sensor::{
     AdditiveGain, BinMode, BinStrategy, GainStrategy, RoiLight, SensorRun, SensorSettings,
     SensorSpec, Strategy, run,
 };
-use udc_studio::io::hdr::load_hdr;
+use udc_io::hdr::load_hdr;
 
 const STILL_LIFE: &str = concat!(
-    env!("CARGO_MANIFEST_DIR"),
+    concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),
     "/assets/hdr/StillLife_620x423.exr"
 );
 

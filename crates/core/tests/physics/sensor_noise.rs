@@ -5,12 +5,12 @@
 
 use ndarray::Array2;
 use proptest::prelude::*;
-use udc_studio::core::sensor::binning::{read_regions, variance};
-use udc_studio::core::sensor::gain::{
+use udc_core::sensor::binning::{read_regions, variance};
+use udc_core::sensor::gain::{
     dynamic_range, gain_for_light, ratio_db, read_alternating_rows, read_per_pixel,
 };
-use udc_studio::core::sensor::noise::{Adc, expose_frame, read_bin};
-use udc_studio::core::sensor::{AdditiveGain, BinMode, RoiGrid, SensorSpec};
+use udc_core::sensor::noise::{Adc, expose_frame, read_bin};
+use udc_core::sensor::{AdditiveGain, BinMode, RoiGrid, SensorSpec};
 
 /// Table 5.4's sensor with a 20-bit ADC: quantisation (≈ 1e-3 e⁻) vanishes from the variances.
 fn fine_adc_sensor() -> SensorSpec {

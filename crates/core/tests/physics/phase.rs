@@ -3,16 +3,16 @@
 
 use proptest::prelude::*;
 use rustfft::num_complex::Complex64;
-use udc_studio::core::design::Channel;
-use udc_studio::core::phase::allocate::{barrier_gradient, channel_invertibility};
-use udc_studio::core::phase::geometry::lenslet_count;
-use udc_studio::core::phase::{
+use udc_core::design::Channel;
+use udc_core::phase::allocate::{barrier_gradient, channel_invertibility};
+use udc_core::phase::geometry::lenslet_count;
+use udc_core::phase::{
     AllocationSettings, Chain, GRID_LEN, Incidence, Lambda0, PhaseDesign, PhaseOptics,
     PhaseSampling, SamplingConvention, Surface, invertibility_score, optical_mtf, optimize_lambda0,
     phase_psfs, v_matrix_on, wavelength_grid_nm,
 };
-use udc_studio::core::{Progress, SimError};
-use udc_studio::io::spectral::{channels_from_response, thesis_response};
+use udc_core::{Progress, SimError};
+use udc_io::spectral::{channels_from_response, thesis_response};
 
 fn thesis(pitch_um: f64, fold: f64) -> PhaseDesign {
     // The default sampling convention is the thesis's.
@@ -421,14 +421,8 @@ fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
     let sampling = PhaseSampling::preview();
     let channel = Channel::peak("G", 530.0);
     let kernels = |optics| {
-        udc_studio::core::phase::kernel_matrix(
-            &design,
-            &sampling,
-            &channel,
-            optics,
-            &Progress::new(),
-        )
-        .unwrap()
+        udc_core::phase::kernel_matrix(&design, &sampling, &channel, optics, &Progress::new())
+            .unwrap()
     };
     let (ours, toled) = (kernels(PhaseOptics::DoubleMla), kernels(PhaseOptics::Toled));
     assert_eq!(ours.dim(), (256, 256));
@@ -475,8 +469,8 @@ fn the_kernel_matrix_holds_each_direction_and_the_telescope_inverts_it() {
 /// scores are linear in the counts; rounding keeps the lenslet count.
 #[test]
 fn allocation_identities_hold() {
-    use udc_studio::core::phase::geometry::round_to_total;
-    use udc_studio::core::phase::geometry::uniform_counts;
+    use udc_core::phase::geometry::round_to_total;
+    use udc_core::phase::geometry::uniform_counts;
     let a: Vec<Vec<f64>> = (0..3)
         .map(|c| {
             (0..GRID_LEN)
@@ -490,7 +484,7 @@ fn allocation_identities_hold() {
     let mut fixed = vec![0; GRID_LEN];
     fixed[at531] = 58;
     let got = channel_invertibility(&a, &fixed);
-    let studio = udc_studio::core::phase::allocate::plan_invertibility(&a, &[530.0; 58]);
+    let studio = udc_core::phase::allocate::plan_invertibility(&a, &[530.0; 58]);
     for c in 0..3 {
         assert!((got[c] - a[c][at531]).abs() < 1e-15);
         // The studio's per-lenslet scoring of a fixed 530 nm plate uses the same 531 nm row.
@@ -521,7 +515,7 @@ fn allocation_identities_hold() {
 fn a_floored_plate_is_no_taller_than_its_top_level() {
     let mut d = thesis(42.0, 1.0);
     d.height_step_um = Some(0.2);
-    let lenslets = udc_studio::core::phase::Lenslets::new(&d).unwrap();
+    let lenslets = udc_core::phase::Lenslets::new(&d).unwrap();
     assert!((lenslets.max_height_um(&d) - 1.0).abs() < 1e-12);
     d.height_step_um = None;
     let fold = 0.53 / 0.515;

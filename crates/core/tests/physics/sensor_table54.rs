@@ -4,13 +4,13 @@
 
 use std::path::Path;
 
-use udc_studio::core::Progress;
-use udc_studio::core::sensor::{Cfa, SensorSettings, run};
-use udc_studio::io::hdr::load_hdr;
+use udc_core::Progress;
+use udc_core::sensor::{Cfa, SensorSettings, run};
+use udc_io::hdr::load_hdr;
 
 #[test]
 fn vary_gain_and_bin_is_best_or_tied_on_every_shipped_scene() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdr");
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("assets/hdr");
     let mut scenes: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())

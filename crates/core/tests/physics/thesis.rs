@@ -1,9 +1,9 @@
 //! The thesis's published numbers and trends (conventions.md §4, thesis §3.4.1 and Fig. 3.7).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use udc_studio::core::Progress;
-use udc_studio::core::analysis::analyze::analyze;
-use udc_studio::core::design::{Design, Opening, TilingMode};
+use udc_core::Progress;
+use udc_core::analysis::analyze::analyze;
+use udc_core::design::{Design, Opening, TilingMode};
 
 fn toled() -> Design {
     Design::default_toled()

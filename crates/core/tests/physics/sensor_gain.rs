@@ -6,14 +6,12 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use ndarray::Array2;
-use udc_studio::core::Progress;
-use udc_studio::core::sensor::binning::{read_regions, read_sigma_e, variance};
-use udc_studio::core::sensor::flat::predicted_saturation;
-use udc_studio::core::sensor::gain::gain_for_light;
-use udc_studio::core::sensor::noise::{Adc, expose_frame};
-use udc_studio::core::sensor::{
-    AdditiveGain, BinMode, FlatPatchSpec, RoiGrid, SensorSpec, flat_patch,
-};
+use udc_core::Progress;
+use udc_core::sensor::binning::{read_regions, read_sigma_e, variance};
+use udc_core::sensor::flat::predicted_saturation;
+use udc_core::sensor::gain::gain_for_light;
+use udc_core::sensor::noise::{Adc, expose_frame};
+use udc_core::sensor::{AdditiveGain, BinMode, FlatPatchSpec, RoiGrid, SensorSpec, flat_patch};
 
 /// Table 5.4's sensor with a 20-bit ADC: Table 5.1 leaves quantisation out, and so do these
 /// variances (≈ 1e-3 e⁻ steps).
@@ -27,7 +25,7 @@ fn fine_adc_sensor() -> SensorSpec {
 /// A flat 512×512 exposure at `light_e` read at pixel gain `gain` in `bin`-wide bins: one
 /// estimate per bin (its top-left pixel carries it) and whether any bin saturated.
 fn bin_estimates(
-    frame: &udc_studio::core::sensor::noise::Frame,
+    frame: &udc_core::sensor::noise::Frame,
     sensor: &SensorSpec,
     gain: f64,
     bin: usize,
@@ -161,7 +159,7 @@ fn with_the_same_gain_digital_binning_is_worse_than_additive() {
 }
 
 /// `|measured − predicted| ≤ k` binomial standard errors (plus one readout, for p at 0 or 1).
-fn assert_close(r: &udc_studio::core::sensor::FlatPatch, k: f64, what: &str) {
+fn assert_close(r: &udc_core::sensor::FlatPatch, k: f64, what: &str) {
     let slack = k * r.standard_error + 1.0 / r.readouts as f64;
     assert!(
         (r.saturated_fraction - r.predicted).abs() <= slack,
@@ -356,7 +354,7 @@ fn bad_flat_patches_name_their_field() {
     ];
     for (spec, field) in cases {
         match flat_patch(&spec, &sensor, &Progress::new()) {
-            Err(udc_studio::core::SimError::InvalidField { field: f, .. }) => assert_eq!(f, field),
+            Err(udc_core::SimError::InvalidField { field: f, .. }) => assert_eq!(f, field),
             other => panic!("{field}: {other:?}"),
         }
     }

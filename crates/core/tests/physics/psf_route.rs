@@ -2,13 +2,13 @@
 //! route's numbers to rounding on every kind of design, and the cost model picks every zoom
 //! kind somewhere (conventions.md §2, "PSF route").
 
-use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
-use udc_studio::core::display::aperture::{Display, Extent, effective_cells, rasterise};
-use udc_studio::core::psf::pruned::zoom_kinds;
-use udc_studio::core::psf::route::PsfRoute;
-use udc_studio::core::psf::zoom::ZoomKind;
-use udc_studio::core::{Analysis, Design, Progress};
-use udc_studio::io::presets::load_preset;
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
+use udc_core::display::aperture::{Display, Extent, effective_cells, rasterise};
+use udc_core::psf::pruned::zoom_kinds;
+use udc_core::psf::route::PsfRoute;
+use udc_core::psf::zoom::ZoomKind;
+use udc_core::{Analysis, Design, Progress};
+use udc_io::presets::load_preset;
 
 fn preset(name: &str) -> Design {
     load_preset(name).unwrap_or_else(|e| panic!("preset {name}: {e}"))
@@ -90,7 +90,7 @@ fn choices(design: &Design, quality: Quality) -> Vec<(PsfRoute, ZoomKind, ZoomKi
         .iter()
         .flatten()
         .map(|s| {
-            let route = udc_studio::core::psf::route::choose(&field, s.fft_size, &s.binning);
+            let route = udc_core::psf::route::choose(&field, s.fft_size, &s.binning);
             let (w, b) = zoom_kinds(&field, s.fft_size, &s.binning);
             (route, w, b)
         })

@@ -3,12 +3,12 @@
 //! where the array's edges do not reach, the same V to 1e-3, the same λ0 allocation, and the
 //! wrapped display wherever the lenslets differ.
 
-use udc_studio::core::Progress;
-use udc_studio::core::phase::{
+use udc_core::Progress;
+use udc_core::phase::{
     AllocationSettings, Chain, Incidence, Lambda0, MonoPsf, PhaseDesign, PhaseOptics,
     PhaseSampling, Relay, optimize_lambda0, v_matrix,
 };
-use udc_studio::io::spectral::{channels_from_response, thesis_response};
+use udc_io::spectral::{channels_from_response, thesis_response};
 
 fn with_relay(mut s: PhaseSampling, relay: Relay) -> PhaseSampling {
     s.relay = relay;
@@ -149,11 +149,8 @@ fn the_lenslet_period_keeps_v_and_the_allocation() {
     eprintln!("V: worst relative difference {worst:e}");
     assert!(worst < 1.5e-3, "{worst:e}");
     assert!(worst > 0.0);
-    let channels = channels_from_response(
-        &thesis_response(),
-        &udc_studio::core::phase::wavelength_grid_nm(),
-    )
-    .unwrap();
+    let channels =
+        channels_from_response(&thesis_response(), &udc_core::phase::wavelength_grid_nm()).unwrap();
     let settings = AllocationSettings::default();
     let (_, wa) = optimize_lambda0(
         &design,
@@ -249,13 +246,13 @@ fn the_relay_named_is_the_relay_taken() {
     let fast = PhaseSampling::preview().with_relay(Relay::LensletPeriod);
     let slow = PhaseSampling::preview();
     let mut one = PhaseDesign::thesis(42.0, 5.0);
-    let mut counts = vec![0; udc_studio::core::phase::GRID_LEN];
+    let mut counts = vec![0; udc_core::phase::GRID_LEN];
     counts[13] = 58;
     one.lambda0 = Lambda0::Counts { counts };
     let mut plan = PhaseDesign::thesis(42.0, 5.0);
     plan.lambda0 = Lambda0::Uniform;
     let mut centred = PhaseDesign::thesis(42.0, 5.0);
-    centred.sampling = udc_studio::core::phase::SamplingConvention::Centred;
+    centred.sampling = udc_core::phase::SamplingConvention::Centred;
     let mla = PhaseOptics::DoubleMla;
     let wrapped = PhaseSampling::preview().with_relay(Relay::WrappedDisplay);
     for (design, optics, named) in [
@@ -273,8 +270,7 @@ fn the_relay_named_is_the_relay_taken() {
         );
         assert_eq!(slow.relay_for(design, optics), Relay::WholeDisplay);
         // Asked for, the wrapped display is taken wherever there is a Fresnel step to wrap.
-        let wraps =
-            optics == mla && design.sampling == udc_studio::core::phase::SamplingConvention::Thesis;
+        let wraps = optics == mla && design.sampling == udc_core::phase::SamplingConvention::Thesis;
         assert_eq!(
             wrapped.relay_for(design, optics),
             if wraps {
@@ -303,13 +299,10 @@ fn the_relay_named_is_the_relay_taken() {
 /// fraction of its largest entry, channel by channel, and its LTR agrees.
 #[test]
 fn the_wrapped_display_gives_the_whole_displays_operator() {
-    use udc_studio::core::phase::imaging::phase_blur;
+    use udc_core::phase::imaging::phase_blur;
     let design = optimized_plan();
-    let channels = channels_from_response(
-        &thesis_response(),
-        &udc_studio::core::phase::wavelength_grid_nm(),
-    )
-    .unwrap();
+    let channels =
+        channels_from_response(&thesis_response(), &udc_core::phase::wavelength_grid_nm()).unwrap();
     let blur = |relay: Relay| {
         phase_blur(
             &design,
