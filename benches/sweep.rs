@@ -14,6 +14,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use udc_studio::cli::sweep::{RunOptions, run_sweep};
+use udc_studio::core::Progress;
 use udc_studio::core::sweep::Shard;
 use udc_studio::io::sweep::parse_spec;
 
@@ -38,7 +39,6 @@ fn bench(c: &mut Criterion) {
         threads: Some(2),
         quiet: true,
         plots: false,
-        stop: None,
         hold_after_points: None,
     };
     for (id, preset) in [
@@ -56,7 +56,13 @@ fn bench(c: &mut Criterion) {
                     Err(e) => panic!("temp dir: {e}"),
                 },
                 |dir| {
-                    let summary = run_sweep(&spec, &dir.path().join("r"), &options);
+                    let summary = run_sweep(
+                        &spec,
+                        &dir.path().join("r"),
+                        &options,
+                        &Progress::new(),
+                        &mut |_| {},
+                    );
                     black_box(summary.map(|s| s.computed).unwrap_or(0))
                 },
             );

@@ -4,7 +4,6 @@
 
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
@@ -57,19 +56,21 @@ fn sweep<'py>(
     threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let loaded = udc_io::sweep::load_spec(&spec).map_err(|e| crate::errors::io(&e))?;
-    let stop = Arc::new(AtomicBool::new(false));
+    let progress = Progress::new();
     let options = udc_cli::sweep::RunOptions {
         shard: Shard::WHOLE,
         threads,
         quiet: true,
         plots: true,
-        stop: Some(stop.clone()),
         hold_after_points: None,
     };
     let summary = cancel::wait(
         py,
-        || udc_cli::sweep::run_sweep(&loaded, &out, &options).map_err(|e| error(&e)),
-        || stop.store(true, Ordering::SeqCst),
+        || {
+            udc_cli::sweep::run_sweep(&loaded, &out, &options, &progress, &mut |_| {})
+                .map_err(|e| error(&e))
+        },
+        || progress.cancel(),
     )?;
     let out_dict = PyDict::new(py);
     out_dict.set_item("computed", summary.computed)?;

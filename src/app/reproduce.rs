@@ -2,12 +2,11 @@
 //! what it runs, checks and costs; a quick run in the background and the report it writes,
 //! shown in the window; any report on disk opened with a file dialog.
 //!
-//! A run is the studio's own program started as `reproduce ID --quick --out DIR`, watched from
-//! a job thread: the UI only polls, Cancel kills the process, and a crash in a run cannot take
-//! the studio (or the user's design) with it.
+//! A run is the library call behind `udc-studio reproduce ID --quick --out DIR`, made on a job
+//! thread: the UI only polls, the bar shows the share of the points in the tables, and Cancel
+//! stops the points in flight at their next check (a new run resumes the finished ones).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
 use std::time::Duration;
 
 use crate::app::dialogs::{self, FileSpec};
@@ -16,12 +15,8 @@ use crate::app::notice::Notice;
 use crate::core::Progress;
 use crate::core::reproduce::ResultId;
 
-/// The file each run writes its stderr to, beside its report (the error line comes from it).
-const LOG_FILE: &str = "reproduce.log";
 /// The largest report read (ours are a few kB).
 const REPORT_LIMIT_BYTES: u64 = 4 << 20;
-/// How often the job thread looks at the running process.
-const POLL: Duration = Duration::from_millis(100);
 
 /// A report read from disk.
 #[derive(Debug, Clone)]
@@ -35,8 +30,6 @@ pub struct ReproduceWindow {
     /// Whether the window is shown.
     pub open: bool,
     selected: ResultId,
-    /// The program run as `udc-studio` (this one, unless a test says otherwise).
-    program: Option<PathBuf>,
     /// Where runs write: `<data dir>/reproduce/<id>`.
     out_root: Option<PathBuf>,
     native_dialogs: bool,
@@ -55,7 +48,6 @@ impl ReproduceWindow {
         ReproduceWindow {
             open: false,
             selected: ResultId::ALL[0],
-            program: std::env::current_exe().ok(),
             out_root: data_dir.map(|d| d.join("reproduce")),
             native_dialogs,
             run: Keyed::idle(),
@@ -64,11 +56,6 @@ impl ReproduceWindow {
             message: None,
             markdown: egui_commonmark::CommonMarkCache::default(),
         }
-    }
-
-    /// Runs `program` instead of this executable (the test harness is not `udc-studio`).
-    pub fn set_program(&mut self, program: PathBuf) {
-        self.program = Some(program);
     }
 
     /// The result shown.
@@ -111,7 +98,7 @@ impl ReproduceWindow {
     /// Starts the quick run of the selected result.
     pub fn start_quick_run(&mut self, ctx: &egui::Context) {
         let id = self.selected;
-        let (Some(program), Some(out)) = (self.program.clone(), self.out_of(id)) else {
+        let Some(out) = self.out_of(id) else {
             self.message = Some(Notice::error(
                 "no folder to write results in (this system gives no data directory); run \
                  `udc-studio reproduce` from a terminal instead",
@@ -125,11 +112,11 @@ impl ReproduceWindow {
         self.message = None;
         self.run.start(
             id,
-            Job::spawn("reproduce", wake, move |p| quick_run(&program, id, &out, p)),
+            Job::spawn("reproduce", wake, move |p| quick_run(id, &out, p)),
         );
     }
 
-    /// Stops the run (its process is killed; a later run resumes what it finished).
+    /// Stops the run (a later run resumes the points it finished).
     pub fn cancel(&mut self) {
         if let Some(job) = self.run.job() {
             job.cancel();
@@ -302,43 +289,17 @@ impl ReproduceWindow {
     }
 }
 
-/// Runs `program reproduce ID --quick --out DIR` and waits for it, killing it on cancel; the
-/// report's path, or the run's last error line.
-fn quick_run(program: &Path, id: ResultId, out: &Path, p: &Progress) -> Result<PathBuf, JobError> {
-    let failed = |what: &str, e: std::io::Error| JobError::Failed(format!("{what}: {e}"));
-    std::fs::create_dir_all(out).map_err(|e| failed(&out.display().to_string(), e))?;
-    let log_path = out.join(LOG_FILE);
-    let log =
-        std::fs::File::create(&log_path).map_err(|e| failed(&log_path.display().to_string(), e))?;
-    let mut child = Command::new(program)
-        .args(["reproduce", id.as_str(), "--quick", "--out"])
-        .arg(out)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(log)
-        .spawn()
-        .map_err(|e| failed(&format!("cannot start {}", program.display()), e))?;
-    let status = loop {
-        if p.is_cancelled() {
-            // Already exited is fine: the run is over either way.
-            let _ = child.kill();
-            let _ = child.wait();
-            return Err(JobError::Cancelled);
-        }
-        match child.try_wait() {
-            Ok(Some(status)) => break status,
-            Ok(None) => std::thread::sleep(POLL),
-            Err(e) => return Err(failed("reproduce", e)),
-        }
-    };
-    if !status.success() {
-        let log = std::fs::read_to_string(&log_path).unwrap_or_default();
-        let last = log.lines().rev().find(|l| !l.trim().is_empty());
-        return Err(JobError::Failed(format!(
-            "reproduce {} failed: {}",
-            id.as_str(),
-            last.unwrap_or("no message")
-        )));
+/// Runs `reproduce ID --quick --out DIR` on this (the job's) thread: the library call the
+/// command line makes, reporting to and cancelled by the job's progress. The report's path.
+fn quick_run(id: ResultId, out: &Path, p: &Progress) -> Result<PathBuf, JobError> {
+    let geometry = crate::core::reproduce::Geometry::Ours;
+    match crate::cli::reproduce::reproduce(id, geometry, true, out, None, true, p) {
+        Ok(run) => Ok(run.report),
+        // A cancelled run stops between or inside its points; a new run resumes the rest.
+        Err(_) if p.is_cancelled() => Err(JobError::Cancelled),
+        Err(e) => Err(JobError::Failed(format!(
+            "reproduce {} failed: {e:#}",
+            id.as_str()
+        ))),
     }
-    Ok(out.join("report.md"))
 }

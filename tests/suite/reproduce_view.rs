@@ -3,7 +3,6 @@
 //! Cancel stops a long run, and a run that fails says why in one line.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::path::PathBuf;
 use std::time::Duration;
 
 use egui_kittest::kittest::Queryable;
@@ -11,15 +10,10 @@ use udc_studio::core::reproduce::ResultId;
 
 use crate::common::{open_reproduce_window, step_until, studio};
 
-fn program() -> PathBuf {
-    PathBuf::from(env!("CARGO_BIN_EXE_udc-studio"))
-}
-
 #[test]
 fn the_help_menu_lists_the_results_and_a_quick_run_opens_its_report() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = studio(dir.path(), false, Duration::from_secs(3600));
-    h.state_mut().reproduce_mut().set_program(program());
     open_reproduce_window(&mut h);
     assert!(h.state_mut().reproduce_mut().open);
     for id in ResultId::ALL {
@@ -61,7 +55,6 @@ fn the_help_menu_lists_the_results_and_a_quick_run_opens_its_report() {
 fn cancel_stops_a_run_and_a_failing_run_says_why() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = studio(dir.path(), false, Duration::from_secs(3600));
-    h.state_mut().reproduce_mut().set_program(program());
     open_reproduce_window(&mut h);
     h.get_by_label("fig3.8").click();
     h.step();
@@ -75,10 +68,10 @@ fn cancel_stops_a_run_and_a_failing_run_says_why() {
     });
     let m = h.state_mut().reproduce_mut().message().unwrap().clone();
     assert!(!m.is_error() && m.text.contains("cancelled"), "{m:?}");
-    // A program that is not the studio fails: one line, no report.
-    h.state_mut()
-        .reproduce_mut()
-        .set_program(PathBuf::from("/bin/false"));
+    // A results folder that cannot be made fails the run: one line, no report.
+    let out = dir.path().join("reproduce/fig3.8");
+    std::fs::remove_dir_all(&out).unwrap();
+    std::fs::write(&out, "not a folder").unwrap();
     h.get_by_label_contains("Run quick").click();
     step_until(&mut h, "the failed run", |app| {
         !app.reproduce_ref().is_running()

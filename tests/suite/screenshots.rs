@@ -381,9 +381,6 @@ fn reproduce_window_with_a_report() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     settle(&mut h);
-    h.state_mut()
-        .reproduce_mut()
-        .set_program(env!("CARGO_BIN_EXE_udc-studio").into());
     common::open_reproduce_window(&mut h);
     h.get_by_label("table5.1").click();
     h.step();

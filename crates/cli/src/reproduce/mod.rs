@@ -92,7 +92,15 @@ pub fn reproduce_cmd(args: &ReproduceArgs) -> Result<()> {
             d
         }
     });
-    let run = reproduce(id, geometry, args.quick, &out, args.threads, args.json)?;
+    let run = reproduce(
+        id,
+        geometry,
+        args.quick,
+        &out,
+        args.threads,
+        args.json,
+        &udc_core::Progress::new(),
+    )?;
     if args.json {
         crate::emit_json(&report::json_of(&run.info, &run.outcome, &run.report))?;
     } else {
@@ -154,6 +162,7 @@ pub fn reproduce(
     out: &Path,
     threads: Option<usize>,
     quiet: bool,
+    progress: &udc_core::Progress,
 ) -> Result<Reproduction> {
     let started = Instant::now();
     let parts = id.parts_for(geometry);
@@ -173,7 +182,7 @@ pub fn reproduce(
         elapsed_s: 0.0,
     };
     let plots_dir = out.join("plots");
-    for part in parts {
+    for (k, part) in parts.iter().enumerate() {
         let spec =
             prepare::prepared_spec(&root, id, part, quick.then_some(quick_photos.as_path()))?;
         for p in prepare::photos_of(&spec, part.inputs) {
@@ -195,10 +204,14 @@ pub fn reproduce(
             threads,
             quiet: quiet || !std::io::stderr().is_terminal(),
             plots: part.plots,
-            stop: None,
             hold_after_points: None,
         };
-        let summary = crate::sweep::run_sweep(&spec, &dir, &options)
+        // Each part fills its share of the bar.
+        let _span = progress.span(
+            k as f32 / parts.len() as f32,
+            (k + 1) as f32 / parts.len() as f32,
+        );
+        let summary = crate::sweep::run_sweep(&spec, &dir, &options, progress, &mut |_| {})
             .with_context(|| format!("{} ({})", id.as_str(), part.file))?;
         std::fs::create_dir_all(&plots_dir)
             .with_context(|| format!("cannot create {}", plots_dir.display()))?;

@@ -87,12 +87,18 @@ pub fn sweep_cmd(args: &SweepArgs) -> Result<()> {
                 threads: args.threads,
                 quiet: args.quiet,
                 plots: !args.no_plots,
-                stop: None,
                 hold_after_points: std::env::var(run::HOLD_AFTER_POINTS_ENV)
                     .ok()
                     .and_then(|v| v.parse().ok()),
             };
-            run_sweep(&spec, out, &options).map(|_| ())
+            run_sweep(
+                &spec,
+                out,
+                &options,
+                &udc_core::Progress::new(),
+                &mut |_| {},
+            )
+            .map(|_| ())
         }
     }
 }

@@ -13,6 +13,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
 use super::jobs::{FileDigests, command_line, evaluate_point, hash_of, point_params};
+use udc_core::Progress;
 use udc_core::sweep::{ParamValue, Points, Shard, SweepSpec};
 use udc_io::sweep::manifest::{
     CSV_FILE, FORMAT, MANIFEST_FILE, Manifest, PARQUET_FILE, read_manifest, spec_hash,
@@ -33,9 +34,6 @@ pub struct RunOptions {
     pub quiet: bool,
     /// Draw the plots when done (whole sweeps only).
     pub plots: bool,
-    /// A flag that stops the run as Ctrl-C does (finished points kept), for callers that
-    /// catch the signal themselves: the Python package's `KeyboardInterrupt`.
-    pub stop: Option<Arc<AtomicBool>>,
     /// Compute this many new points, then hold every worker until the run is stopped: a run
     /// that is certain to be interrupted midway, however fast the machine (the interruption
     /// tests; the command line sets it from `UDC_SWEEP_HOLD_AFTER_POINTS`).
@@ -111,12 +109,21 @@ fn compute_row(
     }
 }
 
-/// Runs a sweep (or one shard of it) into `out`, resuming what is there.
+/// Runs a sweep (or one shard of it) into `out`, resuming what is there. `progress` shows the
+/// share of the shard's points in the table and stops the run when cancelled: no new point
+/// starts, the points in flight stop at their next check and are left for a resume. Every row
+/// written (a computed or failed point) is handed to `on_row` as it lands.
 ///
 /// # Errors
 /// An invalid spec or axis value, a folder holding another sweep, unwritable files, a run
-/// stopped by Ctrl-C (after saving every finished point).
-pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunSummary> {
+/// stopped by Ctrl-C or `progress` (after saving every finished point).
+pub fn run_sweep(
+    spec: &SweepSpec,
+    out: &Path,
+    opts: &RunOptions,
+    progress: &Progress,
+    on_row: &mut (dyn FnMut(&Row) + Send),
+) -> Result<RunSummary> {
     let started = Instant::now();
     let points = Points::new(spec)?;
     let count = points.count();
@@ -258,11 +265,12 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
     );
     let skipped = AtomicU64::new(0);
     let started_points = AtomicU64::new(0);
-    let stop = opts
-        .stop
-        .clone()
-        .unwrap_or_else(|| Arc::new(AtomicBool::new(false)));
-    let _deferred = udc_io::safe_file::defer_signal_to(stop.clone());
+    // Ctrl-C drains: the points in flight finish and are saved (a second one quits).
+    let drain = Arc::new(AtomicBool::new(false));
+    let _deferred = udc_io::safe_file::defer_signal_to(drain.clone());
+    let stop = || drain.load(Ordering::SeqCst) || progress.is_cancelled();
+    // What the points in flight check: cancelled by the writer thread when `progress` is.
+    let in_flight = Arc::new(Progress::new());
     let (tx, rx) = std::sync::mpsc::sync_channel::<Row>(256);
 
     // The first point computed for the columns is written like any other.
@@ -276,9 +284,12 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
         failed += u64::from(!row.error.is_empty());
         computed += 1;
         csv.append(&row)?;
+        on_row(&row);
         parquet.append(row)?;
     }
     bar.set_position(done.len().min(total as usize) as u64);
+    let share = |rows: usize| rows.min(total as usize) as f32 / total.max(1) as f32;
+    progress.set(share(done.len()));
 
     let pool = {
         let mut b = rayon::ThreadPoolBuilder::new();
@@ -291,14 +302,26 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
     let done_ref = &done;
     let (n, f, parquet) = std::thread::scope(|scope| -> Result<(u64, u64, ParquetAppender)> {
         let bar_w = bar.clone();
+        let in_flight_w = in_flight.clone();
+        let rows_before = done_ref.len();
         let handle = scope.spawn(move || -> Result<(u64, u64, ParquetAppender)> {
             let (mut n, mut f) = (0u64, 0u64);
-            for row in rx {
+            loop {
+                if progress.is_cancelled() {
+                    in_flight_w.cancel();
+                }
+                let row = match rx.recv_timeout(std::time::Duration::from_millis(50)) {
+                    Ok(row) => row,
+                    Err(std::sync::mpsc::RecvTimeoutError::Timeout) => continue,
+                    Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => break,
+                };
                 f += u64::from(!row.error.is_empty());
                 n += 1;
                 csv.append(&row)?;
+                on_row(&row);
                 parquet.append(row)?;
                 bar_w.inc(1);
+                progress.set(share(rows_before + n as usize));
             }
             Ok((n, f, parquet))
         });
@@ -309,7 +332,7 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
                 .into_par_iter()
                 .filter(|i| shard.contains(*i))
                 .try_for_each_with(tx, |tx, i| {
-                    if stop.load(Ordering::SeqCst) {
+                    if stop() {
                         return Err(());
                     }
                     let row = match hash_at(i) {
@@ -323,12 +346,20 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
                             if let Some(hold) = opts.hold_after_points
                                 && started_points.fetch_add(1, Ordering::SeqCst) >= hold
                             {
-                                while !stop.load(Ordering::SeqCst) {
+                                while !stop() {
                                     std::thread::sleep(std::time::Duration::from_millis(10));
                                 }
                                 return Err(());
                             }
-                            compute_row(spec, &points, i, hash, &metrics).0
+                            let row = crate::cancel::with_cancel(in_flight.clone(), || {
+                                compute_row(spec, &points, i, hash, &metrics).0
+                            });
+                            // A point cut short by the cancel is not a result: a resume
+                            // computes it.
+                            if in_flight.is_cancelled() && !row.error.is_empty() {
+                                return Err(());
+                            }
+                            row
                         }
                         // An unreadable input file: a failed point with its message.
                         Err(e) => Row::failed(
@@ -359,7 +390,7 @@ pub fn run_sweep(spec: &SweepSpec, out: &Path, opts: &RunOptions) -> Result<RunS
     manifest.points_per_s = computed as f64 / elapsed.max(1e-9);
     write_manifest(out, &manifest)?;
     let skipped = skipped.load(Ordering::Relaxed);
-    let interrupted = stop.load(Ordering::SeqCst) && !manifest.complete;
+    let interrupted = stop() && !manifest.complete;
     let mut plots = Vec::new();
     if manifest.complete && opts.plots && shard.count == 1 {
         plots = udc_io::sweep::plots::write_plots(out, &manifest)?;
