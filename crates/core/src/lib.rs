@@ -51,6 +51,7 @@ pub mod denoise;
 pub mod design;
 pub mod display;
 pub mod error;
+pub mod figure;
 pub mod mask;
 pub mod optimize;
 pub mod phase;

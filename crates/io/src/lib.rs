@@ -38,6 +38,7 @@ pub mod design_file;
 pub mod error;
 pub mod export;
 pub mod fab;
+pub mod figure;
 pub mod hdr;
 pub mod image_planes;
 pub mod mask;

@@ -8,15 +8,10 @@ use super::{PhaseView, PhaseWorkspace, wavelength_color};
 use crate::core::phase::geometry::{Lenslets, profile_um};
 use crate::core::phase::{PhaseDesign, Surface};
 
-/// Plot colours of the R, G, B channels.
-const CHANNEL_COLORS: [Color32; 3] = [
-    Color32::from_rgb(235, 80, 70),
-    Color32::from_rgb(80, 200, 90),
-    Color32::from_rgb(80, 140, 255),
-];
-
 fn channel_color(i: usize) -> Color32 {
-    CHANNEL_COLORS.get(i).copied().unwrap_or(Color32::GRAY)
+    crate::core::figure::palette::CHANNELS
+        .get(i)
+        .map_or(Color32::GRAY, |&c| crate::app::widgets::figure::color32(c))
 }
 
 /// λ0 of every lenslet as a strip of coloured cells (Fig. 4.4). Returns the clicked lenslet.

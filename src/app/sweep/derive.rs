@@ -8,9 +8,10 @@ use std::sync::Arc;
 use super::table::{Column, Filter, Sort, SweepTable};
 use crate::app::error::StudioError;
 use crate::core::Progress;
+use crate::core::figure::Panel;
 use crate::core::sweep::summary::{ParetoPoint, SeriesSummary, pareto_front};
 use crate::core::sweep::{PlotKind, PlotSpec};
-use crate::io::sweep::plots::PlotData;
+use crate::io::sweep::plots::{PlotData, panel_of};
 use crate::io::sweep::table::ColumnKind;
 
 /// What the view asks for: the filter box's text, the sort order and the plots.
@@ -32,6 +33,9 @@ pub struct View {
     pub rows: Vec<usize>,
     /// Each plot with its data, or why it cannot be drawn (a column the table lacks).
     pub plots: Vec<(PlotSpec, Result<PlotData, StudioError>)>,
+    /// The figure of each plot whose data is there, in the order of `plots`: what the
+    /// workspace draws (the CLI's files draw the same panels).
+    pub panels: Vec<Option<Panel>>,
     /// The widest cell of each column over every row, in characters (errors capped at 60),
     /// so the table's columns do not change width as it scrolls or filters.
     pub widest: HashMap<Column, usize>,
@@ -48,18 +52,31 @@ pub fn derive(
 ) -> Result<View, crate::core::SimError> {
     let rows = table.view(&Filter::parse(&request.filter), request.sort);
     progress.check()?;
-    let plots = request
+    let plots: Vec<_> = request
         .plots
         .iter()
         .map(|p| (p.clone(), plot_data(table, &rows, p)))
+        .collect();
+    let panels = plots
+        .iter()
+        .map(|(p, d)| d.as_ref().ok().map(|d| panel_of(p, d, &title(p))))
         .collect();
     progress.check()?;
     Ok(View {
         request,
         rows,
         plots,
+        panels,
         widest: widest(table),
     })
+}
+
+/// A plot's title on screen: `y vs x`, or `Pareto: y vs x`.
+pub fn title(spec: &PlotSpec) -> String {
+    match spec.kind {
+        PlotKind::MetricVsAxis => format!("{} vs {}", spec.y, spec.x),
+        PlotKind::Pareto => format!("Pareto: {} vs {}", spec.y, spec.x),
+    }
 }
 
 /// See [`View::widest`]; metrics are formatted to at most 12 characters.

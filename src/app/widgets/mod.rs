@@ -2,6 +2,7 @@
 
 pub mod colormap;
 pub mod denoise;
+pub mod figure;
 pub mod photo;
 pub mod plot;
 

@@ -3,27 +3,12 @@
 
 use std::path::{Path, PathBuf};
 
-use plotters::coord::Shift;
-use plotters::coord::types::RangedCoordf64;
-use plotters::prelude::*;
-
 use super::manifest::{CSV_FILE, Manifest};
 use super::table::{ColumnKind, TableSchema, read_csv};
-use crate::error::{IoError, PlotError, TableError};
+use crate::error::{IoError, TableError};
+use udc_core::figure::{Axis, Mark, Panel, Series, palette};
 use udc_core::sweep::summary::{ParetoPoint, SeriesSummary, pareto_front};
 use udc_core::sweep::{PlotKind, PlotSpec, SweepJob};
-
-/// Plot size in pixels (PNG) and user units (SVG).
-const SIZE: (u32, u32) = (960, 600);
-/// Line colours, one per group.
-const PALETTE: [RGBColor; 6] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-    RGBColor(23, 190, 207),
-];
 
 /// The plots a spec asks for, or the defaults: the first metric against the first axis that
 /// is not a seed, spread over the seed axis and grouped by the next axis; for `analyze`, the
@@ -205,23 +190,11 @@ pub fn plot_data(dir: &Path, m: &Manifest, p: &PlotSpec) -> Result<PlotData, IoE
     }
 }
 
-fn register_font() {
-    static ONCE: std::sync::Once = std::sync::Once::new();
-    ONCE.call_once(|| {
-        let _ = plotters::style::register_font(
-            "sans-serif",
-            FontStyle::Normal,
-            epaint_default_fonts::UBUNTU_LIGHT,
-        );
-    });
-}
-
 /// Draws every plot of the folder into `dir/plots/` as PNG and SVG; returns the files written.
 ///
 /// # Errors
 /// [`IoError`] for an unreadable table, a missing column or a file that cannot be written.
 pub fn write_plots(dir: &Path, m: &Manifest) -> Result<Vec<PathBuf>, IoError> {
-    register_font();
     let plots_dir = dir.join("plots");
     std::fs::create_dir_all(&plots_dir)
         .map_err(|e| IoError::file("create the plots folder", &plots_dir, e))?;
@@ -251,197 +224,60 @@ pub fn write_plot(
     data: &PlotData,
     title: &str,
 ) -> Result<Vec<PathBuf>, IoError> {
-    register_font();
-    let svg_path = plots_dir.join(format!("{stem}.svg"));
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        draw(&root, p, data, title).map_err(|e| plot_error(&svg_path, e))?;
-        root.present()
-            .map_err(|e| plot_error(&svg_path, PlotError::Draw(e.to_string())))?;
-    }
-    crate::safe_file::write_atomic(&svg_path, svg.as_bytes())?;
-    let png_path = plots_dir.join(format!("{stem}.png"));
-    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(&root, p, data, title).map_err(|e| plot_error(&png_path, e))?;
-        root.present()
-            .map_err(|e| plot_error(&png_path, PlotError::Draw(e.to_string())))?;
-    }
-    let img = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb)
-        .ok_or_else(|| plot_error(&png_path, PlotError::BufferSize))?;
-    let mut bytes = Vec::new();
-    img.write_to(
-        &mut std::io::Cursor::new(&mut bytes),
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| plot_error(&png_path, PlotError::Encode(e)))?;
-    crate::safe_file::write_atomic(&png_path, &bytes)?;
-    Ok(vec![svg_path, png_path])
+    crate::figure::write_panel(plots_dir, stem, &panel_of(p, data, title))
 }
 
-fn plot_error(path: &Path, error: PlotError) -> IoError {
-    IoError::Plot {
-        path: path.to_path_buf(),
-        error,
-    }
-}
-
-fn bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = values
-        .filter(|v| v.is_finite())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-            (a.min(v), b.max(v))
-        });
-    if !lo.is_finite() {
-        return (0.0, 1.0);
-    }
-    let pad = if hi > lo {
-        0.05 * (hi - lo)
-    } else {
-        0.5 * lo.abs().max(1e-12)
-    };
-    (lo - pad, hi + pad)
-}
-
-type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
-
-/// The frame every plot shares: title, margins, label areas, linear axes over the ranges.
-fn chart_on<'a, DB: DrawingBackend>(
-    root: &'a DrawingArea<DB, Shift>,
-    title: &str,
-    x: (f64, f64),
-    y: (f64, f64),
-) -> Result<Chart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
-    ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 24))
-        .margin(16)
-        .x_label_area_size(48)
-        .y_label_area_size(80)
-        .build_cartesian_2d(x.0..x.1, y.0..y.1)
-}
-
-/// The legend every plot draws, over its series.
-fn legend<'a, DB: DrawingBackend + 'a>(
-    chart: &mut Chart<'a, DB>,
-) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 16))
-        .draw()
-}
-
-fn draw<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    p: &PlotSpec,
-    data: &PlotData,
-    title: &str,
-) -> Result<(), PlotError> {
-    // plotters' error type depends on the backend, so its text is what is kept.
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::Draw(e.to_string());
-    root.fill(&WHITE).map_err(e)?;
-    match data {
+/// The figure of one plot: each group's mean as a line with dots and its min–max band where a
+/// group has several rows at one x (seeds); a Pareto plot's rows as a cloud and its front as a
+/// line. The studio draws the same panel.
+pub fn panel_of(p: &PlotSpec, data: &PlotData, title: &str) -> Panel {
+    let mut x = Axis::new(p.x.clone(), None);
+    let y = Axis::new(p.y.clone(), None);
+    let series = match data {
         PlotData::Series { summary, x_labels } => {
-            let xs = summary.lines.values().flat_map(|l| l.keys().map(|k| k.0));
-            let ys = summary
+            x.categories.clone_from(x_labels);
+            summary
                 .lines
-                .values()
-                .flat_map(|l| l.values().flat_map(|s| [s.min, s.max]));
-            let (x0, x1) = bounds(xs);
-            let (y0, y1) = bounds(ys);
-            let mut chart = chart_on(root, title, (x0, x1), (y0, y1)).map_err(e)?;
-            let labels = x_labels.clone();
-            let fmt_x = move |v: &f64| match &labels {
-                Some(l) => {
-                    let i = v.round();
-                    if (v - i).abs() < 1e-6 && i >= 0.0 {
-                        l.get(i as usize).cloned().unwrap_or_default()
+                .iter()
+                .enumerate()
+                .map(|(i, (name, line))| Series {
+                    name: if name.is_empty() {
+                        p.y.clone()
                     } else {
-                        String::new()
-                    }
-                }
-                None => format!("{}", (v * 1e4).round() / 1e4),
-            };
-            chart
-                .configure_mesh()
-                .x_desc(p.x.as_str())
-                .y_desc(p.y.as_str())
-                .x_label_formatter(&fmt_x)
-                .label_style(("sans-serif", 16))
-                .draw()
-                .map_err(e)?;
-            for (i, (name, line)) in summary.lines.iter().enumerate() {
-                let color = PALETTE[i % PALETTE.len()];
-                if p.spread.is_some() {
-                    let mut band: Vec<(f64, f64)> =
-                        line.iter().map(|(x, s)| (x.0, s.max)).collect();
-                    band.extend(line.iter().rev().map(|(x, s)| (x.0, s.min)));
-                    chart
-                        .draw_series(std::iter::once(Polygon::new(band, color.mix(0.18))))
-                        .map_err(e)?;
-                }
-                let mean: Vec<(f64, f64)> = line.iter().map(|(x, s)| (x.0, s.mean())).collect();
-                let series = chart
-                    .draw_series(LineSeries::new(mean.clone(), color.stroke_width(2)))
-                    .map_err(e)?;
-                if !name.is_empty() {
-                    series.label(name.clone()).legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
-                }
-                chart
-                    .draw_series(
-                        mean.iter()
-                            .map(|&(x, y)| Circle::new((x, y), 4, color.filled())),
-                    )
-                    .map_err(e)?;
-            }
-            if summary.lines.keys().any(|k| !k.is_empty()) {
-                legend(&mut chart).map_err(e)?;
-            }
+                        name.clone()
+                    },
+                    colour: palette::series(i),
+                    mark: Mark::LineAndPoints,
+                    points: line.iter().map(|(x, s)| [x.0, s.mean()]).collect(),
+                    band: line
+                        .values()
+                        .any(|s| s.n > 1)
+                        .then(|| line.iter().map(|(x, s)| [x.0, s.min, s.max]).collect()),
+                })
+                .collect()
         }
-        PlotData::Pareto { points, front } => {
-            let (x0, x1) = bounds(points.iter().map(|q| q.x));
-            let (y0, y1) = bounds(points.iter().map(|q| q.y));
-            let mut chart = chart_on(root, title, (x0, x1), (y0, y1)).map_err(e)?;
-            chart
-                .configure_mesh()
-                .x_desc(p.x.as_str())
-                .y_desc(p.y.as_str())
-                .label_style(("sans-serif", 16))
-                .draw()
-                .map_err(e)?;
-            chart
-                .draw_series(
-                    points
-                        .iter()
-                        .map(|q| Circle::new((q.x, q.y), 3, PALETTE[0].mix(0.5).filled())),
-                )
-                .map_err(e)?
-                .label("points")
-                .legend(|(x, y)| Circle::new((x + 10, y), 3, PALETTE[0].filled()));
-            chart
-                .draw_series(LineSeries::new(
-                    front.iter().map(|q| (q.x, q.y)),
-                    PALETTE[1].stroke_width(2),
-                ))
-                .map_err(e)?
-                .label("Pareto front")
-                .legend(|(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], PALETTE[1].stroke_width(2))
-                });
-            chart
-                .draw_series(
-                    front
-                        .iter()
-                        .map(|q| Circle::new((q.x, q.y), 5, PALETTE[1].filled())),
-                )
-                .map_err(e)?;
-            legend(&mut chart).map_err(e)?;
-        }
+        PlotData::Pareto { points, front } => vec![
+            Series {
+                name: "rows".into(),
+                colour: palette::series(0),
+                mark: Mark::Points,
+                points: points.iter().map(|q| [q.x, q.y]).collect(),
+                band: None,
+            },
+            Series {
+                name: "Pareto front".into(),
+                colour: palette::series(1),
+                mark: Mark::LineAndPoints,
+                points: front.iter().map(|q| [q.x, q.y]).collect(),
+                band: None,
+            },
+        ],
+    };
+    Panel {
+        title: title.to_string(),
+        x,
+        y,
+        series,
+        annotations: Vec::new(),
     }
-    Ok(())
 }

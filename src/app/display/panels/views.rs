@@ -20,9 +20,8 @@ mod theory;
 use egui::{RichText, Ui};
 
 use self::images::{
-    DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, Grid, airy_radius_um, channel_color, linear_image,
-    log_image, mtf_repeat_cyc_per_px, multiples_up_to, order_spacing_um, peak, rgb_composite,
-    rgb_slots,
+    DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, Grid, channel_color, linear_image, log_image, peak,
+    rgb_composite, rgb_slots,
 };
 use self::overlay::{OverlayChoice, psf_overlay};
 use self::plots::{
@@ -33,6 +32,9 @@ use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
 use crate::app::widgets::colormap::Colormap;
 use crate::core::analysis::analyze::ChannelAnalysis;
+use crate::core::theory::landmarks::{
+    airy_radius_um, mtf_repeat_cyc_per_px, multiples_up_to, order_spacing_um,
+};
 
 /// The tabs of the result views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -1,10 +1,11 @@
 //! The reference marks over the PSF images: the lens's Airy ring and the display's
 //! diffraction orders, each switched on or off above the plot.
 
-use super::images::{Grid, airy_radius_um, order_lattice, order_spacing_um};
+use super::images::Grid;
 use super::plots::PsfOverlay;
 use crate::app::display::panels::Shown;
 use crate::core::analysis::analyze::ChannelAnalysis;
+use crate::core::theory::landmarks::{airy_radius_um, order_lattice, order_spacing_um};
 
 /// Which reference marks are drawn over the PSF images.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,0 +1,237 @@
+//! Figures as data: panels of series with named axes and units, bands, annotations (rings,
+//! lattices, marker lines) and one palette, described once by pure functions and drawn by
+//! each front end its own way: the studio with egui_plot, files with plotters (PNG and SVG),
+//! Python as arrays with this metadata. Nothing here knows how a figure is drawn.
+
+/// A colour, 8 bits a channel (sRGB).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rgb(pub u8, pub u8, pub u8);
+
+/// The colours every figure draws with.
+pub mod palette {
+    use super::Rgb;
+
+    /// One colour a series, in order (matplotlib's "tab10" start, readable on white and on a
+    /// dark theme).
+    pub const SERIES: [Rgb; 6] = [
+        Rgb(31, 119, 180),
+        Rgb(214, 39, 40),
+        Rgb(44, 160, 44),
+        Rgb(148, 103, 189),
+        Rgb(255, 127, 14),
+        Rgb(23, 190, 207),
+    ];
+
+    /// The colour of series `i`, cycling.
+    pub fn series(i: usize) -> Rgb {
+        SERIES[i % SERIES.len()]
+    }
+
+    /// The colours of a camera's red, green and blue channels in plots and overlays.
+    pub const CHANNELS: [Rgb; 3] = [Rgb(230, 75, 60), Rgb(60, 175, 80), Rgb(70, 130, 235)];
+
+    /// Annotations drawn over data (rings, lattices, marker lines).
+    pub const ANNOTATION: Rgb = Rgb(255, 170, 0);
+}
+
+/// One axis: what it measures and in what unit; a categorical axis names its positions
+/// `0, 1, 2, …`.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Axis {
+    /// What the axis measures (`pitch`, `AUC of the radial-minimum MTF`).
+    pub label: String,
+    /// Its unit (`µm`, `cycles/pixel`); `None` for a pure number or a unit already in the label.
+    pub unit: Option<String>,
+    /// Names of the positions of a categorical axis (a tiling, a display), by index.
+    pub categories: Option<Vec<String>>,
+}
+
+impl Axis {
+    /// An axis of a quantity in a unit.
+    pub fn new(label: impl Into<String>, unit: Option<&str>) -> Self {
+        Axis {
+            label: label.into(),
+            unit: unit.map(str::to_string),
+            categories: None,
+        }
+    }
+
+    /// The axis title as drawn: `label (unit)`.
+    pub fn title(&self) -> String {
+        match &self.unit {
+            Some(u) => format!("{} ({u})", self.label),
+            None => self.label.clone(),
+        }
+    }
+
+    /// The tick label at `value`: the category there on a categorical axis (nothing between
+    /// categories), else `None` for the renderer's own number.
+    pub fn category_at(&self, value: f64) -> Option<String> {
+        let names = self.categories.as_ref()?;
+        let i = value.round();
+        Some(if (value - i).abs() < 1e-6 && i >= 0.0 {
+            names.get(i as usize).cloned().unwrap_or_default()
+        } else {
+            String::new()
+        })
+    }
+}
+
+/// How a series is marked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mark {
+    /// A line through the points.
+    Line,
+    /// The points alone (a cloud).
+    Points,
+    /// A line with a dot at each point.
+    LineAndPoints,
+}
+
+/// One named series of points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Its legend entry.
+    pub name: String,
+    /// Its colour.
+    pub colour: Rgb,
+    /// How it is marked.
+    pub mark: Mark,
+    /// `[x, y]` in the axes' units, in drawing order.
+    pub points: Vec<[f64; 2]>,
+    /// A shaded spread around it, `[x, low, high]` (min–max over seeds), when there is one.
+    pub band: Option<Vec<[f64; 3]>>,
+}
+
+/// Something drawn over the data to read it by: a physics landmark or a marker.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Annotation {
+    /// A circle (the Airy disc's first dark ring).
+    Ring {
+        /// Its centre, in the axes' units.
+        centre: [f64; 2],
+        /// Its radius, in the axes' units.
+        radius: f64,
+        /// What it marks.
+        label: String,
+    },
+    /// Points of a lattice (the diffraction orders of a periodic tiling).
+    Lattice {
+        /// The lattice points, in the axes' units.
+        points: Vec<[f64; 2]>,
+        /// What they mark.
+        label: String,
+    },
+    /// A vertical line at `x`.
+    VLine {
+        /// Where.
+        x: f64,
+        /// What it marks.
+        label: String,
+    },
+    /// A horizontal line at `y`.
+    HLine {
+        /// Where.
+        y: f64,
+        /// What it marks.
+        label: String,
+    },
+}
+
+/// One plot: axes, series and annotations under a title.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Panel {
+    /// Its title.
+    pub title: String,
+    /// The horizontal axis.
+    pub x: Axis,
+    /// The vertical axis.
+    pub y: Axis,
+    /// The data, drawn in order.
+    pub series: Vec<Series>,
+    /// Drawn over the data.
+    pub annotations: Vec<Annotation>,
+}
+
+impl Panel {
+    /// Whether the panel needs a legend: more than one series to tell apart (one series is
+    /// named by the title, and a legend box would hide part of a small plot).
+    pub fn wants_legend(&self) -> bool {
+        self.series.len() > 1
+    }
+
+    /// The smallest and largest x and y of the data (bands included), ignoring non-finite
+    /// values; `None` when there is none.
+    pub fn data_bounds(&self) -> Option<([f64; 2], [f64; 2])> {
+        let mut x = [f64::INFINITY, f64::NEG_INFINITY];
+        let mut y = x;
+        let mut add = |px: f64, py: f64| {
+            if px.is_finite() && py.is_finite() {
+                x = [x[0].min(px), x[1].max(px)];
+                y = [y[0].min(py), y[1].max(py)];
+            }
+        };
+        for s in &self.series {
+            for p in &s.points {
+                add(p[0], p[1]);
+            }
+            for b in s.band.iter().flatten() {
+                add(b[0], b[1]);
+                add(b[0], b[2]);
+            }
+        }
+        x[0].is_finite().then_some((x, y))
+    }
+}
+
+/// A figure: one or more panels side by side and a caption.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Figure {
+    /// The panels, left to right.
+    pub panels: Vec<Panel>,
+    /// A sentence under the figure, when it has one.
+    pub caption: Option<String>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_axis_title_carries_its_unit() {
+        assert_eq!(Axis::new("pitch", Some("µm")).title(), "pitch (µm)");
+        assert_eq!(Axis::new("AUC", None).title(), "AUC");
+    }
+
+    #[test]
+    fn a_categorical_axis_names_whole_positions_only() {
+        let mut a = Axis::new("tiling", None);
+        assert_eq!(a.category_at(1.0), None);
+        a.categories = Some(vec!["repeat".into(), "random".into()]);
+        assert_eq!(a.category_at(1.0).as_deref(), Some("random"));
+        assert_eq!(a.category_at(0.5).as_deref(), Some(""));
+        assert_eq!(a.category_at(5.0).as_deref(), Some(""));
+        assert_eq!(a.category_at(-1.0).as_deref(), Some(""));
+    }
+
+    #[test]
+    fn bounds_cover_points_and_bands_and_skip_non_finite_values() {
+        let mut p = Panel::default();
+        assert_eq!(p.data_bounds(), None);
+        p.series.push(Series {
+            name: "a".into(),
+            colour: palette::series(0),
+            mark: Mark::Line,
+            points: vec![[1.0, 2.0], [f64::NAN, 100.0], [3.0, 4.0]],
+            band: Some(vec![[1.0, 0.5, 2.5], [3.0, 3.0, 9.0]]),
+        });
+        assert_eq!(p.data_bounds(), Some(([1.0, 3.0], [0.5, 9.0])));
+        assert!(!p.wants_legend());
+    }
+
+    #[test]
+    fn the_palette_cycles() {
+        assert_eq!(palette::series(0), palette::series(palette::SERIES.len()));
+        assert_ne!(palette::series(0), palette::series(1));
+    }
+}
