@@ -7,7 +7,9 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use egui_kittest::Harness;
-use udc_studio::app::{AppDirs, DisplayAction, Payload, StudioApp, StudioOptions, Worker};
+use udc_studio::app::{
+    AppDirs, DisplayAction, DisplayWorkspace, Payload, StudioApp, StudioOptions, Worker,
+};
 use udc_studio::core::Design;
 use udc_studio::core::analysis::analyze::Quality;
 
@@ -30,14 +32,18 @@ fn harness() -> Harness<'static, StudioApp> {
 fn frame_while_dragging(c: &mut Criterion) {
     let mut h = harness();
     h.state_mut()
-        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
+        .ws_with_shell(|ws: &mut DisplayWorkspace, shell| {
+            ws.act(DisplayAction::LoadPreset("toled-150dpi".into()), shell);
+        });
     let start = Instant::now();
-    while !h.state().is_up_to_date() && start.elapsed() < Duration::from_secs(30) {
+    while !h.state().ws::<DisplayWorkspace>().is_up_to_date()
+        && start.elapsed() < Duration::from_secs(30)
+    {
         h.step();
         std::thread::sleep(Duration::from_millis(5));
     }
     h.step();
-    let Some(rect) = h.state().editor().grid_rect() else {
+    let Some(rect) = h.state().ws::<DisplayWorkspace>().editor().grid_rect() else {
         eprintln!("editor not drawn; skipping");
         return;
     };

@@ -42,8 +42,6 @@ pub use settings::{AppDirs, Settings};
 use workspace::Pending;
 pub use workspace::{DroppedKind, Request, Shell, Workspace, WorkspaceId};
 
-use crate::core::Design;
-
 /// How often the design is autosaved while it changes.
 pub const AUTOSAVE_EVERY: Duration = Duration::from_secs(3);
 
@@ -148,7 +146,7 @@ impl StudioApp {
     }
 
     /// Help ▸ Reproduce thesis results.
-    pub fn reproduce_ref(&self) -> &reproduce::ReproduceWindow {
+    pub fn reproduce(&self) -> &reproduce::ReproduceWindow {
         &self.reproduce
     }
 
@@ -157,18 +155,33 @@ impl StudioApp {
         &mut self.reproduce
     }
 
-    fn get<T: Workspace>(&self) -> &T {
+    /// The workspace of type `T`: the one way from the shell to a workspace's state (tests
+    /// reach each workspace through it; nothing workspace-specific lives in the shell).
+    pub fn ws<T: Workspace>(&self) -> &T {
         self.workspaces
             .iter()
             .find_map(|w| w.as_any().downcast_ref::<T>())
             .expect("every workspace type is in the list from the start")
     }
 
-    fn get_mut<T: Workspace>(&mut self) -> &mut T {
+    /// The workspace of type `T`, mutable.
+    pub fn ws_mut<T: Workspace>(&mut self) -> &mut T {
         self.workspaces
             .iter_mut()
             .find_map(|w| w.as_any_mut().downcast_mut::<T>())
             .expect("every workspace type is in the list from the start")
+    }
+
+    /// Runs `f` on the workspace of type `T` with the shell it edits through (its history's
+    /// status line, dialogs, settings): how an action is carried out as its menu item would.
+    pub fn ws_with_shell<T: Workspace, R>(&mut self, f: impl FnOnce(&mut T, &mut Shell) -> R) -> R {
+        let shell = &mut self.shell;
+        let ws = self
+            .workspaces
+            .iter_mut()
+            .find_map(|w| w.as_any_mut().downcast_mut::<T>())
+            .expect("every workspace type is in the list from the start");
+        f(ws, shell)
     }
 
     fn workspace_mut(&mut self, id: WorkspaceId) -> &mut dyn Workspace {
@@ -180,111 +193,14 @@ impl StudioApp {
         self.workspaces[i].as_mut()
     }
 
-    /// The display-layout workspace.
-    pub fn display(&self) -> &DisplayWorkspace {
-        self.get()
-    }
-
-    /// The display-layout workspace, mutable.
-    pub fn display_mut(&mut self) -> &mut DisplayWorkspace {
-        self.get_mut()
-    }
-
-    /// The design being edited in the display workspace.
-    pub fn design(&self) -> &Design {
-        self.display().design()
-    }
-
-    /// The display workspace's document.
-    pub fn document(&self) -> &Document {
-        self.display().document()
-    }
-
-    /// The display workspace's result on screen, if any.
-    pub fn shown(&self) -> Option<&panels::Shown> {
-        self.display().shown()
-    }
-
-    /// The pinned comparison design, if any.
-    pub fn pinned(&self) -> Option<&panels::Pinned> {
-        self.display().pinned()
-    }
-
-    /// Whether the shown result is the full-quality result of the current design.
-    pub fn is_up_to_date(&self) -> bool {
-        self.display().is_up_to_date()
-    }
-
     /// The status-bar message.
     pub fn status(&self) -> Option<&Notice> {
         self.shell.status()
     }
 
-    /// The editor panel (tests use its grid rectangle to draw with the pointer).
-    pub fn editor(&self) -> &panels::editor::EditorPanel {
-        self.display().editor()
-    }
-
     /// Runs a shell command as if its menu item or shortcut had been used.
     pub fn command(&mut self, command: ShellCommand) {
         self.apply(command);
-    }
-
-    /// Runs a display workspace's action as if its menu item, shortcut or button had been used.
-    pub fn act(&mut self, action: DisplayAction) {
-        let shell = &mut self.shell;
-        if let Some(ws) = self
-            .workspaces
-            .iter_mut()
-            .find_map(|w| w.as_any_mut().downcast_mut::<DisplayWorkspace>())
-        {
-            ws.act(action, shell);
-        }
-    }
-
-    /// The optimize panel (tests read its runs).
-    pub fn optimizer(&self) -> &panels::optimize::OptimizePanel {
-        self.display().optimizer()
-    }
-
-    /// The optimize panel's settings (tests set up runs through it).
-    pub fn optimizer_settings(&mut self) -> &mut crate::core::optimize::OptimizeSettings {
-        self.display_mut().optimizer_settings()
-    }
-
-    /// The Export-mask dialog.
-    pub fn mask_export(&self) -> &panels::mask_export::MaskExportDialog {
-        self.display().mask_export()
-    }
-
-    /// The sensor previewer workspace.
-    pub fn sensor(&mut self) -> &mut sensor::SensorWorkspace {
-        self.get_mut()
-    }
-
-    /// The sensor previewer, read-only (for `step_until` conditions).
-    pub fn sensor_ref(&self) -> &sensor::SensorWorkspace {
-        self.get()
-    }
-
-    /// The phase-mask workspace.
-    pub fn phase(&mut self) -> &mut phase::PhaseWorkspace {
-        self.get_mut()
-    }
-
-    /// The phase-mask workspace, read-only (for `step_until` conditions).
-    pub fn phase_ref(&self) -> &phase::PhaseWorkspace {
-        self.get()
-    }
-
-    /// The Sweep workspace.
-    pub fn sweep(&mut self) -> &mut sweep::SweepWorkspace {
-        self.get_mut()
-    }
-
-    /// The Sweep workspace, read-only (for `step_until` conditions).
-    pub fn sweep_ref(&self) -> &sweep::SweepWorkspace {
-        self.get()
     }
 
     /// The workspace on screen.
@@ -295,36 +211,6 @@ impl StudioApp {
     /// Switches between the workspaces.
     pub fn set_workspace(&mut self, workspace: WorkspaceId) {
         self.active = workspace;
-    }
-
-    /// The result views (tests pick tabs and read the Restore view).
-    pub fn views(&mut self) -> &mut panels::views::ViewsPanel {
-        self.display_mut().views()
-    }
-
-    /// The Restore view's results.
-    pub fn restore_view(&self) -> &panels::views::restore::RestoreView {
-        self.display().restore_view()
-    }
-
-    /// The Appearance view's renderings and scatter.
-    pub fn appearance_view(&self) -> &panels::views::appearance::AppearanceView {
-        self.display().appearance_view()
-    }
-
-    /// Shows a tab of the display workspace's left panel.
-    pub fn show_left_tab(&mut self, tab: LeftTab) {
-        self.display_mut().show_left_tab(tab);
-    }
-
-    /// The display editor's current tool.
-    pub fn tool(&self) -> Tool {
-        self.display().tool()
-    }
-
-    /// Reads a design file into the display workspace (as File > Open would).
-    pub fn open_path(&mut self, path: PathBuf) {
-        self.act(DisplayAction::OpenPath(path));
     }
 
     /// Carries out one of the shell's own commands.

@@ -15,6 +15,7 @@ use udc_studio::core::psf::warning::{Severity, WarningKind};
 use udc_studio::core::{Analysis, Design, Progress};
 use udc_studio::io::presets::{self, load_preset};
 
+use crate::common::Reach;
 use crate::common::{self, run_cli, step_until};
 
 fn analysis(design: &Design, quality: Quality) -> Analysis {
@@ -192,18 +193,16 @@ fn apply_sets_the_advised_optics_and_undo_restores_them() {
     let mut h = common::studio(dir.path(), false, Duration::from_millis(200));
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
-    step_until(
-        &mut h,
-        "the result and its advice",
-        StudioApp::is_up_to_date,
-    );
+    step_until(&mut h, "the result and its advice", |a: &StudioApp| {
+        a.display().is_up_to_date()
+    });
     // On the Optics tab (the opening editor has an Apply button of its own).
-    h.state_mut().show_left_tab(LeftTab::Optics);
+    h.state_mut().display_mut().show_left_tab(LeftTab::Optics);
     h.step();
     assert!(h.query_by_value("294 px").is_some(), "the window field");
     assert!(h.query_by_value("8.00 µm").is_some(), "the δ1 field");
-    let before = h.state().design().optics.clone();
-    let fix = h.state().shown().unwrap().analysis.warnings[0]
+    let before = h.state().display().design().optics.clone();
+    let fix = h.state().display().shown().unwrap().analysis.warnings[0]
         .fix
         .clone()
         .expect("the note's fix");
@@ -223,21 +222,36 @@ fn apply_sets_the_advised_optics_and_undo_restores_them() {
     );
     h.get_by_label("Apply").click();
     h.step();
-    assert_eq!(h.state().design().optics, fix.optics);
-    assert_eq!(h.state().design().optics.window_px, 588);
-    assert_eq!(h.state().design().optics.recipe, OpticsRecipe::Custom);
+    assert_eq!(h.state().display().design().optics, fix.optics);
+    assert_eq!(h.state().display().design().optics.window_px, 588);
+    assert_eq!(
+        h.state().display().design().optics.recipe,
+        OpticsRecipe::Custom
+    );
     // The Optics panel shows the new values.
     h.step();
     assert!(h.query_by_value("588 px").is_some(), "the window field");
     assert!(h.query_by_value("4.00 µm").is_some(), "the δ1 field");
     // The fixed design's result has nothing to say, so no Apply button is left.
-    step_until(&mut h, "the fixed result", StudioApp::is_up_to_date);
-    assert!(h.state().shown().unwrap().analysis.warnings.is_empty());
+    step_until(
+        &mut h,
+        "the fixed result",
+        crate::common::display_up_to_date,
+    );
+    assert!(
+        h.state()
+            .display()
+            .shown()
+            .unwrap()
+            .analysis
+            .warnings
+            .is_empty()
+    );
     assert!(h.query_by_label("Apply").is_none());
     // One undo step restores the thesis recipe.
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     h.step();
-    assert_eq!(h.state().design().optics, before);
+    assert_eq!(h.state().display().design().optics, before);
     h.step();
     assert!(h.query_by_value("294 px").is_some());
 }

@@ -6,10 +6,11 @@ use crate::common;
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
+use udc_studio::app::DisplayAction;
 use udc_studio::app::panels::views::ViewTab;
-use udc_studio::app::{DisplayAction, StudioApp};
 
 #[test]
 fn the_appearance_view_shows_quality_beside_the_camera_auc() {
@@ -19,13 +20,16 @@ fn the_appearance_view_shows_quality_beside_the_camera_auc() {
     let mut h = common::studio(dir.path(), shots.is_some(), Duration::from_secs(600));
     h.state_mut()
         .act(DisplayAction::LoadPreset("l2inv-repeat".into()));
-    step_until(&mut h, "the result", StudioApp::is_up_to_date);
-    h.state_mut().views().set_tab(ViewTab::Appearance);
+    step_until(&mut h, "the result", crate::common::display_up_to_date);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .set_tab(ViewTab::Appearance);
     step_until(&mut h, "both renderings", |app| {
-        let v = app.appearance_view();
+        let v = app.display().appearance_view();
         !v.is_running() && v.qualities().len() == 2
     });
-    let q = h.state().appearance_view().qualities();
+    let q = h.state().display().appearance_view().qualities();
     assert_eq!(q[0].0, "periodic");
     assert!(q[1].0.starts_with("random"));
     assert!(
@@ -51,18 +55,21 @@ fn the_appearance_view_shows_quality_beside_the_camera_auc() {
 fn the_preset_scatter_places_the_thesis_layouts_on_auc_and_nonuniformity() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
-    step_until(&mut h, "the result", StudioApp::is_up_to_date);
-    h.state_mut().views().set_tab(ViewTab::Appearance);
+    step_until(&mut h, "the result", crate::common::display_up_to_date);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .set_tab(ViewTab::Appearance);
     step_until(&mut h, "the renderings", |app| {
-        !app.appearance_view().is_running()
+        !app.display().appearance_view().is_running()
     });
     h.get_by_label("Scatter presets").click();
     h.step();
     step_until(&mut h, "the scatter", |app| {
-        let v = app.appearance_view();
+        let v = app.display().appearance_view();
         !v.is_running() && !v.scatter().is_empty()
     });
-    let points = h.state().appearance_view().scatter().to_vec();
+    let points = h.state().display().appearance_view().scatter().to_vec();
     let at = |name: &str| {
         points
             .iter()

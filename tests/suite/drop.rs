@@ -5,6 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
+use crate::common::Reach;
 use crate::common::{self, step_until};
 use udc_studio::app::WorkspaceId;
 use udc_studio::app::phase::PhaseView;
@@ -43,21 +44,21 @@ fn each_dropped_file_reaches_the_workspace_that_opens_it() {
     drop_file(&mut h, asset("hdr/StillLife_620x423.exr"));
     assert_eq!(h.state().workspace(), WorkspaceId::Sensor);
     step_until(&mut h, "the dropped scene", |app| {
-        app.sensor_ref().scene_name() == Some("StillLife_620x423.exr")
+        app.sensor().scene_name() == Some("StillLife_620x423.exr")
     });
     // A photo dropped on the phase workspace becomes its capture photo, not a display opening.
     h.state_mut().set_workspace(WorkspaceId::Phase);
     h.step();
     drop_file(&mut h, asset("photos/coffee_256.png"));
     assert_eq!(h.state().workspace(), WorkspaceId::Phase);
-    assert_eq!(h.state().phase_ref().view, PhaseView::Capture);
+    assert_eq!(h.state().phase().view, PhaseView::Capture);
     step_until(&mut h, "the dropped photo", |app| {
-        app.phase_ref().capture_photo_name() == Some("coffee_256.png")
+        app.phase().capture_photo_name() == Some("coffee_256.png")
     });
     // A response CSV dropped there becomes the sensor response.
     drop_file(&mut h, asset("spectral/thesis_sensor_response.csv"));
     step_until(&mut h, "the dropped response", |app| {
-        app.phase_ref().custom_response().is_some()
+        app.phase().custom_response().is_some()
     });
     // A design file goes to the display, wherever it is dropped.
     let design = dir.path().join("d.json");

@@ -6,6 +6,7 @@ use crate::common;
 
 use std::time::{Duration, Instant};
 
+use crate::common::Reach;
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::panels::views::ViewTab;
@@ -32,7 +33,7 @@ fn wait_for_result(h: &mut egui_kittest::Harness<'_, StudioApp>, what: &str) {
     let mut pause = Duration::from_millis(2);
     loop {
         h.step();
-        let v = &h.state_mut().views().field_depth;
+        let v = &h.state_mut().display_mut().views().field_depth;
         if !v.is_running() && !v.summary().is_empty() {
             h.step();
             return;
@@ -53,10 +54,23 @@ fn the_field_and_depth_view_shows_its_numbers() {
     let mut h = common::studio(dir.path(), wgpu, Duration::from_secs(600));
     h.state_mut()
         .act(DisplayAction::LoadPreset("l2inv-random".into()));
-    step_until(&mut h, "the design's result", StudioApp::is_up_to_date);
-    h.state_mut().views().set_tab(ViewTab::FieldDepth);
+    step_until(
+        &mut h,
+        "the design's result",
+        crate::common::display_up_to_date,
+    );
+    h.state_mut()
+        .display_mut()
+        .views()
+        .set_tab(ViewTab::FieldDepth);
     wait_for_result(&mut h, "the field grid");
-    let summary = h.state_mut().views().field_depth.summary().to_string();
+    let summary = h
+        .state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .summary()
+        .to_string();
     assert!(
         summary.contains("max residual_rel") && summary.contains(" mm"),
         "{summary}"
@@ -71,10 +85,20 @@ fn the_field_and_depth_view_shows_its_numbers() {
 
     // The photo captured patch-wise through the field PSFs, restored with the centre PSF,
     // beside the shift-invariant capture: both scores on screen, the field one no better.
-    h.state_mut().views().field_depth.set_capture_photo(true);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .set_capture_photo(true);
     h.step();
     wait_for_result(&mut h, "the field capture");
-    let summary = h.state_mut().views().field_depth.summary().to_string();
+    let summary = h
+        .state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .summary()
+        .to_string();
     assert!(
         summary.contains("field-dependent capture") && summary.contains("shift-invariant"),
         "{summary}"
@@ -97,13 +121,27 @@ fn the_field_and_depth_view_shows_its_numbers() {
         h.query_by_label_contains("field-dependent capture, restored")
             .is_some()
     );
-    h.state_mut().views().field_depth.set_capture_photo(false);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .set_capture_photo(false);
 
-    h.state_mut().views().field_depth.set_study(Study::Depth);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .set_study(Study::Depth);
     h.step();
     wait_for_result(&mut h, "the depth PSFs");
     h.step();
-    let summary = h.state_mut().views().field_depth.summary().to_string();
+    let summary = h
+        .state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .summary()
+        .to_string();
     assert!(
         summary.contains("PSF scale z2/f") && summary.contains("waves"),
         "{summary}"
@@ -113,25 +151,46 @@ fn the_field_and_depth_view_shows_its_numbers() {
     capture(&mut h, "depth");
 
     // The photo at that depth, restored with the infinity PSF three ways.
-    h.state_mut().views().field_depth.set_capture_photo(true);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .set_capture_photo(true);
     h.step();
     wait_for_result(&mut h, "the depth photos");
-    let summary = h.state_mut().views().field_depth.summary().to_string();
+    let summary = h
+        .state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .summary()
+        .to_string();
     assert!(
         summary.contains("refocused on it") && summary.contains("object at infinity"),
         "{summary}"
     );
     assert!(h.query_by_label_contains("refocused on it:").is_some());
     capture(&mut h, "depth-photo");
-    h.state_mut().views().field_depth.set_capture_photo(false);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .set_capture_photo(false);
 
     h.state_mut()
+        .display_mut()
         .views()
         .field_depth
         .set_study(Study::Saturation);
     h.step();
     wait_for_result(&mut h, "the saturation study");
-    let summary = h.state_mut().views().field_depth.summary().to_string();
+    let summary = h
+        .state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .summary()
+        .to_string();
     assert!(summary.contains("dB PSNR"), "{summary}");
     assert_eq!(h.query_all_by_label_contains("restored: PSNR").count(), 2);
     h.get_by_label("clipped");

@@ -7,6 +7,7 @@
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::{StudioApp, WorkspaceId};
@@ -34,10 +35,10 @@ fn harness(dir: &std::path::Path, size: (f32, f32)) -> Harness<'static, StudioAp
 
 fn up_to_date(app: &StudioApp, ws: WorkspaceId) -> bool {
     match ws {
-        WorkspaceId::Display => app.is_up_to_date(),
-        WorkspaceId::Phase => app.phase_ref().is_up_to_date(),
-        WorkspaceId::Sensor => app.sensor_ref().is_up_to_date(),
-        WorkspaceId::Sweep => app.sweep_ref().is_idle(),
+        WorkspaceId::Display => app.display().is_up_to_date(),
+        WorkspaceId::Phase => app.phase().is_up_to_date(),
+        WorkspaceId::Sensor => app.sensor().is_up_to_date(),
+        WorkspaceId::Sweep => app.sweep().is_idle(),
     }
 }
 

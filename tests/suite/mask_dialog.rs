@@ -6,6 +6,7 @@ use crate::common;
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::{DisplayAction, ShellCommand};
 use udc_studio::core::mask::Tone;
@@ -27,10 +28,10 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     for _ in 0..4 {
         h.step();
     }
-    assert!(h.state().mask_export().is_open());
+    assert!(h.state().display().mask_export().is_open());
     // The preview is laid out off the UI thread.
     common::step_until(&mut h, "the dialog's preview", |app| {
-        !app.mask_export().previewing()
+        !app.display().mask_export().previewing()
     });
     // One T-OLED pixel: the slit is one rectangle of 40 × 168 µm.
     assert!(
@@ -51,16 +52,19 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     h.step();
     h.step();
     common::step_until(&mut h, "the pupil's preview", |app| {
-        !app.mask_export().previewing()
+        !app.display().mask_export().previewing()
     });
-    assert_eq!(h.state().mask_export().options().spec.tone, Tone::Chrome);
+    assert_eq!(
+        h.state().display().mask_export().options().spec.tone,
+        Tone::Chrome
+    );
     assert!(
         h.query_by_label("496 in 1 orientation").is_some(),
         "pupil pixels"
     );
     // The dialog shows what the writer's estimate says for these options.
-    let options = h.state().mask_export().options().clone();
-    let layout = plan(h.state().design(), &options).unwrap();
+    let options = h.state().display().mask_export().options().clone();
+    let layout = plan(h.state().display().design(), &options).unwrap();
     let counts = estimate(&layout, &options);
     let arrays = if counts.arrays == 1 {
         "array"
@@ -76,7 +80,7 @@ fn the_dialog_shows_the_statistics_and_exports_in_the_background() {
     h.state_mut()
         .act(DisplayAction::WriteMask(Some(path.clone())));
     common::step_until(&mut h, "the mask export", |app| {
-        !app.mask_export().is_running()
+        !app.display().mask_export().is_running()
     });
     let notice = h.state().status().cloned().expect("a status message");
     let (status, is_error) = (notice.text.clone(), notice.is_error());
@@ -102,11 +106,11 @@ fn the_dialog_shows_the_design_rules_before_export() {
     }
     // The check runs off the UI thread; the dialog says "checking…" until it answers.
     common::step_until(&mut h, "the dialog's design-rule check", |app| {
-        !app.mask_export().rules_checking()
+        !app.display().mask_export().rules_checking()
     });
     // The thesis's random L2-inverse opening: single-cell features and 8 corner contacts,
     // the same numbers `udc-studio drc` reports.
-    let r = udc_studio::core::mask::drc::check(h.state().design(), &Default::default());
+    let r = udc_studio::core::mask::drc::check(h.state().display().design(), &Default::default());
     assert_eq!(r.corner_contacts, 8);
     // The pixel as tiled, then the file to be written (the one pixel on the optical axis, its
     // cut openings left out): the same widths, and the same 8 contacts inside the opening.
@@ -134,8 +138,8 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
         h.step();
     }
     // Off by default: no check runs and the canvas has no rings.
-    assert!(h.state().editor().rule_marks().is_empty());
-    assert!(!h.state().editor().rules_checking());
+    assert!(h.state().display().editor().rule_marks().is_empty());
+    assert!(!h.state().display().editor().rules_checking());
     // View > Design rules on the editor.
     h.get_by_label("View").click();
     h.step();
@@ -143,12 +147,12 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
     h.get_by_label("Design rules on the editor").click();
     h.step();
     common::step_until(&mut h, "the canvas's design-rule check", |app| {
-        !app.editor().rule_marks().is_empty()
+        !app.display().editor().rule_marks().is_empty()
     });
     // The random L2-inverse tiling's cells touching at a corner, one ring each, the rule named
     // on hover; the same places as the command line's check.
-    let r = udc_studio::core::mask::drc::check(h.state().design(), &Default::default());
-    let marks = h.state().editor().rule_marks().to_vec();
+    let r = udc_studio::core::mask::drc::check(h.state().display().design(), &Default::default());
+    let marks = h.state().display().editor().rule_marks().to_vec();
     assert_eq!(marks.len(), r.violations.len());
     assert!(marks.iter().all(|m| m.kind == ViolationKind::CornerContact));
     assert!(
@@ -162,8 +166,8 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
             .is_some()
     );
     // Hovering a ring inside the tile names its rule.
-    let pitch = h.state().design().opening.pitch_um;
-    let grid = h.state().editor().grid_rect().unwrap();
+    let pitch = h.state().display().design().opening.pitch_um;
+    let grid = h.state().display().editor().grid_rect().unwrap();
     let inside = marks
         .iter()
         .find(|m| m.at_um.iter().all(|v| *v > 0.0 && *v < pitch))
@@ -183,9 +187,9 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     common::step_until(&mut h, "the clean design's check", |app| {
-        !app.editor().rules_checking()
+        !app.display().editor().rules_checking()
     });
-    assert!(h.state().editor().rule_marks().is_empty());
+    assert!(h.state().display().editor().rule_marks().is_empty());
     assert!(h.query_by_label("design rules: clean").is_some());
     // Turned off again, the rings and the summary go.
     h.state_mut().command(ShellCommand::ToggleDesignRules);
@@ -194,6 +198,6 @@ fn the_editor_canvas_rings_the_cells_that_break_a_rule() {
     for _ in 0..3 {
         h.step();
     }
-    assert!(h.state().editor().rule_marks().is_empty());
+    assert!(h.state().display().editor().rule_marks().is_empty());
     assert!(h.query_by_label("design rules: clean").is_none());
 }

@@ -16,6 +16,7 @@ use udc_studio::io::mask::{
     ExportOptions, MaskFormat, MaskReport, export_mask, plan, region_bbox_nm,
 };
 
+use crate::common::Reach;
 use crate::common::run_cli;
 
 fn s(p: &Path) -> &str {
@@ -377,7 +378,7 @@ fn the_dialog_turns_the_frame_on_and_the_export_draws_it() {
     h.get_by_label("Label").click();
     h.step();
     h.step();
-    let f = h.state().mask_export().options().frame.clone();
+    let f = h.state().display().mask_export().options().frame.clone();
     assert!(f.frame && f.label && !f.marks, "{f:?}");
     assert!(h.query_by_label("Frame width").is_some());
     assert!(h.query_by_label("Label height").is_some());
@@ -386,7 +387,7 @@ fn the_dialog_turns_the_frame_on_and_the_export_draws_it() {
     h.state_mut()
         .act(DisplayAction::WriteMask(Some(path.clone())));
     crate::common::step_until(&mut h, "the mask export", |app| {
-        !app.mask_export().is_running()
+        !app.display().mask_export().is_running()
     });
     let v = python_check(&["gds-layers", s(&path)]);
     assert_eq!(v["layers"]["10/0"]["polygons"], 4, "{v}");

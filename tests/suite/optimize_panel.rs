@@ -6,9 +6,10 @@ use crate::common;
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
-use udc_studio::app::{DisplayAction, LeftTab, ShellCommand, StudioApp};
+use udc_studio::app::{DisplayAction, LeftTab, ShellCommand};
 use udc_studio::core::analysis::analyze::Quality;
 
 #[test]
@@ -17,12 +18,22 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
-    step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
-    let before = h.state().design().clone();
-    let loss_before = h.state().shown().unwrap().analysis.invertibility_loss;
-    h.state_mut().show_left_tab(LeftTab::Optimize);
+    step_until(
+        &mut h,
+        "the T-OLED result",
+        crate::common::display_up_to_date,
+    );
+    let before = h.state().display().design().clone();
+    let loss_before = h
+        .state()
+        .display()
+        .shown()
+        .unwrap()
+        .analysis
+        .invertibility_loss;
+    h.state_mut().display_mut().show_left_tab(LeftTab::Optimize);
     {
-        let s = h.state_mut().optimizer_settings();
+        let s = h.state_mut().display_mut().optimizer_settings();
         s.epochs = 12;
         s.target_open_fraction = 0.3;
         s.area_every_epochs = 1;
@@ -33,11 +44,12 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     h.get_by_label("Run optimizer").click();
     h.step();
     step_until(&mut h, "the run to finish", |app| {
-        app.optimizer().finished().is_some()
+        app.display().optimizer().finished().is_some()
     });
     // Every epoch reached the panel, in order, and the plot and opening are on screen.
     let epochs: Vec<usize> = h
         .state()
+        .display()
         .optimizer()
         .history()
         .iter()
@@ -47,6 +59,7 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     // The data loss on the built-in training photo is on by default, as in the thesis.
     let data: Vec<Option<f64>> = h
         .state()
+        .display()
         .optimizer()
         .history()
         .iter()
@@ -54,10 +67,15 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
         .collect();
     assert!(data.iter().all(Option::is_some), "{data:?}");
     assert!(h.query_by_label("Apply as new design").is_some());
-    assert_eq!(h.state().design(), &before, "nothing changes before Apply");
+    assert_eq!(
+        h.state().display().design(),
+        &before,
+        "nothing changes before Apply"
+    );
     // The summary's full-quality start is what the numbers showed before the run.
     let scores = h
         .state()
+        .display()
         .optimizer()
         .finished()
         .unwrap()
@@ -76,10 +94,20 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     h.get_by_label("Apply as new design").click();
     h.step();
     h.step();
-    let after = h.state().design().clone();
+    let after = h.state().display().design().clone();
     // Applied, the numbers show the very L_inv the summary promised.
-    step_until(&mut h, "the applied result", StudioApp::is_up_to_date);
-    let shown = h.state().shown().unwrap().analysis.invertibility_loss;
+    step_until(
+        &mut h,
+        "the applied result",
+        crate::common::display_up_to_date,
+    );
+    let shown = h
+        .state()
+        .display()
+        .shown()
+        .unwrap()
+        .analysis
+        .invertibility_loss;
     assert!(
         (shown - scores.result.loss_inv).abs() < 1e-9,
         "summary {} vs numbers {shown}",
@@ -98,29 +126,37 @@ fn a_run_streams_epochs_and_applies_as_one_undoable_edit() {
     assert_eq!(after.optics, before.optics);
     h.state_mut().command(ShellCommand::Undo);
     h.step();
-    assert_eq!(h.state().design(), &before, "one undo restores the start");
+    assert_eq!(
+        h.state().display().design(),
+        &before,
+        "one undo restores the start"
+    );
     h.state_mut().command(ShellCommand::Redo);
     h.step();
-    assert_eq!(h.state().design(), &after);
+    assert_eq!(h.state().display().design(), &after);
 }
 
 #[test]
 fn stop_keeps_the_run_so_far() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    h.state_mut().show_left_tab(LeftTab::Optimize);
-    h.state_mut().optimizer_settings().epochs = 2000;
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
+    h.state_mut().display_mut().show_left_tab(LeftTab::Optimize);
+    h.state_mut().display_mut().optimizer_settings().epochs = 2000;
     h.step();
     h.get_by_label("Run optimizer").click();
     step_until(&mut h, "a few epochs", |app| {
-        app.optimizer().history().len() >= 2
+        app.display().optimizer().history().len() >= 2
     });
     h.get_by_label("Stop").click();
     step_until(&mut h, "the stopped run", |app| {
-        app.optimizer().finished().is_some()
+        app.display().optimizer().finished().is_some()
     });
-    let f = h.state().optimizer().finished().unwrap();
+    let f = h.state().display().optimizer().finished().unwrap();
     assert!(f.result.stopped_early);
     assert!(f.result.history.len() < 2000);
     assert!(h.query_by_label_contains("(stopped)").is_some());

@@ -8,6 +8,7 @@ use crate::common;
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use crate::common::step_until;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
@@ -29,22 +30,22 @@ const PIXELS: usize = 64;
 fn capture_studio(dir: &std::path::Path) -> (Harness<'static, StudioApp>, PhaseDesign) {
     let mut h = common::studio(dir, false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Phase);
-    h.state_mut().phase().quality = Quality::Preview;
+    h.state_mut().phase_mut().quality = Quality::Preview;
     let mut d = PhaseDesign::thesis(42.0, 1.0);
     d.camera.pixels = PIXELS;
-    h.state_mut().phase().set_design(d.clone());
+    h.state_mut().phase_mut().set_design(d.clone());
     h.state_mut()
-        .phase()
+        .phase_mut()
         .set_capture_channels(ChannelSet::Peaks);
     h.step();
     h.get_by_label("Capture & restore").click_accesskit();
     h.step();
-    assert_eq!(h.state().phase_ref().view, PhaseView::Capture);
+    assert_eq!(h.state().phase().view, PhaseView::Capture);
     (h, d)
 }
 
 fn wait_capture(h: &mut Harness<'_, StudioApp>, what: &str) {
-    step_until(h, what, |app| app.phase_ref().capture_is_current());
+    step_until(h, what, |app| app.phase().capture_is_current());
 }
 
 fn photo() -> Vec<Array2<f64>> {
@@ -79,7 +80,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
         })
     };
     let check = |h: &Harness<'_, StudioApp>, photons: f64| {
-        let rows = h.state().phase_ref().capture_rows();
+        let rows = h.state().phase().capture_rows();
         assert_eq!(rows.len(), 2);
         assert_eq!(rows[0].optics, PhaseOptics::DoubleMla);
         assert_eq!(rows[1].optics, PhaseOptics::Toled);
@@ -122,7 +123,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
     // A row names unpassed frequencies exactly when its setup has some (on this 64-pixel
     // sensor the T-OLED's diffraction orders fall off the sensor, so neither has: the
     // 1024-pixel screenshot test sees the T-OLED's).
-    let rows = h.state().phase_ref().capture_rows();
+    let rows = h.state().phase().capture_rows();
     assert_eq!(
         h.query_all_by_label_contains("passes < 1 % of").count(),
         rows.iter().filter(|r| r.unpassed_mse > 0.0).count()
@@ -135,13 +136,13 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
             "a {kind} picture per setup"
         );
     }
-    assert_eq!(h.state().phase_ref().capture_operators_built(), 2);
+    assert_eq!(h.state().phase().capture_operators_built(), 2);
     // A lower light: the same operators, a noisier restoration.
-    h.state_mut().phase().set_capture_photons(250.0);
+    h.state_mut().phase_mut().set_capture_photons(250.0);
     wait_capture(&mut h, "the capture at 250 photons");
     let dim = check(&h, 250.0);
     assert_eq!(
-        h.state().phase_ref().capture_operators_built(),
+        h.state().phase().capture_operators_built(),
         2,
         "the light level reuses the operators"
     );
@@ -152,9 +153,9 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
         );
     }
     // A fold change builds this design's operator again; the bare T-OLED (no plate) is kept.
-    h.state_mut().phase().design_mut().fold = 5.0;
+    h.state_mut().phase_mut().design_mut().fold = 5.0;
     wait_capture(&mut h, "the capture at T = 5");
-    assert_eq!(h.state().phase_ref().capture_operators_built(), 3);
+    assert_eq!(h.state().phase().capture_operators_built(), 3);
 }
 
 #[test]
@@ -162,46 +163,38 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
     let dir = tempfile::tempdir().unwrap();
     let (mut h, _) = capture_studio(dir.path());
     wait_capture(&mut h, "the first capture");
-    let name = h
-        .state()
-        .phase_ref()
-        .capture_photo_name()
-        .unwrap()
-        .to_string();
+    let name = h.state().phase().capture_photo_name().unwrap().to_string();
     assert!(name.contains("astronaut"), "{name}");
     let bad = dir.path().join("not-a-photo.png");
     std::fs::write(&bad, b"this is text, not a PNG").unwrap();
     let ctx = h.ctx.clone();
-    h.state_mut().phase().load_capture_photo(bad, &ctx);
+    h.state_mut().phase_mut().load_capture_photo(bad, &ctx);
     step_until(&mut h, "the photo reader", |app| {
-        app.phase_ref()
+        app.phase()
             .capture_message()
             .is_some_and(|m| m.text.contains("cannot open the photo"))
     });
-    let notice = h.state().phase_ref().capture_message().unwrap().clone();
+    let notice = h.state().phase().capture_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(is_error && msg.contains("not-a-photo.png"), "{msg}");
+    assert_eq!(h.state().phase().capture_photo_name(), Some(name.as_str()));
     assert_eq!(
-        h.state().phase_ref().capture_photo_name(),
-        Some(name.as_str())
-    );
-    assert_eq!(
-        h.state().phase_ref().capture_rows().len(),
+        h.state().phase().capture_rows().len(),
         2,
         "the pictures stay"
     );
     // A full-quality run over 64 directions × the spectral grid of a λ0 plan (no lenslet
     // period: the whole display) takes long enough to cancel.
-    let mut plan = h.state().phase_ref().design().clone();
+    let mut plan = h.state().phase().design().clone();
     plan.lambda0 = udc_studio::core::phase::Lambda0::Uniform;
-    h.state_mut().phase().set_design(plan);
-    h.state_mut().phase().quality = Quality::Full;
+    h.state_mut().phase_mut().set_design(plan);
+    h.state_mut().phase_mut().quality = Quality::Full;
     h.state_mut()
-        .phase()
+        .phase_mut()
         .set_capture_channels(ChannelSet::Spectral);
     h.step();
     h.step();
-    assert!(h.state().phase_ref().is_capturing());
+    assert!(h.state().phase().is_capturing());
     // A quick look through the peak wavelengths first, then the spectral operators: 8 steps.
     let start = std::time::Instant::now();
     while h.query_by_label_contains(" of 8: ").is_none() {
@@ -212,22 +205,22 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
         std::thread::sleep(Duration::from_millis(20));
         h.step();
     }
-    assert!(h.state().phase_ref().is_capturing());
+    assert!(h.state().phase().is_capturing());
     h.get_by_label("Cancel").click_accesskit();
     h.step();
-    assert!(!h.state().phase_ref().is_capturing());
-    let notice = h.state().phase_ref().capture_message().unwrap().clone();
+    assert!(!h.state().phase().is_capturing());
+    let notice = h.state().phase().capture_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
     for _ in 0..5 {
         h.step();
     }
     assert!(
-        !h.state().phase_ref().is_capturing(),
+        !h.state().phase().is_capturing(),
         "a cancelled run does not start again by itself"
     );
     assert_eq!(
-        h.state().phase_ref().capture_rows().len(),
+        h.state().phase().capture_rows().len(),
         2,
         "the last pictures stay"
     );
@@ -237,19 +230,17 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
 fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     let dir = tempfile::tempdir().unwrap();
     let (mut h, d) = capture_studio(dir.path());
-    let setups = h.state().phase_ref().compare_setups().to_vec();
+    let setups = h.state().phase().compare_setups().to_vec();
     assert_eq!(setups[0], Setup::Bare { pitch_um: 42.0 });
     assert!(setups.len() >= 16, "the thesis's setups are on offer");
-    h.state_mut().phase().select_compare_setups(&[0, 1]);
+    h.state_mut().phase_mut().select_compare_setups(&[0, 1]);
     h.state_mut()
-        .phase()
+        .phase_mut()
         .select_compare_levels(&[250.0, 10_000.0]);
     h.get_by_label("Run comparison").click_accesskit();
     h.step();
-    step_until(&mut h, "the comparison", |app| {
-        !app.phase_ref().is_comparing()
-    });
-    let rows = h.state().phase_ref().compare_rows().to_vec();
+    step_until(&mut h, "the comparison", |app| !app.phase().is_comparing());
+    let rows = h.state().phase().compare_rows().to_vec();
     assert_eq!(rows.len(), 4, "2 setups × 2 light levels");
     let mut expected = Vec::new();
     compare_setups(
@@ -287,7 +278,7 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
             assert_eq!(row.unpassed_mse, want, "{}", row.label);
         }
     }
-    let notice = h.state().phase_ref().compare_message().unwrap().clone();
+    let notice = h.state().phase().compare_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("4 runs"), "{msg}");
     // The table names the setups; the mean column fills once every level is in.
@@ -307,11 +298,9 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     let path = dir.path().join("compare.csv");
     let ctx = h.ctx.clone();
     h.state_mut()
-        .phase()
+        .phase_mut()
         .save_compare_csv_to(path.clone(), &ctx);
-    step_until(&mut h, "the CSV", |app| {
-        !app.phase_ref().is_saving_compare()
-    });
+    step_until(&mut h, "the CSV", |app| !app.phase().is_saving_compare());
     let text = std::fs::read_to_string(&path).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
@@ -341,8 +330,8 @@ fn the_denoise_control_switches_bm3d_off_and_overrides_sigma2() {
     let dir = tempfile::tempdir().unwrap();
     let (mut h, _) = capture_studio(dir.path());
     wait_capture(&mut h, "the first capture");
-    assert_eq!(h.state().phase_ref().capture_denoise(), thesis_denoise());
-    let row = &h.state().phase_ref().capture_rows()[1];
+    assert_eq!(h.state().phase().capture_denoise(), thesis_denoise());
+    let row = &h.state().phase().capture_rows()[1];
     let (with, ltr) = (row.run.clone(), row.ltr);
     // The bare T-OLED's capture at 1600 photons: Poisson, read noise and the 12-bit ADC at white.
     let e = 1600.0 * ltr;
@@ -353,9 +342,9 @@ fn the_denoise_control_switches_bm3d_off_and_overrides_sigma2() {
     assert!(h.query_by_label("σ² 5.00e-4 (authors' table)").is_some());
     h.get_by_label("none").click_accesskit();
     h.step();
-    assert_eq!(h.state().phase_ref().capture_denoise(), Denoise::None);
+    assert_eq!(h.state().phase().capture_denoise(), Denoise::None);
     wait_capture(&mut h, "the capture without a denoiser");
-    let without = h.state().phase_ref().capture_rows()[1].run.clone();
+    let without = h.state().phase().capture_rows()[1].run.clone();
     assert!(without.denoised.is_empty() && without.denoise.sigma2.is_none());
     assert_eq!(
         h.query_all_by_label_contains(" denoised (BM3D)").count(),
@@ -370,7 +359,7 @@ fn the_denoise_control_switches_bm3d_off_and_overrides_sigma2() {
     h.step();
     let Denoise::Bm3d {
         sigma2: udc_studio::core::restore::Sigma2::Fixed(s),
-    } = h.state().phase_ref().capture_denoise()
+    } = h.state().phase().capture_denoise()
     else {
         panic!("override keeps BM3D with a fixed σ²");
     };

@@ -7,6 +7,7 @@ use crate::common;
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use crate::common::step_until;
 use egui_kittest::Harness;
 use egui_kittest::kittest::{NodeT, Queryable};
@@ -22,7 +23,7 @@ use udc_studio::core::phase::{
 fn phase_studio(dir: &std::path::Path, quality: Quality) -> Harness<'static, StudioApp> {
     let mut h = common::studio(dir, false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Phase);
-    h.state_mut().phase().quality = quality;
+    h.state_mut().phase_mut().quality = quality;
     h.step();
     h
 }
@@ -33,14 +34,14 @@ fn on_screen(h: &Harness<'_, StudioApp>, label: &str) -> bool {
 }
 
 fn wait_psfs(h: &mut Harness<'_, StudioApp>, what: &str) {
-    step_until(h, what, |app| app.phase_ref().is_up_to_date());
+    step_until(h, what, |app| app.phase().is_up_to_date());
 }
 
 #[test]
 fn the_thesis_design_shows_and_its_psfs_match_the_core() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = phase_studio(dir.path(), Quality::Full);
-    let d = h.state().phase_ref().design().clone();
+    let d = h.state().phase().design().clone();
     assert_eq!(d, PhaseDesign::thesis(42.0, 1.0));
     assert_eq!(lenslet_count(&d), 58);
     assert!((d.fov_deg() - 13.6).abs() < 0.05, "{}", d.fov_deg());
@@ -50,7 +51,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
     assert!(on_screen(&h, "42.00 µm (605 DPI)"));
     assert!(on_screen(&h, "4.20"), "κ");
     wait_psfs(&mut h, "the full-quality PSFs");
-    let shown = h.state().phase_ref().shown().unwrap();
+    let shown = h.state().phase().shown().unwrap();
     assert_eq!(shown.quality, Quality::Full);
     let psfs = shown.psfs.clone();
     let direct = phase_psfs(
@@ -88,7 +89,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
         (PhaseView::Optimizer, "Run optimizer"),
         (PhaseView::Psf, "incidence angle"),
     ] {
-        h.state_mut().phase().view = view;
+        h.state_mut().phase_mut().view = view;
         h.step();
         h.step();
         assert!(
@@ -103,55 +104,47 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = phase_studio(dir.path(), Quality::Preview);
     wait_psfs(&mut h, "the preview PSFs");
-    let first = h.state().phase_ref().shown().unwrap().psfs.clone();
+    let first = h.state().phase().shown().unwrap().psfs.clone();
     // A thicker fold: the same geometry, other PSFs.
-    h.state_mut().phase().design_mut().fold = 5.0;
+    h.state_mut().phase_mut().design_mut().fold = 5.0;
     step_until(&mut h, "the T = 5 PSFs", |app| {
-        app.phase_ref().is_up_to_date()
-            && app
-                .phase_ref()
-                .shown()
-                .is_some_and(|s| s.design.fold == 5.0)
+        app.phase().is_up_to_date() && app.phase().shown().is_some_and(|s| s.design.fold == 5.0)
     });
-    let thick = h.state().phase_ref().shown().unwrap().psfs.clone();
+    let thick = h.state().phase().shown().unwrap().psfs.clone();
     assert_ne!(thick.channels[0].psf, first.channels[0].psf);
     // A coarser display: fewer lenslets.
     {
-        let d = h.state_mut().phase().design_mut();
+        let d = h.state_mut().phase_mut().design_mut();
         d.pitch_um = 84.0;
         d.f_mla_um = 84.0;
     }
     step_until(&mut h, "the 84-µm PSFs", |app| {
-        app.phase_ref().is_up_to_date()
-            && app
-                .phase_ref()
-                .shown()
-                .is_some_and(|s| s.psfs.lenslets == 31)
+        app.phase().is_up_to_date() && app.phase().shown().is_some_and(|s| s.psfs.lenslets == 31)
     });
     assert!(on_screen(&h, "31"), "31 lenslets on screen");
-    let double = h.state().phase_ref().shown().unwrap().psfs.clone();
+    let double = h.state().phase().shown().unwrap().psfs.clone();
     // Lemma 1's single mask, off axis, with the spectral channels: each reaches the worker.
-    h.state_mut().phase().single_mask = true;
+    h.state_mut().phase_mut().single_mask = true;
     step_until(&mut h, "the single-mask PSFs", |app| {
-        app.phase_ref().is_up_to_date()
+        app.phase().is_up_to_date()
             && app
-                .phase_ref()
+                .phase()
                 .shown()
                 .is_some_and(|s| s.optics == PhaseOptics::SingleMask)
     });
-    let single = h.state().phase_ref().shown().unwrap().psfs.clone();
+    let single = h.state().phase().shown().unwrap().psfs.clone();
     assert_ne!(single.channels[1].psf, double.channels[1].psf);
-    h.state_mut().phase().single_mask = false;
-    h.state_mut().phase().angle_deg = 5.0;
-    h.state_mut().phase().channels = ChannelSet::Spectral;
+    h.state_mut().phase_mut().single_mask = false;
+    h.state_mut().phase_mut().angle_deg = 5.0;
+    h.state_mut().phase_mut().channels = ChannelSet::Spectral;
     step_until(&mut h, "the off-axis spectral PSFs", |app| {
-        app.phase_ref().is_up_to_date()
+        app.phase().is_up_to_date()
             && app
-                .phase_ref()
+                .phase()
                 .shown()
                 .is_some_and(|s| s.channels == ChannelSet::Spectral && s.psfs.angle_deg > 4.9)
     });
-    let off = h.state().phase_ref().shown().unwrap().psfs.clone();
+    let off = h.state().phase().shown().unwrap().psfs.clone();
     // sin 5° · 4.67 mm = 407.0 µm: pixel ⌊407.0 / 2.03⌋ = 200 under the thesis sampling.
     assert_eq!(off.image_pixel, 200);
     assert_eq!(off.channels.len(), 3);
@@ -161,68 +154,60 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
             .all(|c| (450.0..650.0).contains(&c.wavelength_nm)),
         "response-weighted mean wavelengths"
     );
-    let generation = h.state().phase_ref().shown().unwrap().generation;
+    let generation = h.state().phase().shown().unwrap().generation;
     // NaN: the validate() message, and the last result stays.
-    h.state_mut().phase().design_mut().pitch_um = f64::NAN;
+    h.state_mut().phase_mut().design_mut().pitch_um = f64::NAN;
     for _ in 0..5 {
         h.step();
     }
-    let notice = h.state().phase_ref().message().unwrap().clone();
+    let notice = h.state().phase().message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(is_error && msg.contains("pitch_um"), "{msg}");
     assert!(
         h.query_by_label_contains("pitch_um").is_some(),
         "{msg} on screen"
     );
-    let kept = h.state().phase_ref().shown().unwrap();
+    let kept = h.state().phase().shown().unwrap();
     assert_eq!(kept.generation, generation);
     assert_eq!(kept.design.pitch_um, 84.0);
-    assert!(!h.state().phase_ref().is_up_to_date());
+    assert!(!h.state().phase().is_up_to_date());
     // Out of range is refused the same way.
-    h.state_mut().phase().design_mut().pitch_um = 84.0;
-    h.state_mut().phase().design_mut().fold = 0.0;
+    h.state_mut().phase_mut().design_mut().pitch_um = 84.0;
+    h.state_mut().phase_mut().design_mut().fold = 0.0;
     for _ in 0..3 {
         h.step();
     }
-    let notice = h.state().phase_ref().message().unwrap().clone();
+    let notice = h.state().phase().message().unwrap().clone();
     let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("fold"), "{msg}");
-    assert_eq!(
-        h.state().phase_ref().shown().unwrap().generation,
-        generation
-    );
+    assert_eq!(h.state().phase().shown().unwrap().generation, generation);
     // Ctrl+Z steps back over the bad values (each an undo step) to T = 5 at 84 µm.
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     h.step();
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     step_until(&mut h, "the undone design", |app| {
-        app.phase_ref().is_up_to_date()
+        app.phase().is_up_to_date()
     });
-    let d = h.state().phase_ref().design().clone();
+    let d = h.state().phase().design().clone();
     assert_eq!((d.pitch_um, d.fold), (84.0, 5.0));
-    assert!(
-        h.state()
-            .phase_ref()
-            .message()
-            .is_none_or(|m| !m.is_error())
-    );
+    assert!(h.state().phase().message().is_none_or(|m| !m.is_error()));
     // The display document was not touched by the phase workspace's undo.
-    assert!(!h.state().document().can_undo());
+    assert!(!h.state().display().document().can_undo());
 }
 
 #[test]
 fn the_optimizer_allocates_every_lenslet_and_apply_is_undoable() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = phase_studio(dir.path(), Quality::Preview);
-    h.state_mut().phase().view = PhaseView::Optimizer;
+    h.state_mut().phase_mut().view = PhaseView::Optimizer;
     wait_psfs(&mut h, "the preview PSFs");
     h.get_by_label("Run optimizer").click();
     h.step();
-    assert!(h.state().phase_ref().is_optimizing());
+    assert!(h.state().phase().is_optimizing());
     step_until(&mut h, "the optimizer", |app| {
-        app.phase_ref().optimized().is_some()
+        app.phase().optimized().is_some()
     });
-    let o = h.state().phase_ref().optimized().unwrap();
+    let o = h.state().phase().optimized().unwrap();
     let counts = o.allocation.counts.clone();
     assert_eq!(counts.len(), 30);
     assert_eq!(counts.iter().sum::<usize>(), 58);
@@ -230,28 +215,28 @@ fn the_optimizer_allocates_every_lenslet_and_apply_is_undoable() {
     // The optimized plan's worst channel beats the fixed 530 nm.
     let worst = |v: [f64; 3]| v.iter().copied().fold(f64::INFINITY, f64::min);
     assert!(worst(o.allocation.channel_invertibility) >= worst(o.fixed_530) - 1e-9);
-    let v = h.state().phase_ref().v().unwrap();
+    let v = h.state().phase().v().unwrap();
     assert_eq!((v.v.v.len(), v.v.v[0].len()), (30, 30));
     assert!(on_screen(&h, "fixed 530 nm (V row 531 nm)"));
     // Apply: the plan becomes the counts, and the PSFs follow.
     h.get_by_label("Apply").click();
     h.step();
     assert_eq!(
-        h.state().phase_ref().design().lambda0,
+        h.state().phase().design().lambda0,
         Lambda0::Counts {
             counts: counts.clone()
         }
     );
     wait_psfs(&mut h, "the optimized PSFs");
     assert!(matches!(
-        h.state().phase_ref().shown().unwrap().design.lambda0,
+        h.state().phase().shown().unwrap().design.lambda0,
         Lambda0::Counts { .. }
     ));
     // Undo and redo.
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     h.step();
     assert_eq!(
-        h.state().phase_ref().design().lambda0,
+        h.state().phase().design().lambda0,
         Lambda0::Fixed { nm: 530.0 }
     );
     h.key_press_modifiers(
@@ -260,7 +245,7 @@ fn the_optimizer_allocates_every_lenslet_and_apply_is_undoable() {
     );
     h.step();
     assert_eq!(
-        h.state().phase_ref().design().lambda0,
+        h.state().phase().design().lambda0,
         Lambda0::Counts { counts }
     );
 }
@@ -270,21 +255,21 @@ fn cancel_stops_an_optimizer_run() {
     let dir = tempfile::tempdir().unwrap();
     // Thesis sampling: a run takes long enough to cancel.
     let mut h = phase_studio(dir.path(), Quality::Full);
-    h.state_mut().phase().view = PhaseView::Optimizer;
+    h.state_mut().phase_mut().view = PhaseView::Optimizer;
     h.step();
     h.get_by_label("Run optimizer").click();
     h.step();
     h.step();
-    assert!(h.state().phase_ref().is_optimizing());
+    assert!(h.state().phase().is_optimizing());
     assert!(
         h.query_by_label_contains("optimizer (V, then Algorithm 1)")
             .is_some()
     );
     h.get_by_label("Cancel").click();
     h.step();
-    assert!(!h.state().phase_ref().is_optimizing());
-    assert!(h.state().phase_ref().optimized().is_none());
-    let notice = h.state().phase_ref().optimizer_message().unwrap().clone();
+    assert!(!h.state().phase().is_optimizing());
+    assert!(h.state().phase().optimized().is_none());
+    let notice = h.state().phase().optimizer_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
     // The buttons are back.
@@ -302,10 +287,10 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
     {
         let mut h = common::studio(dir.path(), false, Duration::from_millis(20));
         h.state_mut().set_workspace(WorkspaceId::Phase);
-        h.state_mut().phase().quality = Quality::Preview;
+        h.state_mut().phase_mut().quality = Quality::Preview;
         let mut d = PhaseDesign::thesis(56.0, 5.0);
         d.height_step_um = Some(0.2);
-        h.state_mut().phase().set_design(d);
+        h.state_mut().phase_mut().set_design(d);
         let file = dir.path().join("phase-design.json");
         step_until(&mut h, "the phase autosave", |_| {
             std::fs::read_to_string(&file).is_ok_and(|t| t.contains("56"))
@@ -317,9 +302,11 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
             (HeightFormat::Gds, "plate.gds"),
         ] {
             let path = dir.path().join(name);
-            h.state_mut().phase().export_to(format, path.clone(), &ctx);
-            step_until(&mut h, "the export", |app| !app.phase_ref().is_exporting());
-            let notice = h.state().phase_ref().export_message().unwrap().clone();
+            h.state_mut()
+                .phase_mut()
+                .export_to(format, path.clone(), &ctx);
+            step_until(&mut h, "the export", |app| !app.phase().is_exporting());
+            let notice = h.state().phase().export_message().unwrap().clone();
             let (msg, is_error) = (notice.text.clone(), notice.is_error());
             assert!(!is_error && msg.contains(name), "{msg}");
             assert!(std::fs::metadata(&path).unwrap().len() > 100, "{name}");
@@ -327,14 +314,14 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
         // Without native dialogs the buttons say so instead of blocking.
         h.get_by_label("Heights (CSV)…").click_accesskit();
         h.step();
-        let notice = h.state().phase_ref().export_message().unwrap().clone();
+        let notice = h.state().phase().export_message().unwrap().clone();
         let (msg, _) = (notice.text.clone(), notice.is_error());
         assert!(msg.contains("dialogs are disabled"), "{msg}");
     }
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Phase);
     h.step();
-    let d = h.state().phase_ref().design();
+    let d = h.state().phase().design();
     assert_eq!(
         (d.pitch_um, d.fold, d.height_step_um),
         (56.0, 5.0, Some(0.2))
@@ -348,17 +335,17 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
     use udc_studio::io::spectral;
     let dir = tempfile::tempdir().unwrap();
     let mut h = phase_studio(dir.path(), Quality::Preview);
-    h.state_mut().phase().channels = ChannelSet::Spectral;
+    h.state_mut().phase_mut().channels = ChannelSet::Spectral;
     step_until(&mut h, "the thesis-response PSFs", |app| {
-        app.phase_ref().is_up_to_date()
+        app.phase().is_up_to_date()
             && app
-                .phase_ref()
+                .phase()
                 .shown()
                 .is_some_and(|s| s.channels == ChannelSet::Spectral)
     });
     let thesis_nm: Vec<f64> = h
         .state()
-        .phase_ref()
+        .phase()
         .shown()
         .unwrap()
         .psfs
@@ -366,22 +353,22 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
         .iter()
         .map(|c| c.wavelength_nm)
         .collect();
-    let generation = h.state().phase_ref().shown().unwrap().generation;
+    let generation = h.state().phase().shown().unwrap().generation;
     // The Canon table: the channels switch and the PSFs run again.
     let canon = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("assets/spectral/canon_eos_5d_mark_ii_rawtoaces.csv");
     let ctx = h.ctx.clone();
     h.state_mut()
-        .phase()
+        .phase_mut()
         .load_response_from(canon.clone(), &ctx);
     step_until(&mut h, "the Canon PSFs", |app| {
-        app.phase_ref().is_up_to_date()
+        app.phase().is_up_to_date()
             && app
-                .phase_ref()
+                .phase()
                 .shown()
                 .is_some_and(|s| matches!(s.channels, ChannelSet::Custom(_)))
     });
-    let phase = h.state().phase_ref();
+    let phase = h.state().phase();
     let notice = phase.response_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(
@@ -420,11 +407,11 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
         "wavelength,R,G,B\n400,0.1,0.2,0.3\n410,0.1,oops,0.3\n",
     )
     .unwrap();
-    h.state_mut().phase().load_response_from(bad, &ctx);
+    h.state_mut().phase_mut().load_response_from(bad, &ctx);
     step_until(&mut h, "the bad table", |app| {
-        !app.phase_ref().is_loading_response()
+        !app.phase().is_loading_response()
     });
-    let phase = h.state().phase_ref();
+    let phase = h.state().phase();
     let notice = phase.response_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(is_error, "{msg}");
@@ -435,7 +422,7 @@ fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
     // Without native dialogs the button says so instead of blocking.
     h.get_by_label("Open response CSV…").click_accesskit();
     h.step();
-    let notice = h.state().phase_ref().response_message().unwrap().clone();
+    let notice = h.state().phase().response_message().unwrap().clone();
     let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("dialogs are disabled"), "{msg}");
 }
@@ -447,19 +434,19 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
     let mut h = phase_studio(dir.path(), Quality::Preview);
     let mut d = PhaseDesign::thesis(42.0, 1.0);
     d.camera.pixels = 64;
-    h.state_mut().phase().set_design(d.clone());
+    h.state_mut().phase_mut().set_design(d.clone());
     wait_psfs(&mut h, "the 64-pixel PSFs");
-    h.state_mut().phase().set_kernel_channel(1);
+    h.state_mut().phase_mut().set_kernel_channel(1);
     h.get_by_label("Blur matrix (all 64 directions)…")
         .click_accesskit();
     h.step();
     step_until(&mut h, "the blur matrix", |app| {
-        app.phase_ref().kernels().is_some()
+        app.phase().kernels().is_some()
     });
-    let k = h.state().phase_ref().kernels().unwrap();
+    let k = h.state().phase().kernels().unwrap();
     assert_eq!(k.k.dim(), (64, 64));
     assert_eq!(k.channel_name, "G");
-    assert!(!h.state().phase_ref().kernels_are_stale());
+    assert!(!h.state().phase().kernels_are_stale());
     assert!(
         h.query_by_label("blur matrix image").is_some(),
         "the texture is drawn"
@@ -475,11 +462,11 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
     // The CSV: one line per sensor pixel, its column j the core's direction j.
     let path = dir.path().join("k.csv");
     let ctx = h.ctx.clone();
-    h.state_mut().phase().save_kernels_to(path.clone(), &ctx);
-    step_until(&mut h, "the CSV", |app| {
-        !app.phase_ref().is_saving_kernels()
-    });
-    let notice = h.state().phase_ref().kernels_message().unwrap().clone();
+    h.state_mut()
+        .phase_mut()
+        .save_kernels_to(path.clone(), &ctx);
+    step_until(&mut h, "the CSV", |app| !app.phase().is_saving_kernels());
+    let notice = h.state().phase().kernels_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("k.csv"), "{msg}");
     let text = std::fs::read_to_string(&path).unwrap();
@@ -501,9 +488,9 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
         }
     }
     // A change makes it stale.
-    h.state_mut().phase().design_mut().fold = 5.0;
+    h.state_mut().phase_mut().design_mut().fold = 5.0;
     h.step();
-    assert!(h.state().phase_ref().kernels_are_stale());
+    assert!(h.state().phase().kernels_are_stale());
     assert!(h.query_by_label_contains("Stale:").is_some());
 }
 
@@ -515,22 +502,22 @@ fn cancel_stops_a_blur_matrix_run() {
     // 2 cores): the run cannot finish in the two frames before the Cancel, however fast the
     // machine.
     let mut h = phase_studio(dir.path(), Quality::Full);
-    h.state_mut().phase().design_mut().lambda0 = udc_studio::core::phase::Lambda0::Uniform;
+    h.state_mut().phase_mut().design_mut().lambda0 = udc_studio::core::phase::Lambda0::Uniform;
     h.step();
     h.get_by_label("Blur matrix (all 1024 directions)…")
         .click_accesskit();
     h.step();
     h.step();
-    assert!(h.state().phase_ref().is_computing_kernels());
+    assert!(h.state().phase().is_computing_kernels());
     assert!(
         h.query_by_label_contains("blur matrix of R over 1024")
             .is_some()
     );
     h.get_by_label("Cancel").click_accesskit();
     h.step();
-    assert!(!h.state().phase_ref().is_computing_kernels());
-    assert!(h.state().phase_ref().kernels().is_none());
-    let notice = h.state().phase_ref().kernels_message().unwrap().clone();
+    assert!(!h.state().phase().is_computing_kernels());
+    assert!(h.state().phase().kernels().is_none());
+    let notice = h.state().phase().kernels_message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("cancelled"), "{msg}");
 }
@@ -542,22 +529,22 @@ fn the_sampling_selector_switches_the_convention_and_undoes() {
     let mut h = phase_studio(dir.path(), Quality::Preview);
     wait_psfs(&mut h, "the preview PSFs");
     assert_eq!(
-        h.state().phase_ref().design().sampling,
+        h.state().phase().design().sampling,
         udc_studio::core::phase::SamplingConvention::Thesis
     );
-    let thesis = h.state().phase_ref().shown().unwrap().psfs.clone();
+    let thesis = h.state().phase().shown().unwrap().psfs.clone();
     h.get_by_label("centred").click();
     step_until(&mut h, "the centred PSFs", |app| {
-        app.phase_ref().is_up_to_date()
-            && app.phase_ref().shown().is_some_and(|s| {
+        app.phase().is_up_to_date()
+            && app.phase().shown().is_some_and(|s| {
                 s.design.sampling == udc_studio::core::phase::SamplingConvention::Centred
             })
     });
-    let centred = h.state().phase_ref().shown().unwrap().psfs.clone();
+    let centred = h.state().phase().shown().unwrap().psfs.clone();
     assert_ne!(centred.channels[1].psf, thesis.channels[1].psf);
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     step_until(&mut h, "undo back to the thesis sampling", |app| {
-        app.phase_ref().design().sampling == udc_studio::core::phase::SamplingConvention::Thesis
+        app.phase().design().sampling == udc_studio::core::phase::SamplingConvention::Thesis
     });
 }
 
@@ -593,12 +580,12 @@ fn the_export_panel_checks_the_plate_against_the_design_rules() {
         want.contains("narrower"),
         "the thesis plate has sub-0.5-µm rings: {want}"
     );
-    h.state_mut().phase().set_design(stepped);
+    h.state_mut().phase_mut().set_design(stepped);
     wait_for(&mut h, &want);
     let mut coarse = PhaseDesign::thesis(168.0, 1.0);
     coarse.height_step_um = Some(2.0);
     let other = line(&coarse);
     assert_ne!(other, want);
-    h.state_mut().phase().set_design(coarse);
+    h.state_mut().phase_mut().set_design(coarse);
     wait_for(&mut h, &other);
 }

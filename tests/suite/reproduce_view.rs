@@ -29,9 +29,7 @@ fn the_help_menu_lists_the_results_and_a_quick_run_opens_its_report() {
     h.get_by_label_contains("Run quick").click();
     h.step();
     assert!(h.state_mut().reproduce_mut().is_running());
-    step_until(&mut h, "the quick run", |app| {
-        !app.reproduce_ref().is_running()
-    });
+    step_until(&mut h, "the quick run", |app| !app.reproduce().is_running());
     let w = h.state_mut().reproduce_mut();
     let m = w.message().unwrap().clone();
     assert!(
@@ -64,7 +62,7 @@ fn cancel_stops_a_run_and_a_failing_run_says_why() {
     h.step();
     h.get_by_label("Cancel").click();
     step_until(&mut h, "the cancelled run", |app| {
-        !app.reproduce_ref().is_running()
+        !app.reproduce().is_running()
     });
     let m = h.state_mut().reproduce_mut().message().unwrap().clone();
     assert!(!m.is_error() && m.text.contains("cancelled"), "{m:?}");
@@ -74,7 +72,7 @@ fn cancel_stops_a_run_and_a_failing_run_says_why() {
     std::fs::write(&out, "not a folder").unwrap();
     h.get_by_label_contains("Run quick").click();
     step_until(&mut h, "the failed run", |app| {
-        !app.reproduce_ref().is_running()
+        !app.reproduce().is_running()
     });
     let w = h.state_mut().reproduce_mut();
     let m = w.message().unwrap().clone();

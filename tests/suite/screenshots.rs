@@ -7,6 +7,7 @@ use crate::common;
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::{DisplayAction, StudioApp};
@@ -17,7 +18,7 @@ fn harness(dir: &std::path::Path) -> Harness<'static, StudioApp> {
 }
 
 fn settle(h: &mut Harness<'_, StudioApp>) {
-    common::step_until(h, "the worker", StudioApp::is_up_to_date);
+    common::step_until(h, "the worker", crate::common::display_up_to_date);
     for _ in 0..4 {
         h.step();
     }
@@ -56,7 +57,10 @@ fn main_window_on_toled_then_random_tiling() {
     h.step();
     h.get_by_label("Random D4").click();
     settle(&mut h);
-    assert_eq!(h.state().design().tiling.mode, TilingMode::RandomD4);
+    assert_eq!(
+        h.state().display().design().tiling.mode,
+        TilingMode::RandomD4
+    );
     capture(&mut h, "main-toled-random");
     h.get_by_label("MTF plots").click();
     settle(&mut h);
@@ -72,8 +76,8 @@ fn compare_view() {
     settle(&mut h);
     h.state_mut().act(DisplayAction::PinCompare);
     h.step();
-    assert!(h.state().pinned().is_some());
-    let mut d = h.state().design().clone();
+    assert!(h.state().display().pinned().is_some());
+    let mut d = h.state().display().design().clone();
     d.tiling.mode = TilingMode::RandomD4;
     h.state_mut().act(DisplayAction::Edit(Box::new(d)));
     settle(&mut h);
@@ -93,16 +97,21 @@ fn editor_mid_drawing() {
     h.state_mut()
         .act(DisplayAction::LoadPreset("l2inv-random".into()));
     settle(&mut h);
-    let before = h.state().design().clone();
+    let before = h.state().display().design().clone();
     h.state_mut()
         .act(DisplayAction::SetTool(udc_studio::app::Tool::Ellipse));
     h.step();
-    let rect = h.state().editor().grid_rect().expect("editor drawn");
+    let rect = h
+        .state()
+        .display()
+        .editor()
+        .grid_rect()
+        .expect("editor drawn");
     let a = rect.left_top() + rect.size() * 0.2;
     let b = rect.left_top() + rect.size() * 0.7;
     common::press_and_move(&mut h, a, b, 5);
     // Mid-drag: nothing is committed yet.
-    assert_eq!(h.state().design(), &before);
+    assert_eq!(h.state().display().design(), &before);
     capture(&mut h, "editor-mid-drawing");
 }
 
@@ -114,11 +123,11 @@ fn optimizer_after_a_run() {
     let mut h = harness(dir.path());
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
-    let mut d = h.state().design().clone();
+    let mut d = h.state().display().design().clone();
     d.tiling.mode = TilingMode::Random4;
     h.state_mut().act(DisplayAction::Edit(Box::new(d)));
     settle(&mut h);
-    h.state_mut().show_left_tab(LeftTab::Optimize);
+    h.state_mut().display_mut().show_left_tab(LeftTab::Optimize);
     // The README's picture shows a full run; the test needs only a finished one to apply (the
     // optimizer's gains are checked in optimize.rs and optimize_panel.rs).
     let epochs = if std::env::var_os("UDC_SCREENSHOTS_DIR").is_some() {
@@ -127,21 +136,21 @@ fn optimizer_after_a_run() {
         10
     };
     {
-        let s = h.state_mut().optimizer_settings();
+        let s = h.state_mut().display_mut().optimizer_settings();
         s.epochs = epochs;
         s.quality = Quality::Preview;
     }
     h.step();
     h.get_by_label("Run optimizer").click();
     common::step_until(&mut h, "the optimizer", |app| {
-        app.optimizer().finished().is_some()
+        app.display().optimizer().finished().is_some()
     });
     h.get_by_label("MTF plots").click();
     settle(&mut h);
     capture(&mut h, "optimizer-run");
     h.get_by_label("Apply as new design").click();
     settle(&mut h);
-    assert!(h.state().design().name.contains("optimized"));
+    assert!(h.state().display().design().name.contains("optimized"));
     capture(&mut h, "optimizer-applied");
 }
 
@@ -154,19 +163,22 @@ fn restore_view_with_a_pinned_design() {
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     settle(&mut h);
     h.state_mut().act(DisplayAction::PinCompare);
-    common::step_until(&mut h, "the pin", |app| app.pinned().is_some());
+    common::step_until(&mut h, "the pin", |app| app.display().pinned().is_some());
     h.state_mut()
         .act(DisplayAction::LoadPreset("l2inv-random".into()));
     settle(&mut h);
-    h.state_mut().views().set_tab(ViewTab::Restore);
+    h.state_mut()
+        .display_mut()
+        .views()
+        .set_tab(ViewTab::Restore);
     common::step_until(&mut h, "both restorations", |app| {
-        let v = app.restore_view();
+        let v = app.display().restore_view();
         !v.is_running() && v.current().is_some() && v.pinned().is_some()
     });
     for _ in 0..4 {
         h.step();
     }
-    let v = h.state().restore_view();
+    let v = h.state().display().restore_view();
     assert!(v.current().unwrap().psnr_db > v.pinned().unwrap().psnr_db);
     capture(&mut h, "restore");
 }
@@ -181,42 +193,39 @@ fn sensor_previewer_maps_and_split_compare() {
     let ctx = h.ctx.clone();
     let scene =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/hdr/StillLife_620x423.exr");
-    h.state_mut().sensor().load_scene(scene, &ctx);
-    common::step_until(&mut h, "the sensor run", |app| {
-        app.sensor_ref().is_up_to_date()
-    });
+    h.state_mut().sensor_mut().load_scene(scene, &ctx);
+    common::step_until(&mut h, "the sensor run", |app| app.sensor().is_up_to_date());
     for _ in 0..4 {
         h.step();
     }
-    assert_eq!(
-        h.state().sensor_ref().shown().unwrap().run.strategies.len(),
-        4
-    );
+    assert_eq!(h.state().sensor().shown().unwrap().run.strategies.len(), 4);
     capture(&mut h, "sensor-maps");
-    h.state_mut().sensor().view = SensorView::Compare;
+    h.state_mut().sensor_mut().view = SensorView::Compare;
     h.state_mut()
-        .sensor()
+        .sensor_mut()
         .set_compare(0, 3, CompareMode::Split, 0.5);
     for _ in 0..4 {
         h.step();
     }
     capture(&mut h, "sensor-compare");
-    h.state_mut().sensor().view = SensorView::Curves;
+    h.state_mut().sensor_mut().view = SensorView::Curves;
     for _ in 0..4 {
         h.step();
     }
     capture(&mut h, "sensor-curves");
-    h.state_mut().sensor().view = SensorView::Study;
+    h.state_mut().sensor_mut().view = SensorView::Study;
     h.step();
     let ctx = h.ctx.clone();
     let app = h.state_mut();
-    let settings = app.sensor_ref().settings.clone();
-    let scene = app.sensor_ref().scene().cloned();
+    let settings = app.sensor().settings.clone();
+    let scene = app.sensor().scene().cloned();
     if let Some(scene) = scene {
-        app.sensor().study.start(scene.as_ref(), &settings, &ctx);
+        app.sensor_mut()
+            .study
+            .start(scene.as_ref(), &settings, &ctx);
     }
     common::step_until(&mut h, "the bin-size study", |app| {
-        app.sensor_ref().study.study().is_some()
+        app.sensor().study.study().is_some()
     });
     for _ in 0..4 {
         h.step();
@@ -231,33 +240,31 @@ fn phase_masks_psfs_plate_and_optimizer() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut().set_workspace(WorkspaceId::Phase);
-    common::step_until(&mut h, "the phase PSFs", |app| {
-        app.phase_ref().is_up_to_date()
-    });
+    common::step_until(&mut h, "the phase PSFs", |app| app.phase().is_up_to_date());
     for _ in 0..4 {
         h.step();
     }
-    assert_eq!(h.state().phase_ref().shown().unwrap().psfs.lenslets, 58);
+    assert_eq!(h.state().phase().shown().unwrap().psfs.lenslets, 58);
     capture(&mut h, "phase-psf");
-    h.state_mut().phase().view = PhaseView::Geometry;
+    h.state_mut().phase_mut().view = PhaseView::Geometry;
     for _ in 0..4 {
         h.step();
     }
     capture(&mut h, "phase-plate");
     // The optimizer at preview sampling keeps the scenario quick.
-    h.state_mut().phase().quality = Quality::Preview;
-    h.state_mut().phase().view = PhaseView::Optimizer;
+    h.state_mut().phase_mut().quality = Quality::Preview;
+    h.state_mut().phase_mut().view = PhaseView::Optimizer;
     common::step_until(&mut h, "the preview PSFs", |app| {
-        app.phase_ref().is_up_to_date()
+        app.phase().is_up_to_date()
     });
     h.get_by_label("Run optimizer").click();
     common::step_until(&mut h, "the phase optimizer", |app| {
-        app.phase_ref().optimized().is_some()
+        app.phase().optimized().is_some()
     });
     for _ in 0..4 {
         h.step();
     }
-    let o = h.state().phase_ref().optimized().unwrap();
+    let o = h.state().phase().optimized().unwrap();
     assert_eq!(o.allocation.counts.iter().sum::<usize>(), 58);
     capture(&mut h, "phase-optimizer");
 }
@@ -273,22 +280,22 @@ fn phase_capture_and_compare() {
     // times quicker than the spectral channels. Otherwise preview sampling: the same rows and
     // states, a sixth of the work.
     let for_readme = std::env::var_os("UDC_SCREENSHOTS_DIR").is_some();
-    h.state_mut().phase().quality = if for_readme {
+    h.state_mut().phase_mut().quality = if for_readme {
         Quality::Full
     } else {
         Quality::Preview
     };
     h.state_mut()
-        .phase()
+        .phase_mut()
         .set_capture_channels(ChannelSet::Peaks);
-    h.state_mut().phase().view = PhaseView::Capture;
+    h.state_mut().phase_mut().view = PhaseView::Capture;
     common::step_until(&mut h, "the capture", |app| {
-        app.phase_ref().capture_is_current()
+        app.phase().capture_is_current()
     });
     for _ in 0..4 {
         h.step();
     }
-    let rows = h.state().phase_ref().capture_rows();
+    let rows = h.state().phase().capture_rows();
     assert_eq!(rows.len(), 2);
     assert!(rows[0].ltr > 1.5 * rows[1].ltr);
     // The bare T-OLED's slits pass no light at some horizontal frequencies (on the whole
@@ -313,12 +320,10 @@ fn phase_capture_and_compare() {
     } else {
         &[0, 1, 5]
     };
-    h.state_mut().phase().select_compare_setups(setups);
+    h.state_mut().phase_mut().select_compare_setups(setups);
     h.get_by_label("Run comparison").click_accesskit();
-    common::step_until(&mut h, "the comparison", |app| {
-        !app.phase_ref().is_comparing()
-    });
-    assert_eq!(h.state().phase_ref().compare_rows().len(), setups.len() * 4);
+    common::step_until(&mut h, "the comparison", |app| !app.phase().is_comparing());
+    assert_eq!(h.state().phase().compare_rows().len(), setups.len() * 4);
     h.set_size(egui::vec2(1440.0, 1900.0));
     for _ in 0..4 {
         h.step();
@@ -336,21 +341,22 @@ fn sweep_results_and_a_one_parameter_sweep() {
     h.state_mut().set_workspace(WorkspaceId::Sweep);
     let ctx = h.ctx.clone();
     h.state_mut()
-        .sweep()
+        .sweep_mut()
         .open_folder(&out, move || ctx.request_repaint());
     common::step_until(&mut h, "the sweep table", |app| {
-        app.sweep_ref().is_idle() && app.sweep_ref().shown_rows().is_some()
+        app.sweep().is_idle() && app.sweep().shown_rows().is_some()
     });
     for _ in 0..4 {
         h.step();
     }
-    assert_eq!(h.state().sweep_ref().shown_rows().unwrap().len(), 8);
+    assert_eq!(h.state().sweep().shown_rows().unwrap().len(), 8);
     capture(&mut h, "sweep-results");
     // The T-OLED's pitch swept from its context menu's window, at preview quality.
     h.state_mut().set_workspace(WorkspaceId::Display);
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     h.state_mut()
+        .display_mut()
         .show_left_tab(udc_studio::app::LeftTab::Tiling);
     h.state_mut()
         .act(DisplayAction::SweepField(SweepField::PitchUm));
@@ -385,12 +391,10 @@ fn reproduce_window_with_a_report() {
     h.get_by_label("table5.1").click();
     h.step();
     h.get_by_label_contains("Run quick").click();
-    common::step_until(&mut h, "the quick run", |app| {
-        !app.reproduce_ref().is_running()
-    });
+    common::step_until(&mut h, "the quick run", |app| !app.reproduce().is_running());
     for _ in 0..4 {
         h.step();
     }
-    assert!(h.state().reproduce_ref().report().is_some());
+    assert!(h.state().reproduce().report().is_some());
     capture(&mut h, "reproduce");
 }

@@ -6,6 +6,7 @@
 
 use std::path::Path;
 
+use crate::common::Reach;
 use ndarray::Array2;
 use udc_studio::core::Progress;
 use udc_studio::core::sensor::cfa::{mosaic, read_regions, rggb_channel};
@@ -405,17 +406,13 @@ fn the_previewer_shows_colour_captures_and_channel_scores() {
     h.step();
     assert!(h.query_by_label("Colour filter").is_some());
     let scene = load_hdr(Path::new(STILL_LIFE)).unwrap().downscaled(160);
-    h.state_mut().sensor().set_scene("small", scene);
-    h.state_mut().sensor().settings.roi_px = 32;
-    h.state_mut().sensor().settings.cfa = Cfa::Rggb;
+    h.state_mut().sensor_mut().set_scene("small", scene);
+    h.state_mut().sensor_mut().settings.roi_px = 32;
+    h.state_mut().sensor_mut().settings.cfa = Cfa::Rggb;
     common::step_until(&mut h, "the colour run", |app| {
-        app.sensor_ref().is_up_to_date()
-            && app
-                .sensor_ref()
-                .shown()
-                .is_some_and(|s| s.run.cfa == Cfa::Rggb)
+        app.sensor().is_up_to_date() && app.sensor().shown().is_some_and(|s| s.run.cfa == Cfa::Rggb)
     });
-    let run = h.state().sensor_ref().shown().unwrap().run.clone();
+    let run = h.state().sensor().shown().unwrap().run.clone();
     assert!(run.colour_truth.is_some());
     assert!(h.query_by_label_contains("Per channel").is_some());
     // Each channel's worst-ROI SSIM is on screen.
@@ -424,9 +421,9 @@ fn the_previewer_shows_colour_captures_and_channel_scores() {
     assert!(h.query_all_by_label(&shown).next().is_some(), "{shown}");
     // The split comparison draws in colour too.
     h.state_mut()
-        .sensor()
+        .sensor_mut()
         .set_compare(0, 3, CompareMode::Split, 0.5);
-    h.state_mut().sensor().view = SensorView::Compare;
+    h.state_mut().sensor_mut().view = SensorView::Compare;
     h.step();
     h.step();
     assert!(h.query_by_label_contains("A: worst ROI SSIM").is_some());

@@ -7,6 +7,7 @@ use crate::common;
 
 use std::time::Duration;
 
+use crate::common::Reach;
 use crate::common::step_until;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::WorkspaceId;
@@ -24,11 +25,9 @@ fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
     h.step();
     assert!(h.query_by_label("Open HDR…").is_some());
     let ctx = h.ctx.clone();
-    h.state_mut().sensor().load_scene(still_life(), &ctx);
-    step_until(&mut h, "the full run", |app| {
-        app.sensor_ref().is_up_to_date()
-    });
-    let run = h.state().sensor_ref().shown().unwrap().run.clone();
+    h.state_mut().sensor_mut().load_scene(still_life(), &ctx);
+    step_until(&mut h, "the full run", |app| app.sensor().is_up_to_date());
+    let run = h.state().sensor().shown().unwrap().run.clone();
     let names: Vec<&str> = run.strategies.iter().map(|s| s.name.as_str()).collect();
     assert_eq!(
         names,
@@ -53,12 +52,11 @@ fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
         );
     }
     // A live parameter: a smaller ROI reruns and the ROI grid follows.
-    h.state_mut().sensor().settings.roi_px = 64;
+    h.state_mut().sensor_mut().settings.roi_px = 64;
     step_until(&mut h, "the rerun", |app| {
-        app.sensor_ref().is_up_to_date()
-            && app.sensor_ref().shown().is_some_and(|s| s.run.roi_px == 64)
+        app.sensor().is_up_to_date() && app.sensor().shown().is_some_and(|s| s.run.roi_px == 64)
     });
-    let rerun = h.state().sensor_ref().shown().unwrap().run.clone();
+    let rerun = h.state().sensor().shown().unwrap().run.clone();
     assert_eq!(
         rerun.strategies[0].roi_ssim.dim(),
         (423usize.div_ceil(64), 620usize.div_ceil(64))
@@ -69,7 +67,7 @@ fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
         (SensorView::Curves, "(b) optimal pitch"),
         (SensorView::Maps, "Bin map:"),
     ] {
-        h.state_mut().sensor().view = view;
+        h.state_mut().sensor_mut().view = view;
         h.step();
         h.step();
         assert!(h.query_by_label_contains(label).is_some(), "{label}");
@@ -84,25 +82,20 @@ fn a_broken_hdr_file_shows_an_error_and_keeps_the_scene() {
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Sensor);
     let ctx = h.ctx.clone();
-    h.state_mut().sensor().load_scene(still_life(), &ctx);
-    step_until(&mut h, "the full run", |app| {
-        app.sensor_ref().is_up_to_date()
-    });
-    h.state_mut().sensor().load_scene(bad.clone(), &ctx);
+    h.state_mut().sensor_mut().load_scene(still_life(), &ctx);
+    step_until(&mut h, "the full run", |app| app.sensor().is_up_to_date());
+    h.state_mut().sensor_mut().load_scene(bad.clone(), &ctx);
     step_until(&mut h, "the error", |app| {
-        app.sensor_ref().message().is_some_and(|m| m.is_error())
+        app.sensor().message().is_some_and(|m| m.is_error())
     });
-    let notice = h.state().sensor_ref().message().unwrap().clone();
+    let notice = h.state().sensor().message().unwrap().clone();
     let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("broken.exr"), "{msg}");
     assert_eq!(
-        h.state().sensor_ref().scene_name(),
+        h.state().sensor().scene_name(),
         Some("StillLife_620x423.exr")
     );
-    assert!(
-        h.state().sensor_ref().is_up_to_date(),
-        "the last result stays"
-    );
+    assert!(h.state().sensor().is_up_to_date(), "the last result stays");
 }
 
 #[test]
@@ -114,7 +107,7 @@ fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
     h.step();
     assert!(h.query_by_label("Flat patch check (eq. 5.3)").is_some());
     let checked = |app: &udc_studio::app::StudioApp| {
-        let s = app.sensor_ref();
+        let s = app.sensor();
         let f = s.flat_patch_check_ref();
         f.is_up_to_date(&s.settings) && f.result().is_some()
     };
@@ -126,7 +119,7 @@ fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
         udc_studio::core::sensor::FlatPatch,
     ) {
         h.state()
-            .sensor_ref()
+            .sensor()
             .flat_patch_check_ref()
             .result()
             .cloned()
@@ -144,14 +137,14 @@ fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
         );
     }
     // A new η reruns the check: more headroom, fewer saturated pixels.
-    h.state_mut().sensor().flat_patch_check().eta = 4.0;
+    h.state_mut().sensor_mut().flat_patch_check().eta = 4.0;
     step_until(&mut h, "the η = 4 check", checked);
     let (spec, eta4) = h_result(&h);
     assert_eq!(spec.eta, 4.0);
     assert!(eta4.saturated_fraction < eta2.saturated_fraction);
     // Additive bins at the same gain: the sum of 2×2 pixels saturates sooner than one pixel.
     {
-        let s = h.state_mut().sensor();
+        let s = h.state_mut().sensor_mut();
         s.settings.bin_mode = BinMode::AnalogAdditive;
         s.settings.additive_gain = AdditiveGain::Same;
         s.flat_patch_check().bin_px = 2;
@@ -169,6 +162,6 @@ fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
             .is_some()
     );
     // The numbers table counts saturated ROIs once a run is on screen.
-    step_until(&mut h, "a run", |app| app.sensor_ref().shown().is_some());
+    step_until(&mut h, "a run", |app| app.sensor().shown().is_some());
     assert!(h.query_by_label("saturated ROIs").is_some());
 }

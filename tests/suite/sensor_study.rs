@@ -1,6 +1,7 @@
 //! The bin-size study (Fig. 5.4): the bin that scores best shrinks as the light grows, the
 //! optimal-pitch theory predicts it, and the binning modes rank as Table 5.1 says.
 
+use crate::common::Reach;
 use ndarray::Array2;
 use udc_studio::core::Progress;
 use udc_studio::core::sensor::study::{BinStudy, StudySpec, bin_study};
@@ -185,24 +186,27 @@ fn the_study_view_runs_shows_every_capture_and_exports_csv() {
     let mut h = common::studio(dir.path(), false, std::time::Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Sensor);
     step_until(&mut h, "the sample scene", |app| {
-        app.sensor_ref().scene_name().is_some()
+        app.sensor().scene_name().is_some()
     });
-    h.state_mut().sensor().view = SensorView::Study;
+    h.state_mut().sensor_mut().view = SensorView::Study;
     h.step();
     h.get_by_label("Run the study").click();
     step_until(&mut h, "the study", |app| {
-        app.sensor_ref().study.study().is_some()
+        app.sensor().study.study().is_some()
     });
-    let study = h.state().sensor_ref().study.study().unwrap().clone();
+    let study = h.state().sensor().study.study().unwrap().clone();
     // Every capture on screen with its SSIM; 8 light levels × 4 bins + 4 modes × 2 gains × 4.
     assert_eq!(study.sweep.len() + study.modes.len(), 64);
     assert_eq!(h.query_all_by_label_contains("SSIM 0.").count(), 64);
     assert!(h.query_by_label("8 e-/µm²").is_none() && h.query_by_label("200 e-/µm²").is_some());
     let csv = dir.path().join("study.csv");
     let ctx = h.ctx.clone();
-    h.state_mut().sensor().study.write_csv(csv.clone(), &ctx);
+    h.state_mut()
+        .sensor_mut()
+        .study
+        .write_csv(csv.clone(), &ctx);
     step_until(&mut h, "the CSV", |app| {
-        app.sensor_ref()
+        app.sensor()
             .study
             .message()
             .is_some_and(|m| m.text.starts_with("wrote"))

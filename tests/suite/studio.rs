@@ -7,6 +7,7 @@ use std::time::Duration;
 
 use crate::common::step_until;
 
+use crate::common::Reach;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use udc_studio::app::panels::views::ViewTab;
@@ -18,7 +19,7 @@ fn harness(dir: &std::path::Path) -> Harness<'static, StudioApp> {
 }
 
 fn auc_r(app: &StudioApp) -> f64 {
-    app.shown().expect("a result").analysis.channels[0]
+    app.display().shown().expect("a result").analysis.channels[0]
         .mtf
         .auc_radial_min
 }
@@ -29,14 +30,25 @@ fn random_tiling_raises_the_auc_shown() {
     let mut h = harness(dir.path());
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
-    step_until(&mut h, "the T-OLED result", StudioApp::is_up_to_date);
+    step_until(
+        &mut h,
+        "the T-OLED result",
+        crate::common::display_up_to_date,
+    );
     let before = auc_r(h.state());
     h.get_by_label("Tiling").click();
     h.step();
     h.get_by_label("Random D4").click();
     h.step();
-    assert_eq!(h.state().design().tiling.mode, TilingMode::RandomD4);
-    step_until(&mut h, "the random-tiling result", StudioApp::is_up_to_date);
+    assert_eq!(
+        h.state().display().design().tiling.mode,
+        TilingMode::RandomD4
+    );
+    step_until(
+        &mut h,
+        "the random-tiling result",
+        crate::common::display_up_to_date,
+    );
     let after = auc_r(h.state());
     assert!(after > 3.0 * before, "AUC {before} → {after}");
     // The numbers panel shows it (4 decimals).
@@ -50,10 +62,11 @@ fn random_tiling_raises_the_auc_shown() {
 fn cell_centre(h: &Harness<'_, StudioApp>, row: usize, col: usize) -> egui::Pos2 {
     let rect = h
         .state()
+        .display()
         .editor()
         .grid_rect()
         .expect("the editor was drawn");
-    let n = h.state().design().opening.n() as f32;
+    let n = h.state().display().design().opening.n() as f32;
     egui::pos2(
         rect.left() + (col as f32 + 0.5) * rect.width() / n,
         rect.top() + (row as f32 + 0.5) * rect.height() / n,
@@ -66,8 +79,12 @@ fn drawing_changes_the_design_and_undo_restores_it() {
     let mut h = harness(dir.path());
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    let before = h.state().design().clone();
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
+    let before = h.state().display().design().clone();
     assert_eq!(before.opening.cells[2][1], 0.0);
     // One drag with the paint tool across row 2, columns 1…4.
     let (a, b) = (cell_centre(&h, 2, 1), cell_centre(&h, 2, 4));
@@ -80,21 +97,21 @@ fn drawing_changes_the_design_and_undo_restores_it() {
     });
     h.step();
     h.step();
-    let after = h.state().design().clone();
+    let after = h.state().display().design().clone();
     for c in 1..=4 {
         assert_eq!(after.opening.cells[2][c], 1.0, "cell (2, {c}) painted");
     }
-    assert!(h.state().document().can_undo());
+    assert!(h.state().display().document().can_undo());
     // The drag was one undo step.
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
     h.step();
-    assert_eq!(h.state().design(), &before);
+    assert_eq!(h.state().display().design(), &before);
     h.key_press_modifiers(
         egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
         egui::Key::Z,
     );
     h.step();
-    assert_eq!(h.state().design(), &after);
+    assert_eq!(h.state().display().design(), &after);
 }
 
 /// A flick (the press and the first move in one frame) paints its first cell, and no frame
@@ -105,8 +122,12 @@ fn a_quick_stroke_keeps_its_first_cell_and_does_not_blink() {
     let mut h = harness(dir.path());
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    let before = h.state().design().opening.cells.clone();
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
+    let before = h.state().display().design().opening.cells.clone();
     assert!((1..=6).all(|c| before[3][c] == 0.0));
     let (a, b, c) = (
         cell_centre(&h, 3, 1),
@@ -130,18 +151,21 @@ fn a_quick_stroke_keeps_its_first_cell_and_does_not_blink() {
     h.step();
     h.event(button(c, false));
     h.step();
-    let after = h.state().design().opening.cells.clone();
+    let after = h.state().display().design().opening.cells.clone();
     assert_eq!(after[3][1..=6], [1.0; 6], "cells (3, 1)…(3, 6) painted");
     let opened = |cells: &[Vec<f64>]| cells.iter().flatten().filter(|v| **v == 1.0).count();
     assert_eq!(opened(&after), opened(&before) + 6);
     // The frame of the release drew what the document now holds.
     assert_eq!(
-        h.state().editor().shown_cells(),
+        h.state().display().editor().shown_cells(),
         Some(after.as_slice()),
         "the stroke stays on screen"
     );
     h.step();
-    assert_eq!(h.state().editor().shown_cells(), Some(after.as_slice()));
+    assert_eq!(
+        h.state().display().editor().shown_cells(),
+        Some(after.as_slice())
+    );
 }
 
 /// Pinned and edited, A and B carry one design name; the Compare tab names them apart.
@@ -151,15 +175,26 @@ fn compare_names_the_pinned_and_the_edited_design_apart() {
     let mut h = harness(dir.path());
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
     h.state_mut().act(DisplayAction::PinCompare);
-    step_until(&mut h, "the pin", |app| app.pinned().is_some());
-    let name = h.state().design().name.clone();
-    let pinned_at = h.state().pinned().unwrap().pinned_at.clone();
+    step_until(&mut h, "the pin", |app| app.display().pinned().is_some());
+    let name = h.state().display().design().name.clone();
+    let pinned_at = h.state().display().pinned().unwrap().pinned_at.clone();
     assert_eq!(pinned_at.len(), 5, "HH:MM, got {pinned_at}");
     h.state_mut().act(DisplayAction::Invert);
-    step_until(&mut h, "the edited result", StudioApp::is_up_to_date);
-    h.state_mut().views().set_tab(ViewTab::Compare);
+    step_until(
+        &mut h,
+        "the edited result",
+        crate::common::display_up_to_date,
+    );
+    h.state_mut()
+        .display_mut()
+        .views()
+        .set_tab(ViewTab::Compare);
     h.step();
     h.step();
     let a = format!("A: {name} (pinned {pinned_at})");
@@ -178,8 +213,12 @@ fn a_corrupt_design_file_shows_an_error_and_keeps_the_design() {
     )
     .unwrap();
     let mut h = harness(dir.path());
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    let before = h.state().design().clone();
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
+    let before = h.state().display().design().clone();
     h.state_mut().act(DisplayAction::OpenPath(bad.clone()));
     step_until(&mut h, "the error", |a| {
         a.status().is_some_and(|n| n.is_error())
@@ -187,7 +226,11 @@ fn a_corrupt_design_file_shows_an_error_and_keeps_the_design() {
     let notice = h.state().status().unwrap().clone();
     let (msg, _) = (notice.text.clone(), notice.is_error());
     assert!(msg.contains("broken.json"), "{msg}");
-    assert_eq!(h.state().design(), &before, "the design is unchanged");
+    assert_eq!(
+        h.state().display().design(),
+        &before,
+        "the design is unchanged"
+    );
     assert!(
         h.query_by_label_contains("broken.json").is_some(),
         "the error is on screen"
@@ -198,8 +241,12 @@ fn a_corrupt_design_file_shows_an_error_and_keeps_the_design() {
 fn the_design_is_autosaved_and_restored() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    let mut d = h.state().design().clone();
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
+    let mut d = h.state().display().design().clone();
     d.tiling.mode = TilingMode::Random4;
     d.tiling.seed = 99;
     h.state_mut().act(DisplayAction::Edit(Box::new(d.clone())));
@@ -211,7 +258,7 @@ fn the_design_is_autosaved_and_restored() {
     let mut h2 = harness(dir.path());
     h2.step();
     assert_eq!(
-        h2.state().design(),
+        h2.state().display().design(),
         &d,
         "the next session opens the last design"
     );
@@ -221,15 +268,19 @@ fn the_design_is_autosaved_and_restored() {
 fn unsaved_changes_are_confirmed_before_loading_another_design() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
     // A preset replaces an unedited design without asking.
     h.state_mut()
         .act(DisplayAction::LoadPreset("poled-336um".into()));
     h.step();
     assert!(h.query_by_label("Unsaved changes").is_none());
-    assert_eq!(h.state().design().opening.n(), 42);
+    assert_eq!(h.state().display().design().opening.n(), 42);
     // After an edit, it asks first; Cancel keeps the edit, Discard loads.
-    let mut d = h.state().design().clone();
+    let mut d = h.state().display().design().clone();
     d.tiling.seed = 1234;
     h.state_mut().act(DisplayAction::Edit(Box::new(d.clone())));
     h.state_mut()
@@ -243,7 +294,7 @@ fn unsaved_changes_are_confirmed_before_loading_another_design() {
     h.get_by_label("Cancel").click();
     h.step();
     h.step();
-    assert_eq!(h.state().design(), &d);
+    assert_eq!(h.state().display().design(), &d);
     h.state_mut()
         .act(DisplayAction::LoadPreset("open-aperture".into()));
     h.step();
@@ -251,10 +302,13 @@ fn unsaved_changes_are_confirmed_before_loading_another_design() {
     h.get_by_label("Don't save").click();
     h.step();
     h.step();
-    assert_eq!(h.state().design().opening.cells, vec![vec![1.0; 21]; 21]);
+    assert_eq!(
+        h.state().display().design().opening.cells,
+        vec![vec![1.0; 21]; 21]
+    );
     // …and the discarded edit is still one undo away.
     h.state_mut().command(ShellCommand::Undo);
-    assert_eq!(h.state().design(), &d);
+    assert_eq!(h.state().display().design(), &d);
 }
 
 #[test]
@@ -265,8 +319,12 @@ fn a_mask_imports_back_as_the_opening() {
     let mut h = harness(dir.path());
     h.state_mut()
         .act(DisplayAction::LoadPreset("l2inv-random".into()));
-    step_until(&mut h, "the first result", StudioApp::is_up_to_date);
-    let exported = h.state().design().clone();
+    step_until(
+        &mut h,
+        "the first result",
+        crate::common::display_up_to_date,
+    );
+    let exported = h.state().display().design().clone();
     let gds = dir.path().join("pixel.gds");
     let options = ExportOptions {
         format: MaskFormat::Gds,
@@ -287,6 +345,7 @@ fn a_mask_imports_back_as_the_opening() {
     h.state_mut().act(DisplayAction::Clear);
     assert!(
         h.state()
+            .display()
             .design()
             .opening
             .cells
@@ -298,11 +357,15 @@ fn a_mask_imports_back_as_the_opening() {
     step_until(&mut h, "the import", |a| {
         a.status().is_some_and(|n| n.text == "opening imported")
     });
-    assert_eq!(h.state().design().opening.cells, exported.opening.cells);
+    assert_eq!(
+        h.state().display().design().opening.cells,
+        exported.opening.cells
+    );
     // One undo step back to the cleared opening.
     h.state_mut().command(ShellCommand::Undo);
     assert!(
         h.state()
+            .display()
             .design()
             .opening
             .cells
@@ -330,14 +393,18 @@ fn unreadable_autosaves_are_kept_aside_numbered_and_said_so() {
         std::fs::write(&autosave, garbage).unwrap();
         std::fs::write(&phase, garbage).unwrap();
         let mut h = harness(dir.path());
-        step_until(&mut h, "the first result", StudioApp::is_up_to_date);
+        step_until(
+            &mut h,
+            "the first result",
+            crate::common::display_up_to_date,
+        );
         // The notice outlives the first good result: it is not the simulation's error.
         let notice = h.state().status().cloned().expect("a notice");
         let (msg, is_error) = (notice.text.clone(), notice.is_error());
         assert!(is_error && msg.contains("kept it as"), "{msg}");
         let pmsg = h
             .state_mut()
-            .phase()
+            .phase_mut()
             .message()
             .map(|n| n.text.clone())
             .expect("a phase notice");
@@ -369,9 +436,10 @@ fn a_typed_number_commits_once_on_enter() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = harness(dir.path());
     h.state_mut()
+        .display_mut()
         .show_left_tab(udc_studio::app::LeftTab::Tiling);
     h.run_steps(3);
-    let before = h.state().design().clone();
+    let before = h.state().display().design().clone();
     let undo_steps_before = undo_depth(&mut h);
     h.get_by_role_and_label(egui::Role::SpinButton, "Wiring gap")
         .focus();
@@ -382,18 +450,18 @@ fn a_typed_number_commits_once_on_enter() {
             .type_text(ch);
         h.run_steps(2);
         assert_eq!(
-            h.state().design().tiling.wiring_gap_um,
+            h.state().display().design().tiling.wiring_gap_um,
             before.tiling.wiring_gap_um,
             "a keystroke must not reach the design"
         );
     }
     h.key_press(egui::Key::Enter);
     h.run_steps(3);
-    assert_eq!(h.state().design().tiling.wiring_gap_um, 12.0);
+    assert_eq!(h.state().display().design().tiling.wiring_gap_um, 12.0);
     assert_eq!(undo_depth(&mut h), undo_steps_before + 1, "one undo step");
     h.state_mut().command(ShellCommand::Undo);
     h.run_steps(2);
-    assert_eq!(h.state().design(), &before);
+    assert_eq!(h.state().display().design(), &before);
     // Text that is not a number never reaches the design, and the status bar says why, in red.
     h.get_by_role_and_label(egui::Role::SpinButton, "Wiring gap")
         .focus();
@@ -403,7 +471,7 @@ fn a_typed_number_commits_once_on_enter() {
         .type_text("abc");
     h.key_press(egui::Key::Enter);
     h.run_steps(3);
-    assert_eq!(h.state().design(), &before);
+    assert_eq!(h.state().display().design(), &before);
     let status = h.state().status().unwrap();
     assert!(status.is_error(), "{}", status.text);
     assert!(
@@ -416,15 +484,15 @@ fn a_typed_number_commits_once_on_enter() {
 /// How many undo steps the display document holds.
 fn undo_depth(h: &mut Harness<'static, StudioApp>) -> usize {
     let mut n = 0;
-    let start = h.state().design().clone();
-    while h.state().document().can_undo() {
+    let start = h.state().display().design().clone();
+    while h.state().display().document().can_undo() {
         h.state_mut().command(ShellCommand::Undo);
         n += 1;
     }
     for _ in 0..n {
         h.state_mut().command(ShellCommand::Redo);
     }
-    assert_eq!(h.state().design(), &start);
+    assert_eq!(h.state().display().design(), &start);
     n
 }
 

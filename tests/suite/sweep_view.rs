@@ -15,24 +15,25 @@ use udc_studio::core::design::TilingMode;
 use udc_studio::core::sweep::field::{FieldPoint, SweepField, SweepMetric, values};
 use udc_studio::io::design_choice::design_hash;
 
+use crate::common::Reach;
 use common::tiny_sweep;
 
 /// Opens a results folder in the Sweep workspace and waits for its table.
 fn open_results(h: &mut egui_kittest::Harness<'_, StudioApp>, out: &std::path::Path) {
     let ctx = h.ctx.clone();
     h.state_mut()
-        .sweep()
+        .sweep_mut()
         .open_folder(out, move || ctx.request_repaint());
     common::step_until(h, "the table", idle);
 }
 
 fn idle(app: &StudioApp) -> bool {
-    app.sweep_ref().is_idle() && app.sweep_ref().shown_rows().is_some()
+    app.sweep().is_idle() && app.sweep().shown_rows().is_some()
 }
 
 /// The shown rows' values of column `name`.
 fn shown(app: &StudioApp, name: &str) -> Vec<String> {
-    let s = app.sweep_ref();
+    let s = app.sweep();
     let t = s.table().unwrap();
     let c = t.column(name).unwrap();
     s.shown_rows()
@@ -50,18 +51,18 @@ fn a_results_folder_shows_sorts_filters_and_opens_a_rows_design() {
     h.state_mut().set_workspace(WorkspaceId::Sweep);
     h.step();
     open_results(&mut h, &out);
-    assert_eq!(h.state().sweep_ref().table().unwrap().rows.len(), 8);
-    assert_eq!(h.state().sweep_ref().shown_rows().unwrap().len(), 8);
+    assert_eq!(h.state().sweep().table().unwrap().rows.len(), 8);
+    assert_eq!(h.state().sweep().shown_rows().unwrap().len(), 8);
     assert!(h.query_by_label("8 shown / 8 rows").is_some());
     // The spec's default plots: the metric against the tiling, and the Pareto front.
-    let plots = h.state().sweep_ref().plots().unwrap();
+    let plots = h.state().sweep().plots().unwrap();
     assert!(plots.len() >= 2, "{} plots", plots.len());
     assert!(plots.iter().all(|(_, d)| d.is_ok()));
 
     // Sort by a metric by clicking its header: ascending, then descending.
     h.get_by_label("auc_radial_min_mean").click();
     common::step_until(&mut h, "the sorted view", idle);
-    let sort = h.state().sweep_ref().sort;
+    let sort = h.state().sweep().sort;
     assert!(!sort.descending && matches!(sort.column, Column::Metric(_)));
     let nums = |app: &StudioApp| -> Vec<f64> {
         shown(app, "auc_radial_min_mean")
@@ -75,23 +76,23 @@ fn a_results_folder_shows_sorts_filters_and_opens_a_rows_design() {
     common::step_until(&mut h, "the reversed view", idle);
     let down = nums(h.state());
     assert!(down.windows(2).all(|w| w[0] >= w[1]), "{down:?}");
-    assert!(h.state().sweep_ref().sort.descending);
+    assert!(h.state().sweep().sort.descending);
 
     // Filter: the random-4 rows, then a comparison.
-    h.state_mut().sweep().filter = "random-4".into();
+    h.state_mut().sweep_mut().filter = "random-4".into();
     common::step_until(&mut h, "the filtered view", idle);
     assert_eq!(shown(h.state(), "tiling"), vec!["random-4"; 4]);
     assert!(h.query_by_label("4 shown / 8 rows").is_some());
-    h.state_mut().sweep().filter = "random-4 seed<2".into();
+    h.state_mut().sweep_mut().filter = "random-4 seed<2".into();
     common::step_until(&mut h, "the compared view", idle);
     assert_eq!(shown(h.state(), "seed").len(), 2);
 
     // Open the design of the row with seed 1 (random-4, sorted by point).
-    h.state_mut().sweep().filter = "tiling=random-4 seed=1".into();
-    h.state_mut().sweep().sort = Sort::default();
+    h.state_mut().sweep_mut().filter = "tiling=random-4 seed=1".into();
+    h.state_mut().sweep_mut().sort = Sort::default();
     common::step_until(&mut h, "one row", idle);
     let (index, row_hash) = {
-        let s = h.state().sweep_ref();
+        let s = h.state().sweep();
         let rows = s.shown_rows().unwrap();
         assert_eq!(rows.len(), 1);
         let t = s.table().unwrap();
@@ -101,11 +102,14 @@ fn a_results_folder_shows_sorts_filters_and_opens_a_rows_design() {
     common::step_until(&mut h, "the display workspace", |app| {
         app.workspace() == WorkspaceId::Display
     });
-    let design = h.state().design().clone();
+    let design = h.state().display().design().clone();
     assert_eq!(design.tiling.mode, TilingMode::Random4);
     assert_eq!(design.tiling.seed, 1);
     assert_eq!(design_hash(&design), row_hash, "row {index}'s design");
-    assert!(h.state().document().can_undo(), "opening is one undo step");
+    assert!(
+        h.state().display().document().can_undo(),
+        "opening is one undo step"
+    );
     let status = h.state().status().unwrap();
     assert!(!status.is_error(), "{}", status.text);
     assert!(status.text.contains("point"), "{}", status.text);
@@ -122,15 +126,15 @@ fn a_folder_that_is_not_a_sweep_keeps_the_table_and_says_why() {
     std::fs::create_dir_all(&empty).unwrap();
     let ctx = h.ctx.clone();
     h.state_mut()
-        .sweep()
+        .sweep_mut()
         .open_folder(&empty, move || ctx.request_repaint());
     common::step_until(&mut h, "the error", |app| {
-        app.sweep_ref().message().is_some_and(|m| m.is_error())
+        app.sweep().message().is_some_and(|m| m.is_error())
     });
-    assert_eq!(h.state().sweep_ref().table().unwrap().rows.len(), 8);
+    assert_eq!(h.state().sweep().table().unwrap().rows.len(), 8);
     assert!(
         h.state()
-            .sweep_ref()
+            .sweep()
             .message()
             .unwrap()
             .text
@@ -163,7 +167,7 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     h.step();
-    let pitch = h.state().design().opening.pitch_um;
+    let pitch = h.state().display().design().opening.pitch_um;
     h.state_mut()
         .act(DisplayAction::SweepField(SweepField::PitchUm));
     h.step();
@@ -184,7 +188,7 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     h.state_mut().display_mut().field_sweep_mut().run(&ctx);
     h.step();
     // A design change meanwhile does not disturb the run: it works on its copy.
-    let mut d = h.state().design().clone();
+    let mut d = h.state().display().design().clone();
     d.tiling.mode = TilingMode::RandomD4;
     h.state_mut().act(DisplayAction::Edit(Box::new(d)));
     common::step_until(&mut h, "the 1-D sweep", |app| {
@@ -235,6 +239,7 @@ fn the_context_menu_of_a_number_field_opens_the_sweep_window() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut()
+        .display_mut()
         .show_left_tab(udc_studio::app::LeftTab::Tiling);
     h.step();
     // Right-click the number field (labelled by its label) with the pointer.
@@ -296,7 +301,7 @@ fn a_dropped_results_csv_opens_in_the_sweep_workspace_from_anywhere() {
     h.step();
     assert_eq!(h.state().workspace(), WorkspaceId::Sweep);
     common::step_until(&mut h, "the dropped table", idle);
-    assert_eq!(h.state().sweep_ref().table().unwrap().rows.len(), 8);
+    assert_eq!(h.state().sweep().table().unwrap().rows.len(), 8);
 }
 
 #[test]
@@ -314,9 +319,9 @@ fn a_phase_sweeps_row_says_open_design_is_for_display_designs() {
     open_results(&mut h, &out);
     h.get_all_by_label("Open").next().unwrap().click();
     common::step_until(&mut h, "the notice", |app| {
-        app.sweep_ref().message().is_some_and(|m| m.is_error())
+        app.sweep().message().is_some_and(|m| m.is_error())
     });
-    let text = h.state().sweep_ref().message().unwrap().text.clone();
+    let text = h.state().sweep().message().unwrap().text.clone();
     assert!(text.contains("display designs"), "{text}");
     assert_eq!(h.state().workspace(), WorkspaceId::Sweep);
 }

@@ -1,6 +1,9 @@
 //! Shared helpers for the integration tests.
 #![allow(dead_code)]
 
+mod reach;
+pub use reach::{Reach, display_up_to_date};
+
 /// The real studio in a headless harness, persisting into `dir`, with native dialogs off.
 pub fn studio(
     dir: &std::path::Path,
