@@ -9,12 +9,12 @@ use udc_studio::core::{Setting, SimError};
 
 #[test]
 fn a_field_only_a_flag_sets_is_reported_by_its_flag() {
-    let e = name_flags(SimError::field(Setting::ViewingDistanceMm, "must be above 0").into());
+    let e = name_flags(SimError::invalid(Setting::ViewingDistanceMm, "must be above 0").into());
     assert_eq!(e.to_string(), "--viewing-distance-mm: must be above 0");
-    let e = name_flags(SimError::field(Setting::OpeningCells, "too many").into());
+    let e = name_flags(SimError::invalid(Setting::OpeningCells, "too many").into());
     assert_eq!(e.to_string(), "field `opening.cells`: too many");
     // A path is not a setting, even where it spells one: only the core's typed key counts.
-    let e = name_flags(SimError::field("nsr", "must be ≥ 0").into());
+    let e = name_flags(SimError::invalid("nsr", "must be ≥ 0").into());
     assert_eq!(e.to_string(), "field `nsr`: must be ≥ 0");
     let e = name_flags(anyhow::anyhow!("not a core error"));
     assert_eq!(e.to_string(), "not a core error");

@@ -193,7 +193,7 @@ fn bad_input_is_refused_with_the_field_named() {
     let p = Progress::new();
     let img = Array2::from_elem((16, 16), 0.5);
     let field = |e: SimError| match e {
-        SimError::InvalidField { field, .. } => field,
+        SimError::InvalidSetting { path: field, .. } => field,
         other => panic!("expected an invalid field, got {other}"),
     };
     for s2 in [0.0, -1.0, f64::NAN, f64::INFINITY] {

@@ -174,7 +174,7 @@ fn nonsense_values_never_reach_the_simulation() {
         let mut d = Design::default_toled();
         mutate(&mut d);
         match analyze(&d, &Progress::new()) {
-            Err(SimError::InvalidField { field: f, .. }) => assert_eq!(f, field),
+            Err(SimError::InvalidSetting { path: f, .. }) => assert_eq!(f, field),
             other => panic!(
                 "{field}: expected an error naming it, got {:?}",
                 other.map(|a| a.ltr)

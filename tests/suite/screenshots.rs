@@ -334,7 +334,7 @@ fn phase_capture_and_compare() {
 #[test]
 fn sweep_results_and_a_one_parameter_sweep() {
     use udc_studio::app::WorkspaceId;
-    use udc_studio::core::sweep::field::{FieldPoint, SweepField};
+    use udc_studio::core::sweep::one_axis::{OneAxisPoint, SweepParameter};
     let dir = tempfile::tempdir().unwrap();
     let out = common::tiny_sweep(dir.path());
     let mut h = harness(dir.path());
@@ -359,23 +359,23 @@ fn sweep_results_and_a_one_parameter_sweep() {
         .display_mut()
         .show_left_tab(udc_studio::app::LeftTab::Tiling);
     h.state_mut()
-        .act(DisplayAction::SweepField(SweepField::PitchUm));
+        .act(DisplayAction::SweepParameter(SweepParameter::PitchUm));
     for _ in 0..4 {
         h.step();
     }
     let ctx = h.ctx.clone();
     h.state_mut().display_mut().field_sweep_mut().run(&ctx);
     common::step_until(&mut h, "the 1-D sweep", |app| {
-        let w = app.display().field_sweep();
+        let w = app.display().one_axis_sweep();
         !w.is_running() && w.points().iter().all(|(_, p)| p.is_some())
     });
     settle(&mut h);
-    let points = h.state().display().field_sweep().points();
+    let points = h.state().display().one_axis_sweep().points();
     assert_eq!(points.len(), 9);
     assert!(
         points
             .iter()
-            .all(|(_, p)| matches!(p, Some(FieldPoint::Value(y)) if y.is_finite()))
+            .all(|(_, p)| matches!(p, Some(OneAxisPoint::Value(y)) if y.is_finite()))
     );
     capture(&mut h, "sweep-this-parameter");
 }

@@ -12,7 +12,7 @@ use egui_kittest::kittest::Queryable;
 use udc_studio::app::sweep::table::{Column, Sort};
 use udc_studio::app::{DisplayAction, StudioApp, WorkspaceId};
 use udc_studio::core::design::TilingMode;
-use udc_studio::core::sweep::field::{FieldPoint, SweepField, SweepMetric, values};
+use udc_studio::core::sweep::one_axis::{OneAxisPoint, SweepMetric, SweepParameter, values};
 use udc_studio::io::design_choice::design_hash;
 
 use crate::common::Reach;
@@ -145,7 +145,7 @@ fn a_folder_that_is_not_a_sweep_keeps_the_table_and_says_why() {
 #[test]
 fn sweep_values_are_linear_and_whole_for_the_seed() {
     assert_eq!(values(84.0, 252.0, 3, false), vec![84.0, 168.0, 252.0]);
-    let (from, to, steps) = SweepField::PitchUm.default_range(168.0);
+    let (from, to, steps) = SweepParameter::PitchUm.default_range(168.0);
     assert_eq!((from, to, steps), (84.0, 252.0, 9));
     let v = values(from, to, steps, false);
     assert_eq!(v.len(), 9);
@@ -153,7 +153,7 @@ fn sweep_values_are_linear_and_whole_for_the_seed() {
         (v[4] - 168.0).abs() < 1e-12,
         "the current value in the middle"
     );
-    let (from, to, steps) = SweepField::Seed.default_range(5.0);
+    let (from, to, steps) = SweepParameter::Seed.default_range(5.0);
     assert_eq!(
         values(from, to, steps, true),
         (5..=13).map(f64::from).collect::<Vec<_>>()
@@ -169,12 +169,12 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     h.step();
     let pitch = h.state().display().design().opening.pitch_um;
     h.state_mut()
-        .act(DisplayAction::SweepField(SweepField::PitchUm));
+        .act(DisplayAction::SweepParameter(SweepParameter::PitchUm));
     h.step();
     {
-        let w = h.state().display().field_sweep();
+        let w = h.state().display().one_axis_sweep();
         assert!(w.is_open());
-        assert_eq!(w.field(), SweepField::PitchUm);
+        assert_eq!(w.field(), SweepParameter::PitchUm);
         assert_eq!(w.current(), pitch);
         assert_eq!(w.values().len(), 9);
     }
@@ -192,13 +192,13 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     d.tiling.mode = TilingMode::RandomD4;
     h.state_mut().act(DisplayAction::Edit(Box::new(d)));
     common::step_until(&mut h, "the 1-D sweep", |app| {
-        !app.display().field_sweep().is_running()
+        !app.display().one_axis_sweep().is_running()
     });
-    let points = h.state().display().field_sweep().points().to_vec();
+    let points = h.state().display().one_axis_sweep().points().to_vec();
     assert_eq!(points.len(), 5);
     for (x, p) in &points {
         match p {
-            Some(FieldPoint::Value(y)) => assert!(y.is_finite() && *y > 0.0, "{x}: {y}"),
+            Some(OneAxisPoint::Value(y)) => assert!(y.is_finite() && *y > 0.0, "{x}: {y}"),
             other => panic!("{x}: {other:?}"),
         }
     }
@@ -211,17 +211,17 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     w.steps = 3;
     w.run(&ctx);
     common::step_until(&mut h, "the sweep with gaps", |app| {
-        let w = app.display().field_sweep();
+        let w = app.display().one_axis_sweep();
         !w.is_running() && w.points().iter().all(|(_, p)| p.is_some())
     });
-    let points = h.state().display().field_sweep().points().to_vec();
-    assert!(matches!(points[0].1, Some(FieldPoint::Invalid(_))));
-    assert!(matches!(points[1].1, Some(FieldPoint::Invalid(_))));
-    assert!(matches!(points[2].1, Some(FieldPoint::Value(y)) if y.is_finite()));
+    let points = h.state().display().one_axis_sweep().points().to_vec();
+    assert!(matches!(points[0].1, Some(OneAxisPoint::Invalid(_))));
+    assert!(matches!(points[1].1, Some(OneAxisPoint::Invalid(_))));
+    assert!(matches!(points[2].1, Some(OneAxisPoint::Value(y)) if y.is_finite()));
     let note = h
         .state()
         .display()
-        .field_sweep()
+        .one_axis_sweep()
         .message()
         .unwrap()
         .text
@@ -231,7 +231,7 @@ fn sweep_this_parameter_grows_a_finite_curve_with_gaps_for_invalid_values() {
     // Escape closes the window.
     h.key_press(egui::Key::Escape);
     h.step();
-    assert!(!h.state().display().field_sweep().is_open());
+    assert!(!h.state().display().one_axis_sweep().is_open());
 }
 
 #[test]
@@ -259,9 +259,9 @@ fn the_context_menu_of_a_number_field_opens_the_sweep_window() {
     h.get_by_label("Sweep this parameter…").click();
     h.step();
     h.step();
-    let w = h.state().display().field_sweep();
+    let w = h.state().display().one_axis_sweep();
     assert!(w.is_open());
-    assert_eq!(w.field(), SweepField::WiringGapUm);
+    assert_eq!(w.field(), SweepParameter::WiringGapUm);
     for _ in 0..4 {
         h.step();
     }

@@ -1,9 +1,9 @@
 //! The flag behind a setting. The core names a bad setting by its [`Setting`]
-//! (`SimError::InvalidField`); a setting that only a flag sets is reported to a command-line user
+//! (`SimError::InvalidSetting`); a setting that only a flag sets is reported to a command-line user
 //! by that flag instead, as they typed it. One exhaustive `match`, applied once, where
 //! [`crate::run`] returns: a new setting does not compile until it says whether a flag sets it.
 
-use udc_core::{Field, Setting, SimError};
+use udc_core::{Setting, SettingPath, SimError};
 
 /// The flag that sets `setting`, if only a flag does (a design file's fields are named by their
 /// path in the file).
@@ -61,12 +61,12 @@ pub fn flag_of(setting: Setting) -> Option<&'static str> {
 /// returned as it is.
 pub fn name_flags(e: anyhow::Error) -> anyhow::Error {
     match e.downcast::<SimError>() {
-        Ok(SimError::InvalidField {
-            field: Field::Setting(setting),
+        Ok(SimError::InvalidSetting {
+            path: SettingPath::Setting(setting),
             message,
         }) => match flag_of(setting) {
             Some(flag) => anyhow::anyhow!("{flag}: {message}"),
-            None => SimError::field(setting, message).into(),
+            None => SimError::invalid(setting, message).into(),
         },
         Ok(other) => other.into(),
         Err(e) => e,

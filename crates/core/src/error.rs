@@ -2,16 +2,17 @@
 
 use thiserror::Error;
 
-use crate::setting::Field;
+use crate::setting::SettingPath;
 
 /// Everything that can go wrong in a simulation. Messages name what was wrong and where.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum SimError {
-    /// A parameter is out of range; `field` is its path in the design file (or the setting's name).
-    #[error("field `{field}`: {message}")]
-    InvalidField {
+    /// A parameter is out of range; `path` is where it is in the design file (or the setting's
+    /// name). The message calls it a "field" of the file, as a user reads one.
+    #[error("field `{path}`: {message}")]
+    InvalidSetting {
         /// The offending setting, or a path inside one.
-        field: Field,
+        path: SettingPath,
         /// What is wrong with it.
         message: String,
     },
@@ -38,10 +39,10 @@ pub enum SimError {
 }
 
 impl SimError {
-    /// An [`SimError::InvalidField`] for `field` with `message`.
-    pub fn field(field: impl Into<Field>, message: impl Into<String>) -> Self {
-        SimError::InvalidField {
-            field: field.into(),
+    /// An [`SimError::InvalidSetting`] for `path` with `message`.
+    pub fn invalid(path: impl Into<SettingPath>, message: impl Into<String>) -> Self {
+        SimError::InvalidSetting {
+            path: path.into(),
             message: message.into(),
         }
     }

@@ -70,4 +70,4 @@ pub use design::Design;
 pub use error::{SimError, ValueError};
 pub use progress::Progress;
 pub use sample::Sample;
-pub use setting::{Field, Setting};
+pub use setting::{Setting, SettingPath};

@@ -88,7 +88,7 @@ pub enum Setting {
     Brackets,
     /// `step_ev`: the exposure step between brackets.
     StepEv,
-    // Field, depth and appearance studies.
+    // Field-of-view, depth and appearance studies.
     /// `photo`: the photo a study captures.
     Photo,
     /// `display_distance_mm`.
@@ -231,10 +231,10 @@ impl fmt::Display for Setting {
     }
 }
 
-/// What an [`crate::SimError::InvalidField`] names: a setting, or a path inside one (an array
+/// What an [`crate::SimError::InvalidSetting`] names: a setting, or a path inside one (an array
 /// element, a sweep axis) written out.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum Field {
+pub enum SettingPath {
     /// A setting as a whole.
     Setting(Setting),
     /// A path the closed set does not hold: an element (`opening.cells[3]`), a sweep spec's
@@ -242,55 +242,55 @@ pub enum Field {
     Path(String),
 }
 
-impl Field {
+impl SettingPath {
     /// The path as messages print it.
     pub fn path(&self) -> &str {
         match self {
-            Field::Setting(s) => s.path(),
-            Field::Path(p) => p,
+            SettingPath::Setting(s) => s.path(),
+            SettingPath::Path(p) => p,
         }
     }
 
     /// The setting this field is or is inside of, if any.
     pub fn setting(&self) -> Option<Setting> {
         match self {
-            Field::Setting(s) => Some(*s),
-            Field::Path(p) => Setting::of_path(p),
+            SettingPath::Setting(s) => Some(*s),
+            SettingPath::Path(p) => Setting::of_path(p),
         }
     }
 }
 
-impl fmt::Display for Field {
+impl fmt::Display for SettingPath {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.path())
     }
 }
 
-impl From<Setting> for Field {
+impl From<Setting> for SettingPath {
     fn from(s: Setting) -> Self {
-        Field::Setting(s)
+        SettingPath::Setting(s)
     }
 }
 
-impl From<&str> for Field {
+impl From<&str> for SettingPath {
     fn from(p: &str) -> Self {
-        Field::Path(p.to_string())
+        SettingPath::Path(p.to_string())
     }
 }
 
-impl From<String> for Field {
+impl From<String> for SettingPath {
     fn from(p: String) -> Self {
-        Field::Path(p)
+        SettingPath::Path(p)
     }
 }
 
-impl PartialEq<str> for Field {
+impl PartialEq<str> for SettingPath {
     fn eq(&self, other: &str) -> bool {
         self.path() == other
     }
 }
 
-impl PartialEq<&str> for Field {
+impl PartialEq<&str> for SettingPath {
     fn eq(&self, other: &&str) -> bool {
         self.path() == *other
     }
@@ -318,10 +318,10 @@ mod tests {
             Some(Setting::OpeningCells)
         );
         assert_eq!(
-            Field::from("optics.axis_in_pixel_um[1]").setting(),
+            SettingPath::from("optics.axis_in_pixel_um[1]").setting(),
             Some(Setting::OpticsAxisInPixelUm)
         );
-        assert_eq!(Field::from("axis[1].range.step").setting(), None);
-        assert_eq!(Field::from(Setting::LightE).to_string(), "light_e");
+        assert_eq!(SettingPath::from("axis[1].range.step").setting(), None);
+        assert_eq!(SettingPath::from(Setting::LightE).to_string(), "light_e");
     }
 }

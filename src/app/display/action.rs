@@ -85,7 +85,7 @@ pub enum DisplayAction {
         what: String,
     },
     /// Open the 1-D sweep window for this field of the current design.
-    SweepField(crate::core::sweep::field::SweepField),
+    SweepParameter(crate::core::sweep::one_axis::SweepParameter),
     /// Open a specific file (recent files, drag and drop, tests).
     OpenPath(std::path::PathBuf),
     /// Save to the current file, or ask for one when the design has never been saved.

@@ -92,9 +92,9 @@ impl DisplayWorkspace {
                 self.submit();
                 shell.set_status(Notice::info(format!("opened {what} (Ctrl+Z goes back)")));
             }
-            DisplayAction::SweepField(field) => {
+            DisplayAction::SweepParameter(field) => {
                 let design = self.doc.design().clone();
-                self.panels.field_sweep.open(field, design);
+                self.panels.one_axis_sweep.open(field, design);
             }
             DisplayAction::Save => match self.doc.path.clone() {
                 Some(p) => self.save_to(p, shell),

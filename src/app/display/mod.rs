@@ -83,7 +83,7 @@ struct Panels {
     numbers: panels::numbers::NumbersPanel,
     views: panels::views::ViewsPanel,
     mask_export: panels::mask_export::MaskExportDialog,
-    field_sweep: panels::field_sweep::FieldSweepWindow,
+    one_axis_sweep: panels::one_axis_sweep::OneAxisSweepWindow,
 }
 
 /// The display-layout workspace.
@@ -133,7 +133,7 @@ impl DisplayWorkspace {
                 numbers: Default::default(),
                 views: Default::default(),
                 mask_export: Default::default(),
-                field_sweep: Default::default(),
+                one_axis_sweep: Default::default(),
             },
             tool: Tool::Paint,
             left_tab: LeftTab::Opening,
@@ -222,13 +222,13 @@ impl DisplayWorkspace {
     }
 
     /// The "sweep this parameter" window.
-    pub fn field_sweep(&self) -> &panels::field_sweep::FieldSweepWindow {
-        &self.panels.field_sweep
+    pub fn one_axis_sweep(&self) -> &panels::one_axis_sweep::OneAxisSweepWindow {
+        &self.panels.one_axis_sweep
     }
 
     /// The "sweep this parameter" window, to set it up (tests).
-    pub fn field_sweep_mut(&mut self) -> &mut panels::field_sweep::FieldSweepWindow {
-        &mut self.panels.field_sweep
+    pub fn field_sweep_mut(&mut self) -> &mut panels::one_axis_sweep::OneAxisSweepWindow {
+        &mut self.panels.one_axis_sweep
     }
 
     /// Shows a tab of the left panel.
@@ -251,7 +251,7 @@ impl DisplayWorkspace {
         self.take_results(shell);
         self.poll_files(shell);
         self.panels.optimize.poll();
-        self.panels.field_sweep.poll();
+        self.panels.one_axis_sweep.poll();
         self.panels.views.poll(&self.egui_ctx);
     }
 
@@ -411,7 +411,7 @@ impl Workspace for DisplayWorkspace {
         self.panels
             .mask_export
             .ui(&ctx, self.doc.design(), &mut self.queued);
-        self.panels.field_sweep.ui(&ctx);
+        self.panels.one_axis_sweep.ui(&ctx);
     }
 
     fn apply(&mut self, shell: &mut Shell) {

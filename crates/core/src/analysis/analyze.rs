@@ -195,7 +195,7 @@ pub fn analyze(design: &Design, progress: &Progress) -> Result<Analysis, SimErro
 /// ```
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for a bad design, [`SimError::Sampling`] / [`SimError::TooLarge`]
+/// [`SimError::InvalidSetting`] for a bad design, [`SimError::Sampling`] / [`SimError::TooLarge`]
 /// when the sampling cannot represent it, [`SimError::Cancelled`] when `progress` was cancelled.
 pub fn analyze_with(
     design: &Design,
@@ -284,7 +284,7 @@ fn analyze_routed(
     let pupil = pupil_sample_count(d_um, op.pupil_sample_um);
     let energy = field.energy();
     if !(energy > 0.0) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::OpeningCells,
             "no light passes: every cell is closed",
         ));

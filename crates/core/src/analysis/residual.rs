@@ -28,11 +28,11 @@ impl Deblur {
     /// The filter of `reference` (a PSF with its axis at `[H/2, W/2]`) at `nsr`.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] (`nsr`) for a negative or non-finite `nsr`, or a reference PSF
+    /// [`SimError::InvalidSetting`] (`nsr`) for a negative or non-finite `nsr`, or a reference PSF
     /// that deblurs to nothing.
     pub fn new(reference: &Array2<f64>, nsr: f64) -> Result<Self, SimError> {
         if !(nsr.is_finite() && nsr >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Nsr,
                 format!("must be a finite number ≥ 0 (got {nsr:?})"),
             ));
@@ -42,7 +42,7 @@ impl Deblur {
         let r = wiener(&grid, reference.view(), &kernel, nsr)?;
         let energy = r.iter().map(|v| v * v).sum::<f64>();
         if !(energy > 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "psf",
                 "the reference PSF deblurs to nothing",
             ));
@@ -64,10 +64,10 @@ impl Deblur {
     /// `psf` deblurred with the reference's filter, and its `residual_rel` (module docs).
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] (`psf`) when `psf` is not the reference's size.
+    /// [`SimError::InvalidSetting`] (`psf`) when `psf` is not the reference's size.
     pub fn residual(&self, psf: &Array2<f64>) -> Result<(f64, Array2<f64>), SimError> {
         if psf.dim() != self.reference.dim() {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "psf",
                 format!(
                     "is {:?}, the reference PSF {:?}",

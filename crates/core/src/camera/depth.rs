@@ -34,16 +34,16 @@ pub const MAX_OBJECT_DISTANCE_MM: f64 = 1.0e7;
 /// `z2 = 1/(1/f − 1/z1)`, mm.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] (`object_distance_mm`) unless `f < z1` and both are finite.
+/// [`SimError::InvalidSetting`] (`object_distance_mm`) unless `f < z1` and both are finite.
 pub fn image_distance_mm(focal_mm: f64, object_mm: f64) -> Result<f64, SimError> {
     if !(focal_mm.is_finite() && focal_mm > 0.0) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::FocalMm,
             format!("must be a positive number of mm (got {focal_mm:?})"),
         ));
     }
     if !(object_mm.is_finite() && object_mm > focal_mm && object_mm <= MAX_OBJECT_DISTANCE_MM) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::ObjectDistanceMm,
             format!(
                 "must lie beyond the focal length ({focal_mm} mm) and within \
@@ -134,7 +134,7 @@ pub fn design_focused_at(design: &Design, object_mm: f64) -> Result<Design, SimE
 /// The infinity, focused and defocused PSFs of a point at `settings.object_distance_mm`.
 ///
 /// # Errors
-/// Bad settings or design ([`SimError::InvalidField`]); [`SimError::Sampling`] when the defocus
+/// Bad settings or design ([`SimError::InvalidSetting`]); [`SimError::Sampling`] when the defocus
 /// phase is under-sampled by δ1 (the object is too close); [`SimError::Cancelled`].
 pub fn depth_psfs(
     design: &Design,
@@ -146,7 +146,7 @@ pub fn depth_psfs(
     let z1 = settings.object_distance_mm;
     let z2 = image_distance_mm(op.focal_length_mm, z1)?;
     if !(settings.nsr.is_finite() && settings.nsr >= 0.0) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::Nsr,
             format!("must be a finite number ≥ 0 (got {:?})", settings.nsr),
         ));

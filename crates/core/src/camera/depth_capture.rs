@@ -40,7 +40,7 @@ pub struct DepthCapture {
 /// `capture`'s noise and restores it with the infinity PSF at `nsr`.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for a photo that does not match the channels, bad capture
+/// [`SimError::InvalidSetting`] for a photo that does not match the channels, bad capture
 /// settings or `nsr`.
 pub fn depth_capture(
     photo: &[Array2<f64>],
@@ -49,7 +49,7 @@ pub fn depth_capture(
     nsr: f64,
 ) -> Result<DepthCapture, SimError> {
     let Some(first) = photo.first() else {
-        return Err(SimError::field(Setting::Photo, "has no planes"));
+        return Err(SimError::invalid(Setting::Photo, "has no planes"));
     };
     let dim = first.dim();
     let n = depth.infinity.len();
@@ -58,13 +58,13 @@ pub fn depth_capture(
         || depth.focused.len() != n
         || depth.defocused.len() != n
     {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::Photo,
             format!("needs {n} planes of one size (got {})", photo.len()),
         ));
     }
     if !(nsr.is_finite() && nsr > 0.0) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::Nsr,
             format!("must be positive (got {nsr})"),
         ));

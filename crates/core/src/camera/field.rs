@@ -62,24 +62,24 @@ impl FieldSettings {
     /// Checks every setting.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] naming the setting.
+    /// [`SimError::InvalidSetting`] naming the setting.
     pub fn validate(&self) -> Result<(), SimError> {
         let z = self.display_distance_mm;
         if !(z.is_finite() && (0.0..=MAX_DISPLAY_DISTANCE_MM).contains(&z)) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::DisplayDistanceMm,
                 format!("must be between 0 and {MAX_DISPLAY_DISTANCE_MM} mm (got {z:?})"),
             ));
         }
         let t = self.max_field_deg;
         if !(t.is_finite() && t > 0.0 && t <= MAX_FIELD_DEG) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::MaxFieldDeg,
                 format!("must be above 0 and at most {MAX_FIELD_DEG}° (got {t:?})"),
             ));
         }
         if !(2..=MAX_GRID).contains(&self.grid) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Grid,
                 format!(
                     "must be 2 to {MAX_GRID} points per side (got {})",
@@ -88,7 +88,7 @@ impl FieldSettings {
             ));
         }
         if !(self.nsr.is_finite() && self.nsr >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Nsr,
                 format!("must be a finite number ≥ 0 (got {:?})", self.nsr),
             ));
@@ -158,7 +158,7 @@ pub fn design_at_field(design: &Design, z_mm: f64, field_deg: [f64; 2]) -> (Desi
 /// PSFs on a field grid and their residual after deblurring with the centre PSF.
 ///
 /// # Errors
-/// Bad settings or design ([`SimError::InvalidField`]), sampling errors of the analysis,
+/// Bad settings or design ([`SimError::InvalidSetting`]), sampling errors of the analysis,
 /// [`SimError::Cancelled`].
 pub fn field_psfs(
     design: &Design,

@@ -43,7 +43,7 @@ fn hat(t: f64, k: usize, n: usize) -> f64 {
 /// through its centre PSF, and restores both with the centre PSF at `nsr`.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for a photo that does not match the field's channels, bad capture
+/// [`SimError::InvalidSetting`] for a photo that does not match the field's channels, bad capture
 /// settings or `nsr`.
 pub fn field_capture(
     photo: &[Array2<f64>],
@@ -52,11 +52,11 @@ pub fn field_capture(
     nsr: f64,
 ) -> Result<FieldCapture, SimError> {
     let Some(first) = photo.first() else {
-        return Err(SimError::field(Setting::Photo, "has no planes"));
+        return Err(SimError::invalid(Setting::Photo, "has no planes"));
     };
     let dim = first.dim();
     if photo.len() != field.centre.len() || photo.iter().any(|p| p.dim() != dim) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::Photo,
             format!(
                 "needs {} planes of one size (got {})",
@@ -67,7 +67,7 @@ pub fn field_capture(
     }
     let n = (field.points.len() as f64).sqrt().round() as usize;
     if n < 2 || n * n != field.points.len() {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::Grid,
             "the field grid is not square",
         ));

@@ -58,30 +58,30 @@ impl SaturationSettings {
     /// Checks every setting.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] naming the setting.
+    /// [`SimError::InvalidSetting`] naming the setting.
     pub fn validate(&self) -> Result<(), SimError> {
         let p = self.clip_percent;
         if !(p.is_finite() && p > 0.0 && p < 50.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::ClipPercent,
                 format!("must be above 0 and below 50 % (got {p:?})"),
             ));
         }
         if !(2..=9).contains(&self.brackets) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Brackets,
                 format!("must be 2 to 9 exposures (got {})", self.brackets),
             ));
         }
         let s = self.step_ev;
         if !(s.is_finite() && s > 0.0 && s <= 6.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::StepEv,
                 format!("must be above 0 and at most 6 stops (got {s:?})"),
             ));
         }
         if !(self.nsr.is_finite() && self.nsr >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Nsr,
                 format!("must be a finite number ≥ 0 (got {:?})", self.nsr),
             ));
@@ -129,7 +129,7 @@ pub struct SaturationResult {
 /// Simulates and restores the clipped and the bracketed capture of `scene` through `psfs`.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for bad settings, an empty or black scene or a PSF count that does
+/// [`SimError::InvalidSetting`] for bad settings, an empty or black scene or a PSF count that does
 /// not match the planes.
 pub fn saturation_study(
     scene: &[Array2<f64>],
@@ -138,17 +138,17 @@ pub fn saturation_study(
 ) -> Result<SaturationResult, SimError> {
     settings.validate()?;
     let Some(first) = scene.first() else {
-        return Err(SimError::field("scene", "has no planes"));
+        return Err(SimError::invalid("scene", "has no planes"));
     };
     let dim = first.dim();
     if dim.0 < 16 || dim.1 < 16 || scene.iter().any(|p| p.dim() != dim) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "scene",
             "needs planes of one size, at least 16×16",
         ));
     }
     if psfs.len() != scene.len() {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "psfs",
             format!("{} PSFs for {} planes", psfs.len(), scene.len()),
         ));
@@ -178,7 +178,7 @@ pub fn saturation_study(
     }
     let level = percentile_of(&brightest, 100.0 - settings.clip_percent);
     if !(level > 0.0 && level.is_finite()) {
-        return Err(SimError::field("scene", "is black where it should clip"));
+        return Err(SimError::invalid("scene", "is black where it should clip"));
     }
     let truth: Vec<Array2<f64>> = scene.iter().map(|p| p / level).collect();
     let blurred: Vec<Array2<f64>> = blurred.iter().map(|p| p / level).collect();

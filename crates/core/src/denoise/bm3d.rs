@@ -85,7 +85,7 @@ impl Bm3dProfile {
             if v.is_power_of_two() && v <= 256 {
                 Ok(())
             } else {
-                Err(SimError::field(
+                Err(SimError::invalid(
                     format!("bm3d.{name}"),
                     format!("must be a power of two ≤ 256 (got {v})"),
                 ))
@@ -94,13 +94,13 @@ impl Bm3dProfile {
         pow2("max_group_ht", self.max_group_ht)?;
         pow2("max_group_wiener", self.max_group_wiener)?;
         if self.step_px == 0 || self.step_px > BLOCK {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "bm3d.step_px",
                 format!("must be 1 … {BLOCK} pixels (got {})", self.step_px),
             ));
         }
         if self.search_px.is_multiple_of(2) || self.search_px > 255 {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "bm3d.search_px",
                 format!("must be odd and ≤ 255 pixels (got {})", self.search_px),
             ));
@@ -113,7 +113,7 @@ impl Bm3dProfile {
             ("kaiser_beta", self.kaiser_beta),
         ] {
             if !(v.is_finite() && v >= 0.0) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("bm3d.{name}"),
                     format!("must be a finite number ≥ 0 (got {v:?})"),
                 ));
@@ -151,7 +151,7 @@ const BYTES_PER_WORKER: u64 = 32 << 20;
 /// ```
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for no planes, planes of different sizes, a plane under 8×8
+/// [`SimError::InvalidSetting`] for no planes, planes of different sizes, a plane under 8×8
 /// pixels or holding a non-finite value (`planes[c]`), or a `sigma2` that is not a finite
 /// positive number; [`SimError::TooLarge`] over the memory budget; [`SimError::Cancelled`].
 pub fn bm3d<T: Sample>(
@@ -201,7 +201,7 @@ fn check<T: Sample>(
 /// [`bm3d`] with a chosen profile.
 ///
 /// # Errors
-/// As [`bm3d`], and [`SimError::InvalidField`] for a profile out of range (`bm3d.…`).
+/// As [`bm3d`], and [`SimError::InvalidSetting`] for a profile out of range (`bm3d.…`).
 pub fn bm3d_with<T: Sample>(
     planes: &[Array2<T>],
     sigma2: f64,
@@ -256,7 +256,7 @@ pub fn sigma2_in_range(sigma2: f64) -> bool {
 
 fn validate<T: Sample>(planes: &[Array2<T>], sigma2: f64) -> Result<(usize, usize), SimError> {
     if !sigma2_in_range(sigma2) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "sigma2",
             format!(
                 "the noise variance must be a finite number > 0, at least {MIN_SIGMA2:e} and at \
@@ -265,18 +265,18 @@ fn validate<T: Sample>(planes: &[Array2<T>], sigma2: f64) -> Result<(usize, usiz
         ));
     }
     let Some(first) = planes.first() else {
-        return Err(SimError::field("planes", "no image planes to denoise"));
+        return Err(SimError::invalid("planes", "no image planes to denoise"));
     };
     let dim = first.dim();
     for (c, p) in planes.iter().enumerate() {
         if p.dim() != dim {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("planes[{c}]"),
                 format!("is {:?}, plane 0 is {dim:?}", p.dim()),
             ));
         }
         if p.nrows() < BLOCK || p.ncols() < BLOCK {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("planes[{c}]"),
                 format!(
                     "is {}×{} pixels; BM3D needs at least {BLOCK}×{BLOCK}",
@@ -286,7 +286,7 @@ fn validate<T: Sample>(planes: &[Array2<T>], sigma2: f64) -> Result<(usize, usiz
             ));
         }
         if let Some(v) = p.iter().find(|v| !(**v).into().is_finite()) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("planes[{c}]"),
                 format!("holds {v}; values must be finite"),
             ));
@@ -1041,7 +1041,7 @@ mod tests {
         for bad in [0.0, -0.01, f64::NAN, f64::INFINITY, 1.5, 1e308, 1e-300] {
             let e = validate(&img, bad).expect_err("refused");
             assert!(
-                matches!(&e, SimError::InvalidField { field, .. } if field == "sigma2"),
+                matches!(&e, SimError::InvalidSetting { path: field, .. } if field == "sigma2"),
                 "{bad}: {e}"
             );
         }

@@ -2,24 +2,24 @@
 //! error naming the field by its path in the design file.
 
 use super::*;
-use crate::{Field, Setting};
+use crate::{Setting, SettingPath};
 
-fn finite_positive(field: impl Into<Field>, v: f64) -> Result<(), SimError> {
+fn finite_positive(field: impl Into<SettingPath>, v: f64) -> Result<(), SimError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(SimError::field(
+        Err(SimError::invalid(
             field,
             format!("must be a positive finite number (got {v:?})"),
         ))
     }
 }
 
-fn finite(field: impl Into<Field>, v: f64) -> Result<(), SimError> {
+fn finite(field: impl Into<SettingPath>, v: f64) -> Result<(), SimError> {
     if v.is_finite() {
         Ok(())
     } else {
-        Err(SimError::field(
+        Err(SimError::invalid(
             field,
             format!("must be a finite number (got {v:?})"),
         ))
@@ -28,11 +28,17 @@ fn finite(field: impl Into<Field>, v: f64) -> Result<(), SimError> {
 
 /// `v` in `[lo, hi]` (both positive): the documented range of a length or ratio, so that no
 /// overflow or degenerate sampling reaches the simulation.
-fn within(field: impl Into<Field>, v: f64, lo: f64, hi: f64, unit: &str) -> Result<(), SimError> {
+fn within(
+    field: impl Into<SettingPath>,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    unit: &str,
+) -> Result<(), SimError> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {
-        Err(SimError::field(
+        Err(SimError::invalid(
             field,
             format!("must be between {lo} and {hi}{unit} (got {v:?})"),
         ))
@@ -43,27 +49,27 @@ impl Design {
     /// Checks every value; the error names the first bad field by its path in the design file.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for the first value out of range.
+    /// [`SimError::InvalidSetting`] for the first value out of range.
     pub fn validate(&self) -> Result<(), SimError> {
         let o = &self.opening;
         finite_positive(Setting::OpeningPitchUm, o.pitch_um)?;
         within(Setting::OpeningPitchUm, o.pitch_um, 0.0, 20_000.0, " µm")?;
         let n = o.cells.len();
         if n == 0 {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::OpeningCells,
                 "must have at least one row",
             ));
         }
         if n > MAX_CELLS {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::OpeningCells,
                 format!("{n} rows is more than the {MAX_CELLS} the studio supports"),
             ));
         }
         for (r, row) in o.cells.iter().enumerate() {
             if row.len() != n {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("opening.cells[{r}]"),
                     format!(
                         "has {} entries; the grid must be square ({n}×{n})",
@@ -73,7 +79,7 @@ impl Design {
             }
             for (c, &v) in row.iter().enumerate() {
                 if !(v.is_finite() && (0.0..=1.0).contains(&v)) {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         format!("opening.cells[{r}][{c}]"),
                         format!("transmittance must be in [0, 1] (got {v:?})"),
                     ));
@@ -82,14 +88,14 @@ impl Design {
         }
         for (i, p) in o.polygons.iter().enumerate() {
             if p.vertices_um.len() < 3 {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("opening.polygons[{i}].vertices_um"),
                     "a polygon needs at least 3 vertices",
                 ));
             }
             for (j, v) in p.vertices_um.iter().enumerate() {
                 if !(v[0].is_finite() && v[1].is_finite()) {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         format!("opening.polygons[{i}].vertices_um[{j}]"),
                         "coordinates must be finite",
                     ));
@@ -110,7 +116,7 @@ impl Design {
             " µm",
         )?;
         if !(t.wiring_gap_um.is_finite() && t.wiring_gap_um >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::TilingWiringGapUm,
                 format!(
                     "must be zero or a positive finite number of µm (got {:?})",
@@ -154,7 +160,7 @@ impl Design {
             " µm",
         )?;
         if op.window_px < 2 || op.window_px > MAX_WINDOW_PX {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::OpticsWindowPx,
                 format!(
                     "must be between 2 and {MAX_WINDOW_PX} sensor pixels (got {:?})",
@@ -164,7 +170,7 @@ impl Design {
         }
         for (k, v) in op.axis_in_pixel_um.iter().enumerate() {
             if !(v.is_finite() && *v >= 0.0 && *v < op.sensor_pixel_um) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("optics.axis_in_pixel_um[{k}]"),
                     format!(
                         "must lie inside the pixel, in [0, {}) µm (got {v:?})",
@@ -178,7 +184,7 @@ impl Design {
         if pixels > MAX_PUPIL_PIXELS {
             let min_pitch =
                 op.pupil_diameter_um() * (std::f64::consts::FRAC_PI_4 / MAX_PUPIL_PIXELS).sqrt();
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::OpeningPitchUm,
                 format!(
                     "at {:?} µm the lens pupil ({:.2} mm) spans {:.2e} display pixels; at most \
@@ -191,20 +197,20 @@ impl Design {
             ));
         }
         if self.channels.is_empty() {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "channels",
                 "at least one colour channel is needed",
             ));
         }
         for (i, ch) in self.channels.iter().enumerate() {
             if ch.wavelengths_nm.is_empty() {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("channels[{i}].wavelengths_nm"),
                     "needs at least one wavelength",
                 ));
             }
             if ch.wavelengths_nm.len() > MAX_WAVELENGTHS {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("channels[{i}].wavelengths_nm"),
                     format!(
                         "has {} wavelengths; at most {MAX_WAVELENGTHS} per channel are simulated",
@@ -213,7 +219,7 @@ impl Design {
                 ));
             }
             if ch.wavelengths_nm.len() != ch.weights.len() {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("channels[{i}].weights"),
                     format!(
                         "has {} entries but wavelengths_nm has {}",
@@ -224,7 +230,7 @@ impl Design {
             }
             for (j, &l) in ch.wavelengths_nm.iter().enumerate() {
                 if !(l.is_finite() && (100.0..=20_000.0).contains(&l)) {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         format!("channels[{i}].wavelengths_nm[{j}]"),
                         format!("must be a wavelength between 100 and 20000 nm (got {l:?})"),
                     ));
@@ -232,14 +238,14 @@ impl Design {
             }
             for (j, &w) in ch.weights.iter().enumerate() {
                 if !(w.is_finite() && w >= 0.0) {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         format!("channels[{i}].weights[{j}]"),
                         format!("must be zero or positive (got {w:?})"),
                     ));
                 }
             }
             if ch.weights.iter().sum::<f64>() <= 0.0 {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("channels[{i}].weights"),
                     "at least one weight must be positive",
                 ));
@@ -253,7 +259,7 @@ impl Design {
 fn validate_subpixels(sp: &Subpixels, cells: &[Vec<f64>]) -> Result<(), SimError> {
     let n = cells.len();
     if sp.cells.len() != n {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "subpixels.cells",
             format!(
                 "has {} rows; it must match the opening's {n}×{n} cells",
@@ -263,7 +269,7 @@ fn validate_subpixels(sp: &Subpixels, cells: &[Vec<f64>]) -> Result<(), SimError
     }
     for (r, row) in sp.cells.iter().enumerate() {
         if row.len() != n {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("subpixels.cells[{r}]"),
                 format!(
                     "has {} entries; it must match the opening's {n}×{n} cells",
@@ -275,7 +281,7 @@ fn validate_subpixels(sp: &Subpixels, cells: &[Vec<f64>]) -> Result<(), SimError
             if let Some(s) = s
                 && cells[r][c] > 0.0
             {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("subpixels.cells[{r}][{c}]"),
                     format!(
                         "the {} emitter at row {r}, column {c} sits on an open cell; emitters \

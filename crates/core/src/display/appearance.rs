@@ -70,13 +70,13 @@ impl AppearanceSettings {
     /// Checks every value; the error names the setting.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for the first value out of range.
+    /// [`SimError::InvalidSetting`] for the first value out of range.
     pub fn validate(&self, cells_per_pixel: usize) -> Result<(), SimError> {
         let check = |field: Setting, v: f64, lo: f64, hi: f64, unit: &str| {
             if v.is_finite() && (lo..=hi).contains(&v) {
                 Ok(())
             } else {
-                Err(SimError::field(
+                Err(SimError::invalid(
                     field,
                     format!("must be between {lo} and {hi}{unit} (got {v:?})"),
                 ))
@@ -100,7 +100,7 @@ impl AppearanceSettings {
         )?;
         let side = self.pixels_per_side() * cells_per_pixel;
         if side > MAX_RENDER_CELLS {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::RegionMm,
                 format!(
                     "{} mm at {} DPI with {cells_per_pixel} cells per pixel is {side} cells per \
@@ -157,7 +157,7 @@ fn layout(design: &Design, sp: &Subpixels, s: &AppearanceSettings) -> Result<Lay
     let n = design.opening.n();
     let counts = sp.counts();
     if counts.contains(&0) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "subpixels",
             "every colour needs at least one emitter cell",
         ));
@@ -194,12 +194,12 @@ fn layout(design: &Design, sp: &Subpixels, s: &AppearanceSettings) -> Result<Lay
 /// The design's emitter layer, or an automatic placement when it has none.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] on `subpixels` when the opening leaves no room for three.
+/// [`SimError::InvalidSetting`] on `subpixels` when the opening leaves no room for three.
 pub fn subpixels_of(design: &Design) -> Result<Subpixels, SimError> {
     match &design.subpixels {
         Some(sp) => Ok(sp.clone()),
         None => auto_place(&design.opening, 0.0).ok_or_else(|| {
-            SimError::field(
+            SimError::invalid(
                 "subpixels",
                 "the design has no emitter layer and its opaque area leaves no room for three \
                  equal R, G, B emitters",

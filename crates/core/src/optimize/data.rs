@@ -61,7 +61,7 @@ impl DataSet {
     /// small for a patch are skipped.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] when no photo gives a patch or channel counts differ from
+    /// [`SimError::InvalidSetting`] when no photo gives a patch or channel counts differ from
     /// `channels`.
     pub fn new(
         photos: &[Vec<Array2<f64>>],
@@ -71,7 +71,7 @@ impl DataSet {
         let mut spectra = Vec::new();
         for (i, photo) in photos.iter().enumerate() {
             if photo.len() != channels {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     "data",
                     format!(
                         "photo {i} has {} channels, the design {channels}",
@@ -90,7 +90,7 @@ impl DataSet {
             }
         }
         if spectra.is_empty() {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "data",
                 format!("no photo is at least {side_px}×{side_px} pixels"),
             ));

@@ -11,7 +11,7 @@ pub mod model;
 pub mod reserve;
 pub mod spectra;
 
-use crate::{Field, Setting};
+use crate::{Setting, SettingPath};
 use std::ops::ControlFlow;
 use std::time::Instant;
 
@@ -130,34 +130,34 @@ impl OptimizeSettings {
     /// Checks every setting's range.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] naming the first bad setting.
+    /// [`SimError::InvalidSetting`] naming the first bad setting.
     pub fn validate(&self) -> Result<(), SimError> {
         let positive = |name: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(SimError::field(
+                Err(SimError::invalid(
                     name,
                     format!("must be a positive number, got {v:?}"),
                 ))
             }
         };
-        let non_negative = |name: Field, v: f64| {
+        let non_negative = |name: SettingPath, v: f64| {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
-                Err(SimError::field(name, format!("must be ≥ 0, got {v:?}")))
+                Err(SimError::invalid(name, format!("must be ≥ 0, got {v:?}")))
             }
         };
         if !(1..=100_000).contains(&self.epochs) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Epochs,
                 format!("must be 1 … 100000, got {}", self.epochs),
             ));
         }
         let c = self.target_open_fraction;
         if !(c > 0.0 && c <= 1.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::TargetOpenFraction,
                 format!("must be in (0, 1], got {c}"),
             ));
@@ -170,7 +170,7 @@ impl OptimizeSettings {
             non_negative(name.into(), w)?;
             // Losses are O(1); a weight past this only overflows the sum.
             if w > MAX_LOSS_WEIGHT {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     name,
                     format!("must be at most {MAX_LOSS_WEIGHT:e}, got {w:?}"),
                 ));
@@ -180,15 +180,18 @@ impl OptimizeSettings {
         non_negative("area_step".into(), self.area_step)?;
         for (name, b) in [("beta1", self.beta1), ("beta2", self.beta2)] {
             if !(0.0..1.0).contains(&b) {
-                return Err(SimError::field(name, format!("must be in [0, 1), got {b}")));
+                return Err(SimError::invalid(
+                    name,
+                    format!("must be in [0, 1), got {b}"),
+                ));
             }
         }
         if self.area_every_epochs == 0 {
-            return Err(SimError::field("area_every_epochs", "must be ≥ 1"));
+            return Err(SimError::invalid("area_every_epochs", "must be ≥ 1"));
         }
         let r = self.reserve_subpixels_um2;
         if !(r.is_finite() && r >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "reserve_subpixels_um2",
                 format!("must be zero (off) or a positive number of µm² (got {r:?})"),
             ));
@@ -317,7 +320,7 @@ impl<'a> Objective<'a> {
     /// Builds the model of `design` at `quality` (the cells are the variables).
     ///
     /// # Errors
-    /// As [`Model::new`]; [`SimError::InvalidField`] for a bad design.
+    /// As [`Model::new`]; [`SimError::InvalidSetting`] for a bad design.
     pub fn new(
         design: &Design,
         quality: Quality,
@@ -426,7 +429,7 @@ impl<'a> Objective<'a> {
 /// cancelling `progress` aborts with [`SimError::Cancelled`].
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for bad settings or design, sampling errors, cancellation.
+/// [`SimError::InvalidSetting`] for bad settings or design, sampling errors, cancellation.
 pub fn optimize(
     design: &Design,
     settings: &OptimizeSettings,
@@ -447,7 +450,7 @@ pub fn optimize(
     let n = objective.model.n;
     let cells = (n * n) as f64;
     if settings.target_open_fraction * cells < 1.0 {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::TargetOpenFraction,
             format!(
                 "{:?} of the {n}×{n} cells opens none; at least {:.4} (one cell) is needed",

@@ -11,7 +11,7 @@ use crate::display::emitters::auto_place;
 /// of `min_area_um2` fit; returns the cells and the placement.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] on `reserve_subpixels_um2` when even a fully closed pixel has no
+/// [`SimError::InvalidSetting`] on `reserve_subpixels_um2` when even a fully closed pixel has no
 /// room (the footprint is more than a third of the pixel).
 pub fn reserve_subpixels(
     mut cells: Vec<Vec<f64>>,
@@ -39,7 +39,7 @@ pub fn reserve_subpixels(
             return Ok((cells, sp));
         }
     }
-    Err(SimError::field(
+    Err(SimError::invalid(
         "reserve_subpixels_um2",
         format!(
             "{min_area_um2} µm² per colour does not fit three times in a {pitch_um} µm pixel \

@@ -66,7 +66,7 @@ pub struct Allocation {
 /// A channel wavelength outside 401–691 nm, or a matrix without a positive entry.
 pub fn channel_matrix(v: &VMatrix, channels: &[Channel]) -> Result<Vec<Vec<f64>>, SimError> {
     if channels.len() != 3 {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "channels",
             format!("the allocation needs R, G and B; got {}", channels.len()),
         ));
@@ -77,7 +77,7 @@ pub fn channel_matrix(v: &VMatrix, channels: &[Channel]) -> Result<Vec<Vec<f64>>
         for (&l, &w) in ch.wavelengths_nm.iter().zip(&ch.weights) {
             let p = (l - GRID_FIRST_NM) / GRID_STEP_NM;
             if !(p >= -1e-9 && p <= (GRID_LEN - 1) as f64 + 1e-9) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("channels[{c}]"),
                     format!("wavelength {l:?} nm is outside the grid 401–691 nm"),
                 ));
@@ -139,7 +139,7 @@ pub fn allocate(
         return Err(SimError::Sampling("A must be 3 × 30".into()));
     }
     if lenslets == 0 {
-        return Err(SimError::field("lenslets", "must be at least 1"));
+        return Err(SimError::invalid("lenslets", "must be at least 1"));
     }
     let am = as_matrix(a);
     let ata: Mat30 = am.transpose() * am;

@@ -263,7 +263,7 @@ pub fn lambda0_per_lenslet(d: &PhaseDesign) -> Result<Vec<f64>, SimError> {
         Lambda0::Uniform => Ok(expand_counts(&uniform_counts(n), &grid)),
         Lambda0::Counts { counts } => {
             if counts.len() != GRID_LEN || counts.iter().sum::<usize>() != n {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     "lambda0.counts",
                     format!("need {GRID_LEN} counts summing to the {n} lenslets"),
                 ));
@@ -272,7 +272,7 @@ pub fn lambda0_per_lenslet(d: &PhaseDesign) -> Result<Vec<f64>, SimError> {
         }
         Lambda0::PerLenslet { nm } => {
             if nm.len() != n {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     "lambda0.nm",
                     format!("has {} entries for {n} lenslets", nm.len()),
                 ));

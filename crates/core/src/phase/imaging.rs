@@ -198,7 +198,7 @@ pub fn phase_blur_full(
     let pixels = design.camera.pixels;
     let reach = (width / 2 + margin) as f64 * design.camera.pixel_um;
     if !(reach < design.camera.focal_length_um()) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "margin",
             format!(
                 "{margin} directions beyond a {width}-column scene reach past 90° (at most {})",
@@ -207,13 +207,13 @@ pub fn phase_blur_full(
         ));
     }
     if width < 8 || width > pixels {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "width",
             format!("the scene is {width} columns; it must be 8 … {pixels} (the sensor)"),
         ));
     }
     if channels.is_empty() {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "channels",
             "at least one channel is needed",
         ));
@@ -363,7 +363,7 @@ impl LinearBlur for RowBlur {
 fn check_scene(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<(), SimError> {
     let width = blur.width();
     if scene.len() != blur.channels.len() {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::Photo,
             format!(
                 "has {} planes; the setup has {} channels",
@@ -374,7 +374,7 @@ fn check_scene(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<(), SimError> 
     }
     for plane in scene {
         if plane.ncols() != width || plane.nrows() < 8 {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Photo,
                 format!(
                     "is {}×{} px; the operator was built for {width} columns and needs ≥ 8 rows",
@@ -384,7 +384,10 @@ fn check_scene(blur: &PhaseBlur, scene: &[Array2<f64>]) -> Result<(), SimError> 
             ));
         }
         if plane.iter().any(|v| !v.is_finite()) {
-            return Err(SimError::field(Setting::Photo, "holds a non-finite value"));
+            return Err(SimError::invalid(
+                Setting::Photo,
+                "holds a non-finite value",
+            ));
         }
     }
     Ok(())
@@ -395,7 +398,7 @@ fn check_photons(photons: f64) -> Result<(), SimError> {
     if photons.is_finite() && (lo..=hi).contains(&photons) {
         Ok(())
     } else {
-        Err(SimError::field(
+        Err(SimError::invalid(
             "photons",
             format!("{photons:?} is outside {lo} … {hi} photons per pixel"),
         ))
@@ -417,13 +420,13 @@ pub fn capture(
     check_scene(blur, scene)?;
     check_photons(photons)?;
     if !(blur.ltr > 0.0) {
-        return Err(SimError::field("ltr", "the setup passes no light"));
+        return Err(SimError::invalid("ltr", "the setup passes no light"));
     }
     // White reads ≈ 1 in every setup: the gain 1/(N·LTR) of conventions.md §5.
     let gain = 1.0 / (photons * blur.ltr);
     let levels = f64::from((1u32 << ADC_BITS) - 1);
     let read = Normal::new(0.0, READ_NOISE_E)
-        .map_err(|e| SimError::field("read_noise_e", e.to_string()))?;
+        .map_err(|e| SimError::invalid("read_noise_e", e.to_string()))?;
     Ok(blur
         .channels
         .iter()

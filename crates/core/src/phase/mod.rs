@@ -408,13 +408,13 @@ impl PhaseDesign {
     /// Checks every parameter; the message names the field.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for a NaN, negative or out-of-range value.
+    /// [`SimError::InvalidSetting`] for a NaN, negative or out-of-range value.
     pub fn validate(&self) -> Result<(), SimError> {
         let in_range = |field: &str, v: f64, lo: f64, hi: f64, unit: &str| {
             if v.is_finite() && v >= lo && v <= hi {
                 Ok(())
             } else {
-                Err(SimError::field(
+                Err(SimError::invalid(
                     field,
                     format!("{v:?} is outside {lo}–{hi} {unit}"),
                 ))
@@ -433,7 +433,7 @@ impl PhaseDesign {
             Lambda0::Uniform => {}
             Lambda0::Counts { counts } => {
                 if counts.len() != GRID_LEN {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         "lambda0.counts",
                         format!(
                             "has {} entries; one per grid wavelength ({GRID_LEN})",
@@ -459,7 +459,7 @@ impl PhaseDesign {
         in_range("camera.f_number", c.f_number, 0.5, 64.0, "")?;
         in_range("camera.pixel_um", c.pixel_um, 0.1, 100.0, "µm")?;
         if c.pixels < 8 || c.pixels > 8192 || !c.pixels.is_multiple_of(2) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "camera.pixels",
                 format!("{} must be even and within 8–8192", c.pixels),
             ));
@@ -471,11 +471,11 @@ impl PhaseDesign {
                 // A count from a file can be near usize::MAX: add up without overflowing.
                 match counts.iter().try_fold(0usize, |sum, c| sum.checked_add(*c)) {
                     Some(total) if total == lenslets => Ok(()),
-                    Some(total) => Err(SimError::field(
+                    Some(total) => Err(SimError::invalid(
                         "lambda0.counts",
                         format!("sum to {total}, but this design has {lenslets} lenslets"),
                     )),
-                    None => Err(SimError::field(
+                    None => Err(SimError::invalid(
                         "lambda0.counts",
                         format!(
                             "sum to more than {}, but this design has {lenslets} lenslets",
@@ -484,7 +484,7 @@ impl PhaseDesign {
                     )),
                 }
             }
-            Lambda0::PerLenslet { nm } if nm.len() != lenslets => Err(SimError::field(
+            Lambda0::PerLenslet { nm } if nm.len() != lenslets => Err(SimError::invalid(
                 "lambda0.nm",
                 format!(
                     "has {} entries, but this design has {lenslets} lenslets",
@@ -500,16 +500,16 @@ impl PhaseSampling {
     /// Checks both sampling parameters.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for a sample outside 5 nm – 1 µm or 1–64 fine samples.
+    /// [`SimError::InvalidSetting`] for a sample outside 5 nm – 1 µm or 1–64 fine samples.
     pub fn validate(&self) -> Result<(), SimError> {
         if !(self.display_sample_um >= 0.005 && self.display_sample_um <= 1.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "sampling.display_sample_um",
                 format!("{:?} is outside 0.005–1 µm", self.display_sample_um),
             ));
         }
         if self.fine_per_pixel == 0 || self.fine_per_pixel > 64 {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "sampling.fine_per_pixel",
                 format!("{} is outside 1–64", self.fine_per_pixel),
             ));

@@ -70,7 +70,7 @@ pub fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, S
     let half = pitch / 2.0;
     let edge_sag = geometry::sag_um(design, half);
     if !(geometry::sag_um(design, 1.0) > 0.0 && edge_sag.is_finite()) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "f_mla_um",
             format!("the lens sag {edge_sag:?} µm at the lenslet edge cannot be cut into levels"),
         ));

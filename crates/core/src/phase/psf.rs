@@ -100,7 +100,7 @@ fn ratio(a: f64, b: f64) -> f64 {
 
 fn check_channels(channels: &[Channel]) -> Result<(), SimError> {
     if channels.is_empty() {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "channels",
             "at least one channel is needed",
         ));
@@ -115,7 +115,7 @@ fn check_channels(channels: &[Channel]) -> Result<(), SimError> {
             && ch.weights.iter().all(|w| w.is_finite() && *w >= 0.0)
             && ch.weights.iter().sum::<f64>() > 0.0;
         if !ok {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("channels[{i}]"),
                 "needs wavelengths within 300–1100 nm and non-negative weights with a positive sum",
             ));

@@ -1,7 +1,7 @@
 //! The camera behind the display (conventions.md §5): blur, photon noise, read noise, full well and
 //! ADC, with the light level given as electrons or as an SNR.
 
-use crate::{Field, Setting};
+use crate::{Setting, SettingPath};
 use ndarray::{Array2, ArrayView2};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -98,11 +98,11 @@ impl Default for CaptureSettings {
     }
 }
 
-fn positive(field: impl Into<Field>, v: f64) -> Result<(), SimError> {
+fn positive(field: impl Into<SettingPath>, v: f64) -> Result<(), SimError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(SimError::field(
+        Err(SimError::invalid(
             field,
             format!("must be a positive number (got {v:?})"),
         ))
@@ -113,13 +113,13 @@ impl CaptureSettings {
     /// Checks every field.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] naming the first bad field (`capture.light`, …).
+    /// [`SimError::InvalidSetting`] naming the first bad field (`capture.light`, …).
     pub fn validate(&self) -> Result<(), SimError> {
         match self.light {
             Light::ElectronsAtPeak(l) => positive(Setting::CaptureElectronsAtPeak, l)?,
             Light::SnrDb(db) => {
                 if !db.is_finite() {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         Setting::CaptureSnrDb,
                         format!("must be a finite number of dB (got {db:?})"),
                     ));
@@ -127,7 +127,7 @@ impl CaptureSettings {
             }
         }
         if !(self.read_noise_e.is_finite() && self.read_noise_e >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "capture.read_noise_e",
                 format!("must be ≥ 0 electrons (got {:?})", self.read_noise_e),
             ));
@@ -137,7 +137,7 @@ impl CaptureSettings {
         if let Some(bits) = self.adc_bits
             && !(1..=24).contains(&bits)
         {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::CaptureAdcBits,
                 format!("must be 1 … 24 bits (got {bits})"),
             ));
@@ -151,7 +151,7 @@ impl CaptureSettings {
                 Light::ElectronsAtPeak(_) => Setting::CaptureElectronsAtPeak,
                 Light::SnrDb(_) => Setting::CaptureSnrDb,
             };
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 field,
                 format!(
                     "gives {l:.3e} electrons at white; the light must give {lo} … {hi:.0} \
@@ -205,7 +205,7 @@ pub struct Captured<T = f64> {
 /// Channel `channel` selects the noise streams.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for bad settings.
+/// [`SimError::InvalidSetting`] for bad settings.
 pub fn expose<T: Sample>(
     blurred: ArrayView2<'_, T>,
     settings: &CaptureSettings,
@@ -216,7 +216,7 @@ pub fn expose<T: Sample>(
     let full = settings.full_well_e;
     let (h, w) = blurred.dim();
     let read = Normal::new(0.0, settings.read_noise_e)
-        .map_err(|err| SimError::field("capture.read_noise_e", err.to_string()))?;
+        .map_err(|err| SimError::invalid("capture.read_noise_e", err.to_string()))?;
     let step_e = settings.adc_step_e();
     let mut out = Array2::<T>::default((h, w));
     let saturated: usize = out

@@ -43,21 +43,21 @@ impl CgSettings {
     /// Checks every field.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for a negative or non-finite `λ` (`method.lambda`), zero
+    /// [`SimError::InvalidSetting`] for a negative or non-finite `λ` (`method.lambda`), zero
     /// iterations (`method.iterations`) or a negative or non-finite tolerance
     /// (`method.tolerance`).
     pub fn validate(&self) -> Result<(), SimError> {
         if !(self.lambda.is_finite() && self.lambda >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::MethodLambda,
                 format!("must be a finite number ≥ 0 (got {:?})", self.lambda),
             ));
         }
         if self.iterations == 0 {
-            return Err(SimError::field("method.iterations", "must be at least 1"));
+            return Err(SimError::invalid("method.iterations", "must be at least 1"));
         }
         if !(self.tolerance.is_finite() && self.tolerance >= 0.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "method.tolerance",
                 format!("must be a finite number ≥ 0 (got {:?})", self.tolerance),
             ));
@@ -181,7 +181,7 @@ impl<B: LinearBlur> NormalOperator<'_, B> {
 /// values are clipped to 0 at the end, as Wiener does. `progress` is checked every iteration.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for bad settings (see [`CgSettings::validate`]);
+/// [`SimError::InvalidSetting`] for bad settings (see [`CgSettings::validate`]);
 /// [`SimError::Cancelled`].
 pub fn cg(
     grid: &PadGrid,

@@ -204,14 +204,14 @@ impl Denoise {
     /// Checks a fixed σ².
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] (`denoise.sigma2`) for a σ² that is not finite and > 0.
+    /// [`SimError::InvalidSetting`] (`denoise.sigma2`) for a σ² that is not finite and > 0.
     pub fn validate(self) -> Result<(), SimError> {
         if let Denoise::Bm3d {
             sigma2: Sigma2::Fixed(s),
         } = self
             && !crate::denoise::sigma2_in_range(s)
         {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "denoise.sigma2",
                 format!(
                     "must be a finite number > 0, at least {:e} and at most {} (got {s:?})",
@@ -227,7 +227,7 @@ impl Denoise {
     /// that reads ≈ 1 at white (see [`Sigma2::resolve`]).
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] (`denoise.sigma2`) when the σ² is not a usable variance: a
+    /// [`SimError::InvalidSetting`] (`denoise.sigma2`) when the σ² is not a usable variance: a
     /// matched σ² for a capture that collects no light, or one outside BM3D's range.
     pub fn applied(self, at: &CaptureNoise) -> Result<DenoiseUsed, SimError> {
         let sigma2 = match self {
@@ -241,7 +241,7 @@ impl Denoise {
                     s = crate::denoise::MAX_SIGMA2;
                 }
                 if !crate::denoise::sigma2_in_range(s) {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         "denoise.sigma2",
                         format!(
                             "{s:.4} for this capture ({:.3} e⁻ at white) is outside {:e} … {}: \

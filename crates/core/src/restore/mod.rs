@@ -151,7 +151,7 @@ pub struct RestoreResult<T = f64> {
 /// compute the PSFs check here before they do); returns the image size.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] naming the first bad input.
+/// [`SimError::InvalidSetting`] naming the first bad input.
 pub fn check<T: Sample>(
     photo: &[Array2<T>],
     settings: &RestoreSettings,
@@ -197,12 +197,12 @@ const SIDE_BY_SIDE_MAX_PIXELS: usize = 1 << 21;
 /// Checks the photo; returns its size.
 fn validate_photo<T: Sample>(photo: &[Array2<T>]) -> Result<(usize, usize), SimError> {
     let Some(first) = photo.first() else {
-        return Err(SimError::field(Setting::Photo, "has no channels"));
+        return Err(SimError::invalid(Setting::Photo, "has no channels"));
     };
     let dim = first.dim();
     let win = 2 * quality::SSIM_RADIUS_PX + 1;
     if dim.0 < win || dim.1 < win {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             Setting::Photo,
             format!(
                 "is {}×{} pixels; at least {win}×{win} are needed (the SSIM window)",
@@ -212,7 +212,7 @@ fn validate_photo<T: Sample>(photo: &[Array2<T>]) -> Result<(usize, usize), SimE
     }
     for (c, plane) in photo.iter().enumerate() {
         if plane.dim() != dim {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("photo[{c}]"),
                 format!("is {:?}, channel 0 is {dim:?}", plane.dim()),
             ));
@@ -222,7 +222,7 @@ fn validate_photo<T: Sample>(photo: &[Array2<T>]) -> Result<(usize, usize), SimE
             .map(|v| (*v).into())
             .find(|v: &f64| !(v.is_finite() && *v >= 0.0))
         {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("photo[{c}]"),
                 format!("holds {v}; intensities must be finite and ≥ 0"),
             ));
@@ -234,23 +234,23 @@ fn validate_photo<T: Sample>(photo: &[Array2<T>]) -> Result<(usize, usize), SimE
 /// Checks the PSFs, one per photo channel.
 fn validate_psfs(psfs: &[&Array2<f64>], channels: usize) -> Result<(), SimError> {
     if psfs.len() != channels {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "psfs",
             format!("{} PSFs for a photo of {channels} channels", psfs.len()),
         ));
     }
     for (c, psf) in psfs.iter().enumerate() {
         if psf.is_empty() {
-            return Err(SimError::field(format!("psfs[{c}]"), "is empty"));
+            return Err(SimError::invalid(format!("psfs[{c}]"), "is empty"));
         }
         if let Some(v) = psf.iter().find(|v| !(v.is_finite() && **v >= 0.0)) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 format!("psfs[{c}]"),
                 format!("holds {v}; a PSF must be finite and ≥ 0"),
             ));
         }
         if !(psf.sum() > 0.0) {
-            return Err(SimError::field(format!("psfs[{c}]"), "carries no light"));
+            return Err(SimError::invalid(format!("psfs[{c}]"), "carries no light"));
         }
     }
     Ok(())
@@ -325,7 +325,7 @@ fn progress_shares(settings: &RestoreSettings) -> [f32; 3] {
 /// ```
 ///
 /// # Errors
-/// [`SimError::InvalidField`] naming the field for an empty or mismatched photo (`photo`,
+/// [`SimError::InvalidSetting`] naming the field for an empty or mismatched photo (`photo`,
 /// `photo[c]`), bad PSFs (`psfs`, `psfs[c]`), bad capture settings (`capture.…`), method
 /// parameters (`method.…`) or σ² (`denoise.sigma2`); [`SimError::TooLarge`] when the run
 /// would exceed the memory budget; [`SimError::Cancelled`] when `progress` was cancelled.

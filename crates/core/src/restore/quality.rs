@@ -27,13 +27,13 @@ fn same_size<A: Sample, B: Sample>(
     b: ArrayView2<'_, B>,
 ) -> Result<(), SimError> {
     if a.dim() != b.dim() {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "image",
             format!("the images differ in size ({:?} vs {:?})", a.dim(), b.dim()),
         ));
     }
     if a.is_empty() {
-        return Err(SimError::field("image", "the images are empty"));
+        return Err(SimError::invalid("image", "the images are empty"));
     }
     Ok(())
 }
@@ -70,7 +70,7 @@ pub(crate) fn psnr_of(sse: f64, n: usize, peak: f64) -> f64 {
 /// `10 log10(peak² / MSE)` in dB; `+∞` for identical images.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] (`image`) for images of different sizes or empty ones.
+/// [`SimError::InvalidSetting`] (`image`) for images of different sizes or empty ones.
 pub fn psnr_db<A: Sample, B: Sample>(
     a: ArrayView2<'_, A>,
     b: ArrayView2<'_, B>,
@@ -90,7 +90,7 @@ pub fn psnr_db_pooled<A: Sample, B: Sample>(
     peak: f64,
 ) -> Result<f64, SimError> {
     if pairs.is_empty() {
-        return Err(SimError::field("image", "no channels"));
+        return Err(SimError::invalid("image", "no channels"));
     }
     let mut sse = 0.0;
     let mut n = 0;
@@ -113,7 +113,7 @@ pub fn psnr_db_planes<A: Sample, B: Sample>(
     peak: f64,
 ) -> Result<f64, SimError> {
     if test.len() != truth.len() {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "image",
             format!("{} channels against {}", test.len(), truth.len()),
         ));
@@ -172,7 +172,7 @@ fn gaussian_taps() -> Vec<f64> {
 /// Mean SSIM of `a` against `b` for data in `[0, 1]` (see the module docs).
 ///
 /// # Errors
-/// [`SimError::InvalidField`] (`image`) for images of different sizes or smaller than the
+/// [`SimError::InvalidSetting`] (`image`) for images of different sizes or smaller than the
 /// 11×11 window.
 pub fn ssim<A: Sample, B: Sample>(
     a: ArrayView2<'_, A>,
@@ -182,7 +182,7 @@ pub fn ssim<A: Sample, B: Sample>(
     let (h, w) = a.dim();
     let win = 2 * SSIM_RADIUS_PX + 1;
     if h < win || w < win {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "image",
             format!("SSIM needs at least {win}×{win} pixels (got {h}×{w})"),
         ));

@@ -17,7 +17,7 @@ pub const THESIS_NSR: f64 = 0.00371;
 /// Negative values, which no intensity can take, are clipped to 0; values above 1 are kept.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] (`method.nsr`) unless `nsr` is finite and ≥ 0.
+/// [`SimError::InvalidSetting`] (`method.nsr`) unless `nsr` is finite and ≥ 0.
 pub fn wiener(
     grid: &PadGrid,
     captured: ArrayView2<'_, f64>,
@@ -53,7 +53,7 @@ pub(crate) fn check_nsr(nsr: f64) -> Result<(), SimError> {
     if nsr.is_finite() && nsr >= 0.0 {
         Ok(())
     } else {
-        Err(SimError::field(
+        Err(SimError::invalid(
             Setting::MethodNsr,
             format!("must be a finite number ≥ 0 (got {nsr:?})"),
         ))

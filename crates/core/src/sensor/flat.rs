@@ -82,23 +82,23 @@ impl FlatPatchSpec {
     /// Checks every field; errors name it (`light_e`, `eta`, `bin_px`, `side_px`, `gain`).
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for the first bad field.
+    /// [`SimError::InvalidSetting`] for the first bad field.
     pub fn validate(&self) -> Result<(), SimError> {
         let l = self.light_e;
         if !(l.is_finite() && (0.0..=FLAT_PATCH_MAX_LIGHT_E).contains(&l)) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::LightE,
                 format!("must be 0 … {FLAT_PATCH_MAX_LIGHT_E:e} electrons per pixel (got {l:?})"),
             ));
         }
         if !(self.eta.is_finite() && (0.0..=1e3).contains(&self.eta)) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Eta,
                 format!("must be 0 … 1000 (got {:?})", self.eta),
             ));
         }
         if !BIN_SIZES.contains(&self.bin_px) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::BinPx,
                 format!("a bin is 1, 2, 4 or 8 pixels wide (got {})", self.bin_px),
             ));
@@ -106,14 +106,14 @@ impl FlatPatchSpec {
         if let Some(g) = self.gain
             && !(g.is_finite() && g > 0.0 && g <= 1e6)
         {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::Gain,
                 format!("must be a finite gain in (0, 1e6] (got {g:?})"),
             ));
         }
         let (lo, hi) = FLAT_PATCH_SIDE_RANGE;
         if !(lo..=hi).contains(&self.side_px) || !self.side_px.is_multiple_of(self.bin_px) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::SidePx,
                 format!(
                     "must be {lo} … {hi} pixels and a multiple of the bin side {} (got {})",
@@ -242,7 +242,7 @@ pub fn predicted_saturation(
 /// ```
 ///
 /// # Errors
-/// [`SimError::InvalidField`] naming the field of `spec` (`light_e`, `eta`, `bin_px`,
+/// [`SimError::InvalidSetting`] naming the field of `spec` (`light_e`, `eta`, `bin_px`,
 /// `side_px`) or of the sensor (`sensor.…`); [`SimError::TooLarge`] past the memory budget;
 /// [`SimError::Cancelled`] when `progress` was cancelled.
 pub fn flat_patch(

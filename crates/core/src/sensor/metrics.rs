@@ -89,7 +89,7 @@ fn toned_crop(
 /// squared errors are summed ROI by ROI).
 ///
 /// # Errors
-/// [`SimError::InvalidField`] (`image`) when the sizes differ or are smaller than the SSIM
+/// [`SimError::InvalidSetting`] (`image`) when the sizes differ or are smaller than the SSIM
 /// window.
 pub fn score(
     capture_e: &Array2<f64>,
@@ -99,7 +99,7 @@ pub fn score(
 ) -> Result<Scores, SimError> {
     let (h, w) = truth_e.dim();
     if capture_e.dim() != (h, w) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "image",
             format!(
                 "the capture is {:?} pixels, the truth {:?}",

@@ -316,7 +316,7 @@ pub fn run(
 /// ```
 ///
 /// # Errors
-/// [`SimError::InvalidField`] naming the field for bad settings (`roi_px`,
+/// [`SimError::InvalidSetting`] naming the field for bad settings (`roi_px`,
 /// `sensor.full_well_e`, `exposure.fill`, `strategies[i].bin`, …) or a bad scene (`scene`,
 /// `scene.planes[c]`: empty, smaller than 11×11, mismatched, negative or non-finite, black);
 /// [`SimError::TooLarge`] above the memory budget ([`peak_bytes`]); [`SimError::Cancelled`]
@@ -352,7 +352,7 @@ pub fn run_with<'a, S, E: From<SimError>>(
     electrons.par_mapv_inplace(|v| v * electrons_per_radiance);
     let mean_e = electrons.mean().unwrap_or(0.0);
     if !(mean_e > 0.0 && mean_e.is_finite()) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "scene",
             format!("exposes to a mean of {mean_e} electrons; nothing to simulate"),
         )

@@ -112,14 +112,14 @@ impl Scene {
     /// least `min_side_px`, every value finite and ≥ 0.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] naming `scene` or `scene.planes[c]`.
+    /// [`SimError::InvalidSetting`] naming `scene` or `scene.planes[c]`.
     pub fn validate(&self, min_side_px: usize) -> Result<(), SimError> {
         let Some(first) = self.planes.first() else {
-            return Err(SimError::field("scene", "has no planes"));
+            return Err(SimError::invalid("scene", "has no planes"));
         };
         let (h, w) = first.dim();
         if h < min_side_px || w < min_side_px {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "scene",
                 format!(
                     "is {w}×{h} pixels; at least {min_side_px}×{min_side_px} are needed (the SSIM \
@@ -129,7 +129,7 @@ impl Scene {
         }
         for (c, p) in self.planes.iter().enumerate() {
             if p.dim() != (h, w) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("scene.planes[{c}]"),
                     format!("is {:?}, plane 0 is {:?}", p.dim(), (h, w)),
                 ));
@@ -139,7 +139,7 @@ impl Scene {
                 .into_par_iter()
                 .find_map_first(|row| row.iter().copied().find(|v| !(v.is_finite() && *v >= 0.0)));
             if let Some(v) = bad {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("scene.planes[{c}]"),
                     format!("holds {v}; radiance must be finite and ≥ 0"),
                 ));
@@ -229,7 +229,7 @@ impl Exposure {
     /// Checks the numbers; errors name `exposure.<field>`.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`].
+    /// [`SimError::InvalidSetting`].
     pub fn validate(&self) -> Result<(), SimError> {
         // Below the lower bounds a capture is under a millionth of an electron (black); above
         // the upper ones every pixel clips: refused rather than scored.
@@ -242,7 +242,7 @@ impl Exposure {
             if v.is_finite() && (lo..=hi).contains(&v) {
                 Ok(())
             } else {
-                Err(SimError::field(
+                Err(SimError::invalid(
                     format!("exposure.{field}"),
                     format!("must be {lo:e} … {hi:e} (got {v:?})"),
                 ))
@@ -252,7 +252,7 @@ impl Exposure {
             Exposure::MeanFraction(f) => positive("mean_fraction", f),
             Exposure::PercentileFill { percentile, fill } => {
                 if !(percentile.is_finite() && percentile > 0.0 && percentile <= 100.0) {
-                    return Err(SimError::field(
+                    return Err(SimError::invalid(
                         "exposure.percentile",
                         format!("must be in (0, 100] (got {percentile:?})"),
                     ));
@@ -266,7 +266,7 @@ impl Exposure {
     /// Electrons per unit pixel per unit of luminance.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] (`exposure…`) for bad numbers, or `scene` when the statistic
+    /// [`SimError::InvalidSetting`] (`exposure…`) for bad numbers, or `scene` when the statistic
     /// the exposure is set from is zero (a black scene cannot be normalised).
     pub fn electrons_per_radiance(
         &self,
@@ -275,7 +275,7 @@ impl Exposure {
     ) -> Result<f64, SimError> {
         self.validate()?;
         let black = |what: &str| {
-            SimError::field(
+            SimError::invalid(
                 "scene",
                 format!("its {what} is 0; a black scene cannot be exposed by a relative rule"),
             )

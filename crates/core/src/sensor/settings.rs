@@ -313,13 +313,13 @@ impl SensorSettings {
     /// Checks every field; errors name it (`roi_px`, `sensor.full_well_e`, `strategies[4].bin`…).
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for the first bad field.
+    /// [`SimError::InvalidSetting`] for the first bad field.
     pub fn validate(&self) -> Result<(), SimError> {
         self.sensor.validate()?;
         self.exposure.validate()?;
         let (lo, hi) = ROI_PX_RANGE;
         if !(lo..=hi).contains(&self.roi_px) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::RoiPx,
                 format!("must be {lo} … {hi} pixels (got {:?})", self.roi_px),
             ));
@@ -329,7 +329,7 @@ impl SensorSettings {
             (Setting::EtaPerPixel, self.eta_per_pixel),
         ] {
             if !(v.is_finite() && (0.0..=1e3).contains(&v)) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     field,
                     format!("must be 0 … 1000 (got {v:?})"),
                 ));
@@ -337,31 +337,31 @@ impl SensorSettings {
         }
         // An SNR threshold below 0.01 or above 10⁶ asks for nothing or for the impossible.
         if !(self.snr_t.is_finite() && (0.01..=1e6).contains(&self.snr_t)) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 Setting::SnrT,
                 format!("must be 0.01 … 1e6 (got {:?})", self.snr_t),
             ));
         }
         if !(self.gamma.is_finite() && self.gamma > 0.0 && self.gamma <= 1.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "gamma",
                 format!("must be in (0, 1] (got {:?})", self.gamma),
             ));
         }
         if !(self.display_mean.is_finite() && self.display_mean > 0.0 && self.display_mean <= 1.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "display_mean",
                 format!("must be in (0, 1] (got {:?})", self.display_mean),
             ));
         }
         if self.strategies.is_empty() {
-            return Err(SimError::field("strategies", "is empty"));
+            return Err(SimError::invalid("strategies", "is empty"));
         }
         for (i, s) in self.strategies.iter().enumerate() {
             if let BinStrategy::Uniform(n) = s.bin
                 && !BIN_SIZES.contains(&n)
             {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("strategies[{i}].bin"),
                     format!("a uniform bin is 1, 2, 4 or 8 pixels wide (got {n})"),
                 ));
@@ -371,7 +371,7 @@ impl SensorSettings {
                 GainStrategy::AlternatingRows | GainStrategy::PerPixel
             );
             if row_wise && !matches!(s.bin, BinStrategy::None | BinStrategy::Uniform(1)) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("strategies[{i}].bin"),
                     format!("{} reads single pixels; it cannot bin", s.gain.label()),
                 ));

@@ -144,13 +144,13 @@ impl SensorSpec {
     /// Checks every field; errors name it as `sensor.<field>`.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for the first bad field.
+    /// [`SimError::InvalidSetting`] for the first bad field.
     pub fn validate(&self) -> Result<(), SimError> {
         let positive = |field: &str, v: f64| {
             if v.is_finite() && v > 0.0 {
                 Ok(())
             } else {
-                Err(SimError::field(
+                Err(SimError::invalid(
                     format!("sensor.{field}"),
                     format!("must be a positive number (got {v:?})"),
                 ))
@@ -160,7 +160,7 @@ impl SensorSpec {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
-                Err(SimError::field(
+                Err(SimError::invalid(
                     format!("sensor.{field}"),
                     format!("must be a finite number ≥ 0 (got {v:?})"),
                 ))
@@ -171,13 +171,13 @@ impl SensorSpec {
         non_negative("sigma_pre_e", self.sigma_pre_e)?;
         non_negative("sigma_post_e", self.sigma_post_e)?;
         if !(self.max_gain.is_finite() && self.max_gain >= 1.0) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "sensor.max_gain",
                 format!("must be ≥ 1, the base gain (got {:?})", self.max_gain),
             ));
         }
         if !(2..=24).contains(&self.adc_bits) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "sensor.adc_bits",
                 format!("must be 2 … 24 bits (got {:?})", self.adc_bits),
             ));
@@ -185,7 +185,7 @@ impl SensorSpec {
         if !(self.black_level_fraction.is_finite()
             && (0.0..0.5).contains(&self.black_level_fraction))
         {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "sensor.black_level_fraction",
                 format!(
                     "must be in [0, 0.5) of the ADC range (got {:?})",

@@ -52,10 +52,10 @@ impl StudySpec {
     /// Checks every field; errors name it (`lights_e_per_um2[2]`, `modes_gains[1]`, …).
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for the first bad field.
+    /// [`SimError::InvalidSetting`] for the first bad field.
     pub fn validate(&self, max_gain: f64) -> Result<(), SimError> {
         if self.lights_e_per_um2.is_empty() || self.lights_e_per_um2.len() > 32 {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "lights_e_per_um2",
                 "give 1 … 32 light levels",
             ));
@@ -63,14 +63,14 @@ impl StudySpec {
         let light_ok = |l: f64| l.is_finite() && l > 0.0 && l <= 1e6;
         for (i, l) in self.lights_e_per_um2.iter().enumerate() {
             if !light_ok(*l) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     format!("lights_e_per_um2[{i}]"),
                     format!("must be above 0 and at most 1e6 e⁻/µm² (got {l:?})"),
                 ));
             }
         }
         if !light_ok(self.modes_light_e_per_um2) {
-            return Err(SimError::field(
+            return Err(SimError::invalid(
                 "modes_light_e_per_um2",
                 format!(
                     "must be above 0 and at most 1e6 e⁻/µm² (got {:?})",
@@ -84,7 +84,7 @@ impl StudySpec {
         ]);
         for (field, g) in gains {
             if !(g.is_finite() && (1.0..=max_gain).contains(&g)) {
-                return Err(SimError::field(
+                return Err(SimError::invalid(
                     field,
                     format!("must be 1 … {max_gain} (the sensor's gains; got {g:?})"),
                 ));
@@ -148,7 +148,7 @@ pub struct BinStudy {
 /// curve of `settings`.
 ///
 /// # Errors
-/// [`SimError::InvalidField`] for bad settings, a bad spec, or a region that is smaller than
+/// [`SimError::InvalidSetting`] for bad settings, a bad spec, or a region that is smaller than
 /// 8 bins of 8 pixels on a side, negative, non-finite or black; [`SimError::Cancelled`].
 pub fn bin_study(
     region: &Array2<f64>,
@@ -161,20 +161,20 @@ pub fn bin_study(
     let (h, w) = region.dim();
     let min_side = 8 * BIN_SIZES[BIN_SIZES.len() - 1];
     if h.min(w) < min_side.max(SSIM_WINDOW_PX) || h.max(w) > 4096 {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "region",
             format!("must be {min_side} … 4096 pixels on a side (got {w}×{h})"),
         ));
     }
     if region.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-        return Err(SimError::field(
+        return Err(SimError::invalid(
             "region",
             "holds a negative or non-finite value",
         ));
     }
     let mean = region.mean().unwrap_or(0.0);
     if !(mean > 0.0) {
-        return Err(SimError::field("region", "is black; nothing to capture"));
+        return Err(SimError::invalid("region", "is black; nothing to capture"));
     }
     let sensor = &settings.sensor;
     let adc = Adc::of(sensor);

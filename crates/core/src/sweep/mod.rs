@@ -3,8 +3,8 @@
 //! makes a sweep resumable; and the summaries its plots draw. Running points, files and
 //! clusters are the CLI's and `io`'s business.
 
-pub mod field;
 pub mod hash;
+pub mod one_axis;
 pub mod points;
 pub mod spec;
 pub mod summary;

@@ -26,8 +26,8 @@ impl Points {
         let mut values = Vec::new();
         for (i, a) in spec.axes.iter().enumerate() {
             values.push(
-                axis_values(a).map_err(|(f, message)| SimError::InvalidField {
-                    field: format!("axis[{i}]{f}").into(),
+                axis_values(a).map_err(|(f, message)| SimError::InvalidSetting {
+                    path: format!("axis[{i}]{f}").into(),
                     message,
                 })?,
             );

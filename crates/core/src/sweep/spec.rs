@@ -281,10 +281,10 @@ impl SweepSpec {
     /// values suit the job is checked by parsing each as the job's command line.
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] naming the offending field (`axis[1].range.step`).
+    /// [`SimError::InvalidSetting`] naming the offending field (`axis[1].range.step`).
     pub fn validate(&self) -> Result<(), SimError> {
-        let bad = |field: String, message: String| SimError::InvalidField {
-            field: field.into(),
+        let bad = |field: String, message: String| SimError::InvalidSetting {
+            path: field.into(),
             message,
         };
         let name_ok = is_param_name;
@@ -376,8 +376,8 @@ impl SweepSpec {
         }
         for (name, values) in &axis.with {
             let field = format!("axis[{i}].with.{name}");
-            let bad = |message: String| SimError::InvalidField {
-                field: field.clone().into(),
+            let bad = |message: String| SimError::InvalidSetting {
+                path: field.clone().into(),
                 message,
             };
             if !is_param_name(name) {
@@ -407,8 +407,8 @@ impl SweepSpec {
                 )));
             }
             for (j, v) in values.iter().enumerate() {
-                check_value(v).map_err(|m| SimError::InvalidField {
-                    field: format!("{field}[{j}]").into(),
+                check_value(v).map_err(|m| SimError::InvalidSetting {
+                    path: format!("{field}[{j}]").into(),
                     message: m.to_string(),
                 })?;
             }
@@ -424,8 +424,8 @@ impl SweepSpec {
         let Some(axis) = self.axes.get(i) else {
             return Ok(());
         };
-        let bad = |f: &str, message: String| SimError::InvalidField {
-            field: format!("axis[{i}]{f}").into(),
+        let bad = |f: &str, message: String| SimError::InvalidSetting {
+            path: format!("axis[{i}]{f}").into(),
             message,
         };
         let Some(values) = &axis.values else {

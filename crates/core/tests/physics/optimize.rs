@@ -227,7 +227,7 @@ fn settings_reject_nonsense() {
             |_| ControlFlow::Continue(()),
         )
         .unwrap_err();
-        assert!(matches!(err, SimError::InvalidField { .. }), "{err}");
+        assert!(matches!(err, SimError::InvalidSetting { .. }), "{err}");
     }
 }
 

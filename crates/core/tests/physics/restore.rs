@@ -65,7 +65,7 @@ fn run(photo: &[Array2<f64>], psfs: &[&Array2<f64>], s: &RestoreSettings) -> Res
 
 fn field_of(err: SimError) -> String {
     match err {
-        SimError::InvalidField { field, .. } => field.to_string(),
+        SimError::InvalidSetting { path: field, .. } => field.to_string(),
         other => panic!("expected a field error, got {other}"),
     }
 }

@@ -163,9 +163,9 @@ fn run_with_hands_each_strategy_over_as_it_is_scored() {
     let mut calls = 0;
     let stopped = run_with(&scene, &settings, &Progress::new(), Held::Kept, |_| {
         calls += 1;
-        Err::<(), _>(SimError::field("disk", "full"))
+        Err::<(), _>(SimError::invalid("disk", "full"))
     });
-    assert!(matches!(stopped, Err(SimError::InvalidField { .. })));
+    assert!(matches!(stopped, Err(SimError::InvalidSetting { .. })));
     assert_eq!(calls, 1);
     // One strategy held costs less than all of them, by the strategies' maps.
     let dim = (4096, 4096);
@@ -288,7 +288,7 @@ fn presets_carry_the_thesis_numbers() {
 
 fn field_of(settings: &SensorSettings, scene: &Scene) -> String {
     match run(scene, settings, &Progress::new()) {
-        Err(SimError::InvalidField { field, .. }) => field.to_string(),
+        Err(SimError::InvalidSetting { path: field, .. }) => field.to_string(),
         other => panic!("expected a field error, got {:?}", other.map(|_| ())),
     }
 }

@@ -354,7 +354,7 @@ fn bad_flat_patches_name_their_field() {
     ];
     for (spec, field) in cases {
         match flat_patch(&spec, &sensor, &Progress::new()) {
-            Err(udc_core::SimError::InvalidField { field: f, .. }) => assert_eq!(f, field),
+            Err(udc_core::SimError::InvalidSetting { path: f, .. }) => assert_eq!(f, field),
             other => panic!("{field}: {other:?}"),
         }
     }

@@ -7,7 +7,7 @@ use crate::core::analysis::advice::{
     MAX_FIX_WINDOW_PX, MIN_FIX_FINE_SAMPLE_UM, MIN_FIX_PUPIL_SAMPLE_UM,
 };
 use crate::core::design::{Channel, Design, OpticsRecipe};
-use crate::core::sweep::field::SweepField;
+use crate::core::sweep::one_axis::SweepParameter;
 
 /// The Optics panel: recipe, focal length, f-number, sampling, sampling phase and colour
 /// channels.
@@ -64,10 +64,10 @@ impl OpticsPanel {
             let o = &mut d.optics;
             let r = num(ui, "Focal length", &mut o.focal_length_mm, 0.5..=100.0, 0.05, " mm", "Lens focal length f (mm); right-click: sweep it");
             dragging |= r.dragged();
-            super::field_sweep::sweep_menu(&r, SweepField::FocalLengthMm, ctx.actions);
+            super::one_axis_sweep::sweep_menu(&r, SweepParameter::FocalLengthMm, ctx.actions);
             let r = num(ui, "f-number", &mut o.f_number, 0.5..=32.0, 0.01, "", "F# = f / D; right-click: sweep it");
             dragging |= r.dragged();
-            super::field_sweep::sweep_menu(&r, SweepField::FNumber, ctx.actions);
+            super::one_axis_sweep::sweep_menu(&r, SweepParameter::FNumber, ctx.actions);
             ui.label("Pupil diameter");
             ui.label(format!("{:.3} mm", o.pupil_diameter_um() / 1000.0));
             ui.end_row();
@@ -75,7 +75,7 @@ impl OpticsPanel {
             dragging |= num(ui, "Fine PSF spacing δ2", &mut o.fine_sample_um, MIN_FIX_FINE_SAMPLE_UM..=8.0, 0.01, " µm", "Target fine PSF spacing on the sensor (µm); FFT size M = 2·floor(λf/(2 δ1 δ2))").dragged();
             let r = num(ui, "Sensor pixel", &mut o.sensor_pixel_um, 0.2..=20.0, 0.01, " µm", "Sensor pixel pitch (µm); right-click: sweep it");
             dragging |= r.dragged();
-            super::field_sweep::sweep_menu(&r, SweepField::SensorPixelUm, ctx.actions);
+            super::one_axis_sweep::sweep_menu(&r, SweepParameter::SensorPixelUm, ctx.actions);
             ui.label("Window");
             let r = ui
                 .add(crate::app::widgets::number(&mut o.window_px).range(8..=MAX_FIX_WINDOW_PX).suffix(" px"))

@@ -3,11 +3,11 @@
 use egui::{Color32, ColorImage, TextureHandle, TextureOptions};
 use egui_plot::{Line, Plot, PlotImage, PlotPoint, PlotPoints};
 
-use super::field_sweep::sweep_menu;
+use super::one_axis_sweep::sweep_menu;
 use super::{DisplayPreview, PanelCtx};
 use crate::app::display::action::DisplayAction;
 use crate::core::design::{Design, TilingMode};
-use crate::core::sweep::field::SweepField;
+use crate::core::sweep::one_axis::SweepParameter;
 
 /// The Tiling panel: tiling mode, seed, wiring gap, axis cell and the preview of the tiled
 /// display over the pupil.
@@ -63,7 +63,7 @@ impl TilingPanel {
                 .labelled_by(label.id)
                 .on_hover_text("Display pixel pitch (µm): the opening's cells scale with it (right-click: sweep it)");
             dragging |= r.dragged();
-            sweep_menu(&r, SweepField::PitchUm, ctx.actions);
+            sweep_menu(&r, SweepParameter::PitchUm, ctx.actions);
         });
         ui.horizontal(|ui| {
             ui.label("Seed");
@@ -71,7 +71,7 @@ impl TilingPanel {
                 .add(crate::app::widgets::number(&mut d.tiling.seed).speed(1.0))
                 .on_hover_text("Seed of the random orientations (the same seed gives the same display everywhere)");
             dragging |= r.dragged();
-            sweep_menu(&r, SweepField::Seed, ctx.actions);
+            sweep_menu(&r, SweepParameter::Seed, ctx.actions);
             if ui
                 .add_enabled(d.tiling.mode.is_random(), egui::Button::new("Reroll"))
                 .on_hover_text("A new random realisation (F5)")
@@ -87,7 +87,7 @@ impl TilingPanel {
                 .labelled_by(label.id)
                 .on_hover_text("Opaque gap added around every pixel (µm); the display period becomes pitch + gap");
             dragging |= r.dragged();
-            sweep_menu(&r, SweepField::WiringGapUm, ctx.actions);
+            sweep_menu(&r, SweepParameter::WiringGapUm, ctx.actions);
         });
         ui.horizontal(|ui| {
             ui.label("Axis on cell");

@@ -235,7 +235,7 @@ impl FieldDepthView {
                     let psfs: Vec<&Array2<f64>> =
                         analysis.channels.iter().map(|c| &c.psf).collect();
                     if psfs.len() != scene.planes.len() {
-                        return Err(crate::core::SimError::field(
+                        return Err(crate::core::SimError::invalid(
                             "channels",
                             "the saturation study needs an R, G, B design",
                         ));

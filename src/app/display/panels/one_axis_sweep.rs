@@ -1,7 +1,7 @@
 //! "Sweep this parameter…": a window that analyses a copy of the design at a range of one
 //! field's values and plots a metric as each value finishes. It works on the copy taken when
 //! it opened, so editing the design meanwhile does not disturb it; invalid values leave gaps.
-//! The values, the copies and the metric come from [`crate::core::sweep::field`].
+//! The values, the copies and the metric come from [`crate::core::sweep::one_axis`].
 
 use std::sync::mpsc::{Receiver, channel};
 
@@ -13,18 +13,18 @@ use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
-use crate::core::sweep::field::{FieldPoint, SweepField, SweepMetric, evaluate, values};
+use crate::core::sweep::one_axis::{OneAxisPoint, SweepMetric, SweepParameter, evaluate, values};
 
 /// A run in flight: the job and the points it sends as they finish.
 struct Run {
     job: Job<()>,
-    points: Receiver<(usize, FieldPoint)>,
+    points: Receiver<(usize, OneAxisPoint)>,
 }
 
 /// The 1-D sweep window.
-pub struct FieldSweepWindow {
+pub struct OneAxisSweepWindow {
     open: bool,
-    field: SweepField,
+    field: SweepParameter,
     /// The design as it was when the window opened.
     design: Design,
     current: f64,
@@ -40,17 +40,17 @@ pub struct FieldSweepWindow {
     pub full: bool,
     run: Option<Run>,
     /// The values of the last run and what each gave (`None`: not yet).
-    points: Vec<(f64, Option<FieldPoint>)>,
+    points: Vec<(f64, Option<OneAxisPoint>)>,
     /// The metric and field the points are of (the controls may have changed since).
-    points_of: (SweepField, SweepMetric),
+    points_of: (SweepParameter, SweepMetric),
     message: Option<Notice>,
 }
 
-impl Default for FieldSweepWindow {
+impl Default for OneAxisSweepWindow {
     fn default() -> Self {
-        FieldSweepWindow {
+        OneAxisSweepWindow {
             open: false,
-            field: SweepField::PitchUm,
+            field: SweepParameter::PitchUm,
             design: Design::default_toled(),
             current: 0.0,
             from: 0.0,
@@ -60,19 +60,19 @@ impl Default for FieldSweepWindow {
             full: false,
             run: None,
             points: Vec::new(),
-            points_of: (SweepField::PitchUm, SweepMetric::AucMean),
+            points_of: (SweepParameter::PitchUm, SweepMetric::AucMean),
             message: None,
         }
     }
 }
 
-impl FieldSweepWindow {
+impl OneAxisSweepWindow {
     /// Opens the window for `field` of a copy of `design`, with the default range around its
     /// value. A run of the previous field is cancelled.
-    pub fn open(&mut self, field: SweepField, design: Design) {
+    pub fn open(&mut self, field: SweepParameter, design: Design) {
         let current = field.get(&design);
         let (from, to, steps) = field.default_range(current);
-        *self = FieldSweepWindow {
+        *self = OneAxisSweepWindow {
             open: true,
             field,
             design,
@@ -99,7 +99,7 @@ impl FieldSweepWindow {
     }
 
     /// The field it sweeps.
-    pub fn field(&self) -> SweepField {
+    pub fn field(&self) -> SweepParameter {
         self.field
     }
 
@@ -119,7 +119,7 @@ impl FieldSweepWindow {
     }
 
     /// The last run's values and what each gave (`None`: not computed yet).
-    pub fn points(&self) -> &[(f64, Option<FieldPoint>)] {
+    pub fn points(&self) -> &[(f64, Option<OneAxisPoint>)] {
         &self.points
     }
 
@@ -196,7 +196,7 @@ impl FieldSweepWindow {
                     let bad = self
                         .points
                         .iter()
-                        .filter(|(_, p)| matches!(p, Some(FieldPoint::Invalid(_))))
+                        .filter(|(_, p)| matches!(p, Some(OneAxisPoint::Invalid(_))))
                         .count();
                     Some(Notice::info(format!(
                         "{} values done{}",
@@ -321,12 +321,12 @@ impl FieldSweepWindow {
         let mut invalid: Vec<(f64, &str)> = Vec::new();
         for (x, p) in &self.points {
             match p {
-                Some(FieldPoint::Value(y)) => {
+                Some(OneAxisPoint::Value(y)) => {
                     if let Some(s) = segments.last_mut() {
                         s.push([*x, *y]);
                     }
                 }
-                Some(FieldPoint::Invalid(why)) => {
+                Some(OneAxisPoint::Invalid(why)) => {
                     invalid.push((*x, why.as_str()));
                     segments.push(Vec::new());
                 }
@@ -378,7 +378,11 @@ impl FieldSweepWindow {
 }
 
 /// The number field's right-click menu: "Sweep this parameter…" opens the window for `field`.
-pub fn sweep_menu(response: &egui::Response, field: SweepField, actions: &mut Vec<DisplayAction>) {
+pub fn sweep_menu(
+    response: &egui::Response,
+    field: SweepParameter,
+    actions: &mut Vec<DisplayAction>,
+) {
     response.context_menu(|ui| {
         if ui
             .button("Sweep this parameter…")
@@ -388,7 +392,7 @@ pub fn sweep_menu(response: &egui::Response, field: SweepField, actions: &mut Ve
             ))
             .clicked()
         {
-            actions.push(DisplayAction::SweepField(field));
+            actions.push(DisplayAction::SweepParameter(field));
             ui.close();
         }
     });

@@ -11,7 +11,7 @@ use crate::{Progress, SimError};
 /// The design numbers a 1-D sweep can change: a closed set, so each one knows its unit, its
 /// range and how to write itself into a design.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum SweepField {
+pub enum SweepParameter {
     /// Display pixel pitch, µm (`opening.pitch_um`).
     PitchUm,
     /// Seed of the random tiling (`tiling.seed`), a whole number.
@@ -26,35 +26,37 @@ pub enum SweepField {
     SensorPixelUm,
 }
 
-impl SweepField {
+impl SweepParameter {
     /// Every sweepable field.
-    pub const ALL: [SweepField; 6] = [
-        SweepField::PitchUm,
-        SweepField::Seed,
-        SweepField::WiringGapUm,
-        SweepField::FNumber,
-        SweepField::FocalLengthMm,
-        SweepField::SensorPixelUm,
+    pub const ALL: [SweepParameter; 6] = [
+        SweepParameter::PitchUm,
+        SweepParameter::Seed,
+        SweepParameter::WiringGapUm,
+        SweepParameter::FNumber,
+        SweepParameter::FocalLengthMm,
+        SweepParameter::SensorPixelUm,
     ];
 
     /// Its name for titles and axis labels, without the unit.
     pub fn label(self) -> &'static str {
         match self {
-            SweepField::PitchUm => "pitch",
-            SweepField::Seed => "tiling seed",
-            SweepField::WiringGapUm => "wiring gap",
-            SweepField::FNumber => "f-number",
-            SweepField::FocalLengthMm => "focal length",
-            SweepField::SensorPixelUm => "sensor pixel",
+            SweepParameter::PitchUm => "pitch",
+            SweepParameter::Seed => "tiling seed",
+            SweepParameter::WiringGapUm => "wiring gap",
+            SweepParameter::FNumber => "f-number",
+            SweepParameter::FocalLengthMm => "focal length",
+            SweepParameter::SensorPixelUm => "sensor pixel",
         }
     }
 
     /// Its unit as labels show it ("" for pure numbers).
     pub fn unit(self) -> &'static str {
         match self {
-            SweepField::PitchUm | SweepField::WiringGapUm | SweepField::SensorPixelUm => "µm",
-            SweepField::FocalLengthMm => "mm",
-            SweepField::Seed | SweepField::FNumber => "",
+            SweepParameter::PitchUm
+            | SweepParameter::WiringGapUm
+            | SweepParameter::SensorPixelUm => "µm",
+            SweepParameter::FocalLengthMm => "mm",
+            SweepParameter::Seed | SweepParameter::FNumber => "",
         }
     }
 
@@ -69,12 +71,12 @@ impl SweepField {
     /// The design setting it sweeps.
     pub fn setting(self) -> Setting {
         match self {
-            SweepField::PitchUm => Setting::OpeningPitchUm,
-            SweepField::Seed => Setting::TilingSeed,
-            SweepField::WiringGapUm => Setting::TilingWiringGapUm,
-            SweepField::FNumber => Setting::OpticsFNumber,
-            SweepField::FocalLengthMm => Setting::OpticsFocalLengthMm,
-            SweepField::SensorPixelUm => Setting::OpticsSensorPixelUm,
+            SweepParameter::PitchUm => Setting::OpeningPitchUm,
+            SweepParameter::Seed => Setting::TilingSeed,
+            SweepParameter::WiringGapUm => Setting::TilingWiringGapUm,
+            SweepParameter::FNumber => Setting::OpticsFNumber,
+            SweepParameter::FocalLengthMm => Setting::OpticsFocalLengthMm,
+            SweepParameter::SensorPixelUm => Setting::OpticsSensorPixelUm,
         }
     }
 
@@ -85,18 +87,18 @@ impl SweepField {
 
     /// Whether only whole numbers make sense (the seed).
     pub fn is_integer(self) -> bool {
-        self == SweepField::Seed
+        self == SweepParameter::Seed
     }
 
     /// The field's value in `design`.
     pub fn get(self, design: &Design) -> f64 {
         match self {
-            SweepField::PitchUm => design.opening.pitch_um,
-            SweepField::Seed => design.tiling.seed as f64,
-            SweepField::WiringGapUm => design.tiling.wiring_gap_um,
-            SweepField::FNumber => design.optics.f_number,
-            SweepField::FocalLengthMm => design.optics.focal_length_mm,
-            SweepField::SensorPixelUm => design.optics.sensor_pixel_um,
+            SweepParameter::PitchUm => design.opening.pitch_um,
+            SweepParameter::Seed => design.tiling.seed as f64,
+            SweepParameter::WiringGapUm => design.tiling.wiring_gap_um,
+            SweepParameter::FNumber => design.optics.f_number,
+            SweepParameter::FocalLengthMm => design.optics.focal_length_mm,
+            SweepParameter::SensorPixelUm => design.optics.sensor_pixel_um,
         }
     }
 
@@ -106,24 +108,24 @@ impl SweepField {
     /// value is left to [`Design::validate`].
     ///
     /// # Errors
-    /// [`SimError::InvalidField`] for a negative or fractional seed.
+    /// [`SimError::InvalidSetting`] for a negative or fractional seed.
     pub fn apply(self, design: &Design, value: f64) -> Result<Design, SimError> {
         let mut d = design.clone();
         match self {
-            SweepField::PitchUm => d.opening.pitch_um = value,
-            SweepField::Seed => {
+            SweepParameter::PitchUm => d.opening.pitch_um = value,
+            SweepParameter::Seed => {
                 if !(value.is_finite() && value >= 0.0 && value.fract() == 0.0) {
-                    return Err(SimError::InvalidField {
-                        field: self.setting().into(),
+                    return Err(SimError::InvalidSetting {
+                        path: self.setting().into(),
                         message: format!("{value} is not a whole number of at least 0"),
                     });
                 }
                 d.tiling.seed = value as u64;
             }
-            SweepField::WiringGapUm => d.tiling.wiring_gap_um = value,
-            SweepField::FNumber => d.optics.f_number = value,
-            SweepField::FocalLengthMm => d.optics.focal_length_mm = value,
-            SweepField::SensorPixelUm => d.optics.sensor_pixel_um = value,
+            SweepParameter::WiringGapUm => d.tiling.wiring_gap_um = value,
+            SweepParameter::FNumber => d.optics.f_number = value,
+            SweepParameter::FocalLengthMm => d.optics.focal_length_mm = value,
+            SweepParameter::SensorPixelUm => d.optics.sensor_pixel_um = value,
         }
         if d.optics != design.optics {
             d.optics.recipe = OpticsRecipe::Custom;
@@ -140,7 +142,7 @@ impl SweepField {
         }
         if current == 0.0 {
             let span = match self {
-                SweepField::WiringGapUm => 10.0,
+                SweepParameter::WiringGapUm => 10.0,
                 _ => 1.0,
             };
             return (0.0, span, 9);
@@ -222,7 +224,7 @@ pub fn values(from: f64, to: f64, steps: usize, integer: bool) -> Vec<f64> {
 
 /// What one value of a 1-D sweep gave.
 #[derive(Debug, Clone, PartialEq)]
-pub enum FieldPoint {
+pub enum OneAxisPoint {
     /// The metric's value.
     Value(f64),
     /// The design with this value is invalid or cannot be simulated: the reason, for the note
@@ -233,16 +235,16 @@ pub enum FieldPoint {
 /// Analyses a copy of `design` with `field` set to `value` and returns `metric`.
 ///
 /// # Errors
-/// Only [`SimError::Cancelled`]: an invalid value is a [`FieldPoint::Invalid`], not an error,
+/// Only [`SimError::Cancelled`]: an invalid value is a [`OneAxisPoint::Invalid`], not an error,
 /// so the sweep carries on past it.
 pub fn evaluate(
     design: &Design,
-    field: SweepField,
+    field: SweepParameter,
     value: f64,
     metric: SweepMetric,
     quality: Quality,
     progress: &Progress,
-) -> Result<FieldPoint, SimError> {
+) -> Result<OneAxisPoint, SimError> {
     let options = AnalyzeOptions {
         quality,
         expected_psf: false,
@@ -254,13 +256,13 @@ pub fn evaluate(
         Ok(a) => {
             let v = metric.of(&a);
             Ok(if v.is_finite() {
-                FieldPoint::Value(v)
+                OneAxisPoint::Value(v)
             } else {
-                FieldPoint::Invalid(format!("{} is not a finite number", metric.label(design)))
+                OneAxisPoint::Invalid(format!("{} is not a finite number", metric.label(design)))
             })
         }
         Err(SimError::Cancelled) => Err(SimError::Cancelled),
-        Err(e) => Ok(FieldPoint::Invalid(e.to_string())),
+        Err(e) => Ok(OneAxisPoint::Invalid(e.to_string())),
     }
 }
 
@@ -279,21 +281,27 @@ mod tests {
     #[test]
     fn apply_changes_one_field_and_refuses_bad_seeds() {
         let d = Design::default_toled();
-        for f in SweepField::ALL {
+        for f in SweepParameter::ALL {
             let v = f.get(&d) + 1.0;
             let changed = f.apply(&d, v).expect("a whole seed");
             assert_eq!(f.get(&changed), v, "{f:?}");
         }
-        assert!(SweepField::Seed.apply(&d, -1.0).is_err());
-        assert!(SweepField::Seed.apply(&d, 0.5).is_err());
-        let lens = SweepField::FNumber.apply(&d, 3.0).expect("any number");
+        assert!(SweepParameter::Seed.apply(&d, -1.0).is_err());
+        assert!(SweepParameter::Seed.apply(&d, 0.5).is_err());
+        let lens = SweepParameter::FNumber.apply(&d, 3.0).expect("any number");
         assert_eq!(lens.optics.recipe, OpticsRecipe::Custom);
     }
 
     #[test]
     fn default_ranges() {
-        assert_eq!(SweepField::PitchUm.default_range(100.0), (50.0, 150.0, 9));
-        assert_eq!(SweepField::Seed.default_range(3.0), (3.0, 11.0, 9));
-        assert_eq!(SweepField::WiringGapUm.default_range(0.0), (0.0, 10.0, 9));
+        assert_eq!(
+            SweepParameter::PitchUm.default_range(100.0),
+            (50.0, 150.0, 9)
+        );
+        assert_eq!(SweepParameter::Seed.default_range(3.0), (3.0, 11.0, 9));
+        assert_eq!(
+            SweepParameter::WiringGapUm.default_range(0.0),
+            (0.0, 10.0, 9)
+        );
     }
 }
