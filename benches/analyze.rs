@@ -29,7 +29,7 @@ use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::{Opening, TilingMode};
 use udc_studio::core::{Analysis, Design, Progress};
-use udc_studio::io::presets::load_preset;
+use udc_studio::io::design::presets::load_preset;
 
 struct Case {
     id: &'static str,

@@ -11,8 +11,8 @@ use std::time::Instant;
 use udc_studio::core::Progress;
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::mask::{MaskRegion, MaskSpec};
+use udc_studio::io::design::presets::load_preset;
 use udc_studio::io::mask::{ExportOptions, MaskFormat, export_mask};
-use udc_studio::io::presets::load_preset;
 
 /// `VmHWM` in MB (10⁶ bytes), or `None` without /proc.
 fn vm_hwm_mb() -> Option<f64> {

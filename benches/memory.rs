@@ -17,7 +17,7 @@ use std::process::Command;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, analyze_with};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::{Design, Progress};
-use udc_studio::io::presets::load_preset;
+use udc_studio::io::design::presets::load_preset;
 
 const CASES: [&str; 3] = [
     "iccp21/toled-repeat",

@@ -138,7 +138,7 @@ fn full_v() {
 fn optimized_plan(base: &PhaseDesign) -> Result<PhaseDesign, String> {
     use udc_studio::core::phase::imaging::{Lambda0Plan, Setup};
     use udc_studio::core::phase::wavelength_grid_nm;
-    use udc_studio::io::spectral::{channels_from_response, thesis_response};
+    use udc_studio::io::design::spectral::{channels_from_response, thesis_response};
     let channels = channels_from_response(&thesis_response(), &wavelength_grid_nm())
         .map_err(|e| e.to_string())?;
     let sampling = PhaseSampling::thesis().with_relay(Relay::LensletPeriod);
@@ -151,7 +151,7 @@ fn optimized_plan(base: &PhaseDesign) -> Result<PhaseDesign, String> {
 fn spectral_operator() {
     use udc_studio::core::phase::imaging::phase_blur;
     use udc_studio::core::phase::wavelength_grid_nm;
-    use udc_studio::io::spectral::{channels_from_response, thesis_response};
+    use udc_studio::io::design::spectral::{channels_from_response, thesis_response};
     let design = PhaseDesign::thesis(42.0, 5.0);
     let Ok(channels) = channels_from_response(&thesis_response(), &wavelength_grid_nm()) else {
         eprintln!("no thesis response");

@@ -19,7 +19,7 @@ use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use ndarray::Array2;
 use udc_studio::core::Progress;
 use udc_studio::core::sensor::{PREVIEW_MAX_SIDE_PX, Scene, SensorRun, SensorSettings, run};
-use udc_studio::io::hdr::load_hdr;
+use udc_studio::io::photo::hdr::load_hdr;
 
 const SCENE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use udc_core::analysis::advice::{self, AdviceScope};
 use udc_core::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
-use udc_io::report;
+use udc_io::display::report;
 
 use crate::{cancel, design, errors};
 

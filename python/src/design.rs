@@ -8,7 +8,7 @@ use numpy::{IntoPyArray, PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use udc_core::Design;
 use udc_core::design::TilingMode;
-use udc_io::{design_file, presets as builtin};
+use udc_io::design::{file as design_file, presets as builtin};
 
 use crate::errors;
 

@@ -17,7 +17,7 @@ use udc_core::restore::capture::REFERENCE_LTR;
 use udc_core::restore::{
     CaptureSettings, CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreSettings, simulate,
 };
-use udc_io::restore_report;
+use udc_io::display::restore_report;
 
 use crate::{cancel, design, errors};
 

@@ -13,7 +13,7 @@ use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with}
 use udc_studio::core::design::{Optics, OpticsRecipe};
 use udc_studio::core::psf::warning::{Severity, WarningKind};
 use udc_studio::core::{Analysis, Design, Progress};
-use udc_studio::io::presets::{self, load_preset};
+use udc_studio::io::design::presets::{self, load_preset};
 
 use crate::common::Reach;
 use crate::common::{self, run_cli, step_until};

@@ -7,7 +7,7 @@ use udc_studio::core::Progress;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::{Design, Opening, Subpixel, Subpixels};
 use udc_studio::core::display::appearance::{AppearanceSettings, DisplayQuality, appearance};
-use udc_studio::io::presets::load_preset;
+use udc_studio::io::design::presets::load_preset;
 
 use crate::common::run_cli as run;
 

@@ -118,6 +118,23 @@ fn the_core_and_io_link_no_argument_parser() {
     assert!(locked_closure("udc-cli").contains("clap"));
 }
 
+/// One module-file style: a module that grew into a folder keeps its own file as the folder's
+/// `mod.rs`, never as a `name.rs` beside a `name/` folder.
+#[test]
+fn a_folder_module_is_its_mod_rs() {
+    let mut beside = Vec::new();
+    for src in CRATE_SOURCES {
+        let mut files = Vec::new();
+        rust_files(&repo().join(src), &mut files);
+        for f in files {
+            if f.with_extension("").is_dir() {
+                beside.push(f);
+            }
+        }
+    }
+    assert!(beside.is_empty(), "move to name/mod.rs: {beside:?}");
+}
+
 #[test]
 fn core_reads_no_files() {
     // The core and the FFT plans below it.
@@ -134,7 +151,8 @@ fn core_reads_no_files() {
     }
 }
 
-/// `crates/core/src/phase/chain.rs` → `phase::chain`; a `mod.rs` is its folder's module.
+/// `crates/core/src/phase/chain/propagate.rs` → `phase::chain::propagate`; a `mod.rs` is its
+/// folder's module.
 fn module_of(src: &std::path::Path, file: &std::path::Path) -> Vec<String> {
     let rel = file
         .strip_prefix(src)

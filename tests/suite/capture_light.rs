@@ -10,8 +10,8 @@ use udc_studio::core::Progress;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::analysis::light::{capture_light_warning, channels_losing_light};
 use udc_studio::core::restore::light::MIN_CAPTURE_ENERGY_IN_WINDOW;
-use udc_studio::io::design_file::{parse_design, to_json};
-use udc_studio::io::pattern::load_pattern_png;
+use udc_studio::io::design::file::{parse_design, to_json};
+use udc_studio::io::design::pattern::load_pattern_png;
 
 use crate::common::run_cli;
 

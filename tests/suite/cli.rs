@@ -99,7 +99,7 @@ fn presets_json_lists_every_preset_with_its_group_and_description() {
     let v: serde_json::Value = serde_json::from_str(&stdout).expect("one JSON object");
     let rows = v["presets"].as_array().expect("a presets array");
     let names: Vec<&str> = rows.iter().filter_map(|r| r["name"].as_str()).collect();
-    let want: Vec<&str> = udc_studio::io::presets::PRESETS
+    let want: Vec<&str> = udc_studio::io::design::presets::PRESETS
         .iter()
         .map(|p| p.name)
         .collect();

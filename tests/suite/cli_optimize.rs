@@ -1,7 +1,7 @@
 //! `udc-studio optimize`: the contract (loss history, AUC before and after, a loadable design).
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use udc_studio::io::design_file::load_design;
+use udc_studio::io::design::file::load_design;
 
 use crate::common::run_cli as run;
 

@@ -85,7 +85,8 @@ fn sensor_json_has_the_four_strategies_and_writes_the_maps() {
     let png = image::open(out.join("const-gain_vary-bin_bins.png")).unwrap();
     assert_eq!((png.width(), png.height()), (240, 164));
     // The capture EXR reads back as a one-plane scene of electrons.
-    let cap = udc_studio::io::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture.exr")).unwrap();
+    let cap =
+        udc_studio::io::photo::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture.exr")).unwrap();
     assert_eq!(cap.planes.len(), 1);
     assert_eq!(cap.dim(), (164, 240));
 }
@@ -365,10 +366,11 @@ fn sensor_cfa_rggb_reports_luminance_and_channels() {
         png.pixels().any(|p| p[0] != p[1] || p[1] != p[2]),
         "a colour capture"
     );
-    let rgb =
-        udc_studio::io::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture_rgb.exr")).unwrap();
+    let rgb = udc_studio::io::photo::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture_rgb.exr"))
+        .unwrap();
     assert_eq!(rgb.planes.len(), 3);
-    let y = udc_studio::io::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture.exr")).unwrap();
+    let y =
+        udc_studio::io::photo::hdr::load_hdr(&out.join("vary-gain_vary-bin_capture.exr")).unwrap();
     assert_eq!(y.planes.len(), 1);
     assert!(out.join("truth_rgb.exr").is_file());
     // Without the flag the run is monochrome and says so.

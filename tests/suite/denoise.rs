@@ -12,7 +12,7 @@ use rand_distr::{Distribution, Normal};
 use udc_studio::core::denoise::{BlockTransform, Bm3dProfile, bm3d, bm3d_with};
 use udc_studio::core::restore::quality::psnr_db_planes;
 use udc_studio::core::{Progress, SimError};
-use udc_studio::io::testset::{load_testset_photo, testset_dir};
+use udc_studio::io::photo::testset::{load_testset_photo, testset_dir};
 
 /// PSNR over every channel, peak 1.
 fn psnr(a: &[Array2<f64>], b: &[Array2<f64>]) -> f64 {

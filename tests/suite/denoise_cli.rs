@@ -9,8 +9,8 @@ use image::{ColorType, GrayImage, ImageBuffer, Luma, Rgb, Rgb32FImage};
 use ndarray::Array2;
 use rand::SeedableRng;
 use rand_distr::{Distribution, Normal};
-use udc_studio::io::hdr::{ExrPrecision, write_exr};
-use udc_studio::io::image_planes::{ImageKind, read_planes};
+use udc_studio::io::photo::hdr::{ExrPrecision, write_exr};
+use udc_studio::io::photo::planes::{ImageKind, read_planes};
 
 use crate::common::run_cli as run;
 
@@ -342,7 +342,7 @@ fn denoise_cli_help_names_the_kinds_and_the_scale() {
 
 #[test]
 fn denoise_cli_testset_has_ten_licensed_512_photos() {
-    use udc_studio::io::testset::{load_testset_photo, testset_dir, testset_photos};
+    use udc_studio::io::photo::testset::{load_testset_photo, testset_dir, testset_photos};
     let photos = testset_photos().expect("the test set is listed");
     assert!(
         photos.len() >= 10,

@@ -5,7 +5,7 @@ use proptest::prelude::*;
 use udc_studio::core::analysis::analyze::analyze;
 use udc_studio::core::design::{Design, Optics, Polygon, TilingMode};
 use udc_studio::core::{Progress, SimError};
-use udc_studio::io::design_file::{load_design, parse_design, save_design, to_json};
+use udc_studio::io::design::file::{load_design, parse_design, save_design, to_json};
 
 fn arb_design() -> impl Strategy<Value = Design> {
     (

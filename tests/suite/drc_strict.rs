@@ -4,7 +4,7 @@
 
 use crate::common::run_cli;
 use udc_studio::core::phase::PhaseDesign;
-use udc_studio::io::phase_design::save_phase_design;
+use udc_studio::io::phase::design::save_phase_design;
 
 /// The thesis's 150-DPI plate at a 0.2-µm height step: its outer rings are under 200 nm.
 fn stepped_plate(dir: &std::path::Path) -> std::path::PathBuf {

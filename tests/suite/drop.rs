@@ -62,7 +62,7 @@ fn each_dropped_file_reaches_the_workspace_that_opens_it() {
     });
     // A design file goes to the display, wherever it is dropped.
     let design = dir.path().join("d.json");
-    std::fs::write(&design, udc_studio::io::presets::PRESETS[0].text).unwrap();
+    std::fs::write(&design, udc_studio::io::design::presets::PRESETS[0].text).unwrap();
     drop_file(&mut h, design);
     assert_eq!(h.state().workspace(), WorkspaceId::Display);
 }

@@ -8,7 +8,7 @@ use udc_studio::core::camera::depth::{
     DepthSettings, defocused_psfs, depth_psfs, image_distance_mm,
 };
 use udc_studio::core::camera::field::{FieldSettings, field_psfs};
-use udc_studio::io::presets::load_preset;
+use udc_studio::io::design::presets::load_preset;
 
 use crate::common::run_cli as run;
 
@@ -201,8 +201,9 @@ fn bracketing_restores_linearity_around_specular_highlights() {
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/hdr/");
     // Oil lamps over glasses, and a stained-glass window over a desk.
     for (file, margin_db) in [("StillLife_620x423.exr", 1.0), ("Desk_322x437.exr", 2.0)] {
-        let scene = udc_studio::io::hdr::load_hdr(std::path::Path::new(&format!("{dir}{file}")))
-            .expect("scene");
+        let scene =
+            udc_studio::io::photo::hdr::load_hdr(std::path::Path::new(&format!("{dir}{file}")))
+                .expect("scene");
         let r =
             saturation_study(&scene.planes, &psfs, &SaturationSettings::default()).expect("study");
         assert!(

@@ -32,18 +32,18 @@ use udc_studio::core::mask::{MaskRegion, MaskSpec, Tone};
 use udc_studio::core::phase::geometry::lenslet_count;
 use udc_studio::core::phase::{GRID_LEN, HeightRounding, Lambda0, PhaseDesign, SamplingConvention};
 use udc_studio::io::IoError;
-use udc_studio::io::design_file::load_design;
-use udc_studio::io::hdr::{ExrPrecision, load_hdr_with_report, write_exr};
-use udc_studio::io::image_planes::read_planes;
+use udc_studio::io::design::file::load_design;
+use udc_studio::io::design::pattern::load_pattern_png;
+use udc_studio::io::design::presets::load_preset;
+use udc_studio::io::design::spectral::load_response_csv;
 use udc_studio::io::mask::{
     ExportOptions, GdsCells, ImportOptions, MaskFormat, PngBits, export_mask, import_mask,
     import_opening,
 };
-use udc_studio::io::pattern::load_pattern_png;
-use udc_studio::io::phase_design::{load_phase_design, phase_design_json};
+use udc_studio::io::phase::design::{load_phase_design, phase_design_json};
+use udc_studio::io::photo::hdr::{ExrPrecision, load_hdr_with_report, write_exr};
 use udc_studio::io::photo::load_photo;
-use udc_studio::io::presets::load_preset;
-use udc_studio::io::spectral::load_response_csv;
+use udc_studio::io::photo::planes::read_planes;
 use udc_studio::io::sweep::load_spec;
 use udc_studio::io::sweep::manifest::{CSV_FILE, FORMAT, MANIFEST_FILE, Manifest, read_manifest};
 use udc_studio::io::sweep::plots::{plot_data, plots_for};

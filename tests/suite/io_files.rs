@@ -13,15 +13,15 @@ use udc_studio::core::design::{Channel, Design, Opening, Optics};
 use udc_studio::core::psf::sampling::fft_size;
 use udc_studio::core::{Analysis, Progress, analyze};
 use udc_studio::io::IoError;
-use udc_studio::io::design_file::{load_design, parse_design, to_json};
-use udc_studio::io::error::{PatternError, TableError};
-use udc_studio::io::export::{
+use udc_studio::io::design::file::{load_design, parse_design, to_json};
+use udc_studio::io::design::pattern::{load_pattern_png, save_pattern_png};
+use udc_studio::io::design::presets::{PRESETS, PresetGroup, load_preset};
+use udc_studio::io::design::spectral::{channels_from_response, load_response_csv};
+use udc_studio::io::display::export::{
     LOG_PSF_FLOOR_DECADES, write_analysis_outputs, write_log_psf_png, write_mtf_csv, write_psf_exr,
     write_psf_png16,
 };
-use udc_studio::io::pattern::{load_pattern_png, save_pattern_png};
-use udc_studio::io::presets::{PRESETS, PresetGroup, load_preset};
-use udc_studio::io::spectral::{channels_from_response, load_response_csv};
+use udc_studio::io::error::{PatternError, TableError};
 
 fn asset(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

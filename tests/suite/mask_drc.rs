@@ -2,7 +2,7 @@
 //! and the random L2-inverse tiling's corner contacts are found.
 
 use udc_studio::core::mask::drc::{Rules, ViolationKind, check};
-use udc_studio::io::presets::load_preset;
+use udc_studio::io::design::presets::load_preset;
 
 #[test]
 fn the_toled_slit_is_40_um_wide_with_128_um_of_chrome_between() {

@@ -7,8 +7,8 @@ use std::process::Command;
 use udc_studio::core::Progress;
 use udc_studio::core::design::{SubpixelChecks, TilingMode};
 use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec};
+use udc_studio::io::design::presets::load_preset;
 use udc_studio::io::mask::{ExportOptions, MaskFormat, export_mask};
-use udc_studio::io::presets::load_preset;
 
 const AREAS_PY: &str = r#"
 import sys, json, gdstk

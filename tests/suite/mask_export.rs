@@ -354,7 +354,7 @@ fn gdstk_measures_the_open_fraction_times_the_region_area() {
             assert!(arrays >= 1, "{what}");
         }
         let sidecar: Design =
-            udc_studio::io::design_file::load_design(&sidecar_path(&path)).unwrap();
+            udc_studio::io::design::file::load_design(&sidecar_path(&path)).unwrap();
         assert_eq!(sidecar, d, "{what}: the sidecar holds the design");
     }
 }
@@ -527,7 +527,7 @@ fn cli_export_prints_the_summary_and_writes_the_sidecar() {
         stdout.contains(&format!("references: {refs} single")),
         "{stdout}"
     );
-    let d = udc_studio::io::design_file::load_design(&sidecar_path(&out)).unwrap();
+    let d = udc_studio::io::design::file::load_design(&sidecar_path(&out)).unwrap();
     assert_eq!(d.tiling.mode, TilingMode::RandomD4);
     assert_eq!(d.tiling.seed, 4);
 }

@@ -12,7 +12,7 @@ use udc_studio::core::design::{Design, Opening, TilingMode};
 use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec, Tone};
 use udc_studio::core::phase::PhaseDesign;
 use udc_studio::io::mask::{ExportOptions, MaskFormat, export_mask, sidecar_path};
-use udc_studio::io::phase_export::height_csv_text;
+use udc_studio::io::phase::export::height_csv_text;
 
 use crate::common::run_cli;
 
@@ -107,7 +107,7 @@ fn most_decimals(text: &str) -> usize {
 fn svg_and_csv_coordinates_carry_no_float_noise() {
     let dir = tempfile::tempdir().unwrap();
     // 600 DPI: a 42.333 µm pitch, cells of 2.0159 µm: edges that are not round in µm.
-    let mut d = udc_studio::io::presets::load_preset("toled-600dpi").unwrap();
+    let mut d = udc_studio::io::design::presets::load_preset("toled-600dpi").unwrap();
     d.tiling.wiring_gap_um = 0.3;
     let path = dir.path().join("m.svg");
     export_mask(
@@ -210,7 +210,7 @@ fn export_report_carries_the_designs_sampling_warnings() {
 /// the mask and returns the imported design.
 fn cli_round_trip(dir: &Path, d: &Design, ext: &str, keep_sidecar: bool) -> Design {
     let design_path = dir.join("d.json");
-    udc_studio::io::design_file::save_design(&design_path, d).unwrap();
+    udc_studio::io::design::file::save_design(&design_path, d).unwrap();
     let mask = dir.join(format!("m.{ext}"));
     let (ok, _, stderr) = run_cli(&[
         "export",
@@ -238,7 +238,7 @@ fn cli_round_trip(dir: &Path, d: &Design, ext: &str, keep_sidecar: bool) -> Desi
     assert!(stdout.contains("imported 8×8 cells"), "{stdout}");
     let (ok, _, stderr) = run_cli(&["analyze", s(&out), "--preview", "--json"]);
     assert!(ok, "analyze of the imported {ext}: {stderr}");
-    udc_studio::io::design_file::load_design(&out).unwrap()
+    udc_studio::io::design::file::load_design(&out).unwrap()
 }
 
 #[test]

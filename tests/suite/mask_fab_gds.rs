@@ -14,7 +14,7 @@ use udc_studio::core::phase::PhaseDesign;
 use udc_studio::io::error::LayerMapError;
 use udc_studio::io::fab::{LayerMap, MAX_XY_POINTS, outline_paths, sha256_hex};
 use udc_studio::io::mask::{ExportOptions, MaskFormat, MaskReport, export_mask};
-use udc_studio::io::phase_export::{GDS_NOTE_LAYER, HeightFormat, HeightParams, write_height};
+use udc_studio::io::phase::export::{GDS_NOTE_LAYER, HeightFormat, HeightParams, write_height};
 
 /// A 16×16-cell opening, 64 µm pitch, `name` and `seed` making designs differ.
 fn design(name: &str, seed: u64) -> Design {

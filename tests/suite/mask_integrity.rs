@@ -9,8 +9,8 @@ use std::path::{Path, PathBuf};
 use udc_studio::core::Progress;
 use udc_studio::core::design::Design;
 use udc_studio::core::mask::{MaskRegion, MaskSpec};
+use udc_studio::io::design::presets::load_preset;
 use udc_studio::io::mask::{ExportOptions, MaskFormat, export_mask, import_opening};
-use udc_studio::io::presets::load_preset;
 
 use crate::common::run_cli;
 

@@ -11,11 +11,11 @@ use std::process::Command;
 use udc_studio::core::Progress;
 use udc_studio::core::design::{Design, TilingMode};
 use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec, Tone};
+use udc_studio::io::design::presets::load_preset;
 use udc_studio::io::error::{IoError, OasisError};
 use udc_studio::io::mask::{
     ExportOptions, GdsCells, ImportOptions, MaskFormat, MaskReport, export_mask, import_mask,
 };
-use udc_studio::io::presets::load_preset;
 
 /// Runs `tests/mask_check.py`; KLayout's warnings go to stderr, so stderr must stay empty.
 fn check(args: &[&str]) -> serde_json::Value {
@@ -231,7 +231,7 @@ fn oas_import_reads_ours_and_klayouts_rewrite_like_gds() {
     let out = dir.path().join("back.json");
     let (ok, _, err) = crate::common::run_cli(&["import", s(&kl), "--out", s(&out)]);
     assert!(ok, "{err}");
-    let back = udc_studio::io::design_file::load_design(&out).unwrap();
+    let back = udc_studio::io::design::file::load_design(&out).unwrap();
     let open = |c: &Vec<Vec<f64>>| c.iter().flatten().filter(|v| **v > 0.5).count();
     let cells = back.opening.cells;
     assert_eq!(open(&cells), open(&d.opening.cells));
@@ -285,7 +285,7 @@ fn oas_damaged_files_are_refused_with_a_message() {
 #[test]
 fn klayout_reads_every_export_without_a_warning() {
     use udc_studio::core::phase::PhaseDesign;
-    use udc_studio::io::phase_export::{HeightFormat, HeightParams, write_height};
+    use udc_studio::io::phase::export::{HeightFormat, HeightParams, write_height};
     let dir = tempfile::tempdir().unwrap();
     let random = load_preset("l2inv-random").unwrap();
     let mut gap = load_preset("toled-150dpi").unwrap();

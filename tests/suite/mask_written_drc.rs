@@ -14,10 +14,10 @@ use udc_studio::core::Progress;
 use udc_studio::core::design::Design;
 use udc_studio::core::mask::drc::{Rules, ViolationKind};
 use udc_studio::core::mask::{BorderPolicy, MaskRegion, MaskSpec, Tone};
+use udc_studio::io::design::presets::{PRESETS, load_preset};
 use udc_studio::io::mask::{
     CheckScope, ChecksumCheck, ExportOptions, MaskFormat, check_file, drc_deck, export_mask,
 };
-use udc_studio::io::presets::{PRESETS, load_preset};
 
 /// Rules coarse enough that most presets break some: findings to compare, not just zeros.
 fn rules() -> Rules {

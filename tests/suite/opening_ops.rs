@@ -528,7 +528,7 @@ fn buttons_push_commands() {
 /// only where no renderer exists (CI installs lavapipe, so it runs there).
 #[test]
 fn editor_snapshot_matches() {
-    let design = udc_studio::io::presets::load_preset("l2inv-random").unwrap();
+    let design = udc_studio::io::design::presets::load_preset("l2inv-random").unwrap();
     let mut h = editor_harness(
         Harness::builder()
             .with_size(egui::vec2(420.0, 560.0))

@@ -10,7 +10,7 @@ use std::path::Path;
 use gds21::{GdsElement, GdsLibrary};
 use udc_studio::core::phase::geometry::{self, Lenslets};
 use udc_studio::core::phase::{HeightRounding, Lambda0, PhaseDesign, Surface, plate};
-use udc_studio::io::phase_export::{
+use udc_studio::io::phase::export::{
     HeightFormat, height_csv_text, write_height_csv, write_height_gds, write_height_png,
     write_height_stl,
 };

@@ -14,8 +14,8 @@ use udc_studio::core::phase::{
     Chain, Incidence, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, PhaseOptics, PhaseSampling,
 };
 use udc_studio::core::restore::Denoise;
+use udc_studio::io::design::spectral::{channels_from_response, thesis_response};
 use udc_studio::io::photo::built_in_photo;
-use udc_studio::io::spectral::{channels_from_response, thesis_response};
 
 use crate::common::run_cli as run;
 

@@ -332,7 +332,7 @@ fn the_phase_design_is_kept_between_runs_and_exports() {
 #[test]
 fn a_response_csv_replaces_the_channels_and_a_bad_one_keeps_them() {
     use udc_studio::core::phase::wavelength_grid_nm;
-    use udc_studio::io::spectral;
+    use udc_studio::io::design::spectral;
     let dir = tempfile::tempdir().unwrap();
     let mut h = phase_studio(dir.path(), Quality::Preview);
     h.state_mut().phase_mut().channels = ChannelSet::Spectral;

@@ -156,7 +156,7 @@ fn every_part_as_it_runs_is_a_spec_the_job_accepts() {
 
 #[test]
 fn specs_read_the_whole_test_set() {
-    let testset: Vec<String> = udc_studio::io::testset::testset_photos()
+    let testset: Vec<String> = udc_studio::io::photo::testset::testset_photos()
         .unwrap()
         .iter()
         .map(|p| {

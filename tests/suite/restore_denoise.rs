@@ -15,8 +15,8 @@ use udc_studio::core::restore::denoise::ICCP21_SIGMA2;
 use udc_studio::core::restore::{
     CaptureSettings, Denoise, Light, Recipe, RestoreResult, RestoreSettings, Sigma2, simulate,
 };
+use udc_studio::io::design::presets::load_preset;
 use udc_studio::io::photo::load_photo;
-use udc_studio::io::presets::load_preset;
 
 use crate::common::run_cli;
 use udc_studio::core::restore::quality::psnr_db_planes;

@@ -7,16 +7,16 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use udc_studio::io::IoError;
-use udc_studio::io::design_file::{load_design, to_json};
-use udc_studio::io::hdr::load_hdr;
-use udc_studio::io::pattern::load_pattern_png;
-use udc_studio::io::phase_design::load_phase_design;
+use udc_studio::io::design::file::{load_design, to_json};
+use udc_studio::io::design::pattern::load_pattern_png;
+use udc_studio::io::design::presets::load_preset;
+use udc_studio::io::design::spectral::load_response_csv;
+use udc_studio::io::phase::design::load_phase_design;
+use udc_studio::io::photo::hdr::load_hdr;
 use udc_studio::io::photo::load_photo;
-use udc_studio::io::presets::load_preset;
 use udc_studio::io::safe_file::{
     TempFile, read_bounded, read_text_bounded, temp_files_in_flight, write_atomic,
 };
-use udc_studio::io::spectral::load_response_csv;
 
 /// Every reader of the studio, by name, on one path.
 fn every_reader(path: &Path) -> Vec<(&'static str, Result<(), IoError>)> {
@@ -76,7 +76,7 @@ fn a_file_past_the_cap_is_refused_whatever_its_metadata() {
     // A sparse file one byte past the design cap: refused from its length, nothing read.
     let big = dir.path().join("big.json");
     let f = std::fs::File::create(&big).unwrap();
-    f.set_len(udc_studio::io::design_file::MAX_FILE_BYTES + 1)
+    f.set_len(udc_studio::io::design::file::MAX_FILE_BYTES + 1)
         .unwrap();
     let e = load_design(&big).unwrap_err();
     assert!(matches!(e, IoError::TooLarge { .. }), "{e}");
@@ -114,7 +114,7 @@ fn a_byte_order_mark_is_accepted_by_every_text_reader() {
     assert_eq!(r.wavelengths_nm, vec![400.0, 700.0]);
     let phase = dir.path().join("phase.json");
     let d = udc_studio::core::phase::PhaseDesign::thesis(42.0, 5.0);
-    udc_studio::io::phase_design::save_phase_design(&phase, &d).unwrap();
+    udc_studio::io::phase::design::save_phase_design(&phase, &d).unwrap();
     let text = std::fs::read_to_string(&phase).unwrap();
     std::fs::write(&phase, format!("\u{feff}{text}")).unwrap();
     assert_eq!(load_phase_design(&phase).unwrap().design, d);

@@ -15,7 +15,7 @@ use udc_studio::core::sensor::noise::{Adc, Frame};
 use udc_studio::core::sensor::{
     BinMode, Cfa, RoiGrid, Scene, SensorSettings, SensorSpec, Strategy, run,
 };
-use udc_studio::io::hdr::load_hdr;
+use udc_studio::io::photo::hdr::load_hdr;
 
 const STILL_LIFE: &str = concat!(
     env!("CARGO_MANIFEST_DIR"),

@@ -6,7 +6,7 @@ use ndarray::Array2;
 use udc_studio::core::Progress;
 use udc_studio::core::sensor::study::{BinStudy, StudySpec, bin_study};
 use udc_studio::core::sensor::{AdditiveGain, BinMode, SensorSettings};
-use udc_studio::io::hdr::sample_scene;
+use udc_studio::io::photo::hdr::sample_scene;
 
 /// The shipped scene's central 128×128 pixels, studied with Fig. 5.4's defaults.
 fn study() -> BinStudy {
@@ -146,7 +146,7 @@ fn bad_study_input_is_refused_by_name() {
 #[test]
 fn the_csv_holds_every_capture_with_its_bins() {
     let s = study();
-    let text = udc_studio::io::bin_study_csv::bin_study_csv(&s);
+    let text = udc_studio::io::sensor::bin_study_csv::bin_study_csv(&s);
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     assert_eq!(header[1], "light_e_per_um2");

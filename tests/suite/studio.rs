@@ -251,7 +251,7 @@ fn the_design_is_autosaved_and_restored() {
     d.tiling.seed = 99;
     h.state_mut().act(DisplayAction::Edit(Box::new(d.clone())));
     step_until(&mut h, "the autosave", |_| {
-        udc_studio::io::design_file::load_design(&dir.path().join("autosave.json"))
+        udc_studio::io::design::file::load_design(&dir.path().join("autosave.json"))
             .is_ok_and(|s| s.tiling.seed == 99)
     });
     drop(h);
@@ -535,7 +535,7 @@ fn the_worker_sends_the_numbers_before_the_advice_and_no_repeated_preview() {
     use udc_studio::core::Quality;
     let mut worker = Worker::spawn(|| {});
     // The thesis recipe: its grey notes get advice.
-    let design = udc_studio::io::presets::load_preset("toled-150dpi").expect("preset");
+    let design = udc_studio::io::design::presets::load_preset("toled-150dpi").expect("preset");
     let generation = worker.submit(design);
     let mut seen = Vec::new();
     while let Some(r) = worker.wait(Duration::from_secs(60)) {

@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::common::run_cli;
-use udc_studio::io::design_choice::{DesignChoice, design_hash};
+use udc_studio::io::design::choice::{DesignChoice, design_hash};
 
 const TINY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/sweep/tiny.toml");
 

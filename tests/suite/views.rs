@@ -13,7 +13,7 @@ use udc_studio::app::{DisplayAction, Tool};
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze, analyze_with};
 use udc_studio::core::design::{Design, Optics, OpticsRecipe, TilingMode};
 use udc_studio::core::{Analysis, Progress};
-use udc_studio::io::presets::load_preset;
+use udc_studio::io::design::presets::load_preset;
 
 /// What the harness draws from: the panel plus the context the shell would hand it.
 struct State {

@@ -14,7 +14,7 @@ use ndarray::Array2;
 use udc_core::Progress;
 use udc_core::restore::quality::psnr_db_planes;
 use udc_io::IoError;
-use udc_io::image_planes::{ImageKind, ImagePlanes, read_planes, write_planes};
+use udc_io::photo::planes::{ImageKind, ImagePlanes, read_planes, write_planes};
 use udc_io::safe_file::{TempFile, check_not_an_input};
 
 /// The smallest side BM3D works on: one 8×8 block.

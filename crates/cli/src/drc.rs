@@ -12,7 +12,7 @@ use udc_core::mask::Tone;
 use udc_core::mask::drc::{DrcReport, Rules, ViolationKind, check};
 use udc_core::phase::drc::check_plate;
 use udc_io::mask::{ChecksumCheck, MaskFormat, check_file};
-use udc_io::phase_design::{is_phase_design_file, load_phase_design};
+use udc_io::phase::design::{is_phase_design_file, load_phase_design};
 
 /// The rules to check against: a file, then flags over it.
 #[derive(Debug, Args, Clone)]

@@ -12,7 +12,7 @@ use udc_core::Progress;
 use udc_core::analysis::analyze::Quality;
 use udc_core::camera::depth::{DepthSettings, depth_psfs};
 use udc_core::camera::field::{FieldSettings, field_psfs};
-use udc_io::export::write_log_psf_png;
+use udc_io::display::export::write_log_psf_png;
 
 /// Arguments of `udc-studio field`.
 #[derive(Debug, Args)]

@@ -7,7 +7,7 @@ use clap::Args;
 
 use udc_core::ValueError;
 use udc_core::design::{Design, MAX_CELLS, TilingMode};
-use udc_io::design_file::{load_design, save_design};
+use udc_io::design::file::{load_design, save_design};
 use udc_io::mask::{ChecksumCheck, import_opening_on, mask_notes, note_field, sidecar_path};
 
 /// Arguments of `udc-studio import`.

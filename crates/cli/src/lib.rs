@@ -32,7 +32,8 @@ use clap::{Args, Parser, Subcommand};
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::design::{Design, OpticsRecipe, TilingMode};
 use udc_core::{Analysis, Progress};
-use udc_io::{export, presets, report};
+use udc_io::design::presets;
+use udc_io::display::{export, report};
 
 pub use udc_io::TOOL_VERSION;
 
@@ -215,9 +216,9 @@ impl DesignSelection {
         })
     }
 
-    /// The selection as the io layer's [`DesignChoice`](udc_io::design_choice::DesignChoice).
-    pub fn choice(&self) -> udc_io::design_choice::DesignChoice {
-        udc_io::design_choice::DesignChoice {
+    /// The selection as the io layer's [`DesignChoice`](udc_io::design::choice::DesignChoice).
+    pub fn choice(&self) -> udc_io::design::choice::DesignChoice {
+        udc_io::design::choice::DesignChoice {
             design: self.design.clone(),
             preset: self.preset.clone(),
             pattern: self.pattern.clone(),
@@ -499,7 +500,8 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
     use udc_core::restore::{
         CaptureSettings, CgSettings, Light, Method, Padding, RestoreSettings, simulate_with,
     };
-    use udc_io::{photo, restore_report};
+    use udc_io::display::restore_report;
+    use udc_io::photo;
 
     let design = args.selection.resolve()?;
     // f32 planes: a 16-megapixel photo's stages then fit in well under a gigabyte.
@@ -663,7 +665,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             .iter()
             .map(|c| udc_io::numbers::round_sig(c.energy_in_window, 9))
             .collect();
-        let warnings: Vec<&str> = udc_io::report::warning_messages(&analysis.warnings)
+        let warnings: Vec<&str> = udc_io::display::report::warning_messages(&analysis.warnings)
             .into_iter()
             .chain(light_warning.as_deref())
             .collect();

@@ -11,7 +11,8 @@ use super::DesignSelection;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::optimize::{DataSet, LossWeights, OptimizeSettings, Relaxation, Start, optimize};
 use udc_core::{Analysis, Progress};
-use udc_io::{design_file, photo};
+use udc_io::design::file as design_file;
+use udc_io::photo;
 
 /// `--start`: the cells' state before the first epoch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]

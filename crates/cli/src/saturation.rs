@@ -10,7 +10,7 @@ use super::DesignSelection;
 use udc_core::Progress;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::camera::saturation::{SaturationSettings, saturation_study};
-use udc_io::hdr;
+use udc_io::photo::hdr;
 use udc_io::photo::write_photo_png;
 
 /// Arguments of `udc-studio saturation`.

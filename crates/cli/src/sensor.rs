@@ -11,9 +11,9 @@ use udc_core::sensor::{
     AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, Held, PRESET_NAMES, RoiLight, Scene,
     SensorSettings, SensorSpec, Strategy, StrategyResult, check_budget, flat_patch, run_with,
 };
-use udc_io::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
 use udc_io::numbers::json6 as r;
-use udc_io::sensor_report::{strategy_json, write_strategy_images, write_truth_images};
+use udc_io::photo::hdr::{ExrPrecision, load_hdr_with_report, write_scene_exr};
+use udc_io::sensor::report::{strategy_json, write_strategy_images, write_truth_images};
 
 /// Arguments of `udc-studio sensor`: a run on a scene, or a check (`sensor flat-patch`).
 #[derive(Debug, Args)]
@@ -349,7 +349,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
     }
     let notes = report.notes();
     if args.json {
-        let mut v = udc_io::sensor_report::run_json(&result, |k: &Kept| k.json.clone());
+        let mut v = udc_io::sensor::report::run_json(&result, |k: &Kept| k.json.clone());
         if let Some(obj) = v.as_object_mut() {
             let s = &settings.sensor;
             obj.insert("hdr".into(), json!(hdr.display().to_string()));

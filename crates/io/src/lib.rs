@@ -32,29 +32,18 @@ pub fn installed_data_dir() -> Option<std::path::PathBuf> {
     Some(exe.parent()?.parent()?.join("share").join("udc-studio"))
 }
 
-pub mod bin_study_csv;
-pub mod design_choice;
-pub mod design_file;
+pub mod design;
+pub mod display;
 pub mod error;
-pub mod export;
 pub mod fab;
 pub mod figure;
-pub mod hdr;
-pub mod image_planes;
 pub mod mask;
 pub mod numbers;
-pub mod pattern;
-pub mod phase_design;
-pub mod phase_export;
+pub mod phase;
 pub mod photo;
-pub mod presets;
-pub mod report;
-pub mod restore_report;
 pub mod safe_file;
-pub mod sensor_report;
-pub mod spectral;
+pub mod sensor;
 pub mod sweep;
 pub mod system;
-pub mod testset;
 
 pub use error::IoError;

@@ -330,3 +330,29 @@ impl Drop for DeferredStop {
 pub fn temp_files_in_flight() -> usize {
     LIVE.lock().map_or(0, |l| l.len())
 }
+
+/// Encodes an image straight into a temp file beside `path` (no encoded copy in memory) and
+/// moves it into place.
+pub(crate) fn write_image(
+    path: &Path,
+    img: image::DynamicImage,
+    format: image::ImageFormat,
+) -> Result<(), IoError> {
+    let temp = TempFile::beside(path)?;
+    let file = open_reserved(temp.path()).map_err(|e| IoError::file("write", path, e))?;
+    let mut out = std::io::BufWriter::new(file);
+    img.write_to(&mut out, format).map_err(|e| IoError::Image {
+        path: path.to_path_buf(),
+        message: format!("cannot encode the {format:?} image: {e}"),
+    })?;
+    out.into_inner()
+        .map_err(|e| IoError::file("write", path, e.into_error()))?;
+    temp.persist()
+}
+
+pub(crate) fn size_mismatch(path: &Path) -> IoError {
+    IoError::Image {
+        path: path.to_path_buf(),
+        message: "the pixel buffer does not match the image size".into(),
+    }
+}

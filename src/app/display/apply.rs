@@ -15,7 +15,9 @@ use crate::app::workspace::{Shell, WorkspaceId};
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
 use crate::core::display::opening_ops;
-use crate::io::{IoError, design_file, export, pattern, presets, report, spectral};
+use crate::io::IoError;
+use crate::io::design::{file as design_file, pattern, presets, spectral};
+use crate::io::display::{export, report};
 
 impl DisplayWorkspace {
     /// Whether `a` must wait for the unsaved-changes answer; it is then held until

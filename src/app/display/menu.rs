@@ -4,7 +4,7 @@ use super::DisplayWorkspace;
 use super::action::{self, DisplayAction, ExportKind};
 use crate::app::workspace::Shell;
 use crate::core::analysis::analyze::Quality;
-use crate::io::presets;
+use crate::io::design::presets;
 
 impl DisplayWorkspace {
     pub(super) fn file_menu(&mut self, ui: &mut egui::Ui, shell: &Shell) {

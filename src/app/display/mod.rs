@@ -25,7 +25,7 @@ use super::settings::AppDirs;
 use super::workspace::{DroppedKind, Request, Shell, Workspace, WorkspaceId, side_panel};
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
-use crate::io::{design_file, presets};
+use crate::io::design::{file as design_file, presets};
 pub use action::{DisplayAction, ExportKind, Tool};
 pub use document::Document;
 use panels::{DisplayPreview, PanelCtx, Pinned, Shown};

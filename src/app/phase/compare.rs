@@ -14,7 +14,7 @@ use crate::app::job::{Job, JobError, Streaming, Writes};
 use crate::core::phase::imaging::{
     CompareRow, Setup, THESIS_PHOTONS, compare_setups, thesis_setups,
 };
-use crate::io::restore_report::compare_csv;
+use crate::io::display::restore_report::compare_csv;
 use crate::io::safe_file::write_atomic;
 
 /// The score the table and the plot show.

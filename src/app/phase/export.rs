@@ -10,9 +10,10 @@ use super::PhaseWorkspace;
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::job::{Job, Writes};
 use crate::core::phase::PhaseDesign;
-use crate::io::{IoError, phase_export};
+use crate::io::IoError;
+use crate::io::phase::export as phase_export;
 
-pub use crate::io::phase_export::HeightFormat;
+pub use crate::io::phase::export::HeightFormat;
 
 /// The exports' parameters (the controls' defaults suit a 42 µm pitch plate).
 pub type ExportParams = phase_export::HeightParams;

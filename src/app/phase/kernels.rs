@@ -90,7 +90,7 @@ impl KernelState {
 /// # Errors
 /// The writer's error, naming the file.
 pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, IoError> {
-    crate::io::phase_export::write_kernels_csv(k, path)?;
+    crate::io::phase::export::write_kernels_csv(k, path)?;
     let (rows, cols) = k.dim();
     Ok(format!(
         "saved {}: {rows} rows (sensor pixels) × {cols} columns (directions)",

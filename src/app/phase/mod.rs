@@ -43,8 +43,8 @@ use crate::app::settings::AppDirs;
 use crate::core::design::Channel;
 use crate::core::phase::geometry::lenslet_count;
 use crate::core::phase::{PhaseDesign, PhaseOptics, wavelength_grid_nm};
+use crate::io::design::spectral;
 use crate::io::error::SpectralError;
-use crate::io::spectral;
 
 /// Where the workspace keeps its design, inside the studio's data directory.
 pub const DESIGN_FILE: &str = "phase-design.json";

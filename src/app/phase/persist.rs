@@ -8,7 +8,7 @@ use super::PhaseWorkspace;
 use crate::app::autosave::create_parent;
 use crate::core::phase::PhaseDesign;
 use crate::io::IoError;
-use crate::io::phase_design::{load_phase_design, save_phase_design};
+use crate::io::phase::design::{load_phase_design, save_phase_design};
 
 /// The design kept at `path`, or the thesis's and a message when it cannot be read.
 pub(super) fn load_design(path: Option<&Path>) -> (PhaseDesign, Option<Notice>) {

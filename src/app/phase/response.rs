@@ -13,8 +13,9 @@ use crate::app::error::StudioError;
 use crate::app::job::Job;
 use crate::core::design::Channel;
 use crate::core::phase::wavelength_grid_nm;
+use crate::io::IoError;
+use crate::io::design::spectral;
 use crate::io::error::TableError;
-use crate::io::{IoError, spectral};
 
 /// A loaded response: its file and the channels it makes.
 pub struct CustomResponse {

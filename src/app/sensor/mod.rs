@@ -23,7 +23,7 @@ use crate::app::dialogs::PendingDialog;
 use crate::app::job::{Job, JobError, Keyed};
 use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
 
-use crate::io::hdr;
+use crate::io::photo::hdr;
 
 pub use gain_panel::FlatPatchCheck;
 

@@ -141,7 +141,7 @@ impl StudyView {
             self.message = Some(Notice::error("no bin-size study to export yet"));
             return;
         };
-        let text = crate::io::bin_study_csv::bin_study_csv(&s.study);
+        let text = crate::io::sensor::bin_study_csv::bin_study_csv(&s.study);
         let wake = ctx.clone();
         self.message = Some(Notice::info(format!("writing {}…", path.display())));
         self.writes.spawn(

@@ -9,7 +9,7 @@ use crate::app::job::JobError;
 use crate::core::Design;
 use crate::core::sweep::SweepJob;
 use crate::core::{Progress, SimError};
-use crate::io::design_choice::{DesignChoice, design_hash};
+use crate::io::design::choice::{DesignChoice, design_hash};
 use crate::io::error::IoError;
 use crate::io::sweep::manifest::{CSV_FILE, read_manifest};
 use crate::io::sweep::table::read_csv;

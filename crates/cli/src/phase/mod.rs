@@ -19,10 +19,10 @@ use udc_core::phase::{
     PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix, optimize_lambda0, phase_psfs,
     v_matrix, wavelength_grid_nm,
 };
+use udc_io::design::spectral::{channels_from_response, load_response_csv, thesis_response};
 use udc_io::numbers::json6 as r;
-use udc_io::phase_design::{load_phase_design, save_phase_design};
-use udc_io::phase_export::HeightFormat;
-use udc_io::spectral::{channels_from_response, load_response_csv, thesis_response};
+use udc_io::phase::design::{load_phase_design, save_phase_design};
+use udc_io::phase::export::HeightFormat;
 
 /// A subcommand of `udc-studio phase`.
 #[derive(Debug, Subcommand)]
@@ -498,14 +498,14 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
         }
         return Err(strict_error(&drc));
     }
-    let params = udc_io::phase_export::HeightParams {
+    let params = udc_io::phase::export::HeightParams {
         sample_um: a.sample_um,
         rows: a.rows,
         length_um: a.length_um,
         base_um: a.base_um,
         deterministic: a.deterministic,
     };
-    let written = udc_io::phase_export::write_height(a.format, &design, file, &params);
+    let written = udc_io::phase::export::write_height(a.format, &design, file, &params);
     let summary = written.map_err(flag_names)?;
     // The design-rule minimum a fab must write: the narrowest ring, at a lenslet's edge.
     let mut report = serde_json::to_value(&summary)?;

@@ -104,11 +104,11 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
         })?;
         if let Some(dir) = &a.mask.out {
             let stem = format!("{}photons", n.round());
-            written.extend(udc_io::restore_report::write_capture_images(
+            written.extend(udc_io::display::restore_report::write_capture_images(
                 dir,
                 &stem,
                 &photo,
-                &udc_io::restore_report::CaptureImages {
+                &udc_io::display::restore_report::CaptureImages {
                     captured: &run.captured,
                     denoised: &run.denoised,
                     restored: &run.restored,
@@ -140,7 +140,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
                 "ssim": r(x.ssim),
                 "captured_psnr_db": r(x.captured_psnr_db),
                 "denoised_psnr_db": x.denoised_psnr_db.map_or(Value::Null, r),
-                "denoise": udc_io::restore_report::denoise_json(&x.denoise),
+                "denoise": udc_io::display::restore_report::denoise_json(&x.denoise),
                 "cg": {"lambda": r(x.cg.lambda), "iterations": x.cg.iterations, "tolerance": x.cg.tolerance},
             })).collect::<Vec<_>>(),
             "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
@@ -236,7 +236,7 @@ fn compare_cmd(
     if let Some(dir) = &a.mask.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
         let names: Vec<String> = photos.iter().map(|(n, _)| n.clone()).collect();
-        let text = udc_io::restore_report::compare_csv(&rows, &names);
+        let text = udc_io::display::restore_report::compare_csv(&rows, &names);
         let path = dir.join("compare.csv");
         udc_io::safe_file::write_atomic(&path, text.as_bytes())?;
         if !a.mask.json {

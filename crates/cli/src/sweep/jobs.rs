@@ -177,7 +177,7 @@ fn parse(words: &[String]) -> Result<Command> {
     }
 }
 
-use udc_io::design_choice::design_hash;
+use udc_io::design::choice::design_hash;
 
 /// Computes one point from its command line words.
 ///
@@ -198,7 +198,7 @@ pub fn evaluate_point(words: &[String], point_hash: &str) -> Result<PointOutput>
             };
             let analysis = analyze_with(&design, &options, &Progress::new())?;
             Ok(PointOutput {
-                value: udc_io::report::analysis_json(&analysis),
+                value: udc_io::display::report::analysis_json(&analysis),
                 design_hash: design_hash(&design),
             })
         }

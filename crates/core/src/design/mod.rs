@@ -1,5 +1,5 @@
 //! The design document: one pixel's opening, how it is tiled, the camera optics and the colour
-//! channels. It is small, serialisable (see `io::design_file` for the versioned file format) and
+//! channels. It is small, serialisable (see `io::design::file` for the versioned file format) and
 //! validated here, so every front end rejects the same bad values with the same message.
 
 use serde::{Deserialize, Serialize};

@@ -7,8 +7,8 @@ use udc_core::design::TilingMode;
 use udc_core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
 use udc_core::display::emitters::{auto_place, auto_place_cells, closed_cells};
 use udc_core::optimize::{OptimizeSettings, optimize};
-use udc_io::design_file::{parse_design, to_json};
-use udc_io::presets::load_preset;
+use udc_io::design::file::{parse_design, to_json};
+use udc_io::design::presets::load_preset;
 
 /// The presets that carry an emitter layer: T-OLED, P-OLED and the two proposed layouts.
 const WITH_SUBPIXELS: [&str; 5] = [

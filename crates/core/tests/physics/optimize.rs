@@ -14,7 +14,7 @@ use udc_core::optimize::{
     DataSet, LossWeights, Objective, OptimizeSettings, Relaxation, binarise, optimize,
 };
 use udc_core::{Progress, SimError};
-use udc_io::presets;
+use udc_io::design::presets;
 
 fn toled(tiling: TilingMode) -> Design {
     let mut d = presets::load_preset("toled-150dpi").unwrap();

@@ -12,7 +12,7 @@ use udc_core::phase::{
     phase_psfs, v_matrix_on, wavelength_grid_nm,
 };
 use udc_core::{Progress, SimError};
-use udc_io::spectral::{channels_from_response, thesis_response};
+use udc_io::design::spectral::{channels_from_response, thesis_response};
 
 fn thesis(pitch_um: f64, fold: f64) -> PhaseDesign {
     // The default sampling convention is the thesis's.

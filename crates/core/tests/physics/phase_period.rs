@@ -8,7 +8,7 @@ use udc_core::phase::{
     AllocationSettings, Chain, Incidence, Lambda0, MonoPsf, PhaseDesign, PhaseOptics,
     PhaseSampling, Relay, optimize_lambda0, v_matrix,
 };
-use udc_io::spectral::{channels_from_response, thesis_response};
+use udc_io::design::spectral::{channels_from_response, thesis_response};
 
 fn with_relay(mut s: PhaseSampling, relay: Relay) -> PhaseSampling {
     s.relay = relay;

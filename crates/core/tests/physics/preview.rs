@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::design::TilingMode;
 use udc_core::{Analysis, Design, Progress};
-use udc_io::presets::{PRESETS, load_preset};
+use udc_io::design::presets::{PRESETS, load_preset};
 
 /// Per-channel AUC tolerance, relative.
 const AUC_TOLERANCE: f64 = 0.03;

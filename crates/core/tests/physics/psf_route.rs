@@ -8,7 +8,7 @@ use udc_core::psf::pruned::zoom_kinds;
 use udc_core::psf::route::PsfRoute;
 use udc_core::psf::zoom::ZoomKind;
 use udc_core::{Analysis, Design, Progress};
-use udc_io::presets::load_preset;
+use udc_io::design::presets::load_preset;
 
 fn preset(name: &str) -> Design {
     load_preset(name).unwrap_or_else(|e| panic!("preset {name}: {e}"))

@@ -15,8 +15,8 @@ use udc_core::restore::{
 };
 use udc_core::{Progress, SimError};
 use udc_io::IoError;
+use udc_io::design::presets::load_preset;
 use udc_io::photo::{load_photo, write_difference_png, write_photo_exr, write_photo_png};
-use udc_io::presets::load_preset;
 
 const ASTRONAUT: &str = concat!(
     concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),

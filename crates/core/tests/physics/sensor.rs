@@ -12,7 +12,7 @@ use udc_core::sensor::{
     SensorSpec, Strategy, peak_bytes, run, run_with,
 };
 use udc_core::{Progress, SimError};
-use udc_io::hdr::load_hdr;
+use udc_io::photo::hdr::load_hdr;
 
 const STILL_LIFE: &str = concat!(
     concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use ndarray::Array2;
 use udc_core::sensor::scene::percentile_of;
 use udc_core::sensor::{Exposure, Scene, SensorSpec};
-use udc_io::hdr::{ExrPrecision, load_hdr, load_hdr_with_report, write_exr};
+use udc_io::photo::hdr::{ExrPrecision, load_hdr, load_hdr_with_report, write_exr};
 
 const STILL_LIFE: &str = concat!(
     concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),

@@ -14,7 +14,7 @@ use udc_core::sensor::{
     AdditiveGain, BinMode, BinStrategy, GainStrategy, RoiLight, SensorRun, SensorSettings,
     SensorSpec, Strategy, run,
 };
-use udc_io::hdr::load_hdr;
+use udc_io::photo::hdr::load_hdr;
 
 const STILL_LIFE: &str = concat!(
     concat!(env!("CARGO_MANIFEST_DIR"), "/../.."),

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use udc_core::Progress;
 use udc_core::sensor::{Cfa, SensorSettings, run};
-use udc_io::hdr::load_hdr;
+use udc_io::photo::hdr::load_hdr;
 
 #[test]
 fn vary_gain_and_bin_is_best_or_tied_on_every_shipped_scene() {

@@ -4,8 +4,8 @@
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::theory::{ProfileKind, Theory, compare};
 use udc_core::{Design, Progress};
-use udc_io::design_file::to_json;
-use udc_io::presets::{PRESETS, PresetGroup, load_preset};
+use udc_io::design::file::to_json;
+use udc_io::design::presets::{PRESETS, PresetGroup, load_preset};
 
 fn full(d: &Design) -> udc_core::Analysis {
     let options = AnalyzeOptions {

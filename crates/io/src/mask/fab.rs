@@ -5,7 +5,7 @@ use std::path::Path;
 
 use super::{ExportOptions, MaskFormat};
 use crate::IoError;
-use crate::design_file::to_json;
+use crate::design::file::to_json;
 use crate::error::ExportOptionsError;
 use crate::fab::{LayerEntry, LayerMap, Sidecars, derived_cell_name, sha256_hex, write_sidecars};
 use udc_core::design::Design;

@@ -37,8 +37,8 @@ use super::fab::{LayerMap, MAX_BOUNDARY_VERTICES, Sidecars};
 
 /// Largest mask file read back (GDSII or DXF): masks of whole displays are tens of MB.
 pub const MAX_MASK_BYTES: u64 = 1024 * 1024 * 1024;
-use super::design_file::to_json;
 use super::safe_file::{TempFile, write_atomic};
+use crate::design::file::to_json;
 
 pub use deck::drc_deck;
 pub use fab::{FRAME_LAYER, LABEL_LAYER, LayerRole, MARKS_LAYER, MaskLayers, design_hash};

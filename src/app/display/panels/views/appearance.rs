@@ -17,7 +17,7 @@ use crate::core::Progress;
 use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::design::Design;
 use crate::core::display::appearance::{AppearanceSettings, DisplayQuality, appearance};
-use crate::io::presets;
+use crate::io::design::presets;
 
 /// What a run depends on.
 #[derive(Debug, Clone, PartialEq)]

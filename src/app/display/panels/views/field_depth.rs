@@ -229,7 +229,7 @@ impl FieldDepthView {
                     Ok(Outcome::Depth(Box::new(r), capture))
                 }
                 Study::Saturation => {
-                    let scene = crate::io::hdr::sample_scene()
+                    let scene = crate::io::photo::hdr::sample_scene()
                         .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?
                         .downscaled(SCENE_SIDE_PX);
                     let psfs: Vec<&Array2<f64>> =

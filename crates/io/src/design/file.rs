@@ -16,10 +16,10 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::IoError;
-use super::error::DesignFileError;
-use super::safe_file::read_text_bounded;
-use super::safe_file::write_atomic;
+use crate::IoError;
+use crate::error::DesignFileError;
+use crate::safe_file::read_text_bounded;
+use crate::safe_file::write_atomic;
 use udc_core::design::Theory;
 use udc_core::design::{Channel, Design, Opening, Optics, Subpixels, Tiling};
 

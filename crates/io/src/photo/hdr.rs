@@ -25,9 +25,9 @@ use exr::prelude::{
 use image::{ImageFormat, ImageReader};
 use ndarray::Array2;
 
-use super::IoError;
-use super::error::HdrError;
-use super::photo::MAX_PHOTO_PIXELS;
+use crate::IoError;
+use crate::error::HdrError;
+use crate::photo::MAX_PHOTO_PIXELS;
 
 /// Largest HDR file read: a 4096² RGBA float EXR, uncompressed, is 268 MB.
 pub const MAX_HDR_BYTES: u64 = 512 * 1024 * 1024;
@@ -87,7 +87,7 @@ pub fn load_hdr(path: &Path) -> Result<Scene, IoError> {
 /// # Errors
 /// As [`load_hdr`].
 pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> {
-    super::safe_file::check_regular(path, "read the HDR image")?;
+    crate::safe_file::check_regular(path, "read the HDR image")?;
     let bad = |error: HdrError| IoError::Hdr {
         path: path.to_path_buf(),
         error,
@@ -104,7 +104,7 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
     };
     let (planes, channels) = {
         // The file's bytes go before the planes are widened to f64.
-        let bytes = super::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
+        let bytes = crate::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
         if exr {
             read_exr(&bytes).map_err(bad)?
         } else {
@@ -129,7 +129,7 @@ pub const SAMPLE_SCENE_NAME: &str = "StillLife (built-in sample)";
 /// # Errors
 /// Never for the shipped file; a message if it were corrupt.
 pub fn sample_scene() -> Result<Scene, IoError> {
-    const SAMPLE_EXR: &[u8] = include_bytes!("../../../assets/hdr/StillLife_620x423.exr");
+    const SAMPLE_EXR: &[u8] = include_bytes!("../../../../assets/hdr/StillLife_620x423.exr");
     let (planes, _) = read_exr(SAMPLE_EXR).map_err(|error| IoError::Hdr {
         path: SAMPLE_SCENE_NAME.into(),
         error,
@@ -153,7 +153,7 @@ fn check_size(width: usize, height: usize) -> Result<(), HdrError> {
 }
 
 /// The EXR's planes (`[row, col]`, f32 widened) and channel names.
-pub(super) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
+pub(crate) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
     const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
     if bytes.len() < 4 || bytes[..4] != MAGIC {
         return Err(HdrError::NotExr);
@@ -299,8 +299,8 @@ pub fn write_exr(
     if h == 0 || w == 0 || planes.iter().any(|p| p.dim() != (h, w)) {
         return Err(bad("the planes are empty or differ in size".into()));
     }
-    let temp = super::safe_file::TempFile::beside(path)?;
-    let file = super::safe_file::open_reserved(temp.path())
+    let temp = crate::safe_file::TempFile::beside(path)?;
+    let file = crate::safe_file::open_reserved(temp.path())
         .map_err(|e| IoError::file("write", path, e))?;
     let out = std::io::BufWriter::new(file);
     let at = |p: &Array2<f64>, Vec2(x, y): Vec2<usize>| p[[y, x]];

@@ -7,10 +7,10 @@
 
 use std::path::Path;
 
-use super::IoError;
-use super::design_file::read_design_text;
-use super::error::DesignFileError;
-use super::safe_file::write_atomic;
+use crate::IoError;
+use crate::design::file::read_design_text;
+use crate::error::DesignFileError;
+use crate::safe_file::write_atomic;
 use udc_core::phase::PhaseDesign;
 
 /// A design read from a file, with what the reader had to assume.

@@ -1,8 +1,8 @@
 //! The built-in presets: the JSON files of `presets/`, compiled into the binary so the studio
 //! and the CLI work from any directory.
 
-use super::IoError;
-use super::design_file::parse_design;
+use crate::IoError;
+use crate::design::file::parse_design;
 use udc_core::Design;
 
 /// Which shelf of the Presets menu a preset sits on.
@@ -46,7 +46,7 @@ macro_rules! presets {
             $(Preset {
                 name: $name,
                 group: PresetGroup::$group,
-                text: include_str!(concat!("../../../presets/", $name, ".json")),
+                text: include_str!(concat!("../../../../presets/", $name, ".json")),
             }),*
         ];
     };

@@ -10,6 +10,10 @@
 //! (`|a − b|` times a stated gain, clipped), and 32-bit float EXR (values unscaled, unclipped).
 //! Every file is encoded in memory and written atomically, like the PSF exports.
 
+pub mod hdr;
+pub mod planes;
+pub mod testset;
+
 use std::path::{Path, PathBuf};
 
 use image::imageops::FilterType;
@@ -18,8 +22,8 @@ use image::{
 };
 use ndarray::Array2;
 
-use super::IoError;
-use super::export::{size_mismatch, write_image};
+use crate::IoError;
+use crate::safe_file::{size_mismatch, write_image};
 use udc_core::Sample;
 
 /// The largest photo simulated, in pixels (after any downscale): 4096 × 4096. Each plane is
@@ -59,7 +63,7 @@ pub fn load_photo<T: Sample>(
             "the maximum side must be at least 1 pixel".into(),
         ));
     }
-    super::safe_file::check_regular(path, "read the photo")?;
+    crate::safe_file::check_regular(path, "read the photo")?;
     let open = || {
         ImageReader::open(path)
             .map_err(|e| IoError::file("read the photo", path, e))?
@@ -191,7 +195,7 @@ fn check_jpeg_complete(path: &Path) -> Result<(), IoError> {
 
 /// The built-in test photo (public domain, in `assets/photos`): what the restore views and
 /// `phase restore` use when no photo was chosen.
-pub const BUILT_IN_PHOTO_PNG: &[u8] = include_bytes!("../../../assets/photos/astronaut_256.png");
+pub const BUILT_IN_PHOTO_PNG: &[u8] = include_bytes!("../../../../assets/photos/astronaut_256.png");
 /// Its name for the screen.
 pub const BUILT_IN_PHOTO_NAME: &str = "astronaut (built in, 256 px)";
 
@@ -450,8 +454,8 @@ pub fn write_photo_exr<T: Sample>(path: &Path, planes: &[&Array2<T>]) -> Result<
         (w, h),
         SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| (f(r, x, y), f(g, x, y), f(b, x, y))),
     );
-    let temp = super::safe_file::TempFile::beside(path)?;
-    let file = super::safe_file::open_reserved(temp.path())
+    let temp = crate::safe_file::TempFile::beside(path)?;
+    let file = crate::safe_file::open_reserved(temp.path())
         .map_err(|e| IoError::file("write", path, e))?;
     image
         .write()

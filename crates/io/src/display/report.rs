@@ -9,7 +9,7 @@ use udc_core::psf::warning::{OpticsField, SamplingWarning};
 
 /// Analysis reports keep 9 significant digits.
 fn r(v: f64) -> f64 {
-    super::numbers::round_sig(v, 9)
+    crate::numbers::round_sig(v, 9)
 }
 
 fn rs(v: &[f64]) -> Vec<f64> {

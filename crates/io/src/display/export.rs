@@ -18,9 +18,9 @@ use std::path::{Path, PathBuf};
 use image::{DynamicImage, GrayImage, ImageBuffer, ImageFormat, Luma, Rgb, Rgb32FImage};
 use ndarray::Array2;
 
-use super::IoError;
-use super::error::TableError;
-use super::safe_file::{TempFile, open_reserved, write_atomic};
+use crate::IoError;
+use crate::error::TableError;
+use crate::safe_file::{size_mismatch, write_atomic, write_image};
 use udc_core::analysis::analyze::{Analysis, ChannelAnalysis};
 
 /// Dynamic range of log-PSF images, in decades. A log-PSF image maps `log10(psf / peak)` linearly
@@ -62,32 +62,6 @@ fn image_size(path: &Path, psf: &Array2<f64>) -> Result<(u32, u32), IoError> {
     let w = u32::try_from(cols).map_err(|_| bad("too large for an image"))?;
     let h = u32::try_from(rows).map_err(|_| bad("too large for an image"))?;
     Ok((w, h))
-}
-
-/// Encodes an image straight into a temp file beside `path` (no encoded copy in memory) and
-/// moves it into place.
-pub(super) fn write_image(
-    path: &Path,
-    img: DynamicImage,
-    format: ImageFormat,
-) -> Result<(), IoError> {
-    let temp = TempFile::beside(path)?;
-    let file = open_reserved(temp.path()).map_err(|e| IoError::file("write", path, e))?;
-    let mut out = std::io::BufWriter::new(file);
-    img.write_to(&mut out, format).map_err(|e| IoError::Image {
-        path: path.to_path_buf(),
-        message: format!("cannot encode the {format:?} image: {e}"),
-    })?;
-    out.into_inner()
-        .map_err(|e| IoError::file("write", path, e.into_error()))?;
-    temp.persist()
-}
-
-pub(super) fn size_mismatch(path: &Path) -> IoError {
-    IoError::Image {
-        path: path.to_path_buf(),
-        message: "the pixel buffer does not match the image size".into(),
-    }
 }
 
 /// Writes a PSF as a 32-bit float EXR, values unscaled, grey as three equal RGB channels.

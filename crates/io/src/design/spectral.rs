@@ -12,8 +12,8 @@
 
 use std::path::Path;
 
-use super::IoError;
-use super::error::{SpectralError, TableError};
+use crate::IoError;
+use crate::error::{SpectralError, TableError};
 use udc_core::design::{Channel, MAX_WAVELENGTHS};
 
 /// Spectral tables larger than this are refused before parsing (a 1 nm table is ~12 kB).
@@ -41,7 +41,7 @@ pub struct SpectralResponse {
 /// rows.
 pub fn load_response_csv(path: &Path) -> Result<SpectralResponse, IoError> {
     let text =
-        super::safe_file::read_text_bounded(path, MAX_TABLE_BYTES, "read the spectral table")?;
+        crate::safe_file::read_text_bounded(path, MAX_TABLE_BYTES, "read the spectral table")?;
     parse_response_csv(&text).map_err(|e| IoError::Table {
         path: path.to_path_buf(),
         error: TableError::Spectral(e),
@@ -274,7 +274,7 @@ pub fn channels_from_response(
 /// The thesis's sensor response (`assets/spectral/thesis_sensor_response.csv`), built in so the
 /// phase-mask optimizer works without a file.
 pub fn thesis_response() -> SpectralResponse {
-    const TEXT: &str = include_str!("../../../assets/spectral/thesis_sensor_response.csv");
+    const TEXT: &str = include_str!("../../../../assets/spectral/thesis_sensor_response.csv");
     // The table is a committed asset checked by the tests; a parse failure is a build defect.
     parse_response_csv(TEXT).unwrap_or_else(|e| panic!("built-in thesis response: {e}"))
 }

@@ -20,10 +20,10 @@ use std::path::{Path, PathBuf};
 use ndarray::Array2;
 use serde_json::{Value, json};
 
-use super::IoError;
-use super::hdr::{ExrPrecision, write_exr};
-use super::numbers::json6 as r;
-use super::photo::write_map_png;
+use crate::IoError;
+use crate::numbers::json6 as r;
+use crate::photo::hdr::{ExrPrecision, write_exr};
+use crate::photo::write_map_png;
 use udc_core::sensor::colour::CHANNEL_NAMES;
 use udc_core::sensor::{BIN_SIZES, SensorRun, StrategyResult};
 

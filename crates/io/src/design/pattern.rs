@@ -9,9 +9,9 @@ use std::path::Path;
 
 use image::{DynamicImage, GrayImage, ImageFormat, ImageReader};
 
-use super::IoError;
-use super::error::PatternError;
-use super::safe_file::write_atomic;
+use crate::IoError;
+use crate::error::PatternError;
+use crate::safe_file::write_atomic;
 use udc_core::design::MAX_CELLS;
 
 /// Luma above this (0–255) is an open cell; at or below it a closed one (the thesis threshold).
@@ -28,7 +28,7 @@ pub fn load_pattern_png(path: &Path) -> Result<Vec<Vec<f64>>, IoError> {
         path: path.to_path_buf(),
         error,
     };
-    super::safe_file::check_regular(path, "read the pattern")?;
+    crate::safe_file::check_regular(path, "read the pattern")?;
     let open = || {
         ImageReader::open(path)
             .map_err(|e| IoError::file("read the pattern", path, e))?
@@ -43,7 +43,7 @@ pub fn load_pattern_png(path: &Path) -> Result<Vec<Vec<f64>>, IoError> {
     check_size(w, h).map_err(pattern_err)?;
     // That was an EXR's display window; the decoder allocates its data window.
     if open()?.format() == Some(ImageFormat::OpenExr)
-        && let Some((dw, dh)) = super::photo::exr_data_window(path)
+        && let Some((dw, dh)) = crate::photo::exr_data_window(path)
         && (dw > MAX_CELLS || dh > MAX_CELLS)
     {
         let side = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);

@@ -5,8 +5,8 @@
 
 use std::path::PathBuf;
 
+use crate::design::{file as design_file, pattern, presets, spectral};
 use crate::error::{IoError, TableError};
-use crate::{design_file, pattern, presets, spectral};
 use udc_core::ValueError;
 use udc_core::design::{Design, OpticsRecipe, TilingMode};
 

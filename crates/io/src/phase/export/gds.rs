@@ -87,7 +87,7 @@ pub fn write_height_gds_with(
             width_um: 0.0,
         })
         .collect();
-    let hash = crate::fab::sha256_hex(crate::phase_design::phase_design_json(design).as_bytes());
+    let hash = crate::fab::sha256_hex(crate::phase::design::phase_design_json(design).as_bytes());
     let mut cell = GdsStruct::new(format!("{GDS_TOP_CELL}_{}", hash[..8].to_uppercase()));
     let mut width_nm = vec![0i64; layers.len()];
     for &(x0, x1, level) in &runs {

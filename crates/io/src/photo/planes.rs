@@ -4,9 +4,9 @@
 //!
 //! **Reading.** The bytes decide the kind, not the extension: PNG (8/16-bit), TIFF (8/16-bit,
 //! and 32-bit float RGB, as far as the `image` crate decodes TIFF) and OpenEXR (half or float;
-//! `R, G, B` or `Y`, through [`super::hdr`]'s reader). Integer samples are scaled to `[0, 1]`
+//! `R, G, B` or `Y`, through [`crate::photo::hdr`]'s reader). Integer samples are scaled to `[0, 1]`
 //! (8-bit ÷ 255, 16-bit ÷ 65535), float samples are kept unscaled and unclamped (a noisy image
-//! may dip below 0); alpha is dropped. Unlike [`super::photo::load_photo`], nothing is clamped or
+//! may dip below 0); alpha is dropped. Unlike [`crate::photo::load_photo`], nothing is clamped or
 //! repaired: a NaN or infinite sample is an error, since any filter would spread it.
 //!
 //! **Writing.** PNG and TIFF as 16-bit (grey or RGB; values clipped to `[0, 1]`, level
@@ -18,11 +18,11 @@ use std::path::Path;
 use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma, Rgb};
 use ndarray::Array2;
 
-use super::IoError;
-use super::error::PlanesError;
-use super::export::{size_mismatch, write_image};
-use super::hdr::{ExrPrecision, MAX_HDR_BYTES, read_exr, write_exr};
-use super::photo::MAX_PHOTO_PIXELS;
+use crate::IoError;
+use crate::error::PlanesError;
+use crate::photo::MAX_PHOTO_PIXELS;
+use crate::photo::hdr::{ExrPrecision, MAX_HDR_BYTES, read_exr, write_exr};
+use crate::safe_file::{size_mismatch, write_image};
 
 /// The decoder's allocation cap, as the photo reader's: 64 megapixels of 16-bit RGBA fit.
 const MAX_DECODE_BYTES: u64 = 600 * 1024 * 1024;
@@ -115,7 +115,7 @@ pub fn read_planes(path: &Path) -> Result<ImagePlanes, IoError> {
         path: path.to_path_buf(),
         error,
     };
-    let bytes = super::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the image")?;
+    let bytes = crate::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the image")?;
     let (planes, kind) = if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
         let (planes, _) = read_exr(&bytes).map_err(|e| bad(PlanesError::Exr(e)))?;
         let planes = planes.into_iter().map(|p| p.mapv(f64::from)).collect();

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 use ndarray::Array2;
 use serde_json::{Value, json};
 
-use super::IoError;
-use super::numbers::json6 as r;
-use super::photo::{DIFFERENCE_GAIN, write_difference_png, write_photo_exr, write_photo_png};
+use crate::IoError;
+use crate::numbers::json6 as r;
+use crate::photo::{DIFFERENCE_GAIN, write_difference_png, write_photo_exr, write_photo_png};
 use udc_core::Sample;
 use udc_core::phase::imaging::CompareRow;
 use udc_core::restore::{DenoiseUsed, Intermediate, RestoreResult};

@@ -11,8 +11,8 @@ use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
 
-use super::IoError;
-use super::image_planes::read_planes;
+use crate::IoError;
+use crate::photo::planes::read_planes;
 
 /// The test set's folder relative to the repository (or an installed binary's folder).
 pub const TESTSET_SUBDIR: &str = "assets/testset";

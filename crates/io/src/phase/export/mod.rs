@@ -33,8 +33,8 @@ use gds21::{GdsBoundary, GdsElement, GdsLibrary, GdsPoint, GdsStruct, GdsTextEle
 use serde::Serialize;
 use stl_io::{Normal, Triangle, Vertex};
 
-use super::IoError;
-use super::safe_file::{TempFile, write_atomic};
+use crate::IoError;
+use crate::safe_file::{TempFile, write_atomic};
 use udc_core::mask::MaskError;
 use udc_core::phase::geometry::{self, Lenslets};
 use udc_core::phase::{HeightRounding, PhaseDesign, Surface, plate};
@@ -395,7 +395,7 @@ pub fn write_height(
             None,
         ),
     };
-    let json = crate::phase_design::phase_design_json(design);
+    let json = crate::phase::design::phase_design_json(design);
     let mut m = serde_json::Map::new();
     m.insert("format".into(), format.extension().into());
     m.insert(

@@ -1,0 +1,4 @@
+//! The phase-mask design file and the plate's fabrication files.
+
+pub mod design;
+pub mod export;
