@@ -6,6 +6,7 @@
 use crate::Setting;
 use crate::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
 use crate::design::{Design, OpticsRecipe};
+use crate::figure::{Annotation, Axis, Mark, Panel, Series, palette};
 use crate::{Progress, SimError};
 
 /// The design numbers a 1-D sweep can change: a closed set, so each one knows its unit, its
@@ -266,6 +267,52 @@ pub fn evaluate(
     }
 }
 
+/// The figure of a 1-D sweep: the metric against the parameter, one line per run of valid
+/// values (an invalid value is a gap, not a jump), and the design's current value marked.
+pub fn panel(
+    parameter: SweepParameter,
+    metric_label: &str,
+    points: &[(f64, Option<OneAxisPoint>)],
+    current: f64,
+) -> Panel {
+    let mut runs: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
+    for (x, p) in points {
+        match p {
+            Some(OneAxisPoint::Value(y)) => {
+                if let Some(run) = runs.last_mut() {
+                    run.push([*x, *y]);
+                }
+            }
+            Some(OneAxisPoint::Invalid(_)) => runs.push(Vec::new()),
+            None => {}
+        }
+    }
+    let unit = match parameter.unit() {
+        "" => None,
+        u => Some(u),
+    };
+    Panel {
+        title: format!("{metric_label} against {}", parameter.label()),
+        x: Axis::new(parameter.label(), unit),
+        y: Axis::new(metric_label, None),
+        series: runs
+            .into_iter()
+            .filter(|r| !r.is_empty())
+            .map(|points| Series {
+                name: metric_label.to_string(),
+                colour: palette::series(0),
+                mark: Mark::LineAndPoints,
+                points,
+                band: None,
+            })
+            .collect(),
+        annotations: vec![Annotation::VLine {
+            x: current,
+            label: "current value".into(),
+        }],
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -303,5 +350,22 @@ mod tests {
             SweepParameter::WiringGapUm.default_range(0.0),
             (0.0, 10.0, 9)
         );
+    }
+
+    #[test]
+    fn an_invalid_value_splits_the_line_and_the_current_value_is_marked() {
+        let points = vec![
+            (1.0, Some(OneAxisPoint::Value(0.1))),
+            (2.0, Some(OneAxisPoint::Value(0.2))),
+            (3.0, Some(OneAxisPoint::Invalid("too small".into()))),
+            (4.0, Some(OneAxisPoint::Value(0.4))),
+            (5.0, None),
+        ];
+        let p = panel(SweepParameter::PitchUm, "AUC", &points, 2.0);
+        assert_eq!(p.series.len(), 2);
+        assert_eq!(p.series[0].points, vec![[1.0, 0.1], [2.0, 0.2]]);
+        assert_eq!(p.series[1].points, vec![[4.0, 0.4]]);
+        assert_eq!(p.x.unit.as_deref(), Some("µm"));
+        assert!(matches!(p.annotations[..], [Annotation::VLine { x, .. }] if x == 2.0));
     }
 }

@@ -5,15 +5,14 @@
 
 use std::sync::mpsc::{Receiver, channel};
 
-use egui::Color32;
-use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, Points, VLine};
-
 use crate::app::display::action::DisplayAction;
 use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
-use crate::core::sweep::one_axis::{OneAxisPoint, SweepMetric, SweepParameter, evaluate, values};
+use crate::core::sweep::one_axis::{
+    OneAxisPoint, SweepMetric, SweepParameter, evaluate, panel, values,
+};
 
 /// A run in flight: the job and the points it sends as they finish.
 struct Run {
@@ -316,23 +315,14 @@ impl OneAxisSweepWindow {
 
     fn plot_ui(&mut self, ui: &mut egui::Ui) {
         let (field, metric) = self.points_of;
-        // Runs of valid values are separate lines, so an invalid value is a gap, not a jump.
-        let mut segments: Vec<Vec<[f64; 2]>> = vec![Vec::new()];
-        let mut invalid: Vec<(f64, &str)> = Vec::new();
-        for (x, p) in &self.points {
-            match p {
-                Some(OneAxisPoint::Value(y)) => {
-                    if let Some(s) = segments.last_mut() {
-                        s.push([*x, *y]);
-                    }
-                }
-                Some(OneAxisPoint::Invalid(why)) => {
-                    invalid.push((*x, why.as_str()));
-                    segments.push(Vec::new());
-                }
-                None => {}
-            }
-        }
+        let invalid: Vec<(f64, &str)> = self
+            .points
+            .iter()
+            .filter_map(|(x, p)| match p {
+                Some(OneAxisPoint::Invalid(why)) => Some((*x, why.as_str())),
+                _ => None,
+            })
+            .collect();
         if let Some((x, why)) = invalid.first() {
             ui.colored_label(
                 ui.visuals().warn_fg_color,
@@ -343,37 +333,14 @@ impl OneAxisSweepWindow {
                 ),
             );
         }
-        let y_label = metric.label(&self.design);
-        let color = Color32::from_rgb(31, 119, 180);
-        let current = self.current;
-        // The axis titles after the ticks, which replace the axes.
-        crate::app::widgets::plot::with_nice_ticks(
-            Plot::new("field_sweep_plot")
-                .legend(Legend::default())
-                // Fixed: a window's available height is the screen's.
-                .height(260.0),
-        )
-        .x_axis_label(field.label_with_unit())
-        .y_axis_label(y_label.clone())
-        .show(ui, |pl| {
-            for s in segments.iter().filter(|s| !s.is_empty()) {
-                pl.line(
-                    Line::new(y_label.clone(), PlotPoints::from(s.clone()))
-                        .color(color)
-                        .width(2.0),
-                );
-                pl.points(
-                    Points::new(y_label.clone(), PlotPoints::from(s.clone()))
-                        .color(color)
-                        .radius(3.5),
-                );
-            }
-            pl.vline(
-                VLine::new("current value", current)
-                    .style(LineStyle::dashed_dense())
-                    .color(Color32::GRAY),
-            );
-        });
+        let figure = panel(
+            field,
+            &metric.label(&self.design),
+            &self.points,
+            self.current,
+        );
+        // Fixed height: a window's available height is the screen's.
+        crate::app::widgets::figure::panel_ui(ui, "one_axis_sweep_plot", &figure, 260.0);
     }
 }
 
