@@ -247,7 +247,12 @@ impl ReproduceWindow {
             });
         ui.horizontal(|ui| {
             if let Some((running, job)) = self.run.current() {
-                ui.spinner();
+                // The share of the run's points in its tables (each part fills its share).
+                ui.add(
+                    egui::ProgressBar::new(job.fraction())
+                        .desired_width(140.0)
+                        .show_percentage(),
+                );
                 ui.label(format!(
                     "{} running (quick), {:.0} s",
                     running.as_str(),

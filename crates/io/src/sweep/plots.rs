@@ -227,8 +227,8 @@ pub fn write_plot(
     crate::figure::write_panel(plots_dir, stem, &panel_of(p, data, title))
 }
 
-/// The figure of one plot: each group's mean as a line with dots and its min–max band where a
-/// group has several rows at one x (seeds); a Pareto plot's rows as a cloud and its front as a
+/// The figure of one plot: each group's mean as a line with dots, and its min–max band over the
+/// plot's spread axis (seeds) when it names one; a Pareto plot's rows as a cloud and its front as a
 /// line. The studio draws the same panel.
 pub fn panel_of(p: &PlotSpec, data: &PlotData, title: &str) -> Panel {
     let mut x = Axis::new(p.x.clone(), None);
@@ -249,9 +249,9 @@ pub fn panel_of(p: &PlotSpec, data: &PlotData, title: &str) -> Panel {
                     colour: palette::series(i),
                     mark: Mark::LineAndPoints,
                     points: line.iter().map(|(x, s)| [x.0, s.mean()]).collect(),
-                    band: line
-                        .values()
-                        .any(|s| s.n > 1)
+                    // A band only over the axis the plot names as its spread (seeds):
+                    // rows that differ in anything else are not one quantity's spread.
+                    band: (p.spread.is_some() && line.values().any(|s| s.n > 1))
                         .then(|| line.iter().map(|(x, s)| [x.0, s.min, s.max]).collect()),
                 })
                 .collect()
@@ -279,5 +279,57 @@ pub fn panel_of(p: &PlotSpec, data: &PlotData, title: &str) -> Panel {
         y,
         series,
         annotations: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(spread: Option<&str>) -> PlotSpec {
+        PlotSpec {
+            kind: PlotKind::MetricVsAxis,
+            x: "pitch-um".into(),
+            y: "auc".into(),
+            group: Some("tiling".into()),
+            spread: spread.map(str::to_string),
+            x_smaller_is_better: false,
+        }
+    }
+
+    #[test]
+    fn a_band_spans_only_the_spread_axis_and_each_group_is_a_series() {
+        let mut summary = SeriesSummary::default();
+        for (group, y) in [
+            ("tiling repeat", 0.1),
+            ("tiling repeat", 0.3),
+            ("tiling random", 0.5),
+        ] {
+            summary.add(group, 42.0, y);
+        }
+        let data = PlotData::Series {
+            summary,
+            x_labels: None,
+        };
+        let with = panel_of(&spec(Some("seed")), &data, "t");
+        assert_eq!(with.series.len(), 2);
+        let repeat = with
+            .series
+            .iter()
+            .find(|s| s.name == "tiling repeat")
+            .expect("group");
+        assert_eq!(repeat.points, vec![[42.0, 0.2]]);
+        assert_eq!(repeat.band, Some(vec![[42.0, 0.1, 0.3]]));
+        // One row per x: nothing to spread.
+        let random = with
+            .series
+            .iter()
+            .find(|s| s.name == "tiling random")
+            .expect("group");
+        assert_eq!(random.band, None);
+        // No spread axis named: rows that differ in something else make no band.
+        let without = panel_of(&spec(None), &data, "t");
+        assert!(without.series.iter().all(|s| s.band.is_none()));
+        assert_eq!(without.x.title(), "pitch-um");
     }
 }
