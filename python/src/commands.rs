@@ -36,10 +36,7 @@ fn run_json(py: Python<'_>, words: Vec<String>) -> PyResult<String> {
     let progress = Arc::new(Progress::new());
     let value = cancel::wait(
         py,
-        || {
-            udc_cli::cancel::with_cancel(progress.clone(), || udc_cli::run_json(&words))
-                .map_err(|e| error(&e))
-        },
+        || udc_cli::run_json(&words, &progress).map_err(|e| error(&e)),
         || progress.cancel(),
     )?;
     serde_json::to_string(&value).map_err(|e| PyValueError::new_err(e.to_string()))

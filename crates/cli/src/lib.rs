@@ -3,7 +3,6 @@
 
 pub mod analysis_cache;
 pub mod appearance;
-pub mod cancel;
 mod choice;
 pub mod denoise;
 pub mod denoise_flags;
@@ -291,7 +290,7 @@ pub(crate) fn capture_json(run: impl FnOnce() -> Result<()>) -> Result<serde_jso
 ///
 /// # Errors
 /// A usage error (one line, as the command line prints it), or the command's own error.
-pub fn run_json(words: &[String]) -> Result<serde_json::Value> {
+pub fn run_json(words: &[String], progress: &udc_core::Progress) -> Result<serde_json::Value> {
     let argv: Vec<String> = std::iter::once("udc-studio".to_string())
         .chain(words.iter().cloned())
         .chain(std::iter::once("--json".to_string()))
@@ -302,7 +301,7 @@ pub fn run_json(words: &[String]) -> Result<serde_json::Value> {
     })?;
     match cli.command {
         Some(Command::Studio { .. }) | None => bail!("the studio is not a headless command"),
-        Some(command) => capture_json(|| run(command)),
+        Some(command) => capture_json(|| run_with(command, progress)),
     }
 }
 
@@ -311,10 +310,20 @@ pub fn run_json(words: &[String]) -> Result<serde_json::Value> {
 /// # Errors
 /// Any failure, as one message for stderr.
 pub fn run(command: Command) -> Result<()> {
-    run_command(command).map_err(flags::name_flags)
+    run_with(command, &udc_core::Progress::new())
 }
 
-fn run_command(command: Command) -> Result<()> {
+/// Runs a headless command whose long steps report to and are cancelled by `progress` (a
+/// sweep's point, a Python call).
+///
+/// # Errors
+/// Any failure, as one message for stderr; `progress` cancelled stops the command at its next
+/// check.
+pub fn run_with(command: Command, progress: &udc_core::Progress) -> Result<()> {
+    run_command(command, progress).map_err(flags::name_flags)
+}
+
+fn run_command(command: Command, progress: &udc_core::Progress) -> Result<()> {
     match command {
         Command::Presets(args) => {
             let list = presets::list();
@@ -339,11 +348,11 @@ fn run_command(command: Command) -> Result<()> {
         Command::Export(args) => export_cmd::export_cmd(&args),
         Command::Drc(args) => drc::drc_cmd(&args),
         Command::Import(args) => import::import_cmd(&args),
-        Command::Restore(args) => restore_cmd(&args),
+        Command::Restore(args) => restore_cmd(&args, progress),
         Command::Denoise(args) => denoise::denoise_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
-        Command::Sensor(args) => sensor::sensor_cmd(&args),
-        Command::Phase(cmd) => phase::phase_cmd(&cmd),
+        Command::Sensor(args) => sensor::sensor_cmd(&args, progress),
+        Command::Phase(cmd) => phase::phase_cmd(&cmd, progress),
         Command::Field(args) => field_depth::field_cmd(&args),
         Command::Depth(args) => field_depth::depth_cmd(&args),
         Command::Saturation(args) => saturation::saturation_cmd(&args),
@@ -495,7 +504,7 @@ pub struct RestoreArgs {
     pub out: Option<PathBuf>,
 }
 
-fn restore_cmd(args: &RestoreArgs) -> Result<()> {
+fn restore_cmd(args: &RestoreArgs, progress: &udc_core::Progress) -> Result<()> {
     use udc_core::restore::capture::REFERENCE_LTR;
     use udc_core::restore::{
         CaptureSettings, CgSettings, Light, Method, Padding, RestoreSettings, simulate_with,
@@ -596,7 +605,7 @@ fn restore_cmd(args: &RestoreArgs) -> Result<()> {
             &photo,
             &psfs,
             &settings,
-            &cancel::progress(),
+            progress,
             |stage, planes| -> Result<()> {
                 if let Some(dir) = &args.out {
                     outputs.extend(restore_report::write_stage_images(

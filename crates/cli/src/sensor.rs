@@ -6,6 +6,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use serde_json::json;
 
+use udc_core::Progress;
 use udc_core::ValueError;
 use udc_core::sensor::{
     AdditiveGain, BinMode, Cfa, Exposure, FlatPatchSpec, Held, PRESET_NAMES, RoiLight, Scene,
@@ -135,7 +136,7 @@ fn named_sensor(name: &str) -> Result<SensorSpec> {
 ///
 /// # Errors
 /// Unknown sensors and bad values, naming the flag.
-pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
+pub fn flat_patch_cmd(args: &FlatPatchArgs, progress: &Progress) -> Result<()> {
     let sensor = named_sensor(&args.sensor)?;
     let spec = FlatPatchSpec {
         light_e: args.light,
@@ -147,7 +148,7 @@ pub fn flat_patch_cmd(args: &FlatPatchArgs) -> Result<()> {
         seed: args.seed,
         gain: args.gain,
     };
-    let res = flat_patch(&spec, &sensor, &crate::cancel::progress())?;
+    let res = flat_patch(&spec, &sensor, progress)?;
     let mode = if spec.bin_px == 1 {
         "none".to_string()
     } else if spec.bin_mode == BinMode::AnalogAdditive {
@@ -272,9 +273,9 @@ fn exposure_text(e: &Exposure) -> String {
 ///
 /// # Errors
 /// Unknown sensors, unreadable scenes, invalid settings, unwritable outputs.
-pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
+pub fn sensor_cmd(args: &SensorArgs, progress: &Progress) -> Result<()> {
     if let Some(SensorCheck::FlatPatch(check)) = &args.check {
-        return flat_patch_cmd(check);
+        return flat_patch_cmd(check, progress);
     }
     let Some(hdr) = &args.hdr else {
         bail!("--hdr is required (or a check such as `sensor flat-patch`)");
@@ -337,13 +338,7 @@ pub fn sensor_cmd(args: &SensorArgs) -> Result<()> {
         }
         Ok(Kept::of(&s))
     };
-    let result = run_with(
-        scene,
-        &settings,
-        &crate::cancel::progress(),
-        Held::HandedOver,
-        keep,
-    )?;
+    let result = run_with(scene, &settings, progress, Held::HandedOver, keep)?;
     if let Some(dir) = &args.out {
         outputs.extend(write_truth_images(dir, &result)?);
     }

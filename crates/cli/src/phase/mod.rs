@@ -274,40 +274,38 @@ fn grid_channels(spectral: Option<&Path>) -> Result<Vec<Channel>> {
         .map_err(|e| anyhow::anyhow!("--spectral: {e}"))
 }
 
-/// Runs `job` while a thread reports its progress on stderr (only on a terminal).
-fn with_progress<T>(label: &str, job: impl FnOnce(&Progress) -> T) -> T {
-    let progress = crate::cancel::progress();
+/// Runs `job` with `progress` while a thread reports it on stderr (only on a terminal).
+fn with_progress<T>(progress: &Progress, label: &str, job: impl FnOnce(&Progress) -> T) -> T {
     let show = std::io::stderr().is_terminal() && !crate::in_sweep();
+    if !show {
+        return job(progress);
+    }
     let (done_tx, done_rx) = std::sync::mpsc::channel::<()>();
-    let reporter = show.then(|| {
-        let progress = progress.clone();
-        let label = label.to_string();
-        std::thread::spawn(move || {
+    std::thread::scope(|scope| {
+        let reporter = scope.spawn(move || {
             while done_rx.recv_timeout(Duration::from_secs(1)).is_err() {
                 eprint!("\r{label}: {:3.0} %", 100.0 * progress.fraction());
             }
             eprintln!("\r{label}: done   ");
-        })
-    });
-    let out = job(&progress);
-    drop(done_tx);
-    if let Some(h) = reporter {
-        let _ = h.join();
-    }
-    out
+        });
+        let out = job(progress);
+        drop(done_tx);
+        let _ = reporter.join();
+        out
+    })
 }
 
 /// Runs `udc-studio phase …`.
 ///
 /// # Errors
 /// Invalid parameters, unreadable spectral tables, unwritable outputs.
-pub fn phase_cmd(cmd: &PhaseCommand) -> Result<()> {
+pub fn phase_cmd(cmd: &PhaseCommand, progress: &Progress) -> Result<()> {
     match cmd {
-        PhaseCommand::Psf(a) => psf_cmd(a),
-        PhaseCommand::Invertibility(m) => invertibility_cmd(m),
-        PhaseCommand::Optimize(a) => optimize_cmd(a),
-        PhaseCommand::Export(a) => export_cmd(a),
-        PhaseCommand::Restore(a) => restore_cmd(a),
+        PhaseCommand::Psf(a) => psf_cmd(a, progress),
+        PhaseCommand::Invertibility(m) => invertibility_cmd(m, progress),
+        PhaseCommand::Optimize(a) => optimize_cmd(a, progress),
+        PhaseCommand::Export(a) => export_cmd(a, progress),
+        PhaseCommand::Restore(a) => restore_cmd(a, progress),
     }
 }
 
@@ -335,12 +333,13 @@ fn resolve_lambda0(
     design: &PhaseDesign,
     sampling: &PhaseSampling,
     spectral: Option<&Path>,
+    progress: &Progress,
 ) -> Result<Lambda0> {
     if let Some(plan) = parse_lambda0(text)? {
         return Ok(plan);
     }
     let channels = grid_channels(spectral)?;
-    let (_, alloc) = with_progress("optimizing λ0", |p| {
+    let (_, alloc) = with_progress(progress, "optimizing λ0", |p| {
         optimize_lambda0(
             design,
             sampling,
@@ -354,10 +353,12 @@ fn resolve_lambda0(
     })
 }
 
-fn invertibility_cmd(m: &MaskArgs) -> Result<()> {
+fn invertibility_cmd(m: &MaskArgs, progress: &Progress) -> Result<()> {
     let design = design_of(m)?;
     let sampling = sampling_of(m);
-    let v = with_progress("V (900 propagations)", |p| v_matrix(&design, &sampling, p))?;
+    let v = with_progress(progress, "V (900 propagations)", |p| {
+        v_matrix(&design, &sampling, p)
+    })?;
     if let Some(dir) = &m.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
         let path = dir.join("v.csv");
@@ -404,12 +405,12 @@ fn invertibility_cmd(m: &MaskArgs) -> Result<()> {
     Ok(())
 }
 
-fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
+fn optimize_cmd(a: &OptimizeArgs, progress: &Progress) -> Result<()> {
     let design = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
     let channels = grid_channels(a.spectral.as_deref())?;
     let settings = AllocationSettings::default();
-    let (v, alloc) = with_progress("optimizing λ0", |p| {
+    let (v, alloc) = with_progress(progress, "optimizing λ0", |p| {
         optimize_lambda0(&design, &sampling, &channels, &settings, p)
     })?;
     let lenslets = lenslet_count(&design);
@@ -463,7 +464,7 @@ fn optimize_cmd(a: &OptimizeArgs) -> Result<()> {
     Ok(())
 }
 
-fn export_cmd(a: &ExportArgs) -> Result<()> {
+fn export_cmd(a: &ExportArgs, progress: &Progress) -> Result<()> {
     let Some(file) = &a.mask.out else {
         bail!("phase export needs --out FILE (e.g. --out plate.gds)");
     };
@@ -479,7 +480,7 @@ fn export_cmd(a: &ExportArgs) -> Result<()> {
         }
         None => {
             let mut d = design_of(&a.mask)?;
-            d.lambda0 = resolve_lambda0(&a.lambda0, &d, &sampling_of(&a.mask), None)?;
+            d.lambda0 = resolve_lambda0(&a.lambda0, &d, &sampling_of(&a.mask), None, progress)?;
             d.validate().map_err(|e| {
                 anyhow::anyhow!("{}", e.to_string().replace("`lambda0.nm`", "--lambda0"))
             })?;

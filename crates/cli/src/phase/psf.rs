@@ -2,7 +2,7 @@
 
 use super::*;
 
-pub(super) fn psf_cmd(a: &PsfArgs) -> Result<()> {
+pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
     let mut design = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
     if !a.angle_deg.is_finite() || a.angle_deg.abs() >= 89.0 {
@@ -11,7 +11,13 @@ pub(super) fn psf_cmd(a: &PsfArgs) -> Result<()> {
             a.angle_deg
         );
     }
-    design.lambda0 = resolve_lambda0(&a.lambda0, &design, &sampling, a.spectral.as_deref())?;
+    design.lambda0 = resolve_lambda0(
+        &a.lambda0,
+        &design,
+        &sampling,
+        a.spectral.as_deref(),
+        progress,
+    )?;
     if a.unfolded {
         design.surface = Surface::Unfolded;
     }
@@ -28,7 +34,7 @@ pub(super) fn psf_cmd(a: &PsfArgs) -> Result<()> {
         PhaseOptics::DoubleMla
     };
     let incidence = Incidence::AngleDeg(a.angle_deg);
-    let psfs = with_progress("PSFs", |p| {
+    let psfs = with_progress(progress, "PSFs", |p| {
         phase_psfs(&design, &sampling, &channels, optics, incidence, p)
     })?;
     let mut outputs = Vec::new();
@@ -52,7 +58,7 @@ pub(super) fn psf_cmd(a: &PsfArgs) -> Result<()> {
         outputs.push(path);
         if a.all_angles {
             for c in &channels {
-                let k = with_progress(&format!("kernels {}", c.name), |p| {
+                let k = with_progress(progress, &format!("kernels {}", c.name), |p| {
                     kernel_matrix(&design, &sampling, c, optics, p)
                 })?;
                 let path = dir.join(format!("kernels_{}.csv", c.name));

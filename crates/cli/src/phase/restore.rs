@@ -20,7 +20,7 @@ fn restore_photos(paths: &[PathBuf], pixels: usize) -> Result<Vec<(String, Vec<A
         .collect()
 }
 
-pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
+pub(super) fn restore_cmd(a: &RestoreArgs, progress: &Progress) -> Result<()> {
     use udc_core::phase::imaging::{Lambda0Plan, LensletOrder, Setup, capture_and_restore};
     let denoise = a.denoise.resolve(udc_core::restore::Recipe::Iccv23)?;
     let base = design_of(&a.mask)?;
@@ -73,7 +73,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
         bail!("--full-boundary: not with --compare (one setup at a time)");
     }
     if a.compare {
-        return compare_cmd(a, denoise, &base, &sampling, &photos);
+        return compare_cmd(a, denoise, &base, &sampling, &photos, progress);
     }
     if photos.len() > 1 {
         bail!("one --photo per run (several go with --compare)");
@@ -90,16 +90,16 @@ pub(super) fn restore_cmd(a: &RestoreArgs) -> Result<()> {
         grid.clone()
     };
     // Shared with a sweep's other points on this setup (Algorithm 1 and V run once).
-    let (design, optics) = with_progress("designing", |p| {
+    let (design, optics) = with_progress(progress, "designing", |p| {
         super::design_cache::resolve_shared(&setup, &base, &sampling, &grid, p)
     })?;
-    let blur = with_progress("blur matrix", |p| {
+    let blur = with_progress(progress, "blur matrix", |p| {
         super::design_cache::blur_shared(&design, &sampling, &channels, optics, width, margin, p)
     })?;
     let mut runs = Vec::new();
     let mut written = Vec::new();
     for &n in &a.photons {
-        let run = with_progress("capture and restore", |p| {
+        let run = with_progress(progress, "capture and restore", |p| {
             capture_and_restore(&blur, &photo, n, a.seed, denoise, p)
         })?;
         if let Some(dir) = &a.mask.out {
@@ -199,6 +199,7 @@ fn compare_cmd(
     base: &PhaseDesign,
     sampling: &PhaseSampling,
     photos: &[(String, Vec<Array2<f64>>)],
+    progress: &Progress,
 ) -> Result<()> {
     use udc_core::phase::imaging::{CompareRow, compare_setups, thesis_setups};
     let setups = thesis_setups();
@@ -210,7 +211,7 @@ fn compare_cmd(
     };
     let planes: Vec<Vec<Array2<f64>>> = photos.iter().map(|(_, p)| p.clone()).collect();
     let mut rows: Vec<CompareRow> = Vec::new();
-    with_progress("comparing setups", |p| {
+    with_progress(progress, "comparing setups", |p| {
         compare_setups(
             base,
             sampling,

@@ -183,7 +183,11 @@ use udc_io::design::choice::design_hash;
 ///
 /// # Errors
 /// The command's own error (an invalid value, an unreadable file, a refused size).
-pub fn evaluate_point(words: &[String], point_hash: &str) -> Result<PointOutput> {
+pub fn evaluate_point(
+    words: &[String],
+    point_hash: &str,
+    progress: &Progress,
+) -> Result<PointOutput> {
     let command = parse(words)?;
     match command {
         Command::Analyze(a) => {
@@ -196,7 +200,7 @@ pub fn evaluate_point(words: &[String], point_hash: &str) -> Result<PointOutput>
                 },
                 expected_psf: false,
             };
-            let analysis = analyze_with(&design, &options, &Progress::new())?;
+            let analysis = analyze_with(&design, &options, progress)?;
             Ok(PointOutput {
                 value: udc_io::display::report::analysis_json(&analysis),
                 design_hash: design_hash(&design),
@@ -204,14 +208,14 @@ pub fn evaluate_point(words: &[String], point_hash: &str) -> Result<PointOutput>
         }
         Command::Restore(a) => {
             let design = a.selection.resolve()?;
-            let value = capture_json(|| crate::run(Command::Restore(a)))?;
+            let value = capture_json(|| crate::run_with(Command::Restore(a), progress))?;
             Ok(PointOutput {
                 value,
                 design_hash: design_hash(&design),
             })
         }
         c @ (Command::Phase(_) | Command::Sensor(_)) => Ok(PointOutput {
-            value: capture_json(|| crate::run(c))?,
+            value: capture_json(|| crate::run_with(c, progress))?,
             design_hash: point_hash.to_string(),
         }),
         _ => Err(anyhow!(

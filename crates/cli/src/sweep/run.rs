@@ -82,12 +82,13 @@ fn compute_row(
     index: u64,
     hash: String,
     metrics: &[String],
+    progress: &Progress,
 ) -> (Row, Option<serde_json::Value>) {
     let params = point_params(spec, points, index);
     let words = command_line(spec.job, &params);
     let axis_text: Vec<String> = points.point(index).iter().map(|v| v.to_arg()).collect();
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        evaluate_point(&words, &hash)
+        evaluate_point(&words, &hash, progress)
     }))
     .unwrap_or_else(|_| Err(anyhow!("internal error (a panic) computing this point")));
     let mut row = Row::failed(index, hash, axis_text, metrics.len(), String::new());
@@ -169,7 +170,7 @@ pub fn run_sweep(
             let mut tried = Vec::new();
             for i in (0..count).filter(|i| shard.contains(*i)).take(8) {
                 let probe = vec!["*".to_string()];
-                let (row, value) = compute_row(spec, &points, i, hash_at(i)?, &probe);
+                let (row, value) = compute_row(spec, &points, i, hash_at(i)?, &probe, progress);
                 match value {
                     Some(v) => {
                         let flat = flatten_metrics(&v);
@@ -351,9 +352,7 @@ pub fn run_sweep(
                                 }
                                 return Err(());
                             }
-                            let row = crate::cancel::with_cancel(in_flight.clone(), || {
-                                compute_row(spec, &points, i, hash, &metrics).0
-                            });
+                            let row = compute_row(spec, &points, i, hash, &metrics, &in_flight).0;
                             // A point cut short by the cancel is not a result: a resume
                             // computes it.
                             if in_flight.is_cancelled() && !row.error.is_empty() {
