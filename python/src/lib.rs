@@ -13,6 +13,7 @@ mod cancel;
 mod commands;
 mod design;
 mod errors;
+mod figures;
 mod restore;
 mod theory;
 
@@ -26,5 +27,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     restore::register(m)?;
     theory::register(m)?;
     commands::register(m)?;
+    figures::register(m)?;
     Ok(())
 }

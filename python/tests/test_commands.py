@@ -106,3 +106,41 @@ def test_ctrl_c_cancels_a_phase_command(tmp_path):
     # A capture through the whole display takes about 15 s on 2 cores; cancelled, it stops at
     # its next direction.
     assert_ctrl_c_stops('udc.phase.restore(relay="whole-display")', tmp_path, within_s=3.0)
+
+
+def test_a_sweeps_figures_are_its_plots_as_arrays(tmp_path):
+    spec = tmp_path / "seeds.toml"
+    spec.write_text(
+        'name = "tilings"\njob = "analyze"\n'
+        'base = { preset = "toled-150dpi", preview = true }\n'
+        'metrics = ["auc_radial_min_mean", "ltr"]\n'
+        '[[axis]]\nparam = "tiling"\nvalues = ["repeat", "random-4"]\n'
+        '[[axis]]\nparam = "seed"\nrange = { start = 0, stop = 1 }\n'
+    )
+    out = tmp_path / "out"
+    table = udc.sweep(spec, out)
+    figures = udc.sweep_figures(out)
+    # The default plots, as the CLI drew them: the metric against the tiling over seeds, and
+    # the AUC-LTR Pareto front.
+    assert [f["title"] for f in figures] == [
+        "tilings: auc_radial_min_mean vs tiling",
+        "tilings: auc_radial_min_mean vs ltr",
+    ]
+    assert sorted(p.name for p in (out / "plots").glob("*.png")) == sorted(
+        ["auc_radial_min_mean-vs-tiling.png", "pareto-auc_radial_min_mean-ltr.png"]
+    )
+    first = figures[0]
+    assert first["x"]["categories"] == ["repeat", "random-4"]
+    (line,) = first["series"]
+    assert line["points"].shape == (2, 2) and line["band"].shape == (2, 3)
+    # Each point is the mean over the seeds of that tiling, inside its min-max band.
+    auc = np.asarray(table["auc_radial_min_mean"], dtype=float)
+    tilings = list(table["tiling"])
+    for (x, y), (_, lo, hi) in zip(line["points"], line["band"]):
+        values = [a for a, t in zip(auc, tilings) if t == first["x"]["categories"][int(x)]]
+        assert y == pytest.approx(np.mean(values)) and lo == min(values) and hi == max(values)
+    pareto = figures[1]
+    assert [s["name"] for s in pareto["series"]] == ["rows", "Pareto front"]
+    assert pareto["series"][0]["points"].shape == (4, 2)
+    with pytest.raises(OSError):
+        udc.sweep_figures(tmp_path / "missing")

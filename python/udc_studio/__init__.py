@@ -45,6 +45,7 @@ __all__ = [
     "phase",
     "sensor",
     "sweep",
+    "sweep_figures",
     "theory",
     "MtfComparison",
     "TheoryComparison",
@@ -455,6 +456,16 @@ def sweep(spec: PathLike, out: PathLike, threads: Optional[int] = None) -> Any:
     """
     _native.sweep(os.fspath(spec), os.fspath(out), _whole(threads, "threads", least=1))
     return _read_table(os.path.join(os.fspath(out), "results.csv"))
+
+
+def sweep_figures(out: PathLike) -> List[Dict[str, Any]]:
+    """The figures of a sweep's results folder, as ``udc-studio sweep`` draws them into
+    ``OUT/plots/`` and the studio on screen: one dict per plot with its ``title``, ``x`` and
+    ``y`` axes (``label``, ``unit``, ``title``, ``categories``), ``series`` (``name``,
+    ``colour`` as ``#rrggbb``, ``mark``, ``points`` as an N×2 array, ``band`` as an N×3 array
+    of ``[x, low, high]`` or ``None``) and ``annotations``.
+    """
+    return list(_native.sweep_figures(os.fspath(out)))
 
 
 def _read_table(path: str) -> Any:

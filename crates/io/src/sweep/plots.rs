@@ -201,15 +201,25 @@ pub fn write_plots(dir: &Path, m: &Manifest) -> Result<Vec<PathBuf>, IoError> {
     let mut written = Vec::new();
     for p in plots_for(m) {
         let data = plot_data(dir, m, &p)?;
-        let what = format!("{} vs {}", p.y, p.x);
-        let title = if m.spec.name.is_empty() {
-            what
-        } else {
-            format!("{}: {what}", m.spec.name)
-        };
-        written.extend(write_plot(&plots_dir, &plot_stem(&p), &p, &data, &title)?);
+        written.extend(write_plot(
+            &plots_dir,
+            &plot_stem(&p),
+            &p,
+            &data,
+            &plot_title(m, &p),
+        )?);
     }
     Ok(written)
+}
+
+/// A plot's title in its file: `<sweep name>: y vs x`.
+pub fn plot_title(m: &Manifest, p: &PlotSpec) -> String {
+    let what = format!("{} vs {}", p.y, p.x);
+    if m.spec.name.is_empty() {
+        what
+    } else {
+        format!("{}: {what}", m.spec.name)
+    }
 }
 
 /// Draws one plot of `data` as `plots_dir/<stem>.svg` and `.png` (the folder must exist);

@@ -1,0 +1,119 @@
+//! Figures handed to Python as arrays plus metadata: the same panels (`udc_core::figure`) the
+//! command line draws to PNG and SVG and the studio draws on screen.
+
+use std::path::PathBuf;
+
+use ndarray::Array2;
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use udc_core::figure::{Annotation, Axis, Mark, Panel, Rgb};
+
+fn axis<'py>(py: Python<'py>, a: &Axis) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("label", &a.label)?;
+    d.set_item("unit", &a.unit)?;
+    d.set_item("title", a.title())?;
+    d.set_item("categories", &a.categories)?;
+    Ok(d)
+}
+
+fn colour(c: Rgb) -> String {
+    format!("#{:02x}{:02x}{:02x}", c.0, c.1, c.2)
+}
+
+/// `rows` as an N×K float array.
+fn array<'py, const K: usize>(
+    py: Python<'py>,
+    rows: &[[f64; K]],
+) -> Bound<'py, numpy::PyArray2<f64>> {
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    Array2::from_shape_vec((rows.len(), K), flat)
+        .unwrap_or_else(|_| Array2::zeros((0, K)))
+        .into_pyarray(py)
+}
+
+/// One panel as a dict: `title`, `x` and `y` axes (`label`, `unit`, `title`, `categories`),
+/// `series` (`name`, `colour` as `#rrggbb`, `mark`, `points` N×2, `band` N×3 `[x, low, high]`
+/// or `None`) and `annotations` (`kind`, `label` and the kind's numbers).
+pub fn panel<'py>(py: Python<'py>, p: &Panel) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("title", &p.title)?;
+    d.set_item("x", axis(py, &p.x)?)?;
+    d.set_item("y", axis(py, &p.y)?)?;
+    let series = PyList::empty(py);
+    for s in &p.series {
+        let e = PyDict::new(py);
+        e.set_item("name", &s.name)?;
+        e.set_item("colour", colour(s.colour))?;
+        e.set_item(
+            "mark",
+            match s.mark {
+                Mark::Line => "line",
+                Mark::Points => "points",
+                Mark::LineAndPoints => "line-and-points",
+            },
+        )?;
+        e.set_item("points", array(py, &s.points))?;
+        match &s.band {
+            Some(b) => e.set_item("band", array(py, b))?,
+            None => e.set_item("band", py.None())?,
+        }
+        series.append(e)?;
+    }
+    d.set_item("series", series)?;
+    let notes = PyList::empty(py);
+    for a in &p.annotations {
+        let e = PyDict::new(py);
+        match a {
+            Annotation::Ring {
+                centre,
+                radius,
+                label,
+            } => {
+                e.set_item("kind", "ring")?;
+                e.set_item("centre", centre.to_vec())?;
+                e.set_item("radius", radius)?;
+                e.set_item("label", label)?;
+            }
+            Annotation::Lattice { points, label } => {
+                e.set_item("kind", "lattice")?;
+                e.set_item("points", array(py, points))?;
+                e.set_item("label", label)?;
+            }
+            Annotation::VLine { x, label } => {
+                e.set_item("kind", "vline")?;
+                e.set_item("x", x)?;
+                e.set_item("label", label)?;
+            }
+            Annotation::HLine { y, label } => {
+                e.set_item("kind", "hline")?;
+                e.set_item("y", y)?;
+                e.set_item("label", label)?;
+            }
+        }
+        notes.append(e)?;
+    }
+    d.set_item("annotations", notes)?;
+    Ok(d)
+}
+
+/// The figures of a sweep's results folder: one panel per plot its spec asks for (or the
+/// defaults), as `udc-studio sweep` draws them into `OUT/plots/`.
+#[pyfunction]
+fn sweep_figures(py: Python<'_>, out: PathBuf) -> PyResult<Bound<'_, PyList>> {
+    use udc_io::sweep::plots::{panel_of, plot_data, plot_title, plots_for};
+    let manifest =
+        udc_io::sweep::manifest::read_manifest(&out).map_err(|e| crate::errors::io(&e))?;
+    let list = PyList::empty(py);
+    for p in plots_for(&manifest) {
+        let data = plot_data(&out, &manifest, &p).map_err(|e| crate::errors::io(&e))?;
+        list.append(panel(py, &panel_of(&p, &data, &plot_title(&manifest, &p)))?)?;
+    }
+    Ok(list)
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(sweep_figures, m)?)?;
+    Ok(())
+}
