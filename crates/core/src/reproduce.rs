@@ -6,19 +6,9 @@ use std::path::PathBuf;
 use crate::sweep::ParamValue;
 
 /// A thesis result.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Hash,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum ResultId {
     /// Fig. 3.8: six display layouts at five light levels.
     #[strum(serialize = "fig3.8")]

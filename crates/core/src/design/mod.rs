@@ -180,21 +180,9 @@ pub struct Optics {
 }
 
 /// Where a design's optics came from: a named recipe, or edited values.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    Serialize,
-    Deserialize,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum OpticsRecipe {
     /// The thesis recipe: f = 10 mm, f/2.5, δ1 = 8 µm, δ2 = 0.5 µm, 2-µm pixels, 294-px window.

@@ -133,21 +133,9 @@ pub struct PhaseSampling {
 }
 
 /// How the chain propagates through MLA 1, the display and MLA 2 (conventions.md §7).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    Serialize,
-    Deserialize,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Relay {
     /// The thesis's: the whole display on one wrap-free Fresnel grid, so the edges of the
@@ -234,21 +222,9 @@ impl PhaseSampling {
 
 /// Where the chain's samples sit relative to the optics (conventions.md §7). The thesis's numbers
 /// (Tables 4.1–4.2, its V matrices and λ0 allocations) depend on it.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    Serialize,
-    Deserialize,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum SamplingConvention {
     /// The thesis code's: the sensor is 1024 pixels of 14 Fraunhofer samples of
@@ -276,21 +252,9 @@ impl SamplingConvention {
 
 /// How a fabrication step quantises the folded profile (conventions.md §7, "Phase plate
 /// quantisation").
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    Serialize,
-    Deserialize,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum HeightRounding {
     /// `floor(h / step) · step`, as the authors' code: every height stays below the fold height.

@@ -40,19 +40,9 @@ use super::roi::RoiGrid;
 use super::{AdditiveGain, BinMode, SensorSpec};
 
 /// The sensor's colour filter array.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Cfa {
     /// No filters: a monochrome sensor that sees the scene's luminance (`none`).
     #[default]

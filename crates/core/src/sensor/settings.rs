@@ -60,19 +60,9 @@ impl BinStrategy {
 }
 
 /// How a bin's pixels are combined (Table 5.1).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BinMode {
     /// Analog sum of the N pixels' charge, read once at the amplifier gain `ĝ` that
     /// [`AdditiveGain`] chooses: `g/N` (the default) or `g` (conventions.md §8).
@@ -106,19 +96,9 @@ impl BinMode {
 
 /// The amplifier gain `ĝ` of an analog additive bin of N pixels whose pixel gain is `g`. The
 /// thesis compares both (Fig. 5.4b, §5.6); Table 5.1's read-noise term is `σ_post²/(N² ĝ²)`.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum AdditiveGain {
     /// `ĝ = g/N`: the N-pixel sum fills the ADC at the same light per pixel as one pixel at `g`
     /// (no extra saturation); its read noise `σ_post²/g²` is then average binning's, N× digital
@@ -141,19 +121,9 @@ impl AdditiveGain {
 
 /// Which statistic of an ROI's base-gain snapshot is the light level `l̂` that eq. 5.3 turns into
 /// the ROI's gain. The thesis says only that the gain comes from the snapshot's light level.
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum RoiLight {
     /// The brightest 2×2 block of the ROI: eq. 5.3 then bounds the saturation of the ROI's
     /// brightest pixels by its tail probability, the thesis's intent ("saturates with a small

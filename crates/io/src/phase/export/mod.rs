@@ -77,19 +77,9 @@ pub const GDS_TOP_CELL: &str = "UDC_PHASE";
 
 /// The phase plate's file formats (the CLI's `--format`, the studio's export menu, and which
 /// file an export wrote).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Serialize,
-    strum::VariantArray,
-    strum::IntoStaticStr,
-    strum::EnumMessage,
-    strum::Display,
-)]
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
 #[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum HeightFormat {
     /// Profile as text: x_um, height_um, lenslet, lambda0_nm per sample.
