@@ -78,16 +78,3 @@ where
         Some(Box::new(self.possible()))
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::help;
-
-    #[test]
-    fn help_is_the_first_paragraph_on_one_line_without_its_full_stop() {
-        assert_eq!(help("One line."), "One line");
-        assert_eq!(help("Two\nlines.\n\nA second paragraph."), "Two lines");
-        assert_eq!(help("An ellipsis..."), "An ellipsis...");
-        assert_eq!(help("No stop"), "No stop");
-    }
-}
