@@ -135,6 +135,20 @@ fn a_folder_module_is_its_mod_rs() {
     assert!(beside.is_empty(), "move to name/mod.rs: {beside:?}");
 }
 
+/// The studio runs its jobs through the library calls, never by starting a program (its own
+/// binary included): a run shares the studio's `Progress` and cancel, and its errors are typed.
+#[test]
+fn the_studio_starts_no_process() {
+    let mut files = Vec::new();
+    rust_files(&repo().join("src"), &mut files);
+    for f in files {
+        let text = std::fs::read_to_string(&f).expect("read source");
+        for word in ["Command::new", "current_exe"] {
+            assert!(!text.contains(word), "{} uses {word}", f.display());
+        }
+    }
+}
+
 #[test]
 fn core_reads_no_files() {
     // The core and the FFT plans below it.
