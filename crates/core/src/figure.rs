@@ -77,6 +77,20 @@ impl Axis {
     }
 }
 
+/// Segments of a drawn ring: smooth at any size a plot draws it.
+pub const RING_SEGMENTS: usize = 96;
+
+/// A circle of `radius` around `centre` as a closed polyline of `segments` (at least 3).
+pub fn circle_points(centre: [f64; 2], radius: f64, segments: usize) -> Vec<[f64; 2]> {
+    let segments = segments.max(3);
+    (0..=segments)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / segments as f64;
+            [centre[0] + radius * a.cos(), centre[1] + radius * a.sin()]
+        })
+        .collect()
+}
+
 /// How a series is marked.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mark {
@@ -227,6 +241,19 @@ mod tests {
         });
         assert_eq!(p.data_bounds(), Some(([1.0, 3.0], [0.5, 9.0])));
         assert!(!p.wants_legend());
+    }
+
+    #[test]
+    fn a_ring_closes_on_itself_at_its_radius() {
+        let ring = circle_points([1.0, -2.0], 3.0, 8);
+        assert_eq!(ring.len(), 9);
+        assert_eq!(ring.first(), Some(&[4.0, -2.0]));
+        let last = ring.last().copied().unwrap_or_default();
+        assert!((last[0] - 4.0).abs() < 1e-12 && (last[1] + 2.0).abs() < 1e-12);
+        assert!(
+            ring.iter()
+                .all(|p| ((p[0] - 1.0).hypot(p[1] + 2.0) - 3.0).abs() < 1e-12)
+        );
     }
 
     #[test]

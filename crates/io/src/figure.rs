@@ -9,12 +9,10 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use crate::error::{IoError, PlotError};
-use udc_core::figure::{Annotation, Mark, Panel, Rgb, palette};
+use udc_core::figure::{Annotation, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette};
 
 /// Plot size in pixels (PNG) and user units (SVG).
 const SIZE: (u32, u32) = (960, 600);
-/// Segments of a drawn ring.
-const RING_SEGMENTS: usize = 96;
 
 fn register_font() {
     static ONCE: std::sync::Once = std::sync::Once::new();
@@ -176,11 +174,11 @@ fn annotate<DB: DrawingBackend>(
     for a in &panel.annotations {
         match a {
             Annotation::Ring { centre, radius, .. } => {
-                let ring = (0..=RING_SEGMENTS).map(|k| {
-                    let t = std::f64::consts::TAU * k as f64 / RING_SEGMENTS as f64;
-                    (centre[0] + radius * t.cos(), centre[1] + radius * t.sin())
-                });
-                chart.draw_series(LineSeries::new(ring, c.stroke_width(2)))?;
+                let ring = circle_points(*centre, *radius, RING_SEGMENTS);
+                chart.draw_series(LineSeries::new(
+                    ring.into_iter().map(|p| (p[0], p[1])),
+                    c.stroke_width(2),
+                ))?;
             }
             Annotation::Lattice { points, .. } => {
                 chart.draw_series(

@@ -5,13 +5,11 @@
 use egui::Color32;
 use egui_plot::{FilledArea, HLine, Legend, Line, Plot, PlotPoints, Points, VLine};
 
-use crate::core::figure::{Annotation, Mark, Panel, Rgb, palette};
+use crate::core::figure::{Annotation, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette};
 
 /// The most points a point cloud draws each frame: beyond a few thousand an even sample shows
 /// the cloud as well and keeps scrolling smooth (lines are always drawn whole).
 const MAX_POINTS_DRAWN: usize = 5000;
-/// Segments of a drawn ring.
-const RING_SEGMENTS: usize = 96;
 
 /// The egui colour of a palette colour.
 pub fn color32(c: Rgb) -> Color32 {
@@ -65,11 +63,19 @@ pub fn panel_ui(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, heigh
                     pl.points(Points::new(name, cloud).color(c).radius(3.0));
                 }
                 Mark::Line | Mark::LineAndPoints => {
-                    let line: PlotPoints = s.points.iter().filter(finite).copied().collect();
-                    pl.line(Line::new(s.name.clone(), line).color(c).width(2.0));
-                    if s.mark == Mark::LineAndPoints {
-                        let dots: PlotPoints = s.points.iter().filter(finite).copied().collect();
-                        pl.points(Points::new(s.name.clone(), dots).color(c).radius(3.0));
+                    let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
+                    let dots = (s.mark == Mark::LineAndPoints).then(|| line.clone());
+                    pl.line(
+                        Line::new(s.name.clone(), PlotPoints::from(line))
+                            .color(c)
+                            .width(2.0),
+                    );
+                    if let Some(dots) = dots {
+                        pl.points(
+                            Points::new(s.name.clone(), PlotPoints::from(dots))
+                                .color(c)
+                                .radius(3.0),
+                        );
                     }
                 }
             }
@@ -82,12 +88,7 @@ pub fn panel_ui(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, heigh
                     radius,
                     label,
                 } => {
-                    let ring: PlotPoints = (0..=RING_SEGMENTS)
-                        .map(|k| {
-                            let t = std::f64::consts::TAU * k as f64 / RING_SEGMENTS as f64;
-                            [centre[0] + radius * t.cos(), centre[1] + radius * t.sin()]
-                        })
-                        .collect();
+                    let ring: PlotPoints = circle_points(*centre, *radius, RING_SEGMENTS).into();
                     pl.line(Line::new(label.clone(), ring).color(c).width(1.5));
                 }
                 Annotation::Lattice { points, label } => {

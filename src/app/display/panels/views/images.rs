@@ -190,17 +190,6 @@ pub fn light_half_extent(a: &Array2<f64>, grid: Grid, threshold: f64) -> f64 {
     }
 }
 
-/// A circle of `radius` around the origin as a closed polyline.
-pub fn circle_points(radius: f64, segments: usize) -> Vec<[f64; 2]> {
-    let segments = segments.max(3);
-    (0..=segments)
-        .map(|k| {
-            let a = std::f64::consts::TAU * k as f64 / segments as f64;
-            [radius * a.cos(), radius * a.sin()]
-        })
-        .collect()
-}
-
 /// A number in a short readable form: fixed for moderate magnitudes, scientific otherwise.
 pub fn format_value(v: f64) -> String {
     let a = v.abs();

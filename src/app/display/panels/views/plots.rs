@@ -8,13 +8,14 @@ use egui_plot::{
 };
 use ndarray::Array2;
 
-use super::images::{Grid, circle_points, format_value, light_half_extent};
+use super::images::{Grid, format_value, light_half_extent};
 use crate::app::widgets::colormap::Colormap;
 use crate::app::widgets::plot::{
     LegendEntry, Swatch, hidden_names, legend_ui, visible_width, with_nice_ticks,
 };
 use crate::core::Analysis;
 use crate::core::analysis::analyze::Quality;
+use crate::core::figure::{RING_SEGMENTS, circle_points};
 
 /// Width reserved beside an image plot for its colour bar and tick labels.
 pub const COLORBAR_WIDTH: f32 = 78.0;
@@ -147,7 +148,7 @@ pub fn image_plot_ui(ui: &mut Ui, p: &ImagePlot<'_>) {
             }
             if let Some(r) = o.airy_radius_um {
                 plot_ui.line(
-                    Line::new("Airy radius", circle_points(r, 96))
+                    Line::new("Airy radius", circle_points([0.0, 0.0], r, RING_SEGMENTS))
                         .color(Color32::WHITE)
                         .width(1.0)
                         .allow_hover(false),
