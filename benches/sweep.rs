@@ -13,10 +13,10 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
-use udc_studio::cli::sweep::{RunOptions, run_sweep};
 use udc_studio::core::Progress;
 use udc_studio::core::sweep::Shard;
 use udc_studio::io::sweep::parse_spec;
+use udc_studio::jobs::sweep::{RunOptions, run_sweep};
 
 /// The binary's allocator (src/main.rs), so the bench measures what `udc-studio sweep` does.
 #[global_allocator]
@@ -37,7 +37,6 @@ fn bench(c: &mut Criterion) {
     let options = RunOptions {
         shard: Shard::WHOLE,
         threads: Some(2),
-        quiet: true,
         plots: false,
         hold_after_points: None,
     };

@@ -7,7 +7,9 @@
 //!
 //! - [`core`] (`udc-core`): the pure simulation, with the conventions every number follows.
 //! - [`io`] (`udc-io`): every file format (design files, images, reports, photolithography masks).
-//! - [`cli`] (`udc-cli`): the headless commands, built only on `core` and `io`.
+//! - [`jobs`] (`udc-jobs`): the typed jobs (`JobSpec`, `evaluate`) and the one sweep runner,
+//!   shared by every front end.
+//! - [`cli`] (`udc-cli`): the headless commands, built only on `core`, `io` and `jobs`.
 //! - `app` (this crate, feature `gui`, on by default): the egui studio; the only code that
 //!   touches egui.
 //!
@@ -19,3 +21,4 @@ pub mod app;
 pub use udc_cli as cli;
 pub use udc_core as core;
 pub use udc_io as io;
+pub use udc_jobs as jobs;

@@ -10,10 +10,10 @@ use pyo3::prelude::*;
 
 mod analysis;
 mod cancel;
-mod commands;
 mod design;
 mod errors;
 mod figures;
+mod jobs;
 mod restore;
 mod theory;
 
@@ -26,7 +26,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     analysis::register(m)?;
     restore::register(m)?;
     theory::register(m)?;
-    commands::register(m)?;
+    jobs::register(m)?;
     figures::register(m)?;
     Ok(())
 }

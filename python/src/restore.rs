@@ -11,13 +11,13 @@ use ndarray::{Array2, Array3, ArrayViewD, Axis, Ix2, Ix3};
 use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use udc_cli::denoise_flags::{DenoiseFlags, DenoiseMethod};
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::restore::capture::REFERENCE_LTR;
 use udc_core::restore::{
     CaptureSettings, CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreSettings, simulate,
 };
 use udc_io::display::restore_report;
+use udc_jobs::denoise::{DenoiseFlags, DenoiseMethod};
 
 use crate::{cancel, design, errors};
 
@@ -111,7 +111,7 @@ fn load_photo(
 /// The denoiser of a restoration: `"bm3d"` (the capture's own noise unless `sigma2` is given) or
 /// `"none"`, resolved as `restore --denoise … --denoise-sigma2 …` resolves them.
 fn denoise_setting(method: &str, sigma2: Option<&Bound<'_, PyAny>>) -> PyResult<Denoise> {
-    use udc_cli::denoise_flags::{Caller, Sigma2Arg};
+    use udc_jobs::denoise::{Caller, Sigma2Arg};
     let denoise = DenoiseMethod::from_str(method, false).map_err(|_| {
         errors::value(format!(
             "denoise: expected \"bm3d\" or \"none\" (got {method:?})"

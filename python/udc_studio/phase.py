@@ -1,11 +1,12 @@
 """Phase masks (thesis chapter 4): two microlens arrays around a T-OLED, folded plates and the
 allocation of folding wavelengths.
 
-Each function runs the ``udc-studio phase`` command of its name in-process and returns the
-object its ``--json`` prints. Keyword arguments are the command's flags with ``_`` for ``-``
-(``angle_deg=5`` is ``--angle-deg 5``, ``preview=True`` is ``--preview``, a list repeats a flag);
-``udc-studio phase psf --help`` lists them, with units and defaults. Arrays in the result
-(a channel's ``psf``) are lists: ``numpy.asarray`` them.
+Each function evaluates the job of its name in-process (the one the ``udc-studio phase``
+command of that name runs) and returns its result, the object its ``--json`` prints. Keyword
+arguments are the job's parameters, the command's flags with ``_`` for ``-`` (``angle_deg=5``,
+``preview=True``, ``photons=[250, 650]``); ``udc-studio phase psf --help`` lists them, with
+units and defaults. Arrays in the result (a channel's ``psf``) are lists: ``numpy.asarray``
+them.
 
 >>> from udc_studio import phase
 >>> r = phase.psf(preview=True)
@@ -17,27 +18,27 @@ from __future__ import annotations
 
 from typing import Any, Dict
 
-from ._commands import FlagValue, run
+from ._jobs import ParamValue, evaluate
 
 __all__ = ["invertibility", "optimize", "psf", "restore"]
 
 
-def psf(**flags: FlagValue) -> Dict[str, Any]:
+def psf(**params: ParamValue) -> Dict[str, Any]:
     """PSF per channel through the double MLA beside the bare T-OLED's (``phase psf``)."""
-    return run(["phase", "psf"], flags)
+    return evaluate("phase-psf", params)
 
 
-def invertibility(**flags: FlagValue) -> Dict[str, Any]:
+def invertibility(**params: ParamValue) -> Dict[str, Any]:
     """The invertibility matrix V over λ0 and λ (``phase invertibility``)."""
-    return run(["phase", "invertibility"], flags)
+    return evaluate("phase-invertibility", params)
 
 
-def optimize(**flags: FlagValue) -> Dict[str, Any]:
+def optimize(**params: ParamValue) -> Dict[str, Any]:
     """Allocates folding wavelengths to lenslets (``phase optimize``, thesis Algorithm 1)."""
-    return run(["phase", "optimize"], flags)
+    return evaluate("phase-optimize", params)
 
 
-def restore(**flags: FlagValue) -> Dict[str, Any]:
+def restore(**params: ParamValue) -> Dict[str, Any]:
     """A photo captured through the masks and restored: PSNR and SSIM per light level
     (``phase restore``; ``photo=PATH``, ``photons=[...]``, ``denoise="bm3d"``)."""
-    return run(["phase", "restore"], flags)
+    return evaluate("phase-restore", params)

@@ -1,9 +1,10 @@
 """Spatially-varying gain and binning (thesis chapter 5) on an HDR scene.
 
-:func:`simulate` runs ``udc-studio sensor`` in-process and returns the object its ``--json``
-prints: per strategy its worst-ROI SSIM, PSNR (dB), saturated fraction and the gain and bin
-maps. Keyword arguments are the command's flags with ``_`` for ``-`` (``sensor="nikon-z5"``,
-``exposure="mean:0.05"``, ``max_side_px=256``); ``udc-studio sensor --help`` lists them.
+:func:`simulate` evaluates the ``sensor`` job in-process (the one ``udc-studio sensor`` runs)
+and returns the object its ``--json`` prints: per strategy its worst-ROI SSIM, PSNR (dB),
+saturated fraction and the gain and bin maps. Keyword arguments are the job's parameters, the
+command's flags with ``_`` for ``-`` (``sensor="nikon-z5"``, ``exposure="mean:0.05"``,
+``max_side_px=256``); ``udc-studio sensor --help`` lists them.
 """
 
 from __future__ import annotations
@@ -11,7 +12,7 @@ from __future__ import annotations
 import os
 from typing import Any, Dict, Optional, Union
 
-from ._commands import FlagValue, run
+from ._jobs import ParamValue, evaluate
 
 __all__ = ["simulate"]
 
@@ -19,7 +20,7 @@ __all__ = ["simulate"]
 def simulate(
     hdr: Union[str, "os.PathLike[str]"],
     strategy: Optional[str] = None,
-    **flags: FlagValue,
+    **params: ParamValue,
 ) -> Dict[str, Any]:
     """The sensor captures of an HDR scene (Radiance ``.hdr`` or OpenEXR), strategy by strategy.
 
@@ -27,8 +28,8 @@ def simulate(
     ``"const-gain/bin-2"``, …) only that one, chosen among every strategy the command knows.
     """
     if strategy is None:
-        return run(["sensor"], {"hdr": hdr, **flags})
-    result = run(["sensor"], {"hdr": hdr, "all_strategies": True, **flags})
+        return evaluate("sensor", {"hdr": hdr, **params})
+    result = evaluate("sensor", {"hdr": hdr, "all_strategies": True, **params})
     names = [s["name"] for s in result["strategies"]]
     if strategy not in names:
         raise ValueError(f"strategy: unknown {strategy!r} (expected one of {', '.join(names)})")

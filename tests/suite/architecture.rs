@@ -19,10 +19,11 @@ fn repo() -> &'static std::path::Path {
 }
 
 /// The source folders of the workspace's crates, lowest layer first.
-const CRATE_SOURCES: [&str; 6] = [
+const CRATE_SOURCES: [&str; 7] = [
     "crates/fft/src",
     "crates/core/src",
     "crates/io/src",
+    "crates/jobs/src",
     "crates/cli/src",
     "python/src",
     "src",
@@ -75,7 +76,13 @@ fn locked_closure(root: &str) -> std::collections::BTreeSet<String> {
 
 #[test]
 fn the_core_io_and_cli_crates_and_the_python_module_link_no_gui() {
-    for krate in ["udc-core", "udc-io", "udc-cli", "udc-studio-python"] {
+    for krate in [
+        "udc-core",
+        "udc-io",
+        "udc-jobs",
+        "udc-cli",
+        "udc-studio-python",
+    ] {
         let closure = locked_closure(krate);
         assert!(
             closure.contains("ndarray"),
@@ -116,6 +123,45 @@ fn the_core_and_io_link_no_argument_parser() {
         }
     }
     assert!(locked_closure("udc-cli").contains("clap"));
+    // The jobs carry clap's derive beside serde's: each parameter's flag, help and default once.
+    assert!(locked_closure("udc-jobs").contains("clap"));
+}
+
+/// Internal calls are typed: the job layer (and the sweep runner in it) and the Python module
+/// build jobs from their structs and parameters, never a command line to parse, and link no
+/// command-line crate; nothing starts the project's own binary.
+#[test]
+fn internal_calls_build_no_command_line() {
+    for krate in ["udc-jobs", "udc-studio-python"] {
+        assert!(
+            !locked_closure(krate).contains("udc-cli"),
+            "{krate} depends on udc-cli"
+        );
+    }
+    let mut files = Vec::new();
+    for dir in ["crates/jobs/src", "python/src", "python/udc_studio", "src"] {
+        let root = repo().join(dir);
+        rust_files(&root, &mut files);
+        for entry in std::fs::read_dir(&root).expect("read dir").flatten() {
+            if entry.path().extension().is_some_and(|e| e == "py") {
+                files.push(entry.path());
+            }
+        }
+    }
+    assert!(files.iter().any(|f| f.ends_with("_jobs.py")), "{files:?}");
+    for f in files {
+        let text = std::fs::read_to_string(&f).expect("read source");
+        for word in [
+            "parse_from",
+            "get_matches_from",
+            "Command::new",
+            "current_exe",
+            "\"--json\"",
+            "subprocess",
+        ] {
+            assert!(!text.contains(word), "{} uses {word}", f.display());
+        }
+    }
 }
 
 /// One module-file style: a module that grew into a folder keeps its own file as the folder's

@@ -1,11 +1,11 @@
-//! The CLI crate's own pieces: the flag behind a core setting (`cli::flags`) and the denoise
-//! flags' resolution (`cli::denoise_flags`). They live in the suite so that the CLI crate needs
+//! The job layer's own pieces: the flag behind a core setting (`jobs::flags`) and the denoise
+//! flags' resolution (`jobs::denoise`). They live in the suite so that the CLI crate needs
 //! no unit-test binary of its own (a second compilation of the whole crate).
 
-use udc_studio::cli::denoise_flags::{DenoiseFlags, DenoiseMethod, Sigma2Arg};
-use udc_studio::cli::flags::{flag_of, name_flags};
 use udc_studio::core::restore::{Denoise, Recipe, Sigma2};
 use udc_studio::core::{Setting, SimError};
+use udc_studio::jobs::denoise::{DenoiseFlags, DenoiseMethod, Sigma2Arg};
+use udc_studio::jobs::flags::{flag_of, name_flags};
 
 #[test]
 fn a_field_only_a_flag_sets_is_reported_by_its_flag() {

@@ -27,6 +27,7 @@ mod field_depth_view;
 mod fuzz;
 mod icon;
 mod io_files;
+mod jobs;
 mod layouts;
 mod limits;
 mod manpages;

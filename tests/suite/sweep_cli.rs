@@ -315,7 +315,7 @@ fn bad_specs_and_values_are_one_line_errors() {
                 "flag.toml",
                 "job = \"analyze\"\n[[axis]]\nparam = \"pitch\"\nvalues = [1]",
             ),
-            "--pitch",
+            "unknown parameter `pitch`",
         ),
         (
             spec(

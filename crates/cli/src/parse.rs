@@ -27,18 +27,6 @@ pub fn parse() -> Result<Cli, CliParseError> {
     Cli::from_arg_matches(&matches).map_err(CliParseError::from)
 }
 
-/// Parses a command line given as words (the first is the program's name), as [`parse`] does.
-///
-/// # Errors
-/// As [`parse`].
-pub fn parse_from(words: &[String]) -> Result<Cli, CliParseError> {
-    use clap::FromArgMatches;
-    let matches = command()
-        .try_get_matches_from(words)
-        .map_err(CliParseError::from)?;
-    Cli::from_arg_matches(&matches).map_err(CliParseError::from)
-}
-
 /// What [`parse`] refuses.
 pub enum CliParseError {
     /// `--help` or `--version`: clap prints it.

@@ -202,7 +202,6 @@ pub fn reproduce(
         let options = crate::sweep::RunOptions {
             shard: Shard::WHOLE,
             threads,
-            quiet: quiet || !std::io::stderr().is_terminal(),
             plots: part.plots,
             hold_after_points: None,
         };
@@ -211,8 +210,13 @@ pub fn reproduce(
             k as f32 / parts.len() as f32,
             (k + 1) as f32 / parts.len() as f32,
         );
-        let summary = crate::sweep::run_sweep(&spec, &dir, &options, progress, &mut |_| {})
-            .with_context(|| format!("{} ({})", id.as_str(), part.file))?;
+        let summary = crate::progress_bar::with_bar(progress, !quiet, part.name, || {
+            crate::sweep::run_sweep(&spec, &dir, &options, progress, &mut |_| {})
+        })
+        .with_context(|| format!("{} ({})", id.as_str(), part.file))?;
+        if !quiet && std::io::stderr().is_terminal() {
+            crate::sweep::print_summary(&summary, &dir);
+        }
         std::fs::create_dir_all(&plots_dir)
             .with_context(|| format!("cannot create {}", plots_dir.display()))?;
         for p in &summary.plots {

@@ -1,9 +1,7 @@
 //! `udc-studio sweep`: many points of one job in-process (`sweep SPEC --out DIR`), shard
 //! folders merged into one (`sweep merge`), and Slurm scripts for a cluster (`sweep slurm`).
 
-mod jobs;
 mod merge;
-mod run;
 mod slurm;
 
 use std::path::PathBuf;
@@ -13,8 +11,10 @@ use clap::{Args, Subcommand};
 
 use udc_core::sweep::Shard;
 
-pub use jobs::{FILE_PARAMS, check_points, evaluate_point, inputs_under};
-pub use run::{RunOptions, RunSummary, run_sweep};
+pub use udc_jobs::sweep::{
+    FILE_PARAMS, HOLD_AFTER_POINTS_ENV, RunOptions, RunSummary, check_points, inputs_under,
+    run_sweep,
+};
 
 /// Arguments of `udc-studio sweep`: a run, or an action on runs.
 #[derive(Debug, Args)]
@@ -85,20 +85,37 @@ pub fn sweep_cmd(args: &SweepArgs) -> Result<()> {
             let options = RunOptions {
                 shard: args.shard.unwrap_or(Shard::WHOLE),
                 threads: args.threads,
-                quiet: args.quiet,
                 plots: !args.no_plots,
-                hold_after_points: std::env::var(run::HOLD_AFTER_POINTS_ENV)
+                hold_after_points: std::env::var(HOLD_AFTER_POINTS_ENV)
                     .ok()
                     .and_then(|v| v.parse().ok()),
             };
-            run_sweep(
-                &spec,
-                out,
-                &options,
-                &udc_core::Progress::new(),
-                &mut |_| {},
-            )
-            .map(|_| ())
+            let progress = udc_core::Progress::new();
+            let summary = crate::progress_bar::with_bar(&progress, !args.quiet, "points", || {
+                run_sweep(&spec, out, &options, &progress, &mut |_| {})
+            })?;
+            if !args.quiet {
+                print_summary(&summary, out);
+            }
+            Ok(())
         }
+    }
+}
+
+/// The line a finished (or resumed) run ends with, on stderr.
+pub fn print_summary(s: &RunSummary, out: &std::path::Path) {
+    eprintln!(
+        "{} of {} points in {} ({} computed in {:.1} s, {:.1} points/s; {} already done; {} failed)",
+        s.rows,
+        s.total,
+        out.display(),
+        s.computed,
+        s.elapsed_s,
+        s.points_per_s,
+        s.skipped,
+        s.failed_total
+    );
+    for p in &s.plots {
+        eprintln!("wrote {}", p.display());
     }
 }

@@ -80,7 +80,7 @@ pub fn slurm_cmd(a: &SlurmArgs) -> Result<()> {
     // The nodes read the spec from the results folder, as TOML, and run in the slurm folder:
     // input files named relative to here must be named absolutely there.
     let here = std::env::current_dir().context("cannot read the working directory")?;
-    let spec = super::jobs::inputs_under(&spec, &here);
+    let spec = super::inputs_under(&spec, &here);
     let text = toml::to_string(&spec).context("cannot write the spec as TOML")?;
     udc_io::safe_file::write_atomic(&out.join("spec.toml"), text.as_bytes())?;
     let settings = SlurmSettings {

@@ -24,6 +24,10 @@ pub enum SweepJob {
     Restore,
     /// `udc-studio phase psf`: the double microlens array's PSFs against the bare T-OLED.
     PhasePsf,
+    /// `udc-studio phase invertibility`: the invertibility matrix V over λ0 and λ.
+    PhaseInvertibility,
+    /// `udc-studio phase optimize`: folding wavelengths allocated to lenslets (Algorithm 1).
+    PhaseOptimize,
     /// `udc-studio phase restore`: a photo through the phase masks, restored.
     PhaseRestore,
     /// `udc-studio sensor`: spatially-varying gain and binning on an HDR scene.
@@ -35,10 +39,12 @@ pub enum SweepJob {
 
 impl SweepJob {
     /// Every job, in the order the docs list them.
-    pub const ALL: [SweepJob; 6] = [
+    pub const ALL: [SweepJob; 8] = [
         SweepJob::Analyze,
         SweepJob::Restore,
         SweepJob::PhasePsf,
+        SweepJob::PhaseInvertibility,
+        SweepJob::PhaseOptimize,
         SweepJob::PhaseRestore,
         SweepJob::Sensor,
         SweepJob::SensorFlatPatch,
@@ -50,21 +56,11 @@ impl SweepJob {
             SweepJob::Analyze => "analyze",
             SweepJob::Restore => "restore",
             SweepJob::PhasePsf => "phase-psf",
+            SweepJob::PhaseInvertibility => "phase-invertibility",
+            SweepJob::PhaseOptimize => "phase-optimize",
             SweepJob::PhaseRestore => "phase-restore",
             SweepJob::Sensor => "sensor",
             SweepJob::SensorFlatPatch => "sensor-flat-patch",
-        }
-    }
-
-    /// The command line words of the job (`["phase", "psf"]`).
-    pub fn command_words(self) -> &'static [&'static str] {
-        match self {
-            SweepJob::Analyze => &["analyze"],
-            SweepJob::Restore => &["restore"],
-            SweepJob::PhasePsf => &["phase", "psf"],
-            SweepJob::PhaseRestore => &["phase", "restore"],
-            SweepJob::Sensor => &["sensor"],
-            SweepJob::SensorFlatPatch => &["sensor", "flat-patch"],
         }
     }
 
@@ -87,6 +83,12 @@ impl SweepJob {
                 "channels.*.energy_vs_toled",
                 "ltr_with_polariser",
                 "fov_deg",
+            ],
+            SweepJob::PhaseInvertibility => &["v.*.*"],
+            SweepJob::PhaseOptimize => &[
+                "channel_invertibility.*",
+                "fixed_530_invertibility.*",
+                "uniform_invertibility.*",
             ],
             SweepJob::PhaseRestore => &["runs.*.psnr_db", "runs.*.ssim", "ltr"],
             SweepJob::Sensor => &[

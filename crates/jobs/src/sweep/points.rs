@@ -1,5 +1,6 @@
-//! One point of a sweep: its command line (the job's own flags), its hash, and its metrics,
-//! computed in-process by the same code as the command (`--json`'s object, flattened).
+//! One point of a sweep: its parameters (the job's own, by their flag names), its hash, and
+//! its metrics: the job built from the parameters and evaluated as the command evaluates it
+//! (`--json`'s object, flattened).
 
 use std::collections::HashMap;
 use std::path::Path;
@@ -8,9 +9,8 @@ use std::sync::Mutex;
 use anyhow::{Result, anyhow};
 use serde_json::Value;
 
-use crate::{Command, capture_json, parse::parse_from};
+use crate::{JobSpec, evaluate, params::params_of};
 use udc_core::Progress;
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::sweep::hash::{point_hash, short_hash_of_digest};
 use udc_core::sweep::{ParamValue, Points, SweepJob, SweepSpec};
 
@@ -49,29 +49,15 @@ pub fn inputs_under(spec: &SweepSpec, root: &Path) -> SweepSpec {
     out
 }
 
-/// The words of a point's command line, `udc-studio <job> --flag value …` (a `true` switch is
-/// the bare flag, a `false` one is left out).
-pub fn command_line(job: SweepJob, params: &[(String, &ParamValue)]) -> Vec<String> {
-    let mut words: Vec<String> = std::iter::once("udc-studio")
-        .chain(job.command_words().iter().copied())
-        .map(str::to_string)
-        .collect();
-    for (name, value) in params {
-        match value {
-            // The design file of a display job is its positional argument, not a flag.
-            v if name == "design" && matches!(job, SweepJob::Analyze | SweepJob::Restore) => {
-                words.push(v.to_arg());
-            }
-            ParamValue::Bool(true) => words.push(format!("--{name}")),
-            ParamValue::Bool(false) => {}
-            v => {
-                words.push(format!("--{name}"));
-                words.push(v.to_arg());
-            }
-        }
-    }
-    words.push("--json".into());
-    words
+/// The job of a point from its parameters.
+///
+/// # Errors
+/// An unknown parameter or a value of the wrong type, naming it.
+pub fn job_of(job: SweepJob, params: &[(String, &ParamValue)]) -> Result<JobSpec> {
+    JobSpec::from_params(
+        job,
+        &params_of(params.iter().map(|(k, v)| (k.as_str(), *v))),
+    )
 }
 
 /// Base, axis and linked values of point `index` (label axes left out: they only name the
@@ -167,85 +153,30 @@ pub struct PointOutput {
     pub design_hash: String,
 }
 
-fn parse(words: &[String]) -> Result<Command> {
-    match parse_from(words) {
-        Ok(cli) => cli
-            .command
-            .ok_or_else(|| anyhow!("the sweep's command line names no command")),
-        Err(crate::CliParseError::Usage(line)) => Err(anyhow!("{line}")),
-        Err(crate::CliParseError::Display(e)) => Err(anyhow!("{}", e.render())),
-    }
-}
-
-use udc_io::design::choice::design_hash;
-
-/// Computes one point from its command line words.
+/// Computes one point.
 ///
 /// # Errors
-/// The command's own error (an invalid value, an unreadable file, a refused size).
-pub fn evaluate_point(
-    words: &[String],
-    point_hash: &str,
-    progress: &Progress,
-) -> Result<PointOutput> {
-    let command = parse(words)?;
-    match command {
-        Command::Analyze(a) => {
-            let design = a.selection.resolve()?;
-            let options = AnalyzeOptions {
-                quality: if a.preview {
-                    Quality::Preview
-                } else {
-                    Quality::Full
-                },
-                expected_psf: false,
-            };
-            let analysis = analyze_with(&design, &options, progress)?;
-            Ok(PointOutput {
-                value: udc_io::display::report::analysis_json(&analysis),
-                design_hash: design_hash(&design),
-            })
-        }
-        Command::Restore(a) => {
-            let design = a.selection.resolve()?;
-            let value = capture_json(|| crate::run_with(Command::Restore(a), progress))?;
-            Ok(PointOutput {
-                value,
-                design_hash: design_hash(&design),
-            })
-        }
-        c @ (Command::Phase(_) | Command::Sensor(_)) => Ok(PointOutput {
-            value: capture_json(|| crate::run_with(c, progress))?,
-            design_hash: point_hash.to_string(),
-        }),
-        _ => Err(anyhow!(
-            "a sweep runs analyze, restore, phase psf|restore, sensor or sensor flat-patch"
-        )),
-    }
+/// The job's own error (an invalid value, an unreadable file, a refused size).
+pub fn evaluate_point(job: &JobSpec, point_hash: &str, progress: &Progress) -> Result<PointOutput> {
+    let report = evaluate(job, progress)?;
+    Ok(PointOutput {
+        value: report.json,
+        design_hash: job.design_hash()?.unwrap_or_else(|| point_hash.to_string()),
+    })
 }
 
 /// Checks a spec without running it: the base alone, and every value of every axis (with the
-/// other axes at their first value), parsed as the job's command line and, for display jobs,
-/// resolved into a design. Returns the number of points.
+/// other axes at their first value), built into the job and checked (for display jobs, the
+/// design resolved). Returns the number of points.
 ///
 /// # Errors
 /// The first value refused, naming its axis and the command's message.
 pub fn check_points(spec: &SweepSpec) -> Result<u64> {
     let points = Points::new(spec)?;
     let check = |params: Vec<(String, &ParamValue)>, what: &str| -> Result<()> {
-        let words = command_line(spec.job, &params);
-        let command = parse(&words).map_err(|e| anyhow!("{what}: {e}"))?;
-        if let Command::Analyze(a) = &command {
-            a.selection
-                .resolve()
-                .map_err(|e| anyhow!("{what}: {e:#}"))?;
-        }
-        if let Command::Restore(a) = &command {
-            a.selection
-                .resolve()
-                .map_err(|e| anyhow!("{what}: {e:#}"))?;
-        }
-        Ok(())
+        job_of(spec.job, &params)
+            .and_then(|job| job.check())
+            .map_err(|e| anyhow!("{what}: {e:#}"))
     };
     let axes = points.names().len();
     for (k, name) in points.names().iter().enumerate() {

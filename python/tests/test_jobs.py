@@ -1,4 +1,5 @@
-"""`phase`, `sensor` and `sweep`: the commands' parameters, messages and JSON, in-process."""
+"""`phase`, `sensor` and `sweep`: the jobs the commands run, in-process, with the commands'
+parameters, messages and JSON."""
 
 import json
 
@@ -49,7 +50,7 @@ def test_the_phase_matrix_and_allocation_are_the_clis(cli, tmp_path, command, ca
     assert without_time(call()) == without_time(json.loads(theirs.stdout))
 
 
-def test_numpy_scalars_are_flag_values(cli):
+def test_numpy_scalars_are_parameter_values(cli):
     ours = udc.phase.psf(preview=np.True_, angle_deg=np.float64(5.0))
     assert without_time(ours) == without_time(udc.phase.psf(preview=True, angle_deg=5.0))
 
@@ -64,14 +65,18 @@ def test_sensor_simulate_is_the_clis_and_picks_a_strategy(cli):
     assert one["strategies"][0] == every["vary-gain/vary-bin"]
 
 
-def test_bad_flags_raise_the_command_lines_messages(tmp_path):
+def test_bad_parameters_raise_one_line_messages_naming_them(tmp_path):
     with pytest.raises(ValueError, match="--photons NaN: must be 10"):
         udc.phase.restore(photons=float("nan"))
     for bad in (float("nan"), float("inf"), -1.0):
         with pytest.raises(ValueError, match=r"--denoise-sigma2 .*: the noise variance must be a finite number > 0"):
             udc.phase.restore(preview=True, photons=650, denoise_sigma2=bad)
-    with pytest.raises(ValueError, match="unexpected argument '--colour'"):
+    with pytest.raises(ValueError, match="unknown parameter `colour`"):
         udc.phase.psf(colour="red")
+    with pytest.raises(ValueError, match="parameter `angle-deg`"):
+        udc.phase.psf(angle_deg="steep")
+    with pytest.raises(ValueError, match="relay.*lenslet-period"):
+        udc.phase.psf(relay="sideways")
     with pytest.raises(ValueError, match="strategy: unknown"):
         udc.sensor.simulate(HDR, strategy="free-lunch", max_side_px=64)
     with pytest.raises(OSError, match="missing.exr"):

@@ -1,6 +1,7 @@
 //! Running a sweep in-process: points in parallel on a rayon pool, rows streamed to the CSV
 //! journal and the Parquet file by one writer thread, finished points skipped by hash, and a
-//! first Ctrl-C that stops after the points in flight.
+//! first Ctrl-C (or a cancelled [`Progress`]) that stops after the points in flight. It prints
+//! nothing: the caller shows `progress` and the [`RunSummary`].
 
 use std::collections::HashSet;
 use std::path::{Path, PathBuf};
@@ -9,10 +10,9 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use anyhow::{Context, Result, anyhow, bail};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use rayon::prelude::*;
 
-use super::jobs::{FileDigests, command_line, evaluate_point, hash_of, point_params};
+use super::points::{FileDigests, evaluate_point, hash_of, job_of, point_params};
 use udc_core::Progress;
 use udc_core::sweep::{ParamValue, Points, Shard, SweepSpec};
 use udc_io::sweep::manifest::{
@@ -30,8 +30,6 @@ pub struct RunOptions {
     pub shard: Shard,
     /// Worker threads; `None` for every core.
     pub threads: Option<usize>,
-    /// No progress bar or summary.
-    pub quiet: bool,
     /// Draw the plots when done (whole sweeps only).
     pub plots: bool,
     /// Compute this many new points, then hold every worker until the run is stopped: a run
@@ -52,6 +50,16 @@ pub struct RunSummary {
     pub skipped: u64,
     /// Points that failed (in this run).
     pub failed: u64,
+    /// Points of the shard in the table now (this run's and earlier runs').
+    pub rows: u64,
+    /// Points in the shard.
+    pub total: u64,
+    /// Points of the shard that failed (in any run).
+    pub failed_total: u64,
+    /// Seconds this run took.
+    pub elapsed_s: f64,
+    /// Points computed per second in this run.
+    pub points_per_s: f64,
     /// Whether every point of the shard is in the table.
     pub complete: bool,
     /// The plots written.
@@ -85,10 +93,9 @@ fn compute_row(
     progress: &Progress,
 ) -> (Row, Option<serde_json::Value>) {
     let params = point_params(spec, points, index);
-    let words = command_line(spec.job, &params);
     let axis_text: Vec<String> = points.point(index).iter().map(|v| v.to_arg()).collect();
     let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        evaluate_point(&words, &hash, progress)
+        evaluate_point(&job_of(spec.job, &params)?, &hash, progress)
     }))
     .unwrap_or_else(|_| Err(anyhow!("internal error (a panic) computing this point")));
     let mut row = Row::failed(index, hash, axis_text, metrics.len(), String::new());
@@ -243,7 +250,7 @@ pub fn run_sweep(
         points: count,
         shard: [shard.index, shard.count],
         schema: schema.clone(),
-        tool_version: crate::TOOL_VERSION.into(),
+        tool_version: udc_io::TOOL_VERSION.into(),
         rows: done.len() as u64,
         failed: failed_before,
         complete: false,
@@ -253,17 +260,6 @@ pub fn run_sweep(
     };
     write_manifest(out, &manifest)?;
 
-    let bar = if opts.quiet {
-        ProgressBar::hidden()
-    } else {
-        ProgressBar::with_draw_target(Some(total), ProgressDrawTarget::stderr())
-    };
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} points ({per_sec}, ETA {eta})",
-        )
-        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-    );
     let skipped = AtomicU64::new(0);
     let started_points = AtomicU64::new(0);
     // Ctrl-C drains: the points in flight finish and are saved (a second one quits).
@@ -288,7 +284,6 @@ pub fn run_sweep(
         on_row(&row);
         parquet.append(row)?;
     }
-    bar.set_position(done.len().min(total as usize) as u64);
     let share = |rows: usize| rows.min(total as usize) as f32 / total.max(1) as f32;
     progress.set(share(done.len()));
 
@@ -302,7 +297,6 @@ pub fn run_sweep(
     let metrics = schema.metrics.clone();
     let done_ref = &done;
     let (n, f, parquet) = std::thread::scope(|scope| -> Result<(u64, u64, ParquetAppender)> {
-        let bar_w = bar.clone();
         let in_flight_w = in_flight.clone();
         let rows_before = done_ref.len();
         let handle = scope.spawn(move || -> Result<(u64, u64, ParquetAppender)> {
@@ -321,7 +315,6 @@ pub fn run_sweep(
                 csv.append(&row)?;
                 on_row(&row);
                 parquet.append(row)?;
-                bar_w.inc(1);
                 progress.set(share(rows_before + n as usize));
             }
             Ok((n, f, parquet))
@@ -378,7 +371,6 @@ pub fn run_sweep(
     })?;
     computed += n;
     failed += f;
-    bar.finish_and_clear();
     parquet.finish()?;
     let elapsed = started.elapsed().as_secs_f64();
     let rows = manifest.rows + computed;
@@ -394,18 +386,6 @@ pub fn run_sweep(
     if manifest.complete && opts.plots && shard.count == 1 {
         plots = udc_io::sweep::plots::write_plots(out, &manifest)?;
     }
-    if !opts.quiet {
-        eprintln!(
-            "{} of {total} points in {} ({computed} computed in {elapsed:.1} s, {:.1} points/s; {skipped} already done; {} failed)",
-            rows.min(total),
-            out.display(),
-            manifest.points_per_s,
-            manifest.failed
-        );
-        for p in &plots {
-            eprintln!("wrote {}", p.display());
-        }
-    }
     if interrupted {
         bail!(
             "interrupted: {} of {total} points are saved in {}; run the same command again to resume",
@@ -417,6 +397,11 @@ pub fn run_sweep(
         computed,
         skipped,
         failed,
+        rows: rows.min(total),
+        total,
+        failed_total: manifest.failed,
+        elapsed_s: elapsed,
+        points_per_s: manifest.points_per_s,
         complete: manifest.complete,
         plots,
     })

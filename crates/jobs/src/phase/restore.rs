@@ -20,7 +20,12 @@ fn restore_photos(paths: &[PathBuf], pixels: usize) -> Result<Vec<(String, Vec<A
         .collect()
 }
 
-pub(super) fn restore_cmd(a: &RestoreArgs, progress: &Progress) -> Result<()> {
+/// Runs `phase restore`: one setup, or the thesis's comparison (`--compare`).
+///
+/// # Errors
+/// Bad values (naming the flag), unreadable photos, unwritable outputs, cancellation.
+pub fn restore(a: &RestoreJob, progress: &Progress) -> Result<Report> {
+    let mut out = Report::default();
     use udc_core::phase::imaging::{Lambda0Plan, LensletOrder, Setup, capture_and_restore};
     let denoise = a.denoise.resolve(udc_core::restore::Recipe::Iccv23)?;
     let base = design_of(&a.mask)?;
@@ -73,7 +78,7 @@ pub(super) fn restore_cmd(a: &RestoreArgs, progress: &Progress) -> Result<()> {
         bail!("--full-boundary: not with --compare (one setup at a time)");
     }
     if a.compare {
-        return compare_cmd(a, denoise, &base, &sampling, &photos, progress);
+        return compare(a, denoise, &base, &sampling, &photos, progress);
     }
     if photos.len() > 1 {
         bail!("one --photo per run (several go with --compare)");
@@ -90,18 +95,21 @@ pub(super) fn restore_cmd(a: &RestoreArgs, progress: &Progress) -> Result<()> {
         grid.clone()
     };
     // Shared with a sweep's other points on this setup (Algorithm 1 and V run once).
-    let (design, optics) = with_progress(progress, "designing", |p| {
+    let (design, optics) = {
+        let p = progress;
         super::design_cache::resolve_shared(&setup, &base, &sampling, &grid, p)
-    })?;
-    let blur = with_progress(progress, "blur matrix", |p| {
+    }?;
+    let blur = {
+        let p = progress;
         super::design_cache::blur_shared(&design, &sampling, &channels, optics, width, margin, p)
-    })?;
+    }?;
     let mut runs = Vec::new();
     let mut written = Vec::new();
     for &n in &a.photons {
-        let run = with_progress(progress, "capture and restore", |p| {
+        let run = {
+            let p = progress;
             capture_and_restore(&blur, &photo, n, a.seed, denoise, p)
-        })?;
+        }?;
         if let Some(dir) = &a.mask.out {
             let stem = format!("{}photons", n.round());
             written.extend(udc_io::display::restore_report::write_capture_images(
@@ -119,8 +127,8 @@ pub(super) fn restore_cmd(a: &RestoreArgs, progress: &Progress) -> Result<()> {
     }
     let valid = blur.valid.clone();
     let unpassed_mse = udc_core::phase::imaging::unpassed_mse(&blur, &photo)?;
-    if a.mask.json {
-        crate::emit_json(&json!({
+    {
+        out.json = json!({
             "setup": setup,
             "label": setup.label(),
             "sampling": design.sampling.name(),
@@ -144,9 +152,11 @@ pub(super) fn restore_cmd(a: &RestoreArgs, progress: &Progress) -> Result<()> {
                 "cg": {"lambda": r(x.cg.lambda), "iterations": x.cg.iterations, "tolerance": x.cg.tolerance},
             })).collect::<Vec<_>>(),
             "written": written.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-        }))?;
-    } else {
-        println!(
+        });
+    }
+    {
+        outln!(
+            out,
             "{}: LTR {:.3}, FoV {:.1}°, scored on columns {}..{} of {width}{}",
             setup.label(),
             blur.ltr,
@@ -163,44 +173,52 @@ pub(super) fn restore_cmd(a: &RestoreArgs, progress: &Progress) -> Result<()> {
             }
         );
         if unpassed_mse > 0.0 {
-            println!(
+            outln!(
+                out,
                 "the photo without the frequencies this setup passes < 1 % of: {:.2} dB",
                 -10.0 * unpassed_mse.log10()
             );
         }
-        println!(
+        outln!(
+            out,
             "{:>10}  {:>9}  {:>6}  {:>12}  {:>12}",
-            "photons", "PSNR dB", "SSIM", "capture dB", "denoised dB"
+            "photons",
+            "PSNR dB",
+            "SSIM",
+            "capture dB",
+            "denoised dB"
         );
         for x in &runs {
             let denoised = x
                 .denoised_psnr_db
                 .map_or_else(|| "-".to_string(), |p| format!("{p:.2}"));
-            println!(
+            outln!(
+                out,
                 "{:>10}  {:>9.2}  {:>6.3}  {:>12.2}  {denoised:>12}  {}, CG λ {}",
                 x.photons,
                 x.psnr_db,
                 x.ssim,
                 x.captured_psnr_db,
-                crate::denoise_flags::denoise_text(&x.denoise),
+                crate::denoise::denoise_text(&x.denoise),
                 x.cg.lambda
             );
         }
         for p in &written {
-            println!("wrote {}", p.display());
+            outln!(out, "wrote {}", p.display());
         }
     }
-    Ok(())
+    Ok(out)
 }
 
-fn compare_cmd(
-    a: &RestoreArgs,
+fn compare(
+    a: &RestoreJob,
     denoise: udc_core::restore::Denoise,
     base: &PhaseDesign,
     sampling: &PhaseSampling,
     photos: &[(String, Vec<Array2<f64>>)],
     progress: &Progress,
-) -> Result<()> {
+) -> Result<Report> {
+    let mut out = Report::default();
     use udc_core::phase::imaging::{CompareRow, compare_setups, thesis_setups};
     let setups = thesis_setups();
     let grid = grid_channels(None)?;
@@ -211,7 +229,8 @@ fn compare_cmd(
     };
     let planes: Vec<Vec<Array2<f64>>> = photos.iter().map(|(_, p)| p.clone()).collect();
     let mut rows: Vec<CompareRow> = Vec::new();
-    with_progress(progress, "comparing setups", |p| {
+    {
+        let p = progress;
         compare_setups(
             base,
             sampling,
@@ -223,26 +242,16 @@ fn compare_cmd(
             a.seed,
             denoise,
             p,
-            |row| {
-                if !a.mask.json {
-                    eprintln!(
-                        "{:<42} photo {} {:>6} photons: {:.2} dB {:.3}",
-                        row.label, row.photo, row.photons, row.psnr_db, row.ssim
-                    );
-                }
-                rows.push(row);
-            },
+            |row| rows.push(row),
         )
-    })?;
+    }?;
     if let Some(dir) = &a.mask.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
         let names: Vec<String> = photos.iter().map(|(n, _)| n.clone()).collect();
         let text = udc_io::display::restore_report::compare_csv(&rows, &names);
         let path = dir.join("compare.csv");
         udc_io::safe_file::write_atomic(&path, text.as_bytes())?;
-        if !a.mask.json {
-            println!("wrote {}", path.display());
-        }
+        outln!(out, "wrote {}", path.display());
     }
     // Means over photos, per setup and light level, then over light levels.
     let mut summary = Vec::new();
@@ -275,24 +284,25 @@ fn compare_cmd(
             "runs": per_level,
         }));
     }
-    if a.mask.json {
-        crate::emit_json(
-            &json!({"sampling": base.sampling.name(), "relay": sampling.relay.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "denoise": denoise_summary(denoise, &a.photons), "setups": summary}),
-        )?;
-    } else {
-        print!("{:<42} {:>6}", "setup (mean over photos)", "LTR");
+    {
+        out.json = json!({"sampling": base.sampling.name(), "relay": sampling.relay.name(), "photos": photos.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>(), "denoise": denoise_summary(denoise, &a.photons), "setups": summary});
+    }
+    {
+        out!(out, "{:<42} {:>6}", "setup (mean over photos)", "LTR");
         for n in &a.photons {
-            print!(" {:>13}", format!("{n} ph"));
+            out!(out, " {:>13}", format!("{n} ph"));
         }
-        println!(" {:>13} {:>9}", "mean", "unpassed");
+        outln!(out, " {:>13} {:>9}", "mean", "unpassed");
         for s in &summary {
-            print!(
+            out!(
+                out,
                 "{:<42} {:>6.3}",
                 s["label"].as_str().unwrap_or(""),
                 s["ltr"].as_f64().unwrap_or(0.0)
             );
             for run in s["runs"].as_array().map_or(&[][..], Vec::as_slice) {
-                print!(
+                out!(
+                    out,
                     " {:>6.2} {:>6.3}",
                     run["psnr_db"].as_f64().unwrap_or(f64::NAN),
                     run["ssim"].as_f64().unwrap_or(f64::NAN)
@@ -303,7 +313,8 @@ fn compare_cmd(
                 .as_f64()
                 .filter(|m| *m > 0.0)
                 .map_or_else(|| "-".to_string(), |m| format!("{:.2}", -10.0 * m.log10()));
-            println!(
+            outln!(
+                out,
                 " {:>6.2} {:>6.3} {:>9}",
                 s["psnr_db"].as_f64().unwrap_or(f64::NAN),
                 s["ssim"].as_f64().unwrap_or(f64::NAN),
@@ -311,7 +322,7 @@ fn compare_cmd(
             );
         }
     }
-    Ok(())
+    Ok(out)
 }
 
 /// The compare JSON's `"denoise"`: the method and, per light level, the σ² BM3D got. A table

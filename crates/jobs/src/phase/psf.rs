@@ -2,7 +2,12 @@
 
 use super::*;
 
-pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
+/// Runs `phase psf`.
+///
+/// # Errors
+/// Bad values (naming the flag), an unreadable response, unwritable outputs, cancellation.
+pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
+    let mut out = Report::default();
     let mut design = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
     if !a.angle_deg.is_finite() || a.angle_deg.abs() >= 89.0 {
@@ -34,9 +39,10 @@ pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
         PhaseOptics::DoubleMla
     };
     let incidence = Incidence::AngleDeg(a.angle_deg);
-    let psfs = with_progress(progress, "PSFs", |p| {
+    let psfs = {
+        let p = progress;
         phase_psfs(&design, &sampling, &channels, optics, incidence, p)
-    })?;
+    }?;
     let mut outputs = Vec::new();
     if let Some(dir) = &a.mask.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
@@ -58,9 +64,10 @@ pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
         outputs.push(path);
         if a.all_angles {
             for c in &channels {
-                let k = with_progress(progress, &format!("kernels {}", c.name), |p| {
+                let k = {
+                    let p = progress;
                     kernel_matrix(&design, &sampling, c, optics, p)
-                })?;
+                }?;
                 let path = dir.join(format!("kernels_{}.csv", c.name));
                 let mut text = String::with_capacity(k.len() * 12);
                 for row in k.rows() {
@@ -74,7 +81,7 @@ pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
         }
     }
     let lambda0 = lambda0_per_lenslet(&design)?;
-    if a.mask.json {
+    {
         let channels_json: Vec<Value> = psfs
             .channels
             .iter()
@@ -113,9 +120,11 @@ pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
             "channels": channels_json,
             "outputs": outputs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
         });
-        crate::emit_json(&v)?;
-    } else {
-        println!(
+        out.json = v;
+    }
+    {
+        outln!(
+            out,
             "double MLA, pitch {} µm, T = {}, {} lenslets, λ0 {}–{} nm, angle {:.2}°",
             design.pitch_um,
             design.fold,
@@ -124,7 +133,8 @@ pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
             lambda0.iter().copied().fold(0.0, f64::max),
             psfs.angle_deg
         );
-        println!(
+        outln!(
+            out,
             "κ {:.2}  FoV {:.1}°  LTR {:.1} % (T-OLED {:.1} %, at the FoV edge {:.1} %)",
             design.kappa(),
             design.fov_deg(),
@@ -132,9 +142,13 @@ pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
             100.0 * psfs.toled_ltr,
             50.0 * design.ltr_min()
         );
-        println!("channel  λ nm   energy vs T-OLED   peak (T-OLED)      invertibility (T-OLED)");
+        outln!(
+            out,
+            "channel  λ nm   energy vs T-OLED   peak (T-OLED)      invertibility (T-OLED)"
+        );
         for c in &psfs.channels {
-            println!(
+            outln!(
+                out,
                 "{:<7} {:5.0}   {:5.2}× ({:4.2}× before ½)   {:.4} ({:.4})   {:7.2} ({:7.2})",
                 c.name,
                 c.wavelength_nm,
@@ -147,8 +161,8 @@ pub(super) fn psf_cmd(a: &PsfArgs, progress: &Progress) -> Result<()> {
             );
         }
         for p in &outputs {
-            println!("wrote {}", p.display());
+            outln!(out, "wrote {}", p.display());
         }
     }
-    Ok(())
+    Ok(out)
 }

@@ -3,13 +3,16 @@
 
 use anyhow::{Result, bail};
 use clap::Args;
+use serde::{Deserialize, Serialize};
 
 use udc_core::restore::{Denoise, DenoiseUsed, Recipe, Sigma2};
 
 /// The denoiser before the deblurring.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum DenoiseMethod {
     /// BM3D (CBM3D on colour photos), told the capture's own noise (the default).
+    #[default]
     Bm3d,
     /// No denoiser: deblur the raw capture.
     None,
@@ -55,7 +58,8 @@ impl std::fmt::Display for Sigma2Arg {
 }
 
 /// The denoising flags of a restoration command.
-#[derive(Debug, Clone, Args)]
+#[derive(Debug, Clone, Default, Args, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub struct DenoiseFlags {
     /// Denoise the capture before deblurring: `bm3d` (the thesis, CBM3D for colour) or `none`.
     #[arg(long, value_enum, default_value_t = DenoiseMethod::Bm3d)]
@@ -65,6 +69,7 @@ pub struct DenoiseFlags {
     /// pixel collects through this display and q the ADC step; `table` for the authors' table at
     /// each light level (that variance with no display in front), or a number (finite, > 0).
     #[arg(long, value_name = "matched|table|S", allow_negative_numbers = true)]
+    #[serde(with = "crate::params::optional_text")]
     pub denoise_sigma2: Option<Sigma2Arg>,
 }
 
