@@ -38,6 +38,7 @@ fn bench(c: &mut Criterion) {
         shard: Shard::WHOLE,
         threads: Some(2),
         plots: false,
+        check_values: true,
         hold_after_points: None,
     };
     for (id, preset) in [

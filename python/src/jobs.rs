@@ -92,6 +92,7 @@ fn sweep<'py>(
         shard: Shard::WHOLE,
         threads,
         plots: true,
+        check_values: true,
         hold_after_points: None,
     };
     let summary = cancel::wait(

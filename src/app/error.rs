@@ -20,6 +20,9 @@ pub enum StudioError {
     /// A value that cannot be used (a sweep row's parameters).
     #[error(transparent)]
     Value(#[from] ValueError),
+    /// A job's refusal (the design of a sweep row that does not resolve), as one message.
+    #[error(transparent)]
+    Job(#[from] anyhow::Error),
     /// A spectral response that cannot give channels on the wavelength grid.
     #[error(transparent)]
     Spectral(#[from] SpectralError),

@@ -287,3 +287,48 @@ fn a_cancelled_progress_stops_the_job() {
     let e = evaluate(&job, &progress).expect_err("cancelled");
     assert!(format!("{e:#}").contains("cancel"), "{e:#}");
 }
+
+/// "Sweep this parameter" is the runner's case of one axis: each of its points resolves to the
+/// very design the studio's field edit makes (the same copy, the same custom-recipe rule), for
+/// every parameter it offers.
+#[test]
+fn a_one_axis_sweep_point_is_the_design_with_that_field_set() {
+    use udc_studio::core::sweep::Points;
+    use udc_studio::core::sweep::one_axis::{SweepMetric, SweepParameter, spec};
+    use udc_studio::io::design::hash::design_hash;
+    use udc_studio::jobs::sweep::{job_of, point_params};
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("design.json");
+    let design = udc_studio::io::design::presets::load_preset("l2inv-random").expect("preset");
+    udc_studio::io::design::file::save_design(&file, &design).expect("save");
+    for field in SweepParameter::ALL {
+        let current = field.get(&design);
+        let values = [current + 1.0, current + 2.0];
+        let spec = spec(
+            &design,
+            &file.to_string_lossy(),
+            field,
+            &values,
+            SweepMetric::Ltr,
+            false,
+        );
+        let points = Points::new(&spec).expect("a valid spec");
+        assert_eq!(points.count(), 2);
+        for (k, v) in values.iter().enumerate() {
+            let job = job_of(spec.job, &point_params(&spec, &points, k as u64)).expect("job");
+            let JobSpec::Analyze(job) = job else {
+                panic!("{field:?}: not an analysis")
+            };
+            assert!(job.preview, "preview unless asked for full quality");
+            let resolved = job.selection.resolve().expect("resolves");
+            let edited = field.apply(&design, *v).expect("a valid value");
+            assert_eq!(field.get(&resolved), *v, "{field:?}");
+            assert_eq!(
+                design_hash(&resolved),
+                design_hash(&edited),
+                "{field:?} = {v}"
+            );
+        }
+    }
+}

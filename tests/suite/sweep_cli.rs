@@ -7,7 +7,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 
 use crate::common::run_cli;
-use udc_studio::io::design::choice::{DesignChoice, design_hash};
+use udc_studio::core::sweep::ParamValue;
+use udc_studio::io::design::hash::design_hash;
+use udc_studio::jobs::FromParams;
+use udc_studio::jobs::display::DesignSelection;
 
 const TINY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/sweep/tiny.toml");
 
@@ -68,11 +71,11 @@ fn a_sweep_row_holds_what_analyze_prints_for_that_point() {
             );
         }
         // The row's design hash is the design the studio would open for it.
-        let choice = DesignChoice::from_params([
-            ("preset", "toled-150dpi"),
-            ("tiling", tiling.as_str()),
-            ("seed", seed.as_str()),
-        ])
+        let choice = DesignSelection::from_params(&udc_studio::jobs::params_of([
+            ("preset", &ParamValue::Text("toled-150dpi".into())),
+            ("tiling", &ParamValue::Text(tiling.clone())),
+            ("seed", &ParamValue::Int(seed.parse().unwrap())),
+        ]))
         .unwrap();
         assert_eq!(
             design_hash(&choice.resolve().unwrap()),

@@ -13,7 +13,7 @@ use udc_studio::app::sweep::table::{Column, Sort};
 use udc_studio::app::{DisplayAction, StudioApp, WorkspaceId};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::sweep::one_axis::{OneAxisPoint, SweepMetric, SweepParameter, values};
-use udc_studio::io::design::choice::design_hash;
+use udc_studio::io::design::hash::design_hash;
 
 use crate::common::Reach;
 use common::tiny_sweep;

@@ -37,7 +37,7 @@ mod report;
 pub mod sensor;
 pub mod sweep;
 
-pub use params::{FromParams, Params, param_value_json};
+pub use params::{FromParams, Params, param_value_json, params_of};
 pub use report::Report;
 
 use anyhow::Result;
@@ -126,7 +126,7 @@ impl JobSpec {
             JobSpec::Restore(j) => &j.selection,
             _ => return Ok(None),
         };
-        Ok(Some(udc_io::design::choice::design_hash(
+        Ok(Some(udc_io::design::hash::design_hash(
             &selection.resolve()?,
         )))
     }

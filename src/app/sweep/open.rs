@@ -8,11 +8,14 @@ use crate::app::error::StudioError;
 use crate::app::job::JobError;
 use crate::core::Design;
 use crate::core::sweep::SweepJob;
+use crate::core::sweep::{ParamValue, Points};
 use crate::core::{Progress, SimError};
-use crate::io::design::choice::{DesignChoice, design_hash};
+use crate::io::design::hash::design_hash;
 use crate::io::error::IoError;
 use crate::io::sweep::manifest::{CSV_FILE, read_manifest};
 use crate::io::sweep::table::read_csv;
+use crate::jobs::JobSpec;
+use crate::jobs::sweep::{FILE_PARAMS, job_of, point_params};
 
 pub use crate::io::sweep::manifest::results_dir;
 
@@ -60,53 +63,43 @@ pub struct OpenedDesign {
     pub hash_matches: bool,
 }
 
-/// The parameters of row `index` as the command line spells them: the spec's base, then the
-/// row's axis values (an axis wins over the base, as in the sweep).
-pub fn row_params(table: &SweepTable, index: usize) -> Vec<(String, String)> {
-    let mut params: Vec<(String, String)> = table
-        .manifest
-        .spec
-        .base
-        .iter()
-        .map(|(k, v)| (k.clone(), v.to_arg()))
-        .collect();
-    if let Some(row) = table.rows.get(index) {
-        for ((name, _), value) in table.manifest.schema.params.iter().zip(&row.params) {
-            params.retain(|(k, _)| k != name);
-            params.push((name.clone(), value.clone()));
-        }
-    }
-    params
-}
-
-/// Rebuilds the display design of row `index`. Relative file parameters (`design`,
-/// `pattern`) are looked up from the results folder's parent first, where a spec beside its
-/// `--out` folder names them from, then from the working directory.
+/// Rebuilds the display design of row `index` as its point did: the point's parameters from
+/// the spec (base, axes and linked values) built into the job, by the runner's own functions.
+/// Relative file parameters (`design`, `pattern`) are looked up from the results folder's
+/// parent first, where a spec beside its `--out` folder names them from, then from the working
+/// directory.
 ///
 /// # Errors
 /// A sweep of another job (only display designs open), a row that is not there, or the
 /// design's own error (an unknown preset, a file gone).
 pub fn open_row(table: &SweepTable, index: usize) -> Result<OpenedDesign, StudioError> {
-    let job = table.manifest.spec.job;
-    if !matches!(job, SweepJob::Analyze | SweepJob::Restore) {
-        return Err(StudioError::NotDisplaySweep(job));
+    let spec = &table.manifest.spec;
+    if !matches!(spec.job, SweepJob::Analyze | SweepJob::Restore) {
+        return Err(StudioError::NotDisplaySweep(spec.job));
     }
     let row = table.rows.get(index).ok_or(StudioError::NoRow(index))?;
+    let points = Points::new(spec).map_err(anyhow::Error::from)?;
     let base = table.dir.parent().map(Path::to_path_buf);
-    let params: Vec<(String, String)> = row_params(table, index)
+    let params: Vec<(String, ParamValue)> = point_params(spec, &points, row.point)
         .into_iter()
-        .map(|(k, v)| {
-            let is_file = matches!(k.as_str(), "design" | "pattern" | "spectral");
-            match &base {
-                Some(b) if is_file && Path::new(&v).is_relative() && b.join(&v).exists() => {
-                    (k, b.join(&v).to_string_lossy().into_owned())
-                }
-                _ => (k, v),
+        .map(|(k, v)| match (v, &base) {
+            (ParamValue::Text(t), Some(b))
+                if FILE_PARAMS.contains(&k.as_str())
+                    && Path::new(t).is_relative()
+                    && b.join(t).exists() =>
+            {
+                let joined = ParamValue::Text(b.join(t).to_string_lossy().into_owned());
+                (k, joined)
             }
+            (v, _) => (k, v.clone()),
         })
         .collect();
-    let choice = DesignChoice::from_params(params.iter().map(|(k, v)| (k.as_str(), v.as_str())))?;
-    let design = choice.resolve()?;
+    let refs: Vec<(String, &ParamValue)> = params.iter().map(|(k, v)| (k.clone(), v)).collect();
+    let design = match job_of(spec.job, &refs)? {
+        JobSpec::Analyze(j) => j.selection.resolve()?,
+        JobSpec::Restore(j) => j.selection.resolve()?,
+        other => return Err(StudioError::NotDisplaySweep(other.kind())),
+    };
     let hash_matches = design_hash(&design) == row.design_hash;
     Ok(OpenedDesign {
         design,

@@ -203,6 +203,7 @@ pub fn reproduce(
             shard: Shard::WHOLE,
             threads,
             plots: part.plots,
+            check_values: true,
             hold_after_points: None,
         };
         // Each part fills its share of the bar.

@@ -86,6 +86,7 @@ pub fn sweep_cmd(args: &SweepArgs) -> Result<()> {
                 shard: args.shard.unwrap_or(Shard::WHOLE),
                 threads: args.threads,
                 plots: !args.no_plots,
+                check_values: true,
                 hold_after_points: std::env::var(HOLD_AFTER_POINTS_ENV)
                     .ok()
                     .and_then(|v| v.parse().ok()),

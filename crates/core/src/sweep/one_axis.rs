@@ -1,13 +1,16 @@
 //! A quick one-dimensional sweep of one number of a design ("sweep this parameter" in the
-//! studio): the values to try, a copy of the design with one field changed, and the number
-//! each copy scores. The same functions serve the studio's background job and the tests, so
-//! what the plot shows is what a test checks.
+//! studio): the values to try, a copy of the design with one field changed, the metric each
+//! copy scores, and the sweep spec of one axis that runs it ([`spec`]) on the one sweep runner,
+//! as `udc-studio sweep` would.
+
+use std::collections::BTreeMap;
 
 use crate::Setting;
-use crate::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
+use crate::SimError;
+use crate::analysis::analyze::Analysis;
 use crate::design::{Design, OpticsRecipe};
 use crate::figure::{Annotation, Axis, Mark, Panel, Series, palette};
-use crate::{Progress, SimError};
+use crate::sweep::{Axis as SweepAxis, ParamValue, SweepJob, SweepSpec};
 
 /// The design numbers a 1-D sweep can change: a closed set, so each one knows its unit, its
 /// range and how to write itself into a design.
@@ -66,6 +69,27 @@ impl SweepParameter {
         match self.unit() {
             "" => self.label().to_string(),
             u => format!("{} ({u})", self.label()),
+        }
+    }
+
+    /// The job parameter that sets it (the `analyze` flag without `--`).
+    pub fn param(self) -> &'static str {
+        match self {
+            SweepParameter::PitchUm => "pitch-um",
+            SweepParameter::Seed => "seed",
+            SweepParameter::WiringGapUm => "wiring-gap-um",
+            SweepParameter::FNumber => "f-number",
+            SweepParameter::FocalLengthMm => "focal-length-mm",
+            SweepParameter::SensorPixelUm => "sensor-pixel-um",
+        }
+    }
+
+    /// A value of it as a sweep parameter: a whole number for the seed.
+    pub fn param_value(self, value: f64) -> ParamValue {
+        if self.is_integer() && value.fract() == 0.0 && value.abs() < 2f64.powi(53) {
+            ParamValue::Int(value as i64)
+        } else {
+            ParamValue::Float(value)
         }
     }
 
@@ -187,6 +211,19 @@ impl SweepMetric {
         }
     }
 
+    /// Its name among an `analyze` job's metrics (the path into its JSON object).
+    pub fn column(self, design: &Design) -> String {
+        match self {
+            SweepMetric::AucMean => "auc_radial_min_mean".into(),
+            SweepMetric::AucChannel(k) => format!(
+                "channels.{}.auc_radial_min",
+                design.channels.get(k).map_or("?", |c| c.name.as_str())
+            ),
+            SweepMetric::Ltr => "ltr".into(),
+            SweepMetric::InvertibilityLoss => "invertibility_loss".into(),
+        }
+    }
+
     /// Its value in an analysis (NaN for a channel the analysis lacks).
     pub fn of(self, a: &Analysis) -> f64 {
         match self {
@@ -233,37 +270,43 @@ pub enum OneAxisPoint {
     Invalid(String),
 }
 
-/// Analyses a copy of `design` with `field` set to `value` and returns `metric`.
-///
-/// # Errors
-/// Only [`SimError::Cancelled`]: an invalid value is a [`OneAxisPoint::Invalid`], not an error,
-/// so the sweep carries on past it.
-pub fn evaluate(
+/// The sweep of one axis behind "sweep this parameter": `analyze` of the design in
+/// `design_file` with `field` at each of `values`, keeping `metric`, at preview quality unless
+/// `full`. Every value is a point, an invalid one a failed point (a gap in the curve).
+pub fn spec(
     design: &Design,
+    design_file: &str,
     field: SweepParameter,
-    value: f64,
+    values: &[f64],
     metric: SweepMetric,
-    quality: Quality,
-    progress: &Progress,
-) -> Result<OneAxisPoint, SimError> {
-    let options = AnalyzeOptions {
-        quality,
-        expected_psf: false,
-    };
-    let result = field
-        .apply(design, value)
-        .and_then(|d| analyze_with(&d, &options, progress));
-    match result {
-        Ok(a) => {
-            let v = metric.of(&a);
-            Ok(if v.is_finite() {
-                OneAxisPoint::Value(v)
-            } else {
-                OneAxisPoint::Invalid(format!("{} is not a finite number", metric.label(design)))
-            })
-        }
-        Err(SimError::Cancelled) => Err(SimError::Cancelled),
-        Err(e) => Ok(OneAxisPoint::Invalid(e.to_string())),
+    full: bool,
+) -> SweepSpec {
+    let mut base = BTreeMap::from([("design".to_string(), ParamValue::Text(design_file.into()))]);
+    if !full {
+        base.insert("preview".into(), ParamValue::Bool(true));
+    }
+    SweepSpec {
+        name: format!("{} against {}", metric.label(design), field.label()),
+        job: SweepJob::Analyze,
+        base,
+        axes: vec![SweepAxis {
+            param: field.param().into(),
+            values: Some(values.iter().map(|v| field.param_value(*v)).collect()),
+            ..SweepAxis::default()
+        }],
+        metrics: vec![metric.column(design)],
+        plots: Vec::new(),
+    }
+}
+
+/// What a sweep row of [`spec`] says about its value: the metric, or why the value failed.
+pub fn point_of(error: &str, metric: f64) -> OneAxisPoint {
+    if !error.is_empty() {
+        OneAxisPoint::Invalid(error.to_string())
+    } else if metric.is_finite() {
+        OneAxisPoint::Value(metric)
+    } else {
+        OneAxisPoint::Invalid("the metric is not a finite number".into())
     }
 }
 

@@ -177,7 +177,7 @@ pub struct LinspaceSpec {
 }
 
 /// One axis: a parameter (a flag of the job, without `--`) and its values, listed or generated.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Axis {
     /// The job's flag, e.g. `pitch-um`, `tiling`, `seed`, `preset`.

@@ -29,7 +29,7 @@ fn cache() -> &'static Mutex<Vec<(String, Slot)>> {
 pub fn analyze_shared(design: &Design, options: &AnalyzeOptions) -> Result<Arc<Analysis>> {
     let key = format!(
         "{}/{}/{}",
-        udc_io::design::choice::design_hash(design),
+        udc_io::design::hash::design_hash(design),
         matches!(options.quality, Quality::Full),
         options.expected_psf
     );

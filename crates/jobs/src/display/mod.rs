@@ -13,6 +13,9 @@ use serde::{Deserialize, Serialize};
 
 use udc_core::Design;
 use udc_core::design::{OpticsRecipe, TilingMode};
+use udc_core::sweep::one_axis::SweepParameter;
+use udc_io::design::{file as design_file, pattern, presets, spectral};
+use udc_io::error::{IoError, TableError};
 
 pub use analysis_cache::analyze_shared;
 pub use analyze::{AnalyzeJob, analyze};
@@ -42,6 +45,18 @@ pub struct DesignSelection {
     /// Seed of the random tiling.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Opaque wiring gap around every display pixel, µm.
+    #[arg(long)]
+    pub wiring_gap_um: Option<f64>,
+    /// Lens f-number (makes the optics a custom recipe).
+    #[arg(long)]
+    pub f_number: Option<f64>,
+    /// Lens focal length in mm (makes the optics a custom recipe).
+    #[arg(long)]
+    pub focal_length_mm: Option<f64>,
+    /// Sensor pixel pitch in µm (makes the optics a custom recipe).
+    #[arg(long)]
+    pub sensor_pixel_um: Option<f64>,
     /// Optics recipe: iccp21 (the thesis) or phone.
     #[arg(long, value_parser = crate::choice::choice_of(&OpticsRecipe::NAMED))]
     pub optics: Option<OpticsRecipe>,
@@ -63,6 +78,10 @@ impl Default for DesignSelection {
             pitch_um: None,
             tiling: None,
             seed: None,
+            wiring_gap_um: None,
+            f_number: None,
+            focal_length_mm: None,
+            sensor_pixel_um: None,
             optics: None,
             spectral: None,
             spectral_step_nm: SPECTRAL_STEP_NM,
@@ -80,30 +99,59 @@ impl DesignSelection {
             .collect()
     }
 
-    /// Resolves the selection into a validated design.
+    /// Resolves the selection into a validated design: the file or preset, then each override
+    /// (the lens and sensor numbers after the optics recipe, as the studio sets them).
     ///
     /// # Errors
-    /// Unreadable or invalid files, unknown presets or recipes, bad override values.
+    /// Unreadable or invalid files, unknown presets or recipes, bad override values (a core
+    /// error stays one, so `name_flags` can name the flag behind its field).
     pub fn resolve(&self) -> Result<Design> {
-        // A core error stays one, so `name_flags` can name the flag behind its field.
-        self.choice().resolve().map_err(|e| match e {
-            udc_io::error::IoError::Invalid(sim) => anyhow::Error::from(sim),
-            other => other.into(),
-        })
-    }
-
-    /// The selection as the io layer's [`DesignChoice`](udc_io::design::choice::DesignChoice).
-    pub fn choice(&self) -> udc_io::design::choice::DesignChoice {
-        udc_io::design::choice::DesignChoice {
-            design: self.design.clone(),
-            preset: self.preset.clone(),
-            pattern: self.pattern.clone(),
-            pitch_um: self.pitch_um,
-            tiling: self.tiling,
-            seed: self.seed,
-            optics: self.optics,
-            spectral: self.spectral.clone(),
-            spectral_step_nm: self.spectral_step_nm,
+        let mut design = match (&self.design, &self.preset) {
+            (Some(path), _) => design_file::load_design(path)?,
+            (None, Some(name)) => presets::load_preset(name)?,
+            (None, None) => presets::load_preset(presets::DEFAULT_PRESET)?,
+        };
+        if let Some(path) = &self.pattern {
+            design.opening.cells = pattern::load_pattern_png(path)?;
+            design.opening.polygons.clear();
+            design.reconcile_subpixels();
         }
+        if let Some(p) = self.pitch_um {
+            design.opening.pitch_um = p;
+        }
+        if let Some(t) = self.tiling {
+            design.tiling.mode = t;
+        }
+        if let Some(s) = self.seed {
+            design.tiling.seed = s;
+        }
+        if let Some(o) = self.optics.and_then(OpticsRecipe::optics) {
+            design.optics = o;
+        }
+        for (parameter, value) in [
+            (SweepParameter::WiringGapUm, self.wiring_gap_um),
+            (SweepParameter::FNumber, self.f_number),
+            (SweepParameter::FocalLengthMm, self.focal_length_mm),
+            (SweepParameter::SensorPixelUm, self.sensor_pixel_um),
+        ] {
+            if let Some(v) = value {
+                design = parameter.apply(&design, v)?;
+            }
+        }
+        if let Some(path) = &self.spectral {
+            let table_err = |error: TableError| IoError::Table {
+                path: path.clone(),
+                error,
+            };
+            let resp = spectral::load_response_csv(path)?;
+            let lo = resp.wavelengths_nm.first().copied().unwrap_or(0.0);
+            let hi = resp.wavelengths_nm.last().copied().unwrap_or(0.0);
+            let samples = spectral::sample_grid(lo, hi, self.spectral_step_nm)
+                .map_err(|e| table_err(TableError::SpectralStep(e)))?;
+            design.channels = spectral::channels_from_response(&resp, &samples)
+                .map_err(|e| table_err(TableError::Spectral(e)))?;
+        }
+        design.validate()?;
+        Ok(design)
     }
 }

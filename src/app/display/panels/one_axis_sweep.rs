@@ -1,7 +1,9 @@
 //! "Sweep this parameter…": a window that analyses a copy of the design at a range of one
 //! field's values and plots a metric as each value finishes. It works on the copy taken when
 //! it opened, so editing the design meanwhile does not disturb it; invalid values leave gaps.
-//! The values, the copies and the metric come from [`crate::core::sweep::one_axis`].
+//! The run is the one sweep runner's case of one axis ([`crate::core::sweep::one_axis::spec`],
+//! [`crate::jobs::sweep::run_sweep`]): the copy is written to a scratch folder as a design
+//! file and each row the runner writes comes back as a point.
 
 use std::sync::mpsc::{Receiver, channel};
 
@@ -9,10 +11,11 @@ use crate::app::display::action::DisplayAction;
 use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
 use crate::core::Design;
-use crate::core::analysis::analyze::Quality;
+use crate::core::sweep::Shard;
 use crate::core::sweep::one_axis::{
-    OneAxisPoint, SweepMetric, SweepParameter, evaluate, panel, values,
+    OneAxisPoint, SweepMetric, SweepParameter, panel, point_of, spec, values,
 };
+use crate::jobs::sweep::{RunOptions, run_sweep};
 
 /// A run in flight: the job and the points it sends as they finish.
 struct Run {
@@ -134,26 +137,38 @@ impl OneAxisSweepWindow {
         self.points_of = (self.field, self.metric);
         self.message = None;
         let (tx, rx) = channel();
-        let (design, field, metric) = (self.design.clone(), self.field, self.metric);
-        let quality = if self.full {
-            Quality::Full
-        } else {
-            Quality::Preview
-        };
+        let (design, field, metric, full) =
+            (self.design.clone(), self.field, self.metric, self.full);
         let wake = ctx.clone();
         let done = ctx.clone();
         let job = Job::spawn(
             "parameter sweep",
             move || done.request_repaint(),
             move |progress| -> Result<(), JobError> {
-                for (i, v) in vals.into_iter().enumerate() {
-                    progress.check()?;
-                    let point = evaluate(&design, field, v, metric, quality, progress)?;
-                    // The window may be gone; the job then ends at its next check.
-                    let _ = tx.send((i, point));
+                let failed = |e: &dyn std::fmt::Display| JobError::Failed(format!("{e:#}"));
+                let scratch = tempfile::tempdir().map_err(|e| failed(&e))?;
+                let file = scratch.path().join("design.json");
+                crate::io::design::file::save_design(&file, &design).map_err(|e| failed(&e))?;
+                let spec = spec(&design, &file.to_string_lossy(), field, &vals, metric, full);
+                let options = RunOptions {
+                    shard: Shard::WHOLE,
+                    threads: None,
+                    plots: false,
+                    check_values: false,
+                    hold_after_points: None,
+                };
+                let out = scratch.path().join("sweep");
+                let ran = run_sweep(&spec, &out, &options, progress, &mut |row| {
+                    let metric = row.metrics.first().copied().unwrap_or(f64::NAN);
+                    // The window may be gone; the run then ends at its next check.
+                    let _ = tx.send((row.point as usize, point_of(&row.error, metric)));
                     wake.request_repaint();
+                });
+                match ran {
+                    Ok(_) => Ok(()),
+                    Err(_) if progress.is_cancelled() => Err(JobError::Cancelled),
+                    Err(e) => Err(failed(&e)),
                 }
-                Ok(())
             },
         );
         self.run = Some(Run { job, points: rx });
