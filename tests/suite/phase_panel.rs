@@ -589,3 +589,40 @@ fn the_export_panel_checks_the_plate_against_the_design_rules() {
     h.state_mut().phase_mut().set_design(coarse);
     wait_for(&mut h, &other);
 }
+
+/// The panel's buttons change the design only through the workspace's queue: Thesis design is
+/// one undo step, the panel's Undo and Redo walk it back and forth, and a queued live edit
+/// waits for the frame's end.
+#[test]
+fn the_panels_change_the_design_through_the_queue_and_the_history() {
+    use udc_studio::app::phase::PhaseAction;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = phase_studio(dir.path(), Quality::Preview);
+    let mut wide = PhaseDesign::thesis(84.0, 1.0);
+    wide.fold = 5.0;
+    h.state_mut().phase_mut().set_design(wide.clone());
+    h.step();
+    h.get_by_label("Thesis design").click();
+    h.step();
+    assert_eq!(h.state().phase().design(), &PhaseDesign::thesis(42.0, 1.0));
+    h.get_by_label("Undo").click();
+    h.step();
+    assert_eq!(h.state().phase().design(), &wide);
+    h.get_by_label("Redo").click();
+    h.step();
+    assert_eq!(h.state().phase().design().pitch_um, 42.0);
+    // Two live edits in a row (a drag) are one undo step once committed.
+    let mut a = h.state().phase().design().clone();
+    a.fold = 2.0;
+    h.state_mut()
+        .phase_mut()
+        .act(PhaseAction::Live(Box::new(a.clone())));
+    a.fold = 3.0;
+    h.state_mut()
+        .phase_mut()
+        .act(PhaseAction::Live(Box::new(a)));
+    h.step();
+    assert_eq!(h.state().phase().design().fold, 3.0);
+    h.state_mut().phase_mut().act(PhaseAction::Undo);
+    assert_eq!(h.state().phase().design().fold, 1.0);
+}

@@ -7,6 +7,7 @@
 //! The parameters have their own undo history (Ctrl+Z / Ctrl+Shift+Z while the workspace is
 //! shown) and are kept between runs in `phase-design.json` beside the studio's autosave.
 
+mod action;
 mod capture;
 mod capture_view;
 mod compare;
@@ -28,6 +29,7 @@ use std::time::Duration;
 
 use egui::Color32;
 
+pub use action::PhaseAction;
 pub use capture::CaptureRow;
 pub use compare::CompareRun;
 pub use export::HeightFormat;
@@ -120,6 +122,8 @@ pub struct PhaseWorkspace {
     kernels: kernels::KernelState,
     capture: capture::CaptureState,
     compare: compare::CompareState,
+    /// What the panels queued this frame, carried out after the UI ([`PhaseWorkspace::act`]).
+    actions: Vec<PhaseAction>,
 }
 
 impl Snapshot for PhaseDesign {
@@ -163,6 +167,7 @@ impl PhaseWorkspace {
             kernels: kernels::KernelState::new(native_dialogs),
             capture: capture::CaptureState::new(native_dialogs),
             compare: compare::CompareState::new(native_dialogs),
+            actions: Vec::new(),
         }
     }
 
@@ -171,15 +176,41 @@ impl PhaseWorkspace {
         self.history.current()
     }
 
-    /// Edits the design as the controls do: the change runs at once and becomes one undo step
-    /// when no pointer button is held and no text field has focus.
+    /// Edits the design as a queued live edit does (for tests): the change runs at once and
+    /// becomes one undo step when no pointer button is held and no text field has focus.
     pub fn design_mut(&mut self) -> &mut PhaseDesign {
         self.history.current_mut()
     }
 
-    /// Replaces the design as one undo step.
+    /// Replaces the design as one undo step ([`PhaseAction::Set`]).
     pub fn set_design(&mut self, design: PhaseDesign) {
-        self.history.edit(design);
+        self.act(PhaseAction::Set(Box::new(design)));
+    }
+
+    /// Carries out one action now, as the queue does after the frame's UI.
+    pub fn act(&mut self, action: PhaseAction) {
+        match action {
+            PhaseAction::Live(design) => *self.history.current_mut() = *design,
+            PhaseAction::Set(design) => {
+                self.history.edit(*design);
+            }
+            PhaseAction::ApplyOptimized => {
+                self.apply_optimized();
+            }
+            PhaseAction::Undo => {
+                self.history.undo();
+            }
+            PhaseAction::Redo => {
+                self.history.redo();
+            }
+        }
+    }
+
+    /// Carries out what the panels queued this frame.
+    pub fn apply_queued(&mut self) {
+        for action in std::mem::take(&mut self.actions) {
+            self.act(action);
+        }
     }
 
     /// The PSFs on screen, if any.

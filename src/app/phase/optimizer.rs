@@ -239,8 +239,8 @@ impl PhaseWorkspace {
         })
     }
 
-    /// Uses the optimizer's allocation as the λ0 plan (one undo step).
-    pub fn apply_optimized(&mut self) -> bool {
+    /// Uses the optimizer's allocation as the λ0 plan (one undo step); [`super::PhaseAction::ApplyOptimized`].
+    pub(super) fn apply_optimized(&mut self) -> bool {
         if !self.can_apply() {
             return false;
         }
@@ -251,7 +251,7 @@ impl PhaseWorkspace {
         d.lambda0 = Lambda0::Counts {
             counts: o.allocation.counts.clone(),
         };
-        self.set_design(d);
+        self.history.edit(d);
         true
     }
 }

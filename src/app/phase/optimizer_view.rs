@@ -231,7 +231,7 @@ impl PhaseWorkspace {
             .on_disabled_hover_text("The lenslet count changed since the run")
             .clicked()
         {
-            self.apply_optimized();
+            self.actions.push(super::PhaseAction::ApplyOptimized);
         }
     }
 }

@@ -2,7 +2,8 @@
 
 use egui::{RichText, Ui};
 
-use super::{PhaseWorkspace, Quality};
+use super::{PhaseAction, PhaseWorkspace, Quality};
+use crate::app::history::Snapshot;
 use crate::app::widgets::message_ui;
 use crate::core::phase::geometry::{Lenslets, lambda0_per_lenslet, lenslet_count};
 use crate::core::phase::{
@@ -86,27 +87,34 @@ impl PhaseWorkspace {
                 .on_hover_text("Ctrl+Z: the last parameter change")
                 .clicked()
             {
-                self.undo();
+                self.actions.push(PhaseAction::Undo);
             }
             if ui
                 .add_enabled(self.can_redo(), egui::Button::new("Redo"))
                 .on_hover_text("Ctrl+Shift+Z")
                 .clicked()
             {
-                self.redo();
+                self.actions.push(PhaseAction::Redo);
             }
             if ui
                 .button("Thesis design")
                 .on_hover_text("600 DPI: pitch 42 µm, f_MLA = pitch, n 1.515, T 1, fixed 530 nm")
                 .clicked()
             {
-                self.set_design(PhaseDesign::thesis(42.0, 1.0));
+                self.actions
+                    .push(PhaseAction::Set(Box::new(PhaseDesign::thesis(42.0, 1.0))));
             }
         });
         ui.separator();
-        self.geometry_controls(ui);
+        // The controls edit a draft; a change is queued as a live edit, which the history
+        // makes one undo step once the pointer is up (Workspace::apply carries it out).
+        let mut draft = self.history.current().clone();
+        self.geometry_controls(ui, &mut draft);
         ui.separator();
-        self.plan_controls(ui);
+        self.plan_controls(ui, &mut draft);
+        if !draft.same(self.history.current()) {
+            self.actions.push(PhaseAction::Live(Box::new(draft)));
+        }
         ui.separator();
         self.simulation_controls(ui);
         message_ui(ui, self.message.as_ref());
@@ -114,9 +122,8 @@ impl PhaseWorkspace {
         self.export_ui(ui);
     }
 
-    fn geometry_controls(&mut self, ui: &mut Ui) {
+    fn geometry_controls(&mut self, ui: &mut Ui, d: &mut PhaseDesign) {
         let link = &mut self.link_focal;
-        let d = self.history.current_mut();
         egui::Grid::new("phase_geometry")
             .num_columns(2)
             .show(ui, |ui| {
@@ -232,7 +239,7 @@ impl PhaseWorkspace {
         egui::CollapsingHeader::new("Camera")
             .id_salt("phase_camera")
             .show(ui, |ui| {
-                let c = &mut self.history.current_mut().camera;
+                let c = &mut d.camera;
                 egui::Grid::new("phase_camera_grid")
                     .num_columns(2)
                     .show(ui, |ui| {
@@ -252,10 +259,10 @@ impl PhaseWorkspace {
             });
     }
 
-    fn plan_controls(&mut self, ui: &mut Ui) {
+    fn plan_controls(&mut self, ui: &mut Ui, d: &mut PhaseDesign) {
         ui.label("Folding wavelength λ0 per lenslet");
-        let n = lenslet_count(self.history.current());
-        let kind = plan_kind(&self.history.current().lambda0);
+        let n = lenslet_count(d);
+        let kind = plan_kind(&d.lambda0);
         ui.horizontal_wrapped(|ui| {
             if ui
                 .selectable_label(kind == PlanKind::Fixed, "fixed")
@@ -263,14 +270,14 @@ impl PhaseWorkspace {
                 .clicked()
                 && kind != PlanKind::Fixed
             {
-                self.history.current_mut().lambda0 = Lambda0::Fixed { nm: 530.0 };
+                d.lambda0 = Lambda0::Fixed { nm: 530.0 };
             }
             if ui
                 .selectable_label(kind == PlanKind::Uniform, "uniform")
                 .on_hover_text("The 30 grid wavelengths 401-691 nm in equal counts")
                 .clicked()
             {
-                self.history.current_mut().lambda0 = Lambda0::Uniform;
+                d.lambda0 = Lambda0::Uniform;
             }
             let can = self.can_apply() || kind == PlanKind::Counts;
             if ui
@@ -284,7 +291,7 @@ impl PhaseWorkspace {
                 && kind != PlanKind::Counts
                 && let Some(o) = &self.optimizer.optimized
             {
-                self.history.current_mut().lambda0 = Lambda0::Counts {
+                d.lambda0 = Lambda0::Counts {
                     counts: o.allocation.counts.clone(),
                 };
             }
@@ -294,13 +301,12 @@ impl PhaseWorkspace {
                 .clicked()
                 && kind != PlanKind::PerLenslet
             {
-                let nm =
-                    lambda0_per_lenslet(self.history.current()).unwrap_or_else(|_| vec![530.0; n]);
-                self.history.current_mut().lambda0 = Lambda0::PerLenslet { nm };
+                let nm = lambda0_per_lenslet(d).unwrap_or_else(|_| vec![530.0; n]);
+                d.lambda0 = Lambda0::PerLenslet { nm };
             }
         });
         let selected = self.selected_lenslet.min(n.saturating_sub(1));
-        match &mut self.history.current_mut().lambda0 {
+        match &mut d.lambda0 {
             Lambda0::Fixed { nm } => {
                 ui.horizontal(|ui| {
                     ui.label("λ0");
@@ -339,7 +345,7 @@ impl PhaseWorkspace {
                 });
             }
         }
-        let fits = match &self.history.current().lambda0 {
+        let fits = match &d.lambda0 {
             Lambda0::Counts { counts } => counts.iter().sum::<usize>() == n,
             Lambda0::PerLenslet { nm } => nm.len() == n,
             _ => true,
@@ -353,7 +359,7 @@ impl PhaseWorkspace {
                 .on_hover_text("The lenslet count changed with the geometry")
                 .clicked()
         {
-            self.history.current_mut().lambda0 = fit_plan(&self.history.current().lambda0, n);
+            d.lambda0 = fit_plan(&d.lambda0, n);
         }
     }
 

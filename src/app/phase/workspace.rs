@@ -51,6 +51,11 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
         );
     }
 
+    /// Carries out what the panels queued: every change of the design, through the history.
+    fn apply(&mut self, _shell: &mut crate::app::Shell) {
+        self.apply_queued();
+    }
+
     /// Undo and redo act on the phase parameters.
     fn undo(&mut self) {
         PhaseWorkspace::undo(self);
