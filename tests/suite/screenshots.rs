@@ -217,7 +217,7 @@ fn sensor_previewer_maps_and_split_compare() {
     h.step();
     let ctx = h.ctx.clone();
     let app = h.state_mut();
-    let settings = app.sensor().settings.clone();
+    let settings = app.sensor().settings().clone();
     let scene = app.sensor().scene().cloned();
     if let Some(scene) = scene {
         app.sensor_mut()

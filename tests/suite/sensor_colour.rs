@@ -407,8 +407,8 @@ fn the_previewer_shows_colour_captures_and_channel_scores() {
     assert!(h.query_by_label("Colour filter").is_some());
     let scene = load_hdr(Path::new(STILL_LIFE)).unwrap().downscaled(160);
     h.state_mut().sensor_mut().set_scene("small", scene);
-    h.state_mut().sensor_mut().settings.roi_px = 32;
-    h.state_mut().sensor_mut().settings.cfa = Cfa::Rggb;
+    h.state_mut().sensor_mut().settings_mut().roi_px = 32;
+    h.state_mut().sensor_mut().settings_mut().cfa = Cfa::Rggb;
     common::step_until(&mut h, "the colour run", |app| {
         app.sensor().is_up_to_date() && app.sensor().shown().is_some_and(|s| s.run.cfa == Cfa::Rggb)
     });

@@ -52,7 +52,7 @@ fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
         );
     }
     // A live parameter: a smaller ROI reruns and the ROI grid follows.
-    h.state_mut().sensor_mut().settings.roi_px = 64;
+    h.state_mut().sensor_mut().settings_mut().roi_px = 64;
     step_until(&mut h, "the rerun", |app| {
         app.sensor().is_up_to_date() && app.sensor().shown().is_some_and(|s| s.run.roi_px == 64)
     });
@@ -109,7 +109,7 @@ fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
     let checked = |app: &udc_studio::app::StudioApp| {
         let s = app.sensor();
         let f = s.flat_patch_check_ref();
-        f.is_up_to_date(&s.settings) && f.result().is_some()
+        f.is_up_to_date(s.settings()) && f.result().is_some()
     };
     step_until(&mut h, "the flat-patch check", checked);
     fn h_result(
@@ -145,8 +145,8 @@ fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
     // Additive bins at the same gain: the sum of 2×2 pixels saturates sooner than one pixel.
     {
         let s = h.state_mut().sensor_mut();
-        s.settings.bin_mode = BinMode::AnalogAdditive;
-        s.settings.additive_gain = AdditiveGain::Same;
+        s.settings_mut().bin_mode = BinMode::AnalogAdditive;
+        s.settings_mut().additive_gain = AdditiveGain::Same;
         s.flat_patch_check().bin_px = 2;
     }
     step_until(&mut h, "the binned check", checked);
@@ -164,4 +164,56 @@ fn the_gain_controls_check_eta_on_a_flat_patch_and_count_saturated_rois() {
     // The numbers table counts saturated ROIs once a run is on screen.
     step_until(&mut h, "a run", |app| app.sensor().shown().is_some());
     assert!(h.query_by_label("saturated ROIs").is_some());
+}
+
+/// The settings have an undo history: a change made in the panel (the exposure kind) goes
+/// through the workspace's queue, is one undo step, and undo puts the controls back too.
+#[test]
+fn a_settings_change_in_the_panel_is_one_undo_step() {
+    use udc_studio::core::sensor::Exposure;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut().set_workspace(WorkspaceId::Sensor);
+    h.step();
+    assert!(!h.state().sensor().can_undo());
+    assert_eq!(
+        h.state().sensor().settings().exposure,
+        Exposure::MeanFraction(0.05)
+    );
+    h.get_by_label("percentile").click();
+    h.step();
+    h.step();
+    assert_eq!(
+        h.state().sensor().settings().exposure,
+        Exposure::PercentileFill {
+            percentile: 99.9,
+            fill: 0.8
+        }
+    );
+    assert!(h.state().sensor().can_undo());
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Z);
+    h.step();
+    h.step();
+    assert_eq!(
+        h.state().sensor().settings().exposure,
+        Exposure::MeanFraction(0.05)
+    );
+    // The controls show the undone exposure: nothing is queued back on the next frame.
+    h.step();
+    h.step();
+    assert_eq!(
+        h.state().sensor().settings().exposure,
+        Exposure::MeanFraction(0.05)
+    );
+    assert!(h.state().sensor().can_redo());
+    h.key_press_modifiers(
+        egui::Modifiers::COMMAND | egui::Modifiers::SHIFT,
+        egui::Key::Z,
+    );
+    h.step();
+    h.step();
+    assert!(matches!(
+        h.state().sensor().settings().exposure,
+        Exposure::PercentileFill { .. }
+    ));
 }

@@ -4,6 +4,7 @@
 //! downscaled scene at once, then the full scene, on a background thread (a newer change
 //! cancels the running job). The UI thread only draws.
 
+mod action;
 mod colour;
 mod gain_panel;
 mod images;
@@ -20,11 +21,13 @@ use std::sync::Arc;
 use egui::TextureHandle;
 
 use crate::app::dialogs::PendingDialog;
+use crate::app::history::{History, Snapshot};
 use crate::app::job::{Job, JobError, Keyed};
 use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
 
 use crate::io::photo::hdr;
 
+pub use action::SensorAction;
 pub use gain_panel::FlatPatchCheck;
 
 /// The preview runs on the scene scaled to at most this side (the core's preview size, benched).
@@ -91,6 +94,13 @@ pub enum ExposureKind {
     Absolute,
 }
 
+impl Snapshot for SensorSettings {
+    /// Equal settings, NaN included (a NaN field must not look like a change every frame).
+    fn same(&self, other: &Self) -> bool {
+        self == other || format!("{self:?}") == format!("{other:?}")
+    }
+}
+
 /// The workspace's state.
 pub struct SensorWorkspace {
     scene: Option<Arc<LoadedScene>>,
@@ -98,9 +108,13 @@ pub struct SensorWorkspace {
     /// The built-in sample scene was asked for (once, when no scene is open).
     sample_requested: bool,
     dialog: Option<PendingDialog>,
-    /// The sensor, ROI size, strategies and seed of the next run; its `exposure` is overwritten
-    /// from the exposure controls before each run.
-    pub settings: SensorSettings,
+    /// The sensor, exposure, ROI size, strategies and seed of the next run, with their undo
+    /// history; the panels change them only through [`SensorAction`]s.
+    history: History<SensorSettings>,
+    /// What the panels queued this frame, carried out after the UI ([`SensorWorkspace::act`]).
+    actions: Vec<SensorAction>,
+    /// The exposure controls: each kind keeps its own value while another is chosen; the
+    /// settings' `exposure` is the chosen one.
     exposure_kind: ExposureKind,
     mean_fraction: f64,
     percentile: f64,
@@ -136,7 +150,8 @@ impl Default for SensorWorkspace {
             load: None,
             sample_requested: false,
             dialog: None,
-            settings: SensorSettings::default(),
+            history: History::new(SensorSettings::default()),
+            actions: Vec::new(),
             exposure_kind: ExposureKind::Mean,
             mean_fraction: 0.05,
             percentile: 99.9,
@@ -181,7 +196,7 @@ impl SensorWorkspace {
                 .shown
                 .as_ref()
                 .is_some_and(|s| s.generation == self.generation && s.quality == Quality::Full)
-            && self.flat.is_up_to_date(&self.settings)
+            && self.flat.is_up_to_date(self.history.current())
     }
 
     /// Chooses the two captures of the Compare view and how they are shown.
@@ -245,6 +260,67 @@ impl SensorWorkspace {
             preview,
         }));
         self.submitted = None;
+    }
+
+    /// The settings of the next run (including a live edit not yet committed).
+    pub fn settings(&self) -> &SensorSettings {
+        self.history.current()
+    }
+
+    /// Edits the settings as a queued live edit does (for tests); one undo step once committed.
+    pub fn settings_mut(&mut self) -> &mut SensorSettings {
+        self.history.current_mut()
+    }
+
+    /// Carries out one action now, as the queue does after the frame's UI.
+    pub fn act(&mut self, action: SensorAction) {
+        match action {
+            SensorAction::Live(settings) => *self.history.current_mut() = *settings,
+            SensorAction::Undo => {
+                self.history.undo();
+                self.show_exposure();
+            }
+            SensorAction::Redo => {
+                self.history.redo();
+                self.show_exposure();
+            }
+        }
+    }
+
+    /// Carries out what the panels queued this frame.
+    pub fn apply_queued(&mut self) {
+        for action in std::mem::take(&mut self.actions) {
+            self.act(action);
+        }
+    }
+
+    /// Whether there is a settings change to undo, including one not yet committed.
+    pub fn can_undo(&self) -> bool {
+        self.history.can_undo()
+    }
+
+    /// Whether there is an undone change to redo.
+    pub fn can_redo(&self) -> bool {
+        self.history.can_redo()
+    }
+
+    /// The exposure controls set to the settings' exposure (after an undo or redo).
+    fn show_exposure(&mut self) {
+        match self.history.current().exposure {
+            Exposure::MeanFraction(f) => {
+                self.exposure_kind = ExposureKind::Mean;
+                self.mean_fraction = f;
+            }
+            Exposure::PercentileFill { percentile, fill } => {
+                self.exposure_kind = ExposureKind::Percentile;
+                self.percentile = percentile;
+                self.percentile_fill = fill;
+            }
+            Exposure::ElectronsPerUm2(e) => {
+                self.exposure_kind = ExposureKind::Absolute;
+                self.absolute_e_per_um2 = e;
+            }
+        }
     }
 
     fn exposure(&self) -> Exposure {
@@ -322,9 +398,12 @@ impl SensorWorkspace {
                 Err(e) => self.message = Some(Notice::error(e.to_string())),
             }
         }
+        let idle = !ctx.input(|i| i.pointer.any_down()) && !ctx.egui_wants_keyboard_input();
+        if idle {
+            self.history.commit();
+        }
         // A change of scene or settings: a new generation, preview first.
-        self.settings.exposure = self.exposure();
-        self.flat.poll(&self.settings, ctx);
+        self.flat.poll(self.history.current(), ctx);
         let Some(scene) = &self.scene else {
             return;
         };
@@ -333,10 +412,10 @@ impl SensorWorkspace {
         let unchanged = self
             .submitted
             .as_ref()
-            .is_some_and(|(s, id)| *s == self.settings && *id == scene_id);
+            .is_some_and(|(s, id)| s == self.history.current() && *id == scene_id);
         if !unchanged {
-            self.submitted = Some((self.settings.clone(), scene_id));
-            if let Err(e) = self.settings.validate() {
+            self.submitted = Some((self.history.current().clone(), scene_id));
+            if let Err(e) = self.history.current().validate() {
                 self.message = Some(Notice::error(e.to_string()));
                 return;
             }
@@ -353,9 +432,9 @@ impl SensorWorkspace {
         self.job.stop();
         let settings = match quality {
             Quality::Preview => self
-                .settings
+                .settings()
                 .for_preview(scene.scene.dim(), scene.preview.dim()),
-            Quality::Full => self.settings.clone(),
+            Quality::Full => self.history.current().clone(),
         };
         let wake = ctx.clone();
         let job = Job::spawn(

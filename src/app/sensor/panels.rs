@@ -6,8 +6,9 @@ use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotImage, PlotPoint, Plot
 use ndarray::Array2;
 
 use super::images::{BIN_COLORS, gain_color, split_image};
-use super::{CompareMode, ExposureKind, SensorView, SensorWorkspace};
+use super::{CompareMode, ExposureKind, SensorAction, SensorView, SensorWorkspace};
 use crate::app::dialogs::{PendingDialog, Purpose};
+use crate::app::history::Snapshot;
 use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, pitch};
 
 /// A zoomable picture in pixel coordinates (x right, y up with row 0 at the top), a hover
@@ -104,7 +105,11 @@ impl SensorWorkspace {
             }
         });
         ui.separator();
-        let s = &mut self.settings;
+        // The controls edit a draft; a change is queued as a live edit, which the history
+        // makes one undo step once the pointer is up (Workspace::apply carries it out).
+        // Undo and redo: the Edit menu, Ctrl+Z and Ctrl+Shift+Z.
+        let mut draft = self.history.current().clone();
+        let s = &mut draft;
         egui::Grid::new("sensor_settings")
             .num_columns(2)
             .show(ui, |ui| {
@@ -184,8 +189,9 @@ impl SensorWorkspace {
                 );
             }
         }
+        draft.exposure = self.exposure();
         ui.separator();
-        let s = &mut self.settings;
+        let s = &mut draft;
         egui::Grid::new("sensor_strategy")
             .num_columns(2)
             .show(ui, |ui| {
@@ -247,6 +253,9 @@ impl SensorWorkspace {
                 ui.add(crate::app::widgets::number(&mut s.seed));
                 ui.end_row();
             });
+        if !draft.same(self.history.current()) {
+            self.actions.push(SensorAction::Live(Box::new(draft)));
+        }
         ui.separator();
         egui::CollapsingHeader::new("Flat patch check (eq. 5.3)")
             .default_open(true)
@@ -275,7 +284,7 @@ impl SensorWorkspace {
             SensorView::Compare => self.compare_ui(ui),
             SensorView::Study => {
                 let scene = self.scene.clone();
-                self.study.ui(ui, scene.as_deref(), &self.settings);
+                self.study.ui(ui, scene.as_deref(), self.history.current());
             }
         }
     }
@@ -469,8 +478,8 @@ impl SensorWorkspace {
     }
 
     fn curves_ui(&mut self, ui: &mut Ui) {
-        let sensor = self.settings.sensor.clone();
-        let snr_t = self.settings.snr_t;
+        let sensor = self.history.current().sensor.clone();
+        let snr_t = self.history.current().snr_t;
         ui.horizontal_wrapped(|ui| {
             ui.add(
                 egui::Slider::new(&mut self.curve_light_e_per_um2, 0.1..=1000.0)

@@ -64,13 +64,26 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
         }
     }
 
-    /// The previewer has no document to undo: its settings are the view.
+    /// Carries out what the panels queued: every change of the settings, through the history.
+    fn apply(&mut self, _shell: &mut crate::app::Shell) {
+        self.apply_queued();
+    }
+
+    /// Undo and redo act on the settings (sensor, exposure, ROI, η, binning, seed).
+    fn undo(&mut self) {
+        self.act(super::SensorAction::Undo);
+    }
+
+    fn redo(&mut self) {
+        self.act(super::SensorAction::Redo);
+    }
+
     fn can_undo(&self) -> bool {
-        false
+        SensorWorkspace::can_undo(self)
     }
 
     fn can_redo(&self) -> bool {
-        false
+        SensorWorkspace::can_redo(self)
     }
 
     fn open_dropped(
