@@ -3,6 +3,7 @@
 //! workspace. Reading the folder, filtering, sorting, the plots' data and rebuilding a design
 //! all run on jobs; the UI thread only draws. The previous table stays when a read fails.
 
+mod action;
 pub mod derive;
 mod open;
 mod plots_view;
@@ -19,6 +20,7 @@ use crate::app::notice::Notice;
 use crate::app::workspace::{Request, Shell, WorkspaceId};
 use crate::core::sweep::{PlotKind, PlotSpec};
 use crate::io::sweep::plots::plots_for;
+pub use action::SweepAction;
 use derive::{View, ViewRequest};
 pub use open::{OpenedDesign, results_dir};
 use table::{Sort, SweepTable};
@@ -51,9 +53,28 @@ pub struct SweepWorkspace {
     pub custom: CustomPlot,
     opening: Option<Job<OpenedDesign>>,
     message: Option<Notice>,
+    /// What the panels and menus queued this frame, carried out after the UI.
+    actions: Vec<SweepAction>,
 }
 
 impl SweepWorkspace {
+    /// Carries out one action now, as the queue does after the frame's UI.
+    pub fn act(&mut self, action: SweepAction, shell: &mut Shell) {
+        match action {
+            SweepAction::AskFolder => self.ask_folder(shell),
+            SweepAction::OpenFolder(path) => self.open_folder(&path, shell.waker()),
+            SweepAction::CancelLoad => self.cancel_load(),
+            SweepAction::OpenRow(index) => self.open_row(index, shell.waker()),
+        }
+    }
+
+    /// Carries out what the panels and menus queued this frame.
+    pub fn apply_queued(&mut self, shell: &mut Shell) {
+        for action in std::mem::take(&mut self.actions) {
+            self.act(action, shell);
+        }
+    }
+
     /// The table on screen, if a folder was read.
     pub fn table(&self) -> Option<&Arc<SweepTable>> {
         self.table.as_ref()

@@ -8,8 +8,8 @@
 
 use egui::{Align, Layout, RichText, Sense, vec2};
 
-use super::SweepWorkspace;
 use super::table::{Column, Sort};
+use super::{SweepAction, SweepWorkspace};
 use crate::app::workspace::Shell;
 
 /// Room for the Open button at the start of each row.
@@ -27,7 +27,7 @@ impl SweepWorkspace {
                 .on_hover_text("File > Open sweep results…: a folder written by udc-studio sweep")
                 .clicked()
             {
-                self.ask_folder(shell);
+                self.actions.push(SweepAction::AskFolder);
             }
             if let Some(last) = shell.settings.last_sweep.clone()
                 && self.table.as_ref().is_none_or(|t| t.dir != last)
@@ -36,7 +36,7 @@ impl SweepWorkspace {
                     .on_hover_text(last.display().to_string())
                     .clicked()
             {
-                self.open_folder(&last, shell.waker());
+                self.actions.push(SweepAction::OpenFolder(last));
             }
         });
         if let Some((dir, job)) = self.load.current() {
@@ -51,7 +51,7 @@ impl SweepWorkspace {
                 cancel = ui.button("Cancel").clicked();
             });
             if cancel {
-                self.cancel_load();
+                self.actions.push(SweepAction::CancelLoad);
             }
         }
         crate::app::widgets::message_ui(ui, self.message.as_ref());
@@ -98,7 +98,7 @@ impl SweepWorkspace {
     }
 
     /// The table: a header row of sort buttons and the shown rows.
-    pub(super) fn table_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
+    pub(super) fn table_ui(&mut self, ui: &mut egui::Ui) {
         let Some(t) = self.table.clone() else {
             ui.centered_and_justified(|ui| {
                 ui.weak("File > Open sweep results… to see a sweep's table and plots.");
@@ -182,7 +182,7 @@ impl SweepWorkspace {
             self.sort = sort;
         }
         if let Some(i) = open {
-            self.open_row(i, shell.waker());
+            self.actions.push(SweepAction::OpenRow(i));
         }
     }
 }

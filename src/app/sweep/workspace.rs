@@ -62,7 +62,7 @@ impl Workspace for SweepWorkspace {
         egui::Panel::bottom("sweep_plots")
             .exact_size((height * 0.5).clamp(220.0, 640.0))
             .show(ui, |ui| self.plots_ui(ui));
-        egui::CentralPanel::default().show(ui, |ui| self.table_ui(ui, shell));
+        egui::CentralPanel::default().show(ui, |ui| self.table_ui(ui));
     }
 
     fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
@@ -74,7 +74,7 @@ impl Workspace for SweepWorkspace {
             .on_hover_text("A folder written by udc-studio sweep SPEC --out DIR")
             .clicked()
         {
-            self.ask_folder(shell);
+            self.actions.push(super::SweepAction::AskFolder);
         }
         let last = shell.settings.last_sweep.clone();
         let label = match &last {
@@ -89,8 +89,13 @@ impl Workspace for SweepWorkspace {
             .clicked()
             && let Some(p) = last
         {
-            self.open_folder(&p, shell.waker());
+            self.actions.push(super::SweepAction::OpenFolder(p));
         }
+    }
+
+    /// Carries out what its panels and menus queued.
+    fn apply(&mut self, shell: &mut Shell) {
+        self.apply_queued(shell);
     }
 
     /// The results are read-only: nothing to undo.

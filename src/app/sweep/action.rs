@@ -1,0 +1,18 @@
+//! What the Sweep workspace's panels and menus ask for, carried out after the frame's UI
+//! ([`super::SweepWorkspace::act`]). The results are read-only: the actions read folders and
+//! rebuild designs, and nothing here has an undo step.
+
+use std::path::PathBuf;
+
+/// A request the panels and menus queue.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SweepAction {
+    /// Ask for a results folder (a folder dialog).
+    AskFolder,
+    /// Read this results folder.
+    OpenFolder(PathBuf),
+    /// Stop reading the folder being read (the previous table stays).
+    CancelLoad,
+    /// Rebuild the design of this row (an index into the table) and open it in Display layouts.
+    OpenRow(usize),
+}
