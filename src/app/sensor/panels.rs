@@ -2,14 +2,14 @@
 //! (right).
 
 use egui::{Color32, Id, TextureHandle, Ui, vec2};
-use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotImage, PlotPoint, PlotPoints, VLine};
+use egui_plot::{HLine, Plot, PlotImage, PlotPoint, VLine};
 use ndarray::Array2;
 
 use super::images::{BIN_COLORS, gain_color, split_image};
 use super::{CompareMode, ExposureKind, SensorAction, SensorView, SensorWorkspace};
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::history::Snapshot;
-use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, pitch};
+use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, figures};
 
 /// A zoomable picture in pixel coordinates (x right, y up with row 0 at the top), a hover
 /// readout of `values`, and the ROI grid.
@@ -494,66 +494,21 @@ impl SensorWorkspace {
                     .text("pitch"),
             );
         });
-        let light = self.curve_light_e_per_um2;
-        let p = self.curve_pitch_um;
-        let nyq = pitch::nyquist_cyc_per_um(p);
-        let fmax = (2.0 / p).max(1.0);
-        let freqs: Vec<f64> = (0..=400).map(|k| fmax * k as f64 / 400.0).collect();
-        let (contrast, noise) = pitch::contrast_noise(light, p, &sensor, 1.0, &freqs);
-        let cutoff = pitch::cutoff_cyc_per_um(light, p, &sensor, 1.0, snr_t);
         let h = (ui.available_height() / 2.0 - 30.0).max(160.0);
-        ui.label(format!(
-            "(a) contrast and noise at {light:.1} e-/µm², pitch {p:.2} µm (gain 1): cutoff {cutoff:.3} cycles/µm, Nyquist {nyq:.3}"
-        ));
-        Plot::new("sensor-contrast")
-            .legend(Legend::default())
-            .height(h)
-            .x_axis_label("frequency (cycles/µm)")
-            .y_axis_label("electrons")
-            .show(ui, |pl| {
-                let pts = |v: &[f64]| -> PlotPoints {
-                    freqs.iter().zip(v).map(|(f, y)| [*f, y.abs()]).collect()
-                };
-                pl.line(Line::new("contrast |c|", pts(&contrast)).width(2.0));
-                let thr: Vec<f64> = noise.iter().map(|s| s * snr_t).collect();
-                pl.line(Line::new(format!("SNR_t x noise ({snr_t})"), pts(&thr)));
-                pl.vline(
-                    VLine::new("Nyquist 1/(2p)", nyq)
-                        .style(LineStyle::dashed_dense())
-                        .color(Color32::GRAY),
-                );
-                pl.vline(VLine::new("cutoff", cutoff).color(Color32::from_rgb(255, 170, 0)));
-            });
-        let lights: Vec<f64> = (0..=80)
-            .map(|k| 10f64.powf(-1.0 + 4.0 * k as f64 / 80.0))
-            .collect();
-        let candidates: Vec<f64> = (0..=48)
-            .map(|k| 0.25 * 2f64.powf(5.0 * k as f64 / 48.0))
-            .collect();
-        let bins: Vec<f64> = BIN_SIZES
-            .iter()
-            .map(|b| *b as f64 * sensor.unit_pixel_um)
-            .collect();
-        let best = pitch::optimal_pitch_curve(&lights, &candidates, &sensor, 1.0, snr_t);
-        let best_bins = pitch::optimal_pitch_curve(&lights, &bins, &sensor, 1.0, snr_t);
-        ui.label(format!(
-            "(b) optimal pitch vs light for {} (gain 1, SNR_t {snr_t}); x is log10(e-/µm²)",
-            sensor.name
-        ));
-        Plot::new("sensor-pitch")
-            .legend(Legend::default())
-            .height(h)
-            .x_axis_label("log10 light (e-/µm²)")
-            .y_axis_label("pitch (µm)")
-            .show(ui, |pl| {
-                let pts = |v: &[f64]| -> PlotPoints {
-                    lights.iter().zip(v).map(|(l, y)| [l.log10(), *y]).collect()
-                };
-                pl.line(Line::new("optimal pitch (continuous)", pts(&best)).width(2.0));
-                pl.line(Line::new(
-                    "optimal bin (1, 2, 4, 8 unit pixels)",
-                    pts(&best_bins),
-                ));
-            });
+        for (id, panel) in [
+            (
+                "sensor-contrast",
+                figures::contrast_panel(
+                    self.curve_light_e_per_um2,
+                    self.curve_pitch_um,
+                    &sensor,
+                    snr_t,
+                ),
+            ),
+            ("sensor-pitch", figures::optimal_pitch_panel(&sensor, snr_t)),
+        ] {
+            ui.label(&panel.title);
+            crate::app::widgets::figure::panel_ui(ui, id, &panel, h);
+        }
     }
 }

@@ -38,6 +38,7 @@ pub mod binning;
 pub mod cfa;
 pub mod colour;
 pub mod demosaic;
+pub mod figures;
 pub mod flat;
 pub mod gain;
 pub mod memory;
