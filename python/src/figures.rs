@@ -52,6 +52,7 @@ pub fn panel<'py>(py: Python<'py>, p: &Panel) -> PyResult<Bound<'py, PyDict>> {
                 Mark::Line => "line",
                 Mark::Points => "points",
                 Mark::LineAndPoints => "line-and-points",
+                Mark::DashedLine => "dashed-line",
             },
         )?;
         e.set_item("points", array(py, &s.points))?;

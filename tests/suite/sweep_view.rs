@@ -325,3 +325,49 @@ fn a_phase_sweeps_row_says_open_design_is_for_display_designs() {
     assert!(text.contains("display designs"), "{text}");
     assert_eq!(h.state().workspace(), WorkspaceId::Sweep);
 }
+
+/// Open rebuilds a row's design as its point computed it, linked values included: a label axis
+/// (`dpi`) whose `with` list sets the pitch opens the row's pitch, not the preset's, and its
+/// hash is the row's (a row's CSV carries the label, not the linked values).
+#[test]
+fn open_rebuilds_a_rows_design_with_the_values_a_label_axis_links() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = dir.path().join("dpi.toml");
+    std::fs::write(
+        &spec,
+        "job = \"analyze\"\n[base]\npreset = \"toled-150dpi\"\npreview = true\n\
+         [[axis]]\nparam = \"dpi\"\nlabel = true\nvalues = [150, 300]\n\
+         with = { pitch-um = [168, 84] }\n",
+    )
+    .unwrap();
+    let out = dir.path().join("dpi-results");
+    let (ok, _, stderr) = common::run_cli(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(ok, "{stderr}");
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.state_mut().set_workspace(WorkspaceId::Sweep);
+    h.step();
+    open_results(&mut h, &out);
+    h.state_mut().sweep_mut().filter = "dpi=300".into();
+    common::step_until(&mut h, "one row", idle);
+    let row_hash = {
+        let s = h.state().sweep();
+        let rows = s.shown_rows().unwrap();
+        assert_eq!(rows.len(), 1);
+        s.table().unwrap().rows[rows[0]].design_hash.clone()
+    };
+    h.get_by_label("Open").click();
+    common::step_until(&mut h, "the display workspace", |app| {
+        app.workspace() == WorkspaceId::Display
+    });
+    let design = h.state().display().design().clone();
+    assert_eq!(design.opening.pitch_um, 84.0);
+    assert_eq!(design_hash(&design), row_hash);
+    let status = h.state().status().unwrap();
+    assert!(!status.text.contains("differs"), "{}", status.text);
+}

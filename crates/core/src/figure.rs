@@ -32,6 +32,9 @@ pub mod palette {
 
     /// Annotations drawn over data (rings, lattices, marker lines).
     pub const ANNOTATION: Rgb = Rgb(255, 170, 0);
+
+    /// A reference drawn beside the data (the bare T-OLED, the unfolded lens), dashed.
+    pub const REFERENCE: Rgb = Rgb(150, 150, 150);
 }
 
 /// One axis: what it measures and in what unit; a categorical axis names its positions
@@ -100,6 +103,9 @@ pub enum Mark {
     Points,
     /// A line with a dot at each point.
     LineAndPoints,
+    /// A thinner dashed line: a reference drawn beside the data (the bare T-OLED, the unfolded
+    /// lens).
+    DashedLine,
 }
 
 /// One named series of points.

@@ -149,6 +149,20 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
                         .map_err(e)?;
                 }
             }
+            Mark::DashedLine => {
+                chart
+                    .draw_series(DashedLineSeries::new(
+                        points.collect::<Vec<_>>(),
+                        6,
+                        4,
+                        c.stroke_width(1),
+                    ))
+                    .map_err(e)?
+                    .label(name)
+                    .legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(1))
+                    });
+            }
         }
     }
     annotate(&mut chart, panel, (x, y)).map_err(e)?;

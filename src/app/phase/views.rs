@@ -2,17 +2,12 @@
 //! λ0 optimizer.
 
 use egui::{Align2, Color32, FontId, Sense, Stroke, Ui, pos2, vec2};
-use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
 
 use super::{PhaseView, PhaseWorkspace, wavelength_color};
-use crate::core::phase::geometry::{Lenslets, profile_um};
-use crate::core::phase::{PhaseDesign, Surface};
-
-fn channel_color(i: usize) -> Color32 {
-    crate::core::figure::palette::CHANNELS
-        .get(i)
-        .map_or(Color32::GRAY, |&c| crate::app::widgets::figure::color32(c))
-}
+use crate::app::widgets::figure::{PlotFrame, panel_ui_in};
+use crate::core::phase::PhaseDesign;
+use crate::core::phase::figures;
+use crate::core::phase::geometry::Lenslets;
 
 /// λ0 of every lenslet as a strip of coloured cells (Fig. 4.4). Returns the clicked lenslet.
 pub fn lambda0_strip(
@@ -234,66 +229,21 @@ impl PhaseWorkspace {
         ui.horizontal(|ui| {
             for (i, c) in p.channels.iter().enumerate() {
                 ui.vertical(|ui| {
-                    ui.label(format!("{} ({:.0} nm)", c.name, c.wavelength_nm));
-                    let pts = |v: &[f64]| -> PlotPoints<'static> {
-                        let mid = (v.len() / 2) as i64;
-                        v.iter()
-                            .enumerate()
-                            .map(|(k, y)| (k as i64 - mid, *y))
-                            .filter(|(x, _)| x.abs() <= half)
-                            .map(|(x, y)| [x as f64, if log { y.max(1e-9).log10() } else { y }])
-                            .collect()
+                    let panel = figures::psf_panel(c, i, ours, half, log);
+                    ui.label(&panel.title);
+                    let frame = PlotFrame {
+                        width: Some(w),
+                        height: h,
+                        link_x: Some(link),
                     };
-                    Plot::new(("phase-psf", i))
-                        .width(w)
-                        .height(h)
-                        .legend(Legend::default())
-                        .link_axis(link, [true, false])
-                        .x_axis_label("sensor pixel from the axis")
-                        .y_axis_label(if log { "log10 share" } else { "energy share" })
-                        .show(ui, |pl| {
-                            pl.line(
-                                Line::new(ours, pts(&c.psf))
-                                    .color(channel_color(i))
-                                    .width(2.0),
-                            );
-                            pl.line(
-                                Line::new("T-OLED", pts(&c.toled_psf))
-                                    .color(Color32::GRAY)
-                                    .style(LineStyle::dashed_dense()),
-                            );
-                        });
+                    panel_ui_in(ui, ("phase-psf", i), &panel, frame);
                 });
             }
         });
         ui.add_space(6.0);
-        ui.label("MTF: ours solid, the bare T-OLED dashed (one-sided, window of 1024 pixels)");
-        Plot::new("phase-mtf")
-            .height(260.0)
-            .legend(Legend::default())
-            .x_axis_label("frequency (cycles/pixel)")
-            .y_axis_label("MTF")
-            .show(ui, |pl| {
-                for (i, c) in p.channels.iter().enumerate() {
-                    let pts = |v: &[f64]| -> PlotPoints<'static> {
-                        let len = 2.0 * v.len() as f64;
-                        v.iter()
-                            .enumerate()
-                            .map(|(k, y)| [k as f64 / len, *y])
-                            .collect()
-                    };
-                    pl.line(
-                        Line::new(format!("{} {ours}", c.name), pts(&c.mtf))
-                            .color(channel_color(i))
-                            .width(2.0),
-                    );
-                    pl.line(
-                        Line::new(format!("{} T-OLED", c.name), pts(&c.toled_mtf))
-                            .color(channel_color(i).gamma_multiply(0.6))
-                            .style(LineStyle::dashed_dense()),
-                    );
-                }
-            });
+        let mtf = figures::mtf_panel(&p, ours);
+        ui.label(&mtf.title);
+        panel_ui_in(ui, "phase-mtf", &mtf, PlotFrame::tall(260.0));
     }
 
     fn geometry_ui(&mut self, ui: &mut Ui) {
@@ -319,43 +269,12 @@ impl PhaseWorkspace {
             ));
         });
         let sel = self.selected_lenslet;
-        let lo = sel.saturating_sub(1);
-        let hi = (sel + 1).min(n - 1);
-        let x0 = lenslets.centre_um(lo) - d.pitch_um / 2.0;
-        let x1 = lenslets.centre_um(hi) + d.pitch_um / 2.0;
-        let xs: Vec<f64> = (0..=900)
-            .map(|k| x0 + (x1 - x0) * k as f64 / 900.0)
-            .collect();
-        let profile = |surface: Surface| -> Vec<[f64; 2]> {
-            let mut e = d.clone();
-            e.surface = surface;
-            profile_um(&e, &xs)
-                .map(|h| xs.iter().zip(h).map(|(x, h)| [*x, h]).collect())
-                .unwrap_or_default()
-        };
-        let folded = profile(Surface::Folded);
-        let unfolded = profile(Surface::Unfolded);
-        Plot::new("phase-profile")
-            .height(280.0)
-            .legend(Legend::default())
-            .x_axis_label("x from the axis (µm)")
-            .y_axis_label("height (µm)")
-            .show(ui, |pl| {
-                pl.line(Line::new("folded plate", PlotPoints::from(folded)).width(2.0));
-                pl.line(
-                    Line::new("unfolded lens", PlotPoints::from(unfolded))
-                        .style(LineStyle::dashed_dense()),
-                );
-                for l in lo..=hi + 1 {
-                    let edge =
-                        lenslets.centre_um(lo) - d.pitch_um / 2.0 + (l - lo) as f64 * d.pitch_um;
-                    pl.vline(
-                        VLine::new("", edge)
-                            .color(Color32::from_gray(110))
-                            .allow_hover(false),
-                    );
-                }
-            });
+        match figures::profile_panel(&d, &lenslets, sel) {
+            Ok(panel) => panel_ui_in(ui, "phase-profile", &panel, PlotFrame::tall(280.0)),
+            Err(e) => {
+                ui.colored_label(ui.visuals().error_fg_color, e.to_string());
+            }
+        }
         ui.add_space(6.0);
         ui.label(format!(
             "λ0 of each of the {n} lenslets, left to right (click one to select it):"

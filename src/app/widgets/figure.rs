@@ -3,7 +3,7 @@
 //! agree, with the studio's tick ladder, hover and zoom.
 
 use egui::Color32;
-use egui_plot::{FilledArea, HLine, Legend, Line, Plot, PlotPoints, Points, VLine};
+use egui_plot::{FilledArea, HLine, Legend, Line, LineStyle, Plot, PlotPoints, Points, VLine};
 
 use crate::core::figure::{Annotation, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette};
 
@@ -18,7 +18,41 @@ pub fn color32(c: Rgb) -> Color32 {
 
 /// Draws `panel` (without its title: the caller places it) `height` points tall.
 pub fn panel_ui(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, height: f32) {
+    panel_ui_in(ui, id, panel, PlotFrame::tall(height));
+}
+
+/// Where a panel's plot sits: its size, and the plots its x axis pans and zooms with.
+#[derive(Debug, Clone, Copy)]
+pub struct PlotFrame {
+    /// Width in points; `None`: the available width.
+    pub width: Option<f32>,
+    /// Height in points.
+    pub height: f32,
+    /// Plots sharing this id share their x axis (side-by-side channels).
+    pub link_x: Option<egui::Id>,
+}
+
+impl PlotFrame {
+    /// The available width, `height` points tall, on its own.
+    pub fn tall(height: f32) -> Self {
+        PlotFrame {
+            width: None,
+            height,
+            link_x: None,
+        }
+    }
+}
+
+/// Draws `panel` (without its title) in `frame`.
+pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, frame: PlotFrame) {
+    let height = frame.height;
     let mut plot = Plot::new(id);
+    if let Some(w) = frame.width {
+        plot = plot.width(w);
+    }
+    if let Some(link) = frame.link_x {
+        plot = plot.link_axis(link, [true, false]);
+    }
     if panel.wants_legend() {
         plot = plot.legend(Legend::default().position(egui_plot::Corner::RightBottom));
     }
@@ -61,6 +95,15 @@ pub fn panel_ui(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, heigh
                         .copied()
                         .collect();
                     pl.points(Points::new(name, cloud).color(c).radius(3.0));
+                }
+                Mark::DashedLine => {
+                    let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
+                    // A reference is read against the data, not over it: dimmer.
+                    pl.line(
+                        Line::new(s.name.clone(), PlotPoints::from(line))
+                            .color(c.gamma_multiply(0.6))
+                            .style(LineStyle::dashed_dense()),
+                    );
                 }
                 Mark::Line | Mark::LineAndPoints => {
                     let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();

@@ -39,6 +39,7 @@ pub mod allocate;
 pub mod chain;
 pub mod czt;
 pub mod drc;
+pub mod figures;
 pub mod geometry;
 pub mod imaging;
 pub mod invertibility;

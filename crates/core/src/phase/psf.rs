@@ -14,7 +14,7 @@ use crate::Progress;
 use crate::design::Channel;
 
 /// One colour channel through the design and through the bare T-OLED.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct ChannelPsf {
     /// Channel name (e.g. "G").
     pub name: String,
@@ -52,7 +52,7 @@ pub struct ChannelPsf {
 }
 
 /// All channels for one direction.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct PhasePsfs {
     /// One entry per colour channel.
     pub channels: Vec<ChannelPsf>,
