@@ -332,3 +332,32 @@ fn a_one_axis_sweep_point_is_the_design_with_that_field_set() {
         }
     }
 }
+
+/// A bad design value names what the user gave: the flag when a flag set it, the design file's
+/// field when the file did.
+#[test]
+fn a_bad_override_is_named_by_its_flag_and_a_bad_file_by_its_field() {
+    for (name, value, flag) in [
+        ("f-number", json!(0), "--f-number"),
+        ("focal-length-mm", json!(-4.67), "--focal-length-mm"),
+        ("sensor-pixel-um", json!(0), "--sensor-pixel-um"),
+        ("wiring-gap-um", json!(-1), "--wiring-gap-um"),
+        ("pitch-um", json!(-3), "--pitch-um"),
+    ] {
+        let job = from_params(SweepJob::Analyze, json!({ name: value }));
+        let message = format!("{:#}", job.check().expect_err("refused"));
+        assert!(
+            message.starts_with(&format!("{flag}: ")),
+            "{name}: {message}"
+        );
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let file = dir.path().join("bad.json");
+    let mut design = udc_studio::io::design::presets::load_preset("toled-150dpi").expect("preset");
+    design.optics.f_number = 0.0;
+    std::fs::write(&file, udc_studio::io::design::file::to_json(&design)).expect("write");
+    let job = from_params(SweepJob::Analyze, json!({"design": file.to_string_lossy()}));
+    let message = format!("{:#}", job.check().expect_err("refused"));
+    assert!(message.contains("optics.f_number"), "{message}");
+    assert!(!message.contains("--f-number"), "{message}");
+}

@@ -546,7 +546,7 @@ fn cli_export_rejects_bad_input_with_one_line() {
         ),
         (
             vec!["--pitch-um", "0", "--region", "pixel"],
-            "opening.pitch_um",
+            "--pitch-um: must be a positive",
         ),
         (vec!["--region", "100000x100000"], "region too large"),
         (vec!["--region", "30000x20"], "32-bit"),

@@ -11,9 +11,9 @@ use anyhow::Result;
 use clap::Args;
 use serde::{Deserialize, Serialize};
 
-use udc_core::Design;
 use udc_core::design::{OpticsRecipe, TilingMode};
 use udc_core::sweep::one_axis::SweepParameter;
+use udc_core::{Design, Setting, SettingPath, SimError};
 use udc_io::design::{file as design_file, pattern, presets, spectral};
 use udc_io::error::{IoError, TableError};
 
@@ -151,7 +151,28 @@ impl DesignSelection {
             design.channels = spectral::channels_from_response(&resp, &samples)
                 .map_err(|e| table_err(TableError::Spectral(e)))?;
         }
-        design.validate()?;
+        design.validate().map_err(|e| self.by_flag(e))?;
         Ok(design)
+    }
+
+    /// A refused design value that a flag of this selection set is named by that flag (`--f-number:
+    /// must be …`); one from the design file or preset keeps its field's path.
+    fn by_flag(&self, e: SimError) -> anyhow::Error {
+        let SimError::InvalidSetting {
+            path: SettingPath::Setting(setting),
+            message,
+        } = &e
+        else {
+            return e.into();
+        };
+        let flag = match setting {
+            Setting::OpeningPitchUm if self.pitch_um.is_some() => "--pitch-um",
+            Setting::TilingWiringGapUm if self.wiring_gap_um.is_some() => "--wiring-gap-um",
+            Setting::OpticsFNumber if self.f_number.is_some() => "--f-number",
+            Setting::OpticsFocalLengthMm if self.focal_length_mm.is_some() => "--focal-length-mm",
+            Setting::OpticsSensorPixelUm if self.sensor_pixel_um.is_some() => "--sensor-pixel-um",
+            _ => return e.into(),
+        };
+        anyhow::anyhow!("{flag}: {message}")
     }
 }
