@@ -4,6 +4,9 @@
 
 use std::path::PathBuf;
 
+use super::CustomPlot;
+use super::table::Sort;
+
 /// A request the panels and menus queue.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SweepAction {
@@ -15,4 +18,10 @@ pub enum SweepAction {
     CancelLoad,
     /// Rebuild the design of this row (an index into the table) and open it in Display layouts.
     OpenRow(usize),
+    /// Show the rows this filter keeps (see [`super::table::Filter`]).
+    Filter(String),
+    /// Sort the rows so.
+    Sort(Sort),
+    /// The user's own plot.
+    Custom(CustomPlot),
 }

@@ -55,9 +55,83 @@ pub struct SweepWorkspace {
     message: Option<Notice>,
     /// What the panels and menus queued this frame, carried out after the UI.
     actions: Vec<SweepAction>,
+    panels: Panels,
+}
+
+/// The workspace's panels: each draws from a [`SweepCtx`] and queues [`SweepAction`]s.
+#[derive(Default)]
+struct Panels {
+    controls: table_view::ControlsPanel,
+    table: table_view::TablePanel,
+    plots: plots_view::PlotsPanel,
+}
+
+/// What a panel may look at, and where it sends what it wants done.
+pub struct SweepCtx<'a> {
+    /// The table on screen, if a folder was read.
+    pub table: Option<&'a Arc<SweepTable>>,
+    /// The filtered and sorted rows and the plots' data, once derived.
+    pub view: Option<&'a View>,
+    /// A newer view is being derived.
+    pub deriving: bool,
+    /// The folder being read and the share read.
+    pub reading: Option<(&'a Path, f32)>,
+    /// A folder dialog is open.
+    pub asking: bool,
+    /// The last results folder opened (Reopen last).
+    pub last_sweep: Option<&'a PathBuf>,
+    /// The message line.
+    pub message: Option<&'a Notice>,
+    /// The filter in force.
+    pub filter: &'a str,
+    /// The sort in force.
+    pub sort: Sort,
+    /// The user's plot in force.
+    pub custom: &'a CustomPlot,
+    /// Where the panel queues what it wants done; carried out after the frame's UI.
+    pub actions: &'a mut Vec<SweepAction>,
 }
 
 impl SweepWorkspace {
+    /// Draws its three panels (controls left, plots below, the table in the centre) from one
+    /// context.
+    pub(super) fn panels_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
+        let mut ctx = SweepCtx {
+            table: self.table.as_ref(),
+            view: self.view.as_ref(),
+            deriving: self.view_job.is_running(),
+            reading: self
+                .load
+                .current()
+                .map(|(dir, job)| (dir.as_path(), job.fraction())),
+            asking: self.dialog.is_some(),
+            last_sweep: shell.settings.last_sweep.as_ref(),
+            message: self.message.as_ref(),
+            filter: &self.filter,
+            sort: self.sort,
+            custom: &self.custom,
+            actions: &mut self.actions,
+        };
+        let panels = &mut self.panels;
+        let total = ui.available_width();
+        crate::app::workspace::side_panel(
+            egui::Panel::left("sweep_controls"),
+            total,
+            0.26,
+            260.0,
+            380.0,
+        )
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| panels.controls.ui(ui, &mut ctx));
+        });
+        let height = ui.available_height();
+        // Half the height for the plots: the table scrolls, a squeezed plot shows nothing.
+        egui::Panel::bottom("sweep_plots")
+            .exact_size((height * 0.5).clamp(220.0, 640.0))
+            .show(ui, |ui| panels.plots.ui(ui, &mut ctx));
+        egui::CentralPanel::default().show(ui, |ui| panels.table.ui(ui, &mut ctx));
+    }
+
     /// Carries out one action now, as the queue does after the frame's UI.
     pub fn act(&mut self, action: SweepAction, shell: &mut Shell) {
         match action {
@@ -65,6 +139,9 @@ impl SweepWorkspace {
             SweepAction::OpenFolder(path) => self.open_folder(&path, shell.waker()),
             SweepAction::CancelLoad => self.cancel_load(),
             SweepAction::OpenRow(index) => self.open_row(index, shell.waker()),
+            SweepAction::Filter(filter) => self.filter = filter,
+            SweepAction::Sort(sort) => self.sort = sort,
+            SweepAction::Custom(custom) => self.custom = custom,
         }
     }
 

@@ -2,14 +2,18 @@
 //! are drawn from, computed over the filtered rows), drawn with egui_plot so they follow the
 //! filter and can be hovered.
 
-use super::SweepWorkspace;
 use super::derive::title;
+use super::{SweepAction, SweepCtx};
 use crate::app::widgets::figure::panel_ui;
 
-impl SweepWorkspace {
-    /// The plot picker and every plot side by side.
-    pub(super) fn plots_ui(&mut self, ui: &mut egui::Ui) {
-        let Some(t) = self.table.clone() else {
+/// The bottom panel: the user's plot picker and every plot side by side.
+#[derive(Default)]
+pub struct PlotsPanel;
+
+impl PlotsPanel {
+    /// Draws the panel.
+    pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
+        let Some(t) = ctx.table else {
             ui.weak("The plots appear here once a sweep is open.");
             return;
         };
@@ -19,15 +23,19 @@ impl SweepWorkspace {
             .filter(|c| !matches!(c, super::table::Column::Error))
             .map(|c| t.name(c).to_string())
             .collect();
+        let mut custom = ctx.custom.clone();
         ui.horizontal_wrapped(|ui| {
             ui.label("Your plot:");
-            pick_ui(ui, "y", &mut self.custom.y, &names);
+            pick_ui(ui, "y", &mut custom.y, &names);
             ui.label("against");
-            pick_ui(ui, "x", &mut self.custom.x, &names);
-            ui.checkbox(&mut self.custom.pareto, "Pareto")
+            pick_ui(ui, "x", &mut custom.x, &names);
+            ui.checkbox(&mut custom.pareto, "Pareto")
                 .on_hover_text("Every row as a point, and the front no other row beats in both");
         });
-        let Some(view) = &self.view else {
+        if &custom != ctx.custom {
+            ctx.actions.push(SweepAction::Custom(custom));
+        }
+        let Some(view) = ctx.view else {
             ui.spinner();
             return;
         };

@@ -1,4 +1,6 @@
-//! The Sweep workspace's controls (the folder, the filter, the message line) and its table.
+//! The Sweep workspace's controls (the folder, the filter, the message line) and its table, as
+//! panels: each reads the workspace through [`SweepCtx`] and changes it only by queueing
+//! [`SweepAction`]s.
 //!
 //! The table is rows of fixed-width cells inside a `ScrollArea::show_rows`, so only the rows
 //! on screen are laid out (100 000 rows scroll as fast as 10). Widths are fixed per column,
@@ -9,53 +11,60 @@
 use egui::{Align, Layout, RichText, Sense, vec2};
 
 use super::table::{Column, Sort};
-use super::{SweepAction, SweepWorkspace};
-use crate::app::workspace::Shell;
+use super::{SweepAction, SweepCtx};
 
 /// Room for the Open button at the start of each row.
 const OPEN_COLUMN_PX: f32 = 52.0;
 /// The widest a column gets (longer errors are cut; hover shows them whole).
 const MAX_COLUMN_PX: f32 = 360.0;
 
-impl SweepWorkspace {
-    /// The left panel: what is open, the filter and the message line.
-    pub(super) fn controls_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
+/// The left panel: what is open, the filter and the message line.
+#[derive(Default)]
+pub struct ControlsPanel;
+
+/// The centre: a header row of sort buttons and the shown rows, each with its Open button.
+#[derive(Default)]
+pub struct TablePanel;
+
+impl ControlsPanel {
+    /// Draws the panel.
+    pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
         ui.heading("Sweep results");
         ui.horizontal_wrapped(|ui| {
             if ui
-                .add_enabled(self.dialog.is_none(), egui::Button::new("Open…"))
+                .add_enabled(!ctx.asking, egui::Button::new("Open…"))
                 .on_hover_text("File > Open sweep results…: a folder written by udc-studio sweep")
                 .clicked()
             {
-                self.actions.push(SweepAction::AskFolder);
+                ctx.actions.push(SweepAction::AskFolder);
             }
-            if let Some(last) = shell.settings.last_sweep.clone()
-                && self.table.as_ref().is_none_or(|t| t.dir != last)
+            if let Some(last) = ctx.last_sweep.cloned()
+                && ctx.table.is_none_or(|t| t.dir != last)
                 && ui
-                    .add_enabled(!self.load.is_running(), egui::Button::new("Reopen last"))
+                    .add_enabled(ctx.reading.is_none(), egui::Button::new("Reopen last"))
                     .on_hover_text(last.display().to_string())
                     .clicked()
             {
-                self.actions.push(SweepAction::OpenFolder(last));
+                ctx.actions.push(SweepAction::OpenFolder(last));
             }
         });
-        if let Some((dir, job)) = self.load.current() {
+        if let Some((dir, fraction)) = ctx.reading {
             let mut cancel = false;
             ui.horizontal(|ui| {
                 ui.spinner();
                 ui.label(format!(
                     "reading {} … {:.0} %",
                     dir.display(),
-                    100.0 * job.fraction()
+                    100.0 * fraction
                 ));
                 cancel = ui.button("Cancel").clicked();
             });
             if cancel {
-                self.actions.push(SweepAction::CancelLoad);
+                ctx.actions.push(SweepAction::CancelLoad);
             }
         }
-        crate::app::widgets::message_ui(ui, self.message.as_ref());
-        let Some(t) = self.table.clone() else {
+        crate::app::widgets::message_ui(ui, ctx.message);
+        let Some(t) = ctx.table else {
             ui.weak("No results open yet.");
             return;
         };
@@ -85,8 +94,9 @@ impl SweepWorkspace {
         ui.label(RichText::new(t.dir.display().to_string()).weak().small());
         ui.separator();
         ui.label("Filter");
+        let mut filter = ctx.filter.to_string();
         ui.add(
-            egui::TextEdit::singleline(&mut self.filter)
+            egui::TextEdit::singleline(&mut filter)
                 .hint_text("random-4  ltr>0.5  seed<3")
                 .desired_width(f32::INFINITY),
         )
@@ -95,17 +105,22 @@ impl SweepWorkspace {
              or the error (random-4), or a column compared with a number (ltr>0.5, seed<3) \
              or equal to a word (tiling=repeat)",
         );
+        if filter != ctx.filter {
+            ctx.actions.push(SweepAction::Filter(filter));
+        }
     }
+}
 
-    /// The table: a header row of sort buttons and the shown rows.
-    pub(super) fn table_ui(&mut self, ui: &mut egui::Ui) {
-        let Some(t) = self.table.clone() else {
+impl TablePanel {
+    /// Draws the panel.
+    pub fn ui(&mut self, ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
+        let Some(t) = ctx.table else {
             ui.centered_and_justified(|ui| {
                 ui.weak("File > Open sweep results… to see a sweep's table and plots.");
             });
             return;
         };
-        let Some(view) = &self.view else {
+        let Some(view) = ctx.view else {
             ui.horizontal(|ui| {
                 ui.spinner();
                 ui.label("sorting and filtering…");
@@ -114,7 +129,7 @@ impl SweepWorkspace {
         };
         ui.horizontal(|ui| {
             ui.label(format!("{} shown / {} rows", view.rows.len(), t.rows.len()));
-            if self.view_job.is_running() {
+            if ctx.deriving {
                 ui.spinner();
             }
         });
@@ -136,7 +151,7 @@ impl SweepWorkspace {
             })
             .collect();
         let row_h = ui.spacing().interact_size.y;
-        let mut sort = self.sort;
+        let mut sort = ctx.sort;
         let mut open = None;
         egui::ScrollArea::horizontal()
             .id_salt("sweep_table_x")
@@ -178,11 +193,11 @@ impl SweepWorkspace {
                         }
                     });
             });
-        if sort != self.sort {
-            self.sort = sort;
+        if sort != ctx.sort {
+            ctx.actions.push(SweepAction::Sort(sort));
         }
         if let Some(i) = open {
-            self.actions.push(SweepAction::OpenRow(i));
+            ctx.actions.push(SweepAction::OpenRow(i));
         }
     }
 }

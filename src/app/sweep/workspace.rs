@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::SweepWorkspace;
-use crate::app::workspace::{DroppedKind, Shell, Workspace, WorkspaceId, side_panel};
+use crate::app::workspace::{DroppedKind, Shell, Workspace, WorkspaceId};
 
 impl Workspace for SweepWorkspace {
     fn id(&self) -> WorkspaceId {
@@ -46,23 +46,7 @@ impl Workspace for SweepWorkspace {
     fn ui(&mut self, ui: &mut egui::Ui, shell: &mut Shell) {
         // Jobs are taken here, before drawing, so a finished read shows in this frame.
         self.poll(shell);
-        let total = ui.available_width();
-        side_panel(
-            egui::Panel::left("sweep_controls"),
-            total,
-            0.26,
-            260.0,
-            380.0,
-        )
-        .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| self.controls_ui(ui, shell));
-        });
-        let height = ui.available_height();
-        // Half the height for the plots: the table scrolls, a squeezed plot shows nothing.
-        egui::Panel::bottom("sweep_plots")
-            .exact_size((height * 0.5).clamp(220.0, 640.0))
-            .show(ui, |ui| self.plots_ui(ui));
-        egui::CentralPanel::default().show(ui, |ui| self.table_ui(ui));
+        self.panels_ui(ui, shell);
     }
 
     fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
