@@ -200,7 +200,7 @@ fn sensor_previewer_maps_and_split_compare() {
     }
     assert_eq!(h.state().sensor().shown().unwrap().run.strategies.len(), 4);
     capture(&mut h, "sensor-maps");
-    h.state_mut().sensor_mut().view = SensorView::Compare;
+    h.state_mut().sensor_mut().show(SensorView::Compare);
     h.state_mut()
         .sensor_mut()
         .set_compare(0, 3, CompareMode::Split, 0.5);
@@ -208,12 +208,12 @@ fn sensor_previewer_maps_and_split_compare() {
         h.step();
     }
     capture(&mut h, "sensor-compare");
-    h.state_mut().sensor_mut().view = SensorView::Curves;
+    h.state_mut().sensor_mut().show(SensorView::Curves);
     for _ in 0..4 {
         h.step();
     }
     capture(&mut h, "sensor-curves");
-    h.state_mut().sensor_mut().view = SensorView::Study;
+    h.state_mut().sensor_mut().show(SensorView::Study);
     h.step();
     let ctx = h.ctx.clone();
     let app = h.state_mut();

@@ -423,7 +423,7 @@ fn the_previewer_shows_colour_captures_and_channel_scores() {
     h.state_mut()
         .sensor_mut()
         .set_compare(0, 3, CompareMode::Split, 0.5);
-    h.state_mut().sensor_mut().view = SensorView::Compare;
+    h.state_mut().sensor_mut().show(SensorView::Compare);
     h.step();
     h.step();
     assert!(h.query_by_label_contains("A: worst ROI SSIM").is_some());

@@ -67,7 +67,7 @@ fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
         (SensorView::Curves, "(b) optimal pitch"),
         (SensorView::Maps, "Bin map:"),
     ] {
-        h.state_mut().sensor_mut().view = view;
+        h.state_mut().sensor_mut().show(view);
         h.step();
         h.step();
         assert!(h.query_by_label_contains(label).is_some(), "{label}");

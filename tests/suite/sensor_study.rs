@@ -188,7 +188,7 @@ fn the_study_view_runs_shows_every_capture_and_exports_csv() {
     step_until(&mut h, "the sample scene", |app| {
         app.sensor().scene_name().is_some()
     });
-    h.state_mut().sensor_mut().view = SensorView::Study;
+    h.state_mut().sensor_mut().show(SensorView::Study);
     h.step();
     h.get_by_label("Run the study").click();
     step_until(&mut h, "the study", |app| {

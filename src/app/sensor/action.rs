@@ -2,6 +2,7 @@
 //! queue and is carried out after the frame's UI ([`super::SensorWorkspace::act`]), through the
 //! undo history.
 
+use super::{CompareMode, SensorView};
 use crate::core::sensor::SensorSettings;
 
 /// A change the panels queue.
@@ -14,4 +15,20 @@ pub enum SensorAction {
     Undo,
     /// Re-applies the change last undone.
     Redo,
+    /// Ask for an HDR scene (a file dialog).
+    AskHdr,
+    /// Show this picture in the centre.
+    Show(SensorView),
+    /// The Compare view's captures A and B (strategy indices), how they are shown, and where
+    /// the split line is (0 … 1 of the width).
+    Compare {
+        /// Capture A.
+        a: usize,
+        /// Capture B.
+        b: usize,
+        /// Side by side or split.
+        mode: CompareMode,
+        /// The split line, a share of the width.
+        split: f32,
+    },
 }

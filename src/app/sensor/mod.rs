@@ -18,12 +18,10 @@ pub use crate::core::Quality;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use egui::TextureHandle;
-
-use crate::app::dialogs::PendingDialog;
+use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::history::{History, Snapshot};
 use crate::app::job::{Job, JobError, Keyed};
-use crate::core::sensor::{Exposure, Scene, SensorRun, SensorSettings, run};
+use crate::core::sensor::{Scene, SensorRun, SensorSettings, run};
 
 use crate::io::photo::hdr;
 
@@ -113,32 +111,40 @@ pub struct SensorWorkspace {
     history: History<SensorSettings>,
     /// What the panels queued this frame, carried out after the UI ([`SensorWorkspace::act`]).
     actions: Vec<SensorAction>,
-    /// The exposure controls: each kind keeps its own value while another is chosen; the
-    /// settings' `exposure` is the chosen one.
-    exposure_kind: ExposureKind,
-    mean_fraction: f64,
-    percentile: f64,
-    percentile_fill: f64,
-    absolute_e_per_um2: f64,
     /// The settings and scene of the newest generation.
     submitted: Option<(SensorSettings, usize)>,
     generation: u64,
     job: Keyed<RunKey, SensorRun>,
     shown: Option<ShownRun>,
-    /// The picture the centre shows.
-    pub view: SensorView,
-    map_strategy: usize,
-    compare: [usize; 2],
-    compare_mode: CompareMode,
-    split: f32,
-    roi_grid: bool,
-    split_texture: Option<(TextureKey, TextureHandle)>,
-    curve_light_e_per_um2: f64,
-    curve_pitch_um: f64,
     message: Option<Notice>,
     /// The bin-size study (Fig. 5.4): its own job, started from its view.
     pub study: study_view::StudyView,
     flat: FlatPatchCheck,
+    panels: panels::Panels,
+}
+
+/// What a panel may look at, and where it sends what it wants done.
+pub struct SensorCtx<'a> {
+    /// The settings of the next run (read-only; change them with [`SensorAction::Live`]).
+    pub settings: &'a SensorSettings,
+    /// The open scene, if any.
+    pub scene: Option<&'a Arc<LoadedScene>>,
+    /// A scene is being read.
+    pub loading: bool,
+    /// A file dialog is open.
+    pub asking: bool,
+    /// The run on screen, if any.
+    pub shown: Option<&'a ShownRun>,
+    /// The run in progress: its quality and the share done.
+    pub running: Option<(Quality, f32)>,
+    /// The message line.
+    pub message: Option<&'a Notice>,
+    /// The flat-patch check, a panel with its own job.
+    pub flat: &'a mut FlatPatchCheck,
+    /// The bin-size study, a view with its own job.
+    pub study: &'a mut study_view::StudyView,
+    /// Where the panel queues what it wants done; carried out after the frame's UI.
+    pub actions: &'a mut Vec<SensorAction>,
 }
 
 type TextureKey = (u64, Quality, usize, usize, u32);
@@ -152,27 +158,14 @@ impl Default for SensorWorkspace {
             dialog: None,
             history: History::new(SensorSettings::default()),
             actions: Vec::new(),
-            exposure_kind: ExposureKind::Mean,
-            mean_fraction: 0.05,
-            percentile: 99.9,
-            percentile_fill: 0.8,
-            absolute_e_per_um2: 100.0,
             submitted: None,
             generation: 0,
             job: Keyed::idle(),
             shown: None,
-            view: SensorView::Maps,
-            map_strategy: 3,
-            compare: [0, 3],
-            compare_mode: CompareMode::SideBySide,
-            split: 0.5,
-            roi_grid: true,
-            split_texture: None,
-            curve_light_e_per_um2: 20.0,
-            curve_pitch_um: 1.0,
             message: None,
             study: study_view::StudyView::default(),
             flat: FlatPatchCheck::default(),
+            panels: panels::Panels::default(),
         }
     }
 }
@@ -201,9 +194,53 @@ impl SensorWorkspace {
 
     /// Chooses the two captures of the Compare view and how they are shown.
     pub fn set_compare(&mut self, a: usize, b: usize, mode: CompareMode, split: f32) {
-        self.compare = [a, b];
-        self.compare_mode = mode;
-        self.split = split.clamp(0.0, 1.0);
+        self.act(SensorAction::Compare { a, b, mode, split });
+    }
+
+    /// The picture the centre shows.
+    pub fn view(&self) -> SensorView {
+        self.panels.views.view
+    }
+
+    /// Shows `view` in the centre ([`SensorAction::Show`]).
+    pub fn show(&mut self, view: SensorView) {
+        self.act(SensorAction::Show(view));
+    }
+
+    /// The panels and what they may look at, borrowed apart so that a panel draws from the
+    /// context while it holds its own state.
+    fn split(&mut self) -> (&mut panels::Panels, SensorCtx<'_>) {
+        let ctx = SensorCtx {
+            settings: self.history.current(),
+            scene: self.scene.as_ref(),
+            loading: self.load.is_some(),
+            asking: self.dialog.is_some(),
+            shown: self.shown.as_ref(),
+            running: self.job.current().map(|(k, j)| (k.quality, j.fraction())),
+            message: self.message.as_ref(),
+            flat: &mut self.flat,
+            study: &mut self.study,
+            actions: &mut self.actions,
+        };
+        (&mut self.panels, ctx)
+    }
+
+    /// The left panel.
+    pub fn controls_ui(&mut self, ui: &mut egui::Ui) {
+        let (panels, mut ctx) = self.split();
+        panels.controls.ui(ui, &mut ctx);
+    }
+
+    /// The right panel.
+    pub fn numbers_ui(&mut self, ui: &mut egui::Ui) {
+        let (panels, mut ctx) = self.split();
+        panels.numbers.ui(ui, &mut ctx);
+    }
+
+    /// The centre.
+    pub fn views_ui(&mut self, ui: &mut egui::Ui) {
+        let (panels, mut ctx) = self.split();
+        panels.views.ui(ui, &mut ctx);
     }
 
     /// The flat-patch check of the gain controls.
@@ -278,11 +315,23 @@ impl SensorWorkspace {
             SensorAction::Live(settings) => *self.history.current_mut() = *settings,
             SensorAction::Undo => {
                 self.history.undo();
-                self.show_exposure();
+                let e = self.history.current().exposure;
+                self.panels.controls.show_exposure(e);
             }
             SensorAction::Redo => {
                 self.history.redo();
-                self.show_exposure();
+                let e = self.history.current().exposure;
+                self.panels.controls.show_exposure(e);
+            }
+            SensorAction::AskHdr => {
+                self.dialog = Some(PendingDialog::spawn(Purpose::Hdr, None, None));
+            }
+            SensorAction::Show(view) => self.panels.views.view = view,
+            SensorAction::Compare { a, b, mode, split } => {
+                let v = &mut self.panels.views;
+                v.compare = [a, b];
+                v.compare_mode = mode;
+                v.split = split.clamp(0.0, 1.0);
             }
         }
     }
@@ -302,36 +351,6 @@ impl SensorWorkspace {
     /// Whether there is an undone change to redo.
     pub fn can_redo(&self) -> bool {
         self.history.can_redo()
-    }
-
-    /// The exposure controls set to the settings' exposure (after an undo or redo).
-    fn show_exposure(&mut self) {
-        match self.history.current().exposure {
-            Exposure::MeanFraction(f) => {
-                self.exposure_kind = ExposureKind::Mean;
-                self.mean_fraction = f;
-            }
-            Exposure::PercentileFill { percentile, fill } => {
-                self.exposure_kind = ExposureKind::Percentile;
-                self.percentile = percentile;
-                self.percentile_fill = fill;
-            }
-            Exposure::ElectronsPerUm2(e) => {
-                self.exposure_kind = ExposureKind::Absolute;
-                self.absolute_e_per_um2 = e;
-            }
-        }
-    }
-
-    fn exposure(&self) -> Exposure {
-        match self.exposure_kind {
-            ExposureKind::Mean => Exposure::MeanFraction(self.mean_fraction),
-            ExposureKind::Percentile => Exposure::PercentileFill {
-                percentile: self.percentile,
-                fill: self.percentile_fill,
-            },
-            ExposureKind::Absolute => Exposure::ElectronsPerUm2(self.absolute_e_per_um2),
-        }
     }
 
     /// Takes finished loads, dialogs and runs; starts the runs the settings call for.
@@ -386,7 +405,7 @@ impl SensorWorkspace {
                         run: Arc::new(run),
                         textures,
                     });
-                    self.split_texture = None;
+                    self.panels.views.forget_split();
                     if self.message.as_ref().is_some_and(Notice::is_error) {
                         self.message = None;
                     }

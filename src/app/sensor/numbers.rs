@@ -2,22 +2,26 @@
 
 use egui::{RichText, Ui};
 
-use super::{Quality, SensorWorkspace};
+use super::{Quality, SensorCtx};
 
-impl SensorWorkspace {
-    /// Right: the Table 5.4-style numbers.
-    pub fn numbers_ui(&mut self, ui: &mut Ui) {
+/// Right: the Table 5.4-style numbers of the shown run.
+#[derive(Default)]
+pub struct NumbersPanel;
+
+impl NumbersPanel {
+    /// Draws the panel.
+    pub fn ui(&mut self, ui: &mut Ui, ctx: &mut SensorCtx<'_>) {
         ui.heading("Numbers");
-        match (self.job.current(), &self.shown) {
-            (Some((key, j)), _) => {
+        match (ctx.running, ctx.shown) {
+            (Some((quality, fraction)), _) => {
                 ui.horizontal(|ui| {
                     ui.spinner();
-                    ui.label(match key.quality {
+                    ui.label(match quality {
                         Quality::Preview => "preview…",
                         Quality::Full => "full scene…",
                     });
                 });
-                ui.add(egui::ProgressBar::new(j.fraction()));
+                ui.add(egui::ProgressBar::new(fraction));
             }
             (None, Some(s)) => {
                 ui.weak(format!(
@@ -33,7 +37,7 @@ impl SensorWorkspace {
             }
             (None, None) => {}
         }
-        let Some(shown) = &self.shown else {
+        let Some(shown) = ctx.shown else {
             ui.label("Open an HDR scene to start.");
             return;
         };

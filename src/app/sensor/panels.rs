@@ -6,8 +6,9 @@ use egui_plot::{HLine, Plot, PlotImage, PlotPoint, VLine};
 use ndarray::Array2;
 
 use super::images::{BIN_COLORS, gain_color, split_image};
-use super::{CompareMode, ExposureKind, SensorAction, SensorView, SensorWorkspace};
-use crate::app::dialogs::{PendingDialog, Purpose};
+use super::{CompareMode, ExposureKind, SensorAction, SensorCtx, SensorView, TextureKey};
+use crate::core::sensor::Exposure;
+
 use crate::app::history::Snapshot;
 use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, figures};
 
@@ -76,9 +77,107 @@ fn swatch(ui: &mut Ui, color: Color32) {
     ui.painter().rect_filled(rect, 2.0, color);
 }
 
-impl SensorWorkspace {
+/// The workspace's panels: each draws from a [`SensorCtx`] and queues [`SensorAction`]s.
+#[derive(Default)]
+pub struct Panels {
+    /// Left: the scene, the sensor and the strategy settings, the flat-patch check.
+    pub controls: ControlsPanel,
+    /// Right: the numbers of the shown run.
+    pub numbers: super::numbers::NumbersPanel,
+    /// Centre: maps, comparison, curves or the bin-size study.
+    pub views: ViewsPanel,
+}
+
+/// The exposure controls and the settings beside them. Each exposure kind keeps its own value
+/// while another is chosen; the settings' `exposure` is the chosen one.
+pub struct ControlsPanel {
+    exposure_kind: ExposureKind,
+    mean_fraction: f64,
+    percentile: f64,
+    percentile_fill: f64,
+    absolute_e_per_um2: f64,
+}
+
+impl Default for ControlsPanel {
+    fn default() -> Self {
+        ControlsPanel {
+            exposure_kind: ExposureKind::Mean,
+            mean_fraction: 0.05,
+            percentile: 99.9,
+            percentile_fill: 0.8,
+            absolute_e_per_um2: 100.0,
+        }
+    }
+}
+
+/// The centre's picture and what it shows: the strategy mapped, the two compared, the split,
+/// the ROI grid, the curves' light and pitch.
+pub struct ViewsPanel {
+    /// The picture shown.
+    pub view: SensorView,
+    map_strategy: usize,
+    /// Captures A and B of the Compare view (strategy indices).
+    pub compare: [usize; 2],
+    /// Side by side or split.
+    pub compare_mode: CompareMode,
+    /// The split line, a share of the width.
+    pub split: f32,
+    roi_grid: bool,
+    split_texture: Option<(TextureKey, TextureHandle)>,
+    curve_light_e_per_um2: f64,
+    curve_pitch_um: f64,
+}
+
+impl Default for ViewsPanel {
+    fn default() -> Self {
+        ViewsPanel {
+            view: SensorView::Maps,
+            map_strategy: 3,
+            compare: [0, 3],
+            compare_mode: CompareMode::SideBySide,
+            split: 0.5,
+            roi_grid: true,
+            split_texture: None,
+            curve_light_e_per_um2: 20.0,
+            curve_pitch_um: 1.0,
+        }
+    }
+}
+
+impl ControlsPanel {
+    /// The exposure the controls set.
+    fn exposure(&self) -> Exposure {
+        match self.exposure_kind {
+            ExposureKind::Mean => Exposure::MeanFraction(self.mean_fraction),
+            ExposureKind::Percentile => Exposure::PercentileFill {
+                percentile: self.percentile,
+                fill: self.percentile_fill,
+            },
+            ExposureKind::Absolute => Exposure::ElectronsPerUm2(self.absolute_e_per_um2),
+        }
+    }
+
+    /// The controls set to `exposure` (after an undo or redo).
+    pub fn show_exposure(&mut self, exposure: Exposure) {
+        match exposure {
+            Exposure::MeanFraction(f) => {
+                self.exposure_kind = ExposureKind::Mean;
+                self.mean_fraction = f;
+            }
+            Exposure::PercentileFill { percentile, fill } => {
+                self.exposure_kind = ExposureKind::Percentile;
+                self.percentile = percentile;
+                self.percentile_fill = fill;
+            }
+            Exposure::ElectronsPerUm2(e) => {
+                self.exposure_kind = ExposureKind::Absolute;
+                self.absolute_e_per_um2 = e;
+            }
+        }
+    }
+
     /// Left: scene, sensor, exposure and strategy parameters.
-    pub fn controls_ui(&mut self, ui: &mut Ui) {
+    pub fn ui(&mut self, ui: &mut Ui, ctx: &mut SensorCtx<'_>) {
         ui.heading("Sensor previewer");
         ui.label(
             "Spatially-varying gain and binning (thesis chapter 5): choose them per region from \
@@ -87,19 +186,23 @@ impl SensorWorkspace {
         ui.separator();
         ui.horizontal_wrapped(|ui| {
             ui.label("Scene:");
-            ui.strong(self.scene_name().unwrap_or("(none: open an HDR file)"));
+            ui.strong(
+                ctx.scene
+                    .map(|s| s.name.as_str())
+                    .unwrap_or("(none: open an HDR file)"),
+            );
         });
         ui.horizontal(|ui| {
             if ui
-                .add_enabled(self.dialog.is_none(), egui::Button::new("Open HDR…"))
+                .add_enabled(!ctx.asking, egui::Button::new("Open HDR…"))
                 .on_hover_text(
                     "Radiance .hdr or OpenEXR .exr (half or float); or drop one on the window",
                 )
                 .clicked()
             {
-                self.dialog = Some(PendingDialog::spawn(Purpose::Hdr, None, None));
+                ctx.actions.push(SensorAction::AskHdr);
             }
-            if self.load.is_some() {
+            if ctx.loading {
                 ui.spinner();
                 ui.label("reading…");
             }
@@ -108,7 +211,7 @@ impl SensorWorkspace {
         // The controls edit a draft; a change is queued as a live edit, which the history
         // makes one undo step once the pointer is up (Workspace::apply carries it out).
         // Undo and redo: the Edit menu, Ctrl+Z and Ctrl+Shift+Z.
-        let mut draft = self.history.current().clone();
+        let mut draft = ctx.settings.clone();
         let s = &mut draft;
         egui::Grid::new("sensor_settings")
             .num_columns(2)
@@ -253,18 +356,25 @@ impl SensorWorkspace {
                 ui.add(crate::app::widgets::number(&mut s.seed));
                 ui.end_row();
             });
-        if !draft.same(self.history.current()) {
-            self.actions.push(SensorAction::Live(Box::new(draft)));
+        if !draft.same(ctx.settings) {
+            ctx.actions.push(SensorAction::Live(Box::new(draft)));
         }
         ui.separator();
         egui::CollapsingHeader::new("Flat patch check (eq. 5.3)")
             .default_open(true)
-            .show(ui, |ui| self.flat.ui(ui));
-        crate::app::widgets::message_ui(ui, self.message.as_ref());
+            .show(ui, |ui| ctx.flat.ui(ui));
+        crate::app::widgets::message_ui(ui, ctx.message);
+    }
+}
+
+impl ViewsPanel {
+    /// Lets go of the split picture of the previous run (a new run is on screen).
+    pub fn forget_split(&mut self) {
+        self.split_texture = None;
     }
 
     /// Centre: maps, comparison or curves.
-    pub fn views_ui(&mut self, ui: &mut Ui) {
+    pub fn ui(&mut self, ui: &mut Ui, ctx: &mut SensorCtx<'_>) {
         ui.horizontal(|ui| {
             ui.selectable_value(&mut self.view, SensorView::Maps, "Scene and maps");
             ui.selectable_value(&mut self.view, SensorView::Compare, "Compare captures");
@@ -279,12 +389,13 @@ impl SensorWorkspace {
         });
         ui.separator();
         match self.view {
-            SensorView::Curves => self.curves_ui(ui),
-            SensorView::Maps => self.maps_ui(ui),
-            SensorView::Compare => self.compare_ui(ui),
+            SensorView::Curves => self.curves_ui(ui, ctx),
+            SensorView::Maps => self.maps_ui(ui, ctx),
+            SensorView::Compare => self.compare_ui(ui, ctx),
             SensorView::Study => {
-                let scene = self.scene.clone();
-                self.study.ui(ui, scene.as_deref(), self.history.current());
+                let scene = ctx.scene.cloned();
+                let settings = ctx.settings;
+                ctx.study.ui(ui, scene.as_deref(), settings);
             }
         }
     }
@@ -299,8 +410,8 @@ impl SensorWorkspace {
             });
     }
 
-    fn maps_ui(&mut self, ui: &mut Ui) {
-        let Some(shown) = &self.shown else {
+    fn maps_ui(&mut self, ui: &mut Ui, ctx: &SensorCtx<'_>) {
+        let Some(shown) = ctx.shown else {
             ui.label("No result yet.");
             return;
         };
@@ -403,8 +514,8 @@ impl SensorWorkspace {
         });
     }
 
-    fn compare_ui(&mut self, ui: &mut Ui) {
-        let Some(shown) = &self.shown else {
+    fn compare_ui(&mut self, ui: &mut Ui, ctx: &SensorCtx<'_>) {
+        let Some(shown) = ctx.shown else {
             ui.label("No result yet.");
             return;
         };
@@ -477,9 +588,9 @@ impl SensorWorkspace {
         }
     }
 
-    fn curves_ui(&mut self, ui: &mut Ui) {
-        let sensor = self.history.current().sensor.clone();
-        let snr_t = self.history.current().snr_t;
+    fn curves_ui(&mut self, ui: &mut Ui, ctx: &SensorCtx<'_>) {
+        let sensor = ctx.settings.sensor.clone();
+        let snr_t = ctx.settings.snr_t;
         ui.horizontal_wrapped(|ui| {
             ui.add(
                 egui::Slider::new(&mut self.curve_light_e_per_um2, 0.1..=1000.0)

@@ -1,7 +1,7 @@
 //! How the sensor workspace plugs into the studio's shell.
 
 use super::SensorWorkspace;
-use crate::app::dialogs::{PendingDialog, Purpose};
+
 use crate::app::notice::Notice;
 use crate::app::workspace::DroppedKind;
 
@@ -57,14 +57,15 @@ impl crate::app::workspace::Workspace for SensorWorkspace {
             .clicked()
         {
             if shell.native_dialogs {
-                self.dialog = Some(PendingDialog::spawn(Purpose::Hdr, None, None));
+                self.act(super::SensorAction::AskHdr);
             } else {
                 self.message = Some(Notice::error("file dialogs are disabled in this session"));
             }
         }
     }
 
-    /// Carries out what the panels queued: every change of the settings, through the history.
+    /// Carries out what the panels queued: every change of the settings, through the history,
+    /// and the pictures and dialogs they ask for.
     fn apply(&mut self, _shell: &mut crate::app::Shell) {
         self.apply_queued();
     }
