@@ -256,3 +256,23 @@ fn the_cli_reference_is_generated_from_the_command_tree() {
             .unwrap_or("<end of file>"),
     );
 }
+
+/// Help texts read on a terminal: no rustdoc link brackets leak from a doc comment into
+/// `--help` (the reference is every command's help, generated).
+#[test]
+fn the_cli_help_has_no_rustdoc_links() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let reference =
+        std::fs::read_to_string(root.join("docs/src/cli-reference.md")).expect("the reference");
+    assert!(
+        reference.contains("`AdditiveGain` chooses"),
+        "the bin-mode help"
+    );
+    for (n, line) in reference.lines().enumerate() {
+        assert!(
+            !line.contains("[`") && !line.contains("`]"),
+            "line {}: {line}",
+            n + 1
+        );
+    }
+}

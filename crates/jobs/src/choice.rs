@@ -23,7 +23,8 @@ pub fn choice_of<T>(members: &'static [T]) -> Choice<T> {
 }
 
 /// A member's help as clap's derive writes a doc comment: its first paragraph on one line,
-/// without the closing full stop.
+/// without the closing full stop, and without rustdoc's link brackets (`[`AdditiveGain`]` reads
+/// `AdditiveGain`), which mean nothing on a terminal.
 fn help(doc: &str) -> String {
     let paragraph = doc.split("\n\n").next().unwrap_or_default();
     let line = paragraph
@@ -31,7 +32,9 @@ fn help(doc: &str) -> String {
         .map(str::trim)
         .filter(|l| !l.is_empty())
         .collect::<Vec<_>>()
-        .join(" ");
+        .join(" ")
+        .replace("[`", "`")
+        .replace("`]", "`");
     match line.strip_suffix('.') {
         Some(stripped) if !stripped.ends_with('.') => stripped.to_owned(),
         _ => line,
