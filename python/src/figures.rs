@@ -114,7 +114,46 @@ fn sweep_figures(py: Python<'_>, out: PathBuf) -> PyResult<Bound<'_, PyList>> {
     Ok(list)
 }
 
+/// Fig. 5.3 for a sensor: (a) contrast and noise at one light level and pitch, with the cutoff
+/// and Nyquist marked; (b) the optimal pitch against the light. The studio's Optimal pitch view.
+#[pyfunction]
+#[pyo3(signature = (light_e_per_um2, pitch_um, sensor, snr_t))]
+fn sensor_pitch_figures<'py>(
+    py: Python<'py>,
+    light_e_per_um2: f64,
+    pitch_um: f64,
+    sensor: &str,
+    snr_t: f64,
+) -> PyResult<Bound<'py, PyList>> {
+    use udc_core::sensor::{SensorSpec, figures};
+    let spec = SensorSpec::named(sensor).ok_or_else(|| {
+        crate::errors::value(format!(
+            "sensor: unknown {sensor:?} (expected one of: {})",
+            udc_core::sensor::PRESET_NAMES.join(", ")
+        ))
+    })?;
+    for (name, v) in [
+        ("light_e_per_um2", light_e_per_um2),
+        ("pitch_um", pitch_um),
+        ("snr_t", snr_t),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(crate::errors::value(format!(
+                "{name}: must be a finite number > 0 (got {v})"
+            )));
+        }
+    }
+    let list = PyList::empty(py);
+    list.append(panel(
+        py,
+        &figures::contrast_panel(light_e_per_um2, pitch_um, &spec, snr_t),
+    )?)?;
+    list.append(panel(py, &figures::optimal_pitch_panel(&spec, snr_t))?)?;
+    Ok(list)
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep_figures, m)?)?;
+    m.add_function(wrap_pyfunction!(sensor_pitch_figures, m)?)?;
     Ok(())
 }

@@ -149,3 +149,21 @@ def test_a_sweeps_figures_are_its_plots_as_arrays(tmp_path):
     assert pareto["series"][0]["points"].shape == (4, 2)
     with pytest.raises(OSError):
         udc.sweep_figures(tmp_path / "missing")
+
+
+def test_the_optimal_pitch_figures_are_the_studios_fig_5_3():
+    contrast, best = udc.sensor.pitch_figures(light_e_per_um2=50.0, pitch_um=1.0)
+    assert contrast["x"]["unit"] == "cycles/µm"
+    nyquist, cutoff = (a["x"] for a in contrast["annotations"])
+    assert nyquist == pytest.approx(0.5)
+    # Below the cutoff the contrast clears the noise threshold, above it it does not.
+    c, thr = (np.asarray(s["points"]) for s in contrast["series"])
+    below, above = c[:, 0] < 0.9 * cutoff, (c[:, 0] > 1.1 * cutoff) & (c[:, 0] < 1.0)
+    assert np.all(c[below, 1] > thr[below, 1]) and np.all(c[above, 1] < thr[above, 1])
+    # More light, a finer optimal pitch.
+    pitch = np.asarray(best["series"][0]["points"])
+    assert pitch[0, 1] > pitch[-1, 1]
+    with pytest.raises(ValueError, match="sensor: unknown"):
+        udc.sensor.pitch_figures(sensor="film")
+    with pytest.raises(ValueError, match="pitch_um"):
+        udc.sensor.pitch_figures(pitch_um=float("nan"))

@@ -10,11 +10,12 @@ command's flags with ``_`` for ``-`` (``sensor="nikon-z5"``, ``exposure="mean:0.
 from __future__ import annotations
 
 import os
-from typing import Any, Dict, Optional, Union
+from typing import Any, Dict, List, Optional, Union
 
+from . import _native
 from ._jobs import ParamValue, evaluate
 
-__all__ = ["simulate"]
+__all__ = ["pitch_figures", "simulate"]
 
 
 def simulate(
@@ -35,3 +36,20 @@ def simulate(
         raise ValueError(f"strategy: unknown {strategy!r} (expected one of {', '.join(names)})")
     result["strategies"] = [s for s in result["strategies"] if s["name"] == strategy]
     return result
+
+
+def pitch_figures(
+    light_e_per_um2: float = 20.0,
+    pitch_um: float = 1.0,
+    sensor: str = "table54",
+    snr_t: float = 4.0,
+) -> List[Dict[str, Any]]:
+    """Fig. 5.3 as data, the studio's Optimal pitch view: (a) the contrast of a sinusoid through
+    pixels of ``pitch_um`` at ``light_e_per_um2`` (gain 1) against the noise times ``snr_t``, in
+    electrons against cycles/µm, with the cutoff and Nyquist ``1/(2p)`` as ``annotations``; (b)
+    the optimal pitch (µm) against log10 of the light, continuous and among the bin sizes.
+
+    Each figure is a dict as :func:`udc_studio.sweep_figures` gives: ``title``, ``x`` and ``y``
+    axes (``label``, ``unit``), ``series`` (``points`` as an N×2 array) and ``annotations``.
+    """
+    return list(_native.sensor_pitch_figures(light_e_per_um2, pitch_um, sensor, snr_t))
