@@ -167,3 +167,13 @@ def test_the_optimal_pitch_figures_are_the_studios_fig_5_3():
         udc.sensor.pitch_figures(sensor="film")
     with pytest.raises(ValueError, match="pitch_um"):
         udc.sensor.pitch_figures(pitch_um=float("nan"))
+
+
+def test_none_and_false_leave_a_parameter_at_its_default():
+    # `height_step_um` is a number or nothing; `False` and `None` both mean nothing, as a switch
+    # off does in a sweep spec.
+    base = udc.phase.psf(preview=True)
+    assert without_time(udc.phase.psf(preview=True, height_step_um=None, unfolded=False)) == (
+        without_time(base)
+    )
+    assert without_time(udc.phase.psf(preview=np.True_, height_step_um=False)) == without_time(base)

@@ -36,8 +36,10 @@ def evaluate(job: str, params: Mapping[str, ParamValue]) -> Dict[str, Any]:
 
     Parameters are the job's, as the command line's flags without ``--`` and with ``_`` for
     ``-`` (``angle_deg=5``; a trailing ``_`` is dropped: ``lambda_``); ``None`` leaves one at
-    its default. An unknown parameter or a bad value raises ``ValueError`` naming it; an
-    unreadable or unwritable file raises ``OSError``.
+    its default, and so does ``False`` (a switch off; as in a sweep spec). An unknown parameter
+    or a bad value raises ``ValueError`` naming it; an unreadable or unwritable file raises
+    ``OSError``.
     """
-    plain = {k: _plain(v) for k, v in params.items() if v is not None}
+    plain = {k: _plain(v) for k, v in params.items()}
+    plain = {k: v for k, v in plain.items() if v is not None and v is not False}
     return _native.evaluate_job(job, plain)
