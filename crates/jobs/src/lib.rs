@@ -37,11 +37,11 @@ mod report;
 pub mod sensor;
 pub mod sweep;
 
-pub use params::{FromParams, Params, param_value_json, params_of};
+pub use params::{FromParams, Params, params_of};
 pub use report::Report;
 
 use anyhow::Result;
-use serde_json::{Map, Value};
+use serde_json::Value;
 use udc_core::Progress;
 use udc_core::sweep::SweepJob;
 
@@ -160,9 +160,4 @@ pub fn with_tool_version(mut value: Value) -> Value {
             .or_insert_with(|| udc_io::TOOL_VERSION.into());
     }
     value
-}
-
-/// An empty parameter set: every job's defaults.
-pub fn no_params() -> Params {
-    Map::new()
 }

@@ -16,7 +16,7 @@ pub type Params = Map<String, Value>;
 /// A parameter's value as JSON: a switch, a whole number, a real number or a text. A number
 /// that is not finite, which JSON cannot hold, goes as its text (`NaN`, `inf`), so that the
 /// parameter's check refuses it by name rather than it being lost.
-pub fn param_value_json(value: &ParamValue) -> Value {
+fn param_value_json(value: &ParamValue) -> Value {
     match value {
         ParamValue::Bool(b) => Value::Bool(*b),
         ParamValue::Int(i) => Value::from(*i),
