@@ -12,7 +12,7 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
     let sampling = sampling_of(&a.mask);
     if !a.angle_deg.is_finite() || a.angle_deg.abs() >= 89.0 {
         bail!(
-            "--angle-deg {}: must be a finite angle within ±89°",
+            "--angle-deg {:?}: must be a finite angle within ±89°",
             a.angle_deg
         );
     }
