@@ -51,7 +51,7 @@ fn each_dropped_file_reaches_the_workspace_that_opens_it() {
     h.step();
     drop_file(&mut h, asset("photos/coffee_256.png"));
     assert_eq!(h.state().workspace(), WorkspaceId::Phase);
-    assert_eq!(h.state().phase().view, PhaseView::Capture);
+    assert_eq!(h.state().phase().view(), PhaseView::Capture);
     step_until(&mut h, "the dropped photo", |app| {
         app.phase().capture_photo_name() == Some("coffee_256.png")
     });

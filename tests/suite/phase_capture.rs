@@ -34,13 +34,13 @@ fn capture_studio(dir: &std::path::Path) -> (Harness<'static, StudioApp>, PhaseD
     let mut d = PhaseDesign::thesis(42.0, 1.0);
     d.camera.pixels = PIXELS;
     h.state_mut().phase_mut().set_design(d.clone());
-    h.state_mut()
-        .phase_mut()
-        .set_capture_channels(ChannelSet::Peaks);
+    common::choose_capture(h.state_mut().phase_mut(), |c| {
+        c.channels = ChannelSet::Peaks
+    });
     h.step();
     h.get_by_label("Capture & restore").click_accesskit();
     h.step();
-    assert_eq!(h.state().phase().view, PhaseView::Capture);
+    assert_eq!(h.state().phase().view(), PhaseView::Capture);
     (h, d)
 }
 
@@ -138,7 +138,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
     }
     assert_eq!(h.state().phase().capture_operators_built(), 2);
     // A lower light: the same operators, a noisier restoration.
-    h.state_mut().phase_mut().set_capture_photons(250.0);
+    common::choose_capture(h.state_mut().phase_mut(), |c| c.photons = 250.0);
     wait_capture(&mut h, "the capture at 250 photons");
     let dim = check(&h, 250.0);
     assert_eq!(
@@ -189,9 +189,9 @@ fn a_bad_photo_keeps_the_current_one_and_cancel_stops_a_run() {
     plan.lambda0 = udc_studio::core::phase::Lambda0::Uniform;
     h.state_mut().phase_mut().set_design(plan);
     h.state_mut().phase_mut().quality = Quality::Full;
-    h.state_mut()
-        .phase_mut()
-        .set_capture_channels(ChannelSet::Spectral);
+    common::choose_capture(h.state_mut().phase_mut(), |c| {
+        c.channels = ChannelSet::Spectral
+    });
     h.step();
     h.step();
     assert!(h.state().phase().is_capturing());
@@ -239,8 +239,10 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
         .select_compare_levels(&[250.0, 10_000.0]);
     h.get_by_label("Run comparison").click_accesskit();
     h.step();
-    step_until(&mut h, "the comparison", |app| !app.phase().is_comparing());
-    let rows = h.state().phase().compare_rows().to_vec();
+    step_until(&mut h, "the comparison", |app| {
+        !app.phase().compare().is_running()
+    });
+    let rows = h.state().phase().compare().rows().to_vec();
     assert_eq!(rows.len(), 4, "2 setups × 2 light levels");
     let mut expected = Vec::new();
     compare_setups(
@@ -278,7 +280,7 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
             assert_eq!(row.unpassed_mse, want, "{}", row.label);
         }
     }
-    let notice = h.state().phase().compare_message().unwrap().clone();
+    let notice = h.state().phase().compare().message().unwrap().clone();
     let (msg, is_error) = (notice.text.clone(), notice.is_error());
     assert!(!is_error && msg.contains("4 runs"), "{msg}");
     // The table names the setups; the mean column fills once every level is in.
@@ -300,7 +302,7 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     h.state_mut()
         .phase_mut()
         .save_compare_csv_to(path.clone(), &ctx);
-    step_until(&mut h, "the CSV", |app| !app.phase().is_saving_compare());
+    step_until(&mut h, "the CSV", |app| !app.phase().compare().is_saving());
     let text = std::fs::read_to_string(&path).unwrap();
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(

@@ -89,7 +89,7 @@ fn the_thesis_design_shows_and_its_psfs_match_the_core() {
         (PhaseView::Optimizer, "Run optimizer"),
         (PhaseView::Psf, "incidence angle"),
     ] {
-        h.state_mut().phase_mut().view = view;
+        h.state_mut().phase_mut().show(view);
         h.step();
         h.step();
         assert!(
@@ -199,7 +199,7 @@ fn edits_recompute_and_a_bad_value_keeps_the_last_result() {
 fn the_optimizer_allocates_every_lenslet_and_apply_is_undoable() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = phase_studio(dir.path(), Quality::Preview);
-    h.state_mut().phase_mut().view = PhaseView::Optimizer;
+    h.state_mut().phase_mut().show(PhaseView::Optimizer);
     wait_psfs(&mut h, "the preview PSFs");
     h.get_by_label("Run optimizer").click();
     h.step();
@@ -255,7 +255,7 @@ fn cancel_stops_an_optimizer_run() {
     let dir = tempfile::tempdir().unwrap();
     // Thesis sampling: a run takes long enough to cancel.
     let mut h = phase_studio(dir.path(), Quality::Full);
-    h.state_mut().phase_mut().view = PhaseView::Optimizer;
+    h.state_mut().phase_mut().show(PhaseView::Optimizer);
     h.step();
     h.get_by_label("Run optimizer").click();
     h.step();

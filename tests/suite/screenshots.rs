@@ -246,14 +246,14 @@ fn phase_masks_psfs_plate_and_optimizer() {
     }
     assert_eq!(h.state().phase().shown().unwrap().psfs.lenslets, 58);
     capture(&mut h, "phase-psf");
-    h.state_mut().phase_mut().view = PhaseView::Geometry;
+    h.state_mut().phase_mut().show(PhaseView::Geometry);
     for _ in 0..4 {
         h.step();
     }
     capture(&mut h, "phase-plate");
     // The optimizer at preview sampling keeps the scenario quick.
     h.state_mut().phase_mut().quality = Quality::Preview;
-    h.state_mut().phase_mut().view = PhaseView::Optimizer;
+    h.state_mut().phase_mut().show(PhaseView::Optimizer);
     common::step_until(&mut h, "the preview PSFs", |app| {
         app.phase().is_up_to_date()
     });
@@ -285,10 +285,10 @@ fn phase_capture_and_compare() {
     } else {
         Quality::Preview
     };
-    h.state_mut()
-        .phase_mut()
-        .set_capture_channels(ChannelSet::Peaks);
-    h.state_mut().phase_mut().view = PhaseView::Capture;
+    common::choose_capture(h.state_mut().phase_mut(), |c| {
+        c.channels = ChannelSet::Peaks
+    });
+    h.state_mut().phase_mut().show(PhaseView::Capture);
     common::step_until(&mut h, "the capture", |app| {
         app.phase().capture_is_current()
     });
@@ -322,8 +322,10 @@ fn phase_capture_and_compare() {
     };
     h.state_mut().phase_mut().select_compare_setups(setups);
     h.get_by_label("Run comparison").click_accesskit();
-    common::step_until(&mut h, "the comparison", |app| !app.phase().is_comparing());
-    assert_eq!(h.state().phase().compare_rows().len(), setups.len() * 4);
+    common::step_until(&mut h, "the comparison", |app| {
+        !app.phase().compare().is_running()
+    });
+    assert_eq!(h.state().phase().compare().rows().len(), setups.len() * 4);
     h.set_size(egui::vec2(1440.0, 1900.0));
     for _ in 0..4 {
         h.step();

@@ -69,7 +69,9 @@ pub struct CompareRun {
     pub denoise: crate::core::restore::Denoise,
 }
 
-pub(super) struct CompareState {
+/// The setup comparison (Fig. 4.6, Tables 4.1-4.2): which setups and light levels are ticked,
+/// the run in flight or on screen with its rows, and its CSV export.
+pub struct CompareState {
     native_dialogs: bool,
     /// The setups on offer (the thesis's) and which are ticked.
     setups: Vec<Setup>,
@@ -89,6 +91,7 @@ pub(super) struct CompareState {
 }
 
 impl CompareState {
+    /// The thesis's setups and light levels, all ticked; no run yet.
     pub fn new(native_dialogs: bool) -> Self {
         let setups = thesis_setups();
         CompareState {
@@ -113,6 +116,48 @@ impl CompareState {
 
     pub(super) fn levels_mut(&mut self) -> &mut [(f64, bool)] {
         &mut self.levels
+    }
+
+    /// The rows so far (they stream in while the comparison runs).
+    pub fn rows(&self) -> &[CompareRow] {
+        &self.rows
+    }
+
+    /// What the rows on screen were run for.
+    pub fn run(&self) -> Option<&CompareRun> {
+        self.run.as_ref()
+    }
+
+    /// Whether a comparison is running.
+    pub fn is_running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    /// The latest message of the comparison or its CSV export.
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
+    /// True while a comparison CSV is being asked for or written.
+    pub fn is_saving(&self) -> bool {
+        self.dialog.is_some() || !self.writes.is_empty()
+    }
+
+    /// Rows done and rows in all, the running step's fraction and the seconds so far.
+    pub(super) fn progress(&self) -> Option<(usize, usize, f32, f64)> {
+        self.job.as_ref().map(|j| {
+            (
+                self.rows.len(),
+                j.key().setups.len() * j.key().photons.len(),
+                j.job().fraction(),
+                j.job().elapsed().as_secs_f64(),
+            )
+        })
+    }
+
+    /// Seconds the last comparison took.
+    pub(super) fn elapsed_s(&self) -> f64 {
+        self.elapsed_s
     }
 }
 
@@ -150,29 +195,9 @@ impl PhaseWorkspace {
         }
     }
 
-    /// The rows so far (they stream in while the comparison runs).
-    pub fn compare_rows(&self) -> &[CompareRow] {
-        &self.compare.rows
-    }
-
-    /// What the rows on screen were run for.
-    pub fn compare_run(&self) -> Option<&CompareRun> {
-        self.compare.run.as_ref()
-    }
-
-    /// Whether a comparison is running.
-    pub fn is_comparing(&self) -> bool {
-        self.compare.job.is_some()
-    }
-
-    /// The latest message of the comparison or its CSV export.
-    pub fn compare_message(&self) -> Option<&Notice> {
-        self.compare.message.as_ref()
-    }
-
-    /// True while a comparison CSV is being asked for or written.
-    pub fn is_saving_compare(&self) -> bool {
-        self.compare.dialog.is_some() || !self.compare.writes.is_empty()
+    /// The comparison: its selections, rows, run and messages.
+    pub fn compare(&self) -> &CompareState {
+        &self.compare
     }
 
     /// Runs the ticked setups over the ticked light levels on the view's photo, with the
@@ -276,22 +301,6 @@ impl PhaseWorkspace {
                 )
             )));
         }
-    }
-
-    /// Rows done and rows in all, the running step's fraction and the seconds so far.
-    pub(super) fn compare_progress(&self) -> Option<(usize, usize, f32, f64)> {
-        self.compare.job.as_ref().map(|j| {
-            (
-                self.compare.rows.len(),
-                j.key().setups.len() * j.key().photons.len(),
-                j.job().fraction(),
-                j.job().elapsed().as_secs_f64(),
-            )
-        })
-    }
-
-    pub(super) fn compare_elapsed_s(&self) -> f64 {
-        self.compare.elapsed_s
     }
 
     /// Writes the rows on screen as CSV to `path` on a background thread (no dialog).

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use egui::Ui;
 
-use super::PhaseWorkspace;
+use super::{PhaseAction, PhaseCtx, PhaseWorkspace};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::job::{Job, Writes};
 use crate::core::phase::PhaseDesign;
@@ -126,7 +126,7 @@ impl ExportState {
         );
     }
 
-    fn ask(&mut self, format: HeightFormat, design: PhaseDesign, ctx: &egui::Context) {
+    pub(super) fn ask(&mut self, format: HeightFormat, design: PhaseDesign, ctx: &egui::Context) {
         if !self.native_dialogs {
             self.message = Some(Notice::error("file dialogs are disabled in this session"));
             return;
@@ -172,79 +172,86 @@ impl PhaseWorkspace {
         }
     }
 
-    /// The export section of the controls.
-    pub(super) fn export_ui(&mut self, ui: &mut Ui) {
-        let ctx = ui.ctx().clone();
-        egui::CollapsingHeader::new("Export the plate")
-            .id_salt("phase_export")
-            .default_open(true)
-            .show(ui, |ui| {
-                let p = &mut self.export.params;
-                egui::Grid::new("phase_export_params")
-                    .num_columns(2)
-                    .show(ui, |ui| {
-                        ui.label("Sample along x");
-                        ui.add(
-                            crate::app::widgets::number(&mut p.sample_um)
-                                .range(0.005..=10.0)
-                                .speed(0.005)
-                                .suffix(" µm"),
-                        );
-                        ui.end_row();
-                        ui.label("PNG rows");
-                        ui.add(
-                            crate::app::widgets::number(&mut p.rows)
-                                .range(1..=4096)
-                                .suffix(" px"),
-                        );
-                        ui.end_row();
-                        ui.label("Length along y");
-                        ui.add(
-                            crate::app::widgets::number(&mut p.length_um)
-                                .range(1.0..=100_000.0)
-                                .suffix(" µm"),
-                        );
-                        ui.end_row();
-                        ui.label("STL base");
-                        ui.add(
-                            crate::app::widgets::number(&mut p.base_um)
-                                .range(0.0..=10_000.0)
-                                .suffix(" µm"),
-                        );
-                        ui.end_row();
-                    });
-                let valid = self.history.current().validate().is_ok();
-                self.export.rules.update(&ctx, self.history.current());
-                self.export.rules.ui(ui, self.history.current());
-                ui.horizontal_wrapped(|ui| {
-                    for format in HeightFormat::ALL {
-                        // GDSII writes one layer per height level: it needs a height step.
-                        let stepped = format != HeightFormat::Gds
-                            || self.history.current().height_step_um.is_some();
-                        if ui
-                            .add_enabled(
-                                valid && stepped && self.export.dialog.is_none(),
-                                egui::Button::new(format.label()),
-                            )
-                            .on_disabled_hover_text(if stepped {
-                                "Fix the design first"
-                            } else {
-                                "Turn on the height step: GDSII has one layer per level"
-                            })
-                            .clicked()
-                        {
-                            self.export
-                                .ask(format, self.history.current().clone(), &ctx);
-                        }
-                    }
-                });
-                if self.export.is_running() {
-                    ui.horizontal(|ui| {
-                        ui.spinner();
-                        ui.label("exporting…");
-                    });
-                }
-                crate::app::widgets::message_ui(ui, self.export.message.as_ref());
-            });
+    /// Asks where to write the plate in `format` (a file dialog), if the design is valid.
+    pub(super) fn ask_export(&mut self, format: HeightFormat, ctx: &egui::Context) {
+        match self.history.current().validate() {
+            Ok(()) => self.export.ask(format, self.history.current().clone(), ctx),
+            Err(e) => self.export.message = Some(Notice::error(format!("cannot export: {e}"))),
+        }
     }
+}
+
+/// The export section of the controls.
+pub(super) fn export_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
+    let egui_ctx = ui.ctx().clone();
+    egui::CollapsingHeader::new("Export the plate")
+        .id_salt("phase_export")
+        .default_open(true)
+        .show(ui, |ui| {
+            let p = &mut ctx.export.params;
+            egui::Grid::new("phase_export_params")
+                .num_columns(2)
+                .show(ui, |ui| {
+                    ui.label("Sample along x");
+                    ui.add(
+                        crate::app::widgets::number(&mut p.sample_um)
+                            .range(0.005..=10.0)
+                            .speed(0.005)
+                            .suffix(" µm"),
+                    );
+                    ui.end_row();
+                    ui.label("PNG rows");
+                    ui.add(
+                        crate::app::widgets::number(&mut p.rows)
+                            .range(1..=4096)
+                            .suffix(" px"),
+                    );
+                    ui.end_row();
+                    ui.label("Length along y");
+                    ui.add(
+                        crate::app::widgets::number(&mut p.length_um)
+                            .range(1.0..=100_000.0)
+                            .suffix(" µm"),
+                    );
+                    ui.end_row();
+                    ui.label("STL base");
+                    ui.add(
+                        crate::app::widgets::number(&mut p.base_um)
+                            .range(0.0..=10_000.0)
+                            .suffix(" µm"),
+                    );
+                    ui.end_row();
+                });
+            let valid = ctx.design.validate().is_ok();
+            ctx.export.rules.update(&egui_ctx, ctx.design);
+            ctx.export.rules.ui(ui, ctx.design);
+            ui.horizontal_wrapped(|ui| {
+                for format in HeightFormat::ALL {
+                    // GDSII writes one layer per height level: it needs a height step.
+                    let stepped =
+                        format != HeightFormat::Gds || ctx.design.height_step_um.is_some();
+                    if ui
+                        .add_enabled(
+                            valid && stepped && ctx.export.dialog.is_none(),
+                            egui::Button::new(format.label()),
+                        )
+                        .on_disabled_hover_text(if stepped {
+                            "Fix the design first"
+                        } else {
+                            "Turn on the height step: GDSII has one layer per level"
+                        })
+                        .clicked()
+                    {
+                        ctx.queue(PhaseAction::Export(format));
+                    }
+                }
+            });
+            if ctx.export.is_running() {
+                ui.horizontal(|ui| {
+                    ui.spinner();
+                    ui.label("exporting…");
+                });
+            }
+            crate::app::widgets::message_ui(ui, ctx.export.message.as_ref());
+        });
 }

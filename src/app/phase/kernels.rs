@@ -10,8 +10,8 @@ use std::sync::Arc;
 use egui::{Align2, ColorImage, FontId, Sense, TextureHandle, TextureOptions, Ui, pos2, vec2};
 use ndarray::Array2;
 
-use super::views::gradient_bar;
-use super::{ChannelSet, PhaseWorkspace, Quality};
+use super::swatches::gradient_bar;
+use super::{ChannelSet, PhaseAction, PhaseCtx, PhaseWorkspace, Quality};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::history::Snapshot;
 use crate::app::job::{Finished, Job, JobError, Keyed, Writes};
@@ -246,7 +246,7 @@ impl PhaseWorkspace {
         );
     }
 
-    fn ask_kernel_file(&mut self, ctx: &egui::Context) {
+    pub(super) fn ask_kernel_file(&mut self, ctx: &egui::Context) {
         if !self.kernels.native_dialogs {
             self.kernels.message = Some(Notice::error("file dialogs are disabled in this session"));
             return;
@@ -319,148 +319,151 @@ impl PhaseWorkspace {
             Err(e) => self.kernels.message = Some(Notice::error(e.to_string())),
         }
     }
+}
 
-    /// The blur-matrix section of the PSF view.
-    pub(super) fn kernels_ui(&mut self, ui: &mut Ui) {
-        let ctx = ui.ctx().clone();
-        ui.add_space(8.0);
-        ui.separator();
-        let p = self.history.current().camera.pixels;
-        let valid = self.history.current().validate().is_ok();
-        let running = self.kernels.job.is_running();
-        ui.horizontal_wrapped(|ui| {
-            ui.strong("Blur matrix K (eq. 4.12)");
-            ui.label("channel");
-            for (i, name) in CHANNEL_NAMES.iter().enumerate() {
-                ui.add_enabled_ui(!running, |ui| {
-                    ui.selectable_value(&mut self.kernels.channel, i, *name);
-                });
-            }
-            if ui
-                .add_enabled(
-                    valid && !running,
-                    egui::Button::new(format!("Blur matrix (all {p} directions)…")),
-                )
-                .on_hover_text(
-                    "One propagation per direction and wavelength at the chosen quality: \
-                     about 10 s per peak channel at preview sampling, more at full quality",
-                )
-                .on_disabled_hover_text("Fix the design first, or wait for the running matrix")
-                .clicked()
-            {
-                self.compute_kernels(&ctx);
-            }
-            let can_save = self.kernels.shown.is_some() && self.kernels.dialog.is_none();
-            if ui
-                .add_enabled(can_save, egui::Button::new("Save as CSV…"))
-                .on_hover_text("One line per sensor pixel, one column per direction")
-                .clicked()
-            {
-                self.ask_kernel_file(&ctx);
-            }
-        });
-        let mut cancel = false;
-        if let Some((key, job)) = self.kernels.job.current() {
-            ui.horizontal(|ui| {
-                ui.spinner();
-                ui.label(format!(
-                    "blur matrix of {} over {} directions…",
-                    key.channel_name, key.design.camera.pixels
-                ));
-                cancel = ui.button("Cancel").clicked();
+/// The blur-matrix section of the PSF view.
+pub(super) fn kernels_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
+    ui.add_space(8.0);
+    ui.separator();
+    let p = ctx.design.camera.pixels;
+    let valid = ctx.design.validate().is_ok();
+    let running = ctx.kernels.job.is_running();
+    ui.horizontal_wrapped(|ui| {
+        ui.strong("Blur matrix K (eq. 4.12)");
+        ui.label("channel");
+        let mut channel = ctx.kernels.channel;
+        for (i, name) in CHANNEL_NAMES.iter().enumerate() {
+            ui.add_enabled_ui(!running, |ui| {
+                ui.selectable_value(&mut channel, i, *name);
             });
-            ui.add(egui::ProgressBar::new(job.fraction()).show_percentage());
         }
-        if cancel {
-            self.cancel_kernels();
+        if channel != ctx.kernels.channel {
+            ctx.queue(PhaseAction::KernelChannel(channel));
         }
-        crate::app::widgets::message_ui(ui, self.kernels.message.as_ref());
-        let stale = self.kernels_are_stale();
-        let Some(s) = &self.kernels.shown else {
-            return;
-        };
-        if stale {
-            ui.colored_label(
-                ui.visuals().warn_fg_color,
-                "Stale: the design, optics or channels changed since this matrix was computed.",
-            );
+        if ui
+            .add_enabled(
+                valid && !running,
+                egui::Button::new(format!("Blur matrix (all {p} directions)…")),
+            )
+            .on_hover_text(
+                "One propagation per direction and wavelength at the chosen quality: \
+                     about 10 s per peak channel at preview sampling, more at full quality",
+            )
+            .on_disabled_hover_text("Fix the design first, or wait for the running matrix")
+            .clicked()
+        {
+            ctx.queue(PhaseAction::ComputeKernels);
         }
-        let (rows, cols) = s.k.dim();
-        ui.label(format!(
-            "{} channel, {}, {}: {rows} × {cols}, computed in {:.1} s. Log scale over {} \
-             decades below the largest entry.",
-            s.channel_name,
-            s.quality.label(),
-            optics_label(s.optics),
-            s.elapsed_s,
-            DECADES
-        ));
-        let side = (ui.available_width() - 70.0).clamp(120.0, 520.0);
-        let (left, top, bottom) = (48.0, 18.0, 34.0);
-        let (outer, _) = ui.allocate_exact_size(
-            vec2(left + side + 12.0, top + side + bottom),
-            Sense::hover(),
-        );
-        let img = egui::Rect::from_min_size(outer.min + vec2(left, top), vec2(side, side));
-        let resp = ui.put(
-            img,
-            egui::Image::new((s.texture.id(), vec2(side, side)))
-                .alt_text("blur matrix image")
-                .sense(Sense::hover()),
-        );
-        if let Some(pos) = resp.hover_pos() {
-            let j = (((pos.x - img.left()) / side * cols as f32) as usize).min(cols - 1);
-            let i = (((pos.y - img.top()) / side * rows as f32) as usize).min(rows - 1);
-            resp.on_hover_text(format!(
-                "sensor pixel {i}, direction {j}: K = {:e}",
-                s.k[[i, j]]
-            ));
+        let can_save = ctx.kernels.shown.is_some() && ctx.kernels.dialog.is_none();
+        if ui
+            .add_enabled(can_save, egui::Button::new("Save as CSV…"))
+            .on_hover_text("One line per sensor pixel, one column per direction")
+            .clicked()
+        {
+            ctx.queue(PhaseAction::AskKernelFile);
         }
-        let painter = ui.painter_at(outer);
-        let font = FontId::proportional(11.0);
-        let c = ui.visuals().text_color();
-        painter.text(
-            pos2(img.left(), outer.top()),
-            Align2::LEFT_TOP,
-            "rows: sensor pixel i (px)",
-            font.clone(),
-            c,
-        );
-        painter.text(
-            pos2(img.center().x, outer.bottom()),
-            Align2::CENTER_BOTTOM,
-            "columns: direction j, the pixel a plain lens images it on (px)",
-            font.clone(),
-            c,
-        );
-        for t in [0, rows / 2, rows - 1] {
-            let y = img.top() + (t as f32 + 0.5) / rows as f32 * side;
-            painter.text(
-                pos2(img.left() - 4.0, y),
-                Align2::RIGHT_CENTER,
-                t.to_string(),
-                font.clone(),
-                c,
-            );
-        }
-        for t in [0, cols / 2, cols - 1] {
-            let x = img.left() + (t as f32 + 0.5) / cols as f32 * side;
-            painter.text(
-                pos2(x, img.bottom() + 2.0),
-                Align2::CENTER_TOP,
-                t.to_string(),
-                font.clone(),
-                c,
-            );
-        }
-        // The colour key.
+    });
+    let mut cancel = false;
+    if let Some((key, job)) = ctx.kernels.job.current() {
         ui.horizontal(|ui| {
+            ui.spinner();
             ui.label(format!(
-                "K (log scale): {:.1e} or less",
-                s.max * 10f64.powf(-DECADES)
+                "blur matrix of {} over {} directions…",
+                key.channel_name, key.design.camera.pixels
             ));
-            gradient_bar(ui, 180.0, |t| Colormap::Viridis.color(t));
-            ui.label(format!("{:.1e} (max)", s.max));
+            cancel = ui.button("Cancel").clicked();
         });
+        ui.add(egui::ProgressBar::new(job.fraction()).show_percentage());
     }
+    if cancel {
+        ctx.queue(PhaseAction::CancelKernels);
+    }
+    crate::app::widgets::message_ui(ui, ctx.kernels.message.as_ref());
+    let stale = ctx.kernels_stale;
+    let Some(s) = &ctx.kernels.shown else {
+        return;
+    };
+    if stale {
+        ui.colored_label(
+            ui.visuals().warn_fg_color,
+            "Stale: the design, optics or channels changed since this matrix was computed.",
+        );
+    }
+    let (rows, cols) = s.k.dim();
+    ui.label(format!(
+        "{} channel, {}, {}: {rows} × {cols}, computed in {:.1} s. Log scale over {} \
+             decades below the largest entry.",
+        s.channel_name,
+        s.quality.label(),
+        optics_label(s.optics),
+        s.elapsed_s,
+        DECADES
+    ));
+    let side = (ui.available_width() - 70.0).clamp(120.0, 520.0);
+    let (left, top, bottom) = (48.0, 18.0, 34.0);
+    let (outer, _) = ui.allocate_exact_size(
+        vec2(left + side + 12.0, top + side + bottom),
+        Sense::hover(),
+    );
+    let img = egui::Rect::from_min_size(outer.min + vec2(left, top), vec2(side, side));
+    let resp = ui.put(
+        img,
+        egui::Image::new((s.texture.id(), vec2(side, side)))
+            .alt_text("blur matrix image")
+            .sense(Sense::hover()),
+    );
+    if let Some(pos) = resp.hover_pos() {
+        let j = (((pos.x - img.left()) / side * cols as f32) as usize).min(cols - 1);
+        let i = (((pos.y - img.top()) / side * rows as f32) as usize).min(rows - 1);
+        resp.on_hover_text(format!(
+            "sensor pixel {i}, direction {j}: K = {:e}",
+            s.k[[i, j]]
+        ));
+    }
+    let painter = ui.painter_at(outer);
+    let font = FontId::proportional(11.0);
+    let c = ui.visuals().text_color();
+    painter.text(
+        pos2(img.left(), outer.top()),
+        Align2::LEFT_TOP,
+        "rows: sensor pixel i (px)",
+        font.clone(),
+        c,
+    );
+    painter.text(
+        pos2(img.center().x, outer.bottom()),
+        Align2::CENTER_BOTTOM,
+        "columns: direction j, the pixel a plain lens images it on (px)",
+        font.clone(),
+        c,
+    );
+    for t in [0, rows / 2, rows - 1] {
+        let y = img.top() + (t as f32 + 0.5) / rows as f32 * side;
+        painter.text(
+            pos2(img.left() - 4.0, y),
+            Align2::RIGHT_CENTER,
+            t.to_string(),
+            font.clone(),
+            c,
+        );
+    }
+    for t in [0, cols / 2, cols - 1] {
+        let x = img.left() + (t as f32 + 0.5) / cols as f32 * side;
+        painter.text(
+            pos2(x, img.bottom() + 2.0),
+            Align2::CENTER_TOP,
+            t.to_string(),
+            font.clone(),
+            c,
+        );
+    }
+    // The colour key.
+    ui.horizontal(|ui| {
+        ui.label(format!(
+            "K (log scale): {:.1e} or less",
+            s.max * 10f64.powf(-DECADES)
+        ));
+        gradient_bar(ui, 180.0, |t| Colormap::Viridis.color(t));
+        ui.label(format!("{:.1e} (max)", s.max));
+    });
 }

@@ -20,6 +20,7 @@ mod persist;
 mod plate_rules;
 mod psf;
 mod response;
+mod swatches;
 mod views;
 mod workspace;
 
@@ -29,9 +30,9 @@ use std::time::Duration;
 
 use egui::Color32;
 
-pub use action::PhaseAction;
+pub use action::{CaptureChoices, PhaseAction, PhaseChoices};
 pub use capture::CaptureRow;
-pub use compare::CompareRun;
+pub use compare::{CompareRun, CompareState};
 pub use export::HeightFormat;
 pub use kernels::ShownKernels;
 pub use optimizer::{OptimizerResult, ShownV};
@@ -98,14 +99,7 @@ pub struct PhaseWorkspace {
     pub single_mask: bool,
     /// Incidence angle of the PSFs, in degrees.
     pub angle_deg: f64,
-    /// Plot the PSFs on a log10 scale instead of a linear one.
-    pub log_psf: bool,
-    /// Half width of the PSF plots, in sensor pixels either side of the image point.
-    pub psf_half_width_px: usize,
-    /// The picture the centre shows.
-    pub view: PhaseView,
-    /// Keep f_MLA equal to the pitch when the pitch is edited (the thesis's choice).
-    pub link_focal: bool,
+    /// The lenslet the plate profile and the per-lenslet editor show.
     selected_lenslet: usize,
     /// The thesis response's channels on the grid, made the first time they are asked for.
     spectral: Option<Result<Vec<Channel>, SpectralError>>,
@@ -124,6 +118,58 @@ pub struct PhaseWorkspace {
     compare: compare::CompareState,
     /// What the panels queued this frame, carried out after the UI ([`PhaseWorkspace::act`]).
     actions: Vec<PhaseAction>,
+    panels: panels::Panels,
+    /// The UI's context, kept from the last frame: the jobs an action starts wake it.
+    egui_ctx: egui::Context,
+}
+
+/// What a panel may look at, and where it sends what it wants done. The design and the run
+/// choices are read-only: a panel edits a copy and queues it ([`PhaseAction::Live`],
+/// [`PhaseAction::Choose`]). The comparison's and the export's selections (which setups,
+/// which light levels, the export's sampling) are lent: they say what a job will run, are not
+/// part of the design and have no undo.
+pub struct PhaseCtx<'a> {
+    /// The design being edited.
+    pub design: &'a PhaseDesign,
+    /// How the PSFs and the long jobs run.
+    pub choices: PhaseChoices,
+    /// There is a change to undo / to redo.
+    pub can_undo: bool,
+    /// There is an undone change to redo.
+    pub can_redo: bool,
+    /// The optimizer's allocation still fits the design.
+    pub can_apply: bool,
+    /// The lenslet the profile and the per-lenslet editor show.
+    pub selected_lenslet: usize,
+    /// The message line of the design and its PSFs.
+    pub message: Option<&'a Notice>,
+    psf: &'a psf::PsfState,
+    optimizer: &'a optimizer::OptimizerState,
+    response: &'a response::ResponseState,
+    kernels: &'a kernels::KernelState,
+    kernels_stale: bool,
+    capture: &'a capture::CaptureState,
+    capture_current: bool,
+    export: &'a mut export::ExportState,
+    compare: &'a mut compare::CompareState,
+    /// Where the panel queues what it wants done; carried out after the frame's UI.
+    pub actions: &'a mut Vec<PhaseAction>,
+}
+
+impl PhaseCtx<'_> {
+    /// Queues `action`.
+    pub fn queue(&mut self, action: PhaseAction) {
+        self.actions.push(action);
+    }
+
+    /// The design to draw geometry from: the current one if valid, else the shown PSFs'.
+    pub(super) fn drawable(&self) -> Option<PhaseDesign> {
+        if self.design.validate().is_ok() {
+            Some(self.design.clone())
+        } else {
+            self.psf.shown.as_ref().map(|s| s.design.clone())
+        }
+    }
 }
 
 impl Snapshot for PhaseDesign {
@@ -153,10 +199,6 @@ impl PhaseWorkspace {
             channels: ChannelSet::Peaks,
             single_mask: false,
             angle_deg: 0.0,
-            log_psf: false,
-            psf_half_width_px: 24,
-            view: PhaseView::Psf,
-            link_focal: true,
             spectral: None,
             message,
             psf: psf::PsfState::default(),
@@ -168,7 +210,73 @@ impl PhaseWorkspace {
             capture: capture::CaptureState::new(native_dialogs),
             compare: compare::CompareState::new(native_dialogs),
             actions: Vec::new(),
+            panels: panels::Panels::default(),
+            egui_ctx: egui::Context::default(),
         }
+    }
+
+    /// The run choices (quality, channels, optics, angle).
+    pub fn choices(&self) -> PhaseChoices {
+        PhaseChoices {
+            quality: self.quality,
+            channels: self.channels,
+            single_mask: self.single_mask,
+            angle_deg: self.angle_deg,
+        }
+    }
+
+    /// The picture the centre shows.
+    pub fn view(&self) -> PhaseView {
+        self.panels.views.view
+    }
+
+    /// Shows `view` in the centre ([`PhaseAction::Show`]).
+    pub fn show(&mut self, view: PhaseView) {
+        self.act(PhaseAction::Show(view));
+    }
+
+    /// The panels and what they may look at, borrowed apart so that a panel draws from the
+    /// context while it holds its own state.
+    fn split(&mut self) -> (&mut panels::Panels, PhaseCtx<'_>) {
+        let choices = self.choices();
+        let ctx = PhaseCtx {
+            design: self.history.current(),
+            choices,
+            can_undo: self.history.can_undo(),
+            can_redo: self.history.can_redo(),
+            can_apply: self.can_apply(),
+            selected_lenslet: self.selected_lenslet,
+            message: self.message.as_ref(),
+            psf: &self.psf,
+            optimizer: &self.optimizer,
+            response: &self.response,
+            kernels: &self.kernels,
+            kernels_stale: self.kernels_are_stale(),
+            capture: &self.capture,
+            capture_current: self.capture_is_current(),
+            export: &mut self.export,
+            compare: &mut self.compare,
+            actions: &mut self.actions,
+        };
+        (&mut self.panels, ctx)
+    }
+
+    /// The left panel: the design's parameters, the simulation choices and the exports.
+    pub fn controls_ui(&mut self, ui: &mut egui::Ui) {
+        let (panels, mut ctx) = self.split();
+        panels.controls.ui(ui, &mut ctx);
+    }
+
+    /// The right panel: geometry, light and sharpness numbers.
+    pub fn numbers_ui(&mut self, ui: &mut egui::Ui) {
+        let (panels, mut ctx) = self.split();
+        panels.numbers.ui(ui, &mut ctx);
+    }
+
+    /// The centre: PSFs, geometry, the optimizer or the captures.
+    pub fn views_ui(&mut self, ui: &mut egui::Ui) {
+        let (panels, mut ctx) = self.split();
+        panels.views.ui(ui, &mut ctx);
     }
 
     /// The design being edited.
@@ -189,6 +297,7 @@ impl PhaseWorkspace {
 
     /// Carries out one action now, as the queue does after the frame's UI.
     pub fn act(&mut self, action: PhaseAction) {
+        let ctx = self.egui_ctx.clone();
         match action {
             PhaseAction::Live(design) => *self.history.current_mut() = *design,
             PhaseAction::Set(design) => {
@@ -203,6 +312,31 @@ impl PhaseWorkspace {
             PhaseAction::Redo => {
                 self.history.redo();
             }
+            PhaseAction::Choose(c) => {
+                self.quality = c.quality;
+                self.channels = c.channels;
+                self.single_mask = c.single_mask;
+                self.angle_deg = c.angle_deg;
+            }
+            PhaseAction::SelectLenslet(i) => self.selected_lenslet = i,
+            PhaseAction::Show(view) => self.panels.views.view = view,
+            PhaseAction::CancelPsfs => self.cancel_psfs(),
+            PhaseAction::ComputeV => self.compute_v(&ctx),
+            PhaseAction::Optimize => self.run_optimizer(&ctx),
+            PhaseAction::CancelOptimizer => self.cancel_long_jobs(),
+            PhaseAction::KernelChannel(c) => self.set_kernel_channel(c),
+            PhaseAction::ComputeKernels => self.compute_kernels(&ctx),
+            PhaseAction::AskKernelFile => self.ask_kernel_file(&ctx),
+            PhaseAction::CancelKernels => self.cancel_kernels(),
+            PhaseAction::AskResponse => self.ask_response(&ctx),
+            PhaseAction::Export(format) => self.ask_export(format, &ctx),
+            PhaseAction::AskCapturePhoto => self.ask_capture_photo(),
+            PhaseAction::BuiltInCapturePhoto => self.use_built_in_capture_photo(),
+            PhaseAction::Capture(c) => self.set_capture_choices(c),
+            PhaseAction::CancelCapture => self.cancel_capture(),
+            PhaseAction::RunCompare => self.run_compare(&ctx),
+            PhaseAction::AskCompareFile => self.ask_compare_file(&ctx),
+            PhaseAction::CancelCompare => self.cancel_compare(),
         }
     }
 
@@ -315,6 +449,7 @@ impl PhaseWorkspace {
 
     /// Takes finished jobs, commits idle edits, saves, and starts the runs the controls call for.
     pub fn poll(&mut self, ctx: &egui::Context) {
+        self.egui_ctx = ctx.clone();
         self.export.poll(ctx);
         self.poll_psfs(ctx);
         self.poll_optimizer(ctx);
@@ -322,6 +457,10 @@ impl PhaseWorkspace {
         self.poll_kernels(ctx);
         self.poll_capture(ctx);
         self.poll_compare(ctx);
+        if self.view() == PhaseView::Capture {
+            // Captures run while their view is shown, for its current inputs.
+            self.capture_tick(ctx);
+        }
         let idle = !ctx.input(|i| i.pointer.any_down()) && !ctx.egui_wants_keyboard_input();
         if idle {
             self.history.commit();

@@ -5,8 +5,8 @@ use egui::{Ui, vec2};
 use egui_plot::{Bar, BarChart, Plot, PlotImage, PlotPoint};
 
 use super::optimizer::without_plan;
-use super::views::{gradient_bar, lambda0_strip, wavelength_legend};
-use super::{ChannelSet, PhaseWorkspace, wavelength_color};
+use super::swatches::{gradient_bar, lambda0_strip, wavelength_legend};
+use super::{ChannelSet, PhaseAction, PhaseCtx, wavelength_color};
 use crate::app::widgets::colormap::Colormap;
 use crate::app::widgets::message_ui;
 use crate::core::phase::allocate::plan_invertibility;
@@ -22,216 +22,210 @@ fn colormap_key(ui: &mut Ui, name: &str, lo: f64, hi: f64) {
     });
 }
 
-impl PhaseWorkspace {
-    pub(super) fn optimizer_ui(&mut self, ui: &mut Ui) {
-        let ctx = ui.ctx().clone();
-        ui.label(
-            "V[λ0][λ]: the invertibility (sum of the MTF) with every lenslet folded at λ0, seen at \
+/// The V matrix and optimizer view.
+pub(super) fn optimizer_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
+    ui.label(
+        "V[λ0][λ]: the invertibility (sum of the MTF) with every lenslet folded at λ0, seen at \
              λ. The optimizer (Algorithm 1, eqs. 4.9-4.11) chooses how many lenslets to fold at \
              each grid wavelength so that every channel stays invertible.",
-        );
-        ui.horizontal_wrapped(|ui| {
-            let idle = !self.optimizer.v_job.is_running() && !self.optimizer.opt_job.is_running();
-            if ui
-                .add_enabled(idle, egui::Button::new("Compute V"))
-                .on_hover_text("900 propagations")
-                .clicked()
-            {
-                self.compute_v(&ctx);
-            }
-            if ui
-                .add_enabled(idle, egui::Button::new("Run optimizer"))
-                .clicked()
-            {
-                self.run_optimizer(&ctx);
-            }
-            ui.weak(format!(
-                "at {} sampling, {} channels",
-                self.quality.label(),
-                match self.channels {
-                    ChannelSet::Peaks => "peak",
-                    ChannelSet::Spectral => "spectral",
-                    ChannelSet::Custom(_) => "custom",
-                }
-            ));
-        });
-        let running = self
-            .optimizer
-            .opt_job
-            .job()
-            .map(|j| {
-                (
-                    j.fraction(),
-                    "optimizer (V, then Algorithm 1)…",
-                    j.elapsed(),
-                )
-            })
-            .or_else(|| {
-                self.optimizer
-                    .v_job
-                    .job()
-                    .map(|j| (j.fraction(), "V matrix…", j.elapsed()))
-            });
-        if let Some((f, what, elapsed)) = running {
-            let mut cancel = false;
-            ui.horizontal(|ui| {
-                ui.spinner();
-                ui.label(format!("{what} {:.0} s", elapsed.as_secs_f64()));
-                cancel = ui.button("Cancel").clicked();
-            });
-            ui.add(egui::ProgressBar::new(f).show_percentage());
-            if cancel {
-                self.cancel_long_jobs();
-            }
-        }
-        message_ui(ui, self.optimizer.message.as_ref());
-        ui.separator();
-        ui.columns(2, |cols| {
-            self.v_ui(&mut cols[0]);
-            self.allocation_ui(&mut cols[1]);
-        });
-    }
-
-    fn v_ui(&mut self, ui: &mut Ui) {
-        let Some(v) = &self.optimizer.v else {
-            ui.label("V: not computed yet (Compute V, or Run optimizer).");
-            return;
-        };
-        ui.strong(format!("V ({} sampling)", v.quality.label()));
-        if without_plan(&v.design) != without_plan(self.history.current()) {
-            ui.colored_label(
-                ui.visuals().warn_fg_color,
-                "computed for other parameters: compute again",
-            );
-        }
-        let span = GRID_LEN as f64 * GRID_STEP_NM;
-        let centre = GRID_FIRST_NM - GRID_STEP_NM / 2.0 + span / 2.0;
-        let side = ui.available_width().min(420.0);
-        let vm = v.v.clone();
-        let readout = move |pos: &egui_plot::HoverPosition<'_>| {
-            let at = match pos {
-                egui_plot::HoverPosition::NearDataPoint { position, .. }
-                | egui_plot::HoverPosition::Elsewhere { position } => *position,
-            };
-            let col = ((at.x - GRID_FIRST_NM) / GRID_STEP_NM).round();
-            let row = ((at.y - GRID_FIRST_NM) / GRID_STEP_NM).round();
-            if !(0.0..GRID_LEN as f64).contains(&col) || !(0.0..GRID_LEN as f64).contains(&row) {
-                return None;
-            }
-            let (r, c) = (row as usize, col as usize);
-            let value = vm.v.get(r)?.get(c)?;
-            Some(format!(
-                "λ0 {:.0} nm, λ {:.0} nm\nV = {value:.1}",
-                vm.lambda0_nm[r], vm.lambda_nm[c]
-            ))
-        };
-        Plot::new("phase-v")
-            .data_aspect(1.0)
-            .width(side)
-            .height(side)
-            .show_grid(false)
-            .x_axis_label("λ, columns (nm)")
-            .y_axis_label("λ0, rows (nm)")
-            .label_formatter(readout)
-            .show(ui, |pl| {
-                pl.image(PlotImage::new(
-                    "V",
-                    v.texture.id(),
-                    PlotPoint::new(centre, centre),
-                    vec2(span as f32, span as f32),
-                ));
-            });
-        colormap_key(ui, "V (sum of MTF)", 0.0, v.max);
-    }
-
-    fn allocation_ui(&mut self, ui: &mut Ui) {
-        let Some(o) = &self.optimizer.optimized else {
-            ui.label("No allocation yet: Run optimizer.");
-            return;
-        };
-        let a = &o.allocation;
-        let total: usize = a.counts.iter().sum();
-        ui.strong(format!(
-            "Allocation: {} on {} ({} sampling, {:.1} s)",
-            crate::app::widgets::counted(total as f64, "lenslet", "lenslets"),
-            crate::app::widgets::counted(
-                a.counts.iter().filter(|c| **c > 0).count() as f64,
-                "wavelength",
-                "wavelengths"
-            ),
-            o.quality.label(),
-            o.elapsed_s
-        ));
-        let bars: Vec<Bar> = wavelength_grid_nm()
-            .iter()
-            .zip(&a.counts)
-            .map(|(l, c)| {
-                Bar::new(*l, *c as f64)
-                    .width(GRID_STEP_NM * 0.8)
-                    .fill(wavelength_color(*l))
-            })
-            .collect();
-        Plot::new("phase-counts")
-            .height(180.0)
-            .x_axis_label("λ0 (nm)")
-            .y_axis_label("lenslets")
-            .include_y(0.0)
-            .show(ui, |pl| {
-                pl.bar_chart(BarChart::new("lenslets per λ0", bars))
-            });
-        ui.label("Per lenslet, left to right:");
-        lambda0_strip(ui, &a.lambda0_nm, None, 24.0);
-        wavelength_legend(ui);
-        let current = if lenslet_count(self.history.current()) == total
-            && self.history.current().validate().is_ok()
-        {
-            lambda0_per_lenslet(self.history.current())
-                .ok()
-                .map(|l| plan_invertibility(&a.a, &l))
-        } else {
-            None
-        };
-        ui.label("Invertibility per channel (normalised, 1 = the best single λ0 for any channel):");
-        egui::Grid::new("phase_invertibility")
-            .num_columns(5)
-            .striped(true)
-            .show(ui, |ui| {
-                for h in [
-                    "channel",
-                    "optimized",
-                    "fixed 530 nm (V row 531 nm)",
-                    "uniform",
-                    "current plan",
-                ] {
-                    ui.strong(h);
-                }
-                ui.end_row();
-                for (c, name) in ["R", "G", "B"].iter().enumerate() {
-                    ui.label(*name);
-                    ui.monospace(format!("{:.3}", a.channel_invertibility[c]));
-                    ui.monospace(format!("{:.3}", o.fixed_530[c]));
-                    ui.monospace(format!("{:.3}", o.uniform[c]));
-                    ui.monospace(
-                        current.map_or_else(|| "-".to_string(), |v| format!("{:.3}", v[c])),
-                    );
-                    ui.end_row();
-                }
-                let min = |v: [f64; 3]| v.iter().copied().fold(f64::INFINITY, f64::min);
-                ui.label("worst");
-                ui.monospace(format!("{:.3}", min(a.channel_invertibility)));
-                ui.monospace(format!("{:.3}", min(o.fixed_530)));
-                ui.monospace(format!("{:.3}", min(o.uniform)));
-                ui.monospace(current.map_or_else(|| "-".to_string(), |v| format!("{:.3}", min(v))));
-                ui.end_row();
-            });
-        let can = self.can_apply();
+    );
+    ui.horizontal_wrapped(|ui| {
+        let idle = !ctx.optimizer.v_job.is_running() && !ctx.optimizer.opt_job.is_running();
         if ui
-            .add_enabled(can, egui::Button::new("Apply"))
-            .on_hover_text("Use these counts as the λ0 plan (undoable)")
-            .on_disabled_hover_text("The lenslet count changed since the run")
+            .add_enabled(idle, egui::Button::new("Compute V"))
+            .on_hover_text("900 propagations")
             .clicked()
         {
-            self.actions.push(super::PhaseAction::ApplyOptimized);
+            ctx.queue(PhaseAction::ComputeV);
         }
+        if ui
+            .add_enabled(idle, egui::Button::new("Run optimizer"))
+            .clicked()
+        {
+            ctx.queue(PhaseAction::Optimize);
+        }
+        ui.weak(format!(
+            "at {} sampling, {} channels",
+            ctx.choices.quality.label(),
+            match ctx.choices.channels {
+                ChannelSet::Peaks => "peak",
+                ChannelSet::Spectral => "spectral",
+                ChannelSet::Custom(_) => "custom",
+            }
+        ));
+    });
+    let running = ctx
+        .optimizer
+        .opt_job
+        .job()
+        .map(|j| {
+            (
+                j.fraction(),
+                "optimizer (V, then Algorithm 1)…",
+                j.elapsed(),
+            )
+        })
+        .or_else(|| {
+            ctx.optimizer
+                .v_job
+                .job()
+                .map(|j| (j.fraction(), "V matrix…", j.elapsed()))
+        });
+    if let Some((f, what, elapsed)) = running {
+        let mut cancel = false;
+        ui.horizontal(|ui| {
+            ui.spinner();
+            ui.label(format!("{what} {:.0} s", elapsed.as_secs_f64()));
+            cancel = ui.button("Cancel").clicked();
+        });
+        ui.add(egui::ProgressBar::new(f).show_percentage());
+        if cancel {
+            ctx.queue(PhaseAction::CancelOptimizer);
+        }
+    }
+    message_ui(ui, ctx.optimizer.message.as_ref());
+    ui.separator();
+    ui.columns(2, |cols| {
+        v_ui(&mut cols[0], ctx);
+        allocation_ui(&mut cols[1], ctx);
+    });
+}
+
+fn v_ui(ui: &mut Ui, ctx: &PhaseCtx<'_>) {
+    let Some(v) = &ctx.optimizer.v else {
+        ui.label("V: not computed yet (Compute V, or Run optimizer).");
+        return;
+    };
+    ui.strong(format!("V ({} sampling)", v.quality.label()));
+    if without_plan(&v.design) != without_plan(ctx.design) {
+        ui.colored_label(
+            ui.visuals().warn_fg_color,
+            "computed for other parameters: compute again",
+        );
+    }
+    let span = GRID_LEN as f64 * GRID_STEP_NM;
+    let centre = GRID_FIRST_NM - GRID_STEP_NM / 2.0 + span / 2.0;
+    let side = ui.available_width().min(420.0);
+    let vm = v.v.clone();
+    let readout = move |pos: &egui_plot::HoverPosition<'_>| {
+        let at = match pos {
+            egui_plot::HoverPosition::NearDataPoint { position, .. }
+            | egui_plot::HoverPosition::Elsewhere { position } => *position,
+        };
+        let col = ((at.x - GRID_FIRST_NM) / GRID_STEP_NM).round();
+        let row = ((at.y - GRID_FIRST_NM) / GRID_STEP_NM).round();
+        if !(0.0..GRID_LEN as f64).contains(&col) || !(0.0..GRID_LEN as f64).contains(&row) {
+            return None;
+        }
+        let (r, c) = (row as usize, col as usize);
+        let value = vm.v.get(r)?.get(c)?;
+        Some(format!(
+            "λ0 {:.0} nm, λ {:.0} nm\nV = {value:.1}",
+            vm.lambda0_nm[r], vm.lambda_nm[c]
+        ))
+    };
+    Plot::new("phase-v")
+        .data_aspect(1.0)
+        .width(side)
+        .height(side)
+        .show_grid(false)
+        .x_axis_label("λ, columns (nm)")
+        .y_axis_label("λ0, rows (nm)")
+        .label_formatter(readout)
+        .show(ui, |pl| {
+            pl.image(PlotImage::new(
+                "V",
+                v.texture.id(),
+                PlotPoint::new(centre, centre),
+                vec2(span as f32, span as f32),
+            ));
+        });
+    colormap_key(ui, "V (sum of MTF)", 0.0, v.max);
+}
+
+fn allocation_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
+    let optimizer = ctx.optimizer;
+    let Some(o) = &optimizer.optimized else {
+        ui.label("No allocation yet: Run optimizer.");
+        return;
+    };
+    let a = &o.allocation;
+    let total: usize = a.counts.iter().sum();
+    ui.strong(format!(
+        "Allocation: {} on {} ({} sampling, {:.1} s)",
+        crate::app::widgets::counted(total as f64, "lenslet", "lenslets"),
+        crate::app::widgets::counted(
+            a.counts.iter().filter(|c| **c > 0).count() as f64,
+            "wavelength",
+            "wavelengths"
+        ),
+        o.quality.label(),
+        o.elapsed_s
+    ));
+    let bars: Vec<Bar> = wavelength_grid_nm()
+        .iter()
+        .zip(&a.counts)
+        .map(|(l, c)| {
+            Bar::new(*l, *c as f64)
+                .width(GRID_STEP_NM * 0.8)
+                .fill(wavelength_color(*l))
+        })
+        .collect();
+    Plot::new("phase-counts")
+        .height(180.0)
+        .x_axis_label("λ0 (nm)")
+        .y_axis_label("lenslets")
+        .include_y(0.0)
+        .show(ui, |pl| {
+            pl.bar_chart(BarChart::new("lenslets per λ0", bars))
+        });
+    ui.label("Per lenslet, left to right:");
+    lambda0_strip(ui, &a.lambda0_nm, None, 24.0);
+    wavelength_legend(ui);
+    let current = if lenslet_count(ctx.design) == total && ctx.design.validate().is_ok() {
+        lambda0_per_lenslet(ctx.design)
+            .ok()
+            .map(|l| plan_invertibility(&a.a, &l))
+    } else {
+        None
+    };
+    ui.label("Invertibility per channel (normalised, 1 = the best single λ0 for any channel):");
+    egui::Grid::new("phase_invertibility")
+        .num_columns(5)
+        .striped(true)
+        .show(ui, |ui| {
+            for h in [
+                "channel",
+                "optimized",
+                "fixed 530 nm (V row 531 nm)",
+                "uniform",
+                "current plan",
+            ] {
+                ui.strong(h);
+            }
+            ui.end_row();
+            for (c, name) in ["R", "G", "B"].iter().enumerate() {
+                ui.label(*name);
+                ui.monospace(format!("{:.3}", a.channel_invertibility[c]));
+                ui.monospace(format!("{:.3}", o.fixed_530[c]));
+                ui.monospace(format!("{:.3}", o.uniform[c]));
+                ui.monospace(current.map_or_else(|| "-".to_string(), |v| format!("{:.3}", v[c])));
+                ui.end_row();
+            }
+            let min = |v: [f64; 3]| v.iter().copied().fold(f64::INFINITY, f64::min);
+            ui.label("worst");
+            ui.monospace(format!("{:.3}", min(a.channel_invertibility)));
+            ui.monospace(format!("{:.3}", min(o.fixed_530)));
+            ui.monospace(format!("{:.3}", min(o.uniform)));
+            ui.monospace(current.map_or_else(|| "-".to_string(), |v| format!("{:.3}", min(v))));
+            ui.end_row();
+        });
+    if ui
+        .add_enabled(ctx.can_apply, egui::Button::new("Apply"))
+        .on_hover_text("Use these counts as the λ0 plan (undoable)")
+        .on_disabled_hover_text("The lenslet count changed since the run")
+        .clicked()
+    {
+        ctx.queue(PhaseAction::ApplyOptimized);
     }
 }

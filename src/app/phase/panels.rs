@@ -2,7 +2,7 @@
 
 use egui::{RichText, Ui};
 
-use super::{PhaseAction, PhaseWorkspace, Quality};
+use super::{PhaseAction, PhaseCtx, Quality};
 use crate::app::history::Snapshot;
 use crate::app::widgets::message_ui;
 use crate::core::phase::geometry::{Lenslets, lambda0_per_lenslet, lenslet_count};
@@ -72,9 +72,36 @@ pub fn fit_plan(l: &Lambda0, n: usize) -> Lambda0 {
     }
 }
 
-impl PhaseWorkspace {
-    /// Left: the design's parameters, the simulation choices and the exports.
-    pub fn controls_ui(&mut self, ui: &mut Ui) {
+/// The workspace's panels: one struct each, drawn from a [`PhaseCtx`].
+#[derive(Default)]
+pub struct Panels {
+    /// Left.
+    pub controls: ControlsPanel,
+    /// Right.
+    pub numbers: NumbersPanel,
+    /// Centre.
+    pub views: super::views::ViewsPanel,
+}
+
+/// The left panel: the design's parameters, the simulation choices and the exports.
+pub struct ControlsPanel {
+    /// Keep f_MLA equal to the pitch when the pitch is edited (the thesis's choice).
+    link_focal: bool,
+}
+
+impl Default for ControlsPanel {
+    fn default() -> Self {
+        ControlsPanel { link_focal: true }
+    }
+}
+
+/// The right panel: geometry, light and sharpness numbers.
+#[derive(Default)]
+pub struct NumbersPanel;
+
+impl ControlsPanel {
+    /// Draws the panel; every change is queued on `ctx`.
+    pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
         ui.heading("Phase masks");
         ui.label(
             "Two microlens arrays around a T-OLED (thesis chapter 4): the first focuses each \
@@ -83,43 +110,42 @@ impl PhaseWorkspace {
         );
         ui.horizontal(|ui| {
             if ui
-                .add_enabled(self.can_undo(), egui::Button::new("Undo"))
+                .add_enabled(ctx.can_undo, egui::Button::new("Undo"))
                 .on_hover_text("Ctrl+Z: the last parameter change")
                 .clicked()
             {
-                self.actions.push(PhaseAction::Undo);
+                ctx.queue(PhaseAction::Undo);
             }
             if ui
-                .add_enabled(self.can_redo(), egui::Button::new("Redo"))
+                .add_enabled(ctx.can_redo, egui::Button::new("Redo"))
                 .on_hover_text("Ctrl+Shift+Z")
                 .clicked()
             {
-                self.actions.push(PhaseAction::Redo);
+                ctx.queue(PhaseAction::Redo);
             }
             if ui
                 .button("Thesis design")
                 .on_hover_text("600 DPI: pitch 42 µm, f_MLA = pitch, n 1.515, T 1, fixed 530 nm")
                 .clicked()
             {
-                self.actions
-                    .push(PhaseAction::Set(Box::new(PhaseDesign::thesis(42.0, 1.0))));
+                ctx.queue(PhaseAction::Set(Box::new(PhaseDesign::thesis(42.0, 1.0))));
             }
         });
         ui.separator();
         // The controls edit a draft; a change is queued as a live edit, which the history
         // makes one undo step once the pointer is up (Workspace::apply carries it out).
-        let mut draft = self.history.current().clone();
+        let mut draft = ctx.design.clone();
         self.geometry_controls(ui, &mut draft);
         ui.separator();
-        self.plan_controls(ui, &mut draft);
-        if !draft.same(self.history.current()) {
-            self.actions.push(PhaseAction::Live(Box::new(draft)));
+        plan_controls(ui, &mut draft, ctx);
+        if !draft.same(ctx.design) {
+            ctx.queue(PhaseAction::Live(Box::new(draft)));
         }
         ui.separator();
-        self.simulation_controls(ui);
-        message_ui(ui, self.message.as_ref());
+        simulation_controls(ui, ctx);
+        message_ui(ui, ctx.message);
         ui.separator();
-        self.export_ui(ui);
+        super::export::export_ui(ui, ctx);
     }
 
     fn geometry_controls(&mut self, ui: &mut Ui, d: &mut PhaseDesign) {
@@ -258,140 +284,144 @@ impl PhaseWorkspace {
                     });
             });
     }
+}
 
-    fn plan_controls(&mut self, ui: &mut Ui, d: &mut PhaseDesign) {
-        ui.label("Folding wavelength λ0 per lenslet");
-        let n = lenslet_count(d);
-        let kind = plan_kind(&d.lambda0);
-        ui.horizontal_wrapped(|ui| {
-            if ui
-                .selectable_label(kind == PlanKind::Fixed, "fixed")
-                .on_hover_text("Every lenslet at one wavelength (the thesis's 530 nm)")
-                .clicked()
-                && kind != PlanKind::Fixed
-            {
-                d.lambda0 = Lambda0::Fixed { nm: 530.0 };
-            }
-            if ui
-                .selectable_label(kind == PlanKind::Uniform, "uniform")
-                .on_hover_text("The 30 grid wavelengths 401-691 nm in equal counts")
-                .clicked()
-            {
-                d.lambda0 = Lambda0::Uniform;
-            }
-            let can = self.can_apply() || kind == PlanKind::Counts;
-            if ui
-                .add_enabled(
-                    can,
-                    egui::Button::selectable(kind == PlanKind::Counts, "optimized"),
-                )
-                .on_hover_text("Counts per grid wavelength from the optimizer")
-                .on_disabled_hover_text("Run the optimizer first (Optimizer view)")
-                .clicked()
-                && kind != PlanKind::Counts
-                && let Some(o) = &self.optimizer.optimized
-            {
-                d.lambda0 = Lambda0::Counts {
-                    counts: o.allocation.counts.clone(),
-                };
-            }
-            if ui
-                .selectable_label(kind == PlanKind::PerLenslet, "per lenslet")
-                .on_hover_text("Edit each lenslet's λ0 (click a lenslet on the strip)")
-                .clicked()
-                && kind != PlanKind::PerLenslet
-            {
-                let nm = lambda0_per_lenslet(d).unwrap_or_else(|_| vec![530.0; n]);
-                d.lambda0 = Lambda0::PerLenslet { nm };
-            }
-        });
-        let selected = self.selected_lenslet.min(n.saturating_sub(1));
-        match &mut d.lambda0 {
-            Lambda0::Fixed { nm } => {
-                ui.horizontal(|ui| {
-                    ui.label("λ0");
-                    number(ui, nm, 300.0..=1100.0, 1.0, " nm");
-                });
-            }
-            Lambda0::Uniform => {
-                ui.weak(format!(
-                    "{} over 401-691 nm in 10-nm steps",
-                    crate::app::widgets::counted(n as f64, "lenslet", "lenslets")
-                ));
-            }
-            Lambda0::Counts { counts } => {
-                let used = counts.iter().filter(|c| **c > 0).count();
-                let total = counts.iter().sum::<usize>() as f64;
-                ui.weak(format!(
-                    "{} on {}",
-                    crate::app::widgets::counted(total, "lenslet", "lenslets"),
-                    crate::app::widgets::counted(
-                        used as f64,
-                        "grid wavelength",
-                        "grid wavelengths"
-                    )
-                ));
-            }
-            Lambda0::PerLenslet { nm } => {
-                ui.horizontal(|ui| {
-                    ui.label("lenslet");
-                    let mut s = selected;
-                    ui.add(crate::app::widgets::number(&mut s).range(0..=n.saturating_sub(1)));
-                    self.selected_lenslet = s;
-                    if let Some(v) = nm.get_mut(self.selected_lenslet) {
-                        ui.label("λ0");
-                        number(ui, v, 300.0..=1100.0, 1.0, " nm");
-                    }
-                });
-            }
-        }
-        let fits = match &d.lambda0 {
-            Lambda0::Counts { counts } => counts.iter().sum::<usize>() == n,
-            Lambda0::PerLenslet { nm } => nm.len() == n,
-            _ => true,
-        };
-        if !fits
-            && ui
-                .button(format!(
-                    "Fit the λ0 plan to {}",
-                    crate::app::widgets::counted(n as f64, "lenslet", "lenslets")
-                ))
-                .on_hover_text("The lenslet count changed with the geometry")
-                .clicked()
+fn plan_controls(ui: &mut Ui, d: &mut PhaseDesign, ctx: &mut PhaseCtx<'_>) {
+    ui.label("Folding wavelength λ0 per lenslet");
+    let n = lenslet_count(d);
+    let kind = plan_kind(&d.lambda0);
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .selectable_label(kind == PlanKind::Fixed, "fixed")
+            .on_hover_text("Every lenslet at one wavelength (the thesis's 530 nm)")
+            .clicked()
+            && kind != PlanKind::Fixed
         {
-            d.lambda0 = fit_plan(&d.lambda0, n);
+            d.lambda0 = Lambda0::Fixed { nm: 530.0 };
+        }
+        if ui
+            .selectable_label(kind == PlanKind::Uniform, "uniform")
+            .on_hover_text("The 30 grid wavelengths 401-691 nm in equal counts")
+            .clicked()
+        {
+            d.lambda0 = Lambda0::Uniform;
+        }
+        let can = ctx.can_apply || kind == PlanKind::Counts;
+        if ui
+            .add_enabled(
+                can,
+                egui::Button::selectable(kind == PlanKind::Counts, "optimized"),
+            )
+            .on_hover_text("Counts per grid wavelength from the optimizer")
+            .on_disabled_hover_text("Run the optimizer first (Optimizer view)")
+            .clicked()
+            && kind != PlanKind::Counts
+            && let Some(o) = &ctx.optimizer.optimized
+        {
+            d.lambda0 = Lambda0::Counts {
+                counts: o.allocation.counts.clone(),
+            };
+        }
+        if ui
+            .selectable_label(kind == PlanKind::PerLenslet, "per lenslet")
+            .on_hover_text("Edit each lenslet's λ0 (click a lenslet on the strip)")
+            .clicked()
+            && kind != PlanKind::PerLenslet
+        {
+            let nm = lambda0_per_lenslet(d).unwrap_or_else(|_| vec![530.0; n]);
+            d.lambda0 = Lambda0::PerLenslet { nm };
+        }
+    });
+    let selected = ctx.selected_lenslet.min(n.saturating_sub(1));
+    match &mut d.lambda0 {
+        Lambda0::Fixed { nm } => {
+            ui.horizontal(|ui| {
+                ui.label("λ0");
+                number(ui, nm, 300.0..=1100.0, 1.0, " nm");
+            });
+        }
+        Lambda0::Uniform => {
+            ui.weak(format!(
+                "{} over 401-691 nm in 10-nm steps",
+                crate::app::widgets::counted(n as f64, "lenslet", "lenslets")
+            ));
+        }
+        Lambda0::Counts { counts } => {
+            let used = counts.iter().filter(|c| **c > 0).count();
+            let total = counts.iter().sum::<usize>() as f64;
+            ui.weak(format!(
+                "{} on {}",
+                crate::app::widgets::counted(total, "lenslet", "lenslets"),
+                crate::app::widgets::counted(used as f64, "grid wavelength", "grid wavelengths")
+            ));
+        }
+        Lambda0::PerLenslet { nm } => {
+            ui.horizontal(|ui| {
+                ui.label("lenslet");
+                let mut s = selected;
+                ui.add(crate::app::widgets::number(&mut s).range(0..=n.saturating_sub(1)));
+                if s != ctx.selected_lenslet {
+                    ctx.queue(PhaseAction::SelectLenslet(s));
+                }
+                if let Some(v) = nm.get_mut(s) {
+                    ui.label("λ0");
+                    number(ui, v, 300.0..=1100.0, 1.0, " nm");
+                }
+            });
         }
     }
-
-    fn simulation_controls(&mut self, ui: &mut Ui) {
-        egui::Grid::new("phase_simulation")
-            .num_columns(2)
-            .show(ui, |ui| {
-                ui.label("Quality");
-                ui.horizontal(|ui| {
-                    ui.selectable_value(&mut self.quality, Quality::Preview, "preview only")
-                        .on_hover_text("60-nm display samples, 7 per sensor pixel: for dragging");
-                    ui.selectable_value(&mut self.quality, Quality::Full, "preview, then full")
-                        .on_hover_text("Then the thesis's 15-nm samples, 14 per sensor pixel");
-                });
-                ui.end_row();
-                ui.label("Channels");
-                self.channel_choice_ui(ui);
-                ui.end_row();
-                ui.label("Optics");
-                ui.checkbox(&mut self.single_mask, "single mask (Lemma 1)")
-                    .on_hover_text(
-                        "One plate at the display and no second MLA: Lemma 1 says a single \
-                         phase mask cannot beat the T-OLED's MTF",
-                    );
-                ui.end_row();
-            });
+    let fits = match &d.lambda0 {
+        Lambda0::Counts { counts } => counts.iter().sum::<usize>() == n,
+        Lambda0::PerLenslet { nm } => nm.len() == n,
+        _ => true,
+    };
+    if !fits
+        && ui
+            .button(format!(
+                "Fit the λ0 plan to {}",
+                crate::app::widgets::counted(n as f64, "lenslet", "lenslets")
+            ))
+            .on_hover_text("The lenslet count changed with the geometry")
+            .clicked()
+    {
+        d.lambda0 = fit_plan(&d.lambda0, n);
     }
+}
 
-    /// Right: geometry, light and sharpness numbers.
-    pub fn numbers_ui(&mut self, ui: &mut Ui) {
+fn simulation_controls(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
+    let mut c = ctx.choices;
+    egui::Grid::new("phase_simulation")
+        .num_columns(2)
+        .show(ui, |ui| {
+            ui.label("Quality");
+            ui.horizontal(|ui| {
+                ui.selectable_value(&mut c.quality, Quality::Preview, "preview only")
+                    .on_hover_text("60-nm display samples, 7 per sensor pixel: for dragging");
+                ui.selectable_value(&mut c.quality, Quality::Full, "preview, then full")
+                    .on_hover_text("Then the thesis's 15-nm samples, 14 per sensor pixel");
+            });
+            ui.end_row();
+            ui.label("Channels");
+            super::response::channel_choice_ui(ui, &mut c.channels, ctx);
+            ui.end_row();
+            ui.label("Optics");
+            ui.checkbox(&mut c.single_mask, "single mask (Lemma 1)")
+                .on_hover_text(
+                    "One plate at the display and no second MLA: Lemma 1 says a single \
+                         phase mask cannot beat the T-OLED's MTF",
+                );
+            ui.end_row();
+        });
+    if c != ctx.choices {
+        ctx.queue(PhaseAction::Choose(c));
+    }
+}
+
+impl NumbersPanel {
+    /// Draws the panel.
+    pub fn ui(&mut self, ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
         ui.heading("Numbers");
-        if let Some((key, j)) = self.psf.job.current() {
+        if let Some((key, j)) = ctx.psf.job.current() {
             let p = j.fraction();
             let label = match key.quality {
                 Quality::Preview => "preview…",
@@ -405,9 +435,9 @@ impl PhaseWorkspace {
             });
             ui.add(egui::ProgressBar::new(p).show_percentage());
             if cancel {
-                self.cancel_psfs();
+                ctx.queue(PhaseAction::CancelPsfs);
             }
-        } else if let Some(s) = &self.psf.shown {
+        } else if let Some(s) = &ctx.psf.shown {
             ui.weak(format!(
                 "{} · {} · {:.0} ms",
                 s.quality.label(),
@@ -418,11 +448,7 @@ impl PhaseWorkspace {
                 s.elapsed_ms
             ));
         }
-        let d = if self.history.current().validate().is_ok() {
-            self.history.current().clone()
-        } else if let Some(s) = &self.psf.shown {
-            s.design.clone()
-        } else {
+        let Some(d) = ctx.drawable() else {
             return;
         };
         let max_h = Lenslets::new(&d)
@@ -460,7 +486,7 @@ impl PhaseWorkspace {
                 );
                 row(ui, "Tallest plate point", format!("{max_h:.3} µm"));
             });
-        let Some(s) = &self.psf.shown else {
+        let Some(s) = &ctx.psf.shown else {
             ui.label("Computing the first PSFs…");
             return;
         };

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use egui::Ui;
 
-use super::{ChannelSet, PhaseWorkspace};
+use super::{ChannelSet, PhaseAction, PhaseCtx, PhaseWorkspace};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::error::StudioError;
 use crate::app::job::Job;
@@ -78,6 +78,21 @@ impl ResponseState {
             _ => Err(StudioError::ResponseGone),
         }
     }
+
+    /// True while a response file is being asked for or read.
+    pub fn is_loading(&self) -> bool {
+        self.dialog.is_some() || self.load.is_some()
+    }
+
+    /// The label of a channel choice (a custom one names its file).
+    pub fn label(&self, set: ChannelSet) -> String {
+        match (set, &self.custom) {
+            (ChannelSet::Custom(s), Some(c)) if c.serial == s => {
+                format!("{} (custom response)", c.file_name())
+            }
+            _ => set.label().into(),
+        }
+    }
 }
 
 impl PhaseWorkspace {
@@ -93,17 +108,7 @@ impl PhaseWorkspace {
 
     /// True while a response file is being asked for or read.
     pub fn is_loading_response(&self) -> bool {
-        self.response.dialog.is_some() || self.response.load.is_some()
-    }
-
-    /// The label of a channel choice (a custom one names its file).
-    pub fn channel_label(&self, set: ChannelSet) -> String {
-        match (set, &self.response.custom) {
-            (ChannelSet::Custom(s), Some(c)) if c.serial == s => {
-                format!("{} (custom response)", c.file_name())
-            }
-            _ => set.label().into(),
-        }
+        self.response.is_loading()
     }
 
     /// Reads the response CSV at `path` on a background thread; on success its channels become
@@ -118,7 +123,7 @@ impl PhaseWorkspace {
         ));
     }
 
-    fn ask_response(&mut self, ctx: &egui::Context) {
+    pub(super) fn ask_response(&mut self, ctx: &egui::Context) {
         if !self.response.native_dialogs {
             self.response.message =
                 Some(Notice::error("file dialogs are disabled in this session"));
@@ -172,32 +177,29 @@ impl PhaseWorkspace {
             }
         }
     }
+}
 
-    /// The channel choice: peaks, the thesis response, a loaded file, and "Open response CSV…".
-    pub(super) fn channel_choice_ui(&mut self, ui: &mut Ui) {
-        let ctx = ui.ctx().clone();
-        ui.vertical(|ui| {
-            let mut sets = vec![ChannelSet::Peaks, ChannelSet::Spectral];
-            if let Some(c) = &self.response.custom {
-                sets.push(ChannelSet::Custom(c.serial));
-            }
-            for set in sets {
-                let label = self.channel_label(set);
-                ui.selectable_value(&mut self.channels, set, label);
-            }
-            if ui
-                .add_enabled(
-                    !self.is_loading_response(),
-                    egui::Button::new("Open response CSV…"),
-                )
-                .on_hover_text(
-                    "A sensor response table: wavelength_nm, r, g, b (covering 401-691 nm)",
-                )
-                .clicked()
-            {
-                self.ask_response(&ctx);
-            }
-            crate::app::widgets::message_ui(ui, self.response.message.as_ref());
-        });
-    }
+/// The channel choice: peaks, the thesis response, a loaded file, and "Open response CSV…".
+pub(super) fn channel_choice_ui(ui: &mut Ui, channels: &mut ChannelSet, ctx: &mut PhaseCtx<'_>) {
+    ui.vertical(|ui| {
+        let mut sets = vec![ChannelSet::Peaks, ChannelSet::Spectral];
+        if let Some(c) = &ctx.response.custom {
+            sets.push(ChannelSet::Custom(c.serial));
+        }
+        for set in sets {
+            let label = ctx.response.label(set);
+            ui.selectable_value(channels, set, label);
+        }
+        if ui
+            .add_enabled(
+                !ctx.response.is_loading(),
+                egui::Button::new("Open response CSV…"),
+            )
+            .on_hover_text("A sensor response table: wavelength_nm, r, g, b (covering 401-691 nm)")
+            .clicked()
+        {
+            ctx.queue(PhaseAction::AskResponse);
+        }
+        crate::app::widgets::message_ui(ui, ctx.response.message.as_ref());
+    });
 }

@@ -87,7 +87,7 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
     ) -> bool {
         match kind {
             DroppedKind::Image => {
-                self.view = super::PhaseView::Capture;
+                self.show(super::PhaseView::Capture);
                 self.load_capture_photo(path.to_path_buf(), &shell.ctx);
                 true
             }

@@ -128,3 +128,13 @@ pub fn open_reproduce_window(h: &mut egui_kittest::Harness<'_, udc_studio::app::
     h.step();
     h.step();
 }
+
+/// Changes the phase capture view's choices as its controls do (one queued action).
+pub fn choose_capture(
+    phase: &mut udc_studio::app::phase::PhaseWorkspace,
+    change: impl FnOnce(&mut udc_studio::app::phase::CaptureChoices),
+) {
+    let mut c = phase.capture_choices();
+    change(&mut c);
+    phase.act(udc_studio::app::phase::PhaseAction::Capture(c));
+}

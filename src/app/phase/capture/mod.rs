@@ -17,7 +17,7 @@ use std::time::Instant;
 use egui::{ColorImage, TextureHandle, TextureOptions};
 use ndarray::Array2;
 
-use super::{ChannelSet, PhaseWorkspace, Quality};
+use super::{CaptureChoices, ChannelSet, PhaseWorkspace, Quality};
 use crate::app::dialogs::{PendingDialog, Purpose};
 use crate::app::job::{Job, JobError, Streaming};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
@@ -169,6 +169,47 @@ impl CaptureState {
     pub(super) fn photo_arc(&self) -> Option<Arc<Photo>> {
         self.photo.clone()
     }
+
+    /// The results on screen: this design first, then the bare T-OLED.
+    pub fn rows(&self) -> &[CaptureRow] {
+        &self.rows
+    }
+
+    /// The latest message of the view, and whether it is an error.
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
+    /// Name of the photo the view captures, once one is loaded.
+    pub fn photo_name(&self) -> Option<&str> {
+        self.photo.as_ref().map(|p| p.name.as_str())
+    }
+
+    /// The light, channels, seed and denoiser of the next run.
+    pub fn choices(&self) -> CaptureChoices {
+        CaptureChoices {
+            photons: self.photons,
+            channels: self.channels,
+            seed: self.seed,
+            denoise: self.denoise,
+        }
+    }
+
+    /// The step under way, its fraction and the seconds it has run, while a capture runs.
+    pub(in crate::app::phase) fn progress(&self) -> Option<(String, f32, f64)> {
+        self.job.as_ref().map(|j| {
+            let (step, since) = self
+                .step
+                .lock()
+                .map(|s| (s.0.clone(), s.1.elapsed().as_secs_f64()))
+                .unwrap_or_default();
+            (step, j.job().fraction(), since)
+        })
+    }
+
+    pub(in crate::app::phase) fn photo_texture(&self) -> Option<&TextureHandle> {
+        self.photo_texture.as_ref()
+    }
 }
 
 /// The captured, denoised, restored and |restored − truth| pictures of a run.
@@ -202,7 +243,7 @@ fn setup_label(optics: PhaseOptics, design: &PhaseDesign) -> String {
 impl PhaseWorkspace {
     /// The results on screen: this design first, then the bare T-OLED.
     pub fn capture_rows(&self) -> &[CaptureRow] {
-        &self.capture.rows
+        self.capture.rows()
     }
 
     /// True while a photo loads or a capture runs.
@@ -219,13 +260,12 @@ impl PhaseWorkspace {
 
     /// The latest message of the view, and whether it is an error.
     pub fn capture_message(&self) -> Option<&Notice> {
-        self.capture.message.as_ref()
+        self.capture.message()
     }
 
-    /// The photo's name, once one is loaded.
     /// Name of the photo the view captures, once one is loaded.
     pub fn capture_photo_name(&self) -> Option<&str> {
-        self.capture.photo.as_ref().map(|p| p.name.as_str())
+        self.capture.photo_name()
     }
 
     /// How many operators were built since the workspace opened (a cached one is not counted).
@@ -238,29 +278,22 @@ impl PhaseWorkspace {
         self.capture.photons
     }
 
-    /// Sets the light level, in photons per white pixel (as the slider does).
-    pub fn set_capture_photons(&mut self, photons: f64) {
-        self.capture.photons = photons;
-    }
-
     /// The denoiser before the solver.
     pub fn capture_denoise(&self) -> Denoise {
         self.capture.denoise
     }
 
-    /// Sets the denoiser before the solver (captures and the comparison use it).
-    pub fn set_capture_denoise(&mut self, denoise: Denoise) {
-        self.capture.denoise = denoise;
+    /// The light, channels, seed and denoiser of the captures and the comparison.
+    pub fn capture_choices(&self) -> CaptureChoices {
+        self.capture.choices()
     }
 
-    /// Sets the seed of the capture's photon and read noise.
-    pub fn set_capture_seed(&mut self, seed: u64) {
-        self.capture.seed = seed;
-    }
-
-    /// Sets the colour channels the capture's operators are built for.
-    pub fn set_capture_channels(&mut self, channels: ChannelSet) {
-        self.capture.channels = channels;
+    /// Sets the light, channels, seed and denoiser ([`super::PhaseAction::Capture`]).
+    pub(in crate::app::phase) fn set_capture_choices(&mut self, c: CaptureChoices) {
+        self.capture.photons = c.photons;
+        self.capture.channels = c.channels;
+        self.capture.seed = c.seed;
+        self.capture.denoise = c.denoise;
     }
 
     /// Loads a photo on a background thread, scaled to the sensor's width at most; a photo
@@ -573,23 +606,6 @@ impl PhaseWorkspace {
         );
         self.capture.job = Some(job);
         self.capture.step = step;
-    }
-
-    /// The step under way, its fraction and the seconds it has run, while a capture runs.
-    pub(super) fn capture_progress(&self) -> Option<(String, f32, f64)> {
-        self.capture.job.as_ref().map(|j| {
-            let (step, since) = self
-                .capture
-                .step
-                .lock()
-                .map(|s| (s.0.clone(), s.1.elapsed().as_secs_f64()))
-                .unwrap_or_default();
-            (step, j.job().fraction(), since)
-        })
-    }
-
-    pub(super) fn capture_photo_texture(&self) -> Option<&TextureHandle> {
-        self.capture.photo_texture.as_ref()
     }
 }
 
