@@ -15,7 +15,7 @@ use super::{ChannelSet, PhaseAction, PhaseCtx, PhaseWorkspace, Quality};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::history::Snapshot;
 use crate::app::job::{Finished, Job, JobError, Keyed, Writes};
-use crate::app::widgets::colormap::Colormap;
+use crate::app::widgets::colormap::{self, Colormap};
 use crate::core::phase::{PhaseDesign, PhaseOptics, kernel_matrix};
 use crate::io::IoError;
 
@@ -111,7 +111,7 @@ fn kernel_image(k: &Array2<f64>, max: f64) -> ColorImage {
     let (rows, cols) = k.dim();
     let pixels = k
         .iter()
-        .map(|&v| Colormap::Viridis.color(log_level(v, max)))
+        .map(|&v| colormap::color(Colormap::Viridis, log_level(v, max)))
         .collect();
     ColorImage::new([cols, rows], pixels)
 }
@@ -463,7 +463,7 @@ pub(super) fn kernels_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
             "K (log scale): {:.1e} or less",
             s.max * 10f64.powf(-DECADES)
         ));
-        gradient_bar(ui, 180.0, |t| Colormap::Viridis.color(t));
+        gradient_bar(ui, 180.0, |t| colormap::color(Colormap::Viridis, t));
         ui.label(format!("{:.1e} (max)", s.max));
     });
 }

@@ -8,7 +8,7 @@ use egui::{ColorImage, TextureHandle, TextureOptions};
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::job::{Finished, Job, JobError, Keyed};
-use crate::app::widgets::colormap::Colormap;
+use crate::app::widgets::colormap::{self, Colormap};
 use crate::core::phase::allocate::{channel_invertibility, plan_invertibility};
 use crate::core::phase::geometry::{lenslet_count, uniform_counts};
 use crate::core::phase::{
@@ -84,7 +84,7 @@ fn v_image(v: &VMatrix, max: f64) -> ColorImage {
     let mut pixels = Vec::with_capacity(rows * cols);
     for r in (0..rows).rev() {
         for c in 0..cols {
-            pixels.push(Colormap::Viridis.color((v.v[r][c] / max) as f32));
+            pixels.push(colormap::color(Colormap::Viridis, (v.v[r][c] / max) as f32));
         }
     }
     ColorImage::new([cols, rows], pixels)

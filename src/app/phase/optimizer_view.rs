@@ -7,7 +7,7 @@ use egui_plot::{Bar, BarChart, Plot, PlotImage, PlotPoint};
 use super::optimizer::without_plan;
 use super::swatches::{gradient_bar, lambda0_strip, wavelength_legend};
 use super::{ChannelSet, PhaseAction, PhaseCtx, wavelength_color};
-use crate::app::widgets::colormap::Colormap;
+use crate::app::widgets::colormap::{self, Colormap};
 use crate::app::widgets::message_ui;
 use crate::core::phase::allocate::plan_invertibility;
 use crate::core::phase::geometry::{lambda0_per_lenslet, lenslet_count};
@@ -17,7 +17,7 @@ use crate::core::phase::{GRID_FIRST_NM, GRID_LEN, GRID_STEP_NM, wavelength_grid_
 fn colormap_key(ui: &mut Ui, name: &str, lo: f64, hi: f64) {
     ui.horizontal(|ui| {
         ui.label(format!("{name}: {lo:.0}"));
-        gradient_bar(ui, 160.0, |t| Colormap::Viridis.color(t));
+        gradient_bar(ui, 160.0, |t| colormap::color(Colormap::Viridis, t));
         ui.label(format!("{hi:.0}"));
     });
 }

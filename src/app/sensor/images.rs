@@ -5,7 +5,7 @@
 use egui::{Color32, ColorImage, TextureHandle, TextureOptions};
 use ndarray::Array2;
 
-use crate::app::widgets::colormap::Colormap;
+use crate::app::widgets::colormap::{self, Colormap};
 use crate::core::sensor::{BIN_SIZES, SensorRun};
 
 /// Colours of the bin sizes 1, 2, 4, 8 (legend and map).
@@ -31,7 +31,7 @@ pub fn gain_color(g: f64, max_gain: f64) -> Color32 {
     } else {
         0.0
     };
-    Colormap::Viridis.color(t as f32)
+    colormap::color(Colormap::Viridis, t as f32)
 }
 
 pub fn image_of<T: Copy>(a: &Array2<T>, color: impl Fn(T) -> Color32) -> ColorImage {

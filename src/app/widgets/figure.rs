@@ -2,10 +2,22 @@
 //! the files are drawn from (`crate::io::figure`), so a plot on screen and its exported PNG
 //! agree, with the studio's tick ladder, hover and zoom.
 
-use egui::Color32;
-use egui_plot::{FilledArea, HLine, Legend, Line, LineStyle, Plot, PlotPoints, Points, VLine};
+use std::collections::HashMap;
+use std::hash::Hash;
+use std::sync::Arc;
 
-use crate::core::figure::{Annotation, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette};
+use egui::{
+    Align2, Color32, ColorImage, Mesh, Rect, Sense, Stroke, TextureHandle, TextureId,
+    TextureOptions, Ui, pos2, vec2,
+};
+use egui_plot::{
+    FilledArea, HLine, HoverPosition, Legend, Line, LineStyle, MarkerShape, Plot, PlotImage,
+    PlotPoint, PlotPoints, PlotUi, Points, VLine,
+};
+
+use crate::core::figure::{
+    Annotation, ColorScale, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
+};
 
 /// The most points a point cloud draws each frame: beyond a few thousand an even sample shows
 /// the cloud as well and keeps scrolling smooth (lines are always drawn whole).
@@ -67,84 +79,348 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
             plot.x_axis_formatter(move |mark, _| axis.category_at(mark.value).unwrap_or_default());
     }
     plot.show(ui, |pl| {
-        for s in &panel.series {
-            let c = color32(s.colour);
-            if let Some(band) = &s.band {
-                let xs: Vec<f64> = band.iter().map(|b| b[0]).collect();
-                let lo: Vec<f64> = band.iter().map(|b| b[1]).collect();
-                let hi: Vec<f64> = band.iter().map(|b| b[2]).collect();
-                pl.add(
-                    FilledArea::new(format!("{} min–max", s.name), &xs, &lo, &hi)
-                        .fill_color(c.gamma_multiply(0.25)),
+        series_ui(pl, panel);
+        annotations_ui(pl, panel, true);
+    });
+}
+
+/// The panel's series, in order.
+fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
+    for s in &panel.series {
+        let c = color32(s.colour);
+        if let Some(band) = &s.band {
+            let xs: Vec<f64> = band.iter().map(|b| b[0]).collect();
+            let lo: Vec<f64> = band.iter().map(|b| b[1]).collect();
+            let hi: Vec<f64> = band.iter().map(|b| b[2]).collect();
+            pl.add(
+                FilledArea::new(format!("{} min–max", s.name), &xs, &lo, &hi)
+                    .fill_color(c.gamma_multiply(0.25)),
+            );
+        }
+        let finite = |p: &&[f64; 2]| p[0].is_finite() && p[1].is_finite();
+        match s.mark {
+            Mark::Points => {
+                let step = s.points.len().div_ceil(MAX_POINTS_DRAWN).max(1);
+                let name = if step > 1 {
+                    format!("{} (1 in {step})", s.name)
+                } else {
+                    s.name.clone()
+                };
+                let cloud: PlotPoints = s
+                    .points
+                    .iter()
+                    .step_by(step)
+                    .filter(finite)
+                    .copied()
+                    .collect();
+                pl.points(Points::new(name, cloud).color(c).radius(3.0));
+            }
+            Mark::DashedLine => {
+                let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
+                // A reference is read against the data, not over it: dimmer.
+                pl.line(
+                    Line::new(s.name.clone(), PlotPoints::from(line))
+                        .color(c.gamma_multiply(0.6))
+                        .style(LineStyle::dashed_dense()),
                 );
             }
-            let finite = |p: &&[f64; 2]| p[0].is_finite() && p[1].is_finite();
-            match s.mark {
-                Mark::Points => {
-                    let step = s.points.len().div_ceil(MAX_POINTS_DRAWN).max(1);
-                    let name = if step > 1 {
-                        format!("{} (1 in {step})", s.name)
-                    } else {
-                        s.name.clone()
-                    };
-                    let cloud: PlotPoints = s
-                        .points
-                        .iter()
-                        .step_by(step)
-                        .filter(finite)
-                        .copied()
-                        .collect();
-                    pl.points(Points::new(name, cloud).color(c).radius(3.0));
-                }
-                Mark::DashedLine => {
-                    let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
-                    // A reference is read against the data, not over it: dimmer.
-                    pl.line(
-                        Line::new(s.name.clone(), PlotPoints::from(line))
-                            .color(c.gamma_multiply(0.6))
-                            .style(LineStyle::dashed_dense()),
-                    );
-                }
-                Mark::Line | Mark::LineAndPoints => {
-                    let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
-                    let dots = (s.mark == Mark::LineAndPoints).then(|| line.clone());
-                    pl.line(
-                        Line::new(s.name.clone(), PlotPoints::from(line))
+            Mark::Line | Mark::LineAndPoints => {
+                let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
+                let dots = (s.mark == Mark::LineAndPoints).then(|| line.clone());
+                pl.line(
+                    Line::new(s.name.clone(), PlotPoints::from(line))
+                        .color(c)
+                        .width(2.0),
+                );
+                if let Some(dots) = dots {
+                    pl.points(
+                        Points::new(s.name.clone(), PlotPoints::from(dots))
                             .color(c)
-                            .width(2.0),
+                            .radius(3.0),
                     );
-                    if let Some(dots) = dots {
-                        pl.points(
-                            Points::new(s.name.clone(), PlotPoints::from(dots))
-                                .color(c)
-                                .radius(3.0),
-                        );
-                    }
                 }
             }
         }
-        let c = color32(palette::ANNOTATION);
-        for a in &panel.annotations {
-            match a {
-                Annotation::Ring {
-                    centre,
-                    radius,
-                    label,
-                } => {
-                    let ring: PlotPoints = circle_points(*centre, *radius, RING_SEGMENTS).into();
-                    pl.line(Line::new(label.clone(), ring).color(c).width(1.5));
-                }
-                Annotation::Lattice { points, label } => {
-                    let lattice: PlotPoints = points.iter().copied().collect();
-                    pl.points(Points::new(label.clone(), lattice).color(c).radius(2.0));
-                }
-                Annotation::VLine { x, label } => {
-                    pl.vline(VLine::new(label.clone(), *x).color(c));
-                }
-                Annotation::HLine { y, label } => {
-                    pl.hline(HLine::new(label.clone(), *y).color(c));
-                }
+    }
+}
+
+/// The panel's annotations in the annotation colour; `hover`: whether the pointer reads them
+/// (over an image it must keep reading the image).
+fn annotations_ui(pl: &mut PlotUi<'_>, panel: &Panel, hover: bool) {
+    let c = color32(palette::ANNOTATION);
+    for a in &panel.annotations {
+        match a {
+            Annotation::Ring {
+                centre,
+                radius,
+                label,
+            } => {
+                let ring: PlotPoints = circle_points(*centre, *radius, RING_SEGMENTS).into();
+                pl.line(
+                    Line::new(label.clone(), ring)
+                        .color(c)
+                        .width(1.5)
+                        .allow_hover(hover),
+                );
+            }
+            Annotation::Lattice { points, label } => {
+                let lattice: PlotPoints = points.iter().copied().collect();
+                pl.points(
+                    Points::new(label.clone(), lattice)
+                        .shape(MarkerShape::Plus)
+                        .color(c)
+                        .radius(3.0)
+                        .allow_hover(hover),
+                );
+            }
+            Annotation::VLine { x, label } => {
+                pl.vline(VLine::new(label.clone(), *x).color(c).allow_hover(hover));
+            }
+            Annotation::HLine { y, label } => {
+                pl.hline(HLine::new(label.clone(), *y).color(c).allow_hover(hover));
             }
         }
+    }
+}
+
+/// Where an image panel sits: its size, the plots it pans, zooms and hovers with, and the view
+/// it opens on (and returns to on a double-click).
+#[derive(Debug, Clone, Copy)]
+pub struct ImageFrame {
+    /// Width and height of the plot widget, axes included.
+    pub size: egui::Vec2,
+    /// Plots sharing this id pan, zoom and hover together.
+    pub link: Option<egui::Id>,
+    /// Half-width of the square about the origin the plot opens on; `None`: the whole image.
+    pub view_half: Option<f64>,
+}
+
+/// The view an image panel opens on: where its first image is brighter than its colour scale's
+/// floor.
+pub fn lit_view_half(panel: &Panel) -> Option<f64> {
+    let img = panel.images.first()?;
+    Some(img.lit_half_extent(img.scale.visible_threshold()))
+}
+
+/// Draws an image `panel` (without its title) with `textures` for its images, in order, and a
+/// readout of the first image's value under the pointer.
+pub fn image_panel_ui(
+    ui: &mut Ui,
+    id: impl egui::AsIdSalt,
+    panel: &Panel,
+    textures: &[TextureId],
+    frame: ImageFrame,
+) {
+    let x_unit = panel.x.unit.clone().unwrap_or_default();
+    let y_unit = panel.y.unit.clone().unwrap_or_default();
+    let first = panel.images.first().cloned();
+    let readout = move |pos: &HoverPosition<'_>| {
+        let at = match pos {
+            HoverPosition::NearDataPoint { position, .. }
+            | HoverPosition::Elsewhere { position } => *position,
+        };
+        let img = first.as_ref()?;
+        let [row, col] = img.index_at(at.x, at.y)?;
+        let v = *img.values.get([row, col])?;
+        let [x, y] = img.position(row, col);
+        Some(format!(
+            "x = {x:.3} {x_unit}, y = {y:.3} {y_unit}\n{}",
+            value_readout(img, v)
+        ))
+    };
+    let mut plot = crate::app::widgets::plot::with_nice_ticks(Plot::new(id))
+        .width(frame.size.x)
+        .height(frame.size.y)
+        .show_crosshair(false)
+        .x_axis_label(panel.x.title())
+        .y_axis_label(panel.y.title())
+        .label_formatter(readout);
+    if panel.equal_aspect {
+        plot = plot.data_aspect(1.0);
+    }
+    if let Some(half) = frame.view_half {
+        plot = plot
+            .default_x_bounds(-half, half)
+            .default_y_bounds(-half, half);
+    }
+    if let Some(link) = frame.link {
+        plot = plot.link_axis(link, true).link_cursor(link, true);
+    }
+    plot.show(ui, |pl| {
+        for (img, texture) in panel.images.iter().zip(textures) {
+            // No name: an image needs no legend entry.
+            pl.image(PlotImage::new(
+                "",
+                *texture,
+                PlotPoint::new(img.centre[0], img.centre[1]),
+                vec2(img.size[0] as f32, img.size[1] as f32),
+            ));
+        }
+        series_ui(pl, panel);
+        // No legend over the data: the controls above the plot name the annotations.
+        annotations_ui(pl, panel, false);
     });
+}
+
+/// The value under the pointer as the readout shows it: its true value, and where a log
+/// scale draws it (a value below the floor is drawn at the floor).
+fn value_readout(img: &Image, v: f64) -> String {
+    let unit = img.unit.as_ref().map_or(String::new(), |u| format!(" {u}"));
+    let log = match img.scale {
+        ColorScale::Log { reference, .. } if v > 0.0 && reference > 0.0 && img.planes.is_none() => {
+            format!(
+                "\nlog10({} / peak) = {:.2}",
+                img.name,
+                (v / reference).log10()
+            )
+        }
+        ColorScale::Log { .. } if img.planes.is_none() => {
+            "\n(no light: drawn at the floor)".to_owned()
+        }
+        ColorScale::Linear { .. } if v > 0.0 => format!("\nlog10 = {:.2}", v.log10()),
+        _ => String::new(),
+    };
+    format!("{} = {}{unit}{log}", img.name, short_value(v))
+}
+
+/// A number in a short readable form: fixed for moderate magnitudes, scientific otherwise.
+pub fn short_value(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if (0.01..1000.0).contains(&a) {
+        format!("{v:.3}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
+
+/// Width reserved beside an image panel for its colour bar and tick labels.
+pub const COLORBAR_WIDTH: f32 = 78.0;
+
+/// The colour bar of `img`, `height` points tall: its map bottom to top with the scale's ticks
+/// (a log scale's as decades below the peak). Drawn as a mesh each frame (a few dozen quads:
+/// cheaper than keeping a texture).
+pub fn colour_bar_ui(ui: &mut Ui, height: f32, img: &Image) {
+    let (rect, _) = ui.allocate_exact_size(vec2(COLORBAR_WIDTH, height), Sense::hover());
+    let painter = ui.painter_at(rect);
+    let bar = Rect::from_min_max(
+        pos2(rect.left() + 4.0, rect.top() + 8.0),
+        pos2(rect.left() + 18.0, rect.bottom() - 8.0),
+    );
+    const BANDS: usize = 64;
+    let mut mesh = Mesh::default();
+    for k in 0..BANDS {
+        let t0 = k as f32 / BANDS as f32;
+        let t1 = (k + 1) as f32 / BANDS as f32;
+        let band = Rect::from_min_max(
+            pos2(bar.left(), bar.bottom() - t1 * bar.height()),
+            pos2(bar.right(), bar.bottom() - t0 * bar.height()),
+        );
+        mesh.add_colored_rect(band, color32(img.colormap.at((t0 + t1) / 2.0)));
+    }
+    painter.add(mesh);
+    let text = ui.visuals().text_color();
+    painter.rect_stroke(
+        bar,
+        0.0,
+        Stroke::new(1.0, ui.visuals().weak_text_color()),
+        egui::StrokeKind::Outside,
+    );
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    for (t, v) in img.scale.ticks() {
+        let label = match img.scale {
+            ColorScale::Log { reference, .. } if reference > 0.0 => {
+                let d = (reference / v).log10().round() as i32;
+                if d == 0 {
+                    "peak".into()
+                } else {
+                    format!("1e-{d}")
+                }
+            }
+            _ => short_value(v),
+        };
+        let y = bar.bottom() - t * bar.height();
+        painter.line_segment(
+            [pos2(bar.right(), y), pos2(bar.right() + 4.0, y)],
+            Stroke::new(1.0, text),
+        );
+        painter.text(
+            pos2(bar.right() + 6.0, y),
+            Align2::LEFT_CENTER,
+            label,
+            font.clone(),
+            text,
+        );
+    }
+}
+
+/// The texture of `img`: its colours as an egui image (nearest sampling: every sample stays a
+/// crisp square when zoomed in).
+fn upload(ctx: &egui::Context, name: String, img: &Image) -> TextureHandle {
+    let (rows, cols) = img.values.dim();
+    let rgb: Vec<u8> = img
+        .colours()
+        .into_iter()
+        .flat_map(|c| [c.0, c.1, c.2])
+        .collect();
+    ctx.load_texture(
+        name,
+        ColorImage::from_rgb([cols, rows], &rgb),
+        TextureOptions::NEAREST,
+    )
+}
+
+/// Figure panels built once per key, their images uploaded as textures: a view asks for its
+/// slot's panel every frame and gets the built one back until its key changes.
+pub struct FigureCache<S, K> {
+    slots: HashMap<S, (K, Arc<Panel>, Vec<TextureHandle>)>,
+    /// Panels built so far (lets tests prove nothing is rebuilt per frame).
+    builds: u64,
+}
+
+impl<S, K> Default for FigureCache<S, K> {
+    fn default() -> Self {
+        FigureCache {
+            slots: HashMap::new(),
+            builds: 0,
+        }
+    }
+}
+
+impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
+    /// The panel of `slot` for `key` and its images' textures: `build` runs (and the images
+    /// are uploaded) only when the slot is empty or holds another key.
+    pub fn get(
+        &mut self,
+        ctx: &egui::Context,
+        slot: S,
+        key: K,
+        build: impl FnOnce() -> Panel,
+    ) -> (Arc<Panel>, Vec<TextureId>) {
+        let fresh = !matches!(self.slots.get(&slot), Some((k, _, _)) if *k == key);
+        if fresh {
+            self.builds += 1;
+            let panel = Arc::new(build());
+            let textures = panel
+                .images
+                .iter()
+                .enumerate()
+                .map(|(i, img)| upload(ctx, format!("figure/{slot:?}/{i}"), img))
+                .collect();
+            self.slots.insert(slot, (key, panel, textures));
+        }
+        match self.slots.get(&slot) {
+            Some((_, panel, textures)) => (
+                panel.clone(),
+                textures.iter().map(TextureHandle::id).collect(),
+            ),
+            None => (Arc::new(Panel::default()), Vec::new()),
+        }
+    }
+
+    /// Panels built so far.
+    pub fn builds(&self) -> u64 {
+        self.builds
+    }
 }

@@ -66,6 +66,7 @@ pub fn psf_panel(c: &ChannelPsf, index: usize, ours: &str, half_width_px: i64, l
             ),
         ],
         annotations: Vec::new(),
+        ..Panel::default()
     }
 }
 
@@ -106,6 +107,7 @@ pub fn mtf_panel(psfs: &PhasePsfs, ours: &str) -> Panel {
         y: Axis::new("MTF", None),
         series,
         annotations: Vec::new(),
+        ..Panel::default()
     }
 }
 
@@ -159,6 +161,7 @@ pub fn profile_panel(
             ),
         ],
         annotations: edges.collect(),
+        ..Panel::default()
     })
 }
 

@@ -61,6 +61,7 @@ pub fn contrast_panel(
                 label: "cutoff".into(),
             },
         ],
+        ..Panel::default()
     }
 }
 
@@ -100,6 +101,7 @@ pub fn optimal_pitch_panel(sensor: &SensorSpec, snr_t: f64) -> Panel {
             curve("optimal bin (1, 2, 4, 8 unit pixels)", 1, &bins),
         ],
         annotations: Vec::new(),
+        ..Panel::default()
     }
 }
 

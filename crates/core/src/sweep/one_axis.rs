@@ -353,6 +353,7 @@ pub fn panel(
             x: current,
             label: "current value".into(),
         }],
+        ..Panel::default()
     }
 }
 

@@ -169,3 +169,54 @@ fn every_formula_names_its_numbers() {
     let f = Theory::Grating.formula(530.0, 10.0, 160.0);
     assert!(f.contains("33.1 µm"), "{f}");
 }
+
+#[test]
+fn the_psf_figure_marks_the_orders_where_the_light_is_and_the_airy_ring_at_1_22_lambda_f() {
+    use udc_core::analysis::figures::{Landmarks, PsfScale, psf_panel};
+    use udc_core::figure::Annotation;
+    let d = load_preset("fourier-periodic").unwrap();
+    let a = full(&d);
+    let ch = &a.channels[0];
+    let which = Landmarks {
+        airy: true,
+        orders: true,
+    };
+    let panel = psf_panel(&d, &a, ch, PsfScale::Log { floor_decades: 6.0 }, which);
+    let image = &panel.images[0];
+    assert_eq!(
+        image.value_at(0.0, 0.0),
+        Some(udc_core::figure::peak(&ch.psf))
+    );
+    let mut checked = 0;
+    for note in &panel.annotations {
+        match note {
+            Annotation::Ring { radius, .. } => {
+                let want = 1.22 * ch.wavelength_nm * 1e-3 * d.optics.f_number;
+                assert!(
+                    (radius - want).abs() < 1e-12,
+                    "Airy radius {radius} µm, want {want}"
+                );
+            }
+            Annotation::Lattice { points, .. } => {
+                // The first orders along x and y: each is brighter than the dark band halfway
+                // to it, by an order of magnitude.
+                let spacing = points
+                    .iter()
+                    .filter(|p| p[1] == 0.0 && p[0] > 0.0)
+                    .map(|p| p[0])
+                    .fold(f64::INFINITY, f64::min);
+                for [x, y] in [[spacing, 0.0], [0.0, spacing], [-spacing, 0.0]] {
+                    let on = image.value_at(x, y).unwrap();
+                    let between = image.value_at(x / 2.0, y / 2.0).unwrap();
+                    assert!(
+                        on > 10.0 * between,
+                        "order at ({x}, {y}): {on} vs {between}"
+                    );
+                }
+                checked += 1;
+            }
+            _ => {}
+        }
+    }
+    assert_eq!(checked, 1, "the orders were asked for");
+}

@@ -289,6 +289,7 @@ pub fn panel_of(p: &PlotSpec, data: &PlotData, title: &str) -> Panel {
         y,
         series,
         annotations: Vec::new(),
+        ..Panel::default()
     }
 }
 

@@ -3,14 +3,13 @@
 
 use egui::Ui;
 
-use super::images::{log_image, peak};
-use super::overlay::psf_overlay;
-use super::plots::{ImagePlot, Scale, colorbar_ui, image_layout, image_plot_ui, view_half};
+use super::ViewsPanel;
+use super::plots::image_layout;
 use super::textures::Slot;
-use super::{ViewsPanel, psf_grid};
 use crate::app::display::panels::Shown;
-use crate::app::widgets::colormap::Colormap;
+use crate::app::widgets::figure::{ImageFrame, colour_bar_ui, image_panel_ui, lit_view_half};
 use crate::core::analysis::analyze::ChannelAnalysis;
+use crate::core::analysis::figures::expected_panels;
 
 impl ViewsPanel {
     pub(super) fn expected_ui(
@@ -29,72 +28,50 @@ impl ViewsPanel {
             );
             return;
         }
-        let Some(expected) = &ch.expected_psf else {
+        if ch.expected_psf.is_none() {
             ui.label(
                 "The expected PSF was not computed for this result (previews skip it); it \
                  appears with the full-quality result.",
             );
             return;
-        };
-        // One colour scale for both: the larger of the two peaks.
-        let reference = peak(&ch.psf).max(peak(expected));
+        }
         let floor = self.floor_decades;
-        let key = self.key(shown, self.channel, floor);
+        let marks = self.landmarks(overlays);
+        let key = self.key(shown, self.channel, floor, marks);
         let ctx = ui.ctx().clone();
-        let real = self.textures.get(&ctx, Slot::ExpectedRealisation, key, || {
-            log_image(&ch.psf, reference, floor, Colormap::Inferno)
-        });
-        let mean = self.textures.get(&ctx, Slot::ExpectedMean, key, || {
-            log_image(expected, reference, floor, Colormap::Inferno)
-        });
-        let grid = psf_grid(shown, ch);
-        let overlay = overlays.then(|| psf_overlay(shown, ch, grid, self.overlay_choice));
-        let scale = Scale::Log {
-            reference,
-            floor_decades: floor,
+        let build = |i: usize| {
+            move || {
+                expected_panels(&shown.design, &shown.analysis, ch, floor, marks)
+                    .map(|[a, b]| if i == 0 { a } else { b })
+                    .unwrap_or_default()
+            }
         };
+        let real = self
+            .textures
+            .get(&ctx, Slot::ExpectedRealisation, key, build(0));
+        let mean = self.textures.get(&ctx, Slot::ExpectedMean, key, build(1));
         let layout = image_layout(ui, 2);
         let size = layout.size;
         // The axes are linked, so both open on the larger of the two lit areas.
-        let half = view_half(&ch.psf, grid, scale).max(view_half(expected, grid, scale));
+        let half = match (lit_view_half(&real.0), lit_view_half(&mean.0)) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        };
         let link = Some(ui.make_persistent_id("views_expected_link"));
-        let seed = shown.design.tiling.seed;
         let plots = [
-            (
-                format!("this realisation ({}, seed {seed})", mode.as_str()),
-                "views_expected_realisation",
-                real,
-                &ch.psf,
-                "PSF",
-            ),
-            (
-                "expected over all random tilings".to_owned(),
-                "views_expected_mean",
-                mean,
-                expected,
-                "expected PSF",
-            ),
+            ("views_expected_realisation", &real),
+            ("views_expected_mean", &mean),
         ];
         let plots_ui = |ui: &mut Ui| {
-            for (caption, id, texture, values, value_name) in &plots {
+            for (id, (panel, textures)) in &plots {
                 ui.vertical(|ui| {
-                    ui.label(caption);
-                    image_plot_ui(
-                        ui,
-                        &ImagePlot {
-                            id,
-                            texture: *texture,
-                            grid,
-                            values,
-                            scale,
-                            unit: "µm",
-                            value_name,
-                            overlay: overlay.as_ref(),
-                            link,
-                            size,
-                            view_half: half,
-                        },
-                    );
+                    ui.label(&panel.title);
+                    let frame = ImageFrame {
+                        size,
+                        link,
+                        view_half: half,
+                    };
+                    image_panel_ui(ui, *id, panel, textures, frame);
                 });
             }
         };
@@ -104,7 +81,9 @@ impl ViewsPanel {
             } else {
                 ui.horizontal(plots_ui).response.rect.height()
             };
-            colorbar_ui(ui, height, scale, Colormap::Inferno);
+            if let Some(img) = real.0.images.first() {
+                colour_bar_ui(ui, height, img);
+            }
         });
     }
 }

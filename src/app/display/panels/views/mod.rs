@@ -1,9 +1,9 @@
 //! The result views: PSF (linear and log), RGB composite, 2-D MTF, MTF plots, expected PSF of a
 //! random tiling, and the A/B comparison, with optional teaching overlays.
 //!
-//! Images are built by the pure functions of [`images`] and uploaded once per result and
-//! setting (a texture cache keyed by generation, quality, channel and floor); the frame loop
-//! only places them in plots.
+//! Image figures are built by the core's pure functions (`core::analysis::figures`) and
+//! uploaded once per result and setting (a figure cache keyed by generation, quality, channel,
+//! floor and marks); the frame loop only places them in plots.
 
 pub mod appearance;
 mod compare;
@@ -11,7 +11,6 @@ mod expected;
 pub mod field_depth;
 mod hints;
 pub mod images;
-mod overlay;
 mod plots;
 pub mod restore;
 mod textures;
@@ -19,19 +18,14 @@ mod theory;
 
 use egui::{RichText, Ui};
 
-use self::images::{
-    DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, Grid, channel_color, linear_image, log_image, peak,
-    rgb_composite, rgb_slots,
-};
-use self::overlay::{OverlayChoice, psf_overlay};
-use self::plots::{
-    ImagePlot, Markers, MtfFamilies, Scale, colorbar_ui, image_layout, image_plot_ui,
-    image_with_colorbar_ui, mtf_plot_ui, view_half,
-};
+use self::images::{DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, channel_color};
+use self::plots::{Markers, MtfFamilies, image_with_colour_bar_ui, mtf_plot_ui};
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
-use crate::app::widgets::colormap::Colormap;
 use crate::core::analysis::analyze::ChannelAnalysis;
+use crate::core::analysis::figures::{
+    Landmarks, PsfScale, mtf2d_panel, psf_panel, rgb_panel, rgb_slots,
+};
 use crate::core::theory::landmarks::{
     airy_radius_um, mtf_repeat_cyc_per_px, multiples_up_to, order_spacing_um,
 };
@@ -131,7 +125,7 @@ pub struct ViewsPanel {
     /// The Appearance view (its settings, renderings and scatter).
     pub appearance: appearance::AppearanceView,
     /// The reference marks drawn over the PSFs (with the teaching overlays on).
-    overlay_choice: OverlayChoice,
+    overlay_choice: Landmarks,
     /// The Theory view's cached comparison and scale.
     theory: theory::TheoryView,
 }
@@ -148,7 +142,7 @@ impl Default for ViewsPanel {
             restore: restore::RestoreView::default(),
             field_depth: field_depth::FieldDepthView::default(),
             appearance: appearance::AppearanceView::default(),
-            overlay_choice: OverlayChoice::default(),
+            overlay_choice: Landmarks::default(),
             theory: theory::TheoryView::default(),
         }
     }
@@ -306,40 +300,43 @@ impl ViewsPanel {
         });
     }
 
-    fn key(&self, shown: &Shown, channel: usize, floor_decades: f64) -> TexKey {
+    fn key(&self, shown: &Shown, channel: usize, floor_decades: f64, marks: Landmarks) -> TexKey {
         TexKey {
             generation: shown.generation,
             quality: shown.quality,
             channel,
             floor_decades,
+            landmarks: marks,
+        }
+    }
+
+    /// The marks drawn over a PSF: the chosen ones with the teaching overlays on, else none.
+    fn landmarks(&self, overlays: bool) -> Landmarks {
+        if overlays {
+            self.overlay_choice
+        } else {
+            Landmarks {
+                airy: false,
+                orders: false,
+            }
         }
     }
 
     fn psf_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis, overlays: bool) {
         let log = self.tab == ViewTab::LogPsf;
-        let p = peak(&ch.psf);
-        let floor = self.floor_decades;
-        let (texture, scale) = if log {
-            let key = self.key(shown, self.channel, floor);
-            let tex = self.textures.get(ui.ctx(), Slot::LogPsf, key, || {
-                log_image(&ch.psf, p, floor, Colormap::Inferno)
-            });
-            let scale = Scale::Log {
-                reference: p,
-                floor_decades: floor,
-            };
-            (tex, scale)
+        let marks = self.landmarks(overlays);
+        let (slot, scale, floor) = if log {
+            let floor_decades = self.floor_decades;
+            (Slot::LogPsf, PsfScale::Log { floor_decades }, floor_decades)
         } else {
-            let key = self.key(shown, self.channel, 0.0);
-            let tex = self.textures.get(ui.ctx(), Slot::Psf, key, || {
-                linear_image(&ch.psf, p, Colormap::Inferno)
-            });
-            (tex, Scale::Linear { max: p })
+            (Slot::Psf, PsfScale::Linear, 0.0)
         };
-        let grid = psf_grid(shown, ch);
-        let overlay = overlays.then(|| psf_overlay(shown, ch, grid, self.overlay_choice));
+        let key = self.key(shown, self.channel, floor, marks);
+        let (panel, textures) = self.textures.get(ui.ctx(), slot, key, || {
+            psf_panel(&shown.design, &shown.analysis, ch, scale, marks)
+        });
         let id = if log { "views_log_psf" } else { "views_psf" };
-        image_with_colorbar_ui(ui, id, texture, grid, &ch.psf, scale, overlay.as_ref());
+        image_with_colour_bar_ui(ui, id, &panel, &textures);
     }
 
     fn rgb_ui(&mut self, ui: &mut Ui, shown: &Shown) {
@@ -347,13 +344,6 @@ impl ViewsPanel {
         let names: Vec<&str> = channels.iter().map(|c| c.name.as_str()).collect();
         let slots = rgb_slots(&names);
         let floor = self.floor_decades;
-        let key = self.key(shown, 0, floor);
-        let texture = self.textures.get(ui.ctx(), Slot::Rgb, key, || {
-            rgb_composite(
-                slots.map(|s| s.and_then(|i| channels.get(i)).map(|c| &c.psf)),
-                floor,
-            )
-        });
         let used: Vec<String> = ["red", "green", "blue"]
             .iter()
             .zip(slots)
@@ -367,75 +357,24 @@ impl ViewsPanel {
              1e-{floor} (the floor); {}.",
             used.join(", ")
         ));
-        let Some(first) = slots.iter().flatten().find_map(|i| channels.get(*i)) else {
-            return;
-        };
-        let grid = psf_grid(shown, first);
-        let scale = Scale::Log {
-            reference: peak(&first.psf),
-            floor_decades: floor,
-        };
-        let size = image_layout(ui, 1).size;
-        ui.horizontal(|ui| {
-            image_plot_ui(
-                ui,
-                &ImagePlot {
-                    id: "views_rgb",
-                    texture,
-                    grid,
-                    values: &first.psf,
-                    scale,
-                    unit: "µm",
-                    value_name: &format!("{} PSF", first.name),
-                    overlay: None,
-                    link: None,
-                    size,
-                    view_half: view_half(&first.psf, grid, scale),
-                },
-            );
-            // Each plane runs from black (floor) to full (its own peak).
-            colorbar_ui(ui, size.y, scale, Colormap::Gray);
+        let none = self.landmarks(false);
+        let key = self.key(shown, 0, floor, none);
+        let (panel, textures) = self.textures.get(ui.ctx(), Slot::Rgb, key, || {
+            rgb_panel(&shown.analysis, floor).unwrap_or_default()
         });
+        if panel.images.is_empty() {
+            return;
+        }
+        image_with_colour_bar_ui(ui, "views_rgb", &panel, &textures);
     }
 
     fn mtf2d_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis) {
-        let mtf = &ch.mtf.centred;
         let floor = self.mtf_floor_decades;
-        // MTF(0) = 1 by construction; the peak guards against a degenerate PSF.
-        let reference = peak(mtf).max(f64::MIN_POSITIVE);
-        let key = self.key(shown, self.channel, floor);
-        let texture = self.textures.get(ui.ctx(), Slot::Mtf2d, key, || {
-            log_image(mtf, reference, floor, Colormap::Viridis)
-        });
-        let n = mtf.nrows().max(1);
-        let grid = Grid {
-            n,
-            step: 1.0 / n as f64,
-        };
-        let scale = Scale::Log {
-            reference,
-            floor_decades: floor,
-        };
-        let size = image_layout(ui, 1).size;
-        ui.horizontal(|ui| {
-            image_plot_ui(
-                ui,
-                &ImagePlot {
-                    id: "views_mtf2d",
-                    texture,
-                    grid,
-                    values: mtf,
-                    scale,
-                    unit: "cyc/px",
-                    value_name: "MTF",
-                    overlay: None,
-                    link: None,
-                    size,
-                    view_half: view_half(mtf, grid, scale),
-                },
-            );
-            colorbar_ui(ui, size.y, scale, Colormap::Viridis);
-        });
+        let key = self.key(shown, self.channel, floor, self.landmarks(false));
+        let (panel, textures) = self
+            .textures
+            .get(ui.ctx(), Slot::Mtf2d, key, || mtf2d_panel(ch, floor));
+        image_with_colour_bar_ui(ui, "views_mtf2d", &panel, &textures);
     }
 
     fn mtf_plots_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &PanelCtx) {
@@ -473,13 +412,5 @@ impl ViewsPanel {
             &markers,
             channel_color,
         );
-    }
-}
-
-/// The sensor grid of a channel's PSF: one sample per sensor pixel, axis at `W/2`.
-fn psf_grid(shown: &Shown, ch: &ChannelAnalysis) -> Grid {
-    Grid {
-        n: ch.psf.nrows(),
-        step: shown.analysis.sensor_pixel_um,
     }
 }

@@ -3,6 +3,12 @@
 //! each front end its own way: the studio with egui_plot, files with plotters (PNG and SVG),
 //! Python as arrays with this metadata. Nothing here knows how a figure is drawn.
 
+mod colormap;
+mod image;
+
+pub use colormap::{Colormap, relative_luminance};
+pub use image::{ColorScale, Image, log_decades, peak};
+
 /// A colour, 8 bits a channel (sRGB).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rgb(pub u8, pub u8, pub u8);
@@ -171,6 +177,10 @@ pub struct Panel {
     pub series: Vec<Series>,
     /// Drawn over the data.
     pub annotations: Vec<Annotation>,
+    /// Images under the data (a PSF, a matrix); the first one's scale is the colour bar.
+    pub images: Vec<Image>,
+    /// One axis unit is as long on screen in x as in y (a picture, not a graph).
+    pub equal_aspect: bool,
 }
 
 impl Panel {
@@ -180,8 +190,8 @@ impl Panel {
         self.series.len() > 1
     }
 
-    /// The smallest and largest x and y of the data (bands included), ignoring non-finite
-    /// values; `None` when there is none.
+    /// The smallest and largest x and y of the data (bands and images included), ignoring
+    /// non-finite values; `None` when there is none.
     pub fn data_bounds(&self) -> Option<([f64; 2], [f64; 2])> {
         let mut x = [f64::INFINITY, f64::NEG_INFINITY];
         let mut y = x;
@@ -191,6 +201,16 @@ impl Panel {
                 y = [y[0].min(py), y[1].max(py)];
             }
         };
+        for img in &self.images {
+            add(
+                img.centre[0] - img.size[0] / 2.0,
+                img.centre[1] - img.size[1] / 2.0,
+            );
+            add(
+                img.centre[0] + img.size[0] / 2.0,
+                img.centre[1] + img.size[1] / 2.0,
+            );
+        }
         for s in &self.series {
             for p in &s.points {
                 add(p[0], p[1]);
