@@ -15,6 +15,7 @@ fn axis<'py>(py: Python<'py>, a: &Axis) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("unit", &a.unit)?;
     d.set_item("title", a.title())?;
     d.set_item("categories", &a.categories)?;
+    d.set_item("downward", a.downward)?;
     Ok(d)
 }
 
@@ -53,6 +54,7 @@ pub fn panel<'py>(py: Python<'py>, p: &Panel) -> PyResult<Bound<'py, PyDict>> {
                 Mark::Points => "points",
                 Mark::LineAndPoints => "line-and-points",
                 Mark::DashedLine => "dashed-line",
+                Mark::Bars => "bars",
             },
         )?;
         e.set_item("points", array(py, &s.points))?;

@@ -448,8 +448,8 @@ fn the_blur_matrix_of_all_directions_matches_the_core_and_saves_as_csv() {
     assert_eq!(k.channel_name, "G");
     assert!(!h.state().phase().kernels_are_stale());
     assert!(
-        h.query_by_label("blur matrix image").is_some(),
-        "the texture is drawn"
+        h.query_by_label("Blur matrix K, G channel").is_some(),
+        "the figure is drawn"
     );
     let direct = kernel_matrix(
         &d,

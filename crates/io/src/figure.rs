@@ -139,11 +139,14 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
             .category_at(*v)
             .unwrap_or_else(|| format!("{}", (v * 1e4).round() / 1e4))
     };
+    let y_axis = panel.y.clone();
+    let fmt_y = move |v: &f64| format!("{}", (y_axis.shown(*v) * 1e4).round() / 1e4);
     chart
         .configure_mesh()
         .x_desc(panel.x.title())
         .y_desc(panel.y.title())
         .x_label_formatter(&fmt_x)
+        .y_label_formatter(&fmt_y)
         .label_style(("sans-serif", 16))
         .draw()
         .map_err(e)?;
@@ -187,6 +190,20 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
                         .draw_series(line.iter().map(|&p| Circle::new(p, 4, c.filled())))
                         .map_err(e)?;
                 }
+            }
+            Mark::Bars => {
+                let half = panel.bar_width() / 2.0;
+                chart
+                    .draw_series(
+                        points.map(|(x, y)| {
+                            Rectangle::new([(x - half, 0.0), (x + half, y)], c.filled())
+                        }),
+                    )
+                    .map_err(e)?
+                    .label(name)
+                    .legend(move |(x, y)| {
+                        Rectangle::new([(x, y - 5), (x + 10, y + 5)], c.filled())
+                    });
             }
             Mark::DashedLine => {
                 chart

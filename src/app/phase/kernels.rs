@@ -7,20 +7,21 @@ use crate::app::notice::Notice;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use egui::{Align2, ColorImage, FontId, Sense, TextureHandle, TextureOptions, Ui, pos2, vec2};
+use egui::{TextureHandle, Ui};
 use ndarray::Array2;
 
-use super::swatches::gradient_bar;
 use super::{ChannelSet, PhaseAction, PhaseCtx, PhaseWorkspace, Quality};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::history::Snapshot;
 use crate::app::job::{Finished, Job, JobError, Keyed, Writes};
-use crate::app::widgets::colormap::{self, Colormap};
+use crate::app::widgets::figure::{
+    COLORBAR_WIDTH, ImageFrame, colour_bar_ui, image_panel_ui, panel_textures,
+};
+use crate::core::figure::Panel;
+use crate::core::phase::figures::{KERNEL_DECADES, kernel_panel};
 use crate::core::phase::{PhaseDesign, PhaseOptics, kernel_matrix};
 use crate::io::IoError;
 
-/// Decades of the picture's log scale below the matrix's maximum.
-const DECADES: f64 = 6.0;
 /// The channel names of the picker (the channel sets all have R, G, B in this order).
 const CHANNEL_NAMES: [&str; 3] = ["R", "G", "B"];
 
@@ -40,11 +41,11 @@ pub struct ShownKernels {
     pub channel_name: String,
     /// `k[[i, j]]`: energy on sensor pixel `i` from the direction imaged on pixel `j`.
     pub k: Arc<Array2<f64>>,
-    /// Largest entry of `k`: the top of the picture's log scale, which spans 6 decades below it.
-    pub max: f64,
     /// How long the computation took, in seconds.
     pub elapsed_s: f64,
-    texture: TextureHandle,
+    /// K as a figure (`core::phase::figures::kernel_panel`) and its image's texture.
+    pub panel: Arc<Panel>,
+    textures: Vec<TextureHandle>,
 }
 
 /// A save dialog's answer: the chosen path, or `None` when cancelled.
@@ -96,24 +97,6 @@ pub fn write_kernels_csv(k: &Array2<f64>, path: &Path) -> Result<String, IoError
         "saved {}: {rows} rows (sensor pixels) × {cols} columns (directions)",
         path.display()
     ))
-}
-
-/// Position on the log scale, 0 at `max` × 10^-DECADES (or below) to 1 at `max`.
-fn log_level(v: f64, max: f64) -> f32 {
-    if v <= 0.0 || max <= 0.0 {
-        return 0.0;
-    }
-    (((v / max).log10() + DECADES) / DECADES).clamp(0.0, 1.0) as f32
-}
-
-/// The matrix as a picture: row `i` at the top is sensor pixel `i`, column `j` direction `j`.
-fn kernel_image(k: &Array2<f64>, max: f64) -> ColorImage {
-    let (rows, cols) = k.dim();
-    let pixels = k
-        .iter()
-        .map(|&v| colormap::color(Colormap::Viridis, log_level(v, max)))
-        .collect();
-    ColorImage::new([cols, rows], pixels)
 }
 
 fn optics_label(o: PhaseOptics) -> &'static str {
@@ -293,12 +276,9 @@ impl PhaseWorkspace {
         match result {
             Ok(k) => {
                 let elapsed_s = elapsed.as_secs_f64();
-                let max = k.iter().copied().fold(0.0, f64::max);
-                let texture = ctx.load_texture(
-                    "phase-kernels",
-                    kernel_image(&k, max),
-                    TextureOptions::NEAREST,
-                );
+                let k = Arc::new(k);
+                let panel = Arc::new(kernel_panel(k.clone(), &key.channel_name));
+                let textures = panel_textures(ctx, "phase-kernels", &panel);
                 self.kernels.message = Some(Notice::info(format!(
                     "blur matrix computed in {elapsed_s:.1} s"
                 )));
@@ -309,10 +289,10 @@ impl PhaseWorkspace {
                     channels: key.channels,
                     channel: key.channel,
                     channel_name: key.channel_name,
-                    k: Arc::new(k),
-                    max,
+                    k,
                     elapsed_s,
-                    texture,
+                    panel,
+                    textures,
                 });
             }
             Err(JobError::Cancelled) => {}
@@ -397,73 +377,19 @@ pub(super) fn kernels_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
         s.quality.label(),
         optics_label(s.optics),
         s.elapsed_s,
-        DECADES
+        KERNEL_DECADES
     ));
-    let side = (ui.available_width() - 70.0).clamp(120.0, 520.0);
-    let (left, top, bottom) = (48.0, 18.0, 34.0);
-    let (outer, _) = ui.allocate_exact_size(
-        vec2(left + side + 12.0, top + side + bottom),
-        Sense::hover(),
-    );
-    let img = egui::Rect::from_min_size(outer.min + vec2(left, top), vec2(side, side));
-    let resp = ui.put(
-        img,
-        egui::Image::new((s.texture.id(), vec2(side, side)))
-            .alt_text("blur matrix image")
-            .sense(Sense::hover()),
-    );
-    if let Some(pos) = resp.hover_pos() {
-        let j = (((pos.x - img.left()) / side * cols as f32) as usize).min(cols - 1);
-        let i = (((pos.y - img.top()) / side * rows as f32) as usize).min(rows - 1);
-        resp.on_hover_text(format!(
-            "sensor pixel {i}, direction {j}: K = {:e}",
-            s.k[[i, j]]
-        ));
-    }
-    let painter = ui.painter_at(outer);
-    let font = FontId::proportional(11.0);
-    let c = ui.visuals().text_color();
-    painter.text(
-        pos2(img.left(), outer.top()),
-        Align2::LEFT_TOP,
-        "rows: sensor pixel i (px)",
-        font.clone(),
-        c,
-    );
-    painter.text(
-        pos2(img.center().x, outer.bottom()),
-        Align2::CENTER_BOTTOM,
-        "columns: direction j, the pixel a plain lens images it on (px)",
-        font.clone(),
-        c,
-    );
-    for t in [0, rows / 2, rows - 1] {
-        let y = img.top() + (t as f32 + 0.5) / rows as f32 * side;
-        painter.text(
-            pos2(img.left() - 4.0, y),
-            Align2::RIGHT_CENTER,
-            t.to_string(),
-            font.clone(),
-            c,
-        );
-    }
-    for t in [0, cols / 2, cols - 1] {
-        let x = img.left() + (t as f32 + 0.5) / cols as f32 * side;
-        painter.text(
-            pos2(x, img.bottom() + 2.0),
-            Align2::CENTER_TOP,
-            t.to_string(),
-            font.clone(),
-            c,
-        );
-    }
-    // The colour key.
+    let side = (ui.available_width() - COLORBAR_WIDTH - 70.0).clamp(160.0, 560.0);
+    let textures: Vec<egui::TextureId> = s.textures.iter().map(TextureHandle::id).collect();
     ui.horizontal(|ui| {
-        ui.label(format!(
-            "K (log scale): {:.1e} or less",
-            s.max * 10f64.powf(-DECADES)
-        ));
-        gradient_bar(ui, 180.0, |t| colormap::color(Colormap::Viridis, t));
-        ui.label(format!("{:.1e} (max)", s.max));
+        let frame = ImageFrame {
+            size: egui::vec2(side, side),
+            link: None,
+            view_half: None,
+        };
+        image_panel_ui(ui, "phase-kernels", &s.panel, &textures, frame);
+        if let Some(img) = s.panel.images.first() {
+            colour_bar_ui(ui, side, img);
+        }
     });
 }

@@ -179,10 +179,10 @@ impl Snapshot for PhaseDesign {
     }
 }
 
-/// Colour of a wavelength, blue at 400 nm through green to red at 700 nm (thesis Fig. 4.4).
+/// Colour of a wavelength, blue at 400 nm through green to red at 700 nm (thesis Fig. 4.4;
+/// the figure palette's).
 pub fn wavelength_color(nm: f64) -> Color32 {
-    let t = ((nm - 400.0) / 300.0).clamp(0.0, 1.0) as f32;
-    egui::ecolor::Hsva::new(2.0 / 3.0 * (1.0 - t), 0.9, 1.0, 1.0).into()
+    crate::app::widgets::figure::color32(crate::core::figure::palette::wavelength(nm))
 }
 
 impl PhaseWorkspace {

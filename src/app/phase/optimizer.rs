@@ -4,11 +4,11 @@
 use crate::app::notice::Notice;
 use std::sync::Arc;
 
-use egui::{ColorImage, TextureHandle, TextureOptions};
+use egui::TextureHandle;
 
 use super::{ChannelSet, PhaseWorkspace, Quality};
 use crate::app::job::{Finished, Job, JobError, Keyed};
-use crate::app::widgets::colormap::{self, Colormap};
+use crate::core::figure::Panel;
 use crate::core::phase::allocate::{channel_invertibility, plan_invertibility};
 use crate::core::phase::geometry::{lenslet_count, uniform_counts};
 use crate::core::phase::{
@@ -47,9 +47,9 @@ pub struct ShownV {
     pub quality: Quality,
     /// `v[j][k]`: invertibility with every lenslet folded at the j-th λ0, seen at the k-th λ.
     pub v: Arc<VMatrix>,
-    /// Largest entry of V: the top of the picture's colour scale.
-    pub max: f64,
-    pub(super) texture: TextureHandle,
+    /// V as a figure (`core::phase::figures::v_panel`) and its image's texture.
+    pub panel: Arc<Panel>,
+    pub(super) textures: Vec<TextureHandle>,
 }
 
 /// The optimizer's allocation and the plans it is compared with.
@@ -75,19 +75,6 @@ pub(super) fn without_plan(d: &PhaseDesign) -> PhaseDesign {
     let mut d = d.clone();
     d.lambda0 = Lambda0::Uniform;
     d
-}
-
-/// The V matrix as a 30 × 30 picture: rows λ0 (the longest at the top), columns λ.
-fn v_image(v: &VMatrix, max: f64) -> ColorImage {
-    let rows = v.v.len();
-    let cols = v.v.first().map_or(0, Vec::len);
-    let mut pixels = Vec::with_capacity(rows * cols);
-    for r in (0..rows).rev() {
-        for c in 0..cols {
-            pixels.push(colormap::color(Colormap::Viridis, (v.v[r][c] / max) as f32));
-        }
-    }
-    ColorImage::new([cols, rows], pixels)
 }
 
 impl PhaseWorkspace {
@@ -167,19 +154,14 @@ impl PhaseWorkspace {
     }
 
     fn show_v(&mut self, ctx: &egui::Context, design: PhaseDesign, quality: Quality, v: VMatrix) {
-        let max =
-            v.v.iter()
-                .flatten()
-                .copied()
-                .fold(0.0, f64::max)
-                .max(1e-300);
-        let texture = ctx.load_texture("phase-v", v_image(&v, max), TextureOptions::NEAREST);
+        let panel = Arc::new(crate::core::phase::figures::v_panel(&v));
+        let textures = crate::app::widgets::figure::panel_textures(ctx, "phase-v", &panel);
         self.optimizer.v = Some(ShownV {
             design,
             quality,
             v: Arc::new(v),
-            max,
-            texture,
+            panel,
+            textures,
         });
     }
 

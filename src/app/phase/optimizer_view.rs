@@ -1,26 +1,18 @@
-//! The phase workspace's optimizer view: the V matrix as a heat map with its colour key, the
+//! The phase workspace's optimizer view: the V matrix as a figure with its colour bar, the
 //! optimizer's progress and Cancel, and its allocation beside the fixed and uniform plans.
 
-use egui::{Ui, vec2};
-use egui_plot::{Bar, BarChart, Plot, PlotImage, PlotPoint};
+use egui::{TextureHandle, Ui, vec2};
 
 use super::optimizer::without_plan;
-use super::swatches::{gradient_bar, lambda0_strip, wavelength_legend};
-use super::{ChannelSet, PhaseAction, PhaseCtx, wavelength_color};
-use crate::app::widgets::colormap::{self, Colormap};
+use super::swatches::{lambda0_strip, wavelength_legend};
+use super::{ChannelSet, PhaseAction, PhaseCtx};
+use crate::app::widgets::figure::{
+    COLORBAR_WIDTH, ImageFrame, colour_bar_ui, image_panel_ui, panel_ui,
+};
 use crate::app::widgets::message_ui;
 use crate::core::phase::allocate::plan_invertibility;
+use crate::core::phase::figures::allocation_panel;
 use crate::core::phase::geometry::{lambda0_per_lenslet, lenslet_count};
-use crate::core::phase::{GRID_FIRST_NM, GRID_LEN, GRID_STEP_NM, wavelength_grid_nm};
-
-/// A horizontal gradient key of a colour map from `lo` to `hi`.
-fn colormap_key(ui: &mut Ui, name: &str, lo: f64, hi: f64) {
-    ui.horizontal(|ui| {
-        ui.label(format!("{name}: {lo:.0}"));
-        gradient_bar(ui, 160.0, |t| colormap::color(Colormap::Viridis, t));
-        ui.label(format!("{hi:.0}"));
-    });
-}
 
 /// The V matrix and optimizer view.
 pub(super) fn optimizer_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
@@ -103,44 +95,19 @@ fn v_ui(ui: &mut Ui, ctx: &PhaseCtx<'_>) {
             "computed for other parameters: compute again",
         );
     }
-    let span = GRID_LEN as f64 * GRID_STEP_NM;
-    let centre = GRID_FIRST_NM - GRID_STEP_NM / 2.0 + span / 2.0;
-    let side = ui.available_width().min(420.0);
-    let vm = v.v.clone();
-    let readout = move |pos: &egui_plot::HoverPosition<'_>| {
-        let at = match pos {
-            egui_plot::HoverPosition::NearDataPoint { position, .. }
-            | egui_plot::HoverPosition::Elsewhere { position } => *position,
+    let side = (ui.available_width() - COLORBAR_WIDTH - 8.0).clamp(160.0, 420.0);
+    let textures: Vec<egui::TextureId> = v.textures.iter().map(TextureHandle::id).collect();
+    ui.horizontal(|ui| {
+        let frame = ImageFrame {
+            size: vec2(side, side),
+            link: None,
+            view_half: None,
         };
-        let col = ((at.x - GRID_FIRST_NM) / GRID_STEP_NM).round();
-        let row = ((at.y - GRID_FIRST_NM) / GRID_STEP_NM).round();
-        if !(0.0..GRID_LEN as f64).contains(&col) || !(0.0..GRID_LEN as f64).contains(&row) {
-            return None;
+        image_panel_ui(ui, "phase-v", &v.panel, &textures, frame);
+        if let Some(img) = v.panel.images.first() {
+            colour_bar_ui(ui, side, img);
         }
-        let (r, c) = (row as usize, col as usize);
-        let value = vm.v.get(r)?.get(c)?;
-        Some(format!(
-            "λ0 {:.0} nm, λ {:.0} nm\nV = {value:.1}",
-            vm.lambda0_nm[r], vm.lambda_nm[c]
-        ))
-    };
-    Plot::new("phase-v")
-        .data_aspect(1.0)
-        .width(side)
-        .height(side)
-        .show_grid(false)
-        .x_axis_label("λ, columns (nm)")
-        .y_axis_label("λ0, rows (nm)")
-        .label_formatter(readout)
-        .show(ui, |pl| {
-            pl.image(PlotImage::new(
-                "V",
-                v.texture.id(),
-                PlotPoint::new(centre, centre),
-                vec2(span as f32, span as f32),
-            ));
-        });
-    colormap_key(ui, "V (sum of MTF)", 0.0, v.max);
+    });
 }
 
 fn allocation_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
@@ -162,23 +129,7 @@ fn allocation_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
         o.quality.label(),
         o.elapsed_s
     ));
-    let bars: Vec<Bar> = wavelength_grid_nm()
-        .iter()
-        .zip(&a.counts)
-        .map(|(l, c)| {
-            Bar::new(*l, *c as f64)
-                .width(GRID_STEP_NM * 0.8)
-                .fill(wavelength_color(*l))
-        })
-        .collect();
-    Plot::new("phase-counts")
-        .height(180.0)
-        .x_axis_label("λ0 (nm)")
-        .y_axis_label("lenslets")
-        .include_y(0.0)
-        .show(ui, |pl| {
-            pl.bar_chart(BarChart::new("lenslets per λ0", bars))
-        });
+    panel_ui(ui, "phase-counts", &allocation_panel(&a.counts), 180.0);
     ui.label("Per lenslet, left to right:");
     lambda0_strip(ui, &a.lambda0_nm, None, 24.0);
     wavelength_legend(ui);

@@ -11,8 +11,8 @@ use egui::{
     TextureOptions, Ui, pos2, vec2,
 };
 use egui_plot::{
-    FilledArea, HLine, HoverPosition, Legend, Line, LineStyle, MarkerShape, Plot, PlotImage,
-    PlotPoint, PlotPoints, PlotUi, Points, VLine,
+    Bar, BarChart, FilledArea, HLine, HoverPosition, Legend, Line, LineStyle, MarkerShape, Plot,
+    PlotImage, PlotPoint, PlotPoints, PlotUi, Points, VLine,
 };
 
 use crate::core::figure::{
@@ -72,20 +72,31 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
     let mut plot = crate::app::widgets::plot::with_nice_ticks(plot.height(height))
         .x_axis_label(panel.x.title())
         .y_axis_label(panel.y.title());
-    if panel.x.categories.is_some() {
-        // A word axis (a tiling): its values sit at 0, 1, 2… and are named there.
-        let axis = panel.x.clone();
-        plot =
-            plot.x_axis_formatter(move |mark, _| axis.category_at(mark.value).unwrap_or_default());
-    }
+    plot = with_axis_words(plot, panel);
     plot.show(ui, |pl| {
         series_ui(pl, panel);
         annotations_ui(pl, panel, true);
     });
 }
 
+/// Tick labels the axes need besides numbers: a word axis's names, a downward axis's
+/// magnitudes.
+fn with_axis_words<'a>(mut plot: Plot<'a>, panel: &Panel) -> Plot<'a> {
+    if panel.x.categories.is_some() {
+        // A word axis (a tiling): its values sit at 0, 1, 2… and are named there.
+        let axis = panel.x.clone();
+        plot =
+            plot.x_axis_formatter(move |mark, _| axis.category_at(mark.value).unwrap_or_default());
+    }
+    if panel.y.downward {
+        plot = plot.y_axis_formatter(|mark, _| format!("{}", -mark.value));
+    }
+    plot
+}
+
 /// The panel's series, in order.
 fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
+    let bar_width = panel.bar_width();
     for s in &panel.series {
         let c = color32(s.colour);
         if let Some(band) = &s.band {
@@ -114,6 +125,15 @@ fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
                     .copied()
                     .collect();
                 pl.points(Points::new(name, cloud).color(c).radius(3.0));
+            }
+            Mark::Bars => {
+                let bars = s
+                    .points
+                    .iter()
+                    .filter(finite)
+                    .map(|p| Bar::new(p[0], p[1]).width(bar_width).fill(c))
+                    .collect();
+                pl.bar_chart(BarChart::new(s.name.clone(), bars).color(c));
             }
             Mark::DashedLine => {
                 let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
@@ -213,6 +233,7 @@ pub fn image_panel_ui(
 ) {
     let x_unit = panel.x.unit.clone().unwrap_or_default();
     let y_unit = panel.y.unit.clone().unwrap_or_default();
+    let y_axis = panel.y.clone();
     let first = panel.images.first().cloned();
     let readout = move |pos: &HoverPosition<'_>| {
         let at = match pos {
@@ -223,6 +244,7 @@ pub fn image_panel_ui(
         let [row, col] = img.index_at(at.x, at.y)?;
         let v = *img.values.get([row, col])?;
         let [x, y] = img.position(row, col);
+        let y = y_axis.shown(y);
         Some(format!(
             "x = {x:.3} {x_unit}, y = {y:.3} {y_unit}\n{}",
             value_readout(img, v)
@@ -235,6 +257,7 @@ pub fn image_panel_ui(
         .x_axis_label(panel.x.title())
         .y_axis_label(panel.y.title())
         .label_formatter(readout);
+    plot = with_axis_words(plot, panel);
     if panel.equal_aspect {
         plot = plot.data_aspect(1.0);
     }
@@ -246,7 +269,7 @@ pub fn image_panel_ui(
     if let Some(link) = frame.link {
         plot = plot.link_axis(link, true).link_cursor(link, true);
     }
-    plot.show(ui, |pl| {
+    let shown = plot.show(ui, |pl| {
         for (img, texture) in panel.images.iter().zip(textures) {
             // No name: an image needs no legend entry.
             pl.image(PlotImage::new(
@@ -260,6 +283,11 @@ pub fn image_panel_ui(
         // No legend over the data: the controls above the plot name the annotations.
         annotations_ui(pl, panel, false);
     });
+    // A screen reader (and a test) finds the picture by its title.
+    let title = panel.title.clone();
+    shown
+        .response
+        .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Image, true, &title));
 }
 
 /// The value under the pointer as the readout shows it: its true value, and where a log
@@ -289,9 +317,26 @@ pub fn short_value(v: f64) -> String {
     if v == 0.0 {
         "0".into()
     } else if (0.01..1000.0).contains(&a) {
-        format!("{v:.3}")
+        // Three significant digits or so: 344, 86.0, 0.500, 0.0123.
+        let decimals = (2.0 - a.log10().floor()).max(0.0) as usize;
+        format!("{v:.decimals$}")
     } else {
         format!("{v:.3e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_shown_to_about_three_digits() {
+        assert_eq!(short_value(343.879), "344");
+        assert_eq!(short_value(85.97), "86.0");
+        assert_eq!(short_value(0.5), "0.500");
+        assert_eq!(short_value(0.0123), "0.0123");
+        assert_eq!(short_value(0.0), "0");
+        assert_eq!(short_value(1.234e-5), "1.234e-5");
     }
 }
 
@@ -355,6 +400,16 @@ pub fn colour_bar_ui(ui: &mut Ui, height: f32, img: &Image) {
     }
 }
 
+/// The textures of `panel`'s images, in order, named `name/0`, `name/1`…
+pub fn panel_textures(ctx: &egui::Context, name: &str, panel: &Panel) -> Vec<TextureHandle> {
+    panel
+        .images
+        .iter()
+        .enumerate()
+        .map(|(i, img)| upload(ctx, format!("{name}/{i}"), img))
+        .collect()
+}
+
 /// The texture of `img`: its colours as an egui image (nearest sampling: every sample stays a
 /// crisp square when zoomed in).
 fn upload(ctx: &egui::Context, name: String, img: &Image) -> TextureHandle {
@@ -402,12 +457,7 @@ impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
         if fresh {
             self.builds += 1;
             let panel = Arc::new(build());
-            let textures = panel
-                .images
-                .iter()
-                .enumerate()
-                .map(|(i, img)| upload(ctx, format!("figure/{slot:?}/{i}"), img))
-                .collect();
+            let textures = panel_textures(ctx, &format!("figure/{slot:?}"), &panel);
             self.slots.insert(slot, (key, panel, textures));
         }
         match self.slots.get(&slot) {

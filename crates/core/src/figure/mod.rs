@@ -41,6 +41,26 @@ pub mod palette {
 
     /// A reference drawn beside the data (the bare T-OLED, the unfolded lens), dashed.
     pub const REFERENCE: Rgb = Rgb(150, 150, 150);
+
+    /// The colour of a wavelength, blue at 400 nm through green to red at 700 nm (thesis
+    /// Fig. 4.4): the hue runs from 240° down to 0° at 90 % saturation, full value.
+    pub fn wavelength(nm: f64) -> Rgb {
+        let t = ((nm - 400.0) / 300.0).clamp(0.0, 1.0);
+        let hue = 240.0 * (1.0 - t);
+        let (s, v) = (0.9, 1.0);
+        let c = v * s;
+        let x = c * (1.0 - ((hue / 60.0) % 2.0 - 1.0).abs());
+        let (r, g, b) = match (hue / 60.0) as u32 {
+            0 => (c, x, 0.0),
+            1 => (x, c, 0.0),
+            2 => (0.0, c, x),
+            3 => (0.0, x, c),
+            _ => (x, 0.0, c),
+        };
+        let m = v - c;
+        let byte = |u: f64| ((u + m) * 255.0).round().clamp(0.0, 255.0) as u8;
+        Rgb(byte(r), byte(g), byte(b))
+    }
 }
 
 /// One axis: what it measures and in what unit; a categorical axis names its positions
@@ -53,6 +73,9 @@ pub struct Axis {
     pub unit: Option<String>,
     /// Names of the positions of a categorical axis (a tiling, a display), by index.
     pub categories: Option<Vec<String>>,
+    /// The axis counts downward (a matrix's rows, row 0 at the top): values are stored
+    /// negated, so that they grow down the page, and shown as their magnitude.
+    pub downward: bool,
 }
 
 impl Axis {
@@ -62,7 +85,21 @@ impl Axis {
             label: label.into(),
             unit: unit.map(str::to_string),
             categories: None,
+            downward: false,
         }
+    }
+
+    /// The axis of a quantity counted downward ([`Axis::downward`]).
+    pub fn downward(label: impl Into<String>, unit: Option<&str>) -> Self {
+        Axis {
+            downward: true,
+            ..Axis::new(label, unit)
+        }
+    }
+
+    /// The number shown for the stored `value`: its magnitude on a downward axis.
+    pub fn shown(&self, value: f64) -> f64 {
+        if self.downward { -value } else { value }
     }
 
     /// The axis title as drawn: `label (unit)`.
@@ -112,6 +149,8 @@ pub enum Mark {
     /// A thinner dashed line: a reference drawn beside the data (the bare T-OLED, the unfolded
     /// lens).
     DashedLine,
+    /// A bar from 0 to each point's y, 0.8 of the panel's closest spacing of bars wide.
+    Bars,
 }
 
 /// One named series of points.
@@ -187,7 +226,28 @@ impl Panel {
     /// Whether the panel needs a legend: more than one series to tell apart (one series is
     /// named by the title, and a legend box would hide part of a small plot).
     pub fn wants_legend(&self) -> bool {
-        self.series.len() > 1
+        let mut names: Vec<&str> = self.series.iter().map(|s| s.name.as_str()).collect();
+        names.sort_unstable();
+        names.dedup();
+        names.len() > 1
+    }
+
+    /// The width of the panel's bars: 0.8 of the closest spacing of their x (1 for one bar).
+    pub fn bar_width(&self) -> f64 {
+        let mut xs: Vec<f64> = self
+            .series
+            .iter()
+            .filter(|s| s.mark == Mark::Bars)
+            .flat_map(|s| s.points.iter().map(|p| p[0]))
+            .filter(|x| x.is_finite())
+            .collect();
+        xs.sort_by(f64::total_cmp);
+        let gap = xs
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .filter(|d| *d > 0.0)
+            .fold(f64::INFINITY, f64::min);
+        if gap.is_finite() { 0.8 * gap } else { 1.0 }
     }
 
     /// The smallest and largest x and y of the data (bands and images included), ignoring
@@ -280,6 +340,32 @@ mod tests {
             ring.iter()
                 .all(|p| ((p[0] - 1.0).hypot(p[1] + 2.0) - 3.0).abs() < 1e-12)
         );
+    }
+
+    #[test]
+    fn wavelengths_run_from_blue_through_green_to_red() {
+        assert_eq!(palette::wavelength(400.0), Rgb(25, 25, 255));
+        assert_eq!(palette::wavelength(700.0), Rgb(255, 25, 25));
+        let g = palette::wavelength(550.0);
+        assert!(g.1 > g.0 && g.1 > g.2, "550 nm is green: {g:?}");
+        assert_eq!(palette::wavelength(300.0), palette::wavelength(400.0));
+    }
+
+    #[test]
+    fn bars_are_narrower_than_their_spacing_and_one_legend_entry_a_name() {
+        let bar = |x: f64| Series {
+            name: "lenslets".into(),
+            colour: palette::series(0),
+            mark: Mark::Bars,
+            points: vec![[x, 1.0]],
+            band: None,
+        };
+        let p = Panel {
+            series: vec![bar(401.0), bar(411.0), bar(431.0)],
+            ..Panel::default()
+        };
+        assert!((p.bar_width() - 8.0).abs() < 1e-12);
+        assert!(!p.wants_legend(), "bars of one name are one entry");
     }
 
     #[test]

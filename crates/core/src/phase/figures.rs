@@ -165,6 +165,108 @@ pub fn profile_panel(
     })
 }
 
+/// The V matrix (§4.4) as an image: columns λ, rows λ0 with the longest at the top, each cell
+/// one grid step; linear from 0 to its largest entry.
+pub fn v_panel(v: &super::VMatrix) -> Panel {
+    use crate::figure::{ColorScale, Colormap, Image};
+    let rows = v.v.len();
+    let cols = v.v.first().map_or(0, Vec::len);
+    // Row 0 of an image is its top: the last λ0 first.
+    let values = ndarray::Array2::from_shape_fn((rows, cols), |(r, c)| {
+        v.v.get(rows - 1 - r)
+            .and_then(|row| row.get(c))
+            .copied()
+            .unwrap_or(0.0)
+    });
+    let max = crate::figure::peak(&values).max(1e-300);
+    let span = |nm: &[f64]| -> [f64; 2] {
+        let lo = nm.first().copied().unwrap_or(super::GRID_FIRST_NM);
+        let hi = nm.last().copied().unwrap_or(lo);
+        [
+            lo - super::GRID_STEP_NM / 2.0,
+            hi + super::GRID_STEP_NM / 2.0,
+        ]
+    };
+    let (x, y) = (span(&v.lambda_nm), span(&v.lambda0_nm));
+    Panel {
+        title: "V: invertibility with every lenslet folded at λ0, seen at λ".into(),
+        x: Axis::new("λ, columns", Some("nm")),
+        y: Axis::new("λ0, rows", Some("nm")),
+        images: vec![Image {
+            name: "V".into(),
+            unit: None,
+            values: std::sync::Arc::new(values),
+            centre: [(x[0] + x[1]) / 2.0, (y[0] + y[1]) / 2.0],
+            size: [x[1] - x[0], y[1] - y[0]],
+            scale: ColorScale::Linear { max },
+            colormap: Colormap::Viridis,
+            planes: None,
+        }],
+        equal_aspect: true,
+        ..Panel::default()
+    }
+}
+
+/// The optimizer's allocation (Algorithm 1): lenslets per grid wavelength, one bar each in
+/// the wavelength's colour.
+pub fn allocation_panel(counts: &[usize]) -> Panel {
+    let series = super::wavelength_grid_nm()
+        .iter()
+        .zip(counts)
+        .map(|(nm, c)| {
+            series(
+                "lenslets per λ0".into(),
+                palette::wavelength(*nm),
+                Mark::Bars,
+                vec![[*nm, *c as f64]],
+            )
+        })
+        .collect();
+    Panel {
+        title: "Lenslets per folding wavelength".into(),
+        x: Axis::new("λ0", Some("nm")),
+        y: Axis::new("lenslets", None),
+        series,
+        ..Panel::default()
+    }
+}
+
+/// Decades below its largest entry a blur matrix is drawn over.
+pub const KERNEL_DECADES: f64 = 6.0;
+
+/// A channel's blur matrix K (eq. 4.12) as an image: row `i` at the top is sensor pixel `i`,
+/// column `j` the direction a plain lens images on pixel `j`; log scale over
+/// [`KERNEL_DECADES`] below its largest entry.
+pub fn kernel_panel(k: std::sync::Arc<ndarray::Array2<f64>>, channel_name: &str) -> Panel {
+    use crate::figure::{ColorScale, Colormap, Image};
+    let (rows, cols) = k.dim();
+    let max = crate::figure::peak(&k);
+    Panel {
+        title: format!("Blur matrix K, {channel_name} channel"),
+        x: Axis::new(
+            "direction j, the pixel a plain lens images it on",
+            Some("px"),
+        ),
+        y: Axis::downward("sensor pixel i", Some("px")),
+        images: vec![Image {
+            name: "K".into(),
+            unit: None,
+            values: k,
+            // Cell (i, j) centred on x = j, y = −i: row 0 at the top.
+            centre: [(cols as f64 - 1.0) / 2.0, -(rows as f64 - 1.0) / 2.0],
+            size: [cols as f64, rows as f64],
+            scale: ColorScale::Log {
+                reference: max,
+                floor_decades: KERNEL_DECADES,
+            },
+            colormap: Colormap::Viridis,
+            planes: None,
+        }],
+        equal_aspect: true,
+        ..Panel::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -244,5 +346,47 @@ mod tests {
                 .all(|(f, u)| f[1] <= u[1] + 1e-9)
         );
         assert!(folded.iter().any(|f| f[1] > 0.0));
+    }
+
+    #[test]
+    fn the_v_image_reads_v_at_its_wavelengths() {
+        let grid = crate::phase::wavelength_grid_nm();
+        let v = crate::phase::VMatrix {
+            lambda_nm: grid.clone(),
+            lambda0_nm: grid.clone(),
+            v: (0..grid.len())
+                .map(|j| (0..grid.len()).map(|k| (100 * j + k) as f64).collect())
+                .collect(),
+        };
+        let panel = v_panel(&v);
+        let img = &panel.images[0];
+        // λ0 = 411 nm is row 1 of V, λ = 431 nm its column 3.
+        assert_eq!(img.value_at(431.0, 411.0), Some(103.0));
+        assert_eq!(img.value_at(grid[29], grid[29]), Some(2929.0));
+        assert_eq!(img.value_at(380.0, 411.0), None);
+    }
+
+    #[test]
+    fn a_blur_matrix_puts_row_zero_at_the_top_of_a_downward_axis() {
+        let k = ndarray::Array2::from_shape_fn((3, 4), |(i, j)| (10 * i + j) as f64 + 1.0);
+        let panel = kernel_panel(std::sync::Arc::new(k), "G");
+        let img = &panel.images[0];
+        assert!(panel.y.downward);
+        // Sensor pixel i is drawn at y = −i and shown as i; direction j at x = j.
+        assert_eq!(img.value_at(2.0, -1.0), Some(13.0));
+        assert_eq!(img.value_at(0.0, 0.0), Some(1.0));
+        assert_eq!(panel.y.shown(-2.0), 2.0);
+    }
+
+    #[test]
+    fn the_allocation_is_one_bar_per_wavelength_in_its_colour() {
+        let mut counts = vec![0; crate::phase::GRID_LEN];
+        counts[3] = 7;
+        let panel = allocation_panel(&counts);
+        assert_eq!(panel.series.len(), crate::phase::GRID_LEN);
+        let bar = &panel.series[3];
+        assert_eq!(bar.points, vec![[431.0, 7.0]]);
+        assert_eq!(bar.colour, palette::wavelength(431.0));
+        assert!((panel.bar_width() - 8.0).abs() < 1e-9);
     }
 }
