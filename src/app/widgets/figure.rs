@@ -325,21 +325,6 @@ pub fn short_value(v: f64) -> String {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn values_are_shown_to_about_three_digits() {
-        assert_eq!(short_value(343.879), "344");
-        assert_eq!(short_value(85.97), "86.0");
-        assert_eq!(short_value(0.5), "0.500");
-        assert_eq!(short_value(0.0123), "0.0123");
-        assert_eq!(short_value(0.0), "0");
-        assert_eq!(short_value(1.234e-5), "1.234e-5");
-    }
-}
-
 /// Width reserved beside an image panel for its colour bar and tick labels.
 pub const COLORBAR_WIDTH: f32 = 78.0;
 
@@ -472,5 +457,20 @@ impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
     /// Panels built so far.
     pub fn builds(&self) -> u64 {
         self.builds
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_are_shown_to_about_three_digits() {
+        assert_eq!(short_value(343.879), "344");
+        assert_eq!(short_value(85.97), "86.0");
+        assert_eq!(short_value(0.5), "0.500");
+        assert_eq!(short_value(0.0123), "0.0123");
+        assert_eq!(short_value(0.0), "0");
+        assert_eq!(short_value(1.234e-5), "1.234e-5");
     }
 }
