@@ -16,6 +16,8 @@ fn axis<'py>(py: Python<'py>, a: &Axis) -> PyResult<Bound<'py, PyDict>> {
     d.set_item("title", a.title())?;
     d.set_item("categories", &a.categories)?;
     d.set_item("downward", a.downward)?;
+    d.set_item("log10", a.log10)?;
+    d.set_item("view", a.view.map(|v| v.to_vec()))?;
     Ok(d)
 }
 
@@ -55,6 +57,7 @@ pub fn panel<'py>(py: Python<'py>, p: &Panel) -> PyResult<Bound<'py, PyDict>> {
                 Mark::LineAndPoints => "line-and-points",
                 Mark::DashedLine => "dashed-line",
                 Mark::Bars => "bars",
+                Mark::Hollow => "hollow",
             },
         )?;
         e.set_item("points", array(py, &s.points))?;

@@ -114,6 +114,9 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
         // An image fills its axes edge to edge.
         ((bx[0], bx[1]), (by[0], by[1]))
     };
+    // The range the studio opens on is the figure's range too.
+    let x = panel.x.view.map_or(x, |[lo, hi]| (lo, hi));
+    let y = panel.y.view.map_or(y, |[lo, hi]| (lo, hi));
     let (x, y) = if panel.equal_aspect {
         let (w, h) = root.dim_in_pixel();
         // The plotting area is about the drawing area less the label areas and margins.
@@ -137,10 +140,15 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
     let fmt_x = move |v: &f64| {
         x_axis
             .category_at(*v)
+            .or_else(|| x_axis.tick_label(*v))
             .unwrap_or_else(|| format!("{}", (v * 1e4).round() / 1e4))
     };
     let y_axis = panel.y.clone();
-    let fmt_y = move |v: &f64| format!("{}", (y_axis.shown(*v) * 1e4).round() / 1e4);
+    let fmt_y = move |v: &f64| {
+        y_axis
+            .tick_label(*v)
+            .unwrap_or_else(|| format!("{}", (v * 1e4).round() / 1e4))
+    };
     chart
         .configure_mesh()
         .x_desc(panel.x.title())
@@ -190,6 +198,13 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
                         .draw_series(line.iter().map(|&p| Circle::new(p, 4, c.filled())))
                         .map_err(e)?;
                 }
+            }
+            Mark::Hollow => {
+                chart
+                    .draw_series(points.map(|p| Circle::new(p, 6, c.stroke_width(2))))
+                    .map_err(e)?
+                    .label(name)
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 6, c.stroke_width(2)));
             }
             Mark::Bars => {
                 let half = panel.bar_width() / 2.0;

@@ -2,13 +2,14 @@
 //! pictures of this design and of the bare T-OLED, and the setup comparison's table and plot.
 
 use egui::{Color32, Stroke, StrokeKind, TextureHandle, Ui, vec2};
-use egui_plot::{Corner, GridMark, HoverPosition, Legend, Line, Plot, PlotPoints};
 
 use super::capture::CaptureRow;
 use super::compare::{CompareMetric, CompareState, mean_score};
 use super::{ChannelSet, PhaseAction, PhaseCtx, Quality};
 use crate::app::widgets::denoise::denoise_ui;
+use crate::app::widgets::figure::panel_ui;
 use crate::app::widgets::message_ui;
+use crate::core::phase::figures::compare_panel;
 use crate::core::phase::imaging::THESIS_PHOTONS;
 use crate::core::restore::Recipe;
 use crate::io::photo::DIFFERENCE_GAIN;
@@ -345,56 +346,9 @@ fn compare_plot(ui: &mut Ui, compare: &CompareState) {
     if rows.is_empty() {
         return;
     }
-    let levels = run.photons.clone();
-    let metric = compare.metric;
-    let lines: Vec<(String, Vec<[f64; 2]>)> = run
-        .setups
-        .iter()
-        .map(|s| {
-            let pts = rows
-                .iter()
-                .filter(|r| &r.setup == s)
-                .map(|r| [r.photons.log10(), metric.of(r)])
-                .collect();
-            (s.label(), pts)
-        })
-        .filter(|(_, p): &(String, Vec<[f64; 2]>)| !p.is_empty())
-        .collect();
+    let panel = compare_panel(rows, &run.setups, &run.photons, compare.metric);
     let height = (ui.available_width() * 0.45).clamp(200.0, 360.0);
-    Plot::new("phase-compare-plot")
-        .height(height)
-        // Scores rise with light: the top left stays clear of the lines.
-        .legend(Legend::default().position(Corner::LeftTop))
-        .x_axis_label("light (photons per pixel, log scale)")
-        .y_axis_label(metric.label())
-        .x_grid_spacer(move |_| {
-            levels
-                .iter()
-                .map(|n| GridMark {
-                    value: n.log10(),
-                    step_size: 1.0,
-                })
-                .collect()
-        })
-        .x_axis_formatter(|mark, _| format!("{:.0}", 10f64.powf(mark.value)))
-        .label_formatter(|pos: &HoverPosition<'_>| match pos {
-            HoverPosition::NearDataPoint {
-                plot_name,
-                position: p,
-                ..
-            } => Some(format!(
-                "{plot_name}\n{:.0} photons: {} {}",
-                10f64.powf(p.x),
-                metric.label(),
-                metric.format(p.y)
-            )),
-            HoverPosition::Elsewhere { .. } => None,
-        })
-        .show(ui, |pl| {
-            for (name, pts) in lines {
-                pl.line(Line::new(name, PlotPoints::from(pts)).width(1.5));
-            }
-        });
+    panel_ui(ui, "phase-compare-plot", &panel, height);
 }
 
 fn capture_row_ui(ui: &mut Ui, row: &CaptureRow, side: f32) {

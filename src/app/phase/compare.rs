@@ -17,40 +17,7 @@ use crate::core::phase::imaging::{
 use crate::io::display::restore_report::compare_csv;
 use crate::io::safe_file::write_atomic;
 
-/// The score the table and the plot show.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum CompareMetric {
-    /// PSNR of the restoration on the field of view, in dB.
-    PsnrDb,
-    /// Mean SSIM of the restoration over the channels on the field of view.
-    Ssim,
-}
-
-impl CompareMetric {
-    /// This score of a comparison row.
-    pub fn of(self, row: &CompareRow) -> f64 {
-        match self {
-            CompareMetric::PsnrDb => row.psnr_db,
-            CompareMetric::Ssim => row.ssim,
-        }
-    }
-
-    /// Name on the metric picker, the table header and the plot's axis.
-    pub fn label(self) -> &'static str {
-        match self {
-            CompareMetric::PsnrDb => "PSNR (dB)",
-            CompareMetric::Ssim => "SSIM",
-        }
-    }
-
-    /// The value as the table prints it.
-    pub fn format(self, v: f64) -> String {
-        match self {
-            CompareMetric::PsnrDb => format!("{v:.2}"),
-            CompareMetric::Ssim => format!("{v:.3}"),
-        }
-    }
-}
+pub use crate::core::phase::figures::CompareMetric;
 
 /// What a comparison was run for.
 #[derive(Debug, Clone)]

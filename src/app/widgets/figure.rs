@@ -79,17 +79,40 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
     });
 }
 
-/// Tick labels the axes need besides numbers: a word axis's names, a downward axis's
-/// magnitudes.
+/// Tick labels the axes need besides numbers (a word axis's names, a log axis's powers of
+/// ten, a downward axis's magnitudes) and the range each opens on.
 fn with_axis_words<'a>(mut plot: Plot<'a>, panel: &Panel) -> Plot<'a> {
     if panel.x.categories.is_some() {
         // A word axis (a tiling): its values sit at 0, 1, 2… and are named there.
         let axis = panel.x.clone();
         plot =
             plot.x_axis_formatter(move |mark, _| axis.category_at(mark.value).unwrap_or_default());
+    } else if panel.x.log10 || panel.x.downward {
+        let axis = panel.x.clone();
+        plot =
+            plot.x_axis_formatter(move |mark, _| axis.tick_label(mark.value).unwrap_or_default());
     }
-    if panel.y.downward {
-        plot = plot.y_axis_formatter(|mark, _| format!("{}", -mark.value));
+    if panel.y.log10 || panel.y.downward {
+        let axis = panel.y.clone();
+        plot =
+            plot.y_axis_formatter(move |mark, _| axis.tick_label(mark.value).unwrap_or_default());
+    }
+    if let Some(ticks) = panel.x.ticks.clone() {
+        plot = plot.x_grid_spacer(move |_| {
+            ticks
+                .iter()
+                .map(|v| egui_plot::GridMark {
+                    value: *v,
+                    step_size: 1.0,
+                })
+                .collect()
+        });
+    }
+    if let Some([lo, hi]) = panel.x.view {
+        plot = plot.default_x_bounds(lo, hi);
+    }
+    if let Some([lo, hi]) = panel.y.view {
+        plot = plot.default_y_bounds(lo, hi);
     }
     plot
 }
@@ -125,6 +148,16 @@ fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
                     .copied()
                     .collect();
                 pl.points(Points::new(name, cloud).color(c).radius(3.0));
+            }
+            Mark::Hollow => {
+                let at: PlotPoints = s.points.iter().filter(finite).copied().collect();
+                pl.points(
+                    Points::new(s.name.clone(), at)
+                        .color(c)
+                        .shape(MarkerShape::Diamond)
+                        .filled(false)
+                        .radius(6.0),
+                );
             }
             Mark::Bars => {
                 let bars = s

@@ -9,6 +9,7 @@ use ndarray::Array2;
 
 use super::analyze::{Analysis, ChannelAnalysis};
 use crate::design::Design;
+use crate::figure::palette::rgb_role;
 use crate::figure::{Annotation, Axis, ColorScale, Colormap, Image, Panel, peak};
 use crate::theory::landmarks::{airy_radius_um, order_lattice, order_spacing_um};
 
@@ -166,16 +167,6 @@ pub fn psf_panel(
         ch.wavelength_nm,
         which,
     )
-}
-
-/// Which colour (0 red, 1 green, 2 blue) a channel name stands for, if any.
-pub fn rgb_role(name: &str) -> Option<usize> {
-    match name.trim().to_ascii_lowercase().as_str() {
-        "r" | "red" => Some(0),
-        "g" | "green" => Some(1),
-        "b" | "blue" => Some(2),
-        _ => None,
-    }
 }
 
 /// Which channel index feeds the red, green and blue planes of the composite: by name when any

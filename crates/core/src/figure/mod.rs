@@ -36,6 +36,21 @@ pub mod palette {
     /// The colours of a camera's red, green and blue channels in plots and overlays.
     pub const CHANNELS: [Rgb; 3] = [Rgb(230, 75, 60), Rgb(60, 175, 80), Rgb(70, 130, 235)];
 
+    /// Which colour (0 red, 1 green, 2 blue) a channel name stands for, if any.
+    pub fn rgb_role(name: &str) -> Option<usize> {
+        match name.trim().to_ascii_lowercase().as_str() {
+            "r" | "red" => Some(0),
+            "g" | "green" => Some(1),
+            "b" | "blue" => Some(2),
+            _ => None,
+        }
+    }
+
+    /// The colour of a channel named R, G or B (or red, green, blue), if it is one.
+    pub fn channel(name: &str) -> Option<Rgb> {
+        rgb_role(name).and_then(|i| CHANNELS.get(i).copied())
+    }
+
     /// Annotations drawn over data (rings, lattices, marker lines).
     pub const ANNOTATION: Rgb = Rgb(255, 170, 0);
 
@@ -76,6 +91,13 @@ pub struct Axis {
     /// The axis counts downward (a matrix's rows, row 0 at the top): values are stored
     /// negated, so that they grow down the page, and shown as their magnitude.
     pub downward: bool,
+    /// Values are stored as their log10 and shown as powers of ten (`1e-3`).
+    pub log10: bool,
+    /// The range the plot opens on (and returns to); `None`: the data's.
+    pub view: Option<[f64; 2]>,
+    /// Where the studio puts the ticks (the light levels of a comparison), in stored values;
+    /// `None`, and in files: where the renderer puts them.
+    pub ticks: Option<Vec<f64>>,
 }
 
 impl Axis {
@@ -86,6 +108,51 @@ impl Axis {
             unit: unit.map(str::to_string),
             categories: None,
             downward: false,
+            log10: false,
+            view: None,
+            ticks: None,
+        }
+    }
+
+    /// The axis of a quantity drawn on a log scale: values stored as their log10.
+    pub fn log10(label: impl Into<String>, unit: Option<&str>) -> Self {
+        Axis {
+            log10: true,
+            ..Axis::new(label, unit)
+        }
+    }
+
+    /// The same axis opening on `lo … hi`.
+    pub fn with_view(self, lo: f64, hi: f64) -> Self {
+        Axis {
+            view: Some([lo, hi]),
+            ..self
+        }
+    }
+
+    /// The tick label of the stored `value`: on a log axis the number itself (`250`, `0.01`),
+    /// or a power of ten (`1e-6`) for a whole decade far from 1; the magnitude on a downward
+    /// axis; else `None` for the renderer's own number.
+    pub fn tick_label(&self, value: f64) -> Option<String> {
+        if self.log10 {
+            let whole = (value - value.round()).abs() < 1e-9;
+            Some(if whole && !(-2.0..=4.0).contains(&value.round()) {
+                format!("1e{}", value.round())
+            } else {
+                let v = 10f64.powf(value);
+                // Three significant digits at most, no trailing zeros.
+                let digits = (2.0 - v.log10().floor()).clamp(0.0, 12.0) as usize;
+                let text = format!("{v:.digits$}");
+                if text.contains('.') {
+                    text.trim_end_matches('0').trim_end_matches('.').to_string()
+                } else {
+                    text
+                }
+            })
+        } else if self.downward {
+            Some(format!("{}", -value))
+        } else {
+            None
         }
     }
 
@@ -151,6 +218,9 @@ pub enum Mark {
     DashedLine,
     /// A bar from 0 to each point's y, 0.8 of the panel's closest spacing of bars wide.
     Bars,
+    /// Hollow diamonds: a reference's values at points, around the data's filled ones (the
+    /// closed form's diffraction orders).
+    Hollow,
 }
 
 /// One named series of points.
@@ -301,6 +371,21 @@ mod tests {
     fn an_axis_title_carries_its_unit() {
         assert_eq!(Axis::new("pitch", Some("µm")).title(), "pitch (µm)");
         assert_eq!(Axis::new("AUC", None).title(), "AUC");
+    }
+
+    #[test]
+    fn a_log_axis_shows_numbers_near_one_and_powers_of_ten_far_from_it() {
+        let a = Axis::log10("light", None);
+        assert_eq!(a.tick_label(250f64.log10()).as_deref(), Some("250"));
+        assert_eq!(a.tick_label(4.0).as_deref(), Some("10000"));
+        assert_eq!(a.tick_label(-1.0).as_deref(), Some("0.1"));
+        assert_eq!(a.tick_label(-6.0).as_deref(), Some("1e-6"));
+        assert_eq!(a.tick_label(5.0).as_deref(), Some("1e5"));
+        assert_eq!(
+            Axis::downward("row", None).tick_label(-3.0).as_deref(),
+            Some("3")
+        );
+        assert_eq!(Axis::new("x", None).tick_label(3.0), None);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! studio draws them.
 
 use super::geometry::{Lenslets, profile_um};
+use super::imaging::{CompareRow, Setup};
 use super::psf::{ChannelPsf, PhasePsfs};
 use super::{PhaseDesign, Surface};
 use crate::SimError;
@@ -263,6 +264,73 @@ pub fn kernel_panel(k: std::sync::Arc<ndarray::Array2<f64>>, channel_name: &str)
             planes: None,
         }],
         equal_aspect: true,
+        ..Panel::default()
+    }
+}
+
+/// The score the table and the plot show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CompareMetric {
+    /// PSNR of the restoration on the field of view, in dB.
+    PsnrDb,
+    /// Mean SSIM of the restoration over the channels on the field of view.
+    Ssim,
+}
+
+impl CompareMetric {
+    /// This score of a comparison row.
+    pub fn of(self, row: &CompareRow) -> f64 {
+        match self {
+            CompareMetric::PsnrDb => row.psnr_db,
+            CompareMetric::Ssim => row.ssim,
+        }
+    }
+
+    /// Name on the metric picker, the table header and the plot's axis.
+    pub fn label(self) -> &'static str {
+        match self {
+            CompareMetric::PsnrDb => "PSNR (dB)",
+            CompareMetric::Ssim => "SSIM",
+        }
+    }
+
+    /// The value as the table prints it.
+    pub fn format(self, v: f64) -> String {
+        match self {
+            CompareMetric::PsnrDb => format!("{v:.2}"),
+            CompareMetric::Ssim => format!("{v:.3}"),
+        }
+    }
+}
+
+/// Fig. 4.6: each setup's `metric` against the light, on a log axis ticked at the `levels`
+/// run (photons per pixel), one line per setup in `setups`' order.
+pub fn compare_panel(
+    rows: &[CompareRow],
+    setups: &[Setup],
+    levels: &[f64],
+    metric: CompareMetric,
+) -> Panel {
+    let series = setups
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let pts: Vec<[f64; 2]> = rows
+                .iter()
+                .filter(|r| &r.setup == s)
+                .map(|r| [r.photons.log10(), metric.of(r)])
+                .collect();
+            series(s.label(), palette::series(i), Mark::LineAndPoints, pts)
+        })
+        .filter(|s| !s.points.is_empty())
+        .collect();
+    let mut x = Axis::log10("light, photons per pixel", None);
+    x.ticks = Some(levels.iter().map(|n| n.log10()).collect());
+    Panel {
+        title: format!("{} against light (Fig. 4.6)", metric.label()),
+        x,
+        y: Axis::new(metric.label(), None),
+        series,
         ..Panel::default()
     }
 }

@@ -8,6 +8,7 @@
 //! out (the lens pupil's rim, cell staircases, the window crop), which is what a lecturer wants
 //! to point at once the symmetry is broken.
 
+pub mod figures;
 pub mod landmarks;
 mod orders;
 mod shapes;

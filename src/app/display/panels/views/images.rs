@@ -8,9 +8,7 @@ use egui::{Color32, ColorImage};
 use ndarray::Array2;
 
 use crate::app::widgets::colormap::{self, Colormap};
-use crate::core::analysis::figures::rgb_role;
 use crate::core::figure::ColorScale;
-use crate::core::figure::palette::CHANNELS;
 
 /// Default depth of the log views: six decades below the peak show the display's faint
 /// diffraction orders without drowning the image in round-off noise.
@@ -35,8 +33,8 @@ pub fn log_image(a: &Array2<f64>, reference: f64, floor_decades: f64, map: Color
 
 /// The display colour of a channel: red, green or blue by name, grey for anything else.
 pub fn channel_color(name: &str) -> Color32 {
-    match rgb_role(name).and_then(|i| CHANNELS.get(i)) {
-        Some(&c) => crate::app::widgets::figure::color32(c),
+    match crate::core::figure::palette::channel(name) {
+        Some(c) => crate::app::widgets::figure::color32(c),
         None => Color32::from_gray(150),
     }
 }
@@ -44,6 +42,7 @@ pub fn channel_color(name: &str) -> Color32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::core::figure::palette::CHANNELS;
 
     #[test]
     fn thumbnails_are_row_major_with_row_zero_on_top() {

@@ -4,18 +4,15 @@
 //! watches them part.
 
 use egui::{Color32, Ui};
-use egui_plot::{Corner, Legend, Line, LineStyle, MarkerShape, Plot, Points};
 
-use super::images::channel_color;
 use crate::app::display::panels::Shown;
-use crate::app::widgets::plot::with_nice_ticks;
-use crate::core::theory::{ProfileKind, Theory, TheoryComparison, compare};
+use crate::app::widgets::figure::panel_ui;
+use crate::core::figure::{Rgb, palette};
+use crate::core::theory::{ProfileKind, Theory, TheoryComparison, compare, figures};
 use crate::core::{Quality, SimError};
 
 /// Deviation under which theory and simulation are said to agree (2 % of the peak).
 const AGREE: f64 = 0.02;
-/// Values below this fraction of the peak sit on the floor of the log scale.
-const LOG_FLOOR: f64 = 1e-6;
 
 /// What a comparison was computed for: a new result or channel recomputes it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -82,55 +79,23 @@ impl TheoryView {
             ui.checkbox(&mut self.log, "log scale")
                 .on_hover_text("Show the profile in decades, so the side lobes show");
         }
-        let color = channel_color(&ch.name);
+        let colour = channel_colour(&ch.name);
         let lf_um2 = ch.wavelength_nm * d.optics.focal_length_mm;
-        let plots = if c.mtf.is_some() { 2.0 } else { 1.0 };
+        let mtf = figures::mtf_panel(c, &ch.name, colour);
+        let plots = if mtf.is_some() { 2.0 } else { 1.0 };
         let height = ((ui.available_height() - 8.0) / plots).max(160.0);
-        profile_plot_ui(
-            ui,
-            c,
-            &ch.name,
-            color,
-            self.log,
-            extent_um(theory, lf_um2),
-            height,
-        );
-        if let Some(m) = &c.mtf {
-            // Up to a little past the aperture's cutoff: a slit's MTF ends at 0.07 cycles/pixel.
-            let last = m
-                .predicted
-                .iter()
-                .rposition(|v| *v > 1e-3)
-                .and_then(|i| m.freqs_cyc_per_px.get(i + 1))
-                .map_or(0.5, |f| (1.3 * f).min(0.5));
-            with_nice_ticks(Plot::new("views_theory_mtf"))
-                .height(height)
-                .legend(Legend::default().position(Corner::RightTop))
-                .default_x_bounds(0.0, last)
-                .default_y_bounds(0.0, 1.05)
-                .x_axis_label("spatial frequency along x (cycles/pixel)")
-                .y_axis_label("MTF")
-                .show(ui, |p| {
-                    let pts = |v: &[f64]| -> Vec<[f64; 2]> {
-                        m.freqs_cyc_per_px
-                            .iter()
-                            .zip(v)
-                            .map(|(f, y)| [*f, *y])
-                            .collect()
-                    };
-                    p.line(
-                        Line::new(format!("{} simulated", ch.name), pts(&m.simulated))
-                            .color(color)
-                            .width(2.0),
-                    );
-                    p.line(
-                        Line::new("theory", pts(&m.predicted))
-                            .color(Color32::WHITE)
-                            .style(LineStyle::Dashed { length: 6.0 }),
-                    );
-                });
+        let profile = figures::profile_panel(c, &ch.name, colour, lf_um2, self.log);
+        panel_ui(ui, "views_theory_profile", &profile, height);
+        if let Some(m) = &mtf {
+            panel_ui(ui, "views_theory_mtf", m, height);
         }
     }
+}
+
+/// The figure colour of a channel: red, green or blue by name, the first series colour
+/// otherwise.
+fn channel_colour(name: &str) -> Rgb {
+    palette::channel(name).unwrap_or(palette::series(0))
 }
 
 /// One line saying how well they agree, in the colour of the verdict.
@@ -160,81 +125,4 @@ fn agreement_ui(ui: &mut Ui, c: &TheoryComparison, theory: Theory) {
                 theory.name()
             ));
     }
-}
-
-/// How far from the axis the profile is shown at first, µm: a few lobes of the pattern.
-fn extent_um(theory: Theory, lf_um2: f64) -> Option<f64> {
-    match theory {
-        Theory::Slit { width_um } | Theory::Rectangle { width_um, .. } => {
-            Some(6.0 * lf_um2 / width_um)
-        }
-        Theory::DoubleSlit { width_um, .. } => Some(3.0 * lf_um2 / width_um),
-        Theory::Circle { diameter_um } => Some(5.0 * 1.22 * lf_um2 / diameter_um),
-        Theory::Grating => None,
-    }
-}
-
-/// The profile (or the orders) against position on the sensor.
-fn profile_plot_ui(
-    ui: &mut Ui,
-    c: &TheoryComparison,
-    name: &str,
-    color: Color32,
-    log: bool,
-    extent_um: Option<f64>,
-    height: f32,
-) {
-    let value = |v: f64| {
-        if log { v.max(LOG_FLOOR).log10() } else { v }
-    };
-    let pts = |v: &[f64]| -> Vec<[f64; 2]> {
-        c.x_um.iter().zip(v).map(|(x, y)| [*x, value(*y)]).collect()
-    };
-    let mut plot = with_nice_ticks(Plot::new("views_theory_profile"))
-        .height(height)
-        .legend(Legend::default().position(Corner::RightTop))
-        .x_axis_label("position on the sensor, x (µm)")
-        .y_axis_label(if log {
-            format!("{} (log10)", c.kind.label())
-        } else {
-            c.kind.label().to_string()
-        });
-    if let Some(e) = extent_um {
-        plot = plot.default_x_bounds(-e, e);
-    }
-    if log {
-        plot = plot
-            .default_y_bounds(LOG_FLOOR.log10(), 0.1)
-            .y_axis_formatter(|mark, _| format!("1e{:.0}", mark.value));
-    }
-    plot.show(ui, |p| match c.kind {
-        ProfileKind::Orders => {
-            p.points(
-                Points::new(format!("{name} simulated"), pts(&c.simulated))
-                    .color(color)
-                    .shape(MarkerShape::Circle)
-                    .filled(true)
-                    .radius(4.0),
-            );
-            p.points(
-                Points::new("theory", pts(&c.predicted))
-                    .color(Color32::WHITE)
-                    .shape(MarkerShape::Diamond)
-                    .filled(false)
-                    .radius(6.0),
-            );
-        }
-        ProfileKind::ColumnSums | ProfileKind::AxisRow => {
-            p.line(
-                Line::new(format!("{name} simulated"), pts(&c.simulated))
-                    .color(color)
-                    .width(2.0),
-            );
-            p.line(
-                Line::new("theory", pts(&c.predicted))
-                    .color(Color32::WHITE)
-                    .style(LineStyle::Dashed { length: 6.0 }),
-            );
-        }
-    });
 }
