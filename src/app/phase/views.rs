@@ -172,6 +172,7 @@ impl ViewsPanel {
                         width: Some(w),
                         height: h,
                         link_x: Some(link),
+                        legend_above: false,
                     };
                     panel_ui_in(ui, ("phase-psf", i), &panel, frame);
                 });

@@ -2,7 +2,7 @@
 //! the files are drawn from (`crate::io::figure`), so a plot on screen and its exported PNG
 //! agree, with the studio's tick ladder, hover and zoom.
 
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 use std::hash::Hash;
 use std::sync::Arc;
 
@@ -15,6 +15,7 @@ use egui_plot::{
     PlotImage, PlotPoint, PlotPoints, PlotUi, Points, VLine,
 };
 
+use crate::app::widgets::plot::{LegendEntry, Swatch, hidden_names, legend_ui};
 use crate::core::figure::{
     Annotation, ColorScale, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
 };
@@ -42,6 +43,9 @@ pub struct PlotFrame {
     pub height: f32,
     /// Plots sharing this id share their x axis (side-by-side channels).
     pub link_x: Option<egui::Id>,
+    /// The legend above the plot, where a click hides or shows a name's series (a plot with
+    /// many curves), instead of inside it.
+    pub legend_above: bool,
 }
 
 impl PlotFrame {
@@ -51,6 +55,7 @@ impl PlotFrame {
             width: None,
             height,
             link_x: None,
+            legend_above: false,
         }
     }
 }
@@ -58,6 +63,13 @@ impl PlotFrame {
 /// Draws `panel` (without its title) in `frame`.
 pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, frame: PlotFrame) {
     let height = frame.height;
+    let hidden = if frame.legend_above {
+        let legend = ui.make_persistent_id((&id, "figure legend"));
+        legend_ui(ui, legend, &[legend_entries(panel)]);
+        hidden_names(ui.ctx(), legend)
+    } else {
+        BTreeSet::new()
+    };
     let mut plot = Plot::new(id);
     if let Some(w) = frame.width {
         plot = plot.width(w);
@@ -65,7 +77,7 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
     if let Some(link) = frame.link_x {
         plot = plot.link_axis(link, [true, false]);
     }
-    if panel.wants_legend() {
+    if panel.wants_legend() && !frame.legend_above {
         plot = plot.legend(Legend::default().position(egui_plot::Corner::RightBottom));
     }
     // The axis titles after the ticks, which replace the axes.
@@ -74,9 +86,33 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
         .y_axis_label(panel.y.title());
     plot = with_axis_words(plot, panel);
     plot.show(ui, |pl| {
-        series_ui(pl, panel);
+        if hidden.is_empty() {
+            series_ui(pl, panel);
+        } else {
+            let mut shown = panel.clone();
+            shown.series.retain(|s| !hidden.contains(&s.name));
+            series_ui(pl, &shown);
+        }
         annotations_ui(pl, panel, true);
     });
+}
+
+/// One legend entry a series name, in order, with its first series' colour and mark.
+fn legend_entries(panel: &Panel) -> Vec<LegendEntry> {
+    let mut out: Vec<LegendEntry> = Vec::new();
+    for s in &panel.series {
+        if out.iter().any(|e| e.name == s.name) {
+            continue;
+        }
+        let swatch = match s.mark {
+            Mark::Line => Swatch::Solid(2),
+            Mark::DashedLine => Swatch::Dashed,
+            Mark::Bars => Swatch::Solid(4),
+            Mark::Points | Mark::LineAndPoints | Mark::Hollow => Swatch::Marker,
+        };
+        out.push(LegendEntry::new(s.name.clone(), color32(s.colour), swatch));
+    }
+    out
 }
 
 /// Tick labels the axes need besides numbers (a word axis's names, a log axis's powers of

@@ -530,6 +530,40 @@ pub fn appearance(
     ))
 }
 
+/// A preset's place on the appearance scatter.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ScatterPoint {
+    /// Preset name.
+    pub name: String,
+    /// Radially-minimum AUC averaged over the channels (preview quality).
+    pub camera_auc: f64,
+    /// Eye-blurred flat-field nonuniformity at the view's DPI and distance.
+    pub nonuniformity: f64,
+}
+
+/// The presets' camera AUC against their display nonuniformity: the trade-off a layout makes
+/// between the camera behind it and the eye in front of it. One named point a preset.
+pub fn scatter_panel(points: &[ScatterPoint]) -> crate::figure::Panel {
+    use crate::figure::{Axis, Mark, Panel, Series, palette};
+    Panel {
+        title: "Presets: camera AUC against display nonuniformity".into(),
+        x: Axis::new("camera AUC", None),
+        y: Axis::new("display nonuniformity", None),
+        series: points
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Series {
+                name: p.name.clone(),
+                colour: palette::series(i),
+                mark: Mark::Points,
+                points: vec![[p.camera_auc, p.nonuniformity]],
+                band: None,
+            })
+            .collect(),
+        ..Panel::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

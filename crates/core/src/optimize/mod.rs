@@ -7,6 +7,7 @@
 
 pub mod adam;
 pub mod data;
+pub mod figures;
 pub mod model;
 pub mod reserve;
 pub mod spectra;

@@ -9,16 +9,15 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, channel};
 
 use egui::{Color32, Ui};
-use egui_plot::{Line, Plot, PlotPoints, Points};
 
 use super::PanelCtx;
 use crate::app::error::StudioError;
 use crate::app::job::{Job, JobError};
-use crate::app::widgets::plot::{
-    LegendEntry, Swatch, hidden_names, legend_ui, visible_width, with_nice_ticks,
-};
+use crate::app::widgets::figure::{PlotFrame, panel_ui_in};
+use crate::app::widgets::plot::visible_width;
 use crate::core::Design;
 use crate::core::analysis::analyze::Quality;
+use crate::core::optimize::figures::losses_panel;
 use crate::core::optimize::{
     DataSet, EpochReport, OptimizeSettings, Optimized, Relaxation, Scores, Start, binarise,
     optimize,
@@ -399,79 +398,14 @@ impl OptimizePanel {
     /// The losses per epoch at the run's sampling, with the start design and the result
     /// scored alike as points at both ends; the legend above the plot, clear of the curves.
     fn loss_plot_ui(&self, ui: &mut Ui) {
-        let pts = |f: &dyn Fn(&EpochReport) -> f64| -> Vec<[f64; 2]> {
-            self.history
-                .iter()
-                .map(|r| [(r.epoch + 1) as f64, f(r)])
-                .collect()
+        let scores = self.finished.as_ref().map(|f| &f.result.at_run_quality);
+        let panel = losses_panel(&self.history, scores);
+        let frame = PlotFrame {
+            width: Some(visible_width(ui)),
+            legend_above: true,
+            ..PlotFrame::tall(180.0)
         };
-        let mut series: Vec<(LegendEntry, Vec<[f64; 2]>)> = vec![
-            (
-                LegendEntry::new("L_inv", L_INV, Swatch::Solid(2)),
-                pts(&|r| r.loss_inv),
-            ),
-            (
-                LegendEntry::new("grey-mask mean", Color32::GRAY, Swatch::Solid(1)),
-                pts(&|r| r.open_fraction),
-            ),
-            (
-                LegendEntry::new("area target", AREA, Swatch::Solid(1)),
-                pts(&|r| r.area_target),
-            ),
-        ];
-        if self.history.iter().any(|r| r.loss_data.is_some()) {
-            series.push((
-                LegendEntry::new("L_data", DATA, Swatch::Solid(1)),
-                pts(&|r| r.loss_data.unwrap_or(0.0)),
-            ));
-        }
-        let mut marks: Vec<(LegendEntry, [f64; 2])> = Vec::new();
-        if let Some(f) = &self.finished {
-            let s = &f.result.at_run_quality;
-            if let Some(start) = s.start {
-                marks.push((
-                    LegendEntry::new("L_inv of the start design", START, Swatch::Marker),
-                    [0.0, start.loss_inv],
-                ));
-            }
-            marks.push((
-                LegendEntry::new("L_inv of the result", RESULT, Swatch::Marker),
-                [f.result.history.len() as f64, s.result.loss_inv],
-            ));
-        }
-        let legend_id = ui.make_persistent_id("optimize_losses_legend");
-        let entries: Vec<LegendEntry> = series
-            .iter()
-            .map(|(e, _)| e.clone())
-            .chain(marks.iter().map(|(e, _)| e.clone()))
-            .collect();
-        legend_ui(ui, legend_id, &[entries]);
-        let hidden = hidden_names(ui.ctx(), legend_id);
-        with_nice_ticks(Plot::new("optimize_losses"))
-            .width(visible_width(ui))
-            .height(180.0)
-            .x_axis_label("epoch")
-            .y_axis_label("value (no unit)")
-            .show(ui, |p| {
-                for (e, points) in series
-                    .into_iter()
-                    .filter(|(e, _)| !hidden.contains(&e.name))
-                {
-                    let width = if let Swatch::Solid(w) = e.swatch {
-                        f32::from(w)
-                    } else {
-                        1.0
-                    };
-                    p.line(
-                        Line::new(e.name, PlotPoints::new(points))
-                            .color(e.color)
-                            .width(width),
-                    );
-                }
-                for (e, at) in marks.into_iter().filter(|(e, _)| !hidden.contains(&e.name)) {
-                    p.points(Points::new(e.name, vec![at]).color(e.color).radius(4.0));
-                }
-            });
+        panel_ui_in(ui, "optimize_losses", &panel, frame);
     }
 }
 
@@ -527,12 +461,6 @@ fn opening_ui(
         );
     }
 }
-
-const L_INV: Color32 = Color32::from_rgb(90, 160, 255);
-const AREA: Color32 = Color32::from_rgb(255, 170, 60);
-const DATA: Color32 = Color32::from_rgb(200, 110, 230);
-const START: Color32 = Color32::from_rgb(230, 230, 230);
-const RESULT: Color32 = Color32::from_rgb(70, 200, 110);
 
 /// The start and the result, at full quality (what the numbers show for each design) and,
 /// for a preview run, at the run's sampling (the plot's scale). One wrapped line per

@@ -5,8 +5,8 @@
 
 use std::sync::Arc;
 
+use crate::app::widgets::figure::{PlotFrame, panel_ui_in};
 use egui::{TextureHandle, TextureOptions, Ui};
-use egui_plot::{Plot, PlotPoints, Points};
 use ndarray::Array2;
 
 use crate::app::display::panels::Shown;
@@ -16,7 +16,9 @@ use crate::app::widgets::photo::{built_in, color_image};
 use crate::core::Progress;
 use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::design::Design;
-use crate::core::display::appearance::{AppearanceSettings, DisplayQuality, appearance};
+use crate::core::display::appearance::{
+    AppearanceSettings, DisplayQuality, appearance, scatter_panel,
+};
 use crate::io::design::presets;
 
 /// What a run depends on.
@@ -34,16 +36,7 @@ struct Row {
     texture: TextureHandle,
 }
 
-/// A preset's place on the scatter.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ScatterPoint {
-    /// Preset name.
-    pub name: String,
-    /// Radially-minimum AUC averaged over the channels (preview quality).
-    pub camera_auc: f64,
-    /// Eye-blurred flat-field nonuniformity at the view's DPI and distance.
-    pub nonuniformity: f64,
-}
+pub use crate::core::display::appearance::ScatterPoint;
 
 type Rendered = Vec<(String, DisplayQuality, [Array2<f64>; 3])>;
 
@@ -274,22 +267,13 @@ impl AppearanceView {
                 }
             });
             if !self.scatter.is_empty() {
-                ui.strong("Presets: camera AUC against display nonuniformity");
-                Plot::new("appearance-scatter")
-                    .height(260.0)
-                    .x_axis_label("camera AUC")
-                    .y_axis_label("display nonuniformity")
-                    .show(ui, |plot| {
-                        for p in &self.scatter {
-                            plot.points(
-                                Points::new(
-                                    p.name.clone(),
-                                    PlotPoints::new(vec![[p.camera_auc, p.nonuniformity]]),
-                                )
-                                .radius(5.0),
-                            );
-                        }
-                    });
+                let panel = scatter_panel(&self.scatter);
+                ui.strong(&panel.title);
+                let frame = PlotFrame {
+                    legend_above: true,
+                    ..PlotFrame::tall(260.0)
+                };
+                panel_ui_in(ui, "appearance-scatter", &panel, frame);
             }
         });
     }
