@@ -58,6 +58,9 @@ pub fn panel<'py>(py: Python<'py>, p: &Panel) -> PyResult<Bound<'py, PyDict>> {
                 Mark::DashedLine => "dashed-line",
                 Mark::Bars => "bars",
                 Mark::Hollow => "hollow",
+                Mark::FaintLine => "faint-line",
+                Mark::DottedLine => "dotted-line",
+                Mark::Rules => "rules",
             },
         )?;
         e.set_item("points", array(py, &s.points))?;

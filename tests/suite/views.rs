@@ -149,9 +149,11 @@ fn every_tab_draws_and_textures_are_built_once() {
     // Expected PSF of a random tiling: both images side by side.
     h.get_by_label("Expected PSF").click();
     h.step();
-    assert!(
-        h.query_by_label("expected over all random tilings")
-            .is_some()
+    // Its caption and the picture, which a screen reader names by the same title.
+    assert_eq!(
+        h.query_all_by_label("expected over all random tilings")
+            .count(),
+        2
     );
     // Frames without changes upload nothing.
     let builds = h.state().panel.texture_builds();

@@ -199,6 +199,32 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
                         .map_err(e)?;
                 }
             }
+            Mark::FaintLine | Mark::DottedLine => {
+                let (style, width) = if s.mark == Mark::FaintLine {
+                    (c.mix(0.55), 1)
+                } else {
+                    (c.mix(1.0), 2)
+                };
+                let line: Vec<(f64, f64)> = points.collect();
+                let series = if s.mark == Mark::DottedLine {
+                    chart.draw_series(DashedLineSeries::new(line, 2, 3, style.stroke_width(width)))
+                } else {
+                    chart.draw_series(LineSeries::new(line, style.stroke_width(width)))
+                };
+                series.map_err(e)?.label(name).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], style.stroke_width(width))
+                });
+            }
+            Mark::Rules => {
+                let faint = c.mix(0.5);
+                chart
+                    .draw_series(points.flat_map(|(x, _)| {
+                        DashedLineSeries::new([(x, y.0), (x, y.1)], 2, 3, faint.stroke_width(1))
+                    }))
+                    .map_err(e)?
+                    .label(name)
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], faint));
+            }
             Mark::Hollow => {
                 chart
                     .draw_series(points.map(|p| Circle::new(p, 6, c.stroke_width(2))))

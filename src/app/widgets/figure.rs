@@ -65,7 +65,7 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
     let height = frame.height;
     let hidden = if frame.legend_above {
         let legend = ui.make_persistent_id((&id, "figure legend"));
-        legend_ui(ui, legend, &[legend_entries(panel)]);
+        legend_ui(ui, legend, &legend_rows(panel));
         hidden_names(ui.ctx(), legend)
     } else {
         BTreeSet::new()
@@ -97,22 +97,38 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
     });
 }
 
-/// One legend entry a series name, in order, with its first series' colour and mark.
-fn legend_entries(panel: &Panel) -> Vec<LegendEntry> {
-    let mut out: Vec<LegendEntry> = Vec::new();
-    for s in &panel.series {
-        if out.iter().any(|e| e.name == s.name) {
-            continue;
-        }
-        let swatch = match s.mark {
-            Mark::Line => Swatch::Solid(2),
-            Mark::DashedLine => Swatch::Dashed,
-            Mark::Bars => Swatch::Solid(4),
-            Mark::Points | Mark::LineAndPoints | Mark::Hollow => Swatch::Marker,
+/// The legend's rows (the panel's, or one row of every name), one entry a series name with
+/// its first series' colour and mark.
+fn legend_rows(panel: &Panel) -> Vec<Vec<LegendEntry>> {
+    let entry = |name: &str| {
+        let s = panel.series.iter().find(|s| s.name == name)?;
+        let c = color32(s.colour);
+        let (colour, swatch) = match s.mark {
+            Mark::Line => (c, Swatch::Solid(2)),
+            Mark::FaintLine => (c.gamma_multiply(0.55), Swatch::Solid(1)),
+            Mark::DashedLine => (c, Swatch::Dashed),
+            Mark::DottedLine => (c, Swatch::Dotted),
+            Mark::Rules => (c.gamma_multiply(0.6), Swatch::Dotted),
+            Mark::Bars => (c, Swatch::Solid(4)),
+            Mark::Points | Mark::LineAndPoints | Mark::Hollow => (c, Swatch::Marker),
         };
-        out.push(LegendEntry::new(s.name.clone(), color32(s.colour), swatch));
+        Some(LegendEntry::new(name, colour, swatch))
+    };
+    if panel.legend_rows.is_empty() {
+        let mut names: Vec<&str> = Vec::new();
+        for s in &panel.series {
+            if !names.contains(&s.name.as_str()) {
+                names.push(&s.name);
+            }
+        }
+        vec![names.into_iter().filter_map(entry).collect()]
+    } else {
+        panel
+            .legend_rows
+            .iter()
+            .map(|row| row.iter().filter_map(|n| entry(n)).collect())
+            .collect()
     }
-    out
 }
 
 /// Tick labels the axes need besides numbers (a word axis's names, a log axis's powers of
@@ -184,6 +200,27 @@ fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
                     .copied()
                     .collect();
                 pl.points(Points::new(name, cloud).color(c).radius(3.0));
+            }
+            Mark::FaintLine | Mark::DottedLine => {
+                let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
+                let l = Line::new(s.name.clone(), PlotPoints::from(line));
+                pl.line(if s.mark == Mark::FaintLine {
+                    l.color(c.gamma_multiply(0.55)).width(1.0)
+                } else {
+                    l.color(c)
+                        .width(1.5)
+                        .style(LineStyle::Dotted { spacing: 4.0 })
+                });
+            }
+            Mark::Rules => {
+                for p in s.points.iter().filter(finite) {
+                    pl.vline(
+                        VLine::new(s.name.clone(), p[0])
+                            .color(c.gamma_multiply(0.6))
+                            .style(LineStyle::dotted_dense())
+                            .allow_hover(false),
+                    );
+                }
             }
             Mark::Hollow => {
                 let at: PlotPoints = s.points.iter().filter(finite).copied().collect();

@@ -280,6 +280,172 @@ pub fn expected_panels(
     ])
 }
 
+/// Which curve families the MTF figure draws.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MtfFamilies {
+    /// The horizontal slice.
+    pub horizontal: bool,
+    /// The vertical slice.
+    pub vertical: bool,
+    /// The radially-minimum MTF (the thesis's eq. 3.8).
+    pub radial_min: bool,
+    /// The radially-averaged MTF.
+    pub radial_mean: bool,
+}
+
+impl Default for MtfFamilies {
+    fn default() -> Self {
+        MtfFamilies {
+            horizontal: false,
+            vertical: false,
+            radial_min: true,
+            radial_mean: true,
+        }
+    }
+}
+
+impl MtfFamilies {
+    /// Only the radial minimum (the A/B comparison).
+    pub const RADIAL_MIN: MtfFamilies = MtfFamilies {
+        horizontal: false,
+        vertical: false,
+        radial_min: true,
+        radial_mean: false,
+    };
+}
+
+/// The AUC as a legend shows it: a preview's is marked as an estimate.
+fn auc_label(analysis: &Analysis, auc: f64) -> String {
+    match analysis.quality {
+        super::analyze::Quality::Full => format!("AUC {auc:.3}"),
+        super::analyze::Quality::Preview => format!("AUC ≈ {auc:.3}, preview"),
+    }
+}
+
+/// The colour of a channel in figures: R, G, B by name, the reference grey otherwise.
+fn channel_colour(name: &str) -> crate::figure::Rgb {
+    crate::figure::palette::channel(name).unwrap_or(crate::figure::palette::REFERENCE)
+}
+
+/// MTF curves of `b` over 0 … 0.5 cycles/pixel (the `families` asked for, one legend row a
+/// channel) and the radial minima of a pinned design `a` (dashed, "A:"); with `repeats`, the
+/// frequencies where each channel's MTF repeats (`ν = T p / (λ f)` of `design`'s period) as
+/// faint rules.
+pub fn mtf_curves_panel(
+    b: &Analysis,
+    a: Option<&Analysis>,
+    families: MtfFamilies,
+    repeats: Option<&Design>,
+) -> Panel {
+    use crate::figure::{Mark, Series};
+    use crate::theory::landmarks::{mtf_repeat_cyc_per_px, multiples_up_to};
+    let curve = |name: String, ch: &ChannelAnalysis, values: &[f64], mark: Mark| Series {
+        name,
+        colour: channel_colour(&ch.name),
+        mark,
+        points: ch
+            .mtf
+            .freqs_cyc_per_px()
+            .into_iter()
+            .zip(values)
+            .map(|(f, v)| [f, *v])
+            .collect(),
+        band: None,
+    };
+    let mut rows: Vec<Vec<Series>> = Vec::new();
+    for ch in &b.channels {
+        let (m, name) = (&ch.mtf, &ch.name);
+        let mut row = Vec::new();
+        if families.radial_min {
+            let label = format!("{name} radial min ({})", auc_label(b, m.auc_radial_min));
+            row.push(curve(label, ch, &m.radial_min, Mark::Line));
+        }
+        if families.radial_mean {
+            row.push(curve(
+                format!("{name} radial mean"),
+                ch,
+                &m.radial_mean,
+                Mark::FaintLine,
+            ));
+        }
+        if families.horizontal {
+            row.push(curve(
+                format!("{name} horizontal"),
+                ch,
+                &m.horizontal,
+                Mark::DottedLine,
+            ));
+        }
+        if families.vertical {
+            row.push(curve(
+                format!("{name} vertical"),
+                ch,
+                &m.vertical,
+                Mark::DashedLine,
+            ));
+        }
+        rows.push(row);
+    }
+    // A's curve of a channel sits in that channel's row; channels only A has, in a last row.
+    let mut a_only = Vec::new();
+    if let Some(a) = a {
+        for ch in &a.channels {
+            let label = format!(
+                "A: {} radial min ({})",
+                ch.name,
+                auc_label(a, ch.mtf.auc_radial_min)
+            );
+            let s = curve(label, ch, &ch.mtf.radial_min, Mark::DashedLine);
+            match b.channels.iter().position(|c| c.name == ch.name) {
+                Some(row) => rows[row].push(s),
+                None => a_only.push(s),
+            }
+        }
+    }
+    rows.push(a_only);
+    let mut rules = Vec::new();
+    if let Some(d) = repeats {
+        let period_um = d.opening.pitch_um + d.tiling.wiring_gap_um;
+        for c in &b.channels {
+            let nu = mtf_repeat_cyc_per_px(
+                period_um,
+                b.sensor_pixel_um,
+                c.wavelength_nm,
+                d.optics.focal_length_mm,
+            );
+            rules.push(Series {
+                name: format!("{} repeats every {nu:.3} cyc/px", c.name),
+                colour: channel_colour(&c.name),
+                mark: Mark::Rules,
+                points: multiples_up_to(nu, 0.5, 200)
+                    .into_iter()
+                    .map(|f| [f, 0.0])
+                    .collect(),
+                band: None,
+            });
+        }
+    }
+    let legend_rows = rows
+        .iter()
+        .chain(std::iter::once(&rules))
+        .map(|r| r.iter().map(|s| s.name.clone()).collect())
+        .filter(|r: &Vec<String>| !r.is_empty())
+        .collect();
+    // The rules first, under the curves.
+    let series = rules
+        .into_iter()
+        .chain(rows.into_iter().flatten())
+        .collect();
+    Panel {
+        title: "MTF".into(),
+        x: Axis::new("spatial frequency", Some("cycles/pixel")).with_view(0.0, 0.5),
+        y: Axis::new("MTF (fraction of DC)", None).with_view(0.0, 1.0),
+        series,
+        legend_rows,
+        ..Panel::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

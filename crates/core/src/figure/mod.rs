@@ -221,6 +221,12 @@ pub enum Mark {
     /// Hollow diamonds: a reference's values at points, around the data's filled ones (the
     /// closed form's diffraction orders).
     Hollow,
+    /// A thin, fainter line: a companion of a main curve (the radial mean beside the minimum).
+    FaintLine,
+    /// A dotted line: a third curve of one colour (a horizontal slice).
+    DottedLine,
+    /// A faint dotted vertical rule at each point's x, under the curves (where an MTF repeats).
+    Rules,
 }
 
 /// One named series of points.
@@ -288,6 +294,8 @@ pub struct Panel {
     pub annotations: Vec<Annotation>,
     /// Images under the data (a PSF, a matrix); the first one's scale is the colour bar.
     pub images: Vec<Image>,
+    /// The legend's rows, each a list of series names (a row per channel); empty: one row.
+    pub legend_rows: Vec<Vec<String>>,
     /// One axis unit is as long on screen in x as in y (a picture, not a graph).
     pub equal_aspect: bool,
 }

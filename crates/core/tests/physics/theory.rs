@@ -220,3 +220,41 @@ fn the_psf_figure_marks_the_orders_where_the_light_is_and_the_airy_ring_at_1_22_
     }
     assert_eq!(checked, 1, "the orders were asked for");
 }
+
+#[test]
+fn the_mtf_figure_rows_a_channel_each_and_rules_where_the_mtf_repeats() {
+    use udc_core::analysis::figures::{MtfFamilies, mtf_curves_panel};
+    use udc_core::figure::Mark;
+    use udc_core::theory::landmarks::mtf_repeat_cyc_per_px;
+    let d = load_preset("fourier-periodic").unwrap();
+    let b = full(&d);
+    let panel = mtf_curves_panel(&b, Some(&b), MtfFamilies::default(), Some(&d));
+    // A row per channel (min, mean, A's min), then the rules' row.
+    assert_eq!(panel.legend_rows.len(), b.channels.len() + 1);
+    for (row, ch) in panel.legend_rows.iter().zip(&b.channels) {
+        assert_eq!(row.len(), 3, "{row:?}");
+        assert!(row.iter().all(|n| n.contains(&ch.name)));
+    }
+    let ch = &b.channels[0];
+    let nu = mtf_repeat_cyc_per_px(
+        d.opening.pitch_um + d.tiling.wiring_gap_um,
+        b.sensor_pixel_um,
+        ch.wavelength_nm,
+        d.optics.focal_length_mm,
+    );
+    let rules = panel
+        .series
+        .iter()
+        .find(|s| s.mark == Mark::Rules && s.name.starts_with(&ch.name))
+        .expect("the channel's rules");
+    assert!((rules.points[0][0] - nu).abs() < 1e-12);
+    assert!(rules.points.iter().all(|p| p[0] <= 0.5 + 1e-12));
+    // The minimum curve is the analysis's, point for point.
+    let min = panel
+        .series
+        .iter()
+        .find(|s| s.name.starts_with(&format!("{} radial min", ch.name)))
+        .expect("the minimum");
+    assert_eq!(min.points.len(), ch.mtf.radial_min.len());
+    assert_eq!(min.points[3][1], ch.mtf.radial_min[3]);
+}

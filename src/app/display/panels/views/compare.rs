@@ -4,7 +4,6 @@
 use egui::{Color32, RichText, Ui};
 
 use super::ViewsPanel;
-use super::images::channel_color;
 use super::plots::{MtfFamilies, mtf_plot_ui};
 use crate::app::display::action::DisplayAction;
 use crate::app::display::panels::{PanelCtx, Pinned, Shown};
@@ -88,8 +87,7 @@ impl ViewsPanel {
                     &shown.analysis,
                     Some(&pinned.analysis),
                     MtfFamilies::RADIAL_MIN,
-                    &[],
-                    channel_color,
+                    None,
                 );
             });
     }

@@ -19,16 +19,14 @@ mod theory;
 use egui::{RichText, Ui};
 
 use self::images::{DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, channel_color};
-use self::plots::{Markers, MtfFamilies, image_with_colour_bar_ui, mtf_plot_ui};
+use self::plots::{MtfFamilies, image_with_colour_bar_ui, mtf_plot_ui};
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
 use crate::core::analysis::analyze::ChannelAnalysis;
 use crate::core::analysis::figures::{
     Landmarks, PsfScale, mtf2d_panel, psf_panel, rgb_panel, rgb_slots,
 };
-use crate::core::theory::landmarks::{
-    airy_radius_um, mtf_repeat_cyc_per_px, multiples_up_to, order_spacing_um,
-};
+use crate::core::theory::landmarks::{airy_radius_um, order_spacing_um};
 
 /// The tabs of the result views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -378,39 +376,15 @@ impl ViewsPanel {
     }
 
     fn mtf_plots_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &PanelCtx) {
-        let markers: Vec<Markers> = if ctx.overlays {
-            let d = &shown.design;
-            let period_um = d.opening.pitch_um + d.tiling.wiring_gap_um;
-            shown
-                .analysis
-                .channels
-                .iter()
-                .map(|c| {
-                    let nu = mtf_repeat_cyc_per_px(
-                        period_um,
-                        shown.analysis.sensor_pixel_um,
-                        c.wavelength_nm,
-                        d.optics.focal_length_mm,
-                    );
-                    Markers {
-                        label: format!("{} repeats every {nu:.3} cyc/px", c.name),
-                        freqs_cyc_per_px: multiples_up_to(nu, 0.5, 200),
-                        color: channel_color(&c.name),
-                    }
-                })
-                .collect()
-        } else {
-            Vec::new()
-        };
         let pinned = ctx.pinned.map(|p| p.analysis.as_ref());
+        let repeats = ctx.overlays.then_some(shown.design.as_ref());
         mtf_plot_ui(
             ui,
             "views_mtf_plots",
             &shown.analysis,
             pinned,
             self.families,
-            &markers,
-            channel_color,
+            repeats,
         );
     }
 }
