@@ -64,6 +64,7 @@ pub mod sensor;
 pub mod setting;
 pub mod sweep;
 pub mod theory;
+pub mod views;
 
 pub use analysis::analyze::{Analysis, ChannelAnalysis, Quality, analyze, analyze_with};
 pub use design::Design;

@@ -7,7 +7,6 @@
 pub mod advice;
 pub mod analyze;
 pub mod expected;
-pub mod figures;
 pub mod light;
 pub mod metrics;
 pub mod mtf;

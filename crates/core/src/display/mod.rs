@@ -5,5 +5,6 @@
 pub mod aperture;
 pub mod appearance;
 pub mod emitters;
+pub mod figures;
 pub mod opening_ops;
 pub mod tiling;

@@ -172,8 +172,8 @@ fn every_formula_names_its_numbers() {
 
 #[test]
 fn the_psf_figure_marks_the_orders_where_the_light_is_and_the_airy_ring_at_1_22_lambda_f() {
-    use udc_core::analysis::figures::{Landmarks, PsfScale, psf_panel};
     use udc_core::figure::Annotation;
+    use udc_core::views::{Landmarks, PsfScale, psf_panel};
     let d = load_preset("fourier-periodic").unwrap();
     let a = full(&d);
     let ch = &a.channels[0];
@@ -223,9 +223,9 @@ fn the_psf_figure_marks_the_orders_where_the_light_is_and_the_airy_ring_at_1_22_
 
 #[test]
 fn the_mtf_figure_rows_a_channel_each_and_rules_where_the_mtf_repeats() {
-    use udc_core::analysis::figures::{MtfFamilies, mtf_curves_panel};
     use udc_core::figure::Mark;
     use udc_core::theory::landmarks::mtf_repeat_cyc_per_px;
+    use udc_core::views::{MtfFamilies, mtf_curves_panel};
     let d = load_preset("fourier-periodic").unwrap();
     let b = full(&d);
     let panel = mtf_curves_panel(&b, Some(&b), MtfFamilies::default(), Some(&d));

@@ -1,12 +1,13 @@
 //! Tiling controls and a zoomable preview of the tiled display over the lens pupil.
 
-use egui::{Color32, ColorImage, TextureHandle, TextureOptions};
-use egui_plot::{Line, Plot, PlotImage, PlotPoint, PlotPoints};
+use std::sync::Arc;
 
 use super::one_axis_sweep::sweep_menu;
 use super::{DisplayPreview, PanelCtx};
 use crate::app::display::action::DisplayAction;
+use crate::app::widgets::figure::{FigureCache, ImageFrame, image_panel_ui};
 use crate::core::design::{Design, TilingMode};
+use crate::core::display::figures::tiling_panel;
 use crate::core::sweep::one_axis::SweepParameter;
 
 /// The Tiling panel: tiling mode, seed, wiring gap, axis cell and the preview of the tiled
@@ -15,7 +16,8 @@ use crate::core::sweep::one_axis::SweepParameter;
 pub struct TilingPanel {
     /// Edits in progress while a value is being dragged (committed on release).
     draft: Option<Design>,
-    texture: Option<(u64, TextureHandle)>,
+    /// The preview's figure, rebuilt once per result.
+    figure: FigureCache<(), u64>,
 }
 
 fn mode_label(m: TilingMode) -> &'static str {
@@ -128,57 +130,26 @@ impl TilingPanel {
             ui.spinner();
             return;
         };
-        if self
-            .texture
-            .as_ref()
-            .is_none_or(|(g, _)| *g != p.generation)
-        {
-            let pixels: Vec<Color32> = p
-                .values
-                .iter()
-                .map(|v| {
-                    let g = (v.clamp(0.0, 1.0) * 230.0) as u8 + 20;
-                    Color32::from_rgb(g, g, (g as f32 * 0.9) as u8 + 20)
-                })
-                .collect();
-            let image = ColorImage::new([p.side, p.side], pixels);
-            let tex = ui
-                .ctx()
-                .load_texture("display-preview", image, TextureOptions::NEAREST);
-            self.texture = Some((p.generation, tex));
-        }
-        let Some((_, tex)) = &self.texture else {
-            return;
+        let (panel, textures) = self.figure.get(ui.ctx(), (), p.generation, || {
+            let values = ndarray::Array2::from_shape_fn((p.side, p.side), |(r, c)| {
+                f64::from(p.values.get(r * p.side + c).copied().unwrap_or(0.0))
+            });
+            tiling_panel(Arc::new(values), p.sample_um, p.pupil_diameter_um)
+        });
+        let side = ui
+            .available_height()
+            .clamp(160.0, 420.0)
+            .min(ui.available_width());
+        let frame = ImageFrame {
+            size: egui::vec2(ui.available_width(), side),
+            link: None,
+            view_half: None,
         };
-        let half = p.side as f64 * p.sample_um / 2.0;
-        let r = p.pupil_diameter_um / 2.0;
-        let circle: PlotPoints = (0..=128)
-            .map(|k| {
-                let t = k as f64 / 128.0 * std::f64::consts::TAU;
-                [r * t.cos(), r * t.sin()]
-            })
-            .collect();
-        crate::app::widgets::plot::with_nice_ticks(Plot::new("display-preview"))
-            .data_aspect(1.0)
-            .height(ui.available_height().clamp(160.0, 420.0))
-            .x_axis_label("x (µm)")
-            .y_axis_label("y (µm)")
-            .show(ui, |plot| {
-                plot.image(PlotImage::new(
-                    "display",
-                    tex.id(),
-                    PlotPoint::new(0.0, 0.0),
-                    [(2.0 * half) as f32, (2.0 * half) as f32],
-                ));
-                plot.line(
-                    Line::new("lens pupil", circle)
-                        .color(Color32::from_rgb(255, 140, 0))
-                        .width(2.0),
-                );
-            })
+        ui.scope(|ui| image_panel_ui(ui, "display-preview", &panel, &textures, frame))
             .response
             .on_hover_text(
-                "The tiled display over the lens pupil (orange); Ctrl + scroll to zoom, drag or scroll to pan, double-click to reset",
+                "The tiled display over the lens pupil (orange); Ctrl + scroll to zoom, drag or \
+                 scroll to pan, double-click to reset",
             );
     }
 }

@@ -9,7 +9,7 @@ use super::textures::Slot;
 use crate::app::display::panels::Shown;
 use crate::app::widgets::figure::{ImageFrame, colour_bar_ui, image_panel_ui, lit_view_half};
 use crate::core::analysis::analyze::ChannelAnalysis;
-use crate::core::analysis::figures::expected_panels;
+use crate::core::views::expected_panels;
 
 impl ViewsPanel {
     pub(super) fn expected_ui(

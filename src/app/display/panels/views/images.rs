@@ -1,6 +1,6 @@
 //! What the result views share about images: the log views' depth, a channel's display colour,
 //! and the small log-scale thumbnails of the Field & depth view (the full-size image figures
-//! come from `core::analysis::figures`).
+//! come from `core::views`).
 
 use std::ops::RangeInclusive;
 

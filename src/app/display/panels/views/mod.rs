@@ -1,7 +1,7 @@
 //! The result views: PSF (linear and log), RGB composite, 2-D MTF, MTF plots, expected PSF of a
 //! random tiling, and the A/B comparison, with optional teaching overlays.
 //!
-//! Image figures are built by the core's pure functions (`core::analysis::figures`) and
+//! Image figures are built by the core's pure functions (`core::views`) and
 //! uploaded once per result and setting (a figure cache keyed by generation, quality, channel,
 //! floor and marks); the frame loop only places them in plots.
 
@@ -23,10 +23,8 @@ use self::plots::{MtfFamilies, image_with_colour_bar_ui, mtf_plot_ui};
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
 use crate::core::analysis::analyze::ChannelAnalysis;
-use crate::core::analysis::figures::{
-    Landmarks, PsfScale, mtf2d_panel, psf_panel, rgb_panel, rgb_slots,
-};
 use crate::core::theory::landmarks::{airy_radius_um, order_spacing_um};
+use crate::core::views::{Landmarks, PsfScale, mtf2d_panel, psf_panel, rgb_panel, rgb_slots};
 
 /// The tabs of the result views.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]

@@ -9,10 +9,10 @@ use crate::app::widgets::figure::{
 };
 use crate::app::widgets::plot::visible_width;
 use crate::core::Analysis;
-use crate::core::analysis::figures::mtf_curves_panel;
 use crate::core::figure::Panel;
+use crate::core::views::mtf_curves_panel;
 
-pub use crate::core::analysis::figures::MtfFamilies;
+pub use crate::core::views::MtfFamilies;
 
 /// MTF curves of `b` (solid) and the radial minima of the pinned design `a` (dashed, "A:"),
 /// over 0…0.5 cycles/pixel, with the frequencies where `repeats`' MTF repeats. The legend sits

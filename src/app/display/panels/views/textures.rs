@@ -4,7 +4,7 @@
 
 use crate::app::widgets::figure::FigureCache;
 use crate::core::analysis::analyze::Quality;
-use crate::core::analysis::figures::Landmarks;
+use crate::core::views::Landmarks;
 
 /// Which figure a slot holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

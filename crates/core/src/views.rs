@@ -1,4 +1,6 @@
-//! The display workspace's image figures as data: a channel's PSF (linear or log) with the
+//! What the display workspace's views show, as figures: the results of [`crate::analysis`]
+//! with the landmarks of [`crate::theory`] (a module above both, so neither depends on the
+//! other through it). A channel's PSF (linear or log) with the
 //! lens's Airy ring and the display's diffraction orders, the RGB composite, the 2-D MTF, and
 //! one random tiling's PSF beside the expectation over all tilings. Centred grids (sample
 //! `n / 2` at 0, conventions.md §1): a PSF in µm on the sensor, an MTF in cycles per pixel.
@@ -7,7 +9,7 @@ use std::sync::Arc;
 
 use ndarray::Array2;
 
-use super::analyze::{Analysis, ChannelAnalysis};
+use crate::analysis::analyze::{Analysis, ChannelAnalysis};
 use crate::design::Design;
 use crate::figure::palette::rgb_role;
 use crate::figure::{Annotation, Axis, ColorScale, Colormap, Image, Panel, peak};
@@ -317,8 +319,8 @@ impl MtfFamilies {
 /// The AUC as a legend shows it: a preview's is marked as an estimate.
 fn auc_label(analysis: &Analysis, auc: f64) -> String {
     match analysis.quality {
-        super::analyze::Quality::Full => format!("AUC {auc:.3}"),
-        super::analyze::Quality::Preview => format!("AUC ≈ {auc:.3}, preview"),
+        crate::analysis::analyze::Quality::Full => format!("AUC {auc:.3}"),
+        crate::analysis::analyze::Quality::Preview => format!("AUC ≈ {auc:.3}, preview"),
     }
 }
 
