@@ -10,7 +10,7 @@ use plotters::prelude::*;
 
 use crate::error::{IoError, PlotError};
 use udc_core::figure::{
-    Annotation, ColorScale, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
+    Annotation, ColorScale, Corner, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
 };
 
 /// The most cells an image is drawn with per side: a 1024² PSF as 1 M rectangles would make a
@@ -264,8 +264,15 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, panel: &Panel) -> Res
     }
     annotate(&mut chart, panel, (x, y)).map_err(e)?;
     if panel.wants_legend() {
+        let corner = match panel.quietest_corner() {
+            Corner::LeftTop => SeriesLabelPosition::UpperLeft,
+            Corner::LeftBottom => SeriesLabelPosition::LowerLeft,
+            Corner::RightTop => SeriesLabelPosition::UpperRight,
+            Corner::RightBottom => SeriesLabelPosition::LowerRight,
+        };
         chart
             .configure_series_labels()
+            .position(corner)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .label_font(("sans-serif", 16))

@@ -17,7 +17,7 @@ use egui_plot::{
 
 use crate::app::widgets::plot::{LegendEntry, Swatch, hidden_names, legend_ui};
 use crate::core::figure::{
-    Annotation, ColorScale, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
+    Annotation, ColorScale, Corner, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
 };
 
 /// The most points a point cloud draws each frame: beyond a few thousand an even sample shows
@@ -78,7 +78,13 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
         plot = plot.link_axis(link, [true, false]);
     }
     if panel.wants_legend() && !frame.legend_above {
-        plot = plot.legend(Legend::default().position(egui_plot::Corner::RightBottom));
+        let corner = match panel.quietest_corner() {
+            Corner::LeftTop => egui_plot::Corner::LeftTop,
+            Corner::LeftBottom => egui_plot::Corner::LeftBottom,
+            Corner::RightTop => egui_plot::Corner::RightTop,
+            Corner::RightBottom => egui_plot::Corner::RightBottom,
+        };
+        plot = plot.legend(Legend::default().position(corner));
     }
     // The axis titles after the ticks, which replace the axes.
     let mut plot = crate::app::widgets::plot::with_nice_ticks(plot.height(height))

@@ -310,6 +310,36 @@ impl Panel {
         names.len() > 1
     }
 
+    /// The corner of the data's range with the fewest points in its quarter: where a legend
+    /// hides the least (the bottom right first on a tie, then the top right).
+    pub fn quietest_corner(&self) -> Corner {
+        let Some(([x0, x1], [y0, y1])) = self.data_bounds() else {
+            return Corner::RightBottom;
+        };
+        let (mx, my) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+        let mut counts = [0usize; 4];
+        for p in self.series.iter().flat_map(|s| &s.points) {
+            if p[0].is_finite() && p[1].is_finite() {
+                let right = p[0] >= mx;
+                let top = p[1] >= my;
+                counts[usize::from(right) * 2 + usize::from(!top)] += 1;
+            }
+        }
+        // Index: 0 left top, 1 left bottom, 2 right top, 3 right bottom.
+        let order = [3, 2, 0, 1];
+        let best = order
+            .iter()
+            .copied()
+            .min_by_key(|i| counts[*i])
+            .unwrap_or(3);
+        [
+            Corner::LeftTop,
+            Corner::LeftBottom,
+            Corner::RightTop,
+            Corner::RightBottom,
+        ][best]
+    }
+
     /// The width of the panel's bars: 0.8 of the closest spacing of their x (1 for one bar).
     pub fn bar_width(&self) -> f64 {
         let mut xs: Vec<f64> = self
@@ -360,6 +390,19 @@ impl Panel {
         }
         x[0].is_finite().then_some((x, y))
     }
+}
+
+/// A corner of a panel's plotting area.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Corner {
+    /// Top left.
+    LeftTop,
+    /// Bottom left.
+    LeftBottom,
+    /// Top right.
+    RightTop,
+    /// Bottom right.
+    RightBottom,
 }
 
 /// A figure: one or more panels side by side and a caption.
@@ -459,6 +502,32 @@ mod tests {
         };
         assert!((p.bar_width() - 8.0).abs() < 1e-12);
         assert!(!p.wants_legend(), "bars of one name are one entry");
+    }
+
+    #[test]
+    fn the_legend_goes_where_the_data_is_not() {
+        let line = |pts: Vec<[f64; 2]>| Series {
+            name: "a".into(),
+            colour: palette::series(0),
+            mark: Mark::Line,
+            points: pts,
+            band: None,
+        };
+        // A rising line over a flat low one (scores against light): the top left is empty.
+        let p = Panel {
+            series: vec![
+                line(vec![[0.0, 1.0], [1.0, 1.5], [3.0, 3.0], [4.0, 4.0]]),
+                line(vec![[0.0, 0.0], [2.0, 0.0], [3.0, 0.0], [4.0, 0.0]]),
+            ],
+            ..Panel::default()
+        };
+        assert_eq!(p.quietest_corner(), Corner::LeftTop);
+        // Falling lines (an MTF): the bottom left or top right; the top right wins the tie.
+        let q = Panel {
+            series: vec![line(vec![[0.0, 4.0], [1.0, 3.0], [3.0, 1.0], [4.0, 0.0]])],
+            ..Panel::default()
+        };
+        assert_eq!(q.quietest_corner(), Corner::RightTop);
     }
 
     #[test]
