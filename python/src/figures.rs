@@ -7,7 +7,7 @@ use ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use udc_core::figure::{Annotation, Axis, Mark, Panel, Rgb};
+use udc_core::figure::{Annotation, Axis, ColorScale, Image, Mark, Panel, Rgb};
 
 fn axis<'py>(py: Python<'py>, a: &Axis) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -104,7 +104,106 @@ pub fn panel<'py>(py: Python<'py>, p: &Panel) -> PyResult<Bound<'py, PyDict>> {
         notes.append(e)?;
     }
     d.set_item("annotations", notes)?;
+    let images = PyList::empty(py);
+    for img in &p.images {
+        images.append(image(py, img)?)?;
+    }
+    d.set_item("images", images)?;
+    d.set_item("equal_aspect", p.equal_aspect)?;
+    d.set_item("legend_rows", &p.legend_rows)?;
     Ok(d)
+}
+
+/// One image as a dict: `name`, `unit`, `values` (rows × columns, row 0 at the top), `extent`
+/// `[left, right, bottom, top]` (matplotlib's `imshow` extent), `scale` (`kind` `linear` with
+/// `max`, or `log` with `reference` and `floor_decades`), `colormap` (matplotlib's name) and
+/// `rgb` (rows × columns × 3, `uint8`: the colours the studio and the files draw).
+fn image<'py>(py: Python<'py>, img: &Image) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", &img.name)?;
+    d.set_item("unit", &img.unit)?;
+    d.set_item("values", img.values.as_ref().clone().into_pyarray(py))?;
+    let (cx, cy, w, h) = (img.centre[0], img.centre[1], img.size[0], img.size[1]);
+    d.set_item(
+        "extent",
+        vec![cx - w / 2.0, cx + w / 2.0, cy - h / 2.0, cy + h / 2.0],
+    )?;
+    let scale = PyDict::new(py);
+    match img.scale {
+        ColorScale::Linear { max } => {
+            scale.set_item("kind", "linear")?;
+            scale.set_item("max", max)?;
+        }
+        ColorScale::Log {
+            reference,
+            floor_decades,
+        } => {
+            scale.set_item("kind", "log")?;
+            scale.set_item("reference", reference)?;
+            scale.set_item("floor_decades", floor_decades)?;
+        }
+    }
+    d.set_item("scale", scale)?;
+    d.set_item("colormap", img.colormap.name())?;
+    let (rows, cols) = img.values.dim();
+    let flat: Vec<u8> = img
+        .colours()
+        .into_iter()
+        .flat_map(|c| [c.0, c.1, c.2])
+        .collect();
+    let rgb = ndarray::Array3::from_shape_vec((rows, cols, 3), flat)
+        .unwrap_or_else(|_| ndarray::Array3::zeros((0, 0, 3)));
+    d.set_item("rgb", rgb.into_pyarray(py))?;
+    Ok(d)
+}
+
+/// The display workspace's figures of a design (its JSON text): for each channel its PSF,
+/// log-PSF (down to `floor_decades` below the peak) and 2-D MTF, then the RGB composite and
+/// the MTF curves, as the studio's views draw them (landmarks as `airy` and `orders` ask).
+#[pyfunction]
+#[pyo3(signature = (design_json, quality, floor_decades, airy, orders))]
+fn view_figures<'py>(
+    py: Python<'py>,
+    design_json: &str,
+    quality: &str,
+    floor_decades: f64,
+    airy: bool,
+    orders: bool,
+) -> PyResult<Bound<'py, PyList>> {
+    use udc_core::analysis::analyze::{AnalyzeOptions, analyze_with};
+    use udc_core::views::{
+        Landmarks, MtfFamilies, PsfScale, mtf_curves_panel, mtf2d_panel, psf_panel, rgb_panel,
+    };
+    if !(floor_decades.is_finite() && floor_decades > 0.0) {
+        return Err(crate::errors::value(format!(
+            "floor_decades: must be a finite number > 0 (got {floor_decades})"
+        )));
+    }
+    let design = crate::design::parse(design_json)?;
+    let options = AnalyzeOptions {
+        quality: crate::analysis::quality(quality)?,
+        expected_psf: false,
+    };
+    let a = crate::cancel::run(py, |progress| {
+        analyze_with(&design, &options, progress).map_err(|e| crate::errors::sim(&e))
+    })?;
+    let marks = Landmarks { airy, orders };
+    let list = PyList::empty(py);
+    for ch in &a.channels {
+        list.append(panel(
+            py,
+            &psf_panel(&design, &a, ch, PsfScale::Linear, marks),
+        )?)?;
+        let log = PsfScale::Log { floor_decades };
+        list.append(panel(py, &psf_panel(&design, &a, ch, log, marks))?)?;
+        list.append(panel(py, &mtf2d_panel(ch, floor_decades))?)?;
+    }
+    if let Some(rgb) = rgb_panel(&a, floor_decades) {
+        list.append(panel(py, &rgb)?)?;
+    }
+    let curves = mtf_curves_panel(&a, None, MtfFamilies::default(), Some(&design));
+    list.append(panel(py, &curves)?)?;
+    Ok(list)
 }
 
 /// The figures of a sweep's results folder: one panel per plot its spec asks for (or the
@@ -162,6 +261,7 @@ fn sensor_pitch_figures<'py>(
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep_figures, m)?)?;
+    m.add_function(wrap_pyfunction!(view_figures, m)?)?;
     m.add_function(wrap_pyfunction!(sensor_pitch_figures, m)?)?;
     Ok(())
 }

@@ -177,3 +177,35 @@ def test_none_and_false_leave_a_parameter_at_its_default():
         without_time(base)
     )
     assert without_time(udc.phase.psf(preview=np.True_, height_step_um=False)) == without_time(base)
+
+
+def test_view_figures_are_the_analysis_on_the_sensor_grid_with_its_landmarks():
+    design = "toled-150dpi"
+    a = udc.analyze(design, quality="preview")
+    figs = udc.view_figures(design, quality="preview", orders=True)
+    n = len(a.channels)
+    assert len(figs) == 3 * n + 2, "PSF, log-PSF and 2-D MTF a channel, RGB, MTF curves"
+    log_psf = figs[1]
+    img = log_psf["images"][0]
+    # The image is the analysis's PSF, row 0 at the top, on the sensor window.
+    np.testing.assert_array_equal(img["values"], a.psf[0])
+    rows, cols = img["values"].shape
+    left, right, bottom, top = img["extent"]
+    assert right - left == pytest.approx(cols * a.sensor_pixel_um)
+    assert top - bottom == pytest.approx(rows * a.sensor_pixel_um)
+    assert img["scale"]["kind"] == "log" and img["scale"]["floor_decades"] == 6.0
+    assert img["colormap"] == "inferno"
+    assert img["rgb"].shape == (rows, cols, 3) and img["rgb"].dtype == np.uint8
+    # The brightest colour is at the peak.
+    r, c = np.unravel_index(np.argmax(img["values"]), img["values"].shape)
+    assert img["rgb"][r, c].sum() == img["rgb"].sum(axis=2).max()
+    kinds = {note["kind"] for note in log_psf["annotations"]}
+    assert kinds == {"ring", "lattice"}
+    ring = next(note for note in log_psf["annotations"] if note["kind"] == "ring")
+    f_number = udc.Design.from_preset(design).optics["f_number"]
+    assert ring["radius"] == pytest.approx(1.22 * a.wavelength_nm[0] * 1e-3 * f_number)
+    curves = figs[-1]
+    assert curves["x"]["view"] == [0.0, 0.5]
+    assert len(curves["legend_rows"]) == n + 1
+    with pytest.raises(ValueError, match="floor_decades"):
+        udc.view_figures(design, floor_decades=-1)

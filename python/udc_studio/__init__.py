@@ -46,6 +46,7 @@ __all__ = [
     "sensor",
     "sweep",
     "sweep_figures",
+    "view_figures",
     "theory",
     "MtfComparison",
     "TheoryComparison",
@@ -466,6 +467,34 @@ def sweep_figures(out: PathLike) -> List[Dict[str, Any]]:
     of ``[x, low, high]`` or ``None``) and ``annotations``.
     """
     return list(_native.sweep_figures(os.fspath(out)))
+
+
+def view_figures(
+    design: Union[Design, str],
+    quality: str = "preview",
+    floor_decades: float = 6.0,
+    airy: bool = True,
+    orders: bool = False,
+) -> List[Dict[str, Any]]:
+    """The display workspace's figures of a design (or a preset name), as the studio draws its
+    views: for each channel its PSF, log-PSF (down to ``floor_decades`` below the peak) and
+    2-D MTF, then the RGB composite and the MTF curves. Each is a dict as
+    :func:`sweep_figures` gives, plus ``images``: ``name``, ``unit``, ``values`` (rows ×
+    columns, row 0 at the top), ``extent`` ``[left, right, bottom, top]`` for matplotlib's
+    ``imshow``, ``scale`` (``kind`` ``"linear"`` with ``max`` or ``"log"`` with ``reference``
+    and ``floor_decades``), ``colormap`` (matplotlib's name) and ``rgb`` (rows × columns × 3,
+    ``uint8``: the colours drawn). ``airy`` and ``orders`` add the Airy ring and the
+    diffraction orders to the PSFs' ``annotations``.
+    """
+    return list(
+        _native.view_figures(
+            _design(design).to_json(),
+            quality,
+            _number(floor_decades, "floor_decades"),
+            bool(airy),
+            bool(orders),
+        )
+    )
 
 
 def _read_table(path: str) -> Any:

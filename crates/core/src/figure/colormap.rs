@@ -83,6 +83,15 @@ impl Colormap {
         std::array::from_fn(|k| f32::from(a[k]) + (f32::from(b[k]) - f32::from(a[k])) * f)
     }
 
+    /// The map's name, as matplotlib names it (`inferno`, `viridis`, `gray`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Colormap::Inferno => "inferno",
+            Colormap::Viridis => "viridis",
+            Colormap::Gray => "gray",
+        }
+    }
+
     /// The map at `t` (clamped to `[0, 1]`), rounded to 8 bits a channel.
     pub fn at(self, t: f32) -> Rgb {
         let [r, g, b] = self.rgb(t).map(|c| c.round().clamp(0.0, 255.0) as u8);
