@@ -244,6 +244,19 @@ pub struct Series {
     pub band: Option<Vec<[f64; 3]>>,
 }
 
+impl Series {
+    /// A series without a band.
+    pub fn new(name: impl Into<String>, colour: Rgb, mark: Mark, points: Vec<[f64; 2]>) -> Self {
+        Series {
+            name: name.into(),
+            colour,
+            mark,
+            points,
+            band: None,
+        }
+    }
+}
+
 /// Something drawn over the data to read it by: a physics landmark or a marker.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Annotation {

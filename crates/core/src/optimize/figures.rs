@@ -3,17 +3,7 @@
 //! points at both ends.
 
 use super::{EpochReport, Scores};
-use crate::figure::{Axis, Mark, Panel, Rgb, Series, palette};
-
-fn series(name: &str, colour: Rgb, mark: Mark, points: Vec<[f64; 2]>) -> Series {
-    Series {
-        name: name.into(),
-        colour,
-        mark,
-        points,
-        band: None,
-    }
-}
+use crate::figure::{Axis, Mark, Panel, Series, palette};
 
 /// The losses of `history` against the epoch (1-based); `scores`, once the run has finished,
 /// adds L_inv of the start design at epoch 0 and of the result after the last epoch.
@@ -25,19 +15,19 @@ pub fn losses_panel(history: &[EpochReport], scores: Option<&Scores>) -> Panel {
             .collect()
     };
     let mut out = vec![
-        series(
+        Series::new(
             "L_inv",
             palette::series(0),
             Mark::Line,
             pts(&|r| r.loss_inv),
         ),
-        series(
+        Series::new(
             "grey-mask mean",
             palette::REFERENCE,
             Mark::Line,
             pts(&|r| r.open_fraction),
         ),
-        series(
+        Series::new(
             "area target",
             palette::series(4),
             Mark::Line,
@@ -45,7 +35,7 @@ pub fn losses_panel(history: &[EpochReport], scores: Option<&Scores>) -> Panel {
         ),
     ];
     if history.iter().any(|r| r.loss_data.is_some()) {
-        out.push(series(
+        out.push(Series::new(
             "L_data",
             palette::series(3),
             Mark::Line,
@@ -54,14 +44,14 @@ pub fn losses_panel(history: &[EpochReport], scores: Option<&Scores>) -> Panel {
     }
     if let Some(s) = scores {
         if let Some(start) = s.start {
-            out.push(series(
+            out.push(Series::new(
                 "L_inv of the start design",
                 palette::series(1),
                 Mark::Points,
                 vec![[0.0, start.loss_inv]],
             ));
         }
-        out.push(series(
+        out.push(Series::new(
             "L_inv of the result",
             palette::series(2),
             Mark::Points,

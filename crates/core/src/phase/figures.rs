@@ -24,17 +24,6 @@ fn channel_colour(i: usize) -> Rgb {
         .unwrap_or_else(|| palette::series(i))
 }
 
-/// A series `name` through `ys`, against x.
-fn series(name: String, colour: Rgb, mark: Mark, points: Vec<[f64; 2]>) -> Series {
-    Series {
-        name,
-        colour,
-        mark,
-        points,
-        band: None,
-    }
-}
-
 /// Channel `index`'s PSF (`ours`: "double MLA" or "single mask") and the bare T-OLED's against
 /// the sensor pixel from the axis, within `half_width_px` of it; as shares of the light, or
 /// their log10 (floored at [`LOG_FLOOR`]) when `log`.
@@ -53,14 +42,9 @@ pub fn psf_panel(c: &ChannelPsf, index: usize, ours: &str, half_width_px: i64, l
         x: Axis::new("sensor pixel from the axis", None),
         y: Axis::new(if log { "log10 share" } else { "energy share" }, None),
         series: vec![
-            series(
-                ours.into(),
-                channel_colour(index),
-                Mark::Line,
-                points(&c.psf),
-            ),
-            series(
-                "T-OLED".into(),
+            Series::new(ours, channel_colour(index), Mark::Line, points(&c.psf)),
+            Series::new(
+                "T-OLED",
                 palette::REFERENCE,
                 Mark::DashedLine,
                 points(&c.toled_psf),
@@ -87,13 +71,13 @@ pub fn mtf_panel(psfs: &PhasePsfs, ours: &str) -> Panel {
         .enumerate()
         .flat_map(|(i, c)| {
             [
-                series(
+                Series::new(
                     format!("{} {ours}", c.name),
                     channel_colour(i),
                     Mark::Line,
                     points(&c.mtf),
                 ),
-                series(
+                Series::new(
                     format!("{} T-OLED", c.name),
                     channel_colour(i),
                     Mark::DashedLine,
@@ -148,14 +132,14 @@ pub fn profile_panel(
         x: Axis::new("x from the axis", Some("µm")),
         y: Axis::new("height", Some("µm")),
         series: vec![
-            series(
-                "folded plate".into(),
+            Series::new(
+                "folded plate",
                 palette::series(0),
                 Mark::Line,
                 profile(Surface::Folded)?,
             ),
-            series(
-                "unfolded lens".into(),
+            Series::new(
+                "unfolded lens",
                 palette::REFERENCE,
                 Mark::DashedLine,
                 profile(Surface::Unfolded)?,
@@ -215,8 +199,8 @@ pub fn allocation_panel(counts: &[usize]) -> Panel {
         .iter()
         .zip(counts)
         .map(|(nm, c)| {
-            series(
-                "lenslets per λ0".into(),
+            Series::new(
+                "lenslets per λ0",
                 palette::wavelength(*nm),
                 Mark::Bars,
                 vec![[*nm, *c as f64]],
@@ -320,7 +304,7 @@ pub fn compare_panel(
                 .filter(|r| &r.setup == s)
                 .map(|r| [r.photons.log10(), metric.of(r)])
                 .collect();
-            series(s.label(), palette::series(i), Mark::LineAndPoints, pts)
+            Series::new(s.label(), palette::series(i), Mark::LineAndPoints, pts)
         })
         .filter(|s| !s.points.is_empty())
         .collect();

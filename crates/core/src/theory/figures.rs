@@ -22,16 +22,6 @@ pub fn profile_extent_um(theory: Theory, lf_um2: f64) -> Option<f64> {
     }
 }
 
-fn series(name: String, colour: Rgb, mark: Mark, points: Vec<[f64; 2]>) -> Series {
-    Series {
-        name,
-        colour,
-        mark,
-        points,
-        band: None,
-    }
-}
-
 /// Channel `name`'s simulated profile (in `colour`) over the closed form (dashed, or hollow
 /// markers at the orders), against the position on the sensor; the profile in decades
 /// (floored at [`LOG_FLOOR`]) when `log`. `lf_um2`: the channel's `λ f` in µm².
@@ -65,13 +55,8 @@ pub fn profile_panel(
         x,
         y,
         series: vec![
-            series(format!("{name} simulated"), colour, ours, pts(&c.simulated)),
-            series(
-                "theory".into(),
-                palette::REFERENCE,
-                theirs,
-                pts(&c.predicted),
-            ),
+            Series::new(format!("{name} simulated"), colour, ours, pts(&c.simulated)),
+            Series::new("theory", palette::REFERENCE, theirs, pts(&c.predicted)),
         ],
         ..Panel::default()
     }
@@ -100,14 +85,14 @@ pub fn mtf_panel(c: &TheoryComparison, name: &str, colour: Rgb) -> Option<Panel>
         x: Axis::new("spatial frequency along x", Some("cycles/pixel")).with_view(0.0, last),
         y: Axis::new("MTF", None).with_view(0.0, 1.05),
         series: vec![
-            series(
+            Series::new(
                 format!("{name} simulated"),
                 colour,
                 Mark::Line,
                 pts(&m.simulated),
             ),
-            series(
-                "theory".into(),
+            Series::new(
+                "theory",
                 palette::REFERENCE,
                 Mark::DashedLine,
                 pts(&m.predicted),
