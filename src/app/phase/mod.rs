@@ -121,6 +121,17 @@ pub struct PhaseWorkspace {
     panels: panels::Panels,
     /// The UI's context, kept from the last frame: the jobs an action starts wake it.
     egui_ctx: egui::Context,
+    /// What the panels read about the jobs' results, worked out once a frame in `poll`
+    /// (three panels draw from it; the capture's key resolves a setup).
+    facts: Facts,
+}
+
+/// Derived flags the panels read, worked out once a frame.
+#[derive(Default, Clone, Copy)]
+struct Facts {
+    can_apply: bool,
+    kernels_stale: bool,
+    capture_current: bool,
 }
 
 /// What a panel may look at, and where it sends what it wants done. The design and the run
@@ -212,6 +223,7 @@ impl PhaseWorkspace {
             actions: Vec::new(),
             panels: panels::Panels::default(),
             egui_ctx: egui::Context::default(),
+            facts: Facts::default(),
         }
     }
 
@@ -244,16 +256,16 @@ impl PhaseWorkspace {
             choices,
             can_undo: self.history.can_undo(),
             can_redo: self.history.can_redo(),
-            can_apply: self.can_apply(),
+            can_apply: self.facts.can_apply,
             selected_lenslet: self.selected_lenslet,
             message: self.message.as_ref(),
             psf: &self.psf,
             optimizer: &self.optimizer,
             response: &self.response,
             kernels: &self.kernels,
-            kernels_stale: self.kernels_are_stale(),
+            kernels_stale: self.facts.kernels_stale,
             capture: &self.capture,
-            capture_current: self.capture_is_current(),
+            capture_current: self.facts.capture_current,
             export: &mut self.export,
             compare: &mut self.compare,
             actions: &mut self.actions,
@@ -457,10 +469,17 @@ impl PhaseWorkspace {
         self.poll_kernels(ctx);
         self.poll_capture(ctx);
         self.poll_compare(ctx);
-        if self.view() == PhaseView::Capture {
+        let capturing = self.view() == PhaseView::Capture;
+        if capturing {
             // Captures run while their view is shown, for its current inputs.
             self.capture_tick(ctx);
         }
+        self.facts = Facts {
+            can_apply: self.can_apply(),
+            kernels_stale: self.kernels_are_stale(),
+            // Only the capture view reads it; its key resolves the bare T-OLED's setup.
+            capture_current: capturing && self.capture_is_current(),
+        };
         let idle = !ctx.input(|i| i.pointer.any_down()) && !ctx.egui_wants_keyboard_input();
         if idle {
             self.history.commit();

@@ -523,12 +523,31 @@ fn upload(ctx: &egui::Context, name: String, img: &Image) -> TextureHandle {
     )
 }
 
+/// A figure as a view draws it: the panel, its images' textures in order, and the view it
+/// opens on (worked out once, with the textures, not every frame).
+#[derive(Clone)]
+pub struct Shown {
+    /// The panel.
+    pub panel: Arc<Panel>,
+    /// Its images' textures, in order.
+    pub textures: Vec<TextureId>,
+    /// Half-width of the square it opens on: where its first image is lit ([`lit_view_half`]).
+    pub view_half: Option<f64>,
+}
+
 /// Figure panels built once per key, their images uploaded as textures: a view asks for its
 /// slot's panel every frame and gets the built one back until its key changes.
 pub struct FigureCache<S, K> {
-    slots: HashMap<S, (K, Arc<Panel>, Vec<TextureHandle>)>,
+    slots: HashMap<S, (K, Built)>,
     /// Panels built so far (lets tests prove nothing is rebuilt per frame).
     builds: u64,
+}
+
+/// A slot's built figure: the panel, its uploaded textures and the view it opens on.
+struct Built {
+    panel: Arc<Panel>,
+    textures: Vec<TextureHandle>,
+    view_half: Option<f64>,
 }
 
 impl<S, K> Default for FigureCache<S, K> {
@@ -541,7 +560,7 @@ impl<S, K> Default for FigureCache<S, K> {
 }
 
 impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
-    /// The panel of `slot` for `key` and its images' textures: `build` runs (and the images
+    /// The panel of `slot` for `key` with its images' textures: `build` runs (and the images
     /// are uploaded) only when the slot is empty or holds another key.
     pub fn get(
         &mut self,
@@ -549,20 +568,31 @@ impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
         slot: S,
         key: K,
         build: impl FnOnce() -> Panel,
-    ) -> (Arc<Panel>, Vec<TextureId>) {
-        let fresh = !matches!(self.slots.get(&slot), Some((k, _, _)) if *k == key);
+    ) -> Shown {
+        let fresh = !matches!(self.slots.get(&slot), Some((k, ..)) if *k == key);
         if fresh {
             self.builds += 1;
             let panel = Arc::new(build());
             let textures = panel_textures(ctx, &format!("figure/{slot:?}"), &panel);
-            self.slots.insert(slot, (key, panel, textures));
+            let view_half = lit_view_half(&panel);
+            let built = Built {
+                panel,
+                textures,
+                view_half,
+            };
+            self.slots.insert(slot, (key, built));
         }
         match self.slots.get(&slot) {
-            Some((_, panel, textures)) => (
-                panel.clone(),
-                textures.iter().map(TextureHandle::id).collect(),
-            ),
-            None => (Arc::new(Panel::default()), Vec::new()),
+            Some((_, b)) => Shown {
+                panel: b.panel.clone(),
+                textures: b.textures.iter().map(TextureHandle::id).collect(),
+                view_half: b.view_half,
+            },
+            None => Shown {
+                panel: Arc::new(Panel::default()),
+                textures: Vec::new(),
+                view_half: None,
+            },
         }
     }
 

@@ -130,7 +130,7 @@ impl TilingPanel {
             ui.spinner();
             return;
         };
-        let (panel, textures) = self.figure.get(ui.ctx(), (), p.generation, || {
+        let figure = self.figure.get(ui.ctx(), (), p.generation, || {
             let values = ndarray::Array2::from_shape_fn((p.side, p.side), |(r, c)| {
                 f64::from(p.values.get(r * p.side + c).copied().unwrap_or(0.0))
             });
@@ -145,11 +145,19 @@ impl TilingPanel {
             link: None,
             view_half: None,
         };
-        ui.scope(|ui| image_panel_ui(ui, "display-preview", &panel, &textures, frame))
-            .response
-            .on_hover_text(
-                "The tiled display over the lens pupil (orange); Ctrl + scroll to zoom, drag or \
+        ui.scope(|ui| {
+            image_panel_ui(
+                ui,
+                "display-preview",
+                &figure.panel,
+                &figure.textures,
+                frame,
+            )
+        })
+        .response
+        .on_hover_text(
+            "The tiled display over the lens pupil (orange); Ctrl + scroll to zoom, drag or \
                  scroll to pan, double-click to reset",
-            );
+        );
     }
 }

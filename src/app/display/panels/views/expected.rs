@@ -7,7 +7,7 @@ use super::ViewsPanel;
 use super::plots::image_layout;
 use super::textures::Slot;
 use crate::app::display::panels::Shown;
-use crate::app::widgets::figure::{ImageFrame, colour_bar_ui, image_panel_ui, lit_view_half};
+use crate::app::widgets::figure::{ImageFrame, colour_bar_ui, image_panel_ui};
 use crate::core::analysis::analyze::ChannelAnalysis;
 use crate::core::views::expected_panels;
 
@@ -53,7 +53,7 @@ impl ViewsPanel {
         let layout = image_layout(ui, 2);
         let size = layout.size;
         // The axes are linked, so both open on the larger of the two lit areas.
-        let half = match (lit_view_half(&real.0), lit_view_half(&mean.0)) {
+        let half = match (real.view_half, mean.view_half) {
             (Some(a), Some(b)) => Some(a.max(b)),
             (a, b) => a.or(b),
         };
@@ -63,7 +63,8 @@ impl ViewsPanel {
             ("views_expected_mean", &mean),
         ];
         let plots_ui = |ui: &mut Ui| {
-            for (id, (panel, textures)) in &plots {
+            for (id, figure) in &plots {
+                let (panel, textures) = (&figure.panel, &figure.textures);
                 ui.vertical(|ui| {
                     ui.label(&panel.title);
                     let frame = ImageFrame {
@@ -81,7 +82,7 @@ impl ViewsPanel {
             } else {
                 ui.horizontal(plots_ui).response.rect.height()
             };
-            if let Some(img) = real.0.images.first() {
+            if let Some(img) = real.panel.images.first() {
                 colour_bar_ui(ui, height, img);
             }
         });

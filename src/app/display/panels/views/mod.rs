@@ -328,11 +328,11 @@ impl ViewsPanel {
             (Slot::Psf, PsfScale::Linear, 0.0)
         };
         let key = self.key(shown, self.channel, floor, marks);
-        let (panel, textures) = self.textures.get(ui.ctx(), slot, key, || {
+        let figure = self.textures.get(ui.ctx(), slot, key, || {
             psf_panel(&shown.design, &shown.analysis, ch, scale, marks)
         });
         let id = if log { "views_log_psf" } else { "views_psf" };
-        image_with_colour_bar_ui(ui, id, &panel, &textures);
+        image_with_colour_bar_ui(ui, id, &figure);
     }
 
     fn rgb_ui(&mut self, ui: &mut Ui, shown: &Shown) {
@@ -355,22 +355,22 @@ impl ViewsPanel {
         ));
         let none = self.landmarks(false);
         let key = self.key(shown, 0, floor, none);
-        let (panel, textures) = self.textures.get(ui.ctx(), Slot::Rgb, key, || {
+        let figure = self.textures.get(ui.ctx(), Slot::Rgb, key, || {
             rgb_panel(&shown.analysis, floor).unwrap_or_default()
         });
-        if panel.images.is_empty() {
+        if figure.panel.images.is_empty() {
             return;
         }
-        image_with_colour_bar_ui(ui, "views_rgb", &panel, &textures);
+        image_with_colour_bar_ui(ui, "views_rgb", &figure);
     }
 
     fn mtf2d_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis) {
         let floor = self.mtf_floor_decades;
         let key = self.key(shown, self.channel, floor, self.landmarks(false));
-        let (panel, textures) = self
+        let figure = self
             .textures
             .get(ui.ctx(), Slot::Mtf2d, key, || mtf2d_panel(ch, floor));
-        image_with_colour_bar_ui(ui, "views_mtf2d", &panel, &textures);
+        image_with_colour_bar_ui(ui, "views_mtf2d", &figure);
     }
 
     fn mtf_plots_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &PanelCtx) {

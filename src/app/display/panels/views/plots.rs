@@ -1,15 +1,13 @@
 //! Plot widgets of the result views: an image figure beside its colour bar, how image plots
 //! share the space, and the MTF line plot.
 
-use egui::{TextureId, Ui, vec2};
+use egui::{Ui, vec2};
 
 use crate::app::widgets::figure::{
-    COLORBAR_WIDTH, ImageFrame, PlotFrame, colour_bar_ui, image_panel_ui, lit_view_half,
-    panel_ui_in,
+    COLORBAR_WIDTH, ImageFrame, PlotFrame, Shown, colour_bar_ui, image_panel_ui, panel_ui_in,
 };
 use crate::app::widgets::plot::visible_width;
 use crate::core::Analysis;
-use crate::core::figure::Panel;
 use crate::core::views::mtf_curves_panel;
 
 pub use crate::core::views::MtfFamilies;
@@ -75,18 +73,14 @@ pub(super) fn image_layout(ui: &Ui, count: usize) -> ImageLayout {
 
 /// An image panel beside its colour bar, laid out as the largest square that fits, opening on
 /// where the light is.
-pub(super) fn image_with_colour_bar_ui(
-    ui: &mut Ui,
-    id: &str,
-    panel: &Panel,
-    textures: &[TextureId],
-) {
+pub(super) fn image_with_colour_bar_ui(ui: &mut Ui, id: &str, shown: &Shown) {
+    let (panel, textures) = (&shown.panel, &shown.textures);
     let size = image_layout(ui, 1).size;
     ui.horizontal(|ui| {
         let frame = ImageFrame {
             size,
             link: None,
-            view_half: lit_view_half(panel),
+            view_half: shown.view_half,
         };
         image_panel_ui(ui, id, panel, textures, frame);
         if let Some(img) = panel.images.first() {

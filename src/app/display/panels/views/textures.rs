@@ -56,9 +56,9 @@ mod tests {
             title: "p".into(),
             ..Panel::default()
         };
-        let (a, _) = t.get(&ctx, Slot::LogPsf, key(1, 6.0), panel);
+        let a = t.get(&ctx, Slot::LogPsf, key(1, 6.0), panel).panel;
         for _ in 0..10 {
-            let (again, _) = t.get(&ctx, Slot::LogPsf, key(1, 6.0), panel);
+            let again = t.get(&ctx, Slot::LogPsf, key(1, 6.0), panel).panel;
             assert!(std::sync::Arc::ptr_eq(&a, &again));
         }
         assert_eq!(t.builds(), 1);
