@@ -7,7 +7,7 @@ use ndarray::Array2;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use udc_core::figure::{Annotation, Axis, ColorScale, Image, Mark, Panel, Rgb};
+use udc_core::figure::{Annotation, Axis, ColorScale, Image, Mark, Paint, Panel, Rgb};
 
 fn axis<'py>(py: Python<'py>, a: &Axis) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -116,8 +116,10 @@ pub fn panel<'py>(py: Python<'py>, p: &Panel) -> PyResult<Bound<'py, PyDict>> {
 
 /// One image as a dict: `name`, `unit`, `values` (rows × columns, row 0 at the top), `extent`
 /// `[left, right, bottom, top]` (matplotlib's `imshow` extent), `scale` (`kind` `linear` with
-/// `max`, or `log` with `reference` and `floor_decades`), `colormap` (matplotlib's name) and
-/// `rgb` (rows × columns × 3, `uint8`: the colours the studio and the files draw).
+/// `max`, `log` with `reference` and `floor_decades`, or `log-range` with `low` and `high`),
+/// `colormap` (matplotlib's name), `paint` (`mapped`, `composite`, `display` or `categories`,
+/// then with `categories`: `value`, `label`, `rgb` each) and `rgb` (rows × columns × 3,
+/// `uint8`: the colours the studio and the files draw).
 fn image<'py>(py: Python<'py>, img: &Image) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
     d.set_item("name", &img.name)?;
@@ -142,9 +144,32 @@ fn image<'py>(py: Python<'py>, img: &Image) -> PyResult<Bound<'py, PyDict>> {
             scale.set_item("reference", reference)?;
             scale.set_item("floor_decades", floor_decades)?;
         }
+        ColorScale::LogRange { low, high } => {
+            scale.set_item("kind", "log-range")?;
+            scale.set_item("low", low)?;
+            scale.set_item("high", high)?;
+        }
     }
     d.set_item("scale", scale)?;
     d.set_item("colormap", img.colormap.name())?;
+    let paint = match &img.paint {
+        Paint::Mapped => "mapped",
+        Paint::Composite(_) => "composite",
+        Paint::Display(_) => "display",
+        Paint::Categories(_) => "categories",
+    };
+    d.set_item("paint", paint)?;
+    if let Paint::Categories(cats) = &img.paint {
+        let list = PyList::empty(py);
+        for c in cats {
+            let entry = PyDict::new(py);
+            entry.set_item("value", c.value)?;
+            entry.set_item("label", &c.label)?;
+            entry.set_item("rgb", (c.colour.0, c.colour.1, c.colour.2))?;
+            list.append(entry)?;
+        }
+        d.set_item("categories", list)?;
+    }
     let (rows, cols) = img.values.dim();
     let flat: Vec<u8> = img
         .colours()

@@ -195,6 +195,7 @@ def test_view_figures_are_the_analysis_on_the_sensor_grid_with_its_landmarks():
     assert top - bottom == pytest.approx(rows * a.sensor_pixel_um)
     assert img["scale"]["kind"] == "log" and img["scale"]["floor_decades"] == 6.0
     assert img["colormap"] == "inferno"
+    assert img["paint"] == "mapped" and "categories" not in img
     assert img["rgb"].shape == (rows, cols, 3) and img["rgb"].dtype == np.uint8
     # The brightest colour is at the peak.
     r, c = np.unravel_index(np.argmax(img["values"]), img["values"].shape)

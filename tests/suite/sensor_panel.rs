@@ -70,8 +70,38 @@ fn an_hdr_scene_runs_the_four_strategies_and_reruns_on_a_change() {
         h.state_mut().sensor_mut().show(view);
         h.step();
         h.step();
-        assert!(h.query_by_label_contains(label).is_some(), "{label}");
+        assert!(
+            h.query_all_by_label_contains(label).next().is_some(),
+            "{label}"
+        );
     }
+    // The maps are figures: each picture is found by its title, with its colour bar's or key's
+    // words beside it, and built once, not every frame.
+    for title in [
+        "Scene (ground truth, tone-mapped)",
+        "Gain map: ",
+        "Saturated: ",
+    ] {
+        assert!(
+            h.query_all_by_label_contains(title).next().is_some(),
+            "{title}"
+        );
+    }
+    for key in ["1×1", "8×8", "yes"] {
+        assert!(
+            h.query_all_by_label_contains(key).next().is_some(),
+            "the key {key}"
+        );
+    }
+    let built = h.state().sensor().figure_builds();
+    for _ in 0..3 {
+        h.step();
+    }
+    assert_eq!(
+        h.state().sensor().figure_builds(),
+        built,
+        "no rebuild per frame"
+    );
 }
 
 #[test]

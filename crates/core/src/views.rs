@@ -12,7 +12,7 @@ use ndarray::Array2;
 use crate::analysis::analyze::{Analysis, ChannelAnalysis};
 use crate::design::Design;
 use crate::figure::palette::rgb_role;
-use crate::figure::{Annotation, Axis, ColorScale, Colormap, Image, Panel, peak};
+use crate::figure::{Annotation, Axis, ColorScale, Colormap, Image, Paint, Panel, peak};
 use crate::theory::landmarks::{airy_radius_um, order_lattice, order_spacing_um};
 
 /// The most diffraction orders marked each way from the zero order: a tiny spacing must not
@@ -81,7 +81,7 @@ pub fn centred_image(
         values,
         scale,
         colormap,
-        planes: None,
+        paint: Paint::Mapped,
     }
 }
 
@@ -210,7 +210,7 @@ pub fn rgb_panel(analysis: &Analysis, floor_decades: f64) -> Option<Panel> {
         // Each plane runs from black (its floor) to full (its own peak).
         Colormap::Gray,
     );
-    image.planes = Some(planes);
+    image.paint = Paint::Composite(planes);
     let (x, y) = sensor_axes();
     Some(Panel {
         title: "RGB composite of the PSFs".into(),

@@ -10,7 +10,8 @@ use plotters::prelude::*;
 
 use crate::error::{IoError, PlotError};
 use udc_core::figure::{
-    Annotation, ColorScale, Corner, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
+    Annotation, ColorScale, Corner, Image, Mark, Paint, Panel, RING_SEGMENTS, Rgb, circle_points,
+    palette,
 };
 
 /// The most cells an image is drawn with per side: a 1024² PSF as 1 M rectangles would make a
@@ -307,12 +308,12 @@ fn cells(img: &Image) -> Vec<Rectangle<(f64, f64)>> {
         img.size[0] / nc.max(1) as f64,
         img.size[1] / nr.max(1) as f64,
     );
+    let colours = img.colours();
     let mut out = Vec::with_capacity(nr * nc);
     for i in 0..nr {
         for j in 0..nc {
             let (r, c) = (i * rows / nr, j * cols / nc);
-            let v = img.values[[r, c]];
-            let rgb = colour(img.colormap.at(img.scale.unit(v)));
+            let rgb = colour(colours.get(r * cols + c).copied().unwrap_or(Rgb(0, 0, 0)));
             let (xl, yt) = (x0 + j as f64 * w, y1 - i as f64 * h);
             out.push(Rectangle::new([(xl, yt), (xl + w, yt - h)], rgb.filled()));
         }
@@ -320,11 +321,32 @@ fn cells(img: &Image) -> Vec<Rectangle<(f64, f64)>> {
     out
 }
 
-/// The image's colour bar: the map bottom to top, its ticks, and the value's name and unit.
+/// The image's colour bar (the map bottom to top, its ticks, and the value's name and unit),
+/// or its categories' key; nothing for a picture drawn as it is seen.
 fn colour_bar<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     img: &Image,
 ) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    let style = ("sans-serif", 14).into_font().color(&BLACK);
+    if let Paint::Categories(cats) = &img.paint {
+        area.draw(&Text::new(img.name.clone(), (4, 20), style.clone()))?;
+        for (k, cat) in cats.iter().enumerate() {
+            let y = 48 + 24 * k as i32;
+            area.draw(&Rectangle::new(
+                [(8, y), (24, y + 16)],
+                colour(cat.colour).filled(),
+            ))?;
+            area.draw(&Rectangle::new(
+                [(8, y), (24, y + 16)],
+                BLACK.stroke_width(1),
+            ))?;
+            area.draw(&Text::new(cat.label.clone(), (30, y), style.clone()))?;
+        }
+        return Ok(());
+    }
+    if !img.paint.has_colour_bar() {
+        return Ok(());
+    }
     let (_, h) = area.dim_in_pixel();
     let (top, bottom) = (48i32, h as i32 - 64);
     let span = f64::from((bottom - top).max(1));
@@ -340,35 +362,26 @@ fn colour_bar<DB: DrawingBackend>(
         [(8, top), (28, bottom)],
         BLACK.stroke_width(1),
     ))?;
-    let style = ("sans-serif", 14).into_font().color(&BLACK);
-    for (t, v) in img.scale.ticks() {
+    for (t, label) in img.scale.tick_labels() {
         let y = bottom - (f64::from(t) * span) as i32;
         area.draw(&PathElement::new(
             vec![(28, y), (33, y)],
             BLACK.stroke_width(1),
         ))?;
-        area.draw(&Text::new(short_number(v), (38, y - 7), style.clone()))?;
+        area.draw(&Text::new(label, (38, y - 7), style.clone()))?;
     }
-    let title = match (&img.unit, img.scale) {
-        (Some(u), ColorScale::Log { .. }) => format!("{} ({u}, log)", img.name),
-        (Some(u), ColorScale::Linear { .. }) => format!("{} ({u})", img.name),
-        (None, ColorScale::Log { .. }) => format!("{} (log)", img.name),
-        (None, ColorScale::Linear { .. }) => img.name.clone(),
+    let log = matches!(
+        img.scale,
+        ColorScale::Log { .. } | ColorScale::LogRange { .. }
+    );
+    let title = match (&img.unit, log) {
+        (Some(u), true) => format!("{} ({u}, log)", img.name),
+        (Some(u), false) => format!("{} ({u})", img.name),
+        (None, true) => format!("{} (log)", img.name),
+        (None, false) => img.name.clone(),
     };
     area.draw(&Text::new(title, (4, top - 28), style))?;
     Ok(())
-}
-
-/// A tick value in a few characters: fixed for moderate magnitudes, scientific otherwise.
-fn short_number(v: f64) -> String {
-    let a = v.abs();
-    if v == 0.0 {
-        "0".into()
-    } else if (0.01..1000.0).contains(&a) {
-        format!("{}", (v * 1000.0).round() / 1000.0)
-    } else {
-        format!("{v:.0e}")
-    }
 }
 
 /// The panel's annotations over its data, in the annotation colour.
@@ -494,7 +507,7 @@ mod tests {
                     floor_decades: 4.0,
                 },
                 colormap: udc_core::figure::Colormap::Inferno,
-                planes: None,
+                paint: udc_core::figure::Paint::Mapped,
             }],
             equal_aspect: true,
             ..Panel::default()

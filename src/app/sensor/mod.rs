@@ -7,7 +7,6 @@
 mod action;
 mod colour;
 mod gain_panel;
-mod images;
 mod numbers;
 mod panels;
 pub mod study_view;
@@ -41,7 +40,7 @@ pub struct LoadedScene {
     pub preview: Scene,
 }
 
-/// A finished run on screen, with its uploaded images.
+/// A finished run on screen.
 pub struct ShownRun {
     /// Generation of the settings it was computed for (older than the newest: stale).
     pub generation: u64,
@@ -49,7 +48,6 @@ pub struct ShownRun {
     pub quality: Quality,
     /// Every strategy's capture, maps and scores, with the ground truth.
     pub run: Arc<SensorRun>,
-    textures: images::RunTextures,
 }
 
 /// What a sensor run was started for: the generation of the scene and settings, and the quality.
@@ -205,6 +203,11 @@ impl SensorWorkspace {
     /// Shows `view` in the centre ([`SensorAction::Show`]).
     pub fn show(&mut self, view: SensorView) {
         self.act(SensorAction::Show(view));
+    }
+
+    /// Pictures of runs built so far (each a figure built once, then drawn from the cache).
+    pub fn figure_builds(&self) -> u64 {
+        self.panels.views.figure_builds()
     }
 
     /// The panels and what they may look at, borrowed apart so that a panel draws from the
@@ -398,14 +401,12 @@ impl SensorWorkspace {
         if let Some((job, done)) = self.job.poll() {
             match done {
                 Ok(run) if job.generation == self.generation => {
-                    let textures = images::RunTextures::new(ctx, &run, job.generation);
                     self.shown = Some(ShownRun {
                         generation: job.generation,
                         quality: job.quality,
                         run: Arc::new(run),
-                        textures,
                     });
-                    self.panels.views.forget_split();
+                    self.panels.views.forget_figures();
                     if self.message.as_ref().is_some_and(Notice::is_error) {
                         self.message = None;
                     }

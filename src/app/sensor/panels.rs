@@ -1,80 +1,64 @@
 //! The sensor workspace's three panels: controls (left), pictures and plots (centre), numbers
 //! (right).
 
-use egui::{Color32, Id, TextureHandle, Ui, vec2};
-use egui_plot::{HLine, Plot, PlotImage, PlotPoint, VLine};
-use ndarray::Array2;
+use egui::{Id, Ui, vec2};
 
-use super::images::{BIN_COLORS, gain_color, split_image};
 use super::{CompareMode, ExposureKind, SensorAction, SensorCtx, SensorView, TextureKey};
-use crate::core::sensor::Exposure;
-
 use crate::app::history::Snapshot;
-use crate::core::sensor::{BIN_SIZES, BinMode, SensorSpec, figures};
+use crate::app::widgets::figure::{
+    COLORBAR_WIDTH, FigureCache, ImageFrame, Shown, colour_bar_ui, image_panel_ui,
+};
+use crate::core::figure::Annotation;
+use crate::core::sensor::{BinMode, Exposure, SensorSpec, figures, maps};
 
-/// A zoomable picture in pixel coordinates (x right, y up with row 0 at the top), a hover
-/// readout of `values`, and the ROI grid.
-#[allow(clippy::too_many_arguments)]
-fn picture<T: Copy + Into<f64>>(
-    ui: &mut Ui,
-    id: &str,
-    texture: &TextureHandle,
-    values: &Array2<T>,
-    value_name: &str,
-    roi_px: Option<usize>,
-    link: Id,
-    size: egui::Vec2,
-) {
-    let (h, w) = values.dim();
-    let readout = move |pos: &egui_plot::HoverPosition<'_>| {
-        let at = match pos {
-            egui_plot::HoverPosition::NearDataPoint { position, .. }
-            | egui_plot::HoverPosition::Elsewhere { position } => *position,
-        };
-        let (col, row) = (at.x.floor(), (h as f64 - at.y).floor());
-        if col < 0.0 || row < 0.0 || col >= w as f64 || row >= h as f64 {
-            return None;
-        }
-        let v: f64 = values[[row as usize, col as usize]].into();
-        Some(format!("row {row}, col {col}\n{value_name} = {v:.4}"))
-    };
-    Plot::new(id)
-        .data_aspect(1.0)
-        .width(size.x)
-        .height(size.y)
-        .show_axes([false, false])
-        .show_grid(false)
-        .show_crosshair(false)
-        .link_axis(link, true)
-        .link_cursor(link, true)
-        .label_formatter(readout)
-        .show(ui, |p| {
-            p.image(PlotImage::new(
-                "",
-                texture.id(),
-                PlotPoint::new(w as f64 / 2.0, h as f64 / 2.0),
-                vec2(w as f32, h as f32),
-            ));
-            if let Some(roi) = roi_px.filter(|r| *r > 0) {
-                let stroke = Color32::from_rgba_unmultiplied(0, 255, 255, 90);
-                for x in (roi..w).step_by(roi) {
-                    p.vline(VLine::new("", x as f64).color(stroke).allow_hover(false));
-                }
-                for y in (roi..h).step_by(roi) {
-                    p.hline(
-                        HLine::new("", (h - y) as f64)
-                            .color(stroke)
-                            .allow_hover(false),
-                    );
-                }
-            }
-        });
+/// Which picture of a run a figure slot holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum MapSlot {
+    Scene,
+    Capture,
+    Gain,
+    Bins,
+    Saturated,
+    CompareA,
+    CompareB,
+    Split,
 }
 
-/// A small filled square of `color` (a legend key; the bundled fonts have no block glyph).
-fn swatch(ui: &mut Ui, color: Color32) {
-    let (rect, _) = ui.allocate_exact_size(vec2(12.0, 12.0), egui::Sense::hover());
-    ui.painter().rect_filled(rect, 2.0, color);
+/// A picture with its title above and its colour bar (or key) beside it, the ROI grid over it
+/// when asked.
+fn picture_ui(ui: &mut Ui, id: MapSlot, shown: &Shown, grid: &[Annotation], frame: ImageFrame) {
+    ui.vertical(|ui| {
+        ui.label(&shown.panel.title);
+        ui.horizontal(|ui| {
+            let with_grid;
+            let panel = if grid.is_empty() {
+                shown.panel.as_ref()
+            } else {
+                let mut p = (*shown.panel).clone();
+                p.annotations.extend_from_slice(grid);
+                with_grid = p;
+                &with_grid
+            };
+            image_panel_ui(ui, ("sensor", id), panel, &shown.textures, frame);
+            if let Some(img) = panel.images.first() {
+                colour_bar_ui(ui, frame.size.y, img);
+            }
+        });
+    });
+}
+
+/// The frame of a picture `width` points wide (colour bar included) of a `rows × cols` run,
+/// panning and zooming with the pictures of `link`.
+fn frame_of(width: f32, (rows, cols): (usize, usize), link: Id) -> ImageFrame {
+    // Room for the axes' ticks and titles around the picture itself.
+    const AXES: f32 = 48.0;
+    let plot_w = (width - COLORBAR_WIDTH).max(120.0);
+    let picture_h = (plot_w - AXES) * rows as f32 / cols.max(1) as f32;
+    ImageFrame {
+        size: vec2(plot_w, picture_h + AXES),
+        link: Some(link),
+        view_half: None,
+    }
 }
 
 /// The workspace's panels: each draws from a [`SensorCtx`] and queues [`SensorAction`]s.
@@ -123,7 +107,8 @@ pub struct ViewsPanel {
     /// The split line, a share of the width.
     pub split: f32,
     roi_grid: bool,
-    split_texture: Option<(TextureKey, TextureHandle)>,
+    /// The run's pictures as figures, built (and uploaded) when the run or the choice changes.
+    figures: FigureCache<MapSlot, TextureKey>,
     curve_light_e_per_um2: f64,
     curve_pitch_um: f64,
 }
@@ -137,7 +122,7 @@ impl Default for ViewsPanel {
             compare_mode: CompareMode::SideBySide,
             split: 0.5,
             roi_grid: true,
-            split_texture: None,
+            figures: FigureCache::default(),
             curve_light_e_per_um2: 20.0,
             curve_pitch_um: 1.0,
         }
@@ -368,9 +353,14 @@ impl ControlsPanel {
 }
 
 impl ViewsPanel {
-    /// Lets go of the split picture of the previous run (a new run is on screen).
-    pub fn forget_split(&mut self) {
-        self.split_texture = None;
+    /// Lets go of the pictures of the previous run (a new run is on screen).
+    pub fn forget_figures(&mut self) {
+        self.figures = FigureCache::default();
+    }
+
+    /// Figures built so far (a test proves a frame rebuilds none).
+    pub fn figure_builds(&self) -> u64 {
+        self.figures.builds()
     }
 
     /// Centre: maps, comparison or curves.
@@ -422,95 +412,42 @@ impl ViewsPanel {
             ui.label("Maps of");
             Self::strategy_picker(ui, "map_strategy", &names, &mut self.map_strategy);
         });
-        let Some(s) = run.strategies.get(self.map_strategy) else {
+        let i = self.map_strategy;
+        let Some(s) = run.strategies.get(i) else {
             return;
         };
-        let Some(tex) = shown.textures.strategies.get(self.map_strategy) else {
-            return;
+        let grid = if self.roi_grid {
+            maps::roi_grid(&run)
+        } else {
+            Vec::new()
         };
-        let roi = self.roi_grid.then_some(run.roi_px);
-        let link = ui.make_persistent_id("sensor-maps");
-        let avail = ui.available_width();
-        let side = ((avail - 24.0) / 2.0).max(120.0);
-        let (h, w) = run.electrons.dim();
-        let size = vec2(side, side * h as f32 / w.max(1) as f32);
-        // The scale the textures were drawn with (shared by all strategies), not recomputed per frame.
-        let max_gain = shown.textures.max_gain;
-        let cell = |ui: &mut Ui, label: &str, f: &mut dyn FnMut(&mut Ui)| {
-            ui.vertical(|ui| {
-                ui.label(label);
-                f(ui);
-            });
+        let frame = frame_of(
+            ((ui.available_width() - 24.0) / 2.0).max(200.0),
+            run.electrons.dim(),
+            ui.make_persistent_id("sensor-maps"),
+        );
+        let (g, q) = (shown.generation, shown.quality);
+        let egui_ctx = ui.ctx().clone();
+        let figures = &mut self.figures;
+        let mut get = |slot: MapSlot, build: &dyn Fn() -> crate::core::figure::Panel| {
+            let strategy = if slot == MapSlot::Scene { 0 } else { i };
+            figures.get(&egui_ctx, slot, (g, q, strategy, 0, 0), build)
         };
+        let scene = get(MapSlot::Scene, &|| maps::scene_panel(&run));
+        let capture = get(MapSlot::Capture, &|| maps::capture_panel(s));
+        let gain = get(MapSlot::Gain, &|| maps::gain_panel(s, maps::max_gain(&run)));
+        let bins = get(MapSlot::Bins, &|| maps::bin_panel(s));
+        let saturated = get(MapSlot::Saturated, &|| maps::saturation_panel(s));
         egui::ScrollArea::vertical().show(ui, |ui| {
             ui.horizontal(|ui| {
-                cell(ui, "Scene (ground truth, tone-mapped)", &mut |ui| {
-                    picture(
-                        ui,
-                        "truth",
-                        &shown.textures.truth,
-                        &run.electrons,
-                        "light, e⁻",
-                        roi,
-                        link,
-                        size,
-                    );
-                });
-                cell(ui, &format!("Capture: {}", s.name), &mut |ui| {
-                    picture(
-                        ui,
-                        "capture",
-                        &tex[0],
-                        &s.capture,
-                        "estimate, e⁻",
-                        roi,
-                        link,
-                        size,
-                    );
-                });
+                picture_ui(ui, MapSlot::Scene, &scene, &grid, frame);
+                picture_ui(ui, MapSlot::Capture, &capture, &grid, frame);
             });
             ui.horizontal(|ui| {
-                ui.vertical(|ui| {
-                    ui.horizontal(|ui| {
-                        ui.label("Gain map, log scale:");
-                        for g in [1.0, max_gain.sqrt(), max_gain] {
-                            swatch(ui, gain_color(g, max_gain));
-                            ui.label(format!("{g:.1}x"));
-                        }
-                    });
-                    picture(ui, "gain", &tex[1], &s.gain_map, "gain", roi, link, size);
-                });
-                ui.vertical(|ui| {
-                    ui.horizontal(|ui| {
-                        ui.label("Bin map:");
-                        for (b, c) in BIN_SIZES.iter().zip(BIN_COLORS) {
-                            swatch(ui, c);
-                            ui.label(format!("{b}x{b}"));
-                        }
-                    });
-                    picture(ui, "bins", &tex[2], &s.bin_map, "bin side", roi, link, size);
-                });
+                picture_ui(ui, MapSlot::Gain, &gain, &grid, frame);
+                picture_ui(ui, MapSlot::Bins, &bins, &grid, frame);
             });
-            cell(
-                ui,
-                &format!(
-                    "Saturated (red): {:.2} % of pixels, {:.1} % of ROIs",
-                    100.0 * s.saturated_fraction,
-                    100.0 * s.saturated_roi_fraction
-                ),
-                &mut |ui| {
-                    picture(
-                        ui,
-                        "saturated",
-                        &tex[3],
-                        &s.saturated,
-                        "saturated",
-                        roi,
-                        link,
-                        size,
-                    );
-                },
-            );
+            picture_ui(ui, MapSlot::Saturated, &saturated, &grid, frame);
         });
     }
 
@@ -548,42 +485,40 @@ impl ViewsPanel {
             "A: worst ROI SSIM {:.4}, PSNR {:.2} dB    B: worst ROI SSIM {:.4}, PSNR {:.2} dB",
             a.worst_roi_ssim, a.psnr_db, b.worst_roi_ssim, b.psnr_db
         ));
-        let roi = self.roi_grid.then_some(run.roi_px);
+        let grid = if self.roi_grid {
+            maps::roi_grid(&run)
+        } else {
+            Vec::new()
+        };
         let link = ui.make_persistent_id("sensor-compare");
-        let (h, w) = a.capture.dim();
+        let dim = a.capture.dim();
+        let (g, q) = (shown.generation, shown.quality);
+        let egui_ctx = ui.ctx().clone();
         match self.compare_mode {
             CompareMode::SideBySide => {
-                let side = ((ui.available_width() - 24.0) / 2.0).max(120.0);
-                let size = vec2(side, side * h as f32 / w.max(1) as f32);
-                let (Some(ta), Some(tb)) = (
-                    shown.textures.strategies.get(ia),
-                    shown.textures.strategies.get(ib),
-                ) else {
-                    return;
-                };
+                let frame = frame_of(((ui.available_width() - 24.0) / 2.0).max(200.0), dim, link);
+                let key = |i: usize| (g, q, i, 0, 0);
+                let fa = self.figures.get(&egui_ctx, MapSlot::CompareA, key(ia), || {
+                    maps::capture_panel(a)
+                });
+                let fb = self.figures.get(&egui_ctx, MapSlot::CompareB, key(ib), || {
+                    maps::capture_panel(b)
+                });
                 ui.horizontal(|ui| {
-                    picture(ui, "cmp-a", &ta[0], &a.capture, "A, e⁻", roi, link, size);
-                    picture(ui, "cmp-b", &tb[0], &b.capture, "B, e⁻", roi, link, size);
+                    picture_ui(ui, MapSlot::CompareA, &fa, &grid, frame);
+                    picture_ui(ui, MapSlot::CompareB, &fb, &grid, frame);
                 });
             }
             CompareMode::Split => {
+                let w = dim.1;
                 let split_col = ((self.split * w as f32) as usize).min(w);
-                let key = (shown.generation, shown.quality, ia, ib, split_col as u32);
-                if self.split_texture.as_ref().is_none_or(|(k, _)| *k != key) {
-                    let img = split_image(&a.display_planes(), &b.display_planes(), split_col);
-                    let tex =
-                        ui.ctx()
-                            .load_texture("sensor-split", img, egui::TextureOptions::NEAREST);
-                    self.split_texture = Some((key, tex));
-                }
-                let side = (ui.available_width() - 12.0).max(160.0);
-                let size = vec2(
-                    side,
-                    (side * h as f32 / w.max(1) as f32).min(ui.available_height()),
-                );
-                if let Some((_, tex)) = &self.split_texture {
-                    picture(ui, "cmp-split", tex, &a.capture, "A, e⁻", roi, link, size);
-                }
+                let key = (g, q, ia, ib, split_col as u32);
+                let split = self.figures.get(&egui_ctx, MapSlot::Split, key, || {
+                    maps::split_panel(a, b, split_col)
+                });
+                let mut frame = frame_of((ui.available_width() - 12.0).max(240.0), dim, link);
+                frame.size.y = frame.size.y.min(ui.available_height() - 24.0).max(120.0);
+                picture_ui(ui, MapSlot::Split, &split, &grid, frame);
             }
         }
     }

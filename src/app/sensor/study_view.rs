@@ -6,14 +6,15 @@
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use egui::{Color32, Stroke, TextureHandle, TextureOptions, Ui, vec2};
+use egui::{Color32, Stroke, TextureHandle, Ui, vec2};
 use ndarray::Array2;
 
 use super::LoadedScene;
-use super::images::{grey, image_of};
 use crate::app::dialogs::{FileSpec, ask};
 use crate::app::job::{Job, JobError, Writes};
 use crate::app::notice::Notice;
+use crate::app::widgets::figure::image_texture;
+use crate::core::figure::{ColorScale, Colormap, Image};
 use crate::core::sensor::study::{BinStudy, StudyCapture, StudySpec, bin_study};
 use crate::core::sensor::{BIN_SIZES, BinMode, SensorSettings};
 
@@ -89,12 +90,15 @@ impl StudyView {
             let origin = self.job.take().map(|(_, o)| o).unwrap_or_default();
             match result {
                 Ok(study) => {
+                    // The tone-mapped capture, black at 0 and white at 1.
                     let upload = |c: &StudyCapture, i: usize, part: &str| {
-                        ctx.load_texture(
-                            format!("study-{part}-{i}"),
-                            image_of(&c.display, grey),
-                            TextureOptions::NEAREST,
-                        )
+                        let img = Image::pixels(
+                            "capture",
+                            Arc::new(c.display.clone()),
+                            ColorScale::Linear { max: 1.0 },
+                            Colormap::Gray,
+                        );
+                        image_texture(ctx, format!("study-{part}-{i}"), &img)
                     };
                     let sweep = study
                         .sweep

@@ -16,8 +16,10 @@ use egui_plot::{
 };
 
 use crate::app::widgets::plot::{LegendEntry, Swatch, hidden_names, legend_ui};
+pub use crate::core::figure::short_value;
 use crate::core::figure::{
-    Annotation, ColorScale, Corner, Image, Mark, Panel, RING_SEGMENTS, Rgb, circle_points, palette,
+    Annotation, ColorScale, Corner, Image, Mark, Paint, Panel, RING_SEGMENTS, Rgb, circle_points,
+    palette,
 };
 
 /// The most points a point cloud draws each frame: beyond a few thousand an even sample shows
@@ -328,10 +330,14 @@ pub struct ImageFrame {
 }
 
 /// The view an image panel opens on: where its first image is brighter than its colour scale's
-/// floor.
+/// floor, when that image is light mapped about the origin (a PSF, an MTF); `None`, the whole
+/// picture, for anything else (a photo or a map in pixels).
 pub fn lit_view_half(panel: &Panel) -> Option<f64> {
     let img = panel.images.first()?;
-    Some(img.lit_half_extent(img.scale.visible_threshold()))
+    let [w, h] = img.cell();
+    let centred = img.centre[0].abs() <= w && img.centre[1].abs() <= h;
+    let light = matches!(img.paint, Paint::Mapped | Paint::Composite(_));
+    (centred && light).then(|| img.lit_half_extent(img.scale.visible_threshold()))
 }
 
 /// Draws an image `panel` (without its title) with `textures` for its images, in order, and a
@@ -358,7 +364,9 @@ pub fn image_panel_ui(
         let [x, y] = img.position(row, col);
         let y = y_axis.shown(y);
         Some(format!(
-            "x = {x:.3} {x_unit}, y = {y:.3} {y_unit}\n{}",
+            "x = {} {x_unit}, y = {} {y_unit}\n{}",
+            coordinate(x),
+            coordinate(y),
             value_readout(img, v)
         ))
     };
@@ -402,50 +410,84 @@ pub fn image_panel_ui(
         .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Image, true, &title));
 }
 
-/// The value under the pointer as the readout shows it: its true value, and where a log
-/// scale draws it (a value below the floor is drawn at the floor).
+/// A position in the readout: whole numbers past a thousand (pixel 1324, not 1.32e3), else
+/// about three digits.
+fn coordinate(v: f64) -> String {
+    if (1000.0..1e7).contains(&v.abs()) {
+        format!("{v:.0}")
+    } else {
+        short_value(v)
+    }
+}
+
+/// The value under the pointer as the readout shows it: its true value (or category), and
+/// where a log scale draws it (a value below the floor is drawn at the floor).
 fn value_readout(img: &Image, v: f64) -> String {
-    let unit = img.unit.as_ref().map_or(String::new(), |u| format!(" {u}"));
+    let mapped = matches!(img.paint, Paint::Mapped);
     let log = match img.scale {
-        ColorScale::Log { reference, .. } if v > 0.0 && reference > 0.0 && img.planes.is_none() => {
+        ColorScale::Log { reference, .. } if mapped && v > 0.0 && reference > 0.0 => {
             format!(
                 "\nlog10({} / peak) = {:.2}",
                 img.name,
                 (v / reference).log10()
             )
         }
-        ColorScale::Log { .. } if img.planes.is_none() => {
-            "\n(no light: drawn at the floor)".to_owned()
-        }
-        ColorScale::Linear { .. } if v > 0.0 => format!("\nlog10 = {:.2}", v.log10()),
+        ColorScale::Log { .. } if mapped => "\n(no light: drawn at the floor)".to_owned(),
+        ColorScale::Linear { .. } if mapped && v > 0.0 => format!("\nlog10 = {:.2}", v.log10()),
         _ => String::new(),
     };
-    format!("{} = {}{unit}{log}", img.name, short_value(v))
-}
-
-/// A number in a short readable form: fixed for moderate magnitudes, scientific otherwise.
-pub fn short_value(v: f64) -> String {
-    let a = v.abs();
-    if v == 0.0 {
-        "0".into()
-    } else if (0.01..1000.0).contains(&a) {
-        // Three significant digits or so: 344, 86.0, 0.500, 0.0123.
-        let decimals = (2.0 - a.log10().floor()).max(0.0) as usize;
-        format!("{v:.decimals$}")
-    } else {
-        format!("{v:.3e}")
-    }
+    format!("{}{log}", img.describe(v))
 }
 
 /// Width reserved beside an image panel for its colour bar and tick labels.
 pub const COLORBAR_WIDTH: f32 = 78.0;
 
 /// The colour bar of `img`, `height` points tall: its map bottom to top with the scale's ticks
-/// (a log scale's as decades below the peak). Drawn as a mesh each frame (a few dozen quads:
-/// cheaper than keeping a texture).
+/// (a log scale's as decades below the peak); a categorical image's key instead; nothing (the
+/// space kept) for a picture drawn as it is seen. Drawn as a mesh each frame (a few dozen
+/// quads: cheaper than keeping a texture).
 pub fn colour_bar_ui(ui: &mut Ui, height: f32, img: &Image) {
-    let (rect, _) = ui.allocate_exact_size(vec2(COLORBAR_WIDTH, height), Sense::hover());
+    let (rect, response) = ui.allocate_exact_size(vec2(COLORBAR_WIDTH, height), Sense::hover());
+    // A screen reader (and a test) reads the bar's or the key's words.
+    let words = match &img.paint {
+        Paint::Categories(cats) => {
+            let labels: Vec<&str> = cats.iter().map(|c| c.label.as_str()).collect();
+            format!("key of {}: {}", img.name, labels.join(", "))
+        }
+        _ => {
+            let ticks: Vec<String> = img
+                .scale
+                .tick_labels()
+                .into_iter()
+                .map(|(_, l)| l)
+                .collect();
+            format!("colour bar of {}: {}", img.name, ticks.join(", "))
+        }
+    };
+    if img.paint.has_colour_bar() || matches!(img.paint, Paint::Categories(_)) {
+        response.widget_info(|| egui::WidgetInfo::labeled(egui::Role::Image, true, &words));
+    }
     let painter = ui.painter_at(rect);
+    let text = ui.visuals().text_color();
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    if let Paint::Categories(cats) = &img.paint {
+        for (k, cat) in cats.iter().enumerate() {
+            let top = rect.top() + 8.0 + 20.0 * k as f32;
+            let swatch = Rect::from_min_size(pos2(rect.left() + 4.0, top), vec2(14.0, 14.0));
+            painter.rect_filled(swatch, 2.0, color32(cat.colour));
+            painter.text(
+                pos2(swatch.right() + 6.0, swatch.center().y),
+                Align2::LEFT_CENTER,
+                &cat.label,
+                font.clone(),
+                text,
+            );
+        }
+        return;
+    }
+    if !img.paint.has_colour_bar() {
+        return;
+    }
     let bar = Rect::from_min_max(
         pos2(rect.left() + 4.0, rect.top() + 8.0),
         pos2(rect.left() + 18.0, rect.bottom() - 8.0),
@@ -462,26 +504,13 @@ pub fn colour_bar_ui(ui: &mut Ui, height: f32, img: &Image) {
         mesh.add_colored_rect(band, color32(img.colormap.at((t0 + t1) / 2.0)));
     }
     painter.add(mesh);
-    let text = ui.visuals().text_color();
     painter.rect_stroke(
         bar,
         0.0,
         Stroke::new(1.0, ui.visuals().weak_text_color()),
         egui::StrokeKind::Outside,
     );
-    let font = egui::TextStyle::Body.resolve(ui.style());
-    for (t, v) in img.scale.ticks() {
-        let label = match img.scale {
-            ColorScale::Log { reference, .. } if reference > 0.0 => {
-                let d = (reference / v).log10().round() as i32;
-                if d == 0 {
-                    "peak".into()
-                } else {
-                    format!("1e-{d}")
-                }
-            }
-            _ => short_value(v),
-        };
+    for (t, label) in img.scale.tick_labels() {
         let y = bar.bottom() - t * bar.height();
         painter.line_segment(
             [pos2(bar.right(), y), pos2(bar.right() + 4.0, y)],
@@ -503,13 +532,13 @@ pub fn panel_textures(ctx: &egui::Context, name: &str, panel: &Panel) -> Vec<Tex
         .images
         .iter()
         .enumerate()
-        .map(|(i, img)| upload(ctx, format!("{name}/{i}"), img))
+        .map(|(i, img)| image_texture(ctx, format!("{name}/{i}"), img))
         .collect()
 }
 
 /// The texture of `img`: its colours as an egui image (nearest sampling: every sample stays a
 /// crisp square when zoomed in).
-fn upload(ctx: &egui::Context, name: String, img: &Image) -> TextureHandle {
+pub fn image_texture(ctx: &egui::Context, name: String, img: &Image) -> TextureHandle {
     let (rows, cols) = img.values.dim();
     let rgb: Vec<u8> = img
         .colours()
@@ -599,20 +628,5 @@ impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
     /// Panels built so far.
     pub fn builds(&self) -> u64 {
         self.builds
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn values_are_shown_to_about_three_digits() {
-        assert_eq!(short_value(343.879), "344");
-        assert_eq!(short_value(85.97), "86.0");
-        assert_eq!(short_value(0.5), "0.500");
-        assert_eq!(short_value(0.0123), "0.0123");
-        assert_eq!(short_value(0.0), "0");
-        assert_eq!(short_value(1.234e-5), "1.234e-5");
     }
 }

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use ndarray::Array2;
 
-use crate::figure::{Annotation, Axis, ColorScale, Colormap, Image, Panel};
+use crate::figure::{Annotation, Axis, ColorScale, Colormap, Image, Paint, Panel};
 
 /// `transmission` (`side × side` samples `sample_um` apart, centred on the optical axis) with
 /// the rim of a pupil `pupil_diameter_um` across.
@@ -27,7 +27,7 @@ pub fn tiling_panel(
             size: [cols as f64 * sample_um, rows as f64 * sample_um],
             scale: ColorScale::Linear { max: 1.0 },
             colormap: Colormap::Gray,
-            planes: None,
+            paint: Paint::Mapped,
         }],
         annotations: vec![Annotation::Ring {
             centre: [0.0, 0.0],

@@ -7,7 +7,7 @@ mod colormap;
 mod image;
 
 pub use colormap::{Colormap, relative_luminance};
-pub use image::{ColorScale, Image, log_decades, peak};
+pub use image::{Category, ColorScale, Image, Paint, log_decades, peak, short_value};
 
 /// A colour, 8 bits a channel (sRGB).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -150,7 +150,8 @@ impl Axis {
                 }
             })
         } else if self.downward {
-            Some(format!("{}", -value))
+            // `+ 0.0` turns −0 into 0: the top row reads "0", not "-0".
+            Some(format!("{}", -value + 0.0))
         } else {
             None
         }
@@ -448,6 +449,10 @@ mod tests {
         assert_eq!(
             Axis::downward("row", None).tick_label(-3.0).as_deref(),
             Some("3")
+        );
+        assert_eq!(
+            Axis::downward("row", None).tick_label(0.0).as_deref(),
+            Some("0")
         );
         assert_eq!(Axis::new("x", None).tick_label(3.0), None);
     }

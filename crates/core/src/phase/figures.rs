@@ -185,7 +185,7 @@ pub fn v_panel(v: &super::VMatrix) -> Panel {
             size: [x[1] - x[0], y[1] - y[0]],
             scale: ColorScale::Linear { max },
             colormap: Colormap::Viridis,
-            planes: None,
+            paint: crate::figure::Paint::Mapped,
         }],
         equal_aspect: true,
         ..Panel::default()
@@ -245,7 +245,7 @@ pub fn kernel_panel(k: std::sync::Arc<ndarray::Array2<f64>>, channel_name: &str)
                 floor_decades: KERNEL_DECADES,
             },
             colormap: Colormap::Viridis,
-            planes: None,
+            paint: crate::figure::Paint::Mapped,
         }],
         equal_aspect: true,
         ..Panel::default()

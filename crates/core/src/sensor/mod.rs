@@ -41,6 +41,7 @@ pub mod demosaic;
 pub mod figures;
 pub mod flat;
 pub mod gain;
+pub mod maps;
 pub mod memory;
 pub mod metrics;
 pub mod noise;
