@@ -48,6 +48,7 @@ mod phase_capture;
 mod phase_export;
 mod phase_imaging;
 mod phase_panel;
+mod psf_import;
 mod reproduce;
 mod reproduce_view;
 mod restore_denoise;

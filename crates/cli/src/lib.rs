@@ -92,6 +92,10 @@ pub enum Command {
     Denoise(denoise::DenoiseArgs),
     /// Optimize the opening of one display pixel (thesis §3.4.2) and save the new design.
     Optimize(optimize::OptimizeArgs),
+    /// Measured PSFs: `psf import` merges a prototype's frames (a bracket of exposures, dark
+    /// frames) into a PSF set (.npy with a .json sidecar).
+    #[command(subcommand)]
+    Psf(PsfCommand),
     /// Simulate spatially-varying gain and binning on an HDR scene (thesis chapter 5): the four
     /// strategies of Table 5.4 with worst-ROI SSIM, PSNR and saturation; `sensor flat-patch`
     /// checks eq. 5.3's η on a flat patch.
@@ -135,6 +139,15 @@ pub enum Command {
     /// `udc-studio-phase-psf.1`, into a directory.
     #[command(hide = true)]
     Manpages(packaging::ManpagesArgs),
+}
+
+/// The `psf` commands.
+#[derive(Debug, Subcommand)]
+pub enum PsfCommand {
+    /// Merge a measured PSF's frames into a PSF set: dark subtraction, hot pixels, saturation
+    /// masks, an HDR merge weighted by exposure, background, sub-pixel centring, crop and
+    /// normalisation, each reported (and each with a `--no-…` switch).
+    Import(JobArgs<udc_jobs::measured::ImportJob>),
 }
 
 /// A job's command line: its parameters (the job's own struct) and how to print its result.
@@ -221,6 +234,15 @@ fn run_command(command: Command, progress: &udc_core::Progress) -> Result<()> {
         Command::Restore(args) => run_job(JobSpec::Restore(args.job), args.json, progress),
         Command::Denoise(args) => denoise::denoise_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
+        Command::Psf(PsfCommand::Import(args)) => {
+            let report = udc_jobs::measured::import(&args.job, progress)?;
+            if args.json {
+                emit_json(&report.json)
+            } else {
+                print!("{}", report.text);
+                Ok(())
+            }
+        }
         Command::Sensor(args) => sensor::sensor_cmd(args, progress),
         Command::Phase(cmd) => phase::phase_cmd(cmd, progress),
         Command::Field(args) => field_depth::field_cmd(&args),

@@ -53,6 +53,7 @@ pub mod display;
 pub mod error;
 pub mod figure;
 pub mod mask;
+pub mod measured;
 pub mod optimize;
 pub mod phase;
 pub mod progress;

@@ -38,6 +38,7 @@ pub mod error;
 pub mod fab;
 pub mod figure;
 pub mod mask;
+pub mod measured;
 pub mod numbers;
 pub mod phase;
 pub mod photo;

@@ -31,6 +31,7 @@ pub mod choice;
 pub mod denoise;
 pub mod display;
 pub mod flags;
+pub mod measured;
 mod params;
 pub mod phase;
 mod report;

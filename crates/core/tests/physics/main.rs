@@ -8,6 +8,7 @@ mod emitters;
 mod expected_psf;
 mod fft_plans;
 mod mask_geometry;
+mod measured;
 mod optimize;
 mod phase;
 mod phase_period;

@@ -1,0 +1,124 @@
+//! Point-spread functions as sets of channels, simulated or measured, and the import of a
+//! measured one: a bracket of exposures with dark frames merged into one linear PSF
+//! ([`import::merge`]), each step switchable and reported.
+//!
+//! A set's PSFs follow the core's conventions: `[row, col]`, the optical axis at `[N/2, N/2]`,
+//! each summing to 1; `pixel_um` is the camera's pixel pitch they are sampled at.
+
+pub mod import;
+pub mod shift;
+
+use ndarray::Array2;
+use serde::{Deserialize, Serialize};
+
+use crate::SimError;
+use crate::analysis::analyze::Analysis;
+
+/// Where a PSF set came from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PsfSource {
+    /// Computed by the core from a design.
+    Simulated,
+    /// Measured on a prototype and imported.
+    Measured,
+}
+
+/// One channel of a PSF set.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PsfChannel {
+    /// The channel's name (`R`, `G`, `B`, `green`, `530 nm`).
+    pub name: String,
+    /// The wavelength it was measured or simulated at (a channel's centre), when known.
+    pub wavelength_nm: Option<f64>,
+    /// `[row, col]`, the axis at `[N/2, N/2]`, summing to 1.
+    pub psf: Array2<f64>,
+}
+
+/// PSFs per channel at one camera pixel pitch.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PsfSet {
+    /// The channels, in order.
+    pub channels: Vec<PsfChannel>,
+    /// The camera's pixel pitch the PSFs are sampled at, µm.
+    pub pixel_um: f64,
+    /// Simulated or measured.
+    pub source: PsfSource,
+}
+
+impl PsfSet {
+    /// The simulated PSFs of an analysis.
+    pub fn from_analysis(analysis: &Analysis) -> PsfSet {
+        PsfSet {
+            channels: analysis
+                .channels
+                .iter()
+                .map(|c| PsfChannel {
+                    name: c.name.clone(),
+                    wavelength_nm: Some(c.wavelength_nm),
+                    psf: c.psf.clone(),
+                })
+                .collect(),
+            pixel_um: analysis.sensor_pixel_um,
+            source: PsfSource::Simulated,
+        }
+    }
+
+    /// Checks what every user of a set relies on: a positive pixel pitch, at least one
+    /// channel, every PSF square, of one size, finite and with light.
+    ///
+    /// # Errors
+    /// The first broken rule, naming the channel.
+    pub fn check(&self) -> Result<(), SimError> {
+        if !(self.pixel_um.is_finite() && self.pixel_um > 0.0) {
+            return Err(SimError::invalid(
+                "pixel_um",
+                format!("must be a positive number of µm, got {}", self.pixel_um),
+            ));
+        }
+        let Some(first) = self.channels.first() else {
+            return Err(SimError::invalid("channels", "the PSF set has no channel"));
+        };
+        let dim = first.psf.dim();
+        for c in &self.channels {
+            let at = format!("channel {}", c.name);
+            let (rows, cols) = c.psf.dim();
+            if rows != cols || rows == 0 {
+                return Err(SimError::invalid(
+                    at,
+                    format!("the PSF must be square and not empty, got {rows}×{cols}"),
+                ));
+            }
+            if c.psf.dim() != dim {
+                return Err(SimError::invalid(
+                    at,
+                    format!(
+                        "{rows}×{cols}, but the first channel is {}×{}",
+                        dim.0, dim.1
+                    ),
+                ));
+            }
+            if let Some(v) = c.psf.iter().find(|v| !v.is_finite()) {
+                return Err(SimError::invalid(at, format!("holds {v}")));
+            }
+            if !(c.psf.sum() > 0.0) {
+                return Err(SimError::invalid(
+                    at,
+                    "holds no light (its sum is not positive)",
+                ));
+            }
+            if let Some(w) = c.wavelength_nm.filter(|w| !(w.is_finite() && *w > 0.0)) {
+                return Err(SimError::invalid(
+                    at,
+                    format!("wavelength must be a positive number of nm, got {w}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Side of the PSFs, pixels.
+    pub fn side_px(&self) -> usize {
+        self.channels.first().map_or(0, |c| c.psf.nrows())
+    }
+}

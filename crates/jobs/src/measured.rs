@@ -1,0 +1,302 @@
+//! `psf import`: a measured PSF from raw frames (one file, or a bracket of exposures with dark
+//! frames) into a PSF set on disk (`.npy` and its `.json` sidecar), every step reported.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+
+use udc_core::Progress;
+use udc_core::measured::import::{Bracket, Centring, Exposure, ImportSteps, merge};
+use udc_core::measured::{PsfChannel, PsfSet, PsfSource};
+use udc_io::measured::read::{Encoding, FramePick, RawFrame, read_frame};
+
+use crate::Report;
+
+/// The parameters of `psf import`.
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub struct ImportJob {
+    /// The frames: one file, or a bracket of exposures of the same point source (.npy, MATLAB
+    /// v5 .mat, 16-bit PNG or TIFF, OpenEXR).
+    #[arg(value_name = "FRAME", required_unless_present = "bracket")]
+    pub frames: Vec<PathBuf>,
+    /// The frames' exposure times in seconds, comma-separated, in the frames' order (one frame
+    /// needs none).
+    #[arg(long, value_name = "T1,T2,…", value_delimiter = ',')]
+    #[serde(default, with = "crate::params::list")]
+    pub exposures_s: Vec<f64>,
+    /// A small TOML file naming the bracket instead: `[[exposure]]` tables with `file` and
+    /// `exposure_s`, and `dark = ["d1.tif", …]`; paths relative to it.
+    #[arg(long, value_name = "TOML", conflicts_with_all = ["frames", "exposures_s"])]
+    pub bracket: Option<PathBuf>,
+    /// A dark frame (the source covered, the same exposure); give it several times to average.
+    #[arg(long, value_name = "FILE")]
+    #[serde(default)]
+    pub dark: Vec<PathBuf>,
+    /// The page of a multi-page TIFF (a focus stack), from 1.
+    #[arg(long)]
+    pub page: Option<usize>,
+    /// The variable of a MATLAB .mat file (for example `lin_hdr`).
+    #[arg(long)]
+    pub variable: Option<String>,
+    /// The camera's pixel pitch, µm.
+    #[arg(long, value_name = "UM")]
+    pub pixel_um: f64,
+    /// The wavelength the PSF was measured at (a grey frame), nm.
+    #[arg(long, value_name = "NM")]
+    pub wavelength_nm: Option<f64>,
+    /// Keep the dark level (do not subtract the dark frames).
+    #[arg(long)]
+    pub no_dark: bool,
+    /// Keep hot pixels.
+    #[arg(long)]
+    pub no_hot_pixels: bool,
+    /// Merge saturated samples as if they were not.
+    #[arg(long)]
+    pub no_saturation: bool,
+    /// Keep the background.
+    #[arg(long)]
+    pub no_background: bool,
+    /// Where the PSF is centred.
+    #[arg(long, value_parser = crate::choice::choice::<Centring>(), default_value_t = Centring::Centroid)]
+    pub centre: Centring,
+    /// The side of the square crop around the centre, pixels (default: the largest that fits,
+    /// at most 1024).
+    #[arg(long, value_name = "PX")]
+    pub crop_px: Option<usize>,
+    /// Keep the merged scale (counts per second) instead of unit sum.
+    #[arg(long)]
+    pub no_normalise: bool,
+    /// The PSF set to write: a `.npy` array and its `.json` sidecar beside it.
+    #[arg(long, value_name = "PSF.npy")]
+    pub out: PathBuf,
+}
+
+/// The bracket file of `--bracket`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BracketFile {
+    exposure: Vec<BracketExposure>,
+    #[serde(default)]
+    dark: Vec<PathBuf>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BracketExposure {
+    file: PathBuf,
+    exposure_s: f64,
+}
+
+/// The frames with their exposure times (s), and the dark frames.
+type Listed = (Vec<(PathBuf, f64)>, Vec<PathBuf>);
+
+impl ImportJob {
+    /// The frames with their exposure times, and the dark frames.
+    fn listed(&self) -> Result<Listed> {
+        if let Some(file) = &self.bracket {
+            let text = std::fs::read_to_string(file)
+                .with_context(|| format!("cannot read the bracket file {}", file.display()))?;
+            let b: BracketFile = toml::from_str(&text)
+                .with_context(|| format!("not a bracket file: {}", file.display()))?;
+            let base = file.parent().unwrap_or(Path::new("."));
+            let frames = b
+                .exposure
+                .into_iter()
+                .map(|e| (base.join(e.file), e.exposure_s))
+                .collect();
+            let darks = b
+                .dark
+                .iter()
+                .chain(&self.dark)
+                .map(|d| base.join(d))
+                .collect();
+            return Ok((frames, darks));
+        }
+        if self.frames.is_empty() {
+            bail!("give the frames to import (or --bracket FILE)");
+        }
+        let times = match (self.frames.len(), self.exposures_s.len()) {
+            (1, 0) => vec![1.0],
+            (n, m) if n == m => self.exposures_s.clone(),
+            (n, 0) => bail!("--exposures-s: {n} frames need {n} exposure times"),
+            (n, m) => bail!("--exposures-s: {m} exposure times for {n} frames"),
+        };
+        Ok((
+            self.frames.iter().cloned().zip(times).collect(),
+            self.dark.clone(),
+        ))
+    }
+
+    fn steps(&self) -> ImportSteps {
+        ImportSteps {
+            dark: !self.no_dark,
+            hot_pixels: !self.no_hot_pixels,
+            saturation: !self.no_saturation,
+            background: !self.no_background,
+            centring: self.centre,
+            centre_px: None,
+            crop_px: self.crop_px,
+            normalise: !self.no_normalise,
+        }
+    }
+}
+
+/// Runs `psf import`.
+///
+/// # Errors
+/// A bad pixel pitch or wavelength, frames that do not read or do not agree (size, channels,
+/// encoding), a bracket the merge refuses, an unwritable output. Nothing is written then.
+pub fn import(job: &ImportJob, progress: &Progress) -> Result<Report> {
+    if !(job.pixel_um.is_finite() && job.pixel_um > 0.0) {
+        bail!(
+            "--pixel-um: the camera's pixel pitch must be a positive number of µm, got {}",
+            job.pixel_um
+        );
+    }
+    if let Some(w) = job.wavelength_nm.filter(|w| !(w.is_finite() && *w > 0.0)) {
+        bail!("--wavelength-nm: must be a positive number of nm, got {w}");
+    }
+    if job.out.extension().and_then(|e| e.to_str()) != Some("npy") {
+        bail!(
+            "--out: a PSF set is written as .npy with a .json sidecar; got {}",
+            job.out.display()
+        );
+    }
+    let (listed, dark_paths) = job.listed()?;
+    let pick = FramePick {
+        page: job.page,
+        variable: job.variable.clone(),
+    };
+    let mut notes = Vec::new();
+    let mut read = |path: &Path| -> Result<RawFrame> {
+        let f = read_frame(path, &pick)?;
+        for n in &f.notes {
+            let line = format!("{}: {n}", path.display());
+            if !notes.contains(&line) {
+                notes.push(line);
+            }
+        }
+        Ok(f)
+    };
+    let frames: Vec<(RawFrame, f64)> = listed
+        .iter()
+        .map(|(p, t)| read(p).map(|f| (f, *t)))
+        .collect::<Result<_>>()?;
+    let darks: Vec<RawFrame> = dark_paths.iter().map(|p| read(p)).collect::<Result<_>>()?;
+    let first = &frames[0].0;
+    let channels = first.planes.len();
+    for ((f, _), (path, _)) in frames.iter().zip(&listed) {
+        if f.planes.len() != channels {
+            bail!(
+                "{}: {} channels, but {} has {channels}",
+                path.display(),
+                f.planes.len(),
+                listed[0].0.display()
+            );
+        }
+    }
+    let gamma = frames.iter().any(|(f, _)| f.encoding == Encoding::Gamma8);
+    let names: Vec<(String, Option<f64>)> = if channels == 3 {
+        ["R", "G", "B"]
+            .iter()
+            .map(|n| ((*n).to_owned(), None))
+            .collect()
+    } else {
+        vec![(
+            job.wavelength_nm
+                .map_or("measured".to_owned(), |w| format!("{w} nm")),
+            job.wavelength_nm,
+        )]
+    };
+    let bracket_of = |c: usize| Bracket {
+        exposures: frames
+            .iter()
+            .map(|(f, t)| Exposure {
+                frame: f.planes[c].clone(),
+                exposure_s: *t,
+            })
+            .collect(),
+        darks: darks
+            .iter()
+            .filter_map(|d| d.planes.get(c).cloned())
+            .collect(),
+        full_scale: first.full_scale,
+    };
+    let mut steps = job.steps();
+    // The channels share one centre, found on their sum, so lateral colour is kept.
+    if channels > 1 && steps.centre_px.is_none() && steps.centring != Centring::None {
+        let mut sum = bracket_of(0);
+        for c in 1..channels {
+            let other = bracket_of(c);
+            for (a, b) in sum.exposures.iter_mut().zip(other.exposures) {
+                a.frame += &b.frame;
+            }
+            for (a, b) in sum.darks.iter_mut().zip(other.darks) {
+                *a += &b;
+            }
+        }
+        sum.full_scale = sum.full_scale.map(|f| f * channels as f64);
+        let (_, r) = merge(&sum, &steps, progress)?;
+        steps.centre_px = Some(r.centre_px);
+        steps.crop_px = Some(r.side_px);
+    }
+    let mut set = PsfSet {
+        channels: Vec::new(),
+        pixel_um: job.pixel_um,
+        source: PsfSource::Measured,
+    };
+    let mut reports = Vec::new();
+    for (c, (name, wavelength_nm)) in names.into_iter().enumerate() {
+        let (psf, report) =
+            merge(&bracket_of(c), &steps, progress).with_context(|| format!("channel {name}"))?;
+        set.channels.push(PsfChannel {
+            name,
+            wavelength_nm,
+            psf,
+        });
+        reports.push(report);
+    }
+    let summary: Vec<String> = set
+        .channels
+        .iter()
+        .zip(&reports)
+        .map(|(c, r)| format!("{}: {}", c.name, r.summary()))
+        .collect();
+    let files = udc_io::measured::write_psf_set(&job.out, &set, Some(&summary.join(" | ")))?;
+    let mut out = Report::default();
+    for line in &summary {
+        outln!(out, "{line}");
+    }
+    for r in &reports {
+        for w in &r.warnings {
+            let line = format!("warning: {w}");
+            if !notes.contains(&line) {
+                notes.push(line);
+            }
+        }
+    }
+    for n in &notes {
+        outln!(out, "{n}");
+    }
+    for f in &files {
+        outln!(out, "wrote {}", f.display());
+    }
+    out.json = json!({
+        "pixel_um": set.pixel_um,
+        "side_px": set.side_px(),
+        "not_radiometric": gamma,
+        "channels": set.channels.iter().zip(&reports).map(|(c, r)| json!({
+            "name": c.name,
+            "wavelength_nm": c.wavelength_nm,
+            "import": r,
+            "summary": r.summary(),
+        })).collect::<Vec<_>>(),
+        "notes": notes,
+        "files": files,
+    });
+    Ok(out)
+}

@@ -1,0 +1,317 @@
+//! `psf import`: frames written by numpy and scipy (`.npy`, MATLAB v5 `.mat`) read to the same
+//! array; the three real lab PSFs import with one line naming what was done (the 8-bit PNG with
+//! the warning that it is not radiometric); a bracket file; every bad input is one line, exit 1,
+//! and nothing written.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use crate::common::run_cli as run;
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// The lab PSFs beside the checkout (not in the repository: their licences ask for their own
+/// place); `None` where they are not.
+fn lab_psfs() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/measured-psf");
+    dir.join("diffusercam_psf_16bit.tif")
+        .is_file()
+        .then_some(dir)
+}
+
+/// Runs `python3 -c code` with `dir` as its working folder.
+fn python(dir: &Path, code: &str) {
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(code)
+        .current_dir(dir)
+        .output()
+        .expect("python3 with numpy and scipy is required (the test command installs them)");
+    assert!(
+        out.status.success(),
+        "python failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn import_json(args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["psf", "import", "--json"];
+    all.extend_from_slice(args);
+    let (ok, stdout, stderr) = run(&all);
+    assert!(ok, "psf import {args:?}: {stderr}");
+    serde_json::from_str(stdout.trim()).expect("one JSON object")
+}
+
+#[test]
+fn npy_and_mat_files_written_by_numpy_and_scipy_import_to_the_same_psf() {
+    let dir = tempfile::tempdir().unwrap();
+    // A Gaussian spot off-centre on a 64×48 frame, with a pedestal, as float32 and as MATLAB's
+    // double in a file with two variables (column-major on disk).
+    python(
+        dir.path(),
+        "import numpy as np, scipy.io as sio\n\
+         y, x = np.mgrid[0:48, 0:64]\n\
+         a = 5.0 + 1000.0 * np.exp(-((y - 20.3)**2 + (x - 30.6)**2) / 8.0)\n\
+         np.save('spot.npy', a.astype(np.float32))\n\
+         sio.savemat('spot.mat', {'lin_hdr': a, 'note': np.arange(3.0)})\n",
+    );
+    let npy = import_json(&[
+        s(&dir.path().join("spot.npy")),
+        "--pixel-um",
+        "2",
+        "--wavelength-nm",
+        "530",
+        "--out",
+        s(&dir.path().join("a.npy")),
+    ]);
+    let mat = import_json(&[
+        s(&dir.path().join("spot.mat")),
+        "--variable",
+        "lin_hdr",
+        "--pixel-um",
+        "2",
+        "--out",
+        s(&dir.path().join("b.npy")),
+    ]);
+    for j in [&npy, &mat] {
+        let c = &j["channels"][0]["import"]["centre_px"];
+        assert!((c[0].as_f64().unwrap() - 20.3).abs() < 0.05, "{c}");
+        assert!((c[1].as_f64().unwrap() - 30.6).abs() < 0.05, "{c}");
+        let bg = j["channels"][0]["import"]["background"].as_f64().unwrap();
+        assert!((bg - 5.0).abs() < 0.01, "background {bg}");
+    }
+    // The two PSFs (and the sidecar) read back with numpy agree to float32's precision.
+    python(
+        dir.path(),
+        "import numpy as np, json\n\
+         a, b = np.load('a.npy'), np.load('b.npy')\n\
+         assert a.shape == b.shape and a.shape[0] == a.shape[1], (a.shape, b.shape)\n\
+         assert abs(a.sum() - 1) < 1e-9 and abs(b.sum() - 1) < 1e-9\n\
+         assert np.abs(a - b).max() < 1e-6 * a.max(), np.abs(a - b).max()\n\
+         n = a.shape[0]; assert a[n // 2, n // 2] == a.max()\n\
+         side = json.load(open('a.json'))\n\
+         assert side['pixel_um'] == 2 and side['channels'][0]['wavelength_nm'] == 530\n\
+         assert side['source'] == 'measured'\n",
+    );
+    // Without --variable the two variables are named; a missing one lists them.
+    let (ok, _, err) = run(&[
+        "psf",
+        "import",
+        s(&dir.path().join("spot.mat")),
+        "--pixel-um",
+        "2",
+        "--out",
+        s(&dir.path().join("c.npy")),
+    ]);
+    assert!(
+        !ok && err.contains("--variable") && err.contains("lin_hdr") && err.contains("note"),
+        "{err}"
+    );
+    assert!(!dir.path().join("c.npy").exists());
+}
+
+#[test]
+fn the_lab_psfs_import_each_with_a_line_of_what_was_done() {
+    let Some(lab) = lab_psfs() else {
+        eprintln!(
+            "skipped: the lab PSFs (../shared/data/measured-psf) are not beside this checkout"
+        );
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name);
+    // The diffuser camera's 16-bit TIFF: a dark background subtracted, its clipped samples
+    // counted.
+    let d = import_json(&[
+        s(&lab.join("diffusercam_psf_16bit.tif")),
+        "--pixel-um",
+        "3.45",
+        "--out",
+        s(&out("diffuser.npy")),
+    ]);
+    let r = &d["channels"][0]["import"];
+    assert!(r["clipped_pixels"].as_u64().unwrap() >= 192, "{r}");
+    let bg = r["background"].as_f64().unwrap();
+    assert!((20.0..60.0).contains(&bg), "background about 32: {bg}");
+    assert!(
+        d["channels"][0]["summary"]
+            .as_str()
+            .unwrap()
+            .contains("background")
+    );
+    assert_eq!(d["not_radiometric"], false);
+    // The bead's focus stack: a page is chosen, and the best-focused page is brightest.
+    let (ok, _, err) = run(&[
+        "psf",
+        "import",
+        s(&lab.join("bead_psf_stack_16bit.tif")),
+        "--pixel-um",
+        "0.101",
+        "--out",
+        s(&out("bead.npy")),
+    ]);
+    assert!(
+        !ok && err.contains("61 pages") && err.lines().count() == 1,
+        "{err}"
+    );
+    let peak = |page: &str| {
+        let j = import_json(&[
+            s(&lab.join("bead_psf_stack_16bit.tif")),
+            "--page",
+            page,
+            "--pixel-um",
+            "0.101",
+            "--out",
+            s(&out(&format!("bead-{page}.npy"))),
+        ]);
+        j["channels"][0]["import"]["peak_snr"].as_f64().unwrap()
+    };
+    assert!(peak("31") > 3.0 * peak("1"), "focus is mid-stack");
+    // The 8-bit gamma-encoded PNG: imported, with the warning.
+    let g = import_json(&[
+        s(&lab.join("lenslet_psf_8bit_gamma.png")),
+        "--pixel-um",
+        "2.4",
+        "--crop-px",
+        "512",
+        "--out",
+        s(&out("lenslet.npy")),
+    ]);
+    assert_eq!(g["not_radiometric"], true);
+    let notes = g["notes"].to_string();
+    assert!(
+        notes.contains("not radiometric") && notes.contains("clipped"),
+        "{notes}"
+    );
+    assert!(
+        g["channels"][0]["summary"]
+            .as_str()
+            .unwrap()
+            .contains("hot pixels not looked for")
+    );
+}
+
+#[test]
+fn a_bracket_file_names_exposures_and_darks() {
+    let dir = tempfile::tempdir().unwrap();
+    // Two exposures of one spot (the longer clips a 16-bit full scale), one dark frame.
+    python(
+        dir.path(),
+        "import numpy as np\n\
+         y, x = np.mgrid[0:64, 0:64]\n\
+         rate = 2e5 * np.exp(-((y - 31.6)**2 + (x - 33.2)**2) / 6.0)\n\
+         for name, t in (('short', 0.1), ('long', 1.0)):\n\
+         \x20   np.save(name + '.npy', np.minimum(rate * t + 100, 65535).astype(np.uint16))\n\
+         np.save('dark.npy', np.full((64, 64), 100, np.uint16))\n\
+         open('bracket.toml', 'w').write('dark = [\"dark.npy\"]\\n[[exposure]]\\nfile = \"short.npy\"\\nexposure_s = 0.1\\n[[exposure]]\\nfile = \"long.npy\"\\nexposure_s = 1.0\\n')\n",
+    );
+    let j = import_json(&[
+        "--bracket",
+        s(&dir.path().join("bracket.toml")),
+        "--pixel-um",
+        "1.4",
+        "--out",
+        s(&dir.path().join("psf.npy")),
+    ]);
+    let r = &j["channels"][0]["import"];
+    assert_eq!(r["exposures"], 2);
+    assert_eq!(r["darks"], 1);
+    assert!(r["saturated_samples"].as_u64().unwrap() > 0);
+    assert_eq!(r["clipped_pixels"], 0, "the short exposure holds the peak");
+    assert!(
+        (r["centre_px"][0].as_f64().unwrap() - 31.6).abs() < 0.05,
+        "{r}"
+    );
+}
+
+#[test]
+fn bad_frames_are_refused_in_one_line_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    python(
+        dir.path(),
+        "import numpy as np, scipy.io as sio, os\n\
+         y, x = np.mgrid[0:32, 0:32]\n\
+         spot = 100 + 1000 * np.exp(-((y - 16)**2 + (x - 16)**2) / 4.0)\n\
+         np.save('a.npy', spot)\n\
+         np.save('small.npy', spot[:16])\n\
+         np.save('flat.npy', np.full((32, 32), 7.0))\n\
+         np.save('sat.npy', np.full((32, 32), 65535, np.uint16))\n\
+         np.save('cube.npy', np.zeros((2, 3, 4, 5)))\n\
+         sio.savemat('other.mat', {'psf_raw': spot})\n\
+         open('v73.mat', 'wb').write(b'MATLAB 7.3 MAT-file, Platform: GLNXA64, Created on: x HDF5 schema 1.00 .' + bytes(200))\n\
+         open('junk.npy', 'wb').write(b'not an array at all')\n",
+    );
+    let p = |n: &str| dir.path().join(n);
+    let out = p("out.npy");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                s(&p("a.npy")).into(),
+                s(&p("small.npy")).into(),
+                "--exposures-s".into(),
+                "1,2".into(),
+            ],
+            "must be of one size",
+        ),
+        (
+            vec![s(&p("a.npy")).into(), s(&p("a.npy")).into()],
+            "2 frames need 2 exposure times",
+        ),
+        (
+            vec![
+                s(&p("a.npy")).into(),
+                s(&p("a.npy")).into(),
+                "--exposures-s".into(),
+                "1,-2".into(),
+            ],
+            "exposure time",
+        ),
+        (
+            vec![s(&p("flat.npy")).into()],
+            "no light above the background",
+        ),
+        (vec![s(&p("sat.npy")).into()], "saturated"),
+        (vec![s(&p("cube.npy")).into()], "shape"),
+        (
+            vec![
+                s(&p("other.mat")).into(),
+                "--variable".into(),
+                "lin_hdr".into(),
+            ],
+            "no variable `lin_hdr`",
+        ),
+        (vec![s(&p("v73.mat")).into()], "v7.3"),
+        (vec![s(&p("junk.npy")).into()], ".npy"),
+        (
+            vec![s(&p("a.npy")).into(), "--crop-px".into(), "0".into()],
+            "crop_px",
+        ),
+    ];
+    for (extra, want) in cases {
+        let mut args = vec!["psf", "import", "--pixel-um", "2", "--out", s(&out)];
+        args.extend(extra.iter().map(String::as_str));
+        let (ok, _, err) = run(&args);
+        assert!(!ok, "{extra:?} was accepted");
+        assert!(err.contains(want), "{extra:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{extra:?}: one line: {err}");
+        assert!(
+            !out.exists() && !p("out.json").exists(),
+            "{extra:?} wrote a file"
+        );
+    }
+    for bad in ["0", "-1", "nan"] {
+        let (ok, _, err) = run(&[
+            "psf",
+            "import",
+            s(&p("a.npy")),
+            "--pixel-um",
+            bad,
+            "--out",
+            s(&out),
+        ]);
+        assert!(!ok && err.contains("--pixel-um"), "{bad}: {err}");
+    }
+}
