@@ -315,3 +315,104 @@ fn bad_frames_are_refused_in_one_line_and_nothing_is_written() {
         assert!(!ok && err.contains("--pixel-um"), "{bad}: {err}");
     }
 }
+
+#[test]
+fn restore_with_a_psf_set_scores_as_restoring_with_the_simulated_psf() {
+    use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+    use udc_studio::core::measured::PsfSet;
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    // A 128² crop of a test photo, the scene.
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let photo = image::open(root.join("assets/testset/astronaut.png"))
+        .unwrap()
+        .crop_imm(160, 80, 128, 128)
+        .to_rgb8();
+    photo.save(p("scene.png")).unwrap();
+    // The capture simulated through the optimized random layout (chapter 3), denoised (BM3D told its own noise) and
+    // restored with its own PSF.
+    let (ok, stdout, stderr) = run(&[
+        "restore",
+        "--preset",
+        "l2inv-random",
+        "--image",
+        s(&p("scene.png")),
+        "--light",
+        "2000",
+        "--out",
+        s(dir.path()),
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let simulated: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    let psnr_simulated = simulated["runs"][0]["psnr_db"].as_f64().unwrap();
+    let sigma2 = simulated["runs"][0]["denoise"]["sigma2"]
+        .as_f64()
+        .unwrap()
+        .to_string();
+    // The same PSFs as a PSF set on disk, and the same again through `psf import` (background,
+    // centring, crop, normalisation), as a measured set.
+    let design = udc_studio::io::design::presets::load_preset("l2inv-random").unwrap();
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis = analyze_with(&design, &options, &udc_studio::core::Progress::new()).unwrap();
+    let set = PsfSet::from_analysis(&analysis);
+    udc_studio::io::measured::write_psf_set(&p("simulated.npy"), &set, None).unwrap();
+    // The file holds no background (its halo reaches the window's edge, where the import would
+    // take it for one); the import centres each channel on its peak.
+    let imported = import_json(&[
+        s(&p("simulated.npy")),
+        "--pixel-um",
+        "2",
+        "--no-background",
+        "--centre",
+        "peak",
+        "--out",
+        s(&p("imported.npy")),
+    ]);
+    assert_eq!(imported["channels"].as_array().unwrap().len(), 3);
+    let restore_with = |psf: &Path| {
+        let (ok, stdout, stderr) = run(&[
+            "restore",
+            "--psf",
+            s(psf),
+            "--image",
+            s(&p("light-2000e_captured.exr")),
+            "--truth",
+            s(&p("scene.png")),
+            "--denoise-sigma2",
+            &sigma2,
+            "--json",
+        ]);
+        assert!(ok, "{stderr}");
+        let j: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+        j["psnr_db"].as_f64().unwrap()
+    };
+    let with_set = restore_with(&p("simulated.npy"));
+    let with_import = restore_with(&p("imported.npy"));
+    assert!(
+        psnr_simulated > 15.0,
+        "a real restoration: {psnr_simulated:.2} dB"
+    );
+    assert!(
+        (with_set - psnr_simulated).abs() < 0.5,
+        "the simulated PSF as a set: {with_set:.2} dB against {psnr_simulated:.2}"
+    );
+    assert!(
+        (with_import - psnr_simulated).abs() < 0.5,
+        "the imported PSF: {with_import:.2} dB against {psnr_simulated:.2}"
+    );
+    // A capture's channels the set cannot serve, and --light with --psf, are refused.
+    let (ok, _, err) = run(&[
+        "restore",
+        "--psf",
+        s(&p("simulated.npy")),
+        "--image",
+        s(&p("scene.png")),
+        "--light",
+        "100",
+    ]);
+    assert!(!ok && err.contains("--light"), "{err}");
+}

@@ -394,12 +394,12 @@ pub fn merge(
     let mut psf = Array2::from_shape_fn((side, side), |(y, x)| {
         let (sy, sx) = (y0 + y as i64, x0 + x as i64);
         if sy >= 0 && sx >= 0 && (sy as usize) < dim.0 && (sx as usize) < dim.1 {
-            rate[[sy as usize, sx as usize]] - floor
+            rate[[sy as usize, sx as usize]]
         } else {
             0.0
         }
     });
-    let kept: f64 = psf.sum();
+    let kept: f64 = psf.iter().map(|v| v - floor).sum();
     report.side_px = side;
     report.light_kept = if total_light > 0.0 {
         (kept / total_light).min(1.0)

@@ -256,6 +256,73 @@ fn validate_psfs(psfs: &[&Array2<f64>], channels: usize) -> Result<(), SimError>
     Ok(())
 }
 
+/// Restores a capture made elsewhere (a real one, through a measured PSF): BM3D at `sigma2`
+/// when it is given, then `method`'s deblurring of each plane with its PSF on `padding`'s grid.
+/// The same steps as [`simulate_with`] after its exposure.
+///
+/// # Errors
+/// No plane, planes of different sizes or non-finite samples, PSFs that are not one per plane
+/// or carry no light, a bad σ² or method setting, cancellation.
+pub fn restore_capture<T: Sample>(
+    captured: Vec<Array2<T>>,
+    psfs: &[&Array2<f64>],
+    method: Method,
+    padding: Padding,
+    sigma2: Option<f64>,
+    progress: &Progress,
+) -> Result<Vec<Array2<T>>, SimError> {
+    let Some(dim) = captured.first().map(Array2::dim) else {
+        return Err(SimError::invalid("capture", "has no plane"));
+    };
+    if dim.0 == 0 || dim.1 == 0 {
+        return Err(SimError::invalid("capture", "is empty"));
+    }
+    for (c, p) in captured.iter().enumerate() {
+        if p.dim() != dim {
+            return Err(SimError::invalid(
+                format!("capture plane {c}"),
+                format!("is {:?}, plane 0 is {dim:?}", p.dim()),
+            ));
+        }
+        if p.iter().any(|v| !Into::<f64>::into(*v).is_finite()) {
+            return Err(SimError::invalid(
+                format!("capture plane {c}"),
+                "holds a sample that is not a finite number",
+            ));
+        }
+    }
+    validate_psfs(psfs, captured.len())?;
+    if let Method::Wiener { nsr } = method {
+        wiener::check_nsr(nsr)?;
+    }
+    let kernel_dim = psfs
+        .iter()
+        .fold((1, 1), |(h, w), p| (h.max(p.nrows()), w.max(p.ncols())));
+    let grid = PadGrid::new(dim, kernel_dim, padding);
+    progress.set(0.0);
+    let inputs = match sigma2 {
+        Some(s2) => {
+            if !crate::denoise::sigma2_in_range(s2) {
+                return Err(SimError::invalid(
+                    "sigma2",
+                    format!("must be a positive finite noise variance, got {s2}"),
+                ));
+            }
+            let _span = progress.span(0.0, 0.7);
+            crate::denoise::bm3d_owned(captured, s2, progress)?
+        }
+        None => captured,
+    };
+    progress.check()?;
+    inputs
+        .iter()
+        .zip(psfs)
+        .map(|(input, psf)| {
+            deblur_channel(input, psf, None, &grid, method, progress).map(|(x, _)| x)
+        })
+        .collect()
+}
+
 /// One channel's deblurring on `grid` (the settings' padding), from `input` (the denoised
 /// capture, or the capture itself), reusing the blur's kernel rows when they are on `grid`.
 fn deblur_channel<T: Sample>(

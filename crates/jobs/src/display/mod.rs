@@ -4,6 +4,7 @@
 mod analysis_cache;
 mod analyze;
 mod restore;
+mod restore_measured;
 
 use std::path::PathBuf;
 

@@ -24,28 +24,39 @@ pub enum RestoreMethod {
     Cg,
 }
 
-/// The parameters of `restore`; at least one `--light` or `--snr-db` is required.
+/// The parameters of `restore`: a photo captured through a display at each `--light` or
+/// `--snr-db` and restored; or, with `--psf`, a real capture (`--image`) restored with a
+/// measured PSF.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
-#[command(group(
-    clap::ArgGroup::new("light_level").required(true).args(["light", "snr_db"])
-))]
 pub struct RestoreJob {
     /// The display design the photo is captured through.
     #[command(flatten)]
     #[serde(flatten)]
     pub selection: DesignSelection,
-    /// The photo (PNG, JPEG, TIFF, HDR or EXR), read as linear intensities in [0, 1].
+    /// The photo (PNG, JPEG, TIFF, HDR or EXR), read as linear intensities in [0, 1]; with
+    /// `--psf`, the capture to restore (also a linear .npy or MATLAB .mat array).
     #[arg(long)]
     pub image: PathBuf,
+    /// Restore `--image` as a real capture with this PSF set (`psf import`'s .npy with its
+    /// sidecar): no capture is simulated, so no `--light`; one PSF for every colour, or one
+    /// per channel.
+    #[arg(long, value_name = "PSF.npy", conflicts_with_all = ["light", "snr_db"])]
+    #[serde(default)]
+    pub psf: Option<PathBuf>,
+    /// With `--psf`: the scene as it should look (same size), to score the restoration (PSNR,
+    /// SSIM).
+    #[arg(long, value_name = "CLEAN", requires = "psf")]
+    #[serde(default)]
+    pub truth: Option<PathBuf>,
     /// Electrons at a pixel of value 1 behind the reference display (T-OLED 150 DPI); give it
     /// several times for several runs.
-    #[arg(long, value_name = "E")]
+    #[arg(long, value_name = "E", required_unless_present_any = ["snr_db", "psf"])]
     #[serde(with = "crate::params::list")]
     pub light: Vec<f64>,
     /// The same light level as an SNR in dB (24/28/32/36/40 ↔ 273/654/1608/4005/10024 e⁻); give
     /// it several times for several runs.
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", required_unless_present_any = ["light", "psf"])]
     #[serde(with = "crate::params::list")]
     pub snr_db: Vec<f64>,
     /// Restoration method.
@@ -90,6 +101,8 @@ impl Default for RestoreJob {
         RestoreJob {
             selection: DesignSelection::default(),
             image: PathBuf::new(),
+            psf: None,
+            truth: None,
             light: Vec::new(),
             snr_db: Vec::new(),
             method: RestoreMethod::Wiener,
@@ -116,8 +129,15 @@ impl RestoreJob {
         if self.image.as_os_str().is_empty() {
             bail!("--image is required: the photo to capture and restore");
         }
-        if self.light.is_empty() && self.snr_db.is_empty() {
-            bail!("at least one --light or --snr-db is required");
+        match (&self.psf, self.light.is_empty() && self.snr_db.is_empty()) {
+            (None, true) => bail!("at least one --light or --snr-db is required"),
+            (Some(_), false) => {
+                bail!("--psf restores --image as a real capture: --light and --snr-db simulate one")
+            }
+            (None, false) if self.truth.is_some() => {
+                bail!("--truth scores a real capture restored with --psf")
+            }
+            _ => {}
         }
         Ok(())
     }
@@ -137,11 +157,6 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
     use udc_io::photo;
 
     args.check()?;
-    let design = args.selection.resolve()?;
-    // f32 planes: a 16-megapixel photo's stages then fit in well under a gigabyte.
-    let photo = photo::load_photo::<f32>(&args.image, args.max_side_px)?;
-    // The display openings are chapter 3's: its σ² table.
-    let denoise = args.denoise.resolve(udc_core::restore::Recipe::Iccp21)?;
     let method = match args.method {
         RestoreMethod::Wiener => Method::Wiener { nsr: args.nsr },
         RestoreMethod::Cg => Method::Cg(CgSettings {
@@ -150,6 +165,32 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
             ..CgSettings::default()
         }),
     };
+    if let Some(psf) = &args.psf {
+        let padding = if args.pad_linear || args.method == RestoreMethod::Cg {
+            Padding::Linear
+        } else {
+            Padding::Double
+        };
+        let name = match args.method {
+            RestoreMethod::Wiener => "wiener",
+            RestoreMethod::Cg => "cg",
+        };
+        let run = super::restore_measured::MeasuredRun {
+            image: &args.image,
+            psf,
+            truth: args.truth.as_deref(),
+            method: (method, name),
+            padding,
+            denoise: &args.denoise,
+            out: args.out.as_deref(),
+        };
+        return super::restore_measured::restore_measured(&run, progress);
+    }
+    let design = args.selection.resolve()?;
+    // f32 planes: a 16-megapixel photo's stages then fit in well under a gigabyte.
+    let photo = photo::load_photo::<f32>(&args.image, args.max_side_px)?;
+    // The display openings are chapter 3's: its σ² table.
+    let denoise = args.denoise.resolve(udc_core::restore::Recipe::Iccp21)?;
     let lights: Vec<(Light, String)> = args
         .light
         .iter()
