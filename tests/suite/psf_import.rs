@@ -416,3 +416,54 @@ fn restore_with_a_psf_set_scores_as_restoring_with_the_simulated_psf() {
     ]);
     assert!(!ok && err.contains("--light"), "{err}");
 }
+
+#[test]
+fn compare_finds_the_design_a_psf_came_from() {
+    use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+    use udc_studio::core::measured::{PsfSet, PsfSource};
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    // The 150-DPI T-OLED's green PSF as a "measurement" (one channel at its wavelength), the
+    // axis on a pixel's centre as an import centres it.
+    let mut design = udc_studio::io::design::presets::load_preset("toled-150dpi").unwrap();
+    design.optics.axis_in_pixel_um = [1.0, 1.0];
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis = analyze_with(&design, &options, &udc_studio::core::Progress::new()).unwrap();
+    let mut set = PsfSet::from_analysis(&analysis);
+    set.channels.retain(|c| c.name == "G");
+    set.source = PsfSource::Measured;
+    udc_studio::io::measured::write_psf_set(&p("g.npy"), &set, None).unwrap();
+    let g = p("g.npy");
+    let compare = |preset: &str, out: Option<&Path>| {
+        let mut args = vec!["psf", "compare", s(&g), "--preset", preset, "--json"];
+        if let Some(o) = out {
+            args.extend(["--out", s(o)]);
+        }
+        let (ok, stdout, stderr) = run(&args);
+        assert!(ok, "{stderr}");
+        let j: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+        j
+    };
+    let same = compare("toled-150dpi", Some(&p("figures")));
+    let other = compare("toled-300dpi", None);
+    let row = |j: &serde_json::Value, key: &str| j["channels"][0][key].as_f64().unwrap();
+    assert_eq!(
+        same["channels"][0]["design_channel"], "G",
+        "matched by wavelength"
+    );
+    assert!(row(&same, "residual_energy_share") < 0.01, "{same}");
+    assert!(row(&same, "correlation") > 0.99);
+    assert!((row(&same, "auc_measured") - row(&same, "auc_design")).abs() < 0.01);
+    // Twice the density is another display: the residual and the AUC say so.
+    assert!(row(&other, "residual_energy_share") > 10.0 * row(&same, "residual_energy_share"));
+    assert!(row(&other, "correlation") < row(&same, "correlation"));
+    for kind in ["profile", "mtf", "residual"] {
+        for ext in ["png", "svg"] {
+            let f = p("figures").join(format!("G-{kind}.{ext}"));
+            assert!(f.is_file(), "{}", f.display());
+        }
+    }
+}

@@ -93,7 +93,8 @@ pub enum Command {
     /// Optimize the opening of one display pixel (thesis §3.4.2) and save the new design.
     Optimize(optimize::OptimizeArgs),
     /// Measured PSFs: `psf import` merges a prototype's frames (a bracket of exposures, dark
-    /// frames) into a PSF set (.npy with a .json sidecar).
+    /// frames) into a PSF set (.npy with a .json sidecar); `psf compare` sets it beside the
+    /// design.
     #[command(subcommand)]
     Psf(PsfCommand),
     /// Simulate spatially-varying gain and binning on an HDR scene (thesis chapter 5): the four
@@ -148,6 +149,9 @@ pub enum PsfCommand {
     /// masks, an HDR merge weighted by exposure, background, sub-pixel centring, crop and
     /// normalisation, each reported (and each with a `--no-…` switch).
     Import(JobArgs<udc_jobs::measured::ImportJob>),
+    /// Compare a measured PSF set with a design simulated at its pixel pitch: each channel
+    /// aligned to a sub-pixel, the residual, both MTFs and their AUC; figures with `--out`.
+    Compare(JobArgs<udc_jobs::measured::CompareJob>),
 }
 
 /// A job's command line: its parameters (the job's own struct) and how to print its result.
@@ -234,9 +238,16 @@ fn run_command(command: Command, progress: &udc_core::Progress) -> Result<()> {
         Command::Restore(args) => run_job(JobSpec::Restore(args.job), args.json, progress),
         Command::Denoise(args) => denoise::denoise_cmd(&args),
         Command::Optimize(args) => optimize::optimize_cmd(&args),
-        Command::Psf(PsfCommand::Import(args)) => {
-            let report = udc_jobs::measured::import(&args.job, progress)?;
-            if args.json {
+        Command::Psf(cmd) => {
+            let (report, json) = match cmd {
+                PsfCommand::Import(args) => {
+                    (udc_jobs::measured::import(&args.job, progress)?, args.json)
+                }
+                PsfCommand::Compare(args) => {
+                    (udc_jobs::measured::compare(&args.job, progress)?, args.json)
+                }
+            };
+            if json {
                 emit_json(&report.json)
             } else {
                 print!("{}", report.text);

@@ -300,3 +300,179 @@ pub fn import(job: &ImportJob, progress: &Progress) -> Result<Report> {
     });
     Ok(out)
 }
+
+/// The parameters of `psf compare`.
+#[derive(Debug, Clone, Args, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub struct CompareJob {
+    /// The measured PSF set (`psf import`'s .npy, with its .json sidecar).
+    #[arg(value_name = "PSF.npy")]
+    pub psf: PathBuf,
+    /// The design file (JSON) the prototype was built from.
+    #[arg(long, conflicts_with = "preset")]
+    pub design: Option<PathBuf>,
+    /// Or a built-in preset (see `udc-studio presets`).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// The camera's pixel pitch, µm (when the set has no sidecar; overrides it).
+    #[arg(long, value_name = "UM")]
+    pub pixel_um: Option<f64>,
+    /// Write the figures (profile, MTF, residual per channel; PNG and SVG) into this folder.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+}
+
+/// The design's channel a measured one is compared with: the nearest in wavelength when the
+/// measured channel has one, else the one of the same name (R, G, B), else the same index.
+fn matching_channel(
+    analysis: &udc_core::analysis::analyze::Analysis,
+    measured: &PsfChannel,
+    index: usize,
+) -> usize {
+    if let Some(w) = measured.wavelength_nm {
+        return analysis
+            .channels
+            .iter()
+            .enumerate()
+            .min_by(|a, b| {
+                (a.1.wavelength_nm - w)
+                    .abs()
+                    .total_cmp(&(b.1.wavelength_nm - w).abs())
+            })
+            .map_or(0, |(i, _)| i);
+    }
+    analysis
+        .channels
+        .iter()
+        .position(|c| c.name.eq_ignore_ascii_case(&measured.name))
+        .unwrap_or(index.min(analysis.channels.len().saturating_sub(1)))
+}
+
+/// Runs `psf compare`: the design simulated at the set's pixel pitch and side, each measured
+/// channel aligned with its design channel, the residual and both MTFs.
+///
+/// # Errors
+/// A set or design that does not load, a bad pixel pitch, a PSF larger than a design window
+/// may be, unwritable figures.
+pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
+    use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+    use udc_core::measured::compare::compare as compare_psfs;
+    use udc_core::measured::figures;
+    use udc_io::measured::{SetDefaults, read_psf_set};
+
+    if let Some(p) = job.pixel_um.filter(|p| !(p.is_finite() && *p > 0.0)) {
+        bail!("--pixel-um: the camera's pixel pitch must be a positive number of µm, got {p}");
+    }
+    let set = read_psf_set(
+        &job.psf,
+        &SetDefaults {
+            pixel_um: job.pixel_um,
+            wavelength_nm: None,
+        },
+    )?;
+    let selection = crate::display::DesignSelection {
+        design: job.design.clone(),
+        preset: job.preset.clone(),
+        ..crate::display::DesignSelection::default()
+    };
+    let mut design = selection.resolve()?;
+    // The design on the measurement's grid: its pixel pitch (the fine grid a whole number of
+    // samples a pixel) and window.
+    let op = &mut design.optics;
+    let per_pixel = (set.pixel_um / op.fine_sample_um).round().max(1.0);
+    op.sensor_pixel_um = set.pixel_um;
+    op.fine_sample_um = set.pixel_um / per_pixel;
+    op.window_px = set.side_px();
+    op.axis_in_pixel_um = [set.pixel_um / 2.0, set.pixel_um / 2.0];
+    op.recipe = udc_core::design::OpticsRecipe::Custom;
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis = analyze_with(&design, &options, progress)
+        .context("the design at the measurement's pixel pitch")?;
+    let mut out = Report::default();
+    let mut rows = Vec::new();
+    let mut files = Vec::new();
+    outln!(
+        out,
+        "{} ({} px at {} µm) against {} simulated at that pitch",
+        job.psf.display(),
+        set.side_px(),
+        set.pixel_um,
+        if design.name.is_empty() {
+            "the design"
+        } else {
+            &design.name
+        }
+    );
+    outln!(
+        out,
+        "channel      design  shift (px)      residual  correlation  AUC measured  AUC design"
+    );
+    for (i, channel) in set.channels.iter().enumerate() {
+        let k = matching_channel(&analysis, channel, i);
+        let sim = &analysis.channels[k];
+        let c = compare_psfs(&channel.psf, &sim.psf)
+            .with_context(|| format!("channel {}", channel.name))?;
+        outln!(
+            out,
+            "{:<12} {:<6}  {:+6.2} {:+6.2}   {:7.2} %  {:11.4}  {:12.4}  {:10.4}",
+            channel.name,
+            sim.name,
+            c.shift_px[0],
+            c.shift_px[1],
+            100.0 * c.residual_energy_share,
+            c.correlation,
+            c.mtf_measured.auc_radial_min,
+            c.mtf_simulated.auc_radial_min
+        );
+        if let Some(dir) = &job.out {
+            std::fs::create_dir_all(dir)
+                .with_context(|| format!("cannot create {}", dir.display()))?;
+            let stem = channel
+                .name
+                .replace(|ch: char| !ch.is_ascii_alphanumeric(), "-");
+            for (kind, panel) in [
+                (
+                    "profile",
+                    figures::profile_panel(&c, set.pixel_um, &channel.name),
+                ),
+                ("mtf", figures::mtf_panel(&c, &channel.name)),
+                (
+                    "residual",
+                    figures::residual_panel(&c, set.pixel_um, &channel.name),
+                ),
+            ] {
+                files.extend(udc_io::figure::write_panel(
+                    dir,
+                    &format!("{stem}-{kind}"),
+                    &panel,
+                )?);
+            }
+        }
+        rows.push(json!({
+            "channel": channel.name,
+            "design_channel": sim.name,
+            "shift_px": c.shift_px,
+            "residual_energy_share": c.residual_energy_share,
+            "correlation": c.correlation,
+            "auc_measured": c.mtf_measured.auc_radial_min,
+            "auc_design": c.mtf_simulated.auc_radial_min,
+            "mtf_radial_min_measured": c.mtf_measured.radial_min,
+            "mtf_radial_min_design": c.mtf_simulated.radial_min,
+            "frequencies_cyc_per_px": c.mtf_measured.freqs_cyc_per_px(),
+        }));
+    }
+    for f in &files {
+        outln!(out, "wrote {}", f.display());
+    }
+    out.json = json!({
+        "psf": job.psf,
+        "pixel_um": set.pixel_um,
+        "design": design.name,
+        "channels": rows,
+        "files": files,
+    });
+    Ok(out)
+}

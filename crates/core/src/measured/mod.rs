@@ -5,6 +5,8 @@
 //! A set's PSFs follow the core's conventions: `[row, col]`, the optical axis at `[N/2, N/2]`,
 //! each summing to 1; `pixel_um` is the camera's pixel pitch they are sampled at.
 
+pub mod compare;
+pub mod figures;
 pub mod import;
 pub mod shift;
 

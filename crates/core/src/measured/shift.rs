@@ -9,7 +9,7 @@ use rustfft::num_complex::Complex64;
 use udc_fft::{complex_inverse_plan, complex_plan};
 
 /// Transforms the rows, then the columns, of `data` (`n × n`, row-major) in place.
-fn transform(data: &mut [Complex64], n: usize, inverse: bool) {
+pub(crate) fn transform(data: &mut [Complex64], n: usize, inverse: bool) {
     let plan = if inverse {
         complex_inverse_plan(n)
     } else {
