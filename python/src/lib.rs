@@ -14,6 +14,7 @@ mod design;
 mod errors;
 mod figures;
 mod jobs;
+mod measured;
 mod restore;
 mod theory;
 
@@ -28,5 +29,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     theory::register(m)?;
     jobs::register(m)?;
     figures::register(m)?;
+    measured::register(m)?;
     Ok(())
 }

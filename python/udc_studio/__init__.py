@@ -27,7 +27,7 @@ from typing import Any, Dict, List, Optional, Tuple, Union
 
 import numpy as np
 
-from . import _native, phase, sensor
+from . import _native, measured, phase, sensor
 
 __version__: str = _native.__version__
 
@@ -42,6 +42,7 @@ __all__ = [
     "load_photo",
     "presets",
     "restore",
+    "measured",
     "phase",
     "sensor",
     "sweep",

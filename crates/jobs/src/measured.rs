@@ -16,8 +16,8 @@ use udc_io::measured::read::{Encoding, FramePick, RawFrame, read_frame};
 use crate::Report;
 
 /// The parameters of `psf import`.
-#[derive(Debug, Clone, Args, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Default, Args, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", default, deny_unknown_fields)]
 pub struct ImportJob {
     /// The frames: one file, or a bracket of exposures of the same point source (.npy, MATLAB
     /// v5 .mat, 16-bit PNG or TIFF, OpenEXR).
@@ -302,8 +302,8 @@ pub fn import(job: &ImportJob, progress: &Progress) -> Result<Report> {
 }
 
 /// The parameters of `psf compare`.
-#[derive(Debug, Clone, Args, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
+#[derive(Debug, Clone, Default, Args, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", default, deny_unknown_fields)]
 pub struct CompareJob {
     /// The measured PSF set (`psf import`'s .npy, with its .json sidecar).
     #[arg(value_name = "PSF.npy")]
