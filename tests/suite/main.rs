@@ -37,6 +37,7 @@ mod mask_emitters;
 mod mask_export;
 mod mask_fab;
 mod mask_fab_gds;
+mod mask_foreign;
 mod mask_frame;
 mod mask_integrity;
 mod mask_oas;

@@ -82,8 +82,24 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
         udc_io::mask::verify_checksum(path)?;
     }
     let design = template(path, layer, datatype, args)?;
-    // Checked above (or waived): the import need not hash the file a second time.
-    let cells = import_opening_on(path, &design, layer, datatype, ChecksumCheck::Ignore)?;
+    // A mask another tool drew states none of our notes: where its pixels are is read from
+    // the drawing itself (the pixel at the layout's middle, on its own grid), not from our
+    // export's registration.
+    let foreign = ext != "png"
+        && !sidecar_path(path).is_file()
+        && note_field(
+            mask_notes(path, layer, datatype)?
+                .iter()
+                .map(String::as_str),
+            "PITCH_NM",
+        )
+        .is_none();
+    let cells = if foreign {
+        foreign_pixel(path, &design, layer, datatype)?
+    } else {
+        // Checked above (or waived): the import need not hash the file a second time.
+        import_opening_on(path, &design, layer, datatype, ChecksumCheck::Ignore)?
+    };
     let mut design = design;
     design.opening.cells = cells;
     design.reconcile_subpixels();
@@ -105,6 +121,56 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
 
 /// The design the opening goes into: the sidecar, or the default design set from the notes;
 /// `--pitch-um` and `--cells` override either.
+/// The cells of the pixel at the middle of a foreign mask's drawn layout, with a line saying
+/// where it was read (and a warning when it is not wholly inside the layout).
+///
+/// # Errors
+/// Nothing drawn on the layer, or a pixel that holds no opening.
+fn foreign_pixel(path: &Path, design: &Design, layer: i16, datatype: i16) -> Result<Vec<Vec<f64>>> {
+    let bounds = udc_io::mask::drawn_bounds_um(path, layer, datatype)?.ok_or_else(|| {
+        anyhow!(
+            "{}: nothing is drawn on layer {layer}/{datatype} (give --layer L/D)",
+            path.display()
+        )
+    })?;
+    let period = design.opening.pitch_um + design.tiling.wiring_gap_um;
+    let n = design.opening.n();
+    let (window, warning) = udc_io::mask::foreign_window(bounds, period, n);
+    eprintln!(
+        "note: {} states no pitch of ours: reading the {period} µm pixel at ({:.3}, {:.3}) µm, the middle of its drawn layout on the layout's own grid",
+        path.display(),
+        window.left_um,
+        window.top_um
+    );
+    if let Some(w) = warning {
+        eprintln!("warning: {w}");
+    }
+    let imported = udc_io::mask::import_mask(
+        path,
+        &udc_io::mask::ImportOptions {
+            cell_um: design.opening.cell_um(),
+            layer,
+            datatype,
+            window: Some(window),
+            checksum: ChecksumCheck::Ignore,
+            ..udc_io::mask::ImportOptions::default()
+        },
+    )?;
+    if imported.cells.iter().flatten().all(|c| *c == 0.0) {
+        bail!(
+            "{}: the pixel read at ({:.3}, {:.3}) µm holds no opening; the drawn layout spans {:.3} … {:.3} × {:.3} … {:.3} µm (check --pitch-um and --layer)",
+            path.display(),
+            window.left_um,
+            window.top_um,
+            bounds[0],
+            bounds[2],
+            bounds[1],
+            bounds[3]
+        );
+    }
+    Ok(imported.cells)
+}
+
 fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result<Design> {
     let sidecar = sidecar_path(path);
     let mut design = if sidecar.is_file() {

@@ -172,6 +172,82 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
     })
 }
 
+/// The bounding box `[x0, y0, x1, y1]` (µm, y up) of what is drawn on `layer`/`datatype`,
+/// references expanded; `None` when nothing is.
+///
+/// # Errors
+/// As [`import_mask`] when the file cannot be read.
+pub fn drawn_bounds_um(
+    path: &Path,
+    layer: i16,
+    datatype: i16,
+) -> Result<Option<[f64; 4]>, IoError> {
+    let (polygons, _) = read_drawn(path, layer, datatype)?;
+    let mut b = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in polygons
+        .iter()
+        .flatten()
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+    {
+        b = [
+            b[0].min(p[0]),
+            b[1].min(p[1]),
+            b[2].max(p[0]),
+            b[3].max(p[1]),
+        ];
+    }
+    Ok(b[0].is_finite().then_some(b))
+}
+
+/// The window of one pixel (`period_um` a side, `n × n` cells) that a mask from another tool
+/// is read at: the pixel at the middle of its drawn layout `bounds` (`[x0, y0, x1, y1]`, µm),
+/// on the grid of `period_um` from the layout's top-left corner, so that it lies inside the
+/// array wherever the array is placed. The second value says, in one line, when the window
+/// is not wholly inside the layout (a layout smaller than a pixel, or a grid whose corner is
+/// not the layout's).
+pub fn foreign_window(
+    bounds: [f64; 4],
+    period_um: f64,
+    n: usize,
+) -> (ImportWindow, Option<String>) {
+    let [x0, y0, x1, y1] = bounds;
+    let (w, h) = (x1 - x0, y1 - y0);
+    let steps = |span: f64| ((span / 2.0) / period_um).floor().max(0.0);
+    let left_um = if w >= period_um {
+        x0 + steps(w) * period_um
+    } else {
+        (x0 + x1 - period_um) / 2.0
+    };
+    let top_um = if h >= period_um {
+        y1 - steps(h) * period_um
+    } else {
+        (y0 + y1 + period_um) / 2.0
+    };
+    let window = ImportWindow {
+        left_um,
+        top_um,
+        cols: n,
+        rows: n,
+    };
+    // A hundredth of a cell of slack: coordinates on a database grid round.
+    let slack = period_um / n.max(1) as f64 / 100.0;
+    let inside = left_um >= x0 - slack
+        && left_um + period_um <= x1 + slack
+        && top_um <= y1 + slack
+        && top_um - period_um >= y0 - slack;
+    let warning = (!inside).then(|| {
+        format!(
+            "the {period_um} µm pixel read at ({left_um:.3}, {top_um:.3}) µm is not wholly inside the drawn layout ({x0:.3} … {x1:.3}, {y0:.3} … {y1:.3}) µm: check --pitch-um, or that the file holds an array of pixels"
+        )
+    });
+    (window, warning)
+}
+
 /// The vector format (GDSII, OASIS or DXF) `path`'s extension names.
 ///
 /// # Errors

@@ -44,8 +44,8 @@ pub use deck::drc_deck;
 pub use fab::{FRAME_LAYER, LABEL_LAYER, LayerRole, MARKS_LAYER, MaskLayers, design_hash};
 pub use frame::{FrameDrawing, frame_drawing, label_date};
 pub use import::{
-    ChecksumCheck, ImportOptions, ImportWindow, ImportedMask, import_mask, import_opening,
-    import_opening_on, mask_notes, note_field,
+    ChecksumCheck, ImportOptions, ImportWindow, ImportedMask, drawn_bounds_um, foreign_window,
+    import_mask, import_opening, import_opening_on, mask_notes, note_field,
 };
 pub use integrity::verify_checksum;
 pub use rules::{CheckScope, MAX_EXPORT_CHECK_VERTICES, RulesCheck, check_file, check_written};

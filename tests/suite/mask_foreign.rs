@@ -1,0 +1,118 @@
+//! Masks from other tools, without our notes: a 3×3 array of a 100-µm pixel (a 30×60-µm
+//! opening) written by gdstk as an array reference or as flat polygons, at the origin or far
+//! from it, reads back as the pixel at the layout's middle with its open fraction; a pitch that
+//! misses the array is refused in one line, with the layout's extent.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::Path;
+use std::process::Command;
+
+use crate::common::run_cli as run;
+
+fn gdstk(dir: &Path, name: &str, origin: (f64, f64), aref: bool) {
+    let code = format!(
+        "import gdstk\n\
+         lib = gdstk.Library(unit=1e-6, precision=1e-9)\n\
+         top = lib.new_cell('TOP')\n\
+         if {aref}:\n\
+         \x20   unit = lib.new_cell('UNIT')\n\
+         \x20   unit.add(gdstk.rectangle((20, 10), (50, 70), layer=1, datatype=0))\n\
+         \x20   top.add(gdstk.Reference(unit, {origin:?}, columns=3, rows=3, spacing=(100, 100)))\n\
+         else:\n\
+         \x20   for i in range(3):\n\
+         \x20       for j in range(3):\n\
+         \x20           x, y = {ox} + 100 * i, {oy} + 100 * j\n\
+         \x20           top.add(gdstk.rectangle((x + 20, y + 10), (x + 50, y + 70), layer=1, datatype=0))\n\
+         lib.write_gds('{name}')\n",
+        aref = if aref { "True" } else { "False" },
+        ox = origin.0,
+        oy = origin.1,
+    );
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(&code)
+        .current_dir(dir)
+        .output()
+        .expect("python3 with gdstk is required (the test command installs it)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn open_fraction(design: &Path) -> f64 {
+    let d = udc_studio::io::design::file::load_design(design).unwrap();
+    let n = d.opening.n();
+    d.opening.cells.iter().flatten().sum::<f64>() / (n * n) as f64
+}
+
+#[test]
+fn an_array_from_another_tool_reads_as_its_middle_pixel_wherever_it_is() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, origin, aref) in [
+        ("origin.gds", (0.0, 0.0), true),
+        ("far.gds", (1000.0, -333.0), true),
+        ("flat.gds", (1000.0, -333.0), false),
+    ] {
+        gdstk(dir.path(), name, origin, aref);
+        let gds = dir.path().join(name);
+        let out = dir.path().join(format!("{name}.json"));
+        let (ok, stdout, stderr) = run(&[
+            "import",
+            gds.to_str().unwrap(),
+            "--pitch-um",
+            "100",
+            "--cells",
+            "20",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{name}: {stderr}");
+        assert!(
+            stdout.contains("open fraction 0.180000"),
+            "{name}: {stdout}"
+        );
+        assert!((open_fraction(&out) - 0.18).abs() < 1e-12, "{name}");
+        assert!(
+            stderr.contains("middle of its drawn layout"),
+            "{name}: {stderr}"
+        );
+        assert!(!stderr.contains("warning"), "{name}: {stderr}");
+    }
+    // A pitch ten times the array's: the pixel misses it, said in one line with the extent.
+    let out = dir.path().join("wrong.json");
+    let (ok, _, stderr) = run(&[
+        "import",
+        dir.path().join("far.gds").to_str().unwrap(),
+        "--pitch-um",
+        "1000",
+        "--cells",
+        "20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && !out.exists(), "{stderr}");
+    assert!(stderr.contains("not wholly inside"), "{stderr}");
+    let error = stderr.lines().find(|l| l.starts_with("error")).unwrap();
+    assert!(
+        error.contains("holds no opening") && error.contains("1020.000"),
+        "{error}"
+    );
+}
+
+#[test]
+fn the_foreign_window_sits_inside_the_layout_on_its_grid() {
+    use udc_studio::io::mask::foreign_window;
+    // Three pixels of 100 µm from x = 20 (an opening inset 20 µm): the middle one.
+    let (w, warning) = foreign_window([20.0, -290.0, 250.0, -40.0], 100.0, 20);
+    assert_eq!(
+        (w.left_um, w.top_um, w.cols, w.rows),
+        (120.0, -140.0, 20, 20)
+    );
+    assert!(warning.is_none());
+    // A layout smaller than one pixel: centred on it, and said.
+    let (w, warning) = foreign_window([0.0, 0.0, 50.0, 50.0], 100.0, 10);
+    assert_eq!((w.left_um, w.top_um), (-25.0, 75.0));
+    assert!(warning.unwrap().contains("not wholly inside"));
+}
