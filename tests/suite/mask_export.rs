@@ -135,6 +135,7 @@ fn round_trip(d: &Design, o: &ExportOptions, path: &Path, cols: u32, rows: u32) 
             cell_um: CELL_UM,
             layer: o.layer,
             datatype: o.datatype,
+            layer_name: None,
             window: Some(block_window(d, cols, rows)),
             tone: None,
             checksum: udc_studio::io::mask::ChecksumCheck::Verify,

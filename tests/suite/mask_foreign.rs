@@ -116,3 +116,106 @@ fn the_foreign_window_sits_inside_the_layout_on_its_grid() {
     assert_eq!((w.left_um, w.top_um), (-25.0, 75.0));
     assert!(warning.unwrap().contains("not wholly inside"));
 }
+
+/// Writes, with ezdxf, a 3×3 array of the pixel as one arrayed block insert on layer `OPEN`
+/// (the block's polyline on layer `0`, which takes the insert's layer), plus a text on it.
+/// `half`: the block drawn at half size, inserted scaled ×2 and turned 90°.
+fn ezdxf(dir: &Path, name: &str, half: bool) {
+    let code = format!(
+        "import ezdxf\n\
+         doc = ezdxf.new('R2000')\n\
+         doc.layers.add('OPEN')\n\
+         blk = doc.blocks.new(name='PIX')\n\
+         if {half}:\n\
+         \x20   blk.add_lwpolyline([(10, 5), (25, 5), (25, 35), (10, 35)], close=True, dxfattribs={{'layer': '0'}})\n\
+         \x20   attribs = {{'layer': 'OPEN', 'xscale': 2, 'yscale': 2, 'rotation': 90}}\n\
+         else:\n\
+         \x20   blk.add_lwpolyline([(20, 10), (50, 10), (50, 70), (20, 70)], close=True, dxfattribs={{'layer': '0'}})\n\
+         \x20   attribs = {{'layer': 'OPEN'}}\n\
+         attribs.update(column_count=3, row_count=3, column_spacing=100, row_spacing=100)\n\
+         msp = doc.modelspace()\n\
+         msp.add_blockref('PIX', (1000, -333), dxfattribs=attribs)\n\
+         msp.add_text('made elsewhere', dxfattribs={{'layer': 'OPEN'}})\n\
+         doc.saveas('{name}')\n",
+        half = if half { "True" } else { "False" },
+    );
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(&code)
+        .current_dir(dir)
+        .output()
+        .expect("python3 with ezdxf is required (the test command installs it)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn a_dxf_layer_is_chosen_by_name_and_its_block_inserts_are_expanded() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, half) in [("blocks.dxf", false), ("turned.dxf", true)] {
+        ezdxf(dir.path(), name, half);
+        let dxf = dir.path().join(name);
+        let out = dir.path().join(format!("{name}.json"));
+        let (ok, stdout, stderr) = run(&[
+            "import",
+            dxf.to_str().unwrap(),
+            "--layer",
+            "OPEN",
+            "--pitch-um",
+            "100",
+            "--cells",
+            "20",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{name}: {stderr}");
+        assert!(
+            stdout.contains("open fraction 0.180000"),
+            "{name}: {stdout}"
+        );
+        // Turned 90°, the 30×60 opening reads 60 wide and 30 tall.
+        let d = udc_studio::io::design::file::load_design(&out).unwrap();
+        let (rows, cols): (Vec<usize>, Vec<usize>) = d
+            .opening
+            .cells
+            .iter()
+            .enumerate()
+            .flat_map(|(r, row)| row.iter().enumerate().map(move |(c, v)| (r, c, *v)))
+            .filter(|(_, _, v)| *v > 0.5)
+            .map(|(r, c, _)| (r, c))
+            .unzip();
+        let span = |v: &[usize]| v.iter().max().unwrap() - v.iter().min().unwrap() + 1;
+        let (tall, wide) = (span(&rows), span(&cols));
+        if half {
+            assert_eq!((tall, wide), (6, 12), "{name}");
+        } else {
+            assert_eq!((tall, wide), (12, 6), "{name}");
+        }
+    }
+    // A layer name on a GDSII file, and a DXF layer with nothing on it: one line each.
+    gdstk(dir.path(), "a.gds", (0.0, 0.0), true);
+    let out = dir.path().join("x.json");
+    for (file, layer, want) in [
+        ("a.gds", "OPEN", "layers are numbers"),
+        ("blocks.dxf", "METAL", "nothing is drawn on layer METAL"),
+    ] {
+        let (ok, _, stderr) = run(&[
+            "import",
+            dir.path().join(file).to_str().unwrap(),
+            "--layer",
+            layer,
+            "--pitch-um",
+            "100",
+            "--cells",
+            "20",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(!ok && stderr.contains(want), "{file} {layer}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(!out.exists());
+    }
+}

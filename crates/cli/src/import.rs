@@ -15,9 +15,10 @@ use udc_io::mask::{ChecksumCheck, import_opening_on, mask_notes, note_field, sid
 pub struct ImportArgs {
     /// The mask: `.gds`, `.oas`, `.dxf` or `.png` (as `udc-studio export` writes them).
     pub mask: PathBuf,
-    /// GDSII layer/datatype of the drawn polygons, e.g. `1/0` (DXF: the layer `L1D0…`).
+    /// GDSII layer/datatype of the drawn polygons, e.g. `1/0` (DXF: the layer `L1D0…`); or, for
+    /// a DXF drawn by another tool, its layer's name (`OPEN`).
     #[arg(long, default_value = "1/0", value_parser = parse_layer)]
-    pub layer: (i16, i16),
+    pub layer: LayerArg,
     /// Pixel pitch in µm; by default the mask's `PITCH_NM=` note (or its sidecar design).
     #[arg(long)]
     pub pitch_um: Option<f64>,
@@ -33,11 +34,29 @@ pub struct ImportArgs {
     pub ignore_checksum: bool,
 }
 
+/// The drawn layer: numbers, or a DXF layer's name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LayerArg {
+    /// A GDSII layer and datatype (DXF: the layer `L<layer>D<datatype>`).
+    Numbers(i16, i16),
+    /// A DXF layer by its name.
+    Name(String),
+}
+
+/// `L/D` as a GDSII layer and datatype, each 0–255; a word without `/` as a DXF layer's name.
+fn parse_layer(s: &str) -> Result<LayerArg, ValueError> {
+    let t = s.trim();
+    if !t.contains('/') && !t.is_empty() && !t.starts_with(|c: char| c.is_ascii_digit()) {
+        return Ok(LayerArg::Name(t.to_owned()));
+    }
+    parse_numbers(s).map(|(l, d)| LayerArg::Numbers(l, d))
+}
+
 /// `L/D` as a GDSII layer and datatype, each 0–255.
-fn parse_layer(s: &str) -> Result<(i16, i16), ValueError> {
+fn parse_numbers(s: &str) -> Result<(i16, i16), ValueError> {
     let bad = || ValueError::Malformed {
         value: s.to_string(),
-        expected: "a layer L/D, e.g. 1/0, each 0–255",
+        expected: "a layer L/D, e.g. 1/0, each 0–255 (or a DXF layer's name)",
     };
     let (l, d) = s.split_once('/').ok_or_else(bad)?;
     let l: i16 = l.trim().parse().map_err(|_| bad())?;
@@ -76,7 +95,23 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
         );
     }
     udc_io::safe_file::check_not_an_input(&args.out, &[path.as_path()])?;
-    let (layer, datatype) = args.layer;
+    let (layer, datatype, layer_name) = match &args.layer {
+        LayerArg::Numbers(l, d) => (*l, *d, None),
+        LayerArg::Name(n) => {
+            if ext != "dxf" {
+                bail!(
+                    "--layer {n}: {} layers are numbers L/D (for example 1/0); a name picks a \
+                     DXF layer",
+                    if ext == "png" {
+                        "PNG masks have no"
+                    } else {
+                        "GDSII and OASIS"
+                    }
+                );
+            }
+            (1, 0, Some(n.as_str()))
+        }
+    };
     // First: the notes below are read from the file, and a damaged one could misstate them.
     if !args.ignore_checksum && ext != "png" {
         udc_io::mask::verify_checksum(path)?;
@@ -85,17 +120,18 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
     // A mask another tool drew states none of our notes: where its pixels are is read from
     // the drawing itself (the pixel at the layout's middle, on its own grid), not from our
     // export's registration.
-    let foreign = ext != "png"
-        && !sidecar_path(path).is_file()
-        && note_field(
-            mask_notes(path, layer, datatype)?
-                .iter()
-                .map(String::as_str),
-            "PITCH_NM",
-        )
-        .is_none();
+    let foreign = layer_name.is_some()
+        || (ext != "png"
+            && !sidecar_path(path).is_file()
+            && note_field(
+                mask_notes(path, layer, datatype)?
+                    .iter()
+                    .map(String::as_str),
+                "PITCH_NM",
+            )
+            .is_none());
     let cells = if foreign {
-        foreign_pixel(path, &design, layer, datatype)?
+        foreign_pixel(path, &design, layer, datatype, layer_name)?
     } else {
         // Checked above (or waived): the import need not hash the file a second time.
         import_opening_on(path, &design, layer, datatype, ChecksumCheck::Ignore)?
@@ -126,13 +162,21 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
 ///
 /// # Errors
 /// Nothing drawn on the layer, or a pixel that holds no opening.
-fn foreign_pixel(path: &Path, design: &Design, layer: i16, datatype: i16) -> Result<Vec<Vec<f64>>> {
-    let bounds = udc_io::mask::drawn_bounds_um(path, layer, datatype)?.ok_or_else(|| {
-        anyhow!(
-            "{}: nothing is drawn on layer {layer}/{datatype} (give --layer L/D)",
-            path.display()
-        )
-    })?;
+fn foreign_pixel(
+    path: &Path,
+    design: &Design,
+    layer: i16,
+    datatype: i16,
+    layer_name: Option<&str>,
+) -> Result<Vec<Vec<f64>>> {
+    let shown = layer_name.map_or(format!("{layer}/{datatype}"), str::to_owned);
+    let bounds =
+        udc_io::mask::drawn_bounds_um(path, layer, datatype, layer_name)?.ok_or_else(|| {
+            anyhow!(
+                "{}: nothing is drawn on layer {shown} (give --layer L/D, or a DXF layer's name)",
+                path.display()
+            )
+        })?;
     let period = design.opening.pitch_um + design.tiling.wiring_gap_um;
     let n = design.opening.n();
     let (window, warning) = udc_io::mask::foreign_window(bounds, period, n);
@@ -151,6 +195,7 @@ fn foreign_pixel(path: &Path, design: &Design, layer: i16, datatype: i16) -> Res
             cell_um: design.opening.cell_um(),
             layer,
             datatype,
+            layer_name: layer_name.map(str::to_owned),
             window: Some(window),
             checksum: ChecksumCheck::Ignore,
             ..udc_io::mask::ImportOptions::default()

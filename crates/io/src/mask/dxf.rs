@@ -291,9 +291,17 @@ pub(super) fn estimate(layout: &MaskLayout) -> FileCounts {
     }
 }
 
-/// Reads closed LWPOLYLINEs on the layer `L<layer>D<datatype>` (any `_TONE` suffix) in µm, and
-/// every TEXT (plus a `TONE=` note derived from the layer's suffix).
-pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<super::Drawn, IoError> {
+/// Reads closed LWPOLYLINEs on the layer `L<layer>D<datatype>` (any `_TONE` suffix), or on the
+/// layer named `named` (another tool's, such as `OPEN`; DXF names ignore case), in µm, block
+/// inserts expanded (scaled, rotated, arrayed; an entity on layer `0` inside a block takes the
+/// insert's layer, as DXF has it), and every TEXT (plus a `TONE=` note derived from the layer's
+/// suffix).
+pub(super) fn read(
+    path: &Path,
+    layer: i16,
+    datatype: i16,
+    named: Option<&str>,
+) -> Result<super::Drawn, IoError> {
     let bytes = crate::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
     let unreadable = |why: String| IoError::Mask {
         path: path.to_path_buf(),
@@ -314,24 +322,145 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<super::Draw
             return Err(unreadable(why));
         }
     };
-    let name = layer_name(layer, datatype);
-    let mut polygons = Vec::new();
-    let mut texts = Vec::new();
-    for e in drawing.entities() {
-        let l = e.common.layer.as_str();
+    let numbered = layer_name(layer, datatype);
+    let wanted = |l: &str| -> Option<Option<Tone>> {
+        match named {
+            Some(n) => l.eq_ignore_ascii_case(n).then_some(None),
+            None if l == numbered => Some(None),
+            None => l
+                .strip_prefix(&format!("{numbered}_"))
+                .map(|suffix| suffix.to_lowercase().parse::<Tone>().ok()),
+        }
+    };
+    let blocks: std::collections::HashMap<String, &dxf::Block> = drawing
+        .blocks()
+        .map(|b| (b.name.to_ascii_uppercase(), b))
+        .collect();
+    let mut out = Expansion {
+        polygons: Vec::new(),
+        texts: Vec::new(),
+        visits: 0,
+    };
+    let top: Vec<&Entity> = drawing.entities().collect();
+    expand(&top, Affine::IDENTITY, "0", 0, &blocks, &wanted, &mut out).map_err(unreadable)?;
+    Ok((out.polygons, out.texts))
+}
+
+/// Most polygons, texts and inserts one import expands (a block arrayed in a block arrayed…
+/// would otherwise run on for hours).
+const MAX_DXF_EXPANDED: usize = 4_000_000;
+
+/// What [`expand`] collects.
+struct Expansion {
+    polygons: Vec<Vec<[f64; 2]>>,
+    texts: Vec<String>,
+    visits: usize,
+}
+
+/// A 2-D affine map `p ↦ [a b; c d]·p + t`.
+#[derive(Debug, Clone, Copy)]
+struct Affine {
+    m: [f64; 4],
+    t: [f64; 2],
+}
+
+impl Affine {
+    const IDENTITY: Affine = Affine {
+        m: [1.0, 0.0, 0.0, 1.0],
+        t: [0.0, 0.0],
+    };
+
+    fn apply(&self, p: [f64; 2]) -> [f64; 2] {
+        [
+            self.m[0] * p[0] + self.m[1] * p[1] + self.t[0],
+            self.m[2] * p[0] + self.m[3] * p[1] + self.t[1],
+        ]
+    }
+
+    /// `self ∘ other`: `other` first.
+    fn then_inner(&self, other: &Affine) -> Affine {
+        let [a, b, c, d] = self.m;
+        let [e, f, g, h] = other.m;
+        Affine {
+            m: [a * e + b * g, a * f + b * h, c * e + d * g, c * f + d * h],
+            t: self.apply(other.t),
+        }
+    }
+}
+
+/// The map of an INSERT's copy `(col, row)`: from block coordinates (less the base point),
+/// scaled, moved by the array offset, rotated, placed at the insert's location.
+fn insert_map(ins: &dxf::entities::Insert, base: [f64; 2], col: i16, row: i16) -> Affine {
+    let (sin, cos) = ins.rotation.to_radians().sin_cos();
+    let (sx, sy) = (ins.x_scale_factor, ins.y_scale_factor);
+    let offset = [
+        f64::from(col) * ins.column_spacing,
+        f64::from(row) * ins.row_spacing,
+    ];
+    // local = S·(p − base) + offset; world = R·local + location.
+    let local = [sx * -base[0] + offset[0], sy * -base[1] + offset[1]];
+    Affine {
+        m: [cos * sx, -sin * sy, sin * sx, cos * sy],
+        t: [
+            cos * local[0] - sin * local[1] + ins.location.x,
+            sin * local[0] + cos * local[1] + ins.location.y,
+        ],
+    }
+}
+
+/// Collects the wanted polylines and every text of `entities` under `tf`, inserts expanded;
+/// `inherited` is the layer an entity on layer `0` takes (its insert's).
+fn expand(
+    entities: &[&Entity],
+    tf: Affine,
+    inherited: &str,
+    depth: usize,
+    blocks: &std::collections::HashMap<String, &dxf::Block>,
+    wanted: &dyn Fn(&str) -> Option<Option<Tone>>,
+    out: &mut Expansion,
+) -> Result<(), String> {
+    if depth > 16 {
+        return Err("block inserts nest deeper than 16 levels".into());
+    }
+    for e in entities {
+        out.visits += 1;
+        if out.visits > MAX_DXF_EXPANDED {
+            return Err(format!(
+                "more than {MAX_DXF_EXPANDED} entities to expand; import a smaller drawing"
+            ));
+        }
+        let layer = if e.common.layer == "0" {
+            inherited
+        } else {
+            e.common.layer.as_str()
+        };
         match &e.specific {
-            EntityType::LwPolyline(p) if l == name || l.starts_with(&format!("{name}_")) => {
-                if let Some(t) = l
-                    .strip_prefix(&format!("{name}_"))
-                    .and_then(|suffix| suffix.to_lowercase().parse::<Tone>().ok())
-                {
-                    texts.push(format!("TONE={}", t.as_str().to_uppercase()));
+            EntityType::LwPolyline(p) => {
+                if let Some(tone) = wanted(layer) {
+                    if let Some(t) = tone {
+                        out.texts
+                            .push(format!("TONE={}", t.as_str().to_uppercase()));
+                    }
+                    out.polygons
+                        .push(p.vertices.iter().map(|v| tf.apply([v.x, v.y])).collect());
                 }
-                polygons.push(p.vertices.iter().map(|v| [v.x, v.y]).collect());
             }
-            EntityType::Text(t) => texts.push(t.value.clone()),
+            EntityType::Text(t) => out.texts.push(t.value.clone()),
+            EntityType::Insert(ins) => {
+                let Some(block) = blocks.get(&ins.name.to_ascii_uppercase()) else {
+                    return Err(format!("an insert of a missing block `{}`", ins.name));
+                };
+                let base = [block.base_point.x, block.base_point.y];
+                let inner: Vec<&Entity> = block.entities.iter().collect();
+                for col in 0..ins.column_count.max(1) {
+                    for row in 0..ins.row_count.max(1) {
+                        let map = tf.then_inner(&insert_map(ins, base, col, row));
+                        expand(&inner, map, layer, depth + 1, blocks, wanted, out)?;
+                    }
+                }
+            }
             _ => {}
         }
     }
-    Ok((polygons, texts))
+    Ok(())
 }

@@ -37,6 +37,8 @@ pub struct ImportOptions {
     pub layer: i16,
     /// GDSII datatype of the drawn polygons (DXF: the `D<datatype>` of the layer name).
     pub datatype: i16,
+    /// A DXF layer by its name (another tool's, such as `OPEN`), instead of `L<layer>D<datatype>`.
+    pub layer_name: Option<String>,
     /// Cells to sample; by default the drawn polygons' bounding box, rounded out to whole cells.
     pub window: Option<ImportWindow>,
     /// The tone; by default the one the file's notes state, else open.
@@ -62,6 +64,7 @@ impl Default for ImportOptions {
             cell_um: 1.0,
             layer: 1,
             datatype: 0,
+            layer_name: None,
             window: None,
             tone: None,
             checksum: ChecksumCheck::Verify,
@@ -109,7 +112,12 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
     if options.checksum == ChecksumCheck::Verify {
         super::integrity::verify_checksum(path)?;
     }
-    let (polygons, texts) = read_drawn(path, options.layer, options.datatype)?;
+    let (polygons, texts) = read_drawn(
+        path,
+        options.layer,
+        options.datatype,
+        options.layer_name.as_deref(),
+    )?;
     if polygons.is_empty() {
         return Err(err(MaskImportError::NoPolygon {
             layer: options.layer,
@@ -181,8 +189,9 @@ pub fn drawn_bounds_um(
     path: &Path,
     layer: i16,
     datatype: i16,
+    layer_name: Option<&str>,
 ) -> Result<Option<[f64; 4]>, IoError> {
-    let (polygons, _) = read_drawn(path, layer, datatype)?;
+    let (polygons, _) = read_drawn(path, layer, datatype, layer_name)?;
     let mut b = [
         f64::INFINITY,
         f64::INFINITY,
@@ -272,9 +281,23 @@ pub(super) fn vector_format(path: &Path) -> Result<MaskFormat, IoError> {
 ///
 /// # Errors
 /// As [`vector_format`], and the readers' errors.
-pub(super) fn read_drawn(path: &Path, layer: i16, datatype: i16) -> Result<Drawn, IoError> {
-    Ok(match vector_format(path)? {
-        MaskFormat::Dxf => dxf::read(path, layer, datatype)?,
+pub(super) fn read_drawn(
+    path: &Path,
+    layer: i16,
+    datatype: i16,
+    layer_name: Option<&str>,
+) -> Result<Drawn, IoError> {
+    let format = vector_format(path)?;
+    if let Some(name) = layer_name.filter(|_| format != MaskFormat::Dxf) {
+        return Err(IoError::Mask {
+            path: path.to_path_buf(),
+            message: format!(
+                "layer `{name}`: GDSII and OASIS layers are numbers, L/D (for example 1/0)"
+            ),
+        });
+    }
+    Ok(match format {
+        MaskFormat::Dxf => dxf::read(path, layer, datatype, layer_name)?,
         MaskFormat::Oas => {
             let flat = oasis::read(path, layer, datatype)?;
             (flat.polygons_um, flat.texts)
@@ -537,7 +560,7 @@ pub fn mask_notes(path: &Path, layer: i16, datatype: i16) -> Result<Vec<String>,
         .map(|e| e.to_string_lossy().to_lowercase())
         .as_deref()
     {
-        Some("dxf") => Ok(dxf::read(path, layer, datatype)?.1),
+        Some("dxf") => Ok(dxf::read(path, layer, datatype, None)?.1),
         Some("oas" | "oasis") => Ok(oasis::read(path, layer, datatype)?.texts),
         _ => Ok(gds::read(path, layer, datatype)?.texts),
     }
