@@ -41,6 +41,23 @@ fn gdstk(dir: &Path, name: &str, origin: (f64, f64), aref: bool) {
     );
 }
 
+/// `udc-studio import MASK [--layer LAYER] --pitch-um PITCH --cells 20 --out OUT`.
+fn import(mask: &Path, layer: Option<&str>, pitch_um: &str, out: &Path) -> (bool, String, String) {
+    let mut args = vec!["import", mask.to_str().unwrap()];
+    if let Some(l) = layer {
+        args.extend(["--layer", l]);
+    }
+    args.extend([
+        "--pitch-um",
+        pitch_um,
+        "--cells",
+        "20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    run(&args)
+}
+
 fn open_fraction(design: &Path) -> f64 {
     let d = udc_studio::io::design::file::load_design(design).unwrap();
     let n = d.opening.n();
@@ -58,16 +75,7 @@ fn an_array_from_another_tool_reads_as_its_middle_pixel_wherever_it_is() {
         gdstk(dir.path(), name, origin, aref);
         let gds = dir.path().join(name);
         let out = dir.path().join(format!("{name}.json"));
-        let (ok, stdout, stderr) = run(&[
-            "import",
-            gds.to_str().unwrap(),
-            "--pitch-um",
-            "100",
-            "--cells",
-            "20",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (ok, stdout, stderr) = import(&gds, None, "100", &out);
         assert!(ok, "{name}: {stderr}");
         assert!(
             stdout.contains("open fraction 0.180000"),
@@ -82,16 +90,7 @@ fn an_array_from_another_tool_reads_as_its_middle_pixel_wherever_it_is() {
     }
     // A pitch ten times the array's: the pixel misses it, said in one line with the extent.
     let out = dir.path().join("wrong.json");
-    let (ok, _, stderr) = run(&[
-        "import",
-        dir.path().join("far.gds").to_str().unwrap(),
-        "--pitch-um",
-        "1000",
-        "--cells",
-        "20",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (ok, _, stderr) = import(&dir.path().join("far.gds"), None, "1000", &out);
     assert!(!ok && !out.exists(), "{stderr}");
     assert!(stderr.contains("not wholly inside"), "{stderr}");
     let error = stderr.lines().find(|l| l.starts_with("error")).unwrap();
@@ -159,18 +158,7 @@ fn a_dxf_layer_is_chosen_by_name_and_its_block_inserts_are_expanded() {
         ezdxf(dir.path(), name, half);
         let dxf = dir.path().join(name);
         let out = dir.path().join(format!("{name}.json"));
-        let (ok, stdout, stderr) = run(&[
-            "import",
-            dxf.to_str().unwrap(),
-            "--layer",
-            "OPEN",
-            "--pitch-um",
-            "100",
-            "--cells",
-            "20",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (ok, stdout, stderr) = import(&dxf, Some("OPEN"), "100", &out);
         assert!(ok, "{name}: {stderr}");
         assert!(
             stdout.contains("open fraction 0.180000"),
@@ -202,18 +190,7 @@ fn a_dxf_layer_is_chosen_by_name_and_its_block_inserts_are_expanded() {
         ("a.gds", "OPEN", "layers are numbers"),
         ("blocks.dxf", "METAL", "nothing is drawn on layer METAL"),
     ] {
-        let (ok, _, stderr) = run(&[
-            "import",
-            dir.path().join(file).to_str().unwrap(),
-            "--layer",
-            layer,
-            "--pitch-um",
-            "100",
-            "--cells",
-            "20",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (ok, _, stderr) = import(&dir.path().join(file), Some(layer), "100", &out);
         assert!(!ok && stderr.contains(want), "{file} {layer}: {stderr}");
         assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
         assert!(!out.exists());
