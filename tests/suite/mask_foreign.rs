@@ -82,12 +82,48 @@ fn an_array_from_another_tool_reads_as_its_middle_pixel_wherever_it_is() {
             "{name}: {stdout}"
         );
         assert!((open_fraction(&out) - 0.18).abs() < 1e-12, "{name}");
-        assert!(
-            stderr.contains("middle of its drawn layout"),
-            "{name}: {stderr}"
-        );
+        // An array reference registers the pixel: read where the array puts it, the opening
+        // 20 µm from its left and 30 µm from its top (cells of 5 µm); flat polygons have no
+        // registration: the pixel at the layout's middle, on the layout's grid.
+        if aref {
+            assert!(
+                stderr.contains("3×3 array of cell `UNIT`"),
+                "{name}: {stderr}"
+            );
+            let d = udc_studio::io::design::file::load_design(&out).unwrap();
+            let c = &d.opening.cells;
+            assert_eq!(
+                (c[6][4], c[5][4], c[6][3], c[17][9], c[18][9]),
+                (1.0, 0.0, 0.0, 1.0, 0.0),
+                "{name}"
+            );
+        } else {
+            assert!(
+                stderr.contains("middle of its drawn layout"),
+                "{name}: {stderr}"
+            );
+        }
         assert!(!stderr.contains("warning"), "{name}: {stderr}");
     }
+    // Without --pitch-um, an array reference's spacing is the pitch.
+    let out = dir.path().join("inferred.json");
+    let (ok, stdout, stderr) = run(&[
+        "import",
+        dir.path().join("far.gds").to_str().unwrap(),
+        "--cells",
+        "20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("pitch 100 µm, the spacing of its array reference"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("pitch 100 µm, open fraction 0.180000"),
+        "{stdout}"
+    );
     // A pitch ten times the array's: the pixel misses it, said in one line with the extent.
     let out = dir.path().join("wrong.json");
     let (ok, _, stderr) = import(&dir.path().join("far.gds"), None, "1000", &out);

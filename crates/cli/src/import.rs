@@ -179,13 +179,22 @@ fn foreign_pixel(
         })?;
     let period = design.opening.pitch_um + design.tiling.wiring_gap_um;
     let n = design.opening.n();
-    let (window, warning) = udc_io::mask::foreign_window(bounds, period, n);
-    eprintln!(
-        "note: {} states no pitch of ours: reading the {period} µm pixel at ({:.3}, {:.3}) µm, the middle of its drawn layout on the layout's own grid",
-        path.display(),
-        window.left_um,
-        window.top_um
-    );
+    let (window, warning) = match array_window(path, layer, datatype, layer_name, period, n)? {
+        Some((window, said)) => {
+            eprintln!("note: {}: {said}", path.display());
+            (window, None)
+        }
+        None => {
+            let (window, warning) = udc_io::mask::foreign_window(bounds, period, n);
+            eprintln!(
+                "note: {} states no pitch of ours: reading the {period} µm pixel at ({:.3}, {:.3}) µm, the middle of its drawn layout on the layout's own grid",
+                path.display(),
+                window.left_um,
+                window.top_um
+            );
+            (window, warning)
+        }
+    };
     if let Some(w) = warning {
         eprintln!("warning: {w}");
     }
@@ -216,6 +225,78 @@ fn foreign_pixel(
     Ok(imported.cells)
 }
 
+/// The window of the middle copy of a GDSII file's one array reference, when its spacing is
+/// the pixel (`period_um` both ways, within 0.5 %) and its cell draws within one pixel from its
+/// origin (the cell's corner, or its centre): the pixel exactly as the file registers it,
+/// with a line saying so.
+fn array_window(
+    path: &Path,
+    layer: i16,
+    datatype: i16,
+    layer_name: Option<&str>,
+    period_um: f64,
+    n: usize,
+) -> Result<Option<(udc_io::mask::ImportWindow, String)>> {
+    if !is_gds(path) || layer_name.is_some() {
+        return Ok(None);
+    }
+    let Some(g) = udc_io::mask::array_grid(path, layer, datatype)? else {
+        return Ok(None);
+    };
+    let close = |a: f64, b: f64| (a - b).abs() <= 0.005 * b.abs().max(1e-9);
+    // Columns to the right and rows upward, one pixel apart each way.
+    let square = g.col_step_um[1].abs() < 1e-9
+        && g.row_step_um[0].abs() < 1e-9
+        && close(g.col_step_um[0], period_um)
+        && close(g.row_step_um[1], period_um);
+    let Some(b) = g.cell_bounds_um.filter(|_| square) else {
+        return Ok(None);
+    };
+    let slack = period_um / n.max(1) as f64 / 100.0;
+    let within = |lo: f64| {
+        b[0] >= lo - slack
+            && b[1] >= lo - slack
+            && b[2] <= lo + period_um + slack
+            && b[3] <= lo + period_um + slack
+    };
+    // The pixel's lower-left corner in the cell's own coordinates.
+    let corner = if within(0.0) {
+        0.0
+    } else if within(-period_um / 2.0) {
+        -period_um / 2.0
+    } else {
+        return Ok(None);
+    };
+    let (col, row) = (g.cols / 2, g.rows / 2);
+    let x = g.origin_um[0] + f64::from(col) * g.col_step_um[0] + corner;
+    let y = g.origin_um[1] + f64::from(row) * g.row_step_um[1] + corner;
+    let window = udc_io::mask::ImportWindow {
+        left_um: x,
+        top_um: y + period_um,
+        cols: n,
+        rows: n,
+    };
+    let said = format!(
+        "reading copy ({col}, {row}) of the {}×{} array of cell `{}` ({period_um} µm apart), \
+         the pixel at ({x:.3}, {:.3}) µm as the array registers it",
+        g.cols,
+        g.rows,
+        g.cell,
+        y + period_um
+    );
+    Ok(Some((window, said)))
+}
+
+/// Whether `path` names a GDSII file.
+fn is_gds(path: &Path) -> bool {
+    matches!(
+        path.extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .as_deref(),
+        Some("gds" | "gdsii" | "gds2")
+    )
+}
+
 fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result<Design> {
     let sidecar = sidecar_path(path);
     let mut design = if sidecar.is_file() {
@@ -240,10 +321,28 @@ fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result
             let period_nm = number("PERIOD_NM").unwrap_or(pitch_nm);
             d.tiling.wiring_gap_um = (period_nm - pitch_nm).max(0.0) / 1e3;
         } else if args.pitch_um.is_none() {
-            bail!(
-                "{}: the mask states no PITCH_NM= note and has no sidecar design; give --pitch-um",
+            // Another tool's array of one pixel cell: its spacing is the pitch.
+            let spacing = udc_io::mask::array_grid(path, layer, datatype)
+                .ok()
+                .flatten()
+                .filter(|g| {
+                    g.col_step_um[1] == 0.0
+                        && g.row_step_um[0] == 0.0
+                        && g.col_step_um[0] > 0.0
+                        && (g.col_step_um[0] - g.row_step_um[1]).abs() <= 1e-9 * g.col_step_um[0]
+                })
+                .map(|g| g.col_step_um[0]);
+            let Some(pitch_um) = spacing.filter(|_| is_gds(path)) else {
+                bail!(
+                    "{}: the mask states no PITCH_NM= note and has no sidecar design; give --pitch-um",
+                    path.display()
+                );
+            };
+            eprintln!(
+                "note: {}: pitch {pitch_um} µm, the spacing of its array reference",
                 path.display()
             );
+            d.opening.pitch_um = pitch_um;
         }
         if number("CELLS").is_none() && args.cells.is_none() {
             bail!(

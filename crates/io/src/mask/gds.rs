@@ -468,6 +468,115 @@ impl Affine {
     }
 }
 
+/// The pixel grid an array reference (AREF) of a GDSII file's top cell draws: another tool's
+/// array of one pixel cell, whose spacing is the pixel pitch and whose origin registers the
+/// grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ArrayGrid {
+    /// The arrayed cell's name.
+    pub cell: String,
+    /// The array's origin (its first copy's cell origin), µm.
+    pub origin_um: [f64; 2],
+    /// From one column to the next, µm.
+    pub col_step_um: [f64; 2],
+    /// From one row to the next, µm.
+    pub row_step_um: [f64; 2],
+    /// Columns and rows.
+    pub cols: u32,
+    /// Rows.
+    pub rows: u32,
+    /// The bounding box `[x0, y0, x1, y1]` of what the arrayed cell itself draws on the layer,
+    /// in its own coordinates (µm); `None` when it draws nothing there directly.
+    pub cell_bounds_um: Option<[f64; 4]>,
+}
+
+/// The one array reference of the top cell (unrotated, unmirrored, unscaled), when the file
+/// has exactly one; `None` otherwise (no array, several, or a transformed one).
+///
+/// # Errors
+/// An unreadable file.
+pub fn array_grid(path: &Path, layer: i16, datatype: i16) -> Result<Option<ArrayGrid>, IoError> {
+    let bytes = crate::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
+    let lib = GdsLibrary::from_bytes(&bytes).map_err(|e| IoError::Mask {
+        path: path.to_path_buf(),
+        message: format!("not a readable GDSII file: {e}"),
+    })?;
+    let scale = lib.units.db_unit() * 1e6;
+    let referenced: std::collections::HashSet<&str> = lib
+        .structs
+        .iter()
+        .flat_map(|s| s.elems.iter())
+        .filter_map(|e| match e {
+            GdsElement::GdsStructRef(r) => Some(r.name.as_str()),
+            GdsElement::GdsArrayRef(r) => Some(r.name.as_str()),
+            _ => None,
+        })
+        .collect();
+    let tops: Vec<&GdsStruct> = lib
+        .structs
+        .iter()
+        .filter(|s| !referenced.contains(s.name.as_str()))
+        .collect();
+    let [top] = tops.as_slice() else {
+        return Ok(None);
+    };
+    let arrays: Vec<&GdsArrayRef> = top
+        .elems
+        .iter()
+        .filter_map(|e| match e {
+            GdsElement::GdsArrayRef(a) => Some(a),
+            _ => None,
+        })
+        .collect();
+    let [a] = arrays.as_slice() else {
+        return Ok(None);
+    };
+    let plain = a.strans.as_ref().is_none_or(|t| {
+        !t.reflected && t.mag.is_none_or(|m| m == 1.0) && t.angle.is_none_or(|r| r == 0.0)
+    });
+    if !plain {
+        return Ok(None);
+    }
+    let p = |k: usize| [f64::from(a.xy[k].x) * scale, f64::from(a.xy[k].y) * scale];
+    let (o, c, r) = (p(0), p(1), p(2));
+    let (cols, rows) = (a.cols.max(1), a.rows.max(1));
+    let step = |end: [f64; 2], n: i16| {
+        [
+            (end[0] - o[0]) / f64::from(n),
+            (end[1] - o[1]) / f64::from(n),
+        ]
+    };
+    let cell_bounds_um = lib.structs.iter().find(|s| s.name == a.name).and_then(|s| {
+        let mut b = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for e in &s.elems {
+            if let GdsElement::GdsBoundary(bd) = e
+                && bd.layer == layer
+                && bd.datatype == datatype
+            {
+                for q in &bd.xy {
+                    let (x, y) = (f64::from(q.x) * scale, f64::from(q.y) * scale);
+                    b = [b[0].min(x), b[1].min(y), b[2].max(x), b[3].max(y)];
+                }
+            }
+        }
+        b[0].is_finite().then_some(b)
+    });
+    Ok(Some(ArrayGrid {
+        cell: a.name.clone(),
+        origin_um: o,
+        col_step_um: step(c, cols),
+        row_step_um: step(r, rows),
+        cols: cols.unsigned_abs().into(),
+        rows: rows.unsigned_abs().into(),
+        cell_bounds_um,
+    }))
+}
+
 /// Reads a GDSII file and expands the references of its top cell (the one no other cell
 /// references).
 pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoError> {

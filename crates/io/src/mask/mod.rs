@@ -11,6 +11,7 @@ mod fab;
 mod flat_size;
 mod frame;
 mod gds;
+pub use gds::{ArrayGrid, array_grid};
 mod import;
 mod integrity;
 mod oasis;
