@@ -468,6 +468,24 @@ impl Affine {
     }
 }
 
+/// The cells no other cell references: a well-formed mask has one, its top.
+fn top_cells(lib: &GdsLibrary) -> Vec<&GdsStruct> {
+    let referenced: std::collections::HashSet<&str> = lib
+        .structs
+        .iter()
+        .flat_map(|s| s.elems.iter())
+        .filter_map(|e| match e {
+            GdsElement::GdsStructRef(r) => Some(r.name.as_str()),
+            GdsElement::GdsArrayRef(r) => Some(r.name.as_str()),
+            _ => None,
+        })
+        .collect();
+    lib.structs
+        .iter()
+        .filter(|s| !referenced.contains(s.name.as_str()))
+        .collect()
+}
+
 /// The pixel grid an array reference (AREF) of a GDSII file's top cell draws: another tool's
 /// array of one pixel cell, whose spacing is the pixel pitch and whose origin registers the
 /// grid.
@@ -502,21 +520,7 @@ pub fn array_grid(path: &Path, layer: i16, datatype: i16) -> Result<Option<Array
         message: format!("not a readable GDSII file: {e}"),
     })?;
     let scale = lib.units.db_unit() * 1e6;
-    let referenced: std::collections::HashSet<&str> = lib
-        .structs
-        .iter()
-        .flat_map(|s| s.elems.iter())
-        .filter_map(|e| match e {
-            GdsElement::GdsStructRef(r) => Some(r.name.as_str()),
-            GdsElement::GdsArrayRef(r) => Some(r.name.as_str()),
-            _ => None,
-        })
-        .collect();
-    let tops: Vec<&GdsStruct> = lib
-        .structs
-        .iter()
-        .filter(|s| !referenced.contains(s.name.as_str()))
-        .collect();
+    let tops = top_cells(&lib);
     let [top] = tops.as_slice() else {
         return Ok(None);
     };
@@ -593,21 +597,7 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
     let lib = GdsLibrary::from_bytes(&bytes)
         .map_err(|e| err(format!("not a readable GDSII file: {e}")))?;
     let scale = lib.units.db_unit() * 1e6;
-    let referenced: std::collections::HashSet<&str> = lib
-        .structs
-        .iter()
-        .flat_map(|s| s.elems.iter())
-        .filter_map(|e| match e {
-            GdsElement::GdsStructRef(r) => Some(r.name.as_str()),
-            GdsElement::GdsArrayRef(r) => Some(r.name.as_str()),
-            _ => None,
-        })
-        .collect();
-    let tops: Vec<&GdsStruct> = lib
-        .structs
-        .iter()
-        .filter(|s| !referenced.contains(s.name.as_str()))
-        .collect();
+    let tops = top_cells(&lib);
     let [top] = tops.as_slice() else {
         let names: Vec<&str> = tops.iter().map(|s| s.name.as_str()).collect();
         return Err(err(format!(

@@ -29,6 +29,9 @@ pub enum RestoreMethod {
 /// measured PSF.
 #[derive(Debug, Clone, Args, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[command(group(
+    clap::ArgGroup::new("light_level").required(true).args(["light", "snr_db", "psf"])
+))]
 pub struct RestoreJob {
     /// The display design the photo is captured through.
     #[command(flatten)]
@@ -51,12 +54,12 @@ pub struct RestoreJob {
     pub truth: Option<PathBuf>,
     /// Electrons at a pixel of value 1 behind the reference display (T-OLED 150 DPI); give it
     /// several times for several runs.
-    #[arg(long, value_name = "E", required_unless_present_any = ["snr_db", "psf"])]
+    #[arg(long, value_name = "E")]
     #[serde(with = "crate::params::list")]
     pub light: Vec<f64>,
     /// The same light level as an SNR in dB (24/28/32/36/40 ↔ 273/654/1608/4005/10024 e⁻); give
     /// it several times for several runs.
-    #[arg(long, value_name = "S", required_unless_present_any = ["light", "psf"])]
+    #[arg(long, value_name = "S")]
     #[serde(with = "crate::params::list")]
     pub snr_db: Vec<f64>,
     /// Restoration method.
