@@ -150,8 +150,11 @@ impl Axis {
                 }
             })
         } else if self.downward {
-            // `+ 0.0` turns −0 into 0: the top row reads "0", not "-0".
-            Some(format!("{}", -value + 0.0))
+            // A tick at the top row arrives as ±1e-14 or so (the plot's own arithmetic): it
+            // reads "0", not "-0".
+            let shown = -value;
+            let shown = if shown.abs() < 1e-9 { 0.0 } else { shown };
+            Some(format!("{shown}"))
         } else {
             None
         }
@@ -452,6 +455,10 @@ mod tests {
         );
         assert_eq!(
             Axis::downward("row", None).tick_label(0.0).as_deref(),
+            Some("0")
+        );
+        assert_eq!(
+            Axis::downward("row", None).tick_label(2.8e-14).as_deref(),
             Some("0")
         );
         assert_eq!(Axis::new("x", None).tick_label(3.0), None);
