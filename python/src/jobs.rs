@@ -16,7 +16,7 @@ use udc_jobs::{JobSpec, Params, evaluate};
 use crate::cancel;
 
 /// A job's error: a file problem is an `OSError`, anything else a bad parameter.
-fn error(e: &anyhow::Error) -> PyErr {
+pub(crate) fn error(e: &anyhow::Error) -> PyErr {
     let message = format!("{e:#}");
     let file_problem = e.chain().any(|cause| {
         cause

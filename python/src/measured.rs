@@ -27,42 +27,32 @@ fn job_of<J: DeserializeOwned>(params: &Bound<'_, PyDict>) -> PyResult<J> {
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
-/// A job's error as the CLI words it: a file problem an `OSError`, else a `ValueError`.
-fn error(e: &anyhow::Error) -> PyErr {
-    let message = format!("{e:#}");
-    if e.chain()
-        .any(|c| c.downcast_ref::<udc_io::IoError>().is_some())
-    {
-        pyo3::exceptions::PyOSError::new_err(message)
-    } else {
-        PyValueError::new_err(message)
-    }
+/// Runs `job` built from `params` (Ctrl-C cancels it) and returns what its `--json` prints.
+fn run_job<'py, J: DeserializeOwned + Sync>(
+    py: Python<'py>,
+    params: &Bound<'py, PyDict>,
+    job: fn(&J, &Progress) -> anyhow::Result<udc_jobs::Report>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let spec: J = job_of(params)?;
+    let progress = Progress::new();
+    let report = cancel::wait(
+        py,
+        || job(&spec, &progress).map_err(|e| crate::jobs::error(&e)),
+        || progress.cancel(),
+    )?;
+    pythonize::pythonize(py, &report.json).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// `psf import` with these parameters; returns what its `--json` prints.
 #[pyfunction]
 fn psf_import<'py>(py: Python<'py>, params: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
-    let job: ImportJob = job_of(params)?;
-    let progress = Progress::new();
-    let report = cancel::wait(
-        py,
-        || import(&job, &progress).map_err(|e| error(&e)),
-        || progress.cancel(),
-    )?;
-    pythonize::pythonize(py, &report.json).map_err(|e| PyValueError::new_err(e.to_string()))
+    run_job::<ImportJob>(py, params, import)
 }
 
 /// `psf compare` with these parameters; returns what its `--json` prints.
 #[pyfunction]
 fn psf_compare<'py>(py: Python<'py>, params: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
-    let job: CompareJob = job_of(params)?;
-    let progress = Progress::new();
-    let report = cancel::wait(
-        py,
-        || compare(&job, &progress).map_err(|e| error(&e)),
-        || progress.cancel(),
-    )?;
-    pythonize::pythonize(py, &report.json).map_err(|e| PyValueError::new_err(e.to_string()))
+    run_job::<CompareJob>(py, params, compare)
 }
 
 /// A PSF set from `path` (with its sidecar, or `pixel_um`): `pixel_um`, `source` and

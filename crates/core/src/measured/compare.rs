@@ -63,14 +63,7 @@ pub fn alignment(a: &Array2<f64>, b: &Array2<f64>) -> [f64; 2] {
             }
         }
     }
-    let refine = |lo: f64, mid: f64, hi: f64| {
-        let d = lo - 2.0 * mid + hi;
-        if d < 0.0 {
-            (0.5 * (lo - hi) / d).clamp(-0.5, 0.5)
-        } else {
-            0.0
-        }
-    };
+    let refine = super::parabola_peak;
     let dy = refine(at(py + n - 1, px), best, at(py + 1, px));
     let dx = refine(at(py, px + n - 1), best, at(py, px + 1));
     // Lags past the middle are negative.

@@ -597,14 +597,7 @@ fn peak_position(a: &Array2<f64>) -> [f64; 2] {
         .fold(((0, 0), f64::NEG_INFINITY), |best, (i, v)| {
             if *v > best.1 { (i, *v) } else { best }
         });
-    let refine = |lo: f64, mid: f64, hi: f64| {
-        let d = lo - 2.0 * mid + hi;
-        if d < 0.0 {
-            (0.5 * (lo - hi) / d).clamp(-0.5, 0.5)
-        } else {
-            0.0
-        }
-    };
+    let refine = super::parabola_peak;
     let dy = if py > 0 && py + 1 < h {
         refine(a[[py - 1, px]], a[[py, px]], a[[py + 1, px]])
     } else {

@@ -16,6 +16,17 @@ use serde::{Deserialize, Serialize};
 use crate::SimError;
 use crate::analysis::analyze::Analysis;
 
+/// The offset (−½ … ½) of the top of the parabola through three equally spaced samples from
+/// the middle one; 0 when the middle is not a maximum (a sub-pixel peak, along one axis).
+pub(crate) fn parabola_peak(lo: f64, mid: f64, hi: f64) -> f64 {
+    let d = lo - 2.0 * mid + hi;
+    if d < 0.0 {
+        (0.5 * (lo - hi) / d).clamp(-0.5, 0.5)
+    } else {
+        0.0
+    }
+}
+
 /// Where a PSF set came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
