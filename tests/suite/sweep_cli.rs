@@ -554,6 +554,9 @@ fn a_sweep_killed_at_twenty_moments_resumes_to_the_uninterrupted_table() {
             .args(["sweep", spec.to_str().unwrap(), "--out"])
             .arg(&out)
             .args(["--quiet", "--no-plots", "--threads", "2"])
+            // Each run computes at most one new point past the first and then holds until
+            // the kill: twenty runs cannot finish thirty points, however fast the machine.
+            .env("UDC_SWEEP_HOLD_AFTER_POINTS", "1")
             .stderr(std::process::Stdio::null())
             .spawn()
             .unwrap();
@@ -570,11 +573,12 @@ fn a_sweep_killed_at_twenty_moments_resumes_to_the_uninterrupted_table() {
         let _ = child.kill();
         let _ = child.wait();
     }
-    // At most about one point a kill: the run is still unfinished at nearly every kill.
-    assert!(
-        killed_midway >= 15,
+    // The hold keeps every run unfinished: each kill lands midway.
+    assert_eq!(
+        killed_midway, 20,
         "only {killed_midway} kills landed midway"
     );
+    assert!(lines() < 31, "the held runs finished the sweep");
     let (ok, _, err) = sweep(&[
         spec.to_str().unwrap(),
         "--out",
