@@ -270,6 +270,23 @@ fn bad_frames_are_refused_in_one_line_and_nothing_is_written() {
             "exposure time",
         ),
         (
+            vec![
+                s(&p("a.npy")).into(),
+                s(&p("a.npy")).into(),
+                "--exposures-s".into(),
+                "1,1e9".into(),
+            ],
+            "--exposures-s: an exposure time must be",
+        ),
+        (
+            vec![
+                s(&p("a.npy")).into(),
+                "--wavelength-nm".into(),
+                "5e6".into(),
+            ],
+            "--wavelength-nm: the wavelength must be",
+        ),
+        (
             vec![s(&p("flat.npy")).into()],
             "no light above the background",
         ),
@@ -302,7 +319,7 @@ fn bad_frames_are_refused_in_one_line_and_nothing_is_written() {
             "{extra:?} wrote a file"
         );
     }
-    for bad in ["0", "-1", "nan"] {
+    for bad in ["0", "-1", "nan", "1e-300", "1e308", "inf"] {
         let (ok, _, err) = run(&[
             "psf",
             "import",

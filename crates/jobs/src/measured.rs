@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow, bail};
 use clap::Args;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
@@ -151,14 +151,17 @@ impl ImportJob {
 /// A bad pixel pitch or wavelength, frames that do not read or do not agree (size, channels,
 /// encoding), a bracket the merge refuses, an unwritable output. Nothing is written then.
 pub fn import(job: &ImportJob, progress: &Progress) -> Result<Report> {
-    if !(job.pixel_um.is_finite() && job.pixel_um > 0.0) {
-        bail!(
-            "--pixel-um: the camera's pixel pitch must be a positive number of µm, got {}",
-            job.pixel_um
-        );
+    use udc_core::measured::{check_pixel_um, check_wavelength_nm, import::EXPOSURE_S_RANGE};
+    check_pixel_um(job.pixel_um).map_err(|e| anyhow!("--pixel-um: {e}"))?;
+    if let Some(w) = job.wavelength_nm {
+        check_wavelength_nm(w).map_err(|e| anyhow!("--wavelength-nm: {e}"))?;
     }
-    if let Some(w) = job.wavelength_nm.filter(|w| !(w.is_finite() && *w > 0.0)) {
-        bail!("--wavelength-nm: must be a positive number of nm, got {w}");
+    if let Some(t) = job.exposures_s.iter().find(|t| !EXPOSURE_S_RANGE.contains(t)) {
+        bail!(
+            "--exposures-s: an exposure time must be {} … {} s, got {t}",
+            EXPOSURE_S_RANGE.start(),
+            EXPOSURE_S_RANGE.end()
+        );
     }
     if job.out.extension().and_then(|e| e.to_str()) != Some("npy") {
         bail!(
@@ -360,8 +363,8 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
     use udc_core::measured::figures;
     use udc_io::measured::{SetDefaults, read_psf_set};
 
-    if let Some(p) = job.pixel_um.filter(|p| !(p.is_finite() && *p > 0.0)) {
-        bail!("--pixel-um: the camera's pixel pitch must be a positive number of µm, got {p}");
+    if let Some(p) = job.pixel_um {
+        udc_core::measured::check_pixel_um(p).map_err(|e| anyhow!("--pixel-um: {e}"))?;
     }
     let set = read_psf_set(
         &job.psf,

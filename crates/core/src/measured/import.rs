@@ -24,6 +24,10 @@ use super::shift::shifted;
 use crate::SimError;
 use crate::progress::Progress;
 
+/// The exposure times a bracket may hold, s: 1 ns to about 11.6 days. Outside, the number is a
+/// slip of unit (µs given as s) and the merge's weights would be meaningless.
+pub const EXPOSURE_S_RANGE: std::ops::RangeInclusive<f64> = 1e-9..=1e6;
+
 /// A frame's share of its full scale at and above which a sample counts as saturated.
 pub const SATURATION_SHARE: f64 = 0.98;
 /// A frame saturated over more than this share of its pixels is refused (a far too long
@@ -475,11 +479,13 @@ fn check(bracket: &Bracket) -> Result<(), SimError> {
         }
     }
     for (i, e) in bracket.exposures.iter().enumerate() {
-        if !(e.exposure_s.is_finite() && e.exposure_s > 0.0) {
+        if !EXPOSURE_S_RANGE.contains(&e.exposure_s) {
             return Err(SimError::invalid(
                 format!("exposure {}", i + 1),
                 format!(
-                    "its exposure time must be a positive number of seconds, got {}",
+                    "its exposure time must be {} … {} s, got {}",
+                    EXPOSURE_S_RANGE.start(),
+                    EXPOSURE_S_RANGE.end(),
                     e.exposure_s
                 ),
             ));

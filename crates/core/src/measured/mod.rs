@@ -27,6 +27,45 @@ pub(crate) fn parabola_peak(lo: f64, mid: f64, hi: f64) -> f64 {
     }
 }
 
+/// The camera pixel pitches a set may have, µm: from a microscope's sampling to a coarse
+/// detector. Outside, the number is a typo or a unit slip (metres, nanometres).
+pub const PIXEL_UM_RANGE: std::ops::RangeInclusive<f64> = 0.01..=1000.0;
+
+/// The wavelengths a channel may name, nm: deep UV to thermal infrared.
+pub const WAVELENGTH_NM_RANGE: std::ops::RangeInclusive<f64> = 100.0..=20_000.0;
+
+/// Checks a camera pixel pitch against [`PIXEL_UM_RANGE`].
+///
+/// # Errors
+/// The rule, with the value given.
+pub fn check_pixel_um(pixel_um: f64) -> Result<(), String> {
+    if PIXEL_UM_RANGE.contains(&pixel_um) {
+        Ok(())
+    } else {
+        Err(format!(
+            "the camera's pixel pitch must be {} … {} µm, got {pixel_um}",
+            PIXEL_UM_RANGE.start(),
+            PIXEL_UM_RANGE.end()
+        ))
+    }
+}
+
+/// Checks a wavelength against [`WAVELENGTH_NM_RANGE`].
+///
+/// # Errors
+/// The rule, with the value given.
+pub fn check_wavelength_nm(wavelength_nm: f64) -> Result<(), String> {
+    if WAVELENGTH_NM_RANGE.contains(&wavelength_nm) {
+        Ok(())
+    } else {
+        Err(format!(
+            "the wavelength must be {} … {} nm, got {wavelength_nm}",
+            WAVELENGTH_NM_RANGE.start(),
+            WAVELENGTH_NM_RANGE.end()
+        ))
+    }
+}
+
 /// Where a PSF set came from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -83,12 +122,7 @@ impl PsfSet {
     /// # Errors
     /// The first broken rule, naming the channel.
     pub fn check(&self) -> Result<(), SimError> {
-        if !(self.pixel_um.is_finite() && self.pixel_um > 0.0) {
-            return Err(SimError::invalid(
-                "pixel_um",
-                format!("must be a positive number of µm, got {}", self.pixel_um),
-            ));
-        }
+        check_pixel_um(self.pixel_um).map_err(|e| SimError::invalid("pixel_um", e))?;
         let Some(first) = self.channels.first() else {
             return Err(SimError::invalid("channels", "the PSF set has no channel"));
         };
@@ -120,11 +154,8 @@ impl PsfSet {
                     "holds no light (its sum is not positive)",
                 ));
             }
-            if let Some(w) = c.wavelength_nm.filter(|w| !(w.is_finite() && *w > 0.0)) {
-                return Err(SimError::invalid(
-                    at,
-                    format!("wavelength must be a positive number of nm, got {w}"),
-                ));
+            if let Some(w) = c.wavelength_nm {
+                check_wavelength_nm(w).map_err(|e| SimError::invalid(at, e))?;
             }
         }
         Ok(())
