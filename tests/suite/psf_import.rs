@@ -484,3 +484,61 @@ fn compare_finds_the_design_a_psf_came_from() {
         }
     }
 }
+
+#[test]
+fn fit_from_the_command_line_finds_a_display_at_another_pitch_and_writes_it() {
+    use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+    use udc_studio::core::measured::{PsfSet, PsfSource};
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str| dir.path().join(n);
+    // The 150-DPI T-OLED built 10 % coarser than drawn (184.8 µm), seen in green on a 96-pixel
+    // window; the fit starts from the preset.
+    let mut truth = udc_studio::io::design::presets::load_preset("toled-150dpi").unwrap();
+    truth.opening.pitch_um = 184.8;
+    truth.optics.axis_in_pixel_um = [1.0, 1.0];
+    truth.optics.window_px = 96;
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis = analyze_with(&truth, &options, &udc_studio::core::Progress::new()).unwrap();
+    let mut set = PsfSet::from_analysis(&analysis);
+    set.channels.retain(|c| c.name == "G");
+    set.source = PsfSource::Measured;
+    udc_studio::io::measured::write_psf_set(&p("g.npy"), &set, None).unwrap();
+    let (ok, stdout, stderr) = run(&[
+        "psf",
+        "fit",
+        s(&p("g.npy")),
+        "--preset",
+        "toled-150dpi",
+        "--out",
+        s(&p("fitted.json")),
+        "--json",
+    ]);
+    assert!(ok, "{stderr}");
+    let j: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+    let value = |k: &str| j[k]["value"].as_f64().unwrap();
+    assert!((value("pitch_um") / 184.8 - 1.0).abs() < 0.01, "{j}");
+    assert!(j["pitch_um"]["sigma"].as_f64().unwrap() > 0.0);
+    assert!(
+        (value("open_fraction") / j["start"]["open_fraction"].as_f64().unwrap() - 1.0).abs() < 0.02
+    );
+    assert!(value("rotation_deg").abs() < 0.1, "{j}");
+    assert!(j["residual"].as_f64().unwrap() < j["residual_start"].as_f64().unwrap());
+    // The fitted design loads, at the fitted pitch.
+    let fitted = udc_studio::io::design::file::load_design(&p("fitted.json")).unwrap();
+    assert!((fitted.opening.pitch_um - value("pitch_um")).abs() < 1e-9);
+
+    let g = p("g.npy");
+    for (args, want) in [
+        (vec!["--window-px", "0"], "--window-px"),
+        (vec!["--pixel-um", "1e9"], "--pixel-um"),
+    ] {
+        let mut a = vec!["psf", "fit", s(&g), "--preset", "toled-150dpi"];
+        a.extend(args);
+        let (ok, _, err) = run(&a);
+        assert!(!ok && err.contains(want), "{err}");
+        assert_eq!(err.trim().lines().count(), 1, "one line: {err}");
+    }
+}

@@ -152,6 +152,10 @@ pub enum PsfCommand {
     /// Compare a measured PSF set with a design simulated at its pixel pitch: each channel
     /// aligned to a sub-pixel, the residual, both MTFs and their AUC; figures with `--out`.
     Compare(JobArgs<udc_jobs::measured::CompareJob>),
+    /// Fit the display to a measured PSF set, starting from a design: the pitch, the open
+    /// fraction (the openings' edges moved out or in), the display's turn and the lens's
+    /// defocus, each with its uncertainty; the fitted design with `--out`.
+    Fit(JobArgs<udc_jobs::measured::FitJob>),
 }
 
 /// A job's command line: its parameters (the job's own struct) and how to print its result.
@@ -246,6 +250,7 @@ fn run_command(command: Command, progress: &udc_core::Progress) -> Result<()> {
                 PsfCommand::Compare(args) => {
                     (udc_jobs::measured::compare(&args.job, progress)?, args.json)
                 }
+                PsfCommand::Fit(args) => (udc_jobs::measured::fit(&args.job, progress)?, args.json),
             };
             if json {
                 emit_json(&report.json)

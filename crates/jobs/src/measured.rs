@@ -156,7 +156,11 @@ pub fn import(job: &ImportJob, progress: &Progress) -> Result<Report> {
     if let Some(w) = job.wavelength_nm {
         check_wavelength_nm(w).map_err(|e| anyhow!("--wavelength-nm: {e}"))?;
     }
-    if let Some(t) = job.exposures_s.iter().find(|t| !EXPOSURE_S_RANGE.contains(t)) {
+    if let Some(t) = job
+        .exposures_s
+        .iter()
+        .find(|t| !EXPOSURE_S_RANGE.contains(t))
+    {
         bail!(
             "--exposures-s: an exposure time must be {} … {} s, got {t}",
             EXPOSURE_S_RANGE.start(),
@@ -325,6 +329,158 @@ pub struct CompareJob {
     pub out: Option<PathBuf>,
 }
 
+/// The parameters of `psf fit`.
+#[derive(Debug, Clone, Default, Args, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", default, deny_unknown_fields)]
+pub struct FitJob {
+    /// The measured PSF set (`psf import`'s .npy, with its .json sidecar).
+    #[arg(value_name = "PSF.npy")]
+    pub psf: PathBuf,
+    /// The design file (JSON) the prototype was built from: where the fit starts.
+    #[arg(long, conflicts_with = "preset")]
+    pub design: Option<PathBuf>,
+    /// Or a built-in preset (see `udc-studio presets`).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// The camera's pixel pitch, µm (when the set has no sidecar; overrides it).
+    #[arg(long, value_name = "UM")]
+    pub pixel_um: Option<f64>,
+    /// Side of the central window fitted, pixels (8–512; the set's side when smaller).
+    #[arg(long, value_name = "PX")]
+    pub window_px: Option<usize>,
+    /// Start the refinement from the design's pitch, without the coarse search (−20 … +25 %).
+    #[arg(long)]
+    #[serde(default)]
+    pub no_search: bool,
+    /// Write the fitted design (the start with the fitted pitch and edges) to this JSON file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Runs `psf fit`: the display's pitch, open fraction, turn and defocus fitted to a measured
+/// set, starting from a design, each with its uncertainty.
+///
+/// # Errors
+/// A set or design that does not load, a bad pixel pitch or window, an unwritable design.
+pub fn fit(job: &FitJob, progress: &Progress) -> Result<Report> {
+    use udc_core::measured::fit::{FitOptions, fit as fit_display};
+    use udc_io::measured::{SetDefaults, read_psf_set};
+
+    if let Some(p) = job.pixel_um {
+        udc_core::measured::check_pixel_um(p).map_err(|e| anyhow!("--pixel-um: {e}"))?;
+    }
+    let defaults = FitOptions::default();
+    let window_px = job.window_px.unwrap_or(defaults.window_px);
+    if !(8..=512).contains(&window_px) {
+        bail!("--window-px: the fitted window must be 8 … 512 pixels, got {window_px}");
+    }
+    let set = read_psf_set(
+        &job.psf,
+        &SetDefaults {
+            pixel_um: job.pixel_um,
+            wavelength_nm: None,
+        },
+    )?;
+    let selection = crate::display::DesignSelection {
+        design: job.design.clone(),
+        preset: job.preset.clone(),
+        ..crate::display::DesignSelection::default()
+    };
+    let design = selection.resolve()?;
+    let options = FitOptions {
+        window_px,
+        search_pitch: !job.no_search,
+        ..defaults
+    };
+    let r = fit_display(&design, &set, &options, progress).context("the fit")?;
+    let mut out = Report::default();
+    outln!(
+        out,
+        "{} fitted from {} over the central {} px",
+        job.psf.display(),
+        if design.name.is_empty() {
+            "the design"
+        } else {
+            &design.name
+        },
+        options.window_px.min(set.side_px())
+    );
+    outln!(
+        out,
+        "pitch          {:10.3} ± {:.3} µm   (design {:.3} µm, coarse search {:.3} µm)",
+        r.pitch_um.value,
+        r.pitch_um.sigma,
+        r.start_pitch_um,
+        r.searched_pitch_um
+    );
+    outln!(
+        out,
+        "open fraction  {:10.4} ± {:.4}      (design {:.4}; edges moved {:+.3} ± {:.3} µm)",
+        r.open_fraction.value,
+        r.open_fraction.sigma,
+        r.start_open_fraction,
+        r.edge_bias_um.value,
+        r.edge_bias_um.sigma
+    );
+    outln!(
+        out,
+        "rotation       {:10.3} ± {:.3} °    (counter-clockwise)",
+        r.rotation_deg.value,
+        r.rotation_deg.sigma
+    );
+    outln!(
+        out,
+        "defocus        {:10.1} ± {:.1} µm   (blur circle {:.2} ± {:.2} µm; side not known)",
+        r.defocus_um.value,
+        r.defocus_um.sigma,
+        r.blur_um.value,
+        r.blur_um.sigma
+    );
+    outln!(
+        out,
+        "residual       {:10.4} of the measured energy (the design as drawn: {:.4}); {} evaluations, {}",
+        r.residual,
+        r.residual_start,
+        r.evaluations,
+        if r.converged {
+            "converged"
+        } else {
+            "not converged"
+        }
+    );
+    if let Some(path) = &job.out {
+        udc_io::design::file::save_design(path, &r.design)
+            .with_context(|| format!("cannot write {}", path.display()))?;
+        outln!(out, "wrote {}", path.display());
+    }
+    let estimate =
+        |e: udc_core::measured::fit::Estimate| json!({"value": e.value, "sigma": e.sigma});
+    out.json = json!({
+        "psf": job.psf,
+        "design": design.name,
+        "pitch_um": estimate(r.pitch_um),
+        "open_fraction": estimate(r.open_fraction),
+        "edge_bias_um": estimate(r.edge_bias_um),
+        "rotation_deg": estimate(r.rotation_deg),
+        "defocus_um": estimate(r.defocus_um),
+        "blur_um": estimate(r.blur_um),
+        "start": {
+            "pitch_um": r.start_pitch_um,
+            "open_fraction": r.start_open_fraction,
+            "searched_pitch_um": r.searched_pitch_um,
+        },
+        "residual": r.residual,
+        "residual_start": r.residual_start,
+        "evaluations": r.evaluations,
+        "converged": r.converged,
+        "stopped": r.stopped,
+        "shifts_px": r.shifts_px,
+        "axes_px": r.axes_px,
+        "out": job.out,
+    });
+    Ok(out)
+}
+
 /// The design's channel a measured one is compared with: the nearest in wavelength when the
 /// measured channel has one, else the one of the same name (R, G, B), else the same index.
 fn matching_channel(
@@ -378,16 +534,7 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
         preset: job.preset.clone(),
         ..crate::display::DesignSelection::default()
     };
-    let mut design = selection.resolve()?;
-    // The design on the measurement's grid: its pixel pitch (the fine grid a whole number of
-    // samples a pixel) and window.
-    let op = &mut design.optics;
-    let per_pixel = (set.pixel_um / op.fine_sample_um).round().max(1.0);
-    op.sensor_pixel_um = set.pixel_um;
-    op.fine_sample_um = set.pixel_um / per_pixel;
-    op.window_px = set.side_px();
-    op.axis_in_pixel_um = [set.pixel_um / 2.0, set.pixel_um / 2.0];
-    op.recipe = udc_core::design::OpticsRecipe::Custom;
+    let design = udc_core::measured::design_on_grid(&selection.resolve()?, &set);
     let options = AnalyzeOptions {
         quality: Quality::Full,
         expected_psf: false,

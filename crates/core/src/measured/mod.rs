@@ -7,6 +7,7 @@
 
 pub mod compare;
 pub mod figures;
+pub mod fit;
 pub mod import;
 pub mod shift;
 
@@ -64,6 +65,21 @@ pub fn check_wavelength_nm(wavelength_nm: f64) -> Result<(), String> {
             WAVELENGTH_NM_RANGE.end()
         ))
     }
+}
+
+/// `design` simulated on a measurement's grid: the set's pixel pitch (the fine grid a whole
+/// number of samples a pixel, as near the design's own as may be), its window and the optical
+/// axis in a pixel's middle, where an import centres a measured PSF.
+pub fn design_on_grid(design: &crate::design::Design, set: &PsfSet) -> crate::design::Design {
+    let mut design = design.clone();
+    let op = &mut design.optics;
+    let per_pixel = (set.pixel_um / op.fine_sample_um).round().max(1.0);
+    op.sensor_pixel_um = set.pixel_um;
+    op.fine_sample_um = set.pixel_um / per_pixel;
+    op.window_px = set.side_px();
+    op.axis_in_pixel_um = [set.pixel_um / 2.0, set.pixel_um / 2.0];
+    op.recipe = crate::design::OpticsRecipe::Custom;
+    design
 }
 
 /// Where a PSF set came from.

@@ -9,6 +9,7 @@ mod expected_psf;
 mod fft_plans;
 mod mask_geometry;
 mod measured;
+mod measured_fit;
 mod optimize;
 mod phase;
 mod phase_period;

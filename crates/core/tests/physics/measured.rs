@@ -16,7 +16,7 @@ use udc_core::measured::import::{Bracket, Exposure, ImportSteps, merge};
 use udc_io::design::presets::load_preset;
 
 /// `truth` at rows and columns `top … top + N` of a `frame × frame` field of no light.
-fn placed(truth: &Array2<f64>, frame: usize, top: usize) -> Array2<f64> {
+pub fn placed(truth: &Array2<f64>, frame: usize, top: usize) -> Array2<f64> {
     let n = truth.nrows();
     Array2::from_shape_fn((frame, frame), |(y, x)| {
         let inside = (top..top + n).contains(&y) && (top..top + n).contains(&x);
@@ -28,24 +28,15 @@ fn placed(truth: &Array2<f64>, frame: usize, top: usize) -> Array2<f64> {
     })
 }
 
-#[test]
-fn a_degraded_bracket_imports_to_the_psf_it_was_made_from() {
-    let mut design = load_preset("toled-150dpi").expect("preset");
-    // The axis 0.3 and 1.55 µm into its 2-µm pixel: the light's centre is not a pixel's.
-    design.optics.axis_in_pixel_um = [0.3, 1.55];
-    let options = AnalyzeOptions {
-        quality: Quality::Preview,
-        expected_psf: false,
-    };
-    let analysis = analyze_with(&design, &options, &Progress::new()).expect("analysis");
-    let truth = analysis.channels[1].psf.clone();
-    let n = truth.nrows();
-    let (frame, top) = (n + 48, 24);
-    let light = placed(&truth, frame, top);
-    // Electrons per second for the whole PSF; the peak then fills a 12-bit well in 1/4 of the
-    // longest exposure, so the two longer frames clip it.
+/// `light` (a PSF in a frame of no light) recorded as a lab records it: a bracket of 1, 4 and
+/// 16 s with photon and read noise, a 12-bit full scale the longer exposures clip at the peak,
+/// a dark offset, three hot pixels, and four dark frames.
+pub fn recorded(light: &Array2<f64>, seed: u64) -> Bracket {
+    let frame = light.nrows();
     let peak = light.iter().copied().fold(0.0, f64::max);
     let full_scale = 4095.0;
+    // Electrons per second for the whole PSF; the peak then fills a 12-bit well in 1/4 of the
+    // longest exposure, so the two longer frames clip it.
     let flux_e_per_s = 4.0 * full_scale / (peak * 16.0);
     let (dark_e, read_noise_e) = (64.0, 3.0);
     let hot: [(usize, usize, f64); 3] = [
@@ -53,7 +44,7 @@ fn a_degraded_bracket_imports_to_the_psf_it_was_made_from() {
         (frame - 7, 40, 1500.0),
         (30, frame - 11, 2500.0),
     ];
-    let mut rng = ChaCha8Rng::seed_from_u64(7);
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let read = Normal::new(0.0, read_noise_e).expect("normal");
     let mut expose = |t: f64, lit: bool| {
         Array2::from_shape_fn((frame, frame), |(y, x)| {
@@ -77,7 +68,7 @@ fn a_degraded_bracket_imports_to_the_psf_it_was_made_from() {
         })
     };
     let times_s = [1.0, 4.0, 16.0];
-    let bracket = Bracket {
+    Bracket {
         exposures: times_s
             .iter()
             .map(|t| Exposure {
@@ -87,7 +78,24 @@ fn a_degraded_bracket_imports_to_the_psf_it_was_made_from() {
             .collect(),
         darks: (0..4).map(|_| expose(1.0, false)).collect(),
         full_scale: Some(full_scale),
+    }
+}
+
+#[test]
+fn a_degraded_bracket_imports_to_the_psf_it_was_made_from() {
+    let mut design = load_preset("toled-150dpi").expect("preset");
+    // The axis 0.3 and 1.55 µm into its 2-µm pixel: the light's centre is not a pixel's.
+    design.optics.axis_in_pixel_um = [0.3, 1.55];
+    let options = AnalyzeOptions {
+        quality: Quality::Preview,
+        expected_psf: false,
     };
+    let analysis = analyze_with(&design, &options, &Progress::new()).expect("analysis");
+    let truth = analysis.channels[1].psf.clone();
+    let n = truth.nrows();
+    let (frame, top) = (n + 48, 24);
+    let light = placed(&truth, frame, top);
+    let bracket = recorded(&light, 7);
     let steps = ImportSteps {
         crop_px: Some(n),
         ..ImportSteps::default()
