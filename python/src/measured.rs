@@ -1,4 +1,4 @@
-//! Measured PSFs: `psf import` and `psf compare` called in-process through `udc-jobs` with
+//! Measured PSFs: `psf import`, `psf compare` and `psf fit` called in-process through `udc-jobs` with
 //! typed keyword arguments (the jobs' own serde types), and a PSF set read as numpy arrays.
 
 use numpy::IntoPyArray;
@@ -8,7 +8,7 @@ use pyo3::types::{PyDict, PyList};
 use serde::de::DeserializeOwned;
 use udc_core::Progress;
 use udc_io::measured::{SetDefaults, read_psf_set};
-use udc_jobs::measured::{CompareJob, ImportJob, compare, import};
+use udc_jobs::measured::{CompareJob, FitJob, ImportJob, compare, fit, import};
 
 use crate::cancel;
 
@@ -55,6 +55,12 @@ fn psf_compare<'py>(py: Python<'py>, params: &Bound<'py, PyDict>) -> PyResult<Bo
     run_job::<CompareJob>(py, params, compare)
 }
 
+/// `psf fit` with these parameters; returns what its `--json` prints.
+#[pyfunction]
+fn psf_fit<'py>(py: Python<'py>, params: &Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
+    run_job::<FitJob>(py, params, fit)
+}
+
 /// A PSF set from `path` (with its sidecar, or `pixel_um`): `pixel_um`, `source` and
 /// `channels`, each a dict of `name`, `wavelength_nm` and `psf` (a float64 array summing to 1).
 #[pyfunction]
@@ -97,6 +103,7 @@ fn read_psf<'py>(
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(psf_import, m)?)?;
     m.add_function(wrap_pyfunction!(psf_compare, m)?)?;
+    m.add_function(wrap_pyfunction!(psf_fit, m)?)?;
     m.add_function(wrap_pyfunction!(read_psf, m)?)?;
     Ok(())
 }

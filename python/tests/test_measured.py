@@ -81,3 +81,26 @@ def test_compare_and_restore_with_a_design_psf_set(tmp_path):
     assert restored["psf_source"] == "measured"
     assert restored["psf_side_px"] == green.shape[0] and restored["pixel_um"] == 2.0
     assert np.isfinite(restored["psnr_db"]) and restored["denoise_sigma2"] is None
+
+
+def test_fit_finds_the_design_a_psf_came_from(tmp_path):
+    # The 150-DPI T-OLED's green PSF as a measurement, fitted from the same preset over the
+    # central 64 pixels: the pitch and the open fraction come back, each with an uncertainty.
+    analysis = udc_studio.analyze("toled-150dpi", quality="full")
+    g = analysis.channels.index("G")
+    np.save(tmp_path / "g.npy", analysis.psf[g])
+    measured.import_psf(
+        tmp_path / "g.npy",
+        tmp_path / "set.npy",
+        pixel_um=2.0,
+        wavelength_nm=float(analysis.wavelength_nm[g]),
+        no_background=True,
+        centre="none",
+    )
+    result = measured.fit(tmp_path / "set.npy", preset="toled-150dpi", window_px=64, no_search=True)
+    assert abs(result["pitch_um"]["value"] / 168.0 - 1) < 0.01, result
+    assert result["pitch_um"]["sigma"] > 0
+    assert abs(result["open_fraction"]["value"] / result["start"]["open_fraction"] - 1) < 0.02
+    assert result["residual"] <= result["residual_start"]
+    with pytest.raises(ValueError, match="window-px"):
+        measured.fit(tmp_path / "set.npy", preset="toled-150dpi", window_px=4)

@@ -1,7 +1,9 @@
-"""Measured PSFs: a prototype's frames merged into a PSF set, compared with a design, and a
-real capture restored with it (the book's chapter "Measuring a prototype").
+"""Measured PSFs: a prototype's frames merged into a PSF set, compared with a design, the
+display fitted to it, and a real capture restored with it (the book's chapter "Measuring a
+prototype").
 
-:func:`import_psf` and :func:`compare` evaluate ``psf import`` and ``psf compare`` in-process
+:func:`import_psf`, :func:`compare` and :func:`fit` evaluate ``psf import``, ``psf compare``
+and ``psf fit`` in-process
 and return the object their ``--json`` prints; :func:`load` reads a PSF set as numpy arrays;
 :func:`restore` restores a real capture with one. Keyword arguments are the commands' flags
 with ``_`` for ``-`` (``exposures_s=[0.001, 0.008]``, ``no_background=True``).
@@ -22,7 +24,7 @@ from typing import Any, Dict, List, Sequence, Union
 from . import _native
 from ._jobs import ParamValue, _plain, evaluate
 
-__all__ = ["compare", "import_psf", "load", "restore"]
+__all__ = ["compare", "fit", "import_psf", "load", "restore"]
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -47,6 +49,15 @@ def compare(psf: PathLike, **params: ParamValue) -> Dict[str, Any]:
     radially-minimum MTFs with their AUC; ``out=`` a folder for the figures."""
     args = {"psf": psf, **params}
     return dict(_native.psf_compare({k: _plain(v) for k, v in args.items()}))
+
+
+def fit(psf: PathLike, **params: ParamValue) -> Dict[str, Any]:
+    """The display fitted to a PSF set, starting from a design (``preset=`` or ``design=`` a
+    file): ``pitch_um``, ``open_fraction``, ``edge_bias_um``, ``rotation_deg``, ``defocus_um``
+    and ``blur_um``, each ``{"value", "sigma"}``, with the residual before and after;
+    ``out=`` a JSON file for the fitted design, ``window_px=`` the side fitted."""
+    args = {"psf": psf, **params}
+    return dict(_native.psf_fit({k: _plain(v) for k, v in args.items()}))
 
 
 def load(path: PathLike, pixel_um: Union[float, None] = None) -> Dict[str, Any]:

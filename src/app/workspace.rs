@@ -319,6 +319,8 @@ pub enum DroppedKind {
     Table,
     /// A photolithography mask: GDSII, OASIS or DXF.
     Mask,
+    /// A measured PSF set (`.npy`, as `psf import` writes it).
+    PsfSet,
     /// Anything else.
     Unknown,
 }
@@ -340,6 +342,7 @@ impl DroppedKind {
             "png" | "jpg" | "jpeg" | "tif" | "tiff" => DroppedKind::Image,
             "csv" => DroppedKind::Table,
             "gds" | "gds2" | "gdsii" | "oas" | "oasis" | "dxf" => DroppedKind::Mask,
+            "npy" => DroppedKind::PsfSet,
             _ => DroppedKind::Unknown,
         }
     }

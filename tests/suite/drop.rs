@@ -28,7 +28,7 @@ impl egui::DroppedFile for Dropped {
     }
 }
 
-fn drop_file(h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>, path: PathBuf) {
+pub fn drop_file(h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>, path: PathBuf) {
     h.input_mut()
         .dropped_files
         .push(std::sync::Arc::new(Dropped(path)));

@@ -35,6 +35,7 @@ fn harness() -> Harness<'static, State> {
                     pinned: None,
                     overlays: false,
                     design_rules: false,
+                    native_dialogs: false,
                     tool: Tool::Paint,
                     actions: &mut s.actions,
                 };

@@ -42,6 +42,7 @@ mod mask_frame;
 mod mask_integrity;
 mod mask_oas;
 mod mask_written_drc;
+mod measured_panel;
 mod opening_ops;
 mod optimize_panel;
 mod phase_boundary;

@@ -354,6 +354,7 @@ fn editor_harness(
                 pinned: None,
                 overlays: false,
                 design_rules: false,
+                native_dialogs: false,
                 tool: s.tool,
                 actions: &mut s.actions,
             };

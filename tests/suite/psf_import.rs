@@ -436,23 +436,11 @@ fn restore_with_a_psf_set_scores_as_restoring_with_the_simulated_psf() {
 
 #[test]
 fn compare_finds_the_design_a_psf_came_from() {
-    use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-    use udc_studio::core::measured::{PsfSet, PsfSource};
     let dir = tempfile::tempdir().unwrap();
     let p = |n: &str| dir.path().join(n);
     // The 150-DPI T-OLED's green PSF as a "measurement" (one channel at its wavelength), the
     // axis on a pixel's centre as an import centres it.
-    let mut design = udc_studio::io::design::presets::load_preset("toled-150dpi").unwrap();
-    design.optics.axis_in_pixel_um = [1.0, 1.0];
-    let options = AnalyzeOptions {
-        quality: Quality::Full,
-        expected_psf: false,
-    };
-    let analysis = analyze_with(&design, &options, &udc_studio::core::Progress::new()).unwrap();
-    let mut set = PsfSet::from_analysis(&analysis);
-    set.channels.retain(|c| c.name == "G");
-    set.source = PsfSource::Measured;
-    udc_studio::io::measured::write_psf_set(&p("g.npy"), &set, None).unwrap();
+    crate::common::toled_green_set(&p("g.npy"), 168.0, 294);
     let g = p("g.npy");
     let compare = |preset: &str, out: Option<&Path>| {
         let mut args = vec!["psf", "compare", s(&g), "--preset", preset, "--json"];
@@ -487,25 +475,11 @@ fn compare_finds_the_design_a_psf_came_from() {
 
 #[test]
 fn fit_from_the_command_line_finds_a_display_at_another_pitch_and_writes_it() {
-    use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-    use udc_studio::core::measured::{PsfSet, PsfSource};
     let dir = tempfile::tempdir().unwrap();
     let p = |n: &str| dir.path().join(n);
     // The 150-DPI T-OLED built 10 % coarser than drawn (184.8 µm), seen in green on a 96-pixel
     // window; the fit starts from the preset.
-    let mut truth = udc_studio::io::design::presets::load_preset("toled-150dpi").unwrap();
-    truth.opening.pitch_um = 184.8;
-    truth.optics.axis_in_pixel_um = [1.0, 1.0];
-    truth.optics.window_px = 96;
-    let options = AnalyzeOptions {
-        quality: Quality::Full,
-        expected_psf: false,
-    };
-    let analysis = analyze_with(&truth, &options, &udc_studio::core::Progress::new()).unwrap();
-    let mut set = PsfSet::from_analysis(&analysis);
-    set.channels.retain(|c| c.name == "G");
-    set.source = PsfSource::Measured;
-    udc_studio::io::measured::write_psf_set(&p("g.npy"), &set, None).unwrap();
+    crate::common::toled_green_set(&p("g.npy"), 184.8, 96);
     let (ok, stdout, stderr) = run(&[
         "psf",
         "fit",

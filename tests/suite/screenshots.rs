@@ -25,7 +25,7 @@ fn settle(h: &mut Harness<'_, StudioApp>) {
 }
 
 /// Renders and saves when asked; checks the picture is not blank when a renderer exists.
-fn capture(h: &mut Harness<'_, StudioApp>, name: &str) {
+pub fn capture(h: &mut Harness<'_, StudioApp>, name: &str) {
     match h.render() {
         Ok(img) => {
             let first = *img.get_pixel(0, 0);

@@ -67,6 +67,7 @@ fn harness(state: State) -> Harness<'static, State> {
                 pinned: s.pinned.as_ref(),
                 overlays: s.overlays,
                 design_rules: false,
+                native_dialogs: false,
                 tool: Tool::default(),
                 actions: &mut s.actions,
             };
@@ -325,6 +326,7 @@ fn the_quality_label_follows_the_shown_result() {
                         pinned: None,
                         overlays: false,
                         design_rules: false,
+                        native_dialogs: false,
                         tool: Tool::default(),
                         actions: &mut st.actions,
                     };

@@ -481,32 +481,6 @@ pub fn fit(job: &FitJob, progress: &Progress) -> Result<Report> {
     Ok(out)
 }
 
-/// The design's channel a measured one is compared with: the nearest in wavelength when the
-/// measured channel has one, else the one of the same name (R, G, B), else the same index.
-fn matching_channel(
-    analysis: &udc_core::analysis::analyze::Analysis,
-    measured: &PsfChannel,
-    index: usize,
-) -> usize {
-    if let Some(w) = measured.wavelength_nm {
-        return analysis
-            .channels
-            .iter()
-            .enumerate()
-            .min_by(|a, b| {
-                (a.1.wavelength_nm - w)
-                    .abs()
-                    .total_cmp(&(b.1.wavelength_nm - w).abs())
-            })
-            .map_or(0, |(i, _)| i);
-    }
-    analysis
-        .channels
-        .iter()
-        .position(|c| c.name.eq_ignore_ascii_case(&measured.name))
-        .unwrap_or(index.min(analysis.channels.len().saturating_sub(1)))
-}
-
 /// Runs `psf compare`: the design simulated at the set's pixel pitch and side, each measured
 /// channel aligned with its design channel, the residual and both MTFs.
 ///
@@ -514,8 +488,6 @@ fn matching_channel(
 /// A set or design that does not load, a bad pixel pitch, a PSF larger than a design window
 /// may be, unwritable figures.
 pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
-    use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-    use udc_core::measured::compare::compare as compare_psfs;
     use udc_core::measured::figures;
     use udc_io::measured::{SetDefaults, read_psf_set};
 
@@ -534,12 +506,8 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
         preset: job.preset.clone(),
         ..crate::display::DesignSelection::default()
     };
-    let design = udc_core::measured::design_on_grid(&selection.resolve()?, &set);
-    let options = AnalyzeOptions {
-        quality: Quality::Full,
-        expected_psf: false,
-    };
-    let analysis = analyze_with(&design, &options, progress)
+    let design = selection.resolve()?;
+    let compared = udc_core::measured::compare::compare_set(&design, &set, progress)
         .context("the design at the measurement's pixel pitch")?;
     let mut out = Report::default();
     let mut rows = Vec::new();
@@ -560,16 +528,13 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
         out,
         "channel      design  shift (px)      residual  correlation  AUC measured  AUC design"
     );
-    for (i, channel) in set.channels.iter().enumerate() {
-        let k = matching_channel(&analysis, channel, i);
-        let sim = &analysis.channels[k];
-        let c = compare_psfs(&channel.psf, &sim.psf)
-            .with_context(|| format!("channel {}", channel.name))?;
+    for compared in &compared {
+        let (channel, c) = (compared, &compared.comparison);
         outln!(
             out,
             "{:<12} {:<6}  {:+6.2} {:+6.2}   {:7.2} %  {:11.4}  {:12.4}  {:10.4}",
             channel.name,
-            sim.name,
+            channel.design_channel,
             c.shift_px[0],
             c.shift_px[1],
             100.0 * c.residual_energy_share,
@@ -586,12 +551,12 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
             for (kind, panel) in [
                 (
                     "profile",
-                    figures::profile_panel(&c, set.pixel_um, &channel.name),
+                    figures::profile_panel(c, set.pixel_um, &channel.name),
                 ),
-                ("mtf", figures::mtf_panel(&c, &channel.name)),
+                ("mtf", figures::mtf_panel(c, &channel.name)),
                 (
                     "residual",
-                    figures::residual_panel(&c, set.pixel_um, &channel.name),
+                    figures::residual_panel(c, set.pixel_um, &channel.name),
                 ),
             ] {
                 files.extend(udc_io::figure::write_panel(
@@ -603,7 +568,7 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
         }
         rows.push(json!({
             "channel": channel.name,
-            "design_channel": sim.name,
+            "design_channel": channel.design_channel,
             "shift_px": c.shift_px,
             "residual_energy_share": c.residual_energy_share,
             "correlation": c.correlation,

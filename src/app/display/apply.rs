@@ -373,7 +373,8 @@ impl DisplayWorkspace {
     }
 
     /// A file dropped on the window: a design opens, an image or mask becomes the opening,
-    /// a photo on the Restore view is its photo; HDR scenes are not ours.
+    /// a photo on the Restore view is its photo, a PSF set opens in the Measured tab; HDR
+    /// scenes are not ours.
     pub(super) fn dropped_file(&mut self, p: &Path, kind: DroppedKind, shell: &mut Shell) -> bool {
         match kind {
             DroppedKind::Design => {
@@ -385,6 +386,10 @@ impl DisplayWorkspace {
                 .restore
                 .load_photo(p.to_path_buf(), &shell.ctx),
             DroppedKind::Image | DroppedKind::Mask => self.import_opening(p.to_path_buf()),
+            DroppedKind::PsfSet => {
+                self.left_tab = super::LeftTab::Measured;
+                self.panels.measured.open(p, &shell.ctx);
+            }
             _ => return false,
         }
         true

@@ -58,6 +58,8 @@ pub enum LeftTab {
     Optics,
     /// The opening optimizer.
     Optimize,
+    /// A prototype's measured PSF: compare, fit.
+    Measured,
 }
 
 /// A design being read from disk: the design and the path it came from (`None`: an imported
@@ -80,6 +82,7 @@ struct Panels {
     tiling: panels::tiling::TilingPanel,
     optics: panels::optics::OpticsPanel,
     optimize: panels::optimize::OptimizePanel,
+    measured: panels::measured::MeasuredPanel,
     numbers: panels::numbers::NumbersPanel,
     views: panels::views::ViewsPanel,
     mask_export: panels::mask_export::MaskExportDialog,
@@ -130,6 +133,7 @@ impl DisplayWorkspace {
                 tiling: Default::default(),
                 optics: Default::default(),
                 optimize: Default::default(),
+                measured: Default::default(),
                 numbers: Default::default(),
                 views: Default::default(),
                 mask_export: Default::default(),
@@ -221,6 +225,11 @@ impl DisplayWorkspace {
         &self.panels.mask_export
     }
 
+    /// The Measured PSF panel.
+    pub fn measured(&self) -> &panels::measured::MeasuredPanel {
+        &self.panels.measured
+    }
+
     /// The "sweep this parameter" window.
     pub fn one_axis_sweep(&self) -> &panels::one_axis_sweep::OneAxisSweepWindow {
         &self.panels.one_axis_sweep
@@ -251,6 +260,7 @@ impl DisplayWorkspace {
         self.take_results(shell);
         self.poll_files(shell);
         self.panels.optimize.poll();
+        self.panels.measured.poll(&self.egui_ctx);
         self.panels.one_axis_sweep.poll();
         self.panels.views.poll(&self.egui_ctx);
     }
@@ -307,12 +317,14 @@ impl DisplayWorkspace {
     }
 
     fn left_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
-        ui.horizontal(|ui| {
+        // Five tabs overflow the narrowest panel (a 1024-px window): they wrap.
+        ui.horizontal_wrapped(|ui| {
             for (tab, label) in [
                 (LeftTab::Opening, "Opening"),
                 (LeftTab::Tiling, "Tiling"),
                 (LeftTab::Optics, "Optics"),
                 (LeftTab::Optimize, "Optimize"),
+                (LeftTab::Measured, "Measured"),
             ] {
                 if ui.selectable_label(self.left_tab == tab, label).clicked() {
                     self.left_tab = tab;
@@ -326,6 +338,7 @@ impl DisplayWorkspace {
             LeftTab::Tiling => self.panels.tiling.ui(ui, &mut pctx),
             LeftTab::Optics => self.panels.optics.ui(ui, &mut pctx),
             LeftTab::Optimize => self.panels.optimize.ui(ui, &mut pctx),
+            LeftTab::Measured => self.panels.measured.ui(ui, &mut pctx),
         });
     }
 }
@@ -522,6 +535,7 @@ fn panel_ctx<'a>(
         pinned: results.pinned.as_ref(),
         overlays: shell.settings.overlays,
         design_rules: shell.settings.design_rules,
+        native_dialogs: shell.native_dialogs,
         tool,
         actions,
     }

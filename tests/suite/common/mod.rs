@@ -102,6 +102,28 @@ pub fn run_cli_timed(args: &[&str]) -> (Option<i32>, String, String, std::time::
     )
 }
 
+/// The 150-DPI T-OLED preset at `pitch_um`, its green PSF simulated on `window_px` pixels
+/// with the axis on a pixel's centre (as an import centres it), written as a measured PSF set
+/// to `path`.
+pub fn toled_green_set(path: &std::path::Path, pitch_um: f64, window_px: usize) {
+    use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+    use udc_studio::core::measured::{PsfSet, PsfSource};
+    let mut truth = udc_studio::io::design::presets::load_preset("toled-150dpi").expect("preset");
+    truth.opening.pitch_um = pitch_um;
+    truth.optics.axis_in_pixel_um = [1.0, 1.0];
+    truth.optics.window_px = window_px;
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis =
+        analyze_with(&truth, &options, &udc_studio::core::Progress::new()).expect("analysis");
+    let mut set = PsfSet::from_analysis(&analysis);
+    set.channels.retain(|c| c.name == "G");
+    set.source = PsfSource::Measured;
+    udc_studio::io::measured::write_psf_set(path, &set, None).expect("written");
+}
+
 /// Runs `udc-studio sweep tests/sweep/tiny.toml --out DIR/tiny-results` (8 points at preview
 /// quality) and returns the results folder.
 pub fn tiny_sweep(dir: &std::path::Path) -> std::path::PathBuf {

@@ -30,6 +30,74 @@ pub struct ChannelComparison {
     pub mtf_simulated: Mtf,
 }
 
+/// A measured channel beside the design channel it was compared with.
+#[derive(Debug, Clone)]
+pub struct ComparedChannel {
+    /// The measured channel's name.
+    pub name: String,
+    /// The design channel's name.
+    pub design_channel: String,
+    /// The comparison.
+    pub comparison: ChannelComparison,
+}
+
+/// Every channel of `set` compared with `design` simulated on the set's grid
+/// ([`super::design_on_grid`], full quality): each measured channel with the design channel
+/// nearest in wavelength when it has one, else the one of its name (R, G, B), else the one at
+/// its index.
+///
+/// # Errors
+/// A set that fails its check, a design that does not simulate on the set's grid, a cancel.
+pub fn compare_set(
+    design: &crate::design::Design,
+    set: &super::PsfSet,
+    progress: &crate::progress::Progress,
+) -> Result<Vec<ComparedChannel>, SimError> {
+    use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+    set.check()?;
+    let on_grid = super::design_on_grid(design, set);
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis = analyze_with(&on_grid, &options, progress)?;
+    set.channels
+        .iter()
+        .enumerate()
+        .map(|(i, channel)| {
+            let k = match channel.wavelength_nm {
+                Some(w) => analysis
+                    .channels
+                    .iter()
+                    .enumerate()
+                    .min_by(|a, b| {
+                        (a.1.wavelength_nm - w)
+                            .abs()
+                            .total_cmp(&(b.1.wavelength_nm - w).abs())
+                    })
+                    .map_or(0, |(i, _)| i),
+                None => analysis
+                    .channels
+                    .iter()
+                    .position(|c| c.name.eq_ignore_ascii_case(&channel.name))
+                    .unwrap_or(i.min(analysis.channels.len().saturating_sub(1))),
+            };
+            let sim = &analysis.channels[k];
+            let comparison = compare(&channel.psf, &sim.psf).map_err(|e| match e {
+                SimError::InvalidSetting { message, .. } => {
+                    SimError::invalid(format!("channel {}", channel.name), message)
+                }
+                e => e,
+            })?;
+            Ok(ComparedChannel {
+                name: channel.name.clone(),
+                design_channel: sim.name.clone(),
+                comparison,
+            })
+        })
+        .collect()
+}
+
 /// `a` cropped (or padded with zeros) to `side × side` about its axis sample `[N/2, N/2]`.
 pub fn centred_to(a: &Array2<f64>, side: usize) -> Array2<f64> {
     let n = a.nrows() as i64;

@@ -7,6 +7,7 @@ pub mod editor_emitters;
 pub mod editor_rules;
 pub mod mask_export;
 pub mod mask_preview;
+pub mod measured;
 pub mod numbers;
 pub mod one_axis_sweep;
 pub mod optics;
@@ -87,6 +88,8 @@ pub struct PanelCtx<'a> {
     pub overlays: bool,
     /// The design-rule rings on the opening editor on (View menu).
     pub design_rules: bool,
+    /// Native file dialogs may open (off in headless tests).
+    pub native_dialogs: bool,
     /// The editor's current tool (also set by shortcuts).
     pub tool: Tool,
     /// Where the panel queues what it wants done; carried out after the frame's UI.
