@@ -136,6 +136,7 @@ fn round_trip(d: &Design, o: &ExportOptions, path: &Path, cols: u32, rows: u32) 
             layer: o.layer,
             datatype: o.datatype,
             layer_name: None,
+            cell: None,
             window: Some(block_window(d, cols, rows)),
             tone: None,
             checksum: udc_studio::io::mask::ChecksumCheck::Verify,

@@ -232,3 +232,116 @@ fn a_dxf_layer_is_chosen_by_name_and_its_block_inserts_are_expanded() {
         assert!(!out.exists());
     }
 }
+
+/// Files written by KLayout: the 100-µm pixel's 30×60-µm opening drawn as a box, a path and a
+/// polygon (and a text) on layer 1/0, arrayed 3×3 turned by 90° (`rot.gds`), as a half-size
+/// cell magnified twice (`mag.gds`), and beside a second top cell (`two.gds`).
+fn klayout(dir: &Path) {
+    let code = "import klayout.db as db\n\
+        def pixel(ly, name, s):\n\
+        \x20   c = ly.create_cell(name)\n\
+        \x20   l = ly.layer(1, 0)\n\
+        \x20   c.shapes(l).insert(db.DBox(20 * s, 10 * s, 50 * s, 30 * s))\n\
+        \x20   c.shapes(l).insert(db.DPath([db.DPoint(20 * s, 35 * s), db.DPoint(50 * s, 35 * s)], 10 * s))\n\
+        \x20   c.shapes(l).insert(db.DPolygon(db.DBox(20 * s, 40 * s, 50 * s, 70 * s)))\n\
+        \x20   c.shapes(l).insert(db.DText('OPENING', 25 * s, 25 * s))\n\
+        \x20   return c\n\
+        def write(name, s, trans, second):\n\
+        \x20   ly = db.Layout()\n\
+        \x20   ly.dbu = 0.001\n\
+        \x20   top = ly.create_cell('TOP_A')\n\
+        \x20   pix = pixel(ly, 'PIX', s)\n\
+        \x20   top.insert(db.CellInstArray(pix.cell_index(), trans, db.Vector(100000, 0), db.Vector(0, 100000), 3, 3))\n\
+        \x20   if second:\n\
+        \x20       mark = ly.create_cell('TOP_B')\n\
+        \x20       mark.shapes(ly.layer(1, 0)).insert(db.DBox(5000, 5000, 5010, 5010))\n\
+        \x20   ly.write(name)\n\
+        write('rot.gds', 1.0, db.ICplxTrans(1.0, 90.0, False, 0, 0), False)\n\
+        write('mag.gds', 0.5, db.ICplxTrans(2.0, 0.0, False, 0, 0), False)\n\
+        write('two.gds', 1.0, db.ICplxTrans(1.0, 0.0, False, 0, 0), True)\n";
+    let out = Command::new("python3")
+        .arg("-c")
+        .arg(code)
+        .current_dir(dir)
+        .output()
+        .expect("python3 with klayout is required (the test command installs it)");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+#[test]
+fn klayout_files_with_turned_and_magnified_arrays_paths_boxes_and_two_top_cells() {
+    let dir = tempfile::tempdir().unwrap();
+    klayout(dir.path());
+    let p = |n: &str| dir.path().join(n);
+    // Turned and magnified arrays: the box, the path and the polygon make the one opening.
+    for name in ["rot.gds", "mag.gds"] {
+        let out = p(&format!("{name}.json"));
+        let (ok, stdout, stderr) = import(&p(name), None, "100", &out);
+        assert!(ok, "{name}: {stderr}");
+        assert!(
+            stdout.contains("open fraction 0.180000"),
+            "{name}: {stdout}"
+        );
+        assert!(!stderr.contains("warning"), "{name}: {stderr}");
+    }
+    // The turned opening is 60 wide and 30 tall (cells of 5 µm: 12 × 6).
+    let d = udc_studio::io::design::file::load_design(&p("rot.gds.json")).unwrap();
+    let rows: Vec<usize> = d
+        .opening
+        .cells
+        .iter()
+        .map(|r| r.iter().filter(|v| **v == 1.0).count())
+        .filter(|n| *n > 0)
+        .collect();
+    assert_eq!(rows, vec![12; 6], "{rows:?}");
+    // Two top cells: which one is asked for, by name.
+    let out = p("two.json");
+    let (ok, _, stderr) = import(&p("two.gds"), None, "100", &out);
+    assert!(!ok && !out.exists());
+    assert!(
+        stderr.contains("found 2 (")
+            && stderr.contains("TOP_A")
+            && stderr.contains("TOP_B")
+            && stderr.contains("--cell"),
+        "{stderr}"
+    );
+    let args = |cell: &str| {
+        vec![
+            "import".to_owned(),
+            p("two.gds").to_str().unwrap().to_owned(),
+            "--cell".to_owned(),
+            cell.to_owned(),
+            "--pitch-um".to_owned(),
+            "100".to_owned(),
+            "--cells".to_owned(),
+            "20".to_owned(),
+            "--out".to_owned(),
+            out.to_str().unwrap().to_owned(),
+        ]
+    };
+    let run_args = |a: Vec<String>| run(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let (ok, stdout, stderr) = run_args(args("TOP_A"));
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("open fraction 0.180000"), "{stdout}");
+    assert!(stderr.contains("3×3 array of cell `PIX`"), "{stderr}");
+    // A DXF has no cells to choose.
+    ezdxf(dir.path(), "a.dxf", false);
+    let (ok, _, stderr) = run(&[
+        "import",
+        p("a.dxf").to_str().unwrap(),
+        "--cell",
+        "PIX",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!ok && stderr.contains("only GDSII"), "{stderr}");
+    let (ok, _, stderr) = run_args(args("NOPE"));
+    assert!(
+        !ok && stderr.contains("no cell `NOPE`") && stderr.contains("TOP_B"),
+        "{stderr}"
+    );
+}

@@ -19,6 +19,10 @@ pub struct ImportArgs {
     /// a DXF drawn by another tool, its layer's name (`OPEN`).
     #[arg(long, default_value = "1/0", value_parser = parse_layer)]
     pub layer: LayerArg,
+    /// The GDSII cell to read, by name: the pixel array of a file with several top cells (or
+    /// any cell of it); by default its one top cell.
+    #[arg(long, value_name = "NAME")]
+    pub cell: Option<String>,
     /// Pixel pitch in µm; by default the mask's `PITCH_NM=` note (or its sidecar design).
     #[arg(long)]
     pub pitch_um: Option<f64>,
@@ -112,6 +116,12 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
             (1, 0, Some(n.as_str()))
         }
     };
+    let cell = args.cell.as_deref();
+    if let Some(name) = cell
+        && !is_gds(path)
+    {
+        bail!("--cell {name}: only GDSII files' cells are chosen by name");
+    }
     // First: the notes below are read from the file, and a damaged one could misstate them.
     if !args.ignore_checksum && ext != "png" {
         udc_io::mask::verify_checksum(path)?;
@@ -121,17 +131,18 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
     // the drawing itself (the pixel at the layout's middle, on its own grid), not from our
     // export's registration.
     let foreign = layer_name.is_some()
+        || cell.is_some()
         || (ext != "png"
             && !sidecar_path(path).is_file()
             && note_field(
-                mask_notes(path, layer, datatype)?
+                mask_notes(path, layer, datatype, cell)?
                     .iter()
                     .map(String::as_str),
                 "PITCH_NM",
             )
             .is_none());
     let cells = if foreign {
-        foreign_pixel(path, &design, layer, datatype, layer_name)?
+        foreign_pixel(path, &design, layer, datatype, layer_name, cell)?
     } else {
         // Checked above (or waived): the import need not hash the file a second time.
         import_opening_on(path, &design, layer, datatype, ChecksumCheck::Ignore)?
@@ -155,8 +166,6 @@ pub fn import_cmd(args: &ImportArgs) -> Result<()> {
     Ok(())
 }
 
-/// The design the opening goes into: the sidecar, or the default design set from the notes;
-/// `--pitch-um` and `--cells` override either.
 /// The cells of the pixel at the middle of a foreign mask's drawn layout, with a line saying
 /// where it was read (and a warning when it is not wholly inside the layout).
 ///
@@ -168,10 +177,11 @@ fn foreign_pixel(
     layer: i16,
     datatype: i16,
     layer_name: Option<&str>,
+    cell: Option<&str>,
 ) -> Result<Vec<Vec<f64>>> {
     let shown = layer_name.map_or(format!("{layer}/{datatype}"), str::to_owned);
-    let bounds =
-        udc_io::mask::drawn_bounds_um(path, layer, datatype, layer_name)?.ok_or_else(|| {
+    let bounds = udc_io::mask::drawn_bounds_um(path, layer, datatype, layer_name, cell)?
+        .ok_or_else(|| {
             anyhow!(
                 "{}: nothing is drawn on layer {shown} (give --layer L/D, or a DXF layer's name)",
                 path.display()
@@ -179,7 +189,8 @@ fn foreign_pixel(
         })?;
     let period = design.opening.pitch_um + design.tiling.wiring_gap_um;
     let n = design.opening.n();
-    let (window, warning) = match array_window(path, layer, datatype, layer_name, period, n)? {
+    let (window, warning) = match array_window(path, layer, datatype, layer_name, cell, period, n)?
+    {
         Some((window, said)) => {
             eprintln!("note: {}: {said}", path.display());
             (window, None)
@@ -205,6 +216,7 @@ fn foreign_pixel(
             layer,
             datatype,
             layer_name: layer_name.map(str::to_owned),
+            cell: cell.map(str::to_owned),
             window: Some(window),
             checksum: ChecksumCheck::Ignore,
             ..udc_io::mask::ImportOptions::default()
@@ -234,13 +246,14 @@ fn array_window(
     layer: i16,
     datatype: i16,
     layer_name: Option<&str>,
+    cell: Option<&str>,
     period_um: f64,
     n: usize,
 ) -> Result<Option<(udc_io::mask::ImportWindow, String)>> {
     if !is_gds(path) || layer_name.is_some() {
         return Ok(None);
     }
-    let Some(g) = udc_io::mask::array_grid(path, layer, datatype)? else {
+    let Some(g) = udc_io::mask::array_grid(path, layer, datatype, cell)? else {
         return Ok(None);
     };
     let close = |a: f64, b: f64| (a - b).abs() <= 0.005 * b.abs().max(1e-9);
@@ -297,12 +310,15 @@ fn is_gds(path: &Path) -> bool {
     )
 }
 
+/// The design the opening goes into: the sidecar, or the default design set from the notes;
+/// `--pitch-um` and `--cells` override either.
 fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result<Design> {
+    let cell = args.cell.as_deref();
     let sidecar = sidecar_path(path);
     let mut design = if sidecar.is_file() {
         load_design(&sidecar)?
     } else {
-        let notes = mask_notes(path, layer, datatype)?;
+        let notes = mask_notes(path, layer, datatype, cell)?;
         let lines = || notes.iter().map(String::as_str);
         let number = |key: &str| -> Option<f64> { note_field(lines(), key)?.parse().ok() };
         let mut d = Design {
@@ -322,7 +338,7 @@ fn template(path: &Path, layer: i16, datatype: i16, args: &ImportArgs) -> Result
             d.tiling.wiring_gap_um = (period_nm - pitch_nm).max(0.0) / 1e3;
         } else if args.pitch_um.is_none() {
             // Another tool's array of one pixel cell: its spacing is the pitch.
-            let spacing = udc_io::mask::array_grid(path, layer, datatype)
+            let spacing = udc_io::mask::array_grid(path, layer, datatype, cell)
                 .ok()
                 .flatten()
                 .filter(|g| {

@@ -468,6 +468,31 @@ impl Affine {
     }
 }
 
+/// The cell an import reads: the one named, else the one top cell.
+///
+/// # Errors
+/// A name no cell has, or no name and several top cells (both say which cells there are).
+fn chosen_top<'a>(lib: &'a GdsLibrary, cell: Option<&str>) -> Result<&'a GdsStruct, String> {
+    if let Some(name) = cell {
+        return lib.structs.iter().find(|s| s.name == name).ok_or_else(|| {
+            let names: Vec<&str> = lib.structs.iter().map(|s| s.name.as_str()).collect();
+            format!("no cell `{name}` (its cells: {})", names.join(", "))
+        });
+    }
+    let tops = top_cells(lib);
+    match tops.as_slice() {
+        [top] => Ok(top),
+        _ => {
+            let names: Vec<&str> = tops.iter().map(|s| s.name.as_str()).collect();
+            Err(format!(
+                "expected one top cell, found {} ({}): name the one to read with --cell",
+                names.len(),
+                names.join(", ")
+            ))
+        }
+    }
+}
+
 /// The cells no other cell references: a well-formed mask has one, its top.
 fn top_cells(lib: &GdsLibrary) -> Vec<&GdsStruct> {
     let referenced: std::collections::HashSet<&str> = lib
@@ -513,15 +538,19 @@ pub struct ArrayGrid {
 ///
 /// # Errors
 /// An unreadable file.
-pub fn array_grid(path: &Path, layer: i16, datatype: i16) -> Result<Option<ArrayGrid>, IoError> {
+pub fn array_grid(
+    path: &Path,
+    layer: i16,
+    datatype: i16,
+    cell: Option<&str>,
+) -> Result<Option<ArrayGrid>, IoError> {
     let bytes = crate::safe_file::read_bounded(path, super::MAX_MASK_BYTES, "read the mask")?;
     let lib = GdsLibrary::from_bytes(&bytes).map_err(|e| IoError::Mask {
         path: path.to_path_buf(),
         message: format!("not a readable GDSII file: {e}"),
     })?;
     let scale = lib.units.db_unit() * 1e6;
-    let tops = top_cells(&lib);
-    let [top] = tops.as_slice() else {
+    let Ok(top) = chosen_top(&lib, cell) else {
         return Ok(None);
     };
     let arrays: Vec<&GdsArrayRef> = top
@@ -581,9 +610,14 @@ pub fn array_grid(path: &Path, layer: i16, datatype: i16) -> Result<Option<Array
     }))
 }
 
-/// Reads a GDSII file and expands the references of its top cell (the one no other cell
-/// references).
-pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoError> {
+/// Reads a GDSII file and expands the references of `cell`, by default its top cell (the one
+/// no other cell references).
+pub(super) fn read(
+    path: &Path,
+    layer: i16,
+    datatype: i16,
+    cell: Option<&str>,
+) -> Result<Flat, IoError> {
     let err = |message: String| IoError::Mask {
         path: path.to_path_buf(),
         message,
@@ -597,15 +631,7 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
     let lib = GdsLibrary::from_bytes(&bytes)
         .map_err(|e| err(format!("not a readable GDSII file: {e}")))?;
     let scale = lib.units.db_unit() * 1e6;
-    let tops = top_cells(&lib);
-    let [top] = tops.as_slice() else {
-        let names: Vec<&str> = tops.iter().map(|s| s.name.as_str()).collect();
-        return Err(err(format!(
-            "expected one top cell, found {} ({})",
-            names.len(),
-            names.join(", ")
-        )));
-    };
+    let top = chosen_top(&lib, cell).map_err(err)?;
     let by_name: std::collections::HashMap<&str, &GdsStruct> =
         lib.structs.iter().map(|s| (s.name.as_str(), s)).collect();
     check_flat_size(&lib.structs, top, layer, datatype).map_err(err)?;
@@ -613,7 +639,7 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
         polygons_um: Vec::new(),
         texts: Vec::new(),
     };
-    let mut stack = vec![(*top, Affine::IDENTITY, 0usize)];
+    let mut stack = vec![(top, Affine::IDENTITY, 0usize)];
     // Everything the expansion keeps counts, single references as arrays: nested a dozen
     // levels deep, a few references per cell would otherwise expand to billions.
     let mut expanded = 0usize;
@@ -644,6 +670,28 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
                         pts.pop();
                     }
                     flat.polygons_um.push(pts);
+                }
+                GdsElement::GdsBox(b) if b.layer == layer && b.boxtype == datatype => {
+                    count(1)?;
+                    let pts = b.xy[..4]
+                        .iter()
+                        .map(|p| tf.apply([f64::from(p.x), f64::from(p.y)]))
+                        .map(|p| [p[0] * scale, p[1] * scale])
+                        .collect();
+                    flat.polygons_um.push(pts);
+                }
+                GdsElement::GdsPath(path) if path.layer == layer && path.datatype == datatype => {
+                    count(1)?;
+                    let outline = path_outline(path);
+                    if outline.len() >= 3 {
+                        flat.polygons_um.push(
+                            outline
+                                .into_iter()
+                                .map(|p| tf.apply(p))
+                                .map(|p| [p[0] * scale, p[1] * scale])
+                                .collect(),
+                        );
+                    }
                 }
                 GdsElement::GdsTextElem(t) => {
                     count(1)?;
@@ -676,6 +724,76 @@ pub(super) fn read(path: &Path, layer: i16, datatype: i16) -> Result<Flat, IoErr
     Ok(flat)
 }
 
+/// The outline of a GDSII path (database units): the centre line widened to its width, with
+/// mitred corners, its ends flush (type 0), out by half the width (type 2, and type 1, whose
+/// round ends this squares) or by its own extensions (type 4). A path of one point or no
+/// width draws nothing.
+fn path_outline(path: &gds21::GdsPath) -> Vec<[f64; 2]> {
+    let half = 0.5 * f64::from(path.width.unwrap_or(0)).abs();
+    let mut pts: Vec<[f64; 2]> = Vec::with_capacity(path.xy.len());
+    for p in &path.xy {
+        let q = [f64::from(p.x), f64::from(p.y)];
+        if pts.last() != Some(&q) {
+            pts.push(q);
+        }
+    }
+    if pts.len() < 2 || half == 0.0 {
+        return Vec::new();
+    }
+    let (begin, end) = match path.path_type.unwrap_or(0) {
+        1 | 2 => (half, half),
+        4 => (
+            f64::from(path.begin_extn.unwrap_or(0)),
+            f64::from(path.end_extn.unwrap_or(0)),
+        ),
+        _ => (0.0, 0.0),
+    };
+    let unit = |a: [f64; 2], b: [f64; 2]| {
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        let l = dx.hypot(dy);
+        [dx / l, dy / l]
+    };
+    let n = pts.len();
+    let d0 = unit(pts[0], pts[1]);
+    let d1 = unit(pts[n - 2], pts[n - 1]);
+    pts[0] = [pts[0][0] - d0[0] * begin, pts[0][1] - d0[1] * begin];
+    pts[n - 1] = [pts[n - 1][0] + d1[0] * end, pts[n - 1][1] + d1[1] * end];
+    // The left normal of each segment; a vertex's offset is the mitre of its two segments'.
+    let normals: Vec<[f64; 2]> = pts
+        .windows(2)
+        .map(|w| {
+            let d = unit(w[0], w[1]);
+            [-d[1], d[0]]
+        })
+        .collect();
+    let offset = |i: usize| -> [f64; 2] {
+        let (a, b) = (
+            normals[i.saturating_sub(1).min(n - 2)],
+            normals[i.min(n - 2)],
+        );
+        let m = [a[0] + b[0], a[1] + b[1]];
+        let k = 1.0 + a[0] * b[0] + a[1] * b[1];
+        // A turn back on itself has no mitre: the segment's own normal.
+        if k < 1e-9 {
+            return [a[0] * half, a[1] * half];
+        }
+        [m[0] * half / k, m[1] * half / k]
+    };
+    let offsets: Vec<[f64; 2]> = (0..n).map(offset).collect();
+    let mut outline: Vec<[f64; 2]> = pts
+        .iter()
+        .zip(&offsets)
+        .map(|(p, o)| [p[0] + o[0], p[1] + o[1]])
+        .collect();
+    outline.extend(
+        pts.iter()
+            .zip(&offsets)
+            .rev()
+            .map(|(p, o)| [p[0] - o[0], p[1] - o[1]]),
+    );
+    outline
+}
+
 /// Refuses a hierarchy whose expansion would not fit [`flat_size::MAX_FLAT_BYTES`], before
 /// any of it is expanded.
 fn check_flat_size(
@@ -705,6 +823,12 @@ fn check_flat_size(
             let own = match e {
                 GdsElement::GdsBoundary(b) if b.layer == layer && b.datatype == datatype => {
                     flat_size::polygon_bytes(b.xy.len())
+                }
+                GdsElement::GdsBox(b) if b.layer == layer && b.boxtype == datatype => {
+                    flat_size::polygon_bytes(4)
+                }
+                GdsElement::GdsPath(p) if p.layer == layer && p.datatype == datatype => {
+                    flat_size::polygon_bytes(2 * p.xy.len())
                 }
                 GdsElement::GdsTextElem(t) => flat_size::text_bytes(t.string.len()),
                 GdsElement::GdsStructRef(r) => {
@@ -778,4 +902,55 @@ fn array_positions(a: &GdsArrayRef) -> impl Iterator<Item = [f64; 2]> + '_ {
             ]
         })
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn area(p: &[[f64; 2]]) -> f64 {
+        let n = p.len();
+        0.5 * (0..n)
+            .map(|i| p[i][0] * p[(i + 1) % n][1] - p[(i + 1) % n][0] * p[i][1])
+            .sum::<f64>()
+            .abs()
+    }
+
+    fn path(xy: &[(i32, i32)], width: i32, path_type: i16) -> gds21::GdsPath {
+        gds21::GdsPath {
+            layer: 1,
+            datatype: 0,
+            xy: xy.iter().map(|&(x, y)| GdsPoint::new(x, y)).collect(),
+            width: Some(width),
+            path_type: Some(path_type),
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn a_path_becomes_its_outline_with_its_ends_and_mitred_corners() {
+        // Straight, 10 wide: flush ends 100 long, extended ends 110.
+        assert_eq!(
+            area(&path_outline(&path(&[(0, 0), (100, 0)], 10, 0))),
+            1000.0
+        );
+        assert_eq!(
+            area(&path_outline(&path(&[(0, 0), (100, 0)], 10, 2))),
+            1100.0
+        );
+        let mut custom = path(&[(0, 0), (100, 0)], 10, 4);
+        custom.begin_extn = Some(20);
+        custom.end_extn = Some(0);
+        assert_eq!(area(&path_outline(&custom)), 1200.0);
+        // An L: the bars' union, its outer corner mitred square.
+        let l = path_outline(&path(&[(0, 0), (100, 0), (100, 100)], 10, 0));
+        assert!((area(&l) - 2000.0).abs() < 1e-9, "{l:?}");
+        assert!(
+            l.iter()
+                .any(|p| (p[0] - 105.0).abs() < 1e-9 && (p[1] + 5.0).abs() < 1e-9)
+        );
+        // No width, or one point: nothing.
+        assert!(path_outline(&path(&[(0, 0), (100, 0)], 0, 0)).is_empty());
+        assert!(path_outline(&path(&[(5, 5), (5, 5)], 10, 0)).is_empty());
+    }
 }

@@ -39,6 +39,9 @@ pub struct ImportOptions {
     pub datatype: i16,
     /// A DXF layer by its name (another tool's, such as `OPEN`), instead of `L<layer>D<datatype>`.
     pub layer_name: Option<String>,
+    /// The GDSII cell to read (another tool's file with several top cells), instead of the
+    /// one top cell.
+    pub cell: Option<String>,
     /// Cells to sample; by default the drawn polygons' bounding box, rounded out to whole cells.
     pub window: Option<ImportWindow>,
     /// The tone; by default the one the file's notes state, else open.
@@ -65,6 +68,7 @@ impl Default for ImportOptions {
             layer: 1,
             datatype: 0,
             layer_name: None,
+            cell: None,
             window: None,
             tone: None,
             checksum: ChecksumCheck::Verify,
@@ -117,6 +121,7 @@ pub fn import_mask(path: &Path, options: &ImportOptions) -> Result<ImportedMask,
         options.layer,
         options.datatype,
         options.layer_name.as_deref(),
+        options.cell.as_deref(),
     )?;
     if polygons.is_empty() {
         return Err(err(MaskImportError::NoPolygon {
@@ -190,8 +195,9 @@ pub fn drawn_bounds_um(
     layer: i16,
     datatype: i16,
     layer_name: Option<&str>,
+    cell: Option<&str>,
 ) -> Result<Option<[f64; 4]>, IoError> {
-    let (polygons, _) = read_drawn(path, layer, datatype, layer_name)?;
+    let (polygons, _) = read_drawn(path, layer, datatype, layer_name, cell)?;
     let mut b = [
         f64::INFINITY,
         f64::INFINITY,
@@ -286,8 +292,15 @@ pub(super) fn read_drawn(
     layer: i16,
     datatype: i16,
     layer_name: Option<&str>,
+    cell: Option<&str>,
 ) -> Result<Drawn, IoError> {
     let format = vector_format(path)?;
+    if let Some(name) = cell.filter(|_| format != MaskFormat::Gds) {
+        return Err(IoError::Mask {
+            path: path.to_path_buf(),
+            message: format!("cell `{name}`: only a GDSII file's cells are chosen by name"),
+        });
+    }
     if let Some(name) = layer_name.filter(|_| format != MaskFormat::Dxf) {
         return Err(IoError::Mask {
             path: path.to_path_buf(),
@@ -303,7 +316,7 @@ pub(super) fn read_drawn(
             (flat.polygons_um, flat.texts)
         }
         _ => {
-            let flat = gds::read(path, layer, datatype)?;
+            let flat = gds::read(path, layer, datatype, cell)?;
             (flat.polygons_um, flat.texts)
         }
     })
@@ -551,7 +564,12 @@ pub fn note_field<'a>(notes: impl IntoIterator<Item = &'a str>, key: &str) -> Op
 ///
 /// # Errors
 /// As [`import_mask`] when the file cannot be read.
-pub fn mask_notes(path: &Path, layer: i16, datatype: i16) -> Result<Vec<String>, IoError> {
+pub fn mask_notes(
+    path: &Path,
+    layer: i16,
+    datatype: i16,
+    cell: Option<&str>,
+) -> Result<Vec<String>, IoError> {
     if is_png(path) {
         return Ok(super::png_read::read(path)?.notes);
     }
@@ -562,6 +580,6 @@ pub fn mask_notes(path: &Path, layer: i16, datatype: i16) -> Result<Vec<String>,
     {
         Some("dxf") => Ok(dxf::read(path, layer, datatype, None)?.1),
         Some("oas" | "oasis") => Ok(oasis::read(path, layer, datatype)?.texts),
-        _ => Ok(gds::read(path, layer, datatype)?.texts),
+        _ => Ok(gds::read(path, layer, datatype, cell)?.texts),
     }
 }

@@ -118,7 +118,7 @@ pub fn check_file(
     if checksum == ChecksumCheck::Verify {
         super::integrity::verify_checksum(path)?;
     }
-    let (polygons, texts) = super::import::read_drawn(path, layer, datatype, None)?;
+    let (polygons, texts) = super::import::read_drawn(path, layer, datatype, None, None)?;
     if polygons.is_empty() {
         return Err(IoError::MaskImport {
             path: path.to_path_buf(),
