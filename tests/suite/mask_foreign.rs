@@ -5,7 +5,6 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::Path;
-use std::process::Command;
 
 use crate::common::run_cli as run;
 
@@ -28,17 +27,7 @@ fn gdstk(dir: &Path, name: &str, origin: (f64, f64), aref: bool) {
         ox = origin.0,
         oy = origin.1,
     );
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(&code)
-        .current_dir(dir)
-        .output()
-        .expect("python3 with gdstk is required (the test command installs it)");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crate::common::python(dir, &code, "gdstk");
 }
 
 /// `udc-studio import MASK [--layer LAYER] --pitch-um PITCH --cells 20 --out OUT`.
@@ -174,17 +163,7 @@ fn ezdxf(dir: &Path, name: &str, half: bool) {
          doc.saveas('{name}')\n",
         half = if half { "True" } else { "False" },
     );
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(&code)
-        .current_dir(dir)
-        .output()
-        .expect("python3 with ezdxf is required (the test command installs it)");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crate::common::python(dir, &code, "ezdxf");
 }
 
 #[test]
@@ -259,17 +238,7 @@ fn klayout(dir: &Path) {
         write('rot.gds', 1.0, db.ICplxTrans(1.0, 90.0, False, 0, 0), False)\n\
         write('mag.gds', 0.5, db.ICplxTrans(2.0, 0.0, False, 0, 0), False)\n\
         write('two.gds', 1.0, db.ICplxTrans(1.0, 0.0, False, 0, 0), True)\n";
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(code)
-        .current_dir(dir)
-        .output()
-        .expect("python3 with klayout is required (the test command installs it)");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crate::common::python(dir, code, "klayout");
 }
 
 #[test]

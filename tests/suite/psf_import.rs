@@ -5,7 +5,6 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use crate::common::run_cli as run;
 
@@ -24,17 +23,7 @@ fn lab_psfs() -> Option<PathBuf> {
 
 /// Runs `python3 -c code` with `dir` as its working folder.
 fn python(dir: &Path, code: &str) {
-    let out = Command::new("python3")
-        .arg("-c")
-        .arg(code)
-        .current_dir(dir)
-        .output()
-        .expect("python3 with numpy and scipy is required (the test command installs them)");
-    assert!(
-        out.status.success(),
-        "python failed: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    crate::common::python(dir, code, "numpy and scipy");
 }
 
 fn import_json(args: &[&str]) -> serde_json::Value {

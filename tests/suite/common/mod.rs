@@ -102,6 +102,22 @@ pub fn run_cli_timed(args: &[&str]) -> (Option<i32>, String, String, std::time::
     )
 }
 
+/// Runs `python3 -c code` in `dir`; `needs` names the modules it imports, for the message
+/// when python3 or they are missing (the test command installs them).
+pub fn python(dir: &std::path::Path, code: &str, needs: &str) {
+    let out = std::process::Command::new("python3")
+        .arg("-c")
+        .arg(code)
+        .current_dir(dir)
+        .output()
+        .unwrap_or_else(|e| panic!("python3 with {needs} is required: {e}"));
+    assert!(
+        out.status.success(),
+        "python failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 /// The 150-DPI T-OLED preset at `pitch_um`, its green PSF simulated on `window_px` pixels
 /// with the axis on a pixel's centre (as an import centres it), written as a measured PSF set
 /// to `path`.
