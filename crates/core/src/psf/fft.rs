@@ -92,6 +92,11 @@ where
         )));
     }
     check_fits(field, m)?;
+    // A display that lets no light through (an opening closed by an edit or a fit's step)
+    // has no rows to transform.
+    if field.rows.is_empty() {
+        return Err(SimError::Sampling("no light passes the aperture".into()));
+    }
     progress.check()?;
     let (grid_rows, spectra) = column_spectra(field, m);
     let n_rows = grid_rows.len();
@@ -451,6 +456,13 @@ mod tests {
         for (a, b) in dense_binned.iter().zip(binned.sensor.iter()) {
             assert!((a - b).abs() < 1e-9 * (1.0 + a.abs()));
         }
+    }
+
+    #[test]
+    fn a_field_without_light_is_an_error_not_a_panic() {
+        let empty = Field { rows: Vec::new() };
+        let got = full_intensity(&empty, 16, &Progress::new());
+        assert!(matches!(got, Err(SimError::Sampling(m)) if m.contains("no light")));
     }
 
     #[test]

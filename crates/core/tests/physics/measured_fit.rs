@@ -181,3 +181,24 @@ fn the_fit_recovers_a_p_oled_from_a_pitch_10_percent_off() {
 fn the_fit_recovers_a_random_tiled_optimized_opening_from_a_pitch_15_percent_off() {
     recovers("l2inv-random", 1.15, 0.8, 0.6, Centring::Centroid, 0.02);
 }
+
+#[test]
+fn the_refinement_stops_at_its_evaluation_budget() {
+    // One channel: 10 parameters, so a budget of 11 evaluations is one round of the solver's.
+    let design = drawn("toled-150dpi");
+    let (t, _) = truth(&design, 1.05, 0.5);
+    let set = measured(&t, 0.3, 11, Centring::Centroid);
+    let options = FitOptions {
+        window_px: 32,
+        search_pitch: false,
+        max_evaluations: 11,
+    };
+    let got = fit(&design, &set, &options, &Progress::new()).expect("fit");
+    assert!(got.evaluations <= 12, "{} evaluations", got.evaluations);
+    // Stopped by the budget, unless it met its tolerance first.
+    assert!(
+        got.converged || got.stopped.contains("LostPatience"),
+        "{}",
+        got.stopped
+    );
+}

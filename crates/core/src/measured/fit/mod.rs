@@ -35,7 +35,9 @@ pub struct FitOptions {
     pub window_px: usize,
     /// Search the pitch coarsely before refining it (off: start from the design's pitch).
     pub search_pitch: bool,
-    /// The most model evaluations the refinement may take.
+    /// The most evaluations of the residuals the refinement may take, rounded up to a whole
+    /// number per parameter and one (the solver counts them so); each Jacobian adds two
+    /// displays and a rendering per parameter.
     pub max_evaluations: usize,
 }
 
@@ -191,6 +193,8 @@ pub fn fit(
     for s in &shifts {
         x.extend([s[0], s[1], 0.0, 0.0, 1.0, 0.0]);
     }
+    // The solver stops after `patience · (parameters + 1)` evaluations of the residuals.
+    let patience = options.max_evaluations.div_ceil(x.len() + 1).max(1);
     let problem = Problem {
         model: &model,
         x: DVector::from_vec(x),
@@ -199,7 +203,7 @@ pub fn fit(
         max_evaluations: options.max_evaluations.max(1),
     };
     let (problem, report) = LevenbergMarquardt::new()
-        .with_patience(options.max_evaluations.max(1))
+        .with_patience(patience)
         .minimize(problem);
     progress.check()?;
     if let TerminationReason::Numerical(what) = report.termination {
@@ -453,9 +457,16 @@ impl LeastSquaresProblem<f64, Dyn, Dyn> for Problem<'_, '_> {
         self.evaluations.set(n);
         let share = 0.25 + 0.7 * (n as f32 / self.max_evaluations as f32).min(1.0);
         self.model.progress.set(share);
-        // A pitch or a bias that leaves no light (an opening biased shut) is a step too far:
-        // the solver takes a shorter one.
-        self.residuals_at(&self.x).ok()
+        match self.residuals_at(&self.x) {
+            Ok(r) => Some(r),
+            Err(SimError::Cancelled) => None,
+            // A pitch or a bias that leaves no light (an opening biased shut) is a step too
+            // far: residuals far above any PSF's make the solver take a shorter one.
+            Err(_) => {
+                let len = self.model.measured.iter().map(Array2::len).sum();
+                Some(DVector::from_element(len, 1.0))
+            }
+        }
     }
 
     fn jacobian(&self) -> Option<DMatrix<f64>> {
