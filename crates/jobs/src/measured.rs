@@ -357,6 +357,36 @@ pub struct FitJob {
     pub out: Option<PathBuf>,
 }
 
+/// The measured set (`--pixel-um` checked, and used where the set has no sidecar) and the
+/// design (`--design` or `--preset`) that `psf compare` and `psf fit` read.
+///
+/// # Errors
+/// A bad pixel pitch, a set or design that does not load.
+fn set_and_design(
+    psf: &std::path::Path,
+    pixel_um: Option<f64>,
+    design: &Option<PathBuf>,
+    preset: &Option<String>,
+) -> Result<(PsfSet, udc_core::Design)> {
+    use udc_io::measured::{SetDefaults, read_psf_set};
+    if let Some(p) = pixel_um {
+        udc_core::measured::check_pixel_um(p).map_err(|e| anyhow!("--pixel-um: {e}"))?;
+    }
+    let set = read_psf_set(
+        psf,
+        &SetDefaults {
+            pixel_um,
+            wavelength_nm: None,
+        },
+    )?;
+    let selection = crate::display::DesignSelection {
+        design: design.clone(),
+        preset: preset.clone(),
+        ..crate::display::DesignSelection::default()
+    };
+    Ok((set, selection.resolve()?))
+}
+
 /// Runs `psf fit`: the display's pitch, open fraction, turn and defocus fitted to a measured
 /// set, starting from a design, each with its uncertainty.
 ///
@@ -364,29 +394,13 @@ pub struct FitJob {
 /// A set or design that does not load, a bad pixel pitch or window, an unwritable design.
 pub fn fit(job: &FitJob, progress: &Progress) -> Result<Report> {
     use udc_core::measured::fit::{FitOptions, fit as fit_display};
-    use udc_io::measured::{SetDefaults, read_psf_set};
 
-    if let Some(p) = job.pixel_um {
-        udc_core::measured::check_pixel_um(p).map_err(|e| anyhow!("--pixel-um: {e}"))?;
-    }
     let defaults = FitOptions::default();
     let window_px = job.window_px.unwrap_or(defaults.window_px);
     if !(8..=512).contains(&window_px) {
         bail!("--window-px: the fitted window must be 8 … 512 pixels, got {window_px}");
     }
-    let set = read_psf_set(
-        &job.psf,
-        &SetDefaults {
-            pixel_um: job.pixel_um,
-            wavelength_nm: None,
-        },
-    )?;
-    let selection = crate::display::DesignSelection {
-        design: job.design.clone(),
-        preset: job.preset.clone(),
-        ..crate::display::DesignSelection::default()
-    };
-    let design = selection.resolve()?;
+    let (set, design) = set_and_design(&job.psf, job.pixel_um, &job.design, &job.preset)?;
     let options = FitOptions {
         window_px,
         search_pitch: !job.no_search,
@@ -489,24 +503,8 @@ pub fn fit(job: &FitJob, progress: &Progress) -> Result<Report> {
 /// may be, unwritable figures.
 pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
     use udc_core::measured::figures;
-    use udc_io::measured::{SetDefaults, read_psf_set};
 
-    if let Some(p) = job.pixel_um {
-        udc_core::measured::check_pixel_um(p).map_err(|e| anyhow!("--pixel-um: {e}"))?;
-    }
-    let set = read_psf_set(
-        &job.psf,
-        &SetDefaults {
-            pixel_um: job.pixel_um,
-            wavelength_nm: None,
-        },
-    )?;
-    let selection = crate::display::DesignSelection {
-        design: job.design.clone(),
-        preset: job.preset.clone(),
-        ..crate::display::DesignSelection::default()
-    };
-    let design = selection.resolve()?;
+    let (set, design) = set_and_design(&job.psf, job.pixel_um, &job.design, &job.preset)?;
     let compared = udc_core::measured::compare::compare_set(&design, &set, progress)
         .context("the design at the measurement's pixel pitch")?;
     let mut out = Report::default();

@@ -35,20 +35,30 @@ pub const PIXEL_UM_RANGE: std::ops::RangeInclusive<f64> = 0.01..=1000.0;
 /// The wavelengths a channel may name, nm: deep UV to thermal infrared.
 pub const WAVELENGTH_NM_RANGE: std::ops::RangeInclusive<f64> = 100.0..=20_000.0;
 
+/// `value` against `range`, or the rule as `"{what} must be {lo} … {hi} {unit}, got {value}"`.
+fn in_range(
+    what: &str,
+    unit: &str,
+    range: &std::ops::RangeInclusive<f64>,
+    value: f64,
+) -> Result<(), String> {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} must be {} … {} {unit}, got {value}",
+            range.start(),
+            range.end()
+        ))
+    }
+}
+
 /// Checks a camera pixel pitch against [`PIXEL_UM_RANGE`].
 ///
 /// # Errors
 /// The rule, with the value given.
 pub fn check_pixel_um(pixel_um: f64) -> Result<(), String> {
-    if PIXEL_UM_RANGE.contains(&pixel_um) {
-        Ok(())
-    } else {
-        Err(format!(
-            "the camera's pixel pitch must be {} … {} µm, got {pixel_um}",
-            PIXEL_UM_RANGE.start(),
-            PIXEL_UM_RANGE.end()
-        ))
-    }
+    in_range("the camera's pixel pitch", "µm", &PIXEL_UM_RANGE, pixel_um)
 }
 
 /// Checks a wavelength against [`WAVELENGTH_NM_RANGE`].
@@ -56,15 +66,7 @@ pub fn check_pixel_um(pixel_um: f64) -> Result<(), String> {
 /// # Errors
 /// The rule, with the value given.
 pub fn check_wavelength_nm(wavelength_nm: f64) -> Result<(), String> {
-    if WAVELENGTH_NM_RANGE.contains(&wavelength_nm) {
-        Ok(())
-    } else {
-        Err(format!(
-            "the wavelength must be {} … {} nm, got {wavelength_nm}",
-            WAVELENGTH_NM_RANGE.start(),
-            WAVELENGTH_NM_RANGE.end()
-        ))
-    }
+    in_range("the wavelength", "nm", &WAVELENGTH_NM_RANGE, wavelength_nm)
 }
 
 /// `design` simulated on a measurement's grid: the set's pixel pitch (the fine grid a whole

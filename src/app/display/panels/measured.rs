@@ -15,6 +15,7 @@ use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
 use crate::app::widgets::figure::{PlotFrame, panel_ui_in};
 use crate::core::Design;
+use crate::core::figure::Panel;
 use crate::core::measured::compare::{ComparedChannel, compare_set};
 use crate::core::measured::figures::{mtf_panel, profile_panel};
 use crate::core::measured::fit::{Estimate, FitOptions, FitResult, fit};
@@ -64,6 +65,8 @@ pub struct MeasuredPanel {
     /// The camera's pixel pitch for a set without its sidecar, µm.
     pub pixel_um: f64,
     compared: Option<Vec<ComparedChannel>>,
+    /// Each compared channel's MTF and profile figures, built once when the comparison arrives.
+    figures: Vec<(Panel, Panel)>,
     fitted: Option<FitResult>,
     /// The channel whose figures are shown.
     channel: usize,
@@ -77,6 +80,7 @@ impl Default for MeasuredPanel {
             loaded: None,
             pixel_um: 2.0,
             compared: None,
+            figures: Vec::new(),
             fitted: None,
             channel: 0,
             message: None,
@@ -201,6 +205,7 @@ impl MeasuredPanel {
                                 Some(Notice::info(format!("read {}", loaded.path.display())));
                             self.loaded = Some(loaded);
                             self.compared = None;
+                            self.figures.clear();
                             self.fitted = None;
                             self.channel = 0;
                         }
@@ -213,6 +218,16 @@ impl MeasuredPanel {
                     self.running = None;
                     match r {
                         Ok(c) => {
+                            let pixel_um = self.loaded.as_ref().map_or(1.0, |l| l.set.pixel_um);
+                            self.figures = c
+                                .iter()
+                                .map(|c| {
+                                    (
+                                        mtf_panel(&c.comparison, &c.name),
+                                        profile_panel(&c.comparison, pixel_um, &c.name),
+                                    )
+                                })
+                                .collect();
                             self.compared = Some(c);
                             self.message = None;
                         }
@@ -400,7 +415,6 @@ impl MeasuredPanel {
         let Some(compared) = &self.compared else {
             return;
         };
-        let Some(loaded) = &self.loaded else { return };
         ui.separator();
         ui.strong("Measured against the design");
         egui::Grid::new("compare table")
@@ -433,7 +447,7 @@ impl MeasuredPanel {
                 }
             });
         }
-        let Some(c) = compared.get(self.channel) else {
+        let Some((mtf, profile)) = self.figures.get(self.channel) else {
             return;
         };
         let frame = PlotFrame {
@@ -442,18 +456,8 @@ impl MeasuredPanel {
             link_x: None,
             legend_above: false,
         };
-        panel_ui_in(
-            ui,
-            "measured mtf",
-            &mtf_panel(&c.comparison, &c.name),
-            frame,
-        );
-        panel_ui_in(
-            ui,
-            "measured profile",
-            &profile_panel(&c.comparison, loaded.set.pixel_um, &c.name),
-            frame,
-        );
+        panel_ui_in(ui, "measured mtf", mtf, frame);
+        panel_ui_in(ui, "measured profile", profile, frame);
     }
 }
 
