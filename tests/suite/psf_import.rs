@@ -454,7 +454,7 @@ fn compare_finds_the_design_a_psf_came_from() {
     // Twice the density is another display: the residual and the AUC say so.
     assert!(row(&other, "residual_energy_share") > 10.0 * row(&same, "residual_energy_share"));
     assert!(row(&other, "correlation") < row(&same, "correlation"));
-    for kind in ["profile", "mtf", "residual"] {
+    for kind in ["profile", "mtf", "residual", "psf-measured", "psf-design"] {
         for ext in ["png", "svg"] {
             let f = p("figures").join(format!("G-{kind}.{ext}"));
             assert!(f.is_file(), "{}", f.display());

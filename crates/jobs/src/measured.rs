@@ -324,7 +324,8 @@ pub struct CompareJob {
     /// The camera's pixel pitch, µm (when the set has no sidecar; overrides it).
     #[arg(long, value_name = "UM")]
     pub pixel_um: Option<f64>,
-    /// Write the figures (profile, MTF, residual per channel; PNG and SVG) into this folder.
+    /// Write the figures (profile, MTF, residual and both PSFs per channel; PNG and SVG) into
+    /// this folder.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
@@ -502,7 +503,7 @@ pub fn fit(job: &FitJob, progress: &Progress) -> Result<Report> {
 /// A set or design that does not load, a bad pixel pitch, a PSF larger than a design window
 /// may be, unwritable figures.
 pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
-    use udc_core::measured::figures;
+    use udc_core::measured::figures::{self, FLOOR_DECADES, Side};
 
     let (set, design) = set_and_design(&job.psf, job.pixel_um, &job.design, &job.preset)?;
     let compared = udc_core::measured::compare::compare_set(&design, &set, progress)
@@ -555,6 +556,20 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
                 (
                     "residual",
                     figures::residual_panel(c, set.pixel_um, &channel.name),
+                ),
+                (
+                    "psf-measured",
+                    figures::psf_panel(
+                        c,
+                        Side::Measured,
+                        set.pixel_um,
+                        &channel.name,
+                        FLOOR_DECADES,
+                    ),
+                ),
+                (
+                    "psf-design",
+                    figures::psf_panel(c, Side::Design, set.pixel_um, &channel.name, FLOOR_DECADES),
                 ),
             ] {
                 files.extend(udc_io::figure::write_panel(

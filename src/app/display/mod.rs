@@ -230,6 +230,11 @@ impl DisplayWorkspace {
         &self.panels.measured
     }
 
+    /// The Measured PSF panel, to drive it (tests).
+    pub fn measured_mut(&mut self) -> &mut panels::measured::MeasuredPanel {
+        &mut self.panels.measured
+    }
+
     /// The "sweep this parameter" window.
     pub fn one_axis_sweep(&self) -> &panels::one_axis_sweep::OneAxisSweepWindow {
         &self.panels.one_axis_sweep

@@ -1,5 +1,6 @@
 //! A measured PSF against the design's, as figure panels (`crate::figure`): the profiles
-//! through the axis, the MTFs (radial minimum and mean) of both, and the residual map.
+//! through the axis, the MTFs (radial minimum and mean) of both, both PSFs side by side and the
+//! residual map.
 
 use std::sync::Arc;
 
@@ -71,6 +72,54 @@ pub fn mtf_panel(c: &ChannelComparison, channel: &str) -> Panel {
                 curve(&s.radial_mean, &fs),
             ),
         ],
+        ..Panel::default()
+    }
+}
+
+/// How far below the measured peak the PSF pictures reach: a bracket of three exposures
+/// leaves its background noise about five decades down, and a deeper scale would only draw it.
+pub const FLOOR_DECADES: f64 = 5.0;
+
+/// Which of a comparison's two PSFs a picture shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// The measured PSF.
+    Measured,
+    /// The design's, simulated on the measurement's grid and aligned to it.
+    Design,
+}
+
+/// One of the two PSFs as a picture in µm about the axis, on a log scale from the measured
+/// peak down to `floor_decades` below it: both sides share the scale, so the brighter orders
+/// and halo read as brighter.
+pub fn psf_panel(
+    c: &ChannelComparison,
+    side: Side,
+    pixel_um: f64,
+    channel: &str,
+    floor_decades: f64,
+) -> Panel {
+    let (values, what) = match side {
+        Side::Measured => (&c.measured, "measured"),
+        Side::Design => (&c.simulated, "design"),
+    };
+    let peak = c.measured.iter().fold(0.0f64, |m, v| m.max(*v));
+    let image = crate::views::centred_image(
+        &format!("{what} PSF"),
+        Arc::new(values.clone()),
+        pixel_um,
+        ColorScale::Log {
+            reference: peak,
+            floor_decades,
+        },
+        Colormap::Inferno,
+    );
+    Panel {
+        title: format!("{channel}, {what}"),
+        x: Axis::new("x", Some("µm")),
+        y: Axis::new("y", Some("µm")),
+        images: vec![image],
+        equal_aspect: true,
         ..Panel::default()
     }
 }

@@ -183,4 +183,41 @@ impl PsfSet {
     pub fn side_px(&self) -> usize {
         self.channels.first().map_or(0, |c| c.psf.nrows())
     }
+
+    /// The kernels that restore a capture of `planes` colour planes: one channel serves every
+    /// plane, else there must be one per plane. A measured PSF dips below zero where the
+    /// background's noise and the sub-pixel move left it; light is not negative, so those
+    /// samples become 0, and the largest share of a channel's light they held comes back.
+    ///
+    /// # Errors
+    /// A set that fails [`PsfSet::check`], or as many channels as neither 1 nor `planes`.
+    pub fn restoration_kernels(&self, planes: usize) -> Result<(Vec<Array2<f64>>, f64), SimError> {
+        self.check()?;
+        let k = self.channels.len();
+        if k != 1 && k != planes {
+            return Err(SimError::invalid(
+                "channels",
+                format!(
+                    "the PSF set has {k} channels but the capture has {planes}: give one PSF \
+                     for every colour or one per channel"
+                ),
+            ));
+        }
+        let mut negative = 0.0f64;
+        let cleaned: Vec<Array2<f64>> = self
+            .channels
+            .iter()
+            .map(|c| {
+                let below: f64 = c.psf.iter().filter(|v| **v < 0.0).map(|v| -v).sum();
+                negative = negative.max(below / c.psf.sum());
+                c.psf.mapv(|v| v.max(0.0))
+            })
+            .collect();
+        let kernels = if k == 1 {
+            vec![cleaned[0].clone(); planes]
+        } else {
+            cleaned
+        };
+        Ok((kernels, negative))
+    }
 }

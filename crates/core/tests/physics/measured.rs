@@ -145,3 +145,36 @@ fn a_degraded_bracket_imports_to_the_psf_it_was_made_from() {
         assert!(w < bound, "{name} MTF differs by up to {w:.4}");
     }
 }
+
+#[test]
+fn a_set_serves_a_capture_one_kernel_for_all_colours_or_one_per_channel() {
+    use udc_core::measured::{PsfChannel, PsfSet, PsfSource};
+    let channel = |name: &str, psf: Array2<f64>| PsfChannel {
+        name: name.into(),
+        wavelength_nm: None,
+        psf,
+    };
+    // Unit light with 1 % below zero (noise) in one sample.
+    let mut noisy = Array2::<f64>::zeros((5, 5));
+    noisy[[2, 2]] = 1.01;
+    noisy[[0, 0]] = -0.01;
+    let one = PsfSet {
+        channels: vec![channel("G", noisy.clone())],
+        pixel_um: 2.0,
+        source: PsfSource::Measured,
+    };
+    let (kernels, negative) = one.restoration_kernels(3).unwrap();
+    assert_eq!(kernels.len(), 3, "one channel serves every colour");
+    assert!(kernels.iter().all(|k| k.iter().all(|v| *v >= 0.0)));
+    assert!((negative - 0.01).abs() < 1e-12, "{negative}");
+    let two = PsfSet {
+        channels: vec![channel("R", noisy.clone()), channel("G", noisy)],
+        ..one
+    };
+    assert_eq!(two.restoration_kernels(2).unwrap().0.len(), 2);
+    let refused = two.restoration_kernels(3).unwrap_err().to_string();
+    assert!(
+        refused.contains("2 channels but the capture has 3"),
+        "{refused}"
+    );
+}

@@ -21,6 +21,7 @@ use udc_io::error::{IoError, TableError};
 pub use analysis_cache::analyze_shared;
 pub use analyze::{AnalyzeJob, analyze};
 pub use restore::{RestoreJob, RestoreMethod, restore};
+pub use restore_measured::{Capture, load_capture, negative_note};
 
 /// The wavelength step of `--spectral` unless given, nm.
 pub const SPECTRAL_STEP_NM: f64 = 30.0;

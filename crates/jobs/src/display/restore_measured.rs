@@ -33,9 +33,33 @@ pub struct MeasuredRun<'a> {
     pub out: Option<&'a Path>,
 }
 
+/// The note on a PSF set's negative samples set to 0 (`share`: the largest share of a
+/// channel's light they held), when it is worth a word.
+pub fn negative_note(share: f64) -> Option<String> {
+    (share > 1e-3).then(|| {
+        format!(
+            "the PSF's negative samples (noise, the sub-pixel move; {:.2} % of its light) were \
+             set to 0",
+            100.0 * share
+        )
+    })
+}
+
+/// A real capture as restoration takes it.
+pub struct Capture {
+    /// Its planes (1 grey or 3 R, G, B) on its `[0, 1]` scale.
+    pub planes: Vec<Array2<f64>>,
+    /// Whether its levels are display-encoded (an 8-bit file), not linear in the light.
+    pub display_encoded: bool,
+}
+
 /// A capture's planes on its `[0, 1]` scale: photos as `restore` reads them; `.npy` and
-/// `.mat` arrays as they are (float) or over their full scale (integers).
-fn load_capture(path: &Path, notes: &mut Vec<String>) -> Result<Vec<Array2<f64>>> {
+/// `.mat` arrays as they are (float) or over their full scale (integers). What the reader
+/// noticed goes to `notes`, with a word when the levels are display-encoded.
+///
+/// # Errors
+/// A file that does not read as a photo or an array.
+pub fn load_capture(path: &Path, notes: &mut Vec<String>) -> Result<Capture> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -45,9 +69,25 @@ fn load_capture(path: &Path, notes: &mut Vec<String>) -> Result<Vec<Array2<f64>>
         let f = read_frame(path, &FramePick::default())?;
         notes.extend(f.notes.iter().map(|n| format!("{}: {n}", path.display())));
         let scale = f.full_scale.map_or(1.0, |s| 1.0 / s);
-        return Ok(f.planes.into_iter().map(|p| p * scale).collect());
+        return Ok(Capture {
+            planes: f.planes.into_iter().map(|p| p * scale).collect(),
+            display_encoded: false,
+        });
     }
-    Ok(udc_io::photo::load_photo::<f64>(path, None)?)
+    let planes = udc_io::photo::load_photo::<f64>(path, None)?;
+    let display_encoded = read_frame(path, &FramePick::default())
+        .map(|f| f.encoding == Encoding::Gamma8)
+        .unwrap_or(false);
+    if display_encoded {
+        notes.push(format!(
+            "{}: the capture is 8-bit: its levels are display-encoded, not linear",
+            path.display()
+        ));
+    }
+    Ok(Capture {
+        planes,
+        display_encoded,
+    })
 }
 
 /// Runs `restore --psf FILE --image CAPTURE`.
@@ -60,33 +100,12 @@ pub fn restore_measured(args: &MeasuredRun<'_>, progress: &Progress) -> Result<R
     let set = read_psf_set(psf_path, &SetDefaults::default())
         .with_context(|| format!("--psf {}", psf_path.display()))?;
     let mut notes = Vec::new();
-    let capture = load_capture(args.image, &mut notes)?;
+    let capture = load_capture(args.image, &mut notes)?.planes;
     let n = capture.len();
-    // A measured PSF dips below zero where the background's noise and the sub-pixel move left
-    // it; light is not negative, so those samples are set to 0 (and the share said).
-    let cleaned: Vec<(Array2<f64>, f64)> = set
-        .channels
-        .iter()
-        .map(|c| {
-            let negative: f64 = c.psf.iter().filter(|v| **v < 0.0).map(|v| -v).sum();
-            (c.psf.mapv(|v| v.max(0.0)), negative)
-        })
-        .collect();
-    let psfs: Vec<&Array2<f64>> = match (cleaned.len(), n) {
-        (1, _) => vec![&cleaned[0].0; n],
-        (k, m) if k == m => cleaned.iter().map(|(p, _)| p).collect(),
-        (k, m) => bail!(
-            "--psf has {k} channels but the capture has {m}: give one PSF for every colour or \
-             one per channel"
-        ),
-    };
-    let negative = cleaned.iter().map(|(_, s)| *s).fold(0.0, f64::max);
-    if negative > 1e-3 {
-        notes.push(format!(
-            "the PSF's negative samples (noise, the sub-pixel move; {:.2} % of its light) were \
-             set to 0",
-            100.0 * negative
-        ));
+    let (kernels, negative) = set.restoration_kernels(n).context("--psf")?;
+    let psfs: Vec<&Array2<f64>> = kernels.iter().collect();
+    if let Some(note) = negative_note(negative) {
+        notes.push(note);
     }
     let sigma2 = match (args.denoise.denoise, args.denoise.denoise_sigma2) {
         (DenoiseMethod::None, _) => None,
@@ -108,7 +127,7 @@ pub fn restore_measured(args: &MeasuredRun<'_>, progress: &Progress) -> Result<R
     let padding = args.padding;
     let truth = match args.truth {
         Some(t) => {
-            let planes = load_capture(t, &mut notes)?;
+            let planes = load_capture(t, &mut notes)?.planes;
             if planes.len() != n
                 || planes.first().map(Array2::dim) != capture.first().map(Array2::dim)
             {
@@ -181,12 +200,6 @@ pub fn restore_measured(args: &MeasuredRun<'_>, progress: &Progress) -> Result<R
             out,
             "PSNR {psnr:.2} dB (the capture {captured_psnr:.2} dB), SSIM {mean_ssim:.4}"
         );
-    }
-    let gamma = read_frame(args.image, &FramePick::default())
-        .map(|f| f.encoding == Encoding::Gamma8)
-        .unwrap_or(false);
-    if gamma {
-        notes.push("the capture is 8-bit: its levels are display-encoded, not linear".into());
     }
     for n in &notes {
         outln!(out, "note: {n}");

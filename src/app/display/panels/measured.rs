@@ -2,7 +2,8 @@
 //! on screen. It compares them (the residual, the correlation, both MTFs and their AUC, with the
 //! profile and MTF figures), fits the display to the measurement (pitch, open fraction, turn and
 //! defocus, each with its uncertainty) and applies the fitted pitch and opening as one undoable
-//! edit. Reading, comparing and fitting run as jobs with progress and Cancel.
+//! edit, and restores real captures with the set ([`super::measured_restore`]). Reading,
+//! comparing, fitting and restoring run as jobs with progress and Cancel.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -10,14 +11,19 @@ use std::sync::Arc;
 use egui::Ui;
 
 use super::PanelCtx;
+use super::measured_restore::CaptureRestore;
 use crate::app::dialogs::{self, FileSpec};
 use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
-use crate::app::widgets::figure::{PlotFrame, panel_ui_in};
+use crate::app::widgets::figure::{
+    FigureCache, ImageFrame, PlotFrame, image_panel_ui, panel_ui_in,
+};
 use crate::core::Design;
 use crate::core::figure::Panel;
 use crate::core::measured::compare::{ComparedChannel, compare_set};
-use crate::core::measured::figures::{mtf_panel, profile_panel};
+use crate::core::measured::figures::{
+    FLOOR_DECADES, Side, mtf_panel, profile_panel, psf_panel, residual_panel,
+};
 use crate::core::measured::fit::{Estimate, FitOptions, FitResult, fit};
 use crate::core::measured::{PsfSet, PsfSource};
 use crate::io::measured::{SetDefaults, read_psf_set};
@@ -64,13 +70,26 @@ pub struct MeasuredPanel {
     loaded: Option<Loaded>,
     /// The camera's pixel pitch for a set without its sidecar, µm.
     pub pixel_um: f64,
-    compared: Option<Vec<ComparedChannel>>,
+    compared: Option<Arc<Vec<ComparedChannel>>>,
     /// Each compared channel's MTF and profile figures, built once when the comparison arrives.
     figures: Vec<(Panel, Panel)>,
     fitted: Option<FitResult>,
     /// The channel whose figures are shown.
     channel: usize,
+    /// The pictures of both PSFs and the residual, per comparison (its count) and channel.
+    pictures: FigureCache<(usize, Picture), u64>,
+    /// Comparisons arrived so far: the pictures' key.
+    comparisons: u64,
+    /// Restoring real captures with the loaded set.
+    pub restore: CaptureRestore,
     message: Option<Notice>,
+}
+
+/// The pictures of a comparison, in the order they are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Picture {
+    Psf(Side),
+    Residual,
 }
 
 impl Default for MeasuredPanel {
@@ -83,6 +102,9 @@ impl Default for MeasuredPanel {
             figures: Vec::new(),
             fitted: None,
             channel: 0,
+            pictures: FigureCache::default(),
+            comparisons: 0,
+            restore: CaptureRestore::default(),
             message: None,
         }
     }
@@ -96,7 +118,7 @@ impl MeasuredPanel {
 
     /// The last comparison, if any.
     pub fn compared(&self) -> Option<&[ComparedChannel]> {
-        self.compared.as_deref()
+        self.compared.as_deref().map(Vec::as_slice)
     }
 
     /// The last fit, if any.
@@ -109,9 +131,9 @@ impl MeasuredPanel {
         self.message.as_ref()
     }
 
-    /// Whether a job runs.
+    /// Whether a job runs (a restoration included).
     pub fn is_busy(&self) -> bool {
-        self.running.is_some()
+        self.running.is_some() || self.restore.is_busy()
     }
 
     /// Reads the set at `path` in the background (the sidecar's pixel pitch, else the panel's).
@@ -183,6 +205,7 @@ impl MeasuredPanel {
 
     /// Takes a finished job's result.
     pub fn poll(&mut self, ctx: &egui::Context) {
+        self.restore.poll(self.loaded.as_ref().map(|l| &l.set), ctx);
         let Some(running) = &self.running else { return };
         match running {
             Running::Dialog(j) => match j.poll() {
@@ -228,7 +251,8 @@ impl MeasuredPanel {
                                     )
                                 })
                                 .collect();
-                            self.compared = Some(c);
+                            self.compared = Some(Arc::new(c));
+                            self.comparisons += 1;
                             self.message = None;
                         }
                         Err(e) => self.message = Some(failed("cannot compare", &e)),
@@ -354,6 +378,11 @@ impl MeasuredPanel {
         crate::app::widgets::message_ui(ui, self.message.as_ref());
         self.fit_ui(ui, pctx);
         self.compare_ui(ui);
+        self.restore.ui(
+            ui,
+            self.loaded.as_ref().map(|l| &l.set),
+            pctx.native_dialogs,
+        );
     }
 
     fn fit_ui(&mut self, ui: &mut Ui, pctx: &mut PanelCtx) {
@@ -412,7 +441,7 @@ impl MeasuredPanel {
     }
 
     fn compare_ui(&mut self, ui: &mut Ui) {
-        let Some(compared) = &self.compared else {
+        let Some(compared) = self.compared.clone() else {
             return;
         };
         ui.separator();
@@ -430,7 +459,7 @@ impl MeasuredPanel {
                     ui.label(h);
                 }
                 ui.end_row();
-                for c in compared {
+                for c in compared.iter() {
                     let k = &c.comparison;
                     ui.label(format!("{} ({})", c.name, c.design_channel));
                     ui.label(format!("{:.2} %", 100.0 * k.residual_energy_share));
@@ -447,6 +476,7 @@ impl MeasuredPanel {
                 }
             });
         }
+        self.pictures_ui(ui, &compared);
         let Some((mtf, profile)) = self.figures.get(self.channel) else {
             return;
         };
@@ -458,6 +488,58 @@ impl MeasuredPanel {
         };
         panel_ui_in(ui, "measured mtf", mtf, frame);
         panel_ui_in(ui, "measured profile", profile, frame);
+    }
+}
+
+impl MeasuredPanel {
+    /// The measured and design PSFs side by side on one log scale, and the residual map, of
+    /// the chosen channel; built once per comparison.
+    fn pictures_ui(&mut self, ui: &mut Ui, compared: &[ComparedChannel]) {
+        let Some(c) = compared.get(self.channel) else {
+            return;
+        };
+        let pixel_um = self.loaded.as_ref().map_or(1.0, |l| l.set.pixel_um);
+        let gap = ui.spacing().item_spacing.x;
+        let side = ((ui.available_width() - 2.0 * gap - 8.0) / 3.0).clamp(90.0, 260.0);
+        let link = ui.make_persistent_id("measured pictures");
+        ui.horizontal(|ui| {
+            for picture in [
+                Picture::Psf(Side::Measured),
+                Picture::Psf(Side::Design),
+                Picture::Residual,
+            ] {
+                let shown =
+                    self.pictures
+                        .get(
+                            ui.ctx(),
+                            (self.channel, picture),
+                            self.comparisons,
+                            || match picture {
+                                Picture::Psf(s) => {
+                                    psf_panel(&c.comparison, s, pixel_um, &c.name, FLOOR_DECADES)
+                                }
+                                Picture::Residual => {
+                                    residual_panel(&c.comparison, pixel_um, &c.name)
+                                }
+                            },
+                        );
+                ui.vertical(|ui| {
+                    ui.set_width(side);
+                    ui.small(&shown.panel.title);
+                    image_panel_ui(
+                        ui,
+                        ("measured picture", picture),
+                        &shown.panel,
+                        &shown.textures,
+                        ImageFrame {
+                            size: egui::vec2(side, side),
+                            link: Some(link),
+                            view_half: shown.view_half,
+                        },
+                    );
+                });
+            }
+        });
     }
 }
 

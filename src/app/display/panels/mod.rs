@@ -8,6 +8,7 @@ pub mod editor_rules;
 pub mod mask_export;
 pub mod mask_preview;
 pub mod measured;
+pub mod measured_restore;
 pub mod numbers;
 pub mod one_axis_sweep;
 pub mod optics;
