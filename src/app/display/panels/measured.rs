@@ -449,14 +449,23 @@ impl MeasuredPanel {
         egui::Grid::new("compare table")
             .striped(true)
             .show(ui, |ui| {
-                for h in [
-                    "channel",
-                    "residual",
-                    "correlation",
-                    "AUC measured",
-                    "AUC design",
+                // Four narrow columns: the table fits a 1024-point window's left panel.
+                for (h, hover) in [
+                    (
+                        "channel",
+                        "The measured channel (the design channel it was compared with)",
+                    ),
+                    (
+                        "residual",
+                        "The residual's energy as a share of the measured PSF's",
+                    ),
+                    ("corr.", "Pearson correlation of the two PSFs"),
+                    (
+                        "AUC meas. / design",
+                        "Area under the radially-minimum MTF, measured / design",
+                    ),
                 ] {
-                    ui.label(h);
+                    ui.label(h).on_hover_text(hover);
                 }
                 ui.end_row();
                 for c in compared.iter() {
@@ -464,8 +473,10 @@ impl MeasuredPanel {
                     ui.label(format!("{} ({})", c.name, c.design_channel));
                     ui.label(format!("{:.2} %", 100.0 * k.residual_energy_share));
                     ui.label(format!("{:.4}", k.correlation));
-                    ui.label(format!("{:.4}", k.mtf_measured.auc_radial_min));
-                    ui.label(format!("{:.4}", k.mtf_simulated.auc_radial_min));
+                    ui.label(format!(
+                        "{:.4} / {:.4}",
+                        k.mtf_measured.auc_radial_min, k.mtf_simulated.auc_radial_min
+                    ));
                     ui.end_row();
                 }
             });
@@ -500,46 +511,49 @@ impl MeasuredPanel {
         };
         let pixel_um = self.loaded.as_ref().map_or(1.0, |l| l.set.pixel_um);
         let gap = ui.spacing().item_spacing.x;
-        let side = ((ui.available_width() - 2.0 * gap - 8.0) / 3.0).clamp(90.0, 260.0);
+        let width = ui.available_width() - 8.0;
+        // Three in a row where each gets 130 points or more (its axes take about 50), else
+        // fewer to a row: a 1024-point window's left panel holds two.
+        let per_row = (((width + gap) / (130.0 + gap)).floor() as usize).clamp(1, 3);
+        let side = ((width - (per_row - 1) as f32 * gap) / per_row as f32).clamp(90.0, 260.0);
         let link = ui.make_persistent_id("measured pictures");
-        ui.horizontal(|ui| {
-            for picture in [
-                Picture::Psf(Side::Measured),
-                Picture::Psf(Side::Design),
-                Picture::Residual,
-            ] {
-                let shown =
-                    self.pictures
-                        .get(
-                            ui.ctx(),
-                            (self.channel, picture),
-                            self.comparisons,
-                            || match picture {
-                                Picture::Psf(s) => {
-                                    psf_panel(&c.comparison, s, pixel_um, &c.name, FLOOR_DECADES)
-                                }
-                                Picture::Residual => {
-                                    residual_panel(&c.comparison, pixel_um, &c.name)
-                                }
-                            },
-                        );
-                ui.vertical(|ui| {
-                    ui.set_width(side);
-                    ui.small(&shown.panel.title);
-                    image_panel_ui(
-                        ui,
-                        ("measured picture", picture),
-                        &shown.panel,
-                        &shown.textures,
-                        ImageFrame {
-                            size: egui::vec2(side, side),
-                            link: Some(link),
-                            view_half: shown.view_half,
+        let pictures = [
+            (Picture::Psf(Side::Measured), "measured"),
+            (Picture::Psf(Side::Design), "design"),
+            (Picture::Residual, "|measured − design|"),
+        ];
+        for row in pictures.chunks(per_row) {
+            ui.horizontal(|ui| {
+                for &(picture, caption) in row {
+                    let shown = self.pictures.get(
+                        ui.ctx(),
+                        (self.channel, picture),
+                        self.comparisons,
+                        || match picture {
+                            Picture::Psf(s) => {
+                                psf_panel(&c.comparison, s, pixel_um, &c.name, FLOOR_DECADES)
+                            }
+                            Picture::Residual => residual_panel(&c.comparison, pixel_um, &c.name),
                         },
                     );
-                });
-            }
-        });
+                    ui.vertical(|ui| {
+                        ui.set_width(side);
+                        ui.small(caption).on_hover_text(&shown.panel.title);
+                        image_panel_ui(
+                            ui,
+                            ("measured picture", picture),
+                            &shown.panel,
+                            &shown.textures,
+                            ImageFrame {
+                                size: egui::vec2(side, side),
+                                link: Some(link),
+                                view_half: shown.view_half,
+                            },
+                        );
+                    });
+                }
+            });
+        }
     }
 }
 
