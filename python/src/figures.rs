@@ -284,7 +284,31 @@ fn sensor_pitch_figures<'py>(
     Ok(list)
 }
 
+/// `udc-studio figure` for a design given as its JSON, with these parameters (`view`, `out`,
+/// `channel`, `width_px`…, as the command's flags); returns what its `--json` prints.
+#[pyfunction]
+fn save_figure<'py>(
+    py: Python<'py>,
+    design_json: &str,
+    params: &Bound<'py, PyDict>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use udc_jobs::FromParams;
+    use udc_jobs::display::{FigureJob, figure_of};
+    let design = crate::design::parse(design_json)?;
+    let job = FigureJob::from_params(&crate::jobs::params_of(params)?)
+        .map_err(|e| crate::jobs::error(&e))?;
+    let progress = udc_core::Progress::new();
+    let report = crate::cancel::wait(
+        py,
+        || figure_of(&design, &job, &progress).map_err(|e| crate::jobs::error(&e)),
+        || progress.cancel(),
+    )?;
+    pythonize::pythonize(py, &report.json)
+        .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(save_figure, m)?)?;
     m.add_function(wrap_pyfunction!(sweep_figures, m)?)?;
     m.add_function(wrap_pyfunction!(view_figures, m)?)?;
     m.add_function(wrap_pyfunction!(sensor_pitch_figures, m)?)?;

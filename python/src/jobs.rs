@@ -46,7 +46,7 @@ fn kind_of(job: &str) -> PyResult<SweepJob> {
 
 /// Keyword arguments as the job's parameters: `angle_deg` is `angle-deg`, a trailing `_` is
 /// dropped (`lambda_`).
-fn params_of(params: &Bound<'_, PyDict>) -> PyResult<Params> {
+pub(crate) fn params_of(params: &Bound<'_, PyDict>) -> PyResult<Params> {
     let mut out = Params::new();
     for (key, value) in params.iter() {
         let key: String = key.extract()?;

@@ -48,6 +48,7 @@ __all__ = [
     "sweep",
     "sweep_figures",
     "view_figures",
+    "save_figure",
     "theory",
     "MtfComparison",
     "TheoryComparison",
@@ -496,6 +497,28 @@ def view_figures(
             bool(orders),
         )
     )
+
+
+def save_figure(
+    design: Union[Design, str],
+    out: Union[str, "os.PathLike[str]"],
+    view: str = "log-psf",
+    **params: Any,
+) -> Dict[str, Any]:
+    """Save one of the display views of a design (or a preset name) as a figure file, as
+    ``udc-studio figure`` and the studio's Save figure write it: ``out`` ending in ``.svg`` or
+    ``.png``; ``view`` one of ``psf``, ``log-psf``, ``rgb``, ``mtf-2d``, ``mtf``; further
+    keywords as the command's flags (``channel="G"``, ``width_px=1600``, ``height_px=1000``,
+    ``floor_decades=5``, ``caption="..."``, ``no_caption=True``, ``preview=True``). Returns
+    what ``--json`` prints: ``file``, ``format``, ``view``, ``title``, ``caption`` and the size.
+    A bad value raises ``ValueError`` naming it; nothing is written then.
+    """
+    from ._jobs import _plain  # noqa: PLC0415 - one helper for every job's keywords
+
+    args: Dict[str, Any] = {k: _plain(v) for k, v in params.items()}
+    args["out"] = os.fspath(out)
+    args["view"] = view
+    return dict(_native.save_figure(_design(design).to_json(), args))
 
 
 def _read_table(path: str) -> Any:

@@ -20,6 +20,7 @@ mod menu;
 pub mod notice;
 pub mod phase;
 pub mod reproduce;
+pub mod save_figure;
 pub mod sensor;
 pub mod settings;
 pub mod sweep;
@@ -106,6 +107,7 @@ pub struct StudioApp {
     shell: Shell,
     title: String,
     reproduce: reproduce::ReproduceWindow,
+    save_figure: save_figure::SaveFigureWindow,
 }
 
 impl StudioApp {
@@ -142,12 +144,23 @@ impl StudioApp {
             shell,
             title: String::new(),
             reproduce,
+            save_figure: save_figure::SaveFigureWindow::default(),
         }
     }
 
     /// Help ▸ Reproduce thesis results.
     pub fn reproduce(&self) -> &reproduce::ReproduceWindow {
         &self.reproduce
+    }
+
+    /// The Save figure window.
+    pub fn save_figure(&self) -> &save_figure::SaveFigureWindow {
+        &self.save_figure
+    }
+
+    /// The Save figure window, to drive.
+    pub fn save_figure_mut(&mut self) -> &mut save_figure::SaveFigureWindow {
+        &mut self.save_figure
     }
 
     /// Help ▸ Reproduce thesis results, to drive.
@@ -424,6 +437,13 @@ impl StudioApp {
         self.close_request(&ctx);
         self.confirm_ui(&ctx);
         self.reproduce.ui(&ctx);
+        if let Some(request) = crate::app::widgets::figure::take_save_request(&ctx) {
+            let caption = self.workspace_mut(self.active).figure_caption();
+            self.save_figure.open(request.0, caption);
+        }
+        if let Some(n) = self.save_figure.ui(&ctx, self.shell.native_dialogs) {
+            self.shell.set_status(n);
+        }
         // Each workspace carries out what it queued, even if a switch or a drop has just shown
         // another.
         for ws in &mut self.workspaces {

@@ -95,6 +95,10 @@ pub trait Workspace: Any {
     fn document_name(&self) -> String {
         self.label().to_string()
     }
+    /// The caption a figure saved from it carries: what is shown, with its parameters.
+    fn figure_caption(&self) -> String {
+        self.document_name()
+    }
     /// The window title while it is shown.
     fn title(&self) -> String {
         format!("{} — UDC Studio", self.label())

@@ -73,6 +73,10 @@ pub enum Command {
     },
     /// Analyse a design: PSF, MTF, AUC, LTR and invertibility per channel.
     Analyze(JobArgs<AnalyzeJob>),
+    /// Save a display view as a figure (SVG or PNG at a chosen size) with its axes, units,
+    /// colour bar, legend and a caption naming the design: the studio's Save figure, from a
+    /// script.
+    Figure(JobArgs<udc_jobs::display::FigureJob>),
     /// List the built-in presets with one-line descriptions: a listing for people, grouped
     /// under headings that may change; scripts use `--json`.
     Presets(PresetsArgs),
@@ -236,6 +240,15 @@ fn run_command(command: Command, progress: &udc_core::Progress) -> Result<()> {
             Ok(())
         }
         Command::Analyze(args) => run_job(JobSpec::Analyze(args.job), args.json, progress),
+        Command::Figure(args) => {
+            let report = udc_jobs::display::figure(&args.job, progress)?;
+            if args.json {
+                emit_json(&report.json)
+            } else {
+                print!("{}", report.text);
+                Ok(())
+            }
+        }
         Command::Export(args) => export_cmd::export_cmd(&args),
         Command::Drc(args) => drc::drc_cmd(&args),
         Command::Import(args) => import::import_cmd(&args),

@@ -1,5 +1,5 @@
-//! A figure panel ([`udc_core::figure::Panel`]) drawn to files with plotters: SVG and PNG at
-//! 960×600, on white, with egui's own Ubuntu font (no system fonts), the axes' titles with
+//! Figures ([`udc_core::figure::Figure`]: panels side by side and a caption) drawn to files
+//! with plotters: SVG or PNG at a chosen size (a lone panel at 960×600 by default), on white, with egui's own Ubuntu font (no system fonts), the axes' titles with
 //! their units, and a legend when the panel has series to tell apart.
 
 use std::path::{Path, PathBuf};
@@ -10,8 +10,8 @@ use plotters::prelude::*;
 
 use crate::error::{IoError, PlotError};
 use udc_core::figure::{
-    Annotation, ColorScale, Corner, Image, Mark, Paint, Panel, RING_SEGMENTS, Rgb, circle_points,
-    palette,
+    Annotation, ColorScale, Corner, FIGURE_SIDE_PX, Figure, FigureFormat, Image, Mark, Paint,
+    Panel, RING_SEGMENTS, Rgb, circle_points, palette,
 };
 
 /// The most cells an image is drawn with per side: a 1024² PSF as 1 M rectangles would make a
@@ -35,40 +35,112 @@ fn register_font() {
     });
 }
 
-/// Draws `panel` as `dir/<stem>.svg` and `dir/<stem>.png` (the folder must exist); returns
-/// both paths.
+/// Draws `panel` as `dir/<stem>.svg` and `dir/<stem>.png` at 960×600 (the folder must exist);
+/// returns both paths.
 ///
 /// # Errors
 /// [`IoError`] for a panel that cannot be drawn or a file that cannot be written.
 pub fn write_panel(dir: &Path, stem: &str, panel: &Panel) -> Result<Vec<PathBuf>, IoError> {
-    register_font();
+    let figure = Figure {
+        panels: vec![panel.clone()],
+        caption: None,
+    };
     let svg_path = dir.join(format!("{stem}.svg"));
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-        draw(&root, panel).map_err(|e| plot_error(&svg_path, e))?;
-        root.present()
-            .map_err(|e| plot_error(&svg_path, PlotError::Draw(e.to_string())))?;
-    }
-    crate::safe_file::write_atomic(&svg_path, svg.as_bytes())?;
+    write_figure(&svg_path, &figure, FigureFormat::Svg, SIZE)?;
     let png_path = dir.join(format!("{stem}.png"));
-    let mut rgb = vec![0u8; (SIZE.0 * SIZE.1 * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(&root, panel).map_err(|e| plot_error(&png_path, e))?;
-        root.present()
-            .map_err(|e| plot_error(&png_path, PlotError::Draw(e.to_string())))?;
-    }
-    let img = image::RgbImage::from_raw(SIZE.0, SIZE.1, rgb)
-        .ok_or_else(|| plot_error(&png_path, PlotError::BufferSize))?;
-    let mut bytes = Vec::new();
-    img.write_to(
-        &mut std::io::Cursor::new(&mut bytes),
-        image::ImageFormat::Png,
-    )
-    .map_err(|e| plot_error(&png_path, PlotError::Encode(e)))?;
-    crate::safe_file::write_atomic(&png_path, &bytes)?;
+    write_figure(&png_path, &figure, FigureFormat::Png, SIZE)?;
     Ok(vec![svg_path, png_path])
+}
+
+/// Draws `figure` (its panels side by side, its caption under them) into `path` as `format`
+/// at `size_px` (width, height: pixels for PNG, user units for SVG; checked against
+/// [`FIGURE_SIDE_PX`]).
+///
+/// # Errors
+/// A size outside [`FIGURE_SIDE_PX`], a figure that cannot be drawn, a file that cannot be
+/// written.
+pub fn write_figure(
+    path: &Path,
+    figure: &Figure,
+    format: FigureFormat,
+    size_px: (u32, u32),
+) -> Result<(), IoError> {
+    register_font();
+    for side in [size_px.0, size_px.1] {
+        if !FIGURE_SIDE_PX.contains(&side) {
+            return Err(plot_error(
+                path,
+                PlotError::Draw(format!(
+                    "a figure of {}×{} px: each side must be {} to {} px",
+                    size_px.0,
+                    size_px.1,
+                    FIGURE_SIDE_PX.start(),
+                    FIGURE_SIDE_PX.end()
+                )),
+            ));
+        }
+    }
+    let bytes = match format {
+        FigureFormat::Svg => {
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, size_px).into_drawing_area();
+                draw_figure(&root, figure).map_err(|e| plot_error(path, e))?;
+                root.present()
+                    .map_err(|e| plot_error(path, PlotError::Draw(e.to_string())))?;
+            }
+            svg.into_bytes()
+        }
+        FigureFormat::Png => {
+            let mut rgb = vec![0u8; size_px.0 as usize * size_px.1 as usize * 3];
+            {
+                let root = BitMapBackend::with_buffer(&mut rgb, size_px).into_drawing_area();
+                draw_figure(&root, figure).map_err(|e| plot_error(path, e))?;
+                root.present()
+                    .map_err(|e| plot_error(path, PlotError::Draw(e.to_string())))?;
+            }
+            let img = image::RgbImage::from_raw(size_px.0, size_px.1, rgb)
+                .ok_or_else(|| plot_error(path, PlotError::BufferSize))?;
+            let mut bytes = Vec::new();
+            img.write_to(
+                &mut std::io::Cursor::new(&mut bytes),
+                image::ImageFormat::Png,
+            )
+            .map_err(|e| plot_error(path, PlotError::Encode(e)))?;
+            bytes
+        }
+    };
+    crate::safe_file::write_atomic(path, &bytes)
+}
+
+/// Height of the caption's strip under a figure.
+const CAPTION_PX: u32 = 40;
+
+/// The figure's panels side by side over its caption.
+fn draw_figure<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    figure: &Figure,
+) -> Result<(), PlotError> {
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::Draw(e.to_string());
+    root.fill(&WHITE).map_err(e)?;
+    let (_, h) = root.dim_in_pixel();
+    let panels_area = match &figure.caption {
+        Some(caption) => {
+            let (top, bottom) = root.split_vertically(h.saturating_sub(CAPTION_PX));
+            let style = ("sans-serif", 16).into_font().color(&BLACK);
+            bottom
+                .draw(&Text::new(caption.clone(), (16, 12), style))
+                .map_err(e)?;
+            top
+        }
+        None => root.clone(),
+    };
+    let n = figure.panels.len().max(1);
+    let areas = panels_area.split_evenly((1, n));
+    for (area, panel) in areas.iter().zip(&figure.panels) {
+        draw(area, panel)?;
+    }
+    Ok(())
 }
 
 fn plot_error(path: &Path, error: PlotError) -> IoError {

@@ -508,6 +508,13 @@ impl Workspace for DisplayWorkspace {
         self.doc.design().name.clone()
     }
 
+    fn figure_caption(&self) -> String {
+        match self.shown() {
+            Some(s) => crate::core::views::saved::caption(&s.design, &s.analysis),
+            None => self.document_name(),
+        }
+    }
+
     fn title(&self) -> String {
         self.doc.title()
     }

@@ -93,7 +93,7 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
         .x_axis_label(panel.x.title())
         .y_axis_label(panel.y.title());
     plot = with_axis_words(plot, panel);
-    plot.show(ui, |pl| {
+    let shown = plot.show(ui, |pl| {
         if hidden.is_empty() {
             series_ui(pl, panel);
         } else {
@@ -103,6 +103,37 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
         }
         annotations_ui(pl, panel, true);
     });
+    save_menu(&shown.response, panel);
+}
+
+/// A figure that a plot's context menu asked to save: the app takes it, adds the caption of
+/// the document it shows and asks for the format, size and file ([`take_save_request`]).
+#[derive(Clone, Default)]
+pub struct SaveRequest(pub Arc<Panel>);
+
+fn save_request_id() -> egui::Id {
+    egui::Id::unique("save figure request")
+}
+
+/// Offers "Save figure…" in the context menu (right click) of the plot `response` drew.
+pub fn save_menu(response: &egui::Response, panel: &Panel) {
+    response.context_menu(|ui| {
+        if ui.button("Save figure…").clicked() {
+            request_save(ui.ctx(), panel);
+            ui.close();
+        }
+    });
+}
+
+/// Asks the app to save `panel` as a figure (a view's Save figure button, the context menu).
+pub fn request_save(ctx: &egui::Context, panel: &Panel) {
+    let request = SaveRequest(Arc::new(panel.clone()));
+    ctx.data_mut(|d| d.insert_temp(save_request_id(), request));
+}
+
+/// The figure asked to be saved since the last call, if any.
+pub fn take_save_request(ctx: &egui::Context) -> Option<SaveRequest> {
+    ctx.data_mut(|d| d.remove_temp::<SaveRequest>(save_request_id()))
 }
 
 /// The legend's rows (the panel's, or one row of every name), one entry a series name with
@@ -408,6 +439,7 @@ pub fn image_panel_ui(
     shown
         .response
         .widget_info(|| egui::WidgetInfo::labeled(egui::Role::Image, true, &title));
+    save_menu(&shown.response, panel);
 }
 
 /// A position in the readout: whole numbers past a thousand (pixel 1324, not 1.32e3), else

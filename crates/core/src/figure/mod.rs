@@ -422,6 +422,32 @@ pub enum Corner {
     RightBottom,
 }
 
+/// The sides a figure file may have, pixels (PNG) or user units (SVG): enough for a slide's
+/// thumbnail, and a poster's 6000 px without a gigabyte of pixels.
+pub const FIGURE_SIDE_PX: std::ops::RangeInclusive<u32> = 240..=6000;
+
+/// A figure file's format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FigureFormat {
+    /// Scalable: plots stay sharp in a paper.
+    Svg,
+    /// Pixels at the chosen size.
+    Png,
+}
+
+impl FigureFormat {
+    /// The format a file name's extension names (`.svg`, `.png`, any case).
+    pub fn of_path(path: &std::path::Path) -> Option<FigureFormat> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "svg" => Some(FigureFormat::Svg),
+            "png" => Some(FigureFormat::Png),
+            _ => None,
+        }
+    }
+}
+
 /// A figure: one or more panels side by side and a caption.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Figure {

@@ -3,6 +3,7 @@
 
 mod analysis_cache;
 mod analyze;
+mod figure;
 mod restore;
 mod restore_measured;
 
@@ -20,6 +21,7 @@ use udc_io::error::{IoError, TableError};
 
 pub use analysis_cache::analyze_shared;
 pub use analyze::{AnalyzeJob, analyze};
+pub use figure::{FigureJob, figure, figure_of};
 pub use restore::{RestoreJob, RestoreMethod, restore};
 pub use restore_measured::{Capture, load_capture, negative_note};
 

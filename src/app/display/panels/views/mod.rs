@@ -16,6 +16,8 @@ pub mod restore;
 mod textures;
 mod theory;
 
+use std::sync::Arc;
+
 use egui::{RichText, Ui};
 
 use self::images::{DEFAULT_FLOOR_DECADES, FLOOR_DECADES_RANGE, channel_color};
@@ -23,6 +25,7 @@ use self::plots::{MtfFamilies, image_with_colour_bar_ui, mtf_plot_ui};
 use self::textures::{Slot, TexKey, Textures};
 use super::{PanelCtx, Shown};
 use crate::core::analysis::analyze::ChannelAnalysis;
+use crate::core::figure::Panel;
 use crate::core::theory::landmarks::{airy_radius_um, order_spacing_um};
 use crate::core::views::{Landmarks, PsfScale, mtf2d_panel, psf_panel, rgb_panel, rgb_slots};
 
@@ -124,6 +127,8 @@ pub struct ViewsPanel {
     overlay_choice: Landmarks,
     /// The Theory view's cached comparison and scale.
     theory: theory::TheoryView,
+    /// The figure the view drew last frame, for its Save figure button.
+    saveable: Option<(ViewTab, Arc<Panel>)>,
 }
 
 impl Default for ViewsPanel {
@@ -140,6 +145,7 @@ impl Default for ViewsPanel {
             appearance: appearance::AppearanceView::default(),
             overlay_choice: Landmarks::default(),
             theory: theory::TheoryView::default(),
+            saveable: None,
         }
     }
 }
@@ -214,6 +220,18 @@ impl ViewsPanel {
     fn controls_ui(&mut self, ui: &mut Ui, shown: &Shown, overlays: bool) {
         let tab = self.tab;
         ui.horizontal_wrapped(|ui| {
+            if let Some((drawn, panel)) = &self.saveable
+                && *drawn == tab
+                && ui
+                    .button("Save figure…")
+                    .on_hover_text(
+                        "This view as an SVG or PNG with its axes, units, colour bar and a caption \
+                         naming the design (also: right-click the plot)",
+                    )
+                    .clicked()
+            {
+                crate::app::widgets::figure::request_save(ui.ctx(), panel);
+            }
             if matches!(
                 tab,
                 ViewTab::Psf
@@ -333,6 +351,7 @@ impl ViewsPanel {
         });
         let id = if log { "views_log_psf" } else { "views_psf" };
         image_with_colour_bar_ui(ui, id, &figure);
+        self.saveable = Some((self.tab, figure.panel));
     }
 
     fn rgb_ui(&mut self, ui: &mut Ui, shown: &Shown) {
@@ -362,6 +381,7 @@ impl ViewsPanel {
             return;
         }
         image_with_colour_bar_ui(ui, "views_rgb", &figure);
+        self.saveable = Some((ViewTab::Rgb, figure.panel));
     }
 
     fn mtf2d_ui(&mut self, ui: &mut Ui, shown: &Shown, ch: &ChannelAnalysis) {
@@ -371,12 +391,13 @@ impl ViewsPanel {
             .textures
             .get(ui.ctx(), Slot::Mtf2d, key, || mtf2d_panel(ch, floor));
         image_with_colour_bar_ui(ui, "views_mtf2d", &figure);
+        self.saveable = Some((ViewTab::Mtf2d, figure.panel));
     }
 
     fn mtf_plots_ui(&mut self, ui: &mut Ui, shown: &Shown, ctx: &PanelCtx) {
         let pinned = ctx.pinned.map(|p| p.analysis.as_ref());
         let repeats = ctx.overlays.then_some(shown.design.as_ref());
-        mtf_plot_ui(
+        let panel = mtf_plot_ui(
             ui,
             "views_mtf_plots",
             &shown.analysis,
@@ -384,5 +405,6 @@ impl ViewsPanel {
             self.families,
             repeats,
         );
+        self.saveable = Some((ViewTab::MtfPlots, Arc::new(panel)));
     }
 }

@@ -8,6 +8,7 @@ use crate::app::widgets::figure::{
 };
 use crate::app::widgets::plot::visible_width;
 use crate::core::Analysis;
+use crate::core::figure::Panel;
 use crate::core::views::mtf_curves_panel;
 
 pub use crate::core::views::MtfFamilies;
@@ -15,7 +16,7 @@ pub use crate::core::views::MtfFamilies;
 /// MTF curves of `b` (solid) and the radial minima of the pinned design `a` (dashed, "A:"),
 /// over 0…0.5 cycles/pixel, with the frequencies where `repeats`' MTF repeats. The legend sits
 /// above the plot, a row per channel, so no curve hides behind it; clicking an entry hides its
-/// curves.
+/// curves. Returns the panel drawn (for Save figure).
 pub fn mtf_plot_ui(
     ui: &mut Ui,
     id: &str,
@@ -23,7 +24,7 @@ pub fn mtf_plot_ui(
     a: Option<&Analysis>,
     families: MtfFamilies,
     repeats: Option<&crate::core::Design>,
-) {
+) -> Panel {
     let panel = mtf_curves_panel(b, a, families, repeats);
     let frame = PlotFrame {
         width: Some(visible_width(ui)),
@@ -32,6 +33,7 @@ pub fn mtf_plot_ui(
         ..PlotFrame::tall(ui.available_height().max(220.0))
     };
     panel_ui_in(ui, id, &panel, frame);
+    panel
 }
 
 /// Room the axes take beside a plot's data: tick labels and the axis title on the left, the

@@ -5,6 +5,8 @@
 //! one random tiling's PSF beside the expectation over all tilings. Centred grids (sample
 //! `n / 2` at 0, conventions.md §1): a PSF in µm on the sensor, an MTF in cycles per pixel.
 
+pub mod saved;
+
 use std::sync::Arc;
 
 use ndarray::Array2;

@@ -1,0 +1,143 @@
+//! `udc-studio figure`: every display view saved as SVG (well-formed XML carrying the axis
+//! titles with their units and the caption) and PNG (at the size asked, its pixels compared
+//! with a snapshot per view); bad values refused in one line with nothing written; the
+//! studio's Save figure writes the view on screen the same way.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::path::Path;
+
+use crate::common::run_cli;
+
+/// The text nodes of an SVG document, failing the test if it is not well-formed XML.
+fn svg_texts(path: &Path) -> Vec<String> {
+    use quick_xml::events::Event;
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut reader = quick_xml::Reader::from_str(&text);
+    let mut texts = Vec::new();
+    let mut depth = 0i64;
+    let mut root = None;
+    loop {
+        match reader.read_event() {
+            Ok(Event::Start(e)) => {
+                depth += 1;
+                root.get_or_insert_with(|| String::from_utf8_lossy(e.name().as_ref()).into_owned());
+            }
+            Ok(Event::End(_)) => depth -= 1,
+            Ok(Event::Text(t)) => {
+                let t = t.decode().unwrap().trim().to_owned();
+                if !t.is_empty() {
+                    texts.push(t);
+                }
+            }
+            Ok(Event::Eof) => break,
+            Ok(_) => {}
+            Err(e) => panic!("{}: not well-formed XML: {e}", path.display()),
+        }
+    }
+    assert_eq!(depth, 0, "{}: every element closed", path.display());
+    assert_eq!(root.as_deref(), Some("svg"), "{}", path.display());
+    texts
+}
+
+/// `(view, an axis title it must carry)`.
+const VIEWS: [(&str, &str); 5] = [
+    ("psf", "x (µm)"),
+    ("log-psf", "y (µm)"),
+    ("rgb", "x (µm)"),
+    ("mtf-2d", "νx (cyc/px)"),
+    ("mtf", "cycles/pixel"),
+];
+
+#[test]
+fn every_view_saves_as_svg_and_png_with_axes_units_and_a_caption() {
+    let dir = tempfile::tempdir().unwrap();
+    for (view, axis) in VIEWS {
+        let svg = dir.path().join(format!("{view}.svg"));
+        let (ok, stdout, stderr) = run_cli(&[
+            "figure",
+            "--preset",
+            "toled-150dpi",
+            "--preview",
+            "--view",
+            view,
+            "--out",
+            svg.to_str().unwrap(),
+            "--json",
+        ]);
+        assert!(ok, "{view}: {stderr}");
+        let j: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
+        assert_eq!(j["format"], "svg");
+        let caption = j["caption"].as_str().unwrap().to_owned();
+        assert!(caption.contains("pitch 168.0 µm"), "{caption}");
+        let texts = svg_texts(&svg);
+        assert!(
+            texts.iter().any(|t| t.contains(axis)),
+            "{view}: the axis title {axis:?} among {:?}",
+            &texts[..texts.len().min(40)]
+        );
+        assert!(
+            texts.iter().any(|t| t.contains("pitch 168.0 µm")),
+            "{view}: the caption is drawn"
+        );
+        // A PNG at a chosen size, its pixels as the snapshot's.
+        let png = dir.path().join(format!("{view}.png"));
+        let (ok, _, stderr) = run_cli(&[
+            "figure",
+            "--preset",
+            "toled-150dpi",
+            "--preview",
+            "--view",
+            view,
+            "--out",
+            png.to_str().unwrap(),
+            "--width-px",
+            "800",
+            "--height-px",
+            "500",
+        ]);
+        assert!(ok, "{view}: {stderr}");
+        let img = image::open(&png).unwrap().to_rgba8();
+        assert_eq!(img.dimensions(), (800, 500), "{view}");
+        egui_kittest::image_snapshot(&img, format!("figure-{view}"));
+    }
+}
+
+#[test]
+fn bad_figure_requests_are_refused_in_one_line_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = |name: &str| dir.path().join(name).to_str().unwrap().to_owned();
+    let cases: [(&[&str], &str); 7] = [
+        (&["--out", &out("a.jpg")], ".svg or .png"),
+        (&["--out", &out("a.svg"), "--width-px", "10"], "--width-px"),
+        (
+            &["--out", &out("a.svg"), "--height-px", "100000"],
+            "--height-px",
+        ),
+        (
+            &["--out", &out("a.svg"), "--floor-decades", "-1"],
+            "--floor-decades",
+        ),
+        (
+            &["--out", &out("a.svg"), "--floor-decades", "nan"],
+            "--floor-decades",
+        ),
+        (&["--out", &out("a.svg"), "--channel", "X"], "--channel X"),
+        (&["--out", &out("a.svg"), "--view", "bogus"], "bogus"),
+    ];
+    for (args, names) in cases {
+        let mut all = vec!["figure", "--preset", "toled-150dpi", "--preview"];
+        all.extend_from_slice(args);
+        let (ok, _, stderr) = run_cli(&all);
+        assert!(!ok, "{args:?} was accepted");
+        assert!(stderr.contains(names), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("panicked"),
+            "{args:?}: a refusal, not a panic: {stderr}"
+        );
+    }
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "nothing written"
+    );
+}
