@@ -17,6 +17,8 @@ pub enum ShellCommand {
     Redo,
     /// Switch between the dark and the light theme (saved in the settings).
     ToggleTheme,
+    /// Presentation mode on or off (saved in the settings).
+    TogglePresentation,
     /// Show or hide the teaching overlays and hints (saved in the settings).
     ToggleOverlays,
     /// Show or hide the design-rule rings on the opening editor (saved in the settings).
@@ -38,6 +40,8 @@ pub const REDO: KeyboardShortcut =
 pub const REDO_Y: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
 /// Ctrl+Q (Cmd+Q on macOS): quit.
 pub const QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
+/// F5 (as slide software): presentation mode on or off.
+pub const PRESENTATION: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
 
 /// Reads the shell's keyboard shortcuts into commands (a workspace reads its own,
 /// [`crate::app::Workspace::read_shortcuts`]).
@@ -52,6 +56,9 @@ pub fn read_shortcuts(ctx: &egui::Context, out: &mut Vec<ShellCommand>) {
         }
         if i.consume_shortcut(&QUIT) {
             out.push(ShellCommand::Quit);
+        }
+        if i.consume_shortcut(&PRESENTATION) {
+            out.push(ShellCommand::TogglePresentation);
         }
     });
 }

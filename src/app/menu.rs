@@ -41,8 +41,32 @@ impl StudioApp {
                 } else {
                     "Dark theme"
                 };
-                if ui.button(theme).clicked() {
+                if ui
+                    .add_enabled(!shell.settings.presentation, egui::Button::new(theme))
+                    .clicked()
+                {
                     cmds.push(ShellCommand::ToggleTheme);
+                }
+                let presentation = format!(
+                    "{} Presentation",
+                    if shell.settings.presentation {
+                        "☑"
+                    } else {
+                        "☐"
+                    }
+                );
+                if ui
+                    .add(
+                        egui::Button::new(presentation)
+                            .shortcut_text(ui.ctx().format_shortcut(&commands::PRESENTATION)),
+                    )
+                    .on_hover_text(
+                        "For a projector: black on white, larger text, thicker lines, pictures \
+                         in viridis; the Optimize and Measured tabs fold away",
+                    )
+                    .clicked()
+                {
+                    cmds.push(ShellCommand::TogglePresentation);
                 }
                 let mut overlays = shell.settings.overlays;
                 if ui

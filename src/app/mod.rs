@@ -19,6 +19,7 @@ pub mod job;
 mod menu;
 pub mod notice;
 pub mod phase;
+pub mod presentation;
 pub mod reproduce;
 pub mod save_figure;
 pub mod sensor;
@@ -119,11 +120,7 @@ impl StudioApp {
             options.native_dialogs,
             options.autosave_every,
         );
-        ctx.set_visuals(if shell.settings.dark {
-            egui::Visuals::dark()
-        } else {
-            egui::Visuals::light()
-        });
+        presentation::apply(ctx, &shell.settings);
         ctx.set_fonts(fonts_with_symbols());
         // The switch shows them in this order.
         let workspaces: Vec<Box<dyn Workspace>> = vec![
@@ -233,11 +230,12 @@ impl StudioApp {
             ShellCommand::Redo => self.workspace_mut(self.active).redo(),
             ShellCommand::ToggleTheme => {
                 self.shell.settings.dark = !self.shell.settings.dark;
-                self.shell.ctx.set_visuals(if self.shell.settings.dark {
-                    egui::Visuals::dark()
-                } else {
-                    egui::Visuals::light()
-                });
+                presentation::apply(&self.shell.ctx, &self.shell.settings);
+                self.shell.save_settings();
+            }
+            ShellCommand::TogglePresentation => {
+                self.shell.settings.presentation = !self.shell.settings.presentation;
+                presentation::apply(&self.shell.ctx, &self.shell.settings);
                 self.shell.save_settings();
             }
             ShellCommand::ToggleOverlays => {

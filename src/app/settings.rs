@@ -62,6 +62,9 @@ pub struct Settings {
     pub design_rules: bool,
     /// The sweep results folder last opened, for File > Reopen in the Sweep workspace.
     pub last_sweep: Option<PathBuf>,
+    /// Presentation mode (View > Presentation): for a projector.
+    #[serde(default)]
+    pub presentation: bool,
 }
 
 impl Default for Settings {
@@ -72,6 +75,7 @@ impl Default for Settings {
             overlays: true,
             design_rules: false,
             last_sweep: None,
+            presentation: false,
         }
     }
 }

@@ -51,6 +51,7 @@ mod phase_capture;
 mod phase_export;
 mod phase_imaging;
 mod phase_panel;
+mod presentation;
 mod psf_import;
 mod reproduce;
 mod reproduce_view;

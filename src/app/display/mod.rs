@@ -322,7 +322,9 @@ impl DisplayWorkspace {
     }
 
     fn left_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {
-        // Five tabs overflow the narrowest panel (a 1024-px window): they wrap.
+        // Five tabs overflow the narrowest panel (a 1024-px window): they wrap. Presentation
+        // mode folds the advanced workflows away (unless one is open).
+        let presenting = crate::app::presentation::is_on(ui.ctx());
         ui.horizontal_wrapped(|ui| {
             for (tab, label) in [
                 (LeftTab::Opening, "Opening"),
@@ -331,6 +333,10 @@ impl DisplayWorkspace {
                 (LeftTab::Optimize, "Optimize"),
                 (LeftTab::Measured, "Measured"),
             ] {
+                let advanced = matches!(tab, LeftTab::Optimize | LeftTab::Measured);
+                if presenting && advanced && self.left_tab != tab {
+                    continue;
+                }
                 if ui.selectable_label(self.left_tab == tab, label).clicked() {
                     self.left_tab = tab;
                 }

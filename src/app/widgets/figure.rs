@@ -211,6 +211,8 @@ fn with_axis_words<'a>(mut plot: Plot<'a>, panel: &Panel) -> Plot<'a> {
 /// The panel's series, in order.
 fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
     let bar_width = panel.bar_width();
+    let on = crate::app::presentation::is_on(pl.ctx());
+    let w = |width: f32| crate::app::presentation::line_width(on, width);
     for s in &panel.series {
         let c = color32(s.colour);
         if let Some(band) = &s.band {
@@ -244,10 +246,10 @@ fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
                 let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
                 let l = Line::new(s.name.clone(), PlotPoints::from(line));
                 pl.line(if s.mark == Mark::FaintLine {
-                    l.color(c.gamma_multiply(0.55)).width(1.0)
+                    l.color(c.gamma_multiply(0.55)).width(w(1.0))
                 } else {
                     l.color(c)
-                        .width(1.5)
+                        .width(w(1.5))
                         .style(LineStyle::Dotted { spacing: 4.0 })
                 });
             }
@@ -283,11 +285,11 @@ fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
             Mark::DashedLine => {
                 let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
                 // A reference is read against the data, not over it: dimmer.
-                pl.line(
-                    Line::new(s.name.clone(), PlotPoints::from(line))
-                        .color(c.gamma_multiply(0.6))
-                        .style(LineStyle::dashed_dense()),
-                );
+                let l = Line::new(s.name.clone(), PlotPoints::from(line))
+                    .color(c.gamma_multiply(0.6))
+                    .style(LineStyle::dashed_dense());
+                // egui_plot's own width unless presenting.
+                pl.line(if on { l.width(w(1.5)) } else { l });
             }
             Mark::Line | Mark::LineAndPoints => {
                 let line: Vec<[f64; 2]> = s.points.iter().filter(finite).copied().collect();
@@ -295,7 +297,7 @@ fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
                 pl.line(
                     Line::new(s.name.clone(), PlotPoints::from(line))
                         .color(c)
-                        .width(2.0),
+                        .width(w(2.0)),
                 );
                 if let Some(dots) = dots {
                     pl.points(
@@ -525,6 +527,8 @@ pub fn colour_bar_ui(ui: &mut Ui, height: f32, img: &Image) {
         pos2(rect.left() + 18.0, rect.bottom() - 8.0),
     );
     const BANDS: usize = 64;
+    let on = crate::app::presentation::is_on(ui.ctx());
+    let map = crate::app::presentation::colormap(on, img.colormap);
     let mut mesh = Mesh::default();
     for k in 0..BANDS {
         let t0 = k as f32 / BANDS as f32;
@@ -533,7 +537,7 @@ pub fn colour_bar_ui(ui: &mut Ui, height: f32, img: &Image) {
             pos2(bar.left(), bar.bottom() - t1 * bar.height()),
             pos2(bar.right(), bar.bottom() - t0 * bar.height()),
         );
-        mesh.add_colored_rect(band, color32(img.colormap.at((t0 + t1) / 2.0)));
+        mesh.add_colored_rect(band, color32(map.at((t0 + t1) / 2.0)));
     }
     painter.add(mesh);
     painter.rect_stroke(
@@ -572,7 +576,14 @@ pub fn panel_textures(ctx: &egui::Context, name: &str, panel: &Panel) -> Vec<Tex
 /// crisp square when zoomed in).
 pub fn image_texture(ctx: &egui::Context, name: String, img: &Image) -> TextureHandle {
     let (rows, cols) = img.values.dim();
-    let rgb: Vec<u8> = img
+    let shown = Image {
+        colormap: crate::app::presentation::colormap(
+            crate::app::presentation::is_on(ctx),
+            img.colormap,
+        ),
+        ..img.clone()
+    };
+    let rgb: Vec<u8> = shown
         .colours()
         .into_iter()
         .flat_map(|c| [c.0, c.1, c.2])
@@ -609,6 +620,8 @@ struct Built {
     panel: Arc<Panel>,
     textures: Vec<TextureHandle>,
     view_half: Option<f64>,
+    /// Built in presentation mode.
+    presentation: bool,
 }
 
 impl<S, K> Default for FigureCache<S, K> {
@@ -630,7 +643,10 @@ impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
         key: K,
         build: impl FnOnce() -> Panel,
     ) -> Shown {
-        let fresh = !matches!(self.slots.get(&slot), Some((k, ..)) if *k == key);
+        // Presentation mode draws pictures in another colour map: its textures are rebuilt.
+        let on = crate::app::presentation::is_on(ctx);
+        let fresh =
+            !matches!(self.slots.get(&slot), Some((k, b)) if *k == key && b.presentation == on);
         if fresh {
             self.builds += 1;
             let panel = Arc::new(build());
@@ -640,6 +656,7 @@ impl<S: Hash + Eq + Copy + std::fmt::Debug, K: PartialEq> FigureCache<S, K> {
                 panel,
                 textures,
                 view_half,
+                presentation: on,
             };
             self.slots.insert(slot, (key, built));
         }

@@ -10,9 +10,19 @@ pub fn studio(
     wgpu: bool,
     autosave_every: std::time::Duration,
 ) -> egui_kittest::Harness<'static, udc_studio::app::StudioApp> {
+    studio_sized(dir, wgpu, autosave_every, egui::vec2(1440.0, 900.0))
+}
+
+/// [`studio`] in a window of `size` points.
+pub fn studio_sized(
+    dir: &std::path::Path,
+    wgpu: bool,
+    autosave_every: std::time::Duration,
+    size: egui::Vec2,
+) -> egui_kittest::Harness<'static, udc_studio::app::StudioApp> {
     let dirs = udc_studio::app::AppDirs::at(dir);
     let mut b = egui_kittest::Harness::builder()
-        .with_size(egui::vec2(1440.0, 900.0))
+        .with_size(size)
         .with_max_steps(10_000);
     if wgpu {
         b = b.wgpu();

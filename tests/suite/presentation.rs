@@ -1,0 +1,67 @@
+//! Presentation mode, driven like a user: F5 turns it on (black on white, everything larger,
+//! the advanced tabs folded away, pictures in viridis), it survives a restart, and F5 again
+//! restores the dark studio as it was.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::time::Duration;
+
+use egui::Key;
+use egui_kittest::kittest::Queryable;
+
+use crate::common::{self, Reach, step_until};
+use udc_studio::app::DisplayAction;
+use udc_studio::app::presentation;
+
+#[test]
+fn f5_presents_for_a_projector_and_the_setting_survives_a_restart() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio_sized(
+        dir.path(),
+        true,
+        Duration::from_secs(600),
+        egui::vec2(1024.0, 700.0),
+    );
+    h.state_mut()
+        .act(DisplayAction::LoadPreset("toled-150dpi".into()));
+    step_until(&mut h, "the T-OLED result", common::display_up_to_date);
+    assert!(
+        h.ctx.global_style().visuals.dark_mode,
+        "the studio starts dark"
+    );
+    assert!(h.query_by_label("Optimize").is_some());
+    h.key_press(Key::F5);
+    h.step();
+    h.step();
+    assert!(presentation::is_on(&h.ctx));
+    assert!(!h.ctx.global_style().visuals.dark_mode, "a light theme");
+    assert_eq!(
+        h.ctx.global_style().visuals.override_text_color,
+        Some(egui::Color32::BLACK)
+    );
+    assert!((h.ctx.zoom_factor() - presentation::ZOOM).abs() < 1e-6);
+    assert!(
+        h.query_by_label("Optimize").is_none() && h.query_by_label("Measured").is_none(),
+        "the advanced tabs fold away"
+    );
+    assert!(h.query_by_label("Opening").is_some());
+    for _ in 0..3 {
+        h.step();
+    }
+    crate::screenshots::capture(&mut h, "presentation-1024x700");
+    drop(h);
+
+    // The next session starts presenting.
+    let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
+    h.step();
+    assert!(presentation::is_on(&h.ctx), "the setting is kept");
+    h.key_press(Key::F5);
+    h.step();
+    h.step();
+    assert!(!presentation::is_on(&h.ctx));
+    assert!(
+        h.ctx.global_style().visuals.dark_mode,
+        "back to the dark theme"
+    );
+    assert!((h.ctx.zoom_factor() - 1.0).abs() < 1e-6);
+    assert!(h.query_by_label("Optimize").is_some());
+}
