@@ -27,6 +27,8 @@ pub enum ShellCommand {
     Show(WorkspaceId),
     /// Open Help ▸ Reproduce thesis results.
     OpenReproduce,
+    /// Show or hide Help ▸ Lessons.
+    ToggleLessons,
     /// Close the window, asking first if a workspace has unsaved changes.
     Quit,
 }

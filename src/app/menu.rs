@@ -47,19 +47,13 @@ impl StudioApp {
                 {
                     cmds.push(ShellCommand::ToggleTheme);
                 }
-                let presentation = format!(
-                    "{} Presentation",
-                    if shell.settings.presentation {
-                        "☑"
-                    } else {
-                        "☐"
-                    }
+                let mut presenting = shell.settings.presentation;
+                let label = format!(
+                    "Presentation ({})",
+                    ui.ctx().format_shortcut(&commands::PRESENTATION)
                 );
                 if ui
-                    .add(
-                        egui::Button::new(presentation)
-                            .shortcut_text(ui.ctx().format_shortcut(&commands::PRESENTATION)),
-                    )
+                    .checkbox(&mut presenting, label)
                     .on_hover_text(
                         "For a projector: black on white, larger text, thicker lines, pictures \
                          in viridis; the Optimize and Measured tabs fold away",
@@ -90,6 +84,17 @@ impl StudioApp {
             });
             ui.menu_button("Help", |ui| {
                 ui.set_max_width(420.0);
+                if ui
+                    .button("Lessons")
+                    .on_hover_text(
+                        "Fourier optics step by step, from a slit to a random tiling: each step \
+                         sets the studio up, asks you to predict, then checks against the \
+                         simulation",
+                    )
+                    .clicked()
+                {
+                    cmds.push(ShellCommand::ToggleLessons);
+                }
                 if ui
                     .button("Reproduce thesis results…")
                     .on_hover_text(

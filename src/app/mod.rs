@@ -16,6 +16,7 @@ pub mod error;
 pub mod history;
 pub mod icon;
 pub mod job;
+pub mod lessons;
 mod menu;
 pub mod notice;
 pub mod phase;
@@ -109,6 +110,7 @@ pub struct StudioApp {
     title: String,
     reproduce: reproduce::ReproduceWindow,
     save_figure: save_figure::SaveFigureWindow,
+    lessons: lessons::LessonsPanel,
 }
 
 impl StudioApp {
@@ -142,12 +144,83 @@ impl StudioApp {
             title: String::new(),
             reproduce,
             save_figure: save_figure::SaveFigureWindow::default(),
+            lessons: lessons::LessonsPanel::default(),
         }
     }
 
     /// Help ▸ Reproduce thesis results.
     pub fn reproduce(&self) -> &reproduce::ReproduceWindow {
         &self.reproduce
+    }
+
+    /// Help ▸ Lessons.
+    pub fn lessons(&self) -> &lessons::LessonsPanel {
+        &self.lessons
+    }
+
+    /// Help ▸ Lessons, to drive.
+    pub fn lessons_mut(&mut self) -> &mut lessons::LessonsPanel {
+        &mut self.lessons
+    }
+
+    /// Checks a prediction in the open lesson against the display workspace's result.
+    pub fn check_lesson(
+        &mut self,
+        guess: crate::core::lesson::measure::Guess,
+    ) -> Option<lessons::Verdict> {
+        let (shown, up) = self.display_result();
+        self.lessons.check(shown.as_ref(), up, guess)
+    }
+
+    /// Reveals the open lesson's answer on the display workspace's result.
+    pub fn reveal_lesson(&mut self) {
+        let (shown, up) = self.display_result();
+        self.lessons.reveal(shown.as_ref(), up);
+    }
+
+    /// The display workspace's result on screen and whether it is its design's, at full
+    /// quality.
+    fn display_result(&mut self) -> (Option<display::panels::Shown>, bool) {
+        match self.display_workspace() {
+            Some(d) => (d.shown().cloned(), d.is_up_to_date()),
+            None => (None, false),
+        }
+    }
+
+    fn display_workspace(&mut self) -> Option<&mut DisplayWorkspace> {
+        self.workspaces
+            .iter_mut()
+            .find(|w| w.id() == WorkspaceId::Display)
+            .and_then(|w| w.as_any_mut().downcast_mut::<DisplayWorkspace>())
+    }
+
+    /// Carries out a lesson step's setup: the Display workspace shown, the preset loaded
+    /// (asking first if there are unsaved changes), the view selected.
+    fn lesson_setup(&mut self, setup: lessons::Setup) {
+        use crate::core::views::saved::DisplayView;
+        use display::panels::views::ViewTab;
+        self.active = WorkspaceId::Display;
+        let shell = &mut self.shell;
+        let Some(d) = self
+            .workspaces
+            .iter_mut()
+            .find(|w| w.id() == WorkspaceId::Display)
+            .and_then(|w| w.as_any_mut().downcast_mut::<DisplayWorkspace>())
+        else {
+            return;
+        };
+        if let Some(p) = setup.preset {
+            d.act(DisplayAction::LoadPreset(p), shell);
+        }
+        if let Some(v) = setup.view {
+            d.views().set_tab(match v {
+                DisplayView::Psf => ViewTab::Psf,
+                DisplayView::LogPsf => ViewTab::LogPsf,
+                DisplayView::Rgb => ViewTab::Rgb,
+                DisplayView::Mtf2d => ViewTab::Mtf2d,
+                DisplayView::Mtf => ViewTab::MtfPlots,
+            });
+        }
     }
 
     /// The Save figure window.
@@ -233,6 +306,7 @@ impl StudioApp {
                 presentation::apply(&self.shell.ctx, &self.shell.settings);
                 self.shell.save_settings();
             }
+            ShellCommand::ToggleLessons => self.lessons.toggle(),
             ShellCommand::TogglePresentation => {
                 self.shell.settings.presentation = !self.shell.settings.presentation;
                 presentation::apply(&self.shell.ctx, &self.shell.settings);
@@ -308,6 +382,10 @@ impl StudioApp {
         });
         for p in dropped {
             let kind = DroppedKind::of(&p);
+            if kind == DroppedKind::Lesson {
+                self.lessons.open_file(&p, ctx);
+                continue;
+            }
             let active = self.active;
             let shell = &mut self.shell;
             let mut order: Vec<&mut Box<dyn Workspace>> = self.workspaces.iter_mut().collect();
@@ -426,6 +504,16 @@ impl StudioApp {
             self.apply(c);
         }
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
+        let (shown, up_to_date) = if self.lessons.is_open() {
+            self.display_result()
+        } else {
+            (None, false)
+        };
+        self.lessons
+            .ui(ui, shown.as_ref(), up_to_date, self.shell.native_dialogs);
+        if let Some(setup) = self.lessons.take_setup() {
+            self.lesson_setup(setup);
+        }
         let active = self.active;
         self.with_workspace(active, |ws, shell| ws.ui(ui, shell));
         if let Some(why) = crate::app::widgets::take_refused() {

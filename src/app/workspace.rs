@@ -325,8 +325,20 @@ pub enum DroppedKind {
     Mask,
     /// A measured PSF set (`.npy`, as `psf import` writes it).
     PsfSet,
+    /// A lesson (`.toml` saying `format = "udc-studio-lesson"`): the shell opens it.
+    Lesson,
     /// Anything else.
     Unknown,
+}
+
+/// Whether the TOML file at `path` says it is a lesson (in its first kilobyte).
+fn is_lesson(path: &Path) -> bool {
+    use std::io::Read;
+    let mut head = [0u8; 1024];
+    let n = std::fs::File::open(path)
+        .and_then(|mut f| f.read(&mut head))
+        .unwrap_or(0);
+    String::from_utf8_lossy(&head[..n]).contains("udc-studio-lesson")
 }
 
 impl DroppedKind {
@@ -347,6 +359,7 @@ impl DroppedKind {
             "csv" => DroppedKind::Table,
             "gds" | "gds2" | "gdsii" | "oas" | "oasis" | "dxf" => DroppedKind::Mask,
             "npy" => DroppedKind::PsfSet,
+            "toml" if is_lesson(path) => DroppedKind::Lesson,
             _ => DroppedKind::Unknown,
         }
     }

@@ -30,6 +30,8 @@ mod icon;
 mod io_files;
 mod jobs;
 mod layouts;
+mod lessons;
+mod lessons_panel;
 mod limits;
 mod manpages;
 mod mask_dialog;

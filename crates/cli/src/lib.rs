@@ -12,6 +12,7 @@ mod progress_bar;
 pub mod saturation;
 pub use export_cmd::ExportArgs;
 pub mod import;
+pub mod lesson;
 pub mod optimize;
 pub mod packaging;
 pub mod phase;
@@ -73,6 +74,10 @@ pub enum Command {
     },
     /// Analyse a design: PSF, MTF, AUC, LTR and invertibility per channel.
     Analyze(JobArgs<AnalyzeJob>),
+    /// Lessons for teaching Fourier optics in the studio: `lesson check FILE...` validates
+    /// lesson files.
+    #[command(subcommand)]
+    Lesson(lesson::LessonCommand),
     /// Save a display view as a figure (SVG or PNG at a chosen size) with its axes, units,
     /// colour bar, legend and a caption naming the design: the studio's Save figure, from a
     /// script.
@@ -249,6 +254,7 @@ fn run_command(command: Command, progress: &udc_core::Progress) -> Result<()> {
                 Ok(())
             }
         }
+        Command::Lesson(cmd) => lesson::lesson_cmd(&cmd),
         Command::Export(args) => export_cmd::export_cmd(&args),
         Command::Drc(args) => drc::drc_cmd(&args),
         Command::Import(args) => import::import_cmd(&args),

@@ -52,6 +52,7 @@ pub mod design;
 pub mod display;
 pub mod error;
 pub mod figure;
+pub mod lesson;
 pub mod mask;
 pub mod measured;
 pub mod optimize;

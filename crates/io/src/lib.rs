@@ -37,6 +37,7 @@ pub mod display;
 pub mod error;
 pub mod fab;
 pub mod figure;
+pub mod lesson;
 pub mod mask;
 pub mod measured;
 pub mod numbers;

@@ -192,6 +192,14 @@ pub enum IoError {
         /// Byte offset of the first invalid UTF-8 byte.
         offset: usize,
     },
+    /// A lesson file that does not parse or breaks a rule, naming the step and the field.
+    #[error("{message} (in {})", path.display())]
+    Lesson {
+        /// The lesson file.
+        path: PathBuf,
+        /// What is wrong, in one line.
+        message: String,
+    },
 }
 
 /// A message as one line, as the command line and the studio show it: the text trimmed, and a

@@ -1,0 +1,427 @@
+//! Help ▸ Lessons: a side panel that stays open while the student works. It lists the shipped
+//! lessons (and opens a teacher's file), walks a lesson's steps, sets the studio up for each
+//! (the app loads the preset and shows the view: [`Setup`]), asks the step's question and
+//! checks the student's prediction against the simulation on screen, then reveals the answer
+//! with its explanation. The lesson text lives in the lesson files and the measurements in
+//! [`crate::core::lesson`]; this panel only draws and routes.
+
+use std::path::{Path, PathBuf};
+
+use egui::{RichText, Ui};
+
+use crate::app::dialogs::{self, FileSpec};
+use crate::app::display::panels::Shown;
+use crate::app::job::{Job, JobError};
+use crate::app::notice::Notice;
+use crate::core::Analysis;
+use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::lesson::measure::{Answer, Guess, answer};
+use crate::core::lesson::{Lesson, Question};
+use crate::core::views::saved::DisplayView;
+
+/// What a step asks of the studio: the app loads the preset and shows the view.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Setup {
+    /// The preset to load, if the step loads one.
+    pub preset: Option<String>,
+    /// The view to show, if the step names one.
+    pub view: Option<DisplayView>,
+}
+
+/// How the student's last check went.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Verdict {
+    /// Right.
+    Right,
+    /// Wrong: try again or reveal.
+    Wrong,
+}
+
+/// The panel's state.
+#[derive(Default)]
+pub struct LessonsPanel {
+    open: bool,
+    lesson: Option<(String, Lesson)>,
+    step: usize,
+    /// The number typed as the prediction.
+    pub guess: String,
+    /// The option chosen as the prediction.
+    pub choice: Option<usize>,
+    verdict: Option<Verdict>,
+    revealed: Option<Answer>,
+    /// The analysis of the preset a comparison question names, computed when its step opens.
+    other: Option<(String, Job<Analysis>)>,
+    other_done: Option<(String, Analysis)>,
+    dialog: Option<Job<Option<PathBuf>>>,
+    setup: Option<Setup>,
+    message: Option<Notice>,
+}
+
+impl LessonsPanel {
+    /// Shows or hides the panel.
+    pub fn toggle(&mut self) {
+        self.open = !self.open;
+    }
+
+    /// Whether the panel is shown.
+    pub fn is_open(&self) -> bool {
+        self.open
+    }
+
+    /// The lesson being walked and the step (from 0).
+    pub fn current(&self) -> Option<(&Lesson, usize)> {
+        self.lesson.as_ref().map(|(_, l)| (l, self.step))
+    }
+
+    /// The verdict of the last check.
+    pub fn verdict(&self) -> Option<&Verdict> {
+        self.verdict.as_ref()
+    }
+
+    /// The answer revealed, if it is.
+    pub fn revealed(&self) -> Option<&Answer> {
+        self.revealed.as_ref()
+    }
+
+    /// The last message.
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
+    /// The setup the current step asks for, once (the app carries it out).
+    pub fn take_setup(&mut self) -> Option<Setup> {
+        self.setup.take()
+    }
+
+    /// Starts `lesson` (named `name`) at its first step.
+    pub fn start(&mut self, name: String, lesson: Lesson, ctx: &egui::Context) {
+        self.open = true;
+        self.lesson = Some((name, lesson));
+        self.go_to(0, ctx);
+    }
+
+    /// Opens the lesson file at `path`.
+    pub fn open_file(&mut self, path: &Path, ctx: &egui::Context) {
+        match crate::io::lesson::read_lesson(path) {
+            Ok(l) => {
+                let name = path.file_name().map_or_else(
+                    || path.display().to_string(),
+                    |n| n.to_string_lossy().into(),
+                );
+                self.start(name, l, ctx);
+                self.message = None;
+            }
+            Err(e) => {
+                self.open = true;
+                self.message = Some(Notice::error(e.to_string()));
+            }
+        }
+    }
+
+    /// Goes to step `k` (from 0): asks for its setup and clears the last prediction.
+    pub fn go_to(&mut self, k: usize, ctx: &egui::Context) {
+        let Some((_, lesson)) = &self.lesson else {
+            return;
+        };
+        let Some(step) = lesson.steps.get(k) else {
+            return;
+        };
+        self.step = k;
+        self.guess.clear();
+        self.choice = None;
+        self.verdict = None;
+        self.revealed = None;
+        self.setup = Some(Setup {
+            preset: step.preset.clone(),
+            view: step.view,
+        });
+        if let Some(Question::Choice {
+            than: Some(than), ..
+        }) = &step.question
+            && self.other_done.as_ref().is_none_or(|(n, _)| n != than)
+        {
+            let (name, wake) = (than.clone(), ctx.clone());
+            self.other = Some((
+                than.clone(),
+                Job::spawn(
+                    "lesson comparison",
+                    move || wake.request_repaint(),
+                    move |p| -> Result<Analysis, JobError> {
+                        let design = crate::io::design::presets::load_preset(&name)?;
+                        let options = AnalyzeOptions {
+                            quality: Quality::Full,
+                            expected_psf: false,
+                        };
+                        Ok(analyze_with(&design, &options, p)?)
+                    },
+                ),
+            ));
+        }
+    }
+
+    /// Checks `guess` against the simulation on screen (`up_to_date`: the result shown is the
+    /// design's, at full quality); returns the verdict, `None` while the answer cannot be
+    /// computed yet (the message says why).
+    pub fn check(
+        &mut self,
+        shown: Option<&Shown>,
+        up_to_date: bool,
+        guess: Guess,
+    ) -> Option<Verdict> {
+        let (a, tolerance) = self.answer_now(shown, up_to_date)?;
+        let v = if a.grade(guess, tolerance) {
+            Verdict::Right
+        } else {
+            Verdict::Wrong
+        };
+        self.verdict = Some(v.clone());
+        Some(v)
+    }
+
+    /// Reveals the answer measured on the simulation on screen, with the explanation.
+    pub fn reveal(&mut self, shown: Option<&Shown>, up_to_date: bool) {
+        if let Some((a, _)) = self.answer_now(shown, up_to_date) {
+            self.revealed = Some(a);
+        }
+    }
+
+    fn answer_now(&mut self, shown: Option<&Shown>, up_to_date: bool) -> Option<(Answer, f64)> {
+        let (_, lesson) = self.lesson.as_ref()?;
+        let q = lesson.steps.get(self.step)?.question.as_ref()?;
+        let Some(shown) = shown.filter(|_| up_to_date) else {
+            self.message = Some(Notice::info(
+                "the simulation is still running: check again in a moment",
+            ));
+            return None;
+        };
+        let other = match q {
+            Question::Choice {
+                than: Some(than), ..
+            } => match &self.other_done {
+                Some((n, a)) if n == than => Some(a),
+                _ => {
+                    self.message = Some(Notice::info("computing the comparison…"));
+                    return None;
+                }
+            },
+            _ => None,
+        };
+        let tolerance = match q {
+            Question::Number { tolerance, .. } => *tolerance,
+            Question::Choice { .. } => 0.0,
+        };
+        match answer(q, &shown.design, &shown.analysis, other) {
+            Ok(a) => {
+                self.message = None;
+                Some((a, tolerance))
+            }
+            Err(e) => {
+                self.message = Some(Notice::error(e.to_string()));
+                None
+            }
+        }
+    }
+
+    /// Takes finished jobs.
+    fn poll(&mut self, ctx: &egui::Context) {
+        if let Some((name, j)) = &self.other
+            && let Some(r) = j.poll()
+        {
+            match r {
+                Ok(a) => self.other_done = Some((name.clone(), a)),
+                Err(e) => self.message = Some(Notice::error(format!("{name}: {e}"))),
+            }
+            self.other = None;
+        }
+        if let Some(j) = &self.dialog
+            && let Some(answer) = j.poll()
+        {
+            self.dialog = None;
+            match answer {
+                Ok(Some(path)) => self.open_file(&path, ctx),
+                Ok(None) => {}
+                Err(e) => self.message = Some(Notice::error(e.to_string())),
+            }
+        }
+    }
+
+    /// Draws the panel (when open) at the window's right edge.
+    pub fn ui(
+        &mut self,
+        ui: &mut Ui,
+        shown: Option<&Shown>,
+        up_to_date: bool,
+        native_dialogs: bool,
+    ) {
+        self.poll(ui.ctx());
+        if !self.open {
+            return;
+        }
+        egui::Panel::right("lessons")
+            .resizable(true)
+            .default_size(300.0)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| {
+                    ui.horizontal(|ui| {
+                        ui.heading("Lessons");
+                        if ui.small_button("Close").clicked() {
+                            self.open = false;
+                        }
+                    });
+                    if self.lesson.is_some() {
+                        self.step_ui(ui, shown, up_to_date);
+                    } else {
+                        self.list_ui(ui, native_dialogs);
+                    }
+                    crate::app::widgets::message_ui(ui, self.message.as_ref());
+                });
+            });
+    }
+
+    fn list_ui(&mut self, ui: &mut Ui, native_dialogs: bool) {
+        ui.label("Each lesson sets the studio up, asks you to predict, then checks your answer against the simulation.");
+        for (name, parsed) in crate::io::lesson::shipped() {
+            let Ok(lesson) = parsed else { continue };
+            let title = lesson.title.clone();
+            if ui.button(&title).on_hover_text(&lesson.summary).clicked() {
+                self.start(name.display().to_string(), lesson, ui.ctx());
+            }
+        }
+        ui.separator();
+        if ui
+            .add_enabled(
+                self.dialog.is_none(),
+                egui::Button::new("Open lesson file…"),
+            )
+            .on_hover_text("A teacher's lesson (TOML); dropping it on the window opens it too")
+            .clicked()
+        {
+            if native_dialogs {
+                let wake = ui.ctx().clone();
+                self.dialog = Some(dialogs::ask(
+                    FileSpec::open("Open a lesson", ("lesson", &["toml"])),
+                    move || wake.request_repaint(),
+                ));
+            } else {
+                self.message = Some(Notice::error("file dialogs are disabled in this session"));
+            }
+        }
+    }
+
+    fn step_ui(&mut self, ui: &mut Ui, shown: Option<&Shown>, up_to_date: bool) {
+        let Some((_, lesson)) = &self.lesson else {
+            return;
+        };
+        let n = lesson.steps.len();
+        let Some(step) = lesson.steps.get(self.step).cloned() else {
+            return;
+        };
+        ui.label(RichText::new(&lesson.title).strong());
+        ui.label(format!("Step {} of {n}: {}", self.step + 1, step.title));
+        ui.separator();
+        ui.label(&step.look);
+        if let Some(q) = &step.question {
+            ui.separator();
+            ui.label(RichText::new(q.prompt()).strong());
+            let guess = match q {
+                Question::Number { quantity, .. } => {
+                    ui.horizontal(|ui| {
+                        ui.add(egui::TextEdit::singleline(&mut self.guess).desired_width(90.0))
+                            .on_hover_text("Your prediction");
+                        ui.label(quantity.unit());
+                    });
+                    guessed_number(&self.guess).map(Guess::Number)
+                }
+                Question::Choice { rule, .. } => {
+                    let names: Vec<String> = shown
+                        .map(|s| s.analysis.channels.iter().map(|c| c.name.clone()).collect())
+                        .unwrap_or_default();
+                    let options = rule.options(&names);
+                    ui.horizontal_wrapped(|ui| {
+                        for (i, o) in options.iter().enumerate() {
+                            ui.radio_value(&mut self.choice, Some(i), o);
+                        }
+                    });
+                    self.choice.map(Guess::Choice)
+                }
+            };
+            ui.horizontal(|ui| {
+                if ui
+                    .add_enabled(guess.is_some(), egui::Button::new("Check"))
+                    .on_hover_text("Compared with the simulation on screen")
+                    .clicked()
+                    && let Some(g) = guess
+                {
+                    self.check(shown, up_to_date, g);
+                }
+                if ui.button("Reveal").clicked() {
+                    self.reveal(shown, up_to_date);
+                }
+            });
+            match &self.verdict {
+                Some(Verdict::Right) => {
+                    ui.colored_label(egui::Color32::from_rgb(40, 160, 60), "Right.");
+                }
+                Some(Verdict::Wrong) => {
+                    ui.colored_label(
+                        ui.visuals().warn_fg_color,
+                        "Not quite: try again, or reveal.",
+                    );
+                }
+                None => {}
+            }
+            if let Some(a) = &self.revealed {
+                ui.separator();
+                ui.label(RichText::new(format!("Answer: {}", a.text())).strong());
+                ui.label(a.explain(&step.explain));
+            }
+        } else {
+            ui.separator();
+            ui.label(&step.explain);
+        }
+        ui.separator();
+        let ctx = ui.ctx().clone();
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(self.step > 0, egui::Button::new("◀ Back"))
+                .clicked()
+            {
+                self.go_to(self.step - 1, &ctx);
+            }
+            if ui
+                .add_enabled(self.step + 1 < n, egui::Button::new("Next ▶"))
+                .clicked()
+            {
+                self.go_to(self.step + 1, &ctx);
+            }
+            if ui.button("All lessons").clicked() {
+                self.lesson = None;
+            }
+        });
+    }
+}
+
+/// A typed prediction as a number: a unit after it is ignored ("24 µm"), a comma reads as a
+/// decimal point; `None` for anything that is not a finite number.
+fn guessed_number(text: &str) -> Option<f64> {
+    let number = text
+        .trim()
+        .trim_end_matches(|c: char| c.is_alphabetic() || c.is_whitespace() || c == '/' || c == 'µ')
+        .replace(',', ".")
+        .replace('−', "-");
+    number.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::guessed_number;
+
+    #[test]
+    fn a_prediction_reads_with_or_without_its_unit() {
+        assert_eq!(guessed_number("24.5"), Some(24.5));
+        assert_eq!(guessed_number(" 24,5 µm"), Some(24.5));
+        assert_eq!(guessed_number("250 cycles/mm"), Some(250.0));
+        assert_eq!(guessed_number("nan"), None);
+        assert_eq!(guessed_number("abc"), None);
+    }
+}

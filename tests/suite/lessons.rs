@@ -1,0 +1,259 @@
+//! The shipped lessons, walked step by step headlessly: every question's right answer, measured
+//! on the simulation, agrees with the closed form its explanation names (within the question's
+//! tolerance), a right answer is told right and a wrong one wrong. `lesson check` passes every
+//! shipped lesson and refuses ten damaged ones in one line each, naming the step and field.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::collections::HashMap;
+use std::path::Path;
+
+use udc_studio::core::Analysis;
+use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_studio::core::lesson::measure::{Answer, Guess, answer};
+use udc_studio::core::lesson::{Lesson, Question};
+use udc_studio::io::design::presets::load_preset;
+
+use crate::common::run_cli;
+
+fn analysis_of(preset: &str, cache: &mut HashMap<String, Analysis>) -> Analysis {
+    cache
+        .entry(preset.to_owned())
+        .or_insert_with(|| {
+            let design = load_preset(preset).unwrap();
+            let options = AnalyzeOptions {
+                quality: Quality::Full,
+                expected_psf: false,
+            };
+            analyze_with(&design, &options, &udc_studio::core::Progress::new()).unwrap()
+        })
+        .clone()
+}
+
+/// Walks `file`'s steps as the studio does (a step without a preset keeps the design on
+/// screen) and checks every question; returns how many were asked.
+fn walk(file: &str) -> usize {
+    let (_, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(name, _)| *name == file)
+        .unwrap();
+    let lesson: Lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
+    let mut cache = HashMap::new();
+    let mut on_screen = None;
+    let mut asked = 0;
+    for (i, step) in lesson.steps.iter().enumerate() {
+        let at = format!("{file} step {}", i + 1);
+        if let Some(p) = &step.preset {
+            on_screen = Some(p.clone());
+        }
+        let preset = on_screen.clone().unwrap();
+        let design = load_preset(&preset).unwrap();
+        let analysis = analysis_of(&preset, &mut cache);
+        let Some(q) = &step.question else {
+            assert!(
+                !step.explain.contains('{'),
+                "{at}: a placeholder without a question"
+            );
+            continue;
+        };
+        asked += 1;
+        let other = match q {
+            Question::Choice { than: Some(t), .. } => Some(analysis_of(t, &mut cache)),
+            _ => None,
+        };
+        let a = answer(q, &design, &analysis, other.as_ref()).unwrap();
+        let explained = a.explain(&step.explain);
+        assert!(!explained.contains('{'), "{at}: {explained}");
+        match (&a, q) {
+            (Answer::Number { value, closed, .. }, Question::Number { tolerance, .. }) => {
+                let closed = closed.expect("a number question names its closed form");
+                assert!(
+                    (closed - value).abs() <= tolerance * value.abs(),
+                    "{at}: simulated {value}, closed form {closed}, tolerance {tolerance}"
+                );
+                assert!(
+                    a.grade(Guess::Number(*value), *tolerance),
+                    "{at}: right is right"
+                );
+                assert!(
+                    a.grade(Guess::Number(closed), *tolerance),
+                    "{at}: the closed form's value is a right answer"
+                );
+                let wrong = value * (1.0 + 3.0 * tolerance);
+                assert!(
+                    !a.grade(Guess::Number(wrong), *tolerance),
+                    "{at}: wrong is wrong"
+                );
+            }
+            (
+                Answer::Choice {
+                    options,
+                    right,
+                    closed,
+                },
+                Question::Choice { .. },
+            ) => {
+                if let Some(c) = closed {
+                    assert_eq!(c, right, "{at}: the closed form picks {}", options[*c]);
+                }
+                assert!(a.grade(Guess::Choice(*right), 0.0));
+                for k in (0..options.len()).filter(|k| k != right) {
+                    assert!(
+                        !a.grade(Guess::Choice(k), 0.0),
+                        "{at}: {} is wrong",
+                        options[k]
+                    );
+                }
+            }
+            _ => panic!("{at}: the answer's kind is not the question's"),
+        }
+    }
+    asked
+}
+
+macro_rules! lesson_test {
+    ($name:ident, $file:literal, $questions:literal) => {
+        #[test]
+        fn $name() {
+            assert_eq!(walk($file), $questions, "questions asked");
+        }
+    };
+}
+
+lesson_test!(
+    the_slit_lesson_agrees_with_lambda_f_over_a,
+    "01-slit.toml",
+    1
+);
+lesson_test!(
+    the_circle_lesson_agrees_with_the_airy_radius,
+    "02-circle.toml",
+    1
+);
+lesson_test!(
+    the_double_slit_lesson_agrees_with_lambda_f_over_d,
+    "03-double-slit.toml",
+    1
+);
+lesson_test!(
+    the_grating_lesson_agrees_with_the_orders_and_their_weights,
+    "04-grating.toml",
+    2
+);
+lesson_test!(
+    the_convolution_lesson_agrees_with_the_lattice_and_the_envelope,
+    "05-convolution.toml",
+    2
+);
+lesson_test!(
+    the_random_tiling_lesson_finds_the_higher_auc,
+    "06-random-tiling.toml",
+    1
+);
+lesson_test!(
+    the_sampling_lesson_agrees_with_nyquist,
+    "07-sampling.toml",
+    1
+);
+lesson_test!(the_colour_lesson_finds_red_widest, "08-colour.toml", 1);
+
+#[test]
+fn every_shipped_lesson_is_a_file_in_the_lessons_folder() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/lessons");
+    let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".toml"))
+        .collect();
+    on_disk.sort();
+    let shipped: Vec<&str> = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .map(|(n, _)| *n)
+        .collect();
+    assert_eq!(on_disk, shipped);
+    assert!(shipped.len() >= 8);
+}
+
+#[test]
+fn lesson_check_passes_the_shipped_lessons_and_refuses_damaged_ones_in_one_line() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("presets/lessons");
+    let files: Vec<String> = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .map(|(n, _)| dir.join(n).to_str().unwrap().to_owned())
+        .collect();
+    let mut args = vec!["lesson", "check"];
+    args.extend(files.iter().map(String::as_str));
+    let (ok, stdout, stderr) = run_cli(&args);
+    assert!(ok, "{stderr}");
+    assert_eq!(
+        stdout.lines().filter(|l| l.contains(": ok")).count(),
+        files.len()
+    );
+
+    let good = std::fs::read_to_string(dir.join("01-slit.toml")).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    // (what is broken, the damaged text, words the one line must hold)
+    let damaged: [(&str, String, &[&str]); 10] = [
+        (
+            "not TOML",
+            good.replace("title = \"A single", "title = A single"),
+            &["line"],
+        ),
+        (
+            "format",
+            good.replace("udc-studio-lesson", "udc-studio-design"),
+            &["format"],
+        ),
+        (
+            "version",
+            good.replace("version = 1", "version = 2"),
+            &["version", "2"],
+        ),
+        (
+            "missing look",
+            good.replacen("look = \"Switch", "lok = \"Switch", 1),
+            &["step 2", "lok"],
+        ),
+        (
+            "unknown preset",
+            good.replace("fourier-slit", "fourier-slot"),
+            &["step 1", "preset", "fourier-slot"],
+        ),
+        (
+            "tolerance",
+            good.replace("tolerance = 0.1", "tolerance = 1.5"),
+            &["step 2", "question.tolerance"],
+        ),
+        (
+            "quantity",
+            good.replace("first-dark-um", "first-bright-um"),
+            &["step 2", "question", "first-bright-um"],
+        ),
+        (
+            "first step",
+            good.replacen("preset = \"fourier-slit\"\n", "", 1),
+            &["step 1", "preset"],
+        ),
+        (
+            "placeholder",
+            good.replace("{closed}", "{closd}"),
+            &["step 2", "explain", "{closd}"],
+        ),
+        (
+            "no steps",
+            good.split("[[step]]").next().unwrap().to_owned(),
+            &["step"],
+        ),
+    ];
+    for (what, text, words) in damaged {
+        assert_ne!(text, good, "{what}: the damage applied");
+        let path = tmp.path().join(format!("{}.toml", what.replace(' ', "-")));
+        std::fs::write(&path, &text).unwrap();
+        let (ok, _, stderr) = run_cli(&["lesson", "check", path.to_str().unwrap()]);
+        assert!(!ok, "{what}: accepted");
+        let first = stderr.lines().next().unwrap_or_default();
+        for w in words {
+            assert!(first.contains(w), "{what}: {w:?} not in {first:?}");
+        }
+        assert!(!stderr.contains("panicked"), "{what}: {stderr}");
+    }
+}

@@ -1,0 +1,81 @@
+//! Help ▸ Lessons, driven like a student: the slit lesson loads its preset and view, a wrong
+//! prediction is told wrong, the closed form's value is told right, Reveal explains with the
+//! numbers filled in; a damaged lesson dropped on the window is refused in one line.
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::time::Duration;
+
+use egui_kittest::kittest::Queryable;
+
+use crate::common::{self, step_until};
+use udc_studio::app::ShellCommand;
+use udc_studio::app::lessons::Verdict;
+
+#[test]
+fn a_student_walks_the_slit_lesson_and_is_checked_against_the_simulation() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio_sized(
+        dir.path(),
+        true,
+        Duration::from_secs(600),
+        egui::vec2(1024.0, 700.0),
+    );
+    h.step();
+    h.state_mut().command(ShellCommand::ToggleLessons);
+    h.step();
+    h.get_by_label("A single slit and sinc²").click();
+    h.step();
+    h.step();
+    step_until(&mut h, "the slit", |app| {
+        common::display_up_to_date(app) && app.lessons().current().is_some()
+    });
+    assert_eq!(
+        crate::common::Reach::display(h.state()).design().name,
+        "Fourier optics: single slit",
+        "the step loaded its preset"
+    );
+    h.get_by_label("Next ▶").click();
+    h.step();
+    step_until(&mut h, "the step's view", common::display_up_to_date);
+    assert!(h.query_by_label_contains("How far from the axis").is_some());
+    // A wrong prediction, with its unit as a student types it.
+    h.state_mut().lessons_mut().guess = "50 µm".into();
+    h.step();
+    h.get_by_label("Check").click();
+    h.step();
+    assert_eq!(h.state().lessons().verdict(), Some(&Verdict::Wrong));
+    assert!(h.query_by_label_contains("Not quite").is_some());
+    // λf / a for green light: 530 nm × 10 mm / 216 µm.
+    let closed = 0.530 * 10_000.0 / 216.0;
+    h.state_mut().lessons_mut().guess = format!("{closed:.1}");
+    h.step();
+    h.get_by_label("Check").click();
+    h.step();
+    assert_eq!(h.state().lessons().verdict(), Some(&Verdict::Right));
+    h.get_by_label("Reveal").click();
+    h.step();
+    h.step();
+    assert!(h.state().lessons().revealed().is_some());
+    assert!(
+        h.query_by_label_contains(&format!("that is {closed:.1} µm"))
+            .is_some(),
+        "the explanation carries the closed form's value"
+    );
+    crate::screenshots::capture(&mut h, "lesson-step-1024x700");
+
+    // A damaged lesson dropped on the window: one line, naming the step and the field.
+    let bad = dir.path().join("bad.toml");
+    let text = udc_studio::io::lesson::SHIPPED[0]
+        .1
+        .replace("tolerance = 0.1", "tolerance = 3");
+    std::fs::write(&bad, text).unwrap();
+    crate::drop::drop_file(&mut h, bad);
+    h.step();
+    let m = h.state().lessons().message().unwrap();
+    assert!(m.is_error());
+    assert!(
+        m.text.contains("step 2") && m.text.contains("question.tolerance"),
+        "{}",
+        m.text
+    );
+}
