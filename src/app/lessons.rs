@@ -7,17 +7,20 @@
 
 use std::path::{Path, PathBuf};
 
-use egui::{RichText, Ui};
+use std::sync::Arc;
+
+use egui::{ColorImage, RichText, TextureHandle, TextureOptions, Ui};
 
 use crate::app::dialogs::{self, FileSpec};
 use crate::app::display::panels::Shown;
 use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
-use crate::core::Analysis;
 use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use crate::core::lesson::measure::{Answer, Guess, answer};
+use crate::core::figure::Panel;
+use crate::core::lesson::measure::{Answer, Guess, answer, psf_match};
 use crate::core::lesson::{Lesson, Question};
 use crate::core::views::saved::DisplayView;
+use crate::core::{Analysis, Design};
 
 /// What a step asks of the studio: the app loads the preset and shows the view.
 #[derive(Debug, Clone, PartialEq)]
@@ -55,6 +58,22 @@ pub struct LessonsPanel {
     dialog: Option<Job<Option<PathBuf>>>,
     setup: Option<Setup>,
     message: Option<Notice>,
+    /// The mystery aperture being computed, and once computed.
+    mystery_job: Option<(String, Job<(Design, Analysis)>)>,
+    mystery: Option<Mystery>,
+    /// The last score of the drawing against the mystery, 0 … 1.
+    score: Option<f64>,
+    /// Whether the mystery's opening is shown.
+    unveiled: bool,
+}
+
+/// A mystery aperture: the hidden design, its analysis and the pictures shown.
+struct Mystery {
+    name: String,
+    design: Design,
+    analysis: Analysis,
+    psf: Option<(Arc<Panel>, Vec<TextureHandle>)>,
+    opening: Option<TextureHandle>,
 }
 
 impl LessonsPanel {
@@ -81,6 +100,21 @@ impl LessonsPanel {
     /// The answer revealed, if it is.
     pub fn revealed(&self) -> Option<&Answer> {
         self.revealed.as_ref()
+    }
+
+    /// The last score of the drawing against the step's mystery aperture, 0 … 1.
+    pub fn score(&self) -> Option<f64> {
+        self.score
+    }
+
+    /// Whether the mystery aperture's opening is revealed.
+    pub fn unveiled(&self) -> bool {
+        self.unveiled
+    }
+
+    /// Whether the step's mystery aperture is computed.
+    pub fn mystery_ready(&self) -> bool {
+        self.mystery.is_some()
     }
 
     /// The last message.
@@ -135,6 +169,30 @@ impl LessonsPanel {
             preset: step.preset.clone(),
             view: step.view,
         });
+        self.score = None;
+        self.unveiled = false;
+        if let Some(name) = step.mystery.clone()
+            && self.mystery.as_ref().is_none_or(|m| m.name != name)
+        {
+            self.mystery = None;
+            let (hidden, wake) = (name.clone(), ctx.clone());
+            self.mystery_job = Some((
+                name,
+                Job::spawn(
+                    "mystery aperture",
+                    move || wake.request_repaint(),
+                    move |p| -> Result<(Design, Analysis), JobError> {
+                        let design = crate::io::design::presets::load_preset(&hidden)?;
+                        let options = AnalyzeOptions {
+                            quality: Quality::Full,
+                            expected_psf: false,
+                        };
+                        let analysis = analyze_with(&design, &options, p)?;
+                        Ok((design, analysis))
+                    },
+                ),
+            ));
+        }
         if let Some(Question::Choice {
             than: Some(than), ..
         }) = &step.question
@@ -208,7 +266,7 @@ impl LessonsPanel {
         };
         let tolerance = match q {
             Question::Number { tolerance, .. } => *tolerance,
-            Question::Choice { .. } => 0.0,
+            Question::Choice { .. } | Question::Drawing { .. } => 0.0,
         };
         match answer(q, &shown.design, &shown.analysis, other) {
             Ok(a) => {
@@ -222,8 +280,51 @@ impl LessonsPanel {
         }
     }
 
+    /// Scores the design on screen against the step's mystery aperture (green channel).
+    pub fn score_drawing(&mut self, shown: Option<&Shown>, up_to_date: bool) {
+        let Some(m) = &self.mystery else {
+            self.message = Some(Notice::info("the mystery is still being computed"));
+            return;
+        };
+        let Some(shown) = shown.filter(|_| up_to_date) else {
+            self.message = Some(Notice::info(
+                "the simulation is still running: score again in a moment",
+            ));
+            return;
+        };
+        match psf_match(&shown.analysis, &m.analysis, "G") {
+            Ok(s) => {
+                self.score = Some(s);
+                self.message = None;
+            }
+            Err(e) => self.message = Some(Notice::error(e.to_string())),
+        }
+    }
+
+    /// Shows the mystery's opening.
+    pub fn unveil(&mut self) {
+        self.unveiled = self.mystery.is_some();
+    }
+
     /// Takes finished jobs.
     fn poll(&mut self, ctx: &egui::Context) {
+        if let Some((name, j)) = &self.mystery_job
+            && let Some(r) = j.poll()
+        {
+            match r {
+                Ok((design, analysis)) => {
+                    self.mystery = Some(Mystery {
+                        name: name.clone(),
+                        design,
+                        analysis,
+                        psf: None,
+                        opening: None,
+                    });
+                }
+                Err(e) => self.message = Some(Notice::error(format!("{name}: {e}"))),
+            }
+            self.mystery_job = None;
+        }
         if let Some((name, j)) = &self.other
             && let Some(r) = j.poll()
         {
@@ -278,6 +379,93 @@ impl LessonsPanel {
             });
     }
 
+    fn mystery_ui(&mut self, ui: &mut Ui, shown: Option<&Shown>, up_to_date: bool, explain: &str) {
+        use crate::core::views::{Landmarks, PsfScale, psf_panel};
+        let Some(m) = &mut self.mystery else {
+            ui.horizontal(|ui| {
+                ui.spinner();
+                ui.label("computing the mystery's PSF…");
+            });
+            return;
+        };
+        let ctx = ui.ctx().clone();
+        if m.psf.is_none() {
+            let i = m
+                .analysis
+                .channels
+                .iter()
+                .position(|c| c.name.eq_ignore_ascii_case("g"))
+                .unwrap_or(0);
+            if let Some(ch) = m.analysis.channels.get(i) {
+                let mut panel = psf_panel(
+                    &m.design,
+                    &m.analysis,
+                    ch,
+                    PsfScale::Log { floor_decades: 5.0 },
+                    Landmarks {
+                        airy: false,
+                        orders: false,
+                    },
+                );
+                panel.title = "The mystery's log-PSF (green)".into();
+                let textures =
+                    crate::app::widgets::figure::panel_textures(&ctx, "lesson mystery", &panel);
+                m.psf = Some((Arc::new(panel), textures));
+            }
+        }
+        if let Some((panel, textures)) = &m.psf {
+            let ids: Vec<egui::TextureId> = textures.iter().map(TextureHandle::id).collect();
+            let side = ui.available_width().min(260.0);
+            crate::app::widgets::figure::image_panel_ui(
+                ui,
+                "lesson mystery psf",
+                panel,
+                &ids,
+                crate::app::widgets::figure::ImageFrame {
+                    size: egui::vec2(side, side),
+                    link: None,
+                    view_half: crate::app::widgets::figure::lit_view_half(panel),
+                },
+            );
+        }
+        ui.horizontal(|ui| {
+            if ui
+                .button("Score my drawing")
+                .on_hover_text(
+                    "How well your design's PSF matches the mystery's: the correlation of the \
+                     two log-PSFs, 0 to 100 %",
+                )
+                .clicked()
+            {
+                self.score_drawing(shown, up_to_date);
+            }
+            if ui.button("Reveal the opening").clicked() {
+                self.unveil();
+            }
+        });
+        if let Some(s) = self.score {
+            ui.label(RichText::new(format!("Match: {:.0} %", 100.0 * s)).strong());
+        }
+        let Some(m) = &mut self.mystery else { return };
+        if self.unveiled {
+            ui.separator();
+            let texture = m.opening.get_or_insert_with(|| {
+                ctx.load_texture(
+                    "lesson mystery opening",
+                    opening_image(&m.design),
+                    TextureOptions::NEAREST,
+                )
+            });
+            ui.label(format!("The hidden opening: {}", m.design.name));
+            let side = ui.available_width().min(200.0);
+            ui.add(
+                egui::Image::new((texture.id(), egui::vec2(side, side)))
+                    .alt_text("the mystery's opening"),
+            );
+            ui.label(explain);
+        }
+    }
+
     fn list_ui(&mut self, ui: &mut Ui, native_dialogs: bool) {
         ui.label("Each lesson sets the studio up, asks you to predict, then checks your answer against the simulation.");
         for (name, parsed) in crate::io::lesson::shipped() {
@@ -320,7 +508,9 @@ impl LessonsPanel {
         ui.label(format!("Step {} of {n}: {}", self.step + 1, step.title));
         ui.separator();
         ui.label(&step.look);
-        if let Some(q) = &step.question {
+        if step.mystery.is_some() {
+            self.mystery_ui(ui, shown, up_to_date, &step.explain);
+        } else if let Some(q) = &step.question {
             ui.separator();
             ui.label(RichText::new(q.prompt()).strong());
             let guess = match q {
@@ -331,6 +521,12 @@ impl LessonsPanel {
                         ui.label(quantity.unit());
                     });
                     guessed_number(&self.guess).map(Guess::Number)
+                }
+                Question::Drawing { .. } => {
+                    ui.label(
+                        "Draw on the Opening tab, then check: the simulation on screen decides.",
+                    );
+                    Some(Guess::Drawn)
                 }
                 Question::Choice { rule, .. } => {
                     let names: Vec<String> = shown
@@ -399,6 +595,29 @@ impl LessonsPanel {
             }
         });
     }
+}
+
+/// A design's opening as a picture: white where light passes, one pixel a cell.
+fn opening_image(design: &Design) -> ColorImage {
+    let cells = &design.opening.cells;
+    let (h, w) = (cells.len(), cells.first().map_or(0, Vec::len));
+    let pixels = cells
+        .iter()
+        .flat_map(|row| {
+            row.iter().map(|t| {
+                let v = (t.clamp(0.0, 1.0) * 255.0).round() as u8;
+                egui::Color32::from_gray(v)
+            })
+        })
+        .collect();
+    ColorImage::new(
+        [w.max(1), h.max(1)],
+        if w * h == 0 {
+            vec![egui::Color32::BLACK]
+        } else {
+            pixels
+        },
+    )
 }
 
 /// A typed prediction as a number: a unit after it is ignored ("24 µm"), a comma reads as a

@@ -104,6 +104,15 @@ fn walk(file: &str) -> usize {
                     );
                 }
             }
+            (Answer::Drawing { share, closed, met }, Question::Drawing { .. }) => {
+                // The preset is the starting point: its orders are there until drawn away.
+                assert!(!met, "{at}: the goal is not met before drawing ({share})");
+                assert!(!a.grade(Guess::Drawn, 0.0), "{at}: not done is told so");
+                assert!(
+                    (share - closed).abs() <= 0.1 * closed,
+                    "{at}: simulated {share}, Fourier series {closed}"
+                );
+            }
             _ => panic!("{at}: the answer's kind is not the question's"),
         }
     }
@@ -155,6 +164,78 @@ lesson_test!(
     1
 );
 lesson_test!(the_colour_lesson_finds_red_widest, "08-colour.toml", 1);
+lesson_test!(the_mystery_lesson_walks, "09-mystery.toml", 0);
+lesson_test!(
+    the_drawing_lesson_starts_with_orders_to_remove,
+    "10-draw.toml",
+    1
+);
+
+#[test]
+fn a_horizontal_band_across_the_pixel_has_no_horizontal_orders_and_is_graded_right() {
+    use udc_studio::core::lesson::DrawingGoal;
+    let (_, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(name, _)| *name == "10-draw.toml")
+        .unwrap();
+    let lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
+    let q = lesson.steps[1].question.clone().unwrap();
+    assert!(matches!(
+        q,
+        Question::Drawing {
+            goal: DrawingGoal::NoHorizontalOrders,
+            ..
+        }
+    ));
+    // The student's drawing: the grating's pixel with a band of six whole rows open instead.
+    let mut drawn = load_preset("fourier-grating").unwrap();
+    let n = drawn.opening.n();
+    for (r, row) in drawn.opening.cells.iter_mut().enumerate() {
+        let open = (7..13).contains(&r);
+        row.iter_mut()
+            .for_each(|t| *t = if open { 1.0 } else { 0.0 });
+    }
+    assert_eq!(drawn.opening.cells.len(), n);
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    let analysis = analyze_with(&drawn, &options, &udc_studio::core::Progress::new()).unwrap();
+    let a = answer(&q, &drawn, &analysis, None).unwrap();
+    let Answer::Drawing { share, closed, met } = a.clone() else {
+        panic!("{a:?}")
+    };
+    assert!(met, "the band leaves {share} in the horizontal orders");
+    assert!(
+        closed < 1e-9,
+        "the Fourier series puts none there: {closed}"
+    );
+    assert!(a.grade(Guess::Drawn, 0.0));
+}
+
+#[test]
+fn the_mystery_aperture_scores_itself_fully_and_another_opening_lower() {
+    use udc_studio::core::lesson::measure::psf_match;
+    let (_, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(name, _)| *name == "09-mystery.toml")
+        .unwrap();
+    let lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
+    let step = &lesson.steps[0];
+    let mut cache = HashMap::new();
+    let mystery = analysis_of(step.mystery.as_deref().unwrap(), &mut cache);
+    let canvas = analysis_of(step.preset.as_deref().unwrap(), &mut cache);
+    let random = analysis_of("fourier-random", &mut cache);
+    let itself = psf_match(&mystery, &mystery, "G").unwrap();
+    assert!((itself - 1.0).abs() < 1e-12, "{itself}");
+    let start = psf_match(&canvas, &mystery, "G").unwrap();
+    let far = psf_match(&random, &mystery, "G").unwrap();
+    assert!(start < 0.9, "the starting L is not the grating: {start}");
+    assert!(
+        far < start,
+        "a random tiling is further from it than the periodic L: {far} ≥ {start}"
+    );
+}
 
 #[test]
 fn every_shipped_lesson_is_a_file_in_the_lessons_folder() {
@@ -170,7 +251,7 @@ fn every_shipped_lesson_is_a_file_in_the_lessons_folder() {
         .map(|(n, _)| *n)
         .collect();
     assert_eq!(on_disk, shipped);
-    assert!(shipped.len() >= 8);
+    assert!(shipped.len() >= 10);
 }
 
 #[test]

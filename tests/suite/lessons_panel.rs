@@ -79,3 +79,52 @@ fn a_student_walks_the_slit_lesson_and_is_checked_against_the_simulation() {
         m.text
     );
 }
+
+#[test]
+fn a_mystery_aperture_is_scored_against_the_drawing_and_revealed() {
+    use crate::common::Reach;
+    use udc_studio::app::DisplayAction;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio_sized(
+        dir.path(),
+        true,
+        Duration::from_secs(600),
+        egui::vec2(1024.0, 700.0),
+    );
+    h.step();
+    let (name, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(n, _)| *n == "09-mystery.toml")
+        .unwrap();
+    let lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .lessons_mut()
+        .start((*name).to_owned(), lesson, &ctx);
+    step_until(&mut h, "the mystery and the canvas", |app| {
+        app.lessons().mystery_ready() && common::display_up_to_date(app)
+    });
+    assert!(h.query_by_label("The mystery's log-PSF (green)").is_some());
+    h.get_by_label("Score my drawing").click();
+    h.step();
+    let before = h.state().lessons().score().unwrap();
+    assert!(before < 0.9, "the L is not the mystery: {before}");
+    // The student draws the grating: the mystery's opening, as an edit of the design.
+    let mut drawn = h.state().display().design().clone();
+    drawn.opening = udc_studio::io::design::presets::load_preset("fourier-grating")
+        .unwrap()
+        .opening;
+    h.state_mut().act(DisplayAction::Edit(Box::new(drawn)));
+    step_until(&mut h, "the drawing's PSF", common::display_up_to_date);
+    h.get_by_label("Score my drawing").click();
+    h.step();
+    let after = h.state().lessons().score().unwrap();
+    assert!(after > 0.999, "the same opening matches: {after}");
+    assert!(h.query_by_label_contains("Match: 100 %").is_some());
+    h.get_by_label("Reveal the opening").click();
+    h.step();
+    h.step();
+    assert!(h.state().lessons().unveiled());
+    assert!(h.query_by_label("the mystery's opening").is_some());
+    crate::screenshots::capture(&mut h, "mystery-revealed-1024x700");
+}

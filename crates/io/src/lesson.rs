@@ -8,40 +8,25 @@ use udc_core::lesson::Lesson;
 
 use crate::error::IoError;
 
+/// `(file name, its text)` for lesson files in `presets/lessons/`, built into the binary.
+macro_rules! lessons {
+    ($($file:literal),* $(,)?) => {
+        &[$(($file, include_str!(concat!("../../../presets/lessons/", $file)))),*]
+    };
+}
+
 /// The lessons shipped with the studio, in teaching order: `(file name, TOML text)`.
-pub const SHIPPED: &[(&str, &str)] = &[
-    (
-        "01-slit.toml",
-        include_str!("../../../presets/lessons/01-slit.toml"),
-    ),
-    (
-        "02-circle.toml",
-        include_str!("../../../presets/lessons/02-circle.toml"),
-    ),
-    (
-        "03-double-slit.toml",
-        include_str!("../../../presets/lessons/03-double-slit.toml"),
-    ),
-    (
-        "04-grating.toml",
-        include_str!("../../../presets/lessons/04-grating.toml"),
-    ),
-    (
-        "05-convolution.toml",
-        include_str!("../../../presets/lessons/05-convolution.toml"),
-    ),
-    (
-        "06-random-tiling.toml",
-        include_str!("../../../presets/lessons/06-random-tiling.toml"),
-    ),
-    (
-        "07-sampling.toml",
-        include_str!("../../../presets/lessons/07-sampling.toml"),
-    ),
-    (
-        "08-colour.toml",
-        include_str!("../../../presets/lessons/08-colour.toml"),
-    ),
+pub const SHIPPED: &[(&str, &str)] = lessons![
+    "01-slit.toml",
+    "02-circle.toml",
+    "03-double-slit.toml",
+    "04-grating.toml",
+    "05-convolution.toml",
+    "06-random-tiling.toml",
+    "07-sampling.toml",
+    "08-colour.toml",
+    "09-mystery.toml",
+    "10-draw.toml",
 ];
 
 /// The largest lesson file read, bytes (a lesson is a page of text).

@@ -21,6 +21,16 @@ pub enum Answer {
         /// Its unit.
         unit: &'static str,
     },
+    /// A drawing: the share of the zero order's light left in the orders the goal removes,
+    /// simulated and by the closed form, and whether the goal is met.
+    Drawing {
+        /// Simulated share.
+        share: f64,
+        /// The closed form's share.
+        closed: f64,
+        /// Whether the simulated share is under [`super::NO_ORDERS_SHARE`].
+        met: bool,
+    },
     /// The right option among `options`, and the one the closed form picks where there is one.
     Choice {
         /// The options offered.
@@ -37,6 +47,8 @@ pub enum Answer {
 pub enum Guess {
     /// A number.
     Number(f64),
+    /// "My drawing is done": graded by the simulation of the design on screen.
+    Drawn,
     /// An option's index.
     Choice(usize),
 }
@@ -50,6 +62,7 @@ impl Answer {
                 g.is_finite() && (g - value).abs() <= tolerance * value.abs()
             }
             (Answer::Choice { right, .. }, Guess::Choice(i)) => i == *right,
+            (Answer::Drawing { met, .. }, Guess::Drawn) => *met,
             _ => false,
         }
     }
@@ -61,6 +74,9 @@ impl Answer {
             Answer::Choice { options, right, .. } => {
                 options.get(*right).cloned().unwrap_or_default()
             }
+            Answer::Drawing { share, .. } => {
+                format!("{:.2} % of the zero order's light", 100.0 * share)
+            }
         }
     }
 
@@ -68,6 +84,9 @@ impl Answer {
     pub fn closed_text(&self) -> Option<String> {
         match self {
             Answer::Number { closed, unit, .. } => closed.map(|c| with_unit(c, unit)),
+            Answer::Drawing { closed, .. } => {
+                Some(format!("{:.2} % of the zero order's light", 100.0 * closed))
+            }
             Answer::Choice {
                 options, closed, ..
             } => closed.and_then(|c| options.get(c).cloned()),
@@ -125,6 +144,37 @@ pub fn answer(
                 unit: quantity.unit(),
             })
         }
+        Question::Drawing { goal, .. } => match goal {
+            super::DrawingGoal::NoHorizontalOrders => {
+                let i = green_or_first(analysis);
+                let c = crate::theory::compare(design, Theory::Grating, analysis, i)?;
+                let share = |v: &[f64]| -> Option<f64> {
+                    let k = c.x_um.iter().position(|x| x.abs() < 1e-9)?;
+                    let zero = v[k];
+                    (zero > 0.0).then(|| {
+                        v.iter()
+                            .enumerate()
+                            .filter(|(j, _)| *j != k)
+                            .map(|(_, e)| e)
+                            .sum::<f64>()
+                            / zero
+                    })
+                };
+                let missing = || {
+                    SimError::invalid(
+                        "question",
+                        "no zero order in the simulation: is the display tiled periodically?",
+                    )
+                };
+                let simulated = share(&c.simulated).ok_or_else(missing)?;
+                let closed = share(&c.predicted).ok_or_else(missing)?;
+                Ok(Answer::Drawing {
+                    share: simulated,
+                    closed,
+                    met: simulated < super::NO_ORDERS_SHARE,
+                })
+            }
+        },
         Question::Choice { rule, than, .. } => {
             let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
             let options = rule.options(&names);
@@ -291,6 +341,53 @@ fn number(
         }
     }
 }
+
+/// How well the design on screen's PSF matches a mystery's, from 0 to 1: the correlation of
+/// the two log-PSFs (each from its peak down to [`MATCH_FLOOR_DECADES`] below it, so the faint
+/// orders and halo count as much as the bright centre) in channel `channel`, on the window
+/// both hold about the axis. Negative correlations count as 0.
+///
+/// # Errors
+/// A channel either analysis lacks, or analyses on different sensor pixels.
+pub fn psf_match(drawn: &Analysis, mystery: &Analysis, channel: &str) -> Result<f64, SimError> {
+    let pick = |a: &Analysis| -> Result<Array2<f64>, SimError> {
+        a.channels
+            .iter()
+            .find(|c| c.name.eq_ignore_ascii_case(channel))
+            .map(|c| c.psf.clone())
+            .ok_or_else(|| SimError::invalid("channel", format!("no channel {channel}")))
+    };
+    if (drawn.sensor_pixel_um - mystery.sensor_pixel_um).abs() > 1e-9 {
+        return Err(SimError::invalid(
+            "optics",
+            "the drawing and the mystery are seen with different sensor pixels",
+        ));
+    }
+    let (a, b) = (pick(drawn)?, pick(mystery)?);
+    let side = a.nrows().min(b.nrows());
+    let log = |p: &Array2<f64>| -> Vec<f64> {
+        let p = crate::measured::compare::centred_to(p, side);
+        let peak = p.iter().fold(0.0f64, |m, v| m.max(*v));
+        let floor = peak * 10f64.powf(-MATCH_FLOOR_DECADES);
+        p.iter().map(|v| v.max(floor).log10()).collect()
+    };
+    let (x, y) = (log(&a), log(&b));
+    let n = x.len() as f64;
+    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
+    let (mut sxy, mut sxx, mut syy) = (0.0, 0.0, 0.0);
+    for (u, v) in x.iter().zip(&y) {
+        sxy += (u - mx) * (v - my);
+        sxx += (u - mx) * (u - mx);
+        syy += (v - my) * (v - my);
+    }
+    if sxx <= 0.0 || syy <= 0.0 {
+        return Ok(0.0);
+    }
+    Ok((sxy / (sxx * syy).sqrt()).max(0.0))
+}
+
+/// How far below the peak the mystery's match reads the PSFs, decades.
+pub const MATCH_FLOOR_DECADES: f64 = 5.0;
 
 /// The light per column (summed over rows), centre at index `n / 2`.
 fn column_sums(psf: &Array2<f64>) -> Vec<f64> {

@@ -52,6 +52,12 @@ pub struct Step {
     /// The question, if the step asks one.
     #[serde(default)]
     pub question: Option<Question>,
+    /// A mystery aperture: the built-in preset whose PSF is shown without its opening; the
+    /// student draws a guess on the design on screen, the studio scores the match
+    /// ([`measure::psf_match`]) and reveals the opening. A step asks a question or sets a
+    /// mystery, not both.
+    #[serde(default)]
+    pub mystery: Option<String>,
     /// The explanation shown with the answer. `{answer}` is replaced by the measured answer
     /// and `{closed}` by the closed form's value, both with their units.
     pub explain: String,
@@ -73,6 +79,14 @@ pub enum Question {
         /// The relative tolerance of a right answer (0.1: within 10 %).
         tolerance: f64,
     },
+    /// A drawing: the student changes the design on screen until the simulation shows
+    /// `goal`.
+    Drawing {
+        /// The task.
+        prompt: String,
+        /// What the simulated PSF must show.
+        goal: DrawingGoal,
+    },
     /// One of several options; the right one follows from a measurement.
     Choice {
         /// The question.
@@ -89,7 +103,9 @@ impl Question {
     /// The question's text.
     pub fn prompt(&self) -> &str {
         match self {
-            Question::Number { prompt, .. } | Question::Choice { prompt, .. } => prompt,
+            Question::Number { prompt, .. }
+            | Question::Drawing { prompt, .. }
+            | Question::Choice { prompt, .. } => prompt,
         }
     }
 }
@@ -124,6 +140,21 @@ impl Quantity {
         }
     }
 }
+
+/// What a drawn design's simulated PSF must show.
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
+#[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DrawingGoal {
+    /// No diffraction orders along x besides the zero order: the light in the orders (m, 0),
+    /// m ≠ 0, under [`NO_ORDERS_SHARE`] of the zero order's (closed form: the opening's
+    /// column means are all equal, so `c(m, 0) = 0` for m ≠ 0).
+    NoHorizontalOrders,
+}
+
+/// The most light the orders a drawing must remove may keep, as a share of the zero order's.
+pub const NO_ORDERS_SHARE: f64 = 0.01;
 
 /// How a choice question's right option is found.
 #[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
@@ -238,6 +269,22 @@ impl Lesson {
                     format!("{{{name}}} is not a placeholder ({{answer}}, {{closed}})"),
                 ));
             }
+            if let Some(m) = &s.mystery {
+                if !known_preset(m) {
+                    return Err(err(
+                        at,
+                        "mystery",
+                        format!("{m:?} is not a built-in preset"),
+                    ));
+                }
+                if s.question.is_some() {
+                    return Err(err(
+                        at,
+                        "mystery",
+                        "a step asks a question or sets a mystery, not both".into(),
+                    ));
+                }
+            }
             match &s.question {
                 Some(Question::Number {
                     prompt, tolerance, ..
@@ -252,6 +299,9 @@ impl Lesson {
                             format!("{tolerance}: give a fraction between 0 and 1 (0.1: 10 %)"),
                         ));
                     }
+                }
+                Some(Question::Drawing { prompt, .. }) if prompt.trim().is_empty() => {
+                    return Err(err(at, "question.prompt", "is empty".into()));
                 }
                 Some(Question::Choice { prompt, rule, than }) => {
                     if prompt.trim().is_empty() {
@@ -282,7 +332,7 @@ impl Lesson {
                         _ => {}
                     }
                 }
-                None => {}
+                Some(Question::Drawing { .. }) | None => {}
             }
         }
         Ok(())
