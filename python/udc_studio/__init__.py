@@ -507,8 +507,8 @@ def save_figure(
 ) -> Dict[str, Any]:
     """Save one of the display views of a design (or a preset name) as a figure file, as
     ``udc-studio figure`` and the studio's Save figure write it: ``out`` ending in ``.svg`` or
-    ``.png``; ``view`` one of ``psf``, ``log-psf``, ``rgb``, ``mtf-2d``, ``mtf``; further
-    keywords as the command's flags (``channel="G"``, ``width_px=1600``, ``height_px=1000``,
+    ``.png``; ``view`` one of ``psf``, ``log-psf``, ``rgb``, ``mtf-2d``, ``mtf``, ``theory``;
+    further keywords as the command's flags (``channel="G"``, ``width_px=1600``, ``height_px=1000``,
     ``floor_decades=5``, ``caption="..."``, ``no_caption=True``, ``preview=True``). Returns
     what ``--json`` prints: ``file``, ``format``, ``view``, ``title``, ``caption`` and the size.
     A bad value raises ``ValueError`` naming it; nothing is written then.

@@ -29,6 +29,8 @@ pub enum ShellCommand {
     OpenReproduce,
     /// Show or hide Help ▸ Lessons.
     ToggleLessons,
+    /// File ▸ Open lesson…: a lesson file into Help ▸ Lessons.
+    OpenLesson,
     /// Close the window, asking first if a workspace has unsaved changes.
     Quit,
 }

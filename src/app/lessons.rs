@@ -484,15 +484,24 @@ impl LessonsPanel {
             .on_hover_text("A teacher's lesson (TOML); dropping it on the window opens it too")
             .clicked()
         {
-            if native_dialogs {
-                let wake = ui.ctx().clone();
-                self.dialog = Some(dialogs::ask(
-                    FileSpec::open("Open a lesson", ("lesson", &["toml"])),
-                    move || wake.request_repaint(),
-                ));
-            } else {
-                self.message = Some(Notice::error("file dialogs are disabled in this session"));
-            }
+            self.ask_file(ui.ctx(), native_dialogs);
+        }
+    }
+
+    /// Opens the panel and asks for a lesson file (File ▸ Open lesson…).
+    pub fn ask_file(&mut self, ctx: &egui::Context, native_dialogs: bool) {
+        self.open = true;
+        if self.dialog.is_some() {
+            return;
+        }
+        if native_dialogs {
+            let wake = ctx.clone();
+            self.dialog = Some(dialogs::ask(
+                FileSpec::open("Open a lesson", ("lesson", &["toml"])),
+                move || wake.request_repaint(),
+            ));
+        } else {
+            self.message = Some(Notice::error("file dialogs are disabled in this session"));
         }
     }
 

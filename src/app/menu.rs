@@ -15,6 +15,14 @@ impl StudioApp {
             ui.menu_button("File", |ui| {
                 ws.file_menu_ui(ui, shell);
                 ui.separator();
+                if ui
+                    .button("Open lesson…")
+                    .on_hover_text("A lesson file (TOML) for Help ▸ Lessons")
+                    .clicked()
+                {
+                    cmds.push(ShellCommand::OpenLesson);
+                }
+                ui.separator();
                 let quit = egui::Button::new("Quit")
                     .shortcut_text(ui.ctx().format_shortcut(&commands::QUIT));
                 if ui.add(quit).clicked() {

@@ -219,6 +219,7 @@ impl StudioApp {
                 DisplayView::Rgb => ViewTab::Rgb,
                 DisplayView::Mtf2d => ViewTab::Mtf2d,
                 DisplayView::Mtf => ViewTab::MtfPlots,
+                DisplayView::Theory => ViewTab::Theory,
             });
         }
     }
@@ -307,6 +308,10 @@ impl StudioApp {
                 self.shell.save_settings();
             }
             ShellCommand::ToggleLessons => self.lessons.toggle(),
+            ShellCommand::OpenLesson => {
+                let (ctx, native) = (self.shell.ctx.clone(), self.shell.native_dialogs);
+                self.lessons.ask_file(&ctx, native);
+            }
             ShellCommand::TogglePresentation => {
                 self.shell.settings.presentation = !self.shell.settings.presentation;
                 presentation::apply(&self.shell.ctx, &self.shell.settings);

@@ -39,24 +39,30 @@ fn svg_texts(path: &Path) -> Vec<String> {
     texts
 }
 
-/// `(view, an axis title it must carry)`.
-const VIEWS: [(&str, &str); 5] = [
-    ("psf", "x (µm)"),
-    ("log-psf", "y (µm)"),
-    ("rgb", "x (µm)"),
-    ("mtf-2d", "νx (cyc/px)"),
-    ("mtf", "cycles/pixel"),
+/// `(view, preset, an axis title it must carry, words of its caption)`.
+const VIEWS: [(&str, &str, &str, &str); 6] = [
+    ("psf", "toled-150dpi", "x (µm)", "pitch 168.0 µm"),
+    ("log-psf", "toled-150dpi", "y (µm)", "pitch 168.0 µm"),
+    ("rgb", "toled-150dpi", "x (µm)", "pitch 168.0 µm"),
+    ("mtf-2d", "toled-150dpi", "νx (cyc/px)", "pitch 168.0 µm"),
+    ("mtf", "toled-150dpi", "cycles/pixel", "pitch 168.0 µm"),
+    (
+        "theory",
+        "fourier-slit",
+        "position on the sensor, x (µm)",
+        "pitch 4200.0 µm",
+    ),
 ];
 
 #[test]
 fn every_view_saves_as_svg_and_png_with_axes_units_and_a_caption() {
     let dir = tempfile::tempdir().unwrap();
-    for (view, axis) in VIEWS {
+    for (view, preset, axis, words) in VIEWS {
         let svg = dir.path().join(format!("{view}.svg"));
         let (ok, stdout, stderr) = run_cli(&[
             "figure",
             "--preset",
-            "toled-150dpi",
+            preset,
             "--preview",
             "--view",
             view,
@@ -68,7 +74,7 @@ fn every_view_saves_as_svg_and_png_with_axes_units_and_a_caption() {
         let j: serde_json::Value = serde_json::from_str(stdout.trim()).unwrap();
         assert_eq!(j["format"], "svg");
         let caption = j["caption"].as_str().unwrap().to_owned();
-        assert!(caption.contains("pitch 168.0 µm"), "{caption}");
+        assert!(caption.contains(words), "{caption}");
         let texts = svg_texts(&svg);
         assert!(
             texts.iter().any(|t| t.contains(axis)),
@@ -76,7 +82,7 @@ fn every_view_saves_as_svg_and_png_with_axes_units_and_a_caption() {
             &texts[..texts.len().min(40)]
         );
         assert!(
-            texts.iter().any(|t| t.contains("pitch 168.0 µm")),
+            texts.iter().any(|t| t.contains(words)),
             "{view}: the caption is drawn"
         );
         // A PNG at a chosen size, its pixels as the snapshot's.
@@ -84,7 +90,7 @@ fn every_view_saves_as_svg_and_png_with_axes_units_and_a_caption() {
         let (ok, _, stderr) = run_cli(&[
             "figure",
             "--preset",
-            "toled-150dpi",
+            preset,
             "--preview",
             "--view",
             view,
@@ -106,7 +112,7 @@ fn every_view_saves_as_svg_and_png_with_axes_units_and_a_caption() {
 fn bad_figure_requests_are_refused_in_one_line_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = |name: &str| dir.path().join(name).to_str().unwrap().to_owned();
-    let cases: [(&[&str], &str); 7] = [
+    let cases: [(&[&str], &str); 8] = [
         (&["--out", &out("a.jpg")], ".svg or .png"),
         (&["--out", &out("a.svg"), "--width-px", "10"], "--width-px"),
         (
@@ -123,6 +129,8 @@ fn bad_figure_requests_are_refused_in_one_line_and_write_nothing() {
         ),
         (&["--out", &out("a.svg"), "--channel", "X"], "--channel X"),
         (&["--out", &out("a.svg"), "--view", "bogus"], "bogus"),
+        // The T-OLED names no closed form.
+        (&["--out", &out("a.svg"), "--view", "theory"], "closed form"),
     ];
     for (args, names) in cases {
         let mut all = vec!["figure", "--preset", "toled-150dpi", "--preview"];

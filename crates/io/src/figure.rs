@@ -113,8 +113,30 @@ pub fn write_figure(
     crate::safe_file::write_atomic(path, &bytes)
 }
 
-/// Height of the caption's strip under a figure.
-const CAPTION_PX: u32 = 40;
+/// Height of one caption line under a figure, and the caption's font size.
+const CAPTION_LINE_PX: u32 = 22;
+const CAPTION_FONT_PX: u32 = 16;
+
+/// `caption` broken at spaces into lines of at most `width_px` (the font's characters are
+/// taken as 0.5 em wide on average, a little more than Ubuntu Light's).
+fn caption_lines(caption: &str, width_px: u32) -> Vec<String> {
+    let max_chars = ((width_px.saturating_sub(32)) / (CAPTION_FONT_PX / 2)).max(20) as usize;
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in caption.split_whitespace() {
+        if !line.is_empty() && line.chars().count() + 1 + word.chars().count() > max_chars {
+            lines.push(std::mem::take(&mut line));
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line.push_str(word);
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
 
 /// The figure's panels side by side over its caption.
 fn draw_figure<DB: DrawingBackend>(
@@ -123,14 +145,19 @@ fn draw_figure<DB: DrawingBackend>(
 ) -> Result<(), PlotError> {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| PlotError::Draw(e.to_string());
     root.fill(&WHITE).map_err(e)?;
-    let (_, h) = root.dim_in_pixel();
+    let (w, h) = root.dim_in_pixel();
     let panels_area = match &figure.caption {
         Some(caption) => {
-            let (top, bottom) = root.split_vertically(h.saturating_sub(CAPTION_PX));
-            let style = ("sans-serif", 16).into_font().color(&BLACK);
-            bottom
-                .draw(&Text::new(caption.clone(), (16, 12), style))
-                .map_err(e)?;
+            let lines = caption_lines(caption, w);
+            let strip = CAPTION_LINE_PX * lines.len() as u32 + 10;
+            let (top, bottom) = root.split_vertically(h.saturating_sub(strip));
+            let style = ("sans-serif", CAPTION_FONT_PX).into_font().color(&BLACK);
+            for (k, line) in lines.into_iter().enumerate() {
+                let y = 6 + (CAPTION_LINE_PX * k as u32) as i32;
+                bottom
+                    .draw(&Text::new(line, (16, y), style.clone()))
+                    .map_err(e)?;
+            }
             top
         }
         None => root.clone(),
@@ -546,6 +573,19 @@ mod tests {
         let series = palette::series(0);
         let rgb = png.to_rgb8();
         assert!(rgb.pixels().any(|p| p.0 == [series.0, series.1, series.2]));
+    }
+
+    #[test]
+    fn a_long_caption_wraps_at_spaces_within_the_width() {
+        let caption = "word ".repeat(60);
+        let lines = caption_lines(&caption, 400);
+        assert!(lines.len() > 1);
+        let max_chars = ((400 - 32) / (CAPTION_FONT_PX / 2)) as usize;
+        assert!(
+            lines.iter().all(|l| l.chars().count() <= max_chars),
+            "{lines:?}"
+        );
+        assert_eq!(lines.join(" "), caption.trim());
     }
 
     #[test]

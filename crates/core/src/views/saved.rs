@@ -31,6 +31,9 @@ pub enum DisplayView {
     Mtf2d,
     /// The MTF curves of every channel (horizontal, vertical and radially-minimum).
     Mtf,
+    /// One channel's simulated profile over its closed form (a Fourier-optics preset's theory):
+    /// the Theory view.
+    Theory,
 }
 
 /// What a view draws besides the design: the settings the studio's view controls hold.
@@ -143,6 +146,20 @@ pub fn display_figure(
             .ok_or_else(|| SimError::invalid("channels", "the analysis has no channel"))?,
         DisplayView::Mtf2d => mtf2d_panel(channel()?, settings.mtf_floor_decades),
         DisplayView::Mtf => mtf_curves_panel(analysis, None, settings.families, None),
+        DisplayView::Theory => {
+            let theory = design.theory.ok_or_else(|| {
+                SimError::invalid(
+                    "theory",
+                    "the design names no closed form (the Fourier-optics presets do)",
+                )
+            })?;
+            let ch = channel()?;
+            let c = crate::theory::compare(design, theory, analysis, settings.channel)?;
+            let colour = crate::figure::palette::channel(&ch.name)
+                .unwrap_or_else(|| crate::figure::palette::series(0));
+            let lf_um2 = ch.wavelength_nm * design.optics.focal_length_mm;
+            crate::theory::figures::profile_panel(&c, &ch.name, colour, lf_um2, true)
+        }
     };
     Ok(Figure {
         panels: vec![panel],
