@@ -44,12 +44,19 @@ pub const REDO: KeyboardShortcut =
 pub const REDO_Y: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Y);
 /// Ctrl+Q (Cmd+Q on macOS): quit.
 pub const QUIT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::Q);
-/// F5 (as slide software): presentation mode on or off.
-pub const PRESENTATION: KeyboardShortcut = KeyboardShortcut::new(Modifiers::NONE, Key::F5);
+/// Ctrl+Shift+P (Cmd+Shift+P on macOS): presentation mode on or off (F5, the slide
+/// software's key, rerolls the random tiling here).
+pub const PRESENTATION: KeyboardShortcut =
+    KeyboardShortcut::new(Modifiers::COMMAND.plus(Modifiers::SHIFT), Key::P);
 
 /// Reads the shell's keyboard shortcuts into commands (a workspace reads its own,
 /// [`crate::app::Workspace::read_shortcuts`]).
 pub fn read_shortcuts(ctx: &egui::Context, out: &mut Vec<ShellCommand>) {
+    // A pass egui discards (a layout change, such as presentation mode's zoom) is run again
+    // with the same input: the shortcut already acted in the first pass.
+    if ctx.current_pass_index() > 0 {
+        return;
+    }
     ctx.input_mut(|i| {
         // Longest modifier sets first, so Ctrl+Shift+Z is not read as Ctrl+Z.
         if i.consume_shortcut(&REDO) || i.consume_shortcut(&REDO_Y) {

@@ -1,4 +1,4 @@
-//! Presentation mode (View ▸ Presentation, F5): for a projector. A light, high-contrast theme
+//! Presentation mode (View ▸ Presentation, Ctrl+Shift+P): for a projector. A light, high-contrast theme
 //! (black text on white, heavier strokes), everything drawn 1.2× larger, plot lines twice as
 //! thick, and pictures in viridis instead of inferno: a projector crushes inferno's dark end to
 //! black, and viridis stays readable under the common colour-vision deficiencies. The

@@ -1,11 +1,11 @@
-//! Presentation mode, driven like a user: F5 turns it on (black on white, everything larger,
-//! the advanced tabs folded away, pictures in viridis), it survives a restart, and F5 again
+//! Presentation mode, driven like a user: Ctrl+Shift+P turns it on (black on white, everything
+//! larger, the advanced tabs folded away, pictures in viridis), it survives a restart, and again
 //! restores the dark studio as it was.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::time::Duration;
 
-use egui::Key;
+use egui::{Key, Modifiers};
 use egui_kittest::kittest::Queryable;
 
 use crate::common::{self, Reach, step_until};
@@ -13,7 +13,7 @@ use udc_studio::app::DisplayAction;
 use udc_studio::app::presentation;
 
 #[test]
-fn f5_presents_for_a_projector_and_the_setting_survives_a_restart() {
+fn ctrl_shift_p_presents_for_a_projector_keeps_f5_for_the_seed_and_survives_a_restart() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio_sized(
         dir.path(),
@@ -29,7 +29,7 @@ fn f5_presents_for_a_projector_and_the_setting_survives_a_restart() {
         "the studio starts dark"
     );
     assert!(h.query_by_label("Optimize").is_some());
-    h.key_press(Key::F5);
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::P);
     h.step();
     h.step();
     assert!(presentation::is_on(&h.ctx));
@@ -44,6 +44,17 @@ fn f5_presents_for_a_projector_and_the_setting_survives_a_restart() {
         "the advanced tabs fold away"
     );
     assert!(h.query_by_label("Opening").is_some());
+    // F5 stays the random tiling's reroll: the seed changes, the mode stays.
+    let seed = h.state().display().design().tiling.seed;
+    h.key_press(Key::F5);
+    h.step();
+    h.step();
+    assert!(presentation::is_on(&h.ctx));
+    assert_ne!(
+        h.state().display().design().tiling.seed,
+        seed,
+        "F5 rerolled"
+    );
     for _ in 0..3 {
         h.step();
     }
@@ -54,7 +65,7 @@ fn f5_presents_for_a_projector_and_the_setting_survives_a_restart() {
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.step();
     assert!(presentation::is_on(&h.ctx), "the setting is kept");
-    h.key_press(Key::F5);
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::P);
     h.step();
     h.step();
     assert!(!presentation::is_on(&h.ctx));

@@ -398,6 +398,7 @@ impl Workspace for DisplayWorkspace {
             ("Ctrl+C / Ctrl+V", "copy / paste the opening as text"),
             ("F5", "a new seed for the random tiling"),
             ("Ctrl+P", "pin the design as A for Compare"),
+            ("Ctrl+Shift+P", "presentation mode (for a projector)"),
             (
                 "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S",
                 "new, open, save, save as",
