@@ -27,6 +27,8 @@ use crate::core::{Analysis, Design};
 pub struct Setup {
     /// The preset to load, if the step loads one.
     pub preset: Option<String>,
+    /// The change to make to the design then, if any.
+    pub change: Option<crate::core::lesson::Change>,
     /// The view to show, if the step names one.
     pub view: Option<DisplayView>,
 }
@@ -167,6 +169,7 @@ impl LessonsPanel {
         self.revealed = None;
         self.setup = Some(Setup {
             preset: step.preset.clone(),
+            change: step.change.clone(),
             view: step.view,
         });
         self.score = None;

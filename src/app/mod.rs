@@ -212,6 +212,10 @@ impl StudioApp {
         if let Some(p) = setup.preset {
             d.act(DisplayAction::LoadPreset(p), shell);
         }
+        if let Some(c) = setup.change {
+            let changed = c.apply(d.design());
+            d.act(DisplayAction::Edit(Box::new(changed)), shell);
+        }
         if let Some(v) = setup.view {
             d.views().set_tab(match v {
                 DisplayView::Psf => ViewTab::Psf,

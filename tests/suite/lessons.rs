@@ -46,8 +46,22 @@ fn walk(file: &str) -> usize {
             on_screen = Some(p.clone());
         }
         let preset = on_screen.clone().unwrap();
-        let design = load_preset(&preset).unwrap();
-        let analysis = analysis_of(&preset, &mut cache);
+        let (design, analysis) = match &step.change {
+            // A change edits the design on screen: the step sees the changed one.
+            Some(c) => {
+                let d = c.apply(&load_preset(&preset).unwrap());
+                let options = AnalyzeOptions {
+                    quality: Quality::Full,
+                    expected_psf: false,
+                };
+                let a = analyze_with(&d, &options, &udc_studio::core::Progress::new()).unwrap();
+                (d, a)
+            }
+            None => (
+                load_preset(&preset).unwrap(),
+                analysis_of(&preset, &mut cache),
+            ),
+        };
         let Some(q) = &step.question else {
             assert!(
                 !step.explain.contains('{'),
@@ -146,7 +160,7 @@ lesson_test!(
 lesson_test!(
     the_grating_lesson_agrees_with_the_orders_and_their_weights,
     "04-grating.toml",
-    2
+    3
 );
 lesson_test!(
     the_convolution_lesson_agrees_with_the_lattice_and_the_envelope,
@@ -235,6 +249,23 @@ fn the_mystery_aperture_scores_itself_fully_and_another_opening_lower() {
         far < start,
         "a random tiling is further from it than the periodic L: {far} ≥ {start}"
     );
+}
+
+#[test]
+fn a_change_the_studio_cannot_make_is_refused_naming_its_step() {
+    let (_, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(name, _)| *name == "04-grating.toml")
+        .unwrap();
+    for (bad, words) in [
+        ("pitch_um = 0.0", "step 4, change.pitch_um: 0"),
+        ("tiling = \"hexagonal\"", "step 4, change.tiling"),
+    ] {
+        let damaged = text.replace("pitch_um = 320.0", bad);
+        let e = udc_studio::io::lesson::parse_lesson(&damaged).unwrap_err();
+        assert!(e.contains(words), "{bad}: {e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
 }
 
 #[test]

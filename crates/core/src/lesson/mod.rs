@@ -44,6 +44,9 @@ pub struct Step {
     /// The built-in preset to load (none: the design on screen stays).
     #[serde(default)]
     pub preset: Option<String>,
+    /// A change to the design on screen, after the preset (if any) is loaded.
+    #[serde(default)]
+    pub change: Option<Change>,
     /// The view to look at.
     #[serde(default)]
     pub view: Option<DisplayView>,
@@ -61,6 +64,35 @@ pub struct Step {
     /// The explanation shown with the answer. `{answer}` is replaced by the measured answer
     /// and `{closed}` by the closed form's value, both with their units.
     pub explain: String,
+}
+
+/// A change a step makes to the design on screen (one undoable edit in the studio).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Change {
+    /// The display pixel's pitch, µm (the opening's cells scale with it).
+    #[serde(default)]
+    pub pitch_um: Option<f64>,
+    /// The tiling.
+    #[serde(default)]
+    pub tiling: Option<crate::design::TilingMode>,
+}
+
+/// The pitches a lesson may set, µm.
+pub const PITCH_UM_RANGE: std::ops::RangeInclusive<f64> = 1.0..=10_000.0;
+
+impl Change {
+    /// `design` with the change made.
+    pub fn apply(&self, design: &crate::design::Design) -> crate::design::Design {
+        let mut d = design.clone();
+        if let Some(p) = self.pitch_um {
+            d.opening.pitch_um = p;
+        }
+        if let Some(t) = self.tiling {
+            d.tiling.mode = t;
+        }
+        d
+    }
 }
 
 /// A predict-then-reveal question.
@@ -268,6 +300,28 @@ impl Lesson {
                     "explain",
                     format!("{{{name}}} is not a placeholder ({{answer}}, {{closed}})"),
                 ));
+            }
+            if let Some(c) = &s.change {
+                if let Some(p) = c.pitch_um
+                    && !PITCH_UM_RANGE.contains(&p)
+                {
+                    return Err(err(
+                        at,
+                        "change.pitch_um",
+                        format!(
+                            "{p}: give {} to {} µm",
+                            PITCH_UM_RANGE.start(),
+                            PITCH_UM_RANGE.end()
+                        ),
+                    ));
+                }
+                if c.pitch_um.is_none() && c.tiling.is_none() {
+                    return Err(err(
+                        at,
+                        "change",
+                        "changes nothing (pitch_um, tiling)".into(),
+                    ));
+                }
             }
             if let Some(m) = &s.mystery {
                 if !known_preset(m) {
