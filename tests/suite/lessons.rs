@@ -15,17 +15,19 @@ use udc_studio::io::design::presets::load_preset;
 
 use crate::common::run_cli;
 
+/// `design` analysed at full quality, as the studio shows a settled result.
+fn analysed(design: &udc_studio::core::Design) -> Analysis {
+    let options = AnalyzeOptions {
+        quality: Quality::Full,
+        expected_psf: false,
+    };
+    analyze_with(design, &options, &udc_studio::core::Progress::new()).unwrap()
+}
+
 fn analysis_of(preset: &str, cache: &mut HashMap<String, Analysis>) -> Analysis {
     cache
         .entry(preset.to_owned())
-        .or_insert_with(|| {
-            let design = load_preset(preset).unwrap();
-            let options = AnalyzeOptions {
-                quality: Quality::Full,
-                expected_psf: false,
-            };
-            analyze_with(&design, &options, &udc_studio::core::Progress::new()).unwrap()
-        })
+        .or_insert_with(|| analysed(&load_preset(preset).unwrap()))
         .clone()
 }
 
@@ -50,11 +52,7 @@ fn walk(file: &str) -> usize {
             // A change edits the design on screen: the step sees the changed one.
             Some(c) => {
                 let d = c.apply(&load_preset(&preset).unwrap());
-                let options = AnalyzeOptions {
-                    quality: Quality::Full,
-                    expected_psf: false,
-                };
-                let a = analyze_with(&d, &options, &udc_studio::core::Progress::new()).unwrap();
+                let a = analysed(&d);
                 (d, a)
             }
             None => (
@@ -210,11 +208,7 @@ fn a_horizontal_band_across_the_pixel_has_no_horizontal_orders_and_is_graded_rig
             .for_each(|t| *t = if open { 1.0 } else { 0.0 });
     }
     assert_eq!(drawn.opening.cells.len(), n);
-    let options = AnalyzeOptions {
-        quality: Quality::Full,
-        expected_psf: false,
-    };
-    let analysis = analyze_with(&drawn, &options, &udc_studio::core::Progress::new()).unwrap();
+    let analysis = analysed(&drawn);
     let a = answer(&q, &drawn, &analysis, None).unwrap();
     let Answer::Drawing { share, closed, met } = a.clone() else {
         panic!("{a:?}")

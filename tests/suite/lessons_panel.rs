@@ -3,8 +3,6 @@
 //! numbers filled in; a damaged lesson dropped on the window is refused in one line.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
-use std::time::Duration;
-
 use egui_kittest::kittest::Queryable;
 
 use crate::common::{self, step_until};
@@ -14,12 +12,7 @@ use udc_studio::app::lessons::Verdict;
 #[test]
 fn a_student_walks_the_slit_lesson_and_is_checked_against_the_simulation() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = common::studio_sized(
-        dir.path(),
-        true,
-        Duration::from_secs(600),
-        egui::vec2(1024.0, 700.0),
-    );
+    let mut h = common::studio_small(dir.path());
     h.step();
     h.state_mut().command(ShellCommand::ToggleLessons);
     h.step();
@@ -85,12 +78,7 @@ fn a_mystery_aperture_is_scored_against_the_drawing_and_revealed() {
     use crate::common::Reach;
     use udc_studio::app::DisplayAction;
     let dir = tempfile::tempdir().unwrap();
-    let mut h = common::studio_sized(
-        dir.path(),
-        true,
-        Duration::from_secs(600),
-        egui::vec2(1024.0, 700.0),
-    );
+    let mut h = common::studio_small(dir.path());
     h.step();
     let (name, text) = udc_studio::io::lesson::SHIPPED
         .iter()

@@ -15,12 +15,7 @@ use udc_studio::app::presentation;
 #[test]
 fn ctrl_shift_p_presents_for_a_projector_keeps_f5_for_the_seed_and_survives_a_restart() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = common::studio_sized(
-        dir.path(),
-        true,
-        Duration::from_secs(600),
-        egui::vec2(1024.0, 700.0),
-    );
+    let mut h = common::studio_small(dir.path());
     h.state_mut()
         .act(DisplayAction::LoadPreset("toled-150dpi".into()));
     step_until(&mut h, "the T-OLED result", common::display_up_to_date);

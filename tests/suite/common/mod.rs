@@ -13,6 +13,19 @@ pub fn studio(
     studio_sized(dir, wgpu, autosave_every, egui::vec2(1440.0, 900.0))
 }
 
+/// [`studio`] rendered in the smallest window the studio supports, 1024×700 points (the
+/// screenshots of the teaching features are taken there).
+pub fn studio_small(
+    dir: &std::path::Path,
+) -> egui_kittest::Harness<'static, udc_studio::app::StudioApp> {
+    studio_sized(
+        dir,
+        true,
+        std::time::Duration::from_secs(600),
+        egui::vec2(1024.0, 700.0),
+    )
+}
+
 /// [`studio`] in a window of `size` points.
 pub fn studio_sized(
     dir: &std::path::Path,
