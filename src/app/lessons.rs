@@ -473,9 +473,12 @@ impl LessonsPanel {
         ui.label("Each lesson sets the studio up, asks you to predict, then checks your answer against the simulation.");
         for (name, parsed) in crate::io::lesson::shipped() {
             let Ok(lesson) = parsed else { continue };
-            let title = lesson.title.clone();
-            if ui.button(&title).on_hover_text(&lesson.summary).clicked() {
-                self.start(name.display().to_string(), lesson, ui.ctx());
+            if ui
+                .button(&lesson.title)
+                .on_hover_text(&lesson.summary)
+                .clicked()
+            {
+                self.start(name.display().to_string(), lesson.clone(), ui.ctx());
             }
         }
         ui.separator();

@@ -67,13 +67,18 @@ pub fn read_lesson(path: &Path) -> Result<Lesson, IoError> {
     })
 }
 
-/// The shipped lessons, parsed (a shipped lesson that does not parse is a build bug: the
-/// lesson tests check every one).
-pub fn shipped() -> Vec<(PathBuf, Result<Lesson, String>)> {
-    SHIPPED
-        .iter()
-        .map(|(name, text)| (PathBuf::from(name), parse_lesson(text)))
-        .collect()
+/// The shipped lessons, parsed once per process (parsing checks every preset a lesson
+/// names, too slow for every frame of the list); a shipped lesson that does not parse is a
+/// build bug, which the lesson tests catch.
+pub fn shipped() -> &'static [(PathBuf, Result<Lesson, String>)] {
+    static PARSED: std::sync::OnceLock<Vec<(PathBuf, Result<Lesson, String>)>> =
+        std::sync::OnceLock::new();
+    PARSED.get_or_init(|| {
+        SHIPPED
+            .iter()
+            .map(|(name, text)| (PathBuf::from(name), parse_lesson(text)))
+            .collect()
+    })
 }
 
 /// `step[2].question.tolerance` as `step 3, question.tolerance`.

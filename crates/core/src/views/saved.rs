@@ -63,8 +63,26 @@ impl Default for ViewSettings {
     }
 }
 
-/// The most decades a log picture may reach below its peak (f64 keeps about 16).
-pub const MAX_FLOOR_DECADES: f64 = 15.0;
+/// How many decades a log picture may reach below its peak: half a decade draws a picture
+/// still (less is one colour), and f64 keeps about 16.
+pub const FLOOR_DECADES_RANGE: std::ops::RangeInclusive<f64> = 0.5..=15.0;
+
+/// Checks a log picture's floor: the value and the range it must be in, in one line.
+///
+/// # Errors
+/// A floor outside [`FLOOR_DECADES_RANGE`] (NaN included).
+pub fn check_floor_decades(v: f64) -> Result<(), String> {
+    if FLOOR_DECADES_RANGE.contains(&v) {
+        Ok(())
+    } else {
+        // `{:?}` writes 1e308 as such, not as 309 digits.
+        Err(format!(
+            "{v:?}: give {} to {} decades",
+            FLOOR_DECADES_RANGE.start(),
+            FLOOR_DECADES_RANGE.end()
+        ))
+    }
+}
 
 /// One line naming the design and its parameters, for a figure's caption.
 pub fn caption(design: &Design, analysis: &Analysis) -> String {
@@ -92,8 +110,7 @@ pub fn caption(design: &Design, analysis: &Analysis) -> String {
 /// `view` of `design`'s `analysis` as a one-panel figure with its caption.
 ///
 /// # Errors
-/// A channel the analysis does not have, a floor that is not a positive number of decades
-/// up to [`MAX_FLOOR_DECADES`], an RGB view of an analysis without channels.
+/// A channel the analysis does not have, a floor outside [`FLOOR_DECADES_RANGE`], an RGB view of an analysis without channels.
 pub fn display_figure(
     design: &Design,
     analysis: &Analysis,
@@ -104,12 +121,7 @@ pub fn display_figure(
         ("floor_decades", settings.floor_decades),
         ("mtf_floor_decades", settings.mtf_floor_decades),
     ] {
-        if !(v > 0.0 && v <= MAX_FLOOR_DECADES) {
-            return Err(SimError::invalid(
-                name,
-                format!("{v}: give 0 < decades ≤ {MAX_FLOOR_DECADES}"),
-            ));
-        }
+        check_floor_decades(v).map_err(|e| SimError::invalid(name, e))?;
     }
     let channel = || {
         analysis.channels.get(settings.channel).ok_or_else(|| {

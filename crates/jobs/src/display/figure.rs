@@ -11,7 +11,7 @@ use serde_json::json;
 
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::figure::{FIGURE_SIDE_PX, FigureFormat};
-use udc_core::views::saved::{DisplayView, MAX_FLOOR_DECADES, ViewSettings, display_figure};
+use udc_core::views::saved::{DisplayView, ViewSettings, check_floor_decades, display_figure};
 use udc_core::{Design, Progress};
 
 use super::DesignSelection;
@@ -134,9 +134,7 @@ impl FigureJob {
             ("--floor-decades", self.floor_decades),
             ("--mtf-floor-decades", self.mtf_floor_decades),
         ] {
-            if !(v > 0.0 && v <= MAX_FLOOR_DECADES) {
-                bail!("{flag} {v}: give 0 < decades ≤ {MAX_FLOOR_DECADES}");
-            }
+            check_floor_decades(v).map_err(|e| anyhow::anyhow!("{flag} {e}"))?;
         }
         Ok(())
     }
