@@ -42,3 +42,19 @@ def test_bad_figure_values_raise_naming_them(tmp_path):
     with pytest.raises(ValueError, match="--width-px"):
         udc_studio.save_figure("toled-150dpi", tmp_path / "a.svg", width_px=5, preview=True)
     assert not list(tmp_path.iterdir())
+
+
+def test_a_comparison_figure_names_both_designs(tmp_path):
+    out = udc_studio.save_figure(
+        "l2inv-random",
+        tmp_path / "compare.svg",
+        view="mtf",
+        against_preset="toled-150dpi",
+        preview=True,
+    )
+    assert out["against"] == "T-OLED 150 DPI"
+    assert out["caption"].startswith("B: Top-10 L2 + inv, random") and "A: T-OLED" in out["caption"]
+    with pytest.raises(ValueError, match="only the mtf view compares"):
+        udc_studio.save_figure(
+            "l2inv-random", tmp_path / "x.svg", view="psf", against_preset="toled-150dpi"
+        )

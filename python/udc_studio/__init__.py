@@ -509,8 +509,10 @@ def save_figure(
     ``udc-studio figure`` and the studio's Save figure write it: ``out`` ending in ``.svg`` or
     ``.png``; ``view`` one of ``psf``, ``log-psf``, ``rgb``, ``mtf-2d``, ``mtf``, ``theory``;
     further keywords as the command's flags (``channel="G"``, ``width_px=1600``, ``height_px=1000``,
-    ``floor_decades=5``, ``caption="..."``, ``no_caption=True``, ``preview=True``). Returns
-    what ``--json`` prints: ``file``, ``format``, ``view``, ``title``, ``caption`` and the size.
+    ``floor_decades=5``, ``caption="..."``, ``no_caption=True``, ``preview=True``, and for a
+    comparison with view ``mtf`` ``against_preset="toled-150dpi"`` or ``against_design=PATH``).
+    Returns what ``--json`` prints: ``file``, ``format``, ``view``, ``title``, ``caption``,
+    ``against`` (design A's name, or None) and the size.
     A bad value raises ``ValueError`` naming it; nothing is written then.
     """
     from ._jobs import _plain  # noqa: PLC0415 - one helper for every job's keywords

@@ -17,20 +17,67 @@ use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
 use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use crate::core::figure::Panel;
-use crate::core::lesson::measure::{Answer, Guess, answer, psf_match};
-use crate::core::lesson::{Lesson, Question};
+use crate::core::lesson::measure::{Answer, Guess, answer, phase_answer, psf_match};
+use crate::core::lesson::{ChoiceRule, Lesson, MysterySource, Question};
 use crate::core::views::saved::DisplayView;
 use crate::core::{Analysis, Design};
 
-/// What a step asks of the studio: the app loads the preset and shows the view.
+/// What a step asks of the studio: the app loads the preset and shows the view, or shows the
+/// Phase workspace with its design changed.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Setup {
     /// The preset to load, if the step loads one.
     pub preset: Option<String>,
+    /// The change to the phase-mask design, if the step sets one.
+    pub phase: Option<crate::core::lesson::PhaseChange>,
     /// The change to make to the design then, if any.
     pub change: Option<crate::core::lesson::Change>,
     /// The view to show, if the step names one.
     pub view: Option<DisplayView>,
+}
+
+/// What a lesson measures: the workspaces' results, each only when it is its design's
+/// current one (the Display workspace's at full quality).
+#[derive(Default)]
+pub struct OnScreen {
+    /// The Display workspace's result.
+    pub display: Option<Shown>,
+    /// The Phase workspace's PSFs and the design they were computed for.
+    pub phase: Option<PhaseShown>,
+}
+
+/// The Phase workspace's PSFs as a lesson measures them.
+pub struct PhaseShown {
+    /// The design they were computed for.
+    pub design: crate::core::phase::PhaseDesign,
+    /// The PSFs.
+    pub psfs: Arc<crate::core::phase::psf::PhasePsfs>,
+}
+
+impl OnScreen {
+    /// The channels a choice offers: the phase PSFs' or the display analysis's.
+    fn channel_names(&self, phase: bool) -> Vec<String> {
+        if phase {
+            self.phase
+                .as_ref()
+                .map(|p| p.psfs.channels.iter().map(|c| c.name.clone()).collect())
+                .unwrap_or_default()
+        } else {
+            self.display
+                .as_ref()
+                .map(|s| s.analysis.channels.iter().map(|c| c.name.clone()).collect())
+                .unwrap_or_default()
+        }
+    }
+}
+
+/// Whether `q` is measured on the phase-mask design.
+fn is_phase(q: &Question) -> bool {
+    match q {
+        Question::Number { quantity, .. } => quantity.is_phase(),
+        Question::Choice { rule, .. } => *rule == ChoiceRule::MostLightChannel,
+        Question::Drawing { .. } => false,
+    }
 }
 
 /// How the student's last check went.
@@ -169,12 +216,17 @@ impl LessonsPanel {
         self.revealed = None;
         self.setup = Some(Setup {
             preset: step.preset.clone(),
+            phase: step.phase.clone(),
             change: step.change.clone(),
             view: step.view,
         });
         self.score = None;
         self.unveiled = false;
-        if let Some(name) = step.mystery.clone()
+        let source = step.mystery_source().map(|m| match m {
+            MysterySource::Preset(name) => (name.to_owned(), None),
+            MysterySource::File(path) => (path.display().to_string(), Some(path.to_path_buf())),
+        });
+        if let Some((name, file)) = source
             && self.mystery.as_ref().is_none_or(|m| m.name != name)
         {
             self.mystery = None;
@@ -185,7 +237,10 @@ impl LessonsPanel {
                     "mystery aperture",
                     move || wake.request_repaint(),
                     move |p| -> Result<(Design, Analysis), JobError> {
-                        let design = crate::io::design::presets::load_preset(&hidden)?;
+                        let design = match &file {
+                            Some(path) => crate::io::design::file::load_design(path)?,
+                            None => crate::io::design::presets::load_preset(&hidden)?,
+                        };
                         let options = AnalyzeOptions {
                             quality: Quality::Full,
                             expected_psf: false,
@@ -220,16 +275,11 @@ impl LessonsPanel {
         }
     }
 
-    /// Checks `guess` against the simulation on screen (`up_to_date`: the result shown is the
+    /// Checks `guess` against the simulation on screen (`on`: the results that are their
     /// design's, at full quality); returns the verdict, `None` while the answer cannot be
     /// computed yet (the message says why).
-    pub fn check(
-        &mut self,
-        shown: Option<&Shown>,
-        up_to_date: bool,
-        guess: Guess,
-    ) -> Option<Verdict> {
-        let (a, tolerance) = self.answer_now(shown, up_to_date)?;
+    pub fn check(&mut self, on: &OnScreen, guess: Guess) -> Option<Verdict> {
+        let (a, tolerance) = self.answer_now(on)?;
         let v = if a.grade(guess, tolerance) {
             Verdict::Right
         } else {
@@ -240,16 +290,38 @@ impl LessonsPanel {
     }
 
     /// Reveals the answer measured on the simulation on screen, with the explanation.
-    pub fn reveal(&mut self, shown: Option<&Shown>, up_to_date: bool) {
-        if let Some((a, _)) = self.answer_now(shown, up_to_date) {
+    pub fn reveal(&mut self, on: &OnScreen) {
+        if let Some((a, _)) = self.answer_now(on) {
             self.revealed = Some(a);
         }
     }
 
-    fn answer_now(&mut self, shown: Option<&Shown>, up_to_date: bool) -> Option<(Answer, f64)> {
+    fn answer_now(&mut self, on: &OnScreen) -> Option<(Answer, f64)> {
         let (_, lesson) = self.lesson.as_ref()?;
         let q = lesson.steps.get(self.step)?.question.as_ref()?;
-        let Some(shown) = shown.filter(|_| up_to_date) else {
+        let tolerance = match q {
+            Question::Number { tolerance, .. } => *tolerance,
+            Question::Choice { .. } | Question::Drawing { .. } => 0.0,
+        };
+        if is_phase(q) {
+            let Some(p) = &on.phase else {
+                self.message = Some(Notice::info(
+                    "the phase-mask PSFs are still being computed: check again in a moment",
+                ));
+                return None;
+            };
+            return match phase_answer(q, &p.design, &p.psfs) {
+                Ok(a) => {
+                    self.message = None;
+                    Some((a, tolerance))
+                }
+                Err(e) => {
+                    self.message = Some(Notice::error(e.to_string()));
+                    None
+                }
+            };
+        }
+        let Some(shown) = on.display.as_ref() else {
             self.message = Some(Notice::info(
                 "the simulation is still running: check again in a moment",
             ));
@@ -267,10 +339,6 @@ impl LessonsPanel {
             },
             _ => None,
         };
-        let tolerance = match q {
-            Question::Number { tolerance, .. } => *tolerance,
-            Question::Choice { .. } | Question::Drawing { .. } => 0.0,
-        };
         match answer(q, &shown.design, &shown.analysis, other) {
             Ok(a) => {
                 self.message = None;
@@ -284,12 +352,12 @@ impl LessonsPanel {
     }
 
     /// Scores the design on screen against the step's mystery aperture (green channel).
-    pub fn score_drawing(&mut self, shown: Option<&Shown>, up_to_date: bool) {
+    pub fn score_drawing(&mut self, on: &OnScreen) {
         let Some(m) = &self.mystery else {
             self.message = Some(Notice::info("the mystery is still being computed"));
             return;
         };
-        let Some(shown) = shown.filter(|_| up_to_date) else {
+        let Some(shown) = on.display.as_ref() else {
             self.message = Some(Notice::info(
                 "the simulation is still running: score again in a moment",
             ));
@@ -350,13 +418,7 @@ impl LessonsPanel {
     }
 
     /// Draws the panel (when open) at the window's right edge.
-    pub fn ui(
-        &mut self,
-        ui: &mut Ui,
-        shown: Option<&Shown>,
-        up_to_date: bool,
-        native_dialogs: bool,
-    ) {
+    pub fn ui(&mut self, ui: &mut Ui, on: &OnScreen, native_dialogs: bool) {
         self.poll(ui.ctx());
         if !self.open {
             return;
@@ -373,7 +435,7 @@ impl LessonsPanel {
                         }
                     });
                     if self.lesson.is_some() {
-                        self.step_ui(ui, shown, up_to_date);
+                        self.step_ui(ui, on);
                     } else {
                         self.list_ui(ui, native_dialogs);
                     }
@@ -382,7 +444,7 @@ impl LessonsPanel {
             });
     }
 
-    fn mystery_ui(&mut self, ui: &mut Ui, shown: Option<&Shown>, up_to_date: bool, explain: &str) {
+    fn mystery_ui(&mut self, ui: &mut Ui, on: &OnScreen, explain: &str) {
         use crate::core::views::{Landmarks, PsfScale, psf_panel};
         let Some(m) = &mut self.mystery else {
             ui.horizontal(|ui| {
@@ -440,7 +502,7 @@ impl LessonsPanel {
                 )
                 .clicked()
             {
-                self.score_drawing(shown, up_to_date);
+                self.score_drawing(on);
             }
             if ui.button("Reveal the opening").clicked() {
                 self.unveil();
@@ -511,7 +573,7 @@ impl LessonsPanel {
         }
     }
 
-    fn step_ui(&mut self, ui: &mut Ui, shown: Option<&Shown>, up_to_date: bool) {
+    fn step_ui(&mut self, ui: &mut Ui, on: &OnScreen) {
         let Some((_, lesson)) = &self.lesson else {
             return;
         };
@@ -523,8 +585,8 @@ impl LessonsPanel {
         ui.label(format!("Step {} of {n}: {}", self.step + 1, step.title));
         ui.separator();
         ui.label(&step.look);
-        if step.mystery.is_some() {
-            self.mystery_ui(ui, shown, up_to_date, &step.explain);
+        if step.mystery_source().is_some() {
+            self.mystery_ui(ui, on, &step.explain);
         } else if let Some(q) = &step.question {
             ui.separator();
             ui.label(RichText::new(q.prompt()).strong());
@@ -544,9 +606,7 @@ impl LessonsPanel {
                     Some(Guess::Drawn)
                 }
                 Question::Choice { rule, .. } => {
-                    let names: Vec<String> = shown
-                        .map(|s| s.analysis.channels.iter().map(|c| c.name.clone()).collect())
-                        .unwrap_or_default();
+                    let names = on.channel_names(is_phase(q));
                     let options = rule.options(&names);
                     ui.horizontal_wrapped(|ui| {
                         for (i, o) in options.iter().enumerate() {
@@ -563,10 +623,10 @@ impl LessonsPanel {
                     .clicked()
                     && let Some(g) = guess
                 {
-                    self.check(shown, up_to_date, g);
+                    self.check(on, g);
                 }
                 if ui.button("Reveal").clicked() {
-                    self.reveal(shown, up_to_date);
+                    self.reveal(on);
                 }
             });
             match &self.verdict {

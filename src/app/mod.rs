@@ -168,23 +168,32 @@ impl StudioApp {
         &mut self,
         guess: crate::core::lesson::measure::Guess,
     ) -> Option<lessons::Verdict> {
-        let (shown, up) = self.display_result();
-        self.lessons.check(shown.as_ref(), up, guess)
+        let on = self.on_screen();
+        self.lessons.check(&on, guess)
     }
 
     /// Reveals the open lesson's answer on the display workspace's result.
     pub fn reveal_lesson(&mut self) {
-        let (shown, up) = self.display_result();
-        self.lessons.reveal(shown.as_ref(), up);
+        let on = self.on_screen();
+        self.lessons.reveal(&on);
     }
 
-    /// The display workspace's result on screen and whether it is its design's, at full
-    /// quality.
-    fn display_result(&mut self) -> (Option<display::panels::Shown>, bool) {
-        match self.display_workspace() {
-            Some(d) => (d.shown().cloned(), d.is_up_to_date()),
-            None => (None, false),
-        }
+    /// What a lesson measures: the Display workspace's result when it is its design's at full
+    /// quality, and the Phase workspace's PSFs when they are its design's.
+    fn on_screen(&mut self) -> lessons::OnScreen {
+        let display = self
+            .display_workspace()
+            .filter(|d| d.is_up_to_date())
+            .and_then(|d| d.shown().cloned());
+        let p = self.ws::<phase::PhaseWorkspace>();
+        let phase = p
+            .shown()
+            .filter(|_| p.is_up_to_date())
+            .map(|s| lessons::PhaseShown {
+                design: s.design.clone(),
+                psfs: s.psfs.clone(),
+            });
+        lessons::OnScreen { display, phase }
     }
 
     fn display_workspace(&mut self) -> Option<&mut DisplayWorkspace> {
@@ -195,10 +204,23 @@ impl StudioApp {
     }
 
     /// Carries out a lesson step's setup: the Display workspace shown, the preset loaded
-    /// (asking first if there are unsaved changes), the view selected.
+    /// (asking first if there are unsaved changes), the view selected; or the Phase workspace
+    /// shown with its design changed (one undo step).
     fn lesson_setup(&mut self, setup: lessons::Setup) {
         use crate::core::views::saved::DisplayView;
         use display::panels::views::ViewTab;
+        if let Some(change) = setup.phase {
+            self.active = WorkspaceId::Phase;
+            let p = self.ws_mut::<phase::PhaseWorkspace>();
+            let changed = change.apply(p.design());
+            p.set_design(changed);
+            p.show(phase::PhaseView::Psf);
+            return;
+        }
+        if setup.preset.is_none() && setup.change.is_none() && setup.view.is_none() {
+            // A step that only says what to look at keeps the workspace on screen.
+            return;
+        }
         self.active = WorkspaceId::Display;
         let shell = &mut self.shell;
         let Some(d) = self
@@ -513,13 +535,12 @@ impl StudioApp {
             self.apply(c);
         }
         egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
-        let (shown, up_to_date) = if self.lessons.is_open() {
-            self.display_result()
+        let on = if self.lessons.is_open() {
+            self.on_screen()
         } else {
-            (None, false)
+            lessons::OnScreen::default()
         };
-        self.lessons
-            .ui(ui, shown.as_ref(), up_to_date, self.shell.native_dialogs);
+        self.lessons.ui(ui, &on, self.shell.native_dialogs);
         if let Some(setup) = self.lessons.take_setup() {
             self.lesson_setup(setup);
         }

@@ -149,3 +149,128 @@ fn bad_figure_requests_are_refused_in_one_line_and_write_nothing() {
         "nothing written"
     );
 }
+
+/// The Compare tab from the command line: design B's radially-minimum MTFs over design A's,
+/// both named in the caption; any other view is refused with a comparison.
+#[test]
+fn a_comparison_figure_draws_both_designs_and_names_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("compare.svg");
+    let args = |out: &str| -> Vec<String> {
+        [
+            "figure",
+            "--preset",
+            "l2inv-random",
+            "--against-preset",
+            "toled-150dpi",
+            "--preview",
+            "--view",
+            "mtf",
+            "--out",
+            out,
+        ]
+        .map(String::from)
+        .to_vec()
+    };
+    let a = args(svg.to_str().unwrap());
+    let (ok, _, stderr) = run_cli(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(ok, "{stderr}");
+    let texts = svg_texts(&svg);
+    let has = |w: &str| texts.iter().any(|t| t.contains(w));
+    assert!(has("cycles/pixel"), "{texts:?}");
+    // A's curves carry "A:" in the legend; the caption names B, then A.
+    assert!(has("A:"), "design A's curves: {texts:?}");
+    assert!(
+        has("B: Top-10 L2 + inv, random") && has("A: T-OLED 150 DPI"),
+        "{texts:?}"
+    );
+    let png = dir.path().join("compare.png");
+    let mut a = args(png.to_str().unwrap());
+    a.extend(["--width-px", "800", "--height-px", "500"].map(String::from));
+    let (ok, _, stderr) = run_cli(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(ok, "{stderr}");
+    egui_kittest::image_snapshot(&image::open(&png).unwrap().to_rgba8(), "figure-compare");
+
+    let (ok, _, stderr) = run_cli(&[
+        "figure",
+        "--preset",
+        "toled-150dpi",
+        "--against-preset",
+        "fourier-periodic",
+        "--view",
+        "log-psf",
+        "--out",
+        dir.path().join("no.svg").to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && stderr.contains("only the mtf view compares"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("no.svg").exists());
+}
+
+/// The Phase workspace's PSF and MTF plots and the Sensor workspace's maps, written by their
+/// commands as figures the same renderer draws: SVG that parses with the axis titles and
+/// units, PNG matching a snapshot.
+#[test]
+fn the_phase_and_sensor_commands_write_their_views_as_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let phase = dir.path().join("phase");
+    let (ok, _, stderr) = run_cli(&[
+        "phase",
+        "psf",
+        "--preview",
+        "--out",
+        phase.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    for stem in ["psf-R", "psf-G", "psf-B", "mtf"] {
+        let texts = svg_texts(&phase.join(format!("{stem}.svg")));
+        let axis = if stem == "mtf" {
+            "cycles/pixel"
+        } else {
+            "sensor pixel from the axis"
+        };
+        assert!(texts.iter().any(|t| t.contains(axis)), "{stem}: {texts:?}");
+        assert!(
+            texts.iter().any(|t| t.contains("T-OLED")),
+            "{stem}: the legend"
+        );
+    }
+    let png = image::open(phase.join("psf-G.png")).unwrap().to_rgba8();
+    egui_kittest::image_snapshot(&png, "figure-phase-psf-G");
+
+    let sensor = dir.path().join("sensor");
+    let hdr = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/hdr/StillLife_620x423.exr"
+    );
+    let (ok, _, stderr) = run_cli(&[
+        "sensor",
+        "--hdr",
+        hdr,
+        "--max-side-px",
+        "160",
+        "--roi",
+        "32",
+        "--seed",
+        "3",
+        "--out",
+        sensor.to_str().unwrap(),
+        "--figures",
+    ]);
+    assert!(ok, "{stderr}");
+    let texts = svg_texts(&sensor.join("scene-figure.svg"));
+    assert!(texts.iter().any(|t| t.contains("x (px)")), "{texts:?}");
+    let gain = sensor.join("vary-gain_no-bin_gain-figure.svg");
+    let texts = svg_texts(&gain);
+    assert!(texts.iter().any(|t| t.contains("Gain map")), "{texts:?}");
+    assert!(
+        sensor.join("const-gain_vary-bin_bins-figure.png").exists(),
+        "the bin map"
+    );
+    let png = image::open(sensor.join("vary-gain_no-bin_gain-figure.png"))
+        .unwrap()
+        .to_rgba8();
+    egui_kittest::image_snapshot(&png, "figure-sensor-gain");
+}

@@ -9,8 +9,10 @@ use std::path::Path;
 
 use udc_studio::core::Analysis;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
-use udc_studio::core::lesson::measure::{Answer, Guess, answer};
-use udc_studio::core::lesson::{Lesson, Question};
+use udc_studio::core::design::Channel;
+use udc_studio::core::lesson::measure::{Answer, Guess, answer, phase_answer};
+use udc_studio::core::lesson::{ChoiceRule, Lesson, Question};
+use udc_studio::core::phase::{Incidence, PhaseDesign, PhaseOptics, PhaseSampling, phase_psfs};
 use udc_studio::io::design::presets::load_preset;
 
 use crate::common::run_cli;
@@ -41,11 +43,35 @@ fn walk(file: &str) -> usize {
     let lesson: Lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
     let mut cache = HashMap::new();
     let mut on_screen = None;
+    let mut phase_design: Option<PhaseDesign> = None;
     let mut asked = 0;
     for (i, step) in lesson.steps.iter().enumerate() {
         let at = format!("{file} step {}", i + 1);
         if let Some(p) = &step.preset {
             on_screen = Some(p.clone());
+        }
+        if let Some(c) = &step.phase {
+            let start = phase_design
+                .clone()
+                .unwrap_or_else(|| PhaseDesign::thesis(1.0, 1.0));
+            phase_design = Some(c.apply(&start));
+        }
+        if let Some(q) = step.question.as_ref().filter(|q| is_phase(q)) {
+            // The Phase workspace's PSFs as the studio computes them by default.
+            let design = phase_design.clone().expect("a phase step came first");
+            let psfs = phase_psfs(
+                &design,
+                &PhaseSampling::for_quality(Quality::Full),
+                &Channel::rgb_peaks(),
+                PhaseOptics::DoubleMla,
+                Incidence::AngleDeg(0.0),
+                &udc_studio::core::Progress::new(),
+            )
+            .unwrap();
+            let a = phase_answer(q, &design, &psfs).unwrap();
+            asked += 1;
+            check_answer(&at, &a, q, &step.explain);
+            continue;
         }
         let preset = on_screen.clone().unwrap();
         let (design, analysis) = match &step.change {
@@ -73,9 +99,27 @@ fn walk(file: &str) -> usize {
             _ => None,
         };
         let a = answer(q, &design, &analysis, other.as_ref()).unwrap();
-        let explained = a.explain(&step.explain);
+        check_answer(&at, &a, q, &step.explain);
+    }
+    asked
+}
+
+/// Whether the studio measures `q` on the Phase workspace.
+fn is_phase(q: &Question) -> bool {
+    match q {
+        Question::Number { quantity, .. } => quantity.is_phase(),
+        Question::Choice { rule, .. } => *rule == ChoiceRule::MostLightChannel,
+        Question::Drawing { .. } => false,
+    }
+}
+
+/// The measured answer `a` to `q` agrees with the closed form its explanation names, right is
+/// graded right and wrong wrong.
+fn check_answer(at: &str, a: &Answer, q: &Question, explain: &str) {
+    {
+        let explained = a.explain(explain);
         assert!(!explained.contains('{'), "{at}: {explained}");
-        match (&a, q) {
+        match (a, q) {
             (Answer::Number { value, closed, .. }, Question::Number { tolerance, .. }) => {
                 let closed = closed.expect("a number question names its closed form");
                 assert!(
@@ -128,7 +172,6 @@ fn walk(file: &str) -> usize {
             _ => panic!("{at}: the answer's kind is not the question's"),
         }
     }
-    asked
 }
 
 macro_rules! lesson_test {
@@ -181,6 +224,11 @@ lesson_test!(
     the_drawing_lesson_starts_with_orders_to_remove,
     "10-draw.toml",
     1
+);
+lesson_test!(
+    the_microlens_lesson_agrees_with_p_over_a_and_the_folding_wavelength,
+    "11-microlens-arrays.toml",
+    3
 );
 
 #[test]
@@ -362,4 +410,79 @@ fn lesson_check_passes_the_shipped_lessons_and_refuses_damaged_ones_in_one_line(
         }
         assert!(!stderr.contains("panicked"), "{what}: {stderr}");
     }
+}
+
+#[test]
+fn a_phase_step_the_studio_cannot_set_up_is_refused_naming_its_step() {
+    let (_, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(name, _)| *name == "11-microlens-arrays.toml")
+        .unwrap();
+    for (from, to, words) in [
+        // The lesson cannot know what phase design is on screen.
+        ("from_thesis = true, ", "", "step 1, phase.from_thesis"),
+        (
+            "lambda0_nm = 610.0",
+            "lambda0_nm = 900.0",
+            "step 3, phase.lambda0_nm: 900",
+        ),
+        (
+            "phase = { from_thesis = true, lambda0_nm = 530.0 }",
+            "preset = \"fourier-slit\"",
+            "step 1, question: measures a phase-mask design",
+        ),
+    ] {
+        let damaged = text.replacen(from, to, 1);
+        assert_ne!(&damaged, text, "{from}: the damage applied");
+        let e = udc_studio::io::lesson::parse_lesson(&damaged).unwrap_err();
+        assert!(e.contains(words), "{from}: {e}");
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+}
+
+/// A teacher's own mystery: a design file beside the lesson, found relative to it; a missing
+/// or broken one is refused naming the step and the field.
+#[test]
+fn a_mystery_from_a_teachers_design_file_is_read_beside_the_lesson() {
+    let (_, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(name, _)| *name == "09-mystery.toml")
+        .unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let mut secret = load_preset("fourier-double-slit").unwrap();
+    secret.name = "the teacher's secret".into();
+    udc_studio::io::design::file::save_design(&tmp.path().join("secret.json"), &secret).unwrap();
+    let lesson_text = text.replace(
+        "mystery = \"fourier-grating\"",
+        "mystery_file = \"secret.json\"",
+    );
+    assert_ne!(&lesson_text, text);
+    let path = tmp.path().join("mine.toml");
+    std::fs::write(&path, &lesson_text).unwrap();
+    let lesson = udc_studio::io::lesson::read_lesson(&path).unwrap();
+    let Some(udc_studio::core::lesson::MysterySource::File(found)) =
+        lesson.steps[0].mystery_source()
+    else {
+        panic!("{:?}", lesson.steps[0])
+    };
+    let read = udc_studio::io::design::file::load_design(found).unwrap();
+    assert_eq!(read.name, "the teacher's secret");
+    let (ok, stdout, stderr) = run_cli(&["lesson", "check", path.to_str().unwrap()]);
+    assert!(ok && stdout.contains(": ok"), "{stdout}{stderr}");
+
+    std::fs::remove_file(tmp.path().join("secret.json")).unwrap();
+    let (ok, _, stderr) = run_cli(&["lesson", "check", path.to_str().unwrap()]);
+    assert!(!ok);
+    let first = stderr.lines().next().unwrap_or_default();
+    assert!(
+        first.contains("step 1, mystery_file") && first.contains("secret.json"),
+        "{first}"
+    );
+    // A preset and a file at once is ambiguous.
+    let both = lesson_text.replace(
+        "mystery_file = \"secret.json\"",
+        "mystery = \"fourier-grating\"\nmystery_file = \"secret.json\"",
+    );
+    let e = udc_studio::io::lesson::parse_lesson(&both).unwrap_err();
+    assert!(e.contains("step 1, mystery_file"), "{e}");
 }

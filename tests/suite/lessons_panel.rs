@@ -116,3 +116,59 @@ fn a_mystery_aperture_is_scored_against_the_drawing_and_revealed() {
     assert!(h.query_by_label("the mystery's opening").is_some());
     crate::screenshots::capture(&mut h, "mystery-revealed-1024x700");
 }
+
+/// The chapter-4 lesson sets up the Phase workspace (the thesis's design, then a refold at
+/// 610 nm as one undo step) and checks predictions on its PSFs.
+#[test]
+fn the_microlens_lesson_sets_up_the_phase_workspace_and_checks_its_psfs() {
+    use crate::common::Reach;
+    use udc_studio::app::WorkspaceId;
+    use udc_studio::core::lesson::measure::Guess;
+    use udc_studio::core::phase::Lambda0;
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio_small(dir.path());
+    h.step();
+    let (name, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(n, _)| *n == "11-microlens-arrays.toml")
+        .unwrap();
+    let lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .lessons_mut()
+        .start((*name).to_owned(), lesson, &ctx);
+    h.step();
+    assert_eq!(h.state().workspace(), WorkspaceId::Phase);
+    assert_eq!(h.state().phase().design().pitch_um, 42.0);
+    step_until(&mut h, "the phase PSFs", |app| app.phase().is_up_to_date());
+    // A bare T-OLED's answer (no gain) is wrong; P / a = 4.2 is right.
+    assert_eq!(
+        h.state_mut().check_lesson(Guess::Number(1.0)),
+        Some(Verdict::Wrong)
+    );
+    assert_eq!(
+        h.state_mut().check_lesson(Guess::Number(4.2)),
+        Some(Verdict::Right)
+    );
+    // Step 3 refolds the plate at 610 nm: one undo step on the Phase workspace.
+    let ctx = h.ctx.clone();
+    h.state_mut().lessons_mut().go_to(2, &ctx);
+    h.step();
+    assert_eq!(
+        h.state().phase().design().lambda0,
+        Lambda0::Fixed { nm: 610.0 }
+    );
+    step_until(&mut h, "the refolded PSFs", |app| {
+        app.phase().is_up_to_date()
+    });
+    // R is the first option: the channel nearest 610 nm gains most.
+    assert_eq!(
+        h.state_mut().check_lesson(Guess::Choice(0)),
+        Some(Verdict::Right)
+    );
+    assert!(h.state_mut().phase_mut().undo());
+    assert_eq!(
+        h.state().phase().design().lambda0,
+        Lambda0::Fixed { nm: 530.0 }
+    );
+}

@@ -27,6 +27,7 @@ pub const SHIPPED: &[(&str, &str)] = lessons![
     "08-colour.toml",
     "09-mystery.toml",
     "10-draw.toml",
+    "11-microlens-arrays.toml",
 ];
 
 /// The largest lesson file read, bytes (a lesson is a page of text).
@@ -54,17 +55,34 @@ pub fn parse_lesson(text: &str) -> Result<Lesson, String> {
     Ok(lesson)
 }
 
-/// Reads and checks the lesson file at `path`.
+/// Reads and checks the lesson file at `path`. A mystery aperture's design file (`mystery_file`) is found beside the lesson and must load:
+/// its path becomes absolute in the lesson returned.
 ///
 /// # Errors
-/// A file that cannot be read (or is over a megabyte), or [`parse_lesson`]'s refusal, with
-/// the file named.
+/// A file that cannot be read (or is over a megabyte), [`parse_lesson`]'s refusal, or a
+/// mystery design file that does not load, with the lesson file named.
 pub fn read_lesson(path: &Path) -> Result<Lesson, IoError> {
-    let text = crate::safe_file::read_text_bounded(path, MAX_BYTES, "lesson")?;
-    parse_lesson(&text).map_err(|message| IoError::Lesson {
+    let refuse = |message: String| IoError::Lesson {
         path: path.to_path_buf(),
         message,
-    })
+    };
+    let text = crate::safe_file::read_text_bounded(path, MAX_BYTES, "lesson")?;
+    let mut lesson = parse_lesson(&text).map_err(refuse)?;
+    let dir = path.parent().unwrap_or(Path::new(""));
+    for (i, step) in lesson.steps.iter_mut().enumerate() {
+        if let Some(file) = &mut step.mystery_file {
+            let full = dir.join(&*file);
+            crate::design::file::load_design(&full).map_err(|e| {
+                refuse(format!(
+                    "step {}, mystery_file: {}",
+                    i + 1,
+                    one_line(&e.to_string())
+                ))
+            })?;
+            *file = full;
+        }
+    }
+    Ok(lesson)
 }
 
 /// The shipped lessons, parsed once per process (parsing checks every preset a lesson

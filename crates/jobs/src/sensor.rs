@@ -1,6 +1,6 @@
 //! Sensor jobs (thesis chapter 5): `sensor` on an HDR scene and the `sensor flat-patch` check.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -79,6 +79,11 @@ pub struct SensorJob {
     /// simulated (half-float EXR) into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Also draw the studio's sensor maps into `--out` as figures with axes and colour bars
+    /// (SVG and PNG): the scene, and each strategy's capture, gain and bin maps.
+    #[arg(long, requires = "out")]
+    #[serde(default)]
+    pub figures: bool,
 }
 
 impl Default for SensorJob {
@@ -99,6 +104,7 @@ impl Default for SensorJob {
             cfa: Cfa::None,
             max_side_px: None,
             out: None,
+            figures: false,
         }
     }
 }
@@ -370,12 +376,19 @@ pub fn sensor(args: &SensorJob, progress: &Progress) -> Result<Report> {
     let keep = |s: StrategyResult| -> Result<Kept> {
         if let Some(dir) = &args.out {
             outputs.extend(write_strategy_images(dir, &s, max_gain)?);
+            if args.figures {
+                outputs.extend(write_strategy_figures(dir, &s, max_gain)?);
+            }
         }
         Ok(Kept::of(&s))
     };
     let result = run_with(scene, &settings, progress, Held::HandedOver, keep)?;
     if let Some(dir) = &args.out {
         outputs.extend(write_truth_images(dir, &result)?);
+        if args.figures {
+            let panel = udc_core::sensor::maps::scene_panel(&result);
+            outputs.extend(udc_io::figure::write_panel(dir, "scene-figure", &panel)?);
+        }
     }
     let notes = report.notes();
     {
@@ -549,4 +562,24 @@ fn print_channels(out: &mut Report, result: &udc_core::sensor::SensorRun<Kept>) 
     for line in result.strategies.iter().filter_map(|k| k.channels.as_ref()) {
         outln!(out, "{line}");
     }
+}
+
+/// A strategy's capture, gain and bin maps as the studio draws them, as figures (SVG and PNG)
+/// named `<strategy>_<map>-figure`; `max_gain` tops the gain maps' shared scale.
+fn write_strategy_figures(dir: &Path, s: &StrategyResult, max_gain: f64) -> Result<Vec<PathBuf>> {
+    use udc_core::sensor::maps;
+    let stem = udc_io::sensor::report::strategy_stem(&s.name);
+    let mut written = Vec::new();
+    for (map, panel) in [
+        ("capture", maps::capture_panel(s)),
+        ("gain", maps::gain_panel(s, max_gain)),
+        ("bins", maps::bin_panel(s)),
+    ] {
+        written.extend(udc_io::figure::write_panel(
+            dir,
+            &format!("{stem}_{map}-figure"),
+            &panel,
+        )?);
+    }
+    Ok(written)
 }

@@ -71,7 +71,7 @@ impl Default for ViewsPanel {
         ViewsPanel {
             view: PhaseView::Psf,
             log_psf: false,
-            psf_half_width_px: 24,
+            psf_half_width_px: figures::PSF_HALF_WIDTH_PX,
         }
     }
 }
@@ -138,10 +138,7 @@ impl ViewsPanel {
             return;
         };
         let p = s.psfs.clone();
-        let ours = match s.optics {
-            crate::core::phase::PhaseOptics::SingleMask => "single mask",
-            _ => "double MLA",
-        };
+        let ours = figures::optics_label(s.optics);
         let mut caption = format!(
             "{} PSFs at {:.1}° ({}); the bare T-OLED dashed, imaged at pixel {} from the axis.",
             s.quality.label(),

@@ -133,6 +133,17 @@ pub fn answer(
     other: Option<&Analysis>,
 ) -> Result<Answer, SimError> {
     match question {
+        Question::Number { quantity, .. } if quantity.is_phase() => Err(SimError::invalid(
+            "question",
+            "is about the phase-mask design (the Phase workspace's PSFs)",
+        )),
+        Question::Choice {
+            rule: ChoiceRule::MostLightChannel,
+            ..
+        } => Err(SimError::invalid(
+            "question",
+            "is about the phase-mask design (the Phase workspace's PSFs)",
+        )),
         Question::Number {
             quantity, channel, ..
         } => {
@@ -179,6 +190,10 @@ pub fn answer(
             let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
             let options = rule.options(&names);
             match rule {
+                ChoiceRule::MostLightChannel => Err(SimError::invalid(
+                    "question",
+                    "is about the phase-mask design (the Phase workspace's PSFs)",
+                )),
                 ChoiceRule::WidestChannel => {
                     let mut widths = Vec::new();
                     for i in 0..analysis.channels.len() {
@@ -217,6 +232,74 @@ pub fn answer(
                 }
             }
         }
+    }
+}
+
+/// The answer to a phase-mask `question` (a [`Quantity::is_phase`] number or
+/// [`ChoiceRule::MostLightChannel`]) on `design`'s PSFs as the Phase workspace shows them.
+///
+/// # Errors
+/// A question about the display layout, a channel the PSFs do not have.
+pub fn phase_answer(
+    question: &Question,
+    design: &crate::phase::PhaseDesign,
+    psfs: &crate::phase::psf::PhasePsfs,
+) -> Result<Answer, SimError> {
+    use crate::theory::landmarks::mla_light_gain;
+    let names: Vec<String> = psfs.channels.iter().map(|c| c.name.clone()).collect();
+    match question {
+        Question::Number {
+            quantity: q @ Quantity::MlaLightGain,
+            channel,
+            ..
+        } => {
+            let i = match channel {
+                None => 0,
+                Some(n) => names
+                    .iter()
+                    .position(|c| c.eq_ignore_ascii_case(n))
+                    .ok_or_else(|| {
+                        SimError::invalid(
+                            "question.channel",
+                            format!("the PSFs have no channel {n}"),
+                        )
+                    })?,
+            };
+            let c = &psfs.channels[i];
+            Ok(Answer::Number {
+                value: c.energy_vs_toled_before_polariser,
+                closed: Some(mla_light_gain(design.open_ratio)),
+                unit: q.unit(),
+            })
+        }
+        Question::Choice {
+            rule: rule @ ChoiceRule::MostLightChannel,
+            ..
+        } => {
+            let gains: Vec<f64> = psfs
+                .channels
+                .iter()
+                .map(|c| c.energy_vs_toled_before_polariser)
+                .collect();
+            // The plate is the unfolded lens only at λ0: the channel nearest it.
+            let nearest: Vec<f64> = match &design.lambda0 {
+                crate::phase::Lambda0::Fixed { nm } => psfs
+                    .channels
+                    .iter()
+                    .map(|c| -(c.wavelength_nm - nm).abs())
+                    .collect(),
+                _ => Vec::new(),
+            };
+            Ok(Answer::Choice {
+                options: rule.options(&names),
+                right: arg_max(&gains),
+                closed: (!nearest.is_empty()).then(|| arg_max(&nearest)),
+            })
+        }
+        _ => Err(SimError::invalid(
+            "question",
+            "is about the display layout, not the phase-mask design",
+        )),
     }
 }
 
@@ -330,6 +413,10 @@ fn number(
                 .ok_or_else(|| not_found("the zero order"))?;
             Ok((c.simulated[k], Some(c.predicted[k])))
         }
+        Quantity::MlaLightGain => Err(SimError::invalid(
+            "question",
+            "is about the phase-mask design (the Phase workspace's PSFs)",
+        )),
         Quantity::NyquistCycPerMm => {
             let top = ch
                 .mtf

@@ -47,7 +47,11 @@ pub struct Step {
     /// A change to the design on screen, after the preset (if any) is loaded.
     #[serde(default)]
     pub change: Option<Change>,
-    /// The view to look at.
+    /// The phase-mask design to look at (thesis chapter 4): the studio shows the Phase
+    /// workspace with this change made to its design.
+    #[serde(default)]
+    pub phase: Option<PhaseChange>,
+    /// The view to look at (in the Display workspace).
     #[serde(default)]
     pub view: Option<DisplayView>,
     /// What to look for.
@@ -61,9 +65,33 @@ pub struct Step {
     /// mystery, not both.
     #[serde(default)]
     pub mystery: Option<String>,
+    /// A mystery aperture from a design file the teacher wrote (JSON, as File ▸ Save writes
+    /// it), its path relative to the lesson file: as `mystery`, for an opening no preset has.
+    #[serde(default)]
+    pub mystery_file: Option<std::path::PathBuf>,
     /// The explanation shown with the answer. `{answer}` is replaced by the measured answer
     /// and `{closed}` by the closed form's value, both with their units.
     pub explain: String,
+}
+
+/// Where a step's mystery aperture comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MysterySource<'a> {
+    /// A built-in preset, by name.
+    Preset(&'a str),
+    /// A design file (made absolute when the lesson file is read).
+    File(&'a std::path::Path),
+}
+
+impl Step {
+    /// The step's mystery aperture, if it sets one.
+    pub fn mystery_source(&self) -> Option<MysterySource<'_>> {
+        match (&self.mystery, &self.mystery_file) {
+            (Some(name), _) => Some(MysterySource::Preset(name)),
+            (None, Some(path)) => Some(MysterySource::File(path)),
+            (None, None) => None,
+        }
+    }
 }
 
 /// A change a step makes to the design on screen (one undoable edit in the studio).
@@ -76,6 +104,53 @@ pub struct Change {
     /// The tiling.
     #[serde(default)]
     pub tiling: Option<crate::design::TilingMode>,
+}
+
+/// A change a step makes to the phase-mask design (one undoable edit in the Phase workspace).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhaseChange {
+    /// Start from the thesis's design (pitch 42 µm, f_MLA = pitch, T = 1, a slit of 1/4.2 of
+    /// the pixel, λ0 = 530 nm) before the changes below; the first step that sets a phase
+    /// design must, as the lesson cannot know what is on screen.
+    #[serde(default)]
+    pub from_thesis: bool,
+    /// The display pixel's (and lenslet's) pitch, µm; the lenslet focal length follows it.
+    #[serde(default)]
+    pub pitch_um: Option<f64>,
+    /// The fold thickness T (the plate's height is T λ0 / (n − 1)).
+    #[serde(default)]
+    pub fold: Option<f64>,
+    /// One folding wavelength for every lenslet, nm.
+    #[serde(default)]
+    pub lambda0_nm: Option<f64>,
+}
+
+/// The folding wavelengths a lesson may set, nm (the spectral grid's span).
+pub const LAMBDA0_NM_RANGE: std::ops::RangeInclusive<f64> = 400.0..=700.0;
+/// The fold thicknesses a lesson may set.
+pub const FOLD_RANGE: std::ops::RangeInclusive<f64> = 1.0..=20.0;
+
+impl PhaseChange {
+    /// `design` with the change made.
+    pub fn apply(&self, design: &crate::phase::PhaseDesign) -> crate::phase::PhaseDesign {
+        let mut d = if self.from_thesis {
+            crate::phase::PhaseDesign::thesis(42.0, 1.0)
+        } else {
+            design.clone()
+        };
+        if let Some(p) = self.pitch_um {
+            d.pitch_um = p;
+            d.f_mla_um = p;
+        }
+        if let Some(t) = self.fold {
+            d.fold = t;
+        }
+        if let Some(nm) = self.lambda0_nm {
+            d.lambda0 = crate::phase::Lambda0::Fixed { nm };
+        }
+        d
+    }
 }
 
 /// The pitches a lesson may set, µm.
@@ -160,6 +235,11 @@ pub enum Quantity {
     ZeroOrderShare,
     /// The highest frequency the sensor samples, cycles/mm (closed form `1 / (2 p)`).
     NyquistCycPerMm,
+    /// How many times more light reaches the sensor window through the double microlens array
+    /// than through the bare T-OLED, before the folded plate's polariser (closed form `P / a`:
+    /// the first array focuses a whole pixel's light through its slit of width `a`, where the
+    /// bare display passes the open share `a / P`). Measured on the Phase workspace's PSFs.
+    MlaLightGain,
 }
 
 impl Quantity {
@@ -167,9 +247,15 @@ impl Quantity {
     pub fn unit(self) -> &'static str {
         match self {
             Quantity::FirstDarkUm | Quantity::FringeSpacingUm | Quantity::OrderSpacingUm => "µm",
-            Quantity::ZeroOrderShare => "",
+            Quantity::ZeroOrderShare | Quantity::MlaLightGain => "",
             Quantity::NyquistCycPerMm => "cycles/mm",
         }
+    }
+
+    /// Whether it is measured on the phase-mask design (the Phase workspace) rather than
+    /// the display layout.
+    pub fn is_phase(self) -> bool {
+        matches!(self, Quantity::MlaLightGain)
     }
 }
 
@@ -200,13 +286,18 @@ pub enum ChoiceRule {
     /// Whether the design on screen has a higher or lower radially-minimum AUC (green) than
     /// the preset the question's `than` names: the options are "higher" and "lower".
     AucAgainst,
+    /// Which channel the double microlens array brings the most light to (the largest gain
+    /// over the bare T-OLED, [`Quantity::MlaLightGain`]): the options are the channels' names.
+    /// The closed form picks the channel nearest the folding wavelength, where the folded
+    /// plate is the lens it was cut from. Measured on the Phase workspace's PSFs.
+    MostLightChannel,
 }
 
 impl ChoiceRule {
     /// The options offered, given the design's channel names.
     pub fn options(self, channels: &[String]) -> Vec<String> {
         match self {
-            ChoiceRule::WidestChannel => channels.to_vec(),
+            ChoiceRule::WidestChannel | ChoiceRule::MostLightChannel => channels.to_vec(),
             ChoiceRule::AucAgainst => vec!["higher".into(), "lower".into()],
         }
     }
@@ -278,13 +369,64 @@ impl Lesson {
             {
                 return Err(err(at, "preset", format!("{p:?} is not a built-in preset")));
             }
-            if i == 0 && s.preset.is_none() {
+            if i == 0 && s.preset.is_none() && s.phase.is_none() {
                 return Err(err(
                     at,
                     "preset",
-                    "the first step must load a preset (the lesson cannot know what is on \
-                     screen)"
+                    "the first step must load a preset or set a phase design (the lesson \
+                     cannot know what is on screen)"
                         .into(),
+                ));
+            }
+            if let Some(c) = &s.phase {
+                let first = !self.steps[..i].iter().any(|e| e.phase.is_some());
+                if first && !c.from_thesis {
+                    return Err(err(
+                        at,
+                        "phase.from_thesis",
+                        "the first step with a phase design must start from the thesis's \
+                         (from_thesis = true): the lesson cannot know what is on screen"
+                            .into(),
+                    ));
+                }
+                if s.preset.is_some() || s.change.is_some() || s.mystery_source().is_some() {
+                    return Err(err(
+                        at,
+                        "phase",
+                        "a step sets up the Phase workspace or the Display workspace, not both"
+                            .into(),
+                    ));
+                }
+                let ranges = [
+                    ("phase.pitch_um", c.pitch_um, &PITCH_UM_RANGE, "µm"),
+                    ("phase.fold", c.fold, &FOLD_RANGE, ""),
+                    ("phase.lambda0_nm", c.lambda0_nm, &LAMBDA0_NM_RANGE, "nm"),
+                ];
+                for (field, v, range, unit) in ranges {
+                    if let Some(v) = v
+                        && !range.contains(&v)
+                    {
+                        return Err(err(
+                            at,
+                            field,
+                            format!("{v}: give {} to {} {unit}", range.start(), range.end())
+                                .trim_end()
+                                .to_owned(),
+                        ));
+                    }
+                }
+            }
+            let phase_on_screen = self.steps[..=i].iter().any(|e| e.phase.is_some());
+            let wants_phase = match &s.question {
+                Some(Question::Number { quantity, .. }) => quantity.is_phase(),
+                Some(Question::Choice { rule, .. }) => *rule == ChoiceRule::MostLightChannel,
+                _ => false,
+            };
+            if wants_phase && !phase_on_screen {
+                return Err(err(
+                    at,
+                    "question",
+                    "measures a phase-mask design, but no step so far sets one (phase)".into(),
                 ));
             }
             if let Some(rest) = s.explain.split('{').nth(1)
@@ -322,6 +464,22 @@ impl Lesson {
                         "changes nothing (pitch_um, tiling)".into(),
                     ));
                 }
+            }
+            if s.mystery.is_some() && s.mystery_file.is_some() {
+                return Err(err(
+                    at,
+                    "mystery_file",
+                    "a step's mystery is a preset (mystery) or a design file (mystery_file), \
+                     not both"
+                        .into(),
+                ));
+            }
+            if s.mystery_file.is_some() && s.question.is_some() {
+                return Err(err(
+                    at,
+                    "mystery_file",
+                    "a step asks a question or sets a mystery, not both".into(),
+                ));
             }
             if let Some(m) = &s.mystery {
                 if !known_preset(m) {
@@ -376,7 +534,7 @@ impl Lesson {
                                 format!("{than:?} is not a built-in preset"),
                             ));
                         }
-                        (ChoiceRule::WidestChannel, Some(_)) => {
+                        (ChoiceRule::WidestChannel | ChoiceRule::MostLightChannel, Some(_)) => {
                             return Err(err(
                                 at,
                                 "question.than",

@@ -13,6 +13,19 @@ use crate::figure::{Annotation, Axis, Mark, Panel, Rgb, Series, palette};
 /// The smallest share a log-scale PSF plot shows: 10⁻⁹ of the light.
 pub const LOG_FLOOR: f64 = 1e-9;
 
+/// Sensor pixels either side of the image point a PSF figure shows by default (the studio's
+/// and `phase psf --out`'s).
+pub const PSF_HALF_WIDTH_PX: usize = 24;
+
+/// What the masks are called in a figure's legend.
+pub fn optics_label(optics: super::PhaseOptics) -> &'static str {
+    match optics {
+        super::PhaseOptics::SingleMask => "single mask",
+        super::PhaseOptics::DoubleMla => "double MLA",
+        super::PhaseOptics::Toled => "T-OLED",
+    }
+}
+
 /// Samples across the height profile's three lenslets.
 const PROFILE_SAMPLES: usize = 900;
 

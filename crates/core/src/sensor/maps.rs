@@ -95,7 +95,7 @@ fn seen(name: &str, electrons: &Array2<f64>, planes: Vec<Array2<f64>>) -> Image 
 }
 
 /// The scene as ground truth: the exposed electrons, tone-mapped.
-pub fn scene_panel(run: &SensorRun) -> Panel {
+pub fn scene_panel<S>(run: &SensorRun<S>) -> Panel {
     picture(
         "Scene (ground truth, tone-mapped)".into(),
         seen("light", &run.electrons, run.truth_display_planes()),

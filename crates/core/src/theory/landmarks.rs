@@ -9,6 +9,13 @@ pub fn order_spacing_um(wavelength_nm: f64, focal_length_mm: f64, period_um: f64
     (wavelength_nm * 1e-3) * (focal_length_mm * 1e3) / period_um
 }
 
+/// The light a double microlens array brings through a T-OLED over the bare display's,
+/// `P / a = 1 / open_ratio`: the first array focuses a whole pixel's light through the slit
+/// that passes only the open share otherwise (thesis §4.2, before the polariser).
+pub fn mla_light_gain(open_ratio: f64) -> f64 {
+    1.0 / open_ratio
+}
+
 /// Airy radius (first dark ring) `1.22 λ F#`, in µm.
 pub fn airy_radius_um(wavelength_nm: f64, f_number: f64) -> f64 {
     1.22 * wavelength_nm * 1e-3 * f_number

@@ -178,3 +178,17 @@ pub fn display_figure(
         caption: Some(caption(design, analysis)),
     })
 }
+
+/// The Compare tab as a figure: the radially-minimum MTFs of `b` (solid) and of the pinned
+/// design `a` (dashed, "A:"), with a caption naming both.
+pub fn compare_figure(a: (&Design, &Analysis), b: (&Design, &Analysis)) -> Figure {
+    let panel = mtf_curves_panel(b.1, Some(a.1), MtfFamilies::RADIAL_MIN, None);
+    Figure {
+        panels: vec![panel],
+        caption: Some(format!(
+            "B: {}. A: {}",
+            caption(b.0, b.1),
+            caption(a.0, a.1)
+        )),
+    }
+}

@@ -11,7 +11,9 @@ use serde_json::json;
 
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::figure::{FIGURE_SIDE_PX, FigureFormat};
-use udc_core::views::saved::{DisplayView, ViewSettings, check_floor_decades, display_figure};
+use udc_core::views::saved::{
+    DisplayView, ViewSettings, check_floor_decades, compare_figure, display_figure,
+};
 use udc_core::{Design, Progress};
 
 use super::DesignSelection;
@@ -64,6 +66,15 @@ pub struct FigureJob {
     #[arg(long)]
     #[serde(default)]
     pub preview: bool,
+    /// Design A of a comparison (the studio's Compare tab), from a design file: `--view mtf`
+    /// then draws its radially-minimum MTFs dashed under the design's.
+    #[arg(long, value_name = "FILE", conflicts_with = "against_preset")]
+    #[serde(default)]
+    pub against_design: Option<PathBuf>,
+    /// Design A of a comparison, as a built-in preset (see `--against-design`).
+    #[arg(long, value_name = "NAME")]
+    #[serde(default)]
+    pub against_preset: Option<String>,
 }
 
 impl Default for FigureJob {
@@ -80,6 +91,8 @@ impl Default for FigureJob {
             caption: None,
             no_caption: false,
             preview: false,
+            against_design: None,
+            against_preset: None,
         }
     }
 }
@@ -136,7 +149,32 @@ impl FigureJob {
         ] {
             check_floor_decades(v).map_err(|e| anyhow::anyhow!("{flag} {e}"))?;
         }
+        if self.against_design.is_some() && self.against_preset.is_some() {
+            bail!("--against-design and --against-preset: give one design A");
+        }
+        if self.against().is_some() && self.view != DisplayView::Mtf {
+            bail!(
+                "--view {}: only the mtf view compares two designs (--against-design, \
+                 --against-preset)",
+                self.view
+            );
+        }
         Ok(())
+    }
+
+    /// Design A of a comparison, as the flags name it.
+    fn against(&self) -> Option<DesignSelection> {
+        match (&self.against_design, &self.against_preset) {
+            (Some(d), _) => Some(DesignSelection {
+                design: Some(d.clone()),
+                ..DesignSelection::default()
+            }),
+            (None, Some(p)) => Some(DesignSelection {
+                preset: Some(p.clone()),
+                ..DesignSelection::default()
+            }),
+            (None, None) => None,
+        }
     }
 }
 
@@ -157,6 +195,14 @@ pub fn figure_of(design: &Design, job: &FigureJob, progress: &Progress) -> Resul
             Quality::Full
         },
         expected_psf: false,
+    };
+    let against = match job.against() {
+        Some(sel) => {
+            let a = sel.resolve().context("design A (--against-…)")?;
+            let analysis = analyze_with(&a, &options, progress).context("design A")?;
+            Some((a, analysis))
+        }
+        None => None,
     };
     let analysis = analyze_with(design, &options, progress)?;
     let channel = match &job.channel {
@@ -179,7 +225,10 @@ pub fn figure_of(design: &Design, job: &FigureJob, progress: &Progress) -> Resul
         mtf_floor_decades: job.mtf_floor_decades,
         ..ViewSettings::default()
     };
-    let mut figure = display_figure(design, &analysis, job.view, &settings)?;
+    let mut figure = match &against {
+        Some((a, a_analysis)) => compare_figure((a, a_analysis), (design, &analysis)),
+        None => display_figure(design, &analysis, job.view, &settings)?,
+    };
     if job.no_caption {
         figure.caption = None;
     } else if let Some(c) = &job.caption {
@@ -211,6 +260,7 @@ pub fn figure_of(design: &Design, job: &FigureJob, progress: &Progress) -> Resul
         "view": job.view,
         "title": title,
         "caption": figure.caption,
+        "against": against.as_ref().map(|(a, _)| a.name.clone()),
         "width_px": job.width_px,
         "height_px": job.height_px,
     });

@@ -163,7 +163,8 @@ pub struct Mask {
     /// `whole-display` (the thesis code's, every plate).
     #[arg(long, value_parser = crate::choice::choice::<Relay>(), default_value_t = Mask::default().relay)]
     pub relay: Relay,
-    /// Write CSV files into this directory.
+    /// Write CSV files into this directory (`phase psf`: also its PSF and MTF figures, SVG and
+    /// PNG).
     #[arg(long)]
     pub out: Option<PathBuf>,
 }

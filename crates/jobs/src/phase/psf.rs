@@ -80,6 +80,9 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
             }
         }
     }
+    if let Some(dir) = &a.mask.out {
+        outputs.extend(write_psf_figures(dir, &psfs, optics)?);
+    }
     let lambda0 = lambda0_per_lenslet(&design)?;
     {
         let channels_json: Vec<Value> = psfs
@@ -165,4 +168,29 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
         }
     }
     Ok(out)
+}
+
+/// The studio's PSF and MTF plots as figures (SVG and PNG) in `dir`: `psf-<channel>` on a log
+/// scale within [`figures::PSF_HALF_WIDTH_PX`] of the image point, and `mtf`.
+fn write_psf_figures(
+    dir: &Path,
+    psfs: &udc_core::phase::psf::PhasePsfs,
+    optics: PhaseOptics,
+) -> Result<Vec<PathBuf>> {
+    use udc_core::phase::figures;
+    let ours = figures::optics_label(optics);
+    let half = figures::PSF_HALF_WIDTH_PX as i64 + psfs.image_pixel.abs();
+    let mut written = Vec::new();
+    for (i, c) in psfs.channels.iter().enumerate() {
+        let stem = c.name.replace(|ch: char| !ch.is_ascii_alphanumeric(), "-");
+        let panel = figures::psf_panel(c, i, ours, half, true);
+        written.extend(udc_io::figure::write_panel(
+            dir,
+            &format!("psf-{stem}"),
+            &panel,
+        )?);
+    }
+    let panel = figures::mtf_panel(psfs, ours);
+    written.extend(udc_io::figure::write_panel(dir, "mtf", &panel)?);
+    Ok(written)
 }
