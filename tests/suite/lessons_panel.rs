@@ -150,6 +150,10 @@ fn the_microlens_lesson_sets_up_the_phase_workspace_and_checks_its_psfs() {
         h.state_mut().check_lesson(Guess::Number(4.2)),
         Some(Verdict::Right)
     );
+    h.state_mut().reveal_lesson();
+    h.step();
+    h.step();
+    crate::screenshots::capture(&mut h, "lesson-microlens-1024x700");
     // Step 3 refolds the plate at 610 nm: one undo step on the Phase workspace.
     let ctx = h.ctx.clone();
     h.state_mut().lessons_mut().go_to(2, &ctx);
