@@ -274,3 +274,53 @@ fn the_phase_and_sensor_commands_write_their_views_as_figures() {
         .to_rgba8();
     egui_kittest::image_snapshot(&png, "figure-sensor-gain");
 }
+
+/// The Restore view's pictures from `restore --figures`: the capture, the restoration and the
+/// difference (brightened), each a picture in pixels that parses as SVG.
+#[test]
+fn restore_writes_its_pictures_as_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/photos/astronaut_256.png"
+    );
+    let out = dir.path().join("restore");
+    let (ok, _, stderr) = run_cli(&[
+        "restore",
+        "--preset",
+        "toled-150dpi",
+        "--image",
+        photo,
+        "--max-side-px",
+        "64",
+        "--snr-db",
+        "30",
+        "--denoise",
+        "none",
+        "--out",
+        out.to_str().unwrap(),
+        "--figures",
+    ]);
+    assert!(ok, "{stderr}");
+    let figures: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with("-figure.svg"))
+        .collect();
+    for stage in ["captured", "restored", "difference"] {
+        let name = figures
+            .iter()
+            .find(|n| n.ends_with(&format!("_{stage}-figure.svg")))
+            .unwrap_or_else(|| panic!("{stage} among {figures:?}"));
+        let texts = svg_texts(&out.join(name));
+        assert!(
+            texts.iter().any(|t| t.contains("x (px)")),
+            "{stage}: {texts:?}"
+        );
+        assert!(
+            texts.iter().any(|t| t.contains(stage)),
+            "{stage}: the title"
+        );
+        assert!(out.join(name.replace(".svg", ".png")).exists());
+    }
+}

@@ -61,6 +61,42 @@ fn random_tiling_restores_better_than_the_pinned_periodic_toled() {
         2,
         "a row per design"
     );
+    // Right-click the first difference picture: Save figure… opens the window with it as a
+    // picture in pixels.
+    h.run_steps(2);
+    let at = h
+        .query_all_by_label_contains("|restored - truth|")
+        .map(|n| n.rect())
+        .max_by(|a, b| a.area().total_cmp(&b.area()))
+        .expect("the difference picture")
+        .center();
+    h.hover_at(at);
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Secondary,
+            pressed,
+            modifiers: Default::default(),
+        });
+        h.step();
+    }
+    h.run_steps(2);
+    h.get_by_label("Save figure…").click();
+    h.run_steps(2);
+    let figure = h
+        .state()
+        .save_figure()
+        .figure()
+        .expect("the window is open");
+    let panel = &figure.panels[0];
+    assert!(
+        panel.title.contains("|restored - truth|"),
+        "{}",
+        panel.title
+    );
+    assert_eq!(panel.x.unit.as_deref(), Some("px"));
+    assert_eq!(panel.images.len(), 1);
 }
 
 #[test]

@@ -318,6 +318,18 @@ pub struct Panel {
 }
 
 impl Panel {
+    /// A picture in pixels: `image` on x and y axes in px, rows counted down, one pixel square.
+    pub fn picture(title: String, image: Image) -> Panel {
+        Panel {
+            title,
+            x: Axis::new("x", Some("px")),
+            y: Axis::downward("y", Some("px")),
+            images: vec![image],
+            equal_aspect: true,
+            ..Panel::default()
+        }
+    }
+
     /// Whether the panel needs a legend: more than one series to tell apart (one series is
     /// named by the title, and a legend box would hide part of a small plot).
     pub fn wants_legend(&self) -> bool {

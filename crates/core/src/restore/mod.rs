@@ -38,6 +38,7 @@
 pub mod capture;
 pub mod cg;
 pub mod denoise;
+pub mod figures;
 pub mod light;
 pub mod quality;
 pub mod spectrum;

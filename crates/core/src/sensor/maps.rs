@@ -8,7 +8,7 @@ use std::sync::Arc;
 use ndarray::{Array2, Axis as Dim};
 
 use super::{BIN_SIZES, SensorRun, StrategyResult};
-use crate::figure::{Annotation, Axis, Category, ColorScale, Colormap, Image, Paint, Panel, Rgb};
+use crate::figure::{Annotation, Category, ColorScale, Colormap, Image, Paint, Panel, Rgb};
 
 /// The colours of the bin sizes 1, 2, 4 and 8 (a dark grey for no binning, then blue, amber
 /// and red as the bins grow).
@@ -59,23 +59,6 @@ pub fn max_gain(run: &SensorRun) -> f64 {
         .fold(1.0, f64::max)
 }
 
-/// Column and row axes in pixels, rows counted down.
-fn pixel_axes() -> (Axis, Axis) {
-    (Axis::new("x", Some("px")), Axis::downward("y", Some("px")))
-}
-
-fn picture(title: String, image: Image) -> Panel {
-    let (x, y) = pixel_axes();
-    Panel {
-        title,
-        x,
-        y,
-        images: vec![image],
-        equal_aspect: true,
-        ..Panel::default()
-    }
-}
-
 /// Display-ready planes as shared arrays.
 fn shared(planes: Vec<Array2<f64>>) -> Vec<Arc<Array2<f64>>> {
     planes.into_iter().map(Arc::new).collect()
@@ -96,7 +79,7 @@ fn seen(name: &str, electrons: &Array2<f64>, planes: Vec<Array2<f64>>) -> Image 
 
 /// The scene as ground truth: the exposed electrons, tone-mapped.
 pub fn scene_panel<S>(run: &SensorRun<S>) -> Panel {
-    picture(
+    Panel::picture(
         "Scene (ground truth, tone-mapped)".into(),
         seen("light", &run.electrons, run.truth_display_planes()),
     )
@@ -104,7 +87,7 @@ pub fn scene_panel<S>(run: &SensorRun<S>) -> Panel {
 
 /// A strategy's capture (its estimate of the electrons), tone-mapped.
 pub fn capture_panel(strategy: &StrategyResult) -> Panel {
-    picture(
+    Panel::picture(
         format!("Capture: {}", strategy.name),
         seen("estimate", &strategy.capture, strategy.display_planes()),
     )
@@ -122,7 +105,7 @@ pub fn gain_panel(strategy: &StrategyResult, max_gain: f64) -> Panel {
         },
         Colormap::Viridis,
     );
-    picture(format!("Gain map: {}", strategy.name), img)
+    Panel::picture(format!("Gain map: {}", strategy.name), img)
 }
 
 /// A strategy's bin map, one colour per bin size.
@@ -135,7 +118,7 @@ pub fn bin_panel(strategy: &StrategyResult) -> Panel {
         Colormap::Gray,
     )
     .painted(Paint::Categories(bin_categories()));
-    picture(format!("Bin map: {}", strategy.name), img)
+    Panel::picture(format!("Bin map: {}", strategy.name), img)
 }
 
 /// Where a strategy saturated, with the share of pixels and of ROIs in the title.
@@ -148,7 +131,7 @@ pub fn saturation_panel(strategy: &StrategyResult) -> Panel {
         Colormap::Gray,
     )
     .painted(Paint::Categories(saturation_categories()));
-    picture(
+    Panel::picture(
         format!(
             "Saturated: {:.2} % of pixels, {:.1} % of ROIs",
             100.0 * strategy.saturated_fraction,
@@ -190,7 +173,7 @@ pub fn split_panel(a: &StrategyResult, b: &StrategyResult, split_col: usize) -> 
         split,
         cols,
     ));
-    let mut panel = picture(format!("A: {} | B: {}", a.name, b.name), images.remove(0));
+    let mut panel = Panel::picture(format!("A: {} | B: {}", a.name, b.name), images.remove(0));
     panel.images.extend(images);
     panel.annotations.push(Annotation::VLine {
         x: split as f64 - 0.5,

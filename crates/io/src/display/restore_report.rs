@@ -177,6 +177,29 @@ pub fn write_restored_images<T: Sample>(
     Ok(vec![png, exr, difference])
 }
 
+/// Draws planes as the Restore view's picture of `name` (`captured`, `denoised`, `restored`,
+/// `difference`: brightened by [`DIFFERENCE_GAIN`]), a figure with pixel axes, as
+/// `{stem}_{name}-figure.svg` and `.png` in `dir` (created if needed). Returns the paths.
+///
+/// # Errors
+/// As [`write_run_images`].
+pub fn write_stage_figure<T: Sample>(
+    dir: &Path,
+    stem: &str,
+    name: &str,
+    planes: &[Array2<T>],
+) -> Result<Vec<PathBuf>, IoError> {
+    std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
+    let gain = if name == "difference" {
+        DIFFERENCE_GAIN
+    } else {
+        1.0
+    };
+    let refs: Vec<&Array2<T>> = planes.iter().collect();
+    let panel = udc_core::restore::figures::photo_panel(&format!("{stem}: {name}"), &refs, gain);
+    crate::figure::write_panel(dir, &format!("{stem}_{name}-figure"), &panel)
+}
+
 /// The rows of a phase-mask setup comparison as CSV (`phase restore --compare --out` and the
 /// studio's "Save CSV…"): one line per setup, photo and light level, full precision.
 pub fn compare_csv(rows: &[CompareRow], photo_names: &[String]) -> String {

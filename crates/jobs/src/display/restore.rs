@@ -96,6 +96,11 @@ pub struct RestoreJob {
     /// this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Also draw the Restore view's pictures into `--out` as figures with pixel axes (SVG and
+    /// PNG): the capture, the denoised capture, the restoration and its difference.
+    #[arg(long, requires = "out")]
+    #[serde(default)]
+    pub figures: bool,
 }
 
 impl Default for RestoreJob {
@@ -118,6 +123,7 @@ impl Default for RestoreJob {
             pad_linear: false,
             denoise: DenoiseFlags::default(),
             out: None,
+            figures: false,
         }
     }
 }
@@ -153,8 +159,10 @@ impl RestoreJob {
 /// unwritable outputs, cancellation.
 pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
     use udc_core::restore::capture::REFERENCE_LTR;
+    use udc_core::restore::figures::difference_planes;
     use udc_core::restore::{
-        CaptureSettings, CgSettings, Light, Method, Padding, RestoreSettings, simulate_with,
+        CaptureSettings, CgSettings, Intermediate, Light, Method, Padding, RestoreSettings,
+        simulate_with,
     };
     use udc_io::display::restore_report;
     use udc_io::photo;
@@ -186,6 +194,7 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
             padding,
             denoise: &args.denoise,
             out: args.out.as_deref(),
+            figures: args.figures,
         };
         return super::restore_measured::restore_measured(&run, progress);
     }
@@ -283,6 +292,15 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
                     outputs.extend(restore_report::write_stage_images(
                         dir, &stem, stage, planes,
                     )?);
+                    if args.figures {
+                        let name = match stage {
+                            Intermediate::Captured => "captured",
+                            Intermediate::Denoised => "denoised",
+                        };
+                        outputs.extend(restore_report::write_stage_figure(
+                            dir, &stem, name, planes,
+                        )?);
+                    }
                 }
                 Ok(())
             },
@@ -294,6 +312,21 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
                 &photo,
                 &result.restored,
             )?);
+            if args.figures {
+                outputs.extend(restore_report::write_stage_figure(
+                    dir,
+                    &stem,
+                    "restored",
+                    &result.restored,
+                )?);
+                let difference = difference_planes(&result.restored, &photo);
+                outputs.extend(restore_report::write_stage_figure(
+                    dir,
+                    &stem,
+                    "difference",
+                    &difference,
+                )?);
+            }
         }
         runs.push(restore_report::run_json(&result, &names, &outputs));
         {

@@ -31,6 +31,8 @@ pub struct MeasuredRun<'a> {
     pub denoise: &'a DenoiseFlags,
     /// Where to write the images.
     pub out: Option<&'a Path>,
+    /// Also write the pictures as figures (`restore --figures`).
+    pub figures: bool,
 }
 
 /// The note on a PSF set's negative samples set to 0 (`share`: the largest share of a
@@ -176,6 +178,18 @@ pub fn restore_measured(args: &MeasuredRun<'_>, progress: &Progress) -> Result<R
             truth_or_capture,
             &restored,
         )?);
+        if args.figures {
+            use udc_io::display::restore_report::write_stage_figure;
+            let difference =
+                udc_core::restore::figures::difference_planes(&restored, truth_or_capture);
+            for (name, planes) in [
+                ("captured", &capture),
+                ("restored", &restored),
+                ("difference", &difference),
+            ] {
+                files.extend(write_stage_figure(dir, stem, name, planes)?);
+            }
+        }
     }
     let mut out = Report::default();
     let (rows, cols) = capture.first().map_or((0, 0), Array2::dim);

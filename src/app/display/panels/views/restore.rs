@@ -15,7 +15,9 @@ use crate::app::display::panels::{PanelCtx, Pinned, Shown};
 use crate::app::job::{Job, Keyed};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::Analysis;
+use crate::core::figure::Panel;
 use crate::core::restore::capture::REFERENCE_LTR;
+use crate::core::restore::figures::{difference_planes, photo_panel};
 use crate::core::restore::{
     CaptureSettings, CgSettings, Denoise, Light, Method, Recipe, RestoreResult, RestoreSettings,
     Sigma2, THESIS_NSR, simulate,
@@ -52,7 +54,48 @@ struct Key {
 struct Row {
     label: String,
     result: RestoreResult,
-    textures: Vec<(TextureHandle, String)>,
+    textures: Vec<Picture>,
+}
+
+/// One of a row's pictures: its texture and the stage it shows.
+struct Picture {
+    texture: TextureHandle,
+    stage: Stage,
+}
+
+/// The stages a row shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Stage {
+    Captured,
+    Denoised,
+    Restored,
+    Difference,
+}
+
+fn stage_name(stage: Stage) -> &'static str {
+    match stage {
+        Stage::Captured => "captured",
+        Stage::Denoised => "denoised",
+        Stage::Restored => "restored",
+        Stage::Difference => "difference",
+    }
+}
+
+/// The gain a stage is shown with: the difference is brightened to be seen.
+fn gain(stage: Stage) -> f64 {
+    if stage == Stage::Difference {
+        DIFFERENCE_GAIN
+    } else {
+        1.0
+    }
+}
+
+fn caption(stage: Stage) -> String {
+    match stage {
+        Stage::Denoised => "denoised (BM3D)".into(),
+        Stage::Difference => format!("|restored - truth| x {DIFFERENCE_GAIN:.0}"),
+        Stage::Captured | Stage::Restored => stage_name(stage).into(),
+    }
 }
 
 /// The Restore view's state: the photo, the light level and restoration method, the background
@@ -190,13 +233,10 @@ impl RestoreView {
                             let c: Vec<&Array2<f64>> = result.captured.iter().collect();
                             let n: Vec<&Array2<f64>> = result.denoised.iter().collect();
                             let r: Vec<&Array2<f64>> = result.restored.iter().collect();
-                            let truth = self.photo.as_ref().map(|p| &p.planes);
-                            let diff: Vec<Array2<f64>> = result
-                                .restored
-                                .iter()
-                                .zip(truth.into_iter().flatten())
-                                .map(|(r, t)| (r - t).mapv(f64::abs))
-                                .collect();
+                            let diff: Vec<Array2<f64>> = match &self.photo {
+                                Some(p) => difference_planes(&result.restored, &p.planes),
+                                None => Vec::new(),
+                            };
                             let d: Vec<&Array2<f64>> = diff.iter().collect();
                             let tex = |name: &str, img| {
                                 ctx.load_texture(
@@ -205,20 +245,16 @@ impl RestoreView {
                                     TextureOptions::LINEAR,
                                 )
                             };
-                            let mut textures =
-                                vec![(tex("captured", color_image(&c, 1.0)), "captured".into())];
+                            let picture = |stage, planes: &[&Array2<f64>]| Picture {
+                                texture: tex(stage_name(stage), color_image(planes, gain(stage))),
+                                stage,
+                            };
+                            let mut textures = vec![picture(Stage::Captured, &c)];
                             if !n.is_empty() {
-                                textures.push((
-                                    tex("denoised", color_image(&n, 1.0)),
-                                    "denoised (BM3D)".into(),
-                                ));
+                                textures.push(picture(Stage::Denoised, &n));
                             }
-                            textures
-                                .push((tex("restored", color_image(&r, 1.0)), "restored".into()));
-                            textures.push((
-                                tex("difference", color_image(&d, DIFFERENCE_GAIN)),
-                                format!("|restored - truth| x {DIFFERENCE_GAIN:.0}"),
-                            ));
+                            textures.push(picture(Stage::Restored, &r));
+                            textures.push(picture(Stage::Difference, &d));
                             Row {
                                 label,
                                 result,
@@ -439,6 +475,24 @@ impl RestoreView {
         });
     }
 
+    /// A row's stage as a figure panel, titled with the row and the caption.
+    fn stage_panel(&self, row: &Row, stage: Stage, caption: &str) -> Panel {
+        let r = &row.result;
+        let title = format!("{}: {caption}", row.label);
+        let refs = |v: &[Array2<f64>]| -> Vec<Array2<f64>> { v.to_vec() };
+        let planes = match stage {
+            Stage::Captured => refs(&r.captured),
+            Stage::Denoised => refs(&r.denoised),
+            Stage::Restored => refs(&r.restored),
+            Stage::Difference => match &self.photo {
+                Some(p) => difference_planes(&r.restored, &p.planes),
+                None => Vec::new(),
+            },
+        };
+        let planes: Vec<&Array2<f64>> = planes.iter().collect();
+        photo_panel(&title, &planes, gain(stage))
+    }
+
     fn images_ui(&self, ui: &mut Ui) {
         // Up to four pictures in a row fit the view's width (a 1024-point window included).
         let gap = ui.spacing().item_spacing.x;
@@ -478,13 +532,24 @@ impl RestoreView {
                 );
             }
             ui.horizontal(|ui| {
-                for (t, caption) in &row.textures {
+                for p in &row.textures {
                     ui.vertical(|ui| {
-                        ui.label(caption);
-                        ui.add(
-                            egui::Image::new((t.id(), size_of(t)))
-                                .alt_text(format!("{} {caption}", row.label)),
+                        let caption = caption(p.stage);
+                        ui.label(&caption);
+                        let response = ui.add(
+                            egui::Image::new((p.texture.id(), size_of(&p.texture)))
+                                .alt_text(format!("{} {caption}", row.label))
+                                .sense(egui::Sense::click()),
                         );
+                        // The figure is drawn from the planes only when asked for: a photo's
+                        // planes are too large to copy into a panel per picture and frame.
+                        response.context_menu(|ui| {
+                            if ui.button("Save figure…").clicked() {
+                                let panel = self.stage_panel(row, p.stage, &caption);
+                                crate::app::widgets::figure::request_save(ui.ctx(), &panel);
+                                ui.close();
+                            }
+                        });
                     });
                 }
             });
