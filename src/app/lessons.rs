@@ -310,16 +310,8 @@ impl LessonsPanel {
                 ));
                 return None;
             };
-            return match phase_answer(q, &p.design, &p.psfs) {
-                Ok(a) => {
-                    self.message = None;
-                    Some((a, tolerance))
-                }
-                Err(e) => {
-                    self.message = Some(Notice::error(e.to_string()));
-                    None
-                }
-            };
+            let measured = phase_answer(q, &p.design, &p.psfs);
+            return self.settle(measured, tolerance);
         }
         let Some(shown) = on.display.as_ref() else {
             self.message = Some(Notice::info(
@@ -339,7 +331,17 @@ impl LessonsPanel {
             },
             _ => None,
         };
-        match answer(q, &shown.design, &shown.analysis, other) {
+        let measured = answer(q, &shown.design, &shown.analysis, other);
+        self.settle(measured, tolerance)
+    }
+
+    /// A measured answer with its tolerance, or its error shown as the panel's message.
+    fn settle(
+        &mut self,
+        measured: Result<Answer, crate::core::SimError>,
+        tolerance: f64,
+    ) -> Option<(Answer, f64)> {
+        match measured {
             Ok(a) => {
                 self.message = None;
                 Some((a, tolerance))

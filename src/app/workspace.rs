@@ -122,6 +122,18 @@ pub enum Request {
         /// Where it came from ("point 3 of sweep `tiny`"), for the status bar.
         what: String,
     },
+    /// Open New study… for this design (the Sweep workspace); `reference` is its analysis
+    /// time on screen, ms, and the quality it ran at, to scale the study's estimate.
+    NewStudy {
+        /// The design to vary.
+        design: Box<Design>,
+        /// Its analysis time and quality, when a result is on screen.
+        reference: Option<(f64, crate::core::analysis::analyze::Quality)>,
+        /// One field to vary alone ("Study this parameter…"); `None`: the dialog's start.
+        field: Option<crate::core::sweep::one_axis::SweepParameter>,
+    },
+    /// Send the current design to the Sweep workspace's New study… (the Display workspace).
+    StudyCurrentDesign,
 }
 
 /// What waits for the answer of the unsaved-changes prompt.

@@ -80,15 +80,7 @@ fn a_mystery_aperture_is_scored_against_the_drawing_and_revealed() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio_small(dir.path());
     h.step();
-    let (name, text) = udc_studio::io::lesson::SHIPPED
-        .iter()
-        .find(|(n, _)| *n == "09-mystery.toml")
-        .unwrap();
-    let lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
-    let ctx = h.ctx.clone();
-    h.state_mut()
-        .lessons_mut()
-        .start((*name).to_owned(), lesson, &ctx);
+    start_shipped(&mut h, "09-mystery.toml");
     step_until(&mut h, "the mystery and the canvas", |app| {
         app.lessons().mystery_ready() && common::display_up_to_date(app)
     });
@@ -128,15 +120,7 @@ fn the_microlens_lesson_sets_up_the_phase_workspace_and_checks_its_psfs() {
     let dir = tempfile::tempdir().unwrap();
     let mut h = common::studio_small(dir.path());
     h.step();
-    let (name, text) = udc_studio::io::lesson::SHIPPED
-        .iter()
-        .find(|(n, _)| *n == "11-microlens-arrays.toml")
-        .unwrap();
-    let lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
-    let ctx = h.ctx.clone();
-    h.state_mut()
-        .lessons_mut()
-        .start((*name).to_owned(), lesson, &ctx);
+    start_shipped(&mut h, "11-microlens-arrays.toml");
     h.step();
     assert_eq!(h.state().workspace(), WorkspaceId::Phase);
     assert_eq!(h.state().phase().design().pitch_um, 42.0);
@@ -175,4 +159,17 @@ fn the_microlens_lesson_sets_up_the_phase_workspace_and_checks_its_psfs() {
         h.state().phase().design().lambda0,
         Lambda0::Fixed { nm: 530.0 }
     );
+}
+
+/// Starts the shipped lesson `file` in the studio, as picking it from the list does.
+fn start_shipped(h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>, file: &str) {
+    let (name, text) = udc_studio::io::lesson::SHIPPED
+        .iter()
+        .find(|(n, _)| *n == file)
+        .unwrap();
+    let lesson = udc_studio::io::lesson::parse_lesson(text).unwrap();
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .lessons_mut()
+        .start((*name).to_owned(), lesson, &ctx);
 }

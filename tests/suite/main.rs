@@ -66,6 +66,7 @@ mod sensor_colour;
 mod sensor_panel;
 mod sensor_study;
 mod studio;
+mod study;
 mod sweep;
 mod sweep_cli;
 mod sweep_slurm;

@@ -70,18 +70,7 @@ fn random_tiling_restores_better_than_the_pinned_periodic_toled() {
         .max_by(|a, b| a.area().total_cmp(&b.area()))
         .expect("the difference picture")
         .center();
-    h.hover_at(at);
-    h.step();
-    for pressed in [true, false] {
-        h.event(egui::Event::PointerButton {
-            pos: at,
-            button: egui::PointerButton::Secondary,
-            pressed,
-            modifiers: Default::default(),
-        });
-        h.step();
-    }
-    h.run_steps(2);
+    common::right_click(&mut h, at);
     h.get_by_label("Save figure…").click();
     h.run_steps(2);
     let figure = h

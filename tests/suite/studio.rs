@@ -510,7 +510,10 @@ fn the_help_menu_tours_every_workspace() {
             "1. The left sets the two microlens arrays",
         ),
         (WorkspaceId::Sensor, "1. Open an HDR scene"),
-        (WorkspaceId::Sweep, "1. Run a sweep on the command line"),
+        (
+            WorkspaceId::Sweep,
+            "1. Study > New study… in Display layouts",
+        ),
     ] {
         h.state_mut().set_workspace(ws);
         h.run_steps(2);

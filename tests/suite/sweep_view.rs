@@ -244,18 +244,7 @@ fn the_context_menu_of_a_number_field_opens_the_sweep_window() {
     h.step();
     // Right-click the number field (labelled by its label) with the pointer.
     let at = h.get_by_label("Wiring gap").rect().center();
-    h.hover_at(at);
-    h.step();
-    for pressed in [true, false] {
-        h.event(egui::Event::PointerButton {
-            pos: at,
-            button: egui::PointerButton::Secondary,
-            pressed,
-            modifiers: Default::default(),
-        });
-        h.step();
-    }
-    h.run_steps(2);
+    common::right_click(&mut h, at);
     h.get_by_label("Sweep this parameter…").click();
     h.step();
     h.step();

@@ -86,6 +86,9 @@ pub enum DisplayAction {
     },
     /// Open the 1-D sweep window for this field of the current design.
     SweepParameter(crate::core::sweep::one_axis::SweepParameter),
+    /// Open New study… in the Sweep workspace for the current design: with every axis the
+    /// dialog starts with, or this one field alone.
+    NewStudy(Option<crate::core::sweep::one_axis::SweepParameter>),
     /// Open a specific file (recent files, drag and drop, tests).
     OpenPath(std::path::PathBuf),
     /// Save to the current file, or ask for one when the design has never been saved.

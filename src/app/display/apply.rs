@@ -94,6 +94,7 @@ impl DisplayWorkspace {
                 self.submit();
                 shell.set_status(Notice::info(format!("opened {what} (Ctrl+Z goes back)")));
             }
+            DisplayAction::NewStudy(field) => self.new_study(field, shell),
             DisplayAction::SweepParameter(field) => {
                 let design = self.doc.design().clone();
                 self.panels.one_axis_sweep.open(field, design);

@@ -90,6 +90,18 @@ impl DisplayWorkspace {
                 });
             }
         });
+        ui.menu_button("Study", |ui| {
+            if ui
+                .button("New study…")
+                .on_hover_text(
+                    "Vary this design over DPI, tiling, seeds or any of its numbers in the \
+                     Sweep workspace: a results folder that resumes, filled live",
+                )
+                .clicked()
+            {
+                actions.push(DisplayAction::NewStudy(None));
+            }
+        });
         ui.menu_button("Compare", |ui| {
             let pin = egui::Button::new("Pin current design as A")
                 .shortcut_text(ui.ctx().format_shortcut(&action::PIN));

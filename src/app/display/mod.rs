@@ -107,6 +107,28 @@ pub struct DisplayWorkspace {
 }
 
 impl DisplayWorkspace {
+    /// Opens New study… in the Sweep workspace for the design on screen (`field` alone as
+    /// its axis, if given), with its analysis time to scale the estimate when its result is
+    /// the design's.
+    pub fn new_study(
+        &mut self,
+        field: Option<crate::core::sweep::one_axis::SweepParameter>,
+        shell: &mut Shell,
+    ) {
+        let reference = self
+            .shown()
+            .filter(|_| self.is_up_to_date())
+            .map(|s| (s.analysis.elapsed_ms, s.quality));
+        shell.send(
+            WorkspaceId::Sweep,
+            Request::NewStudy {
+                design: Box::new(self.design().clone()),
+                reference,
+                field,
+            },
+        );
+    }
+
     /// Opens `design_path`, or restores the autosave, or the default preset; a problem is
     /// reported in the shell's status bar.
     pub fn new(shell: &mut Shell, design_path: Option<PathBuf>) -> Self {
@@ -486,6 +508,8 @@ impl Workspace for DisplayWorkspace {
             Request::OpenDesign { design, what } => {
                 self.act(DisplayAction::OpenDesign { design, what }, shell);
             }
+            Request::StudyCurrentDesign => self.new_study(None, shell),
+            Request::NewStudy { .. } => {}
         }
     }
 

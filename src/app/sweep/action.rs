@@ -24,4 +24,13 @@ pub enum SweepAction {
     Sort(Sort),
     /// The user's own plot.
     Custom(CustomPlot),
+    /// New study from the Display workspace's current design (asks it for the design).
+    NewStudy,
+    /// Stop the running study after the points in flight.
+    CancelStudy,
+    /// Run what is left of the study in the open results folder.
+    ResumeStudy,
+    /// Run the shipped example sweep of this file name (`io::sweep::EXAMPLES`) in a new
+    /// folder.
+    RunExample(&'static str),
 }

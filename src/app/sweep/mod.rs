@@ -7,6 +7,8 @@ mod action;
 pub mod derive;
 mod open;
 mod plots_view;
+pub mod study;
+pub mod study_dialog;
 pub mod table;
 mod table_view;
 mod workspace;
@@ -56,6 +58,15 @@ pub struct SweepWorkspace {
     /// What the panels and menus queued this frame, carried out after the UI.
     actions: Vec<SweepAction>,
     panels: Panels,
+    /// New study….
+    pub study_dialog: study_dialog::StudyDialog,
+    /// The study running, if any.
+    study: Option<study::StudyRun>,
+    /// Hold a study's workers after this many new points until it is cancelled: a run that is
+    /// certain to be interrupted midway (the interruption tests).
+    pub hold_after_points: Option<u64>,
+    /// How the last study ended, shown once its folder has been read again.
+    study_end: Option<Notice>,
 }
 
 /// The workspace's panels: each draws from a [`SweepCtx`] and queues [`SweepAction`]s.
@@ -78,6 +89,11 @@ pub struct SweepCtx<'a> {
     pub reading: Option<(&'a Path, f32)>,
     /// A folder dialog is open.
     pub asking: bool,
+    /// The study running: its share done and seconds since it started.
+    pub study: Option<(f32, f64)>,
+    /// Whether the open table's study can be resumed here (it is not complete and its
+    /// folder holds its spec).
+    pub resumable: bool,
     /// The last results folder opened (Reopen last).
     pub last_sweep: Option<&'a PathBuf>,
     /// The message line.
@@ -105,6 +121,15 @@ impl SweepWorkspace {
                 .current()
                 .map(|(dir, job)| (dir.as_path(), job.fraction())),
             asking: self.dialog.is_some(),
+            study: self
+                .study
+                .as_ref()
+                .map(|r| (r.fraction(), r.elapsed().as_secs_f64())),
+            resumable: self.study.is_none()
+                && self
+                    .table
+                    .as_ref()
+                    .is_some_and(|t| !t.manifest.complete && t.dir.join(study::SPEC_FILE).exists()),
             last_sweep: shell.settings.last_sweep.as_ref(),
             message: self.message.as_ref(),
             filter: &self.filter,
@@ -142,6 +167,14 @@ impl SweepWorkspace {
             SweepAction::Filter(filter) => self.filter = filter,
             SweepAction::Sort(sort) => self.sort = sort,
             SweepAction::Custom(custom) => self.custom = custom,
+            SweepAction::NewStudy => shell.send(WorkspaceId::Display, Request::StudyCurrentDesign),
+            SweepAction::CancelStudy => {
+                if let Some(r) = &self.study {
+                    r.cancel();
+                }
+            }
+            SweepAction::ResumeStudy => self.resume_study(shell),
+            SweepAction::RunExample(name) => self.run_example(name, shell),
         }
     }
 
@@ -150,6 +183,144 @@ impl SweepWorkspace {
         for action in std::mem::take(&mut self.actions) {
             self.act(action, shell);
         }
+    }
+
+    /// Runs `study` of `design` in a new folder under the studio's data folder (or a scratch
+    /// one when nothing is kept), and shows its rows as they land.
+    pub fn start_study(&mut self, request: study_dialog::RunRequest, shell: &mut Shell) {
+        if self.study.is_some() {
+            self.message = Some(Notice::error(
+                "a study is running: cancel it or wait for it before starting another",
+            ));
+            return;
+        }
+        let dir = self.new_study_dir(shell, "study");
+        match study::write_study(&dir, &request.design, &request.study) {
+            Ok(spec) if request.cluster => self.message = Some(study::write_cluster(&dir, &spec)),
+            Ok(spec) => self.run_study(dir, spec, shell),
+            Err(e) => self.message = Some(Notice::error(format!("cannot start the study: {e}"))),
+        }
+    }
+
+    /// Runs the shipped example `name` in a new folder under the studio's data folder.
+    fn run_example(&mut self, name: &str, shell: &mut Shell) {
+        let Some((_, text)) = crate::io::sweep::EXAMPLES.iter().find(|(n, _)| *n == name) else {
+            return;
+        };
+        let spec = match crate::io::sweep::parse_spec(text, true) {
+            Ok(s) => s,
+            Err(e) => {
+                self.message = Some(Notice::error(format!("{name}: {e}")));
+                return;
+            }
+        };
+        let dir = self.new_study_dir(shell, name.trim_end_matches(".toml"));
+        if let Err(e) = std::fs::create_dir_all(&dir) {
+            self.message = Some(Notice::error(format!(
+                "cannot create {}: {e}",
+                dir.display()
+            )));
+            return;
+        }
+        self.run_study(dir, spec, shell);
+    }
+
+    /// A new folder for a study's results under the studio's data folder (a scratch one when
+    /// the session keeps nothing), named `stem` and the time.
+    fn new_study_dir(&self, shell: &Shell, stem: &str) -> PathBuf {
+        let stamp = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_millis());
+        shell
+            .dirs
+            .data_dir
+            .clone()
+            .unwrap_or_else(std::env::temp_dir)
+            .join("studies")
+            .join(format!("{stem}-{stamp}"))
+    }
+
+    /// Runs `spec` into `dir` and opens the folder as its first rows land.
+    fn run_study(&mut self, dir: PathBuf, spec: crate::core::sweep::SweepSpec, shell: &mut Shell) {
+        let dir = std::fs::canonicalize(&dir).unwrap_or(dir);
+        self.message = Some(Notice::info(format!(
+            "running {} points into {}",
+            crate::core::sweep::Points::new(&spec).map_or(0, |p| p.count()),
+            dir.display()
+        )));
+        shell.settings.last_sweep = Some(dir.clone());
+        shell.save_settings();
+        self.study = Some(study::StudyRun::start(
+            dir,
+            spec,
+            self.hold_after_points,
+            shell.waker(),
+        ));
+    }
+
+    /// Runs what is left of the open table's study (its folder's spec).
+    fn resume_study(&mut self, shell: &mut Shell) {
+        let Some(dir) = self.table.as_ref().map(|t| t.dir.clone()) else {
+            return;
+        };
+        match study::saved_spec(&dir) {
+            Ok(Some(spec)) => self.run_study(dir, spec, shell),
+            Ok(None) => {
+                self.message = Some(Notice::error(format!(
+                    "{} holds no {}: resume it with udc-studio sweep",
+                    dir.display(),
+                    study::SPEC_FILE
+                )));
+            }
+            Err(e) => self.message = Some(Notice::error(e.to_string())),
+        }
+    }
+
+    /// Whether a study is running.
+    pub fn is_studying(&self) -> bool {
+        self.study.is_some()
+    }
+
+    /// Takes the running study's news: re-reads its folder as rows land, and its end.
+    fn poll_study(&mut self, shell: &mut Shell) {
+        let Some(run) = &mut self.study else {
+            return;
+        };
+        let dir = run.dir.clone();
+        // Rows that land while a read runs wait for the next one.
+        let reread = !self.load.is_running() && run.take_new_rows();
+        let end = run.poll();
+        let landed = run.landed();
+        let unread = landed > run.read_rows();
+        if reread {
+            self.open_folder(&dir, shell.waker());
+        }
+        let Some(end) = end else {
+            // Rows that landed just after a read are read once the pause is over, even if no
+            // other row lands to wake the UI.
+            if unread {
+                shell.ctx.request_repaint_after(study::REREAD_EVERY);
+            }
+            return;
+        };
+        self.study = None;
+        self.study_end = Some(match end {
+            Ok(s) if s.complete => Notice::info(format!(
+                "the study is complete: {} points ({} failed) in {:.1} s",
+                s.rows, s.failed_total, s.elapsed_s
+            )),
+            Ok(s) => Notice::info(format!(
+                "{} of {} points: Resume runs the rest",
+                s.rows, s.total
+            )),
+            Err(JobError::Cancelled) => Notice::info(format!(
+                "the study was cancelled after {landed} new points; Resume runs the rest"
+            )),
+            Err(e) => Notice::error(format!("the study stopped: {e}")),
+        });
+        self.message.clone_from(&self.study_end);
+        // The last rows, and the manifest's final word on completeness.
+        self.open_folder(&dir, shell.waker());
     }
 
     /// The table on screen, if a folder was read.
@@ -258,13 +429,19 @@ impl SweepWorkspace {
         if let Some((dir, done)) = self.load.poll() {
             match done {
                 Ok(t) => {
-                    self.message = Some(Notice::info(format!(
-                        "read {} rows ({} failed) of sweep `{}` from {}",
-                        t.rows.len(),
-                        t.manifest.failed,
-                        t.manifest.spec.name,
-                        t.dir.display()
-                    )));
+                    // A running study's own message (its progress) stays, and how one
+                    // ended replaces the reader's.
+                    if let Some(end) = self.study_end.take() {
+                        self.message = Some(end);
+                    } else if self.study.is_none() {
+                        self.message = Some(Notice::info(format!(
+                            "read {} rows ({} failed) of sweep `{}` from {}",
+                            t.rows.len(),
+                            t.manifest.failed,
+                            t.manifest.spec.name,
+                            t.dir.display()
+                        )));
+                    }
                     self.default_custom_plot(&t);
                     self.table = Some(Arc::new(t));
                     self.view = None;
@@ -291,6 +468,7 @@ impl SweepWorkspace {
             }
         }
         self.poll_opening(shell);
+        self.poll_study(shell);
         self.refresh_view(shell);
     }
 

@@ -4,7 +4,7 @@
 
 use super::derive::title;
 use super::{SweepAction, SweepCtx};
-use crate::app::widgets::figure::panel_ui;
+use crate::app::widgets::figure::{PlotFrame, panel_ui_in};
 
 /// The bottom panel: the user's plot picker and every plot side by side.
 #[derive(Default)]
@@ -53,8 +53,14 @@ impl PlotsPanel {
                         ui.colored_label(ui.visuals().error_fg_color, e.to_string());
                     }
                     (Ok(_), Some(panel)) => {
-                        let height = ui.available_height().max(120.0);
-                        panel_ui(ui, ("sweep_plot", k, name), panel, height);
+                        // The legend above the plot: never over the points (a group's line, a
+                        // Pareto front), and a click on a name hides its series.
+                        let legend = if panel.wants_legend() { 48.0 } else { 0.0 };
+                        let frame = PlotFrame {
+                            legend_above: panel.wants_legend(),
+                            ..PlotFrame::tall((ui.available_height() - legend).max(120.0))
+                        };
+                        panel_ui_in(ui, ("sweep_plot", k, name), panel, frame);
                     }
                     (Ok(_), None) => {}
                 }

@@ -63,9 +63,10 @@ impl ControlsPanel {
                 ctx.actions.push(SweepAction::CancelLoad);
             }
         }
+        study_ui(ui, ctx);
         crate::app::widgets::message_ui(ui, ctx.message);
         let Some(t) = ctx.table else {
-            ui.weak("No results open yet.");
+            empty_ui(ui, ctx);
             return;
         };
         let m = &t.manifest;
@@ -80,9 +81,12 @@ impl ControlsPanel {
                 };
                 row("name", m.spec.name.clone());
                 row("job", m.spec.job.as_str().to_string());
+                // Counted from the rows read, which a running study adds to before it writes
+                // its manifest again.
+                let failed = t.rows.iter().filter(|r| !r.error.is_empty()).count();
                 row(
                     "rows",
-                    format!("{} of {} points ({} failed)", m.rows, m.points, m.failed),
+                    format!("{} of {} points ({failed} failed)", t.rows.len(), m.points),
                 );
                 row(
                     "complete",
@@ -256,4 +260,78 @@ fn cell_ui(ui: &mut egui::Ui, text: &str, c: Column, width: f32, height: f32) {
             r.on_hover_text(text);
         }
     });
+}
+
+/// A running study's progress bar with its ETA and Cancel, or Resume for an open study that
+/// is not complete.
+fn study_ui(ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
+    if let Some((fraction, elapsed_s)) = ctx.study {
+        let eta = if fraction > 0.0 && fraction < 1.0 {
+            let left = elapsed_s * f64::from(1.0 - fraction) / f64::from(fraction);
+            format!(", about {} left", super::study_dialog::duration_text(left))
+        } else {
+            String::new()
+        };
+        ui.add(
+            egui::ProgressBar::new(fraction).text(format!("study {:.0} %{eta}", 100.0 * fraction)),
+        );
+        if ui
+            .button("Cancel study")
+            .on_hover_text("Stops after the points in flight; Resume runs the rest")
+            .clicked()
+        {
+            ctx.actions.push(SweepAction::CancelStudy);
+        }
+    } else if ctx.resumable
+        && ui
+            .button("Resume study")
+            .on_hover_text("Runs the points the folder does not hold yet")
+            .clicked()
+    {
+        ctx.actions.push(SweepAction::ResumeStudy);
+    }
+}
+
+/// The empty state: how to get results.
+fn empty_ui(ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
+    ui.separator();
+    ui.label("No results open yet. Start one:");
+    if ui
+        .add_enabled(
+            ctx.study.is_none(),
+            egui::Button::new("New study from the current design…"),
+        )
+        .on_hover_text(
+            "Vary the Display workspace's design over DPI, tiling, seeds or any of its numbers",
+        )
+        .clicked()
+    {
+        ctx.actions.push(SweepAction::NewStudy);
+    }
+    for (name, text) in crate::io::sweep::EXAMPLES {
+        let title = text
+            .lines()
+            .find_map(|l| l.strip_prefix("name = "))
+            .map_or(*name, |t| t.trim_matches('"'));
+        if ui
+            .add_enabled(
+                ctx.study.is_none(),
+                egui::Button::new(format!("Run the example: {title}")),
+            )
+            .on_hover_text(format!(
+                "presets/sweeps/{name}, run in a new results folder"
+            ))
+            .clicked()
+        {
+            ctx.actions.push(SweepAction::RunExample(name));
+        }
+    }
+    ui.label(
+        RichText::new(
+            "The thesis's results: Help > Reproduce thesis results (their specs are in \
+             presets/reproduce/). A folder written by udc-studio sweep: Open… above, or drop \
+             it on the window.",
+        )
+        .weak(),
+    );
 }

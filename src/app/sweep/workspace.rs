@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::SweepWorkspace;
-use crate::app::workspace::{DroppedKind, Shell, Workspace, WorkspaceId};
+use crate::app::workspace::{DroppedKind, Request, Shell, Workspace, WorkspaceId};
 
 impl Workspace for SweepWorkspace {
     fn id(&self) -> WorkspaceId {
@@ -21,13 +21,16 @@ impl Workspace for SweepWorkspace {
     }
 
     fn hint(&self) -> &'static str {
-        "Ready. File > Open sweep results… (a folder written by `udc-studio sweep SPEC --out \
-         DIR`), or drop the folder on the window."
+        "Ready. New study from the current design…, or File > Open sweep results… (a folder \
+         written by `udc-studio sweep SPEC --out DIR`), or drop the folder on the window."
     }
 
     fn tour(&self) -> &'static [&'static str] {
         &[
-            "Run a sweep on the command line: udc-studio sweep SPEC.toml --out DIR.",
+            "Study > New study… in Display layouts (or New study from the current design… \
+             here): pick axes and metrics, see the points and the time it expects, Run. The \
+             table and plots fill as the points finish; Cancel and Resume keep every point.",
+            "Or run a sweep on the command line: udc-studio sweep SPEC.toml --out DIR.",
             "File > Open sweep results… and choose DIR (or drop it, its sweep.json or its \
              results.csv on the window).",
             "Click a column's header to sort by it (again: the other way); type in Filter to \
@@ -47,6 +50,23 @@ impl Workspace for SweepWorkspace {
         // Jobs are taken here, before drawing, so a finished read shows in this frame.
         self.poll(shell);
         self.panels_ui(ui, shell);
+        if let Some(run) = self.study_dialog.ui(ui.ctx()) {
+            self.start_study(run, shell);
+        }
+    }
+
+    fn request(&mut self, request: Request, _shell: &mut Shell) {
+        if let Request::NewStudy {
+            design,
+            reference,
+            field,
+        } = request
+        {
+            self.study_dialog.open(*design, reference);
+            if let Some(f) = field {
+                self.study_dialog.only(f);
+            }
+        }
     }
 
     fn file_menu_ui(&mut self, ui: &mut egui::Ui, shell: &Shell) {

@@ -199,3 +199,20 @@ pub fn choose_capture(
     change(&mut c);
     phase.act(udc_studio::app::phase::PhaseAction::Capture(c));
 }
+
+/// Right-clicks at `at` with the pointer (hover, press, release), then lets the context menu
+/// open.
+pub fn right_click(h: &mut egui_kittest::Harness<'_, udc_studio::app::StudioApp>, at: egui::Pos2) {
+    h.hover_at(at);
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Secondary,
+            pressed,
+            modifiers: Default::default(),
+        });
+        h.step();
+    }
+    h.run_steps(2);
+}

@@ -7,6 +7,7 @@ pub mod hash;
 pub mod one_axis;
 pub mod points;
 pub mod spec;
+pub mod study;
 pub mod summary;
 
 pub use points::{Points, Shard};

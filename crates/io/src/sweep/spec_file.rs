@@ -26,6 +26,21 @@ pub fn load_spec(path: &Path) -> Result<SweepSpec, IoError> {
     })
 }
 
+/// Writes `spec` as the TOML `udc-studio sweep` reads, atomically.
+///
+/// # Errors
+/// A spec TOML cannot hold (never for a valid one), or a file that cannot be written.
+pub fn save_spec_toml(path: &Path, spec: &SweepSpec) -> Result<(), IoError> {
+    let text = toml::to_string(spec).map_err(|e| {
+        IoError::file(
+            "write the spec as TOML",
+            path,
+            std::io::Error::other(e.to_string()),
+        )
+    })?;
+    crate::safe_file::write_atomic(path, text.as_bytes())
+}
+
 /// Parses and validates spec text, TOML or JSON.
 ///
 /// # Errors

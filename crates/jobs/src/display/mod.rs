@@ -43,6 +43,11 @@ pub struct DesignSelection {
     /// Display pixel pitch in µm.
     #[arg(long)]
     pub pitch_um: Option<f64>,
+    /// Display pixel density in dots per inch, instead of `--pitch-um` (the pitch becomes
+    /// 25 400 µm / DPI; the opening's cells scale with it).
+    #[arg(long, conflicts_with = "pitch_um")]
+    #[serde(default)]
+    pub dpi: Option<f64>,
     /// Tiling: repeat, random-d4 or random-4.
     #[arg(long)]
     pub tiling: Option<TilingMode>,
@@ -80,6 +85,7 @@ impl Default for DesignSelection {
             preset: None,
             pattern: None,
             pitch_um: None,
+            dpi: None,
             tiling: None,
             seed: None,
             wiring_gap_um: None,
@@ -122,6 +128,12 @@ impl DesignSelection {
         }
         if let Some(p) = self.pitch_um {
             design.opening.pitch_um = p;
+        }
+        if let Some(d) = self.dpi {
+            if !(d.is_finite() && d > 0.0) {
+                anyhow::bail!("--dpi {d}: give a positive number of dots per inch");
+            }
+            design.opening.pitch_um = udc_core::sweep::study::UM_PER_INCH / d;
         }
         if let Some(t) = self.tiling {
             design.tiling.mode = t;

@@ -5,9 +5,11 @@
 
 mod points;
 mod run;
+mod slurm;
 
 pub use points::{
     FILE_PARAMS, FileDigests, PointOutput, check_points, evaluate_point, hash_of, inputs_under,
     job_of, point_params,
 };
 pub use run::{HOLD_AFTER_POINTS_ENV, RunOptions, RunSummary, run_sweep};
+pub use slurm::{SlurmJob, SlurmWritten, write_slurm};

@@ -377,5 +377,17 @@ pub fn sweep_menu(
             actions.push(DisplayAction::SweepParameter(field));
             ui.close();
         }
+        if ui
+            .button("Study this parameter…")
+            .on_hover_text(format!(
+                "New study of the {} values in the Sweep workspace: a results folder that \
+                 resumes, more axes and metrics",
+                field.label()
+            ))
+            .clicked()
+        {
+            actions.push(DisplayAction::NewStudy(Some(field)));
+            ui.close();
+        }
     });
 }
