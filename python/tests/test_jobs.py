@@ -138,12 +138,14 @@ def test_a_sweeps_figures_are_its_plots_as_arrays(tmp_path):
     assert first["x"]["categories"] == ["repeat", "random-4"]
     (line,) = first["series"]
     assert line["points"].shape == (2, 2) and line["band"].shape == (2, 3)
-    # Each point is the mean over the seeds of that tiling, inside its min-max band.
+    # Each point is the mean over the seeds of that tiling, its band ± the sample SD.
     auc = np.asarray(table["auc_radial_min_mean"], dtype=float)
     tilings = list(table["tiling"])
     for (x, y), (_, lo, hi) in zip(line["points"], line["band"]):
         values = [a for a, t in zip(auc, tilings) if t == first["x"]["categories"][int(x)]]
-        assert y == pytest.approx(np.mean(values)) and lo == min(values) and hi == max(values)
+        sd = np.std(values, ddof=1)
+        assert y == pytest.approx(np.mean(values))
+        assert lo == pytest.approx(np.mean(values) - sd) and hi == pytest.approx(np.mean(values) + sd)
     pareto = figures[1]
     assert [s["name"] for s in pareto["series"]] == ["rows", "Pareto front"]
     assert pareto["series"][0]["points"].shape == (4, 2)

@@ -13,18 +13,19 @@ use udc_core::display::appearance::{AppearanceSettings, appearance, periodic_and
 use udc_core::{Analysis, Progress};
 use udc_io::photo;
 
+/// The display resolution `appearance` shows a layout at without `--dpi` (Fig. 3.27's), DPI.
+pub const DEFAULT_DPI: f64 = 300.0;
+
 /// Arguments of `udc-studio appearance`.
 #[derive(Debug, Args)]
 pub struct AppearanceArgs {
-    /// The design to show (its emitter layer, or an automatic placement).
+    /// The design to show (its emitter layer, or an automatic placement); its `--dpi` is the
+    /// display resolution the layout is shown at ([`DEFAULT_DPI`] when not given: Fig. 3.27).
     #[command(flatten)]
     pub selection: DesignSelection,
     /// The image to show (PNG, JPEG, ...); without it, the built-in photo.
     #[arg(long)]
     pub image: Option<PathBuf>,
-    /// Display resolution in DPI; the layout is scaled to this pitch (Fig. 3.27: 300).
-    #[arg(long, default_value_t = 300.0)]
-    pub dpi: f64,
     /// Distance from the eye to the display, mm.
     #[arg(long, default_value_t = 300.0)]
     pub viewing_distance_mm: f64,
@@ -63,7 +64,7 @@ pub fn camera_auc(analysis: &Analysis) -> f64 {
 /// Bad values (named by their flag), unreadable files, designs whose emitters do not fit.
 pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
     let settings = AppearanceSettings {
-        dpi: args.dpi,
+        dpi: args.selection.dpi.unwrap_or(DEFAULT_DPI),
         viewing_distance_mm: args.viewing_distance_mm,
         region_mm: args.region_mm,
         acuity_arcmin: args.acuity_arcmin,

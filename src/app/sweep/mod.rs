@@ -27,7 +27,7 @@ use derive::{View, ViewRequest};
 pub use open::{OpenedDesign, results_dir};
 use table::{Sort, SweepTable};
 
-/// The user's own plot: two columns, as a line (mean and min–max over the rows at each x) or
+/// The user's own plot: two columns, as a line (mean ± SD over the rows at each x) or
 /// as points with their Pareto front.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct CustomPlot {

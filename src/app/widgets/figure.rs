@@ -220,7 +220,7 @@ fn series_ui(pl: &mut PlotUi<'_>, panel: &Panel) {
             let lo: Vec<f64> = band.iter().map(|b| b[1]).collect();
             let hi: Vec<f64> = band.iter().map(|b| b[2]).collect();
             pl.add(
-                FilledArea::new(format!("{} min–max", s.name), &xs, &lo, &hi)
+                FilledArea::new(format!("{} ± SD", s.name), &xs, &lo, &hi)
                     .fill_color(c.gamma_multiply(0.25)),
             );
         }

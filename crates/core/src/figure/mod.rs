@@ -244,7 +244,8 @@ pub struct Series {
     pub mark: Mark,
     /// `[x, y]` in the axes' units, in drawing order.
     pub points: Vec<[f64; 2]>,
-    /// A shaded spread around it, `[x, low, high]` (min–max over seeds), when there is one.
+    /// A shaded spread around it, `[x, low, high]` (the sweep plots: mean ± SD over the seeds),
+    /// when there is one.
     pub band: Option<Vec<[f64; 3]>>,
 }
 

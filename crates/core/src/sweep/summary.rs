@@ -1,16 +1,19 @@
-//! What the plots show: a metric's mean and min–max over a spread axis, per x and group, and the
+//! What the plots show: a metric's mean, standard deviation and min–max over a spread axis, per x
+//! and group, and the
 //! Pareto front of two metrics. Fed one row at a time, so memory grows with the distinct x and
 //! group values (and, for a front, the points), not with the metrics or the columns.
 
 use std::collections::BTreeMap;
 
-/// Mean, minimum and maximum of the values seen.
+/// Mean, standard deviation, minimum and maximum of the values seen.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Spread {
     /// How many values.
     pub n: usize,
     /// Their sum.
     pub sum: f64,
+    /// The sum of their squared deviations from the running mean (Welford's `M2`).
+    pub m2: f64,
     /// The smallest.
     pub min: f64,
     /// The largest.
@@ -22,14 +25,17 @@ impl Spread {
         Spread {
             n: 1,
             sum: v,
+            m2: 0.0,
             min: v,
             max: v,
         }
     }
 
     fn add(&mut self, v: f64) {
+        let before = self.mean();
         self.n += 1;
         self.sum += v;
+        self.m2 += (v - before) * (v - self.mean());
         self.min = self.min.min(v);
         self.max = self.max.max(v);
     }
@@ -37,6 +43,15 @@ impl Spread {
     /// The mean.
     pub fn mean(&self) -> f64 {
         self.sum / self.n as f64
+    }
+
+    /// The sample standard deviation (0 for one value).
+    pub fn sd(&self) -> f64 {
+        if self.n < 2 {
+            0.0
+        } else {
+            (self.m2 / (self.n - 1) as f64).max(0.0).sqrt()
+        }
     }
 }
 
@@ -117,4 +132,22 @@ pub fn pareto_front(points: &[ParetoPoint], x_smaller_is_better: bool) -> Vec<Pa
     }
     front.sort_by(|a, b| a.x.total_cmp(&b.x));
     front
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_spread_has_the_sample_standard_deviation() {
+        let mut s = Spread::new(2.0);
+        for v in [4.0, 4.0, 4.0, 5.0, 5.0, 7.0, 9.0] {
+            s.add(v);
+        }
+        assert_eq!(s.mean(), 5.0);
+        // Σ(v − 5)² = 32 over n − 1 = 7.
+        assert!((s.sd() - (32.0f64 / 7.0).sqrt()).abs() < 1e-12);
+        assert_eq!(Spread::new(3.0).sd(), 0.0);
+        assert_eq!((s.min, s.max), (2.0, 9.0));
+    }
 }

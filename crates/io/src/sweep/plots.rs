@@ -68,7 +68,7 @@ pub fn plot_stem(p: &PlotSpec) -> String {
 
 /// What one plot draws, read from the table.
 pub enum PlotData {
-    /// Lines of mean with min–max bands; categorical x labels when the axis is not numeric.
+    /// Lines of mean with ± SD bands; categorical x labels when the axis is not numeric.
     Series {
         /// The spreads per group and x.
         summary: SeriesSummary,
@@ -237,7 +237,7 @@ pub fn write_plot(
     crate::figure::write_panel(plots_dir, stem, &panel_of(p, data, title))
 }
 
-/// The figure of one plot: each group's mean as a line with dots, and its min–max band over the
+/// The figure of one plot: each group's mean as a line with dots, and its mean ± SD band over the
 /// plot's spread axis (seeds) when it names one; a Pareto plot's rows as a cloud and its front as a
 /// line. The studio draws the same panel.
 pub fn panel_of(p: &PlotSpec, data: &PlotData, title: &str) -> Panel {
@@ -261,8 +261,11 @@ pub fn panel_of(p: &PlotSpec, data: &PlotData, title: &str) -> Panel {
                     points: line.iter().map(|(x, s)| [x.0, s.mean()]).collect(),
                     // A band only over the axis the plot names as its spread (seeds):
                     // rows that differ in anything else are not one quantity's spread.
-                    band: (p.spread.is_some() && line.values().any(|s| s.n > 1))
-                        .then(|| line.iter().map(|(x, s)| [x.0, s.min, s.max]).collect()),
+                    band: (p.spread.is_some() && line.values().any(|s| s.n > 1)).then(|| {
+                        line.iter()
+                            .map(|(x, s)| [x.0, s.mean() - s.sd(), s.mean() + s.sd()])
+                            .collect()
+                    }),
                 })
                 .collect()
         }
@@ -330,7 +333,11 @@ mod tests {
             .find(|s| s.name == "tiling repeat")
             .expect("group");
         assert_eq!(repeat.points, vec![[42.0, 0.2]]);
-        assert_eq!(repeat.band, Some(vec![[42.0, 0.1, 0.3]]));
+        // Mean ± the sample SD of 0.1 and 0.3: 0.2 ± 0.1·√2.
+        let sd = 0.1 * 2f64.sqrt();
+        let band = repeat.band.clone().expect("a band over the seeds");
+        assert_eq!(band.len(), 1);
+        assert!((band[0][1] - (0.2 - sd)).abs() < 1e-12 && (band[0][2] - (0.2 + sd)).abs() < 1e-12);
         // One row per x: nothing to spread.
         let random = with
             .series
