@@ -4,7 +4,9 @@
 
 use super::derive::title;
 use super::{SweepAction, SweepCtx};
-use crate::app::widgets::figure::{PlotFrame, panel_ui_in};
+use crate::app::widgets::figure::{PlotFrame, panel_plot_ui};
+use crate::core::sweep::summary::ParetoPoint;
+use crate::io::sweep::plots::PlotData;
 
 /// The bottom panel: the user's plot picker and every plot side by side.
 #[derive(Default)]
@@ -60,13 +62,73 @@ impl PlotsPanel {
                             legend_above: panel.wants_legend(),
                             ..PlotFrame::tall((ui.available_height() - legend).max(120.0))
                         };
-                        panel_ui_in(ui, ("sweep_plot", k, name), panel, frame);
+                        let (response, transform) =
+                            panel_plot_ui(ui, ("sweep_plot", k, name), panel, frame);
+                        if let Ok(PlotData::Pareto { points, .. }) = data {
+                            pareto_pick(&response, &transform, points, t, ctx);
+                        }
                     }
                     (Ok(_), None) => {}
                 }
             }
         });
     }
+}
+
+/// The Pareto point nearest the pointer, within `PICK_PX` on screen: its row's parameters
+/// as a tooltip, and a click opens its design.
+fn pareto_pick(
+    response: &egui::Response,
+    transform: &egui_plot::PlotTransform,
+    points: &[ParetoPoint],
+    table: &super::table::SweepTable,
+    ctx: &mut SweepCtx<'_>,
+) {
+    // How near the pointer a point must be to be picked, points on screen.
+    const PICK_PX: f32 = 8.0;
+    let Some(pointer) = response.hover_pos() else {
+        return;
+    };
+    let to_screen =
+        |x: f64, y: f64| transform.position_from_point(&egui_plot::PlotPoint::new(x, y));
+    let Some(p) = nearest_point(points, to_screen, pointer, PICK_PX) else {
+        return;
+    };
+    let Some(index) = table.rows.iter().position(|r| r.point == p.point) else {
+        return;
+    };
+    let row = &table.rows[index];
+    let params: Vec<String> = table
+        .columns()
+        .into_iter()
+        .filter(|c| matches!(c, super::table::Column::Param(_)))
+        .map(|c| format!("{} = {}", table.name(c), table.text(row, c)))
+        .collect();
+    response.clone().on_hover_ui_at_pointer(|ui| {
+        ui.label(egui::RichText::new(format!("point {}", p.point)).strong());
+        for line in &params {
+            ui.label(line);
+        }
+        ui.weak("click: open its design");
+    });
+    if response.clicked() {
+        ctx.actions.push(SweepAction::OpenRow(index));
+    }
+}
+
+/// The point drawn nearest `pointer` (by `to_screen`), if one is within `reach` on screen.
+fn nearest_point(
+    points: &[ParetoPoint],
+    to_screen: impl Fn(f64, f64) -> egui::Pos2,
+    pointer: egui::Pos2,
+    reach: f32,
+) -> Option<&ParetoPoint> {
+    points
+        .iter()
+        .map(|p| (p, to_screen(p.x, p.y).distance(pointer)))
+        .filter(|(_, d)| *d <= reach)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(p, _)| p)
 }
 
 /// A combo box of the table's columns.
@@ -79,4 +141,25 @@ fn pick_ui(ui: &mut egui::Ui, id: &str, value: &mut String, names: &[String]) {
                 ui.selectable_value(value, n.clone(), n);
             }
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pointer_picks_the_nearest_point_within_reach() {
+        let points: Vec<ParetoPoint> = [(0.0, 0.0, 4), (1.0, 1.0, 7), (1.1, 1.0, 9)]
+            .into_iter()
+            .map(|(x, y, point)| ParetoPoint { x, y, point })
+            .collect();
+        // 100 screen points per unit, y downwards.
+        let to_screen = |x: f64, y: f64| egui::pos2(100.0 * x as f32, -100.0 * y as f32);
+        let at = |x: f32, y: f32| egui::pos2(x, y);
+        let pick = |p| nearest_point(&points, to_screen, p, 8.0).map(|q| q.point);
+        assert_eq!(pick(at(2.0, -3.0)), Some(4));
+        assert_eq!(pick(at(103.0, -100.0)), Some(7), "nearer 7 than 9");
+        assert_eq!(pick(at(108.0, -100.0)), Some(9));
+        assert_eq!(pick(at(50.0, -50.0)), None, "nothing within reach");
+    }
 }

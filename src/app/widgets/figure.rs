@@ -64,6 +64,17 @@ impl PlotFrame {
 
 /// Draws `panel` (without its title) in `frame`.
 pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, frame: PlotFrame) {
+    panel_plot_ui(ui, id, panel, frame);
+}
+
+/// Draws `panel` as [`panel_ui_in`] does and returns the plot's response and its transform
+/// (what a caller needs to find the data point under the pointer).
+pub fn panel_plot_ui(
+    ui: &mut egui::Ui,
+    id: impl egui::AsIdSalt,
+    panel: &Panel,
+    frame: PlotFrame,
+) -> (egui::Response, egui_plot::PlotTransform) {
     let height = frame.height;
     let hidden = if frame.legend_above {
         let legend = ui.make_persistent_id((&id, "figure legend"));
@@ -104,6 +115,7 @@ pub fn panel_ui_in(ui: &mut egui::Ui, id: impl egui::AsIdSalt, panel: &Panel, fr
         annotations_ui(pl, panel, true);
     });
     save_menu(&shown.response, panel);
+    (shown.response, shown.transform)
 }
 
 /// A figure that a plot's context menu asked to save: the app takes it, adds the caption of
