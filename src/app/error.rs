@@ -29,9 +29,11 @@ pub enum StudioError {
     /// The custom response a channel choice names is no longer the loaded one.
     #[error("the custom response is no longer loaded")]
     ResponseGone,
-    /// A sweep whose rows are not display designs (only analyze and restore sweeps open).
+    /// A sweep whose rows have no design to open (analyze, restore and phase-psf sweeps
+    /// open).
     #[error(
-        "this is a `{}` sweep: Open design is for display designs (analyze and restore sweeps)",
+        "this is a `{}` sweep: Open design is for display and phase-mask designs (analyze, \
+         restore and phase-psf sweeps)",
         .0.as_str()
     )]
     NotDisplaySweep(SweepJob),
@@ -76,8 +78,8 @@ mod tests {
         );
         assert_eq!(
             StudioError::NotDisplaySweep(SweepJob::Sensor).to_string(),
-            "this is a `sensor` sweep: Open design is for display designs (analyze and restore \
-             sweeps)"
+            "this is a `sensor` sweep: Open design is for display and phase-mask designs \
+             (analyze, restore and phase-psf sweeps)"
         );
     }
 }

@@ -25,6 +25,7 @@ pub mod reproduce;
 pub mod save_figure;
 pub mod sensor;
 pub mod settings;
+pub mod study_start;
 pub mod sweep;
 pub mod widgets;
 pub mod workspace;

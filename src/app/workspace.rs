@@ -122,15 +122,29 @@ pub enum Request {
         /// Where it came from ("point 3 of sweep `tiny`"), for the status bar.
         what: String,
     },
-    /// Open New study… for this design (the Sweep workspace); `reference` is its analysis
-    /// time on screen, ms, and the quality it ran at, to scale the study's estimate.
+    /// Open New study… for this design (the Sweep workspace), with its times on screen and
+    /// the Restore view's settings.
     NewStudy {
-        /// The design to vary.
-        design: Box<Design>,
-        /// Its analysis time and quality, when a result is on screen.
-        reference: Option<(f64, crate::core::analysis::analyze::Quality)>,
+        /// The design and what the study takes from its workspace.
+        start: Box<crate::app::study_start::StudyStart>,
         /// One field to vary alone ("Study this parameter…"); `None`: the dialog's start.
         field: Option<crate::core::sweep::one_axis::SweepParameter>,
+    },
+    /// Open this phase-mask design (a study point's) in the Phase workspace, as one undo step
+    /// there.
+    OpenPhaseDesign {
+        /// The design.
+        design: Box<crate::core::phase::PhaseDesign>,
+        /// Where it came from, for the status bar.
+        what: String,
+    },
+    /// Pin this display design (a study point's) as A for Compare: the Display workspace
+    /// analyses it at full quality and pins it, the current design untouched.
+    PinDesign {
+        /// The design.
+        design: Box<Design>,
+        /// Where it came from, for the status bar.
+        what: String,
     },
     /// Send the current design to the Sweep workspace's New study… (the Display workspace).
     StudyCurrentDesign,

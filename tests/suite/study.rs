@@ -8,8 +8,11 @@
 use egui_kittest::kittest::Queryable;
 
 use crate::common::{self, Reach, run_cli, step_until};
+use udc_studio::app::sweep::study_dialog::{AxisKind, AxisRow};
 use udc_studio::app::{DisplayAction, WorkspaceId};
 use udc_studio::core::design::TilingMode;
+use udc_studio::core::phase::Lambda0;
+use udc_studio::core::sweep::study::{RestoreSetup, StudyMetric};
 
 /// The lines of a results table, sorted by point (rows land in the order points finish).
 fn sorted_rows(csv: &std::path::Path) -> Vec<String> {
@@ -122,20 +125,25 @@ fn a_study_of_the_toled_fills_live_cancels_resumes_and_opens_a_point() {
     assert_eq!(design.tiling.seed as f64, seed);
     crate::screenshots::capture(&mut h, "study-point-opened-1024x700");
 
-    // The saved spec, run by the command line, gives the same table.
-    let again = dir.path().join("cli");
-    let spec = folder.join("spec.toml");
-    let (ok, _, stderr) = run_cli(&[
-        "sweep",
-        spec.to_str().unwrap(),
-        "--out",
-        again.to_str().unwrap(),
-    ]);
-    assert!(ok, "{stderr}");
+    // Pin another point as A for Compare: analysed at full quality, the current design kept.
+    h.state_mut().set_workspace(WorkspaceId::Sweep);
+    h.state_mut().sweep_mut().filter = "dpi=100 tiling=repeat".into();
+    step_until(&mut h, "the 100-DPI rows", |app| app.sweep().is_idle());
+    h.get_all_by_label("Pin A").next().unwrap().click();
+    step_until(&mut h, "the point pinned as A", |app| {
+        app.display().pinned().is_some()
+    });
+    let pinned = h.state().display().pinned().unwrap().design.clone();
+    assert!((pinned.opening.pitch_um - 254.0).abs() < 1e-9);
+    assert_eq!(pinned.tiling.mode, TilingMode::Repeat);
     assert_eq!(
-        sorted_rows(&again.join("results.csv")),
-        sorted_rows(&folder.join("results.csv"))
+        h.state().display().design(),
+        &design,
+        "B is still the opened point"
     );
+
+    // The saved spec, run by the command line, gives the same table.
+    cli_reruns_the_same_table(&folder, dir.path());
 }
 
 /// The empty Sweep workspace teaches: a study from the current design, the shipped example.
@@ -154,7 +162,12 @@ fn the_empty_sweep_workspace_offers_a_study_and_the_examples() {
     h.run_steps(4);
     let d = &h.state().sweep().study_dialog;
     assert!(d.is_open(), "the Display workspace's design came over");
-    assert_eq!(d.design(), h.state().display().design());
+    assert_eq!(
+        *d.subject(),
+        udc_studio::core::sweep::study::StudySubject::Display(Box::new(
+            h.state().display().design().clone()
+        ))
+    );
     // Run on a cluster…: the study's folder with the Slurm scripts for the same spec.
     h.get_by_label("Run on a cluster…").click();
     h.run_steps(2);
@@ -170,4 +183,159 @@ fn the_empty_sweep_workspace_offers_a_study_and_the_examples() {
     let spec = udc_studio::io::sweep::load_spec(&spec).unwrap();
     assert_eq!(spec.axes.len(), 3, "DPI × tiling × seeds");
     assert!(!h.state().sweep().is_studying(), "nothing runs here");
+}
+
+/// Runs the study's saved spec with `udc-studio sweep` and compares the tables.
+fn cli_reruns_the_same_table(folder: &std::path::Path, scratch: &std::path::Path) {
+    let again = scratch.join("cli");
+    let spec = folder.join("spec.toml");
+    let (ok, _, stderr) = run_cli(&[
+        "sweep",
+        spec.to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(
+        sorted_rows(&again.join("results.csv")),
+        sorted_rows(&folder.join("results.csv"))
+    );
+}
+
+/// A study from the Phase workspace: fold × λ0 plan of the thesis's 42 µm masks, run on the
+/// sweep runner (`phase psf` points), and a point opened back in the Phase workspace as one
+/// undo step.
+#[test]
+fn a_phase_mask_study_runs_its_fold_and_plans_and_opens_a_point_in_the_phase_workspace() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio_small(dir.path());
+    h.state_mut().set_workspace(WorkspaceId::Phase);
+    step_until(&mut h, "the phase PSFs", |app| app.phase().is_up_to_date());
+    let before = h.state().phase().design().clone();
+    h.get_by_label("Study").click();
+    h.run_steps(2);
+    h.get_by_label("New study…").click();
+    h.run_steps(4);
+    assert_eq!(h.state().workspace(), WorkspaceId::Sweep);
+    {
+        let d = &mut h.state_mut().sweep_mut().study_dialog;
+        assert!(d.is_open());
+        assert_eq!(
+            d.axes.iter().map(|a| a.kind).collect::<Vec<_>>(),
+            [AxisKind::Fold, AxisKind::Lambda0]
+        );
+        d.axes[0].text = "1, 5".into();
+        d.axes[1].text = "fixed:530, uniform".into();
+        let e = d.estimate().unwrap().expect("the PSFs' time scales it");
+        assert_eq!(e.points, 4);
+        assert!(e.at_least, "the uniform plan's relay is not modelled");
+    }
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("4 points, at least").is_some());
+    h.get_by_label("Run").click();
+    step_until(&mut h, "the phase study, complete", |app| {
+        !app.sweep().is_studying()
+            && app.sweep().is_idle()
+            && app.sweep().table().is_some_and(|t| t.manifest.complete)
+    });
+    let t = h.state().sweep().table().unwrap().clone();
+    assert_eq!((t.rows.len(), t.manifest.failed), (4, 0));
+    // Folding for 530 nm gives green the invertibility the uniform plan spreads out.
+    let inv = |fold: &str, plan: &str| {
+        let (f, l) = (t.column("fold").unwrap(), t.column("lambda0").unwrap());
+        let g = t.column("channels.G.invertibility").unwrap();
+        let row = t
+            .rows
+            .iter()
+            .find(|r| t.text(r, f) == fold && t.text(r, l) == plan)
+            .unwrap();
+        t.number(row, g)
+    };
+    assert!(inv("1", "fixed:530") > inv("1", "uniform"));
+    let plot = &h.state().sweep().plots().unwrap()[0].0;
+    assert_eq!(
+        (plot.x.as_str(), plot.group.as_deref()),
+        ("fold", Some("lambda0"))
+    );
+    h.state_mut().sweep_mut().filter = "fold=5 lambda0=uniform".into();
+    step_until(&mut h, "the one row", |app| {
+        app.sweep().is_idle() && app.sweep().shown_rows().is_some_and(|r| r.len() == 1)
+    });
+    assert!(
+        h.query_by_label("Pin A").is_none(),
+        "phase masks have no Compare A"
+    );
+    h.get_by_label("Open").click();
+    step_until(&mut h, "the Phase workspace", |app| {
+        app.workspace() == WorkspaceId::Phase
+    });
+    let opened = h.state().phase().design().clone();
+    assert_eq!((opened.fold, &opened.lambda0), (5.0, &Lambda0::Uniform));
+    h.state_mut().phase_mut().undo();
+    assert_eq!(h.state().phase().design(), &before, "one undo step");
+    cli_reruns_the_same_table(&t.dir, dir.path());
+}
+
+/// Light level × method restores the Restore view's photo at every point: a `restore` study
+/// whose PSNR rises with the light, whose folder keeps the photo, and which the CLI reruns.
+#[test]
+fn a_light_and_method_study_restores_the_photo_at_every_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio_small(dir.path());
+    step_until(&mut h, "the first result", common::display_up_to_date);
+    h.state_mut().act(DisplayAction::NewStudy(None));
+    h.run_steps(3);
+    {
+        let d = &mut h.state_mut().sweep_mut().study_dialog;
+        let subject = d.subject().clone();
+        let setup = RestoreSetup::default();
+        d.axes = vec![
+            AxisRow::new(AxisKind::SnrDb, &subject, &setup),
+            AxisRow::new(AxisKind::Method, &subject, &setup),
+        ];
+        d.axes[0].text = "24, 40".into();
+        for (m, on) in &mut d.metrics {
+            *on = matches!(m, StudyMetric::PsnrDb | StudyMetric::Ssim);
+        }
+        let s = d.study().unwrap();
+        assert!(s.needs_photo());
+        assert_eq!(s.points(), 4);
+    }
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("4 points").is_some());
+    h.get_by_label("Run").click();
+    step_until(&mut h, "the restore study, complete", |app| {
+        !app.sweep().is_studying()
+            && app.sweep().is_idle()
+            && app.sweep().table().is_some_and(|t| t.manifest.complete)
+    });
+    let t = h.state().sweep().table().unwrap().clone();
+    assert_eq!((t.rows.len(), t.manifest.failed), (4, 0));
+    assert!(t.dir.join("photo.png").exists());
+    let at = |snr: &str, method: &str, metric: &str| {
+        let (s, m) = (t.column("snr-db").unwrap(), t.column("method").unwrap());
+        let c = t.column(metric).unwrap();
+        let row = t
+            .rows
+            .iter()
+            .find(|r| t.text(r, s) == snr && t.text(r, m) == method)
+            .unwrap();
+        t.number(row, c)
+    };
+    // More light restores better by either method (Wiener's fixed NSR keeps its PSNR nearly
+    // flat; its SSIM still rises); conjugate gradients gain in PSNR too.
+    for method in ["wiener", "cg"] {
+        let (dim, bright) = (
+            at("24", method, "runs.0.ssim"),
+            at("40", method, "runs.0.ssim"),
+        );
+        assert!(bright > dim + 0.05, "{method}: SSIM {dim} → {bright}");
+    }
+    assert!(at("40", "cg", "runs.0.psnr_db") > at("24", "cg", "runs.0.psnr_db") + 0.5);
+    let plot = &h.state().sweep().plots().unwrap()[0].0;
+    assert_eq!(
+        (plot.x.as_str(), plot.y.as_str(), plot.group.as_deref()),
+        ("snr-db", "runs.0.psnr_db", Some("method"))
+    );
+    cli_reruns_the_same_table(&t.dir, dir.path());
 }

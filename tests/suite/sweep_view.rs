@@ -294,14 +294,14 @@ fn a_dropped_results_csv_opens_in_the_sweep_workspace_from_anywhere() {
 }
 
 #[test]
-fn a_phase_sweeps_row_says_open_design_is_for_display_designs() {
+fn a_sensor_sweeps_row_says_open_design_is_for_display_and_phase_designs() {
     let dir = tempfile::tempdir().unwrap();
     let out = tiny_sweep(dir.path());
-    // The same table under a phase job's manifest.
+    // The same table under a sensor job's manifest: its rows have no design to open.
     let path = out.join("sweep.json");
     let mut m: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    m["spec"]["job"] = "phase-psf".into();
+    m["spec"]["job"] = "sensor".into();
     std::fs::write(&path, m.to_string()).unwrap();
     let mut h = common::studio(dir.path(), false, Duration::from_secs(600));
     h.state_mut().set_workspace(WorkspaceId::Sweep);
@@ -311,7 +311,10 @@ fn a_phase_sweeps_row_says_open_design_is_for_display_designs() {
         app.sweep().message().is_some_and(|m| m.is_error())
     });
     let text = h.state().sweep().message().unwrap().text.clone();
-    assert!(text.contains("display designs"), "{text}");
+    assert!(
+        text.contains("`sensor` sweep") && text.contains("display and phase-mask designs"),
+        "{text}"
+    );
     assert_eq!(h.state().workspace(), WorkspaceId::Sweep);
 }
 

@@ -2,6 +2,7 @@
 
 use crate::app::notice::Notice;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::DisplayWorkspace;
 use super::action::{DisplayAction, ExportKind};
@@ -182,6 +183,43 @@ impl DisplayWorkspace {
                     "will pin as A when the full-quality result is ready",
                 ));
             }
+        }
+    }
+
+    /// Pins `design` (a study point's) as A: analysed at full quality on a job, then pinned;
+    /// the current design and its results stay as they are.
+    pub(super) fn pin_design(&mut self, design: Design, what: String, shell: &mut Shell) {
+        shell.set_status(Notice::info(format!(
+            "analysing {what} at full quality to pin it as A…"
+        )));
+        let job = Job::spawn("pin analysis", self.wake(), move |p| {
+            let options = crate::core::analysis::analyze::AnalyzeOptions::default();
+            crate::core::analysis::analyze::analyze_with(&design, &options, p)
+                .map(|a| Pinned::now(Arc::new(design), Arc::new(a)))
+                .map_err(|e| JobError::Failed(e.to_string()))
+        });
+        self.results.pin_job = Some((what, job));
+    }
+
+    /// Takes a finished pin analysis.
+    pub(super) fn poll_pin(&mut self, shell: &mut Shell) {
+        let Some(done) = self.results.pin_job.as_ref().and_then(|(_, j)| j.poll()) else {
+            return;
+        };
+        let what = self
+            .results
+            .pin_job
+            .take()
+            .map(|(w, _)| w)
+            .unwrap_or_default();
+        match done {
+            Ok(p) => {
+                self.results.pinned = Some(p);
+                shell.set_status(Notice::info(format!(
+                    "pinned {what} as A: Compare shows it against the current design (B)"
+                )));
+            }
+            Err(e) => shell.set_status(Notice::error(format!("cannot pin {what}: {e}"))),
         }
     }
 

@@ -42,6 +42,9 @@ pub struct Results {
     pub pinned: Option<Pinned>,
     /// Pin the next full-quality result of the current generation.
     pin_requested: bool,
+    /// A design sent to be pinned (a study point's), analysed at full quality, and where it
+    /// came from.
+    pin_job: Option<(String, Job<Pinned>)>,
     /// Whether the shown result's warnings carry their advice (the full-quality result comes
     /// first without it).
     advised: bool,
@@ -109,21 +112,32 @@ pub struct DisplayWorkspace {
 impl DisplayWorkspace {
     /// Opens New study… in the Sweep workspace for the design on screen (`field` alone as
     /// its axis, if given), with its analysis time to scale the estimate when its result is
-    /// the design's.
+    /// the design's, and the Restore view's settings and photo.
     pub fn new_study(
         &mut self,
         field: Option<crate::core::sweep::one_axis::SweepParameter>,
         shell: &mut Shell,
     ) {
-        let reference = self
+        let on_screen = self
             .shown()
             .filter(|_| self.is_up_to_date())
             .map(|s| (s.analysis.elapsed_ms, s.quality));
+        let (restore, photo, restore_ms) = self.panels.views.restore.study_setup();
+        let start = crate::app::study_start::StudyStart {
+            subject: crate::core::sweep::study::StudySubject::Display(Box::new(
+                self.design().clone(),
+            )),
+            times: crate::core::sweep::study::StudyTimes {
+                on_screen,
+                restore_ms,
+            },
+            restore,
+            photo,
+        };
         shell.send(
             WorkspaceId::Sweep,
             Request::NewStudy {
-                design: Box::new(self.design().clone()),
-                reference,
+                start: Box::new(start),
                 field,
             },
         );
@@ -285,6 +299,7 @@ impl DisplayWorkspace {
     /// them (and draw their progress).
     fn poll(&mut self, shell: &mut Shell) {
         self.take_results(shell);
+        self.poll_pin(shell);
         self.poll_files(shell);
         self.panels.optimize.poll();
         self.panels.measured.poll(&self.egui_ctx);
@@ -509,7 +524,8 @@ impl Workspace for DisplayWorkspace {
                 self.act(DisplayAction::OpenDesign { design, what }, shell);
             }
             Request::StudyCurrentDesign => self.new_study(None, shell),
-            Request::NewStudy { .. } => {}
+            Request::PinDesign { design, what } => self.pin_design(*design, what, shell),
+            Request::NewStudy { .. } | Request::OpenPhaseDesign { .. } => {}
         }
     }
 

@@ -124,6 +124,8 @@ pub struct PhaseWorkspace {
     /// What the panels read about the jobs' results, worked out once a frame in `poll`
     /// (three panels draw from it; the capture's key resolves a setup).
     facts: Facts,
+    /// Study > New study… was chosen: sent to the Sweep workspace in `apply`.
+    study_asked: bool,
 }
 
 /// Derived flags the panels read, worked out once a frame.
@@ -224,6 +226,7 @@ impl PhaseWorkspace {
             panels: panels::Panels::default(),
             egui_ctx: egui::Context::default(),
             facts: Facts::default(),
+            study_asked: false,
         }
     }
 
@@ -294,6 +297,35 @@ impl PhaseWorkspace {
     /// The design being edited.
     pub fn design(&self) -> &PhaseDesign {
         self.history.current()
+    }
+
+    /// What New study… starts from: the design and, when its PSFs on screen are its own, how
+    /// long they took.
+    pub fn study_start(&self) -> crate::app::study_start::StudyStart {
+        let mut start = crate::app::study_start::StudyStart::phase(self.design().clone());
+        start.times.on_screen = self
+            .shown()
+            .filter(|s| s.design == *self.design())
+            .map(|s| (s.elapsed_ms, s.quality));
+        start
+    }
+
+    /// Opens New study… for the design (sent in the next `apply`), as the Study menu does.
+    pub fn ask_study(&mut self) {
+        self.study_asked = true;
+    }
+
+    /// Sends New study… to the Sweep workspace when it was asked for.
+    pub(super) fn send_study(&mut self, shell: &mut crate::app::Shell) {
+        if std::mem::take(&mut self.study_asked) {
+            shell.send(
+                crate::app::WorkspaceId::Sweep,
+                crate::app::workspace::Request::NewStudy {
+                    start: Box::new(self.study_start()),
+                    field: None,
+                },
+            );
+        }
     }
 
     /// Edits the design as a queued live edit does (for tests): the change runs at once and

@@ -31,6 +31,8 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
              (Algorithm 1); Apply makes it the plan.",
             "Capture & restore sends a photo through the masks; Export the plate writes CSV, \
              PNG, GDSII or STL.",
+            "Study > New study… varies this design's fold, λ0 plan or pitch in the Sweep \
+             workspace; Open on a row brings a point back here.",
         ]
     }
 
@@ -52,8 +54,35 @@ impl crate::app::workspace::Workspace for PhaseWorkspace {
     }
 
     /// Carries out what the panels queued: every change of the design, through the history.
-    fn apply(&mut self, _shell: &mut crate::app::Shell) {
+    fn apply(&mut self, shell: &mut crate::app::Shell) {
         self.apply_queued();
+        self.send_study(shell);
+    }
+
+    fn menus_ui(&mut self, ui: &mut egui::Ui) {
+        ui.menu_button("Study", |ui| {
+            if ui
+                .button("New study…")
+                .on_hover_text(
+                    "Vary this design's fold, λ0 plan or pitch and record its numbers at \
+                     every combination (the Sweep workspace runs it)",
+                )
+                .clicked()
+            {
+                self.ask_study();
+                ui.close();
+            }
+        });
+    }
+
+    /// A study point's design opens here as one undo step.
+    fn request(&mut self, request: crate::app::workspace::Request, shell: &mut crate::app::Shell) {
+        if let crate::app::workspace::Request::OpenPhaseDesign { design, what } = request {
+            self.set_design(*design);
+            shell.set_status(crate::app::notice::Notice::info(format!(
+                "opened {what} (Ctrl+Z goes back)"
+            )));
+        }
     }
 
     /// Undo and redo act on the phase parameters.

@@ -16,8 +16,11 @@ pub enum SweepAction {
     OpenFolder(PathBuf),
     /// Stop reading the folder being read (the previous table stays).
     CancelLoad,
-    /// Rebuild the design of this row (an index into the table) and open it in Display layouts.
+    /// Rebuild the design of this row (an index into the table) and open it in the workspace
+    /// that made it (Display layouts or Phase masks): the current design, B in Compare.
     OpenRow(usize),
+    /// Rebuild the display design of this row and pin it as A for Compare.
+    PinRow(usize),
     /// Show the rows this filter keeps (see [`super::table::Filter`]).
     Filter(String),
     /// Sort the rows so.

@@ -24,7 +24,7 @@ use crate::core::sweep::{PlotKind, PlotSpec};
 use crate::io::sweep::plots::plots_for;
 pub use action::SweepAction;
 use derive::{View, ViewRequest};
-pub use open::{OpenedDesign, results_dir};
+pub use open::{OpenedDesign, RowDesign, results_dir};
 use table::{Sort, SweepTable};
 
 /// The user's own plot: two columns, as a line (mean ± SD over the rows at each x) or
@@ -53,7 +53,8 @@ pub struct SweepWorkspace {
     pub sort: Sort,
     /// The user's plot below the spec's.
     pub custom: CustomPlot,
-    opening: Option<Job<OpenedDesign>>,
+    /// A row's design being rebuilt, and whether it is to be pinned as A rather than opened.
+    opening: Option<(bool, Job<OpenedDesign>)>,
     message: Option<Notice>,
     /// What the panels and menus queued this frame, carried out after the UI.
     actions: Vec<SweepAction>,
@@ -163,7 +164,8 @@ impl SweepWorkspace {
             SweepAction::AskFolder => self.ask_folder(shell),
             SweepAction::OpenFolder(path) => self.open_folder(&path, shell.waker()),
             SweepAction::CancelLoad => self.cancel_load(),
-            SweepAction::OpenRow(index) => self.open_row(index, shell.waker()),
+            SweepAction::OpenRow(index) => self.open_row(index, false, shell.waker()),
+            SweepAction::PinRow(index) => self.open_row(index, true, shell.waker()),
             SweepAction::Filter(filter) => self.filter = filter,
             SweepAction::Sort(sort) => self.sort = sort,
             SweepAction::Custom(custom) => self.custom = custom,
@@ -195,7 +197,7 @@ impl SweepWorkspace {
             return;
         }
         let dir = self.new_study_dir(shell, "study");
-        match study::write_study(&dir, &request.design, &request.study) {
+        match study::write_study(&dir, &request.study, request.photo.as_deref()) {
             Ok(spec) if request.cluster => self.message = Some(study::write_cluster(&dir, &spec)),
             Ok(spec) => self.run_study(dir, spec, shell),
             Err(e) => self.message = Some(Notice::error(format!("cannot start the study: {e}"))),
@@ -378,14 +380,15 @@ impl SweepWorkspace {
     }
 
     /// Rebuilds the design of row `index` (into the table's rows) on a job; once built, it
-    /// opens in the Display workspace.
-    pub fn open_row(&mut self, index: usize, wake: impl Fn() + Send + 'static) {
+    /// opens in the workspace that made it, or (`pin`) is pinned as A for Compare.
+    pub fn open_row(&mut self, index: usize, pin: bool, wake: impl Fn() + Send + 'static) {
         let Some(table) = self.table.clone() else {
             return;
         };
-        self.opening = Some(Job::spawn("design builder", wake, move |_| {
-            open::open_row(&table, index)
-        }));
+        let job = Job::spawn("design builder", wake, move |p| {
+            open::open_row(&table, index, p)
+        });
+        self.opening = Some((pin, job));
     }
 
     /// The plots the controls ask for: the spec's (or the defaults), then the user's.
@@ -491,44 +494,64 @@ impl SweepWorkspace {
     }
 
     fn poll_opening(&mut self, shell: &mut Shell) {
-        let Some(done) = self.opening.as_ref().and_then(Job::poll) else {
+        let Some(done) = self.opening.as_ref().and_then(|(_, j)| j.poll()) else {
             return;
         };
-        self.opening = None;
-        match done {
-            Ok(o) => {
-                let name = self
-                    .table
-                    .as_ref()
-                    .map(|t| t.manifest.spec.name.clone())
-                    .unwrap_or_default();
-                let what = format!("point {} of sweep `{name}`", o.point);
-                self.message = Some(if o.hash_matches {
-                    Notice::info(format!("opened {what} in Display layouts"))
-                } else {
-                    Notice::error(format!(
-                        "opened {what}, but its design hash differs from the row's: the \
-                         preset or a file changed since the sweep ran"
-                    ))
-                });
-                if !o.hash_matches {
-                    shell.set_status(Notice::error(format!(
-                        "{what}: the design differs from the one the sweep computed (its \
-                         preset or file changed since)"
-                    )));
-                }
-                shell.send(
-                    WorkspaceId::Display,
-                    Request::OpenDesign {
-                        design: Box::new(o.design),
-                        what,
-                    },
-                );
-            }
+        let pin = self.opening.take().is_some_and(|(pin, _)| pin);
+        let o = match done {
+            Ok(o) => o,
             Err(e) => {
                 self.message = Some(Notice::error(format!("cannot open the design: {e}")));
+                return;
             }
+        };
+        let name = self
+            .table
+            .as_ref()
+            .map(|t| t.manifest.spec.name.clone())
+            .unwrap_or_default();
+        let what = format!("point {} of sweep `{name}`", o.point);
+        if !o.hash_matches {
+            shell.set_status(Notice::error(format!(
+                "{what}: the design differs from the one the sweep computed (its preset or \
+                 file changed since)"
+            )));
         }
+        let (request, target, verb) = match o.design {
+            RowDesign::Display(design) if pin => (
+                Request::PinDesign {
+                    design: Box::new(design),
+                    what: what.clone(),
+                },
+                WorkspaceId::Display,
+                "pinning",
+            ),
+            RowDesign::Display(design) => (
+                Request::OpenDesign {
+                    design: Box::new(design),
+                    what: what.clone(),
+                },
+                WorkspaceId::Display,
+                "opened",
+            ),
+            RowDesign::Phase(design) => (
+                Request::OpenPhaseDesign {
+                    design: Box::new(design),
+                    what: what.clone(),
+                },
+                WorkspaceId::Phase,
+                "opened",
+            ),
+        };
+        self.message = Some(if o.hash_matches {
+            Notice::info(format!("{verb} {what}"))
+        } else {
+            Notice::error(format!(
+                "{verb} {what}, but its design hash differs from the row's: the preset or a \
+                 file changed since the sweep ran"
+            ))
+        });
+        shell.send(target, request);
     }
 
     /// Starts the user's plot where the spec's default plot is not: the second metric

@@ -7,6 +7,7 @@ use super::table::SweepTable;
 use crate::app::error::StudioError;
 use crate::app::job::JobError;
 use crate::core::Design;
+use crate::core::phase::PhaseDesign;
 use crate::core::sweep::SweepJob;
 use crate::core::sweep::{ParamValue, Points};
 use crate::core::{Progress, SimError};
@@ -51,30 +52,47 @@ pub fn read_folder(dir: &Path, progress: &Progress) -> Result<SweepTable, JobErr
     })
 }
 
+/// The design a row computed: a display layout or a phase-mask design.
+#[derive(Debug, Clone)]
+pub enum RowDesign {
+    /// A display design (an `analyze` or `restore` point), opened in Display layouts.
+    Display(Design),
+    /// A phase-mask design (a `phase psf` point), opened in Phase masks.
+    Phase(PhaseDesign),
+}
+
 /// A row's design, rebuilt.
 #[derive(Debug, Clone)]
 pub struct OpenedDesign {
     /// The design, as the sweep's point resolved it (if nothing changed since).
-    pub design: Design,
+    pub design: RowDesign,
     /// The row's point index.
     pub point: u64,
     /// Whether its hash is the one the row recorded; when not, the preset or a file changed
-    /// since the sweep ran.
+    /// since the sweep ran (a phase-mask design is made of its parameters alone).
     pub hash_matches: bool,
 }
 
-/// Rebuilds the display design of row `index` as its point did: the point's parameters from
-/// the spec (base, axes and linked values) built into the job, by the runner's own functions.
+/// Rebuilds the design of row `index` as its point did: the point's parameters from the spec
+/// (base, axes and linked values) built into the job, by the runner's own functions.
 /// Relative file parameters (`design`, `pattern`) are looked up from the results folder's
 /// parent first, where a spec beside its `--out` folder names them from, then from the working
-/// directory.
+/// directory. A phase point whose λ0 plan is `optimized` runs the allocation again (reporting
+/// to `progress`).
 ///
 /// # Errors
-/// A sweep of another job (only display designs open), a row that is not there, or the
-/// design's own error (an unknown preset, a file gone).
-pub fn open_row(table: &SweepTable, index: usize) -> Result<OpenedDesign, StudioError> {
+/// A sweep of a job with no design to open (`sensor`, the other phase commands), a row that is
+/// not there, or the design's own error (an unknown preset, a file gone).
+pub fn open_row(
+    table: &SweepTable,
+    index: usize,
+    progress: &Progress,
+) -> Result<OpenedDesign, StudioError> {
     let spec = &table.manifest.spec;
-    if !matches!(spec.job, SweepJob::Analyze | SweepJob::Restore) {
+    if !matches!(
+        spec.job,
+        SweepJob::Analyze | SweepJob::Restore | SweepJob::PhasePsf
+    ) {
         return Err(StudioError::NotDisplaySweep(spec.job));
     }
     let row = table.rows.get(index).ok_or(StudioError::NoRow(index))?;
@@ -95,15 +113,22 @@ pub fn open_row(table: &SweepTable, index: usize) -> Result<OpenedDesign, Studio
         })
         .collect();
     let refs: Vec<(String, &ParamValue)> = params.iter().map(|(k, v)| (k.clone(), v)).collect();
-    let design = match job_of(spec.job, &refs)? {
-        JobSpec::Analyze(j) => j.selection.resolve()?,
-        JobSpec::Restore(j) => j.selection.resolve()?,
-        other => return Err(StudioError::NotDisplaySweep(other.kind())),
+    let display = |design: Design| {
+        let hash_matches = design_hash(&design) == row.design_hash;
+        OpenedDesign {
+            design: RowDesign::Display(design),
+            point: row.point,
+            hash_matches,
+        }
     };
-    let hash_matches = design_hash(&design) == row.design_hash;
-    Ok(OpenedDesign {
-        design,
-        point: row.point,
-        hash_matches,
+    Ok(match job_of(spec.job, &refs)? {
+        JobSpec::Analyze(j) => display(j.selection.resolve()?),
+        JobSpec::Restore(j) => display(j.selection.resolve()?),
+        JobSpec::PhasePsf(j) => OpenedDesign {
+            design: RowDesign::Phase(crate::jobs::phase::psf_design(&j, progress)?),
+            point: row.point,
+            hash_matches: true,
+        },
+        other => return Err(StudioError::NotDisplaySweep(other.kind())),
     })
 }

@@ -9,8 +9,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use crate::app::job::{Job, JobError};
-use crate::core::Design;
-use crate::core::sweep::study::Study;
+use crate::app::widgets::photo::Photo;
+use crate::core::sweep::study::{Study, StudyFiles, StudySubject};
 use crate::core::sweep::{Shard, SweepSpec};
 use crate::jobs::sweep::{RunOptions, RunSummary, run_sweep};
 
@@ -33,20 +33,52 @@ pub struct StudyRun {
     last_read: Instant,
 }
 
-/// Writes `design` and the spec of `study` into `dir` (created): the design as
-/// [`DESIGN_FILE`], the spec naming it by its absolute path as [`SPEC_FILE`], so that
+/// The photo's file in a restoring study's folder.
+pub const PHOTO_FILE: &str = "photo.png";
+/// A phase-mask design's file in a study's folder (for the record: the spec carries its
+/// values as `phase psf` flags).
+pub const PHASE_DESIGN_FILE: &str = "phase-design.json";
+
+/// Writes the study's inputs and spec into `dir` (created): a display design as
+/// [`DESIGN_FILE`], a phase-mask design as [`PHASE_DESIGN_FILE`], the photo a restoring study
+/// captures as [`PHOTO_FILE`] (16 bits a channel; the built-in photo's own file when `photo` is
+/// `None`), and the spec naming them by absolute paths as [`SPEC_FILE`], so that
 /// `udc-studio sweep dir/spec.toml --out …` runs the same points from any folder.
 ///
 /// # Errors
 /// A folder or file that cannot be written.
-pub fn write_study(dir: &Path, design: &Design, study: &Study) -> Result<SweepSpec, JobError> {
+pub fn write_study(
+    dir: &Path,
+    study: &Study,
+    photo: Option<&Photo>,
+) -> Result<SweepSpec, JobError> {
     std::fs::create_dir_all(dir)
         .map_err(|e| JobError::Failed(format!("cannot create {}: {e}", dir.display())))?;
     let dir = std::fs::canonicalize(dir)
         .map_err(|e| JobError::Failed(format!("cannot resolve {}: {e}", dir.display())))?;
     let design_path = dir.join(DESIGN_FILE);
-    crate::io::design::file::save_design(&design_path, design)?;
-    let spec = study.spec(design, &design_path.to_string_lossy());
+    match &study.subject {
+        StudySubject::Display(d) => crate::io::design::file::save_design(&design_path, d)?,
+        StudySubject::Phase(d) => {
+            crate::io::phase::design::save_phase_design(&dir.join(PHASE_DESIGN_FILE), d)?;
+        }
+    }
+    let photo_path = study.needs_photo().then(|| dir.join(PHOTO_FILE));
+    if let Some(path) = &photo_path {
+        match photo {
+            Some(p) => {
+                let planes: Vec<&ndarray::Array2<f64>> = p.planes.iter().collect();
+                crate::io::photo::write_photo_png16(path, &planes)?;
+            }
+            None => std::fs::write(path, crate::io::photo::BUILT_IN_PHOTO_PNG)
+                .map_err(|e| JobError::Failed(format!("cannot write {}: {e}", path.display())))?,
+        }
+    }
+    let files = StudyFiles {
+        design: design_path.to_string_lossy().into_owned(),
+        photo: photo_path.map(|p| p.to_string_lossy().into_owned()),
+    };
+    let spec = study.spec(&files);
     crate::io::sweep::save_spec_toml(&dir.join(SPEC_FILE), &spec)?;
     Ok(spec)
 }

@@ -15,6 +15,8 @@ use super::{SweepAction, SweepCtx};
 
 /// Room for the Open button at the start of each row.
 const OPEN_COLUMN_PX: f32 = 52.0;
+/// Room for the Open and Pin A buttons (a display sweep's rows).
+const OPEN_PIN_COLUMN_PX: f32 = 104.0;
 /// The widest a column gets (longer errors are cut; hover shows them whole).
 const MAX_COLUMN_PX: f32 = 360.0;
 
@@ -157,11 +159,20 @@ impl TablePanel {
         let row_h = ui.spacing().interact_size.y;
         let mut sort = ctx.sort;
         let mut open = None;
+        let pinnable = matches!(
+            t.manifest.spec.job,
+            crate::core::sweep::SweepJob::Analyze | crate::core::sweep::SweepJob::Restore
+        );
+        let open_px = if pinnable {
+            OPEN_PIN_COLUMN_PX
+        } else {
+            OPEN_COLUMN_PX
+        };
         egui::ScrollArea::horizontal()
             .id_salt("sweep_table_x")
             .show(ui, |ui| {
                 ui.horizontal(|ui| {
-                    ui.add_space(OPEN_COLUMN_PX);
+                    ui.add_space(open_px);
                     for (c, w) in columns.iter().zip(&widths) {
                         header_ui(ui, t.name(*c), *c, *w, &mut sort);
                     }
@@ -176,17 +187,33 @@ impl TablePanel {
                             let Some(row) = t.rows.get(i) else { continue };
                             ui.horizontal(|ui| {
                                 ui.allocate_ui_with_layout(
-                                    vec2(OPEN_COLUMN_PX, row_h),
+                                    vec2(open_px, row_h),
                                     Layout::left_to_right(Align::Center),
                                     |ui| {
+                                        // The column keeps its width under the headers.
+                                        ui.set_min_width(open_px);
                                         if ui
                                             .small_button("Open")
                                             .on_hover_text(
-                                                "Open this point's design in Display layouts",
+                                                "Open this point's design where it was made \
+                                                 (Display layouts or Phase masks): the current \
+                                                 design, B in Compare",
                                             )
                                             .clicked()
                                         {
-                                            open = Some(i);
+                                            open = Some(SweepAction::OpenRow(i));
+                                        }
+                                        if pinnable
+                                            && ui
+                                                .small_button("Pin A")
+                                                .on_hover_text(
+                                                    "Pin this point's design as A for Display \
+                                                     layouts' Compare (analysed at full \
+                                                     quality); the current design stays B",
+                                                )
+                                                .clicked()
+                                        {
+                                            open = Some(SweepAction::PinRow(i));
                                         }
                                     },
                                 );
@@ -200,8 +227,8 @@ impl TablePanel {
         if sort != ctx.sort {
             ctx.actions.push(SweepAction::Sort(sort));
         }
-        if let Some(i) = open {
-            ctx.actions.push(SweepAction::OpenRow(i));
+        if let Some(a) = open {
+            ctx.actions.push(a);
         }
     }
 }

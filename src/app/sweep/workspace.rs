@@ -56,13 +56,8 @@ impl Workspace for SweepWorkspace {
     }
 
     fn request(&mut self, request: Request, _shell: &mut Shell) {
-        if let Request::NewStudy {
-            design,
-            reference,
-            field,
-        } = request
-        {
-            self.study_dialog.open(*design, reference);
+        if let Request::NewStudy { start, field } = request {
+            self.study_dialog.open(*start);
             if let Some(f) = field {
                 self.study_dialog.only(f);
             }

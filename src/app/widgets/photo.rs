@@ -6,6 +6,7 @@ use ndarray::Array2;
 use crate::io::{IoError, photo};
 
 /// A loaded photo: a name for the screen and one plane per channel in `[0, 1]`.
+#[derive(Debug)]
 pub struct Photo {
     /// Name shown with the pictures (usually the file name).
     pub name: String,

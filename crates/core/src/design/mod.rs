@@ -6,10 +6,12 @@ use serde::{Deserialize, Serialize};
 
 use crate::{SimError, ValueError};
 
+mod dpi;
 mod subpixels;
 mod theory;
 mod validate;
 
+pub use dpi::UM_PER_INCH;
 pub use subpixels::{Subpixel, SubpixelChecks, Subpixels};
 pub use theory::Theory;
 

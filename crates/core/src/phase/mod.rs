@@ -43,6 +43,7 @@ pub mod figures;
 pub mod geometry;
 pub mod imaging;
 pub mod invertibility;
+pub mod plan;
 pub mod plate;
 pub mod psf;
 
@@ -54,6 +55,7 @@ pub use allocate::{Allocation, AllocationSettings, allocate, optimize_lambda0};
 pub use chain::{Chain, Incidence, MonoPsf, PhaseOptics, effective_pixel_um};
 pub use geometry::{Lenslets, Surface};
 pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
+pub use plan::Lambda0Plan;
 pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, phase_psfs};
 
 /// Refractive index of the lenslets (no dispersion, as in the thesis).

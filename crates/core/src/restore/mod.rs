@@ -59,6 +59,40 @@ pub use wiener::THESIS_NSR;
 
 use crate::{Progress, SimError};
 
+/// Which restoration algorithm, by name: what a user picks (the command's `--method`, the
+/// Restore view's choice, a study's axis); [`Method`] carries its settings.
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
+#[strum(serialize_all = "kebab-case")]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Default, serde::Serialize, serde::Deserialize,
+)]
+#[serde(rename_all = "kebab-case")]
+pub enum RestoreMethod {
+    /// Wiener deconvolution with `--nsr` (the thesis).
+    #[default]
+    Wiener,
+    /// Gradient-regularised least squares by conjugate gradients (`--lambda`, `--iterations`).
+    Cg,
+}
+
+impl RestoreMethod {
+    /// Both, in the order menus list them.
+    pub const ALL: [RestoreMethod; 2] = [RestoreMethod::Wiener, RestoreMethod::Cg];
+
+    /// The command's and the spec files' spelling (`wiener`, `cg`).
+    pub fn name(self) -> &'static str {
+        self.into()
+    }
+
+    /// Its name on screen.
+    pub fn label(self) -> &'static str {
+        match self {
+            RestoreMethod::Wiener => "Wiener",
+            RestoreMethod::Cg => "CG least squares",
+        }
+    }
+}
+
 /// The restoration algorithm.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Method {

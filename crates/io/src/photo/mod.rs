@@ -346,6 +346,28 @@ fn to_u8(v: f64) -> u8 {
     }
 }
 
+/// `round(65535·v)` for `v` clipped to `[0, 1]`; NaN → 0. An 8-bit value `k/255` becomes
+/// `257·k`, which reads back as exactly `k/255`.
+fn to_u16(v: f64) -> u16 {
+    if v.is_nan() {
+        0
+    } else {
+        (65535.0 * v.clamp(0.0, 1.0)).round() as u16
+    }
+}
+
+/// Writes 1 (grey) or 3 (R, G, B) planes as a 16-bit RGB PNG, values clipped to `[0, 1]`: a
+/// photo saved for a command to read again (an 8-bit photo's values come back exactly).
+///
+/// # Errors
+/// As [`write_photo_png`].
+pub fn write_photo_png16<T: Sample>(path: &Path, planes: &[&Array2<T>]) -> Result<(), IoError> {
+    let (w, h) = planes_size(path, planes)?;
+    let img = ImageBuffer::<Rgb<u16>, _>::from_raw(w, h, interleave(planes, to_u16))
+        .ok_or_else(|| size_mismatch(path))?;
+    write_image(path, DynamicImage::ImageRgb16(img), ImageFormat::Png)
+}
+
 /// Writes 1 (grey) or 3 (R, G, B) planes as an 8-bit RGB PNG, values clipped to `[0, 1]`.
 ///
 /// # Errors
@@ -479,5 +501,18 @@ mod tests {
         assert_eq!(to_u8(-1.0), 0);
         assert_eq!(to_u8(f64::NAN), 0);
         assert_eq!(to_u8(0.5), 128);
+    }
+
+    #[test]
+    fn an_8_bit_photo_saved_in_16_bits_reads_back_exactly() {
+        let planes = built_in_photo().expect("the built-in photo");
+        let dir = tempfile::tempdir().expect("a scratch folder");
+        let path = dir.path().join("photo.png");
+        let refs: Vec<&Array2<f64>> = planes.iter().collect();
+        write_photo_png16(&path, &refs).expect("written");
+        let back: Vec<Array2<f64>> = load_photo(&path, None).expect("read");
+        assert_eq!(back, planes);
+        assert_eq!(to_u16(f64::NAN), 0);
+        assert_eq!(to_u16(2.0), 65535);
     }
 }

@@ -44,7 +44,9 @@ pub struct DesignSelection {
     #[arg(long)]
     pub pitch_um: Option<f64>,
     /// Display pixel density in dots per inch, instead of `--pitch-um` (the pitch becomes
-    /// 25 400 µm / DPI; the opening's cells scale with it).
+    /// 25 400 µm / DPI; the opening's cells scale with it, and the pupil sample becomes an odd
+    /// fraction of the cell, no coarser than the design's, so that samples do not straddle cell
+    /// edges, as in the thesis's 150-, 300- and 600-DPI presets).
     #[arg(long, conflicts_with = "pitch_um")]
     #[serde(default)]
     pub dpi: Option<f64>,
@@ -129,12 +131,6 @@ impl DesignSelection {
         if let Some(p) = self.pitch_um {
             design.opening.pitch_um = p;
         }
-        if let Some(d) = self.dpi {
-            if !(d.is_finite() && d > 0.0) {
-                anyhow::bail!("--dpi {d}: give a positive number of dots per inch");
-            }
-            design.opening.pitch_um = udc_core::sweep::study::UM_PER_INCH / d;
-        }
         if let Some(t) = self.tiling {
             design.tiling.mode = t;
         }
@@ -153,6 +149,13 @@ impl DesignSelection {
             if let Some(v) = value {
                 design = parameter.apply(&design, v)?;
             }
+        }
+        // After the optics: the DPI refines whichever pupil sampling the design ends with.
+        if let Some(d) = self.dpi {
+            if !(d.is_finite() && d > 0.0) {
+                anyhow::bail!("--dpi {d}: give a positive number of dots per inch");
+            }
+            design = design.at_dpi(d)?;
         }
         if let Some(path) = &self.spectral {
             let table_err = |error: TableError| IoError::Table {

@@ -13,16 +13,7 @@ use super::DesignSelection;
 use crate::Report;
 use crate::denoise::DenoiseFlags;
 
-/// The restoration algorithm of `restore`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum RestoreMethod {
-    #[default]
-    /// Wiener deconvolution with `--nsr` (the thesis).
-    Wiener,
-    /// Gradient-regularised least squares by conjugate gradients (`--lambda`, `--iterations`).
-    Cg,
-}
+pub use udc_core::restore::RestoreMethod;
 
 /// The parameters of `restore`: a photo captured through a display at each `--light` or
 /// `--snr-db` and restored; or, with `--psf`, a real capture (`--image`) restored with a
@@ -63,7 +54,7 @@ pub struct RestoreJob {
     #[serde(with = "crate::params::list")]
     pub snr_db: Vec<f64>,
     /// Restoration method.
-    #[arg(long, value_enum, default_value = "wiener")]
+    #[arg(long, value_parser = crate::choice::choice::<RestoreMethod>(), default_value_t = RestoreMethod::Wiener)]
     pub method: RestoreMethod,
     /// Noise-to-signal ratio of the Wiener filter.
     #[arg(long, default_value_t = udc_core::restore::THESIS_NSR)]
@@ -182,10 +173,7 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
         } else {
             Padding::Double
         };
-        let name = match args.method {
-            RestoreMethod::Wiener => "wiener",
-            RestoreMethod::Cg => "cg",
-        };
+        let name = args.method.name();
         let run = super::restore_measured::MeasuredRun {
             image: &args.image,
             psf,

@@ -20,15 +20,15 @@ use udc_core::design::Channel;
 use udc_core::phase::allocate::{channel_invertibility, channel_matrix};
 use udc_core::phase::geometry::{lambda0_per_lenslet, lenslet_count, uniform_counts};
 use udc_core::phase::{
-    AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, PhaseDesign, PhaseOptics,
-    PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix, optimize_lambda0, phase_psfs,
-    v_matrix, wavelength_grid_nm,
+    AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, Lambda0Plan, PhaseDesign,
+    PhaseOptics, PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix,
+    optimize_lambda0, phase_psfs, v_matrix, wavelength_grid_nm,
 };
 use udc_io::design::spectral::{channels_from_response, load_response_csv, thesis_response};
 use udc_io::numbers::json6 as r;
 use udc_io::phase::design::save_phase_design;
 
-pub use psf::psf;
+pub use psf::{psf, psf_design};
 pub use restore::restore;
 
 /// The folding wavelength plan unless given: every lenslet folded for 530 nm (thesis §4.5).
@@ -294,21 +294,9 @@ fn grid_channels(spectral: Option<&Path>) -> Result<Vec<Channel>> {
 }
 
 fn parse_lambda0(s: &str) -> Result<Option<Lambda0>> {
-    let t = s.trim().to_ascii_lowercase();
-    if t == "uniform" {
-        return Ok(Some(Lambda0::Uniform));
-    }
-    if t == "optimized" {
-        return Ok(None);
-    }
-    if let Some(v) = t.strip_prefix("fixed:") {
-        let nm: f64 = v
-            .trim()
-            .parse()
-            .map_err(|_| anyhow::anyhow!("--lambda0 `{s}`: `{v}` is not a wavelength in nm"))?;
-        return Ok(Some(Lambda0::Fixed { nm }));
-    }
-    bail!("--lambda0 `{s}`: expected fixed:NM (e.g. fixed:530), uniform or optimized")
+    Lambda0Plan::parse(s)
+        .map(Lambda0Plan::lambda0)
+        .map_err(|why| anyhow::anyhow!("--lambda0 `{s}`: {why}"))
 }
 
 /// The λ0 plan of `--lambda0`; `optimized` runs the allocation for `design` first.

@@ -2,20 +2,14 @@
 
 use super::*;
 
-/// Runs `phase psf`.
+/// The design `phase psf` computes: the mask's, its λ0 plan resolved (`optimized` runs the
+/// allocation first) and the surface it asks for. A sweep row's design opens through it.
 ///
 /// # Errors
-/// Bad values (naming the flag), an unreadable response, unwritable outputs, cancellation.
-pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
-    let mut out = Report::default();
+/// Bad values (naming the flag), an unreadable response, cancellation.
+pub fn psf_design(a: &PsfJob, progress: &Progress) -> Result<PhaseDesign> {
     let mut design = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
-    if !a.angle_deg.is_finite() || a.angle_deg.abs() >= 89.0 {
-        bail!(
-            "--angle-deg {:?}: must be a finite angle within ±89°",
-            a.angle_deg
-        );
-    }
     design.lambda0 = resolve_lambda0(
         &a.lambda0,
         &design,
@@ -29,6 +23,23 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
     design
         .validate()
         .map_err(|e| anyhow::anyhow!("{}", e.to_string().replace("`lambda0.nm`", "--lambda0")))?;
+    Ok(design)
+}
+
+/// Runs `phase psf`.
+///
+/// # Errors
+/// Bad values (naming the flag), an unreadable response, unwritable outputs, cancellation.
+pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
+    let mut out = Report::default();
+    if !a.angle_deg.is_finite() || a.angle_deg.abs() >= 89.0 {
+        bail!(
+            "--angle-deg {:?}: must be a finite angle within ±89°",
+            a.angle_deg
+        );
+    }
+    let design = psf_design(a, progress)?;
+    let sampling = sampling_of(&a.mask);
     let channels = match &a.spectral {
         Some(p) => grid_channels(Some(p))?,
         None => Channel::rgb_peaks(),

@@ -19,21 +19,16 @@ use crate::core::figure::Panel;
 use crate::core::restore::capture::REFERENCE_LTR;
 use crate::core::restore::figures::{difference_planes, photo_panel};
 use crate::core::restore::{
-    CaptureSettings, CgSettings, Denoise, Light, Method, Recipe, RestoreResult, RestoreSettings,
-    Sigma2, THESIS_NSR, simulate,
+    CaptureSettings, CgSettings, Denoise, Light, Method, Recipe, RestoreMethod, RestoreResult,
+    RestoreSettings, Sigma2, THESIS_NSR, simulate,
 };
+use crate::core::sweep::study::RestoreSetup;
 use crate::io::photo;
 
 /// Photos are scaled down to this side so a run stays interactive.
 const MAX_SIDE_PX: u32 = 1024;
 /// Gain of the difference image (as the CLI's).
 const DIFFERENCE_GAIN: f64 = photo::DIFFERENCE_GAIN;
-
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum MethodChoice {
-    Wiener,
-    Cg,
-}
 
 /// The settings a run depends on, compared to decide when to rerun.
 #[derive(Debug, Clone, PartialEq)]
@@ -42,7 +37,7 @@ struct Key {
     shown: u64,
     pinned: Option<usize>,
     snr_db: f64,
-    method: MethodChoice,
+    method: RestoreMethod,
     nsr: f64,
     lambda: f64,
     seed: u64,
@@ -107,7 +102,7 @@ pub struct RestoreView {
     photo_load: Option<Job<Photo>>,
     dialog: Option<PendingDialog>,
     snr_db: f64,
-    method: MethodChoice,
+    method: RestoreMethod,
     nsr: f64,
     lambda: f64,
     seed: u64,
@@ -117,6 +112,8 @@ pub struct RestoreView {
     done_key: Option<Key>,
     rows: Vec<Row>,
     message: Option<Notice>,
+    /// How long the last finished run took, ms (a study's estimate adds it per point).
+    last_run_ms: Option<f64>,
 }
 
 impl Default for RestoreView {
@@ -128,7 +125,7 @@ impl Default for RestoreView {
             photo_load: None,
             dialog: None,
             snr_db: 28.0,
-            method: MethodChoice::Wiener,
+            method: RestoreMethod::Wiener,
             nsr: THESIS_NSR,
             lambda: CgSettings::default().lambda,
             seed: 0,
@@ -137,6 +134,7 @@ impl Default for RestoreView {
             done_key: None,
             rows: Vec::new(),
             message: None,
+            last_run_ms: None,
         }
     }
 }
@@ -201,6 +199,20 @@ impl RestoreView {
         self.photo_id += 1;
     }
 
+    /// What a study that restores takes from the view: its settings, its photo and how long
+    /// its last run took (ms).
+    pub fn study_setup(&self) -> (RestoreSetup, Option<Arc<Photo>>, Option<f64>) {
+        let setup = RestoreSetup {
+            snr_db: self.snr_db,
+            method: self.method,
+            nsr: self.nsr,
+            lambda: self.lambda,
+            noise_seed: self.seed,
+            denoise: self.denoise,
+        };
+        (setup, self.photo.clone(), self.last_run_ms)
+    }
+
     /// Takes an answered dialog, a read photo and a finished run.
     pub(super) fn poll(&mut self, ctx: &egui::Context) {
         if let Some(answer) = self.dialog.as_ref().and_then(PendingDialog::poll) {
@@ -222,8 +234,11 @@ impl RestoreView {
                 Err(e) => self.message = Some(Notice::error(format!("cannot open the photo: {e}"))),
             }
         }
-        if let Some((key, done)) = self.job.poll() {
-            let key = Some(key);
+        if let Some(f) = self.job.finished() {
+            let (key, done) = (Some(f.key), f.result);
+            if done.is_ok() {
+                self.last_run_ms = Some(f.elapsed.as_secs_f64() * 1e3);
+            }
             match done {
                 Ok(runs) => {
                     self.rows = runs
@@ -295,8 +310,8 @@ impl RestoreView {
         // Dropping the running job cancels it.
         self.job.stop();
         let method = match self.method {
-            MethodChoice::Wiener => Method::Wiener { nsr: self.nsr },
-            MethodChoice::Cg => Method::Cg(CgSettings {
+            RestoreMethod::Wiener => Method::Wiener { nsr: self.nsr },
+            RestoreMethod::Cg => Method::Cg(CgSettings {
                 lambda: self.lambda,
                 ..CgSettings::default()
             }),
@@ -422,10 +437,11 @@ impl RestoreView {
                 Light::SnrDb(self.snr_db).electrons(crate::core::restore::capture::READ_NOISE_E)
             ));
             ui.separator();
-            ui.selectable_value(&mut self.method, MethodChoice::Wiener, "Wiener");
-            ui.selectable_value(&mut self.method, MethodChoice::Cg, "CG least squares");
+            for m in RestoreMethod::ALL {
+                ui.selectable_value(&mut self.method, m, m.label());
+            }
             match self.method {
-                MethodChoice::Wiener => {
+                RestoreMethod::Wiener => {
                     ui.add(
                         crate::app::widgets::number(&mut self.nsr)
                             .range(0.0..=1.0)
@@ -437,7 +453,7 @@ impl RestoreView {
                         "Noise-to-signal ratio of the Wiener filter (the thesis: 0.00371)",
                     );
                 }
-                MethodChoice::Cg => {
+                RestoreMethod::Cg => {
                     ui.add(
                         crate::app::widgets::number(&mut self.lambda)
                             .range(0.0..=1.0)
