@@ -569,6 +569,9 @@ impl StudioApp {
         for (id, request) in std::mem::take(&mut self.shell.sent) {
             self.with_workspace(id, |ws, shell| ws.request(request, shell));
         }
+        if std::mem::take(&mut self.shell.reproduce_asked) {
+            self.apply(ShellCommand::OpenReproduce);
+        }
         if let Some(id) = self.shell.switch_to.take() {
             self.active = id;
         }

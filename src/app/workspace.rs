@@ -183,6 +183,9 @@ pub struct Shell {
     pub(super) quit_confirmed: bool,
     /// Requests a workspace sends to another (a sweep row's design to the display).
     pub(super) sent: Vec<(WorkspaceId, Request)>,
+    /// A workspace asked for Help ▸ Reproduce thesis results (the Sweep workspace's empty
+    /// state).
+    pub(super) reproduce_asked: bool,
 }
 
 impl Shell {
@@ -205,6 +208,7 @@ impl Shell {
             confirm: None,
             quit_confirmed: false,
             sent: Vec::new(),
+            reproduce_asked: false,
         }
     }
 
@@ -253,6 +257,12 @@ impl Shell {
 
     /// Hands `request` to workspace `id` at the end of the frame and shows that workspace
     /// (the Sweep workspace opens a row's design in the display's document, undoable there).
+    /// Opens Help ▸ Reproduce thesis results after this frame's workspaces.
+    pub fn open_reproduce(&mut self) {
+        self.reproduce_asked = true;
+    }
+
+    /// Sends `request` to workspace `id` and shows it.
     pub fn send(&mut self, id: WorkspaceId, request: Request) {
         self.sent.push((id, request));
         self.switch_to = Some(id);

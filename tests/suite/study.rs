@@ -339,3 +339,64 @@ fn a_light_and_method_study_restores_the_photo_at_every_point() {
     );
     cli_reruns_the_same_table(&t.dir, dir.path());
 }
+
+/// An opening axis grows and shrinks the drawn slit by whole cells: each point is a design file
+/// named by its open fraction, its LTR follows the fraction, and a point opens with its opening.
+#[test]
+fn an_opening_axis_studies_the_slit_grown_and_shrunk_and_opens_a_variant() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = common::studio_small(dir.path());
+    step_until(&mut h, "the first result", common::display_up_to_date);
+    h.state_mut().act(DisplayAction::NewStudy(None));
+    h.run_steps(3);
+    {
+        let d = &mut h.state_mut().sweep_mut().study_dialog;
+        let subject = d.subject().clone();
+        d.axes = vec![AxisRow::new(
+            AxisKind::Opening,
+            &subject,
+            &RestoreSetup::default(),
+        )];
+        assert_eq!(d.study().unwrap().points(), 3);
+        d.axes[0].text = "0, -9".into();
+        assert!(d.study().unwrap_err().contains("nothing"));
+        d.axes[0].text = "-1, 0, 1".into();
+    }
+    h.run_steps(2);
+    h.get_by_label("Run").click();
+    step_until(&mut h, "the opening study, complete", |app| {
+        !app.sweep().is_studying()
+            && app.sweep().is_idle()
+            && app.sweep().table().is_some_and(|t| t.manifest.complete)
+    });
+    let t = h.state().sweep().table().unwrap().clone();
+    assert_eq!((t.rows.len(), t.manifest.failed), (3, 0));
+    let (f, l) = (t.column("open-fraction").unwrap(), t.column("ltr").unwrap());
+    let mut pairs: Vec<(f64, f64)> = t
+        .rows
+        .iter()
+        .map(|r| (t.number(r, f), t.number(r, l)))
+        .collect();
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    assert_eq!(
+        pairs.iter().map(|p| p.0).collect::<Vec<_>>(),
+        [0.1429, 0.2381, 0.3333]
+    );
+    // The slit in the round pupil: LTR within 2 % of the open fraction, rising with it.
+    for (fraction, ltr) in &pairs {
+        assert!((ltr / fraction - 1.0).abs() < 0.02, "{fraction}: LTR {ltr}");
+    }
+    h.state_mut().sweep_mut().filter = "open-fraction>0.3".into();
+    step_until(&mut h, "the widest slit's row", |app| {
+        app.sweep().is_idle() && app.sweep().shown_rows().is_some_and(|r| r.len() == 1)
+    });
+    h.get_by_label("Open").click();
+    step_until(&mut h, "the display workspace", |app| {
+        app.workspace() == WorkspaceId::Display
+    });
+    let cells = &h.state().display().design().opening.cells;
+    assert!(
+        (udc_studio::core::display::opening_ops::open_fraction(cells) - 7.0 / 21.0).abs() < 1e-12
+    );
+    cli_reruns_the_same_table(&t.dir, dir.path());
+}

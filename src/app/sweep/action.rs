@@ -33,6 +33,8 @@ pub enum SweepAction {
     CancelStudy,
     /// Run what is left of the study in the open results folder.
     ResumeStudy,
+    /// Open Help ▸ Reproduce thesis results (the thesis's specs under `presets/reproduce/`).
+    OpenReproduce,
     /// Run the shipped example sweep of this file name (`io::sweep::EXAMPLES`) in a new
     /// folder.
     RunExample(&'static str),

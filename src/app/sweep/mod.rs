@@ -177,6 +177,7 @@ impl SweepWorkspace {
             }
             SweepAction::ResumeStudy => self.resume_study(shell),
             SweepAction::RunExample(name) => self.run_example(name, shell),
+            SweepAction::OpenReproduce => shell.open_reproduce(),
         }
     }
 

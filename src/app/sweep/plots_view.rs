@@ -192,6 +192,10 @@ fn series_pick(
     {
         filter.push_str(&format!(" {g}={}", m.group));
     }
+    // A mean of one row is that row: a click opens it, as a Pareto point's does.
+    let single = (m.n == 1)
+        .then(|| ctx.table.and_then(|t| row_of(t, spec, m)))
+        .flatten();
     response.clone().on_hover_ui_at_pointer(|ui| {
         ui.label(egui::RichText::new(&filter).strong());
         ui.label(format!(
@@ -202,11 +206,40 @@ fn series_pick(
             m.n,
             if m.n == 1 { "row" } else { "rows" }
         ));
-        ui.weak("click: show these rows in the table, each of which opens");
+        ui.weak(if single.is_some() {
+            "click: open its design"
+        } else {
+            "click: show these rows in the table, each of which opens"
+        });
     });
     if response.clicked() {
-        ctx.actions.push(SweepAction::Filter(filter));
+        ctx.actions.push(match single {
+            Some(index) => SweepAction::OpenRow(index),
+            None => SweepAction::Filter(filter),
+        });
     }
+}
+
+/// The row a one-row mean stands for: its x and group values (the table's index).
+fn row_of(
+    table: &super::table::SweepTable,
+    spec: &crate::core::sweep::PlotSpec,
+    m: &Mean,
+) -> Option<usize> {
+    let x = table.column(&spec.x)?;
+    let group = match &spec.group {
+        Some(g) if !m.group.is_empty() => Some(table.column(g)?),
+        _ => None,
+    };
+    table.rows.iter().position(|r| {
+        let n = table.number(r, x);
+        let same_x = if n.is_nan() {
+            table.text(r, x) == m.x_text
+        } else {
+            n == m.x
+        };
+        same_x && group.is_none_or(|g| table.text(r, g) == m.group)
+    })
 }
 
 /// The item drawn nearest `pointer` (at `xy` by `to_screen`), if one is within `reach` on

@@ -42,7 +42,7 @@ pub const PHASE_DESIGN_FILE: &str = "phase-design.json";
 /// Writes the study's inputs and spec into `dir` (created): a display design as
 /// [`DESIGN_FILE`], a phase-mask design as [`PHASE_DESIGN_FILE`], the photo a restoring study
 /// captures as [`PHOTO_FILE`] (16 bits a channel; the built-in photo's own file when `photo` is
-/// `None`), and the spec naming them by absolute paths as [`SPEC_FILE`], so that
+/// `None`), an opening axis's variants as `design-opening-<i>.json`, and the spec naming them by absolute paths as [`SPEC_FILE`], so that
 /// `udc-studio sweep dir/spec.toml --out …` runs the same points from any folder.
 ///
 /// # Errors
@@ -74,9 +74,16 @@ pub fn write_study(
                 .map_err(|e| JobError::Failed(format!("cannot write {}: {e}", path.display())))?,
         }
     }
+    let mut opening_designs = Vec::new();
+    for (i, d) in study.opening_designs().iter().enumerate() {
+        let path = dir.join(format!("design-opening-{i}.json"));
+        crate::io::design::file::save_design(&path, d)?;
+        opening_designs.push(path.to_string_lossy().into_owned());
+    }
     let files = StudyFiles {
         design: design_path.to_string_lossy().into_owned(),
         photo: photo_path.map(|p| p.to_string_lossy().into_owned()),
+        opening_designs,
     };
     let spec = study.spec(&files);
     crate::io::sweep::save_spec_toml(&dir.join(SPEC_FILE), &spec)?;

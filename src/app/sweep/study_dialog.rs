@@ -19,8 +19,12 @@ use crate::core::restore::RestoreMethod;
 use crate::core::sweep::one_axis::SweepParameter;
 use crate::core::sweep::study::{
     RestoreSetup, Study, StudyAxis, StudyEstimate, StudyMetric, StudySubject, parse_plans,
-    parse_values,
+    parse_steps, parse_values,
 };
+
+/// Most cells an opening axis grows or shrinks the opening by (the editor's grids are at most a
+/// few hundred cells).
+const MAX_GROW_CELLS: i32 = 64;
 
 /// Which kind of axis a row edits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -37,6 +41,10 @@ pub enum AxisKind {
     SnrDb,
     /// Restoration methods.
     Method,
+    /// The drawn opening grown or shrunk by whole cells.
+    Opening,
+    /// Open ratios of a phase-mask design's display pixel.
+    OpenRatio,
     /// Fold thicknesses of a phase-mask plate.
     Fold,
     /// λ0 plans of a phase-mask plate.
@@ -51,9 +59,15 @@ impl AxisKind {
                 AxisKind::Number(SweepParameter::PitchUm),
                 AxisKind::Fold,
                 AxisKind::Lambda0,
+                AxisKind::OpenRatio,
             ],
             StudySubject::Display(_) => {
-                let mut v = vec![AxisKind::Dpi, AxisKind::Tiling, AxisKind::Seeds];
+                let mut v = vec![
+                    AxisKind::Dpi,
+                    AxisKind::Tiling,
+                    AxisKind::Seeds,
+                    AxisKind::Opening,
+                ];
                 // The pitch is the DPI axis (which also keeps the pupil samples on the cells);
                 // the seed is the seeds axis.
                 v.extend(
@@ -77,6 +91,8 @@ impl AxisKind {
             AxisKind::Number(p) => p.label_with_unit(),
             AxisKind::SnrDb => "light level, SNR (dB): restores the photo".into(),
             AxisKind::Method => "restoration method: restores the photo".into(),
+            AxisKind::Opening => "opening grown (+) or shrunk (−), cells".into(),
+            AxisKind::OpenRatio => "open ratio of the display pixel".into(),
             AxisKind::Fold => "fold thickness T".into(),
             AxisKind::Lambda0 => "λ0 plan".into(),
         }
@@ -136,6 +152,13 @@ impl AxisRow {
                 v.iter().map(|x| short(*x)).collect::<Vec<_>>().join(", ")
             }
             (AxisKind::Lambda0, _) => "fixed:530, uniform, optimized".into(),
+            (AxisKind::Opening, _) => "-1, 0, 1".into(),
+            (AxisKind::OpenRatio, StudySubject::Phase(d)) => format!(
+                "{}, {}, {}",
+                short(0.5 * d.open_ratio),
+                short(d.open_ratio),
+                short((1.5 * d.open_ratio).min(1.0))
+            ),
             _ => String::new(),
         };
         AxisRow {
@@ -156,6 +179,10 @@ impl AxisRow {
             AxisKind::Number(p) => StudyAxis::Number(p, values()?),
             AxisKind::SnrDb => StudyAxis::SnrDb(values()?),
             AxisKind::Fold => StudyAxis::Fold(values()?),
+            AxisKind::OpenRatio => StudyAxis::OpenRatio(values()?),
+            AxisKind::Opening => StudyAxis::Opening(
+                parse_steps(&self.text, MAX_GROW_CELLS).map_err(|e| format!("{label}: {e}"))?,
+            ),
             AxisKind::Lambda0 => {
                 StudyAxis::Lambda0(parse_plans(&self.text).map_err(|e| format!("{label}: {e}"))?)
             }
@@ -524,7 +551,22 @@ impl StudyDialog {
                                  evenly) or optimized (Algorithm 1 runs first)",
                             );
                         }
-                        AxisKind::Dpi | AxisKind::Number(_) | AxisKind::SnrDb | AxisKind::Fold => {
+                        AxisKind::Opening => {
+                            ui.add_sized(
+                                field_size(ui),
+                                egui::TextEdit::singleline(&mut row.text).hint_text("-1, 0, 1, 2"),
+                            )
+                            .on_hover_text(
+                                "Whole cells: each grows (+) or shrinks (−) the drawn opening by \
+                                 one cell on every side; the points are named by their open \
+                                 fraction",
+                            );
+                        }
+                        AxisKind::Dpi
+                        | AxisKind::Number(_)
+                        | AxisKind::SnrDb
+                        | AxisKind::OpenRatio
+                        | AxisKind::Fold => {
                             ui.add_sized(
                                 field_size(ui),
                                 egui::TextEdit::singleline(&mut row.text)
@@ -557,6 +599,12 @@ impl StudyDialog {
                 {
                     self.axes
                         .push(AxisRow::new(k, &self.start.subject, &self.start.restore));
+                    // A restoring axis is asked for to see the restoration: record it.
+                    if matches!(k, AxisKind::SnrDb | AxisKind::Method) {
+                        for (m, on) in &mut self.metrics {
+                            *on |= matches!(m, StudyMetric::PsnrDb | StudyMetric::Ssim);
+                        }
+                    }
                     ui.close();
                 }
             }

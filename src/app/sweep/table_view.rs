@@ -353,11 +353,19 @@ fn empty_ui(ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
             ctx.actions.push(SweepAction::RunExample(name));
         }
     }
+    if ui
+        .button("Reproduce a thesis result…")
+        .on_hover_text(
+            "The thesis's figures and tables as sweeps (their specs are in presets/reproduce/), \
+             beside the thesis's own numbers: Help > Reproduce thesis results",
+        )
+        .clicked()
+    {
+        ctx.actions.push(SweepAction::OpenReproduce);
+    }
     ui.label(
         RichText::new(
-            "The thesis's results: Help > Reproduce thesis results (their specs are in \
-             presets/reproduce/). A folder written by udc-studio sweep: Open… above, or drop \
-             it on the window.",
+            "A folder written by udc-studio sweep: Open… above, or drop it on the window.",
         )
         .weak(),
     );

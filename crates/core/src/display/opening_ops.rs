@@ -249,6 +249,35 @@ pub fn clear(cells: &mut [Vec<f64>]) {
     }
 }
 
+/// The opening grown (`steps > 0`) or shrunk (`steps < 0`) by `|steps|` cells: each step gives
+/// every cell the largest (growing) or smallest (shrinking) transmittance of itself and its four
+/// neighbours within the pixel (grey-scale dilation or erosion). A full-height slit 5 cells wide
+/// grows to 7 and shrinks to 3; the pixel's edge is not wrapped, as the editor draws it.
+pub fn grow(cells: &[Vec<f64>], steps: i32) -> Vec<Vec<f64>> {
+    let mut out = cells.to_vec();
+    let pick: fn(f64, f64) -> f64 = if steps > 0 { f64::max } else { f64::min };
+    for _ in 0..steps.unsigned_abs() {
+        let prev = out.clone();
+        for (r, row) in out.iter_mut().enumerate() {
+            for (c, v) in row.iter_mut().enumerate() {
+                let neighbours = [
+                    r.checked_sub(1)
+                        .and_then(|r| prev.get(r))
+                        .and_then(|x| x.get(c)),
+                    prev.get(r + 1).and_then(|x| x.get(c)),
+                    c.checked_sub(1).and_then(|c| prev[r].get(c)),
+                    prev[r].get(c + 1),
+                ];
+                *v = neighbours
+                    .into_iter()
+                    .flatten()
+                    .fold(*v, |a, b| pick(a, *b));
+            }
+        }
+    }
+    out
+}
+
 /// Source index of target index `i` when `n_from` samples are resampled to `n_to` by nearest
 /// neighbour on cell centres: `floor((i + ½)·n_from / n_to)`, in exact integer arithmetic.
 fn nearest(i: usize, n_from: usize, n_to: usize) -> usize {
@@ -604,5 +633,21 @@ mod tests {
         assert_eq!(open_extent(&g), Some((1, 1, 2, 2)));
         assert_eq!(open_extent(&grid(3)), None);
         assert_eq!(open_fraction(&[]), 0.0);
+    }
+
+    #[test]
+    fn a_slit_grows_and_shrinks_a_cell_a_side_per_step() {
+        let n = 21;
+        let slit: Vec<Vec<f64>> = (0..n)
+            .map(|_| (0..n).map(|c| f64::from((8..13).contains(&c))).collect())
+            .collect();
+        let width = |g: &[Vec<f64>]| g[10].iter().filter(|v| **v > 0.5).count();
+        assert_eq!(width(&grow(&slit, 1)), 7);
+        assert_eq!(width(&grow(&slit, -2)), 1);
+        assert_eq!(grow(&slit, 0), slit);
+        assert!((open_fraction(&grow(&slit, -1)) - 3.0 / 21.0).abs() < 1e-12);
+        // Shrinking past nothing leaves nothing; growing past everything opens every cell.
+        assert_eq!(open_fraction(&grow(&slit, -3)), 0.0);
+        assert_eq!(open_fraction(&grow(&slit, 10)), 1.0);
     }
 }

@@ -25,6 +25,11 @@ pub enum StudyAxis {
     SnrDb(Vec<f64>),
     /// Restoration methods.
     Method(Vec<RestoreMethod>),
+    /// The drawn opening grown (positive) or shrunk (negative) by these many cells
+    /// ([`crate::display::opening_ops::grow`]): its variants, named by their open fraction.
+    Opening(Vec<i32>),
+    /// Open fractions of a phase-mask design's display pixel (its slit).
+    OpenRatio(Vec<f64>),
     /// Fold thicknesses T of a phase-mask plate.
     Fold(Vec<f64>),
     /// Folding-wavelength plans of a phase-mask plate.
@@ -41,6 +46,8 @@ impl StudyAxis {
             StudyAxis::Number(p, _) => p.param(),
             StudyAxis::SnrDb(_) => "snr-db",
             StudyAxis::Method(_) => "method",
+            StudyAxis::Opening(_) => "open-fraction",
+            StudyAxis::OpenRatio(_) => "open-ratio",
             StudyAxis::Fold(_) => "fold",
             StudyAxis::Lambda0(_) => "lambda0",
         }
@@ -50,7 +57,8 @@ impl StudyAxis {
     pub fn len(&self) -> usize {
         match self {
             StudyAxis::Dpi(v) | StudyAxis::Number(_, v) | StudyAxis::SnrDb(v) => v.len(),
-            StudyAxis::Fold(v) => v.len(),
+            StudyAxis::Fold(v) | StudyAxis::OpenRatio(v) => v.len(),
+            StudyAxis::Opening(k) => k.len(),
             StudyAxis::Tiling(t) => t.len(),
             StudyAxis::Method(m) => m.len(),
             StudyAxis::Lambda0(p) => p.len(),
@@ -68,16 +76,22 @@ impl StudyAxis {
         matches!(self, StudyAxis::SnrDb(_) | StudyAxis::Method(_))
     }
 
-    /// Whether it varies a phase-mask design (a fold or a λ0 plan).
+    /// Whether it varies a phase-mask design alone (its fold, λ0 plan or open ratio).
     pub fn is_phase(&self) -> bool {
-        matches!(self, StudyAxis::Fold(_) | StudyAxis::Lambda0(_))
+        matches!(
+            self,
+            StudyAxis::Fold(_) | StudyAxis::Lambda0(_) | StudyAxis::OpenRatio(_)
+        )
     }
 
-    /// Its values as sweep parameters; `first_seed` is the design's own seed.
+    /// Its values as sweep parameters; `first_seed` is the design's own seed. An opening
+    /// axis's values are its steps here; the spec names its points by their open fractions.
     pub fn values(&self, first_seed: u64) -> Vec<ParamValue> {
         let floats = |v: &[f64]| v.iter().map(|x| ParamValue::Float(*x)).collect();
         match self {
             StudyAxis::Dpi(v) | StudyAxis::SnrDb(v) | StudyAxis::Fold(v) => floats(v),
+            StudyAxis::OpenRatio(v) => floats(v),
+            StudyAxis::Opening(k) => k.iter().map(|k| ParamValue::Int(i64::from(*k))).collect(),
             StudyAxis::Tiling(t) => t
                 .iter()
                 .map(|m| ParamValue::Text(m.as_str().into()))
@@ -100,6 +114,7 @@ impl StudyAxis {
         match self {
             StudyAxis::Dpi(v) => v.iter().map(|dpi| design.at_dpi(*dpi)).collect(),
             StudyAxis::Number(p, v) => v.iter().map(|x| p.apply(design, *x)).collect(),
+            StudyAxis::Opening(k) => k.iter().map(|k| Ok(grown(design, *k))).collect(),
             _ => Vec::new(),
         }
     }
@@ -128,6 +143,14 @@ impl StudyAxis {
                     Some(d)
                 })
                 .collect(),
+            StudyAxis::OpenRatio(v) => v
+                .iter()
+                .map(|o| {
+                    let mut d = design.clone();
+                    d.open_ratio = *o;
+                    Some(d)
+                })
+                .collect(),
             StudyAxis::Lambda0(p) => p
                 .iter()
                 .map(|p| {
@@ -140,6 +163,46 @@ impl StudyAxis {
                 .collect(),
             _ => Vec::new(),
         }
+    }
+}
+
+/// `design` with its drawn opening grown (or shrunk) by `steps` cells, as one edit: its
+/// polygons dropped (the cells are the opening now) and its sub-pixels refitted.
+pub fn grown(design: &Design, steps: i32) -> Design {
+    let mut d = design.clone();
+    d.opening.cells = crate::display::opening_ops::grow(&design.opening.cells, steps);
+    if steps != 0 {
+        d.opening.polygons.clear();
+        d.reconcile_subpixels();
+    }
+    d
+}
+
+/// Whole numbers as a designer types them (`-1, 0, 1, 2`), each within ±`limit`.
+///
+/// # Errors
+/// Text that is not a list of whole numbers, or none, or one beyond the limit.
+pub fn parse_steps(text: &str, limit: i32) -> Result<Vec<i32>, String> {
+    let v: Vec<i32> = text
+        .split([',', ' ', ';'])
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| {
+            s.trim()
+                .parse::<i32>()
+                .ok()
+                .filter(|k| k.abs() <= limit)
+                .ok_or_else(|| {
+                    format!(
+                        "{:?} is not a whole number of cells within ±{limit}",
+                        s.trim()
+                    )
+                })
+        })
+        .collect::<Result<_, _>>()?;
+    if v.is_empty() {
+        Err("no value: list the cells to grow (1, 2) or shrink (-1)".into())
+    } else {
+        Ok(v)
     }
 }
 

@@ -12,7 +12,7 @@ mod metric;
 
 use std::collections::BTreeMap;
 
-pub use axis::{StudyAxis, parse_plans, parse_values};
+pub use axis::{StudyAxis, grown, parse_plans, parse_steps, parse_values};
 pub use estimate::{StudyEstimate, StudyTimes};
 pub use metric::{PHASE_PLOT_CHANNEL, StudyMetric};
 
@@ -72,6 +72,13 @@ pub struct StudyFiles {
     pub design: String,
     /// The photo a restoring study captures.
     pub photo: Option<String>,
+    /// The opening axis's designs, value by value ([`Study::opening_designs`]).
+    pub opening_designs: Vec<String>,
+}
+
+/// An opening variant's name: its open fraction to 4 decimals.
+fn fraction_name(d: &Design) -> f64 {
+    (crate::display::opening_ops::open_fraction(&d.opening.cells) * 1e4).round() / 1e4
 }
 
 /// A study: what it varies, its axes (their Cartesian product are the points), the metrics
@@ -113,6 +120,21 @@ impl Study {
                 SweepJob::Restore
             }
             StudySubject::Display(_) => SweepJob::Analyze,
+        }
+    }
+
+    /// The designs of the opening axis, value by value (empty without one): the spec names
+    /// them as files ([`StudyFiles::opening_designs`]).
+    pub fn opening_designs(&self) -> Vec<Design> {
+        match (
+            &self.subject,
+            self.axes.iter().find_map(|a| match a {
+                StudyAxis::Opening(k) => Some(k),
+                _ => None,
+            }),
+        ) {
+            (StudySubject::Display(d), Some(steps)) => steps.iter().map(|k| grown(d, *k)).collect(),
+            _ => Vec::new(),
         }
     }
 
@@ -198,14 +220,35 @@ impl Study {
                 finite_positive(v, "pitch in µm")?;
                 self.check_phase_variants(a)
             }
-            (StudySubject::Phase(_), StudyAxis::Fold(_) | StudyAxis::Lambda0(_)) => {
+            (
+                StudySubject::Phase(_),
+                StudyAxis::Fold(_) | StudyAxis::Lambda0(_) | StudyAxis::OpenRatio(_),
+            ) => {
                 self.check_phase_variants(a)
             }
             (StudySubject::Phase(_), _) => {
-                bad("is not an axis of a phase-mask design (its pitch, fold or λ0 plan are)".into())
+                bad("is not an axis of a phase-mask design (its pitch, fold, λ0 plan or open ratio are)".into())
             }
             (StudySubject::Display(_), StudyAxis::Dpi(v)) => {
                 finite_positive(v, "number of dots per inch")?;
+                self.check_display_variants(a)
+            }
+            (StudySubject::Display(d), StudyAxis::Opening(steps)) => {
+                let mut names: Vec<f64> = Vec::new();
+                for k in steps {
+                    let g = grown(d, *k);
+                    let name = fraction_name(&g);
+                    if name == 0.0 {
+                        return bad(format!("{k} cells shrinks the opening to nothing"));
+                    }
+                    if names.contains(&name) {
+                        return bad(format!(
+                            "{k} cells gives the opening of another value (open fraction \
+                             {name})"
+                        ));
+                    }
+                    names.push(name);
+                }
                 self.check_display_variants(a)
             }
             (StudySubject::Display(_), StudyAxis::SnrDb(v)) => v
@@ -241,8 +284,9 @@ impl Study {
 
     /// The sweep spec of the study, its inputs saved as `files`: the job of every point with
     /// the axes' values, the metrics' columns, and plots of the first metric against the
-    /// first axis that is not a tiling or a seed (one line per tiling or method, the spread
-    /// over the seeds) and, when both are recorded, the AUC–LTR Pareto front.
+    /// first axis that is not a tiling, method or seed (one line per value of the next axis
+    /// but the seeds, the spread over the seeds) and, when both are recorded, the AUC–LTR
+    /// Pareto front.
     pub fn spec(&self, files: &StudyFiles) -> SweepSpec {
         let job = self.job();
         let names = self.display_design();
@@ -267,15 +311,41 @@ impl Study {
             StudySubject::Display(d) => d.tiling.seed,
             StudySubject::Phase(_) => 0,
         };
+        let opening = self.opening_designs();
         let axes: Vec<SweepAxis> = self
             .axes
             .iter()
-            .map(|a| SweepAxis {
-                param: a.param().into(),
-                values: Some(a.values(first_seed)),
-                ..SweepAxis::default()
+            .map(|a| match a {
+                // The variants are design files, named by their open fractions.
+                StudyAxis::Opening(_) => SweepAxis {
+                    param: a.param().into(),
+                    values: Some(
+                        opening
+                            .iter()
+                            .map(|d| ParamValue::Float(fraction_name(d)))
+                            .collect(),
+                    ),
+                    label: true,
+                    with: BTreeMap::from([(
+                        "design".to_string(),
+                        files
+                            .opening_designs
+                            .iter()
+                            .map(|f| ParamValue::Text(f.clone()))
+                            .collect(),
+                    )]),
+                    ..SweepAxis::default()
+                },
+                _ => SweepAxis {
+                    param: a.param().into(),
+                    values: Some(a.values(first_seed)),
+                    ..SweepAxis::default()
+                },
             })
             .collect();
+        if !opening.is_empty() {
+            base.remove("design");
+        }
         let metrics: Vec<String> = self.metrics.iter().map(|m| m.column(&names)).collect();
         let has = |p: &str| self.axes.iter().any(|a| a.param() == p);
         let groups = |a: &StudyAxis| {
@@ -291,9 +361,13 @@ impl Study {
             .or(self.axes.first())
             .map(|a| a.param().to_string())
             .unwrap_or_default();
-        let group = ["tiling", "method", "lambda0"]
-            .into_iter()
-            .find(|g| has(g) && x != *g)
+        // One line per value of the next axis (never a band across tilings, methods or light
+        // levels), the seeds the spread.
+        let group = self
+            .axes
+            .iter()
+            .map(StudyAxis::param)
+            .find(|p| *p != x && *p != "seed")
             .map(String::from);
         let mut plots = Vec::new();
         if let Some(y) = self.metrics.first() {
@@ -472,7 +546,45 @@ mod tests {
         StudyFiles {
             design: "design.json".into(),
             photo: Some("photo.png".into()),
+            opening_designs: Vec::new(),
         }
+    }
+
+    #[test]
+    fn an_opening_axis_names_its_variants_by_open_fraction_and_links_their_files() {
+        let mut s = display(
+            vec![StudyAxis::Opening(vec![-1, 0, 1])],
+            vec![StudyMetric::Analysis(SweepMetric::Ltr)],
+        );
+        s.check().expect("valid");
+        let designs = s.opening_designs();
+        assert_eq!(designs.len(), 3);
+        let f = StudyFiles {
+            opening_designs: vec!["a.json".into(), "b.json".into(), "c.json".into()],
+            ..files()
+        };
+        let spec = s.spec(&f);
+        spec.validate().expect("a valid spec");
+        let axis = &spec.axes[0];
+        assert!(axis.label);
+        // The 5-of-21 slit shrunk to 3 and grown to 7 columns.
+        let named: Vec<f64> = axis
+            .values
+            .iter()
+            .flatten()
+            .filter_map(ParamValue::as_f64)
+            .collect();
+        assert_eq!(named, [0.1429, 0.2381, 0.3333]);
+        assert_eq!(axis.with["design"].len(), 3);
+        assert!(
+            !spec.base.contains_key("design"),
+            "each point's design is its variant"
+        );
+        // Shrinking the slit away, or two steps that give one opening, are refused.
+        s.axes[0] = StudyAxis::Opening(vec![0, -3]);
+        assert!(s.check().unwrap_err().to_string().contains("nothing"));
+        s.axes[0] = StudyAxis::Opening(vec![10, 11]);
+        assert!(s.check().unwrap_err().to_string().contains("another value"));
     }
 
     fn phase(axes: Vec<StudyAxis>) -> Study {
