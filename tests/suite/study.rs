@@ -185,6 +185,46 @@ fn the_empty_sweep_workspace_offers_a_study_and_the_examples() {
     assert!(!h.state().sweep().is_studying(), "nothing runs here");
 }
 
+type Studio = egui_kittest::Harness<'static, udc_studio::app::StudioApp>;
+
+/// The studio on the default design, its result on screen, with New study… open for it.
+fn studio_with_the_dialog(dir: &std::path::Path) -> Studio {
+    let mut h = common::studio_small(dir);
+    step_until(&mut h, "the first result", common::display_up_to_date);
+    h.state_mut().act(DisplayAction::NewStudy(None));
+    h.run_steps(3);
+    h
+}
+
+/// Presses Run and waits for the study's complete table.
+fn run_to_the_end(h: &mut Studio, what: &str) -> udc_studio::app::sweep::table::SweepTable {
+    h.get_by_label("Run").click();
+    step_until(h, what, |app| {
+        !app.sweep().is_studying()
+            && app.sweep().is_idle()
+            && app.sweep().table().is_some_and(|t| t.manifest.complete)
+    });
+    h.state().sweep().table().unwrap().as_ref().clone()
+}
+
+/// The number in `column` of the row whose parameters read `values` (name, text).
+fn cell(
+    t: &udc_studio::app::sweep::table::SweepTable,
+    values: &[(&str, &str)],
+    column: &str,
+) -> f64 {
+    let row = t
+        .rows
+        .iter()
+        .find(|r| {
+            values
+                .iter()
+                .all(|(name, text)| t.text(r, t.column(name).unwrap()) == *text)
+        })
+        .unwrap();
+    t.number(row, t.column(column).unwrap())
+}
+
 /// Runs the study's saved spec with `udc-studio sweep` and compares the tables.
 fn cli_reruns_the_same_table(folder: &std::path::Path, scratch: &std::path::Path) {
     let again = scratch.join("cli");
@@ -232,24 +272,15 @@ fn a_phase_mask_study_runs_its_fold_and_plans_and_opens_a_point_in_the_phase_wor
     }
     h.run_steps(2);
     assert!(h.query_by_label_contains("4 points, at least").is_some());
-    h.get_by_label("Run").click();
-    step_until(&mut h, "the phase study, complete", |app| {
-        !app.sweep().is_studying()
-            && app.sweep().is_idle()
-            && app.sweep().table().is_some_and(|t| t.manifest.complete)
-    });
-    let t = h.state().sweep().table().unwrap().clone();
+    let t = run_to_the_end(&mut h, "the phase study, complete");
     assert_eq!((t.rows.len(), t.manifest.failed), (4, 0));
     // Folding for 530 nm gives green the invertibility the uniform plan spreads out.
     let inv = |fold: &str, plan: &str| {
-        let (f, l) = (t.column("fold").unwrap(), t.column("lambda0").unwrap());
-        let g = t.column("channels.G.invertibility").unwrap();
-        let row = t
-            .rows
-            .iter()
-            .find(|r| t.text(r, f) == fold && t.text(r, l) == plan)
-            .unwrap();
-        t.number(row, g)
+        cell(
+            &t,
+            &[("fold", fold), ("lambda0", plan)],
+            "channels.G.invertibility",
+        )
     };
     assert!(inv("1", "fixed:530") > inv("1", "uniform"));
     let plot = &h.state().sweep().plots().unwrap()[0].0;
@@ -281,10 +312,7 @@ fn a_phase_mask_study_runs_its_fold_and_plans_and_opens_a_point_in_the_phase_wor
 #[test]
 fn a_light_and_method_study_restores_the_photo_at_every_point() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = common::studio_small(dir.path());
-    step_until(&mut h, "the first result", common::display_up_to_date);
-    h.state_mut().act(DisplayAction::NewStudy(None));
-    h.run_steps(3);
+    let mut h = studio_with_the_dialog(dir.path());
     {
         let d = &mut h.state_mut().sweep_mut().study_dialog;
         let subject = d.subject().clone();
@@ -303,24 +331,11 @@ fn a_light_and_method_study_restores_the_photo_at_every_point() {
     }
     h.run_steps(2);
     assert!(h.query_by_label_contains("4 points").is_some());
-    h.get_by_label("Run").click();
-    step_until(&mut h, "the restore study, complete", |app| {
-        !app.sweep().is_studying()
-            && app.sweep().is_idle()
-            && app.sweep().table().is_some_and(|t| t.manifest.complete)
-    });
-    let t = h.state().sweep().table().unwrap().clone();
+    let t = run_to_the_end(&mut h, "the restore study, complete");
     assert_eq!((t.rows.len(), t.manifest.failed), (4, 0));
     assert!(t.dir.join("photo.png").exists());
     let at = |snr: &str, method: &str, metric: &str| {
-        let (s, m) = (t.column("snr-db").unwrap(), t.column("method").unwrap());
-        let c = t.column(metric).unwrap();
-        let row = t
-            .rows
-            .iter()
-            .find(|r| t.text(r, s) == snr && t.text(r, m) == method)
-            .unwrap();
-        t.number(row, c)
+        cell(&t, &[("snr-db", snr), ("method", method)], metric)
     };
     // More light restores better by either method (Wiener's fixed NSR keeps its PSNR nearly
     // flat; its SSIM still rises); conjugate gradients gain in PSNR too.
@@ -345,10 +360,7 @@ fn a_light_and_method_study_restores_the_photo_at_every_point() {
 #[test]
 fn an_opening_axis_studies_the_slit_grown_and_shrunk_and_opens_a_variant() {
     let dir = tempfile::tempdir().unwrap();
-    let mut h = common::studio_small(dir.path());
-    step_until(&mut h, "the first result", common::display_up_to_date);
-    h.state_mut().act(DisplayAction::NewStudy(None));
-    h.run_steps(3);
+    let mut h = studio_with_the_dialog(dir.path());
     {
         let d = &mut h.state_mut().sweep_mut().study_dialog;
         let subject = d.subject().clone();
@@ -363,13 +375,7 @@ fn an_opening_axis_studies_the_slit_grown_and_shrunk_and_opens_a_variant() {
         d.axes[0].text = "-1, 0, 1".into();
     }
     h.run_steps(2);
-    h.get_by_label("Run").click();
-    step_until(&mut h, "the opening study, complete", |app| {
-        !app.sweep().is_studying()
-            && app.sweep().is_idle()
-            && app.sweep().table().is_some_and(|t| t.manifest.complete)
-    });
-    let t = h.state().sweep().table().unwrap().clone();
+    let t = run_to_the_end(&mut h, "the opening study, complete");
     assert_eq!((t.rows.len(), t.manifest.failed), (3, 0));
     let (f, l) = (t.column("open-fraction").unwrap(), t.column("ltr").unwrap());
     let mut pairs: Vec<(f64, f64)> = t
