@@ -123,6 +123,11 @@ fn a_study_of_the_toled_fills_live_cancels_resumes_and_opens_a_point() {
     assert!((design.opening.pitch_um - 25_400.0 / 200.0).abs() < 1e-9);
     assert_eq!(design.tiling.mode, TilingMode::RandomD4);
     assert_eq!(design.tiling.seed as f64, seed);
+    step_until(
+        &mut h,
+        "the opened point's result",
+        common::display_up_to_date,
+    );
     crate::screenshots::capture(&mut h, "study-point-opened-1024x700");
 
     // Pin another point as A for Compare: analysed at full quality, the current design kept.
