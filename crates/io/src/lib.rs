@@ -32,6 +32,7 @@ pub fn installed_data_dir() -> Option<std::path::PathBuf> {
     Some(exe.parent()?.parent()?.join("share").join("udc-studio"))
 }
 
+pub mod decode_budget;
 pub mod design;
 pub mod display;
 pub mod error;

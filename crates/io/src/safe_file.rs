@@ -128,6 +128,12 @@ pub fn read_bounded(path: &Path, cap: u64, what: &'static str) -> Result<Vec<u8>
     if len > cap {
         return Err(too_large());
     }
+    // The whole file is held: refused in one line where the memory budget cannot.
+    udc_core::budget::check(
+        &format!("reading {} into memory", path.display()),
+        len,
+        "use a smaller file",
+    )?;
     let file = File::open(path).map_err(|e| IoError::file(what, path, e))?;
     let mut bytes = Vec::with_capacity(usize::try_from(len).unwrap_or(0));
     file.take(cap.saturating_add(1))

@@ -1,6 +1,7 @@
 //! What the machine and the process may use: the default memory budget of `core::budget`, the
 //! smallest of the limits a laptop, a container or a batch system sets. Read from `/proc` and
-//! `/sys/fs/cgroup` as text (no system calls), so a fake tree tests every case.
+//! `/sys/fs/cgroup` as text (no system calls), so a fake tree tests every case; under an
+//! address-space cap, what the process can still map is measured ([`mappable_bytes`]).
 
 use std::path::{Path, PathBuf};
 
@@ -39,6 +40,11 @@ pub struct MemoryLimits {
     pub data: Option<u64>,
     /// The address space the process already maps (`VmSize`), which `RLIMIT_AS` counts too.
     pub mapped_now: u64,
+    /// What the process can still map under `RLIMIT_AS`, measured ([`mappable_bytes`]); when
+    /// unknown, the cap less `mapped_now`. `VmSize` alone overstates what is used: an allocator
+    /// reserves address space ahead (mimalloc a 1 GiB arena where the cap allows one), which
+    /// later allocations fill, so the budget would fall as the cap rises.
+    pub mappable: Option<u64>,
 }
 
 /// A v1 "no limit" is a huge number (the page-rounded `i64::MAX`); anything above this is none.
@@ -62,6 +68,7 @@ impl MemoryLimits {
             mapped_now: proc("self/status")
                 .and_then(|t| kib_field(&t, "VmSize:"))
                 .unwrap_or(0),
+            mappable: None,
         }
     }
 
@@ -69,9 +76,12 @@ impl MemoryLimits {
     /// data limit and a share of the address space left under `RLIMIT_AS`; `core::budget`'s
     /// default when none is known.
     pub fn budget_bytes(&self) -> u64 {
-        let left_in_address_space = self
-            .address_space
-            .map(|a| (a.saturating_sub(self.mapped_now) as f64 * ADDRESS_SPACE_SHARE) as u64);
+        let left_in_address_space = self.address_space.map(|a| {
+            let left = self
+                .mappable
+                .unwrap_or_else(|| a.saturating_sub(self.mapped_now));
+            (left as f64 * ADDRESS_SPACE_SHARE) as u64
+        });
         [
             self.physical.map(|b| b / 2),
             self.cgroup,
@@ -146,9 +156,56 @@ pub fn physical_memory_bytes() -> Option<u64> {
     MemoryLimits::read(&SystemFiles::real()).physical
 }
 
-/// The default budget of this process ([`MemoryLimits::budget_bytes`] of the running system).
+/// The default budget of this process ([`MemoryLimits::budget_bytes`] of the running system,
+/// with what it can still map measured under an address-space cap).
 pub fn default_max_memory_bytes() -> u64 {
-    MemoryLimits::read(&SystemFiles::real()).budget_bytes()
+    let mut limits = MemoryLimits::read(&SystemFiles::real());
+    if let Some(cap) = limits.address_space {
+        limits.mappable = Some(mappable_bytes(cap));
+    }
+    limits.budget_bytes()
+}
+
+/// Granularity of [`mappable_bytes`]: 16 MiB.
+const MAPPABLE_GRAIN: u64 = 16 << 20;
+
+/// Most blocks [`mappable_bytes`] holds at once: the address space left splits into a few
+/// (an allocator's reserved arena, the gaps between libraries); more is fragmentation no job
+/// could use.
+const MAPPABLE_BLOCKS: usize = 8;
+
+/// What the process can still map, up to `cap` bytes, to 16 MiB: blocks reserved one after
+/// another, each the largest that still fits (bisected), then all let go. Nothing is written,
+/// so no page is touched: the address space is asked for and returned, and counts what the
+/// allocator holds reserved but unused as free, as it is for the next job. Used under
+/// `RLIMIT_AS`, where a refused reservation is an error, not an overcommitted promise.
+pub fn mappable_bytes(cap: u64) -> u64 {
+    let fits = |bytes: u64| {
+        let mut v: Vec<u8> = Vec::new();
+        usize::try_from(bytes).is_ok_and(|n| v.try_reserve_exact(n).is_ok())
+    };
+    let mut held: Vec<Vec<u8>> = Vec::new();
+    let mut total = 0u64;
+    while held.len() < MAPPABLE_BLOCKS {
+        // The largest whole number of grains that fits: `lo` fits, `hi + 1` does not.
+        let (mut lo, mut hi) = (0u64, cap.saturating_sub(total) / MAPPABLE_GRAIN);
+        while lo < hi {
+            let mid = lo + (hi - lo).div_ceil(2);
+            if fits(mid * MAPPABLE_GRAIN) {
+                lo = mid;
+            } else {
+                hi = mid - 1;
+            }
+        }
+        let mut block: Vec<u8> = Vec::new();
+        let bytes = lo * MAPPABLE_GRAIN;
+        if lo == 0 || !usize::try_from(bytes).is_ok_and(|n| block.try_reserve_exact(n).is_ok()) {
+            break;
+        }
+        held.push(block);
+        total += bytes;
+    }
+    total
 }
 
 #[cfg(test)]
@@ -241,6 +298,22 @@ mod tests {
         assert_eq!(l.mapped_now, 1 << 30);
         // 60 % of the 2 GiB left under the 3-GiB address-space cap, below the 2-GiB data limit.
         assert_eq!(l.budget_bytes(), ((2u64 << 30) as f64 * 0.6) as u64);
+        // Measured, what can still be mapped replaces the cap less `VmSize` (which counts an
+        // allocator's reserved but unused arena as used).
+        let measured = MemoryLimits {
+            mappable: Some(1 << 30),
+            ..l
+        };
+        assert_eq!(measured.budget_bytes(), ((1u64 << 30) as f64 * 0.6) as u64);
+    }
+
+    #[test]
+    fn what_can_be_mapped_is_measured_to_the_grain_and_stops_at_the_cap() {
+        // Without a cap in this test process every probe fits: the count stops at the cap
+        // asked for, a whole number of 16-MiB grains.
+        let m = mappable_bytes(100 << 20);
+        assert_eq!(m, 96 << 20);
+        assert_eq!(mappable_bytes(1 << 20), 0);
     }
 
     #[test]

@@ -42,6 +42,9 @@ pub enum PatternError {
 /// `denoise`).
 #[derive(Debug, Error)]
 pub enum PlanesError {
+    /// A decode the memory budget cannot hold, refused from the header's size.
+    #[error(transparent)]
+    OverBudget(udc_core::SimError),
     /// An OpenEXR image that cannot be read.
     #[error(transparent)]
     Exr(#[from] HdrError),
@@ -88,6 +91,9 @@ pub enum PlanesError {
 /// What is wrong with an HDR scene (Radiance `.hdr` or OpenEXR `.exr`).
 #[derive(Debug, Error)]
 pub enum HdrError {
+    /// A decode the memory budget cannot hold, refused from the header's size.
+    #[error(transparent)]
+    OverBudget(udc_core::SimError),
     /// An extension that names neither format.
     #[error(
         "unsupported HDR image ({}): expected a Radiance .hdr or an OpenEXR .exr file",

@@ -55,6 +55,14 @@ pub(super) fn read(path: &Path) -> Result<PngMask, IoError> {
     let size = reader
         .output_buffer_size()
         .ok_or_else(|| err(format!("{width}×{height} pixels do not fit in memory")))?;
+    // The decoded rows and the grey level kept of each pixel.
+    crate::decode_budget::check(
+        &format!("mask {}", path.display()),
+        width as u64,
+        height as u64,
+        1,
+        size as u64,
+    )?;
     let mut buf = vec![0u8; size];
     let frame = reader
         .next_frame(&mut buf)

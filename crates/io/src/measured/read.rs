@@ -73,8 +73,19 @@ fn check_pixels(path: &Path, width: u64, height: u64) -> Result<(), IoError> {
             ),
         ));
     }
-    Ok(())
+    crate::decode_budget::check(
+        &format!("PSF frame {}", path.display()),
+        width,
+        height,
+        FRAME_DECODE_BYTES_PER_PIXEL,
+        0,
+    )
+    .map_err(IoError::Invalid)
 }
+
+/// Peak bytes per pixel of a frame's decode: an RGB frame's samples widened to f64 beside the
+/// three f64 planes made from them (the file itself was checked as it was read).
+const FRAME_DECODE_BYTES_PER_PIXEL: u64 = 2 * 3 * 8;
 
 /// Reads one frame of `path`, choosing its kind by its first bytes (`.npy`, `.mat` v5, TIFF,
 /// PNG, OpenEXR).
@@ -93,7 +104,8 @@ pub fn read_frame(path: &Path, pick: &FramePick) -> Result<RawFrame, IoError> {
     } else if bytes.starts_with(b"\x89PNG") {
         png(path, &bytes)?
     } else if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
-        let (planes, _) = crate::photo::hdr::read_exr(&bytes)
+        let what = format!("PSF frame {}", path.display());
+        let (planes, _) = crate::photo::hdr::read_exr(&bytes, &what)
             .map_err(|e| bad(path, format!("not a readable OpenEXR file: {e}")))?;
         let planes: Vec<Array2<f64>> = planes.into_iter().map(|p| p.mapv(f64::from)).collect();
         let planes = if planes.len() >= 3 {

@@ -105,10 +105,11 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
     let (planes, channels) = {
         // The file's bytes go before the planes are widened to f64.
         let bytes = crate::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
+        let what = "HDR image";
         if exr {
-            read_exr(&bytes).map_err(bad)?
+            read_exr(&bytes, what).map_err(bad)?
         } else {
-            read_radiance(&bytes).map_err(bad)?
+            read_radiance(&bytes, what).map_err(bad)?
         }
     };
     let mut report = HdrReport {
@@ -130,7 +131,7 @@ pub const SAMPLE_SCENE_NAME: &str = "StillLife (built-in sample)";
 /// Never for the shipped file; a message if it were corrupt.
 pub fn sample_scene() -> Result<Scene, IoError> {
     const SAMPLE_EXR: &[u8] = include_bytes!("../../../../assets/hdr/StillLife_620x423.exr");
-    let (planes, _) = read_exr(SAMPLE_EXR).map_err(|error| IoError::Hdr {
+    let (planes, _) = read_exr(SAMPLE_EXR, SAMPLE_SCENE_NAME).map_err(|error| IoError::Hdr {
         path: SAMPLE_SCENE_NAME.into(),
         error,
     })?;
@@ -152,8 +153,29 @@ fn check_size(width: usize, height: usize) -> Result<(), HdrError> {
     Ok(())
 }
 
-/// The EXR's planes (`[row, col]`, f32 widened) and channel names.
-pub(crate) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
+/// Peak bytes per pixel of a scene's decode besides the file: its f32 planes and the f64 planes
+/// [`repair`] widens them to (three of each), or the decoder's buffer beside the f32 planes.
+const SCENE_DECODE_BYTES_PER_PIXEL: u64 = 3 * (4 + 8);
+
+/// Refuses a scene decode over the memory budget, from the header's size (`decode_budget`):
+/// `decoder_bytes_per_pixel` the decoder's own buffer, `bytes` the file held meanwhile.
+fn check_decode_budget(
+    what: &str,
+    (width, height): (u64, u64),
+    decoder_bytes_per_pixel: u64,
+    bytes: &[u8],
+) -> Result<(), HdrError> {
+    let per_pixel = (decoder_bytes_per_pixel + 3 * 4).max(SCENE_DECODE_BYTES_PER_PIXEL);
+    crate::decode_budget::check(what, width, height, per_pixel, bytes.len() as u64)
+        .map_err(HdrError::OverBudget)
+}
+
+/// The EXR's planes (`[row, col]`, f32 widened) and channel names; `what` names it in a
+/// refusal over the memory budget.
+pub(crate) fn read_exr(
+    bytes: &[u8],
+    what: &str,
+) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
     const MAGIC: [u8; 4] = [0x76, 0x2f, 0x31, 0x01];
     if bytes.len() < 4 || bytes[..4] != MAGIC {
         return Err(HdrError::NotExr);
@@ -169,6 +191,19 @@ pub(crate) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), 
             return Err(HdrError::UnsupportedCompression(header.compression));
         }
     }
+    // Every channel of every layer is decoded (f16 or 32-bit samples), before one is chosen.
+    let decoded_per_pixel: u64 = meta
+        .headers
+        .iter()
+        .map(|h| 4 * h.channels.list.len() as u64)
+        .sum();
+    let largest = meta
+        .headers
+        .iter()
+        .map(|h| (h.layer_size.0 as u64, h.layer_size.1 as u64))
+        .max_by_key(|&(w, h)| w * h)
+        .unwrap_or((0, 0));
+    check_decode_budget(what, largest, decoded_per_pixel, bytes)?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -218,14 +253,16 @@ pub(crate) fn read_exr(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), 
     })
 }
 
-/// The Radiance file's R, G, B planes.
-fn read_radiance(bytes: &[u8]) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
+/// The Radiance file's R, G, B planes; `what` names it in a refusal over the memory budget.
+fn read_radiance(bytes: &[u8], what: &str) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
     if !bytes.starts_with(b"#?") {
         return Err(HdrError::NotRadiance);
     }
     let reader = || ImageReader::with_format(Cursor::new(bytes), ImageFormat::Hdr);
     let (w, h) = reader().into_dimensions().map_err(HdrError::Radiance)?;
     check_size(w as usize, h as usize)?;
+    // The decoder's RGB f32 buffer.
+    check_decode_budget(what, (u64::from(w), u64::from(h)), 3 * 4, bytes)?;
     let img = reader().decode().map_err(HdrError::Radiance)?.into_rgb32f();
     let (w, h) = (img.width() as usize, img.height() as usize);
     let raw = img.into_raw();

@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 
 use image::imageops::FilterType;
 use image::{
-    DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma, Rgb, Rgb32FImage, RgbImage,
+    DynamicImage, ImageBuffer, ImageDecoder, ImageFormat, ImageReader, Luma, Rgb, Rgb32FImage,
+    RgbImage,
 };
 use ndarray::Array2;
 
@@ -112,13 +113,23 @@ pub fn load_photo<T: Sample>(
     if reader_format == Some(ImageFormat::Jpeg) {
         check_jpeg_complete(path)?;
     }
-    let mut reader = open()?;
+    let unreadable = |e: image::ImageError| image_err(format!("not a readable image: {e}"));
+    let mut decoder = open()?.into_decoder().map_err(unreadable)?;
+    // The decoded image in its own sample type, a scaled-down copy of it, and the planes.
+    let decoded = u64::from(decoder.color_type().bytes_per_pixel());
+    let scaled = if scale < 1.0 { decoded } else { 0 };
+    let kept = pixels as u64 * (scaled + 3 * std::mem::size_of::<T>() as u64);
+    crate::decode_budget::check(
+        &format!("photo {}", path.display()),
+        u64::from(w),
+        u64::from(h),
+        decoded,
+        kept,
+    )?;
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(MAX_DECODE_BYTES);
-    reader.limits(limits);
-    let img = reader
-        .decode()
-        .map_err(|e| image_err(format!("not a readable image: {e}")))?;
+    decoder.set_limits(limits).map_err(unreadable)?;
+    let img = DynamicImage::from_decoder(decoder).map_err(unreadable)?;
     // Scale down in the decoded type first: a float copy of the full image is 4× its bytes.
     let img = match max_side_px {
         Some(m) if w.max(h) > m => img.resize(m, m, FilterType::Triangle),

@@ -15,7 +15,7 @@
 use std::io::Cursor;
 use std::path::Path;
 
-use image::{DynamicImage, ImageBuffer, ImageFormat, ImageReader, Luma, Rgb};
+use image::{DynamicImage, ImageBuffer, ImageDecoder, ImageFormat, ImageReader, Luma, Rgb};
 use ndarray::Array2;
 
 use crate::IoError;
@@ -117,7 +117,7 @@ pub fn read_planes(path: &Path) -> Result<ImagePlanes, IoError> {
     };
     let bytes = crate::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the image")?;
     let (planes, kind) = if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
-        let (planes, _) = read_exr(&bytes).map_err(|e| bad(PlanesError::Exr(e)))?;
+        let (planes, _) = read_exr(&bytes, "image").map_err(|e| bad(PlanesError::Exr(e)))?;
         let planes = planes.into_iter().map(|p| p.mapv(f64::from)).collect();
         (planes, ImageKind::Exr)
     } else {
@@ -161,11 +161,22 @@ fn decode_png_or_tiff(bytes: &[u8]) -> Result<(Vec<Array2<f64>>, ImageKind), Pla
             max_pixels: MAX_PHOTO_PIXELS,
         });
     }
-    let mut reader = reader();
     let mut limits = image::Limits::default();
     limits.max_alloc = Some(MAX_DECODE_BYTES);
-    reader.limits(limits);
-    let img = reader.decode().map_err(unreadable)?;
+    let mut decoder = reader().into_decoder().map_err(unreadable)?;
+    // The decoded samples and the f64 planes built from them, beside the file's bytes.
+    let decoded = decoder.color_type();
+    let planes = if decoded.has_color() { 3 } else { 1 };
+    crate::decode_budget::check(
+        "image",
+        u64::from(width),
+        u64::from(height),
+        u64::from(decoded.bytes_per_pixel()) + 8 * planes,
+        bytes.len() as u64,
+    )
+    .map_err(PlanesError::OverBudget)?;
+    decoder.set_limits(limits).map_err(unreadable)?;
+    let img = DynamicImage::from_decoder(decoder).map_err(unreadable)?;
     Ok((planes_of(&img), kind))
 }
 
