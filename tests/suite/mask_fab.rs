@@ -126,7 +126,7 @@ fn svg_and_csv_coordinates_carry_no_float_noise() {
     }
     let mut plate = PhaseDesign::thesis(168.0, 1.0);
     plate.height_step_um = Some(0.2);
-    let csv = height_csv_text(&plate, 0.1).unwrap();
+    let csv = height_csv_text(&plate, 0.1, 0.0).unwrap();
     let rows: Vec<&str> = csv
         .lines()
         .filter(|l| !l.starts_with('#') && !l.starts_with('x'))

@@ -309,6 +309,7 @@ fn fab_phase_plate_notes_are_off_every_level_layer() {
         length_um: 100.0,
         base_um: 5.0,
         deterministic: true,
+        phase_min_feature_um: 0.0,
     };
     let (a, b) = (dir.path().join("a.gds"), dir.path().join("b.gds"));
     write_height(HeightFormat::Gds, &d, &a, &params).unwrap();

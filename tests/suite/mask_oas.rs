@@ -315,6 +315,7 @@ fn klayout_reads_every_export_without_a_warning() {
         length_um: 100.0,
         base_um: 5.0,
         deterministic: true,
+        phase_min_feature_um: 0.0,
     };
     let phase = dir.path().join("plate.gds");
     write_height(HeightFormat::Gds, &plate, &phase, &params).unwrap();

@@ -39,7 +39,7 @@ fn dense(d: &PhaseDesign, dx: f64) -> (Vec<f64>, Vec<f64>) {
     let xs: Vec<f64> = (0..n)
         .map(|i| -span / 2.0 + (i as f64 + 0.5) * dx)
         .collect();
-    let hs = plate::profile_um(d, &xs).unwrap();
+    let hs = plate::profile_um(d, &xs, 0.0).unwrap();
     (xs, hs)
 }
 
@@ -49,9 +49,9 @@ fn phase_export_csv_round_trips_the_profile_and_lenslets() {
     d.lambda0 = Lambda0::Uniform;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("profile.csv");
-    let s = write_height_csv(&d, &path, 0.5).unwrap();
+    let s = write_height_csv(&d, &path, 0.5, 0.0).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
-    assert_eq!(text, height_csv_text(&d, 0.5).unwrap());
+    assert_eq!(text, height_csv_text(&d, 0.5, 0.0).unwrap());
     let comments: Vec<&str> = text.lines().filter(|l| l.starts_with('#')).collect();
     let head = comments.join("\n");
     for word in ["micrometres", "pitch 168", "fold T 1", "height step: none"] {
@@ -69,7 +69,7 @@ fn phase_export_csv_round_trips_the_profile_and_lenslets() {
     assert_eq!(s.samples, Some(xs.len()));
     assert_eq!(s.kind, HeightFormat::Csv);
     let parsed: Vec<f64> = rows.iter().map(|r| r[0].parse().unwrap()).collect();
-    let expected = plate::profile_um(&d, &parsed).unwrap();
+    let expected = plate::profile_um(&d, &parsed, 0.0).unwrap();
     let mut seen = vec![false; lenslets.count()];
     for ((r, &x), (&want_x, &h)) in rows.iter().zip(&parsed).zip(xs.iter().zip(&expected)) {
         assert_eq!(r.len(), 4);
@@ -93,7 +93,7 @@ fn phase_export_csv_round_trips_the_profile_and_lenslets() {
 #[test]
 fn phase_export_csv_of_a_stepped_plate_has_only_levels() {
     let d = small(Some(0.2));
-    let text = height_csv_text(&d, 0.25).unwrap();
+    let text = height_csv_text(&d, 0.25, 0.0).unwrap();
     assert!(text.contains("height step: 0.2 um"));
     let heights: Vec<f64> = text
         .lines()
@@ -142,7 +142,7 @@ fn phase_export_png_levels_are_the_quantised_heights() {
     let d = small(Some(0.2));
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.png");
-    let s = write_height_png(&d, &path, 0.5, 3).unwrap();
+    let s = write_height_png(&d, &path, 0.5, 3, 0.0).unwrap();
     let (w, h, values, texts) = read_png16(&path);
     let xs = sample_xs(&d, 0.5);
     assert_eq!((w, h), (xs.len(), 3));
@@ -152,7 +152,7 @@ fn phase_export_png_levels_are_the_quantised_heights() {
     assert_eq!(s.um_per_level, Some(0.2));
     assert_eq!(s.pixel_um, Some(0.5));
     assert_eq!(s.levels, Some(6));
-    let heights = plate::profile_um(&d, &xs).unwrap();
+    let heights = plate::profile_um(&d, &xs, 0.0).unwrap();
     for row in values.chunks(w) {
         assert_eq!(row, &values[..w], "rows are identical");
     }
@@ -169,7 +169,7 @@ fn phase_export_png_without_step_is_within_half_a_level() {
     d.lambda0 = Lambda0::Uniform;
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.png");
-    let s = write_height_png(&d, &path, 0.25, 2).unwrap();
+    let s = write_height_png(&d, &path, 0.25, 2, 0.0).unwrap();
     let (_, _, _, texts) = read_png16(&path);
     let upl: f64 = texts["um_per_level"].parse().unwrap();
     let tallest = Lenslets::new(&d).unwrap().max_height_um(&d);
@@ -181,7 +181,7 @@ fn phase_export_png_without_step_is_within_half_a_level() {
     let img = img.into_luma16();
     let xs = sample_xs(&d, 0.25);
     assert_eq!(img.width() as usize, xs.len());
-    let heights = plate::profile_um(&d, &xs).unwrap();
+    let heights = plate::profile_um(&d, &xs, 0.0).unwrap();
     for y in 0..img.height() {
         for (i, &hgt) in heights.iter().enumerate() {
             let v = f64::from(img.get_pixel(i as u32, y).0[0]);
@@ -199,12 +199,12 @@ fn phase_export_png_refuses_oversized_images() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("big.png");
     // 2436 µm at 10 nm: 243 600 columns.
-    let e = write_height_png(&d, &path, 0.01, 1)
+    let e = write_height_png(&d, &path, 0.01, 1, 0.0)
         .unwrap_err()
         .to_string();
     assert!(e.contains("sample_um") && e.contains("65535"), "{e}");
     // 48 720 columns × 65 535 rows.
-    let e = write_height_png(&d, &path, 0.05, 65_535)
+    let e = write_height_png(&d, &path, 0.05, 65_535, 0.0)
         .unwrap_err()
         .to_string();
     assert!(e.contains("rows") && e.contains("200000000"), "{e}");
@@ -259,7 +259,7 @@ fn phase_export_gds_has_one_layer_per_level_with_the_right_widths() {
     assert_eq!(top, 5);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.gds");
-    let s = write_height_gds(&d, &path, 100.0).unwrap();
+    let s = write_height_gds(&d, &path, 100.0, 0.0).unwrap();
     let (lib, rects) = read_gds_rects(&path);
     // 1 nm database unit, 1 µm user unit: integer coordinates are the 1 nm grid.
     // (gds21's `user_unit()` divides the wrong way round; read the record's two numbers.)
@@ -336,7 +336,9 @@ fn phase_export_gds_without_a_step_says_to_set_one() {
     let d = small(None);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.gds");
-    let e = write_height_gds(&d, &path, 100.0).unwrap_err().to_string();
+    let e = write_height_gds(&d, &path, 100.0, 0.0)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("height_step_um") && e.contains("0.2"), "{e}");
     assert!(!path.exists());
 }
@@ -414,7 +416,7 @@ fn check_stl(d: &PhaseDesign, sample_um: f64) -> (stl_io::IndexedMesh, f64) {
     let (length, base) = (50.0, 2.0);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.stl");
-    let s = write_height_stl(d, &path, sample_um, length, base).unwrap();
+    let s = write_height_stl(d, &path, sample_um, length, base, 0.0).unwrap();
     let mesh = read_watertight(&path);
     assert_eq!(s.triangles, Some(mesh.faces.len()));
     let span = Lenslets::new(d).unwrap().span_um();
@@ -512,27 +514,39 @@ fn phase_export_rejects_bad_parameters_without_writing() {
         assert!(!path.exists(), "{name}: a file was written");
     };
     for s in bad_sample {
-        expect(write_height_csv(&d, &path, s).unwrap_err(), "sample_um");
-        expect(height_csv_text(&d, s).unwrap_err(), "sample_um");
-        expect(write_height_png(&d, &path, s, 4).unwrap_err(), "sample_um");
         expect(
-            write_height_stl(&d, &path, s, 10.0, 1.0).unwrap_err(),
+            write_height_csv(&d, &path, s, 0.0).unwrap_err(),
+            "sample_um",
+        );
+        expect(height_csv_text(&d, s, 0.0).unwrap_err(), "sample_um");
+        expect(
+            write_height_png(&d, &path, s, 4, 0.0).unwrap_err(),
+            "sample_um",
+        );
+        expect(
+            write_height_stl(&d, &path, s, 10.0, 1.0, 0.0).unwrap_err(),
             "sample_um",
         );
     }
     for rows in [0, 1_000_000] {
-        expect(write_height_png(&d, &path, 0.5, rows).unwrap_err(), "rows");
+        expect(
+            write_height_png(&d, &path, 0.5, rows, 0.0).unwrap_err(),
+            "rows",
+        );
     }
     for l in bad_length {
-        expect(write_height_gds(&d, &path, l).unwrap_err(), "length_um");
         expect(
-            write_height_stl(&d, &path, 0.5, l, 1.0).unwrap_err(),
+            write_height_gds(&d, &path, l, 0.0).unwrap_err(),
+            "length_um",
+        );
+        expect(
+            write_height_stl(&d, &path, 0.5, l, 1.0, 0.0).unwrap_err(),
             "length_um",
         );
     }
     for b in bad_base {
         expect(
-            write_height_stl(&d, &path, 0.5, 10.0, b).unwrap_err(),
+            write_height_stl(&d, &path, 0.5, 10.0, b, 0.0).unwrap_err(),
             "base_um",
         );
     }
@@ -540,7 +554,7 @@ fn phase_export_rejects_bad_parameters_without_writing() {
     let mut broken = d.clone();
     broken.pitch_um = f64::NAN;
     expect(
-        write_height_gds(&broken, &path, 10.0).unwrap_err(),
+        write_height_gds(&broken, &path, 10.0, 0.0).unwrap_err(),
         "pitch_um",
     );
     // A step so fine under a wide lens that the plate would have billions of levels.
@@ -549,7 +563,7 @@ fn phase_export_rejects_bad_parameters_without_writing() {
     fine.refractive_index = 1.01;
     fine.height_step_um = Some(0.001);
     expect(
-        write_height_gds(&fine, &path, 10.0).unwrap_err(),
+        write_height_gds(&fine, &path, 10.0, 0.0).unwrap_err(),
         "height_step_um",
     );
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
@@ -562,11 +576,12 @@ fn phase_export_thesis_600dpi_plate_stays_small() {
     let mut d = PhaseDesign::thesis(42.0, 1.0);
     d.height_step_um = Some(0.2);
     let dir = tempfile::tempdir().unwrap();
-    let gds = write_height_gds(&d, &dir.path().join("p.gds"), 1000.0).unwrap();
-    let stl = write_height_stl(&d, &dir.path().join("p.stl"), 0.5, 1000.0, 5.0).unwrap();
-    let png = write_height_png(&d, &dir.path().join("p.png"), 0.5, 16).unwrap();
+    let gds = write_height_gds(&d, &dir.path().join("p.gds"), 1000.0, 0.0).unwrap();
+    let stl = write_height_stl(&d, &dir.path().join("p.stl"), 0.5, 1000.0, 5.0, 0.0).unwrap();
+    let png = write_height_png(&d, &dir.path().join("p.png"), 0.5, 16, 0.0).unwrap();
     let smooth = PhaseDesign::thesis(42.0, 1.0);
-    let curved = write_height_stl(&smooth, &dir.path().join("c.stl"), 0.5, 1000.0, 5.0).unwrap();
+    let curved =
+        write_height_stl(&smooth, &dir.path().join("c.stl"), 0.5, 1000.0, 5.0, 0.0).unwrap();
     println!(
         "{}",
         serde_json::to_string_pretty(&[&gds, &stl, &png, &curved]).unwrap()
@@ -814,7 +829,7 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         let all_narrowest = want.iter().map(|r| r.1 - r.0).fold(f64::INFINITY, f64::min);
         assert!(all_narrowest > 1.5 * sample, "{all_narrowest}");
         let xs = sample_xs(&d, sample);
-        let text = height_csv_text(&d, sample).unwrap();
+        let text = height_csv_text(&d, sample, 0.0).unwrap();
         assert!(
             text.contains("floor rounding"),
             "the header states the rule"
@@ -844,7 +859,7 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         );
 
         let png_path = dir.path().join("plate.png");
-        let png = write_height_png(&d, &png_path, sample, 2).unwrap();
+        let png = write_height_png(&d, &png_path, sample, 2, 0.0).unwrap();
         assert_eq!(png.levels, Some(top as usize + 1));
         assert!((png.max_height_um - 1.0).abs() < 1e-12);
         let (w, _, values, texts) = read_png16(&png_path);
@@ -861,7 +876,7 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
 
         // GDSII: one layer per level 1 … 5, rectangles at the crossings to the 1 nm unit.
         let gds_path = dir.path().join("plate.gds");
-        let gds = write_height_gds(&d, &gds_path, 10.0).unwrap();
+        let gds = write_height_gds(&d, &gds_path, 10.0, 0.0).unwrap();
         assert_eq!(gds.levels, Some(top as usize + 1));
         assert_eq!(gds.layers.len(), top as usize);
         assert!((gds.max_height_um - 1.0).abs() < 1e-12);
@@ -904,7 +919,7 @@ fn phase_export_floor_levels_stay_within_the_fold_at_the_analytic_crossings() {
         // STL: the up-facing strips are the flat levels, at base + level·s.
         let (base, length) = (2.0, 10.0);
         let stl_path = dir.path().join("plate.stl");
-        let stl = write_height_stl(&d, &stl_path, 0.5, length, base).unwrap();
+        let stl = write_height_stl(&d, &stl_path, 0.5, length, base, 0.0).unwrap();
         assert!((stl.max_height_um - 1.0).abs() < 1e-5);
         let grid = stl.grid_um.unwrap();
         let mesh = read_watertight(&stl_path);
@@ -952,7 +967,7 @@ fn phase_export_nearest_rounding_is_still_available_and_differs() {
         assert_ne!(want.len(), floor.len());
         let sample = 0.05;
         let xs = sample_xs(&d, sample);
-        let text = height_csv_text(&d, sample).unwrap();
+        let text = height_csv_text(&d, sample, 0.0).unwrap();
         assert!(text.contains("nearest rounding"));
         assert!(
             text.contains("max fold height 1.2"),
@@ -988,7 +1003,7 @@ fn phase_export_nearest_rounding_is_still_available_and_differs() {
         );
         let dir = tempfile::tempdir().unwrap();
         let gds_path = dir.path().join("nearest.gds");
-        write_height_gds(&d, &gds_path, 10.0).unwrap();
+        write_height_gds(&d, &gds_path, 10.0, 0.0).unwrap();
         let (_, mut rects) = read_gds_rects(&gds_path);
         rects.sort_by_key(|r| r.x0);
         let gds_runs: Vec<(f64, f64, i64)> = rects
@@ -1022,7 +1037,7 @@ fn phase_export_floor_edge_cases_of_the_top_level() {
     assert_eq!(geometry::top_level(0.15, 0.2), 0);
     let mut d = small(Some(2.0));
     d.lambda0 = Lambda0::Fixed { nm: 530.0 };
-    let text = height_csv_text(&d, 0.5).unwrap();
+    let text = height_csv_text(&d, 0.5, 0.0).unwrap();
     assert!(
         text.lines()
             .filter(|l| !l.starts_with('#') && !l.starts_with('x'))
@@ -1030,7 +1045,7 @@ fn phase_export_floor_edge_cases_of_the_top_level() {
         "a 2 µm step floors a 1.03 µm fold to 0"
     );
     let dir = tempfile::tempdir().unwrap();
-    let s = write_height_gds(&d, &dir.path().join("flat.gds"), 10.0).unwrap();
+    let s = write_height_gds(&d, &dir.path().join("flat.gds"), 10.0, 0.0).unwrap();
     assert_eq!((s.levels, s.rectangles), (Some(1), Some(0)));
     // Unfolded, floored: floor(sag / s)·s, never above the sag (the model's profile; the
     // fabricated plate's outer edges are tested in `the_plate_edge_is_never_narrower_...`).
@@ -1086,7 +1101,7 @@ fn the_plate_edge_is_never_narrower_than_the_plate_inside() {
     let mut merged = 0;
     for d in edge_setups() {
         let lenslets = Lenslets::new(&d).unwrap();
-        let pieces = plate::pieces(&d, &lenslets).unwrap();
+        let pieces = plate::pieces(&d, &lenslets, 0.0).unwrap();
         let width = |p: &plate::Piece| p.x1_um - p.x0_um;
         let inside = pieces[1..pieces.len() - 1]
             .iter()
@@ -1109,7 +1124,7 @@ fn the_plate_edge_is_never_narrower_than_the_plate_inside() {
             .map(|i| -span / 2.0 + (i as f64 + 0.5) * span / 40_000.0)
             .collect();
         let model = geometry::profile_um(&d, &xs).unwrap();
-        let fabricated = plate::profile_um(&d, &xs).unwrap();
+        let fabricated = plate::profile_um(&d, &xs, 0.0).unwrap();
         let (first, last) = (&pieces[0], &pieces[pieces.len() - 1]);
         let mut differs = false;
         for ((&x, m), f) in xs.iter().zip(&model).zip(&fabricated) {
@@ -1138,7 +1153,7 @@ fn the_600_dpi_plate_at_600_nm_has_no_edge_sliver_in_its_gds() {
     d.height_step_um = Some(0.2);
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("plate.gds");
-    write_height_gds(&d, &path, 1000.0).unwrap();
+    write_height_gds(&d, &path, 1000.0, 0.0).unwrap();
     let (_, rects) = read_gds_rects(&path);
     let half_span_nm = Lenslets::new(&d).unwrap().span_um() * 500.0;
     let at_edge: Vec<&Rect> = rects

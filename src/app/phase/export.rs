@@ -25,6 +25,8 @@ const DEFAULT_PARAMS: ExportParams = ExportParams {
     length_um: 100.0,
     base_um: 20.0,
     deterministic: false,
+    // The rule the plate check above the buttons applies.
+    phase_min_feature_um: crate::core::mask::drc::DEFAULT_PHASE_MIN_FEATURE_UM,
 };
 
 pub(super) struct ExportState {
@@ -81,8 +83,22 @@ fn describe(s: &phase_export::ExportSummary) -> String {
         ),
         HeightFormat::Stl => format!("{} triangles", s.triangles.unwrap_or(0)),
     };
+    let merged = s.ring_merge.map_or(String::new(), |m| {
+        format!(
+            "; {} joined to the next fold (under the {} µm rule), RMS phase error at λ0 {:.3} → \
+             {:.3} rad",
+            crate::app::widgets::counted(
+                m.merged_rings as f64,
+                "part-level ring",
+                "part-level rings"
+            ),
+            DEFAULT_PARAMS.phase_min_feature_um,
+            m.model_rms_phase_error_rad,
+            m.fabricated_rms_phase_error_rad
+        )
+    });
     format!(
-        "{what}; {:.1} µm wide, up to {:.3} µm high",
+        "{what}; {:.1} µm wide, up to {:.3} µm high{merged}",
         s.width_um, s.max_height_um
     )
 }

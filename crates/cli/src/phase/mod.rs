@@ -125,8 +125,8 @@ pub fn export_cmd(a: &ExportArgs, progress: &Progress) -> Result<()> {
         design.surface = Surface::Unfolded;
     }
     // Checked first: a strict export that fails leaves nothing behind.
-    let drc =
-        udc_core::phase::drc::check_plate(&design, &a.rules.resolve()?).map_err(flag_names)?;
+    let rules = a.rules.resolve()?;
+    let drc = udc_core::phase::drc::check_plate(&design, &rules).map_err(flag_names)?;
     if a.strict && !drc.is_clean() {
         for line in report_lines(&drc, Checked::Phase) {
             eprintln!("{line}");
@@ -139,6 +139,7 @@ pub fn export_cmd(a: &ExportArgs, progress: &Progress) -> Result<()> {
         length_um: a.length_um,
         base_um: a.base_um,
         deterministic: a.deterministic,
+        phase_min_feature_um: rules.phase_min_feature_um,
     };
     let written = udc_io::phase::export::write_height(a.format, &design, file, &params);
     let summary = written.map_err(flag_names)?;
@@ -146,7 +147,7 @@ pub fn export_cmd(a: &ExportArgs, progress: &Progress) -> Result<()> {
     let mut report = serde_json::to_value(&summary)?;
     let lenslets = udc_core::phase::geometry::Lenslets::new(&design)?;
     if let (Some(n), Some(obj)) = (
-        udc_core::phase::plate::narrowest_feature(&design, &lenslets)?,
+        udc_core::phase::plate::narrowest_feature(&design, &lenslets, rules.phase_min_feature_um)?,
         report.as_object_mut(),
     ) {
         obj.insert(

@@ -35,9 +35,12 @@ pub struct Rules {
     pub phase_min_feature_um: f64,
 }
 
-/// A laser writer's half micron: the thesis plate's outer fold rings (under 200 nm) break it.
+/// A laser writer's half micron, µm: the thesis plate's outer fold rings (under 200 nm) break
+/// it. The default of [`Rules::phase_min_feature_um`].
+pub const DEFAULT_PHASE_MIN_FEATURE_UM: f64 = 0.5;
+
 fn default_phase_min_feature_um() -> f64 {
-    0.5
+    DEFAULT_PHASE_MIN_FEATURE_UM
 }
 
 impl Default for Rules {

@@ -17,9 +17,9 @@ use crate::mask::drc::{DrcReport, Rules, Violation, ViolationKind};
 /// As [`super::plate::pieces`]: a plan that does not fit, or a profile too finely cut.
 pub fn check_plate(design: &PhaseDesign, rules: &Rules) -> Result<DrcReport, SimError> {
     let lenslets = Lenslets::new(design)?;
-    let features = features(design, &pieces(design, &lenslets)?);
-    let mut report = DrcReport::new(*rules);
     let rule = rules.phase_min_feature_um;
+    let features = features(design, &pieces(design, &lenslets, rule)?);
+    let mut report = DrcReport::new(*rules);
     for f in &features {
         let width = f.width_um();
         report.min_feature_um = Some(report.min_feature_um.map_or(width, |m| m.min(width)));
@@ -90,7 +90,7 @@ mod tests {
     fn pieces_without_a_jump_between_them_are_one_feature() {
         let d = PhaseDesign::thesis(42.0, 1.0);
         let lenslets = Lenslets::new(&d).unwrap();
-        let p = pieces(&d, &lenslets).unwrap();
+        let p = pieces(&d, &lenslets, 0.5).unwrap();
         let f = features(&d, &p);
         assert!(f.len() <= p.len());
         let span = |v: &[Feature]| v.iter().map(|f| f.x1_um - f.x0_um).sum::<f64>();

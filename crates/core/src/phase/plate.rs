@@ -1,10 +1,21 @@
 //! The fabricated plate's profile as pieces: the stretches between consecutive height jumps,
 //! cut at the analytic level crossings of [`geometry::bands`], with no sliver at the array's
-//! outer edges. What every export draws (GDSII and STL the pieces, CSV and PNG sampled on them)
-//! and what the plate's design-rule check measures.
+//! outer edges and no part-level ring narrower than the writer's rule. What every export draws
+//! (GDSII and STL the pieces, CSV and PNG sampled on them) and what the plate's design-rule
+//! check measures.
+//!
+//! **Part-level rings.** With floor rounding the fold height d0 is rarely a whole number of
+//! steps: the top level J = [`geometry::top_level`] spans only `d0 − J·step` of sag, less than
+//! a step, and far out on a lenslet, where the sag is steep, its ring is a sliver (34 nm at
+//! r ≈ 15.8 µm for T = 5 at 0.2-µm steps and λ0 = 600 nm). Where that ring is narrower than the
+//! writer's narrowest feature, the next fold's level 0 starts where it starts: the fold wraps
+//! at `J·step` instead of d0 there. Against the continuous folded lens the phase error at λ0 of
+//! such a ring stays under one step's (its height is off by at most `d0 − J·step`, as the
+//! floored level's is), and [`ring_merge`] reports what it costs. Full-step rings are never
+//! merged: one narrower than the rule is the lens's slope at that step, and the check refuses it.
 
 use super::geometry::{self, Lenslets};
-use super::{PhaseDesign, Surface};
+use super::{HeightRounding, PhaseDesign, Surface};
 use crate::SimError;
 
 /// Most flat or curved stretches between height jumps the profile may have (a design with a
@@ -64,7 +75,13 @@ impl Piece {
 /// reaches `(w+1)·d0` (d0 the unrounded fold height); rounding to the nearest level jumps at
 /// `(K + ½)·step`. The radius is `sqrt(2(n−1)f·sag)`, so every level's ring has exactly the
 /// model's width, and each piece's level is the integer index of its ring, not a sampled height.
-pub fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, SimError> {
+/// Part-level rings narrower than `min_feature_um` (the writer's rule; 0 keeps every ring) join
+/// the next fold (see the module docs).
+pub fn pieces(
+    design: &PhaseDesign,
+    lenslets: &Lenslets,
+    min_feature_um: f64,
+) -> Result<Vec<Piece>, SimError> {
     let pitch = lenslets.pitch_um;
     let count = lenslets.count();
     let half = pitch / 2.0;
@@ -100,9 +117,9 @@ pub fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, S
         let bands = match &cached {
             Some((f, b)) if *f == fold_um => b,
             _ => {
-                &cached
-                    .insert((fold_um, geometry::bands(design, fold_um, half)))
-                    .1
+                let bands = geometry::bands(design, fold_um, half);
+                let (bands, _) = merge_part_rings(design, fold_um, bands, min_feature_um);
+                &cached.insert((fold_um, bands)).1
             }
         };
         let shape = |b: &geometry::Band| match (b.level, design.height_step_um) {
@@ -152,6 +169,122 @@ pub fn pieces(design: &PhaseDesign, lenslets: &Lenslets) -> Result<Vec<Piece>, S
     Ok(out)
 }
 
+/// `bands` of one lenslet (fold height `fold_um`) with each part-level ring narrower than
+/// `min_feature_um` joined to the next fold's level 0 (see the module docs), and how many were.
+/// Only a floored, folded, stepped plate whose fold is not a whole number of steps has them;
+/// the last ring, cut by the lenslet's edge, stays.
+fn merge_part_rings(
+    design: &PhaseDesign,
+    fold_um: f64,
+    bands: Vec<geometry::Band>,
+    min_feature_um: f64,
+) -> (Vec<geometry::Band>, usize) {
+    let Some(step) = design.height_step_um else {
+        return (bands, 0);
+    };
+    let top = geometry::top_level(fold_um, step);
+    let part = fold_um - top as f64 * step < step * (1.0 - 1e-9);
+    if !(min_feature_um > 0.0
+        && part
+        && top > 0
+        && design.surface == Surface::Folded
+        && design.height_rounding == HeightRounding::Floor)
+    {
+        return (bands, 0);
+    }
+    let mut out = Vec::with_capacity(bands.len());
+    let mut merged = 0;
+    let mut iter = bands.into_iter().peekable();
+    while let Some(b) = iter.next() {
+        match iter.peek_mut() {
+            Some(next) if b.level == Some(top) && b.u1_um - b.u0_um < min_feature_um => {
+                next.u0_um = b.u0_um;
+                merged += 1;
+            }
+            _ => out.push(b),
+        }
+    }
+    (out, merged)
+}
+
+/// What joining part-level rings costs ([`ring_merge`]).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct RingMerge {
+    /// Part-level rings joined to the next fold, over the whole array (each side of a
+    /// lenslet's centre counted).
+    pub merged_rings: usize,
+    /// RMS phase error at each lenslet's λ0 of the quantised model against the continuous
+    /// folded lens, radians, over the array's width.
+    pub model_rms_phase_error_rad: f64,
+    /// The same for the fabricated plate, with the rings joined.
+    pub fabricated_rms_phase_error_rad: f64,
+}
+
+/// Samples per lenslet of [`ring_merge`]'s phase error.
+const MERGE_ERROR_SAMPLES: usize = 4096;
+
+/// How many part-level rings the plate of `design` joins to the next fold under a writer's
+/// `min_feature_um`, and the phase error at λ0 before and after (see the module docs). A fold
+/// of T waves at λ0 is `fold_um` of height, so a height error `e` is `2π T e / fold` radians,
+/// wrapped to ±π.
+///
+/// # Errors
+/// As [`Lenslets::new`].
+pub fn ring_merge(
+    design: &PhaseDesign,
+    lenslets: &Lenslets,
+    min_feature_um: f64,
+) -> Result<RingMerge, SimError> {
+    let half = lenslets.pitch_um / 2.0;
+    let (mut merged, mut model_sq, mut fab_sq, mut n) = (0usize, 0.0, 0.0, 0usize);
+    let mut cached: Option<(f64, usize, f64, f64)> = None;
+    for &fold_um in &lenslets.fold_height_um {
+        let (m, a, b) = match cached {
+            Some((f, m, a, b)) if f == fold_um => (m, a, b),
+            _ => {
+                let model = geometry::bands(design, fold_um, half);
+                let (fab, m) = merge_part_rings(design, fold_um, model.clone(), min_feature_um);
+                let a = band_error_sq(design, fold_um, &model, half);
+                let b = band_error_sq(design, fold_um, &fab, half);
+                cached = Some((fold_um, m, a, b));
+                (m, a, b)
+            }
+        };
+        merged += 2 * m;
+        model_sq += a;
+        fab_sq += b;
+        n += MERGE_ERROR_SAMPLES;
+    }
+    let rms = |sq: f64| if n == 0 { 0.0 } else { (sq / n as f64).sqrt() };
+    Ok(RingMerge {
+        merged_rings: merged,
+        model_rms_phase_error_rad: rms(model_sq),
+        fabricated_rms_phase_error_rad: rms(fab_sq),
+    })
+}
+
+/// The summed squared phase error of one lenslet's `bands` against the continuous folded lens
+/// over [`MERGE_ERROR_SAMPLES`] samples across `[−half, half)` (the profile is even in u).
+fn band_error_sq(design: &PhaseDesign, fold_um: f64, bands: &[geometry::Band], half: f64) -> f64 {
+    let step = design.height_step_um.unwrap_or(0.0);
+    let waves_per_um = design.fold / fold_um;
+    (0..MERGE_ERROR_SAMPLES)
+        .map(|i| {
+            let u = ((i as f64 + 0.5) / MERGE_ERROR_SAMPLES as f64 - 0.5) * 2.0 * half;
+            let r = u.abs();
+            let k = bands.partition_point(|b| b.u1_um <= r).min(bands.len() - 1);
+            let sag = geometry::sag_um(design, r);
+            let height = match bands[k].level {
+                Some(level) => level as f64 * step,
+                None => sag - bands[k].wraps as f64 * fold_um,
+            };
+            let waves = (height - sag) * waves_per_um;
+            let wrapped = waves - waves.round();
+            (std::f64::consts::TAU * wrapped).powi(2)
+        })
+        .sum()
+}
+
 /// A height difference below this (µm) is no jump: the surface runs on.
 const CONTINUOUS_UM: f64 = 1e-9;
 
@@ -196,9 +329,13 @@ fn merge_edge_slivers(design: &PhaseDesign, out: &mut Vec<Piece>, pitch_um: f64)
 ///
 /// # Errors
 /// As [`pieces`].
-pub fn profile_um(design: &PhaseDesign, x_um: &[f64]) -> Result<Vec<f64>, SimError> {
+pub fn profile_um(
+    design: &PhaseDesign,
+    x_um: &[f64],
+    min_feature_um: f64,
+) -> Result<Vec<f64>, SimError> {
     let lenslets = Lenslets::new(design)?;
-    let pieces = pieces(design, &lenslets)?;
+    let pieces = pieces(design, &lenslets, min_feature_um)?;
     Ok(x_um
         .iter()
         .map(|&x| height_on(design, &pieces, x))
@@ -264,8 +401,9 @@ pub fn features(design: &PhaseDesign, pieces: &[Piece]) -> Vec<Feature> {
 pub fn narrowest_feature(
     design: &PhaseDesign,
     lenslets: &Lenslets,
+    min_feature_um: f64,
 ) -> Result<Option<Feature>, SimError> {
-    Ok(features(design, &pieces(design, lenslets)?)
+    Ok(features(design, &pieces(design, lenslets, min_feature_um)?)
         .into_iter()
         .min_by(|a, b| a.width_um().total_cmp(&b.width_um())))
 }

@@ -10,14 +10,23 @@ use super::*;
 /// # Errors
 /// A message naming `sample_um` when it is out of range or gives too many rows, or the design's
 /// own validation error.
-pub fn height_csv_text(design: &PhaseDesign, sample_um: f64) -> Result<String, IoError> {
-    Ok(csv_text(design, sample_um)?.0)
+pub fn height_csv_text(
+    design: &PhaseDesign,
+    sample_um: f64,
+    min_feature_um: f64,
+) -> Result<String, IoError> {
+    Ok(csv_text(design, sample_um, min_feature_um)?.0)
 }
 
-fn csv_text(design: &PhaseDesign, sample_um: f64) -> Result<(String, Samples), IoError> {
+fn csv_text(
+    design: &PhaseDesign,
+    sample_um: f64,
+    min_feature_um: f64,
+) -> Result<(String, Samples), IoError> {
     let lenslets = lenslets_of(design)?;
     check_sample(design, sample_um)?;
-    let s = sample_profile(design, &lenslets, sample_um, MAX_CSV_SAMPLES, "CSV export")?;
+    let rows = (MAX_CSV_SAMPLES, "CSV export");
+    let s = sample_profile(design, &lenslets, sample_um, rows, min_feature_um)?;
     let mut out = String::with_capacity(64 * s.x_um.len() + 1024);
     for line in header_lines(design, &lenslets) {
         out.push_str("# ");
@@ -51,8 +60,9 @@ pub fn write_height_csv(
     design: &PhaseDesign,
     path: &Path,
     sample_um: f64,
+    min_feature_um: f64,
 ) -> Result<ExportSummary, IoError> {
-    let (text, s) = csv_text(design, sample_um)?;
+    let (text, s) = csv_text(design, sample_um, min_feature_um)?;
     write_atomic(path, text.as_bytes())?;
     let width = geometry::lenslet_count(design) as f64 * design.pitch_um;
     let mut summary = ExportSummary::new(

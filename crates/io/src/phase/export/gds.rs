@@ -20,8 +20,9 @@ pub fn write_height_gds(
     design: &PhaseDesign,
     path: &Path,
     length_um: f64,
+    min_feature_um: f64,
 ) -> Result<ExportSummary, IoError> {
-    write_height_gds_with(design, path, length_um, false)
+    write_height_gds_with(design, path, length_um, false, min_feature_um)
 }
 
 /// The layer map of a written plate: `level_k k/0` per level layer, then `notes`.
@@ -53,6 +54,7 @@ pub fn write_height_gds_with(
     path: &Path,
     length_um: f64,
     deterministic: bool,
+    min_feature_um: f64,
 ) -> Result<ExportSummary, IoError> {
     let lenslets = lenslets_of(design)?;
     check_length(length_um)?;
@@ -63,7 +65,7 @@ pub fn write_height_gds_with(
                 .into(),
         ));
     };
-    let pieces = pieces(design, &lenslets)?;
+    let pieces = pieces(design, &lenslets, min_feature_um)?;
     let runs = level_runs(&pieces);
     let top_level = runs.iter().map(|r| r.2).max().unwrap_or(0);
     if top_level > MAX_GDS_LEVEL {

@@ -183,6 +183,10 @@ pub struct ExportSummary {
     /// The x grid coordinates were snapped to.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub grid_um: Option<f64>,
+    /// Part-level rings joined to the next fold under the writer's rule, and the phase error
+    /// this costs (`plate::ring_merge`); absent when none were joined.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ring_merge: Option<plate::RingMerge>,
 }
 
 impl ExportSummary {
@@ -204,6 +208,7 @@ impl ExportSummary {
             length_um: None,
             base_um: None,
             grid_um: None,
+            ring_merge: None,
         }
     }
 }
@@ -255,8 +260,8 @@ fn sample_profile(
     design: &PhaseDesign,
     lenslets: &Lenslets,
     sample_um: f64,
-    max: usize,
-    what: &str,
+    (max, what): (usize, &str),
+    min_feature_um: f64,
 ) -> Result<Samples, IoError> {
     let span = lenslets.span_um();
     // The relative nudge keeps W / sample = 5712 from flooring to 5711 after rounding.
@@ -280,7 +285,7 @@ fn sample_profile(
         .collect();
     // The fabricated plate, as the vector exports draw it (its outer edges differ from the
     // model's profile: `plate::pieces`).
-    let pieces = plate::pieces(design, lenslets)?;
+    let pieces = plate::pieces(design, lenslets, min_feature_um)?;
     let height_um = x_um
         .iter()
         .map(|&x| plate::height_on(design, &pieces, x))
@@ -360,6 +365,9 @@ pub struct HeightParams {
     pub base_um: f64,
     /// Fixed GDSII timestamps, so identical exports are byte-identical.
     pub deterministic: bool,
+    /// The writer's narrowest feature, µm (`Rules::phase_min_feature_um`): part-level rings
+    /// narrower join the next fold (`plate::pieces`); 0 keeps every ring.
+    pub phase_min_feature_um: f64,
 }
 
 /// Writes `design`'s plate to `path` in `format`: the one entry point of the studio and the CLI.
@@ -372,19 +380,25 @@ pub fn write_height(
     path: &Path,
     p: &HeightParams,
 ) -> Result<ExportSummary, IoError> {
-    let (summary, layers) = match format {
-        HeightFormat::Csv => (write_height_csv(design, path, p.sample_um)?, None),
-        HeightFormat::Png => (write_height_png(design, path, p.sample_um, p.rows)?, None),
+    let rule = p.phase_min_feature_um;
+    let (mut summary, layers) = match format {
+        HeightFormat::Csv => (write_height_csv(design, path, p.sample_um, rule)?, None),
+        HeightFormat::Png => (
+            write_height_png(design, path, p.sample_um, p.rows, rule)?,
+            None,
+        ),
         HeightFormat::Gds => {
-            let s = gds::write_height_gds_with(design, path, p.length_um, p.deterministic)?;
+            let s = gds::write_height_gds_with(design, path, p.length_um, p.deterministic, rule)?;
             let map = gds::layer_map(&s);
             (s, Some(map))
         }
         HeightFormat::Stl => (
-            write_height_stl(design, path, p.sample_um, p.length_um, p.base_um)?,
+            write_height_stl(design, path, p.sample_um, p.length_um, p.base_um, rule)?,
             None,
         ),
     };
+    let merge = plate::ring_merge(design, &lenslets_of(design)?, rule)?;
+    summary.ring_merge = (merge.merged_rings > 0).then_some(merge);
     let json = crate::phase::design::phase_design_json(design);
     let mut m = serde_json::Map::new();
     m.insert("format".into(), format.extension().into());
@@ -400,6 +414,7 @@ pub fn write_height(
             "length_um": p.length_um,
             "base_um": p.base_um,
             "deterministic": p.deterministic,
+            "phase_min_feature_um": p.phase_min_feature_um,
         }),
     );
     let header = vec![

@@ -16,6 +16,7 @@ pub fn write_height_png(
     path: &Path,
     sample_um: f64,
     rows: usize,
+    min_feature_um: f64,
 ) -> Result<ExportSummary, IoError> {
     let lenslets = lenslets_of(design)?;
     check_sample(design, sample_um)?;
@@ -24,7 +25,8 @@ pub fn write_height_png(
             "rows = {rows}: must be within 1–{MAX_PNG_ROWS}"
         )));
     }
-    let s = sample_profile(design, &lenslets, sample_um, MAX_PNG_WIDTH, "PNG width")?;
+    let columns = (MAX_PNG_WIDTH, "PNG width");
+    let s = sample_profile(design, &lenslets, sample_um, columns, min_feature_um)?;
     let width = s.x_um.len();
     let pixels = width as u64 * rows as u64;
     if pixels > MAX_PNG_PIXELS {

@@ -204,12 +204,13 @@ pub fn write_height_stl(
     sample_um: f64,
     length_um: f64,
     base_um: f64,
+    min_feature_um: f64,
 ) -> Result<ExportSummary, IoError> {
     let lenslets = lenslets_of(design)?;
     check_sample(design, sample_um)?;
     check_length(length_um)?;
     check_um("base_um", base_um, MIN_BASE_UM, MAX_BASE_UM, "")?;
-    let pieces = pieces(design, &lenslets)?;
+    let pieces = pieces(design, &lenslets, min_feature_um)?;
     let tallest = lenslets.max_height_um(design);
     let grid_um = stl_grid_um((lenslets.span_um() / 2.0).max(base_um + tallest));
     let top = top_profile(design, &pieces, sample_um, base_um, grid_um)?;
