@@ -18,6 +18,11 @@
 //! the **luminance** normalisation (`display_mean / mean(truth luminance)`) and is applied to
 //! each channel, so a grey pixel displays as in monochrome; each channel is also scored
 //! against the same channel of the truth ([`ChannelScores`]).
+//!
+//! **Precision.** The exposure is drawn from the mosaic's expected electrons in `f64`, exactly
+//! as the monochrome sensor's; the colour planes kept (the truth's RGB and mosaic, each
+//! capture's mosaic and demosaiced RGB) are `f32`, about 7 significant digits, far below the
+//! ADC's step and the shot noise, and half the memory (the Limits chapter has the peaks).
 
 use ndarray::{Array2, Axis};
 use rayon::prelude::*;
@@ -28,18 +33,18 @@ use super::demosaic::demosaic_rggb;
 use super::metrics::{self, ToneCurve};
 use super::roi::RoiGrid;
 use super::scene::{LUMINANCE_WEIGHTS, Scene};
-use crate::SimError;
+use crate::{Sample, SimError};
 
 /// Channel names in plane order.
 pub const CHANNEL_NAMES: [&str; 3] = ["R", "G", "B"];
 
 /// Working bytes per scene pixel that a colour run adds to a monochrome one: the truth's RGB
-/// electrons and mosaic (4 planes of 8 bytes); [`KEPT_BYTES_PER_PIXEL`] per strategy kept.
-pub const EXTRA_BYTES_PER_PIXEL: u64 = 4 * 8;
+/// electrons and mosaic (4 planes of 4 bytes); [`KEPT_BYTES_PER_PIXEL`] per strategy kept.
+pub const EXTRA_BYTES_PER_PIXEL: u64 = 4 * 4;
 
 /// What a kept strategy's colour capture adds per scene pixel: its mosaic and demosaiced RGB
-/// (4 planes of 8 bytes).
-pub const KEPT_BYTES_PER_PIXEL: u64 = 4 * 8;
+/// (4 planes of 4 bytes).
+pub const KEPT_BYTES_PER_PIXEL: u64 = 4 * 4;
 
 /// One channel's scores, as [`super::StrategyResult`]'s for luminance.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -56,9 +61,9 @@ pub struct ChannelScores {
 #[derive(Debug, Clone)]
 pub struct ColourTruth {
     /// Expected electrons per site under each filter, `[R, G, B]` (noise-free, not clipped).
-    pub rgb_e: [Array2<f64>; 3],
+    pub rgb_e: [Array2<f32>; 3],
     /// The expected electrons of the RGGB mosaic: what the sensor is exposed to.
-    pub mosaic_e: Array2<f64>,
+    pub mosaic_e: Array2<f32>,
 }
 
 impl ColourTruth {
@@ -72,9 +77,9 @@ impl ColourTruth {
 #[derive(Debug, Clone)]
 pub struct ColourCapture {
     /// The readout as the sensor gives it: the estimate per site of the RGGB mosaic, electrons.
-    pub mosaic_e: Array2<f64>,
+    pub mosaic_e: Array2<f32>,
     /// The demosaiced capture, `[R, G, B]`, electrons.
-    pub rgb_e: [Array2<f64>; 3],
+    pub rgb_e: [Array2<f32>; 3],
     /// Scores of each channel against the truth's, `[R, G, B]`.
     pub channels: [ChannelScores; 3],
 }
@@ -86,25 +91,61 @@ impl ColourCapture {
     }
 }
 
-/// The expected electrons of a colour run: `[R, G, B]` planes of `scene` times
-/// `electrons_per_radiance` (see the module docs; one plane is grey) and their mosaic.
-pub(super) fn expose(
+/// The expected electrons of the RGGB mosaic a colour run is exposed to, `f64`: each site's
+/// plane of `scene` times `electrons_per_radiance`; `electrons` (the scene's luminance times
+/// the same, which the run has made already) for a grey scene (see the module docs).
+pub(super) fn expose_mosaic(
     scene: &Scene,
+    electrons: &Array2<f64>,
     electrons_per_radiance: f64,
-) -> ([Array2<f64>; 3], Array2<f64>) {
-    let rgb: [Array2<f64>; 3] = match scene.planes.as_slice() {
-        [r, g, b] => [r, g, b].map(|p| p.mapv(|v| v * electrons_per_radiance)),
-        _ => {
-            let y = scene.luminance().mapv(|v| v * electrons_per_radiance);
-            [y.clone(), y.clone(), y]
+) -> Array2<f64> {
+    match scene.planes.as_slice() {
+        [r, g, b] => {
+            let mut out = Array2::<f64>::zeros(r.dim());
+            let rgb = [r, g, b];
+            out.axis_iter_mut(Axis(0))
+                .into_par_iter()
+                .enumerate()
+                .for_each(|(y, mut row)| {
+                    for (x, o) in row.iter_mut().enumerate() {
+                        *o = rgb[cfa::rggb_channel(y, x)][[y, x]] * electrons_per_radiance;
+                    }
+                });
+            out
         }
-    };
-    let mosaic = cfa::mosaic([&rgb[0], &rgb[1], &rgb[2]]);
-    (rgb, mosaic)
+        _ => electrons.clone(),
+    }
 }
 
-/// The luminance of three planes.
-pub fn luminance(rgb: &[Array2<f64>; 3]) -> Array2<f64> {
+/// The colour truth of a run, `f32`: `[R, G, B]` of `planes` (the scene's, let go one by one
+/// as they are converted) times `electrons_per_radiance`, or the grey `mosaic_e` three times,
+/// and the mosaic (the f64 one let go first).
+pub(super) fn truth(
+    planes: Vec<std::borrow::Cow<'_, Array2<f64>>>,
+    mosaic_e: Array2<f64>,
+    electrons_per_radiance: f64,
+) -> ColourTruth {
+    #[allow(clippy::cast_possible_truncation)]
+    let narrow = |p: &Array2<f64>, k: f64| p.mapv(|v| (v * k) as f32);
+    let mosaic = narrow(&mosaic_e, 1.0);
+    drop(mosaic_e);
+    let rgb_e = if planes.len() == 3 {
+        let mut it = planes.into_iter();
+        std::array::from_fn(|_| {
+            it.next()
+                .map_or_else(|| mosaic.clone(), |p| narrow(&p, electrons_per_radiance))
+        })
+    } else {
+        [mosaic.clone(), mosaic.clone(), mosaic.clone()]
+    };
+    ColourTruth {
+        rgb_e,
+        mosaic_e: mosaic,
+    }
+}
+
+/// The luminance of three planes, `f64`.
+pub fn luminance<T: Sample>(rgb: &[Array2<T>; 3]) -> Array2<f64> {
     let mut out = Array2::<f64>::zeros(rgb[0].dim());
     let [wr, wg, wb] = LUMINANCE_WEIGHTS;
     out.axis_iter_mut(Axis(0))
@@ -112,7 +153,12 @@ pub fn luminance(rgb: &[Array2<f64>; 3]) -> Array2<f64> {
         .enumerate()
         .for_each(|(y, mut row)| {
             for (x, o) in row.iter_mut().enumerate() {
-                *o = wr * rgb[0][[y, x]] + wg * rgb[1][[y, x]] + wb * rgb[2][[y, x]];
+                let (r, g, b): (f64, f64, f64) = (
+                    rgb[0][[y, x]].into(),
+                    rgb[1][[y, x]].into(),
+                    rgb[2][[y, x]].into(),
+                );
+                *o = wr * r + wg * g + wb * b;
             }
         });
     out
@@ -133,7 +179,10 @@ pub(super) fn develop(
     let Some(truth) = truth else {
         return Ok((readout, None));
     };
-    let rgb_e = demosaic_rggb(&readout.estimate_e);
+    // The mosaic in f32 before the f64 estimate is let go, then demosaiced in f32.
+    #[allow(clippy::cast_possible_truncation)]
+    let mosaic_e = std::mem::take(&mut readout.estimate_e).mapv(|v| v as f32);
+    let rgb_e = demosaic_rggb(&mosaic_e);
     let mut channels = [ChannelScores {
         worst_roi_ssim: 0.0,
         mean_ssim: 0.0,
@@ -147,7 +196,7 @@ pub(super) fn develop(
             psnr_db: s.psnr_db,
         };
     }
-    let mosaic_e = std::mem::replace(&mut readout.estimate_e, luminance(&rgb_e));
+    readout.estimate_e = luminance(&rgb_e);
     Ok((
         readout,
         Some(ColourCapture {

@@ -32,6 +32,7 @@ use ndarray::{Array2, Axis};
 use rayon::prelude::*;
 
 use super::cfa::rggb_channel;
+use crate::Sample;
 
 /// A kernel: `(dy, dx, weight)` taps, weights in eighths.
 type Kernel = &'static [(isize, isize, f64)];
@@ -107,12 +108,13 @@ fn mirror(i: usize, d: isize, n: usize) -> usize {
 }
 
 /// Demosaics an RGGB mosaic ([`super::cfa::rggb_channel`]) into R, G and B planes of its size
-/// by Malvar–He–Cutler (see the module docs). Rows are computed in parallel.
-pub fn demosaic_rggb(mosaic: &Array2<f64>) -> [Array2<f64>; 3] {
+/// by Malvar–He–Cutler (see the module docs), in the mosaic's sample type (sums in `f64`). Rows
+/// are computed in parallel.
+pub fn demosaic_rggb<T: Sample>(mosaic: &Array2<T>) -> [Array2<T>; 3] {
     let (h, w) = mosaic.dim();
     let standard = mosaic.as_standard_layout();
     let m = standard.as_slice().unwrap_or_default();
-    let mut out: [Array2<f64>; 3] = std::array::from_fn(|_| Array2::zeros((h, w)));
+    let mut out: [Array2<T>; 3] = std::array::from_fn(|_| Array2::default((h, w)));
     let [r, g, b] = &mut out;
     r.axis_iter_mut(Axis(0))
         .into_par_iter()
@@ -122,19 +124,25 @@ pub fn demosaic_rggb(mosaic: &Array2<f64>) -> [Array2<f64>; 3] {
         .for_each(|(y, ((mut r_row, mut g_row), mut b_row))| {
             // Two sites from every edge no tap needs the mirror: index directly.
             let inner_row = (2..h.saturating_sub(2)).contains(&y);
-            let apply = |x: usize, k: Kernel| -> f64 {
+            let apply = |x: usize, k: Kernel| -> T {
                 let sum: f64 = if inner_row && (2..w.saturating_sub(2)).contains(&x) {
                     k.iter()
                         .map(|(dy, dx, wt)| {
-                            wt * m[(y as isize + dy) as usize * w + (x as isize + dx) as usize]
+                            let v: f64 = m
+                                [(y as isize + dy) as usize * w + (x as isize + dx) as usize]
+                                .into();
+                            wt * v
                         })
                         .sum()
                 } else {
                     k.iter()
-                        .map(|(dy, dx, wt)| wt * m[mirror(y, *dy, h) * w + mirror(x, *dx, w)])
+                        .map(|(dy, dx, wt)| {
+                            let v: f64 = m[mirror(y, *dy, h) * w + mirror(x, *dx, w)].into();
+                            wt * v
+                        })
                         .sum()
                 };
-                sum / 8.0
+                T::from_f64(sum / 8.0)
             };
             for x in 0..w {
                 let own = m[y * w + x];

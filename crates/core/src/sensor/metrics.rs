@@ -6,8 +6,8 @@ use ndarray::{Array2, Axis, Slice};
 use rayon::prelude::*;
 
 use super::roi::RoiGrid;
-use crate::SimError;
 use crate::restore::quality::{SSIM_RADIUS_PX, psnr_of, ssim};
+use crate::{Sample, SimError};
 
 /// The SSIM window's side: the smallest image (and ROI) that can be scored.
 pub const SSIM_WINDOW_PX: usize = 2 * SSIM_RADIUS_PX + 1;
@@ -37,19 +37,19 @@ impl ToneCurve {
     }
 
     /// The curve applied to each of three planes (`[R, G, B]` electrons).
-    pub fn apply_rgb(&self, rgb_e: &[Array2<f64>; 3]) -> [Array2<f64>; 3] {
+    pub fn apply_rgb<T: Sample>(&self, rgb_e: &[Array2<T>; 3]) -> [Array2<f64>; 3] {
         rgb_e.each_ref().map(|p| self.apply(p))
     }
 
     /// The curve applied to every pixel (rows in parallel).
-    pub fn apply(&self, image_e: &Array2<f64>) -> Array2<f64> {
+    pub fn apply<T: Sample>(&self, image_e: &Array2<T>) -> Array2<f64> {
         let mut out = Array2::<f64>::zeros(image_e.dim());
         out.axis_iter_mut(Axis(0))
             .into_par_iter()
             .zip(image_e.axis_iter(Axis(0)).into_par_iter())
             .for_each(|(mut o, i)| {
                 for (o, i) in o.iter_mut().zip(i.iter()) {
-                    *o = self.value(*i);
+                    *o = self.value((*i).into());
                 }
             });
         out
@@ -71,8 +71,8 @@ pub struct Scores {
 }
 
 /// `tone` over the `rows × cols` crop of `image_e`.
-fn toned_crop(
-    image_e: &Array2<f64>,
+fn toned_crop<T: Sample>(
+    image_e: &Array2<T>,
     tone: &ToneCurve,
     rows: std::ops::Range<usize>,
     cols: std::ops::Range<usize>,
@@ -80,7 +80,7 @@ fn toned_crop(
     image_e
         .slice_axis(Axis(0), Slice::from(rows))
         .slice_axis_move(Axis(1), Slice::from(cols))
-        .mapv(|v| tone.value(v))
+        .mapv(|v| tone.value(v.into()))
 }
 
 /// Scores a capture against the truth, both in electrons, through the tone curve `tone`,
@@ -91,9 +91,9 @@ fn toned_crop(
 /// # Errors
 /// [`SimError::InvalidSetting`] (`image`) when the sizes differ or are smaller than the SSIM
 /// window.
-pub fn score(
-    capture_e: &Array2<f64>,
-    truth_e: &Array2<f64>,
+pub fn score<A: Sample, B: Sample>(
+    capture_e: &Array2<A>,
+    truth_e: &Array2<B>,
     tone: &ToneCurve,
     grid: &RoiGrid,
 ) -> Result<Scores, SimError> {

@@ -366,18 +366,17 @@ pub fn run_with<'a, S, E: From<SimError>>(
     };
     let grid = RoiGrid::new(electrons.dim(), settings.roi_px);
     let steps = settings.strategies.len() as f32 + 2.0;
-    // A colour sensor is exposed to the mosaic of the RGB scene (see `colour`).
-    let colour_truth = match (is_colour, &scene) {
-        (true, Some(scene)) => {
-            let (rgb_e, mosaic_e) = colour::expose(scene, electrons_per_radiance);
-            Some(ColourTruth { rgb_e, mosaic_e })
-        }
+    // A colour sensor is exposed to the mosaic of the RGB scene (see `colour`), in f64; its
+    // truth is kept in f32 once the exposures are drawn.
+    let mosaic_e = match (is_colour, &scene) {
+        (true, Some(scene)) => Some(colour::expose_mosaic(
+            scene,
+            &electrons,
+            electrons_per_radiance,
+        )),
         _ => None,
     };
-    drop(scene);
-    let sensed = colour_truth
-        .as_ref()
-        .map_or(electrons.view(), |t| t.mosaic_e.view());
+    let sensed = mosaic_e.as_ref().map_or(electrons.view(), |m| m.view());
     let frame = noise::expose_frame(sensed, sensor, settings.seed, noise::stream::CAPTURE);
     progress.set(1.0 / steps);
     progress.check()?;
@@ -389,6 +388,16 @@ pub fn run_with<'a, S, E: From<SimError>>(
         Cfa::None => gain::take_snapshot(electrons.view(), sensor, &grid, settings.seed),
         Cfa::Rggb => cfa::take_snapshot(sensed, sensor, &grid, settings.seed),
     });
+    let colour_truth = match (mosaic_e, scene) {
+        (Some(mosaic_e), Some(scene)) => {
+            let planes = match scene {
+                Cow::Owned(s) => s.planes.into_iter().map(Cow::Owned).collect(),
+                Cow::Borrowed(s) => s.planes.iter().map(Cow::Borrowed).collect(),
+            };
+            Some(colour::truth(planes, mosaic_e, electrons_per_radiance))
+        }
+        _ => None,
+    };
     progress.set(2.0 / steps);
     let mut strategies = Vec::with_capacity(settings.strategies.len());
     for (i, strategy) in settings.strategies.iter().enumerate() {

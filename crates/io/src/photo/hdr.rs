@@ -107,9 +107,11 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
         let bytes = crate::safe_file::read_bounded(path, MAX_HDR_BYTES, "read the HDR image")?;
         let what = "HDR image";
         if exr {
-            read_exr(&bytes, what).map_err(bad)?
+            let (planes, channels) = read_exr(&bytes, what).map_err(bad)?;
+            (Err(planes), channels)
         } else {
-            read_radiance(&bytes, what).map_err(bad)?
+            let (planes, channels) = read_radiance(&bytes, what).map_err(bad)?;
+            (Ok(planes), channels)
         }
     };
     let mut report = HdrReport {
@@ -117,7 +119,7 @@ pub fn load_hdr_with_report(path: &Path) -> Result<(Scene, HdrReport), IoError> 
         channels,
         ..HdrReport::default()
     };
-    let planes = repair(planes, &mut report);
+    let planes = planes.unwrap_or_else(|f32_planes| repair(f32_planes, &mut report));
     Ok((Scene { planes }, report))
 }
 
@@ -165,7 +167,7 @@ fn check_decode_budget(
     decoder_bytes_per_pixel: u64,
     bytes: &[u8],
 ) -> Result<(), HdrError> {
-    let per_pixel = (decoder_bytes_per_pixel + 3 * 4).max(SCENE_DECODE_BYTES_PER_PIXEL);
+    let per_pixel = decoder_bytes_per_pixel.max(SCENE_DECODE_BYTES_PER_PIXEL);
     crate::decode_budget::check(what, width, height, per_pixel, bytes.len() as u64)
         .map_err(HdrError::OverBudget)
 }
@@ -203,7 +205,7 @@ pub(crate) fn read_exr(
         .map(|h| (h.layer_size.0 as u64, h.layer_size.1 as u64))
         .max_by_key(|&(w, h)| w * h)
         .unwrap_or((0, 0));
-    check_decode_budget(what, largest, decoded_per_pixel, bytes)?;
+    check_decode_budget(what, largest, decoded_per_pixel + 3 * 4, bytes)?;
     let image = exr::prelude::read()
         .no_deep_data()
         .largest_resolution_level()
@@ -253,21 +255,23 @@ pub(crate) fn read_exr(
     })
 }
 
-/// The Radiance file's R, G, B planes; `what` names it in a refusal over the memory budget.
-fn read_radiance(bytes: &[u8], what: &str) -> Result<(Vec<Array2<f32>>, Vec<String>), HdrError> {
+/// The Radiance file's R, G, B planes, straight to f64: RGBE holds only finite samples ≥ 0, so
+/// nothing needs the repair an EXR's samples do, and no f32 copy is made. `what` names it in a
+/// refusal over the memory budget.
+fn read_radiance(bytes: &[u8], what: &str) -> Result<(Vec<Array2<f64>>, Vec<String>), HdrError> {
     if !bytes.starts_with(b"#?") {
         return Err(HdrError::NotRadiance);
     }
     let reader = || ImageReader::with_format(Cursor::new(bytes), ImageFormat::Hdr);
     let (w, h) = reader().into_dimensions().map_err(HdrError::Radiance)?;
     check_size(w as usize, h as usize)?;
-    // The decoder's RGB f32 buffer.
-    check_decode_budget(what, (u64::from(w), u64::from(h)), 3 * 4, bytes)?;
+    // The decoder's RGB f32 buffer beside the f64 planes.
+    check_decode_budget(what, (u64::from(w), u64::from(h)), 3 * 4 + 3 * 8, bytes)?;
     let img = reader().decode().map_err(HdrError::Radiance)?.into_rgb32f();
     let (w, h) = (img.width() as usize, img.height() as usize);
     let raw = img.into_raw();
     let planes = (0..3)
-        .map(|c| Array2::from_shape_fn((h, w), |(y, x)| raw[(y * w + x) * 3 + c]))
+        .map(|c| Array2::from_shape_fn((h, w), |(y, x)| f64::from(raw[(y * w + x) * 3 + c])))
         .collect();
     Ok((planes, vec!["R".into(), "G".into(), "B".into()]))
 }
@@ -317,9 +321,9 @@ pub enum ExrPrecision {
 /// # Errors
 /// [`IoError::Image`] for a wrong number of planes, planes of different or empty sizes, or an
 /// encoder failure; [`IoError::File`] when the file cannot be written.
-pub fn write_exr(
+pub fn write_exr<T: udc_core::Sample>(
     path: &Path,
-    planes: &[&Array2<f64>],
+    planes: &[&Array2<T>],
     precision: ExrPrecision,
 ) -> Result<(), IoError> {
     let bad = |message: String| IoError::Image {
@@ -340,7 +344,7 @@ pub fn write_exr(
     let file = crate::safe_file::open_reserved(temp.path())
         .map_err(|e| IoError::file("write", path, e))?;
     let out = std::io::BufWriter::new(file);
-    let at = |p: &Array2<f64>, Vec2(x, y): Vec2<usize>| p[[y, x]];
+    let at = |p: &Array2<T>, Vec2(x, y): Vec2<usize>| -> f64 { p[[y, x]].into() };
     let half = |v: f64| f16::from_f64(v);
     // f64 to f32 is the precision asked for.
     #[allow(clippy::cast_possible_truncation)]

@@ -138,11 +138,12 @@ pub fn write_truth_images<S>(dir: &Path, run: &SensorRun<S>) -> Result<Vec<PathB
     std::fs::create_dir_all(dir).map_err(|e| IoError::file("create the output folder", dir, e))?;
     let tone = run.tone;
     let mut written = vec![dir.join("truth.png")];
-    let planes = match &run.colour_truth {
-        Some(t) => t.rgb_e.iter().collect(),
-        None => vec![&run.electrons],
-    };
-    write_map_png(&written[0], &planes, |v| tone.value(v))?;
+    match &run.colour_truth {
+        Some(t) => write_map_png(&written[0], &t.rgb_e.each_ref(), |v| {
+            tone.value(f64::from(v))
+        })?,
+        None => write_map_png(&written[0], &[&run.electrons], |v| tone.value(v))?,
+    }
     let p = dir.join("truth.exr");
     write_exr(&p, &[&run.electrons], ExrPrecision::Float)?;
     written.push(p);
@@ -169,11 +170,10 @@ pub fn write_strategy_images(
     let path = |suffix: &str| dir.join(format!("{stem}_{suffix}"));
     let mut written = Vec::new();
     let p = path("capture.png");
-    let planes = match &s.colour {
-        Some(c) => c.rgb_e.iter().collect(),
-        None => vec![&s.capture],
-    };
-    write_map_png(&p, &planes, |v| s.tone.value(v))?;
+    match &s.colour {
+        Some(c) => write_map_png(&p, &c.rgb_e.each_ref(), |v| s.tone.value(f64::from(v)))?,
+        None => write_map_png(&p, &[&s.capture], |v| s.tone.value(v))?,
+    }
     written.push(p);
     let log_max = max_gain.max(1.0).ln();
     let p = path("gain.png");
