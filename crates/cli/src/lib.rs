@@ -49,8 +49,8 @@ pub struct Cli {
     pub command: Option<Command>,
     /// Memory budget: jobs estimated to need more are refused before they start (e.g. 2G,
     /// 512M). Default: the smallest of half the physical memory, the process's cgroup limit
-    /// (a container's, a Slurm job's `--mem`) and 60 % of what `RLIMIT_AS` leaves (`ulimit -v`,
-    /// `prlimit --as`), or `RLIMIT_DATA`.
+    /// (a container's, a Slurm job's `--mem`) and 60 % of what the process can still map under
+    /// `RLIMIT_AS` (`ulimit -v`, `prlimit --as`; measured at start), or `RLIMIT_DATA`.
     #[arg(long, global = true, value_name = "SIZE", value_parser = udc_core::budget::parse_size)]
     pub max_memory: Option<u64>,
 }
