@@ -53,12 +53,14 @@ pub fn write_height(
     Ok(format!(
         "exported {}: {}",
         path.display(),
-        describe(&summary)
+        describe(&summary, p.phase_min_feature_um)
     ))
 }
 
 /// The numbers of a finished export, for the message line.
-fn describe(s: &phase_export::ExportSummary) -> String {
+/// The numbers of a finished export, for the message line; `rule_um` is the writer's rule the
+/// part-level rings were joined under.
+fn describe(s: &phase_export::ExportSummary, rule_um: f64) -> String {
     let what = match s.kind {
         HeightFormat::Csv => format!(
             "{} samples every {} µm",
@@ -92,7 +94,7 @@ fn describe(s: &phase_export::ExportSummary) -> String {
                 "part-level ring",
                 "part-level rings"
             ),
-            DEFAULT_PARAMS.phase_min_feature_um,
+            rule_um,
             m.model_rms_phase_error_rad,
             m.fabricated_rms_phase_error_rad
         )
@@ -270,4 +272,35 @@ pub(super) fn export_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
             }
             crate::app::widgets::message_ui(ui, ctx.export.message.as_ref());
         });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_message_says_which_rings_were_joined_and_what_it_cost() {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let path = dir.path().join("plate.gds");
+        let mut design = PhaseDesign::thesis(42.0, 5.0);
+        design.lambda0 = crate::core::phase::Lambda0::Fixed { nm: 600.0 };
+        design.height_step_um = Some(0.2);
+        let p = ExportParams {
+            phase_min_feature_um: 0.1,
+            ..DEFAULT_PARAMS
+        };
+        let message = write_height(HeightFormat::Gds, &design, &path, &p).expect("written");
+        // T = 5 at 600 nm, 0.2 µm steps: one sliver each side of each of the 58 lenslets.
+        assert!(
+            message
+                .contains("116 part-level rings joined to the next fold (under the 0.1 µm rule)"),
+            "{message}"
+        );
+        assert!(message.contains("RMS phase error at λ0"), "{message}");
+        // Without a step there is nothing to join, and the message does not mention it.
+        design.height_step_um = None;
+        let csv = dir.path().join("plate.csv");
+        let message = write_height(HeightFormat::Csv, &design, &csv, &p).expect("written");
+        assert!(!message.contains("joined"), "{message}");
+    }
 }
