@@ -77,6 +77,15 @@ pub fn rggb_channel(y: usize, x: usize) -> usize {
 /// # Panics
 /// If the planes differ in size.
 pub fn mosaic(rgb: [&Array2<f64>; 3]) -> Array2<f64> {
+    mosaic_scaled(rgb, 1.0)
+}
+
+/// [`mosaic`] of the three planes times `scale` (each site's sample is multiplied once, so the
+/// sites read exactly as the scaled planes would).
+///
+/// # Panics
+/// If the planes differ in size.
+pub fn mosaic_scaled(rgb: [&Array2<f64>; 3], scale: f64) -> Array2<f64> {
     let dim = rgb[0].dim();
     assert!(
         rgb.iter().all(|p| p.dim() == dim),
@@ -88,7 +97,7 @@ pub fn mosaic(rgb: [&Array2<f64>; 3]) -> Array2<f64> {
         .enumerate()
         .for_each(|(y, mut row)| {
             for (x, o) in row.iter_mut().enumerate() {
-                *o = rgb[rggb_channel(y, x)][[y, x]];
+                *o = rgb[rggb_channel(y, x)][[y, x]] * scale;
             }
         });
     out

@@ -100,19 +100,7 @@ pub(super) fn expose_mosaic(
     electrons_per_radiance: f64,
 ) -> Array2<f64> {
     match scene.planes.as_slice() {
-        [r, g, b] => {
-            let mut out = Array2::<f64>::zeros(r.dim());
-            let rgb = [r, g, b];
-            out.axis_iter_mut(Axis(0))
-                .into_par_iter()
-                .enumerate()
-                .for_each(|(y, mut row)| {
-                    for (x, o) in row.iter_mut().enumerate() {
-                        *o = rgb[cfa::rggb_channel(y, x)][[y, x]] * electrons_per_radiance;
-                    }
-                });
-            out
-        }
+        [r, g, b] => cfa::mosaic_scaled([r, g, b], electrons_per_radiance),
         _ => electrons.clone(),
     }
 }
