@@ -203,7 +203,7 @@ struct Band<'a> {
 fn read_band(
     r: usize,
     grid: &RoiGrid,
-    (charge, post): (&[f64], &[f64]),
+    (charge, post): (&[f32], &[f32]),
     roi_gain: &Array2<f64>,
     roi_bin: &Array2<usize>,
     (mode, additive): (BinMode, AdditiveGain),
@@ -226,7 +226,7 @@ fn read_band(
             for y in rows.clone() {
                 let (i, o) = (y * w, (y - y0) * w);
                 for x in cols.clone() {
-                    let read = read_pixel(charge[i + x], post[i + x], g, adc);
+                    let read = read_pixel(charge[i + x].into(), post[i + x].into(), g, adc);
                     out.est[o + x] = read.estimate_e;
                     out.sat[o + x] = read.saturated;
                 }
@@ -243,7 +243,8 @@ fn read_band(
                     let (mut sum, mut saturated) = (0.0, false);
                     for y in ys.clone() {
                         for x in xs.clone() {
-                            let rd = read_pixel(charge[y * w + x], post[y * w + x], amp, adc);
+                            let (c, p) = (charge[y * w + x].into(), post[y * w + x].into());
+                            let rd = read_pixel(c, p, amp, adc);
                             sum += rd.estimate_e;
                             saturated |= rd.saturated;
                         }
@@ -255,9 +256,10 @@ fn read_band(
                 } else {
                     let sum: f64 = ys
                         .clone()
-                        .map(|y| charge[y * w + xs.start..y * w + xs.end].iter().sum::<f64>())
+                        .flat_map(|y| &charge[y * w + xs.start..y * w + xs.end])
+                        .map(|&c| f64::from(c))
                         .sum();
-                    read_analog(mode, amp, sum, pixels, post[by * w + bx], adc)
+                    read_analog(mode, amp, sum, pixels, post[by * w + bx].into(), adc)
                 };
                 for y in ys.clone() {
                     let o = (y - y0) * w;

@@ -86,18 +86,34 @@ pub fn mosaic(rgb: [&Array2<f64>; 3]) -> Array2<f64> {
 /// # Panics
 /// If the planes differ in size.
 pub fn mosaic_scaled(rgb: [&Array2<f64>; 3], scale: f64) -> Array2<f64> {
+    mosaic_with(rgb, |v| v * scale)
+}
+
+/// The RGGB mosaic of three equal-sized planes of any sample type, each site's sample as it is.
+///
+/// # Panics
+/// If the planes differ in size.
+pub fn mosaic_of<T: Copy + Send + Sync + Default>(rgb: [&Array2<T>; 3]) -> Array2<T> {
+    mosaic_with(rgb, |v| v)
+}
+
+/// The RGGB mosaic of three equal-sized planes, each site's sample through `f`.
+fn mosaic_with<T: Copy + Sync, U: Default + Send + Sync>(
+    rgb: [&Array2<T>; 3],
+    f: impl Fn(T) -> U + Sync,
+) -> Array2<U> {
     let dim = rgb[0].dim();
     assert!(
         rgb.iter().all(|p| p.dim() == dim),
         "three planes of one size"
     );
-    let mut out = Array2::<f64>::zeros(dim);
+    let mut out = Array2::<U>::default(dim);
     out.axis_iter_mut(Axis(0))
         .into_par_iter()
         .enumerate()
         .for_each(|(y, mut row)| {
             for (x, o) in row.iter_mut().enumerate() {
-                *o = rgb[rggb_channel(y, x)][[y, x]] * scale;
+                *o = f(rgb[rggb_channel(y, x)][[y, x]]);
             }
         });
     out
@@ -166,8 +182,8 @@ pub fn read_regions(
                 for y in rows.clone() {
                     for x in cols.clone() {
                         let rd = read_pixel(
-                            frame.charge_e[[y, x]],
-                            frame.post_noise_e[[y, x]],
+                            frame.charge_e[[y, x]].into(),
+                            frame.post_noise_e[[y, x]].into(),
                             roi_g,
                             adc,
                         );
@@ -189,8 +205,8 @@ pub fn read_regions(
                         posts.clear();
                         for (y, x) in bin_sites((by, bx), n, rows.end, cols.end) {
                             sites.push((y, x));
-                            charges.push(frame.charge_e[[y, x]]);
-                            posts.push(frame.post_noise_e[[y, x]]);
+                            charges.push(f64::from(frame.charge_e[[y, x]]));
+                            posts.push(f64::from(frame.post_noise_e[[y, x]]));
                         }
                         let amp = mode.amplifier_gain(roi_g, sites.len(), additive);
                         let read = read_bin(mode, amp, &charges, &posts, adc);

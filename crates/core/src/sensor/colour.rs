@@ -20,16 +20,18 @@
 //! against the same channel of the truth ([`ChannelScores`]).
 //!
 //! **Precision.** The exposure is drawn from the mosaic's expected electrons in `f64`, exactly
-//! as the monochrome sensor's; the colour planes kept (the truth's RGB and mosaic, each
-//! capture's mosaic and demosaiced RGB) are `f32`, about 7 significant digits, far below the
-//! ADC's step and the shot noise, and half the memory (the Limits chapter has the peaks).
+//! as the monochrome sensor's; the colour planes kept (the truth's RGB, each capture's
+//! demosaiced RGB) are `f32`, about 7 significant digits, far below the ADC's step and the shot
+//! noise, and half the memory (the Limits chapter has the peaks). A mosaic is never kept beside
+//! its RGB: the demosaic keeps each site's own sample, so the mosaic is the RGB read at each
+//! site's colour ([`ColourTruth::mosaic_e`], [`ColourCapture::mosaic_e`]).
 
 use ndarray::{Array2, Axis};
 use rayon::prelude::*;
 
 use super::binning::Readout;
 use super::cfa::{self, Cfa};
-use super::demosaic::demosaic_rggb;
+use super::demosaic::demosaic_rggb_to;
 use super::metrics::{self, ToneCurve};
 use super::roi::RoiGrid;
 use super::scene::{LUMINANCE_WEIGHTS, Scene};
@@ -39,12 +41,12 @@ use crate::{Sample, SimError};
 pub const CHANNEL_NAMES: [&str; 3] = ["R", "G", "B"];
 
 /// Working bytes per scene pixel that a colour run adds to a monochrome one: the truth's RGB
-/// electrons and mosaic (4 planes of 4 bytes); [`KEPT_BYTES_PER_PIXEL`] per strategy kept.
-pub const EXTRA_BYTES_PER_PIXEL: u64 = 4 * 4;
+/// electrons (3 planes of 4 bytes); [`KEPT_BYTES_PER_PIXEL`] per strategy kept.
+pub const EXTRA_BYTES_PER_PIXEL: u64 = 3 * 4;
 
-/// What a kept strategy's colour capture adds per scene pixel: its mosaic and demosaiced RGB
-/// (4 planes of 4 bytes).
-pub const KEPT_BYTES_PER_PIXEL: u64 = 4 * 4;
+/// What a kept strategy's colour capture adds per scene pixel: its demosaiced RGB (3 planes of
+/// 4 bytes).
+pub const KEPT_BYTES_PER_PIXEL: u64 = 3 * 4;
 
 /// One channel's scores, as [`super::StrategyResult`]'s for luminance.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -62,11 +64,14 @@ pub struct ChannelScores {
 pub struct ColourTruth {
     /// Expected electrons per site under each filter, `[R, G, B]` (noise-free, not clipped).
     pub rgb_e: [Array2<f32>; 3],
-    /// The expected electrons of the RGGB mosaic: what the sensor is exposed to.
-    pub mosaic_e: Array2<f32>,
 }
 
 impl ColourTruth {
+    /// The expected electrons of the RGGB mosaic, what the sensor is exposed to (to `f32`).
+    pub fn mosaic_e(&self) -> Array2<f32> {
+        cfa::mosaic_of(self.rgb_e.each_ref())
+    }
+
     /// `rgb_e` through the tone curve, `[0, 1]`.
     pub fn display_rgb(&self, tone: &ToneCurve) -> [Array2<f64>; 3] {
         tone.apply_rgb(&self.rgb_e)
@@ -76,8 +81,6 @@ impl ColourTruth {
 /// One strategy's colour capture.
 #[derive(Debug, Clone)]
 pub struct ColourCapture {
-    /// The readout as the sensor gives it: the estimate per site of the RGGB mosaic, electrons.
-    pub mosaic_e: Array2<f32>,
     /// The demosaiced capture, `[R, G, B]`, electrons.
     pub rgb_e: [Array2<f32>; 3],
     /// Scores of each channel against the truth's, `[R, G, B]`.
@@ -85,6 +88,12 @@ pub struct ColourCapture {
 }
 
 impl ColourCapture {
+    /// The readout as the sensor gives it: the estimate per site of the RGGB mosaic, electrons
+    /// (the demosaic keeps each site's own sample).
+    pub fn mosaic_e(&self) -> Array2<f32> {
+        cfa::mosaic_of(self.rgb_e.each_ref())
+    }
+
     /// `rgb_e` through the tone curve, `[0, 1]`.
     pub fn display_rgb(&self, tone: &ToneCurve) -> [Array2<f64>; 3] {
         tone.apply_rgb(&self.rgb_e)
@@ -106,35 +115,33 @@ pub(super) fn expose_mosaic(
 }
 
 /// The colour truth of a run, `f32`: `[R, G, B]` of `planes` (the scene's, let go one by one
-/// as they are converted) times `electrons_per_radiance`, or the grey `mosaic_e` three times,
-/// and the mosaic (the f64 one let go first).
+/// as they are converted) times `electrons_per_radiance`, or the grey `mosaic_e` three times.
 pub(super) fn truth(
     planes: Vec<std::borrow::Cow<'_, Array2<f64>>>,
-    mosaic_e: Array2<f64>,
+    mosaic_e: &Array2<f64>,
     electrons_per_radiance: f64,
 ) -> ColourTruth {
     #[allow(clippy::cast_possible_truncation)]
     let narrow = |p: &Array2<f64>, k: f64| p.mapv(|v| (v * k) as f32);
-    let mosaic = narrow(&mosaic_e, 1.0);
-    drop(mosaic_e);
-    let rgb_e = if planes.len() == 3 {
-        let mut it = planes.into_iter();
-        std::array::from_fn(|_| {
-            it.next()
-                .map_or_else(|| mosaic.clone(), |p| narrow(&p, electrons_per_radiance))
-        })
-    } else {
-        [mosaic.clone(), mosaic.clone(), mosaic.clone()]
+    let rgb_e = match <[_; 3]>::try_from(planes) {
+        Ok(rgb) => rgb.map(|p| narrow(&p, electrons_per_radiance)),
+        Err(_) => {
+            let grey = narrow(mosaic_e, 1.0);
+            [grey.clone(), grey.clone(), grey]
+        }
     };
-    ColourTruth {
-        rgb_e,
-        mosaic_e: mosaic,
-    }
+    ColourTruth { rgb_e }
 }
 
 /// The luminance of three planes, `f64`.
 pub fn luminance<T: Sample>(rgb: &[Array2<T>; 3]) -> Array2<f64> {
     let mut out = Array2::<f64>::zeros(rgb[0].dim());
+    luminance_into(rgb, &mut out);
+    out
+}
+
+/// [`luminance`] written over `out`, a plane of the planes' size.
+fn luminance_into<T: Sample>(rgb: &[Array2<T>; 3], out: &mut Array2<f64>) {
     let [wr, wg, wb] = LUMINANCE_WEIGHTS;
     out.axis_iter_mut(Axis(0))
         .into_par_iter()
@@ -149,7 +156,6 @@ pub fn luminance<T: Sample>(rgb: &[Array2<T>; 3]) -> Array2<f64> {
                 *o = wr * r + wg * g + wb * b;
             }
         });
-    out
 }
 
 /// Develops a readout: without a colour truth (a monochrome run) it is returned as it is;
@@ -167,10 +173,10 @@ pub(super) fn develop(
     let Some(truth) = truth else {
         return Ok((readout, None));
     };
-    // The mosaic in f32 before the f64 estimate is let go, then demosaiced in f32.
-    #[allow(clippy::cast_possible_truncation)]
-    let mosaic_e = std::mem::take(&mut readout.estimate_e).mapv(|v| v as f32);
-    let rgb_e = demosaic_rggb(&mosaic_e);
+    // Demosaiced straight from the f64 estimate into f32 planes, which hold the mosaic's every
+    // sample; the luminance then replaces the estimate in its own buffer. No plane is allocated
+    // but the RGB: a 16-megapixel run would otherwise free and allocate 200 MB per strategy.
+    let rgb_e: [Array2<f32>; 3] = demosaic_rggb_to(&readout.estimate_e);
     let mut channels = [ChannelScores {
         worst_roi_ssim: 0.0,
         mean_ssim: 0.0,
@@ -184,15 +190,8 @@ pub(super) fn develop(
             psnr_db: s.psnr_db,
         };
     }
-    readout.estimate_e = luminance(&rgb_e);
-    Ok((
-        readout,
-        Some(ColourCapture {
-            mosaic_e,
-            rgb_e,
-            channels,
-        }),
-    ))
+    luminance_into(&rgb_e, &mut readout.estimate_e);
+    Ok((readout, Some(ColourCapture { rgb_e, channels })))
 }
 
 /// Whether `cfa` needs the colour path.

@@ -111,10 +111,17 @@ fn mirror(i: usize, d: isize, n: usize) -> usize {
 /// by Malvar–He–Cutler (see the module docs), in the mosaic's sample type (sums in `f64`). Rows
 /// are computed in parallel.
 pub fn demosaic_rggb<T: Sample>(mosaic: &Array2<T>) -> [Array2<T>; 3] {
+    demosaic_rggb_to(mosaic)
+}
+
+/// [`demosaic_rggb`] into planes of sample type `U`, whatever the mosaic's: each site's own
+/// sample is stored as the nearest `U`, so the mosaic read back from the planes
+/// ([`super::cfa::mosaic_of`]) is the mosaic in `U`.
+pub fn demosaic_rggb_to<T: Sample, U: Sample>(mosaic: &Array2<T>) -> [Array2<U>; 3] {
     let (h, w) = mosaic.dim();
     let standard = mosaic.as_standard_layout();
     let m = standard.as_slice().unwrap_or_default();
-    let mut out: [Array2<T>; 3] = std::array::from_fn(|_| Array2::default((h, w)));
+    let mut out: [Array2<U>; 3] = std::array::from_fn(|_| Array2::default((h, w)));
     let [r, g, b] = &mut out;
     r.axis_iter_mut(Axis(0))
         .into_par_iter()
@@ -124,7 +131,7 @@ pub fn demosaic_rggb<T: Sample>(mosaic: &Array2<T>) -> [Array2<T>; 3] {
         .for_each(|(y, ((mut r_row, mut g_row), mut b_row))| {
             // Two sites from every edge no tap needs the mirror: index directly.
             let inner_row = (2..h.saturating_sub(2)).contains(&y);
-            let apply = |x: usize, k: Kernel| -> T {
+            let apply = |x: usize, k: Kernel| -> U {
                 let sum: f64 = if inner_row && (2..w.saturating_sub(2)).contains(&x) {
                     k.iter()
                         .map(|(dy, dx, wt)| {
@@ -142,10 +149,10 @@ pub fn demosaic_rggb<T: Sample>(mosaic: &Array2<T>) -> [Array2<T>; 3] {
                         })
                         .sum()
                 };
-                T::from_f64(sum / 8.0)
+                U::from_f64(sum / 8.0)
             };
             for x in 0..w {
-                let own = m[y * w + x];
+                let own = U::from_f64(m[y * w + x].into());
                 let (rv, gv, bv) = match rggb_channel(y, x) {
                     0 => (own, apply(x, G_AT_RB), apply(x, DIAGONAL)),
                     2 => (apply(x, DIAGONAL), apply(x, G_AT_RB), own),

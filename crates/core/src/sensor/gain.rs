@@ -187,7 +187,7 @@ pub fn read_per_pixel_interleaved(
             let (c_row, p_row) = (frame.charge_e.row(y), frame.post_noise_e.row(y));
             for x in 0..c_row.len() {
                 let g = next_gain[x % stride];
-                let r = read_pixel(c_row[x], p_row[x], g, &adc);
+                let r = read_pixel(c_row[x].into(), p_row[x].into(), g, &adc);
                 e_row[x] = r.estimate_e;
                 s_row[x] = r.saturated;
                 g_row[x] = g as f32;
@@ -241,7 +241,7 @@ pub fn read_alternating_row_groups(
                 .iter()
                 .zip(p_row.iter())
                 .map(|(c, p)| {
-                    let r = read_pixel(*c, *p, g, &adc);
+                    let r = read_pixel((*c).into(), (*p).into(), g, &adc);
                     (r.estimate_e, r.saturated)
                 })
                 .unzip()

@@ -15,8 +15,9 @@ pub enum Held {
 }
 
 /// Working bytes per scene pixel of a run, without its strategies and its scene: the exposed
-/// scene (8), one exposure's draws (16) and a second exposure's or a readout's working rows (8).
-pub const FIXED_BYTES_PER_PIXEL: u64 = 32;
+/// scene (8), one exposure's draws (8, two `f32` planes) and a second exposure's or a
+/// readout's working rows (8).
+pub const FIXED_BYTES_PER_PIXEL: u64 = 24;
 
 /// Bytes per scene pixel of one strategy's capture and maps: estimate (8), gain (4), bin (1)
 /// and saturation (1).

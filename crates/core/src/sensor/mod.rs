@@ -366,14 +366,25 @@ pub fn run_with<'a, S, E: From<SimError>>(
     };
     let grid = RoiGrid::new(electrons.dim(), settings.roi_px);
     let steps = settings.strategies.len() as f32 + 2.0;
-    // A colour sensor is exposed to the mosaic of the RGB scene (see `colour`), in f64; its
-    // truth is kept in f32 once the exposures are drawn.
+    // A colour sensor is exposed to the mosaic of the RGB scene (see `colour`), in f64. Its
+    // truth is made (in f32, the scene's f64 planes let go as they are converted) before the
+    // exposure is drawn, so that the scene and the draws are never held at once.
     let mosaic_e = match (is_colour, &scene) {
         (true, Some(scene)) => Some(colour::expose_mosaic(
             scene,
             &electrons,
             electrons_per_radiance,
         )),
+        _ => None,
+    };
+    let colour_truth = match (&mosaic_e, scene) {
+        (Some(mosaic_e), Some(scene)) => {
+            let planes = match scene {
+                Cow::Owned(s) => s.planes.into_iter().map(Cow::Owned).collect(),
+                Cow::Borrowed(s) => s.planes.iter().map(Cow::Borrowed).collect(),
+            };
+            Some(colour::truth(planes, mosaic_e, electrons_per_radiance))
+        }
         _ => None,
     };
     let sensed = mosaic_e.as_ref().map_or(electrons.view(), |m| m.view());
@@ -388,16 +399,7 @@ pub fn run_with<'a, S, E: From<SimError>>(
         Cfa::None => gain::take_snapshot(electrons.view(), sensor, &grid, settings.seed),
         Cfa::Rggb => cfa::take_snapshot(sensed, sensor, &grid, settings.seed),
     });
-    let colour_truth = match (mosaic_e, scene) {
-        (Some(mosaic_e), Some(scene)) => {
-            let planes = match scene {
-                Cow::Owned(s) => s.planes.into_iter().map(Cow::Owned).collect(),
-                Cow::Borrowed(s) => s.planes.iter().map(Cow::Borrowed).collect(),
-            };
-            Some(colour::truth(planes, mosaic_e, electrons_per_radiance))
-        }
-        _ => None,
-    };
+    drop(mosaic_e);
     progress.set(2.0 / steps);
     let mut strategies = Vec::with_capacity(settings.strategies.len());
     for (i, strategy) in settings.strategies.iter().enumerate() {

@@ -111,8 +111,10 @@ fn table_5_1_variances_of_the_four_binning_modes() {
         .map(|(by, bx)| {
             let px = [(0, 0), (0, 1), (1, 0), (1, 1)].map(|(dy, dx)| (2 * by + dy, 2 * bx + dx));
             (
-                px.iter().map(|p| frame.charge_e[*p]).collect(),
-                px.iter().map(|p| frame.post_noise_e[*p]).collect(),
+                px.iter().map(|p| f64::from(frame.charge_e[*p])).collect(),
+                px.iter()
+                    .map(|p| f64::from(frame.post_noise_e[*p]))
+                    .collect(),
             )
         })
         .collect();
@@ -167,8 +169,11 @@ fn read_regions_bins_like_read_bin() {
             let idx: Vec<(usize, usize)> = (y0..y0 + side)
                 .flat_map(|y| (x0..x0 + side).map(move |x| (y, x)))
                 .collect();
-            let c: Vec<f64> = idx.iter().map(|p| frame.charge_e[*p]).collect();
-            let p: Vec<f64> = idx.iter().map(|p| frame.post_noise_e[*p]).collect();
+            let c: Vec<f64> = idx.iter().map(|p| f64::from(frame.charge_e[*p])).collect();
+            let p: Vec<f64> = idx
+                .iter()
+                .map(|p| f64::from(frame.post_noise_e[*p]))
+                .collect();
             let amp = mode.amplifier_gain(3.0, c.len(), additive);
             let want = read_bin(mode, amp, &c, &p, &adc).estimate_e;
             for q in &idx {

@@ -18,8 +18,7 @@ use std::path::{Path, PathBuf};
 
 use image::imageops::FilterType;
 use image::{
-    DynamicImage, ImageBuffer, ImageDecoder, ImageFormat, ImageReader, Luma, Rgb, Rgb32FImage,
-    RgbImage,
+    DynamicImage, ImageBuffer, ImageDecoder, ImageFormat, ImageReader, Rgb, Rgb32FImage, RgbImage,
 };
 use ndarray::Array2;
 
@@ -392,7 +391,9 @@ pub fn write_photo_png<T: Sample>(path: &Path, planes: &[&Array2<T>]) -> Result<
 }
 
 /// Writes one map as a grey or three as an RGB 8-bit PNG, each value through `value` and
-/// clipped to `[0, 1]`: the picture of maps of any type, without a float copy of them.
+/// clipped to `[0, 1]`: the picture of maps of any type, without a float copy of them. The
+/// rows are converted and compressed one at a time, so a 16-megapixel picture holds neither
+/// its 8-bit pixels nor its compressed stream in memory (together 100 MB in RGB).
 ///
 /// # Errors
 /// As [`write_photo_png`].
@@ -402,27 +403,40 @@ pub fn write_map_png<T: Copy>(
     value: impl Fn(T) -> f64,
 ) -> Result<(), IoError> {
     let (w, h) = planes_size(path, maps)?;
-    let img = match maps {
-        [grey] => {
-            let bytes = grey.iter().map(|v| to_u8(value(*v))).collect();
-            ImageBuffer::<Luma<u8>, _>::from_raw(w, h, bytes).map(DynamicImage::ImageLuma8)
-        }
-        [r, g, b] => {
-            let bytes = r
-                .iter()
-                .zip(g.iter())
-                .zip(b.iter())
-                .flat_map(|((r, g), b)| [r, g, b].map(|v| to_u8(value(*v))))
-                .collect();
-            ImageBuffer::<Rgb<u8>, _>::from_raw(w, h, bytes).map(DynamicImage::ImageRgb8)
-        }
-        _ => None,
+    let encode_err = |e: png::EncodingError| IoError::Image {
+        path: path.to_path_buf(),
+        message: format!("cannot encode the PNG image: {e}"),
     };
-    write_image(
-        path,
-        img.ok_or_else(|| size_mismatch(path))?,
-        ImageFormat::Png,
-    )
+    let temp = crate::safe_file::TempFile::beside(path)?;
+    let file = crate::safe_file::open_reserved(temp.path())
+        .map_err(|e| IoError::file("write", path, e))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), w, h);
+    enc.set_color(match maps.len() {
+        1 => png::ColorType::Grayscale,
+        _ => png::ColorType::Rgb,
+    });
+    enc.set_depth(png::BitDepth::Eight);
+    let mut stream = enc
+        .write_header()
+        .and_then(png::Writer::into_stream_writer)
+        .map_err(encode_err)?;
+    let mut row = Vec::with_capacity(maps.len() * w as usize);
+    for y in 0..h as usize {
+        row.clear();
+        match maps {
+            [grey] => row.extend(grey.row(y).iter().map(|v| to_u8(value(*v)))),
+            [r, g, b] => {
+                for ((r, g), b) in r.row(y).iter().zip(g.row(y)).zip(b.row(y)) {
+                    row.extend([r, g, b].map(|v| to_u8(value(*v))));
+                }
+            }
+            _ => return Err(size_mismatch(path)),
+        }
+        std::io::Write::write_all(&mut stream, &row)
+            .map_err(|e| IoError::file("write", path, e))?;
+    }
+    stream.finish().map_err(encode_err)?;
+    temp.persist()
 }
 
 /// Writes `|a − b| · gain` per plane as an 8-bit RGB PNG (clipped at full scale); use
