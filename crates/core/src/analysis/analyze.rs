@@ -16,7 +16,7 @@ use crate::design::Design;
 use crate::display::aperture::{Display, Extent, effective_cells, pupil_sample_count, rasterise};
 use crate::progress::Progress;
 use crate::psf::channel_psf_by;
-use crate::psf::route::PsfRoute;
+use crate::psf::route::{Fraunhofer, PsfRoute};
 use crate::psf::sampling::{WavelengthSampling, plan};
 use crate::psf::warning::{SamplingWarning, WarningKind};
 
@@ -205,15 +205,16 @@ pub fn analyze_with(
     analyze_within(design, options, progress, &Limits::REPORTED).map(|(a, _)| a)
 }
 
-/// [`analyze_with`] with the PSF computed by a chosen route ([`PsfRoute::Auto`] is what
-/// [`analyze_with`] does); the routes agree to rounding, and the tests check that they do.
+/// [`analyze_with`] with every PSF's Fraunhofer step computed by `route`: a CPU route
+/// ([`PsfRoute::Auto`] is what [`analyze_with`] does; the routes agree to rounding, and the
+/// tests check that they do) or a transform implemented outside the core.
 ///
 /// # Errors
-/// As [`analyze_with`].
+/// As [`analyze_with`], and `route`'s own.
 pub fn analyze_with_route(
     design: &Design,
     options: &AnalyzeOptions,
-    route: PsfRoute,
+    route: &dyn Fraunhofer,
     progress: &Progress,
 ) -> Result<Analysis, SimError> {
     analyze_routed(design, options, route, progress, &Limits::REPORTED).map(|(a, _)| a)
@@ -244,13 +245,13 @@ pub(crate) fn analyze_within(
     progress: &Progress,
     strict: &Limits,
 ) -> Result<(Analysis, Vec<WarningKind>), SimError> {
-    analyze_routed(design, options, PsfRoute::Auto, progress, strict)
+    analyze_routed(design, options, &PsfRoute::Auto, progress, strict)
 }
 
 fn analyze_routed(
     design: &Design,
     options: &AnalyzeOptions,
-    route: PsfRoute,
+    route: &dyn Fraunhofer,
     progress: &Progress,
     strict: &Limits,
 ) -> Result<(Analysis, Vec<WarningKind>), SimError> {

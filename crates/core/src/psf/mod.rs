@@ -22,7 +22,7 @@ use ndarray::Array2;
 use crate::SimError;
 use crate::display::aperture::Field;
 use crate::progress::Progress;
-use crate::psf::route::{PsfRoute, binned_by};
+use crate::psf::route::{Fraunhofer, PsfRoute};
 use crate::psf::sampling::WavelengthSampling;
 
 /// The sensor PSF of one channel.
@@ -48,15 +48,16 @@ pub fn channel_psf(
     progress: &Progress,
     step: impl FnMut(),
 ) -> Result<ChannelPsf, SimError> {
-    channel_psf_by(PsfRoute::Auto, field, samplings, progress, step)
+    channel_psf_by(&PsfRoute::Auto, field, samplings, progress, step)
 }
 
-/// [`channel_psf`] by a chosen route (the routes agree to rounding; tests compare them).
+/// [`channel_psf`] with the Fraunhofer step computed by `route` (the CPU routes agree to
+/// rounding; tests compare them).
 ///
 /// # Errors
-/// As [`channel_psf`].
+/// As [`channel_psf`], and `route`'s own.
 pub fn channel_psf_by(
-    route: PsfRoute,
+    route: &dyn Fraunhofer,
     field: &Field,
     samplings: &[WavelengthSampling],
     progress: &Progress,
@@ -70,7 +71,7 @@ pub fn channel_psf_by(
     let mut in_window = 0.0;
     let mut edge = 0.0;
     for ws in samplings {
-        let b = binned_by(route, field, ws.fft_size, &ws.binning, progress)?;
+        let b = route.binned(field, ws.fft_size, &ws.binning, progress)?;
         if !(b.total > 0.0) {
             return Err(SimError::Sampling("no light passes the aperture".into()));
         }

@@ -10,6 +10,13 @@
 //!   every sample's intensity, sums, mirror and two table look-ups to bin it);
 //! - pruned: `R·fft(M)/2 + (kw + 1)·zoom(window rows) + (B/2 + C/2)·zoom(band rows) + 2·R·kept
 //!   + 2·window samples`, each `zoom` the cheapest of slice / chirp-z / matrix DFT.
+//!
+//! **The seam.** Every PSF the analysis computes goes through one [`Fraunhofer`]: the CPU
+//! routes ([`PsfRoute`]) implement it here, and a transform that runs elsewhere (another
+//! device) implements it outside the core and is handed to
+//! [`crate::analysis::analyze::analyze_with_route`]. What the analysis does with the binned
+//! intensity (spectral weighting, normalising, the window's energy, the MTF) stays in the core,
+//! so nothing above the core knows how a transform ran.
 
 use crate::SimError;
 use crate::display::aperture::Field;
@@ -29,6 +36,37 @@ pub enum PsfRoute {
     Full,
     /// Only the window's and the aliasing band's samples.
     Pruned,
+}
+
+/// The Fraunhofer step of a PSF: a field's `|DFT_M(a)|²` on an `m × m` grid, integrated over
+/// the sensor pixels of `binning`'s window, with the grid's total and its outer band
+/// ([`Binned`]). An implementation must give the numbers of [`PsfRoute::Full`] to its own
+/// precision, and check `progress` for cancellation.
+pub trait Fraunhofer: Sync {
+    /// The binned intensity of `field` (see the trait's docs).
+    ///
+    /// # Errors
+    /// [`SimError::Cancelled`] when `progress` is cancelled; [`SimError::Sampling`] when the
+    /// field does not fit the grid; an implementation's own refusals (memory, a lost device).
+    fn binned(
+        &self,
+        field: &Field,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError>;
+}
+
+impl Fraunhofer for PsfRoute {
+    fn binned(
+        &self,
+        field: &Field,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError> {
+        binned_by(*self, field, m, binning, progress)
+    }
 }
 
 /// Modelled cost of the full route.
