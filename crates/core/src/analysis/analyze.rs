@@ -55,8 +55,8 @@ impl Quality {
 
     /// Whether this quality doubles the design's fine spacing: only a preview, only where the
     /// sensor pixel holds an even number of fine samples, and only where the doubled spacing
-    /// stays within [`PREVIEW_NYQUIST_FRACTION`] of the intensity's Nyquist spacing `λN/2` at
-    /// the design's shortest wavelength.
+    /// stays within one half (`PREVIEW_NYQUIST_FRACTION`) of the intensity's Nyquist spacing
+    /// `λN/2` at the design's shortest wavelength.
     pub fn doubles_spacing(self, design: &Design) -> bool {
         if self == Quality::Full {
             return false;

@@ -1,6 +1,6 @@
 //! Whether a capture through an analysed design keeps its light (conventions.md §5): each
 //! channel's PSF window must hold at least
-//! [`MIN_CAPTURE_ENERGY_IN_WINDOW`](crate::restore::light::MIN_CAPTURE_ENERGY_IN_WINDOW) of the
+//! [`crate::restore::light::MIN_CAPTURE_ENERGY_IN_WINDOW`] of the
 //! light reaching the sensor; when it does not, one line says which channels hold how much and
 //! what fixes it. `restore` (CLI, studio, Python) says it before capturing.
 

@@ -13,8 +13,8 @@
 //!
 //! **The seam.** Every PSF the analysis computes goes through one [`Fraunhofer`]: the CPU
 //! routes ([`PsfRoute`]) implement it here, and a transform that runs elsewhere (another
-//! device) implements it outside the core and is handed to
-//! [`crate::analysis::analyze::analyze_with_route`]. What the analysis does with the binned
+//! device) implements it outside the core and is handed to the analysis
+//! (`analyze_with_route`, which sits above this module). What the analysis does with the binned
 //! intensity (spectral weighting, normalising, the window's energy, the MTF) stays in the core,
 //! so nothing above the core knows how a transform ran.
 
