@@ -7,8 +7,10 @@ use ndarray::{Array1, Array2, Array3, Axis};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use strum::VariantArray;
 use udc_core::analysis::advice::{self, AdviceScope};
-use udc_core::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{Analysis, AnalyzeOptions, Quality, analyze_with_route};
+use udc_core::psf::route::Backend;
 use udc_io::display::report;
 
 use crate::{cancel, design, errors};
@@ -24,14 +26,28 @@ pub fn quality(name: &str) -> PyResult<Quality> {
     }
 }
 
+/// The backend names Python passes (`cpu`, `gpu`, `auto`), as the core's closed set.
+pub fn backend(name: &str) -> PyResult<Backend> {
+    Backend::VARIANTS
+        .iter()
+        .copied()
+        .find(|b| <&str>::from(*b) == name)
+        .ok_or_else(|| {
+            errors::value(format!(
+                "backend: expected \"cpu\", \"gpu\" or \"auto\" (got {name:?})"
+            ))
+        })
+}
+
 /// Analyses a design (its JSON text); the dict holds the arrays and the CLI's JSON text.
 #[pyfunction]
-#[pyo3(signature = (design_json, quality_name = "full", advice = "warnings"))]
+#[pyo3(signature = (design_json, quality_name = "full", advice = "warnings", backend_name = "cpu"))]
 fn analyze<'py>(
     py: Python<'py>,
     design_json: &str,
     quality_name: &str,
     advice: &str,
+    backend_name: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     // Which warnings get a fix, each checked by a further analysis (`--advice` is "all").
     let scope = match advice {
@@ -50,9 +66,12 @@ fn analyze<'py>(
         // As the CLI without `--out`: the expected PSF is only written to files.
         expected_psf: false,
     };
+    let route = udc_jobs::backend::route(backend(backend_name)?)
+        .map_err(|e| errors::value(format!("backend {backend_name}: {e}")))?;
     let (analysis, call_ms) = cancel::run(py, |progress| {
         let t0 = Instant::now();
-        let mut a = analyze_with(&design, &options, progress).map_err(|e| errors::sim(&e))?;
+        let mut a =
+            analyze_with_route(&design, &options, &route, progress).map_err(|e| errors::sim(&e))?;
         if let Some(scope) = scope {
             advice::advise_in(&design, &mut a.warnings, scope, progress)
                 .map_err(|e| errors::sim(&e))?;
@@ -63,6 +82,8 @@ fn analyze<'py>(
     // The whole call inside Rust (analysis and advice), what the Python call is measured
     // against (benches/python_peers.py).
     out.set_item("call_ms", call_ms)?;
+    out.set_item("adapter", route.adapter())?;
+    out.set_item("backend_note", route.note())?;
     Ok(out)
 }
 

@@ -3,6 +3,7 @@ thread safety."""
 
 import json
 import threading
+import warnings
 
 import numpy as np
 import pytest
@@ -114,3 +115,33 @@ def test_results_compare_by_identity():
 def test_bad_quality_raises():
     with pytest.raises(ValueError, match='"full" or "preview"'):
         udc.analyze("toled-150dpi", quality="best")
+
+
+def test_the_gpu_backend_gives_the_cpus_numbers_to_f32_precision():
+    """On any adapter (a software one included); without one, `gpu` is a clear error."""
+    cpu = udc.analyze("toled-150dpi", quality="preview", advice="none")
+    try:
+        gpu = udc.analyze("toled-150dpi", quality="preview", advice="none", backend="gpu")
+    except ValueError as e:
+        assert "no GPU adapter" in str(e)
+        pytest.skip(f"no GPU adapter on this machine: {e}")
+    assert cpu.adapter is None and gpu.adapter
+    assert gpu.ltr == cpu.ltr
+    assert np.max(np.abs(gpu.psf - cpu.psf)) <= 1e-5 * cpu.psf.max()
+    assert np.allclose(gpu.auc, cpu.auc, rtol=3e-3, atol=0)
+
+
+def test_auto_uses_a_hardware_gpu_or_says_why_not():
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        a = udc.analyze("fourier-square", quality="preview", advice="none", backend="auto")
+    notes = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
+    # Either the PSFs ran on a hardware GPU, or the one line says why they did not.
+    assert (a.adapter is not None and not notes) or (
+        a.adapter is None and len(notes) == 1 and "computing on the CPU" in notes[0]
+    )
+
+
+def test_bad_backend_raises():
+    with pytest.raises(ValueError, match="backend"):
+        udc.analyze("fourier-square", backend="cuda")

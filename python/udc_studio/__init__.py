@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Tuple, Union
 
@@ -261,6 +262,9 @@ class Analysis:
     call_ms: float
     """Wall-clock time of the whole call inside Rust (the analysis and, unless skipped, the
     advice on its warnings), ms."""
+    adapter: Optional[str]
+    """The GPU adapter the PSFs were computed on (``backend="gpu"`` or ``"auto"``), or None
+    where they were computed on the CPU."""
     _json: str = field(repr=False)
 
     def to_json(self) -> str:
@@ -269,7 +273,10 @@ class Analysis:
 
 
 def analyze(
-    design: Union[Design, str], quality: str = "full", advice: str = "warnings"
+    design: Union[Design, str],
+    quality: str = "full",
+    advice: str = "warnings",
+    backend: str = "cpu",
 ) -> Analysis:
     """Analyses a design (or a preset name): PSF, MTF, AUC, LTR, invertibility, warnings.
 
@@ -280,9 +287,18 @@ def analyze(
     ``advice`` says which warnings get a fix, each checked by a further analysis:
     ``"warnings"`` (the default, as ``udc-studio analyze``), ``"all"`` (notes too, as
     ``--advice``) or ``"none"``. :meth:`Analysis.to_json` equals the CLI's for the same choice.
+
+    ``backend`` says where the PSFs are computed, as ``udc-studio analyze --backend``:
+    ``"cpu"`` (f64, the reference), ``"gpu"`` (f32 on a GPU through wgpu; a software driver
+    counts; a ``ValueError`` where there is none) or ``"auto"`` (a hardware GPU when there is
+    one, else the CPU with a ``RuntimeWarning`` saying why). :attr:`Analysis.adapter` names
+    the GPU used.
     """
-    raw = _native.analyze(_design(design).to_json(), quality, advice)
+    raw = _native.analyze(_design(design).to_json(), quality, advice, backend)
     raw["_json"] = raw.pop("json")
+    note = raw.pop("backend_note")
+    if note is not None:
+        warnings.warn(note, RuntimeWarning, stacklevel=2)
     return Analysis(**raw)
 
 

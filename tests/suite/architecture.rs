@@ -1,6 +1,7 @@
-//! The layering: one crate per layer (fft → core → io → cli → studio), the compiler refusing an arrow
-//! back up; these tests add what the compiler does not see: no GUI crate below the studio, no
-//! file access in the core, and no import cycle between sibling modules inside a crate.
+//! The layering: one crate per layer (fft → core → gpu, io → jobs → cli → studio), the compiler
+//! refusing an arrow back up; these tests add what the compiler does not see: no window crate
+//! below the studio, wgpu named only by the GPU crate and the studio, no file access in the core,
+//! and no import cycle between sibling modules inside a crate.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
@@ -19,9 +20,10 @@ fn repo() -> &'static std::path::Path {
 }
 
 /// The source folders of the workspace's crates, lowest layer first.
-const CRATE_SOURCES: [&str; 7] = [
+const CRATE_SOURCES: [&str; 8] = [
     "crates/fft/src",
     "crates/core/src",
+    "crates/gpu/src",
     "crates/io/src",
     "crates/jobs/src",
     "crates/cli/src",
@@ -29,12 +31,12 @@ const CRATE_SOURCES: [&str; 7] = [
     "src",
 ];
 
-/// What a headless build must not link: the window, GPU and dialog stack.
-const GUI_CRATES: [&str; 7] = [
+/// What a headless build must not link: the window and dialog stack. (wgpu is the compute
+/// backend's too: the GPU crate opens a headless device; see `wgpu_is_named_by_the_gpu_crate_and_the_studio_only`.)
+const GUI_CRATES: [&str; 6] = [
     "egui",
     "eframe",
     "egui_plot",
-    "wgpu",
     "winit",
     "rfd",
     "egui_kittest",
@@ -78,6 +80,7 @@ fn locked_closure(root: &str) -> std::collections::BTreeSet<String> {
 fn the_core_io_and_cli_crates_and_the_python_module_link_no_gui() {
     for krate in [
         "udc-core",
+        "udc-gpu",
         "udc-io",
         "udc-jobs",
         "udc-cli",
@@ -100,13 +103,57 @@ fn the_core_io_and_cli_crates_and_the_python_module_link_no_gui() {
         .expect("parse Cargo.toml");
     let deps = manifest["dependencies"].as_table().expect("dependencies");
     for (name, spec) in deps {
-        if GUI_CRATES.contains(&name.as_str()) || name == "egui_commonmark" {
+        if GUI_CRATES.contains(&name.as_str()) || name == "egui_commonmark" || name == "wgpu" {
             let optional = spec.get("optional").and_then(toml::Value::as_bool);
             assert_eq!(
                 optional,
                 Some(true),
                 "{name} must be optional (feature `gui`)"
             );
+        }
+    }
+}
+
+/// The compute backend is one crate: the core and the file formats link no wgpu, and among the
+/// rest only the GPU crate (which owns the device, the pipelines and the WGSL) and the studio
+/// (which hands it eframe's device) name wgpu; the jobs, the CLI and Python reach it through
+/// the GPU crate's `Route`.
+#[test]
+fn wgpu_is_named_by_the_gpu_crate_and_the_studio_only() {
+    for krate in ["udc-core", "udc-io", "udc-fft"] {
+        assert!(
+            !locked_closure(krate).contains("wgpu"),
+            "{krate} links wgpu"
+        );
+    }
+    assert!(locked_closure("udc-gpu").contains("wgpu"));
+    for manifest in [
+        "crates/core",
+        "crates/io",
+        "crates/jobs",
+        "crates/cli",
+        "python",
+    ] {
+        let text = std::fs::read_to_string(repo().join(manifest).join("Cargo.toml")).unwrap();
+        let table: toml::Table = text.parse().unwrap();
+        for section in ["dependencies", "dev-dependencies"] {
+            if let Some(deps) = table.get(section).and_then(toml::Value::as_table) {
+                assert!(!deps.contains_key("wgpu"), "{manifest} names wgpu");
+            }
+        }
+    }
+    for src in [
+        "crates/core/src",
+        "crates/io/src",
+        "crates/jobs/src",
+        "crates/cli/src",
+        "python/src",
+    ] {
+        let mut files = Vec::new();
+        rust_files(&repo().join(src), &mut files);
+        for f in files {
+            let text = std::fs::read_to_string(&f).unwrap();
+            assert!(!text.contains("wgpu::"), "{} uses wgpu", f.display());
         }
     }
 }

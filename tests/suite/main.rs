@@ -9,6 +9,7 @@ mod appearance_view;
 mod architecture;
 mod capture_light;
 mod cli;
+mod cli_backend;
 mod cli_optimize;
 mod cli_phase;
 mod cli_restore;

@@ -33,6 +33,10 @@ pub enum SimError {
         /// What the user can change to avoid it.
         hint: &'static str,
     },
+    /// The compute device failed (a lost device, a kernel the driver refused, its memory
+    /// exhausted); the CPU route computes the same numbers.
+    #[error("compute device: {0}")]
+    Device(String),
     /// The caller cancelled the job through its [`crate::Progress`].
     #[error("cancelled")]
     Cancelled,

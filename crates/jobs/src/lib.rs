@@ -27,6 +27,7 @@ macro_rules! out {
     }};
 }
 
+pub mod backend;
 pub mod choice;
 pub mod denoise;
 pub mod display;

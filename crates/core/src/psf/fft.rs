@@ -16,8 +16,9 @@ use crate::display::tiling::D4;
 use crate::progress::Progress;
 use crate::psf::sampling::Binning;
 
-/// Checks that `field` fits an `m×m` grid centred on the axis.
-pub(crate) fn check_fits(field: &Field, m: usize) -> Result<(), SimError> {
+/// Checks that `field` fits an `m×m` grid centred on the axis (every route, the CPU's and a
+/// device's, refuses a field that does not with the same words).
+pub fn check_fits(field: &Field, m: usize) -> Result<(), SimError> {
     let (lo, hi) = field.extent();
     let h = (m / 2) as i64;
     if lo < -h || hi >= h {

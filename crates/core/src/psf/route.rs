@@ -26,6 +26,24 @@ use crate::psf::pruned::{binned_pruned, pruned_ops};
 use crate::psf::sampling::Binning;
 use crate::psf::zoom::fft_ops;
 
+/// Where the Fraunhofer steps of a job run: the user's switch (`--backend`, Python's
+/// `backend=`, the studio's setting). The device route lives outside the core (the `udc-gpu`
+/// crate); the core only names the choice.
+#[derive(strum::VariantArray, strum::IntoStaticStr, strum::EnumMessage, strum::Display)]
+#[strum(serialize_all = "kebab-case")]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Backend {
+    /// The CPU routes, in f64 (the reference).
+    #[default]
+    Cpu,
+    /// A GPU through wgpu (Vulkan, Metal, DX12), in f32; a software driver counts, and a machine
+    /// without one is an error.
+    Gpu,
+    /// A hardware GPU when there is one, else the CPU, with one line saying why.
+    Auto,
+}
+
 /// How the Fraunhofer intensity is computed and binned.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum PsfRoute {

@@ -7,7 +7,8 @@ use clap::Args;
 use serde::{Deserialize, Serialize};
 
 use udc_core::analysis::advice::{AdviceScope, advise_in};
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
+use udc_core::psf::route::Backend;
 use udc_core::{Analysis, Design, Progress};
 use udc_io::display::{export, report};
 
@@ -34,6 +35,11 @@ pub struct AnalyzeJob {
     /// only for each warning; every fix is checked by a further analysis.
     #[arg(long)]
     pub advice: bool,
+    /// Where the PSFs are computed: the CPU (f64, the reference), a GPU (f32, through
+    /// Vulkan, Metal or DX12), or auto (a hardware GPU when there is one, else the CPU).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 /// Runs `analyze`.
@@ -50,7 +56,8 @@ pub fn analyze(job: &AnalyzeJob, progress: &Progress) -> Result<Report> {
         },
         expected_psf: job.out.is_some(),
     };
-    let mut analysis = analyze_with(&design, &options, progress)?;
+    let route = crate::backend::route(job.backend)?;
+    let mut analysis = analyze_with_route(&design, &options, &route, progress)?;
     // A fix is checked by a further analysis: paid for where the numbers are off (warnings),
     // and for the notes only when asked.
     let scope = if job.advice {
@@ -67,6 +74,7 @@ pub fn analyze(job: &AnalyzeJob, progress: &Progress) -> Result<Report> {
         text: String::new(),
     };
     table(&mut out, &design, &analysis);
+    crate::backend::report(&mut out, job.backend, &route);
     Ok(out)
 }
 

@@ -9,8 +9,9 @@ use clap::Args;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use udc_core::figure::{FIGURE_SIDE_PX, FigureFormat};
+use udc_core::psf::route::Backend;
 use udc_core::views::saved::{
     DisplayView, ViewSettings, check_floor_decades, compare_figure, display_figure,
 };
@@ -75,6 +76,10 @@ pub struct FigureJob {
     #[arg(long, value_name = "NAME")]
     #[serde(default)]
     pub against_preset: Option<String>,
+    /// Where the PSFs are computed: cpu, gpu or auto (as `analyze --backend`).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 impl Default for FigureJob {
@@ -93,6 +98,7 @@ impl Default for FigureJob {
             preview: false,
             against_design: None,
             against_preset: None,
+            backend: Backend::Cpu,
         }
     }
 }
@@ -196,15 +202,17 @@ pub fn figure_of(design: &Design, job: &FigureJob, progress: &Progress) -> Resul
         },
         expected_psf: false,
     };
+    let route = crate::backend::route(job.backend)?;
     let against = match job.against() {
         Some(sel) => {
             let a = sel.resolve().context("design A (--against-…)")?;
-            let analysis = analyze_with(&a, &options, progress).context("design A")?;
+            let analysis =
+                analyze_with_route(&a, &options, &route, progress).context("design A")?;
             Some((a, analysis))
         }
         None => None,
     };
-    let analysis = analyze_with(design, &options, progress)?;
+    let analysis = analyze_with_route(design, &options, &route, progress)?;
     let channel = match &job.channel {
         None => 0,
         Some(name) => analysis
@@ -264,5 +272,6 @@ pub fn figure_of(design: &Design, job: &FigureJob, progress: &Progress) -> Resul
         "width_px": job.width_px,
         "height_px": job.height_px,
     });
+    crate::backend::report(&mut out, job.backend, &route);
     Ok(out)
 }

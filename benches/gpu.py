@@ -1,0 +1,89 @@
+#!/usr/bin/env python3
+"""The display-layout analysis on the CPU and on the GPU, in the same run.
+
+For the T-OLED at 150, 300 and 600 DPI (the presets `toled-150dpi`, `toled-300dpi`,
+`toled-600dpi`, the thesis's iccp21 recipe at full quality), prints the adapter, then per design:
+  first  the first call in this process (the GPU's includes opening the device and compiling the
+         kernels; the CPU's its FFT plans);
+  warm   the median of the next N calls;
+each as the call's time inside Rust (`Analysis.call_ms`, advice off), and the GPU's largest
+difference from the CPU's PSF (as a fraction of its peak) and AUC. The phase model's operator is
+not on the GPU yet; the bench says so rather than timing it.
+
+Usage: python3 benches/gpu.py [--runs N] [--backend gpu|auto]
+  one command on a machine with a GPU and a Vulkan, Metal or DX12 driver:
+      cargo build --release -p udc-studio-python && \\
+      UDC_NATIVE_LIB=target/release/lib_native.so python3 benches/gpu.py
+  (without UDC_NATIVE_LIB the package is staged from target/debug as the Python tests do).
+The last line printed is one JSON object.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from python_peers import import_udc_studio  # noqa: E402  (the same staging)
+
+DESIGNS = ["toled-150dpi", "toled-300dpi", "toled-600dpi"]
+
+
+def timings(udc, name: str, backend: str, runs: int):
+    first = udc.analyze(name, advice="none", backend=backend)
+    warm = [udc.analyze(name, advice="none", backend=backend).call_ms for _ in range(runs)]
+    return first, statistics.median(warm)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=5)
+    parser.add_argument("--backend", choices=["gpu", "auto"], default="gpu")
+    args = parser.parse_args()
+    udc, how = import_udc_studio()
+    print(f"udc_studio: {how}")
+    rows = []
+    adapter = None
+    for name in DESIGNS:
+        cpu_first, cpu_warm = timings(udc, name, "cpu", args.runs)
+        with warnings.catch_warnings(record=True) as notes:
+            warnings.simplefilter("always")
+            try:
+                gpu_first, gpu_warm = timings(udc, name, args.backend, args.runs)
+            except ValueError as e:
+                sys.exit(f"no GPU to time: {e}")
+        for n in notes:
+            print(f"  {n.message}")
+        adapter = gpu_first.adapter or "the CPU (auto fell back)"
+        psf_diff = float(np.max(np.abs(gpu_first.psf - cpu_first.psf)) / cpu_first.psf.max())
+        auc_diff = float(np.max(np.abs(gpu_first.auc / cpu_first.auc - 1)))
+        row = {
+            "design": name,
+            "cpu_first_ms": cpu_first.call_ms,
+            "cpu_warm_ms": cpu_warm,
+            "gpu_first_ms": gpu_first.call_ms,
+            "gpu_warm_ms": gpu_warm,
+            "psf_max_diff_of_peak": psf_diff,
+            "auc_max_rel_diff": auc_diff,
+        }
+        rows.append(row)
+    print(f"adapter: {adapter}")
+    print(f"{'design':<14} {'CPU first':>10} {'CPU warm':>10} {'GPU first':>10} {'GPU warm':>10}"
+          f" {'PSF diff':>9} {'AUC diff':>9}")
+    for r in rows:
+        print(f"{r['design']:<14} {r['cpu_first_ms']:>8.0f}ms {r['cpu_warm_ms']:>8.0f}ms "
+              f"{r['gpu_first_ms']:>8.0f}ms {r['gpu_warm_ms']:>8.0f}ms "
+              f"{r['psf_max_diff_of_peak']:>9.1e} {r['auc_max_rel_diff']:>9.1e}")
+    print("phase operator: CPU only (not on the GPU yet)")
+    print(json.dumps({"adapter": adapter, "runs": args.runs, "rows": rows}))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,99 @@
+//! The user's switch ([`Backend`]) resolved to a Fraunhofer step: the CPU routes, a device, or
+//! (for `auto`) a hardware device that hands a transform it cannot hold back to the CPU. What
+//! was decided, and why, is one line a front end prints ([`Route::note`]).
+
+use std::sync::{Arc, Mutex};
+
+use udc_core::SimError;
+use udc_core::display::aperture::Field;
+use udc_core::progress::Progress;
+use udc_core::psf::fft::Binned;
+use udc_core::psf::route::{Backend, Fraunhofer, PsfRoute};
+use udc_core::psf::sampling::Binning;
+
+use crate::device::{AdapterKind, Gpu, GpuError};
+
+/// A resolved backend: it computes every PSF of a job and says where it ran.
+#[derive(Debug)]
+pub struct Route {
+    device: Option<Arc<Gpu>>,
+    /// `auto`: a transform the device refuses (too large, lost) runs on the CPU instead.
+    falls_back: bool,
+    note: Mutex<Option<String>>,
+}
+
+impl Route {
+    /// The CPU routes.
+    pub fn cpu() -> Route {
+        Route {
+            device: None,
+            falls_back: false,
+            note: Mutex::new(None),
+        }
+    }
+
+    /// The kernels on `gpu` (the studio's device); errors are the job's.
+    pub fn device(gpu: Arc<Gpu>) -> Route {
+        Route {
+            device: Some(gpu),
+            falls_back: false,
+            note: Mutex::new(None),
+        }
+    }
+
+    /// `backend` on this process's shared headless device.
+    ///
+    /// # Errors
+    /// [`Backend::Gpu`] on a machine with no adapter at all ([`GpuError`]); `auto` never fails.
+    pub fn resolve(backend: Backend) -> Result<Route, GpuError> {
+        Ok(match backend {
+            Backend::Cpu => Route::cpu(),
+            Backend::Gpu => Route::device(Gpu::shared(AdapterKind::Any)?),
+            Backend::Auto => match Gpu::shared(AdapterKind::Hardware) {
+                Ok(gpu) => Route {
+                    device: Some(gpu),
+                    falls_back: true,
+                    note: Mutex::new(None),
+                },
+                Err(e) => Route {
+                    note: Mutex::new(Some(format!("backend auto: {e}; computing on the CPU"))),
+                    ..Route::cpu()
+                },
+            },
+        })
+    }
+
+    /// The adapter the transforms run on, or `None` on the CPU.
+    pub fn adapter(&self) -> Option<String> {
+        self.device.as_ref().map(|g| g.adapter().to_string())
+    }
+
+    /// The one line a front end shows when `auto` did not use the device it hoped for (no
+    /// hardware adapter, or a transform the device refused), else `None`.
+    pub fn note(&self) -> Option<String> {
+        self.note.lock().map(|n| n.clone()).unwrap_or_default()
+    }
+}
+
+impl Fraunhofer for Route {
+    fn binned(
+        &self,
+        field: &Field,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError> {
+        let Some(gpu) = &self.device else {
+            return PsfRoute::Auto.binned(field, m, binning, progress);
+        };
+        match gpu.binned(field, m, binning, progress) {
+            Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
+                if let Ok(mut note) = self.note.lock() {
+                    note.get_or_insert_with(|| format!("backend auto: {e}; computing on the CPU"));
+                }
+                PsfRoute::Auto.binned(field, m, binning, progress)
+            }
+            other => other,
+        }
+    }
+}

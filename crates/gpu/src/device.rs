@@ -1,0 +1,214 @@
+//! The device the kernels run on: a headless one opened here (the CLI, Python, tests), or the
+//! studio's own, built from the device and queue its window draws with.
+
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex, OnceLock};
+
+use crate::kernels::Kernels;
+use crate::tables::C32;
+
+/// Why no device could be used.
+#[derive(Debug, Clone, thiserror::Error, PartialEq, Eq)]
+pub enum GpuError {
+    /// No adapter of the kind asked for (no Vulkan, Metal or DX12 driver, or only a software
+    /// one where a GPU was asked for).
+    #[error("no GPU adapter: {0}")]
+    NoAdapter(String),
+    /// The adapter refused a device.
+    #[error("the GPU adapter `{adapter}` refused a device: {reason}")]
+    NoDevice {
+        /// The adapter's name.
+        adapter: String,
+        /// Its driver's words.
+        reason: String,
+    },
+}
+
+/// Which adapters a headless device may be opened on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AdapterKind {
+    /// A hardware GPU only (discrete, integrated or virtual): what `auto` takes, since a
+    /// software rasteriser is slower than the CPU route.
+    Hardware,
+    /// Any adapter, a software one (lavapipe, WARP) included: `gpu` forces it, and the tests run
+    /// on it.
+    Any,
+}
+
+/// What the user is told about the device: the adapter's name, its driver and its API.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct AdapterSummary {
+    /// The adapter's name ("NVIDIA H100", "llvmpipe (LLVM 15.0.6, 256 bits)").
+    pub name: String,
+    /// The driver and its version, as the driver reports them.
+    pub driver: String,
+    /// The graphics API (Vulkan, Metal, Dx12, Gl).
+    pub api: String,
+    /// Whether it is a software rasteriser (lavapipe, WARP).
+    pub software: bool,
+}
+
+impl AdapterSummary {
+    fn of(info: &wgpu::AdapterInfo) -> Self {
+        AdapterSummary {
+            name: info.name.clone(),
+            driver: format!("{} {}", info.driver, info.driver_info)
+                .trim()
+                .to_string(),
+            api: format!("{:?}", info.backend),
+            software: info.device_type == wgpu::DeviceType::Cpu,
+        }
+    }
+}
+
+impl std::fmt::Display for AdapterSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} ({}", self.name, self.api)?;
+        if !self.driver.is_empty() {
+            write!(f, ", {}", self.driver)?;
+        }
+        if self.software {
+            f.write_str(", software")?;
+        }
+        f.write_str(")")
+    }
+}
+
+/// Tables uploaded once per size: the twiddles and pass parameters of one FFT length, the chirp
+/// of one DFT length, the kernel spectrum of one (DFT length, input length).
+#[derive(Default)]
+pub(crate) struct TableCache {
+    pub(crate) ffts: HashMap<usize, Arc<crate::kernels::FftPlan>>,
+    pub(crate) chirps: HashMap<usize, Arc<wgpu::Buffer>>,
+    pub(crate) spectra: HashMap<(usize, usize), Arc<wgpu::Buffer>>,
+}
+
+impl TableCache {
+    /// Entries kept per table before the cache starts afresh (a sweep over many wavelengths
+    /// and sizes would otherwise hold every table it met).
+    const MAX_ENTRIES: usize = 48;
+
+    pub(crate) fn trim(&mut self) {
+        if self.ffts.len() + self.chirps.len() + self.spectra.len() > Self::MAX_ENTRIES {
+            *self = TableCache::default();
+        }
+    }
+}
+
+/// A compute device with the kernels compiled on it.
+pub struct Gpu {
+    pub(crate) device: wgpu::Device,
+    pub(crate) queue: wgpu::Queue,
+    pub(crate) kernels: Kernels,
+    pub(crate) tables: Mutex<TableCache>,
+    adapter: AdapterSummary,
+}
+
+impl std::fmt::Debug for Gpu {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Gpu")
+            .field("adapter", &self.adapter)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Gpu {
+    /// Opens a device of its own on the first adapter of `kind` (high performance preferred),
+    /// with the adapter's own limits, so the largest buffers it can hold are allowed.
+    ///
+    /// # Errors
+    /// [`GpuError::NoAdapter`] when no adapter of `kind` exists, [`GpuError::NoDevice`] when
+    /// the adapter refuses.
+    pub fn headless(kind: AdapterKind) -> Result<Gpu, GpuError> {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY));
+        let usable = |a: &wgpu::Adapter| {
+            let info = a.get_info();
+            // GL adapters have no compute shaders on many drivers; the kernels need them.
+            info.backend != wgpu::Backend::Gl
+                && info.backend != wgpu::Backend::Noop
+                && (kind == AdapterKind::Any || info.device_type != wgpu::DeviceType::Cpu)
+        };
+        let rank = |a: &wgpu::Adapter| match a.get_info().device_type {
+            wgpu::DeviceType::DiscreteGpu => 0,
+            wgpu::DeviceType::IntegratedGpu => 1,
+            wgpu::DeviceType::VirtualGpu => 2,
+            wgpu::DeviceType::Other => 3,
+            wgpu::DeviceType::Cpu => 4,
+        };
+        let seen: Vec<String> = adapters
+            .iter()
+            .map(|a| AdapterSummary::of(&a.get_info()).to_string())
+            .collect();
+        let Some(adapter) = adapters.into_iter().filter(usable).min_by_key(rank) else {
+            return Err(GpuError::NoAdapter(if seen.is_empty() {
+                "no Vulkan, Metal or DX12 driver found".into()
+            } else {
+                format!("only {} (a software renderer)", seen.join(", "))
+            }));
+        };
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("udc-gpu"),
+            required_features: wgpu::Features::empty(),
+            required_limits: adapter.limits(),
+            experimental_features: wgpu::ExperimentalFeatures::disabled(),
+            memory_hints: wgpu::MemoryHints::Performance,
+            trace: wgpu::Trace::Off,
+        }))
+        .map_err(|e| GpuError::NoDevice {
+            adapter: info.name.clone(),
+            reason: e.to_string(),
+        })?;
+        Ok(Gpu::from_device(device, queue, &info))
+    }
+
+    /// The process's shared headless device of `kind`, opened on first use (the CLI, Python and
+    /// tests ask for it many times; the kernels compile once).
+    ///
+    /// # Errors
+    /// As [`Gpu::headless`], remembered: a machine without an adapter is not asked again.
+    pub fn shared(kind: AdapterKind) -> Result<Arc<Gpu>, GpuError> {
+        static HARDWARE: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
+        static ANY: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
+        let cell = match kind {
+            AdapterKind::Hardware => &HARDWARE,
+            AdapterKind::Any => &ANY,
+        };
+        cell.get_or_init(|| Gpu::headless(kind).map(Arc::new))
+            .clone()
+    }
+
+    /// The kernels on a device someone else opened (the studio's, from eframe's render state).
+    pub fn from_device(device: wgpu::Device, queue: wgpu::Queue, info: &wgpu::AdapterInfo) -> Gpu {
+        let kernels = Kernels::new(&device);
+        Gpu {
+            device,
+            queue,
+            kernels,
+            tables: Mutex::new(TableCache::default()),
+            adapter: AdapterSummary::of(info),
+        }
+    }
+
+    /// The adapter the kernels run on.
+    pub fn adapter(&self) -> &AdapterSummary {
+        &self.adapter
+    }
+
+    /// The largest storage buffer one kernel may bind, bytes.
+    pub fn max_binding_bytes(&self) -> u64 {
+        let l = self.device.limits();
+        l.max_buffer_size.min(l.max_storage_buffer_binding_size)
+    }
+
+    pub(crate) fn upload(&self, label: &str, data: &[C32]) -> wgpu::Buffer {
+        use wgpu::util::DeviceExt;
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(data),
+                usage: wgpu::BufferUsages::STORAGE,
+            })
+    }
+}

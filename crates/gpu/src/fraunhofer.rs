@@ -1,0 +1,382 @@
+//! The display-layout Fraunhofer step on the device: a sparse real field's `|DFT_M|²` by the
+//! chirp-z transform on power-of-two FFTs, binned into the sensor window, read back once.
+//!
+//! Per call: the field's nonzero rows go up as `f32` (with their positions); each row's DFT along
+//! x fills one column per kept frequency `kx ≤ M/2`; each column's DFT along y gives the
+//! intensity of half the grid (the other half is its mirror image, the field being real); the
+//! window's pixels gather their fine samples from it, and each column sums its share of the
+//! aliasing band. Only the window (`W²` values) and the band's column sums come back. The grid's
+//! total is `M² Σ a²` (Parseval), computed on the CPU in `f64`.
+
+use std::sync::Arc;
+
+use ndarray::Array2;
+use udc_core::SimError;
+use udc_core::display::aperture::Field;
+use udc_core::progress::Progress;
+use udc_core::psf::fft::{Binned, check_fits};
+use udc_core::psf::route::Fraunhofer;
+use udc_core::psf::sampling::Binning;
+
+use crate::device::Gpu;
+use crate::kernels::{FftPlan, bind, groups, uniform};
+use crate::tables::{chirp, conv_len, kernel_spectrum};
+
+/// Bytes one chunk's work buffer may take (two are held): large enough to keep a GPU busy,
+/// small enough that a laptop's shared memory is not exhausted.
+const WORK_BYTES: u64 = 128 << 20;
+
+/// Bytes per complex `f32` sample.
+const COMPLEX: u64 = 8;
+
+/// The field's nonzero rows, from its corner: `(y, x0, samples, offset)` and the samples.
+struct Packed {
+    headers: Vec<[u32; 4]>,
+    values: Vec<f32>,
+    /// Columns and rows the field spans.
+    lx: usize,
+    ly: usize,
+}
+
+fn pack(field: &Field) -> Packed {
+    let rows: Vec<_> = field.rows.iter().filter(|r| !r.values.is_empty()).collect();
+    let x_lo = rows.iter().map(|r| r.ix0).min().unwrap_or(0);
+    let x_hi = rows
+        .iter()
+        .map(|r| r.ix0 + r.values.len() as i64)
+        .max()
+        .unwrap_or(0);
+    let y_lo = rows.iter().map(|r| r.iy).min().unwrap_or(0);
+    let y_hi = rows.iter().map(|r| r.iy + 1).max().unwrap_or(0);
+    let mut values = Vec::new();
+    let headers = rows
+        .iter()
+        .map(|r| {
+            let h = [
+                (r.iy - y_lo) as u32,
+                (r.ix0 - x_lo) as u32,
+                r.values.len() as u32,
+                values.len() as u32,
+            ];
+            values.extend(r.values.iter().map(|&v| v as f32));
+            h
+        })
+        .collect();
+    Packed {
+        headers,
+        values,
+        lx: (x_hi - x_lo) as usize,
+        ly: (y_hi - y_lo) as usize,
+    }
+}
+
+fn too_large(what: &str, bytes: u64, limit: u64) -> SimError {
+    SimError::TooLarge(format!(
+        "{what} needs a {} MiB buffer; this device binds at most {} MiB (use the CPU backend)",
+        bytes.div_ceil(1 << 20),
+        limit >> 20
+    ))
+}
+
+/// A Bluestein kernel's bindings: the parameters at 0, `extra`, and the work buffer at 5.
+fn with<'a>(
+    params: &'a wgpu::Buffer,
+    extra: &[(u32, &'a wgpu::Buffer)],
+    work: &'a wgpu::Buffer,
+) -> Vec<(u32, &'a wgpu::Buffer)> {
+    let mut v = vec![(0, params)];
+    v.extend_from_slice(extra);
+    v.push((5, work));
+    v
+}
+
+impl Gpu {
+    fn fft_plan(&self, n: usize) -> Arc<FftPlan> {
+        let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
+        t.trim();
+        t.ffts
+            .entry(n)
+            .or_insert_with(|| Arc::new(FftPlan::new(&self.device, n)))
+            .clone()
+    }
+
+    fn chirp(&self, m: usize) -> Arc<wgpu::Buffer> {
+        let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
+        t.chirps
+            .entry(m)
+            .or_insert_with(|| Arc::new(self.upload("chirp", &chirp(m))))
+            .clone()
+    }
+
+    fn spectrum(&self, m: usize, l: usize) -> Arc<wgpu::Buffer> {
+        let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
+        t.spectra
+            .entry((m, l))
+            .or_insert_with(|| {
+                Arc::new(self.upload("kernel", &kernel_spectrum(m, l, conv_len(m, l))))
+            })
+            .clone()
+    }
+
+    fn storage(&self, label: &str, bytes: u64, readable: bool) -> wgpu::Buffer {
+        let usage = if readable {
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC
+        } else {
+            wgpu::BufferUsages::STORAGE
+        };
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes.max(16),
+            usage,
+            mapped_at_creation: false,
+        })
+    }
+
+    fn run(
+        &self,
+        field: &Field,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError> {
+        use wgpu::util::DeviceExt;
+        let packed = pack(field);
+        let limit = self.max_binding_bytes();
+        let cols = m / 2 + 1;
+        let (nx, ny) = (conv_len(m, packed.lx), conv_len(m, packed.ly));
+        let columns_bytes = (cols * packed.ly) as u64 * COMPLEX;
+        let intensity_bytes = (cols * m) as u64 * 4;
+        let vector_bytes = nx.max(ny) as u64 * COMPLEX;
+        for (what, bytes) in [
+            ("the row spectra", columns_bytes),
+            ("the intensity", intensity_bytes),
+            ("one transform", vector_bytes),
+        ] {
+            if bytes > limit {
+                return Err(too_large(what, bytes, limit));
+            }
+        }
+        let cap = limit.min(WORK_BYTES);
+        let batch_of = |n: usize, count: usize| {
+            ((cap / (n as u64 * COMPLEX)) as usize).clamp(1, count.min(65_535))
+        };
+        let (row_batch, col_batch) = (batch_of(nx, packed.headers.len()), batch_of(ny, cols));
+        let work_bytes = ((row_batch * nx).max(col_batch * ny)) as u64 * COMPLEX;
+
+        let device = &self.device;
+        let k = &self.kernels;
+        let (fft_x, fft_y) = (self.fft_plan(nx), self.fft_plan(ny));
+        let chirp = self.chirp(m);
+        let (spec_x, spec_y) = (self.spectrum(m, packed.lx), self.spectrum(m, packed.ly));
+        let rows = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("rows"),
+            contents: bytemuck::cast_slice(&packed.headers),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let values = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("values"),
+            contents: bytemuck::cast_slice(&packed.values),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let work = [
+            self.storage("work a", work_bytes, false),
+            self.storage("work b", work_bytes, false),
+        ];
+        let columns = self.storage("columns", columns_bytes, false);
+        let intensity = self.storage("intensity", intensity_bytes, false);
+
+        let params = |n: usize, batch: usize, first: usize| {
+            uniform(
+                device,
+                &[
+                    m as u32,
+                    n as u32,
+                    batch as u32,
+                    first as u32,
+                    packed.ly as u32,
+                    cols as u32,
+                    (1.0 / n as f32).to_bits(),
+                    0,
+                ],
+            )
+        };
+        // One chunk of vectors: pre-chirp into a work buffer, FFT, product with the kernel's
+        // spectrum, FFT again; `post` reads the buffer the result ended in.
+        let chunk = |pre: &wgpu::ComputePipeline,
+                     pre_bufs: &[(u32, &wgpu::Buffer)],
+                     plan: &FftPlan,
+                     spectrum: &wgpu::Buffer,
+                     post: &wgpu::ComputePipeline,
+                     post_bufs: &[(u32, &wgpu::Buffer)],
+                     post_threads: usize,
+                     p: &wgpu::Buffer,
+                     batch: usize| {
+            let mut encoder = device.create_command_encoder(&Default::default());
+            {
+                let mut pass = encoder.begin_compute_pass(&Default::default());
+                let (mut cur, mut other) = (&work[0], &work[1]);
+                pass.set_pipeline(pre);
+                pass.set_bind_group(0, &bind(device, pre, &with(p, pre_bufs, cur)), &[]);
+                pass.dispatch_workgroups(groups(plan.n), batch as u32, 1);
+                if !plan.record(device, k, &mut pass, cur, other, batch as u32) {
+                    std::mem::swap(&mut cur, &mut other);
+                }
+                pass.set_pipeline(&k.convolve);
+                let conv = bind(device, &k.convolve, &with(p, &[(4, spectrum)], cur));
+                pass.set_bind_group(0, &conv, &[]);
+                pass.dispatch_workgroups(groups(plan.n), batch as u32, 1);
+                if !plan.record(device, k, &mut pass, cur, other, batch as u32) {
+                    std::mem::swap(&mut cur, &mut other);
+                }
+                pass.set_pipeline(post);
+                pass.set_bind_group(0, &bind(device, post, &with(p, post_bufs, cur)), &[]);
+                pass.dispatch_workgroups(groups(post_threads), batch as u32, 1);
+            }
+            self.queue.submit([encoder.finish()]);
+        };
+
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let n_rows = packed.headers.len();
+        for first in (0..n_rows).step_by(row_batch) {
+            progress.check()?;
+            let batch = row_batch.min(n_rows - first);
+            let p = params(nx, batch, first);
+            chunk(
+                &k.prechirp_rows,
+                &[(1, &chirp), (2, &rows), (3, &values)],
+                &fft_x,
+                &spec_x,
+                &k.postchirp_rows,
+                &[(1, &chirp), (2, &rows), (6, &columns)],
+                cols,
+                &p,
+                batch,
+            );
+        }
+        for first in (0..cols).step_by(col_batch) {
+            progress.check()?;
+            let batch = col_batch.min(cols - first);
+            let p = params(ny, batch, first);
+            chunk(
+                &k.prechirp_columns,
+                &[(1, &chirp), (6, &columns)],
+                &fft_y,
+                &spec_y,
+                &k.intensity_columns,
+                &[(7, &intensity)],
+                m,
+                &p,
+                batch,
+            );
+        }
+        progress.check()?;
+
+        let w = binning.window_px;
+        let sensor_bytes = (w * w) as u64 * 4;
+        let band_bytes = cols as u64 * 4;
+        let sensor = self.storage("sensor", sensor_bytes, true);
+        let band = self.storage("band", band_bytes, true);
+        let readback = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("readback"),
+            size: sensor_bytes + band_bytes,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let edge_from = (0.45 * m as f64).ceil() as u32;
+        let bin_params = uniform(
+            device,
+            &[
+                m as u32,
+                w as u32,
+                binning.samples_per_px as u32,
+                edge_from,
+                binning.phase[0] as u32,
+                binning.phase[1] as u32,
+                0,
+                0,
+            ],
+        );
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_compute_pass(&Default::default());
+            let bufs = [(0, &bin_params), (1, &intensity), (2, &sensor)];
+            pass.set_pipeline(&k.bin_window);
+            pass.set_bind_group(0, &bind(device, &k.bin_window, &bufs), &[]);
+            let tiles = u32::try_from(w.div_ceil(8)).unwrap_or(u32::MAX);
+            pass.dispatch_workgroups(tiles, tiles, 1);
+            let bufs = [(0, &bin_params), (1, &intensity), (3, &band)];
+            pass.set_pipeline(&k.band_columns);
+            pass.set_bind_group(0, &bind(device, &k.band_columns, &bufs), &[]);
+            pass.dispatch_workgroups(u32::try_from(cols.div_ceil(64)).unwrap_or(u32::MAX), 1, 1);
+        }
+        encoder.copy_buffer_to_buffer(&sensor, 0, &readback, 0, sensor_bytes);
+        encoder.copy_buffer_to_buffer(&band, 0, &readback, sensor_bytes, band_bytes);
+        self.queue.submit([encoder.finish()]);
+
+        let failed = |e: wgpu::Error| SimError::Device(e.to_string());
+        if let Some(e) = pollster::block_on(oom.pop()) {
+            return Err(failed(e));
+        }
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(failed(e));
+        }
+        let slice = readback.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| SimError::Device(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| SimError::Device(e.to_string()))?
+            .map_err(|e| SimError::Device(e.to_string()))?;
+        let data: Vec<f32> = {
+            let view = slice
+                .get_mapped_range()
+                .map_err(|e| SimError::Device(e.to_string()))?;
+            bytemuck::cast_slice(&view).to_vec()
+        };
+        readback.unmap();
+
+        let (win, bands) = data.split_at(w * w);
+        let sensor = Array2::from_shape_fn((w, w), |(jy, jx)| f64::from(win[jy * w + jx]));
+        let edge = bands
+            .iter()
+            .enumerate()
+            .map(|(kx, &v)| {
+                let twice = kx != 0 && kx != m / 2;
+                f64::from(v) * if twice { 2.0 } else { 1.0 }
+            })
+            .sum();
+        let mf = m as f64;
+        Ok(Binned {
+            sensor,
+            total: mf * mf * field.energy(),
+            edge,
+        })
+    }
+}
+
+impl Fraunhofer for Gpu {
+    fn binned(
+        &self,
+        field: &Field,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError> {
+        if m < 2 || !m.is_multiple_of(2) {
+            return Err(SimError::Sampling(format!(
+                "FFT size {m} must be even and at least 2"
+            )));
+        }
+        check_fits(field, m)?;
+        if field.rows.iter().all(|r| r.values.is_empty()) {
+            return Err(SimError::Sampling("no light passes the aperture".into()));
+        }
+        progress.check()?;
+        self.run(field, m, binning, progress)
+    }
+}

@@ -1,0 +1,148 @@
+//! The compute pipelines (one per WGSL entry point) and the recording of a batched
+//! power-of-two FFT: `log2 N` Stockham passes ping-ponging between two buffers.
+
+use crate::tables::twiddles;
+
+/// The shader sources, compiled once per device.
+const FFT_WGSL: &str = include_str!("shaders/fft.wgsl");
+const BLUESTEIN_WGSL: &str = include_str!("shaders/bluestein.wgsl");
+const BIN_WGSL: &str = include_str!("shaders/bin.wgsl");
+
+/// Threads per workgroup along x in the 1-D kernels (the shaders' `@workgroup_size(256)`).
+pub(crate) const GROUP: u32 = 256;
+
+/// The compiled pipelines.
+pub struct Kernels {
+    pub(crate) fft_pass: wgpu::ComputePipeline,
+    pub(crate) prechirp_rows: wgpu::ComputePipeline,
+    pub(crate) convolve: wgpu::ComputePipeline,
+    pub(crate) postchirp_rows: wgpu::ComputePipeline,
+    pub(crate) prechirp_columns: wgpu::ComputePipeline,
+    pub(crate) intensity_columns: wgpu::ComputePipeline,
+    pub(crate) bin_window: wgpu::ComputePipeline,
+    pub(crate) band_columns: wgpu::ComputePipeline,
+}
+
+impl Kernels {
+    pub(crate) fn new(device: &wgpu::Device) -> Kernels {
+        let module = |label: &str, source: &'static str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            })
+        };
+        let fft = module("fft.wgsl", FFT_WGSL);
+        let bluestein = module("bluestein.wgsl", BLUESTEIN_WGSL);
+        let bin = module("bin.wgsl", BIN_WGSL);
+        let pipeline = |module: &wgpu::ShaderModule, entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: None,
+                module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions::default(),
+                cache: None,
+            })
+        };
+        Kernels {
+            fft_pass: pipeline(&fft, "fft_pass"),
+            prechirp_rows: pipeline(&bluestein, "prechirp_rows"),
+            convolve: pipeline(&bluestein, "convolve"),
+            postchirp_rows: pipeline(&bluestein, "postchirp_rows"),
+            prechirp_columns: pipeline(&bluestein, "prechirp_columns"),
+            intensity_columns: pipeline(&bluestein, "intensity_columns"),
+            bin_window: pipeline(&bin, "bin_window"),
+            band_columns: pipeline(&bin, "band_columns"),
+        }
+    }
+}
+
+/// A bind group for `pipeline`'s group 0 with `buffers` at their bindings.
+pub(crate) fn bind(
+    device: &wgpu::Device,
+    pipeline: &wgpu::ComputePipeline,
+    buffers: &[(u32, &wgpu::Buffer)],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = buffers
+        .iter()
+        .map(|&(binding, buffer)| wgpu::BindGroupEntry {
+            binding,
+            resource: buffer.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
+/// A uniform buffer holding `words`.
+pub(crate) fn uniform(device: &wgpu::Device, words: &[u32]) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("params"),
+        contents: bytemuck::cast_slice(words),
+        usage: wgpu::BufferUsages::UNIFORM,
+    })
+}
+
+/// Workgroups covering `n` threads of `GROUP`.
+pub(crate) fn groups(n: usize) -> u32 {
+    u32::try_from(n.div_ceil(GROUP as usize)).unwrap_or(u32::MAX)
+}
+
+/// One FFT length's twiddles and per-pass parameters, uploaded once.
+pub(crate) struct FftPlan {
+    pub(crate) n: usize,
+    twiddles: wgpu::Buffer,
+    passes: Vec<wgpu::Buffer>,
+}
+
+impl FftPlan {
+    pub(crate) fn new(device: &wgpu::Device, n: usize) -> FftPlan {
+        use wgpu::util::DeviceExt;
+        debug_assert!(n.is_power_of_two() && n >= 2);
+        let twiddles = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("twiddles"),
+            contents: bytemuck::cast_slice(&twiddles(n)),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let passes = std::iter::successors(Some(1usize), |s| Some(s * 2))
+            .take_while(|&s| s < n)
+            .map(|span| uniform(device, &[n as u32, span as u32, 0, 0]))
+            .collect();
+        FftPlan {
+            n,
+            twiddles,
+            passes,
+        }
+    }
+
+    /// Records the forward FFT of `batch` vectors held in `a`; returns whether the result ended
+    /// in `a` (an even number of passes) or in `b`.
+    pub(crate) fn record(
+        &self,
+        device: &wgpu::Device,
+        kernels: &Kernels,
+        pass: &mut wgpu::ComputePass<'_>,
+        a: &wgpu::Buffer,
+        b: &wgpu::Buffer,
+        batch: u32,
+    ) -> bool {
+        pass.set_pipeline(&kernels.fft_pass);
+        let mut in_a = true;
+        for params in &self.passes {
+            let (src, dst) = if in_a { (a, b) } else { (b, a) };
+            let group = bind(
+                device,
+                &kernels.fft_pass,
+                &[(0, params), (1, &self.twiddles), (2, src), (3, dst)],
+            );
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(groups(self.n / 2), batch, 1);
+            in_a = !in_a;
+        }
+        in_a
+    }
+}

@@ -1,0 +1,24 @@
+//! UDC Studio's compute backend on wgpu, the GPU API the studio's window already draws with:
+//! the display-layout PSF's Fraunhofer step (conventions.md §2, "PSF route") as WGSL kernels
+//! behind the core's seam, [`udc_core::psf::route::Fraunhofer`], so nothing above the core knows
+//! how a transform ran.
+//!
+//! - [`Gpu`]: a device with the kernels compiled on it, opened headless ([`Gpu::headless`],
+//!   [`Gpu::shared`]) or built on a device someone else opened ([`Gpu::from_device`], the
+//!   studio's);
+//! - [`Route`]: the user's [`udc_core::psf::route::Backend`] resolved (`cpu`, `gpu`, or
+//!   `auto`, which falls back to the CPU with one line saying why);
+//! - the transform ([`fraunhofer`]): `f32` on the device, with every twiddle and chirp computed
+//!   in `f64` on the CPU ([`tables`]); arbitrary DFT lengths by the chirp-z (Bluestein) step on
+//!   power-of-two Stockham FFTs ([`kernels`]).
+//!
+//! The crate opens no window and links no window crate; the studio hands it eframe's device.
+
+pub mod backend;
+pub mod device;
+pub mod fraunhofer;
+pub mod kernels;
+pub mod tables;
+
+pub use backend::Route;
+pub use device::{AdapterKind, AdapterSummary, Gpu, GpuError};

@@ -1,0 +1,198 @@
+//! The device's Fraunhofer step against the CPU's full route: one field at lengths with large
+//! prime factors, every preset and both tilings, and the whole analysis, held to the
+//! tolerances an `f32` device promises (PSF within 1e-5 of its peak, AUC within 0.3 %, LTR
+//! exact).
+
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with, analyze_with_route};
+use udc_core::design::TilingMode;
+use udc_core::display::aperture::{Display, Extent, Field, SparseRow, effective_cells, rasterise};
+use udc_core::psf::fft::binned_intensity;
+use udc_core::psf::route::{Fraunhofer, PsfRoute};
+use udc_core::psf::sampling::Binning;
+use udc_core::{Progress, SimError};
+use udc_io::design::presets::{PRESETS, load_preset};
+
+use crate::device;
+
+/// An irregular real field: rows of different lengths and offsets, values in (0, 1].
+fn field(rows: i64, half_width: i64) -> Field {
+    Field {
+        rows: (-rows..rows)
+            .filter(|iy| iy % 5 != 2)
+            .map(|iy| {
+                let ix0 = -half_width + (iy * 7).rem_euclid(11);
+                let len = (2 * half_width - (iy * 3).rem_euclid(13)) as usize;
+                SparseRow {
+                    iy,
+                    ix0,
+                    values: (0..len)
+                        .map(|i| ((i as i64 * 37 + iy * 11).rem_euclid(17) + 1) as f64 / 17.0)
+                        .collect(),
+                }
+            })
+            .collect(),
+    }
+}
+
+#[test]
+fn the_device_bins_the_cpus_intensity_at_any_length() {
+    let Some(gpu) = device("the_device_bins_the_cpus_intensity_at_any_length") else {
+        return;
+    };
+    // 1324 = 4·331 and 998 = 2·499: lengths a power-of-two FFT cannot do without the chirp-z
+    // step; windows that reach past the grid's edge (998) and phases on both axes.
+    for (m, rows, half, window, sp, phase) in [
+        (1324usize, 300i64, 400i64, 48usize, 7usize, [3usize, 5usize]),
+        (998, 60, 120, 64, 16, [0, 15]),
+        (64, 8, 20, 16, 4, [1, 2]),
+    ] {
+        let f = field(rows, half);
+        let binning = Binning {
+            window_px: window,
+            samples_per_px: sp,
+            phase,
+        };
+        let cpu = binned_intensity(&f, m, &binning, &Progress::new()).unwrap();
+        let dev = gpu.binned(&f, m, &binning, &Progress::new()).unwrap();
+        let peak = cpu.sensor.iter().copied().fold(0.0, f64::max);
+        let worst = cpu
+            .sensor
+            .iter()
+            .zip(dev.sensor.iter())
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst <= 1e-5 * peak,
+            "M {m}: worst {worst:e} of peak {peak:e}"
+        );
+        assert!(
+            (cpu.total - dev.total).abs() <= 1e-12 * cpu.total,
+            "M {m}: total"
+        );
+        assert!(
+            (cpu.edge - dev.edge).abs() <= 1e-4 * cpu.edge.max(1e-6 * cpu.total),
+            "M {m}: band {} vs {}",
+            cpu.edge,
+            dev.edge
+        );
+    }
+}
+
+#[test]
+fn the_device_refuses_what_the_cpu_refuses() {
+    let Some(gpu) = device("the_device_refuses_what_the_cpu_refuses") else {
+        return;
+    };
+    let binning = Binning {
+        window_px: 8,
+        samples_per_px: 2,
+        phase: [0, 0],
+    };
+    let f = field(20, 30);
+    let p = Progress::new();
+    for m in [41usize, 40] {
+        let cpu = binned_intensity(&f, m, &binning, &p)
+            .unwrap_err()
+            .to_string();
+        let dev = gpu.binned(&f, m, &binning, &p).unwrap_err().to_string();
+        assert_eq!(cpu, dev, "M {m}");
+    }
+    let cancelled = Progress::new();
+    cancelled.cancel();
+    assert!(matches!(
+        gpu.binned(&f, 128, &binning, &cancelled),
+        Err(SimError::Cancelled)
+    ));
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE)
+}
+
+/// The largest difference between two binned windows, as a fraction of the first's peak.
+fn worst_of_peak(cpu: &ndarray::Array2<f64>, dev: &ndarray::Array2<f64>) -> f64 {
+    let peak = cpu.iter().copied().fold(0.0, f64::max);
+    cpu.iter()
+        .zip(dev.iter())
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
+        / peak
+}
+
+/// Every preset in both tilings, through the seam on its smallest grid (the device's cost on a
+/// software driver grows as M², and every grid runs the same kernels): the binned window
+/// within 1e-5 of the CPU's peak, the grid's light and its aliasing band with it.
+#[test]
+fn every_preset_and_both_tilings_bin_as_the_cpu_does() {
+    let Some(gpu) = device("every_preset_and_both_tilings_bin_as_the_cpu_does") else {
+        return;
+    };
+    let p = Progress::new();
+    for preset in PRESETS {
+        for tiling in [TilingMode::Repeat, TilingMode::RandomD4] {
+            let mut design = load_preset(preset.name).unwrap();
+            design.tiling.mode = tiling;
+            let label = format!("{} {}", preset.name, tiling.as_str());
+            let samplings = Quality::Preview.plan(&design, &mut Vec::new()).unwrap();
+            let s = samplings
+                .iter()
+                .flatten()
+                .min_by_key(|s| s.fft_size)
+                .unwrap();
+            let cells = effective_cells(&design.opening);
+            let op = &design.optics;
+            let field = rasterise(
+                &Display::from_design(&design, &cells),
+                Extent::Pupil {
+                    diameter_um: op.pupil_diameter_um(),
+                },
+                op.pupil_sample_um,
+            );
+            let cpu = PsfRoute::Full
+                .binned(&field, s.fft_size, &s.binning, &p)
+                .unwrap();
+            let dev = gpu.binned(&field, s.fft_size, &s.binning, &p).unwrap();
+            let worst = worst_of_peak(&cpu.sensor, &dev.sensor);
+            assert!(
+                worst <= 1e-5,
+                "{label}, M {}: {worst:e} of the peak",
+                s.fft_size
+            );
+            assert!(rel(cpu.total, dev.total) <= 1e-12, "{label}: total");
+            assert!(
+                (cpu.edge - dev.edge).abs() <= 1e-4 * cpu.edge + 1e-9 * cpu.total,
+                "{label}: band {} vs {}",
+                cpu.edge,
+                dev.edge
+            );
+        }
+    }
+}
+
+/// The whole analysis with every PSF from the device: the numbers a user reads (PSF, AUC, LTR)
+/// within an `f32` device's tolerances of the CPU's, in both tilings.
+#[test]
+fn the_analysis_on_the_device_reads_as_on_the_cpu() {
+    let Some(gpu) = device("the_analysis_on_the_device_reads_as_on_the_cpu") else {
+        return;
+    };
+    let options = AnalyzeOptions {
+        quality: Quality::Preview,
+        expected_psf: false,
+    };
+    let p = Progress::new();
+    for tiling in [TilingMode::Repeat, TilingMode::RandomD4] {
+        let mut design = load_preset("toled-150dpi").unwrap();
+        design.tiling.mode = tiling;
+        let cpu = analyze_with(&design, &options, &p).unwrap();
+        let dev = analyze_with_route(&design, &options, gpu.as_ref(), &p).unwrap();
+        assert_eq!(cpu.ltr, dev.ltr, "{tiling:?}: LTR");
+        for (c, d) in cpu.channels.iter().zip(&dev.channels) {
+            let worst = worst_of_peak(&c.psf, &d.psf);
+            assert!(worst <= 1e-5, "{tiling:?} {}: PSF {worst:e}", c.name);
+            let auc = rel(c.mtf.auc_radial_min, d.mtf.auc_radial_min);
+            assert!(auc <= 3e-3, "{tiling:?} {}: AUC {auc:e}", c.name);
+            assert!((c.energy_in_window - d.energy_in_window).abs() <= 1e-5);
+        }
+    }
+}
