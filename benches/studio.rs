@@ -24,6 +24,7 @@ fn harness() -> Harness<'static, StudioApp> {
                     design_path: None,
                     native_dialogs: false,
                     autosave_every: Duration::from_secs(3600),
+                    gpu: None,
                 },
             )
         })
@@ -99,7 +100,8 @@ fn variants(base: Design) -> impl FnMut() -> Design {
 }
 
 fn edit_latency(c: &mut Criterion) {
-    let mut worker = Worker::spawn(|| {});
+    let compute = udc_studio::app::compute::Compute::new(None, Default::default());
+    let mut worker = Worker::spawn(|| {}, compute.shared());
     let mut slow = Design::default_toled();
     slow.optics.f_number = 10.0;
     let mut g = c.benchmark_group("studio/edit-to");

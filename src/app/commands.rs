@@ -23,6 +23,8 @@ pub enum ShellCommand {
     ToggleOverlays,
     /// Show or hide the design-rule rings on the opening editor (saved in the settings).
     ToggleDesignRules,
+    /// View ▸ Compute PSFs on: the CPU or the window's GPU.
+    SetBackend(crate::core::psf::route::Backend),
     /// Show this workspace.
     Show(WorkspaceId),
     /// Open Help ▸ Reproduce thesis results.

@@ -10,6 +10,7 @@
 
 pub mod autosave;
 pub mod commands;
+pub mod compute;
 pub mod dialogs;
 pub mod display;
 pub mod error;
@@ -59,6 +60,9 @@ pub struct StudioOptions {
     pub native_dialogs: bool,
     /// How often the design is autosaved while it changes.
     pub autosave_every: Duration,
+    /// The window's GPU (eframe's wgpu device), for View ▸ Compute PSFs on; `None` where the
+    /// window does not draw with wgpu, and in tests that do not hand one in.
+    pub gpu: Option<std::sync::Arc<udc_gpu::Gpu>>,
 }
 
 /// Opens the studio window with `design_path` (or the last session's design, or the default).
@@ -77,11 +81,12 @@ pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
         viewport,
         ..Default::default()
     };
-    let studio = StudioOptions {
+    let mut studio = StudioOptions {
         dirs: AppDirs::platform(),
         design_path,
         native_dialogs: true,
         autosave_every: AUTOSAVE_EVERY,
+        gpu: None,
     };
     eframe::run_native(
         "UDC Studio",
@@ -94,10 +99,24 @@ pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
                 INTERRUPTED.store(true, std::sync::atomic::Ordering::Relaxed);
                 ctx.request_repaint();
             });
+            studio.gpu = window_gpu(cc);
             Ok(Box::new(StudioApp::new(&cc.egui_ctx, studio)))
         }),
     )
     .map_err(|e| anyhow::anyhow!("cannot open the studio window: {e}"))
+}
+
+/// The compute kernels on the GPU the window draws with, or `None` where eframe does not
+/// render with wgpu (or the adapter refuses a second device). A device of its own on the
+/// window's adapter, not the window's device: a resize reconfigures the window's surface, which
+/// waits for that device's queue to go idle, and a transform of seconds there (a 600-DPI design
+/// on a slow GPU; any design on a software driver) made the reconfiguration fail and eframe
+/// abort.
+pub fn window_gpu(cc: &eframe::CreationContext<'_>) -> Option<std::sync::Arc<udc_gpu::Gpu>> {
+    let rs = cc.wgpu_render_state.as_ref()?;
+    udc_gpu::Gpu::on_adapter(&rs.adapter)
+        .ok()
+        .map(std::sync::Arc::new)
 }
 
 /// Set by the Ctrl-C / SIGTERM handler; the next frame closes the window.
@@ -122,6 +141,7 @@ impl StudioApp {
             options.dirs,
             options.native_dialogs,
             options.autosave_every,
+            options.gpu,
         );
         presentation::apply(ctx, &shell.settings);
         ctx.set_fonts(fonts_with_symbols());
@@ -347,6 +367,12 @@ impl StudioApp {
             ShellCommand::ToggleOverlays => {
                 self.shell.settings.overlays = !self.shell.settings.overlays;
                 self.shell.save_settings();
+            }
+            ShellCommand::SetBackend(backend) => {
+                self.shell.settings.backend = backend;
+                self.shell.compute.set(backend);
+                self.shell.save_settings();
+                self.shell.send(WorkspaceId::Display, Request::Recompute);
             }
             ShellCommand::ToggleDesignRules => {
                 self.shell.settings.design_rules = !self.shell.settings.design_rules;

@@ -65,6 +65,10 @@ pub struct Settings {
     /// Presentation mode (View > Presentation): for a projector.
     #[serde(default)]
     pub presentation: bool,
+    /// Where the display's PSFs are computed (View > Compute PSFs on): the CPU (the default)
+    /// or the window's GPU.
+    #[serde(default)]
+    pub backend: crate::core::psf::route::Backend,
 }
 
 impl Default for Settings {
@@ -76,6 +80,7 @@ impl Default for Settings {
             design_rules: false,
             last_sweep: None,
             presentation: false,
+            backend: crate::core::psf::route::Backend::Cpu,
         }
     }
 }

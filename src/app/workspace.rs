@@ -114,6 +114,8 @@ pub trait Workspace: Any {
 /// What one workspace asks of another through the shell ([`Shell::send`]).
 #[derive(Debug, Clone)]
 pub enum Request {
+    /// Compute the current design again (the PSFs' backend changed).
+    Recompute,
     /// Open this design, built elsewhere (a sweep row's), as a new unsaved document of the
     /// display workspace: one undo step there; it asks first if there are unsaved changes.
     OpenDesign {
@@ -179,6 +181,8 @@ pub struct Shell {
     pub(super) switch_to: Option<WorkspaceId>,
     /// What waits for the unsaved-changes answer, and whose changes the prompt is about.
     pub(super) confirm: Option<(WorkspaceId, Pending)>,
+    /// Where the display's PSFs are computed (View ▸ Compute PSFs on).
+    pub compute: crate::app::compute::Compute,
     /// The user chose to quit: the window closes without asking again.
     pub(super) quit_confirmed: bool,
     /// Requests a workspace sends to another (a sweep row's design to the display).
@@ -194,6 +198,7 @@ impl Shell {
         dirs: AppDirs,
         native_dialogs: bool,
         autosave_every: Duration,
+        gpu: Option<std::sync::Arc<udc_gpu::Gpu>>,
     ) -> Self {
         let settings = Settings::load(&dirs);
         Shell {
@@ -201,6 +206,7 @@ impl Shell {
             dirs,
             native_dialogs,
             autosave_every,
+            compute: crate::app::compute::Compute::new(gpu, settings.backend),
             settings,
             status: None,
             status_is_simulation_error: false,

@@ -28,6 +28,7 @@ fn harness(dir: &std::path::Path, size: (f32, f32)) -> Harness<'static, StudioAp
                     design_path: None,
                     native_dialogs: false,
                     autosave_every: Duration::from_secs(3600),
+                    gpu: None,
                 },
             )
         })

@@ -15,6 +15,7 @@ mod cli_phase;
 mod cli_restore;
 mod cli_sensor;
 mod cli_units;
+mod compute_view;
 mod corpus;
 mod denoise;
 mod denoise_cli;

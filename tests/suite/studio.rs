@@ -536,7 +536,8 @@ fn the_help_menu_tours_every_workspace() {
 fn the_worker_sends_the_numbers_before_the_advice_and_no_repeated_preview() {
     use udc_studio::app::{Payload, Worker};
     use udc_studio::core::Quality;
-    let mut worker = Worker::spawn(|| {});
+    let compute = udc_studio::app::compute::Compute::new(None, Default::default());
+    let mut worker = Worker::spawn(|| {}, compute.shared());
     // The thesis recipe: its grey notes get advice.
     let design = udc_studio::io::design::presets::load_preset("toled-150dpi").expect("preset");
     let generation = worker.submit(design);

@@ -41,6 +41,17 @@ impl Route {
         }
     }
 
+    /// The kernels on `gpu`, handing a transform the device refuses (a buffer larger than it
+    /// binds, a lost device) to the CPU, with [`Route::note`] saying so: the studio's, whose
+    /// device is the window's, opened with default limits.
+    pub fn device_or_cpu(gpu: Arc<Gpu>) -> Route {
+        Route {
+            device: Some(gpu),
+            falls_back: true,
+            note: Mutex::new(None),
+        }
+    }
+
     /// `backend` on this process's shared headless device.
     ///
     /// # Errors
@@ -50,11 +61,7 @@ impl Route {
             Backend::Cpu => Route::cpu(),
             Backend::Gpu => Route::device(Gpu::shared(AdapterKind::Any)?),
             Backend::Auto => match Gpu::shared(AdapterKind::Hardware) {
-                Ok(gpu) => Route {
-                    device: Some(gpu),
-                    falls_back: true,
-                    note: Mutex::new(None),
-                },
+                Ok(gpu) => Route::device_or_cpu(gpu),
                 Err(e) => Route {
                     note: Mutex::new(Some(format!("backend auto: {e}; computing on the CPU"))),
                     ..Route::cpu()

@@ -147,6 +147,16 @@ impl Gpu {
                 format!("only {} (a software renderer)", seen.join(", "))
             }));
         };
+        Gpu::on_adapter(&adapter)
+    }
+
+    /// A device of its own on `adapter` (the studio's: the adapter its window draws with, but
+    /// not the window's device, whose surface cannot be reconfigured, on a resize, while a long
+    /// transform keeps its queue busy), with the adapter's own limits.
+    ///
+    /// # Errors
+    /// [`GpuError::NoDevice`] when the adapter refuses.
+    pub fn on_adapter(adapter: &wgpu::Adapter) -> Result<Gpu, GpuError> {
         let info = adapter.get_info();
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("udc-gpu"),
@@ -179,7 +189,8 @@ impl Gpu {
             .clone()
     }
 
-    /// The kernels on a device someone else opened (the studio's, from eframe's render state).
+    /// The kernels on a device someone else opened. (Not the studio's window device: see
+    /// [`Gpu::on_adapter`].)
     pub fn from_device(device: wgpu::Device, queue: wgpu::Queue, info: &wgpu::AdapterInfo) -> Gpu {
         let kernels = Kernels::new(&device);
         Gpu {

@@ -14,7 +14,7 @@ use ndarray::Array2;
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
 use udc_core::progress::Progress;
-use udc_core::psf::fft::{Binned, check_fits};
+use udc_core::psf::fft::{Binned, check_grid};
 use udc_core::psf::route::Fraunhofer;
 use udc_core::psf::sampling::Binning;
 
@@ -367,12 +367,7 @@ impl Fraunhofer for Gpu {
         binning: &Binning,
         progress: &Progress,
     ) -> Result<Binned, SimError> {
-        if m < 2 || !m.is_multiple_of(2) {
-            return Err(SimError::Sampling(format!(
-                "FFT size {m} must be even and at least 2"
-            )));
-        }
-        check_fits(field, m)?;
+        check_grid(field, m)?;
         if field.rows.iter().all(|r| r.values.is_empty()) {
             return Err(SimError::Sampling("no light passes the aperture".into()));
         }

@@ -1,5 +1,8 @@
 //! The compute pipelines (one per WGSL entry point) and the recording of a batched
-//! power-of-two FFT: `log2 N` Stockham passes ping-ponging between two buffers.
+//! power-of-two FFT: Stockham passes (radix 4, and one radix 2 where `log2 N` is odd), one
+//! dispatch each, ping-ponging between two buffers. (An FFT held in workgroup memory, one
+//! dispatch per transform, was 1.3–1.9× slower on the software driver the tests run on, for
+//! its barriers; it waits for a hardware GPU to be measured on.)
 
 use crate::tables::twiddles;
 
@@ -14,6 +17,7 @@ pub(crate) const GROUP: u32 = 256;
 /// The compiled pipelines.
 pub struct Kernels {
     pub(crate) fft_pass: wgpu::ComputePipeline,
+    pub(crate) fft_pass4: wgpu::ComputePipeline,
     pub(crate) prechirp_rows: wgpu::ComputePipeline,
     pub(crate) convolve: wgpu::ComputePipeline,
     pub(crate) postchirp_rows: wgpu::ComputePipeline,
@@ -46,6 +50,7 @@ impl Kernels {
         };
         Kernels {
             fft_pass: pipeline(&fft, "fft_pass"),
+            fft_pass4: pipeline(&fft, "fft_pass4"),
             prechirp_rows: pipeline(&bluestein, "prechirp_rows"),
             convolve: pipeline(&bluestein, "convolve"),
             postchirp_rows: pipeline(&bluestein, "postchirp_rows"),
@@ -92,11 +97,13 @@ pub(crate) fn groups(n: usize) -> u32 {
     u32::try_from(n.div_ceil(GROUP as usize)).unwrap_or(u32::MAX)
 }
 
-/// One FFT length's twiddles and per-pass parameters, uploaded once.
+/// One FFT length's twiddles and per-pass parameters, uploaded once: radix-4 passes with
+/// spans 1, 4, 16, … while they fit, then one radix-2 pass where `log2 N` is odd.
 pub(crate) struct FftPlan {
     pub(crate) n: usize,
     twiddles: wgpu::Buffer,
-    passes: Vec<wgpu::Buffer>,
+    /// Each pass's radix (4 or 2) and its `(N, span)` parameters.
+    passes: Vec<(usize, wgpu::Buffer)>,
 }
 
 impl FftPlan {
@@ -108,10 +115,15 @@ impl FftPlan {
             contents: bytemuck::cast_slice(&twiddles(n)),
             usage: wgpu::BufferUsages::STORAGE,
         });
-        let passes = std::iter::successors(Some(1usize), |s| Some(s * 2))
-            .take_while(|&s| s < n)
-            .map(|span| uniform(device, &[n as u32, span as u32, 0, 0]))
-            .collect();
+        let mut passes = Vec::new();
+        let mut span = 1usize;
+        while span * 4 <= n {
+            passes.push((4, uniform(device, &[n as u32, span as u32, 0, 0])));
+            span *= 4;
+        }
+        if span * 2 == n {
+            passes.push((2, uniform(device, &[n as u32, span as u32, 0, 0])));
+        }
         FftPlan {
             n,
             twiddles,
@@ -130,17 +142,22 @@ impl FftPlan {
         b: &wgpu::Buffer,
         batch: u32,
     ) -> bool {
-        pass.set_pipeline(&kernels.fft_pass);
         let mut in_a = true;
-        for params in &self.passes {
+        for (radix, params) in &self.passes {
             let (src, dst) = if in_a { (a, b) } else { (b, a) };
+            let kernel = if *radix == 4 {
+                &kernels.fft_pass4
+            } else {
+                &kernels.fft_pass
+            };
             let group = bind(
                 device,
-                &kernels.fft_pass,
+                kernel,
                 &[(0, params), (1, &self.twiddles), (2, src), (3, dst)],
             );
+            pass.set_pipeline(kernel);
             pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(groups(self.n / 2), batch, 1);
+            pass.dispatch_workgroups(groups(self.n / radix), batch, 1);
             in_a = !in_a;
         }
         in_a

@@ -4,15 +4,16 @@
 //! how a transform ran.
 //!
 //! - [`Gpu`]: a device with the kernels compiled on it, opened headless ([`Gpu::headless`],
-//!   [`Gpu::shared`]) or built on a device someone else opened ([`Gpu::from_device`], the
-//!   studio's);
+//!   [`Gpu::shared`]), on a given adapter ([`Gpu::on_adapter`]: the studio's, the adapter its
+//!   window draws with), or on a device someone else opened ([`Gpu::from_device`]);
 //! - [`Route`]: the user's [`udc_core::psf::route::Backend`] resolved (`cpu`, `gpu`, or
 //!   `auto`, which falls back to the CPU with one line saying why);
 //! - the transform ([`fraunhofer`]): `f32` on the device, with every twiddle and chirp computed
 //!   in `f64` on the CPU ([`tables`]); arbitrary DFT lengths by the chirp-z (Bluestein) step on
 //!   power-of-two Stockham FFTs ([`kernels`]).
 //!
-//! The crate opens no window and links no window crate; the studio hands it eframe's device.
+//! The crate opens no window and links no window crate; the studio hands it the adapter eframe
+//! draws with.
 
 pub mod backend;
 pub mod device;

@@ -159,7 +159,7 @@ impl DisplayWorkspace {
             shell.set_status(n);
         }
         let wake_ctx = shell.ctx.clone();
-        let worker = Worker::spawn(move || wake_ctx.request_repaint());
+        let worker = Worker::spawn(move || wake_ctx.request_repaint(), shell.compute.shared());
         let mut ws = DisplayWorkspace {
             doc: Document::new(design.clone(), path),
             worker,
@@ -524,6 +524,7 @@ impl Workspace for DisplayWorkspace {
                 self.act(DisplayAction::OpenDesign { design, what }, shell);
             }
             Request::StudyCurrentDesign => self.new_study(None, shell),
+            Request::Recompute => self.submit(),
             Request::PinDesign { design, what } => self.pin_design(*design, what, shell),
             Request::NewStudy { .. } | Request::OpenPhaseDesign { .. } => {}
         }

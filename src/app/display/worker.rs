@@ -9,8 +9,9 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 
 use crate::core::analysis::advice::advise;
-use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use crate::core::{Analysis, Design, Progress, SimError};
+use udc_gpu::Route;
 
 /// What a job produces, in order: the display preview, then the preview (where one agrees with
 /// full quality) and the full analyses.
@@ -66,8 +67,9 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the worker; `wake` is called whenever a result is ready (e.g. `request_repaint`).
-    pub fn spawn(wake: impl Fn() + Send + 'static) -> Self {
+    /// Starts the worker; `wake` is called whenever a result is ready (e.g. `request_repaint`);
+    /// each job computes its PSFs by the route `route` holds when the job starts.
+    pub fn spawn(wake: impl Fn() + Send + 'static, route: Arc<Mutex<Arc<Route>>>) -> Self {
         let shared = Arc::new((
             Mutex::new(Shared {
                 pending: None,
@@ -80,7 +82,7 @@ impl Worker {
         let thread_shared = shared.clone();
         let thread = std::thread::Builder::new()
             .name("udc-simulation".into())
-            .spawn(move || worker_loop(&thread_shared, &tx, &wake))
+            .spawn(move || worker_loop(&thread_shared, &tx, &wake, &route))
             .ok();
         Worker {
             shared,
@@ -146,6 +148,7 @@ fn worker_loop(
     shared: &Arc<(Mutex<Shared>, std::sync::Condvar)>,
     tx: &Sender<JobResult>,
     wake: &dyn Fn(),
+    route: &Mutex<Arc<Route>>,
 ) {
     let (lock, cvar) = &**shared;
     loop {
@@ -164,6 +167,10 @@ fn worker_loop(
             s.running = Some((generation, progress.clone()));
             (generation, design, progress)
         };
+        let route = route
+            .lock()
+            .map(|r| r.clone())
+            .unwrap_or_else(|_| Arc::new(Route::cpu()));
         // Delivers one piece of the job and wakes the UI; false once the UI has gone.
         let send = |payload: Payload| {
             let ok = tx
@@ -199,7 +206,7 @@ fn worker_loop(
                 quality,
                 expected_psf: true,
             };
-            let mut result = analyze_with(&design, &options, &progress);
+            let mut result = analyze_with_route(&design, &options, route.as_ref(), &progress);
             // Advice analyses candidates of its own: only for the result that stays on screen,
             // and after its numbers are on screen.
             let advise_after =

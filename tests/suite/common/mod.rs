@@ -48,6 +48,7 @@ pub fn studio_sized(
                 design_path: None,
                 native_dialogs: false,
                 autosave_every,
+                gpu: None,
             },
         )
     })

@@ -16,9 +16,14 @@ use crate::display::tiling::D4;
 use crate::progress::Progress;
 use crate::psf::sampling::Binning;
 
-/// Checks that `field` fits an `m×m` grid centred on the axis (every route, the CPU's and a
-/// device's, refuses a field that does not with the same words).
-pub fn check_fits(field: &Field, m: usize) -> Result<(), SimError> {
+/// Checks that `m` is an even grid size of at least 2 and that `field` fits the `m×m` grid
+/// centred on the axis (every route, the CPU's and a device's, refuses with the same words).
+pub fn check_grid(field: &Field, m: usize) -> Result<(), SimError> {
+    if m < 2 || !m.is_multiple_of(2) {
+        return Err(SimError::Sampling(format!(
+            "FFT size {m} must be even and at least 2"
+        )));
+    }
     let (lo, hi) = field.extent();
     let h = (m / 2) as i64;
     if lo < -h || hi >= h {
@@ -87,12 +92,7 @@ where
     V: Fn(&mut A, i64, &[f64]) + Sync + Send,
     R: Fn(A, A) -> A + Sync + Send,
 {
-    if m < 2 || !m.is_multiple_of(2) {
-        return Err(SimError::Sampling(format!(
-            "FFT size {m} must be even and at least 2"
-        )));
-    }
-    check_fits(field, m)?;
+    check_grid(field, m)?;
     // A display that lets no light through (an opening closed by an edit or a fit's step)
     // has no rows to transform.
     if field.rows.is_empty() {

@@ -21,7 +21,7 @@ use rustfft::num_complex::Complex64;
 use crate::SimError;
 use crate::display::aperture::Field;
 use crate::progress::Progress;
-use crate::psf::fft::{Binned, check_fits};
+use crate::psf::fft::{Binned, check_grid};
 use crate::psf::pruned_grid::Geometry;
 use crate::psf::pruned_rows::{kept_row_spectra, row_pass_ops};
 use crate::psf::sampling::Binning;
@@ -73,12 +73,7 @@ pub fn binned_pruned(
     binning: &Binning,
     progress: &Progress,
 ) -> Result<Binned, SimError> {
-    if m < 2 || !m.is_multiple_of(2) {
-        return Err(SimError::Sampling(format!(
-            "FFT size {m} must be even and at least 2"
-        )));
-    }
-    check_fits(field, m)?;
+    check_grid(field, m)?;
     progress.check()?;
     let g = Geometry::new(field, m, binning);
     let w = binning.window_px;

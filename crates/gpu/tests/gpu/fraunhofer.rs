@@ -40,7 +40,8 @@ fn the_device_bins_the_cpus_intensity_at_any_length() {
         return;
     };
     // 1324 = 4·331 and 998 = 2·499: lengths a power-of-two FFT cannot do without the chirp-z
-    // step; windows that reach past the grid's edge (998) and phases on both axes.
+    // step; windows that reach past the grid's edge (998) and phases on both axes. Convolution
+    // lengths 4 096 (radix-4 passes only), 2 048 and 128 (a last radix-2 pass).
     for (m, rows, half, window, sp, phase) in [
         (1324usize, 300i64, 400i64, 48usize, 7usize, [3usize, 5usize]),
         (998, 60, 120, 64, 16, [0, 15]),
