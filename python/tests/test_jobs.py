@@ -83,6 +83,21 @@ def test_bad_parameters_raise_one_line_messages_naming_them(tmp_path):
         udc.sensor.simulate(tmp_path / "missing.exr")
 
 
+def test_a_phase_operator_on_the_gpu_restores_as_the_cpus():
+    """A λ0 plan's operator through the Bloch relay on any adapter (a software one included)."""
+    kw = dict(preview=True, peaks=True, lambda0="uniform", relay="wrapped-display",
+              scene_px=16, photons=[1000.0], denoise="none")
+    cpu = udc.phase.restore(**kw)
+    try:
+        gpu = udc.phase.restore(**kw, backend="gpu")
+    except ValueError as e:
+        assert "no GPU adapter" in str(e)
+        pytest.skip(f"no GPU adapter on this machine: {e}")
+    assert "backend" not in cpu and gpu["backend"]["adapter"]
+    assert gpu["ltr"] == pytest.approx(cpu["ltr"], rel=1e-5)
+    assert gpu["runs"][0]["psnr_db"] == pytest.approx(cpu["runs"][0]["psnr_db"], abs=0.01)
+
+
 def test_a_sweep_returns_its_table_and_resumes(tmp_path):
     spec = tmp_path / "seeds.toml"
     spec.write_text(

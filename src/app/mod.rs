@@ -148,11 +148,10 @@ impl StudioApp {
         // The switch shows them in this order.
         let workspaces: Vec<Box<dyn Workspace>> = vec![
             Box::new(DisplayWorkspace::new(&mut shell, options.design_path)),
-            Box::new(phase::PhaseWorkspace::new(
-                &shell.dirs,
-                shell.native_dialogs,
-                shell.autosave_every,
-            )),
+            Box::new(
+                phase::PhaseWorkspace::new(&shell.dirs, shell.native_dialogs, shell.autosave_every)
+                    .with_route(shell.compute.shared()),
+            ),
             Box::new(sensor::SensorWorkspace::default()),
             Box::new(sweep::SweepWorkspace::default()),
         ];

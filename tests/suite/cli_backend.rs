@@ -69,3 +69,56 @@ fn auto_runs_on_a_hardware_gpu_or_says_why_not() {
         "{stderr}"
     );
 }
+
+fn phase_restore(backend: &str) -> (bool, serde_json::Value, String) {
+    let (ok, stdout, stderr) = run(&[
+        "phase",
+        "restore",
+        "--preview",
+        "--peaks",
+        "--lambda0",
+        "uniform",
+        "--relay",
+        "wrapped-display",
+        "--scene-px",
+        "16",
+        "--photons",
+        "1000",
+        "--denoise",
+        "none",
+        "--json",
+        "--backend",
+        backend,
+    ]);
+    let json = serde_json::from_str(stdout.trim()).unwrap_or(serde_json::Value::Null);
+    (ok, json, stderr)
+}
+
+/// A λ0 plan's restoration (its operator through the Bloch relay, the phase model's slowest
+/// step) on the GPU: the CPU's LTR and PSNR to f32 precision, and the adapter named.
+#[test]
+fn a_phase_restoration_on_the_gpu_reads_as_the_cpus() {
+    let (ok, cpu, stderr) = phase_restore("cpu");
+    assert!(ok, "{stderr}");
+    assert!(cpu.get("backend").is_none(), "the default says nothing");
+    let (ok, gpu, stderr) = phase_restore("gpu");
+    if !ok {
+        assert!(stderr.contains("no GPU adapter"), "{stderr}");
+        eprintln!("skipped the comparison: {}", stderr.trim());
+        return;
+    }
+    assert!(
+        gpu["backend"]["adapter"]
+            .as_str()
+            .is_some_and(|a| !a.is_empty())
+    );
+    let f = |v: &serde_json::Value, key: &str| v[key].as_f64().unwrap();
+    assert!((f(&cpu, "ltr") - f(&gpu, "ltr")).abs() <= 1e-5 * f(&cpu, "ltr"));
+    let psnr = |v: &serde_json::Value| v["runs"][0]["psnr_db"].as_f64().unwrap();
+    assert!(
+        (psnr(&cpu) - psnr(&gpu)).abs() < 0.01,
+        "{} vs {}",
+        psnr(&cpu),
+        psnr(&gpu)
+    );
+}

@@ -1,6 +1,7 @@
 //! View ▸ Compute PSFs on: the studio computes the display's PSFs on the GPU its window draws
 //! with (a device of its own on eframe's adapter), names it, keeps the choice in its settings, and shows the
-//! CPU's numbers to `f32` precision; without a wgpu window the GPU choice is greyed out.
+//! CPU's numbers to `f32` precision, and hands the phase workspace's operators to the same
+//! device; without a wgpu window the GPU choice is greyed out.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use std::time::Duration;
@@ -67,8 +68,14 @@ fn the_studio_computes_on_the_windows_gpu_when_asked() {
         eprintln!("skipped: the test window has no wgpu device");
         return;
     }
+    assert_eq!(h.state().phase().operators_on(), None, "the CPU at first");
     h.get_by_label_contains("GPU: ").click();
     h.run();
+    // The phase workspace's operators follow the same choice (their propagations' Bloch relay).
+    assert!(
+        h.state().phase().operators_on().is_some(),
+        "the phase operators run on the GPU too"
+    );
     step_until(&mut h, "the GPU result", display_up_to_date);
     let gpu = aucs(h.state());
     for (c, g) in cpu.iter().zip(&gpu) {

@@ -255,6 +255,7 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
         &[250.0, 10_000.0],
         0,
         thesis_denoise(),
+        None,
         &Progress::new(),
         |r| expected.push(r),
     )

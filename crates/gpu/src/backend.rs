@@ -1,4 +1,5 @@
-//! The user's switch ([`Backend`]) resolved to a Fraunhofer step: the CPU routes, a device, or
+//! The user's switch ([`Backend`]) resolved to a Fraunhofer step and a phase relay
+//! ([`BlochRelay`]): the CPU routes, a device, or
 //! (for `auto`) a hardware device that hands a transform it cannot hold back to the CPU. What
 //! was decided, and why, is one line a front end prints ([`Route::note`]).
 
@@ -6,6 +7,9 @@ use std::sync::{Arc, Mutex};
 
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
+use udc_core::phase::chain::{
+    BlochDirection, BlochIntensity, BlochRelay, BlochWavelength, CpuBloch,
+};
 use udc_core::progress::Progress;
 use udc_core::psf::fft::Binned;
 use udc_core::psf::route::{Backend, Fraunhofer, PsfRoute};
@@ -75,6 +79,13 @@ impl Route {
         self.device.as_ref().map(|g| g.adapter().to_string())
     }
 
+    /// Records why `auto` computed on the CPU (the first reason only).
+    fn fell_back(&self, e: &SimError) {
+        if let Ok(mut note) = self.note.lock() {
+            note.get_or_insert_with(|| format!("backend auto: {e}; computing on the CPU"));
+        }
+    }
+
     /// The one line a front end shows when `auto` did not use the device it hoped for (no
     /// hardware adapter, or a transform the device refused), else `None`.
     pub fn note(&self) -> Option<String> {
@@ -95,10 +106,29 @@ impl Fraunhofer for Route {
         };
         match gpu.binned(field, m, binning, progress) {
             Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
-                if let Ok(mut note) = self.note.lock() {
-                    note.get_or_insert_with(|| format!("backend auto: {e}; computing on the CPU"));
-                }
+                self.fell_back(&e);
                 PsfRoute::Auto.binned(field, m, binning, progress)
+            }
+            other => other,
+        }
+    }
+}
+
+impl BlochRelay for Route {
+    fn directions(
+        &self,
+        wavelength: &BlochWavelength<'_>,
+        count: usize,
+        direction: &(dyn Fn(usize) -> BlochDirection + Sync),
+        progress: &Progress,
+    ) -> Result<Vec<BlochIntensity>, SimError> {
+        let Some(gpu) = &self.device else {
+            return CpuBloch.directions(wavelength, count, direction, progress);
+        };
+        match gpu.directions(wavelength, count, direction, progress) {
+            Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
+                self.fell_back(&e);
+                CpuBloch.directions(wavelength, count, direction, progress)
             }
             other => other,
         }

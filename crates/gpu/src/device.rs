@@ -74,13 +74,15 @@ impl std::fmt::Display for AdapterSummary {
     }
 }
 
-/// Tables uploaded once per size: the twiddles and pass parameters of one FFT length, the chirp
-/// of one DFT length, the kernel spectrum of one (DFT length, input length).
+/// Tables uploaded once per size: the twiddles and pass parameters of one FFT length (power of
+/// two, or mixed radix), the chirp of one DFT length, the kernel spectrum of one (DFT length,
+/// input length).
 #[derive(Default)]
 pub(crate) struct TableCache {
     pub(crate) ffts: HashMap<usize, Arc<crate::kernels::FftPlan>>,
     pub(crate) chirps: HashMap<usize, Arc<wgpu::Buffer>>,
     pub(crate) spectra: HashMap<(usize, usize), Arc<wgpu::Buffer>>,
+    pub(crate) mixed: HashMap<usize, Arc<crate::kernels::MixedPlan>>,
 }
 
 impl TableCache {
@@ -89,7 +91,9 @@ impl TableCache {
     const MAX_ENTRIES: usize = 48;
 
     pub(crate) fn trim(&mut self) {
-        if self.ffts.len() + self.chirps.len() + self.spectra.len() > Self::MAX_ENTRIES {
+        if self.ffts.len() + self.chirps.len() + self.spectra.len() + self.mixed.len()
+            > Self::MAX_ENTRIES
+        {
             *self = TableCache::default();
         }
     }

@@ -10,6 +10,8 @@ use crate::tables::twiddles;
 const FFT_WGSL: &str = include_str!("shaders/fft.wgsl");
 const BLUESTEIN_WGSL: &str = include_str!("shaders/bluestein.wgsl");
 const BIN_WGSL: &str = include_str!("shaders/bin.wgsl");
+const MIXED_WGSL: &str = include_str!("shaders/mixed.wgsl");
+const RELAY_WGSL: &str = include_str!("shaders/relay.wgsl");
 
 /// Threads per workgroup along x in the 1-D kernels (the shaders' `@workgroup_size(256)`).
 pub(crate) const GROUP: u32 = 256;
@@ -25,6 +27,14 @@ pub struct Kernels {
     pub(crate) intensity_columns: wgpu::ComputePipeline,
     pub(crate) bin_window: wgpu::ComputePipeline,
     pub(crate) band_columns: wgpu::ComputePipeline,
+    pub(crate) fft_radix: wgpu::ComputePipeline,
+    pub(crate) form_transfer: wgpu::ComputePipeline,
+    pub(crate) apply_slits: wgpu::ComputePipeline,
+    pub(crate) apply_transfer: wgpu::ComputePipeline,
+    pub(crate) opening_input: wgpu::ComputePipeline,
+    pub(crate) energy: wgpu::ComputePipeline,
+    pub(crate) apply_kernel: wgpu::ComputePipeline,
+    pub(crate) fine_intensity: wgpu::ComputePipeline,
 }
 
 impl Kernels {
@@ -38,6 +48,8 @@ impl Kernels {
         let fft = module("fft.wgsl", FFT_WGSL);
         let bluestein = module("bluestein.wgsl", BLUESTEIN_WGSL);
         let bin = module("bin.wgsl", BIN_WGSL);
+        let mixed = module("mixed.wgsl", MIXED_WGSL);
+        let relay = module("relay.wgsl", RELAY_WGSL);
         let pipeline = |module: &wgpu::ShaderModule, entry: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
@@ -58,6 +70,14 @@ impl Kernels {
             intensity_columns: pipeline(&bluestein, "intensity_columns"),
             bin_window: pipeline(&bin, "bin_window"),
             band_columns: pipeline(&bin, "band_columns"),
+            fft_radix: pipeline(&mixed, "fft_radix"),
+            form_transfer: pipeline(&relay, "form_transfer"),
+            apply_slits: pipeline(&relay, "apply_slits"),
+            apply_transfer: pipeline(&relay, "apply_transfer"),
+            opening_input: pipeline(&relay, "opening_input"),
+            energy: pipeline(&relay, "energy"),
+            apply_kernel: pipeline(&relay, "apply_kernel"),
+            fine_intensity: pipeline(&relay, "fine_intensity"),
         }
     }
 }
@@ -161,5 +181,83 @@ impl FftPlan {
             in_a = !in_a;
         }
         in_a
+    }
+}
+
+/// The radices of a mixed-radix FFT of length `n` (fours, a two, threes, fives), or `None`
+/// when `n` has a prime factor above 5.
+pub(crate) fn radices(mut n: usize) -> Option<Vec<usize>> {
+    let mut out = Vec::new();
+    while n.is_multiple_of(4) {
+        out.push(4);
+        n /= 4;
+    }
+    for r in [2, 3, 5] {
+        while n.is_multiple_of(r) {
+            out.push(r);
+            n /= r;
+        }
+    }
+    (n == 1).then_some(out)
+}
+
+/// One 2·3·5-smooth FFT length's table `exp(−2πi t/N)` (t < N) and per-pass parameters, forward
+/// and inverse, uploaded once.
+pub(crate) struct MixedPlan {
+    pub(crate) n: usize,
+    table: wgpu::Buffer,
+    /// Each pass's radix and its forward and inverse `(N, span, radix, inverse)` parameters.
+    passes: Vec<(usize, wgpu::Buffer, wgpu::Buffer)>,
+}
+
+impl MixedPlan {
+    /// `None` when `n` has a prime factor above 5.
+    pub(crate) fn new(device: &wgpu::Device, n: usize) -> Option<MixedPlan> {
+        use wgpu::util::DeviceExt;
+        let table = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("mixed twiddles"),
+            contents: bytemuck::cast_slice(&crate::tables::roots(n)),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let mut span = 1usize;
+        let passes = radices(n)?
+            .into_iter()
+            .map(|r| {
+                let words = |inverse: u32| [n as u32, span as u32, r as u32, inverse];
+                let pass = (r, uniform(device, &words(0)), uniform(device, &words(1)));
+                span *= r;
+                pass
+            })
+            .collect();
+        Some(MixedPlan { n, table, passes })
+    }
+
+    /// Records the FFT (`inverse`: unnormalised inverse) of `batch` vectors held in `a`;
+    /// returns `(the buffer the result ended in, the other)`.
+    pub(crate) fn record<'b>(
+        &self,
+        device: &wgpu::Device,
+        kernels: &Kernels,
+        pass: &mut wgpu::ComputePass<'_>,
+        (a, b): (&'b wgpu::Buffer, &'b wgpu::Buffer),
+        batch: u32,
+        inverse: bool,
+    ) -> (&'b wgpu::Buffer, &'b wgpu::Buffer) {
+        let mut in_a = true;
+        let kernel = &kernels.fft_radix;
+        pass.set_pipeline(kernel);
+        for (radix, forward, backward) in &self.passes {
+            let (src, dst) = if in_a { (a, b) } else { (b, a) };
+            let params = if inverse { backward } else { forward };
+            let group = bind(
+                device,
+                kernel,
+                &[(0, params), (1, &self.table), (2, src), (3, dst)],
+            );
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(groups(self.n / radix), batch, 1);
+            in_a = !in_a;
+        }
+        if in_a { (a, b) } else { (b, a) }
     }
 }

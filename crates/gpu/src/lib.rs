@@ -10,7 +10,10 @@
 //!   `auto`, which falls back to the CPU with one line saying why);
 //! - the transform ([`fraunhofer`]): `f32` on the device, with every twiddle and chirp computed
 //!   in `f64` on the CPU ([`tables`]); arbitrary DFT lengths by the chirp-z (Bluestein) step on
-//!   power-of-two Stockham FFTs ([`kernels`]).
+//!   power-of-two Stockham FFTs ([`kernels`]);
+//! - the phase model's Bloch relay ([`relay`]), behind the core's
+//!   [`udc_core::phase::chain::BlochRelay`]: a λ0 plan's propagations through the double MLA on
+//!   the wrapped grid, many directions at once, on mixed-radix (2·3·4·5) Stockham FFTs.
 //!
 //! The crate opens no window and links no window crate; the studio hands it the adapter eframe
 //! draws with.
@@ -19,6 +22,7 @@ pub mod backend;
 pub mod device;
 pub mod fraunhofer;
 pub mod kernels;
+pub mod relay;
 pub mod tables;
 
 pub use backend::Route;

@@ -21,6 +21,13 @@ pub fn twiddles(n: usize) -> Vec<C32> {
         .collect()
 }
 
+/// `exp(−2πi t / n)` for every `t < n`: a mixed-radix FFT's twiddles and roots of unity.
+pub fn roots(n: usize) -> Vec<C32> {
+    (0..n)
+        .map(|t| c32(Complex64::from_polar(1.0, -2.0 * PI * t as f64 / n as f64)))
+        .collect()
+}
+
 /// `c_j = exp(iπ j² / m)` for `j < len`, the angle reduced exactly in integers
 /// (`j² mod 2m`), so that large `j` lose no digits.
 pub fn chirp64(m: usize, len: usize) -> Vec<Complex64> {

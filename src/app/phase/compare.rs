@@ -222,6 +222,7 @@ impl PhaseWorkspace {
         let base = self.history.current().clone();
         let seed = self.capture.seed;
         let denoise = self.capture.denoise;
+        let relay = self.relay();
         let wake = ctx.clone();
         let quality = self.quality;
         let job = Streaming::spawn(
@@ -240,6 +241,7 @@ impl PhaseWorkspace {
                     &photons,
                     seed,
                     denoise,
+                    relay.as_ref(),
                     p,
                     |row| {
                         let _ = tx.send(row);

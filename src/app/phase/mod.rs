@@ -26,6 +26,7 @@ mod workspace;
 
 use crate::app::notice::Notice;
 pub use crate::core::Quality;
+use std::sync::{Arc, Mutex};
 use std::time::Duration;
 
 use egui::Color32;
@@ -91,6 +92,8 @@ pub enum PhaseView {
 /// The workspace's state.
 pub struct PhaseWorkspace {
     history: History<PhaseDesign>,
+    /// Where the operators' Bloch relays run (View ▸ Compute PSFs on), read at each job.
+    route: Arc<Mutex<Arc<udc_gpu::Route>>>,
     /// Preview only, or preview then the thesis sampling (also the V matrix's and optimizer's).
     pub quality: Quality,
     /// The colour channels the PSFs and the optimizer use.
@@ -227,7 +230,29 @@ impl PhaseWorkspace {
             egui_ctx: egui::Context::default(),
             facts: Facts::default(),
             study_asked: false,
+            route: Arc::new(Mutex::new(Arc::new(udc_gpu::Route::cpu()))),
         }
+    }
+
+    /// The workspace with its operators' propagations on `route` (the studio's View ▸ Compute
+    /// PSFs on), read at the start of each capture or comparison.
+    #[must_use]
+    pub fn with_route(self, route: Arc<Mutex<Arc<udc_gpu::Route>>>) -> Self {
+        PhaseWorkspace { route, ..self }
+    }
+
+    /// The GPU the operators' propagations run on now (View ▸ Compute PSFs on), or `None` on
+    /// the CPU.
+    pub fn operators_on(&self) -> Option<String> {
+        self.route.lock().ok()?.adapter()
+    }
+
+    /// The Bloch relay a job hands its operators to: the route when it runs on a device, else
+    /// `None` (the chain's own CPU relay).
+    fn relay(&self) -> Option<Arc<dyn crate::core::phase::chain::BlochRelay>> {
+        let route = self.route.lock().ok()?.clone();
+        route.adapter()?;
+        Some(route)
     }
 
     /// The run choices (quality, channels, optics, angle).

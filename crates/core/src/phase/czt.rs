@@ -71,6 +71,12 @@ impl Czt {
         self.chirp.convolve(n.min(self.n_in), input, work)
     }
 
+    /// The convolution itself (its length, kernel spectrum and outputs), for a transform that
+    /// runs elsewhere.
+    pub fn convolution(&self) -> &ChirpZ<f32> {
+        &self.chirp
+    }
+
     /// The chirp each input sample is multiplied by before the convolution (length `n_in`).
     pub fn input_chirp(&self) -> &[Complex64] {
         self.chirp.pre()

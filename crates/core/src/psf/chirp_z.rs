@@ -107,6 +107,22 @@ impl<T: Precision> ChirpZ<T> {
         }
     }
 
+    /// The convolution's (FFT) length `L ≥ n_in + n_out − 1`.
+    pub fn fft_len(&self) -> usize {
+        self.len
+    }
+
+    /// Outputs kept, `n_out`.
+    pub fn n_out(&self) -> usize {
+        self.n_out
+    }
+
+    /// The kernel's spectrum over `L`: `FFT(kernel)/L`, in this precision. The outputs are the
+    /// first `n_out` samples of `IFFT(FFT(x·pre) · kernel_hat)` (unnormalised inverse).
+    pub fn kernel_hat(&self) -> &[Complex<T>] {
+        &self.kernel_hat
+    }
+
     /// The input chirp: sample `n` of the input is multiplied by `pre()[n]`.
     pub fn pre(&self) -> &[Complex64] {
         &self.pre

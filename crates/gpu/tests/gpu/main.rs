@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod fraunhofer;
+mod phase;
 mod tables;
 
 use std::sync::Arc;

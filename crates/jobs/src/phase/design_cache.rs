@@ -7,7 +7,8 @@
 use std::sync::{Arc, Mutex, OnceLock};
 
 use udc_core::design::Channel;
-use udc_core::phase::imaging::{PhaseBlur, Setup, phase_blur_full};
+use udc_core::phase::chain::{BlochRelay, Chain};
+use udc_core::phase::imaging::{PhaseBlur, Setup, phase_blur_full, phase_blur_on};
 use udc_core::phase::{PhaseDesign, PhaseOptics, PhaseSampling};
 use udc_core::{Progress, SimError};
 
@@ -84,10 +85,12 @@ pub fn resolve_shared(
 }
 
 /// [`phase_blur_full`], shared with every earlier call on the same design, sampling, channels,
-/// optics, width and margin (keyed as [`resolve_shared`]).
+/// optics, width, margin and relay (keyed as [`resolve_shared`]); `relay` runs the Bloch
+/// relays ([`Chain::with_relay`]), the CPU when `None`.
 ///
 /// # Errors
 /// As [`phase_blur_full`].
+#[allow(clippy::too_many_arguments)]
 pub fn blur_shared(
     design: &PhaseDesign,
     sampling: &PhaseSampling,
@@ -95,10 +98,16 @@ pub fn blur_shared(
     optics: PhaseOptics,
     width: usize,
     margin: usize,
+    relay: Option<Arc<dyn BlochRelay>>,
     progress: &Progress,
 ) -> Result<PhaseBlur, SimError> {
-    let key = format!("{design:?}|{sampling:?}|{channels:?}|{optics:?}|{width}|{margin}");
-    BLURS.get(key, || {
-        phase_blur_full(design, sampling, channels, optics, width, margin, progress)
+    let on = if relay.is_some() { "device" } else { "cpu" };
+    let key = format!("{design:?}|{sampling:?}|{channels:?}|{optics:?}|{width}|{margin}|{on}");
+    BLURS.get(key, || match relay {
+        Some(relay) => {
+            let chain = Chain::new(design, sampling)?.with_relay(relay);
+            phase_blur_on(&chain, channels, optics, width, margin, progress)
+        }
+        None => phase_blur_full(design, sampling, channels, optics, width, margin, progress),
     })
 }

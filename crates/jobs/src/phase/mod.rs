@@ -24,6 +24,7 @@ use udc_core::phase::{
     PhaseOptics, PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix,
     optimize_lambda0, phase_psfs, v_matrix, wavelength_grid_nm,
 };
+use udc_core::psf::route::Backend;
 use udc_io::design::spectral::{channels_from_response, load_response_csv, thesis_response};
 use udc_io::numbers::json6 as r;
 use udc_io::phase::design::save_phase_design;
@@ -103,6 +104,12 @@ pub struct RestoreJob {
     #[command(flatten)]
     #[serde(flatten)]
     pub denoise: DenoiseFlags,
+    /// Where the operator's propagations through the double MLA on the wrapped grid run (a λ0
+    /// plan, the slowest step): the CPU, a GPU (through Vulkan, Metal or DX12), or auto (a
+    /// hardware GPU when there is one, else the CPU).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 impl Default for RestoreJob {
@@ -121,6 +128,7 @@ impl Default for RestoreJob {
             scene_px: None,
             full_boundary: false,
             denoise: DenoiseFlags::default(),
+            backend: Backend::Cpu,
         }
     }
 }

@@ -2,6 +2,10 @@
 
 use super::*;
 
+use std::sync::Arc;
+
+use udc_core::phase::chain::BlochRelay;
+
 fn restore_photos(paths: &[PathBuf], pixels: usize) -> Result<Vec<(String, Vec<Array2<f64>>)>> {
     if paths.is_empty() {
         return Ok(vec![(
@@ -28,6 +32,8 @@ pub fn restore(a: &RestoreJob, progress: &Progress) -> Result<Report> {
     let mut out = Report::default();
     use udc_core::phase::imaging::{Lambda0Plan, LensletOrder, Setup, capture_and_restore};
     let denoise = a.denoise.resolve(udc_core::restore::Recipe::Iccv23)?;
+    let route = std::sync::Arc::new(crate::backend::route(a.backend)?);
+    let relay = (a.backend != Backend::Cpu).then(|| route.clone() as Arc<dyn BlochRelay>);
     let base = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
     for &n in &a.photons {
@@ -78,7 +84,9 @@ pub fn restore(a: &RestoreJob, progress: &Progress) -> Result<Report> {
         bail!("--full-boundary: not with --compare (one setup at a time)");
     }
     if a.compare {
-        return compare(a, denoise, &base, &sampling, &photos, progress);
+        let mut out = compare(a, denoise, (&base, &sampling), &photos, relay, progress)?;
+        crate::backend::report(&mut out, a.backend, &route);
+        return Ok(out);
     }
     if photos.len() > 1 {
         bail!("one --photo per run (several go with --compare)");
@@ -101,7 +109,8 @@ pub fn restore(a: &RestoreJob, progress: &Progress) -> Result<Report> {
     }?;
     let blur = {
         let p = progress;
-        super::design_cache::blur_shared(&design, &sampling, &channels, optics, width, margin, p)
+        let (c, s) = (&channels, &sampling);
+        super::design_cache::blur_shared(&design, s, c, optics, width, margin, relay, p)
     }?;
     let mut runs = Vec::new();
     let mut written = Vec::new();
@@ -207,15 +216,16 @@ pub fn restore(a: &RestoreJob, progress: &Progress) -> Result<Report> {
             outln!(out, "wrote {}", p.display());
         }
     }
+    crate::backend::report(&mut out, a.backend, &route);
     Ok(out)
 }
 
 fn compare(
     a: &RestoreJob,
     denoise: udc_core::restore::Denoise,
-    base: &PhaseDesign,
-    sampling: &PhaseSampling,
+    (base, sampling): (&PhaseDesign, &PhaseSampling),
     photos: &[(String, Vec<Array2<f64>>)],
+    relay: Option<Arc<dyn BlochRelay>>,
     progress: &Progress,
 ) -> Result<Report> {
     let mut out = Report::default();
@@ -241,6 +251,7 @@ fn compare(
             &a.photons,
             a.seed,
             denoise,
+            relay.as_ref(),
             p,
             |row| rows.push(row),
         )

@@ -23,7 +23,7 @@ use crate::app::job::{Job, JobError, Streaming};
 use crate::app::widgets::photo::{Photo, built_in, color_image};
 use crate::core::design::Channel;
 use crate::core::phase::imaging::{
-    PhaseBlur, RestoreRun, Setup, capture_and_restore, phase_blur, thesis_denoise,
+    PhaseBlur, RestoreRun, Setup, capture_and_restore, thesis_denoise,
 };
 use crate::core::phase::{PhaseDesign, PhaseOptics, PhaseSampling, Relay};
 use crate::core::restore::Denoise;
@@ -589,6 +589,7 @@ impl PhaseWorkspace {
             self.capture.seed,
             self.capture.denoise,
         );
+        let relay = self.relay();
         let step: Step = Arc::new(Mutex::new((String::new(), Instant::now())));
         let (s, wake) = (step.clone(), ctx.clone());
         let job = Streaming::spawn(
@@ -600,6 +601,7 @@ impl PhaseWorkspace {
                     photons,
                     seed,
                     denoise,
+                    relay,
                 };
                 run_setups(&jobs, &photo.planes, &light, p, &s, tx)
             },

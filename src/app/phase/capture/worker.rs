@@ -4,6 +4,10 @@
 use super::*;
 use std::sync::mpsc::Sender;
 
+use crate::core::phase::Chain;
+use crate::core::phase::chain::BlochRelay;
+use crate::core::phase::imaging::phase_blur_on;
+
 /// One setup for the worker: its row, its operator's key, the operator if kept.
 pub(super) struct SetupJob {
     pub(super) row: usize,
@@ -17,6 +21,8 @@ pub(super) struct Light {
     pub(super) photons: f64,
     pub(super) seed: u64,
     pub(super) denoise: Denoise,
+    /// Where the operators' Bloch relays run (the CPU when `None`).
+    pub(super) relay: Option<Arc<dyn BlochRelay>>,
 }
 
 /// The worker: each setup's operator (kept or built), then the capture and restoration, sent
@@ -54,14 +60,13 @@ pub(super) fn run_setups(
                     key.width
                 ));
                 progress.set(0.0);
-                let b = phase_blur(
-                    &key.design,
-                    &crate::core::phase::PhaseSampling::for_quality(key.quality),
-                    &job.channels,
-                    key.optics,
-                    key.width,
-                    progress,
-                )?;
+                let sampling = crate::core::phase::PhaseSampling::for_quality(key.quality);
+                let chain = Chain::new(&key.design, &sampling)?;
+                let chain = match &light.relay {
+                    Some(relay) => chain.with_relay(relay.clone()),
+                    None => chain,
+                };
+                let b = phase_blur_on(&chain, &job.channels, key.optics, key.width, 0, progress)?;
                 (Arc::new(b), true)
             }
         };

@@ -31,8 +31,13 @@ use crate::psf::fft::quadratic_phase;
 use crate::psf::sampling::{next_fast_size, next_fast_size_235};
 use udc_fft::complex_plan_f32;
 
+mod bloch;
 mod periodic;
 mod propagate;
+
+pub use bloch::{
+    BlochDirection, BlochIntensity, BlochRelay, BlochWavelength, CpuBloch, RAMP_BLOCK, Ramp,
+};
 
 /// Largest display-plane grid the chain accepts (2²⁴ samples ≈ 270 MB per complex field).
 pub const MAX_GRID_SAMPLES: usize = 1 << 24;
@@ -161,6 +166,9 @@ pub struct Chain {
     cells: Option<(usize, usize, usize)>,
     transfer: Mutex<HashMap<u64, Arc<Vec<Complex32>>>>,
     czt: Mutex<HashMap<CztKey, Arc<Czt>>>,
+    /// Where the Bloch relay's batches of directions run ([`Chain::with_relay`]); the CPU when
+    /// `None`.
+    relay: Option<Arc<dyn BlochRelay>>,
 }
 
 thread_local! {
@@ -395,6 +403,7 @@ impl Chain {
             cells,
             transfer: Mutex::new(HashMap::new()),
             czt: Mutex::new(HashMap::new()),
+            relay: None,
         };
         chain.heights_um = chain.plate(design, &chain.lenslets);
         Ok(chain)
@@ -424,6 +433,17 @@ impl Chain {
                 }
                 out
             }
+        }
+    }
+
+    /// The chain with its Bloch relay's batches of directions ([`Chain::mono_directions_on`]
+    /// through the double MLA on the wrapped grid, the phase model's slowest step) on `relay`:
+    /// a device, or [`CpuBloch`]. The single-direction [`Chain::mono`] stays on the CPU.
+    #[must_use]
+    pub fn with_relay(self, relay: Arc<dyn BlochRelay>) -> Chain {
+        Chain {
+            relay: Some(relay),
+            ..self
         }
     }
 
@@ -598,6 +618,17 @@ impl Chain {
             }
             PhaseOptics::Toled | PhaseOptics::SingleMask => None,
         };
+        if let Some(formed) = formed.as_ref().filter(|_| self.bloch(optics, heights_um)) {
+            let relay: &dyn BlochRelay = self.relay.as_deref().unwrap_or(&CpuBloch);
+            return self.bloch_directions(
+                relay,
+                formed,
+                wavelength_nm,
+                incidences,
+                pixels,
+                progress,
+            );
+        }
         let finished = AtomicUsize::new(0);
         incidences
             .par_iter()
@@ -637,6 +668,112 @@ impl Chain {
         2.0 * PI / (wavelength_nm * 1e-3) * (self.design.refractive_index - 1.0)
     }
 
+    /// [`Chain::mono_directions_on`] through the Bloch relay: `relay` runs the directions from
+    /// the wavelength's tables, formed here from `formed` (the plate's spectrum and opening).
+    fn bloch_directions(
+        &self,
+        relay: &dyn BlochRelay,
+        formed: &Formed,
+        wavelength_nm: f64,
+        incidences: &[Incidence],
+        pixels: Range<usize>,
+        progress: &Progress,
+    ) -> Result<Vec<MonoPsf>, SimError> {
+        let lambda = wavelength_nm * 1e-3;
+        let czt = self.whole_sensor_czt(lambda);
+        let untilted = self.transfer(lambda);
+        let (spectrum, opening) = match (&formed.spectrum, &formed.opening) {
+            (Some(s), Some(o)) => (s, o),
+            _ => {
+                return Err(SimError::Sampling(
+                    "the Bloch relay needs the plate's spectrum and opening".into(),
+                ));
+            }
+        };
+        let wavelength = BlochWavelength {
+            spectrum,
+            untilted: &untilted,
+            slits: &self.slits,
+            opening,
+            start: self.lens_range.0,
+            czt: czt.convolution(),
+        };
+        let k = 2.0 * PI / lambda;
+        let k_sins: Vec<f64> = incidences
+            .iter()
+            .map(|i| k * i.sin_theta(&self.design))
+            .collect();
+        let len = spectrum.len();
+        let direction = |i: usize| self.bloch_direction(len, lambda, k_sins[i]);
+        let out = relay.directions(&wavelength, incidences.len(), &direction, progress)?;
+        Ok(out
+            .iter()
+            .zip(incidences)
+            .map(|(o, &incidence)| {
+                let mut psf = self.finish(&o.fine, 0, o.total, lambda, incidence);
+                psf.keep(pixels.clone());
+                psf
+            })
+            .collect())
+    }
+
+    /// [`Chain::mono`] through the Bloch relay on the CPU, with the plate given (`formed`) or
+    /// formed here in the thread's buffers.
+    fn mono_bloch(
+        &self,
+        heights_um: &[f64],
+        formed: Option<&Formed>,
+        wavelength_nm: f64,
+        incidence: Incidence,
+    ) -> MonoPsf {
+        let lambda = wavelength_nm * 1e-3;
+        let k_sin = 2.0 * PI / lambda * incidence.sin_theta(&self.design);
+        let czt = self.whole_sensor_czt(lambda);
+        let untilted = self.transfer(lambda);
+        let mut fine = vec![0.0; czt.convolution().n_out()];
+        let total = WORK.with(|cell| {
+            let work = &mut *cell.borrow_mut();
+            // The plate's buffers leave the thread's work while the relay borrows the rest.
+            let mut plate = std::mem::take(&mut work.plate);
+            let mut spectrum = std::mem::take(&mut work.spectrum);
+            let mut opening = std::mem::take(&mut work.opening);
+            let given_plate = formed.map(|f| f.plate.as_slice());
+            if given_plate.is_none() {
+                self.transmission(heights_um, self.k_n1(wavelength_nm), &mut plate);
+            }
+            let plate_ref = given_plate.unwrap_or(&plate);
+            let spectrum_ref: &[Complex32] = match formed.and_then(|f| f.spectrum.as_deref()) {
+                Some(given) => given,
+                None => {
+                    self.plate_spectrum(plate_ref, lambda, &mut spectrum);
+                    &spectrum
+                }
+            };
+            let opening_ref: &[Complex32] = match formed.and_then(|f| f.opening.as_deref()) {
+                Some(given) => given,
+                None => {
+                    self.opening(plate_ref, &czt, &mut opening);
+                    &opening
+                }
+            };
+            let wavelength = BlochWavelength {
+                spectrum: spectrum_ref,
+                untilted: &untilted,
+                slits: &self.slits,
+                opening: opening_ref,
+                start: self.lens_range.0,
+                czt: czt.convolution(),
+            };
+            let direction = self.bloch_direction(spectrum_ref.len(), lambda, k_sin);
+            let total = CpuBloch::one(&wavelength, &direction, work, &mut fine);
+            work.plate = plate;
+            work.spectrum = spectrum;
+            work.opening = opening;
+            total
+        });
+        self.finish(&fine, 0, total, lambda, incidence)
+    }
+
     /// [`Chain::mono`], with the double MLA's plate given (`formed`, at this wavelength) or
     /// formed here (`None`).
     fn mono_with(
@@ -647,6 +784,11 @@ impl Chain {
         wavelength_nm: f64,
         incidence: Incidence,
     ) -> MonoPsf {
+        // The wrapped grid carries the tilt as a Bloch shift of the transfer function, so the
+        // plate's spectrum serves every direction and the tilt is applied at the end.
+        if optics == PhaseOptics::DoubleMla && self.wraps() {
+            return self.mono_bloch(heights_um, formed, wavelength_nm, incidence);
+        }
         let lambda = wavelength_nm * 1e-3;
         let k = 2.0 * PI / lambda;
         let k_sin = k * incidence.sin_theta(&self.design);
@@ -664,11 +806,10 @@ impl Chain {
             let Work {
                 plate: own_plate,
                 opening: own_opening,
-                spectrum: own_spectrum,
-                transfer,
                 field,
                 scratch,
                 czt: czt_work,
+                ..
             } = work;
             let plate: &[Complex64] = match (optics, formed) {
                 (PhaseOptics::DoubleMla, Some(given)) => &given.plate,
@@ -678,19 +819,7 @@ impl Chain {
                 }
                 (PhaseOptics::Toled | PhaseOptics::SingleMask, _) => &[],
             };
-            // The wrapped grid carries the tilt as a Bloch shift of the transfer function, so
-            // the plate's spectrum serves every direction and the tilt is applied at the end.
-            let bloch = optics == PhaseOptics::DoubleMla && self.wraps();
-            if bloch {
-                let spectrum: &[Complex32] = match formed.and_then(|f| f.spectrum.as_deref()) {
-                    Some(given) => given,
-                    None => {
-                        self.plate_spectrum(plate, lambda, own_spectrum);
-                        own_spectrum
-                    }
-                };
-                self.relay_bloch(spectrum, transfer, field, scratch, lambda, k_sin);
-            } else if optics == PhaseOptics::DoubleMla {
+            if optics == PhaseOptics::DoubleMla {
                 self.relay(plate, field, scratch, lambda, k_sin);
             }
             // The field on the main-lens opening, fed to the Fraunhofer transform as it is
@@ -718,12 +847,8 @@ impl Chain {
                     czt.intensity_filled(
                         czt_work,
                         |input| {
-                            if bloch {
-                                self.tilted_product(input, field, opening, start, k_sin);
-                            } else {
-                                for ((v, f), g) in input.iter_mut().zip(field).zip(opening) {
-                                    *v = f * g;
-                                }
+                            for ((v, f), g) in input.iter_mut().zip(field).zip(opening) {
+                                *v = f * g;
                             }
                             // The tilt and the chirp have modulus 1.
                             *total = input.iter().map(|v| f64::from(v.norm_sqr())).sum();

@@ -4,35 +4,7 @@
 
 use super::*;
 
-use rustfft::Fft;
-
-/// Samples of a single-precision phase ramp per exactly computed anchor: its table of steps
-/// ([`ramp_steps`]) keeps the rounding at a few 1e-7 and each sample one product.
-const RAMP_BLOCK: usize = 256;
-
-/// `exp(i·phase)` in single precision, the phase reduced mod 2π in double first.
-fn cis32(phase: f64) -> Complex32 {
-    let v = Complex64::from_polar(1.0, phase.rem_euclid(2.0 * PI));
-    Complex32::new(v.re as f32, v.im as f32)
-}
-
-/// `exp(i·k·phase_per_sample)` for `k < RAMP_BLOCK`: a ramp's steps from its block's anchor.
-fn ramp_steps(phase_per_sample: f64) -> Vec<Complex32> {
-    (0..RAMP_BLOCK)
-        .map(|k| cis32(phase_per_sample * k as f64))
-        .collect()
-}
-
-/// Forward and inverse single-precision plans of `len` points, with `scratch` grown for both.
-fn plans_f32(len: usize, scratch: &mut Vec<Complex32>) -> (Arc<dyn Fft<f32>>, Arc<dyn Fft<f32>>) {
-    let forward = complex_plan_f32(len, false);
-    let inverse = complex_plan_f32(len, true);
-    let scratch_len = forward
-        .get_inplace_scratch_len()
-        .max(inverse.get_inplace_scratch_len());
-    scratch.resize(scratch_len, Complex32::new(0.0, 0.0));
-    (forward, inverse)
-}
+use super::bloch::{plans_f32, slits_then_fresnel};
 
 impl Chain {
     /// Samples of the Fresnel grid at this wavelength. The thesis convention pads the chain by
@@ -168,31 +140,6 @@ impl Chain {
         );
     }
 
-    /// `out[n] = field[n] · opening[n] · exp(i k sinθ x)` at samples `from + n`: the tilt from
-    /// one exact exponential per block of 256 times a table of the block's steps, so each
-    /// sample costs two single-precision products that the compiler can vectorise.
-    pub(super) fn tilted_product(
-        &self,
-        out: &mut [Complex32],
-        field: &[Complex32],
-        opening: &[Complex32],
-        from: usize,
-        k_sin: f64,
-    ) {
-        let steps = ramp_steps(k_sin * self.dx_um);
-        for (b, ((out, field), opening)) in out
-            .chunks_mut(RAMP_BLOCK)
-            .zip(field.chunks(RAMP_BLOCK))
-            .zip(opening.chunks(RAMP_BLOCK))
-            .enumerate()
-        {
-            let anchor = cis32(k_sin * self.x_um(from + b * RAMP_BLOCK));
-            for (((v, f), g), s) in out.iter_mut().zip(field).zip(opening).zip(&steps) {
-                *v = f * g * (anchor * s);
-            }
-        }
-    }
-
     /// The first fine sensor sample and the spacing, in µm from the axis, at this wavelength.
     ///
     /// Thesis: the `M`-point FFT's own bins, `u = k·λf/(Mδ)` with `M = 2⌊λf/(2δ δ3)⌋`, indices
@@ -270,90 +217,6 @@ impl Chain {
         })
     }
 
-    /// [`Chain::relay`] on the wrapped grid as a Bloch problem: the field is `exp(i k sinθ x)`
-    /// times a function with the grid's period, whose Fresnel steps multiply its spectrum by
-    /// the transfer function at `ν + sinθ/λ` (wrapped into the band, as
-    /// [`Chain::relay_period`] does for one lenslet). `spectrum` is the plate's
-    /// ([`Chain::plate_spectrum`]); the result in `field` lacks the tilt.
-    pub(super) fn relay_bloch(
-        &self,
-        spectrum: &[Complex32],
-        transfer: &mut Vec<Complex32>,
-        field: &mut Vec<Complex32>,
-        scratch: &mut Vec<Complex32>,
-        wavelength_um: f64,
-        k_sin: f64,
-    ) {
-        let len = spectrum.len();
-        let (forward, inverse) = plans_f32(len, scratch);
-        // Bin n holds ν δ = n/len + s (s = ν0 δ), taken in [−1/2, 1/2): the phase
-        // −πλz ν² = a2 (m + s·len)² with m = n below the wrap and n − len above it; its
-        // constant part a2 (s·len)² is common to every sample and drops out. The rest is the
-        // untilted transfer function (cached, wrapped at len/2) times the ramp exp(i a1 m),
-        // but for the bins between len/2 and the tilted wrap, which are taken exactly.
-        let dx = self.dx_um;
-        let s = k_sin * dx / (2.0 * PI);
-        let lf = len as f64;
-        let a2 = -PI * wavelength_um * self.design.f_mla_um / (dx * dx * lf * lf);
-        let a1 = 2.0 * a2 * s * lf;
-        let half = len / 2;
-        let split = (((0.5 - s) * lf).ceil().max(0.0) as usize).min(len);
-        let untilted = self.transfer(wavelength_um);
-        let cis = |phase: f64| Complex64::from_polar(1.0, phase.rem_euclid(2.0 * PI));
-        let to32 = |v: Complex64| Complex32::new(v.re as f32, v.im as f32);
-        let steps = ramp_steps(a1);
-        // exp(i a1 (n − len)) = exp(i a1 n)·exp(−i a1 len) above len/2.
-        let above = cis(-a1 * lf);
-        let zero = Complex32::new(0.0, 0.0);
-        transfer.resize(len, zero);
-        field.resize(len, zero);
-        for (b, ((out, f), (h, p))) in transfer
-            .chunks_mut(RAMP_BLOCK)
-            .zip(field.chunks_mut(RAMP_BLOCK))
-            .zip(untilted.chunks(RAMP_BLOCK).zip(spectrum.chunks(RAMP_BLOCK)))
-            .enumerate()
-        {
-            let n0 = b * RAMP_BLOCK;
-            let anchor = cis(a1 * n0 as f64);
-            let anchor = to32(if n0 >= half { anchor * above } else { anchor });
-            for (((t, f), h), (p, step)) in out.iter_mut().zip(f).zip(h).zip(p.iter().zip(&steps)) {
-                *t = h * (anchor * step);
-                *f = p * *t;
-            }
-        }
-        // A block that straddles len/2 took the lower ramp throughout: its upper part, and the
-        // bins the tilt moves across the wrap, are formed exactly.
-        let from = (half / RAMP_BLOCK * RAMP_BLOCK).min(split);
-        let to = (half + RAMP_BLOCK).max(split).min(len);
-        for (n, t) in transfer.iter_mut().enumerate().take(to).skip(from) {
-            let m = if n < split { n as f64 } else { n as f64 - lf };
-            *t = to32(cis(a2 * m * m + a1 * m) / lf);
-            field[n] = spectrum[n] * *t;
-        }
-        inverse.process_with_scratch(field, scratch);
-        self.slits_then_fresnel(field, transfer, (&forward, &inverse), scratch);
-    }
-
-    /// The display's slits on the field at the display, then the Fresnel step to MLA 2 with
-    /// `transfer`: how both relays end.
-    fn slits_then_fresnel(
-        &self,
-        field: &mut [Complex32],
-        transfer: &[Complex32],
-        (forward, inverse): (&Arc<dyn Fft<f32>>, &Arc<dyn Fft<f32>>),
-        scratch: &mut [Complex32],
-    ) {
-        // Beyond the chain's samples the display is open (ones), so only these change.
-        for (f, s) in field.iter_mut().zip(&self.slits) {
-            *f *= *s as f32;
-        }
-        forward.process_with_scratch(field, scratch);
-        for (f, t) in field.iter_mut().zip(transfer) {
-            *f *= t;
-        }
-        inverse.process_with_scratch(field, scratch);
-    }
-
     /// MLA 1 → Fresnel → display → Fresnel: the double MLA's field just before MLA 2, in
     /// `field` (samples `0..n` are the chain's), for the plate's transmission `plate`.
     pub(super) fn relay(
@@ -385,6 +248,6 @@ impl Chain {
             *f *= t;
         }
         inverse.process_with_scratch(field, scratch);
-        self.slits_then_fresnel(field, &h, (&forward, &inverse), scratch);
+        slits_then_fresnel(field, &self.slits, &h, (&forward, &inverse), scratch);
     }
 }

@@ -195,6 +195,24 @@ pub fn phase_blur_full(
     margin: usize,
     progress: &Progress,
 ) -> Result<PhaseBlur, SimError> {
+    let chain = Chain::new(design, sampling)?;
+    phase_blur_on(&chain, channels, optics, width, margin, progress)
+}
+
+/// [`phase_blur_full`] on a sampled chain: the one whose Bloch relay runs on a device
+/// ([`Chain::with_relay`]) computes the operator's directions there.
+///
+/// # Errors
+/// As [`phase_blur_full`].
+pub fn phase_blur_on(
+    chain: &Chain,
+    channels: &[Channel],
+    optics: PhaseOptics,
+    width: usize,
+    margin: usize,
+    progress: &Progress,
+) -> Result<PhaseBlur, SimError> {
+    let design = chain.design();
     let pixels = design.camera.pixels;
     let reach = (width / 2 + margin) as f64 * design.camera.pixel_um;
     if !(reach < design.camera.focal_length_um()) {
@@ -218,7 +236,6 @@ pub fn phase_blur_full(
             "at least one channel is needed",
         ));
     }
-    let chain = Chain::new(design, sampling)?;
     let first = pixels / 2 - width / 2;
     let polariser = match optics {
         PhaseOptics::DoubleMla => POLARISER_TRANSMISSION,

@@ -3,6 +3,10 @@
 
 use super::*;
 
+use std::sync::Arc;
+
+use crate::phase::chain::BlochRelay;
+
 /// Where a setup's folding wavelengths come from.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "kind")]
@@ -232,7 +236,8 @@ pub struct CompareRow {
 /// each setup is designed once (an optimized plan runs Algorithm 1 once) and its operator is
 /// built once per photo width over `channels` (the thesis: the sensor's spectral response on
 /// the 401:10:691 grid, as `grid_channels`); every capture is denoised as `denoise` says before
-/// the solver ([`thesis_denoise`] is the thesis's). Rows arrive through `on_row` as they finish; `progress` follows
+/// the solver ([`thesis_denoise`] is the thesis's); `relay` runs the operators' Bloch relays
+/// ([`Chain::with_relay`]; the CPU when `None`). Rows arrive through `on_row` as they finish; `progress` follows
 /// the step under way (designing, the operator, a run) and cancels any of them.
 ///
 /// # Errors
@@ -248,6 +253,7 @@ pub fn compare_setups(
     photons: &[f64],
     seed: u64,
     denoise: Denoise,
+    relay: Option<&Arc<dyn BlochRelay>>,
     progress: &Progress,
     mut on_row: impl FnMut(CompareRow),
 ) -> Result<(), SimError> {
@@ -258,7 +264,12 @@ pub fn compare_setups(
         for (p, photo) in photos.iter().enumerate() {
             let width = photo.first().map_or(0, Array2::ncols);
             if !blurs.iter().any(|(w, _)| *w == width) {
-                let blur = phase_blur(&design, sampling, channels, optics, width, progress)?;
+                let chain = Chain::new(&design, sampling)?;
+                let chain = match relay {
+                    Some(r) => chain.with_relay(r.clone()),
+                    None => chain,
+                };
+                let blur = phase_blur_on(&chain, channels, optics, width, 0, progress)?;
                 blurs.push((width, blur));
             }
             let Some((_, blur)) = blurs.iter().find(|(w, _)| *w == width) else {

@@ -1,0 +1,139 @@
+//! The phase model's Bloch relay on the device against the CPU's: single PSFs through the
+//! double MLA on the wrapped grid, and a restoration's whole spectral operator.
+
+use std::sync::Arc;
+
+use udc_core::Progress;
+use udc_core::design::Channel;
+use udc_core::phase::chain::BlochRelay;
+use udc_core::phase::imaging::phase_blur_on;
+use udc_core::phase::{
+    Chain, Incidence, Lambda0, PhaseDesign, PhaseOptics, PhaseSampling, Relay, SamplingConvention,
+};
+
+use crate::device;
+
+/// The thesis's 42 µm design with a λ0 plan (every lenslet its own λ0): the Bloch relay's case,
+/// where the lenslet period does not apply.
+fn plan() -> PhaseDesign {
+    let mut d = PhaseDesign::thesis(42.0, 5.0);
+    d.lambda0 = Lambda0::Uniform;
+    d
+}
+
+fn sampling() -> PhaseSampling {
+    PhaseSampling::preview().with_relay(Relay::WrappedDisplay)
+}
+
+fn worst_of_peak(a: &[f64], b: &[f64]) -> f64 {
+    let peak = a.iter().copied().fold(0.0, f64::max);
+    let d = a
+        .iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    d / peak
+}
+
+/// Directions on both sides of the axis and across the sensor, two wavelengths: each PSF within
+/// 1e-4 of its peak, the light leaving the opening and on the window within 1e-5.
+#[test]
+fn the_device_relay_gives_the_cpus_psfs() {
+    let Some(gpu) = device("the_device_relay_gives_the_cpus_psfs") else {
+        return;
+    };
+    let design = plan();
+    assert_eq!(design.sampling, SamplingConvention::Thesis);
+    let cpu = Chain::new(&design, &sampling()).unwrap();
+    let dev = Chain::new(&design, &sampling()).unwrap().with_relay(gpu);
+    let at: Vec<Incidence> = [-61, -7, 0, 13, 40]
+        .into_iter()
+        .map(Incidence::Pixel)
+        .collect();
+    let p = Progress::new();
+    for nm in [451.0, 633.0] {
+        let mla = PhaseOptics::DoubleMla;
+        let want = cpu
+            .mono_directions(mla, cpu.heights_um(), nm, &at, &p)
+            .unwrap();
+        let got = dev
+            .mono_directions(mla, dev.heights_um(), nm, &at, &p)
+            .unwrap();
+        for ((w, g), i) in want.iter().zip(&got).zip(&at) {
+            let worst = worst_of_peak(&w.sensor, &g.sensor);
+            eprintln!("{nm} nm, {i:?}: worst {worst:.2e} of the peak");
+            assert!(worst < 1e-4, "{nm} nm {i:?}: {worst:e} of the peak");
+            let rel = |a: f64, b: f64| (a - b).abs() / a.abs();
+            assert!(
+                rel(w.total_energy, g.total_energy) < 1e-5,
+                "{nm} nm {i:?} total"
+            );
+            assert!(
+                rel(w.window_energy, g.window_energy) < 1e-5,
+                "{nm} nm {i:?} window"
+            );
+            assert_eq!(w.image_pixel, g.image_pixel);
+        }
+    }
+}
+
+/// A restoration's operator (three channels, four wavelengths, 16 scene columns and 4 more on
+/// each side) computed with the device's relay: every entry within 1e-4 of the largest, the
+/// LTR within 1e-5.
+#[test]
+fn the_device_operator_is_the_cpus() {
+    let Some(gpu) = device("the_device_operator_is_the_cpus") else {
+        return;
+    };
+    let design = plan();
+    let channel = |name: &str, nm: &[f64], weights: &[f64]| Channel {
+        name: name.into(),
+        wavelengths_nm: nm.to_vec(),
+        weights: weights.to_vec(),
+    };
+    let channels = [
+        channel("B", &[455.0], &[1.0]),
+        channel("G", &[515.0, 545.0], &[0.4, 0.6]),
+        channel("R", &[625.0], &[1.0]),
+    ];
+    let blur = |chain: &Chain| {
+        phase_blur_on(
+            chain,
+            &channels,
+            PhaseOptics::DoubleMla,
+            16,
+            4,
+            &Progress::new(),
+        )
+        .unwrap()
+    };
+    let cpu = blur(&Chain::new(&design, &sampling()).unwrap());
+    let relay: Arc<dyn BlochRelay> = gpu;
+    let dev = blur(&Chain::new(&design, &sampling()).unwrap().with_relay(relay));
+    for (c, (a, b)) in cpu.channels.iter().zip(&dev.channels).enumerate() {
+        let (a, b) = (a.as_slice().unwrap(), b.as_slice().unwrap());
+        let worst = worst_of_peak(a, b);
+        eprintln!("channel {c}: worst {worst:.2e} of the largest entry");
+        assert!(worst < 1e-4, "channel {c}: {worst:e}");
+    }
+    assert!(
+        (cpu.ltr - dev.ltr).abs() < 1e-5 * cpu.ltr,
+        "{} vs {}",
+        cpu.ltr,
+        dev.ltr
+    );
+}
+
+/// A cancelled job stops on the device too.
+#[test]
+fn the_device_relay_stops_when_cancelled() {
+    let Some(gpu) = device("the_device_relay_stops_when_cancelled") else {
+        return;
+    };
+    let dev = Chain::new(&plan(), &sampling()).unwrap().with_relay(gpu);
+    let p = Progress::new();
+    p.cancel();
+    let at = [Incidence::Pixel(3)];
+    let got = dev.mono_directions(PhaseOptics::DoubleMla, dev.heights_um(), 531.0, &at, &p);
+    assert!(matches!(got, Err(udc_core::SimError::Cancelled)), "{got:?}");
+}
