@@ -78,7 +78,17 @@ fn analyze<'py>(
         }
         Ok((a, t0.elapsed().as_secs_f64() * 1e3))
     })?;
+    // `analyze --json`'s object, with the `backend` object where the CPU was not asked for.
+    let mut json = udc_jobs::Report {
+        json: report::analysis_json(&analysis),
+        text: String::new(),
+    };
+    udc_jobs::backend::report(&mut json, backend(backend_name)?, &route);
     let out = to_dict(py, analysis)?;
+    out.set_item(
+        "json",
+        serde_json::to_string(&json.json).map_err(|e| errors::value(e.to_string()))?,
+    )?;
     // The whole call inside Rust (analysis and advice), what the Python call is measured
     // against (benches/python_peers.py).
     out.set_item("call_ms", call_ms)?;

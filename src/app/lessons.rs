@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use egui::{ColorImage, RichText, TextureHandle, TextureOptions, Ui};
 
@@ -15,12 +15,13 @@ use crate::app::dialogs::{self, FileSpec};
 use crate::app::display::panels::Shown;
 use crate::app::job::{Job, JobError};
 use crate::app::notice::Notice;
-use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use crate::core::figure::Panel;
 use crate::core::lesson::measure::{Answer, Guess, answer, phase_answer, psf_match};
 use crate::core::lesson::{ChoiceRule, Lesson, MysterySource, Question};
 use crate::core::views::saved::DisplayView;
 use crate::core::{Analysis, Design};
+use udc_gpu::Route;
 
 /// What a step asks of the studio: the app loads the preset and shows the view, or shows the
 /// Phase workspace with its design changed.
@@ -114,6 +115,9 @@ pub struct LessonsPanel {
     score: Option<f64>,
     /// Whether the mystery's opening is shown.
     unveiled: bool,
+    /// The PSFs' backend (View ▸ Compute PSFs on) the lessons' analyses run on; the CPU when
+    /// `None`.
+    route: Option<Arc<Mutex<Arc<Route>>>>,
 }
 
 /// A mystery aperture: the hidden design, its analysis and the pictures shown.
@@ -176,6 +180,23 @@ impl LessonsPanel {
         self.setup.take()
     }
 
+    /// The panel with its analyses on the PSFs' backend, read when each starts.
+    #[must_use]
+    pub fn with_route(self, route: Arc<Mutex<Arc<Route>>>) -> Self {
+        LessonsPanel {
+            route: Some(route),
+            ..self
+        }
+    }
+
+    /// The route an analysis starting now runs on.
+    fn route(&self) -> Arc<Route> {
+        self.route
+            .as_ref()
+            .and_then(|r| r.lock().ok().map(|r| r.clone()))
+            .unwrap_or_else(|| Arc::new(Route::cpu()))
+    }
+
     /// Starts `lesson` (named `name`) at its first step.
     pub fn start(&mut self, name: String, lesson: Lesson, ctx: &egui::Context) {
         self.open = true;
@@ -230,7 +251,7 @@ impl LessonsPanel {
             && self.mystery.as_ref().is_none_or(|m| m.name != name)
         {
             self.mystery = None;
-            let (hidden, wake) = (name.clone(), ctx.clone());
+            let (hidden, wake, route) = (name.clone(), ctx.clone(), self.route());
             self.mystery_job = Some((
                 name,
                 Job::spawn(
@@ -245,7 +266,7 @@ impl LessonsPanel {
                             quality: Quality::Full,
                             expected_psf: false,
                         };
-                        let analysis = analyze_with(&design, &options, p)?;
+                        let analysis = analyze_with_route(&design, &options, route.as_ref(), p)?;
                         Ok((design, analysis))
                     },
                 ),
@@ -256,7 +277,7 @@ impl LessonsPanel {
         }) = &step.question
             && self.other_done.as_ref().is_none_or(|(n, _)| n != than)
         {
-            let (name, wake) = (than.clone(), ctx.clone());
+            let (name, wake, route) = (than.clone(), ctx.clone(), self.route());
             self.other = Some((
                 than.clone(),
                 Job::spawn(
@@ -268,7 +289,7 @@ impl LessonsPanel {
                             quality: Quality::Full,
                             expected_psf: false,
                         };
-                        Ok(analyze_with(&design, &options, p)?)
+                        Ok(analyze_with_route(&design, &options, route.as_ref(), p)?)
                     },
                 ),
             ));

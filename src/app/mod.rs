@@ -157,6 +157,7 @@ impl StudioApp {
         ];
         let reproduce =
             reproduce::ReproduceWindow::new(shell.dirs.data_dir.as_deref(), shell.native_dialogs);
+        let lessons = lessons::LessonsPanel::default().with_route(shell.compute.shared());
         StudioApp {
             workspaces,
             active: WorkspaceId::Display,
@@ -164,7 +165,7 @@ impl StudioApp {
             title: String::new(),
             reproduce,
             save_figure: save_figure::SaveFigureWindow::default(),
-            lessons: lessons::LessonsPanel::default(),
+            lessons,
         }
     }
 

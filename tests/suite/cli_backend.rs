@@ -1,12 +1,13 @@
 //! `--backend cpu|gpu|auto`: the GPU gives the CPU's numbers to `f32` precision and says which
 //! adapter it ran on; `auto` uses a hardware GPU or says in one line why not; a machine without
-//! any adapter makes `gpu` a one-line error (this test then says it skipped that half).
+//! any adapter makes `gpu` a one-line error (this test then says it skipped that half). The
+//! same for `restore` and for `phase restore`, whose operator runs the Bloch relay on the device.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 use crate::common::run_cli as run;
 
 fn analyze(backend: &str) -> (bool, serde_json::Value, String) {
-    let (ok, stdout, stderr) = run(&[
+    json_run(&[
         "analyze",
         "--preset",
         "fourier-square",
@@ -14,9 +15,7 @@ fn analyze(backend: &str) -> (bool, serde_json::Value, String) {
         "--json",
         "--backend",
         backend,
-    ]);
-    let json = serde_json::from_str(stdout.trim()).unwrap_or(serde_json::Value::Null);
-    (ok, json, stderr)
+    ])
 }
 
 fn aucs(v: &serde_json::Value) -> Vec<f64> {
@@ -70,8 +69,44 @@ fn auto_runs_on_a_hardware_gpu_or_says_why_not() {
     );
 }
 
+/// A job on the CPU (which must say nothing of a backend) and on the GPU (which must name its
+/// adapter), or `None` after printing why the GPU half was skipped (no adapter).
+fn cpu_then_gpu(
+    job: impl Fn(&str) -> (bool, serde_json::Value, String),
+) -> Option<(serde_json::Value, serde_json::Value)> {
+    let (ok, cpu, stderr) = job("cpu");
+    assert!(ok, "{stderr}");
+    assert!(cpu.get("backend").is_none(), "the default says nothing");
+    let (ok, gpu, stderr) = job("gpu");
+    if !ok {
+        assert!(stderr.contains("no GPU adapter"), "{stderr}");
+        eprintln!("skipped the comparison: {}", stderr.trim());
+        return None;
+    }
+    assert!(
+        gpu["backend"]["adapter"]
+            .as_str()
+            .is_some_and(|a| !a.is_empty())
+    );
+    Some((cpu, gpu))
+}
+
+/// The first light level's PSNR of two restorations, to its second decimal.
+fn same_first_psnr(cpu: &serde_json::Value, gpu: &serde_json::Value) {
+    let psnr = |v: &serde_json::Value| v["runs"][0]["psnr_db"].as_f64().unwrap();
+    let (c, g) = (psnr(cpu), psnr(gpu));
+    assert!((c - g).abs() < 0.01, "{c} vs {g}");
+}
+
+/// A CLI run's success, its `--json` object (null if none) and its stderr.
+fn json_run(args: &[&str]) -> (bool, serde_json::Value, String) {
+    let (ok, stdout, stderr) = run(args);
+    let json = serde_json::from_str(stdout.trim()).unwrap_or(serde_json::Value::Null);
+    (ok, json, stderr)
+}
+
 fn phase_restore(backend: &str) -> (bool, serde_json::Value, String) {
-    let (ok, stdout, stderr) = run(&[
+    json_run(&[
         "phase",
         "restore",
         "--preview",
@@ -89,36 +124,105 @@ fn phase_restore(backend: &str) -> (bool, serde_json::Value, String) {
         "--json",
         "--backend",
         backend,
-    ]);
-    let json = serde_json::from_str(stdout.trim()).unwrap_or(serde_json::Value::Null);
-    (ok, json, stderr)
+    ])
 }
 
 /// A λ0 plan's restoration (its operator through the Bloch relay, the phase model's slowest
 /// step) on the GPU: the CPU's LTR and PSNR to f32 precision, and the adapter named.
 #[test]
 fn a_phase_restoration_on_the_gpu_reads_as_the_cpus() {
-    let (ok, cpu, stderr) = phase_restore("cpu");
-    assert!(ok, "{stderr}");
-    assert!(cpu.get("backend").is_none(), "the default says nothing");
-    let (ok, gpu, stderr) = phase_restore("gpu");
-    if !ok {
-        assert!(stderr.contains("no GPU adapter"), "{stderr}");
-        eprintln!("skipped the comparison: {}", stderr.trim());
+    let Some((cpu, gpu)) = cpu_then_gpu(phase_restore) else {
         return;
-    }
-    assert!(
-        gpu["backend"]["adapter"]
-            .as_str()
-            .is_some_and(|a| !a.is_empty())
-    );
+    };
     let f = |v: &serde_json::Value, key: &str| v[key].as_f64().unwrap();
     assert!((f(&cpu, "ltr") - f(&gpu, "ltr")).abs() <= 1e-5 * f(&cpu, "ltr"));
-    let psnr = |v: &serde_json::Value| v["runs"][0]["psnr_db"].as_f64().unwrap();
-    assert!(
-        (psnr(&cpu) - psnr(&gpu)).abs() < 0.01,
-        "{} vs {}",
-        psnr(&cpu),
-        psnr(&gpu)
+    same_first_psnr(&cpu, &gpu);
+}
+
+/// `restore --backend gpu`: the design's PSFs from the device, the same restoration to the
+/// PSNR's second decimal, the adapter named.
+#[test]
+fn a_restoration_on_the_gpu_reads_as_the_cpus() {
+    let photo = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/assets/photos/astronaut_256.png"
     );
+    let restore = |backend: &str| {
+        json_run(&[
+            "restore",
+            "--preset",
+            "fourier-square",
+            "--image",
+            photo,
+            "--max-side-px",
+            "32",
+            "--snr-db",
+            "28",
+            "--json",
+            "--backend",
+            backend,
+        ])
+    };
+    let Some((cpu, gpu)) = cpu_then_gpu(restore) else {
+        return;
+    };
+    assert_eq!(gpu["ltr"], cpu["ltr"]);
+    same_first_psnr(&cpu, &gpu);
+}
+
+/// A sweep's points on one device: `backend = "gpu"` in a spec's base runs every `analyze`
+/// point's PSFs there, each row the CPU sweep's to the AUC's tolerance and the same LTR.
+#[test]
+fn a_sweep_runs_its_points_on_the_gpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = |backend: &str| -> Option<Vec<(f64, f64)>> {
+        let spec = dir.path().join(format!("{backend}.toml"));
+        std::fs::write(
+            &spec,
+            format!(
+                "job = \"analyze\"\nmetrics = [\"auc_radial_min_mean\", \"ltr\"]\n[base]\n\
+                 preset = \"fourier-square\"\npreview = true\nbackend = \"{backend}\"\n\
+                 [[axis]]\nparam = \"tiling\"\nvalues = [\"repeat\", \"random-4\"]\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.path().join(backend);
+        let (ok, _, stderr) = run(&[
+            "sweep",
+            spec.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        if !ok && backend == "gpu" && stderr.contains("no GPU adapter") {
+            eprintln!("skipped the GPU sweep: {}", stderr.trim());
+            return None;
+        }
+        assert!(ok, "{stderr}");
+        let mut r = csv::Reader::from_path(out.join("results.csv")).unwrap();
+        let header: Vec<String> = r.headers().unwrap().iter().map(str::to_string).collect();
+        let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+        let (auc, ltr) = (col("auc_radial_min_mean"), col("ltr"));
+        // Rows arrive as points finish: in point order for the comparison.
+        let mut rows: Vec<(u64, f64, f64)> = r
+            .records()
+            .map(|rec| {
+                let rec = rec.unwrap();
+                let f = |i: usize| rec[i].parse::<f64>().unwrap();
+                (rec[0].parse().unwrap(), f(auc), f(ltr))
+            })
+            .collect();
+        rows.sort_by_key(|r| r.0);
+        Some(rows.into_iter().map(|(_, a, l)| (a, l)).collect())
+    };
+    let cpu = table("cpu").unwrap();
+    let Some(gpu) = table("gpu") else {
+        return;
+    };
+    assert_eq!(cpu.len(), 2);
+    assert_eq!(cpu.len(), gpu.len());
+    for ((ca, cl), (ga, gl)) in cpu.iter().zip(&gpu) {
+        assert_eq!(cl, gl, "LTR");
+        assert!((ca - ga).abs() <= 3e-3 * ca, "AUC {ca} vs {ga}");
+    }
 }

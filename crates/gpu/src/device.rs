@@ -74,6 +74,14 @@ impl std::fmt::Display for AdapterSummary {
     }
 }
 
+/// The one line for a transform the device had no memory for: a refusal by size, which `auto`
+/// hands to the CPU.
+pub(crate) fn out_of_memory(e: &wgpu::Error) -> udc_core::SimError {
+    udc_core::SimError::TooLarge(format!(
+        "the GPU has no memory left for this transform ({e}); use the CPU backend"
+    ))
+}
+
 /// Tables uploaded once per size: the twiddles and pass parameters of one FFT length (power of
 /// two, or mixed radix), the chirp of one DFT length, the kernel spectrum of one (DFT length,
 /// input length).
@@ -124,7 +132,15 @@ impl Gpu {
     /// [`GpuError::NoAdapter`] when no adapter of `kind` exists, [`GpuError::NoDevice`] when
     /// the adapter refuses.
     pub fn headless(kind: AdapterKind) -> Result<Gpu, GpuError> {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle());
+        let mut descriptor = wgpu::InstanceDescriptor::new_without_display_handle();
+        // The job budget's view of the device's free memory: where the driver reports a memory
+        // budget (Vulkan's VK_EXT_memory_budget, D3D12), a buffer that would take it past 90 %
+        // is refused as out of memory ([`out_of_memory`]) instead of risking a lost device.
+        descriptor.memory_budget_thresholds = wgpu::MemoryBudgetThresholds {
+            for_resource_creation: Some(90),
+            for_device_loss: Some(95),
+        };
+        let instance = wgpu::Instance::new(descriptor);
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY));
         let usable = |a: &wgpu::Adapter| {
             let info = a.get_info();

@@ -18,7 +18,7 @@ use udc_core::psf::fft::{Binned, check_grid};
 use udc_core::psf::route::Fraunhofer;
 use udc_core::psf::sampling::Binning;
 
-use crate::device::Gpu;
+use crate::device::{Gpu, out_of_memory};
 use crate::kernels::{FftPlan, bind, groups, uniform};
 use crate::tables::{chirp, conv_len, kernel_spectrum};
 
@@ -316,7 +316,7 @@ impl Gpu {
 
         let failed = |e: wgpu::Error| SimError::Device(e.to_string());
         if let Some(e) = pollster::block_on(oom.pop()) {
-            return Err(failed(e));
+            return Err(out_of_memory(&e));
         }
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(failed(e));

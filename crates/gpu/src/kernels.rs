@@ -27,7 +27,8 @@ pub struct Kernels {
     pub(crate) intensity_columns: wgpu::ComputePipeline,
     pub(crate) bin_window: wgpu::ComputePipeline,
     pub(crate) band_columns: wgpu::ComputePipeline,
-    pub(crate) fft_radix: wgpu::ComputePipeline,
+    /// The mixed-radix pass for radix 2, 3, 4 and 5 (index `radix − 2`).
+    pub(crate) fft_radix: [wgpu::ComputePipeline; 4],
     pub(crate) form_transfer: wgpu::ComputePipeline,
     pub(crate) apply_slits: wgpu::ComputePipeline,
     pub(crate) apply_transfer: wgpu::ComputePipeline,
@@ -70,7 +71,19 @@ impl Kernels {
             intensity_columns: pipeline(&bluestein, "intensity_columns"),
             bin_window: pipeline(&bin, "bin_window"),
             band_columns: pipeline(&bin, "band_columns"),
-            fft_radix: pipeline(&mixed, "fft_radix"),
+            fft_radix: [2u32, 3, 4, 5].map(|r| {
+                device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some("fft_radix"),
+                    layout: None,
+                    module: &mixed,
+                    entry_point: Some("fft_radix"),
+                    compilation_options: wgpu::PipelineCompilationOptions {
+                        constants: &[("RADIX", f64::from(r))],
+                        ..Default::default()
+                    },
+                    cache: None,
+                })
+            }),
             form_transfer: pipeline(&relay, "form_transfer"),
             apply_slits: pipeline(&relay, "apply_slits"),
             apply_transfer: pipeline(&relay, "apply_transfer"),
@@ -244,9 +257,9 @@ impl MixedPlan {
         inverse: bool,
     ) -> (&'b wgpu::Buffer, &'b wgpu::Buffer) {
         let mut in_a = true;
-        let kernel = &kernels.fft_radix;
-        pass.set_pipeline(kernel);
         for (radix, forward, backward) in &self.passes {
+            let kernel = &kernels.fft_radix[radix - 2];
+            pass.set_pipeline(kernel);
             let (src, dst) = if in_a { (a, b) } else { (b, a) };
             let params = if inverse { backward } else { forward };
             let group = bind(

@@ -21,7 +21,7 @@ use udc_core::phase::chain::{
 };
 use udc_core::progress::Progress;
 
-use crate::device::Gpu;
+use crate::device::{Gpu, out_of_memory};
 use crate::kernels::{MixedPlan, bind, groups, uniform};
 
 /// Bytes one chunk's largest buffer may take (five of that size are held).
@@ -29,6 +29,10 @@ const WORK_BYTES: u64 = 64 << 20;
 
 /// Bytes per complex `f32` sample.
 const COMPLEX: u64 = 8;
+
+/// Directions per chunk at most: a chunk is one submission, between which progress moves and a
+/// cancel is seen (a wavelength of a 1 024-column operator is then 32 steps).
+const MAX_DIRECTIONS: usize = 32;
 
 /// Partial sums of the light per direction (one per thread of the `energy` kernel).
 const PARTIALS: usize = 256;
@@ -171,7 +175,7 @@ impl Gpu {
             )));
         }
         let batch_max =
-            ((limit.min(WORK_BYTES) / widest) as usize).clamp(1, count.clamp(1, 65_535));
+            ((limit.min(WORK_BYTES) / widest) as usize).clamp(1, count.clamp(1, MAX_DIRECTIONS));
         let (fft_len, fft_conv) = (self.mixed_plan(len)?, self.mixed_plan(conv)?);
         let device = &self.device;
         let k = &self.kernels;
@@ -340,7 +344,7 @@ impl Gpu {
             encoder.copy_buffer_to_buffer(&partials, 0, &readback, fine_used, partial_used);
             self.queue.submit([encoder.finish()]);
             if let Some(e) = pollster::block_on(oom.pop()) {
-                return Err(failed(&e));
+                return Err(out_of_memory(&e));
             }
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Err(failed(&e));

@@ -186,15 +186,18 @@ impl DisplayWorkspace {
         }
     }
 
-    /// Pins `design` (a study point's) as A: analysed at full quality on a job, then pinned;
+    /// Pins `design` (a study point's) as A: analysed at full quality on a job (on the PSFs'
+    /// backend), then pinned;
     /// the current design and its results stay as they are.
     pub(super) fn pin_design(&mut self, design: Design, what: String, shell: &mut Shell) {
         shell.set_status(Notice::info(format!(
             "analysing {what} at full quality to pin it as A…"
         )));
+        // On the PSFs' backend (View ▸ Compute PSFs on), as the design's own analysis.
+        let route = shell.compute.current();
         let job = Job::spawn("pin analysis", self.wake(), move |p| {
             let options = crate::core::analysis::analyze::AnalyzeOptions::default();
-            crate::core::analysis::analyze::analyze_with(&design, &options, p)
+            crate::core::analysis::analyze::analyze_with_route(&design, &options, route.as_ref(), p)
                 .map(|a| Pinned::now(Arc::new(design), Arc::new(a)))
                 .map_err(|e| JobError::Failed(e.to_string()))
         });

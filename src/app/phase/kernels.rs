@@ -1,5 +1,5 @@
-//! The blur matrix of all directions (eq. 4.12) in the PSF view: `kernel_matrix` for one channel
-//! on a background thread with progress and Cancel, drawn as a log-scaled picture (rows = sensor
+//! The blur matrix of all directions (eq. 4.12) in the PSF view: `kernel_matrix_on` for one
+//! channel (on the PSFs' backend) on a background thread with progress and Cancel, drawn as a log-scaled picture (rows = sensor
 //! pixel, columns = direction), and "Save as CSV…" (a save dialog on a helper thread, the write
 //! on another).
 
@@ -19,7 +19,7 @@ use crate::app::widgets::figure::{
 };
 use crate::core::figure::Panel;
 use crate::core::phase::figures::{KERNEL_DECADES, kernel_panel};
-use crate::core::phase::{PhaseDesign, PhaseOptics, kernel_matrix};
+use crate::core::phase::{Chain, PhaseDesign, PhaseOptics, kernel_matrix_on};
 use crate::io::IoError;
 
 /// The channel names of the picker (the channel sets all have R, G, B in this order).
@@ -176,17 +176,19 @@ impl PhaseWorkspace {
         let optics = self.optics();
         let (d, wake) = (design.clone(), ctx.clone());
         let channel_name = channel.name.clone();
+        // On the PSFs' backend (View ▸ Compute PSFs on): a λ0 plan's propagations on the GPU.
+        let relay = self.relay();
         let job = Job::spawn(
             "blur-matrix job",
             move || wake.request_repaint(),
             move |p| {
-                kernel_matrix(
-                    &d,
-                    &crate::core::phase::PhaseSampling::for_quality(quality),
-                    &channel,
-                    optics,
-                    p,
-                )
+                let sampling = crate::core::phase::PhaseSampling::for_quality(quality);
+                let chain = Chain::new(&d, &sampling)?;
+                let chain = match relay {
+                    Some(relay) => chain.with_relay(relay),
+                    None => chain,
+                };
+                kernel_matrix_on(&chain, &channel, optics, p)
             },
         );
         self.kernels.message = None;

@@ -308,7 +308,13 @@ fn analyze_routed(
         .map(|(ch, samp)| {
             let psf = channel_psf_by(route, &field, samp, progress, || step(1))?;
             let expected_psf = if want_expected {
-                let e = expected_channel_psf(&display, d_um, op.pupil_sample_um, samp, progress)?;
+                let e = expected_channel_psf(
+                    &display,
+                    (d_um, op.pupil_sample_um),
+                    samp,
+                    route,
+                    progress,
+                )?;
                 step(samp.len());
                 Some(e)
             } else {

@@ -16,7 +16,8 @@ use crate::SimError;
 use crate::display::aperture::{Display, Extent, pupil_sample_count, rasterise};
 use crate::display::tiling::orbit;
 use crate::progress::Progress;
-use crate::psf::fft::{binned_intensity, binned_orbit_intensity};
+use crate::psf::fft::binned_orbit_intensity;
+use crate::psf::route::Fraunhofer;
 use crate::psf::sampling::WavelengthSampling;
 
 /// The orbit's mean pattern `m̄`.
@@ -34,15 +35,18 @@ pub fn mean_pattern(display: &Display) -> Vec<Vec<f64>> {
     mean
 }
 
-/// Expected sensor PSF of one channel (sums to 1), for the random tiling of `display`.
+/// Expected sensor PSF of one channel (sums to 1), for the random tiling of `display`. The
+/// pupil-sized transform of the mean pattern and the mean tile's go through `route` (the
+/// analysis's Fraunhofer step, a device's included); the orbit's, whose eight orientations bin
+/// one transform differently, through the CPU's full route.
 ///
 /// # Errors
-/// As [`crate::psf::fft::binned_intensity`].
+/// As [`crate::psf::fft::binned_intensity`], and `route`'s own.
 pub fn expected_channel_psf(
     display: &Display,
-    pupil_diameter_um: f64,
-    pupil_sample_um: f64,
+    (pupil_diameter_um, pupil_sample_um): (f64, f64),
     samplings: &[WavelengthSampling],
+    route: &dyn Fraunhofer,
     progress: &Progress,
 ) -> Result<Array2<f64>, SimError> {
     let group = orbit(display.mode);
@@ -74,9 +78,9 @@ pub fn expected_channel_psf(
     let mut acc = Array2::<f64>::zeros((w, w));
     for ws in samplings {
         let m = ws.fft_size;
-        let p = binned_intensity(&periodic, m, &ws.binning, progress)?;
+        let p = route.binned(&periodic, m, &ws.binning, progress)?;
         let f1 = binned_orbit_intensity(&tile, m, &ws.binning, &group, progress)?;
-        let fbar = binned_intensity(&tile_mean, m, &ws.binning, progress)?;
+        let fbar = route.binned(&tile_mean, m, &ws.binning, progress)?;
         // mean_g |M_g|² − |M̄|² ≥ 0 pointwise (Jensen); binned sums keep the sign up to rounding.
         let variance = (&f1.sensor - &fbar.sensor).mapv(|v| v.max(0.0));
         let total = p.total + tiles_in_pupil * (f1.total - fbar.total).max(0.0);

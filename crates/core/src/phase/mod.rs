@@ -56,7 +56,7 @@ pub use chain::{Chain, Incidence, MonoPsf, PhaseOptics, effective_pixel_um};
 pub use geometry::{Lenslets, Surface};
 pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
 pub use plan::Lambda0Plan;
-pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, phase_psfs};
+pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, kernel_matrix_on, phase_psfs, phase_psfs_on};
 
 /// Refractive index of the lenslets (no dispersion, as in the thesis).
 pub const THESIS_REFRACTIVE_INDEX: f64 = 1.515;

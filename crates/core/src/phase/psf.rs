@@ -138,7 +138,28 @@ pub fn phase_psfs(
     progress: &Progress,
 ) -> Result<PhasePsfs, SimError> {
     check_channels(channels)?;
-    let chain = Chain::new(design, sampling)?;
+    phase_psfs_on(
+        &Chain::new(design, sampling)?,
+        channels,
+        optics,
+        incidence,
+        progress,
+    )
+}
+
+/// [`phase_psfs`] on a sampled chain: one whose Bloch relay runs on a device
+/// ([`Chain::with_relay`]) computes the design's PSFs through the wrapped grid there.
+///
+/// # Errors
+/// As [`phase_psfs`].
+pub fn phase_psfs_on(
+    chain: &Chain,
+    channels: &[Channel],
+    optics: PhaseOptics,
+    incidence: Incidence,
+    progress: &Progress,
+) -> Result<PhasePsfs, SimError> {
+    check_channels(channels)?;
     let jobs: Vec<(usize, f64, f64)> = channels
         .iter()
         .enumerate()
@@ -156,7 +177,7 @@ pub fn phase_psfs(
         .par_iter()
         .map(|&(_, l, _)| {
             progress.check()?;
-            let ours = chain.mono(optics, chain.heights_um(), l, incidence);
+            let ours = chain.mono_relayed(optics, chain.heights_um(), l, incidence)?;
             let toled = chain.mono(PhaseOptics::Toled, &[], l, incidence);
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress.set(n as f32 / jobs.len() as f32);
@@ -231,29 +252,48 @@ pub fn kernel_matrix(
     progress: &Progress,
 ) -> Result<Array2<f64>, SimError> {
     check_channels(std::slice::from_ref(channel))?;
-    let chain = Chain::new(design, sampling)?;
-    let p = design.camera.pixels;
+    kernel_matrix_on(&Chain::new(design, sampling)?, channel, optics, progress)
+}
+
+/// [`kernel_matrix`] on a sampled chain: wavelength by wavelength, every direction at once
+/// ([`Chain::mono_directions`], the plate formed once per wavelength), so one whose Bloch relay
+/// runs on a device ([`Chain::with_relay`]) computes the matrix's propagations there. Each
+/// column sums its wavelengths in their order, as one direction at a time would.
+///
+/// # Errors
+/// As [`kernel_matrix`].
+pub fn kernel_matrix_on(
+    chain: &Chain,
+    channel: &Channel,
+    optics: PhaseOptics,
+    progress: &Progress,
+) -> Result<Array2<f64>, SimError> {
+    check_channels(std::slice::from_ref(channel))?;
+    let p = chain.design().camera.pixels;
     let sum: f64 = channel.weights.iter().sum();
-    let done = AtomicUsize::new(0);
-    let columns: Vec<Vec<f64>> = (0..p)
-        .into_par_iter()
-        .map(|j| {
-            let incidence = Incidence::Pixel(j as i64 - (p / 2) as i64);
-            let mut column = vec![0.0; p];
-            for (&l, &w) in channel.wavelengths_nm.iter().zip(&channel.weights) {
-                progress.check()?;
-                if w <= 0.0 {
-                    continue;
-                }
-                let psf = chain.mono(optics, chain.heights_um(), l, incidence);
-                for (c, v) in column.iter_mut().zip(&psf.sensor) {
-                    *c += w / sum * v;
-                }
+    let incidences: Vec<Incidence> = (0..p)
+        .map(|j| Incidence::Pixel(j as i64 - (p / 2) as i64))
+        .collect();
+    let used: Vec<(f64, f64)> = channel
+        .wavelengths_nm
+        .iter()
+        .zip(&channel.weights)
+        .filter(|(_, w)| **w > 0.0)
+        .map(|(&l, &w)| (l, w))
+        .collect();
+    let share = |i: usize| i as f32 / used.len() as f32;
+    let mut columns = vec![vec![0.0; p]; p];
+    for (i, &(l, w)) in used.iter().enumerate() {
+        let psfs = {
+            let _span = progress.span(share(i), share(i + 1));
+            chain.mono_directions(optics, chain.heights_um(), l, &incidences, progress)?
+        };
+        columns.par_iter_mut().zip(&psfs).for_each(|(column, psf)| {
+            for (c, v) in column.iter_mut().zip(&psf.sensor) {
+                *c += w / sum * v;
             }
-            let n = done.fetch_add(1, Ordering::Relaxed) + 1;
-            progress.set(n as f32 / p as f32);
-            Ok(column)
-        })
-        .collect::<Result<_, SimError>>()?;
+        });
+    }
+    progress.set(1.0);
     Ok(Array2::from_shape_fn((p, p), |(i, j)| columns[j][i]))
 }

@@ -171,7 +171,8 @@ fn every_preset_and_both_tilings_bin_as_the_cpu_does() {
 }
 
 /// The whole analysis with every PSF from the device: the numbers a user reads (PSF, AUC, LTR)
-/// within an `f32` device's tolerances of the CPU's, in both tilings.
+/// within an `f32` device's tolerances of the CPU's, in both tilings, and the random tiling's
+/// expected PSF (its pupil-sized transforms on the device) within 1e-5 of its peak.
 #[test]
 fn the_analysis_on_the_device_reads_as_on_the_cpu() {
     let Some(gpu) = device("the_analysis_on_the_device_reads_as_on_the_cpu") else {
@@ -179,7 +180,7 @@ fn the_analysis_on_the_device_reads_as_on_the_cpu() {
     };
     let options = AnalyzeOptions {
         quality: Quality::Preview,
-        expected_psf: false,
+        expected_psf: true,
     };
     let p = Progress::new();
     for tiling in [TilingMode::Repeat, TilingMode::RandomD4] {
@@ -194,6 +195,18 @@ fn the_analysis_on_the_device_reads_as_on_the_cpu() {
             let auc = rel(c.mtf.auc_radial_min, d.mtf.auc_radial_min);
             assert!(auc <= 3e-3, "{tiling:?} {}: AUC {auc:e}", c.name);
             assert!((c.energy_in_window - d.energy_in_window).abs() <= 1e-5);
+            match (&c.expected_psf, &d.expected_psf) {
+                (Some(ce), Some(de)) => {
+                    let worst = worst_of_peak(ce, de);
+                    assert!(
+                        worst <= 1e-5,
+                        "{tiling:?} {}: expected PSF {worst:e}",
+                        c.name
+                    );
+                }
+                (None, None) => assert_eq!(tiling, TilingMode::Repeat, "a random tiling has one"),
+                _ => panic!("{tiling:?}: the expected PSF on one backend only"),
+            }
         }
     }
 }

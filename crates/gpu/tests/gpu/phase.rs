@@ -10,6 +10,7 @@ use udc_core::phase::imaging::phase_blur_on;
 use udc_core::phase::{
     Chain, Incidence, Lambda0, PhaseDesign, PhaseOptics, PhaseSampling, Relay, SamplingConvention,
 };
+use udc_core::phase::{kernel_matrix, kernel_matrix_on, phase_psfs, phase_psfs_on};
 
 use crate::device;
 
@@ -136,4 +137,42 @@ fn the_device_relay_stops_when_cancelled() {
     let at = [Incidence::Pixel(3)];
     let got = dev.mono_directions(PhaseOptics::DoubleMla, dev.heights_um(), 531.0, &at, &p);
     assert!(matches!(got, Err(udc_core::SimError::Cancelled)), "{got:?}");
+}
+
+/// `phase psf` and its `--all-angles` matrix (eq. 4.12) with the device's relay, on a 32-pixel
+/// sensor: each channel's PSF within 1e-4 of its peak, its transmission within 1e-5, and the
+/// matrix of all 32 directions within 1e-4 of its largest entry.
+#[test]
+fn the_device_psfs_and_kernel_matrix_are_the_cpus() {
+    let Some(gpu) = device("the_device_psfs_and_kernel_matrix_are_the_cpus") else {
+        return;
+    };
+    let mut design = plan();
+    design.camera.pixels = 32;
+    let relay: Arc<dyn BlochRelay> = gpu;
+    let dev = Chain::new(&design, &sampling()).unwrap().with_relay(relay);
+    let p = Progress::new();
+    let channels = [Channel {
+        name: "G".into(),
+        wavelengths_nm: vec![515.0, 545.0],
+        weights: vec![0.4, 0.6],
+    }];
+    let mla = PhaseOptics::DoubleMla;
+    let at = Incidence::AngleDeg(1.5);
+    let want = phase_psfs(&design, &sampling(), &channels, mla, at, &p).unwrap();
+    let got = phase_psfs_on(&dev, &channels, mla, at, &p).unwrap();
+    for (w, g) in want.channels.iter().zip(&got.channels) {
+        let worst = worst_of_peak(&w.psf, &g.psf);
+        eprintln!("PSF: worst {worst:.2e} of the peak");
+        assert!(worst < 1e-4, "{worst:e}");
+        assert!((w.transmission - g.transmission).abs() < 1e-5 * w.transmission);
+        // The bare T-OLED has no Fresnel step: the CPU's, bit for bit.
+        assert_eq!(w.toled_psf, g.toled_psf);
+    }
+    let want = kernel_matrix(&design, &sampling(), &channels[0], mla, &p).unwrap();
+    let got = kernel_matrix_on(&dev, &channels[0], mla, &p).unwrap();
+    assert_eq!(want.dim(), (32, 32));
+    let worst = worst_of_peak(want.as_slice().unwrap(), got.as_slice().unwrap());
+    eprintln!("kernel matrix: worst {worst:.2e} of the largest entry");
+    assert!(worst < 1e-4, "{worst:e}");
 }

@@ -7,8 +7,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use anyhow::{Result, anyhow};
 
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use udc_core::{Analysis, Design, Progress, SimError};
+use udc_gpu::Route;
 
 /// Designs kept: a sweep's points walk its axes in order, so a handful covers the displays in
 /// flight on every worker (each analysis holds three PSFs and MTFs: a few MB).
@@ -21,17 +22,23 @@ fn cache() -> &'static Mutex<Vec<(String, Slot)>> {
     CACHE.get_or_init(|| Mutex::new(Vec::new()))
 }
 
-/// The analysis of `design` at `options`, shared with every earlier call on the same design
-/// (by the hash of its file form) and quality; concurrent callers wait for the first.
+/// The analysis of `design` at `options` with its PSFs on `route`, shared with every earlier
+/// call on the same design (by the hash of its file form), quality and device; concurrent
+/// callers wait for the first.
 ///
 /// # Errors
 /// The analysis's own error (a cached failure repeats it).
-pub fn analyze_shared(design: &Design, options: &AnalyzeOptions) -> Result<Arc<Analysis>> {
+pub fn analyze_shared(
+    design: &Design,
+    options: &AnalyzeOptions,
+    route: &Route,
+) -> Result<Arc<Analysis>> {
     let key = format!(
-        "{}/{}/{}",
+        "{}/{}/{}/{}",
         udc_io::design::hash::design_hash(design),
         matches!(options.quality, Quality::Full),
-        options.expected_psf
+        options.expected_psf,
+        route.adapter().unwrap_or_default()
     );
     let slot: Slot = {
         let mut kept = cache()
@@ -55,7 +62,7 @@ pub fn analyze_shared(design: &Design, options: &AnalyzeOptions) -> Result<Arc<A
             }
         }
     };
-    slot.get_or_init(|| analyze_with(design, options, &Progress::new()).map(Arc::new))
+    slot.get_or_init(|| analyze_with_route(design, options, route, &Progress::new()).map(Arc::new))
         .clone()
         .map_err(anyhow::Error::from)
 }

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use udc_core::Progress;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality};
+use udc_core::psf::route::Backend;
 
 use super::DesignSelection;
 use crate::Report;
@@ -92,6 +93,10 @@ pub struct RestoreJob {
     #[arg(long, requires = "out")]
     #[serde(default)]
     pub figures: bool,
+    /// Where the design's PSFs are computed: cpu, gpu or auto (as `analyze --backend`).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 impl Default for RestoreJob {
@@ -115,6 +120,7 @@ impl Default for RestoreJob {
             denoise: DenoiseFlags::default(),
             out: None,
             figures: false,
+            backend: Backend::Cpu,
         }
     }
 }
@@ -226,7 +232,8 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
         expected_psf: false,
     };
     // Shared with the sweep's other points on this design (every light level and photo).
-    let analysis = super::analyze_shared(&design, &options)?;
+    let route = crate::backend::route(args.backend)?;
+    let analysis = super::analyze_shared(&design, &options, &route)?;
     let psfs: Vec<&ndarray::Array2<f64>> = analysis.channels.iter().map(|c| &c.psf).collect();
     let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
     if photo.len() != psfs.len() {
@@ -403,5 +410,6 @@ pub fn restore(args: &RestoreJob, progress: &Progress) -> Result<Report> {
             photo::DIFFERENCE_GAIN
         );
     }
+    crate::backend::report(&mut out, args.backend, &route);
     Ok(out)
 }

@@ -6,6 +6,7 @@ mod psf;
 mod restore;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -18,11 +19,12 @@ use crate::denoise::DenoiseFlags;
 use udc_core::Progress;
 use udc_core::design::Channel;
 use udc_core::phase::allocate::{channel_invertibility, channel_matrix};
+use udc_core::phase::chain::{BlochRelay, Chain};
 use udc_core::phase::geometry::{lambda0_per_lenslet, lenslet_count, uniform_counts};
 use udc_core::phase::{
     AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, Lambda0Plan, PhaseDesign,
-    PhaseOptics, PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix,
-    optimize_lambda0, phase_psfs, v_matrix, wavelength_grid_nm,
+    PhaseOptics, PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix_on,
+    optimize_lambda0, phase_psfs_on, v_matrix, wavelength_grid_nm,
 };
 use udc_core::psf::route::Backend;
 use udc_io::design::spectral::{channels_from_response, load_response_csv, thesis_response};
@@ -205,6 +207,11 @@ pub struct PsfJob {
     /// Also write the blur matrix of all sensor directions per channel (eq. 4.12) into --out.
     #[arg(long, requires = "out")]
     pub all_angles: bool,
+    /// Where the propagations through the double MLA on the wrapped grid run (a λ0 plan): the
+    /// CPU, a GPU (through Vulkan, Metal or DX12), or auto (as `phase restore --backend`).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 /// The parameters of `phase optimize`.
@@ -248,8 +255,39 @@ impl Default for PsfJob {
             unfolded: false,
             single_mask: false,
             all_angles: false,
+            backend: Backend::Cpu,
         }
     }
+}
+
+/// A phase job's backend: the route (for its report) and the Bloch relay its chains get
+/// (`None` on the CPU, whose relay a chain has of its own).
+pub(crate) type RelayOf = (Arc<udc_gpu::Route>, Option<Arc<dyn BlochRelay>>);
+
+/// `backend` resolved to a phase job's [`RelayOf`].
+///
+/// # Errors
+/// `gpu` on a machine with no adapter.
+pub(crate) fn relay_of(backend: Backend) -> Result<RelayOf> {
+    let route = Arc::new(crate::backend::route(backend)?);
+    let relay = (backend != Backend::Cpu).then(|| route.clone() as Arc<dyn BlochRelay>);
+    Ok((route, relay))
+}
+
+/// `design` sampled by `sampling`, its Bloch relay on `relay` where one is given.
+///
+/// # Errors
+/// As `Chain::new`.
+pub(crate) fn chain_on(
+    design: &PhaseDesign,
+    sampling: &PhaseSampling,
+    relay: Option<&Arc<dyn BlochRelay>>,
+) -> Result<Chain> {
+    let chain = Chain::new(design, sampling)?;
+    Ok(match relay {
+        Some(r) => chain.with_relay(r.clone()),
+        None => chain,
+    })
 }
 
 /// The phase design of a mask's parameters, checked (refusals name the flags).

@@ -50,9 +50,11 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
         PhaseOptics::DoubleMla
     };
     let incidence = Incidence::AngleDeg(a.angle_deg);
+    let (route, relay) = relay_of(a.backend)?;
+    let chain = chain_on(&design, &sampling, relay.as_ref())?;
     let psfs = {
         let p = progress;
-        phase_psfs(&design, &sampling, &channels, optics, incidence, p)
+        phase_psfs_on(&chain, &channels, optics, incidence, p)
     }?;
     let mut outputs = Vec::new();
     if let Some(dir) = &a.mask.out {
@@ -77,7 +79,7 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
             for c in &channels {
                 let k = {
                     let p = progress;
-                    kernel_matrix(&design, &sampling, c, optics, p)
+                    kernel_matrix_on(&chain, c, optics, p)
                 }?;
                 let path = dir.join(format!("kernels_{}.csv", c.name));
                 let mut text = String::with_capacity(k.len() * 12);
@@ -178,6 +180,7 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
             outln!(out, "wrote {}", p.display());
         }
     }
+    crate::backend::report(&mut out, a.backend, &route);
     Ok(out)
 }
 

@@ -2,10 +2,6 @@
 
 use super::*;
 
-use std::sync::Arc;
-
-use udc_core::phase::chain::BlochRelay;
-
 fn restore_photos(paths: &[PathBuf], pixels: usize) -> Result<Vec<(String, Vec<Array2<f64>>)>> {
     if paths.is_empty() {
         return Ok(vec![(
@@ -32,8 +28,7 @@ pub fn restore(a: &RestoreJob, progress: &Progress) -> Result<Report> {
     let mut out = Report::default();
     use udc_core::phase::imaging::{Lambda0Plan, LensletOrder, Setup, capture_and_restore};
     let denoise = a.denoise.resolve(udc_core::restore::Recipe::Iccv23)?;
-    let route = std::sync::Arc::new(crate::backend::route(a.backend)?);
-    let relay = (a.backend != Backend::Cpu).then(|| route.clone() as Arc<dyn BlochRelay>);
+    let (route, relay) = relay_of(a.backend)?;
     let base = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
     for &n in &a.photons {

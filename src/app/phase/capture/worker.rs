@@ -53,8 +53,13 @@ pub(super) fn run_setups(
         let (blur, built) = match &job.blur {
             Some(b) => (b.clone(), false),
             None => {
+                let on = if light.relay.is_some() {
+                    " on the GPU"
+                } else {
+                    ""
+                };
                 say(format!(
-                    "step {} of {}: blur matrix of {label} ({} directions)",
+                    "step {} of {}: blur matrix of {label} ({} directions{on})",
                     2 * i + 1,
                     2 * n,
                     key.width

@@ -551,6 +551,37 @@ impl Chain {
         }
     }
 
+    /// [`Chain::mono`], through the chain's Bloch relay ([`Chain::with_relay`]) where one is
+    /// attached and the plate takes it (a device's errors are the caller's); otherwise `mono`
+    /// itself.
+    ///
+    /// # Errors
+    /// The relay's refusals (memory, a lost device).
+    pub fn mono_relayed(
+        &self,
+        optics: PhaseOptics,
+        heights_um: &[f64],
+        wavelength_nm: f64,
+        incidence: Incidence,
+    ) -> Result<MonoPsf, SimError> {
+        if self.relay.is_none() || !self.bloch(optics, heights_um) {
+            return Ok(self.mono(optics, heights_um, wavelength_nm, incidence));
+        }
+        let all = 0..self.design.camera.pixels;
+        // A progress of its own: one direction's, inside a caller's parallel loop.
+        let psfs = self.mono_directions_on(
+            optics,
+            heights_um,
+            wavelength_nm,
+            &[incidence],
+            all,
+            &Progress::new(),
+        )?;
+        psfs.into_iter()
+            .next()
+            .ok_or_else(|| SimError::Sampling("the relay returned no PSF".into()))
+    }
+
     /// [`Chain::mono`] for many directions at one wavelength, in parallel, in the order of
     /// `incidences`. Through the double MLA the plate's transmission (an exponential per
     /// sample, as costly as an FFT) is formed once for them all; each PSF equals `mono`'s to the
