@@ -12,11 +12,14 @@ difference from the CPU's PSF (as a fraction of its peak) and AUC.
 Then one phase operator: a λ0 plan's restoration (`phase restore --lambda0 uniform --relay
 wrapped-display --peaks --denoise none`, the thesis's sampling) whose operator's propagations (one
 per scene column and wavelength through the double MLA on the wrapped grid) run on either
-backend: first a 256-column scene, then ("warm", device open, a fresh operator) 255 columns; the
+backend: first a 256-column scene, then ("warm", device open, a fresh operator) 255 columns (`--phase-columns`); the
 wall time of the whole job (the operator dominates; the CG solve is the same on both), with the
-LTR and PSNR of both.
+differences of the LTR and PSNR as the job reports them (rounded: the LTR to 1e-5, the PSNR to
+1e-6 dB).
 
-Usage: python3 benches/gpu.py [--runs N] [--backend gpu|auto]
+Usage: python3 benches/gpu.py [--runs N] [--backend gpu|auto] [--designs A,B] [--phase-columns N]
+  (--designs and --phase-columns shrink the run, e.g. to check the script on a software driver:
+   --runs 1 --designs fourier-square --phase-columns 16)
   one command on a machine with a GPU and a Vulkan, Metal or DX12 driver:
       cargo build --release -p udc-studio-python && \\
       UDC_NATIVE_LIB=target/release/lib_native.so python3 benches/gpu.py
@@ -53,12 +56,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--backend", choices=["gpu", "auto"], default="gpu")
+    parser.add_argument("--designs", default=",".join(DESIGNS),
+                        help="comma-separated presets (default: the three T-OLEDs)")
+    parser.add_argument("--phase-columns", type=int, default=256,
+                        help="the phase operator's scene columns (default 256)")
     args = parser.parse_args()
     udc, how = import_udc_studio()
     print(f"udc_studio: {how}")
     rows = []
     adapter = None
-    for name in DESIGNS:
+    for name in args.designs.split(","):
         cpu_first, cpu_warm = timings(udc, name, "cpu", args.runs)
         with warnings.catch_warnings(record=True) as notes:
             warnings.simplefilter("always")
@@ -88,10 +95,12 @@ def main() -> None:
         print(f"{r['design']:<14} {r['cpu_first_ms']:>8.0f}ms {r['cpu_warm_ms']:>8.0f}ms "
               f"{r['gpu_first_ms']:>8.0f}ms {r['gpu_warm_ms']:>8.0f}ms "
               f"{r['psf_max_diff_of_peak']:>9.1e} {r['auc_max_rel_diff']:>9.1e}")
-    phase = phase_rows(udc, args.backend)
-    print(f"{'phase operator':<14} {'CPU first':>10} {'CPU warm':>10} {'GPU first':>10} {'GPU warm':>10}"
+    phase = phase_rows(udc, args.backend, args.phase_columns)
+    print(f"{'phase operator':<14} {'CPU first':>10} {'CPU warm':>10} {'GPU first':>10}"
+          f" {'GPU warm':>10}"
           f" {'LTR diff':>9} {'PSNR diff':>9}")
-    print(f"{'λ0 plan, 3 λ':<14} {phase['cpu_first_ms']:>8.0f}ms {phase['cpu_warm_ms']:>8.0f}ms "
+    label = f"λ0 plan {args.phase_columns}"
+    print(f"{label:<14} {phase['cpu_first_ms']:>8.0f}ms {phase['cpu_warm_ms']:>8.0f}ms "
           f"{phase['gpu_first_ms']:>8.0f}ms {phase['gpu_warm_ms']:>8.0f}ms "
           f"{phase['ltr_rel_diff']:>9.1e} {phase['psnr_diff_db']:>7.3f}dB")
     print(json.dumps({"adapter": adapter, "runs": args.runs, "rows": rows, "phase": phase}))
@@ -104,11 +113,12 @@ def phase_restore(udc, backend: str, columns: int):
     return (time.perf_counter() - start) * 1e3, out
 
 
-def phase_rows(udc, backend: str):
-    cpu_first, cpu = phase_restore(udc, "cpu", 256)
-    cpu_warm, _ = phase_restore(udc, "cpu", 255)
-    gpu_first, gpu = phase_restore(udc, backend, 256)
-    gpu_warm, _ = phase_restore(udc, backend, 255)
+def phase_rows(udc, backend: str, columns: int):
+    # The second call of each a column narrower: a fresh operator (the job keeps the last ones).
+    cpu_first, cpu = phase_restore(udc, "cpu", columns)
+    cpu_warm, _ = phase_restore(udc, "cpu", columns - 1)
+    gpu_first, gpu = phase_restore(udc, backend, columns)
+    gpu_warm, _ = phase_restore(udc, backend, columns - 1)
     return {
         "cpu_first_ms": cpu_first,
         "cpu_warm_ms": cpu_warm,
