@@ -128,8 +128,9 @@ def test_the_gpu_backend_gives_the_cpus_numbers_to_f32_precision():
     assert cpu.adapter is None and gpu.adapter
     # to_json() is the CLI's --json: the backend object where the CPU was not asked for.
     assert "backend" not in json.loads(cpu.to_json())
-    assert json.loads(gpu.to_json())["backend"] == {
-        "requested": "gpu", "adapter": gpu.adapter, "note": None}
+    backend = json.loads(gpu.to_json())["backend"]
+    assert (backend["requested"], backend["adapter"], backend["note"]) == ("gpu", gpu.adapter, None)
+    assert backend["device_transforms"] > 0  # the device, not the CPU, computed them
     assert gpu.ltr == cpu.ltr
     assert np.max(np.abs(gpu.psf - cpu.psf)) <= 1e-5 * cpu.psf.max()
     assert np.allclose(gpu.auc, cpu.auc, rtol=3e-3, atol=0)

@@ -94,6 +94,7 @@ def test_a_phase_operator_on_the_gpu_restores_as_the_cpus():
         assert "no GPU adapter" in str(e)
         pytest.skip(f"no GPU adapter on this machine: {e}")
     assert "backend" not in cpu and gpu["backend"]["adapter"]
+    assert gpu["backend"]["device_transforms"] > 0
     assert gpu["ltr"] == pytest.approx(cpu["ltr"], rel=1e-5)
     assert gpu["runs"][0]["psnr_db"] == pytest.approx(cpu["runs"][0]["psnr_db"], abs=0.01)
 

@@ -88,6 +88,12 @@ fn cpu_then_gpu(
             .as_str()
             .is_some_and(|a| !a.is_empty())
     );
+    // The device, not the CPU, computed them.
+    assert!(
+        gpu["backend"]["device_transforms"].as_u64().unwrap() > 0,
+        "{}",
+        gpu["backend"]
+    );
     Some((cpu, gpu))
 }
 
@@ -175,12 +181,18 @@ fn a_restoration_on_the_gpu_reads_as_the_cpus() {
 #[test]
 fn a_sweep_runs_its_points_on_the_gpu() {
     let dir = tempfile::tempdir().unwrap();
-    let table = |backend: &str| -> Option<Vec<(f64, f64)>> {
+    let table = |backend: &str| -> Option<Vec<(f64, f64, Option<u64>)>> {
         let spec = dir.path().join(format!("{backend}.toml"));
+        // The GPU's rows also say how many transforms the device computed.
+        let extra = if backend == "gpu" {
+            ", \"backend.device_transforms\""
+        } else {
+            ""
+        };
         std::fs::write(
             &spec,
             format!(
-                "job = \"analyze\"\nmetrics = [\"auc_radial_min_mean\", \"ltr\"]\n[base]\n\
+                "job = \"analyze\"\nmetrics = [\"auc_radial_min_mean\", \"ltr\"{extra}]\n[base]\n\
                  preset = \"fourier-square\"\npreview = true\nbackend = \"{backend}\"\n\
                  [[axis]]\nparam = \"tiling\"\nvalues = [\"repeat\", \"random-4\"]\n"
             ),
@@ -203,17 +215,19 @@ fn a_sweep_runs_its_points_on_the_gpu() {
         let header: Vec<String> = r.headers().unwrap().iter().map(str::to_string).collect();
         let col = |name: &str| header.iter().position(|h| h == name).unwrap();
         let (auc, ltr) = (col("auc_radial_min_mean"), col("ltr"));
+        let on_device = header.iter().position(|h| h == "backend.device_transforms");
         // Rows arrive as points finish: in point order for the comparison.
-        let mut rows: Vec<(u64, f64, f64)> = r
+        let mut rows: Vec<(u64, f64, f64, Option<u64>)> = r
             .records()
             .map(|rec| {
                 let rec = rec.unwrap();
                 let f = |i: usize| rec[i].parse::<f64>().unwrap();
-                (rec[0].parse().unwrap(), f(auc), f(ltr))
+                let n = on_device.map(|i| rec[i].parse::<u64>().unwrap());
+                (rec[0].parse().unwrap(), f(auc), f(ltr), n)
             })
             .collect();
         rows.sort_by_key(|r| r.0);
-        Some(rows.into_iter().map(|(_, a, l)| (a, l)).collect())
+        Some(rows.into_iter().map(|(_, a, l, n)| (a, l, n)).collect())
     };
     let cpu = table("cpu").unwrap();
     let Some(gpu) = table("gpu") else {
@@ -221,7 +235,11 @@ fn a_sweep_runs_its_points_on_the_gpu() {
     };
     assert_eq!(cpu.len(), 2);
     assert_eq!(cpu.len(), gpu.len());
-    for ((ca, cl), (ga, gl)) in cpu.iter().zip(&gpu) {
+    for ((ca, cl, _), (ga, gl, n)) in cpu.iter().zip(&gpu) {
+        assert!(
+            n.is_some_and(|n| n > 0),
+            "the device computed the point: {n:?}"
+        );
         assert_eq!(cl, gl, "LTR");
         assert!((ca - ga).abs() <= 3e-3 * ca, "AUC {ca} vs {ga}");
     }

@@ -3,6 +3,7 @@
 //! (for `auto`) a hardware device that hands a transform it cannot hold back to the CPU. What
 //! was decided, and why, is one line a front end prints ([`Route::note`]).
 
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use udc_core::SimError;
@@ -23,6 +24,9 @@ pub struct Route {
     device: Option<Arc<Gpu>>,
     /// `auto`: a transform the device refuses (too large, lost) runs on the CPU instead.
     falls_back: bool,
+    /// Transforms (Fraunhofer steps, relay directions) the device completed: what the report
+    /// gives as proof the device, not the CPU, computed them.
+    on_device: AtomicUsize,
     note: Mutex<Option<String>>,
 }
 
@@ -33,6 +37,7 @@ impl Route {
             device: None,
             falls_back: false,
             note: Mutex::new(None),
+            on_device: AtomicUsize::new(0),
         }
     }
 
@@ -42,6 +47,7 @@ impl Route {
             device: Some(gpu),
             falls_back: false,
             note: Mutex::new(None),
+            on_device: AtomicUsize::new(0),
         }
     }
 
@@ -53,6 +59,7 @@ impl Route {
             device: Some(gpu),
             falls_back: true,
             note: Mutex::new(None),
+            on_device: AtomicUsize::new(0),
         }
     }
 
@@ -86,6 +93,11 @@ impl Route {
         }
     }
 
+    /// How many transforms the device completed so far (0 on the CPU, or after a fallback).
+    pub fn device_transforms(&self) -> usize {
+        self.on_device.load(Ordering::Relaxed)
+    }
+
     /// The one line a front end shows when `auto` did not use the device it hoped for (no
     /// hardware adapter, or a transform the device refused), else `None`.
     pub fn note(&self) -> Option<String> {
@@ -105,6 +117,10 @@ impl Fraunhofer for Route {
             return PsfRoute::Auto.binned(field, m, binning, progress);
         };
         match gpu.binned(field, m, binning, progress) {
+            Ok(b) => {
+                self.on_device.fetch_add(1, Ordering::Relaxed);
+                Ok(b)
+            }
             Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
                 self.fell_back(&e);
                 PsfRoute::Auto.binned(field, m, binning, progress)
@@ -126,6 +142,10 @@ impl BlochRelay for Route {
             return CpuBloch.directions(wavelength, count, direction, progress);
         };
         match gpu.directions(wavelength, count, direction, progress) {
+            Ok(out) => {
+                self.on_device.fetch_add(out.len(), Ordering::Relaxed);
+                Ok(out)
+            }
             Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
                 self.fell_back(&e);
                 CpuBloch.directions(wavelength, count, direction, progress)

@@ -18,7 +18,7 @@ pub fn route(backend: Backend) -> Result<Route> {
 }
 
 /// Adds where the PSFs ran to `out`: a `backend` object in its JSON (`requested`, `adapter`,
-/// `note`) and a line of text, unless the CPU was asked for.
+/// `note`, `device_transforms`: the transforms the device completed) and a line of text, unless the CPU was asked for.
 pub fn report(out: &mut Report, backend: Backend, route: &Route) {
     if backend == Backend::Cpu {
         return;
@@ -32,6 +32,7 @@ pub fn report(out: &mut Report, backend: Backend, route: &Route) {
                 "requested": <&str>::from(backend),
                 "adapter": adapter,
                 "note": note,
+                "device_transforms": route.device_transforms(),
             }),
         );
     }
