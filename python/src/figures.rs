@@ -186,7 +186,7 @@ fn image<'py>(py: Python<'py>, img: &Image) -> PyResult<Bound<'py, PyDict>> {
 /// log-PSF (down to `floor_decades` below the peak) and 2-D MTF, then the RGB composite and
 /// the MTF curves, as the studio's views draw them (landmarks as `airy` and `orders` ask).
 #[pyfunction]
-#[pyo3(signature = (design_json, quality, floor_decades, airy, orders))]
+#[pyo3(signature = (design_json, quality, floor_decades, airy, orders, backend = "cpu"))]
 fn view_figures<'py>(
     py: Python<'py>,
     design_json: &str,
@@ -194,8 +194,9 @@ fn view_figures<'py>(
     floor_decades: f64,
     airy: bool,
     orders: bool,
+    backend: &str,
 ) -> PyResult<Bound<'py, PyList>> {
-    use udc_core::analysis::analyze::{AnalyzeOptions, analyze_with};
+    use udc_core::analysis::analyze::{AnalyzeOptions, analyze_with_route};
     use udc_core::views::{
         Landmarks, MtfFamilies, PsfScale, mtf_curves_panel, mtf2d_panel, psf_panel, rgb_panel,
     };
@@ -209,9 +210,17 @@ fn view_figures<'py>(
         quality: crate::analysis::quality(quality)?,
         expected_psf: false,
     };
+    let route = udc_jobs::backend::route(crate::analysis::backend(backend)?)
+        .map_err(|e| crate::errors::value(format!("backend {backend}: {e}")))?;
     let a = crate::cancel::run(py, |progress| {
-        analyze_with(&design, &options, progress).map_err(|e| crate::errors::sim(&e))
+        analyze_with_route(&design, &options, &route, progress).map_err(|e| crate::errors::sim(&e))
     })?;
+    // `auto` on the CPU says why, as `analyze` does.
+    if let Some(note) = route.note() {
+        let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+        let text = std::ffi::CString::new(note).map_err(|e| crate::errors::value(e.to_string()))?;
+        PyErr::warn(py, category.as_any(), &text, 1)?;
+    }
     let marks = Landmarks { airy, orders };
     let list = PyList::empty(py);
     for ch in &a.channels {

@@ -11,7 +11,7 @@ use ndarray::{Array2, Array3, ArrayViewD, Axis, Ix2, Ix3};
 use numpy::{IntoPyArray, PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use udc_core::restore::capture::REFERENCE_LTR;
 use udc_core::restore::{
     CaptureSettings, CgSettings, Denoise, Light, Method, Padding, Recipe, RestoreSettings, simulate,
@@ -177,7 +177,7 @@ fn method_setting(
 #[pyo3(signature = (
     design_json, image, *, light_e = None, snr_db = None, denoise = "bm3d",
     denoise_sigma2 = None, method = "wiener", nsr = None, lambda_ = None, iterations = None,
-    adc_bits = None, noise_seed = 0
+    adc_bits = None, noise_seed = 0, backend = "cpu"
 ))]
 #[allow(clippy::too_many_arguments)]
 fn restore<'py>(
@@ -194,8 +194,15 @@ fn restore<'py>(
     iterations: Option<usize>,
     adc_bits: Option<u32>,
     noise_seed: u64,
+    backend: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let design = design::parse(design_json)?;
+    let flag = udc_jobs::backend::BackendFlag {
+        backend: crate::analysis::backend(backend)?,
+    };
+    let route = flag
+        .route()
+        .map_err(|e| errors::value(format!("backend {backend}: {e}")))?;
     let (photo, layout) = planes_of(&image.as_array(), "image")?;
     // In f32, as `udc-studio restore` holds a photo: the same run gives the same numbers.
     let photo: Vec<Array2<f32>> = photo.into_iter().map(|p| p.mapv(|v| v as f32)).collect();
@@ -240,7 +247,8 @@ fn restore<'py>(
             quality: Quality::Full,
             expected_psf: false,
         };
-        let analysis = analyze_with(&design, &options, progress).map_err(|e| errors::sim(&e))?;
+        let analysis =
+            analyze_with_route(&design, &options, &route, progress).map_err(|e| errors::sim(&e))?;
         let psfs: Vec<&Array2<f64>> = analysis.channels.iter().map(|c| &c.psf).collect();
         let names: Vec<String> = analysis.channels.iter().map(|c| c.name.clone()).collect();
         let result = simulate(
@@ -261,11 +269,15 @@ fn restore<'py>(
         PyErr::warn(py, category.as_any(), &text, 1)?;
     }
     let out = PyDict::new(py);
+    // The run's object, with the `backend` object where the CPU was not asked for.
+    let mut json = restore_report::run_json(&result, &names, &[]);
+    flag.note(&route, &mut json);
     out.set_item(
         "json",
-        serde_json::to_string(&restore_report::run_json(&result, &names, &[]))
-            .map_err(|e| errors::value(e.to_string()))?,
+        serde_json::to_string(&json).map_err(|e| errors::value(e.to_string()))?,
     )?;
+    out.set_item("adapter", route.adapter())?;
+    out.set_item("backend_note", route.note())?;
     out.set_item("psnr_db", result.psnr_db)?;
     out.set_item("ssim", result.ssim)?;
     out.set_item("captured_psnr_db", result.captured_psnr_db)?;

@@ -195,3 +195,29 @@ def test_a_window_that_drops_light_warns_once():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         udc.restore(shipped, photo, snr_db=32, denoise="none")
+
+
+def test_restore_and_view_figures_take_the_backend():
+    """`backend="gpu"`: the design's PSFs from the device, the CPU's restoration to f32
+    precision and the adapter named; without an adapter a clear error."""
+    photo = udc.load_photo(PHOTO, max_side_px=32)
+    cpu = udc.restore("fourier-square", photo, snr_db=28, denoise="none")
+    try:
+        gpu = udc.restore("fourier-square", photo, snr_db=28, denoise="none", backend="gpu")
+    except ValueError as e:
+        assert "no GPU adapter" in str(e)
+        pytest.skip(f"no GPU adapter on this machine: {e}")
+    assert cpu.adapter is None and gpu.adapter
+    assert "backend" not in json.loads(cpu.to_json())
+    backend = json.loads(gpu.to_json())["backend"]
+    assert (backend["requested"], backend["adapter"]) == ("gpu", gpu.adapter)
+    assert backend["device_transforms"] > 0  # the device, not the CPU, computed them
+    assert gpu.psnr_db == pytest.approx(cpu.psnr_db, abs=0.01)
+    with pytest.raises(ValueError, match="backend"):
+        udc.restore("fourier-square", photo, snr_db=28, backend="cuda")
+    # The figures' PSFs from the device: the same pictures to f32 precision.
+    ours = udc.view_figures("fourier-square", backend="gpu")
+    theirs = udc.view_figures("fourier-square")
+    assert [f["title"] for f in ours] == [f["title"] for f in theirs]
+    psf = [f["images"][0]["values"] for f in (ours[0], theirs[0])]
+    assert np.max(np.abs(psf[0] - psf[1])) <= 1e-5 * psf[1].max()

@@ -388,6 +388,9 @@ class Restoration:
     """Electrons at a white pixel behind the reference display."""
     snr_db: float
     """The SNR at that pixel, dB."""
+    adapter: Optional[str]
+    """The GPU adapter the design's PSFs were computed on (``backend="gpu"`` or ``"auto"``),
+    or None where they were computed on the CPU."""
     _json: str = field(repr=False)
 
     def to_json(self) -> str:
@@ -409,6 +412,7 @@ def restore(
     iterations: Optional[int] = None,
     adc_bits: Optional[int] = None,
     noise_seed: int = 0,
+    backend: str = "cpu",
 ) -> Restoration:
     """Captures ``image`` through the design at one light level and restores it.
 
@@ -420,7 +424,7 @@ def restore(
     and a number a variance of your own on the capture's scale. ``"none"`` deblurs the capture
     as it is.
     ``method`` is ``"wiener"`` (``nsr``) or ``"cg"`` (``lambda_``, ``iterations``). Defaults
-    are the CLI's.
+    are the CLI's. ``backend`` says where the design's PSFs are computed, as in :func:`analyze`.
     """
     raw = _native.restore(
         _design(design).to_json(),
@@ -435,9 +439,13 @@ def restore(
         iterations=_whole(iterations, "iterations", least=1),
         adc_bits=_whole(adc_bits, "adc_bits", least=1),
         noise_seed=_whole(noise_seed, "noise_seed"),
+        backend=backend,
     )
     raw["_json"] = raw.pop("json")
     raw.setdefault("denoised", None)
+    note = raw.pop("backend_note")
+    if note is not None:
+        warnings.warn(note, RuntimeWarning, stacklevel=2)
     return Restoration(**raw)
 
 
@@ -493,6 +501,7 @@ def view_figures(
     floor_decades: float = 6.0,
     airy: bool = True,
     orders: bool = False,
+    backend: str = "cpu",
 ) -> List[Dict[str, Any]]:
     """The display workspace's figures of a design (or a preset name), as the studio draws its
     views: for each channel its PSF, log-PSF (down to ``floor_decades`` below the peak) and
@@ -502,7 +511,8 @@ def view_figures(
     ``imshow``, ``scale`` (``kind`` ``"linear"`` with ``max`` or ``"log"`` with ``reference``
     and ``floor_decades``), ``colormap`` (matplotlib's name) and ``rgb`` (rows × columns × 3,
     ``uint8``: the colours drawn). ``airy`` and ``orders`` add the Airy ring and the
-    diffraction orders to the PSFs' ``annotations``.
+    diffraction orders to the PSFs' ``annotations``. ``backend`` says where the PSFs are
+    computed, as in :func:`analyze`.
     """
     return list(
         _native.view_figures(
@@ -511,6 +521,7 @@ def view_figures(
             _number(floor_decades, "floor_decades"),
             bool(airy),
             bool(orders),
+            backend,
         )
     )
 

@@ -49,12 +49,18 @@ def restore(
     iterations: Optional[int] = None,
     adc_bits: Optional[int] = None,
     noise_seed: int = 0,
+    backend: str = "cpu",
 ) -> Dict[str, Any]: ...
 def evaluate_job(job: str, params: Dict[str, Any]) -> Dict[str, Any]: ...
 def sweep(spec: str, out: str, threads: Optional[int] = None) -> Dict[str, Any]: ...
 def sweep_figures(out: str) -> List[Dict[str, Any]]: ...
 def view_figures(
-    design_json: str, quality: str, floor_decades: float, airy: bool, orders: bool
+    design_json: str,
+    quality: str,
+    floor_decades: float,
+    airy: bool,
+    orders: bool,
+    backend: str = "cpu",
 ) -> List[Dict[str, Any]]: ...
 def sensor_pitch_figures(
     light_e_per_um2: float, pitch_um: float, sensor: str, snr_t: float

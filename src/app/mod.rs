@@ -77,10 +77,15 @@ pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
     if let Some(icon) = icon::window_icon() {
         viewport = viewport.with_icon(icon);
     }
-    let options = eframe::NativeOptions {
+    let mut options = eframe::NativeOptions {
         viewport,
         ..Default::default()
     };
+    // The kernels' device lives on the window's instance: give it the driver's memory budget
+    // (Vulkan's VK_EXT_memory_budget, D3D12), as the headless device has.
+    if let eframe::egui_wgpu::WgpuSetup::CreateNew(setup) = &mut options.wgpu_options.wgpu_setup {
+        setup.instance_descriptor.memory_budget_thresholds = udc_gpu::device::WINDOW_MEMORY_BUDGET;
+    }
     let mut studio = StudioOptions {
         dirs: AppDirs::platform(),
         design_path,

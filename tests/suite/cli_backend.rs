@@ -244,3 +244,97 @@ fn a_sweep_runs_its_points_on_the_gpu() {
         assert!((ca - ga).abs() <= 3e-3 * ca, "AUC {ca} vs {ga}");
     }
 }
+
+/// The commands that study a design outside the typed jobs take `--backend` too: `saturation`,
+/// `depth` and `psf compare` on the GPU read as on the CPU (the device computing their PSFs);
+/// `field` and `appearance` with `auto` say where theirs ran; a bad value is clap's one line.
+#[test]
+fn the_studies_of_a_design_run_on_the_gpu_as_on_the_cpu() {
+    let dir = tempfile::tempdir().unwrap();
+    let set = dir.path().join("g.npy");
+    crate::common::toled_green_set(&set, 168.0, 64);
+    let with = |args: &[&str], backend: &str| {
+        let mut all = args.to_vec();
+        all.extend(["--json", "--backend", backend]);
+        json_run(&all)
+    };
+    let saturation = |b: &str| {
+        let args = [
+            "saturation",
+            "--preset",
+            "fourier-square",
+            "--max-side-px",
+            "32",
+        ];
+        with(&args, b)
+    };
+    let Some((cpu, gpu)) = cpu_then_gpu(saturation) else {
+        return;
+    };
+    for run in ["clipped", "bracketed"] {
+        let psnr = |v: &serde_json::Value| v[run]["psnr_db"].as_f64().unwrap();
+        assert!(
+            (psnr(&cpu) - psnr(&gpu)).abs() < 0.01,
+            "{run}: {cpu} vs {gpu}"
+        );
+    }
+    let depth = |b: &str| {
+        let args = [
+            "depth",
+            "--preset",
+            "fourier-square",
+            "--object-distance-mm",
+            "1000",
+        ];
+        with(&args, b)
+    };
+    let (cpu, gpu) = cpu_then_gpu(depth).unwrap();
+    for key in [
+        "residual_rel_focused_at_object",
+        "residual_rel_focused_at_infinity",
+    ] {
+        let (c, g) = (cpu[key].as_f64().unwrap(), gpu[key].as_f64().unwrap());
+        assert!(c > 0.0 && (c - g).abs() <= 1e-4 * c, "{key}: {c} vs {g}");
+    }
+    let compare = |b: &str| {
+        let args = [
+            "psf",
+            "compare",
+            set.to_str().unwrap(),
+            "--preset",
+            "toled-150dpi",
+        ];
+        with(&args, b)
+    };
+    let (cpu, gpu) = cpu_then_gpu(compare).unwrap();
+    let row = |v: &serde_json::Value, key: &str| v["channels"][0][key].as_f64().unwrap();
+    let (c, g) = (row(&cpu, "auc_design"), row(&gpu, "auc_design"));
+    assert!((c - g).abs() <= 3e-3 * c, "AUC {c} vs {g}");
+    let (c, g) = (
+        row(&cpu, "residual_energy_share"),
+        row(&gpu, "residual_energy_share"),
+    );
+    assert!((c - g).abs() < 1e-4, "residual share {c} vs {g}");
+    // `auto` (a software driver is not taken): the backend object says where the PSFs ran.
+    for args in [
+        &[
+            "field",
+            "--preset",
+            "fourier-square",
+            "--display-distance-mm",
+            "1",
+            "--grid",
+            "2",
+        ][..],
+        &["appearance", "--preset", "toled-150dpi", "--preview"],
+    ] {
+        let (ok, v, stderr) = with(args, "auto");
+        assert!(ok, "{args:?}: {stderr}");
+        assert_eq!(v["backend"]["requested"], "auto", "{args:?}");
+        let (ok, _, stderr) = run(&[args, &["--backend", "cuda"]].concat());
+        assert!(
+            !ok && stderr.contains("possible values: cpu, gpu, auto"),
+            "{stderr}"
+        );
+    }
+}

@@ -8,6 +8,7 @@ use udc_studio::core::camera::depth::{
     DepthSettings, defocused_psfs, depth_psfs, image_distance_mm,
 };
 use udc_studio::core::camera::field::{FieldSettings, field_psfs};
+use udc_studio::core::psf::route::{Fraunhofer, PsfRoute};
 use udc_studio::io::design::presets::load_preset;
 
 use crate::common::run_cli as run;
@@ -18,7 +19,7 @@ fn max_residual(preset: &str, z_mm: f64) -> f64 {
         display_distance_mm: z_mm,
         ..FieldSettings::default()
     };
-    field_psfs(&design, &settings, &Progress::new())
+    field_psfs(&design, &settings, &PsfRoute::Auto, &Progress::new())
         .expect("field")
         .max_residual_rel
 }
@@ -57,6 +58,7 @@ fn the_lens_law_scales_the_focused_psf_by_less_than_ten_percent_down_to_10_cm() 
             object_distance_mm: 100.0,
             ..DepthSettings::default()
         },
+        &PsfRoute::Auto,
         &Progress::new(),
     )
     .expect("depth");
@@ -66,6 +68,7 @@ fn the_lens_law_scales_the_focused_psf_by_less_than_ten_percent_down_to_10_cm() 
             object_distance_mm: 1000.0,
             ..DepthSettings::default()
         },
+        &PsfRoute::Auto,
         &Progress::new(),
     )
     .expect("depth");
@@ -293,7 +296,7 @@ fn a_near_object_restored_with_the_infinity_psf_keeps_its_quality_when_refocused
         object_distance_mm: 100.0,
         ..DepthSettings::default()
     };
-    let depth = depth_psfs(&design, &settings, &Progress::new()).unwrap();
+    let depth = depth_psfs(&design, &settings, &PsfRoute::Auto, &Progress::new()).unwrap();
     let photo =
         udc_studio::io::photo::fit_max_side(udc_studio::io::photo::built_in_photo().unwrap(), 128);
     let capture = CaptureSettings {
@@ -310,4 +313,67 @@ fn a_near_object_restored_with_the_infinity_psf_keeps_its_quality_when_refocused
     assert!(c.focused.ssim > c.defocused.ssim);
     // The photo has to match the channels.
     assert!(depth_capture(&photo[..1], &depth, &capture, settings.nsr).is_err());
+}
+
+/// A Fraunhofer step that counts its calls and gives the CPU's own numbers.
+#[derive(Default)]
+struct Counting(std::sync::atomic::AtomicUsize);
+
+impl Fraunhofer for Counting {
+    fn binned(
+        &self,
+        field: &udc_studio::core::display::aperture::Field,
+        m: usize,
+        binning: &udc_studio::core::psf::sampling::Binning,
+        progress: &Progress,
+    ) -> Result<udc_studio::core::psf::fft::Binned, udc_studio::core::SimError> {
+        self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        PsfRoute::Auto.binned(field, m, binning, progress)
+    }
+}
+
+impl Counting {
+    fn calls(&self) -> usize {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
+}
+
+/// Every PSF of the field and depth studies comes through the route handed in (the GPU's, in
+/// the CLI and the studio): a field grid of 2 × 2 is five analyses, a depth study two (its
+/// defocused PSF, a complex pupil, is its own transform), each as many steps as one analysis.
+#[test]
+fn field_and_depth_compute_their_psfs_through_the_route_handed_in() {
+    let design = load_preset("fourier-square").unwrap();
+    let options = AnalyzeOptions {
+        quality: Quality::Preview,
+        expected_psf: false,
+    };
+    let one = Counting::default();
+    udc_studio::core::analysis::analyze::analyze_with_route(
+        &design,
+        &options,
+        &one,
+        &Progress::new(),
+    )
+    .unwrap();
+    assert!(one.calls() >= design.channels.len());
+    let field = Counting::default();
+    let settings = FieldSettings {
+        display_distance_mm: 1.0,
+        grid: 2,
+        quality: Quality::Preview,
+        ..FieldSettings::default()
+    };
+    let counted = field_psfs(&design, &settings, &field, &Progress::new()).unwrap();
+    assert_eq!(field.calls(), 5 * one.calls());
+    let reference = field_psfs(&design, &settings, &PsfRoute::Auto, &Progress::new()).unwrap();
+    assert_eq!(counted.max_residual_rel, reference.max_residual_rel);
+    let depth = Counting::default();
+    let settings = DepthSettings {
+        object_distance_mm: 1000.0,
+        quality: Quality::Preview,
+        ..DepthSettings::default()
+    };
+    depth_psfs(&design, &settings, &depth, &Progress::new()).unwrap();
+    assert_eq!(depth.calls(), 2 * one.calls());
 }

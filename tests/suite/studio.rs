@@ -550,8 +550,11 @@ fn the_worker_sends_the_numbers_before_the_advice_and_no_repeated_preview() {
             quality,
             advised,
             result,
+            route,
         } = r.payload
         {
+            // The route the job ran on, which the studies of the shown design then use.
+            assert!(std::sync::Arc::ptr_eq(&route, &compute.current()));
             let a = result.expect("analysis");
             let fixes = a.warnings.iter().filter(|w| w.fix.is_some()).count();
             seen.push((quality, advised, a.warnings.len(), fixes));

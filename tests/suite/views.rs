@@ -50,6 +50,7 @@ fn shown(design: &Design, analysis: Analysis, generation: u64) -> Shown {
         quality: Quality::Full,
         analysis: Arc::new(analysis),
         design: Arc::new(design.clone()),
+        route: Arc::new(udc_gpu::Route::cpu()),
     }
 }
 

@@ -8,10 +8,11 @@ use clap::Args;
 use ndarray::Array2;
 
 use super::DesignSelection;
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use udc_core::display::appearance::{AppearanceSettings, appearance, periodic_and_random};
 use udc_core::{Analysis, Progress};
 use udc_io::photo;
+use udc_jobs::backend::BackendFlag;
 
 /// The display resolution `appearance` shows a layout at without `--dpi` (Fig. 3.27's), DPI.
 pub const DEFAULT_DPI: f64 = 300.0;
@@ -45,6 +46,9 @@ pub struct AppearanceArgs {
     /// 3 %, full quality otherwise).
     #[arg(long)]
     pub preview: bool,
+    /// Where the camera's PSFs are computed.
+    #[command(flatten)]
+    pub backend: BackendFlag,
 }
 
 /// The camera's AUC: the radially-minimum AUC averaged over the colour channels.
@@ -85,7 +89,8 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
         },
         expected_psf: false,
     };
-    let analysis = analyze_with(&design, &options, &progress)?;
+    let route = args.backend.route()?;
+    let analysis = analyze_with_route(&design, &options, &route, &progress)?;
     let auc = camera_auc(&analysis);
     let mut outputs = Vec::new();
     if let Some(dir) = &args.out {
@@ -115,7 +120,7 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
     }
     let r = |v: f64| (v * 1e6).round() / 1e6;
     if args.json {
-        let out = serde_json::json!({
+        let mut out = serde_json::json!({
             "design": design.name,
             "display_quality": {
                 "nonuniformity": r(quality.nonuniformity),
@@ -143,6 +148,7 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
             })).collect::<Vec<_>>(),
             "outputs": outputs,
         });
+        args.backend.note(&route, &mut out);
         crate::emit_json(&out)?;
     } else {
         println!(
@@ -166,6 +172,9 @@ pub fn appearance_cmd(args: &AppearanceArgs) -> Result<()> {
         }
         for o in &outputs {
             println!("wrote {o}");
+        }
+        if let Some(line) = args.backend.line(&route) {
+            println!("{line}");
         }
     }
     Ok(())

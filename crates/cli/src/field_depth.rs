@@ -13,6 +13,7 @@ use udc_core::analysis::analyze::Quality;
 use udc_core::camera::depth::{DepthSettings, depth_psfs};
 use udc_core::camera::field::{FieldSettings, field_psfs};
 use udc_io::display::export::write_log_psf_png;
+use udc_jobs::backend::BackendFlag;
 
 /// Arguments of `udc-studio field`.
 #[derive(Debug, Args)]
@@ -52,6 +53,9 @@ pub struct FieldArgs {
     /// Scale the `--image` photo down so its longer side has at most this many pixels.
     #[arg(long, default_value_t = 256, requires = "image")]
     pub max_side_px: u32,
+    /// Where the PSFs are computed.
+    #[command(flatten)]
+    pub backend: BackendFlag,
 }
 
 /// Where the camera of `udc-studio depth` focuses.
@@ -91,6 +95,10 @@ pub struct DepthArgs {
     /// Write log-scaled PNGs of the three PSFs and the two residuals into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Where the infinity and focused PSFs are computed (the defocused one, a complex pupil,
+    /// on the CPU).
+    #[command(flatten)]
+    pub backend: BackendFlag,
 }
 
 fn quality(full: bool) -> Quality {
@@ -148,7 +156,8 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
         }
         None => None,
     };
-    let r = field_psfs(&design, &settings, &Progress::new())?;
+    let route = args.backend.route()?;
+    let r = field_psfs(&design, &settings, &route, &Progress::new())?;
     let capture = match &photo {
         Some(planes) => {
             let cap = udc_core::restore::CaptureSettings {
@@ -211,7 +220,7 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
                 })
             })
             .collect();
-        let out = serde_json::json!({
+        let mut out = serde_json::json!({
             "design": design.name,
             "tiling": design.tiling.mode.as_str(),
             "display_distance_mm": settings.display_distance_mm,
@@ -230,6 +239,7 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
             })),
             "outputs": written,
         });
+        args.backend.note(&route, &mut out);
         crate::emit_json(&out)?;
         return Ok(());
     }
@@ -264,6 +274,9 @@ pub fn field_cmd(args: &FieldArgs) -> Result<()> {
     for w in &written {
         println!("wrote {w}");
     }
+    if let Some(line) = args.backend.line(&route) {
+        println!("{line}");
+    }
     Ok(())
 }
 
@@ -288,7 +301,8 @@ pub fn depth_cmd(args: &DepthArgs) -> Result<()> {
         nsr: args.nsr,
         quality: quality(args.full),
     };
-    let r = depth_psfs(&design, &settings, &Progress::new())?;
+    let route = args.backend.route()?;
+    let r = depth_psfs(&design, &settings, &route, &Progress::new())?;
     let mut written = Vec::new();
     if let Some(dir) = &args.out {
         std::fs::create_dir_all(dir)?;
@@ -313,7 +327,7 @@ pub fn depth_cmd(args: &DepthArgs) -> Result<()> {
         Focus::Infinity => r.residual_rel_defocused,
     };
     if args.json {
-        let out = serde_json::json!({
+        let mut out = serde_json::json!({
             "design": design.name,
             "object_distance_mm": r.object_distance_mm,
             "focal_mm": r.focal_length_mm,
@@ -334,6 +348,7 @@ pub fn depth_cmd(args: &DepthArgs) -> Result<()> {
             "channels": r.channels,
             "outputs": written,
         });
+        args.backend.note(&route, &mut out);
         crate::emit_json(&out)?;
         return Ok(());
     }
@@ -361,6 +376,9 @@ pub fn depth_cmd(args: &DepthArgs) -> Result<()> {
     );
     for w in &written {
         println!("wrote {w}");
+    }
+    if let Some(line) = args.backend.line(&route) {
+        println!("{line}");
     }
     Ok(())
 }

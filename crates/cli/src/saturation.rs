@@ -8,10 +8,11 @@ use clap::Args;
 
 use super::DesignSelection;
 use udc_core::Progress;
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use udc_core::camera::saturation::{SaturationSettings, saturation_study};
 use udc_io::photo::hdr;
 use udc_io::photo::write_photo_png;
+use udc_jobs::backend::BackendFlag;
 
 /// Arguments of `udc-studio saturation`.
 #[derive(Debug, Args)]
@@ -46,6 +47,9 @@ pub struct SaturationArgs {
     /// Write truth, captures and restorations (PNG, clipped to the base exposure) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Where the PSFs are computed.
+    #[command(flatten)]
+    pub backend: BackendFlag,
 }
 
 /// Runs `udc-studio saturation`.
@@ -76,7 +80,8 @@ pub fn saturation_cmd(args: &SaturationArgs) -> Result<()> {
         quality: Quality::Full,
         expected_psf: false,
     };
-    let analysis = analyze_with(&design, &options, &Progress::new())?;
+    let route = args.backend.route()?;
+    let analysis = analyze_with_route(&design, &options, &route, &Progress::new())?;
     let psfs: Vec<&ndarray::Array2<f64>> = analysis.channels.iter().map(|c| &c.psf).collect();
     if psfs.len() != scene.planes.len() {
         bail!(
@@ -111,7 +116,7 @@ pub fn saturation_cmd(args: &SaturationArgs) -> Result<()> {
     };
     if args.json {
         let (rows, cols) = scene.dim();
-        let out = serde_json::json!({
+        let mut out = serde_json::json!({
             "design": design.name,
             "scene": args.hdr.as_ref().map_or(hdr::SAMPLE_SCENE_NAME.to_string(), |p| p.display().to_string()),
             "scene_size_px": [cols, rows],
@@ -123,6 +128,7 @@ pub fn saturation_cmd(args: &SaturationArgs) -> Result<()> {
             "psnr_gain_db": r.bracketed.psnr_db - r.clipped.psnr_db,
             "outputs": written,
         });
+        args.backend.note(&route, &mut out);
         crate::emit_json(&out)?;
         return Ok(());
     }
@@ -145,6 +151,9 @@ pub fn saturation_cmd(args: &SaturationArgs) -> Result<()> {
     println!("scores on the base exposure's range: truth and restoration clipped to [0, 1]");
     for w in &written {
         println!("wrote {w}");
+    }
+    if let Some(line) = args.backend.line(&route) {
+        println!("{line}");
     }
     Ok(())
 }

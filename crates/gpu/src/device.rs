@@ -107,6 +107,16 @@ impl TableCache {
     }
 }
 
+/// The memory budget of the window's instance (the studio's eframe): a buffer that would take
+/// the device past 90 % of the budget the driver reports is refused as out of memory, so a
+/// transform too large for the free memory goes to the CPU in one line. No device-loss
+/// threshold there: the window draws on the same instance, and losing its device on purpose
+/// would close the window.
+pub const WINDOW_MEMORY_BUDGET: wgpu::MemoryBudgetThresholds = wgpu::MemoryBudgetThresholds {
+    for_resource_creation: Some(90),
+    for_device_loss: None,
+};
+
 /// A compute device with the kernels compiled on it.
 pub struct Gpu {
     pub(crate) device: wgpu::Device,
@@ -137,8 +147,8 @@ impl Gpu {
         // budget (Vulkan's VK_EXT_memory_budget, D3D12), a buffer that would take it past 90 %
         // is refused as out of memory ([`out_of_memory`]) instead of risking a lost device.
         descriptor.memory_budget_thresholds = wgpu::MemoryBudgetThresholds {
-            for_resource_creation: Some(90),
             for_device_loss: Some(95),
+            ..WINDOW_MEMORY_BUDGET
         };
         let instance = wgpu::Instance::new(descriptor);
         let adapters = pollster::block_on(instance.enumerate_adapters(wgpu::Backends::PRIMARY));

@@ -42,3 +42,40 @@ pub fn report(out: &mut Report, backend: Backend, route: &Route) {
         (None, None) => outln!(out, "PSFs computed on the CPU"),
     }
 }
+
+/// `--backend` of the commands that print their own tables (`field`, `depth`, `saturation`,
+/// `appearance`): the flag, its route, and where the PSFs ran, as a job's [`report`] says it.
+#[derive(Debug, Clone, Copy, Default, clap::Args)]
+pub struct BackendFlag {
+    /// Where the design's PSFs are computed: cpu, gpu or auto (as `analyze --backend`).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    pub backend: Backend,
+}
+
+impl BackendFlag {
+    /// The flag resolved on this process's shared headless device.
+    ///
+    /// # Errors
+    /// As [`route`].
+    pub fn route(&self) -> Result<Route> {
+        route(self.backend)
+    }
+
+    /// Adds the `backend` object to `json` (unless the CPU was asked for) and gives the line
+    /// to print after the table, as [`report`] does for a job.
+    pub fn note(&self, route: &Route, json: &mut Value) -> Option<String> {
+        let mut out = Report {
+            json: std::mem::take(json),
+            text: String::new(),
+        };
+        report(&mut out, self.backend, route);
+        *json = out.json;
+        let line = out.text.trim_end();
+        (!line.is_empty()).then(|| line.to_owned())
+    }
+
+    /// The line [`BackendFlag::note`] gives, for a table printed without JSON.
+    pub fn line(&self, route: &Route) -> Option<String> {
+        self.note(route, &mut Value::Null)
+    }
+}

@@ -11,6 +11,7 @@ use serde_json::json;
 use udc_core::Progress;
 use udc_core::measured::import::{Bracket, Centring, Exposure, ImportSteps, merge};
 use udc_core::measured::{PsfChannel, PsfSet, PsfSource};
+use udc_core::psf::route::Backend;
 use udc_io::measured::read::{Encoding, FramePick, RawFrame, read_frame};
 
 use crate::Report;
@@ -328,6 +329,10 @@ pub struct CompareJob {
     /// this folder.
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
+    /// Where the design's PSFs are computed: cpu, gpu or auto (as `analyze --backend`).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 /// The parameters of `psf fit`.
@@ -506,7 +511,8 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
     use udc_core::measured::figures::{self, FLOOR_DECADES, Side};
 
     let (set, design) = set_and_design(&job.psf, job.pixel_um, &job.design, &job.preset)?;
-    let compared = udc_core::measured::compare::compare_set(&design, &set, progress)
+    let route = crate::backend::route(job.backend)?;
+    let compared = udc_core::measured::compare::compare_set(&design, &set, &route, progress)
         .context("the design at the measurement's pixel pitch")?;
     let mut out = Report::default();
     let mut rows = Vec::new();
@@ -602,5 +608,6 @@ pub fn compare(job: &CompareJob, progress: &Progress) -> Result<Report> {
         "channels": rows,
         "files": files,
     });
+    crate::backend::report(&mut out, job.backend, &route);
     Ok(out)
 }

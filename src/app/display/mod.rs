@@ -332,6 +332,7 @@ impl DisplayWorkspace {
                     quality,
                     advised,
                     result,
+                    route,
                 } => match result {
                     Ok(a) => {
                         self.results.advised = advised;
@@ -340,6 +341,7 @@ impl DisplayWorkspace {
                             quality,
                             analysis: Arc::new(a),
                             design: Arc::new(self.doc.design().clone()),
+                            route,
                         };
                         if quality == Quality::Full && self.results.pin_requested {
                             self.results.pin_requested = false;

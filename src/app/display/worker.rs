@@ -38,6 +38,8 @@ pub enum Payload {
         advised: bool,
         /// The analysis, or why it failed (a failed preview ends the job).
         result: Result<Analysis, SimError>,
+        /// The route its PSFs were computed on.
+        route: Arc<Route>,
     },
 }
 
@@ -216,6 +218,7 @@ fn worker_loop(
                     quality,
                     advised: false,
                     result: result.clone(),
+                    route: route.clone(),
                 })
             {
                 return;
@@ -234,6 +237,7 @@ fn worker_loop(
                     quality,
                     advised,
                     result,
+                    route: route.clone(),
                 }) {
                     return;
                 }

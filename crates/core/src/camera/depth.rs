@@ -15,11 +15,12 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use crate::analysis::residual::{Deblur, channel_residuals, mean};
 use crate::design::{Design, OpticsRecipe};
 use crate::display::aperture::{Display, Extent, effective_cells, rasterise};
 use crate::psf::fft::{bin_dense, signed};
+use crate::psf::route::Fraunhofer;
 use crate::psf::sampling::WavelengthSampling;
 use crate::{Progress, SimError};
 use udc_fft::complex_plan;
@@ -131,7 +132,9 @@ pub fn design_focused_at(design: &Design, object_mm: f64) -> Result<Design, SimE
     Ok(d)
 }
 
-/// The infinity, focused and defocused PSFs of a point at `settings.object_distance_mm`.
+/// The infinity, focused and defocused PSFs of a point at `settings.object_distance_mm`: the
+/// first two are analyses whose Fraunhofer step `route` computes; the defocused one carries a
+/// complex pupil (the defocus phase), which the seam's real field does not, and stays on the CPU.
 ///
 /// # Errors
 /// Bad settings or design ([`SimError::InvalidSetting`]); [`SimError::Sampling`] when the defocus
@@ -139,6 +142,7 @@ pub fn design_focused_at(design: &Design, object_mm: f64) -> Result<Design, SimE
 pub fn depth_psfs(
     design: &Design,
     settings: &DepthSettings,
+    route: &dyn Fraunhofer,
     progress: &Progress,
 ) -> Result<DepthResult, SimError> {
     design.validate()?;
@@ -156,17 +160,18 @@ pub fn depth_psfs(
         expected_psf: false,
     };
     progress.set(0.0);
-    let infinity = analyze_with(design, &options, &Progress::new())?;
+    let infinity = analyze_with_route(design, &options, route, &Progress::new())?;
     let channels: Vec<String> = infinity.channels.iter().map(|c| c.name.clone()).collect();
     let infinity: Vec<Array2<f64>> = infinity.channels.into_iter().map(|c| c.psf).collect();
     progress.set(0.25);
     progress.check()?;
     let focused_design = design_focused_at(design, z1)?;
-    let focused: Vec<Array2<f64>> = analyze_with(&focused_design, &options, &Progress::new())?
-        .channels
-        .into_iter()
-        .map(|c| c.psf)
-        .collect();
+    let focused: Vec<Array2<f64>> =
+        analyze_with_route(&focused_design, &options, route, &Progress::new())?
+            .channels
+            .into_iter()
+            .map(|c| c.psf)
+            .collect();
     progress.set(0.5);
     progress.check()?;
     let (defocused, in_window) = defocused_psfs(design, settings.quality, z1, progress)?;

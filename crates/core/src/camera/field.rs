@@ -18,9 +18,10 @@
 use crate::Setting;
 use ndarray::Array2;
 
-use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use crate::analysis::residual::{Deblur, channel_residuals, mean};
 use crate::design::Design;
+use crate::psf::route::Fraunhofer;
 use crate::{Progress, SimError};
 
 /// Largest display-to-pupil distance accepted, mm.
@@ -155,7 +156,8 @@ pub fn design_at_field(design: &Design, z_mm: f64, field_deg: [f64; 2]) -> (Desi
     (d, shift)
 }
 
-/// PSFs on a field grid and their residual after deblurring with the centre PSF.
+/// PSFs on a field grid and their residual after deblurring with the centre PSF, each
+/// analysis's Fraunhofer step computed by `route` (`&PsfRoute::Auto`: the CPU's choice).
 ///
 /// # Errors
 /// Bad settings or design ([`SimError::InvalidSetting`]), sampling errors of the analysis,
@@ -163,6 +165,7 @@ pub fn design_at_field(design: &Design, z_mm: f64, field_deg: [f64; 2]) -> (Desi
 pub fn field_psfs(
     design: &Design,
     settings: &FieldSettings,
+    route: &dyn Fraunhofer,
     progress: &Progress,
 ) -> Result<FieldResult, SimError> {
     settings.validate()?;
@@ -176,10 +179,10 @@ pub fn field_psfs(
     progress.set(0.0);
     let psfs_of = |d: &Design| -> Result<Vec<Array2<f64>>, SimError> {
         progress.check()?;
-        let a = analyze_with(d, &options, &Progress::new())?;
+        let a = analyze_with_route(d, &options, route, &Progress::new())?;
         Ok(a.channels.into_iter().map(|c| c.psf).collect())
     };
-    let centre_analysis = analyze_with(design, &options, &Progress::new())?;
+    let centre_analysis = analyze_with_route(design, &options, route, &Progress::new())?;
     let channels: Vec<String> = centre_analysis
         .channels
         .iter()

@@ -44,23 +44,24 @@ pub struct ComparedChannel {
 /// Every channel of `set` compared with `design` simulated on the set's grid
 /// ([`super::design_on_grid`], full quality): each measured channel with the design channel
 /// nearest in wavelength when it has one, else the one of its name (R, G, B), else the one at
-/// its index.
+/// its index. The design's PSFs take their Fraunhofer step on `route`.
 ///
 /// # Errors
 /// A set that fails its check, a design that does not simulate on the set's grid, a cancel.
 pub fn compare_set(
     design: &crate::design::Design,
     set: &super::PsfSet,
+    route: &dyn crate::psf::route::Fraunhofer,
     progress: &crate::progress::Progress,
 ) -> Result<Vec<ComparedChannel>, SimError> {
-    use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+    use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
     set.check()?;
     let on_grid = super::design_on_grid(design, set);
     let options = AnalyzeOptions {
         quality: Quality::Full,
         expected_psf: false,
     };
-    let analysis = analyze_with(&on_grid, &options, progress)?;
+    let analysis = analyze_with_route(&on_grid, &options, route, progress)?;
     set.channels
         .iter()
         .enumerate()

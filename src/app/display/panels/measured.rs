@@ -27,6 +27,7 @@ use crate::core::measured::figures::{
 use crate::core::measured::fit::{Estimate, FitOptions, FitResult, fit};
 use crate::core::measured::{PsfSet, PsfSource};
 use crate::io::measured::{SetDefaults, read_psf_set};
+use udc_gpu::Route;
 
 /// A loaded set and the file it came from.
 pub struct Loaded {
@@ -174,14 +175,14 @@ impl MeasuredPanel {
         )));
     }
 
-    /// Compares the loaded set with `design` in the background.
-    pub fn compare(&mut self, design: &Design, ctx: &egui::Context) {
+    /// Compares the loaded set with `design` in the background, its PSFs computed on `route`.
+    pub fn compare(&mut self, design: &Design, route: Arc<Route>, ctx: &egui::Context) {
         let Some(loaded) = &self.loaded else { return };
         let (design, set, wake) = (design.clone(), loaded.set.clone(), ctx.clone());
         self.running = Some(Running::Compare(Job::spawn(
             "PSF comparison",
             move || wake.request_repaint(),
-            move |p| compare_set(&design, &set, p),
+            move |p| compare_set(&design, &set, route.as_ref(), p),
         )));
     }
 
@@ -348,7 +349,11 @@ impl MeasuredPanel {
                     .on_hover_text("The design simulated at the set's pixel pitch, each channel aligned to a sub-pixel")
                     .clicked()
                 {
-                    self.compare(pctx.design, ui.ctx());
+                    // On the route the design on screen was computed on.
+                    let route = pctx
+                        .shown
+                        .map_or_else(|| Arc::new(Route::cpu()), |s| s.route.clone());
+                    self.compare(pctx.design, route, ui.ctx());
                 }
                 if ui
                     .add_enabled(idle, egui::Button::new("Fit the display"))

@@ -36,6 +36,9 @@ pub struct Shown {
     pub analysis: Arc<Analysis>,
     /// The design the analysis belongs to (it may lag behind the document while computing).
     pub design: Arc<Design>,
+    /// The route its PSFs were computed on (View ▸ Compute PSFs on): the studies of this
+    /// design (field, depth, the measured comparison) compute theirs on it too.
+    pub route: Arc<udc_gpu::Route>,
 }
 
 /// The rasterised display over the pupil, for the tiling preview.

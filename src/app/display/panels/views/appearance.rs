@@ -14,7 +14,7 @@ use crate::app::job::{Job, JobError, Keyed};
 use crate::app::notice::Notice;
 use crate::app::widgets::photo::{built_in, color_image};
 use crate::core::Progress;
-use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use crate::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use crate::core::design::Design;
 use crate::core::display::appearance::{
     AppearanceSettings, DisplayQuality, appearance, scatter_panel,
@@ -159,7 +159,8 @@ impl AppearanceView {
         self.job.start(key, job);
     }
 
-    fn start_scatter(&mut self, ctx: &egui::Context) {
+    /// Starts the scatter of the thesis's presets, their PSFs computed on `route`.
+    fn start_scatter(&mut self, route: Arc<udc_gpu::Route>, ctx: &egui::Context) {
         let settings = self.settings();
         let wake = ctx.clone();
         self.scatter_job = Some(Job::spawn(
@@ -181,7 +182,7 @@ impl AppearanceView {
                     let Ok((q, _)) = appearance(&d, &grey, &settings, p) else {
                         continue;
                     };
-                    let a = analyze_with(&d, &options, p)?;
+                    let a = analyze_with_route(&d, &options, route.as_ref(), p)?;
                     out.push(ScatterPoint {
                         name: preset.name.into(),
                         camera_auc: camera_auc(&a),
@@ -222,7 +223,8 @@ impl AppearanceView {
                 .on_hover_text("Camera AUC against display nonuniformity for every thesis preset")
                 .clicked()
             {
-                self.start_scatter(&egui_ctx);
+                // On the route the design on screen was computed on.
+                self.start_scatter(shown.route.clone(), &egui_ctx);
             }
             if self.is_running() {
                 ui.spinner();

@@ -190,6 +190,8 @@ impl FieldDepthView {
     fn start(&mut self, key: Key, shown: &Shown, ctx: &egui::Context) {
         let design: Arc<Design> = shown.design.clone();
         let analysis = shown.analysis.clone();
+        // On the route the shown design's PSFs were computed on.
+        let route = shown.route.clone();
         let wake = ctx.clone();
         let job = Job::spawn(
             "field and depth job",
@@ -202,7 +204,7 @@ impl FieldDepthView {
                         quality: Quality::Preview,
                         ..FieldSettings::default()
                     };
-                    let r = field_psfs(&design, &settings, p)?;
+                    let r = field_psfs(&design, &settings, route.as_ref(), p)?;
                     let capture = if key.capture_photo {
                         p.check()?;
                         let (photo, capture) = capture_photo()?;
@@ -218,7 +220,7 @@ impl FieldDepthView {
                         quality: Quality::Preview,
                         ..DepthSettings::default()
                     };
-                    let r = depth_psfs(&design, &settings, p)?;
+                    let r = depth_psfs(&design, &settings, route.as_ref(), p)?;
                     let capture = if key.capture_photo {
                         p.check()?;
                         let (photo, capture) = capture_photo()?;
