@@ -297,8 +297,15 @@ impl ReproduceWindow {
 /// Runs `reproduce ID --quick --out DIR` on this (the job's) thread: the library call the
 /// command line makes, reporting to and cancelled by the job's progress. The report's path.
 fn quick_run(id: ResultId, out: &Path, p: &Progress) -> Result<PathBuf, JobError> {
-    let geometry = crate::core::reproduce::Geometry::Ours;
-    match crate::cli::reproduce::reproduce(id, geometry, true, out, None, true, p) {
+    let options = crate::cli::reproduce::ReproduceOptions {
+        geometry: crate::core::reproduce::Geometry::Ours,
+        quick: true,
+        threads: None,
+        quiet: true,
+        // The CLI's headless device is not the window's: the studio's quick runs stay on the CPU.
+        backend: crate::core::psf::route::Backend::Cpu,
+    };
+    match crate::cli::reproduce::reproduce(id, out, &options, p) {
         Ok(run) => Ok(run.report),
         // A cancelled run stops between or inside its points; a new run resumes the rest.
         Err(_) if p.is_cancelled() => Err(JobError::Cancelled),

@@ -94,12 +94,26 @@ fn every_shipped_spec_is_a_valid_sweep_and_belongs_to_a_result() {
 #[test]
 fn every_part_as_it_runs_is_a_spec_the_job_accepts() {
     use udc_studio::cli::reproduce::prepare::{prepared_spec, repo_root};
+    use udc_studio::core::psf::route::Backend;
     use udc_studio::core::restore::denoise::{ICCV23_SIGMA2, nearest_row};
     let root = repo_root("table4.1.toml").unwrap();
     for id in ResultId::ALL {
         for part in id.parts() {
-            let spec = prepared_spec(&root, id, part, None).unwrap();
+            let spec = prepared_spec(&root, id, part, None, Backend::Cpu).unwrap();
             let points = udc_studio::cli::sweep::check_points(&spec);
+            assert!(points.is_ok(), "{} {}: {points:?}", id.as_str(), part.name);
+            // `--backend gpu`: every point whose job takes a backend gets it, and its job
+            // accepts it; the others run as written.
+            let on_gpu = prepared_spec(&root, id, part, None, Backend::Gpu).unwrap();
+            let gpu = on_gpu.base.get("backend").map(|v| v.to_arg());
+            assert_eq!(
+                gpu.as_deref(),
+                spec.job.takes_backend().then_some("gpu"),
+                "{} {}",
+                id.as_str(),
+                part.name
+            );
+            let points = udc_studio::cli::sweep::check_points(&on_gpu);
             assert!(points.is_ok(), "{} {}: {points:?}", id.as_str(), part.name);
             if part.name != "display-table" {
                 assert!(!spec.base.contains_key("denoise-sigma2"), "{}", part.name);
@@ -116,7 +130,7 @@ fn every_part_as_it_runs_is_a_spec_the_job_accepts() {
         let (ours, thesis) = (id.parts_for(Geometry::Ours), id.parts_for(Geometry::Thesis));
         assert_eq!(ours.len(), thesis.len());
         for (a, b) in ours.iter().zip(thesis) {
-            let spec = prepared_spec(&root, id, b, None).unwrap();
+            let spec = prepared_spec(&root, id, b, None, Backend::Cpu).unwrap();
             assert!(udc_studio::cli::sweep::check_points(&spec).is_ok());
             if b.name == "phase" {
                 assert_eq!(spec.base["scene-px"].to_arg(), "1024");
@@ -132,7 +146,7 @@ fn every_part_as_it_runs_is_a_spec_the_job_accepts() {
         .iter()
         .find(|p| p.name == "display-table")
         .unwrap();
-    let spec = prepared_spec(&root, ResultId::Table4_1, table, None).unwrap();
+    let spec = prepared_spec(&root, ResultId::Table4_1, table, None, Backend::Cpu).unwrap();
     let photons = spec.axes.iter().find(|a| a.param == "photons").unwrap();
     let sigma2 = &photons.with["denoise-sigma2"];
     for (n, s) in photons.values.iter().flatten().zip(sigma2) {

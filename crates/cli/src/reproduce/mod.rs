@@ -19,6 +19,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use udc_core::psf::route::Backend;
 
 pub use catalog::ResultId;
 use outcome::SweepTable;
@@ -56,6 +57,10 @@ pub struct ReproduceArgs {
     /// `udc-studio sweep slurm` runs its phase sweep as a job array.
     #[arg(long)]
     pub thesis_geometry: bool,
+    /// Where the display and phase points compute their PSFs (`analyze`, `restore`, `phase
+    /// psf`, `phase restore`; the others run on the CPU).
+    #[command(flatten)]
+    pub backend: udc_jobs::backend::BackendFlag,
 }
 
 /// Runs `udc-studio reproduce …`.
@@ -92,15 +97,20 @@ pub fn reproduce_cmd(args: &ReproduceArgs) -> Result<()> {
             d
         }
     });
-    let run = reproduce(
-        id,
+    // Resolved once: `gpu` without an adapter is one line before any point runs, and `auto`
+    // says once why it computes on the CPU.
+    let route = args.backend.route()?;
+    if let Some(line) = args.backend.line(&route).filter(|_| !args.json) {
+        eprintln!("{line}");
+    }
+    let options = ReproduceOptions {
         geometry,
-        args.quick,
-        &out,
-        args.threads,
-        args.json,
-        &udc_core::Progress::new(),
-    )?;
+        quick: args.quick,
+        threads: args.threads,
+        quiet: args.json,
+        backend: args.backend.backend,
+    };
+    let run = reproduce(id, &out, &options, &udc_core::Progress::new())?;
     if args.json {
         crate::emit_json(&report::json_of(&run.info, &run.outcome, &run.report))?;
     } else {
@@ -150,6 +160,21 @@ pub struct Reproduction {
     pub report: PathBuf,
 }
 
+/// How [`reproduce`] runs a result.
+#[derive(Debug, Clone, Copy)]
+pub struct ReproduceOptions {
+    /// Our geometry or the thesis's (`--thesis-geometry`).
+    pub geometry: catalog::Geometry,
+    /// `--quick`: three photos at 256² and fewer costly settings.
+    pub quick: bool,
+    /// Worker threads (`None`: every core).
+    pub threads: Option<usize>,
+    /// No progress bar or summary on the terminal.
+    pub quiet: bool,
+    /// Where the points that take a backend compute their PSFs.
+    pub backend: Backend,
+}
+
 /// Runs (or resumes) result `id` into `out` and writes its report; the one entry point of the
 /// CLI and the tests.
 ///
@@ -157,13 +182,17 @@ pub struct Reproduction {
 /// A missing spec or photo, a sweep that cannot run, unwritable results.
 pub fn reproduce(
     id: ResultId,
-    geometry: catalog::Geometry,
-    quick: bool,
     out: &Path,
-    threads: Option<usize>,
-    quiet: bool,
+    options: &ReproduceOptions,
     progress: &udc_core::Progress,
 ) -> Result<Reproduction> {
+    let ReproduceOptions {
+        geometry,
+        quick,
+        threads,
+        quiet,
+        backend,
+    } = *options;
     let started = Instant::now();
     let parts = id.parts_for(geometry);
     let first = parts.first().map_or("", |p| p.file);
@@ -175,6 +204,7 @@ pub fn reproduce(
     let mut info = RunInfo {
         id,
         quick,
+        backend,
         inputs: Vec::new(),
         sweeps: Vec::new(),
         plots: Vec::new(),
@@ -183,8 +213,13 @@ pub fn reproduce(
     };
     let plots_dir = out.join("plots");
     for (k, part) in parts.iter().enumerate() {
-        let spec =
-            prepare::prepared_spec(&root, id, part, quick.then_some(quick_photos.as_path()))?;
+        let spec = prepare::prepared_spec(
+            &root,
+            id,
+            part,
+            quick.then_some(quick_photos.as_path()),
+            backend,
+        )?;
         for p in prepare::photos_of(&spec, part.inputs) {
             let name = Path::new(&p)
                 .file_name()

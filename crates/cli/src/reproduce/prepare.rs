@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, anyhow, bail};
 
 use super::catalog::{Part, QuickPlan, ResultId};
+use udc_core::psf::route::Backend;
 use udc_core::sweep::{ParamValue, SweepSpec};
 use udc_io::sweep::spec_file::load_spec;
 
@@ -45,7 +46,8 @@ pub fn repo_root(first_spec: &str) -> Result<PathBuf> {
 }
 
 /// The spec of one part as it runs: read from the repository, its input files named from
-/// there, trimmed for `--quick` (the photos then come from `quick_photos`).
+/// there, trimmed for `--quick` (the photos then come from `quick_photos`), its points'
+/// PSFs on `backend` where its job takes one.
 ///
 /// # Errors
 /// An unreadable or invalid spec, a quick plan that names values the spec lacks, photos that
@@ -55,6 +57,7 @@ pub fn prepared_spec(
     id: ResultId,
     part: &Part,
     quick: Option<&Path>,
+    backend: Backend,
 ) -> Result<SweepSpec> {
     let path = root.join(SPEC_DIR).join(part.file);
     let spec = load_spec(&path)?;
@@ -75,6 +78,11 @@ pub fn prepared_spec(
         quicken(&mut spec, part, dir)
             .with_context(|| format!("{} ({}), quick plan", id.as_str(), part.file))?;
         spec.name = format!("{} (quick)", spec.name);
+    }
+    // The CPU is every job's default: its specs stay as written (and their hashes with them).
+    if backend != Backend::Cpu && spec.job.takes_backend() {
+        spec.base
+            .insert("backend".into(), ParamValue::Text(backend.to_string()));
     }
     spec.validate()?;
     Ok(spec)

@@ -18,6 +18,8 @@ pub struct RunInfo {
     pub id: ResultId,
     /// Whether `--quick` trimmed it.
     pub quick: bool,
+    /// Where the display and phase points computed their PSFs (`--backend`).
+    pub backend: udc_core::psf::route::Backend,
     /// The photos or scenes each part read.
     pub inputs: Vec<String>,
     /// The sweep folders, relative to the results folder.
@@ -54,9 +56,13 @@ pub fn markdown(info: &RunInfo, o: &Outcome) -> String {
     let _ = writeln!(s, "# {}\n", id.title());
     let _ = writeln!(
         s,
-        "`udc-studio reproduce {}{}`: {}.\n",
+        "`udc-studio reproduce {}{}{}`: {}.\n",
         id.as_str(),
         if info.quick { " --quick" } else { "" },
+        match info.backend {
+            udc_core::psf::route::Backend::Cpu => String::new(),
+            other => format!(" --backend {other}"),
+        },
         id.runs()
     );
     let _ = writeln!(
@@ -217,6 +223,7 @@ pub fn json_of(info: &RunInfo, o: &Outcome, report: &Path) -> Json {
         "id": info.id.as_str(),
         "title": info.id.title(),
         "quick": info.quick,
+        "backend": <&str>::from(info.backend),
         "rows": rows,
         "claims": o.claims.iter().map(|c| json!({
             "claim": c.claim, "measured": c.measured, "pass": c.pass, "why": c.why,

@@ -64,6 +64,20 @@ impl SweepJob {
         }
     }
 
+    /// Whether the job computes PSFs on a chosen backend (its `backend` parameter, the CLI's
+    /// `--backend`): the display jobs and the phase jobs whose propagations a device runs.
+    pub fn takes_backend(self) -> bool {
+        match self {
+            SweepJob::Analyze | SweepJob::Restore | SweepJob::PhasePsf | SweepJob::PhaseRestore => {
+                true
+            }
+            SweepJob::PhaseInvertibility
+            | SweepJob::PhaseOptimize
+            | SweepJob::Sensor
+            | SweepJob::SensorFlatPatch => false,
+        }
+    }
+
     /// The metrics kept when the spec names none: the job's headline numbers (`*` stands for
     /// every channel or strategy name).
     pub fn default_metrics(self) -> &'static [&'static str] {
