@@ -6,6 +6,8 @@
 //! recipe. The lens pupil is binary: a sample is inside when its centre is within `D/2`.
 
 use crate::design::{Design, Opening, Polygon, TilingMode};
+use rayon::prelude::*;
+
 use crate::display::tiling::{D4, tile_orientation};
 
 /// One row of a field on the pupil grid, stored densely between its first and last nonzero
@@ -173,44 +175,87 @@ fn segments(display: &Display, x_um: f64, delta_um: f64, axis: usize) -> Vec<Seg
     out
 }
 
-/// Rasterises the display (clipped by `extent`) on a grid of spacing `delta_um`.
+/// Rasterises the display (clipped by `extent`) on a grid of spacing `delta_um`, its rows in
+/// parallel (a fit rasterises a display at every step of its pitch and edges, a pupil of
+/// millions of samples).
 pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
-    let n = display.n();
-    let mut rows: Vec<SparseRow> = Vec::new();
-    let mut current: Option<SparseRow> = None;
-    let mut last_nonzero = 0usize;
-    let finish = |row: Option<SparseRow>, keep: usize, rows: &mut Vec<SparseRow>| {
-        if let Some(mut r) = row {
-            r.values.truncate(keep);
-            if !r.values.is_empty() {
-                rows.push(r);
-            }
-        }
+    let Some(walker) = Walker::new(display, extent, delta_um) else {
+        return Field::default();
     };
-    walk(display, extent, delta_um, |iy, ix, terms| {
-        let v: f64 = terms
-            .iter()
-            .map(|&(c, w)| w * display.cells[c / n][c % n])
-            .sum();
-        if current.as_ref().is_some_and(|r| r.iy != iy) {
-            finish(current.take(), last_nonzero, &mut rows);
-        }
-        match current.as_mut() {
-            Some(r) => r.values.push(v),
-            None if v != 0.0 => {
-                current = Some(SparseRow {
-                    iy,
-                    ix0: ix,
-                    values: vec![v],
-                });
+    let n = display.n();
+    // The pattern each tile shows, flattened: one copy per orientation the tiles use (eight at
+    // most), so a sample reads its cell without turning its indices.
+    let mut kinds: Vec<D4> = Vec::new();
+    let tile_kind: Vec<usize> = walker
+        .orientations
+        .iter()
+        .map(|g| match kinds.iter().position(|k| k == g) {
+            Some(i) => i,
+            None => {
+                kinds.push(*g);
+                kinds.len() - 1
             }
-            None => return,
+        })
+        .collect();
+    let patterns: Vec<Vec<f64>> = kinds
+        .iter()
+        .map(|g| {
+            (0..n * n)
+                .map(|k| {
+                    let (sr, sc) = g.source(k / n, k % n, n);
+                    display.cells[sr][sc]
+                })
+                .collect()
+        })
+        .collect();
+    // Each sample column's pieces (tile, cell, weight), back to back.
+    let mut starts = Vec::with_capacity(walker.segs_x.len() + 1);
+    let mut pieces: Vec<(usize, usize, f64)> = Vec::new();
+    starts.push(0);
+    for segs in &walker.segs_x {
+        for sx in segs {
+            if let Some(cx) = sx.cell
+                && (extent != Extent::SingleTile || sx.tile == 0)
+            {
+                pieces.push(((sx.tile - walker.tx0) as usize, cx, sx.weight));
+            }
         }
-        if v != 0.0 {
-            last_nonzero = current.as_ref().map_or(0, |r| r.values.len());
-        }
-    });
-    finish(current, last_nonzero, &mut rows);
+        starts.push(pieces.len());
+    }
+    let rows = (walker.lo..=walker.hi)
+        .into_par_iter()
+        .filter_map(|iy| {
+            let (first, last) = walker.inside(iy)?;
+            let ky = (iy - walker.lo) as usize;
+            let k0 = (first - walker.lo) as usize;
+            let mut values = vec![0.0f64; (last - first + 1) as usize];
+            // Row pieces outer, column pieces inner: each sample sums its terms in the order
+            // the cell map lists them.
+            for sy in &walker.segs_y[ky] {
+                let Some(cy) = sy.cell else { continue };
+                if extent == Extent::SingleTile && sy.tile != 0 {
+                    continue;
+                }
+                let base = (sy.tile - walker.ty0) as usize * walker.tiles_x;
+                for (k, v) in values.iter_mut().enumerate() {
+                    let kx = k0 + k;
+                    for &(tile, cx, wx) in &pieces[starts[kx]..starts[kx + 1]] {
+                        let pattern = &patterns[tile_kind[base + tile]];
+                        *v += sy.weight * wx * pattern[cy * n + cx];
+                    }
+                }
+            }
+            let lead = values.iter().position(|v| *v != 0.0)?;
+            let tail = values.iter().rposition(|v| *v != 0.0).unwrap_or(lead);
+            values.truncate(tail + 1);
+            values.drain(..lead);
+            Some(SparseRow {
+                iy,
+                ix0: first + lead as i64,
+                values,
+            })
+        })
+        .collect();
     Field { rows }
 }
 
@@ -281,78 +326,141 @@ fn walk(
     delta_um: f64,
     mut visit: impl FnMut(i64, i64, &[(usize, f64)]),
 ) {
-    let n = display.n();
-    if n == 0 {
+    let Some(walker) = Walker::new(display, extent, delta_um) else {
         return;
+    };
+    let n = display.n();
+    let mut flat = Vec::with_capacity(4);
+    for iy in walker.lo..=walker.hi {
+        walker.row(iy, |ix, terms| {
+            flat.clear();
+            flat.extend(terms.iter().map(|&(r, c, w)| (r * n + c, w)));
+            visit(iy, ix, &flat);
+        });
     }
-    let (lo, hi) = match extent {
-        Extent::Pupil { diameter_um } => {
-            let r = (0.5 * diameter_um / delta_um).floor() as i64;
-            (-r, r)
-        }
-        Extent::Square { half_um } => {
-            let r = (half_um / delta_um).floor() as i64;
-            (-r, r)
-        }
-        Extent::SingleTile => {
-            let shift_x = (display.origin_offset_cells[0] + 0.5) * display.cell_um();
-            let shift_y = (display.origin_offset_cells[1] + 0.5) * display.cell_um();
-            let lo = ((-shift_x.max(shift_y)) / delta_um).floor() as i64 - 1;
-            let hi = ((display.pitch_um - shift_x.min(shift_y)) / delta_um).ceil() as i64 + 1;
-            (lo, hi)
-        }
-    };
-    let axis_segments = |axis: usize| -> Vec<Vec<Segment>> {
-        (lo..=hi)
-            .map(|i| segments(display, i as f64 * delta_um, delta_um, axis))
-            .collect()
-    };
-    let segs_x = axis_segments(0);
-    let segs_y = axis_segments(1);
+}
 
-    // Orientation per tile, computed once into a dense table (a ChaCha stream per tile is not
-    // free, and a hash lookup per sample would dominate the rasterisation).
-    let tile_range = |segs: &[Vec<Segment>]| {
-        let mut it = segs.iter().flatten().map(|s| s.tile);
-        let first = it.next().unwrap_or(0);
-        it.fold((first, first), |(a, b), t| (a.min(t), b.max(t)))
-    };
-    let (tx0, tx1) = tile_range(&segs_x);
-    let (ty0, ty1) = tile_range(&segs_y);
-    let tiles_x = (tx1 - tx0 + 1) as usize;
-    let orientations: Vec<D4> = (ty0..=ty1)
-        .flat_map(|ty| (tx0..=tx1).map(move |tx| (tx, ty)))
-        .map(|(tx, ty)| tile_orientation(display.mode, display.seed, tx, ty))
-        .collect();
-    let orientation =
-        |tx: i64, ty: i64| orientations[(ty - ty0) as usize * tiles_x + (tx - tx0) as usize];
+/// What every row of a rasterisation shares: each sample column's and row's cuts at cell and
+/// period boundaries, and each tile's orientation.
+struct Walker<'d, 'a> {
+    display: &'d Display<'a>,
+    extent: Extent,
+    delta_um: f64,
+    /// First and last sample offset on each axis.
+    lo: i64,
+    hi: i64,
+    segs_x: Vec<Vec<Segment>>,
+    segs_y: Vec<Vec<Segment>>,
+    /// Orientation per tile in a dense table (a ChaCha stream per tile is not free, and a hash
+    /// lookup per sample would dominate the rasterisation), from tile `(tx0, ty0)` on.
+    orientations: Vec<D4>,
+    tx0: i64,
+    ty0: i64,
+    tiles_x: usize,
+    /// Squared pupil radius, µm² (infinite for the other extents).
+    r2: f64,
+}
 
-    let r2 = match extent {
-        Extent::Pupil { diameter_um } => (0.5 * diameter_um).powi(2),
-        Extent::SingleTile | Extent::Square { .. } => f64::INFINITY,
-    };
-    let mut terms = Vec::with_capacity(4);
-    for (ky, iy) in (lo..=hi).enumerate() {
-        let y = iy as f64 * delta_um;
-        for (kx, ix) in (lo..=hi).enumerate() {
-            let x = ix as f64 * delta_um;
-            if x * x + y * y > r2 {
-                continue;
+impl<'d, 'a> Walker<'d, 'a> {
+    /// `None` for a display without cells.
+    fn new(display: &'d Display<'a>, extent: Extent, delta_um: f64) -> Option<Self> {
+        if display.n() == 0 {
+            return None;
+        }
+        let (lo, hi) = match extent {
+            Extent::Pupil { diameter_um } => {
+                let r = (0.5 * diameter_um / delta_um).floor() as i64;
+                (-r, r)
             }
+            Extent::Square { half_um } => {
+                let r = (half_um / delta_um).floor() as i64;
+                (-r, r)
+            }
+            Extent::SingleTile => {
+                let shift_x = (display.origin_offset_cells[0] + 0.5) * display.cell_um();
+                let shift_y = (display.origin_offset_cells[1] + 0.5) * display.cell_um();
+                let lo = ((-shift_x.max(shift_y)) / delta_um).floor() as i64 - 1;
+                let hi = ((display.pitch_um - shift_x.min(shift_y)) / delta_um).ceil() as i64 + 1;
+                (lo, hi)
+            }
+        };
+        let axis_segments = |axis: usize| -> Vec<Vec<Segment>> {
+            (lo..=hi)
+                .map(|i| segments(display, i as f64 * delta_um, delta_um, axis))
+                .collect()
+        };
+        let segs_x = axis_segments(0);
+        let segs_y = axis_segments(1);
+        let tile_range = |segs: &[Vec<Segment>]| {
+            let mut it = segs.iter().flatten().map(|s| s.tile);
+            let first = it.next().unwrap_or(0);
+            it.fold((first, first), |(a, b), t| (a.min(t), b.max(t)))
+        };
+        let (tx0, tx1) = tile_range(&segs_x);
+        let (ty0, ty1) = tile_range(&segs_y);
+        let orientations: Vec<D4> = (ty0..=ty1)
+            .flat_map(|ty| (tx0..=tx1).map(move |tx| (tx, ty)))
+            .map(|(tx, ty)| tile_orientation(display.mode, display.seed, tx, ty))
+            .collect();
+        let r2 = match extent {
+            Extent::Pupil { diameter_um } => (0.5 * diameter_um).powi(2),
+            Extent::SingleTile | Extent::Square { .. } => f64::INFINITY,
+        };
+        Some(Walker {
+            display,
+            extent,
+            delta_um,
+            lo,
+            hi,
+            segs_x,
+            segs_y,
+            orientations,
+            tx0,
+            ty0,
+            tiles_x: (tx1 - tx0 + 1) as usize,
+            r2,
+        })
+    }
+
+    /// The first and last sample of row `iy` inside the extent (a disc's samples in a row are
+    /// consecutive), or `None`.
+    fn inside(&self, iy: i64) -> Option<(i64, i64)> {
+        let y = iy as f64 * self.delta_um;
+        let within = |ix: i64| {
+            let x = ix as f64 * self.delta_um;
+            x * x + y * y <= self.r2
+        };
+        let first = (self.lo..=self.hi).find(|&ix| within(ix))?;
+        let last = (first..=self.hi).rev().find(|&ix| within(ix))?;
+        Some((first, last))
+    }
+
+    /// Visits the samples of row `iy` inside the extent, left to right, with the
+    /// `(cell row, cell column, weight)` terms of each one's box-filtered value.
+    fn row(&self, iy: i64, mut visit: impl FnMut(i64, &[(usize, usize, f64)])) {
+        let n = self.display.n();
+        let ky = (iy - self.lo) as usize;
+        let Some((first, last)) = self.inside(iy) else {
+            return;
+        };
+        let mut terms = Vec::with_capacity(4);
+        for ix in first..=last {
+            let kx = (ix - self.lo) as usize;
             terms.clear();
-            for sy in &segs_y[ky] {
+            for sy in &self.segs_y[ky] {
                 let Some(cy) = sy.cell else { continue };
-                for sx in &segs_x[kx] {
+                for sx in &self.segs_x[kx] {
                     let Some(cx) = sx.cell else { continue };
-                    if extent == Extent::SingleTile && (sx.tile != 0 || sy.tile != 0) {
+                    if self.extent == Extent::SingleTile && (sx.tile != 0 || sy.tile != 0) {
                         continue;
                     }
-                    let g = orientation(sx.tile, sy.tile);
+                    let g = self.orientations[(sy.tile - self.ty0) as usize * self.tiles_x
+                        + (sx.tile - self.tx0) as usize];
                     let (sr, sc) = g.source(cy, cx, n);
-                    terms.push((sr * n + sc, sy.weight * sx.weight));
+                    terms.push((sr, sc, sy.weight * sx.weight));
                 }
             }
-            visit(iy, ix, &terms);
+            visit(ix, &terms);
         }
     }
 }
