@@ -292,6 +292,14 @@ fn cell_ui(ui: &mut egui::Ui, text: &str, c: Column, width: f32, height: f32) {
 /// A running study's progress bar with its ETA and Cancel, or Resume for an open study that
 /// is not complete.
 fn study_ui(ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
+    // An id of their own: the reading line above comes and goes as rows land, which would move
+    // the buttons' automatic ids between two frames, so a click (or an accessibility action)
+    // aimed at Cancel study could miss it.
+    let scope = egui::UiBuilder::new().scope_id(egui::Id::unique("sweep-study-controls"));
+    ui.scope_builder(scope, |ui| study_controls(ui, ctx));
+}
+
+fn study_controls(ui: &mut egui::Ui, ctx: &mut SweepCtx<'_>) {
     if let Some((fraction, elapsed_s)) = ctx.study {
         let eta = if fraction > 0.0 && fraction < 1.0 {
             let left = elapsed_s * f64::from(1.0 - fraction) / f64::from(fraction);

@@ -208,19 +208,35 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
                 .collect()
         })
         .collect();
-    // Each sample column's pieces (tile, cell, weight), back to back.
-    let mut starts = Vec::with_capacity(walker.segs_x.len() + 1);
-    let mut pieces: Vec<(usize, usize, f64)> = Vec::new();
-    starts.push(0);
+    // Each sample column's pieces as runs of consecutive cells in one tile (a refined opening
+    // puts a dozen cells under a sample), their weights back to back.
+    let mut run_starts = Vec::with_capacity(walker.segs_x.len() + 1);
+    let mut runs: Vec<Run> = Vec::new();
+    let mut weights: Vec<f64> = Vec::new();
+    run_starts.push(0);
     for segs in &walker.segs_x {
+        let column_start = runs.len();
         for sx in segs {
-            if let Some(cx) = sx.cell
-                && (extent != Extent::SingleTile || sx.tile == 0)
-            {
-                pieces.push(((sx.tile - walker.tx0) as usize, cx, sx.weight));
+            let Some(cx) = sx.cell else { continue };
+            if extent == Extent::SingleTile && sx.tile != 0 {
+                continue;
             }
+            let tile = (sx.tile - walker.tx0) as usize;
+            let in_column = runs.len() > column_start;
+            match runs.last_mut() {
+                Some(r) if in_column && r.tile == tile && r.c0 + r.len == cx => {
+                    r.len += 1;
+                }
+                _ => runs.push(Run {
+                    tile,
+                    c0: cx,
+                    w0: weights.len(),
+                    len: 1,
+                }),
+            }
+            weights.push(sx.weight);
         }
-        starts.push(pieces.len());
+        run_starts.push(runs.len());
     }
     let rows = (walker.lo..=walker.hi)
         .into_par_iter()
@@ -239,9 +255,12 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
                 let base = (sy.tile - walker.ty0) as usize * walker.tiles_x;
                 for (k, v) in values.iter_mut().enumerate() {
                     let kx = k0 + k;
-                    for &(tile, cx, wx) in &pieces[starts[kx]..starts[kx + 1]] {
-                        let pattern = &patterns[tile_kind[base + tile]];
-                        *v += sy.weight * wx * pattern[cy * n + cx];
+                    for r in &runs[run_starts[kx]..run_starts[kx + 1]] {
+                        let at = cy * n + r.c0;
+                        let cells = &patterns[tile_kind[base + r.tile]][at..at + r.len];
+                        for (wx, cell) in weights[r.w0..r.w0 + r.len].iter().zip(cells) {
+                            *v += sy.weight * wx * cell;
+                        }
                     }
                 }
             }
@@ -257,6 +276,15 @@ pub fn rasterise(display: &Display, extent: Extent, delta_um: f64) -> Field {
         })
         .collect();
     Field { rows }
+}
+
+/// `len` consecutive cells of one row of a tile from cell `c0`, under one sample column, with
+/// their weights at `w0..w0 + len`.
+struct Run {
+    tile: usize,
+    c0: usize,
+    w0: usize,
+    len: usize,
 }
 
 /// The display as a linear map from the `N×N` cell transmittances (flattened row-major) to the

@@ -36,8 +36,8 @@ pub struct RunOptions {
     /// anything is written (the command line); off, a refused value is a failed point, a row
     /// with its message (the studio's "sweep this parameter", whose plot shows it as a gap).
     pub check_values: bool,
-    /// Compute this many new points, then hold every worker until the run is stopped: a run
-    /// that is certain to be interrupted midway, however fast the machine (the interruption
+    /// Start this many new points, then no more, and keep the run open until it is stopped: a
+    /// run that is certain to be interrupted midway, however fast the machine (the interruption
     /// tests; the command line sets it from `UDC_SWEEP_HOLD_AFTER_POINTS`).
     pub hold_after_points: Option<u64>,
 }
@@ -268,6 +268,7 @@ pub fn run_sweep(
 
     let skipped = AtomicU64::new(0);
     let started_points = AtomicU64::new(0);
+    let held = AtomicBool::new(false);
     // Ctrl-C drains: the points in flight finish and are saved (a second one quits).
     let drain = Arc::new(AtomicBool::new(false));
     let _deferred = udc_io::safe_file::defer_signal_to(drain.clone());
@@ -346,9 +347,10 @@ pub fn run_sweep(
                             if let Some(hold) = opts.hold_after_points
                                 && started_points.fetch_add(1, Ordering::SeqCst) >= hold
                             {
-                                while !stop() {
-                                    std::thread::sleep(std::time::Duration::from_millis(10));
-                                }
+                                // Not waited for here: a worker waiting inside a point's own
+                                // parallel steps may run this job on top of that point, which
+                                // would then never finish. The run waits below, off the pool.
+                                held.store(true, Ordering::SeqCst);
                                 return Err(());
                             }
                             let row = compute_row(spec, &points, i, hash, &metrics, &in_flight).0;
@@ -371,9 +373,17 @@ pub fn run_sweep(
                     tx.send(row).map_err(|_| ())
                 })
         });
-        handle
+        let written = handle
             .join()
-            .map_err(|_| anyhow!("the results writer stopped"))?
+            .map_err(|_| anyhow!("the results writer stopped"))?;
+        // Held (a test's pause, `hold_after_points`): the points started are written; the run
+        // stays open until it is cancelled.
+        if held.load(Ordering::SeqCst) {
+            while !stop() {
+                std::thread::sleep(std::time::Duration::from_millis(10));
+            }
+        }
+        written
     })?;
     computed += n;
     failed += f;
