@@ -143,7 +143,7 @@ fn optimized_plan(base: &PhaseDesign) -> Result<PhaseDesign, String> {
         .map_err(|e| e.to_string())?;
     let sampling = PhaseSampling::thesis().with_relay(Relay::LensletPeriod);
     Setup::mla(42.0, 5.0, Lambda0Plan::Optimized)
-        .resolve(base, &sampling, &channels, &Progress::new())
+        .resolve(base, &sampling, &channels, None, &Progress::new())
         .map(|(design, _)| design)
         .map_err(|e| e.to_string())
 }

@@ -29,6 +29,22 @@ if os.environ.get("UDC_TEST_INSTALLED") != "1":
     stage()
 
 
+@pytest.fixture
+def on_gpu():
+    """``on_gpu(f, *args, **kw)`` is ``f(*args, backend="gpu", **kw)`` on any adapter (a
+    software one included); on a machine with none, `gpu` must be a clear error, and the test
+    is skipped saying so."""
+
+    def call(f, *args, **kwargs):
+        try:
+            return f(*args, backend="gpu", **kwargs)
+        except ValueError as e:
+            assert "no GPU adapter" in str(e)
+            pytest.skip(f"no GPU adapter on this machine: {e}")
+
+    return call
+
+
 @pytest.fixture(scope="session")
 def cli() -> Path:
     """The `udc-studio` binary of the same checkout."""

@@ -117,14 +117,10 @@ def test_bad_quality_raises():
         udc.analyze("toled-150dpi", quality="best")
 
 
-def test_the_gpu_backend_gives_the_cpus_numbers_to_f32_precision():
+def test_the_gpu_backend_gives_the_cpus_numbers_to_f32_precision(on_gpu):
     """On any adapter (a software one included); without one, `gpu` is a clear error."""
     cpu = udc.analyze("toled-150dpi", quality="preview", advice="none")
-    try:
-        gpu = udc.analyze("toled-150dpi", quality="preview", advice="none", backend="gpu")
-    except ValueError as e:
-        assert "no GPU adapter" in str(e)
-        pytest.skip(f"no GPU adapter on this machine: {e}")
+    gpu = on_gpu(udc.analyze, "toled-150dpi", quality="preview", advice="none")
     assert cpu.adapter is None and gpu.adapter
     # to_json() is the CLI's --json: the backend object where the CPU was not asked for.
     assert "backend" not in json.loads(cpu.to_json())

@@ -338,3 +338,35 @@ fn the_studies_of_a_design_run_on_the_gpu_as_on_the_cpu() {
         );
     }
 }
+
+/// `phase invertibility` and `phase optimize` take `--backend`; under the lenslet period (one
+/// lenslet's samples, the default) no step runs on the device, so V is the CPU's to the bit and
+/// the report says the CPU computed it instead of naming the adapter it was handed.
+#[test]
+fn a_phase_job_with_no_step_on_the_device_says_the_cpu_ran_it() {
+    let v = |backend: &str| {
+        let args = ["phase", "invertibility", "--preview", "--json"];
+        json_run(&[&args[..], &["--backend", backend]].concat())
+    };
+    let (ok, cpu, stderr) = v("cpu");
+    assert!(ok, "{stderr}");
+    let (ok, gpu, stderr) = v("gpu");
+    if !ok {
+        assert!(stderr.contains("no GPU adapter"), "{stderr}");
+        eprintln!("skipped the comparison: {}", stderr.trim());
+        return;
+    }
+    assert_eq!(gpu["v"], cpu["v"]);
+    assert_eq!(gpu["backend"]["device_transforms"], 0, "{}", gpu["backend"]);
+    let (ok, text, stderr) = run(&["phase", "optimize", "--preview", "--backend", "gpu"]);
+    assert!(ok, "{stderr}");
+    assert!(
+        text.contains("PSFs computed on the CPU: no step of this job runs on"),
+        "{text}"
+    );
+    let (ok, _, stderr) = run(&["phase", "optimize", "--backend", "cuda"]);
+    assert!(
+        !ok && stderr.contains("possible values: cpu, gpu, auto"),
+        "{stderr}"
+    );
+}

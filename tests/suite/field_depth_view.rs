@@ -81,6 +81,16 @@ fn the_field_and_depth_view_shows_its_numbers() {
         "9 insets and the note"
     );
     h.get_by_label("display to lens");
+    // The studio computes on the CPU unless View ▸ Compute PSFs on says otherwise.
+    let on = h
+        .state_mut()
+        .display_mut()
+        .views()
+        .field_depth
+        .computed_on()
+        .to_string();
+    assert_eq!(on, "PSFs computed on the CPU (f64)");
+    h.get_by_label(&on);
     capture(&mut h, "field");
 
     // The photo captured patch-wise through the field PSFs, restored with the centre PSF,

@@ -67,7 +67,7 @@ fn the_built_in_photo_restores_as_the_core_does_and_the_light_reuses_the_operato
     let peaks = Channel::rgb_peaks();
     let p = Progress::new();
     let bare = Setup::Bare { pitch_um: 42.0 }
-        .resolve(&d, &sampling, &[], &p)
+        .resolve(&d, &sampling, &[], None, &p)
         .unwrap();
     let expected = |photons: f64| {
         [(d.clone(), PhaseOptics::DoubleMla), bare.clone()].map(|(design, optics)| {
@@ -265,7 +265,13 @@ fn the_setup_comparison_matches_the_core_and_saves_as_csv() {
     for setup in &setups[..2] {
         let p = Progress::new();
         let (design, optics) = setup
-            .resolve(&d, &PhaseSampling::for_quality(Quality::Preview), &[], &p)
+            .resolve(
+                &d,
+                &PhaseSampling::for_quality(Quality::Preview),
+                &[],
+                None,
+                &p,
+            )
             .unwrap();
         let blur = phase_blur(
             &design,

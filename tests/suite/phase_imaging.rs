@@ -307,7 +307,7 @@ fn the_double_mla_beats_the_bare_toled_at_every_light_level() {
     .unwrap();
     let blur_of = |setup: Setup| {
         let (d, optics) = setup
-            .resolve(&base, &sampling, &grid, &Progress::new())
+            .resolve(&base, &sampling, &grid, None, &Progress::new())
             .unwrap();
         phase_blur(
             &d,
@@ -371,7 +371,7 @@ fn a_shuffled_setup_permutes_the_ascending_plan() {
             order,
             quantize_um: Some(0.2),
         }
-        .resolve(&base, &sampling, &[], &Progress::new())
+        .resolve(&base, &sampling, &[], None, &Progress::new())
         .unwrap()
         .0
     };

@@ -38,6 +38,12 @@ pub fn report(out: &mut Report, backend: Backend, route: &Route) {
     }
     match (&adapter, &note) {
         (_, Some(note)) => outln!(out, "{note}"),
+        // A job whose every step stays on the CPU (a phase plate under the lenslet period)
+        // must not claim the device it was handed.
+        (Some(adapter), None) if route.device_transforms() == 0 => outln!(
+            out,
+            "PSFs computed on the CPU: no step of this job runs on {adapter} (the book's GPU chapter lists what does)"
+        ),
         (Some(adapter), None) => outln!(out, "PSFs computed on {adapter}"),
         (None, None) => outln!(out, "PSFs computed on the CPU"),
     }

@@ -57,7 +57,7 @@ pub enum JobSpec {
     /// `phase psf`: the double MLA's PSFs against the bare T-OLED.
     PhasePsf(phase::PsfJob),
     /// `phase invertibility`: the invertibility matrix V over λ0 and λ.
-    PhaseInvertibility(phase::Mask),
+    PhaseInvertibility(phase::InvertibilityJob),
     /// `phase optimize`: folding wavelengths allocated to lenslets.
     PhaseOptimize(phase::OptimizeJob),
     /// `phase restore`: a photo through the phase masks, restored.

@@ -14,7 +14,8 @@ use udc_io::phase::design::load_phase_design;
 use udc_io::phase::export::HeightFormat;
 use udc_jobs::JobSpec;
 use udc_jobs::phase::{
-    Mask, OptimizeJob, PsfJob, RestoreJob, design_of, resolve_lambda0, sampling_of,
+    InvertibilityJob, Mask, OptimizeJob, PsfJob, RestoreJob, design_of, resolve_lambda0,
+    sampling_of,
 };
 
 /// A subcommand of `udc-studio phase`.
@@ -24,7 +25,7 @@ pub enum PhaseCommand {
     /// invertibility, LTR and FoV.
     Psf(JobArgs<PsfJob>),
     /// The 30 × 30 invertibility matrix V over λ0, λ = 401:10:691 nm (900 propagations).
-    Invertibility(JobArgs<Mask>),
+    Invertibility(JobArgs<InvertibilityJob>),
     /// Allocate folding wavelengths to lenslets (eqs. 4.9–4.11, Algorithm 1).
     Optimize(JobArgs<OptimizeJob>),
     /// Write the plate's height map for fabrication: CSV, 16-bit PNG, multi-level GDSII or STL.
@@ -114,7 +115,8 @@ pub fn export_cmd(a: &ExportArgs, progress: &Progress) -> Result<()> {
         }
         None => {
             let mut d = design_of(&a.mask)?;
-            d.lambda0 = resolve_lambda0(&a.lambda0, &d, &sampling_of(&a.mask), None, progress)?;
+            d.lambda0 =
+                resolve_lambda0(&a.lambda0, &d, &sampling_of(&a.mask), None, None, progress)?;
             d.validate().map_err(|e| {
                 anyhow::anyhow!("{}", e.to_string().replace("`lambda0.nm`", "--lambda0"))
             })?;

@@ -206,9 +206,25 @@ pub fn optimize_lambda0(
     settings: &AllocationSettings,
     progress: &crate::Progress,
 ) -> Result<(VMatrix, Allocation), SimError> {
-    let v = super::invertibility::v_matrix(design, sampling, progress)?;
+    let chain = super::chain::Chain::new(design, sampling)?;
+    optimize_lambda0_through(&chain, channels, settings, progress)
+}
+
+/// [`optimize_lambda0`] for `chain`'s design and sampling, its V through the chain's Bloch
+/// relay where one is attached ([`super::invertibility::v_matrix_through`]).
+///
+/// # Errors
+/// As [`optimize_lambda0`], and the relay's refusals (memory, a lost device).
+pub fn optimize_lambda0_through(
+    chain: &super::chain::Chain,
+    channels: &[Channel],
+    settings: &AllocationSettings,
+    progress: &crate::Progress,
+) -> Result<(VMatrix, Allocation), SimError> {
+    let grid = super::wavelength_grid_nm();
+    let v = super::invertibility::v_matrix_through(chain, &grid, &grid, progress)?;
     let a = channel_matrix(&v, channels)?;
-    let allocation = allocate(&a, super::geometry::lenslet_count(design), settings)?;
+    let allocation = allocate(&a, super::geometry::lenslet_count(chain.design()), settings)?;
     Ok((v, allocation))
 }
 

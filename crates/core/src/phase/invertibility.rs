@@ -74,7 +74,28 @@ pub fn v_matrix_on(
     lambda_nm: &[f64],
     progress: &Progress,
 ) -> Result<VMatrix, SimError> {
-    let chain = Chain::new(design, sampling)?;
+    v_matrix_through(
+        &Chain::new(design, sampling)?,
+        lambda0_nm,
+        lambda_nm,
+        progress,
+    )
+}
+
+/// [`v_matrix_on`] for `chain`'s design and sampling, each propagation through the chain's
+/// Bloch relay where one is attached and the plate takes it ([`Chain::mono_relayed`]: the
+/// wrapped display; a plate of one λ0 under the lenslet period stays on the CPU, where it is
+/// one lenslet's samples).
+///
+/// # Errors
+/// An invalid design, [`SimError::Cancelled`], or the relay's refusals (memory, a lost device).
+pub fn v_matrix_through(
+    chain: &Chain,
+    lambda0_nm: &[f64],
+    lambda_nm: &[f64],
+    progress: &Progress,
+) -> Result<VMatrix, SimError> {
+    let design = chain.design();
     let heights: Vec<Vec<f64>> = lambda0_nm
         .par_iter()
         .map(|&l0| {
@@ -91,12 +112,12 @@ pub fn v_matrix_on(
         .map(|idx| {
             progress.check()?;
             let (j, k) = (idx / cols, idx % cols);
-            let psf = chain.mono(
+            let psf = chain.mono_relayed(
                 PhaseOptics::DoubleMla,
                 &heights[j],
                 lambda_nm[k],
                 Incidence::Pixel(0),
-            );
+            )?;
             let finished = done.fetch_add(1, Ordering::Relaxed) + 1;
             progress.set(finished as f32 / total as f32);
             Ok(invertibility_score(&psf.sensor))

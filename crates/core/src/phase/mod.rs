@@ -51,10 +51,14 @@ use serde::{Deserialize, Serialize};
 
 use crate::SimError;
 
-pub use allocate::{Allocation, AllocationSettings, allocate, optimize_lambda0};
+pub use allocate::{
+    Allocation, AllocationSettings, allocate, optimize_lambda0, optimize_lambda0_through,
+};
 pub use chain::{Chain, Incidence, MonoPsf, PhaseOptics, effective_pixel_um};
 pub use geometry::{Lenslets, Surface};
-pub use invertibility::{VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on};
+pub use invertibility::{
+    VMatrix, invertibility_score, optical_mtf, v_matrix, v_matrix_on, v_matrix_through,
+};
 pub use plan::Lambda0Plan;
 pub use psf::{ChannelPsf, PhasePsfs, kernel_matrix, kernel_matrix_on, phase_psfs, phase_psfs_on};
 

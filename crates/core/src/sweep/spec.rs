@@ -68,13 +68,13 @@ impl SweepJob {
     /// `--backend`): the display jobs and the phase jobs whose propagations a device runs.
     pub fn takes_backend(self) -> bool {
         match self {
-            SweepJob::Analyze | SweepJob::Restore | SweepJob::PhasePsf | SweepJob::PhaseRestore => {
-                true
-            }
-            SweepJob::PhaseInvertibility
+            SweepJob::Analyze
+            | SweepJob::Restore
+            | SweepJob::PhasePsf
+            | SweepJob::PhaseInvertibility
             | SweepJob::PhaseOptimize
-            | SweepJob::Sensor
-            | SweepJob::SensorFlatPatch => false,
+            | SweepJob::PhaseRestore => true,
+            SweepJob::Sensor | SweepJob::SensorFlatPatch => false,
         }
     }
 

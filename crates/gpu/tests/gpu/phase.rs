@@ -1,5 +1,5 @@
 //! The phase model's Bloch relay on the device against the CPU's: single PSFs through the
-//! double MLA on the wrapped grid, and a restoration's whole spectral operator.
+//! double MLA on the wrapped grid, a restoration's whole spectral operator and V.
 
 use std::sync::Arc;
 
@@ -10,7 +10,10 @@ use udc_core::phase::imaging::phase_blur_on;
 use udc_core::phase::{
     Chain, Incidence, Lambda0, PhaseDesign, PhaseOptics, PhaseSampling, Relay, SamplingConvention,
 };
-use udc_core::phase::{kernel_matrix, kernel_matrix_on, phase_psfs, phase_psfs_on};
+use udc_core::phase::{
+    kernel_matrix, kernel_matrix_on, phase_psfs, phase_psfs_on, v_matrix_on, v_matrix_through,
+};
+use udc_gpu::Route;
 
 use crate::device;
 
@@ -175,4 +178,34 @@ fn the_device_psfs_and_kernel_matrix_are_the_cpus() {
     let worst = worst_of_peak(want.as_slice().unwrap(), got.as_slice().unwrap());
     eprintln!("kernel matrix: worst {worst:.2e} of the largest entry");
     assert!(worst < 1e-4, "{worst:e}");
+}
+
+/// V (§4.3.5) through the wrapped display with the device's relay: two λ0 rows at two
+/// wavelengths, each entry within 1e-5 of the CPU's, every propagation counted on the device;
+/// under the lenslet period (one lenslet's samples) the device runs none and V is the CPU's.
+#[test]
+fn the_device_v_matrix_is_the_cpus() {
+    let Some(gpu) = device("the_device_v_matrix_is_the_cpus") else {
+        return;
+    };
+    let design = PhaseDesign::thesis(42.0, 1.0);
+    let (rows, cols) = ([461.0, 611.0], [471.0, 631.0]);
+    let p = Progress::new();
+    let want = v_matrix_on(&design, &sampling(), &rows, &cols, &p).unwrap();
+    let route = Arc::new(Route::device(gpu));
+    let relay: Arc<dyn BlochRelay> = route.clone();
+    let chain = Chain::new(&design, &sampling())
+        .unwrap()
+        .with_relay(relay.clone());
+    let got = v_matrix_through(&chain, &rows, &cols, &p).unwrap();
+    for (w, g) in want.v.iter().flatten().zip(got.v.iter().flatten()) {
+        eprintln!("V {w:.4} vs {g:.4}");
+        assert!(*w > 1.0 && (w - g).abs() <= 1e-5 * w, "{w} vs {g}");
+    }
+    assert_eq!(route.device_transforms(), rows.len() * cols.len());
+    let period = PhaseSampling::preview().with_relay(Relay::LensletPeriod);
+    let want = v_matrix_on(&design, &period, &rows, &cols, &p).unwrap();
+    let chain = Chain::new(&design, &period).unwrap().with_relay(relay);
+    assert_eq!(v_matrix_through(&chain, &rows, &cols, &p).unwrap(), want);
+    assert_eq!(route.device_transforms(), rows.len() * cols.len());
 }

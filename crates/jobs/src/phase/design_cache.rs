@@ -66,8 +66,9 @@ impl<T: Clone> Shared<T> {
 static DESIGNS: Shared<(PhaseDesign, PhaseOptics)> = Shared::new(DESIGNS_KEPT);
 static BLURS: Shared<PhaseBlur> = Shared::new(BLURS_KEPT);
 
-/// [`Setup::resolve`], shared with every earlier call on the same setup, base design, sampling
-/// and channels (their exact `Debug` text is the key: every f64 prints so that it reads back).
+/// [`Setup::resolve`], shared with every earlier call on the same setup, base design, sampling,
+/// channels and relay (their exact `Debug` text is the key: every f64 prints so that it reads
+/// back); an optimized plan's V runs through `relay`, the CPU when `None`.
 ///
 /// # Errors
 /// As [`Setup::resolve`].
@@ -76,11 +77,13 @@ pub fn resolve_shared(
     base: &PhaseDesign,
     sampling: &PhaseSampling,
     grid_channels: &[Channel],
+    relay: Option<&Arc<dyn BlochRelay>>,
     progress: &Progress,
 ) -> Result<(PhaseDesign, PhaseOptics), SimError> {
-    let key = format!("{setup:?}|{base:?}|{sampling:?}|{grid_channels:?}");
+    let on = if relay.is_some() { "device" } else { "cpu" };
+    let key = format!("{setup:?}|{base:?}|{sampling:?}|{grid_channels:?}|{on}");
     DESIGNS.get(key, || {
-        setup.resolve(base, sampling, grid_channels, progress)
+        setup.resolve(base, sampling, grid_channels, relay, progress)
     })
 }
 

@@ -24,7 +24,7 @@ use udc_core::phase::geometry::{lambda0_per_lenslet, lenslet_count, uniform_coun
 use udc_core::phase::{
     AllocationSettings, GRID_LEN, HeightRounding, Incidence, Lambda0, Lambda0Plan, PhaseDesign,
     PhaseOptics, PhaseSampling, Relay, SamplingConvention, Surface, kernel_matrix_on,
-    optimize_lambda0, phase_psfs_on, v_matrix, wavelength_grid_nm,
+    optimize_lambda0_through, phase_psfs_on, v_matrix_through, wavelength_grid_nm,
 };
 use udc_core::psf::route::Backend;
 use udc_io::design::spectral::{channels_from_response, load_response_csv, thesis_response};
@@ -214,6 +214,23 @@ pub struct PsfJob {
     pub backend: Backend,
 }
 
+/// The parameters of `phase invertibility`.
+#[derive(Debug, Clone, Default, Args, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub struct InvertibilityJob {
+    /// The mask and camera whose V matrix is computed.
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub mask: Mask,
+    /// Where V's 900 propagations run under `--relay wrapped-display` (the whole display on
+    /// its wrapped grid): the CPU, a GPU (through Vulkan, Metal or DX12), or auto (as
+    /// `phase restore --backend`). The lenslet period (one lenslet's samples) and the whole
+    /// display stay on the CPU, as the report says.
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
+}
+
 /// The parameters of `phase optimize`.
 #[derive(Debug, Clone, Default, Args, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -225,6 +242,10 @@ pub struct OptimizeJob {
     /// Sensor response CSV (wavelength_nm,r,g,b); default: the thesis's built-in response.
     #[arg(long)]
     pub spectral: Option<PathBuf>,
+    /// Where V's propagations run (as `phase invertibility --backend`).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 impl Default for Mask {
@@ -354,22 +375,16 @@ pub fn resolve_lambda0(
     design: &PhaseDesign,
     sampling: &PhaseSampling,
     spectral: Option<&Path>,
+    relay: Option<&Arc<dyn BlochRelay>>,
     progress: &Progress,
 ) -> Result<Lambda0> {
     if let Some(plan) = parse_lambda0(text)? {
         return Ok(plan);
     }
     let channels = grid_channels(spectral)?;
-    let (_, alloc) = {
-        let p = progress;
-        optimize_lambda0(
-            design,
-            sampling,
-            &channels,
-            &AllocationSettings::default(),
-            p,
-        )
-    }?;
+    let chain = chain_on(design, sampling, relay)?;
+    let (_, alloc) =
+        optimize_lambda0_through(&chain, &channels, &AllocationSettings::default(), progress)?;
     Ok(Lambda0::Counts {
         counts: alloc.counts,
     })
@@ -379,14 +394,15 @@ pub fn resolve_lambda0(
 ///
 /// # Errors
 /// Bad values (naming the flag), unwritable outputs, cancellation.
-pub fn invertibility(m: &Mask, progress: &Progress) -> Result<Report> {
+pub fn invertibility(a: &InvertibilityJob, progress: &Progress) -> Result<Report> {
     let mut out = Report::default();
+    let m = &a.mask;
     let design = design_of(m)?;
     let sampling = sampling_of(m);
-    let v = {
-        let p = progress;
-        v_matrix(&design, &sampling, p)
-    }?;
+    let (route, relay) = relay_of(a.backend)?;
+    let chain = chain_on(&design, &sampling, relay.as_ref())?;
+    let grid = wavelength_grid_nm();
+    let v = v_matrix_through(&chain, &grid, &grid, progress)?;
     if let Some(dir) = &m.out {
         std::fs::create_dir_all(dir).with_context(|| format!("create {}", dir.display()))?;
         let path = dir.join("v.csv");
@@ -430,6 +446,7 @@ pub fn invertibility(m: &Mask, progress: &Progress) -> Result<Report> {
             outln!(out);
         }
     }
+    crate::backend::report(&mut out, a.backend, &route);
     Ok(out)
 }
 
@@ -443,10 +460,9 @@ pub fn optimize(a: &OptimizeJob, progress: &Progress) -> Result<Report> {
     let sampling = sampling_of(&a.mask);
     let channels = grid_channels(a.spectral.as_deref())?;
     let settings = AllocationSettings::default();
-    let (v, alloc) = {
-        let p = progress;
-        optimize_lambda0(&design, &sampling, &channels, &settings, p)
-    }?;
+    let (route, relay) = relay_of(a.backend)?;
+    let chain = chain_on(&design, &sampling, relay.as_ref())?;
+    let (v, alloc) = optimize_lambda0_through(&chain, &channels, &settings, progress)?;
     let lenslets = lenslet_count(&design);
     let matrix = channel_matrix(&v, &channels)?;
     let mut fixed = vec![0; GRID_LEN];
@@ -496,5 +512,6 @@ pub fn optimize(a: &OptimizeJob, progress: &Progress) -> Result<Report> {
         outln!(out, "  fixed 531   {}", show(fixed_inv));
         outln!(out, "  uniform     {}", show(uniform_inv));
     }
+    crate::backend::report(&mut out, a.backend, &route);
     Ok(out)
 }

@@ -8,6 +8,15 @@ use super::*;
 /// # Errors
 /// Bad values (naming the flag), an unreadable response, cancellation.
 pub fn psf_design(a: &PsfJob, progress: &Progress) -> Result<PhaseDesign> {
+    psf_design_on(a, None, progress)
+}
+
+/// [`psf_design`], an `optimized` plan's V through `relay` where one is given.
+fn psf_design_on(
+    a: &PsfJob,
+    relay: Option<&Arc<dyn BlochRelay>>,
+    progress: &Progress,
+) -> Result<PhaseDesign> {
     let mut design = design_of(&a.mask)?;
     let sampling = sampling_of(&a.mask);
     design.lambda0 = resolve_lambda0(
@@ -15,6 +24,7 @@ pub fn psf_design(a: &PsfJob, progress: &Progress) -> Result<PhaseDesign> {
         &design,
         &sampling,
         a.spectral.as_deref(),
+        relay,
         progress,
     )?;
     if a.unfolded {
@@ -38,7 +48,8 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
             a.angle_deg
         );
     }
-    let design = psf_design(a, progress)?;
+    let (route, relay) = relay_of(a.backend)?;
+    let design = psf_design_on(a, relay.as_ref(), progress)?;
     let sampling = sampling_of(&a.mask);
     let channels = match &a.spectral {
         Some(p) => grid_channels(Some(p))?,
@@ -50,7 +61,6 @@ pub fn psf(a: &PsfJob, progress: &Progress) -> Result<Report> {
         PhaseOptics::DoubleMla
     };
     let incidence = Incidence::AngleDeg(a.angle_deg);
-    let (route, relay) = relay_of(a.backend)?;
     let chain = chain_on(&design, &sampling, relay.as_ref())?;
     let psfs = {
         let p = progress;

@@ -100,7 +100,7 @@ pub fn restore(a: &RestoreJob, progress: &Progress) -> Result<Report> {
     // Shared with a sweep's other points on this setup (Algorithm 1 and V run once).
     let (design, optics) = {
         let p = progress;
-        super::design_cache::resolve_shared(&setup, &base, &sampling, &grid, p)
+        super::design_cache::resolve_shared(&setup, &base, &sampling, &grid, relay.as_ref(), p)
     }?;
     let blur = {
         let p = progress;

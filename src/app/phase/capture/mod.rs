@@ -361,6 +361,8 @@ impl PhaseWorkspace {
             self.history.current(),
             &crate::core::phase::PhaseSampling::for_quality(self.quality),
             &[],
+            // The bare T-OLED has no plan to optimize: nothing to relay.
+            None,
             &Progress::new(),
         )?;
         Ok(vec![(self.history.current().clone(), self.optics()), bare])

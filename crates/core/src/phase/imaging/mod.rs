@@ -58,7 +58,7 @@ use super::chain::{Chain, Incidence, PhaseOptics};
 use super::geometry::lambda0_per_lenslet;
 use super::{
     AllocationSettings, Lambda0, POLARISER_TRANSMISSION, PhaseDesign, PhaseSampling, SimError,
-    optimize_lambda0,
+    optimize_lambda0_through,
 };
 use crate::Progress;
 use crate::design::Channel;

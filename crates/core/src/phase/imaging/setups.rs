@@ -106,15 +106,17 @@ impl Setup {
 
     /// The design and optics of this setup, from `base` (its camera, index, open ratio, κ,
     /// rounding and sampling convention; pitch, fold, plan and step are the setup's). An
-    /// optimized plan runs Algorithm 1 for `grid_channels` (channels on the 401:10:691 grid).
+    /// optimized plan runs Algorithm 1 for `grid_channels` (channels on the 401:10:691 grid),
+    /// its V through `relay` where one is given ([`optimize_lambda0_through`]).
     ///
     /// # Errors
-    /// An invalid parameter, or [`SimError::Cancelled`].
+    /// An invalid parameter, [`SimError::Cancelled`], or the relay's refusals.
     pub fn resolve(
         &self,
         base: &PhaseDesign,
         sampling: &PhaseSampling,
         grid_channels: &[Channel],
+        relay: Option<&Arc<dyn BlochRelay>>,
         progress: &Progress,
     ) -> Result<(PhaseDesign, PhaseOptics), SimError> {
         let at_pitch = |pitch_um: f64| {
@@ -148,9 +150,13 @@ impl Setup {
                     Lambda0Plan::Fixed { nm } => Lambda0::Fixed { nm: *nm },
                     Lambda0Plan::Uniform => Lambda0::Uniform,
                     Lambda0Plan::Optimized => {
-                        let (_, alloc) = optimize_lambda0(
-                            &d,
-                            sampling,
+                        let chain = Chain::new(&d, sampling)?;
+                        let chain = match relay {
+                            Some(r) => chain.with_relay(r.clone()),
+                            None => chain,
+                        };
+                        let (_, alloc) = optimize_lambda0_through(
+                            &chain,
                             grid_channels,
                             &AllocationSettings::default(),
                             progress,
@@ -258,7 +264,7 @@ pub fn compare_setups(
     mut on_row: impl FnMut(CompareRow),
 ) -> Result<(), SimError> {
     for setup in setups {
-        let (design, optics) = setup.resolve(base, sampling, grid_channels, progress)?;
+        let (design, optics) = setup.resolve(base, sampling, grid_channels, relay, progress)?;
         progress.check()?;
         let mut blurs: Vec<(usize, PhaseBlur)> = Vec::new();
         for (p, photo) in photos.iter().enumerate() {

@@ -101,10 +101,13 @@ pub struct FieldDepthView {
     /// Also capture the built-in photo through the field's PSFs (patch-wise) and restore it
     /// with the centre PSF, beside the shift-invariant capture.
     capture_photo: bool,
-    job: Keyed<Key, Outcome>,
+    /// The run, and the line saying where its PSFs were computed.
+    job: Keyed<Key, (Outcome, String)>,
     done_key: Option<Key>,
     rows: Vec<Vec<Tile>>,
     summary: String,
+    /// Where the PSFs on screen were computed (the route's adapter, or the CPU).
+    computed_on: String,
     message: Option<Notice>,
 }
 
@@ -122,6 +125,7 @@ impl Default for FieldDepthView {
             done_key: None,
             rows: Vec::new(),
             summary: String::new(),
+            computed_on: String::new(),
             message: None,
         }
     }
@@ -147,6 +151,20 @@ fn photo_tile(ctx: &egui::Context, name: &str, caption: String, planes: &[Array2
     }
 }
 
+/// Where a study's PSFs were computed, as the route says after its run.
+fn computed_on(route: &udc_gpu::Route, study: Study) -> String {
+    if let Some(note) = route.note() {
+        return note;
+    }
+    match (route.adapter(), study) {
+        (None, _) => "PSFs computed on the CPU (f64)".into(),
+        (Some(a), Study::Depth) => format!(
+            "PSFs computed on {a} (f32); the defocused one on the CPU (its pupil is complex)"
+        ),
+        (Some(a), Study::Field | Study::Saturation) => format!("PSFs computed on {a} (f32)"),
+    }
+}
+
 fn log_picture(planes: &[Array2<f64>]) -> ColorImage {
     let m = mean_plane(planes);
     let peak = m.iter().copied().fold(0.0, f64::max);
@@ -154,6 +172,11 @@ fn log_picture(planes: &[Array2<f64>]) -> ColorImage {
 }
 
 impl FieldDepthView {
+    /// Where the PSFs on screen were computed (empty before the first result).
+    pub fn computed_on(&self) -> &str {
+        &self.computed_on
+    }
+
     /// Selects the study (tests and menus).
     pub fn set_study(&mut self, study: Study) {
         self.study = study;
@@ -196,61 +219,65 @@ impl FieldDepthView {
         let job = Job::spawn(
             "field and depth job",
             move || wake.request_repaint(),
-            move |p| match key.study {
-                Study::Field => {
-                    let settings = FieldSettings {
-                        display_distance_mm: key.display_distance_mm,
-                        max_field_deg: key.max_field_deg,
-                        quality: Quality::Preview,
-                        ..FieldSettings::default()
-                    };
-                    let r = field_psfs(&design, &settings, route.as_ref(), p)?;
-                    let capture = if key.capture_photo {
-                        p.check()?;
-                        let (photo, capture) = capture_photo()?;
-                        Some(Box::new(field_capture(&photo, &r, &capture, settings.nsr)?))
-                    } else {
-                        None
-                    };
-                    Ok(Outcome::Field(r, capture))
-                }
-                Study::Depth => {
-                    let settings = DepthSettings {
-                        object_distance_mm: key.object_distance_mm,
-                        quality: Quality::Preview,
-                        ..DepthSettings::default()
-                    };
-                    let r = depth_psfs(&design, &settings, route.as_ref(), p)?;
-                    let capture = if key.capture_photo {
-                        p.check()?;
-                        let (photo, capture) = capture_photo()?;
-                        Some(Box::new(depth_capture(&photo, &r, &capture, settings.nsr)?))
-                    } else {
-                        None
-                    };
-                    Ok(Outcome::Depth(Box::new(r), capture))
-                }
-                Study::Saturation => {
-                    let scene = crate::io::photo::hdr::sample_scene()
-                        .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?
-                        .downscaled(SCENE_SIDE_PX);
-                    let psfs: Vec<&Array2<f64>> =
-                        analysis.channels.iter().map(|c| &c.psf).collect();
-                    if psfs.len() != scene.planes.len() {
-                        return Err(crate::core::SimError::invalid(
-                            "channels",
-                            "the saturation study needs an R, G, B design",
-                        ));
+            move |p| {
+                let outcome = match key.study {
+                    Study::Field => {
+                        let settings = FieldSettings {
+                            display_distance_mm: key.display_distance_mm,
+                            max_field_deg: key.max_field_deg,
+                            quality: Quality::Preview,
+                            ..FieldSettings::default()
+                        };
+                        let r = field_psfs(&design, &settings, route.as_ref(), p)?;
+                        let capture = if key.capture_photo {
+                            p.check()?;
+                            let (photo, capture) = capture_photo()?;
+                            Some(Box::new(field_capture(&photo, &r, &capture, settings.nsr)?))
+                        } else {
+                            None
+                        };
+                        Ok(Outcome::Field(r, capture))
                     }
-                    let settings = SaturationSettings {
-                        clip_percent: key.clip_percent,
-                        brackets: key.brackets,
-                        ..SaturationSettings::default()
-                    };
-                    p.check()?;
-                    saturation_study(&scene.planes, &psfs, &settings)
-                        .map(|r| Outcome::Saturation(Box::new(r)))
-                }
+                    Study::Depth => {
+                        let settings = DepthSettings {
+                            object_distance_mm: key.object_distance_mm,
+                            quality: Quality::Preview,
+                            ..DepthSettings::default()
+                        };
+                        let r = depth_psfs(&design, &settings, route.as_ref(), p)?;
+                        let capture = if key.capture_photo {
+                            p.check()?;
+                            let (photo, capture) = capture_photo()?;
+                            Some(Box::new(depth_capture(&photo, &r, &capture, settings.nsr)?))
+                        } else {
+                            None
+                        };
+                        Ok(Outcome::Depth(Box::new(r), capture))
+                    }
+                    Study::Saturation => {
+                        let scene = crate::io::photo::hdr::sample_scene()
+                            .map_err(|e| crate::core::SimError::Sampling(e.to_string()))?
+                            .downscaled(SCENE_SIDE_PX);
+                        let psfs: Vec<&Array2<f64>> =
+                            analysis.channels.iter().map(|c| &c.psf).collect();
+                        if psfs.len() != scene.planes.len() {
+                            return Err(crate::core::SimError::invalid(
+                                "channels",
+                                "the saturation study needs an R, G, B design",
+                            ));
+                        }
+                        let settings = SaturationSettings {
+                            clip_percent: key.clip_percent,
+                            brackets: key.brackets,
+                            ..SaturationSettings::default()
+                        };
+                        p.check()?;
+                        saturation_study(&scene.planes, &psfs, &settings)
+                            .map(|r| Outcome::Saturation(Box::new(r)))
+                    }
+                }?;
+                // Read after the run: a transform the device refused has left its note.
+                Ok((outcome, computed_on(&route, key.study)))
             },
         );
         self.job.start(key, job);
@@ -263,8 +290,9 @@ impl FieldDepthView {
         };
         self.done_key = Some(key);
         match done {
-            Ok(outcome) => {
+            Ok((outcome, on)) => {
                 self.message = None;
+                self.computed_on = on;
                 self.show(outcome, ctx);
             }
             Err(e) => self.message = Some(Notice::error(e.to_string())),
@@ -540,6 +568,9 @@ impl FieldDepthView {
         }
         crate::app::widgets::message_ui(ui, self.message.as_ref());
         ui.label(&self.summary);
+        if !self.computed_on.is_empty() {
+            ui.weak(&self.computed_on);
+        }
         if self.study != Study::Saturation {
             ui.weak(
             "log-PSFs (4 decades, channels averaged) and each PSF deblurred with the reference's \
