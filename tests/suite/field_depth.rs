@@ -2,6 +2,7 @@
 //! checks of the core and the JSON contract of `udc-studio field` and `udc-studio depth`.
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
+use rustfft::num_complex::Complex64;
 use udc_studio::core::Progress;
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::camera::depth::{
@@ -102,8 +103,14 @@ fn an_object_far_away_defocuses_to_the_infinity_psf() {
         expected_psf: false,
     };
     let a = analyze_with(&design, &options, &Progress::new()).expect("analysis");
-    let (psfs, _) =
-        defocused_psfs(&design, Quality::Preview, 1e7, &Progress::new()).expect("defocus");
+    let (psfs, _) = defocused_psfs(
+        &design,
+        Quality::Preview,
+        1e7,
+        &PsfRoute::Auto,
+        &Progress::new(),
+    )
+    .expect("defocus");
     for (c, p) in a.channels.iter().zip(&psfs) {
         let diff = c
             .psf
@@ -115,7 +122,16 @@ fn an_object_far_away_defocuses_to_the_infinity_psf() {
         assert!(diff < 1e-5, "{}: {diff}", c.name);
     }
     // Too close for the pupil sampling: an error, not aliased nonsense.
-    assert!(defocused_psfs(&design, Quality::Preview, 20.0, &Progress::new()).is_err());
+    assert!(
+        defocused_psfs(
+            &design,
+            Quality::Preview,
+            20.0,
+            &PsfRoute::Auto,
+            &Progress::new()
+        )
+        .is_err()
+    );
 }
 
 #[test]
@@ -330,6 +346,17 @@ impl Fraunhofer for Counting {
         self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         PsfRoute::Auto.binned(field, m, binning, progress)
     }
+
+    fn binned_complex(
+        &self,
+        field: &udc_studio::core::display::aperture::Field<Complex64>,
+        m: usize,
+        binning: &udc_studio::core::psf::sampling::Binning,
+        progress: &Progress,
+    ) -> Result<udc_studio::core::psf::fft::Binned, udc_studio::core::SimError> {
+        self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        PsfRoute::Auto.binned_complex(field, m, binning, progress)
+    }
 }
 
 impl Counting {
@@ -339,8 +366,9 @@ impl Counting {
 }
 
 /// Every PSF of the field and depth studies comes through the route handed in (the GPU's, in
-/// the CLI and the studio): a field grid of 2 × 2 is five analyses, a depth study two (its
-/// defocused PSF, a complex pupil, is its own transform), each as many steps as one analysis.
+/// the CLI and the studio): a field grid of 2 × 2 is five analyses, a depth study three (at
+/// infinity, focused on the object, and defocused: a complex pupil), each as many steps as one
+/// analysis.
 #[test]
 fn field_and_depth_compute_their_psfs_through_the_route_handed_in() {
     let design = load_preset("fourier-square").unwrap();
@@ -375,5 +403,5 @@ fn field_and_depth_compute_their_psfs_through_the_route_handed_in() {
         ..DepthSettings::default()
     };
     depth_psfs(&design, &settings, &depth, &Progress::new()).unwrap();
-    assert_eq!(depth.calls(), 2 * one.calls());
+    assert_eq!(depth.calls(), 3 * one.calls());
 }

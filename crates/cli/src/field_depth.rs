@@ -95,8 +95,8 @@ pub struct DepthArgs {
     /// Write log-scaled PNGs of the three PSFs and the two residuals into this directory.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Where the infinity and focused PSFs are computed (the defocused one, a complex pupil,
-    /// on the CPU).
+    /// Where the three PSFs are computed (the defocused one, a complex pupil, over the whole
+    /// grid).
     #[command(flatten)]
     pub backend: BackendFlag,
 }

@@ -6,6 +6,8 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
+use rustfft::num_complex::Complex64;
+
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
 use udc_core::phase::chain::{
@@ -105,6 +107,32 @@ impl Route {
     }
 }
 
+impl Route {
+    /// `device` on the route's device, its `count` transforms counted; `cpu` where there is
+    /// none, or, for `auto`, where the device refuses (too large, lost), the note saying why.
+    fn compute<T>(
+        &self,
+        device: impl FnOnce(&Gpu) -> Result<T, SimError>,
+        cpu: impl FnOnce() -> Result<T, SimError>,
+        count: impl FnOnce(&T) -> usize,
+    ) -> Result<T, SimError> {
+        let Some(gpu) = &self.device else {
+            return cpu();
+        };
+        match device(gpu) {
+            Ok(out) => {
+                self.on_device.fetch_add(count(&out), Ordering::Relaxed);
+                Ok(out)
+            }
+            Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
+                self.fell_back(&e);
+                cpu()
+            }
+            other => other,
+        }
+    }
+}
+
 impl Fraunhofer for Route {
     fn binned(
         &self,
@@ -113,20 +141,25 @@ impl Fraunhofer for Route {
         binning: &Binning,
         progress: &Progress,
     ) -> Result<Binned, SimError> {
-        let Some(gpu) = &self.device else {
-            return PsfRoute::Auto.binned(field, m, binning, progress);
-        };
-        match gpu.binned(field, m, binning, progress) {
-            Ok(b) => {
-                self.on_device.fetch_add(1, Ordering::Relaxed);
-                Ok(b)
-            }
-            Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
-                self.fell_back(&e);
-                PsfRoute::Auto.binned(field, m, binning, progress)
-            }
-            other => other,
-        }
+        self.compute(
+            |gpu| gpu.binned(field, m, binning, progress),
+            || PsfRoute::Auto.binned(field, m, binning, progress),
+            |_| 1,
+        )
+    }
+
+    fn binned_complex(
+        &self,
+        field: &Field<Complex64>,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError> {
+        self.compute(
+            |gpu| gpu.binned_complex(field, m, binning, progress),
+            || PsfRoute::Auto.binned_complex(field, m, binning, progress),
+            |_| 1,
+        )
     }
 }
 
@@ -138,19 +171,10 @@ impl BlochRelay for Route {
         direction: &(dyn Fn(usize) -> BlochDirection + Sync),
         progress: &Progress,
     ) -> Result<Vec<BlochIntensity>, SimError> {
-        let Some(gpu) = &self.device else {
-            return CpuBloch.directions(wavelength, count, direction, progress);
-        };
-        match gpu.directions(wavelength, count, direction, progress) {
-            Ok(out) => {
-                self.on_device.fetch_add(out.len(), Ordering::Relaxed);
-                Ok(out)
-            }
-            Err(e @ (SimError::TooLarge(_) | SimError::Device(_))) if self.falls_back => {
-                self.fell_back(&e);
-                CpuBloch.directions(wavelength, count, direction, progress)
-            }
-            other => other,
-        }
+        self.compute(
+            |gpu| gpu.directions(wavelength, count, direction, progress),
+            || CpuBloch.directions(wavelength, count, direction, progress),
+            Vec::len,
+        )
     }
 }

@@ -1,5 +1,6 @@
-//! The display-layout Fraunhofer step on the device: a sparse real field's `|DFT_M|²` by the
-//! chirp-z transform on power-of-two FFTs, binned into the sensor window, read back once.
+//! The display-layout Fraunhofer step on the device: a sparse field's `|DFT_M|²` by the
+//! chirp-z transform on power-of-two FFTs, binned into the sensor window, read back once. A
+//! complex field (a defocused pupil) keeps every column; a real one half of them.
 //!
 //! Per call: the field's nonzero rows go up as `f32` (with their positions); each row's DFT along
 //! x fills one column per kept frequency `kx ≤ M/2`; each column's DFT along y gives the
@@ -11,6 +12,7 @@
 use std::sync::Arc;
 
 use ndarray::Array2;
+use rustfft::num_complex::Complex64;
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
 use udc_core::progress::Progress;
@@ -29,6 +31,27 @@ const WORK_BYTES: u64 = 128 << 20;
 /// Bytes per complex `f32` sample.
 const COMPLEX: u64 = 8;
 
+/// A field's samples as the kernels read them: `f32`, a complex one as `(re, im)` pairs.
+trait Sample: Copy {
+    /// `f32`s per sample.
+    const FLOATS: usize;
+    fn push(self, out: &mut Vec<f32>);
+}
+
+impl Sample for f64 {
+    const FLOATS: usize = 1;
+    fn push(self, out: &mut Vec<f32>) {
+        out.push(self as f32);
+    }
+}
+
+impl Sample for Complex64 {
+    const FLOATS: usize = 2;
+    fn push(self, out: &mut Vec<f32>) {
+        out.extend([self.re as f32, self.im as f32]);
+    }
+}
+
 /// The field's nonzero rows, from its corner: `(y, x0, samples, offset)` and the samples.
 struct Packed {
     headers: Vec<[u32; 4]>,
@@ -36,9 +59,11 @@ struct Packed {
     /// Columns and rows the field spans.
     lx: usize,
     ly: usize,
+    /// The samples are complex: the whole grid is kept (no mirror symmetry).
+    complex: bool,
 }
 
-fn pack(field: &Field) -> Packed {
+fn pack<T: Sample>(field: &Field<T>) -> Packed {
     let rows: Vec<_> = field.rows.iter().filter(|r| !r.values.is_empty()).collect();
     let x_lo = rows.iter().map(|r| r.ix0).min().unwrap_or(0);
     let x_hi = rows
@@ -56,9 +81,11 @@ fn pack(field: &Field) -> Packed {
                 (r.iy - y_lo) as u32,
                 (r.ix0 - x_lo) as u32,
                 r.values.len() as u32,
-                values.len() as u32,
+                (values.len() / T::FLOATS) as u32,
             ];
-            values.extend(r.values.iter().map(|&v| v as f32));
+            for v in &r.values {
+                v.push(&mut values);
+            }
             h
         })
         .collect();
@@ -67,6 +94,7 @@ fn pack(field: &Field) -> Packed {
         values,
         lx: (x_hi - x_lo) as usize,
         ly: (y_hi - y_lo) as usize,
+        complex: T::FLOATS == 2,
     }
 }
 
@@ -132,17 +160,18 @@ impl Gpu {
         })
     }
 
+    /// The binned intensity of `packed`, whose `Σ|a|²` is `energy`.
     fn run(
         &self,
-        field: &Field,
+        packed: &Packed,
+        energy: f64,
         m: usize,
         binning: &Binning,
         progress: &Progress,
     ) -> Result<Binned, SimError> {
         use wgpu::util::DeviceExt;
-        let packed = pack(field);
         let limit = self.max_binding_bytes();
-        let cols = m / 2 + 1;
+        let cols = if packed.complex { m } else { m / 2 + 1 };
         let (nx, ny) = (conv_len(m, packed.lx), conv_len(m, packed.ly));
         let columns_bytes = (cols * packed.ly) as u64 * COMPLEX;
         let intensity_bytes = (cols * m) as u64 * 4;
@@ -196,7 +225,7 @@ impl Gpu {
                     packed.ly as u32,
                     cols as u32,
                     (1.0 / n as f32).to_bits(),
-                    0,
+                    u32::from(packed.complex),
                 ],
             )
         };
@@ -293,7 +322,7 @@ impl Gpu {
                 edge_from,
                 binning.phase[0] as u32,
                 binning.phase[1] as u32,
-                0,
+                u32::from(packed.complex),
                 0,
             ],
         );
@@ -346,14 +375,15 @@ impl Gpu {
             .iter()
             .enumerate()
             .map(|(kx, &v)| {
-                let twice = kx != 0 && kx != m / 2;
+                // A real field's kept column stands for its mirror image too.
+                let twice = !packed.complex && kx != 0 && kx != m / 2;
                 f64::from(v) * if twice { 2.0 } else { 1.0 }
             })
             .sum();
         let mf = m as f64;
         Ok(Binned {
             sensor,
-            total: mf * mf * field.energy(),
+            total: mf * mf * energy,
             edge,
         })
     }
@@ -372,6 +402,22 @@ impl Fraunhofer for Gpu {
             return Err(SimError::Sampling("no light passes the aperture".into()));
         }
         progress.check()?;
-        self.run(field, m, binning, progress)
+        self.run(&pack(field), field.energy(), m, binning, progress)
+    }
+
+    fn binned_complex(
+        &self,
+        field: &Field<Complex64>,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError> {
+        check_grid(field, m)?;
+        let energy = field.energy();
+        if !(energy > 0.0) {
+            return Err(SimError::Sampling("no light passes the aperture".into()));
+        }
+        progress.check()?;
+        self.run(&pack(field), energy, m, binning, progress)
     }
 }

@@ -8,22 +8,20 @@
 //! `exp(−iπr²/(λf))` and the Fresnel propagation to the sensor adds `exp(iπr²/(λf))`, so the
 //! pupil carries `exp(iπ r²/(λ z1))`, a defocus of `W(r) = r²/(2 λ z1)` waves (`W = R²/(2λz1)` at
 //! the pupil's rim) and a geometric blur of diameter `D·f/z1` on the sensor. The defocused PSF is
-//! the intensity of the FFT of that complex pupil, binned like every other PSF.
+//! the intensity of the FFT of that complex pupil, binned like every other PSF, on the route
+//! handed in (`Fraunhofer::binned_complex`: the whole grid, the intensity having no mirror
+//! symmetry).
 
 use crate::Setting;
 use ndarray::Array2;
-use rayon::prelude::*;
-use rustfft::num_complex::Complex64;
 
 use crate::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use crate::analysis::residual::{Deblur, channel_residuals, mean};
 use crate::design::{Design, OpticsRecipe};
 use crate::display::aperture::{Display, Extent, effective_cells, rasterise};
-use crate::psf::fft::{bin_dense, signed};
 use crate::psf::route::Fraunhofer;
 use crate::psf::sampling::WavelengthSampling;
 use crate::{Progress, SimError};
-use udc_fft::complex_plan;
 
 /// Largest FFT side of the defocused PSF: it needs two dense complex `M×M` grids (512 MiB here),
 /// unlike the analysis, which folds a sparse field column by column.
@@ -174,7 +172,7 @@ pub fn depth_psfs(
             .collect();
     progress.set(0.5);
     progress.check()?;
-    let (defocused, in_window) = defocused_psfs(design, settings.quality, z1, progress)?;
+    let (defocused, in_window) = defocused_psfs(design, settings.quality, z1, route, progress)?;
     progress.set(0.9);
     let filters = infinity
         .iter()
@@ -220,6 +218,7 @@ pub fn defocused_psfs(
     design: &Design,
     quality: Quality,
     object_mm: f64,
+    route: &dyn Fraunhofer,
     progress: &Progress,
 ) -> Result<(Vec<Array2<f64>>, Vec<f64>), SimError> {
     let op = &design.optics;
@@ -256,7 +255,8 @@ pub fn defocused_psfs(
         let mut inside = 0.0;
         for ws in samp {
             progress.check()?;
-            let (binned, total) = defocused_intensity(&field, ws, op.pupil_sample_um, z1_um)?;
+            let (binned, total) =
+                defocused_intensity(&field, ws, op.pupil_sample_um, z1_um, route, progress)?;
             acc.scaled_add(ws.weight / total, &binned);
             inside += ws.weight * binned.sum() / total;
         }
@@ -273,12 +273,15 @@ pub fn defocused_psfs(
     Ok((psfs, in_window))
 }
 
-/// `|DFT_M(a · exp(iπr²/(λ z1)))|²` binned to the window, and its total over the grid.
+/// `|DFT_M(a · exp(iπr²/(λ z1)))|²` binned to the window by `route`, and its total over the
+/// grid.
 fn defocused_intensity(
     field: &crate::display::aperture::Field,
     ws: &WavelengthSampling,
     delta_um: f64,
     z1_um: f64,
+    route: &dyn Fraunhofer,
+    progress: &Progress,
 ) -> Result<(Array2<f64>, f64), SimError> {
     let m = ws.fft_size;
     if m > MAX_DEFOCUS_FFT {
@@ -296,41 +299,9 @@ fn defocused_intensity(
     }
     let lambda_um = ws.wavelength_nm * 1e-3;
     let k = std::f64::consts::PI * delta_um * delta_um / (lambda_um * z1_um);
-    let mut data = vec![Complex64::new(0.0, 0.0); m * m];
-    for r in &field.rows {
-        let y = r.iy.rem_euclid(m as i64) as usize;
-        for (j, v) in r.values.iter().enumerate() {
-            let ix = r.ix0 + j as i64;
-            let x = ix.rem_euclid(m as i64) as usize;
-            let phase = (k * (ix * ix + r.iy * r.iy) as f64).rem_euclid(std::f64::consts::TAU);
-            data[y * m + x] = Complex64::from_polar(*v, phase);
-        }
-    }
-    let plan = complex_plan(m);
-    data.par_chunks_mut(m).for_each(|row| plan.process(row));
-    let mut t = vec![Complex64::new(0.0, 0.0); m * m];
-    t.par_chunks_mut(m).enumerate().for_each(|(x, col)| {
-        for (y, c) in col.iter_mut().enumerate() {
-            *c = data[y * m + x];
-        }
-    });
-    t.par_chunks_mut(m).for_each(|col| plan.process(col));
-    // t[kx·m + ky] now holds the transform at (ky, kx); centre it (axis at m/2).
-    let h = (m / 2) as i64;
-    let mut fine = Array2::<f64>::zeros((m, m));
-    let mut total = 0.0;
-    for (kx, col) in t.chunks(m).enumerate() {
-        let cx = (signed(kx, m) + h) as usize;
-        for (ky, v) in col.iter().enumerate() {
-            let p = v.norm_sqr();
-            total += p;
-            fine[[(signed(ky, m) + h) as usize, cx]] = p;
-        }
-    }
-    if !(total > 0.0) {
-        return Err(SimError::Sampling("no light passes the aperture".into()));
-    }
-    Ok((bin_dense(&fine, &ws.binning), total))
+    let defocused = field.with_phase(|ix, iy| k * (ix * ix + iy * iy) as f64);
+    let binned = route.binned_complex(&defocused, m, &ws.binning, progress)?;
+    Ok((binned.sensor, binned.total))
 }
 
 #[cfg(test)]

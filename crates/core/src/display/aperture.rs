@@ -7,26 +7,53 @@
 
 use crate::design::{Design, Opening, Polygon, TilingMode};
 use rayon::prelude::*;
+use rustfft::num_complex::Complex64;
 
 use crate::display::tiling::{D4, tile_orientation};
 
 /// One row of a field on the pupil grid, stored densely between its first and last nonzero
-/// samples.
+/// samples: real amplitudes, or complex ones for a field with a phase ([`Field::with_phase`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct SparseRow {
+pub struct SparseRow<T = f64> {
     /// Signed row offset from the axis, in samples (`y = iy·δ1`).
     pub iy: i64,
     /// Signed column offset of `values[0]`.
     pub ix0: i64,
     /// Consecutive samples from column `ix0` on.
-    pub values: Vec<f64>,
+    pub values: Vec<T>,
 }
 
-/// A real field on the pupil grid (amplitude transmittance).
+/// A field on the pupil grid: a real one (amplitude transmittance), or a complex one (the
+/// aperture with a phase across it, as a defocused pupil).
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct Field {
+pub struct Field<T = f64> {
     /// Rows with any nonzero sample, in ascending `iy`.
-    pub rows: Vec<SparseRow>,
+    pub rows: Vec<SparseRow<T>>,
+}
+
+impl<T> Field<T> {
+    /// Largest `|offset|` of any sample, in samples (the field fits a grid of `M` when
+    /// `-M/2 <= offset < M/2`).
+    pub fn extent(&self) -> (i64, i64) {
+        let mut lo = 0i64;
+        let mut hi = 0i64;
+        for r in &self.rows {
+            lo = lo.min(r.iy).min(r.ix0);
+            hi = hi.max(r.iy).max(r.ix0 + r.values.len() as i64 - 1);
+        }
+        (lo, hi)
+    }
+}
+
+impl Field<Complex64> {
+    /// `Σ |a|²`.
+    pub fn energy(&self) -> f64 {
+        self.rows
+            .iter()
+            .flat_map(|r| r.values.iter())
+            .map(Complex64::norm_sqr)
+            .sum()
+    }
 }
 
 impl Field {
@@ -39,16 +66,27 @@ impl Field {
             .sum()
     }
 
-    /// Largest `|offset|` of any sample, in samples (the field fits a grid of `M` when
-    /// `-M/2 <= offset < M/2`).
-    pub fn extent(&self) -> (i64, i64) {
-        let mut lo = 0i64;
-        let mut hi = 0i64;
-        for r in &self.rows {
-            lo = lo.min(r.iy).min(r.ix0);
-            hi = hi.max(r.iy).max(r.ix0 + r.values.len() as i64 - 1);
-        }
-        (lo, hi)
+    /// Each sample `a` at `(ix, iy)` times `exp(i·phase(ix, iy))`, the phase in radians and
+    /// reduced mod 2π in `f64` before the exponential (a defocus's is many waves at the rim).
+    pub fn with_phase(&self, phase: impl Fn(i64, i64) -> f64 + Sync) -> Field<Complex64> {
+        let rows = self
+            .rows
+            .par_iter()
+            .map(|r| SparseRow {
+                iy: r.iy,
+                ix0: r.ix0,
+                values: r
+                    .values
+                    .iter()
+                    .enumerate()
+                    .map(|(j, &v)| {
+                        let ph = phase(r.ix0 + j as i64, r.iy).rem_euclid(std::f64::consts::TAU);
+                        Complex64::from_polar(v, ph)
+                    })
+                    .collect(),
+            })
+            .collect();
+        Field { rows }
     }
 
     /// Dense `[row, col]` copy on an `m×m` grid (axis at `m/2`), for tests and views.

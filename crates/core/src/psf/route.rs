@@ -18,10 +18,12 @@
 //! intensity (spectral weighting, normalising, the window's energy, the MTF) stays in the core,
 //! so nothing above the core knows how a transform ran.
 
+use rustfft::num_complex::Complex64;
+
 use crate::SimError;
 use crate::display::aperture::Field;
 use crate::progress::Progress;
-use crate::psf::fft::{Binned, binned_intensity};
+use crate::psf::fft::{Binned, binned_intensity, binned_intensity_complex};
 use crate::psf::pruned::{binned_pruned, pruned_ops};
 use crate::psf::sampling::Binning;
 use crate::psf::zoom::fft_ops;
@@ -73,6 +75,23 @@ pub trait Fraunhofer: Sync {
         binning: &Binning,
         progress: &Progress,
     ) -> Result<Binned, SimError>;
+
+    /// [`Fraunhofer::binned`] of a complex field (the aperture with a phase across it, as a
+    /// defocused pupil): the transform has no mirror symmetry, so the whole grid is computed.
+    /// The CPU's dense transform ([`binned_intensity_complex`]) unless an implementation has
+    /// its own.
+    ///
+    /// # Errors
+    /// As [`Fraunhofer::binned`].
+    fn binned_complex(
+        &self,
+        field: &Field<Complex64>,
+        m: usize,
+        binning: &Binning,
+        progress: &Progress,
+    ) -> Result<Binned, SimError> {
+        binned_intensity_complex(field, m, binning, progress)
+    }
 }
 
 impl Fraunhofer for PsfRoute {

@@ -1,6 +1,6 @@
-// Sensor binning and the aliasing band of a centred M × M intensity stored as its kept half
-// (columns kx ≤ M/2, [kx][ky]); a sample in the other half is its mirror image,
-// I(ky, kx) = I(−ky, −kx), because the field is real. Conventions: the sensor's axis pixel is
+// Sensor binning and the aliasing band of a centred M × M intensity stored [kx][ky]: a real
+// field's as its kept half (columns kx ≤ M/2; a sample in the other half is its mirror image,
+// I(ky, kx) = I(−ky, −kx)), a complex field's whole (`full`). Conventions: the sensor's axis pixel is
 // W/2, a fine sample at signed offset s lands in pixel W/2 + floor((s + phase) / samples).
 
 struct Params {
@@ -14,7 +14,8 @@ struct Params {
     // Fine phase of the axis sample inside its pixel, x then y.
     phase_x: u32,
     phase_y: u32,
-    _pad0: u32,
+    // 1 when the intensity holds all M columns (a complex field).
+    full: u32,
     _pad1: u32,
 }
 
@@ -28,7 +29,7 @@ fn sample(t: i32, s: i32) -> f32 {
     let m = i32(p.m);
     let kx = (s + m) % m;
     let ky = (t + m) % m;
-    if (kx <= m / 2) {
+    if (kx <= m / 2 || p.full == 1u) {
         return intensity[u32(kx * m + ky)];
     }
     return intensity[u32((m - kx) * m + (m - ky) % m)];
@@ -65,15 +66,19 @@ fn bin_window(@builtin(global_invocation_id) g: vec3<u32>) {
 @compute @workgroup_size(256)
 fn band_columns(@builtin(global_invocation_id) g: vec3<u32>) {
     let kx = g.x;
-    let cols = p.m / 2u + 1u;
+    var cols = p.m / 2u + 1u;
+    if (p.full == 1u) {
+        cols = p.m;
+    }
     if (kx >= cols) {
         return;
     }
     let m = i32(p.m);
     let e = i32(p.edge);
+    // The column's signed offset: kx ≥ M/2 lies at kx − M (M/2 at −M/2).
     var s = i32(kx);
-    if (kx == p.m / 2u) {
-        s = -s;
+    if (kx >= p.m / 2u) {
+        s = s - m;
     }
     let whole = abs(s) >= e;
     var acc = 0.0;

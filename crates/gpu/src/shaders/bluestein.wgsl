@@ -3,9 +3,10 @@
 // convolution of length N ≥ M + L − 1 done as FFT → product with the chirp's spectrum (from the
 // CPU, in f64) → FFT of the conjugate (an inverse FFT up to a conjugate and 1/N).
 //
-// The 2-D transform of a sparse real field: each nonzero row's DFT along x (rows), written
-// transposed into one column per kept frequency kx ≤ M/2 (the field is real, so the other half
-// is the mirror image), then each column's DFT along y, whose |·|² is the intensity.
+// The 2-D transform of a sparse field: each nonzero row's DFT along x (rows), written
+// transposed into one column per kept frequency, then each column's DFT along y, whose |·|² is
+// the intensity. A real field keeps kx ≤ M/2 (the other half is the mirror image); a complex
+// one (a pupil with a phase) has no such symmetry and keeps all M.
 
 struct Params {
     // DFT length M.
@@ -18,18 +19,19 @@ struct Params {
     first: u32,
     // Input samples per column (the field's rows, Ly).
     ly: u32,
-    // Columns kept, M/2 + 1.
+    // Columns kept: M/2 + 1, or M for a complex field.
     cols: u32,
     // 1 / N.
     inv_n: f32,
-    _pad: u32,
+    // 1 when `values` holds (re, im) pairs: a complex field.
+    complex: u32,
 }
 
 @group(0) @binding(0) var<uniform> p: Params;
 // c_j for j < M.
 @group(0) @binding(1) var<storage, read> chirp: array<vec2<f32>>;
-// Per field row: (y, x0, samples, offset into `values`), rows and columns counted from the
-// field's corner.
+// Per field row: (y, x0, samples, offset into `values` in samples), rows and columns counted
+// from the field's corner.
 @group(0) @binding(2) var<storage, read> rows: array<vec4<u32>>;
 @group(0) @binding(3) var<storage, read> values: array<f32>;
 // FFT of the convolution kernel v (length N).
@@ -60,7 +62,12 @@ fn prechirp_rows(@builtin(global_invocation_id) g: vec3<u32>) {
     let h = rows[p.first + b];
     var u = vec2<f32>(0.0, 0.0);
     if (n >= h.y && n < h.y + h.z) {
-        u = values[h.w + n - h.y] * conj(chirp[n]);
+        let i = h.w + n - h.y;
+        if (p.complex == 1u) {
+            u = cmul(vec2<f32>(values[2u * i], values[2u * i + 1u]), conj(chirp[n]));
+        } else {
+            u = values[i] * conj(chirp[n]);
+        }
     }
     work[b * p.n + n] = u;
 }
@@ -77,8 +84,8 @@ fn convolve(@builtin(global_invocation_id) g: vec3<u32>) {
     work[i] = conj(cmul(work[i], kernel[n]));
 }
 
-// X_kx = conj(c_kx) (u ⊛ v)_kx = conj(c_kx · y_kx) / N for kx ≤ M/2, stored in column kx at
-// the row's y.
+// X_kx = conj(c_kx) (u ⊛ v)_kx = conj(c_kx · y_kx) / N for the kept kx, stored in column kx
+// at the row's y.
 @compute @workgroup_size(256)
 fn postchirp_rows(@builtin(global_invocation_id) g: vec3<u32>) {
     let kx = g.x;

@@ -152,16 +152,13 @@ fn photo_tile(ctx: &egui::Context, name: &str, caption: String, planes: &[Array2
 }
 
 /// Where a study's PSFs were computed, as the route says after its run.
-fn computed_on(route: &udc_gpu::Route, study: Study) -> String {
+fn computed_on(route: &udc_gpu::Route) -> String {
     if let Some(note) = route.note() {
         return note;
     }
-    match (route.adapter(), study) {
-        (None, _) => "PSFs computed on the CPU (f64)".into(),
-        (Some(a), Study::Depth) => format!(
-            "PSFs computed on {a} (f32); the defocused one on the CPU (its pupil is complex)"
-        ),
-        (Some(a), Study::Field | Study::Saturation) => format!("PSFs computed on {a} (f32)"),
+    match route.adapter() {
+        None => "PSFs computed on the CPU (f64)".into(),
+        Some(a) => format!("PSFs computed on {a} (f32)"),
     }
 }
 
@@ -277,7 +274,7 @@ impl FieldDepthView {
                     }
                 }?;
                 // Read after the run: a transform the device refused has left its note.
-                Ok((outcome, computed_on(&route, key.study)))
+                Ok((outcome, computed_on(&route)))
             },
         );
         self.job.start(key, job);
