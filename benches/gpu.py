@@ -17,9 +17,14 @@ wall time of the whole job (the operator dominates; the CG solve is the same on 
 differences of the LTR and PSNR as the job reports them (rounded: the LTR to 1e-5, the PSNR to
 1e-6 dB).
 
+Then V (`phase invertibility --relay wrapped-display`: 900 propagations, each its own plate and
+wavelength, one direction per call to the device), once per backend, with the largest relative
+difference of its entries and the transforms the device counted.
+
 Usage: python3 benches/gpu.py [--runs N] [--backend gpu|auto] [--designs A,B] [--phase-columns N]
-  (--designs and --phase-columns shrink the run, e.g. to check the script on a software driver:
-   --runs 1 --designs fourier-square --phase-columns 16)
+                              [--v-preview]
+  (--designs, --phase-columns and --v-preview shrink the run, e.g. to check the script on a
+   software driver: --runs 1 --designs fourier-square --phase-columns 16 --v-preview)
   one command on a machine with a GPU and a Vulkan, Metal or DX12 driver:
       cargo build --release -p udc-studio-python && \\
       UDC_NATIVE_LIB=target/release/lib_native.so python3 benches/gpu.py
@@ -60,6 +65,8 @@ def main() -> None:
                         help="comma-separated presets (default: the three T-OLEDs)")
     parser.add_argument("--phase-columns", type=int, default=256,
                         help="the phase operator's scene columns (default 256)")
+    parser.add_argument("--v-preview", action="store_true",
+                        help="V at the preview sampling (default: the thesis's)")
     args = parser.parse_args()
     udc, how = import_udc_studio()
     print(f"udc_studio: {how}")
@@ -103,7 +110,13 @@ def main() -> None:
     print(f"{label:<14} {phase['cpu_first_ms']:>8.0f}ms {phase['cpu_warm_ms']:>8.0f}ms "
           f"{phase['gpu_first_ms']:>8.0f}ms {phase['gpu_warm_ms']:>8.0f}ms "
           f"{phase['ltr_rel_diff']:>9.1e} {phase['psnr_diff_db']:>7.3f}dB")
-    print(json.dumps({"adapter": adapter, "runs": args.runs, "rows": rows, "phase": phase}))
+    v = v_row(udc, args.backend, args.v_preview)
+    print(f"{'V matrix':<14} {'CPU':>10} {'GPU':>10} {'V diff':>9} {'on device':>10}")
+    label = "wrapped 900"
+    print(f"{label:<14} {v['cpu_ms']:>8.0f}ms {v['gpu_ms']:>8.0f}ms "
+          f"{v['v_max_rel_diff']:>9.1e} {v['device_transforms']:>10}")
+    print(json.dumps({"adapter": adapter, "runs": args.runs, "rows": rows, "phase": phase,
+                      "v": v}))
 
 
 def phase_restore(udc, backend: str, columns: int):
@@ -126,6 +139,23 @@ def phase_rows(udc, backend: str, columns: int):
         "gpu_warm_ms": gpu_warm,
         "ltr_rel_diff": abs(gpu["ltr"] / cpu["ltr"] - 1),
         "psnr_diff_db": abs(gpu["runs"][0]["psnr_db"] - cpu["runs"][0]["psnr_db"]),
+    }
+
+
+def v_row(udc, backend: str, preview: bool):
+    def run(b: str):
+        start = time.perf_counter()
+        out = udc.phase.invertibility(relay="wrapped-display", preview=preview, backend=b)
+        return (time.perf_counter() - start) * 1e3, out
+
+    cpu_ms, cpu = run("cpu")
+    gpu_ms, gpu = run(backend)
+    diff = max(abs(g / c - 1) for rc, rg in zip(cpu["v"], gpu["v"]) for c, g in zip(rc, rg))
+    return {
+        "cpu_ms": cpu_ms,
+        "gpu_ms": gpu_ms,
+        "v_max_rel_diff": diff,
+        "device_transforms": gpu.get("backend", {}).get("device_transforms", 0),
     }
 
 
