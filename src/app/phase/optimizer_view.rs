@@ -25,7 +25,10 @@ pub(super) fn optimizer_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
         let idle = !ctx.optimizer.v_job.is_running() && !ctx.optimizer.opt_job.is_running();
         if ui
             .add_enabled(idle, egui::Button::new("Compute V"))
-            .on_hover_text("900 propagations")
+            .on_hover_text(
+                "900 propagations, each of one lenslet's samples (every lenslet of a V row is \
+                 folded alike): on the CPU whichever View ▸ Compute PSFs on is chosen",
+            )
             .clicked()
         {
             ctx.queue(PhaseAction::ComputeV);
@@ -37,7 +40,7 @@ pub(super) fn optimizer_ui(ui: &mut Ui, ctx: &mut PhaseCtx<'_>) {
             ctx.queue(PhaseAction::Optimize);
         }
         ui.weak(format!(
-            "at {} sampling, {} channels",
+            "at {} sampling, {} channels, on the CPU",
             ctx.choices.quality.label(),
             match ctx.choices.channels {
                 ChannelSet::Peaks => "peak",
