@@ -104,3 +104,6 @@ def test_fit_finds_the_design_a_psf_came_from(tmp_path):
     assert result["residual"] <= result["residual_start"]
     with pytest.raises(ValueError, match="window-px"):
         measured.fit(tmp_path / "set.npy", preset="toled-150dpi", window_px=4)
+    # The backend is a closed set: a name outside it is refused before the fit runs.
+    with pytest.raises(ValueError, match="cuda"):
+        measured.fit(tmp_path / "set.npy", preset="toled-150dpi", backend="cuda")

@@ -55,7 +55,9 @@ def fit(psf: PathLike, **params: ParamValue) -> Dict[str, Any]:
     """The display fitted to a PSF set, starting from a design (``preset=`` or ``design=`` a
     file): ``pitch_um``, ``open_fraction``, ``edge_bias_um``, ``rotation_deg``, ``defocus_um``
     and ``blur_um``, each ``{"value", "sigma"}``, with the residual before and after;
-    ``out=`` a JSON file for the fitted design, ``window_px=`` the side fitted."""
+    ``out=`` a JSON file for the fitted design, ``window_px=`` the side fitted; ``backend=``
+    ``"cpu"``, ``"gpu"`` or ``"auto"`` where the display's fine intensities are computed (the
+    result's ``backend`` object then names the adapter)."""
     args = {"psf": psf, **params}
     return dict(_native.psf_fit({k: _plain(v) for k, v in args.items()}))
 

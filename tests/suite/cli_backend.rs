@@ -247,7 +247,7 @@ fn a_sweep_runs_its_points_on_the_gpu() {
 
 /// The commands that study a design outside the typed jobs take `--backend` too: `saturation`,
 /// `depth` and `psf compare` on the GPU read as on the CPU (the device computing their PSFs);
-/// `field` and `appearance` with `auto` say where theirs ran; a bad value is clap's one line.
+/// `field`, `appearance` and `psf fit` with `auto` say where theirs ran; a bad value is clap's one line.
 #[test]
 fn the_studies_of_a_design_run_on_the_gpu_as_on_the_cpu() {
     let dir = tempfile::tempdir().unwrap();
@@ -327,6 +327,18 @@ fn the_studies_of_a_design_run_on_the_gpu_as_on_the_cpu() {
             "2",
         ][..],
         &["appearance", "--preset", "toled-150dpi", "--preview"],
+        // A fit on a software driver takes about a minute (its fine grids are read back whole); the
+        // device's whole grid is held to the CPU's in crates/gpu/tests.
+        &[
+            "psf",
+            "fit",
+            set.to_str().unwrap(),
+            "--preset",
+            "toled-150dpi",
+            "--no-search",
+            "--window-px",
+            "16",
+        ],
     ] {
         let (ok, v, stderr) = with(args, "auto");
         assert!(ok, "{args:?}: {stderr}");

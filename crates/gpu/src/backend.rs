@@ -6,6 +6,7 @@
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
+use ndarray::Array2;
 use rustfft::num_complex::Complex64;
 
 use udc_core::SimError;
@@ -158,6 +159,14 @@ impl Fraunhofer for Route {
         self.compute(
             |gpu| gpu.binned_complex(field, m, binning, progress),
             || PsfRoute::Auto.binned_complex(field, m, binning, progress),
+            |_| 1,
+        )
+    }
+
+    fn full(&self, field: &Field, m: usize, progress: &Progress) -> Result<Array2<f64>, SimError> {
+        self.compute(
+            |gpu| gpu.full(field, m, progress),
+            || PsfRoute::Auto.full(field, m, progress),
             |_| 1,
         )
     }

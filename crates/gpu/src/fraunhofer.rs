@@ -176,10 +176,13 @@ impl Gpu {
         let columns_bytes = (cols * packed.ly) as u64 * COMPLEX;
         let intensity_bytes = (cols * m) as u64 * 4;
         let vector_bytes = nx.max(ny) as u64 * COMPLEX;
+        let w = binning.window_px;
+        let sensor_bytes = (w * w) as u64 * 4;
         for (what, bytes) in [
             ("the row spectra", columns_bytes),
             ("the intensity", intensity_bytes),
             ("one transform", vector_bytes),
+            ("the window", sensor_bytes),
         ] {
             if bytes > limit {
                 return Err(too_large(what, bytes, limit));
@@ -301,8 +304,6 @@ impl Gpu {
         }
         progress.check()?;
 
-        let w = binning.window_px;
-        let sensor_bytes = (w * w) as u64 * 4;
         let band_bytes = cols as u64 * 4;
         let sensor = self.storage("sensor", sensor_bytes, true);
         let band = self.storage("band", band_bytes, true);
@@ -419,5 +420,16 @@ impl Fraunhofer for Gpu {
         }
         progress.check()?;
         self.run(&pack(field), energy, m, binning, progress)
+    }
+
+    /// The whole grid as a window of `M` pixels of one sample each: the same kernels, the
+    /// `M²` intensity read back.
+    fn full(&self, field: &Field, m: usize, progress: &Progress) -> Result<Array2<f64>, SimError> {
+        let whole = Binning {
+            window_px: m,
+            samples_per_px: 1,
+            phase: [0, 0],
+        };
+        Ok(self.binned(field, m, &whole, progress)?.sensor)
     }
 }

@@ -361,6 +361,11 @@ pub struct FitJob {
     /// Write the fitted design (the start with the fitted pitch and edges) to this JSON file.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// Where the display's fine intensities are computed: cpu, gpu or auto (as `analyze
+    /// --backend`; the rest of the fit runs on the CPU).
+    #[arg(long, value_parser = crate::choice::choice::<Backend>(), default_value_t = Backend::Cpu)]
+    #[serde(default)]
+    pub backend: Backend,
 }
 
 /// The measured set (`--pixel-um` checked, and used where the set has no sidecar) and the
@@ -412,7 +417,8 @@ pub fn fit(job: &FitJob, progress: &Progress) -> Result<Report> {
         search_pitch: !job.no_search,
         ..defaults
     };
-    let r = fit_display(&design, &set, &options, progress).context("the fit")?;
+    let route = crate::backend::route(job.backend)?;
+    let r = fit_display(&design, &set, &options, &route, progress).context("the fit")?;
     let mut out = Report::default();
     outln!(
         out,
@@ -498,6 +504,7 @@ pub fn fit(job: &FitJob, progress: &Progress) -> Result<Report> {
         "axes_px": r.axes_px,
         "out": job.out,
     });
+    crate::backend::report(&mut out, job.backend, &route);
     Ok(out)
 }
 

@@ -183,11 +183,7 @@ impl PhaseWorkspace {
             move || wake.request_repaint(),
             move |p| {
                 let sampling = crate::core::phase::PhaseSampling::for_quality(quality);
-                let chain = Chain::new(&d, &sampling)?;
-                let chain = match relay {
-                    Some(relay) => chain.with_relay(relay),
-                    None => chain,
-                };
+                let chain = Chain::new(&d, &sampling)?.with_relay_if(relay.as_ref());
                 kernel_matrix_on(&chain, &channel, optics, p)
             },
         );

@@ -23,7 +23,7 @@ use rustfft::num_complex::Complex64;
 use crate::SimError;
 use crate::display::aperture::Field;
 use crate::progress::Progress;
-use crate::psf::fft::{Binned, binned_intensity, binned_intensity_complex};
+use crate::psf::fft::{Binned, binned_intensity, binned_intensity_complex, full_intensity};
 use crate::psf::pruned::{binned_pruned, pruned_ops};
 use crate::psf::sampling::Binning;
 use crate::psf::zoom::fft_ops;
@@ -91,6 +91,21 @@ pub trait Fraunhofer: Sync {
         progress: &Progress,
     ) -> Result<Binned, SimError> {
         binned_intensity_complex(field, m, binning, progress)
+    }
+
+    /// The whole centred `M×M` intensity `|DFT_M(a)|²`, unbinned (the measured-PSF fit resamples
+    /// it on turned and scaled coordinates). The CPU's [`full_intensity`] unless an
+    /// implementation has its own.
+    ///
+    /// # Errors
+    /// As [`Fraunhofer::binned`].
+    fn full(
+        &self,
+        field: &Field,
+        m: usize,
+        progress: &Progress,
+    ) -> Result<ndarray::Array2<f64>, SimError> {
+        full_intensity(field, m, progress)
     }
 }
 

@@ -4,14 +4,21 @@
 //! design as drawn, recovers the truth's pitch within 1 %, its turn within 0.1° and its open
 //! fraction within 2 %.
 
+use std::sync::atomic::{AtomicUsize, Ordering};
+
 use ndarray::Array2;
 
 use udc_core::Progress;
+use udc_core::SimError;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::design::{Channel, Design};
+use udc_core::display::aperture::Field;
 use udc_core::measured::fit::{EdgeField, FitOptions, fit};
 use udc_core::measured::import::{Centring, ImportSteps, merge};
 use udc_core::measured::{PsfChannel, PsfSet, PsfSource};
+use udc_core::psf::fft::Binned;
+use udc_core::psf::route::{Fraunhofer, PsfRoute};
+use udc_core::psf::sampling::Binning;
 use udc_io::design::presets::load_preset;
 
 use crate::measured::{placed, recorded};
@@ -120,7 +127,14 @@ fn recovers(
     let (t, open) = truth(&design, pitch_scale, bias_um);
     let set = measured(&t, deg, 11, centring);
     let started = std::time::Instant::now();
-    let got = fit(&design, &set, &FitOptions::default(), &Progress::new()).expect("fit");
+    let got = fit(
+        &design,
+        &set,
+        &FitOptions::default(),
+        &PsfRoute::Full,
+        &Progress::new(),
+    )
+    .expect("fit");
     eprintln!(
         "{preset}: pitch {:.3} ± {:.3} (truth {:.3}, searched {:.3}), open {:.4} ± {:.4} (truth \
          {open:.4}, drawn {:.4}), turn {:.3} ± {:.3}° (truth {deg}), blur {:.2} ± {:.2} µm, \
@@ -193,7 +207,10 @@ fn the_refinement_stops_at_its_evaluation_budget() {
         search_pitch: false,
         max_evaluations: 11,
     };
-    let got = fit(&design, &set, &options, &Progress::new()).expect("fit");
+    // Through a route that counts its whole grids: every trial display's transforms go through
+    // the seam (a device's route is handed in the same way).
+    let counting = Counting::default();
+    let got = fit(&design, &set, &options, &counting, &Progress::new()).expect("fit");
     assert!(got.evaluations <= 12, "{} evaluations", got.evaluations);
     // Stopped by the budget, unless it met its tolerance first.
     assert!(
@@ -201,4 +218,22 @@ fn the_refinement_stops_at_its_evaluation_budget() {
         "{}",
         got.stopped
     );
+    // The drawn display, then at least one trial pitch and one trial bias.
+    let grids = counting.0.load(Ordering::Relaxed);
+    assert!(grids >= 3, "{grids} whole grids through the route");
+}
+
+/// A CPU route that counts the whole grids asked of it.
+#[derive(Default)]
+struct Counting(AtomicUsize);
+
+impl Fraunhofer for Counting {
+    fn binned(&self, _: &Field, _: usize, _: &Binning, _: &Progress) -> Result<Binned, SimError> {
+        Err(SimError::Sampling("the fit reads whole grids only".into()))
+    }
+
+    fn full(&self, field: &Field, m: usize, progress: &Progress) -> Result<Array2<f64>, SimError> {
+        self.0.fetch_add(1, Ordering::Relaxed);
+        PsfRoute::Full.full(field, m, progress)
+    }
 }

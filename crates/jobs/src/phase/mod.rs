@@ -304,11 +304,7 @@ pub(crate) fn chain_on(
     sampling: &PhaseSampling,
     relay: Option<&Arc<dyn BlochRelay>>,
 ) -> Result<Chain> {
-    let chain = Chain::new(design, sampling)?;
-    Ok(match relay {
-        Some(r) => chain.with_relay(r.clone()),
-        None => chain,
-    })
+    Ok(Chain::new(design, sampling)?.with_relay_if(relay))
 }
 
 /// The phase design of a mask's parameters, checked (refusals name the flags).

@@ -186,14 +186,15 @@ impl MeasuredPanel {
         )));
     }
 
-    /// Fits the display to the loaded set, starting from `design`, in the background.
-    pub fn fit(&mut self, design: &Design, ctx: &egui::Context) {
+    /// Fits the display to the loaded set, starting from `design`, in the background, its fine
+    /// intensities transformed on `route`.
+    pub fn fit(&mut self, design: &Design, route: Arc<Route>, ctx: &egui::Context) {
         let Some(loaded) = &self.loaded else { return };
         let (design, set, wake) = (design.clone(), loaded.set.clone(), ctx.clone());
         self.running = Some(Running::Fit(Job::spawn(
             "display fit",
             move || wake.request_repaint(),
-            move |p| fit(&design, &set, &FitOptions::default(), p),
+            move |p| fit(&design, &set, &FitOptions::default(), route.as_ref(), p),
         )));
     }
 
@@ -349,11 +350,7 @@ impl MeasuredPanel {
                     .on_hover_text("The design simulated at the set's pixel pitch, each channel aligned to a sub-pixel")
                     .clicked()
                 {
-                    // On the route the design on screen was computed on.
-                    let route = pctx
-                        .shown
-                        .map_or_else(|| Arc::new(Route::cpu()), |s| s.route.clone());
-                    self.compare(pctx.design, route, ui.ctx());
+                    self.compare(pctx.design, shown_route(pctx), ui.ctx());
                 }
                 if ui
                     .add_enabled(idle, egui::Button::new("Fit the display"))
@@ -363,7 +360,7 @@ impl MeasuredPanel {
                     )
                     .clicked()
                 {
-                    self.fit(pctx.design, ui.ctx());
+                    self.fit(pctx.design, shown_route(pctx), ui.ctx());
                 }
             });
         }
@@ -563,6 +560,13 @@ impl MeasuredPanel {
 }
 
 /// The notice of a failed job (a cancel is no failure).
+/// The route the design on screen was computed on (View ▸ Compute PSFs on), the CPU before
+/// its first analysis: a comparison or fit then agrees with the pictures beside it.
+fn shown_route(pctx: &PanelCtx) -> Arc<Route> {
+    pctx.shown
+        .map_or_else(|| Arc::new(Route::cpu()), |s| s.route.clone())
+}
+
 fn failed(what: &str, e: &JobError) -> Notice {
     match e {
         JobError::Cancelled => Notice::info("cancelled"),

@@ -66,11 +66,7 @@ pub(super) fn run_setups(
                 ));
                 progress.set(0.0);
                 let sampling = crate::core::phase::PhaseSampling::for_quality(key.quality);
-                let chain = Chain::new(&key.design, &sampling)?;
-                let chain = match &light.relay {
-                    Some(relay) => chain.with_relay(relay.clone()),
-                    None => chain,
-                };
+                let chain = Chain::new(&key.design, &sampling)?.with_relay_if(light.relay.as_ref());
                 let b = phase_blur_on(&chain, &job.channels, key.optics, key.width, 0, progress)?;
                 (Arc::new(b), true)
             }

@@ -25,6 +25,7 @@ use super::compare::alignment;
 use crate::SimError;
 use crate::design::Design;
 use crate::progress::Progress;
+use crate::psf::route::Fraunhofer;
 
 pub use edge::EdgeField;
 
@@ -115,18 +116,21 @@ const SHIFTS: usize = 4;
 /// from [`SHIFTS`] on.
 const PER_CHANNEL: usize = 6;
 
-/// Fits `design`'s display to the measured `set`.
+/// Fits `design`'s display to the measured `set`, the display's fine intensities transformed
+/// on `route` (the rest of the fit, which takes most of its time, on the CPU).
 ///
 /// # Errors
-/// A set that fails its check, a design whose sampling fails on the set's grid, a cancel.
+/// A set that fails its check, a design whose sampling fails on the set's grid, a cancel, the
+/// route's refusals.
 pub fn fit(
     design: &Design,
     set: &PsfSet,
     options: &FitOptions,
+    route: &dyn Fraunhofer,
     progress: &Progress,
 ) -> Result<FitResult, SimError> {
     set.check()?;
-    let model = Model::new(design, set, options.window_px, progress)?;
+    let model = Model::new(design, set, options.window_px, route, progress)?;
     let start_pitch = model.design().opening.pitch_um;
     let start_open = model.edge.open_fraction(0.0);
     let channels = model.measured.len();

@@ -22,7 +22,7 @@ use crate::display::aperture::{Display, Extent, rasterise};
 use crate::measured::shift::{shifted, transform};
 use crate::measured::{PsfSet, design_on_grid};
 use crate::progress::Progress;
-use crate::psf::fft::full_intensity;
+use crate::psf::route::Fraunhofer;
 use crate::psf::sampling::{WavelengthSampling, next_fast_size, plan};
 
 /// The fine intensities of one display: per channel, per wavelength, each summing to 1.
@@ -56,11 +56,14 @@ pub(super) struct Model<'a> {
     pub weights: Vec<Array2<f64>>,
     /// Side of the fit's window, pixels.
     pub window_px: usize,
+    /// Where the fine intensities are transformed.
+    route: &'a dyn Fraunhofer,
     pub progress: &'a Progress,
 }
 
 impl<'a> Model<'a> {
-    /// The model of `set` from `design`, fitted over the central `window_px` pixels.
+    /// The model of `set` from `design`, fitted over the central `window_px` pixels, its fine
+    /// intensities transformed on `route`.
     ///
     /// # Errors
     /// A design whose sampling fails on the measurement's grid.
@@ -68,6 +71,7 @@ impl<'a> Model<'a> {
         design: &Design,
         set: &PsfSet,
         window_px: usize,
+        route: &'a dyn Fraunhofer,
         progress: &'a Progress,
     ) -> Result<Self, SimError> {
         let mut design = design_on_grid(design, set);
@@ -108,6 +112,7 @@ impl<'a> Model<'a> {
             measured,
             weights,
             window_px,
+            route,
             progress,
         })
     }
@@ -161,7 +166,7 @@ impl<'a> Model<'a> {
             .map(|per| {
                 per.iter()
                     .map(|ws| {
-                        let i = full_intensity(&field, ws.fft_size, self.progress)?;
+                        let i = self.route.full(&field, ws.fft_size, self.progress)?;
                         let total = i.sum();
                         if !(total > 0.0) {
                             return Err(SimError::Sampling("no light passes the display".into()));

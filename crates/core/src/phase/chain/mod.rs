@@ -447,6 +447,15 @@ impl Chain {
         }
     }
 
+    /// [`Chain::with_relay`] where a relay is given; the CPU's own relay otherwise.
+    #[must_use]
+    pub fn with_relay_if(self, relay: Option<&Arc<dyn BlochRelay>>) -> Chain {
+        match relay {
+            Some(r) => self.with_relay(Arc::clone(r)),
+            None => self,
+        }
+    }
+
     /// The design the chain was sampled for.
     pub fn design(&self) -> &PhaseDesign {
         &self.design

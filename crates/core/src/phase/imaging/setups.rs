@@ -150,11 +150,7 @@ impl Setup {
                     Lambda0Plan::Fixed { nm } => Lambda0::Fixed { nm: *nm },
                     Lambda0Plan::Uniform => Lambda0::Uniform,
                     Lambda0Plan::Optimized => {
-                        let chain = Chain::new(&d, sampling)?;
-                        let chain = match relay {
-                            Some(r) => chain.with_relay(r.clone()),
-                            None => chain,
-                        };
+                        let chain = Chain::new(&d, sampling)?.with_relay_if(relay);
                         let (_, alloc) = optimize_lambda0_through(
                             &chain,
                             grid_channels,
@@ -270,11 +266,7 @@ pub fn compare_setups(
         for (p, photo) in photos.iter().enumerate() {
             let width = photo.first().map_or(0, Array2::ncols);
             if !blurs.iter().any(|(w, _)| *w == width) {
-                let chain = Chain::new(&design, sampling)?;
-                let chain = match relay {
-                    Some(r) => chain.with_relay(r.clone()),
-                    None => chain,
-                };
+                let chain = Chain::new(&design, sampling)?.with_relay_if(relay);
                 let blur = phase_blur_on(&chain, channels, optics, width, 0, progress)?;
                 blurs.push((width, blur));
             }
