@@ -48,6 +48,18 @@ impl Compute {
         self.backend
     }
 
+    /// The backend the route resolved to: the one asked for where the window's GPU serves it,
+    /// the CPU otherwise (`gpu` kept from a session whose window had one; `auto` on a software
+    /// driver). What the jobs the studio runs by their `backend` parameter (a study, a quick
+    /// reproduction) are given: they resolve it on the window's device (`app::window_gpu`).
+    pub fn effective(&self) -> Backend {
+        if self.current().adapter().is_some() {
+            self.backend
+        } else {
+            Backend::Cpu
+        }
+    }
+
     /// The window's GPU, named with its API and driver, or `None` where the window does not
     /// draw with wgpu.
     pub fn adapter(&self) -> Option<String> {

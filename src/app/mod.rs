@@ -116,12 +116,13 @@ pub fn run_studio(design_path: Option<PathBuf>) -> Result<()> {
 /// window's adapter, not the window's device: a resize reconfigures the window's surface, which
 /// waits for that device's queue to go idle, and a transform of seconds there (a 600-DPI design
 /// on a slow GPU; any design on a software driver) made the reconfiguration fail and eframe
-/// abort.
+/// abort. It is also the process's shared device, which the jobs a study or a quick
+/// reproduction runs resolve their `backend` parameter on.
 pub fn window_gpu(cc: &eframe::CreationContext<'_>) -> Option<std::sync::Arc<udc_gpu::Gpu>> {
     let rs = cc.wgpu_render_state.as_ref()?;
-    udc_gpu::Gpu::on_adapter(&rs.adapter)
-        .ok()
-        .map(std::sync::Arc::new)
+    let gpu = std::sync::Arc::new(udc_gpu::Gpu::on_adapter(&rs.adapter).ok()?);
+    udc_gpu::Gpu::share(&gpu);
+    Some(gpu)
 }
 
 /// Set by the Ctrl-C / SIGTERM handler; the next frame closes the window.
@@ -584,7 +585,7 @@ impl StudioApp {
         self.dropped_files(&ctx);
         self.close_request(&ctx);
         self.confirm_ui(&ctx);
-        self.reproduce.ui(&ctx);
+        self.reproduce.ui(&ctx, self.shell.compute.effective());
         if let Some(request) = crate::app::widgets::figure::take_save_request(&ctx) {
             let caption = self.workspace_mut(self.active).figure_caption();
             self.save_figure.open(request.0, caption);

@@ -13,6 +13,7 @@ use crate::app::dialogs::{self, FileSpec};
 use crate::app::job::{Job, JobError, Keyed};
 use crate::app::notice::Notice;
 use crate::core::Progress;
+use crate::core::psf::route::Backend;
 use crate::core::reproduce::ResultId;
 
 /// The largest report read (ours are a few kB).
@@ -39,6 +40,8 @@ pub struct ReproduceWindow {
     message: Option<Notice>,
     /// The Markdown viewer's layout cache.
     markdown: egui_commonmark::CommonMarkCache,
+    /// Where a run's PSFs are computed: View ▸ Compute PSFs on, as the window last drew.
+    backend: Backend,
 }
 
 impl ReproduceWindow {
@@ -55,6 +58,7 @@ impl ReproduceWindow {
             report: None,
             message: None,
             markdown: egui_commonmark::CommonMarkCache::default(),
+            backend: Backend::Cpu,
         }
     }
 
@@ -110,9 +114,10 @@ impl ReproduceWindow {
             move || ctx.request_repaint()
         };
         self.message = None;
+        let backend = self.backend;
         self.run.start(
             id,
-            Job::spawn("reproduce", wake, move |p| quick_run(id, &out, p)),
+            Job::spawn("reproduce", wake, move |p| quick_run(id, &out, backend, p)),
         );
     }
 
@@ -179,8 +184,10 @@ impl ReproduceWindow {
         self.dialog = Some(dialogs::ask(spec, move || ctx.request_repaint()));
     }
 
-    /// Draws the window when it is open.
-    pub fn ui(&mut self, ctx: &egui::Context) {
+    /// Draws the window when it is open; a run started from it computes its PSFs on `backend`
+    /// (the studio's choice, on the window's GPU).
+    pub fn ui(&mut self, ctx: &egui::Context, backend: Backend) {
+        self.backend = backend;
         self.poll();
         if !self.open {
             return;
@@ -294,16 +301,22 @@ impl ReproduceWindow {
     }
 }
 
-/// Runs `reproduce ID --quick --out DIR` on this (the job's) thread: the library call the
-/// command line makes, reporting to and cancelled by the job's progress. The report's path.
-fn quick_run(id: ResultId, out: &Path, p: &Progress) -> Result<PathBuf, JobError> {
+/// Runs `reproduce ID --quick --out DIR --backend B` on this (the job's) thread: the library
+/// call the command line makes, reporting to and cancelled by the job's progress. The
+/// report's path. A GPU backend resolves on the process's shared device, which the studio
+/// made its window's (`app::window_gpu`).
+fn quick_run(
+    id: ResultId,
+    out: &Path,
+    backend: Backend,
+    p: &Progress,
+) -> Result<PathBuf, JobError> {
     let options = crate::cli::reproduce::ReproduceOptions {
         geometry: crate::core::reproduce::Geometry::Ours,
         quick: true,
         threads: None,
         quiet: true,
-        // The CLI's headless device is not the window's: the studio's quick runs stay on the CPU.
-        backend: crate::core::psf::route::Backend::Cpu,
+        backend,
     };
     match crate::cli::reproduce::reproduce(id, out, &options, p) {
         Ok(run) => Ok(run.report),

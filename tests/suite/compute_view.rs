@@ -41,12 +41,15 @@ fn without_a_wgpu_window_the_gpu_choice_is_greyed_out() {
 fn the_studio_computes_on_the_windows_gpu_when_asked() {
     let dir = tempfile::tempdir().unwrap();
     let dirs = udc_studio::app::AppDirs::at(dir.path());
+    let window_gpu = std::sync::Arc::new(std::sync::Mutex::new(None));
+    let kept = window_gpu.clone();
     let mut h = Harness::builder()
         .with_size(egui::vec2(1440.0, 900.0))
         .with_max_steps(10_000)
         .wgpu()
         .build_eframe(move |cc| {
             let gpu = udc_studio::app::window_gpu(cc);
+            *kept.lock().unwrap() = gpu.clone();
             StudioApp::new(
                 &cc.egui_ctx,
                 StudioOptions {
@@ -88,4 +91,44 @@ fn the_studio_computes_on_the_windows_gpu_when_asked() {
     assert_ne!(cpu, gpu, "the result was recomputed on the GPU");
     let settings = std::fs::read_to_string(dir.path().join("settings.json")).unwrap();
     assert!(settings.contains("\"backend\": \"gpu\""), "{settings}");
+
+    // The jobs the studio runs by their parameters (a study, a quick reproduction) resolve
+    // `gpu` on the window's device, not on a second one.
+    let gpu = window_gpu
+        .lock()
+        .unwrap()
+        .clone()
+        .expect("the window's GPU");
+    let shared = udc_gpu::Gpu::shared(udc_gpu::AdapterKind::Any).unwrap();
+    assert!(std::sync::Arc::ptr_eq(&shared, &gpu), "one device");
+    // A study started now computes its points there: its saved spec says so (a resume, here
+    // or by `udc-studio sweep`, runs there too), and its rows land.
+    h.state_mut().act(DisplayAction::NewStudy(None));
+    h.run_steps(3);
+    {
+        let d = &mut h.state_mut().sweep_mut().study_dialog;
+        d.axes.truncate(1);
+        // The Fourier square's 6 DPI and a little finer.
+        d.axes[0].text = "6, 8".into();
+        assert_eq!(d.estimate().unwrap().expect("an estimate").points, 2);
+    }
+    h.run_steps(3);
+    assert!(h.query_by_label_contains("2 points, about").is_some());
+    h.get_by_label("Run").click();
+    h.run_steps(2);
+    let started = h.state().sweep().message().map(|m| m.text.clone());
+    assert!(h.state().sweep().is_studying(), "{started:?}");
+    step_until(&mut h, "the study's end", |app| {
+        !app.sweep().is_studying() && app.sweep().is_idle()
+    });
+    let rows = h.state().sweep().table().map_or(0, |t| t.rows.len());
+    assert_eq!(
+        rows,
+        2,
+        "{started:?}, then {:?}",
+        h.state().sweep().message().map(|m| m.text.clone())
+    );
+    let table = h.state().sweep().table().unwrap().dir.clone();
+    let spec = std::fs::read_to_string(table.join("spec.toml")).unwrap();
+    assert!(spec.contains("backend = \"gpu\""), "{spec}");
 }

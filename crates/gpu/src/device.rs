@@ -209,14 +209,23 @@ impl Gpu {
     /// # Errors
     /// As [`Gpu::headless`], remembered: a machine without an adapter is not asked again.
     pub fn shared(kind: AdapterKind) -> Result<Arc<Gpu>, GpuError> {
-        static HARDWARE: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
-        static ANY: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
-        let cell = match kind {
-            AdapterKind::Hardware => &HARDWARE,
-            AdapterKind::Any => &ANY,
-        };
-        cell.get_or_init(|| Gpu::headless(kind).map(Arc::new))
+        shared_cell(kind)
+            .get_or_init(|| Gpu::headless(kind).map(Arc::new))
             .clone()
+    }
+
+    /// Makes `gpu` the process's shared device (for [`AdapterKind::Any`], and for
+    /// [`AdapterKind::Hardware`] unless it is a software one), where none was opened yet: the
+    /// studio hands in the device on its window's adapter, so that the jobs it runs by their
+    /// `backend` parameter (a study, a quick reproduction) use the GPU its menu names rather
+    /// than opening another. Whether `gpu` is now the shared device of any kind.
+    pub fn share(gpu: &Arc<Gpu>) -> bool {
+        let any = shared_cell(AdapterKind::Any).set(Ok(gpu.clone())).is_ok();
+        let hardware = !gpu.adapter().software
+            && shared_cell(AdapterKind::Hardware)
+                .set(Ok(gpu.clone()))
+                .is_ok();
+        any || hardware
     }
 
     /// The kernels on a device someone else opened. (Not the studio's window device: see
@@ -251,5 +260,15 @@ impl Gpu {
                 contents: bytemuck::cast_slice(data),
                 usage: wgpu::BufferUsages::STORAGE,
             })
+    }
+}
+
+/// The process's shared device of `kind`, once opened or handed in.
+fn shared_cell(kind: AdapterKind) -> &'static OnceLock<Result<Arc<Gpu>, GpuError>> {
+    static HARDWARE: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
+    static ANY: OnceLock<Result<Arc<Gpu>, GpuError>> = OnceLock::new();
+    match kind {
+        AdapterKind::Hardware => &HARDWARE,
+        AdapterKind::Any => &ANY,
     }
 }

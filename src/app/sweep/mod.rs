@@ -198,7 +198,8 @@ impl SweepWorkspace {
             return;
         }
         let dir = self.new_study_dir(shell, "study");
-        match study::write_study(&dir, &request.study, request.photo.as_deref()) {
+        let backend = shell.compute.effective();
+        match study::write_study(&dir, &request.study, request.photo.as_deref(), backend) {
             Ok(spec) if request.cluster => self.message = Some(study::write_cluster(&dir, &spec)),
             Ok(spec) => self.run_study(dir, spec, shell),
             Err(e) => self.message = Some(Notice::error(format!("cannot start the study: {e}"))),
@@ -211,7 +212,7 @@ impl SweepWorkspace {
             return;
         };
         let spec = match crate::io::sweep::parse_spec(text, true) {
-            Ok(s) => s,
+            Ok(s) => s.computed_on(shell.compute.effective()),
             Err(e) => {
                 self.message = Some(Notice::error(format!("{name}: {e}")));
                 return;
@@ -246,8 +247,16 @@ impl SweepWorkspace {
     /// Runs `spec` into `dir` and opens the folder as its first rows land.
     fn run_study(&mut self, dir: PathBuf, spec: crate::core::sweep::SweepSpec, shell: &mut Shell) {
         let dir = std::fs::canonicalize(&dir).unwrap_or(dir);
+        // Where its points' PSFs are computed, as its spec says (a resumed study keeps its own).
+        let on = match spec.base.get("backend") {
+            Some(crate::core::sweep::ParamValue::Text(b)) if b != "cpu" => format!(
+                ", PSFs on {}",
+                shell.compute.adapter_name().unwrap_or_else(|| b.clone())
+            ),
+            _ => String::new(),
+        };
         self.message = Some(Notice::info(format!(
-            "running {} points into {}",
+            "running {} points into {}{on}",
             crate::core::sweep::Points::new(&spec).map_or(0, |p| p.count()),
             dir.display()
         )));

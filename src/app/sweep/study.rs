@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 
 use crate::app::job::{Job, JobError};
 use crate::app::widgets::photo::Photo;
+use crate::core::psf::route::Backend;
 use crate::core::sweep::study::{Study, StudyFiles, StudySubject};
 use crate::core::sweep::{Shard, SweepSpec};
 use crate::jobs::sweep::{RunOptions, RunSummary, run_sweep};
@@ -43,7 +44,10 @@ pub const PHASE_DESIGN_FILE: &str = "phase-design.json";
 /// [`DESIGN_FILE`], a phase-mask design as [`PHASE_DESIGN_FILE`], the photo a restoring study
 /// captures as [`PHOTO_FILE`] (16 bits a channel; the built-in photo's own file when `photo` is
 /// `None`), an opening axis's variants as `design-opening-<i>.json`, and the spec naming them by absolute paths as [`SPEC_FILE`], so that
-/// `udc-studio sweep dir/spec.toml --out …` runs the same points from any folder.
+/// `udc-studio sweep dir/spec.toml --out …` runs the same points from any folder. The spec
+/// computes its points' PSFs on `backend` (the studio's choice; the CPU leaves it as the study
+/// made it), so that a resume, in the studio or from the command line, runs where the study
+/// started and finds its finished points by their hashes.
 ///
 /// # Errors
 /// A folder or file that cannot be written.
@@ -51,6 +55,7 @@ pub fn write_study(
     dir: &Path,
     study: &Study,
     photo: Option<&Photo>,
+    backend: Backend,
 ) -> Result<SweepSpec, JobError> {
     std::fs::create_dir_all(dir)
         .map_err(|e| JobError::Failed(format!("cannot create {}: {e}", dir.display())))?;
@@ -85,7 +90,7 @@ pub fn write_study(
         photo: photo_path.map(|p| p.to_string_lossy().into_owned()),
         opening_designs,
     };
-    let spec = study.spec(&files);
+    let spec = study.spec(&files).computed_on(backend);
     crate::io::sweep::save_spec_toml(&dir.join(SPEC_FILE), &spec)?;
     Ok(spec)
 }

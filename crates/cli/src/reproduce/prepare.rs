@@ -79,11 +79,7 @@ pub fn prepared_spec(
             .with_context(|| format!("{} ({}), quick plan", id.as_str(), part.file))?;
         spec.name = format!("{} (quick)", spec.name);
     }
-    // The CPU is every job's default: its specs stay as written (and their hashes with them).
-    if backend != Backend::Cpu && spec.job.takes_backend() {
-        spec.base
-            .insert("backend".into(), ParamValue::Text(backend.to_string()));
-    }
+    let spec = spec.computed_on(backend);
     spec.validate()?;
     Ok(spec)
 }

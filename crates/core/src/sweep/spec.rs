@@ -280,6 +280,24 @@ pub struct SweepSpec {
 pub const RESERVED_PARAMS: [&str; 5] = ["json", "out", "help", "version", "max-memory"];
 
 impl SweepSpec {
+    /// The spec with its points' PSFs computed on `backend` (the `backend` parameter of a job
+    /// that takes one, [`SweepJob::takes_backend`]). The CPU, every job's default, leaves the
+    /// spec as written, and its points' hashes with it; so does a spec that already says where
+    /// its points run (in its base, on an axis or with one).
+    #[must_use]
+    pub fn computed_on(mut self, backend: crate::psf::route::Backend) -> SweepSpec {
+        let named = self.base.contains_key("backend")
+            || self
+                .axes
+                .iter()
+                .any(|a| a.param == "backend" || a.with.contains_key("backend"));
+        if backend != crate::psf::route::Backend::Cpu && self.job.takes_backend() && !named {
+            self.base
+                .insert("backend".into(), ParamValue::Text(backend.to_string()));
+        }
+        self
+    }
+
     /// The metric patterns in force: the spec's or the job's defaults.
     pub fn metric_patterns(&self) -> Vec<String> {
         if self.metrics.is_empty() {
@@ -631,4 +649,59 @@ pub fn axis_values(axis: &Axis) -> Result<Vec<ParamValue>, (String, String)> {
             .collect());
     }
     err("", "no values".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::psf::route::Backend;
+
+    fn spec(job: SweepJob) -> SweepSpec {
+        SweepSpec {
+            name: String::new(),
+            job,
+            base: BTreeMap::from([("preset".into(), ParamValue::Text("toled-150dpi".into()))]),
+            axes: vec![Axis {
+                param: "seed".into(),
+                values: Some(vec![ParamValue::Int(1), ParamValue::Int(2)]),
+                ..Axis::default()
+            }],
+            metrics: Vec::new(),
+            plots: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn a_spec_computed_on_a_gpu_says_so_where_its_job_takes_a_backend() {
+        let on = |job, backend| spec(job).computed_on(backend).base.get("backend").cloned();
+        assert_eq!(
+            on(SweepJob::Analyze, Backend::Gpu),
+            Some(ParamValue::Text("gpu".into()))
+        );
+        assert_eq!(
+            on(SweepJob::PhasePsf, Backend::Auto),
+            Some(ParamValue::Text("auto".into()))
+        );
+        // The CPU is every job's default: the spec (and its points' hashes) as written.
+        assert_eq!(
+            spec(SweepJob::Analyze).computed_on(Backend::Cpu),
+            spec(SweepJob::Analyze)
+        );
+        // A job without PSFs takes no backend.
+        assert_eq!(on(SweepJob::Sensor, Backend::Gpu), None);
+        // A spec that says where its points run keeps it.
+        let mut cpu = spec(SweepJob::Analyze);
+        cpu.base
+            .insert("backend".into(), ParamValue::Text("cpu".into()));
+        assert_eq!(cpu.clone().computed_on(Backend::Gpu), cpu);
+        let mut swept = spec(SweepJob::Analyze);
+        swept.axes[0].with.insert(
+            "backend".into(),
+            vec![
+                ParamValue::Text("cpu".into()),
+                ParamValue::Text("gpu".into()),
+            ],
+        );
+        assert_eq!(swept.clone().computed_on(Backend::Gpu), swept);
+    }
 }

@@ -24,3 +24,43 @@ pub fn device(test: &str) -> Option<Arc<Gpu>> {
         }
     }
 }
+
+/// A device handed in (the studio's, on its window's adapter) becomes the process's shared one,
+/// which every job resolving `--backend gpu` then uses; a software one is not taken for `auto`.
+#[test]
+fn a_device_handed_in_is_the_one_jobs_resolve() {
+    let gpu = match Gpu::headless(AdapterKind::Any) {
+        Ok(gpu) => Arc::new(gpu),
+        Err(e) => {
+            eprintln!("a_device_handed_in_is_the_one_jobs_resolve: skipped, {e}");
+            return;
+        }
+    };
+    // Each test runs in a process of its own under nextest; elsewhere another test may have
+    // opened the shared device first, and then nothing can be said about this one.
+    if !Gpu::share(&gpu) {
+        eprintln!(
+            "a_device_handed_in_is_the_one_jobs_resolve: skipped, a shared device was already open"
+        );
+        return;
+    }
+    let resolved = Gpu::shared(AdapterKind::Any).unwrap();
+    assert!(
+        Arc::ptr_eq(&resolved, &gpu),
+        "gpu resolves on the device handed in"
+    );
+    let route = udc_gpu::Route::resolve(udc_core::psf::route::Backend::Gpu).unwrap();
+    assert_eq!(route.adapter(), Some(gpu.adapter().to_string()));
+    if gpu.adapter().software {
+        let hardware = Gpu::shared(AdapterKind::Hardware);
+        assert!(
+            hardware.as_ref().map_or(true, |h| !Arc::ptr_eq(h, &gpu)),
+            "a software device is not the hardware one"
+        );
+    }
+    // Handed in once: a second device does not replace it.
+    assert!(!Gpu::share(&Arc::new(
+        Gpu::headless(AdapterKind::Any).unwrap()
+    )));
+    assert!(Arc::ptr_eq(&Gpu::shared(AdapterKind::Any).unwrap(), &gpu));
+}
