@@ -244,7 +244,12 @@ impl ReproduceWindow {
                 }
                 ui.label("command");
                 ui.horizontal(|ui| {
-                    let cmd = format!("udc-studio reproduce {} --out DIR", id.as_str());
+                    // The backend a run here uses, so that the copied line computes alike.
+                    let on = match self.backend {
+                        Backend::Cpu => String::new(),
+                        b => format!(" --backend {b}"),
+                    };
+                    let cmd = format!("udc-studio reproduce {} --out DIR{on}", id.as_str());
                     ui.monospace(&cmd);
                     if ui.small_button("Copy").clicked() {
                         ui.ctx().copy_text(cmd);

@@ -131,4 +131,12 @@ fn the_studio_computes_on_the_windows_gpu_when_asked() {
     let table = h.state().sweep().table().unwrap().dir.clone();
     let spec = std::fs::read_to_string(table.join("spec.toml")).unwrap();
     assert!(spec.contains("backend = \"gpu\""), "{spec}");
+    // Help ▸ Reproduce thesis results runs there too, and its command line says so.
+    h.state_mut().reproduce_mut().open = true;
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains("--out DIR --backend gpu")
+            .is_some(),
+        "the reproduction's command names the backend"
+    );
 }
