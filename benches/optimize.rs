@@ -15,6 +15,7 @@ use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
 use udc_studio::core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_studio::core::design::TilingMode;
 use udc_studio::core::optimize::{Objective, OptimizeSettings, optimize};
+use udc_studio::core::psf::route::PsfRoute;
 use udc_studio::core::{Design, Progress};
 
 fn design() -> Design {
@@ -28,9 +29,14 @@ fn full_run() {
     let d = design();
     let settings = OptimizeSettings::default();
     let start = Instant::now();
-    let result = optimize(&d, &settings, None, &Progress::new(), |_| {
-        ControlFlow::Continue(())
-    });
+    let result = optimize(
+        &d,
+        &settings,
+        None,
+        &PsfRoute::Auto,
+        &Progress::new(),
+        |_| ControlFlow::Continue(()),
+    );
     let seconds = start.elapsed().as_secs_f64();
     let Ok(result) = result else {
         eprintln!("the optimizer failed: {result:?}");
@@ -63,6 +69,7 @@ fn bench_optimize(c: &mut Criterion) {
         settings.weights,
         settings.relaxation,
         None,
+        &PsfRoute::Auto,
     );
     let Ok(objective) = objective else {
         eprintln!("cannot build the objective");

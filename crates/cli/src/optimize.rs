@@ -8,11 +8,12 @@ use clap::{Args, ValueEnum};
 use serde_json::json;
 
 use super::DesignSelection;
-use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
+use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with_route};
 use udc_core::optimize::{DataSet, LossWeights, OptimizeSettings, Relaxation, Start, optimize};
 use udc_core::{Analysis, Progress};
 use udc_io::design::file as design_file;
 use udc_io::photo;
+use udc_jobs::backend::BackendFlag;
 
 /// `--start`: the cells' state before the first epoch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -65,6 +66,10 @@ pub struct OptimizeArgs {
     /// opaque area (0 = off); the saved design carries their placement.
     #[arg(long, default_value_t = 0.0)]
     pub reserve_subpixels_um2: f64,
+    /// Where every epoch's window transforms and their adjoints (and the PSFs of the before and
+    /// after analyses) are computed: cpu, gpu or auto (as `analyze --backend`).
+    #[command(flatten)]
+    pub backend: BackendFlag,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     pub json: bool,
@@ -144,26 +149,34 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
         quality: Quality::Full,
         expected_psf: false,
     };
-    let before = analyze_with(&design, &options, &Progress::new())?;
+    let route = args.backend.route()?;
+    let before = analyze_with_route(&design, &options, &route, &Progress::new())?;
     let json = args.json;
-    let result = optimize(&design, &settings, data.as_ref(), &Progress::new(), |r| {
-        if !json && (r.epoch % 10 == 0 || r.epoch + 1 == r.epochs) {
-            eprintln!(
-                "epoch {:>4}/{}  loss {:>10.6}  L_inv {:>8.5}  area {:.3} (target {:.2}){}",
-                r.epoch + 1,
-                r.epochs,
-                r.loss_total,
-                r.loss_inv,
-                r.open_fraction,
-                r.area_target,
-                r.loss_data
-                    .map(|d| format!("  L_data {d:.3e}"))
-                    .unwrap_or_default()
-            );
-        }
-        ControlFlow::Continue(())
-    })?;
-    let after = analyze_with(&result.design, &options, &Progress::new())?;
+    let result = optimize(
+        &design,
+        &settings,
+        data.as_ref(),
+        &route,
+        &Progress::new(),
+        |r| {
+            if !json && (r.epoch % 10 == 0 || r.epoch + 1 == r.epochs) {
+                eprintln!(
+                    "epoch {:>4}/{}  loss {:>10.6}  L_inv {:>8.5}  area {:.3} (target {:.2}){}",
+                    r.epoch + 1,
+                    r.epochs,
+                    r.loss_total,
+                    r.loss_inv,
+                    r.open_fraction,
+                    r.area_target,
+                    r.loss_data
+                        .map(|d| format!("  L_data {d:.3e}"))
+                        .unwrap_or_default()
+                );
+            }
+            ControlFlow::Continue(())
+        },
+    )?;
+    let after = analyze_with_route(&result.design, &options, &route, &Progress::new())?;
     design_file::save_design(&args.out, &result.design)?;
     if json {
         let history: Vec<_> = result
@@ -182,7 +195,7 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
             })
             .collect();
         let channels: Vec<&str> = before.channels.iter().map(|c| c.name.as_str()).collect();
-        crate::emit_json(&json!({
+        let mut out = json!({
             "design": design.name,
             "out": args.out.display().to_string(),
             "epochs": result.history.len(),
@@ -197,7 +210,9 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
             "invertibility_loss_after": after.invertibility_loss,
             "elapsed_ms": result.elapsed_ms,
             "history": history,
-        }))?;
+        });
+        args.backend.note(&route, &mut out);
+        crate::emit_json(&out)?;
     } else {
         println!(
             "optimized {} epochs in {:.1} s -> {}",
@@ -222,6 +237,9 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
                 b.mtf.auc_radial_min,
                 a.mtf.auc_radial_min
             );
+        }
+        if let Some(line) = args.backend.line(&route) {
+            println!("{line}");
         }
     }
     Ok(())

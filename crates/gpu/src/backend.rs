@@ -11,6 +11,7 @@ use rustfft::num_complex::Complex64;
 
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
+use udc_core::optimize::spectra::{Pool, WindowDft};
 use udc_core::phase::chain::{
     BlochDirection, BlochIntensity, BlochRelay, BlochWavelength, CpuBloch,
 };
@@ -167,6 +168,32 @@ impl Fraunhofer for Route {
         self.compute(
             |gpu| gpu.full(field, m, progress),
             || PsfRoute::Auto.full(field, m, progress),
+            |_| 1,
+        )
+    }
+
+    fn window_spectrum(
+        &self,
+        dft: &WindowDft,
+        field: &[f64],
+        pool: &Pool,
+    ) -> Result<Vec<Complex64>, SimError> {
+        self.compute(
+            |gpu| gpu.window_spectrum(dft, field, pool),
+            || PsfRoute::Auto.window_spectrum(dft, field, pool),
+            |_| 1,
+        )
+    }
+
+    fn window_spectrum_adjoint(
+        &self,
+        dft: &WindowDft,
+        g: &[Complex64],
+        pool: &Pool,
+    ) -> Result<Vec<f64>, SimError> {
+        self.compute(
+            |gpu| gpu.window_spectrum_adjoint(dft, g, pool),
+            || PsfRoute::Auto.window_spectrum_adjoint(dft, g, pool),
             |_| 1,
         )
     }

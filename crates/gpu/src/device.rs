@@ -74,6 +74,16 @@ impl std::fmt::Display for AdapterSummary {
     }
 }
 
+/// The one line for a buffer larger than the device binds: a refusal by size, which `auto`
+/// hands to the CPU.
+pub(crate) fn too_large(what: &str, bytes: u64, limit: u64) -> udc_core::SimError {
+    udc_core::SimError::TooLarge(format!(
+        "{what} needs a {} MiB buffer; this device binds at most {} MiB (use the CPU backend)",
+        bytes.div_ceil(1 << 20),
+        limit >> 20
+    ))
+}
+
 /// The one line for a transform the device had no memory for: a refusal by size, which `auto`
 /// hands to the CPU.
 pub(crate) fn out_of_memory(e: &wgpu::Error) -> udc_core::SimError {
@@ -84,13 +94,14 @@ pub(crate) fn out_of_memory(e: &wgpu::Error) -> udc_core::SimError {
 
 /// Tables uploaded once per size: the twiddles and pass parameters of one FFT length (power of
 /// two, or mixed radix), the chirp of one DFT length, the kernel spectrum of one (DFT length,
-/// input length).
+/// input length), the roots of unity of one DFT length (the optimizer's window transform).
 #[derive(Default)]
 pub(crate) struct TableCache {
     pub(crate) ffts: HashMap<usize, Arc<crate::kernels::FftPlan>>,
     pub(crate) chirps: HashMap<usize, Arc<wgpu::Buffer>>,
     pub(crate) spectra: HashMap<(usize, usize), Arc<wgpu::Buffer>>,
     pub(crate) mixed: HashMap<usize, Arc<crate::kernels::MixedPlan>>,
+    pub(crate) roots: HashMap<usize, Arc<wgpu::Buffer>>,
 }
 
 impl TableCache {
@@ -99,7 +110,11 @@ impl TableCache {
     const MAX_ENTRIES: usize = 48;
 
     pub(crate) fn trim(&mut self) {
-        if self.ffts.len() + self.chirps.len() + self.spectra.len() + self.mixed.len()
+        if self.ffts.len()
+            + self.chirps.len()
+            + self.spectra.len()
+            + self.mixed.len()
+            + self.roots.len()
             > Self::MAX_ENTRIES
         {
             *self = TableCache::default();
@@ -250,6 +265,31 @@ impl Gpu {
     pub fn max_binding_bytes(&self) -> u64 {
         let l = self.device.limits();
         l.max_buffer_size.min(l.max_storage_buffer_binding_size)
+    }
+
+    /// The first `bytes` of `readback` (a `MAP_READ` buffer whose copy has been submitted), as
+    /// `f32`s, once the device has finished.
+    pub(crate) fn read_back(
+        &self,
+        readback: &wgpu::Buffer,
+        bytes: u64,
+    ) -> Result<Vec<f32>, udc_core::SimError> {
+        let failed = |e: &dyn std::fmt::Display| udc_core::SimError::Device(e.to_string());
+        let slice = readback.slice(..bytes);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| failed(&e))?;
+        rx.recv().map_err(|e| failed(&e))?.map_err(|e| failed(&e))?;
+        let data: Vec<f32> = {
+            let view = slice.get_mapped_range().map_err(|e| failed(&e))?;
+            bytemuck::cast_slice(&view).to_vec()
+        };
+        readback.unmap();
+        Ok(data)
     }
 
     pub(crate) fn upload(&self, label: &str, data: &[C32]) -> wgpu::Buffer {

@@ -15,12 +15,13 @@ use ndarray::Array2;
 use rustfft::num_complex::Complex64;
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
+use udc_core::optimize::spectra::{Pool, WindowDft};
 use udc_core::progress::Progress;
 use udc_core::psf::fft::{Binned, check_grid};
 use udc_core::psf::route::Fraunhofer;
 use udc_core::psf::sampling::Binning;
 
-use crate::device::{Gpu, out_of_memory};
+use crate::device::{Gpu, out_of_memory, too_large};
 use crate::kernels::{FftPlan, bind, groups, uniform};
 use crate::tables::{chirp, conv_len, kernel_spectrum};
 
@@ -96,14 +97,6 @@ fn pack<T: Sample>(field: &Field<T>) -> Packed {
         ly: (y_hi - y_lo) as usize,
         complex: T::FLOATS == 2,
     }
-}
-
-fn too_large(what: &str, bytes: u64, limit: u64) -> SimError {
-    SimError::TooLarge(format!(
-        "{what} needs a {} MiB buffer; this device binds at most {} MiB (use the CPU backend)",
-        bytes.div_ceil(1 << 20),
-        limit >> 20
-    ))
 }
 
 /// A Bluestein kernel's bindings: the parameters at 0, `extra`, and the work buffer at 5.
@@ -351,24 +344,7 @@ impl Gpu {
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(failed(e));
         }
-        let slice = readback.slice(..);
-        let (tx, rx) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |r| {
-            let _ = tx.send(r);
-        });
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| SimError::Device(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| SimError::Device(e.to_string()))?
-            .map_err(|e| SimError::Device(e.to_string()))?;
-        let data: Vec<f32> = {
-            let view = slice
-                .get_mapped_range()
-                .map_err(|e| SimError::Device(e.to_string()))?;
-            bytemuck::cast_slice(&view).to_vec()
-        };
-        readback.unmap();
+        let data = self.read_back(&readback, sensor_bytes + band_bytes)?;
 
         let (win, bands) = data.split_at(w * w);
         let sensor = Array2::from_shape_fn((w, w), |(jy, jx)| f64::from(win[jy * w + jx]));
@@ -431,5 +407,23 @@ impl Fraunhofer for Gpu {
             phase: [0, 0],
         };
         Ok(self.binned(field, m, &whole, progress)?.sensor)
+    }
+
+    fn window_spectrum(
+        &self,
+        dft: &WindowDft,
+        field: &[f64],
+        pool: &Pool,
+    ) -> Result<Vec<Complex64>, SimError> {
+        self.window_forward(dft, field, pool)
+    }
+
+    fn window_spectrum_adjoint(
+        &self,
+        dft: &WindowDft,
+        g: &[Complex64],
+        _pool: &Pool,
+    ) -> Result<Vec<f64>, SimError> {
+        self.window_adjoint(dft, g)
     }
 }

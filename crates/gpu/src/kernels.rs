@@ -12,6 +12,7 @@ const BLUESTEIN_WGSL: &str = include_str!("shaders/bluestein.wgsl");
 const BIN_WGSL: &str = include_str!("shaders/bin.wgsl");
 const MIXED_WGSL: &str = include_str!("shaders/mixed.wgsl");
 const RELAY_WGSL: &str = include_str!("shaders/relay.wgsl");
+const WINDOW_WGSL: &str = include_str!("shaders/window.wgsl");
 
 /// Threads per workgroup along x in the 1-D kernels (the shaders' `@workgroup_size(256)`).
 pub(crate) const GROUP: u32 = 256;
@@ -36,6 +37,7 @@ pub struct Kernels {
     pub(crate) energy: wgpu::ComputePipeline,
     pub(crate) apply_kernel: wgpu::ComputePipeline,
     pub(crate) fine_intensity: wgpu::ComputePipeline,
+    pub(crate) window_stage: wgpu::ComputePipeline,
 }
 
 impl Kernels {
@@ -51,6 +53,7 @@ impl Kernels {
         let bin = module("bin.wgsl", BIN_WGSL);
         let mixed = module("mixed.wgsl", MIXED_WGSL);
         let relay = module("relay.wgsl", RELAY_WGSL);
+        let window = module("window.wgsl", WINDOW_WGSL);
         let pipeline = |module: &wgpu::ShaderModule, entry: &str| {
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry),
@@ -91,6 +94,7 @@ impl Kernels {
             energy: pipeline(&relay, "energy"),
             apply_kernel: pipeline(&relay, "apply_kernel"),
             fine_intensity: pipeline(&relay, "fine_intensity"),
+            window_stage: pipeline(&window, "window_stage"),
         }
     }
 }

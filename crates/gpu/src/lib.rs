@@ -13,7 +13,8 @@
 //!   power-of-two Stockham FFTs ([`kernels`]);
 //! - the phase model's Bloch relay ([`relay`]), behind the core's
 //!   [`udc_core::phase::chain::BlochRelay`]: a λ0 plan's propagations through the double MLA on
-//!   the wrapped grid, many directions at once, on mixed-radix (2·3·4·5) Stockham FFTs.
+//!   the wrapped grid, many directions at once, on mixed-radix (2·3·4·5) Stockham FFTs;
+//! - the optimizer's window transform and its adjoint ([`window`]), as tiled matrix products.
 //!
 //! The crate opens no window and links no window crate; the studio hands it the adapter eframe
 //! draws with.
@@ -24,6 +25,7 @@ pub mod fraunhofer;
 pub mod kernels;
 pub mod relay;
 pub mod tables;
+pub mod window;
 
 pub use backend::Route;
 pub use device::{AdapterKind, AdapterSummary, Gpu, GpuError};

@@ -21,7 +21,7 @@ use udc_core::phase::chain::{
 };
 use udc_core::progress::Progress;
 
-use crate::device::{Gpu, out_of_memory};
+use crate::device::{Gpu, out_of_memory, too_large};
 use crate::kernels::{MixedPlan, bind, groups, uniform};
 
 /// Bytes one chunk's largest buffer may take (five of that size are held).
@@ -39,14 +39,6 @@ const PARTIALS: usize = 256;
 
 fn pairs(v: &[Complex32]) -> Vec<[f32; 2]> {
     v.iter().map(|c| [c.re, c.im]).collect()
-}
-
-fn too_large(what: &str, bytes: u64, limit: u64) -> SimError {
-    SimError::TooLarge(format!(
-        "{what} needs a {} MiB buffer; this device binds at most {} MiB (use the CPU backend)",
-        bytes.div_ceil(1 << 20),
-        limit >> 20
-    ))
 }
 
 /// One chunk's ramps, packed as the kernels read them.
@@ -349,20 +341,7 @@ impl Gpu {
             if let Some(e) = pollster::block_on(scope.pop()) {
                 return Err(failed(&e));
             }
-            let slice = readback.slice(..fine_used + partial_used);
-            let (tx, rx) = std::sync::mpsc::channel();
-            slice.map_async(wgpu::MapMode::Read, move |r| {
-                let _ = tx.send(r);
-            });
-            device
-                .poll(wgpu::PollType::wait_indefinitely())
-                .map_err(|e| failed(&e))?;
-            rx.recv().map_err(|e| failed(&e))?.map_err(|e| failed(&e))?;
-            let data: Vec<f32> = {
-                let view = slice.get_mapped_range().map_err(|e| failed(&e))?;
-                bytemuck::cast_slice(&view).to_vec()
-            };
-            readback.unmap();
+            let data = self.read_back(&readback, fine_used + partial_used)?;
             let (fines, sums) = data.split_at(batch * n_out);
             for (f, s) in fines.chunks_exact(n_out).zip(sums.chunks_exact(PARTIALS)) {
                 results.push(BlochIntensity {

@@ -21,6 +21,7 @@ use crate::analysis::analyze::Quality;
 use crate::analysis::metrics::open_fraction;
 use crate::design::Design;
 use crate::progress::Progress;
+use crate::psf::route::Fraunhofer;
 use adam::Adam;
 pub use data::DataSet;
 pub use model::Model;
@@ -293,7 +294,7 @@ pub fn binarise(relaxed: &[f64], n: usize, open_fraction: f64) -> Vec<Vec<f64>> 
 /// The differentiable model and the optional data set of one run, ready to evaluate.
 pub struct Objective<'a> {
     /// The differentiable image-formation model of the design.
-    pub model: Model,
+    pub model: Model<'a>,
     /// Training patches for the data loss, if any.
     pub data: Option<&'a DataSet>,
     /// Weights of the loss terms.
@@ -318,7 +319,8 @@ pub struct Step {
 }
 
 impl<'a> Objective<'a> {
-    /// Builds the model of `design` at `quality` (the cells are the variables).
+    /// Builds the model of `design` at `quality` (the cells are the variables), its window
+    /// transforms on `route`.
     ///
     /// # Errors
     /// As [`Model::new`]; [`SimError::InvalidSetting`] for a bad design.
@@ -328,12 +330,13 @@ impl<'a> Objective<'a> {
         weights: LossWeights,
         relaxation: Relaxation,
         data: Option<&'a DataSet>,
+        route: &'a dyn Fraunhofer,
     ) -> Result<Self, SimError> {
         design.validate()?;
         let mut warnings = Vec::new();
         let samplings = quality.plan(design, &mut warnings)?;
         Ok(Objective {
-            model: Model::new(design, &samplings)?,
+            model: Model::new(design, &samplings, route)?,
             data,
             weights,
             relaxation,
@@ -404,7 +407,7 @@ impl<'a> Objective<'a> {
             Some(d) => (Some(d.loss(&fwd.psfs(), false).0), None),
             None => (None, None),
         };
-        let grad_model = self.model.backward(&fwd, w.inv, extra.as_deref());
+        let grad_model = self.model.backward(&fwd, w.inv, extra.as_deref())?;
         let loss_inv = fwd.loss_inv;
         self.model.recycle(fwd);
         let area_grad = w.area * 2.0 * (mean - c) / count;
@@ -425,16 +428,19 @@ impl<'a> Objective<'a> {
     }
 }
 
-/// Optimizes `design`'s opening under its own pitch, tiling (seed fixed) and optics.
-/// `on_epoch` sees every epoch and may stop the run early (the result so far is returned);
-/// cancelling `progress` aborts with [`SimError::Cancelled`].
+/// Optimizes `design`'s opening under its own pitch, tiling (seed fixed) and optics, the model's
+/// window transforms and their adjoints on `route` (the CPU's [`crate::psf::route::PsfRoute`],
+/// or a device through the seam). `on_epoch` sees every epoch and may stop the run early (the
+/// result so far is returned); cancelling `progress` aborts with [`SimError::Cancelled`].
 ///
 /// # Errors
-/// [`SimError::InvalidSetting`] for bad settings or design, sampling errors, cancellation.
+/// [`SimError::InvalidSetting`] for bad settings or design, sampling errors, cancellation, the
+/// route's refusals.
 pub fn optimize(
     design: &Design,
     settings: &OptimizeSettings,
     data: Option<&DataSet>,
+    route: &dyn Fraunhofer,
     progress: &Progress,
     mut on_epoch: impl FnMut(&EpochReport) -> ControlFlow<()>,
 ) -> Result<Optimized, SimError> {
@@ -447,6 +453,7 @@ pub fn optimize(
         settings.weights,
         settings.relaxation,
         data,
+        route,
     )?;
     let n = objective.model.n;
     let cells = (n * n) as f64;
@@ -550,6 +557,7 @@ pub fn optimize(
             settings.weights,
             settings.relaxation,
             data,
+            route,
         )?
         .scores(Quality::Full, design, &out)?,
     };

@@ -2,7 +2,9 @@
 //! → per-wavelength Fraunhofer intensity in the sensor window → binned, normalised channel PSF →
 //! OTF → `L_inv` (conventions.md §2–3, §6). Every step is the same arithmetic as
 //! [`crate::analyze()`] (so `L_inv` here equals the analysis's for the same cells), written
-//! out with its adjoint so gradients reach the cells exactly.
+//! out with its adjoint so gradients reach the cells exactly. The window transform and its
+//! adjoint go through the Fraunhofer seam ([`Fraunhofer::window_spectrum`]), so a device can
+//! run them; the rest (binning, the OTF, the selection of the lowest `H`) stays here.
 
 use ndarray::Array2;
 use rayon::prelude::*;
@@ -13,6 +15,7 @@ use crate::SimError;
 use crate::analysis::metrics::{INVERTIBILITY_EPSILON, INVERTIBILITY_FRACTION};
 use crate::design::Design;
 use crate::display::aperture::{CellMap, Display, Extent};
+use crate::psf::route::Fraunhofer;
 use crate::psf::sampling::{Binning, WavelengthSampling};
 
 /// One sampled wavelength of one channel.
@@ -26,9 +29,19 @@ struct Wave {
     col_px: Vec<usize>,
 }
 
+/// Where a model's window transforms run: a route through the seam.
+#[derive(Clone, Copy)]
+struct On<'r>(&'r dyn Fraunhofer);
+
+impl std::fmt::Debug for On<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("dyn Fraunhofer")
+    }
+}
+
 /// The model of one design geometry (pitch, tiling, optics); the cells are the variables.
 #[derive(Debug, Clone)]
-pub struct Model {
+pub struct Model<'r> {
     map: CellMap,
     rows: Span,
     cols: Span,
@@ -40,6 +53,7 @@ pub struct Model {
     /// Cells per side `N` of the opening.
     pub n: usize,
     pool: Pool,
+    route: On<'r>,
 }
 
 /// The forward pass of one evaluation, kept for [`Model::backward`].
@@ -85,12 +99,17 @@ fn window_span(binning: &Binning, m: usize, axis: usize) -> (Span, Vec<usize>) {
     )
 }
 
-impl Model {
-    /// Builds the model for `design`'s geometry with the given per-channel sampling.
+impl<'r> Model<'r> {
+    /// Builds the model for `design`'s geometry with the given per-channel sampling, its
+    /// transforms on `route`.
     ///
     /// # Errors
     /// [`SimError::Sampling`] if the pupil does not fit a grid.
-    pub fn new(design: &Design, samplings: &[Vec<WavelengthSampling>]) -> Result<Self, SimError> {
+    pub fn new(
+        design: &Design,
+        samplings: &[Vec<WavelengthSampling>],
+        route: &'r dyn Fraunhofer,
+    ) -> Result<Self, SimError> {
         let n = design.opening.n();
         let geometry = vec![vec![0.0; n]; n];
         let display = Display::from_design(design, &geometry);
@@ -165,6 +184,7 @@ impl Model {
             window_px,
             n,
             pool: Pool::default(),
+            route: On(route),
         })
     }
 
@@ -180,7 +200,7 @@ impl Model {
     /// The forward pass for `cells` (flattened `N×N`, amplitude in `[0, 1]`).
     ///
     /// # Errors
-    /// [`SimError::Sampling`] when no light passes.
+    /// [`SimError::Sampling`] when no light passes; the route's refusals.
     pub fn forward(&self, cells: &[f64]) -> Result<Forward, SimError> {
         let field = self.field(cells);
         let field_energy: f64 = field.iter().map(|v| v * v).sum();
@@ -191,13 +211,16 @@ impl Model {
         let channels: Vec<ChannelForward> = self
             .channels
             .par_iter()
-            .map(|waves| {
+            .map(|waves| -> Result<ChannelForward, SimError> {
                 let mut acc = Array2::<f64>::zeros((w, w));
                 let mut spectra = Vec::with_capacity(waves.len());
                 let mut binned = Vec::with_capacity(waves.len());
                 let mut totals = Vec::with_capacity(waves.len());
                 for wave in waves {
-                    let a = wave.dft.forward(&field, &self.pool);
+                    let a = self
+                        .route
+                        .0
+                        .window_spectrum(&wave.dft, &field, &self.pool)?;
                     let nfy = wave.dft.freq_rows.len;
                     let mut b = Array2::<f64>::zeros((w, w));
                     for (j, col) in a.chunks(nfy).enumerate() {
@@ -216,16 +239,16 @@ impl Model {
                 let sum = acc.sum();
                 let psf = acc / sum;
                 let otf = dft2_complex(&psf.mapv(|v| Complex64::new(v, 0.0)), false);
-                ChannelForward {
+                Ok(ChannelForward {
                     spectra,
                     binned,
                     totals,
                     sum,
                     psf,
                     otf,
-                }
+                })
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         if channels.iter().any(|f| !(f.sum > 0.0)) {
             return Err(SimError::Sampling(
                 "no light reaches the sensor window".into(),
@@ -266,12 +289,15 @@ impl Model {
 
     /// The gradient with respect to the cells of `inv_weight · L_inv + Σ_c ⟨extra_c, psf_c⟩`
     /// (`extra` is another loss's `∂/∂psf`, e.g. the data loss's).
+    ///
+    /// # Errors
+    /// The route's refusals (memory, a lost device).
     pub fn backward(
         &self,
         fwd: &Forward,
         inv_weight: f64,
         extra: Option<&[Array2<f64>]>,
-    ) -> Vec<f64> {
+    ) -> Result<Vec<f64>, SimError> {
         let w = self.window_px;
         let per = w * w;
         let count = fwd.lowest.len().max(1) as f64;
@@ -295,7 +321,7 @@ impl Model {
             .zip(&self.channels)
             .zip(g_power.par_iter())
             .enumerate()
-            .map(|(c, ((f, waves), gp))| {
+            .map(|(c, ((f, waves), gp))| -> Result<Vec<f64>, SimError> {
                 // K = DFT(psf): ∂L/∂psf = Re(DFTᴴ(2 ∂L/∂P · K)).
                 let g_otf = ndarray::Zip::from(gp)
                     .and(&f.otf)
@@ -324,17 +350,21 @@ impl Model {
                             *g = 2.0 * scale * g_acc[[wave.row_px[i], jx]] * z;
                         }
                     }
-                    let back = wave.dft.adjoint(&g_spec, &self.pool);
+                    let back = self
+                        .route
+                        .0
+                        .window_spectrum_adjoint(&wave.dft, &g_spec, &self.pool);
                     self.pool.give(g_spec);
+                    let back = back?;
                     // T = M² Σ a²: ∂T/∂a = 2 M² a.
                     let parseval = 2.0 * g_total * (wave.m * wave.m) as f64;
                     for ((g, b), a) in g_field.iter_mut().zip(&back).zip(field) {
                         *g += b + parseval * a;
                     }
                 }
-                g_field
+                Ok(g_field)
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
         let mut g_field = vec![0.0; field.len()];
         for part in &g_field_parts {
             for (g, p) in g_field.iter_mut().zip(part) {
@@ -342,6 +372,6 @@ impl Model {
             }
         }
         let g_samples: Vec<f64> = self.dense_index.iter().map(|&i| g_field[i]).collect();
-        self.map.adjoint(&g_samples)
+        Ok(self.map.adjoint(&g_samples))
     }
 }

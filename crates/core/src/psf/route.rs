@@ -22,6 +22,7 @@ use rustfft::num_complex::Complex64;
 
 use crate::SimError;
 use crate::display::aperture::Field;
+use crate::optimize::spectra::{Pool, WindowDft};
 use crate::progress::Progress;
 use crate::psf::fft::{Binned, binned_intensity, binned_intensity_complex, full_intensity};
 use crate::psf::pruned::{binned_pruned, pruned_ops};
@@ -106,6 +107,36 @@ pub trait Fraunhofer: Sync {
         progress: &Progress,
     ) -> Result<ndarray::Array2<f64>, SimError> {
         full_intensity(field, m, progress)
+    }
+
+    /// The optimizer's step: `DFT_M` of a real field on `dft`'s sample box, kept (complex, not
+    /// its intensity) on `dft`'s frequency box and laid out as [`WindowDft::forward`]'s. The
+    /// CPU's pruned FFTs unless an implementation has its own; temporaries and the result come
+    /// from `pool`.
+    ///
+    /// # Errors
+    /// An implementation's refusals (memory, a lost device).
+    fn window_spectrum(
+        &self,
+        dft: &WindowDft,
+        field: &[f64],
+        pool: &Pool,
+    ) -> Result<Vec<Complex64>, SimError> {
+        Ok(dft.forward(field, pool))
+    }
+
+    /// The adjoint of [`Fraunhofer::window_spectrum`], `Re(Fᴴ g)` on the sample box
+    /// ([`WindowDft::adjoint`]): the way the optimizer's gradient goes back to the cells.
+    ///
+    /// # Errors
+    /// As [`Fraunhofer::window_spectrum`].
+    fn window_spectrum_adjoint(
+        &self,
+        dft: &WindowDft,
+        g: &[Complex64],
+        pool: &Pool,
+    ) -> Result<Vec<f64>, SimError> {
+        Ok(dft.adjoint(g, pool))
     }
 }
 

@@ -7,6 +7,7 @@ use udc_core::design::TilingMode;
 use udc_core::design::{Opening, Subpixel, SubpixelChecks, Subpixels};
 use udc_core::display::emitters::{auto_place, auto_place_cells, closed_cells};
 use udc_core::optimize::{OptimizeSettings, optimize};
+use udc_core::psf::route::PsfRoute;
 use udc_io::design::file::{parse_design, to_json};
 use udc_io::design::presets::load_preset;
 
@@ -126,9 +127,14 @@ fn an_optimized_opening_under_the_reserve_constraint_admits_a_placement() {
         reserve_subpixels_um2: min_um2,
         ..OptimizeSettings::default()
     };
-    let r = optimize(&d, &settings, None, &Progress::new(), |_| {
-        std::ops::ControlFlow::Continue(())
-    })
+    let r = optimize(
+        &d,
+        &settings,
+        None,
+        &PsfRoute::Auto,
+        &Progress::new(),
+        |_| std::ops::ControlFlow::Continue(()),
+    )
     .unwrap();
     let out = &r.design;
     out.validate().expect("emitters on closed cells");
@@ -141,7 +147,7 @@ fn an_optimized_opening_under_the_reserve_constraint_admits_a_placement() {
         reserve_subpixels_um2: 0.0,
         ..settings
     };
-    let r = optimize(&d, &free, None, &Progress::new(), |_| {
+    let r = optimize(&d, &free, None, &PsfRoute::Auto, &Progress::new(), |_| {
         std::ops::ControlFlow::Continue(())
     })
     .unwrap();
@@ -151,7 +157,7 @@ fn an_optimized_opening_under_the_reserve_constraint_admits_a_placement() {
         reserve_subpixels_um2: 168.0 * 168.0 / 2.0,
         ..free
     };
-    let err = optimize(&d, &huge, None, &Progress::new(), |_| {
+    let err = optimize(&d, &huge, None, &PsfRoute::Auto, &Progress::new(), |_| {
         std::ops::ControlFlow::Continue(())
     })
     .unwrap_err();

@@ -13,6 +13,7 @@ use udc_core::display::aperture::{CellMap, Display, Extent, effective_cells};
 use udc_core::optimize::{
     DataSet, LossWeights, Objective, OptimizeSettings, Relaxation, binarise, optimize,
 };
+use udc_core::psf::route::PsfRoute;
 use udc_core::{Progress, SimError};
 use udc_io::design::presets;
 
@@ -86,6 +87,7 @@ fn model_loss_and_psfs_equal_the_analysis() {
             LossWeights::default(),
             Relaxation::Sigmoid,
             None,
+            &PsfRoute::Auto,
         )
         .unwrap();
         let flat: Vec<f64> = d.opening.cells.iter().flatten().copied().collect();
@@ -105,7 +107,15 @@ fn model_loss_and_psfs_equal_the_analysis() {
 
 /// Central differences of the total loss against the analytic gradient, for a few logits.
 fn gradient_check(design: &Design, weights: LossWeights, data: Option<&DataSet>) {
-    let obj = Objective::new(design, Quality::Full, weights, Relaxation::Sigmoid, data).unwrap();
+    let obj = Objective::new(
+        design,
+        Quality::Full,
+        weights,
+        Relaxation::Sigmoid,
+        data,
+        &PsfRoute::Auto,
+    )
+    .unwrap();
     let n2 = design.opening.n().pow(2);
     let logits: Vec<f64> = uniform(7, n2).iter().map(|u| 3.0 * u - 1.5).collect();
     let c = 0.4;
@@ -219,13 +229,9 @@ fn settings_reject_nonsense() {
     ];
     let d = small(toled(TilingMode::Repeat));
     for s in bad {
-        let err = optimize(
-            &d,
-            &s,
-            None,
-            &Progress::new(),
-            |_| ControlFlow::Continue(()),
-        )
+        let err = optimize(&d, &s, None, &PsfRoute::Auto, &Progress::new(), |_| {
+            ControlFlow::Continue(())
+        })
         .unwrap_err();
         assert!(matches!(err, SimError::InvalidSetting { .. }), "{err}");
     }
@@ -257,10 +263,17 @@ fn optimized_opening_beats_toled_at_the_same_open_fraction() {
         ..Default::default()
     };
     let mut epochs_seen = 0;
-    let out = optimize(&toled_d, &settings, None, &Progress::new(), |r| {
-        epochs_seen = r.epoch + 1;
-        ControlFlow::Continue(())
-    })
+    let out = optimize(
+        &toled_d,
+        &settings,
+        None,
+        &PsfRoute::Auto,
+        &Progress::new(),
+        |r| {
+            epochs_seen = r.epoch + 1;
+            ControlFlow::Continue(())
+        },
+    )
     .unwrap();
     assert_eq!(epochs_seen, 80);
     assert_eq!(out.history.len(), 80);
@@ -321,13 +334,20 @@ fn a_runs_scores_are_the_analysis_of_its_start_and_its_result() {
         ..Default::default()
     };
     // Stopped after 4 epochs, while the area target is still 0.85.
-    let out = optimize(&d, &settings, None, &Progress::new(), |r| {
-        if r.epoch == 3 {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    })
+    let out = optimize(
+        &d,
+        &settings,
+        None,
+        &PsfRoute::Auto,
+        &Progress::new(),
+        |r| {
+            if r.epoch == 3 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )
     .unwrap();
     assert!(out.stopped_early);
     let analysis = |design: &Design, quality| {
@@ -381,26 +401,29 @@ fn stopping_early_returns_the_run_so_far_and_cancel_aborts() {
         epochs: 50,
         ..Default::default()
     };
-    let out = optimize(&d, &settings, None, &Progress::new(), |r| {
-        if r.epoch == 2 {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    })
+    let out = optimize(
+        &d,
+        &settings,
+        None,
+        &PsfRoute::Auto,
+        &Progress::new(),
+        |r| {
+            if r.epoch == 2 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        },
+    )
     .unwrap();
     assert!(out.stopped_early);
     assert_eq!(out.history.len(), 3);
     assert_eq!(out.design.opening.n(), 21);
     let progress = Progress::new();
     progress.cancel();
-    let err = optimize(
-        &d,
-        &settings,
-        None,
-        &progress,
-        |_| ControlFlow::Continue(()),
-    )
+    let err = optimize(&d, &settings, None, &PsfRoute::Auto, &progress, |_| {
+        ControlFlow::Continue(())
+    })
     .unwrap_err();
     assert_eq!(err, SimError::Cancelled);
 }

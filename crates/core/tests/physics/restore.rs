@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use ndarray::Array2;
 use udc_core::analysis::analyze::{AnalyzeOptions, Quality, analyze_with};
 use udc_core::design::TilingMode;
+use udc_core::psf::route::PsfRoute;
 use udc_core::restore::capture::{READ_NOISE_E, expose};
 use udc_core::restore::quality::{psnr_db, ssim};
 use udc_core::restore::{
@@ -583,9 +584,14 @@ fn psnr_orders_toled_repeat_below_random_below_optimized() {
         quality: Quality::Preview,
         ..OptimizeSettings::default()
     };
-    let found = optimize(&toled, &settings, Some(&data), &Progress::new(), |_| {
-        ControlFlow::Continue(())
-    })
+    let found = optimize(
+        &toled,
+        &settings,
+        Some(&data),
+        &PsfRoute::Auto,
+        &Progress::new(),
+        |_| ControlFlow::Continue(()),
+    )
     .expect("optimize");
     let ours = restore_scores(&found.design, snr_db);
     eprintln!(

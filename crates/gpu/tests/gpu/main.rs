@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
 mod fraunhofer;
+mod optimize;
 mod phase;
 mod tables;
 

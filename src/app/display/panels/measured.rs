@@ -350,7 +350,7 @@ impl MeasuredPanel {
                     .on_hover_text("The design simulated at the set's pixel pitch, each channel aligned to a sub-pixel")
                     .clicked()
                 {
-                    self.compare(pctx.design, shown_route(pctx), ui.ctx());
+                    self.compare(pctx.design, pctx.shown_route(), ui.ctx());
                 }
                 if ui
                     .add_enabled(idle, egui::Button::new("Fit the display"))
@@ -360,7 +360,7 @@ impl MeasuredPanel {
                     )
                     .clicked()
                 {
-                    self.fit(pctx.design, shown_route(pctx), ui.ctx());
+                    self.fit(pctx.design, pctx.shown_route(), ui.ctx());
                 }
             });
         }
@@ -560,13 +560,6 @@ impl MeasuredPanel {
 }
 
 /// The notice of a failed job (a cancel is no failure).
-/// The route the design on screen was computed on (View ▸ Compute PSFs on), the CPU before
-/// its first analysis: a comparison or fit then agrees with the pictures beside it.
-fn shown_route(pctx: &PanelCtx) -> Arc<Route> {
-    pctx.shown
-        .map_or_else(|| Arc::new(Route::cpu()), |s| s.route.clone())
-}
-
 fn failed(what: &str, e: &JobError) -> Notice {
     match e {
         JobError::Cancelled => Notice::info("cancelled"),

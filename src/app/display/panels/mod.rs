@@ -101,6 +101,16 @@ pub struct PanelCtx<'a> {
 }
 
 impl PanelCtx<'_> {
+    /// The route the design on screen was computed on (View ▸ Compute PSFs on), the CPU
+    /// before its first analysis: a comparison, fit or optimization then computes where the
+    /// pictures beside it were.
+    pub fn shown_route(&self) -> std::sync::Arc<udc_gpu::Route> {
+        self.shown.map_or_else(
+            || std::sync::Arc::new(udc_gpu::Route::cpu()),
+            |s| s.route.clone(),
+        )
+    }
+
     /// Pushes a committed edit of the design.
     pub fn edit(&mut self, design: Design) {
         if &design != self.design {

@@ -22,6 +22,7 @@ use crate::core::optimize::{
     DataSet, EpochReport, OptimizeSettings, Optimized, Relaxation, Scores, Start, binarise,
     optimize,
 };
+use udc_gpu::Route;
 
 /// A run on its own thread, streaming one report per epoch beside its result.
 struct Run {
@@ -30,6 +31,8 @@ struct Run {
     stop: Arc<AtomicBool>,
     /// The design the run started from (the result replaces its opening only).
     start_name: String,
+    /// Where its window transforms run (View ▸ Compute PSFs on, as the design on screen).
+    route: Arc<Route>,
 }
 
 /// Finished run waiting to be applied.
@@ -106,8 +109,9 @@ impl OptimizePanel {
         self.finished.as_ref()
     }
 
-    /// Starts a run from `design` (settings are checked first; an error is shown, not run).
-    pub fn start(&mut self, design: &Design, ctx: &egui::Context) {
+    /// Starts a run from `design`, its transforms on `route` (settings are checked first; an
+    /// error is shown, not run).
+    pub fn start(&mut self, design: &Design, route: Arc<Route>, ctx: &egui::Context) {
         if let Err(e) = self.settings.validate() {
             self.message = Some(Notice::error(e.to_string()));
             return;
@@ -132,11 +136,12 @@ impl OptimizePanel {
         let start_name = design.name.clone();
         let design = design.clone();
         let (wake, wake_epoch) = (ctx.clone(), ctx.clone());
+        let on = route.clone();
         let job = Job::spawn(
             "optimizer",
             move || wake.request_repaint(),
             move |p| {
-                optimize(&design, &settings, data.as_ref(), p, |r| {
+                optimize(&design, &settings, data.as_ref(), on.as_ref(), p, |r| {
                     let _ = tx.send(r.clone());
                     wake_epoch.request_repaint();
                     if s.load(Ordering::Relaxed) {
@@ -155,6 +160,7 @@ impl OptimizePanel {
             epochs,
             stop,
             start_name,
+            route,
         });
     }
 
@@ -186,12 +192,18 @@ impl OptimizePanel {
             return changed;
         };
         let name = run.start_name.clone();
+        // Where it ran, when not on the CPU by choice: the device, or why `auto` left it.
+        let place = match (run.route.note(), run.route.adapter()) {
+            (Some(note), _) => format!(" ({note})"),
+            (None, Some(adapter)) => format!(" on {adapter}"),
+            (None, None) => String::new(),
+        };
         self.history.extend(run.epochs.try_iter());
         self.run = None;
         match result {
             Ok(result) => {
                 self.message = Some(Notice::info(format!(
-                    "{}{} in {:.1} s; apply to use the new opening",
+                    "{}{} in {:.1} s{place}; apply to use the new opening",
                     crate::app::widgets::counted(result.history.len() as f64, "epoch", "epochs"),
                     if result.stopped_early {
                         " (stopped)"
@@ -250,7 +262,7 @@ impl OptimizePanel {
                 )
                 .clicked()
             {
-                self.start(ctx.design, ui.ctx());
+                self.start(ctx.design, ctx.shown_route(), ui.ctx());
             }
         });
         crate::app::widgets::message_ui(ui, self.message.as_ref());
