@@ -21,14 +21,21 @@ Then V (`phase invertibility --relay wrapped-display`: 900 propagations, each it
 wavelength, one direction per call to the device), once per backend, with the largest relative
 difference of its entries and the transforms the device counted.
 
+Then the opening optimizer (`udc-studio optimize`, the command-line binary: the display optimizer
+has no Python entry point) on each design for `--optimize-epochs` epochs per backend: the run's
+time per epoch (`elapsed_ms`, which includes scoring the start and the result) and the first
+epoch's `L_inv` difference.
+
 Usage: python3 benches/gpu.py [--runs N] [--backend gpu|auto] [--designs A,B] [--phase-columns N]
-                              [--v-preview]
-  (--designs, --phase-columns and --v-preview shrink the run, e.g. to check the script on a
-   software driver: --runs 1 --designs fourier-square --phase-columns 16 --v-preview)
+                              [--v-preview] [--optimize-epochs N]
+  (--designs, --phase-columns, --v-preview and --optimize-epochs shrink the run, e.g. to check
+   the script on a software driver: --runs 1 --designs fourier-square --phase-columns 16
+   --v-preview --optimize-epochs 1)
   one command on a machine with a GPU and a Vulkan, Metal or DX12 driver:
-      cargo build --release -p udc-studio-python && \\
+      cargo build --release -p udc-studio-python -p udc-studio && \\
       UDC_NATIVE_LIB=target/release/lib_native.so python3 benches/gpu.py
-  (without UDC_NATIVE_LIB the package is staged from target/debug as the Python tests do).
+  (without UDC_NATIVE_LIB the package is staged from target/debug as the Python tests do; the
+   optimizer rows run target/release/udc-studio, else target/debug/udc-studio, else $UDC_CLI).
 The last line printed is one JSON object.
 """
 
@@ -36,8 +43,11 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -67,6 +77,8 @@ def main() -> None:
                         help="the phase operator's scene columns (default 256)")
     parser.add_argument("--v-preview", action="store_true",
                         help="V at the preview sampling (default: the thesis's)")
+    parser.add_argument("--optimize-epochs", type=int, default=10,
+                        help="epochs of each optimizer run (default 10)")
     args = parser.parse_args()
     udc, how = import_udc_studio()
     print(f"udc_studio: {how}")
@@ -115,8 +127,50 @@ def main() -> None:
     label = "wrapped 900"
     print(f"{label:<14} {v['cpu_ms']:>8.0f}ms {v['gpu_ms']:>8.0f}ms "
           f"{v['v_max_rel_diff']:>9.1e} {v['device_transforms']:>10}")
+    opt = optimize_rows(args.designs.split(","), args.backend, args.optimize_epochs)
+    if opt:
+        print(f"{'optimizer':<14} {'CPU/epoch':>10} {'GPU/epoch':>10} {'L_inv diff':>11}")
+        for r in opt:
+            print(f"{r['design']:<14} {r['cpu_ms_per_epoch']:>8.0f}ms "
+                  f"{r['gpu_ms_per_epoch']:>8.0f}ms {r['loss_inv_rel_diff']:>11.1e}")
     print(json.dumps({"adapter": adapter, "runs": args.runs, "rows": rows, "phase": phase,
-                      "v": v}))
+                      "v": v, "optimize": opt}))
+
+
+def cli_binary():
+    for path in [os.environ.get("UDC_CLI"), REPO / "target/release/udc-studio",
+                 REPO / "target/debug/udc-studio"]:
+        if path and Path(path).is_file():
+            return str(path)
+    return None
+
+
+def optimize_rows(designs, backend: str, epochs: int):
+    cli = cli_binary()
+    if cli is None:
+        print("optimizer: skipped, no udc-studio binary (build it: cargo build --release -p "
+              "udc-studio, or set UDC_CLI)")
+        return []
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in designs:
+            def run(b: str):
+                out = subprocess.run(
+                    [cli, "optimize", "--preset", name, "--epochs", str(epochs), "--json",
+                     "--backend", b, "--out", str(Path(tmp) / f"{name}-{b}.json")],
+                    check=True, capture_output=True, text=True)
+                return json.loads(out.stdout)
+            cpu, gpu = run("cpu"), run(backend)
+            first = [r["history"][0]["loss_inv"] for r in (cpu, gpu)]
+            rows.append({
+                "design": name,
+                "epochs": epochs,
+                "cpu_ms_per_epoch": cpu["elapsed_ms"] / epochs,
+                "gpu_ms_per_epoch": gpu["elapsed_ms"] / epochs,
+                "loss_inv_rel_diff": abs(first[1] / first[0] - 1),
+                "device_transforms": gpu.get("backend", {}).get("device_transforms", 0),
+            })
+    return rows
 
 
 def phase_restore(udc, backend: str, columns: int):

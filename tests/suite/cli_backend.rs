@@ -382,3 +382,43 @@ fn a_phase_job_with_no_step_on_the_device_says_the_cpu_ran_it() {
         "{stderr}"
     );
 }
+
+fn optimize_one_epoch(backend: &str) -> (bool, serde_json::Value, String) {
+    let out = tempfile::tempdir().unwrap();
+    let design = out.path().join("optimized.json");
+    json_run(&[
+        "optimize",
+        "--preset",
+        "toled-150dpi",
+        "--f-number",
+        "5",
+        "--preview",
+        "--epochs",
+        "1",
+        "--sigmoid-relaxation",
+        "--json",
+        "--out",
+        design.to_str().unwrap(),
+        "--backend",
+        backend,
+    ])
+}
+
+/// `optimize --backend gpu`: the epoch's `L_inv` (the model's window transforms, forward) and
+/// the saved design (their adjoints, through Adam's step) as the CPU's, the device's transforms
+/// counted.
+#[test]
+fn an_optimization_on_the_gpu_reads_as_the_cpus() {
+    let Some((cpu, gpu)) = cpu_then_gpu(optimize_one_epoch) else {
+        return;
+    };
+    let first = |v: &serde_json::Value| v["history"][0]["loss_inv"].as_f64().unwrap();
+    let (c, g) = (first(&cpu), first(&gpu));
+    assert!((c - g).abs() <= 1e-4 * c.abs(), "L_inv {c} vs {g}");
+    assert_eq!(cpu["open_fraction_after"], gpu["open_fraction_after"]);
+    let (c, g) = (
+        cpu["invertibility_loss_after"].as_f64().unwrap(),
+        gpu["invertibility_loss_after"].as_f64().unwrap(),
+    );
+    assert!((c - g).abs() <= 1e-3 * c.abs(), "L_inv after {c} vs {g}");
+}

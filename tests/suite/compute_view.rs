@@ -139,4 +139,45 @@ fn the_studio_computes_on_the_windows_gpu_when_asked() {
             .is_some(),
         "the reproduction's command names the backend"
     );
+    h.state_mut().reproduce_mut().open = false;
+    h.state_mut()
+        .set_workspace(udc_studio::app::WorkspaceId::Display);
+
+    // The Optimize panel's epochs run there too (a small T-OLED: f/5, a 128-pixel window), and
+    // its outcome names the adapter.
+    let mut small = udc_io::design::presets::load_preset("toled-150dpi").unwrap();
+    small.optics.recipe = udc_studio::core::design::OpticsRecipe::Custom;
+    small.optics.f_number = 5.0;
+    small.optics.fine_sample_um = 1.0;
+    small.optics.window_px = 128;
+    h.state_mut().act(DisplayAction::Edit(Box::new(small)));
+    step_until(&mut h, "the small T-OLED's result", display_up_to_date);
+    h.state_mut()
+        .display_mut()
+        .show_left_tab(udc_studio::app::LeftTab::Optimize);
+    {
+        let s = h.state_mut().display_mut().optimizer_settings();
+        s.epochs = 1;
+        s.quality = udc_studio::core::analysis::analyze::Quality::Full;
+    }
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains(&format!("Runs on {}", gpu.adapter()))
+            .is_some(),
+        "the panel says where it will run"
+    );
+    h.get_by_label("Run optimizer").click();
+    h.run_steps(2);
+    step_until(&mut h, "the optimizer's epoch", |app| {
+        app.display().optimizer().finished().is_some()
+    });
+    let said = h
+        .state()
+        .display()
+        .optimizer()
+        .message()
+        .unwrap()
+        .text
+        .clone();
+    assert!(said.contains(&format!(" on {}", gpu.adapter())), "{said}");
 }

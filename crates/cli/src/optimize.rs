@@ -215,8 +215,9 @@ pub fn optimize_cmd(args: &OptimizeArgs) -> Result<()> {
         crate::emit_json(&out)?;
     } else {
         println!(
-            "optimized {} epochs in {:.1} s -> {}",
+            "optimized {} epoch{} in {:.1} s -> {}",
             result.history.len(),
+            if result.history.len() == 1 { "" } else { "s" },
             result.elapsed_ms / 1e3,
             args.out.display()
         );

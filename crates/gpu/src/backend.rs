@@ -11,7 +11,6 @@ use rustfft::num_complex::Complex64;
 
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
-use udc_core::optimize::spectra::{Pool, WindowDft};
 use udc_core::phase::chain::{
     BlochDirection, BlochIntensity, BlochRelay, BlochWavelength, CpuBloch,
 };
@@ -19,6 +18,7 @@ use udc_core::progress::Progress;
 use udc_core::psf::fft::Binned;
 use udc_core::psf::route::{Backend, Fraunhofer, PsfRoute};
 use udc_core::psf::sampling::Binning;
+use udc_core::psf::spectra::{Pool, WindowDft};
 
 use crate::device::{AdapterKind, Gpu, GpuError};
 

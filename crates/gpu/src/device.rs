@@ -94,14 +94,13 @@ pub(crate) fn out_of_memory(e: &wgpu::Error) -> udc_core::SimError {
 
 /// Tables uploaded once per size: the twiddles and pass parameters of one FFT length (power of
 /// two, or mixed radix), the chirp of one DFT length, the kernel spectrum of one (DFT length,
-/// input length), the roots of unity of one DFT length (the optimizer's window transform).
+/// input length).
 #[derive(Default)]
 pub(crate) struct TableCache {
     pub(crate) ffts: HashMap<usize, Arc<crate::kernels::FftPlan>>,
     pub(crate) chirps: HashMap<usize, Arc<wgpu::Buffer>>,
     pub(crate) spectra: HashMap<(usize, usize), Arc<wgpu::Buffer>>,
     pub(crate) mixed: HashMap<usize, Arc<crate::kernels::MixedPlan>>,
-    pub(crate) roots: HashMap<usize, Arc<wgpu::Buffer>>,
 }
 
 impl TableCache {
@@ -110,11 +109,7 @@ impl TableCache {
     const MAX_ENTRIES: usize = 48;
 
     pub(crate) fn trim(&mut self) {
-        if self.ffts.len()
-            + self.chirps.len()
-            + self.spectra.len()
-            + self.mixed.len()
-            + self.roots.len()
+        if self.ffts.len() + self.chirps.len() + self.spectra.len() + self.mixed.len()
             > Self::MAX_ENTRIES
         {
             *self = TableCache::default();

@@ -15,11 +15,11 @@ use ndarray::Array2;
 use rustfft::num_complex::Complex64;
 use udc_core::SimError;
 use udc_core::display::aperture::Field;
-use udc_core::optimize::spectra::{Pool, WindowDft};
 use udc_core::progress::Progress;
 use udc_core::psf::fft::{Binned, check_grid};
 use udc_core::psf::route::Fraunhofer;
 use udc_core::psf::sampling::Binning;
+use udc_core::psf::spectra::{Pool, WindowDft};
 
 use crate::device::{Gpu, out_of_memory, too_large};
 use crate::kernels::{FftPlan, bind, groups, uniform};
@@ -112,7 +112,7 @@ fn with<'a>(
 }
 
 impl Gpu {
-    fn fft_plan(&self, n: usize) -> Arc<FftPlan> {
+    pub(crate) fn fft_plan(&self, n: usize) -> Arc<FftPlan> {
         let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
         t.trim();
         t.ffts

@@ -37,7 +37,8 @@ pub struct Kernels {
     pub(crate) energy: wgpu::ComputePipeline,
     pub(crate) apply_kernel: wgpu::ComputePipeline,
     pub(crate) fine_intensity: wgpu::ComputePipeline,
-    pub(crate) window_stage: wgpu::ComputePipeline,
+    pub(crate) zoom_pre: wgpu::ComputePipeline,
+    pub(crate) zoom_post: wgpu::ComputePipeline,
 }
 
 impl Kernels {
@@ -94,7 +95,8 @@ impl Kernels {
             energy: pipeline(&relay, "energy"),
             apply_kernel: pipeline(&relay, "apply_kernel"),
             fine_intensity: pipeline(&relay, "fine_intensity"),
-            window_stage: pipeline(&window, "window_stage"),
+            zoom_pre: pipeline(&window, "zoom_pre"),
+            zoom_post: pipeline(&window, "zoom_post"),
         }
     }
 }

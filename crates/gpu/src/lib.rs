@@ -14,7 +14,8 @@
 //! - the phase model's Bloch relay ([`relay`]), behind the core's
 //!   [`udc_core::phase::chain::BlochRelay`]: a λ0 plan's propagations through the double MLA on
 //!   the wrapped grid, many directions at once, on mixed-radix (2·3·4·5) Stockham FFTs;
-//! - the optimizer's window transform and its adjoint ([`window`]), as tiled matrix products.
+//! - the optimizer's window transform and its adjoint ([`window`]), as batches of chirp-z zooms
+//!   on the same power-of-two FFTs.
 //!
 //! The crate opens no window and links no window crate; the studio hands it the adapter eframe
 //! draws with.

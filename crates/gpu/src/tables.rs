@@ -64,3 +64,53 @@ pub fn kernel_spectrum(m: usize, l: usize, n: usize) -> Vec<C32> {
     udc_fft::complex_plan(n).process(&mut v);
     v.into_iter().map(c32).collect()
 }
+
+/// The tables of one chirp-z "zoom" `X_q = Σ_{k<K} x_k ω^{(s+k)(t+q)}`, `q < Q`, with
+/// `ω = exp(∓2πi/M)` (`conjugate`: the `+` sign): the input's pre-chirp `ω^{kt + k²/2}`, the
+/// output's post-chirp `ω^{st + sq + q²/2} / N`, and the spectrum (length `N`, a power of two
+/// `≥ K + Q − 1`) of the kernel `ω^{−j²/2}` at lags `j = −(K−1) … Q−1`. From
+/// `(s+k)(t+q) = st + sq + kt + (k² + q² − (q−k)²)/2`; every angle is reduced exactly in
+/// integers modulo `2M` before the `f64` sine and cosine.
+pub struct Zoom {
+    /// `K` pre-chirp factors.
+    pub pre: Vec<C32>,
+    /// `Q` post-chirp factors, `1/N` included.
+    pub post: Vec<C32>,
+    /// The kernel's spectrum, `N` values.
+    pub kernel: Vec<C32>,
+}
+
+/// See [`Zoom`]; `s` and `t` may be negative (they are taken modulo `M`).
+pub fn zoom(m: usize, (s, k_len): (i64, usize), (t, q_len): (i64, usize), conjugate: bool) -> Zoom {
+    let n = conv_len(q_len.max(1), k_len);
+    let period = 2 * m as i128;
+    let sign = if conjugate { 1.0 } else { -1.0 };
+    // exp(±iπ r / M) for an angle index r reduced modulo 2M.
+    let phase = |r: i128| {
+        let r = r.rem_euclid(period);
+        Complex64::from_polar(1.0, sign * PI * r as f64 / m as f64)
+    };
+    let (s, t) = (
+        i128::from(s).rem_euclid(m as i128),
+        i128::from(t).rem_euclid(m as i128),
+    );
+    let pre = (0..k_len as i128)
+        .map(|k| c32(phase(2 * k * t + k * k)))
+        .collect();
+    let post = (0..q_len as i128)
+        .map(|q| c32(phase(2 * s * t + 2 * s * q + q * q) / n as f64))
+        .collect();
+    let mut v = vec![Complex64::new(0.0, 0.0); n];
+    for (j, z) in v.iter_mut().enumerate().take(q_len) {
+        *z = phase(-((j * j) as i128));
+    }
+    for j in 1..k_len {
+        v[n - j] = phase(-((j * j) as i128));
+    }
+    udc_fft::complex_plan(n).process(&mut v);
+    Zoom {
+        pre,
+        post,
+        kernel: v.into_iter().map(c32).collect(),
+    }
+}

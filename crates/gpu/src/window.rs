@@ -2,33 +2,31 @@
 //! kept (complex) on the sensor window's frequency box, and its adjoint `Re(Fᴴ g)`, behind the
 //! seam's [`Fraunhofer::window_spectrum`] and [`Fraunhofer::window_spectrum_adjoint`].
 //!
-//! Each direction is two matrix products (`window.wgsl`): along x, then along y, each against a
-//! kernel `exp(∓2πi (s+k)(t+q)/M)` looked up in the roots of unity of `M`, computed in `f64` on
-//! the CPU ([`crate::tables::roots`]). The CPU transforms each row with an FFT of length `M`; the
-//! device does `ny·nx·nfx + nfx·ny·nfy` complex multiply-adds instead, more work but all of it in
-//! tiles a GPU runs at its peak, with no `M`-long buffer per row. One upload and one read-back per
-//! call.
-
-use std::sync::Arc;
+//! Each direction is two stages (along x, then along y), each a batch of chirp-z "zooms"
+//! (`window.wgsl`): a box of `K` samples at offset `s` to `Q` frequencies at offset `t`, with a
+//! convolution of length `N ≥ K + Q − 1` on the power-of-two FFT the Fraunhofer step uses,
+//! instead of the CPU's FFT of length `M` per row. The chirps and the kernel's spectrum are
+//! computed in `f64` on the CPU ([`crate::tables::zoom`]), the adjoint's with the conjugate
+//! kernel. One upload and one read-back per call.
+//!
+//! [`Fraunhofer::window_spectrum`]: udc_core::psf::route::Fraunhofer::window_spectrum
+//! [`Fraunhofer::window_spectrum_adjoint`]: udc_core::psf::route::Fraunhofer::window_spectrum_adjoint
 
 use rustfft::num_complex::Complex64;
 use udc_core::SimError;
-use udc_core::optimize::spectra::{Pool, Span, WindowDft};
+use udc_core::psf::spectra::{Pool, Span, WindowDft};
 
 use crate::device::{Gpu, out_of_memory, too_large};
-use crate::kernels::{bind, uniform};
-use crate::tables::{C32, roots};
+use crate::kernels::{bind, groups, uniform};
+use crate::tables::{C32, conv_len, zoom};
 
-/// Workgroup tile side (the shader's `@workgroup_size(16, 16)`).
-const TILE: usize = 16;
+/// Bytes one chunk's work buffer may take (two are held), as the Fraunhofer step's.
+const WORK_BYTES: u64 = 128 << 20;
 
 /// Bytes per complex `f32` sample.
 const COMPLEX: u64 = 8;
 
-/// The largest `M` whose kernel index `u·v` (`u, v < M`) stays below `2³²`.
-const MAX_M: usize = 65_535;
-
-/// One stage: `out[p][q] = Σ_k in[p][k] · w((s_k + k)(s_q + q))`.
+/// One stage: for each of `rows` vectors, `out[q] = Σ_k in[k] · ω^{(s_k + k)(s_q + q)}`.
 struct Stage {
     rows: usize,
     summed: Span,
@@ -37,66 +35,52 @@ struct Stage {
     transpose: bool,
 }
 
-impl Stage {
-    fn words(&self, m: usize) -> [u32; 8] {
-        let reduce = |s: i64| s.rem_euclid(m as i64) as u32;
-        [
-            m as u32,
-            self.rows as u32,
-            self.summed.len as u32,
-            self.outputs.len as u32,
-            reduce(self.summed.start),
-            reduce(self.outputs.start),
-            u32::from(self.conjugate),
-            u32::from(self.transpose),
-        ]
-    }
-}
-
 impl Gpu {
-    fn roots_table(&self, m: usize) -> Arc<wgpu::Buffer> {
-        let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
-        t.trim();
-        t.roots
-            .entry(m)
-            .or_insert_with(|| Arc::new(self.upload("roots", &roots(m))))
-            .clone()
-    }
-
-    /// Runs `stages` one after the other on `input` (complex, the first stage's `rows × summed`),
-    /// reading back the last stage's output.
+    /// Runs `stages` one after the other on `input` (complex, the first stage's
+    /// `rows × summed`), reading back the last stage's output.
     fn window_stages(
         &self,
         m: usize,
         input: &[C32],
         stages: [Stage; 2],
     ) -> Result<Vec<C32>, SimError> {
-        use wgpu::util::DeviceExt;
-        if m > MAX_M {
-            return Err(SimError::TooLarge(format!(
-                "the device's window transform takes DFT lengths up to {MAX_M}; this one is {m} \
-                 (use the CPU backend)"
-            )));
-        }
-        let limit = self.max_binding_bytes();
         let sizes = stages
             .each_ref()
             .map(|s| (s.rows * s.outputs.len) as u64 * COMPLEX);
-        for bytes in [input.len() as u64 * COMPLEX, sizes[0], sizes[1]] {
+        if stages
+            .iter()
+            .any(|s| s.rows == 0 || s.summed.len == 0 || s.outputs.len == 0)
+        {
+            // An empty box or window: every output is an empty sum.
+            return Ok(vec![[0.0; 2]; (sizes[1] / COMPLEX) as usize]);
+        }
+        let limit = self.max_binding_bytes();
+        let cap = limit.min(WORK_BYTES);
+        let convs = stages
+            .each_ref()
+            .map(|s| conv_len(s.outputs.len.max(1), s.summed.len));
+        for (what, bytes) in [
+            ("the optimizer's window input", input.len() as u64 * COMPLEX),
+            ("the optimizer's window stage", sizes[0]),
+            ("the optimizer's window spectrum", sizes[1]),
+            ("one zoom", convs[0].max(convs[1]) as u64 * COMPLEX),
+        ] {
             if bytes > limit {
-                return Err(too_large("the optimizer's window transform", bytes, limit));
+                return Err(too_large(what, bytes, limit));
             }
         }
+        let batches = [0, 1].map(|i| {
+            ((cap / (convs[i] as u64 * COMPLEX)) as usize).clamp(1, stages[i].rows.min(65_535))
+        });
+        let work_bytes = (0..2)
+            .map(|i| (batches[i] * convs[i]) as u64 * COMPLEX)
+            .max()
+            .unwrap_or(0);
+
         let device = &self.device;
-        let kernel = &self.kernels.window_stage;
-        let table = self.roots_table(m);
+        let k = &self.kernels;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let first = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("window input"),
-            contents: bytemuck::cast_slice(input),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
         let storage = |label, bytes: u64, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -105,8 +89,69 @@ impl Gpu {
                 mapped_at_creation: false,
             })
         };
-        let middle = storage("window middle", sizes[0], wgpu::BufferUsages::empty());
-        let last = storage("window output", sizes[1], wgpu::BufferUsages::COPY_SRC);
+        let first = self.upload("window input", input);
+        let middle = storage("window stage", sizes[0], wgpu::BufferUsages::empty());
+        let last = storage("window spectrum", sizes[1], wgpu::BufferUsages::COPY_SRC);
+        let work = [
+            storage("window work a", work_bytes, wgpu::BufferUsages::empty()),
+            storage("window work b", work_bytes, wgpu::BufferUsages::empty()),
+        ];
+        for ((stage, (src, dst)), (n, batch_max)) in stages
+            .iter()
+            .zip([(&first, &middle), (&middle, &last)])
+            .zip(convs.into_iter().zip(batches))
+        {
+            let tables = zoom(
+                m,
+                (stage.summed.start, stage.summed.len),
+                (stage.outputs.start, stage.outputs.len),
+                stage.conjugate,
+            );
+            let pre = self.upload("zoom pre-chirp", &tables.pre);
+            let post = self.upload("zoom post-chirp", &tables.post);
+            let spectrum = self.upload("zoom kernel", &tables.kernel);
+            let plan = self.fft_plan(n);
+            for first_row in (0..stage.rows).step_by(batch_max) {
+                let batch = batch_max.min(stage.rows - first_row);
+                let params = uniform(
+                    device,
+                    &[
+                        m as u32,
+                        n as u32,
+                        batch as u32,
+                        first_row as u32,
+                        stage.summed.len as u32,
+                        stage.outputs.len as u32,
+                        stage.rows as u32,
+                        u32::from(stage.transpose),
+                    ],
+                );
+                let mut encoder = device.create_command_encoder(&Default::default());
+                {
+                    let mut pass = encoder.begin_compute_pass(&Default::default());
+                    let (mut cur, mut other) = (&work[0], &work[1]);
+                    let bufs = [(0, &params), (1, &pre), (2, src), (5, cur)];
+                    pass.set_pipeline(&k.zoom_pre);
+                    pass.set_bind_group(0, &bind(device, &k.zoom_pre, &bufs), &[]);
+                    pass.dispatch_workgroups(groups(n), batch as u32, 1);
+                    if !plan.record(device, k, &mut pass, cur, other, batch as u32) {
+                        std::mem::swap(&mut cur, &mut other);
+                    }
+                    let bufs = [(0, &params), (4, &spectrum), (5, cur)];
+                    pass.set_pipeline(&k.convolve);
+                    pass.set_bind_group(0, &bind(device, &k.convolve, &bufs), &[]);
+                    pass.dispatch_workgroups(groups(n), batch as u32, 1);
+                    if !plan.record(device, k, &mut pass, cur, other, batch as u32) {
+                        std::mem::swap(&mut cur, &mut other);
+                    }
+                    let bufs = [(0, &params), (1, &post), (3, dst), (5, cur)];
+                    pass.set_pipeline(&k.zoom_post);
+                    pass.set_bind_group(0, &bind(device, &k.zoom_post, &bufs), &[]);
+                    pass.dispatch_workgroups(groups(stage.outputs.len), batch as u32, 1);
+                }
+                self.queue.submit([encoder.finish()]);
+            }
+        }
         let readback = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("window readback"),
             size: sizes[1].max(16),
@@ -114,17 +159,6 @@ impl Gpu {
             mapped_at_creation: false,
         });
         let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_compute_pass(&Default::default());
-            pass.set_pipeline(kernel);
-            for (stage, (src, dst)) in stages.iter().zip([(&first, &middle), (&middle, &last)]) {
-                let params = uniform(device, &stage.words(m));
-                let bufs = [(0, &params), (1, &*table), (2, src), (3, dst)];
-                pass.set_bind_group(0, &bind(device, kernel, &bufs), &[]);
-                let tiles = |n: usize| u32::try_from(n.div_ceil(TILE)).unwrap_or(u32::MAX);
-                pass.dispatch_workgroups(tiles(stage.outputs.len), tiles(stage.rows), 1);
-            }
-        }
         encoder.copy_buffer_to_buffer(&last, 0, &readback, 0, sizes[1]);
         self.queue.submit([encoder.finish()]);
         if let Some(e) = pollster::block_on(oom.pop()) {

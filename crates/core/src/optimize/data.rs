@@ -9,8 +9,8 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::spectra::dft2_complex;
 use crate::SimError;
+use crate::psf::spectra::dft2_complex;
 
 /// Noise-to-signal ratio of the Wiener filter (conventions.md §5).
 pub const DATA_NSR: f64 = 0.00371;

@@ -10,7 +10,6 @@ pub mod data;
 pub mod figures;
 pub mod model;
 pub mod reserve;
-pub mod spectra;
 
 use crate::{Setting, SettingPath};
 use std::ops::ControlFlow;

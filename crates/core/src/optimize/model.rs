@@ -10,13 +10,13 @@ use ndarray::Array2;
 use rayon::prelude::*;
 use rustfft::num_complex::Complex64;
 
-use super::spectra::{Pool, Span, WindowDft, dft2_complex};
 use crate::SimError;
 use crate::analysis::metrics::{INVERTIBILITY_EPSILON, INVERTIBILITY_FRACTION};
 use crate::design::Design;
 use crate::display::aperture::{CellMap, Display, Extent};
 use crate::psf::route::Fraunhofer;
 use crate::psf::sampling::{Binning, WavelengthSampling};
+use crate::psf::spectra::{Pool, Span, WindowDft, dft2_complex};
 
 /// One sampled wavelength of one channel.
 #[derive(Debug, Clone)]

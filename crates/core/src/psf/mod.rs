@@ -5,7 +5,8 @@
 //! The sub-modules are the route to it: [`sampling`] plans each wavelength's grid, [`route`]
 //! chooses between the full FFT ([`fft`]) and the pruned transforms ([`pruned`]), and [`zoom`]
 //! (the chirp-z transform) samples a spectrum finely over a narrow band; [`warning`] says when a
-//! sampling plan is unsafe.
+//! sampling plan is unsafe; [`spectra`] holds the optimizer's window transform and its adjoint
+//! (the seam's `window_spectrum` steps).
 
 pub mod chirp_z;
 pub mod fft;
@@ -14,6 +15,7 @@ mod pruned_grid;
 mod pruned_rows;
 pub mod route;
 pub mod sampling;
+pub mod spectra;
 pub mod warning;
 pub mod zoom;
 

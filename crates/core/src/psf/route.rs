@@ -22,11 +22,11 @@ use rustfft::num_complex::Complex64;
 
 use crate::SimError;
 use crate::display::aperture::Field;
-use crate::optimize::spectra::{Pool, WindowDft};
 use crate::progress::Progress;
 use crate::psf::fft::{Binned, binned_intensity, binned_intensity_complex, full_intensity};
 use crate::psf::pruned::{binned_pruned, pruned_ops};
 use crate::psf::sampling::Binning;
+use crate::psf::spectra::{Pool, WindowDft};
 use crate::psf::zoom::fft_ops;
 
 /// Where the Fraunhofer steps of a job run: the user's switch (`--backend`, Python's

@@ -5,12 +5,12 @@
 use std::ops::ControlFlow;
 
 use rustfft::num_complex::Complex64;
+use udc_core::Progress;
 use udc_core::analysis::analyze::Quality;
 use udc_core::design::{Design, OpticsRecipe, TilingMode};
-use udc_core::optimize::spectra::{Pool, Span, WindowDft};
 use udc_core::optimize::{LossWeights, Objective, OptimizeSettings, Relaxation, optimize};
 use udc_core::psf::route::{Fraunhofer, PsfRoute};
-use udc_core::{Progress, SimError};
+use udc_core::psf::spectra::{Pool, Span, WindowDft};
 use udc_gpu::Route;
 use udc_io::design::presets::load_preset;
 
@@ -107,19 +107,6 @@ fn the_device_window_transform_and_its_adjoint_are_the_cpus() {
             dft.m
         );
     }
-    // A length whose kernel index would overflow 32 bits is refused by size (`auto` then
-    // computes on the CPU), not computed wrongly.
-    let huge = WindowDft {
-        m: 70_000,
-        rows: Span { start: 0, len: 2 },
-        cols: Span { start: 0, len: 2 },
-        freq_rows: Span { start: 0, len: 2 },
-        freq_cols: Span { start: 0, len: 2 },
-    };
-    let err = gpu
-        .window_spectrum(&huge, &[1.0; 4], &Pool::default())
-        .unwrap_err();
-    assert!(matches!(err, SimError::TooLarge(_)), "{err}");
 }
 
 /// The T-OLED at 150 DPI behind a small lens (f/5, a 128-pixel window): a pupil box of 250

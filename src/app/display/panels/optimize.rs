@@ -104,6 +104,11 @@ impl OptimizePanel {
         &self.history
     }
 
+    /// The panel's last message (a run's outcome: its epochs, time and where it ran).
+    pub fn message(&self) -> Option<&Notice> {
+        self.message.as_ref()
+    }
+
     /// The finished run, if one waits to be applied.
     pub fn finished(&self) -> Option<&Finished> {
         self.finished.as_ref()
@@ -265,6 +270,9 @@ impl OptimizePanel {
                 self.start(ctx.design, ctx.shown_route(), ui.ctx());
             }
         });
+        if !running && let Some(adapter) = ctx.shown.and_then(|s| s.route.adapter()) {
+            ui.weak(format!("Runs on {adapter} (View ▸ Compute PSFs on)"));
+        }
         crate::app::widgets::message_ui(ui, self.message.as_ref());
         if let Some(f) = &self.finished {
             ui.separator();
