@@ -5,7 +5,6 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex, OnceLock};
 
 use crate::kernels::Kernels;
-use crate::tables::C32;
 
 /// Why no device could be used.
 #[derive(Debug, Clone, thiserror::Error, PartialEq, Eq)]
@@ -287,7 +286,8 @@ impl Gpu {
         Ok(data)
     }
 
-    pub(crate) fn upload(&self, label: &str, data: &[C32]) -> wgpu::Buffer {
+    /// A storage buffer holding `data`.
+    pub(crate) fn pod<T: bytemuck::Pod>(&self, label: &str, data: &[T]) -> wgpu::Buffer {
         use wgpu::util::DeviceExt;
         self.device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -295,6 +295,21 @@ impl Gpu {
                 contents: bytemuck::cast_slice(data),
                 usage: wgpu::BufferUsages::STORAGE,
             })
+    }
+
+    /// A buffer of `bytes` for `usage`, at least 16 (a binding may not be empty).
+    pub(crate) fn buffer(
+        &self,
+        label: &str,
+        bytes: u64,
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: bytes.max(16),
+            usage,
+            mapped_at_creation: false,
+        })
     }
 }
 

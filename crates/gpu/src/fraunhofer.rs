@@ -24,6 +24,7 @@ use udc_core::psf::spectra::{Pool, WindowDft};
 use crate::device::{Gpu, out_of_memory, too_large};
 use crate::kernels::{FftPlan, bind, groups, uniform};
 use crate::tables::{chirp, conv_len, kernel_spectrum};
+use wgpu::BufferUsages as U;
 
 /// Bytes one chunk's work buffer may take (two are held): large enough to keep a GPU busy,
 /// small enough that a laptop's shared memory is not exhausted.
@@ -125,7 +126,7 @@ impl Gpu {
         let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
         t.chirps
             .entry(m)
-            .or_insert_with(|| Arc::new(self.upload("chirp", &chirp(m))))
+            .or_insert_with(|| Arc::new(self.pod("chirp", &chirp(m))))
             .clone()
     }
 
@@ -133,24 +134,8 @@ impl Gpu {
         let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
         t.spectra
             .entry((m, l))
-            .or_insert_with(|| {
-                Arc::new(self.upload("kernel", &kernel_spectrum(m, l, conv_len(m, l))))
-            })
+            .or_insert_with(|| Arc::new(self.pod("kernel", &kernel_spectrum(m, l, conv_len(m, l)))))
             .clone()
-    }
-
-    fn storage(&self, label: &str, bytes: u64, readable: bool) -> wgpu::Buffer {
-        let usage = if readable {
-            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC
-        } else {
-            wgpu::BufferUsages::STORAGE
-        };
-        self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some(label),
-            size: bytes.max(16),
-            usage,
-            mapped_at_creation: false,
-        })
     }
 
     /// The binned intensity of `packed`, whose `Σ|a|²` is `energy`.
@@ -162,7 +147,6 @@ impl Gpu {
         binning: &Binning,
         progress: &Progress,
     ) -> Result<Binned, SimError> {
-        use wgpu::util::DeviceExt;
         let limit = self.max_binding_bytes();
         let cols = if packed.complex { m } else { m / 2 + 1 };
         let (nx, ny) = (conv_len(m, packed.lx), conv_len(m, packed.ly));
@@ -193,22 +177,14 @@ impl Gpu {
         let (fft_x, fft_y) = (self.fft_plan(nx), self.fft_plan(ny));
         let chirp = self.chirp(m);
         let (spec_x, spec_y) = (self.spectrum(m, packed.lx), self.spectrum(m, packed.ly));
-        let rows = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("rows"),
-            contents: bytemuck::cast_slice(&packed.headers),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let values = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("values"),
-            contents: bytemuck::cast_slice(&packed.values),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let rows = self.pod("rows", &packed.headers);
+        let values = self.pod("values", &packed.values);
         let work = [
-            self.storage("work a", work_bytes, false),
-            self.storage("work b", work_bytes, false),
+            self.buffer("work a", work_bytes, U::STORAGE),
+            self.buffer("work b", work_bytes, U::STORAGE),
         ];
-        let columns = self.storage("columns", columns_bytes, false);
-        let intensity = self.storage("intensity", intensity_bytes, false);
+        let columns = self.buffer("columns", columns_bytes, U::STORAGE);
+        let intensity = self.buffer("intensity", intensity_bytes, U::STORAGE);
 
         let params = |n: usize, batch: usize, first: usize| {
             uniform(
@@ -298,14 +274,13 @@ impl Gpu {
         progress.check()?;
 
         let band_bytes = cols as u64 * 4;
-        let sensor = self.storage("sensor", sensor_bytes, true);
-        let band = self.storage("band", band_bytes, true);
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: sensor_bytes + band_bytes,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let sensor = self.buffer("sensor", sensor_bytes, U::STORAGE | U::COPY_SRC);
+        let band = self.buffer("band", band_bytes, U::STORAGE | U::COPY_SRC);
+        let readback = self.buffer(
+            "readback",
+            sensor_bytes + band_bytes,
+            U::MAP_READ | U::COPY_DST,
+        );
         let edge_from = (0.45 * m as f64).ceil() as u32;
         let bin_params = uniform(
             device,

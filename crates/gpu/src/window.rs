@@ -19,6 +19,7 @@ use udc_core::psf::spectra::{Pool, Span, WindowDft};
 use crate::device::{Gpu, out_of_memory, too_large};
 use crate::kernels::{bind, groups, uniform};
 use crate::tables::{C32, conv_len, zoom};
+use wgpu::BufferUsages as U;
 
 /// Bytes one chunk's work buffer may take (two are held), as the Fraunhofer step's.
 const WORK_BYTES: u64 = 128 << 20;
@@ -81,20 +82,12 @@ impl Gpu {
         let k = &self.kernels;
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let oom = device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
-        let storage = |label, bytes: u64, usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes.max(16),
-                usage: wgpu::BufferUsages::STORAGE | usage,
-                mapped_at_creation: false,
-            })
-        };
-        let first = self.upload("window input", input);
-        let middle = storage("window stage", sizes[0], wgpu::BufferUsages::empty());
-        let last = storage("window spectrum", sizes[1], wgpu::BufferUsages::COPY_SRC);
+        let first = self.pod("window input", input);
+        let middle = self.buffer("window stage", sizes[0], U::STORAGE);
+        let last = self.buffer("window spectrum", sizes[1], U::STORAGE | U::COPY_SRC);
         let work = [
-            storage("window work a", work_bytes, wgpu::BufferUsages::empty()),
-            storage("window work b", work_bytes, wgpu::BufferUsages::empty()),
+            self.buffer("window work a", work_bytes, U::STORAGE),
+            self.buffer("window work b", work_bytes, U::STORAGE),
         ];
         for ((stage, (src, dst)), (n, batch_max)) in stages
             .iter()
@@ -107,9 +100,9 @@ impl Gpu {
                 (stage.outputs.start, stage.outputs.len),
                 stage.conjugate,
             );
-            let pre = self.upload("zoom pre-chirp", &tables.pre);
-            let post = self.upload("zoom post-chirp", &tables.post);
-            let spectrum = self.upload("zoom kernel", &tables.kernel);
+            let pre = self.pod("zoom pre-chirp", &tables.pre);
+            let post = self.pod("zoom post-chirp", &tables.post);
+            let spectrum = self.pod("zoom kernel", &tables.kernel);
             let plan = self.fft_plan(n);
             for first_row in (0..stage.rows).step_by(batch_max) {
                 let batch = batch_max.min(stage.rows - first_row);
@@ -152,12 +145,7 @@ impl Gpu {
                 self.queue.submit([encoder.finish()]);
             }
         }
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("window readback"),
-            size: sizes[1].max(16),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let readback = self.buffer("window readback", sizes[1], U::MAP_READ | U::COPY_DST);
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.copy_buffer_to_buffer(&last, 0, &readback, 0, sizes[1]);
         self.queue.submit([encoder.finish()]);

@@ -270,7 +270,11 @@ impl OptimizePanel {
                 self.start(ctx.design, ctx.shown_route(), ui.ctx());
             }
         });
-        if !running && let Some(adapter) = ctx.shown.and_then(|s| s.route.adapter()) {
+        // Before a run: where it will go (a run's outcome line names the adapter itself).
+        if !running
+            && self.message.is_none()
+            && let Some(adapter) = ctx.shown.and_then(|s| s.route.adapter())
+        {
             ui.weak(format!("Runs on {adapter} (View ▸ Compute PSFs on)"));
         }
         crate::app::widgets::message_ui(ui, self.message.as_ref());
