@@ -386,7 +386,7 @@ fn a_phase_job_with_no_step_on_the_device_says_the_cpu_ran_it() {
 fn optimize_one_epoch(backend: &str) -> (bool, serde_json::Value, String) {
     let out = tempfile::tempdir().unwrap();
     let design = out.path().join("optimized.json");
-    json_run(&[
+    let mut run = json_run(&[
         "optimize",
         "--preset",
         "toled-150dpi",
@@ -401,7 +401,13 @@ fn optimize_one_epoch(backend: &str) -> (bool, serde_json::Value, String) {
         design.to_str().unwrap(),
         "--backend",
         backend,
-    ])
+    ]);
+    // The saved opening, read before its folder goes.
+    if let Ok(text) = std::fs::read_to_string(&design) {
+        let saved: serde_json::Value = serde_json::from_str(&text).unwrap();
+        run.1["saved_cells"] = saved["opening"]["cells"].clone();
+    }
+    run
 }
 
 /// `optimize --backend gpu`: the epoch's `L_inv` (the model's window transforms, forward) and
@@ -415,7 +421,20 @@ fn an_optimization_on_the_gpu_reads_as_the_cpus() {
     let first = |v: &serde_json::Value| v["history"][0]["loss_inv"].as_f64().unwrap();
     let (c, g) = (first(&cpu), first(&gpu));
     assert!((c - g).abs() <= 1e-4 * c.abs(), "L_inv {c} vs {g}");
-    assert_eq!(cpu["open_fraction_after"], gpu["open_fraction_after"]);
+    // Adam's first step moves each logit by about the sign of its gradient, so an adjoint
+    // that is wrong on the device opens other cells; f32 may flip a gradient that is nearly 0.
+    let cells = |v: &serde_json::Value| -> String {
+        let rows = v["saved_cells"].as_array().expect("the saved opening");
+        rows.iter().map(|r| r.as_str().unwrap()).collect()
+    };
+    let (c, g) = (cells(&cpu), cells(&gpu));
+    assert_eq!(c.len(), g.len());
+    let differ = c.chars().zip(g.chars()).filter(|(a, b)| a != b).count();
+    assert!(
+        differ * 100 <= c.len(),
+        "{differ} of {} cells differ:\n{c}\n{g}",
+        c.len()
+    );
     let (c, g) = (
         cpu["invertibility_loss_after"].as_f64().unwrap(),
         gpu["invertibility_loss_after"].as_f64().unwrap(),
