@@ -93,14 +93,26 @@ pub(crate) fn out_of_memory(e: &wgpu::Error) -> udc_core::SimError {
 
 /// Tables uploaded once per size: the twiddles and pass parameters of one FFT length (power of
 /// two, or mixed radix), the chirp of one DFT length, the kernel spectrum of one (DFT length,
-/// input length).
+/// input length), the chirps and kernel of one optimizer's zoom.
 #[derive(Default)]
 pub(crate) struct TableCache {
     pub(crate) ffts: HashMap<usize, Arc<crate::kernels::FftPlan>>,
     pub(crate) chirps: HashMap<usize, Arc<wgpu::Buffer>>,
     pub(crate) spectra: HashMap<(usize, usize), Arc<wgpu::Buffer>>,
     pub(crate) mixed: HashMap<usize, Arc<crate::kernels::MixedPlan>>,
+    pub(crate) zooms: HashMap<ZoomKey, Arc<ZoomTables>>,
 }
+
+/// One chirp-z zoom's tables on the device (`crate::tables::zoom`): the optimizer's window
+/// stages.
+pub(crate) struct ZoomTables {
+    pub(crate) pre: wgpu::Buffer,
+    pub(crate) post: wgpu::Buffer,
+    pub(crate) kernel: wgpu::Buffer,
+}
+
+/// What a zoom's tables depend on: `M`, the summed and output spans, the kernel's sign.
+pub(crate) type ZoomKey = (usize, (i64, usize), (i64, usize), bool);
 
 impl TableCache {
     /// Entries kept per table before the cache starts afresh (a sweep over many wavelengths
@@ -108,7 +120,11 @@ impl TableCache {
     const MAX_ENTRIES: usize = 48;
 
     pub(crate) fn trim(&mut self) {
-        if self.ffts.len() + self.chirps.len() + self.spectra.len() + self.mixed.len()
+        if self.ffts.len()
+            + self.chirps.len()
+            + self.spectra.len()
+            + self.mixed.len()
+            + self.zooms.len()
             > Self::MAX_ENTRIES
         {
             *self = TableCache::default();

@@ -12,11 +12,13 @@
 //! [`Fraunhofer::window_spectrum`]: udc_core::psf::route::Fraunhofer::window_spectrum
 //! [`Fraunhofer::window_spectrum_adjoint`]: udc_core::psf::route::Fraunhofer::window_spectrum_adjoint
 
+use std::sync::Arc;
+
 use rustfft::num_complex::Complex64;
 use udc_core::SimError;
 use udc_core::psf::spectra::{Pool, Span, WindowDft};
 
-use crate::device::{Gpu, out_of_memory, too_large};
+use crate::device::{Gpu, ZoomKey, ZoomTables, out_of_memory, too_large};
 use crate::kernels::{bind, groups, uniform};
 use crate::tables::{C32, conv_len, zoom};
 use wgpu::BufferUsages as U;
@@ -37,6 +39,30 @@ struct Stage {
 }
 
 impl Gpu {
+    /// A stage's tables, formed and uploaded once per geometry: an optimizer's every epoch
+    /// uses the same few.
+    fn zoom_tables(&self, m: usize, stage: &Stage) -> Arc<ZoomTables> {
+        let key: ZoomKey = (
+            m,
+            (stage.summed.start, stage.summed.len),
+            (stage.outputs.start, stage.outputs.len),
+            stage.conjugate,
+        );
+        let mut t = self.tables.lock().unwrap_or_else(|e| e.into_inner());
+        t.trim();
+        t.zooms
+            .entry(key)
+            .or_insert_with(|| {
+                let z = zoom(key.0, key.1, key.2, key.3);
+                Arc::new(ZoomTables {
+                    pre: self.pod("zoom pre-chirp", &z.pre),
+                    post: self.pod("zoom post-chirp", &z.post),
+                    kernel: self.pod("zoom kernel", &z.kernel),
+                })
+            })
+            .clone()
+    }
+
     /// Runs `stages` one after the other on `input` (complex, the first stage's
     /// `rows × summed`), reading back the last stage's output.
     fn window_stages(
@@ -94,15 +120,8 @@ impl Gpu {
             .zip([(&first, &middle), (&middle, &last)])
             .zip(convs.into_iter().zip(batches))
         {
-            let tables = zoom(
-                m,
-                (stage.summed.start, stage.summed.len),
-                (stage.outputs.start, stage.outputs.len),
-                stage.conjugate,
-            );
-            let pre = self.pod("zoom pre-chirp", &tables.pre);
-            let post = self.pod("zoom post-chirp", &tables.post);
-            let spectrum = self.pod("zoom kernel", &tables.kernel);
+            let tables = self.zoom_tables(m, stage);
+            let (pre, post, spectrum) = (&tables.pre, &tables.post, &tables.kernel);
             let plan = self.fft_plan(n);
             for first_row in (0..stage.rows).step_by(batch_max) {
                 let batch = batch_max.min(stage.rows - first_row);
@@ -123,21 +142,21 @@ impl Gpu {
                 {
                     let mut pass = encoder.begin_compute_pass(&Default::default());
                     let (mut cur, mut other) = (&work[0], &work[1]);
-                    let bufs = [(0, &params), (1, &pre), (2, src), (5, cur)];
+                    let bufs = [(0, &params), (1, pre), (2, src), (5, cur)];
                     pass.set_pipeline(&k.zoom_pre);
                     pass.set_bind_group(0, &bind(device, &k.zoom_pre, &bufs), &[]);
                     pass.dispatch_workgroups(groups(n), batch as u32, 1);
                     if !plan.record(device, k, &mut pass, cur, other, batch as u32) {
                         std::mem::swap(&mut cur, &mut other);
                     }
-                    let bufs = [(0, &params), (4, &spectrum), (5, cur)];
+                    let bufs = [(0, &params), (4, spectrum), (5, cur)];
                     pass.set_pipeline(&k.convolve);
                     pass.set_bind_group(0, &bind(device, &k.convolve, &bufs), &[]);
                     pass.dispatch_workgroups(groups(n), batch as u32, 1);
                     if !plan.record(device, k, &mut pass, cur, other, batch as u32) {
                         std::mem::swap(&mut cur, &mut other);
                     }
-                    let bufs = [(0, &params), (1, &post), (3, dst), (5, cur)];
+                    let bufs = [(0, &params), (1, post), (3, dst), (5, cur)];
                     pass.set_pipeline(&k.zoom_post);
                     pass.set_bind_group(0, &bind(device, &k.zoom_post, &bufs), &[]);
                     pass.dispatch_workgroups(groups(stage.outputs.len), batch as u32, 1);
